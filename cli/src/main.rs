@@ -1,0 +1,2 @@
+//! The `sceneinfo` command line.
+fn main() {}

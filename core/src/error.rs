@@ -1,0 +1,330 @@
+//! The crate's one error type.
+//!
+//! Every fallible constructor and parser returns [`Error`]: an [`ErrorKind`] saying what was
+//! wrong and, for text input, the 1-based line where it was found. The type needs no
+//! allocator: offending tokens are kept in a fixed-capacity [`Token`].
+
+use core::fmt;
+
+/// Capacity, in bytes, of a [`Token`] quoted in an error message.
+pub const TOKEN_CAPACITY: usize = 32;
+
+/// A short excerpt of the input quoted in an error message (truncated to
+/// [`TOKEN_CAPACITY`] bytes at a character boundary, with `…` appended when cut).
+pub type Token = heapless::String<TOKEN_CAPACITY>;
+
+/// Builds a [`Token`] from arbitrary text, truncating it at a character boundary.
+#[must_use]
+pub fn token(text: &str) -> Token {
+    let mut t = Token::new();
+    let ellipsis = '…';
+    let room = TOKEN_CAPACITY - ellipsis.len_utf8();
+    if text.len() <= TOKEN_CAPACITY {
+        // Fits whole.
+        let _ = t.push_str(text);
+        return t;
+    }
+    for c in text.chars() {
+        if t.len() + c.len_utf8() > room {
+            break;
+        }
+        let _ = t.push(c);
+    }
+    let _ = t.push(ellipsis);
+    t
+}
+
+/// What went wrong. Marked `#[non_exhaustive]`: later versions add variants.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum ErrorKind {
+    // ---- text formats -------------------------------------------------------------------
+    /// A line starts with a keyword the format does not know.
+    UnknownKeyword(Token),
+    /// A field that must be a number is not one.
+    BadNumber {
+        /// The field's name, e.g. `"x0"`.
+        field: &'static str,
+        /// The text found there.
+        found: Token,
+    },
+    /// A number is NaN or infinite.
+    NonFiniteNumber {
+        /// The field's name.
+        field: &'static str,
+    },
+    /// A field that must be a positive integer is not one.
+    BadCount {
+        /// The field's name, e.g. `"n"`.
+        field: &'static str,
+        /// The text found there.
+        found: Token,
+    },
+    /// A required field is missing at the end of a line.
+    MissingField {
+        /// The field's name.
+        field: &'static str,
+    },
+    /// A line has more fields than its item takes.
+    TrailingField(Token),
+    /// The input is not valid UTF-8.
+    InvalidUtf8,
+    /// A line is longer than the parser accepts.
+    LineTooLong {
+        /// The limit in bytes.
+        max: usize,
+    },
+
+    // ---- geometry and scenes ------------------------------------------------------------
+    /// A segment's two endpoints coincide (or are closer than the scene can resolve).
+    ZeroLengthSegment,
+    /// A polygon has fewer than three vertices or too many.
+    PolygonVertexCount {
+        /// The number of vertices given.
+        given: u64,
+    },
+    /// A count of patches is zero or beyond the cap.
+    PatchCount {
+        /// The count given.
+        given: u64,
+        /// The largest count accepted.
+        max: u64,
+    },
+    /// The whole scene would have more patches than the cap allows.
+    TooManyPatches {
+        /// The cap.
+        max: u64,
+    },
+    /// A reflectance is outside `[0, 1)`.
+    Reflectance {
+        /// The offending value.
+        value: f64,
+    },
+    /// An emittance is negative.
+    Emittance {
+        /// The offending value.
+        value: f64,
+    },
+    /// A scene has no patches.
+    EmptyScene,
+    /// Explicit cut positions along a segment are not strictly increasing inside (0, 1).
+    BadCuts,
+    /// A patch index is out of range.
+    PatchIndex {
+        /// The index given.
+        index: usize,
+        /// The number of patches.
+        len: usize,
+    },
+    /// Coordinates so large that lengths or areas overflow `f64`.
+    CoordinateRange,
+
+    // ---- channels -----------------------------------------------------------------------
+    /// Two inputs that must have matching sizes do not.
+    DimensionMismatch {
+        /// The size required.
+        expected: usize,
+        /// The size given.
+        found: usize,
+    },
+    /// A probability or matrix entry is NaN or infinite.
+    NonFiniteEntry {
+        /// Row of the entry (the index, for vectors).
+        row: usize,
+        /// Column of the entry (0 for vectors).
+        col: usize,
+    },
+    /// A probability or matrix entry is negative.
+    NegativeEntry {
+        /// Row of the entry (the index, for vectors).
+        row: usize,
+        /// Column of the entry (0 for vectors).
+        col: usize,
+    },
+    /// A distribution does not sum to one.
+    NotNormalized {
+        /// Its sum.
+        sum: f64,
+    },
+    /// A row of a transition matrix sums to more than one.
+    RowSumAboveOne {
+        /// The row.
+        row: usize,
+        /// Its sum.
+        sum: f64,
+    },
+    /// `P_ij > 0` towards a state of zero probability, so `p log(p/0)` is undefined.
+    TransitionToNullState {
+        /// Source state.
+        row: usize,
+        /// Target state, whose probability is zero.
+        col: usize,
+    },
+    /// A sparse matrix's structure is malformed (row pointers or column indices).
+    MalformedSparse,
+    /// A caller-provided buffer is too small.
+    BufferTooSmall {
+        /// Length needed.
+        needed: usize,
+        /// Length given.
+        found: usize,
+    },
+    /// A requested size exceeds a documented cap (e.g. path enumeration).
+    TooLarge {
+        /// What was too large.
+        what: &'static str,
+        /// The cap.
+        max: u64,
+    },
+    /// An iteration did not converge within its cap.
+    NoConvergence {
+        /// What was iterated.
+        what: &'static str,
+        /// Iterations spent.
+        iterations: u64,
+    },
+}
+
+impl fmt::Display for ErrorKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        use ErrorKind as K;
+        match self {
+            K::UnknownKeyword(t) => write!(f, "unknown keyword '{t}'"),
+            K::BadNumber { field, found } => write!(f, "{field}: '{found}' is not a number"),
+            K::NonFiniteNumber { field } => write!(f, "{field}: number is NaN or infinite"),
+            K::BadCount { field, found } => {
+                write!(f, "{field}: '{found}' is not a positive integer")
+            }
+            K::MissingField { field } => write!(f, "missing field {field}"),
+            K::TrailingField(t) => write!(f, "unexpected extra field '{t}'"),
+            K::InvalidUtf8 => write!(f, "input is not valid UTF-8"),
+            K::LineTooLong { max } => write!(f, "line longer than {max} bytes"),
+            K::ZeroLengthSegment => write!(f, "segment has zero length"),
+            K::PolygonVertexCount { given } => {
+                write!(f, "polygon needs at least 3 vertices (and at most 100000), got {given}")
+            }
+            K::PatchCount { given, max } => {
+                write!(f, "patch count {given} is out of range (1 to {max})")
+            }
+            K::TooManyPatches { max } => write!(f, "scene has more than {max} patches"),
+            K::Reflectance { value } => write!(f, "reflectance {value} is outside [0, 1)"),
+            K::Emittance { value } => write!(f, "emittance {value} is negative"),
+            K::EmptyScene => write!(f, "scene has no patches"),
+            K::BadCuts => write!(f, "cut positions must increase strictly inside (0, 1)"),
+            K::PatchIndex { index, len } => {
+                write!(f, "patch index {index} out of range (scene has {len} patches)")
+            }
+            K::CoordinateRange => write!(f, "coordinates too large: lengths overflow"),
+            K::DimensionMismatch { expected, found } => {
+                write!(f, "size mismatch: expected {expected}, found {found}")
+            }
+            K::NonFiniteEntry { row, col } => write!(f, "entry ({row}, {col}) is NaN or infinite"),
+            K::NegativeEntry { row, col } => write!(f, "entry ({row}, {col}) is negative"),
+            K::NotNormalized { sum } => write!(f, "distribution sums to {sum}, not 1"),
+            K::RowSumAboveOne { row, sum } => write!(f, "row {row} sums to {sum} > 1"),
+            K::TransitionToNullState { row, col } => write!(
+                f,
+                "transition {row} -> {col} is positive but state {col} has probability 0"
+            ),
+            K::MalformedSparse => write!(f, "sparse matrix structure is malformed"),
+            K::BufferTooSmall { needed, found } => {
+                write!(f, "buffer too small: need {needed}, got {found}")
+            }
+            K::TooLarge { what, max } => write!(f, "{what} exceeds the cap of {max}"),
+            K::NoConvergence { what, iterations } => {
+                write!(f, "{what} did not converge in {iterations} iterations")
+            }
+        }
+    }
+}
+
+/// The crate's error: what went wrong, and for text input, on which line.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Error {
+    kind: ErrorKind,
+    line: Option<u32>,
+}
+
+impl Error {
+    /// An error without a location.
+    #[must_use]
+    pub const fn new(kind: ErrorKind) -> Self {
+        Self { kind, line: None }
+    }
+
+    /// An error found on 1-based `line` of a text input.
+    #[must_use]
+    pub const fn at_line(kind: ErrorKind, line: u32) -> Self {
+        Self { kind, line: Some(line) }
+    }
+
+    /// Attaches a 1-based line number (keeps an existing one).
+    #[must_use]
+    pub fn with_line(mut self, line: u32) -> Self {
+        if self.line.is_none() {
+            self.line = Some(line);
+        }
+        self
+    }
+
+    /// What went wrong.
+    #[must_use]
+    pub fn kind(&self) -> &ErrorKind {
+        &self.kind
+    }
+
+    /// The 1-based line of the input where the error was found, if it came from text.
+    #[must_use]
+    pub fn line(&self) -> Option<u32> {
+        self.line
+    }
+}
+
+impl From<ErrorKind> for Error {
+    fn from(kind: ErrorKind) -> Self {
+        Self::new(kind)
+    }
+}
+
+impl fmt::Display for Error {
+    /// `line N: what` for text input, `what` otherwise. Front ends prefix the file name,
+    /// giving `file:N: what`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line {
+            Some(line) => write!(f, "line {line}: {}", self.kind),
+            None => write!(f, "{}", self.kind),
+        }
+    }
+}
+
+impl core::error::Error for Error {}
+
+/// Shorthand for `core::result::Result<T, Error>`.
+pub type Result<T> = core::result::Result<T, Error>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn token_truncates_at_char_boundary() {
+        let long = "ééééééééééééééééééééééééééééé"; // 29 two-byte chars
+        let t = token(long);
+        assert!(t.len() <= TOKEN_CAPACITY);
+        assert!(t.ends_with('…'));
+        assert_eq!(token("abc").as_str(), "abc");
+    }
+
+    #[test]
+    fn display_names_line() {
+        let e = Error::at_line(ErrorKind::ZeroLengthSegment, 7);
+        assert_eq!(alloc_free_display(&e), "line 7: segment has zero length");
+    }
+
+    fn alloc_free_display(e: &Error) -> heapless::String<128> {
+        use core::fmt::Write;
+        let mut s = heapless::String::<128>::new();
+        write!(s, "{e}").unwrap();
+        s
+    }
+}

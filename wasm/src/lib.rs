@@ -1,0 +1,1 @@
+//! WebAssembly front end (being written).
