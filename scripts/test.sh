@@ -1,0 +1,303 @@
+#!/usr/bin/env bash
+# The project's whole check, as run by CI (.ci/run) and by developers:
+#
+#   ./scripts/test.sh
+#
+# Part 1 installs whatever is missing (each step idempotent, and loud when it installs;
+# a failed install stops the script with a non-zero exit). Part 2 runs every check with a
+# banner and its duration, carries on past a failing check so one run shows them all, and
+# ends with the line "N passed, M failed" (exit status 1 when M > 0).
+#
+# Tunable, never skippable: FUZZ_SECONDS (default 15) is how long each fuzz target runs.
+set -euo pipefail
+
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+ROOT=$PWD
+export PATH="$HOME/.cargo/bin:$PATH"
+export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-never}"
+
+FUZZ_SECONDS=${FUZZ_SECONDS:-15}
+[[ $FUZZ_SECONDS =~ ^[1-9][0-9]*$ ]] || { echo "FUZZ_SECONDS must be a positive integer" >&2; exit 2; }
+CARGO_FUZZ_VERSION=0.13.2
+E2E_DIR=wasm/tests/e2e
+CHROMIUM=${CHROMIUM:-/usr/bin/chromium}
+export CHROMIUM
+
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then SUDO=sudo; fi
+
+# ---------------------------------------------------------------------------------------
+# Part 1: install what is missing
+# ---------------------------------------------------------------------------------------
+
+say() { printf '\n==> %s\n' "$*"; }
+ok() { printf '    ok: %s\n' "$*"; }
+die() {
+    printf '\n!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!\n' >&2
+    printf '!!! INSTALL FAILED: %s\n' "$*" >&2
+    printf '!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!\n' >&2
+    exit 1
+}
+
+install_rust_components() {
+    say "install: rustfmt, clippy (active toolchain)"
+    command -v rustup >/dev/null || die "rustup is not installed (see https://rustup.rs)"
+    local installed
+    installed=$(rustup component list --installed)
+    for c in rustfmt clippy; do
+        if grep -q "^$c-" <<<"$installed"; then
+            ok "$c"
+        else
+            echo "    installing component $c"
+            rustup component add "$c" || die "rustup component add $c"
+        fi
+    done
+}
+
+install_targets() {
+    say "install: rustup targets wasm32-unknown-unknown, thumbv7em-none-eabihf"
+    local installed
+    installed=$(rustup target list --installed)
+    for t in wasm32-unknown-unknown thumbv7em-none-eabihf; do
+        if grep -qx "$t" <<<"$installed"; then
+            ok "$t"
+        else
+            echo "    installing target $t"
+            rustup target add "$t" || die "rustup target add $t"
+        fi
+    done
+}
+
+install_nightly() {
+    say "install: nightly toolchain (cargo-fuzz needs it)"
+    if rustup toolchain list | grep -q '^nightly-'; then
+        ok "$(rustup run nightly rustc --version)"
+    else
+        echo "    installing nightly"
+        rustup toolchain install nightly --profile minimal || die "rustup toolchain install nightly"
+    fi
+}
+
+install_cargo_fuzz() {
+    say "install: cargo-fuzz $CARGO_FUZZ_VERSION"
+    local have
+    have=$(cargo fuzz --version 2>/dev/null || true)
+    if [[ $have == "cargo-fuzz $CARGO_FUZZ_VERSION" ]]; then
+        ok "$have"
+    else
+        echo "    found '${have:-nothing}'; installing cargo-fuzz =$CARGO_FUZZ_VERSION"
+        cargo +nightly install cargo-fuzz --version "=$CARGO_FUZZ_VERSION" --locked --force \
+            || die "cargo install cargo-fuzz $CARGO_FUZZ_VERSION"
+    fi
+}
+
+install_wasm_bindgen() {
+    # The CLI must match the wasm-bindgen library exactly ("schema versions must exactly
+    # match"); the lock file says which one the wasm crate builds with.
+    local want have
+    want=$(awk '$0 == "name = \"wasm-bindgen\"" { getline; gsub(/version = |"/, ""); print; exit }' Cargo.lock)
+    [[ -n $want ]] || die "no wasm-bindgen package in Cargo.lock"
+    say "install: wasm-bindgen-cli $want (the version in Cargo.lock)"
+    have=$(wasm-bindgen --version 2>/dev/null || true)
+    if [[ $have == "wasm-bindgen $want" ]]; then
+        ok "$have"
+    else
+        echo "    found '${have:-nothing}'; installing wasm-bindgen-cli =$want (takes ~3 min)"
+        # Not --locked: one of its locked dependency versions is gone from the registry.
+        cargo install wasm-bindgen-cli --version "=$want" --force \
+            || die "cargo install wasm-bindgen-cli $want"
+        [[ $(wasm-bindgen --version) == "wasm-bindgen $want" ]] \
+            || die "wasm-bindgen --version is not $want after the install"
+    fi
+}
+
+apt_updated=0
+apt_install() {
+    if [[ $apt_updated -eq 0 ]]; then
+        $SUDO apt-get update || die "apt-get update"
+        apt_updated=1
+    fi
+    # The first attempt fails on these machines ("dpkg: error processing archive ... No such
+    # file or directory": an apt hook deletes .deb files between dpkg batches); the second
+    # one succeeds. See shared/TOOLCHAIN.md.
+    if ! $SUDO apt-get install -y "$@"; then
+        echo "    apt-get install $* failed once (known dpkg hook problem); retrying"
+        $SUDO apt-get install -y "$@" || die "apt-get install $*"
+    fi
+}
+
+install_chromium() {
+    say "install: Debian chromium (headless browser test)"
+    if [[ -x $CHROMIUM ]]; then
+        ok "$("$CHROMIUM" --version 2>/dev/null | tail -n 1)"
+    else
+        echo "    installing chromium with apt-get"
+        apt_install chromium
+        [[ -x $CHROMIUM ]] || die "chromium installed, but $CHROMIUM does not exist"
+    fi
+}
+
+install_node_and_playwright() {
+    say "install: node and playwright-core (from $E2E_DIR/package-lock.json)"
+    if command -v node >/dev/null && command -v npm >/dev/null; then
+        ok "node $(node --version)"
+    else
+        echo "    installing nodejs and npm with apt-get"
+        apt_install nodejs npm
+    fi
+    local want have
+    want=$(node -p "require('./$E2E_DIR/package-lock.json').packages['node_modules/playwright-core'].version")
+    have=$(node -p "try { require('./$E2E_DIR/node_modules/playwright-core/package.json').version } catch { '' }")
+    if [[ $have == "$want" ]]; then
+        ok "playwright-core $have"
+    else
+        echo "    found '${have:-nothing}'; npm ci in $E2E_DIR (playwright-core $want)"
+        # Only the library: it drives the system Chromium, never a downloaded browser.
+        PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --prefix "$E2E_DIR" --no-audit --no-fund \
+            || die "npm ci in $E2E_DIR"
+    fi
+}
+
+install_start=$(date +%s)
+install_rust_components
+install_targets
+install_nightly
+install_cargo_fuzz
+install_wasm_bindgen
+install_chromium
+install_node_and_playwright
+printf '\n==> tools ready (%ss)\n' "$(($(date +%s) - install_start))"
+
+# ---------------------------------------------------------------------------------------
+# Part 2: the checks
+# ---------------------------------------------------------------------------------------
+
+checks_start=$(date +%s)
+passed=0
+failed=0
+summary=()
+
+# run_step NAME FUNCTION...: runs the function in a subshell with errexit on, timing it.
+run_step() {
+    local name=$1
+    shift
+    printf '\n'
+    printf '=%.0s' {1..90}
+    printf '\n=== [%d] %s\n' "$((passed + failed + 1))" "$name"
+    printf '=%.0s' {1..90}
+    printf '\n'
+    local t0 t1 rc secs
+    t0=$(date +%s%N)
+    set +e
+    (
+        set -euo pipefail
+        "$@"
+    )
+    rc=$?
+    set -e
+    t1=$(date +%s%N)
+    secs=$(awk -v ns="$((t1 - t0))" 'BEGIN { printf "%.1f", ns / 1e9 }')
+    if [[ $rc -eq 0 ]]; then
+        passed=$((passed + 1))
+        summary+=("$(printf 'PASS %7ss  %s' "$secs" "$name")")
+        printf '<== PASS  %s (%s s)\n' "$name" "$secs"
+    else
+        failed=$((failed + 1))
+        summary+=("$(printf 'FAIL %7ss  %s (exit %d)' "$secs" "$name" "$rc")")
+        printf '<== FAIL  %s (%s s, exit %d)\n' "$name" "$secs" "$rc"
+    fi
+}
+
+# Echoes a command, then runs it.
+x() {
+    printf '+ %s\n' "$*"
+    "$@"
+}
+
+check_fmt() {
+    x cargo fmt --all -- --check
+    x cargo fmt --manifest-path fuzz/Cargo.toml -- --check
+}
+
+check_clippy() {
+    x cargo clippy --workspace --all-targets -- -D warnings
+}
+
+check_tests() {
+    x cargo test --workspace
+}
+
+check_no_std() {
+    x cargo build -p sceneinfo --no-default-features --target "$1"
+}
+
+check_no_std_alloc() {
+    x cargo build -p sceneinfo --no-default-features --features alloc --target "$1"
+}
+
+build_wasm() {
+    local wasm=target/wasm32-unknown-unknown/wasm-release/sceneinfo_wasm.wasm
+    rm -rf wasm/www/pkg
+    x cargo build -p sceneinfo-wasm --target wasm32-unknown-unknown --profile wasm-release
+    x wasm-bindgen --target web --no-typescript --out-dir wasm/www/pkg "$wasm"
+    printf 'wasm size: %s bytes (cargo output), %s bytes (wasm/www/pkg/sceneinfo_wasm_bg.wasm)\n' \
+        "$(stat -c %s "$wasm")" "$(stat -c %s wasm/www/pkg/sceneinfo_wasm_bg.wasm)"
+}
+
+test_wasm_node() {
+    # wasm-bindgen-test-runner (installed with wasm-bindgen-cli) runs wasm/tests/*.rs in node.
+    CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
+        x cargo test -p sceneinfo-wasm --target wasm32-unknown-unknown
+}
+
+test_browser() {
+    [[ -f wasm/www/pkg/sceneinfo_wasm.js ]] || { echo "wasm/www/pkg is missing: the wasm build failed"; return 1; }
+    x node --test --test-reporter=spec "$E2E_DIR/page.test.mjs"
+    [[ -s target/e2e/index.png ]] || { echo "no screenshot at target/e2e/index.png"; return 1; }
+    printf 'screenshot: target/e2e/index.png (%s bytes)\n' "$(stat -c %s target/e2e/index.png)"
+}
+
+build_fuzz() {
+    x cargo +nightly fuzz build --fuzz-dir fuzz
+}
+
+run_fuzz() {
+    local target=$1
+    mkdir -p "fuzz/corpus/$target" "fuzz/seeds/$target"
+    if ! x cargo +nightly fuzz run --fuzz-dir fuzz "$target" \
+        "$ROOT/fuzz/corpus/$target" "$ROOT/fuzz/seeds/$target" -- \
+        -max_total_time="$FUZZ_SECONDS" -max_len=4096 -timeout=10 -rss_limit_mb=2048 \
+        -print_final_stats=1; then
+        echo "fuzz target $target failed: copy the input from fuzz/artifacts/$target/ into"
+        echo "tests/data/fuzz/$target/ so that cargo test replays it"
+        return 1
+    fi
+}
+
+run_step "cargo fmt --check (workspace and fuzz/)" check_fmt
+run_step "cargo clippy --workspace --all-targets -D warnings" check_clippy
+run_step "cargo test --workspace" check_tests
+run_step "no_std: sceneinfo --no-default-features, thumbv7em-none-eabihf" \
+    check_no_std thumbv7em-none-eabihf
+run_step "no_std + alloc: sceneinfo --features alloc, thumbv7em-none-eabihf" \
+    check_no_std_alloc thumbv7em-none-eabihf
+run_step "no_std: sceneinfo --no-default-features, wasm32-unknown-unknown" \
+    check_no_std wasm32-unknown-unknown
+run_step "wasm: build sceneinfo-wasm (wasm-release) + wasm-bindgen --target web" build_wasm
+run_step "wasm: wasm-bindgen-test in node (wasm/tests)" test_wasm_node
+run_step "browser: headless Chromium on wasm/www" test_browser
+run_step "fuzz: cargo +nightly fuzz build" build_fuzz
+for src in fuzz/fuzz_targets/fuzz_*.rs; do
+    target=$(basename "$src" .rs)
+    run_step "fuzz: $target for ${FUZZ_SECONDS} s" run_fuzz "$target"
+done
+
+printf '\n'
+printf '=%.0s' {1..90}
+printf '\n=== summary (total %s s, of which %s s installing)\n' \
+    "$(($(date +%s) - install_start))" "$((checks_start - install_start))"
+printf '%s\n' "${summary[@]}"
+printf '=%.0s' {1..90}
+printf '\n'
+echo "$passed passed, $failed failed"
+[[ $failed -eq 0 ]]
