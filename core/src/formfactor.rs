@@ -1,1 +1,21 @@
-//! (being written)
+//! Form factors: the transition probabilities of the scene's Markov chain.
+//!
+//! `F_ij` is the fraction of the power leaving patch `i` that arrives at patch `j`
+//! directly (thesis §2.1.3). In flatland (2.20)
+//!
+//! ```text
+//! F_ij = 1/L_i ∫_{L_i} ∫_{L_j} cos θ_x cos θ_y / (2 r_xy) V(x, y) dL_y dL_x
+//! ```
+//!
+//! - [`exact_2d`]: exact flatland form factors with occlusion (crossed strings, generalised
+//!   to partial visibility by integrating over visibility events).
+//!
+//! The owning result type is [`FormFactors`] (feature `alloc`): the matrix, the stationary
+//! distribution, and the background state of open scenes.
+
+pub mod exact_2d;
+
+#[cfg(feature = "alloc")]
+mod matrix;
+#[cfg(feature = "alloc")]
+pub use matrix::{BACKGROUND_TOLERANCE, FormFactors};

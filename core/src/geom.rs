@@ -1,1 +1,241 @@
-//! (being written)
+//! Geometry: points, segments and the small predicates the form factors need.
+//!
+//! Points and vectors are glam's `f64` types ([`DVec2`], [`DVec3`]). A flatland
+//! [`Segment`] `a → b` faces its **left** side: its normal is the left perpendicular of
+//! `b − a`, so a counter-clockwise polygon faces inwards (DESIGN.md, "Orientation").
+
+pub use glam::{DVec2, DVec3};
+
+use crate::math;
+
+/// Largest coordinate magnitude a scene accepts. Beyond it, squared lengths could overflow
+/// and the geometric predicates would lose every significant digit.
+pub const MAX_COORDINATE: f64 = 1e12;
+
+/// 2D cross product (the `z` of the 3D cross product): `u.x v.y − u.y v.x`.
+///
+/// Positive when `v` is counter-clockwise from `u`.
+#[inline]
+#[must_use]
+pub fn cross(u: DVec2, v: DVec2) -> f64 {
+    u.x * v.y - u.y * v.x
+}
+
+/// Left perpendicular `(−v.y, v.x)`: `v` rotated by +90°.
+#[inline]
+#[must_use]
+pub fn left_perp(v: DVec2) -> DVec2 {
+    DVec2::new(-v.y, v.x)
+}
+
+/// Euclidean distance between two points, computed with `hypot` (no overflow, no
+/// underflow for tiny separations).
+#[inline]
+#[must_use]
+pub fn distance(p: DVec2, q: DVec2) -> f64 {
+    math::hypot(q.x - p.x, q.y - p.y)
+}
+
+/// Signed area of the polygon through `vertices` (shoelace formula): positive when they run
+/// counter-clockwise.
+#[must_use]
+pub fn signed_area(vertices: &[DVec2]) -> f64 {
+    let n = vertices.len();
+    let mut s = math::KahanSum::new();
+    for k in 0..n {
+        s.add(cross(vertices[k], vertices[(k + 1) % n]));
+    }
+    0.5 * s.total()
+}
+
+/// A directed flatland segment `a → b`, facing its left side.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Segment {
+    /// Start point.
+    pub a: DVec2,
+    /// End point.
+    pub b: DVec2,
+}
+
+impl Segment {
+    /// The segment `a → b`.
+    #[inline]
+    #[must_use]
+    pub const fn new(a: DVec2, b: DVec2) -> Self {
+        Self { a, b }
+    }
+
+    /// Length `|b − a|`.
+    #[inline]
+    #[must_use]
+    pub fn length(&self) -> f64 {
+        distance(self.a, self.b)
+    }
+
+    /// Unit tangent `(b − a)/|b − a|`; zero for a degenerate segment.
+    #[inline]
+    #[must_use]
+    pub fn tangent(&self) -> DVec2 {
+        let d = self.b - self.a;
+        let l = self.length();
+        if l > 0.0 { d / l } else { DVec2::ZERO }
+    }
+
+    /// Unit normal of the front side: the left perpendicular of the tangent.
+    #[inline]
+    #[must_use]
+    pub fn normal(&self) -> DVec2 {
+        left_perp(self.tangent())
+    }
+
+    /// Point at parameter `t ∈ [0, 1]`: `a + t (b − a)`.
+    #[inline]
+    #[must_use]
+    pub fn point_at(&self, t: f64) -> DVec2 {
+        self.a + (self.b - self.a) * t
+    }
+
+    /// Midpoint.
+    #[inline]
+    #[must_use]
+    pub fn midpoint(&self) -> DVec2 {
+        (self.a + self.b) * 0.5
+    }
+
+    /// Signed side of `p`: `cross(b − a, p − a)`, positive in front (left), negative behind.
+    /// Proportional to the distance of `p` from the supporting line.
+    #[inline]
+    #[must_use]
+    pub fn side(&self, p: DVec2) -> f64 {
+        cross(self.b - self.a, p - self.a)
+    }
+
+    /// The same segment traversed `b → a` (facing the other way).
+    #[inline]
+    #[must_use]
+    pub fn reversed(&self) -> Self {
+        Self { a: self.b, b: self.a }
+    }
+
+    /// Axis-aligned bounds `(min, max)`.
+    #[inline]
+    #[must_use]
+    pub fn bounds(&self) -> (DVec2, DVec2) {
+        (self.a.min(self.b), self.a.max(self.b))
+    }
+}
+
+/// Where the segments `p0 p1` and `q0 q1` cross properly (each one's interior meets the
+/// other's at a single point), as the parameter along `p0 p1` and the point.
+///
+/// Touching at an endpoint, overlapping collinearly or missing returns `None`.
+#[must_use]
+pub fn proper_crossing(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> Option<(f64, DVec2)> {
+    let r = p1 - p0;
+    let s = q1 - q0;
+    let denom = cross(r, s);
+    if denom == 0.0 {
+        return None;
+    }
+    let qp = q0 - p0;
+    let t = cross(qp, s) / denom;
+    let u = cross(qp, r) / denom;
+    // Strictly inside both: endpoints touching is not a crossing.
+    let eps = 1e-12;
+    if t > eps && t < 1.0 - eps && u > eps && u < 1.0 - eps {
+        Some((t, p0 + r * t))
+    } else {
+        None
+    }
+}
+
+/// Whether segment `p0 p1` and the convex hull of `hull` (any ≤ 8 points) may intersect,
+/// by the separating-axis test on the normals of every pair of hull points and of the
+/// segment. `margin` widens every projection: a conservative "may intersect".
+#[must_use]
+pub fn segment_may_meet_hull(p0: DVec2, p1: DVec2, hull: &[DVec2], margin: f64) -> bool {
+    let separated = |axis: DVec2| -> bool {
+        if axis == DVec2::ZERO {
+            return false;
+        }
+        let (mut lo_h, mut hi_h) = (f64::INFINITY, f64::NEG_INFINITY);
+        for &h in hull {
+            let d = axis.dot(h);
+            lo_h = lo_h.min(d);
+            hi_h = hi_h.max(d);
+        }
+        let (a, b) = (axis.dot(p0), axis.dot(p1));
+        let (lo_s, hi_s) = (a.min(b), a.max(b));
+        let m = margin * axis.length();
+        hi_s < lo_h - m || lo_s > hi_h + m
+    };
+    if separated(left_perp(p1 - p0)) {
+        return false;
+    }
+    for (k, &u) in hull.iter().enumerate() {
+        for &v in &hull[k + 1..] {
+            if separated(left_perp(v - u)) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn normal_is_left() {
+        let s = Segment::new(DVec2::ZERO, DVec2::new(2.0, 0.0));
+        assert_eq!(s.normal(), DVec2::new(0.0, 1.0));
+        assert!(s.side(DVec2::new(1.0, 1.0)) > 0.0);
+        assert_eq!(s.length(), 2.0);
+    }
+
+    #[test]
+    fn crossing_found_and_touching_ignored() {
+        let (t, p) = proper_crossing(
+            DVec2::new(0.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(1.0, -1.0),
+            DVec2::new(1.0, 1.0),
+        )
+        .unwrap();
+        assert!((t - 0.5).abs() < 1e-15 && (p - DVec2::new(1.0, 0.0)).length() < 1e-15);
+        assert!(
+            proper_crossing(
+                DVec2::ZERO,
+                DVec2::X,
+                DVec2::X,
+                DVec2::new(1.0, 1.0)
+            )
+            .is_none()
+        );
+    }
+
+    #[test]
+    fn hull_test_separates() {
+        let hull = [DVec2::ZERO, DVec2::X, DVec2::new(1.0, 1.0), DVec2::Y];
+        assert!(segment_may_meet_hull(
+            DVec2::new(0.5, -1.0),
+            DVec2::new(0.5, 2.0),
+            &hull,
+            0.0
+        ));
+        assert!(!segment_may_meet_hull(
+            DVec2::new(2.0, -1.0),
+            DVec2::new(3.0, 2.0),
+            &hull,
+            0.0
+        ));
+        // Diagonal miss near a corner: only the segment's own normal separates it.
+        assert!(!segment_may_meet_hull(
+            DVec2::new(1.2, 1.0),
+            DVec2::new(1.0, 1.2),
+            &hull,
+            0.0
+        ));
+    }
+}

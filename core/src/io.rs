@@ -1,1 +1,9 @@
-//! (being written)
+//! Scene file formats (feature `alloc`).
+//!
+//! - [`parse_flat`] / [`write_flat`]: the flatland text format (`.flat`).
+//!
+//! Parsers validate everything and report the 1-based line of the first error
+//! ([`crate::Error::line`]); front ends prefix the file name, giving `file:line: what`.
+
+mod flat;
+pub use flat::{MAX_POLYGON_VERTICES, parse_flat, write_flat};

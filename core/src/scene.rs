@@ -1,1 +1,19 @@
-//! (being written)
+//! Scenes: what the channel is built from.
+//!
+//! - [`Material`]: reflectance ρ and emittance E per RGB channel.
+//! - [`FlatScene`] (feature `alloc`): a flatland scene of one-sided segments ("surfaces"),
+//!   each cut into patches (thesis §2.1.3, §3.3).
+//!
+//! A flatland surface is the unit of *occlusion* — it blocks light whole — and a patch is the
+//! unit of *discretisation*, a state of the Markov chain. Patches of one surface are
+//! collinear and never see each other.
+
+mod material;
+pub use material::Material;
+
+#[cfg(feature = "alloc")]
+mod flat;
+#[cfg(feature = "alloc")]
+mod presets;
+#[cfg(feature = "alloc")]
+pub use flat::{FlatPatch, FlatScene, FlatSceneBuilder, FlatSurface, MAX_PATCHES, MAX_PATCHES_PER_SURFACE};

@@ -1,1 +1,45 @@
-//! (being written)
+//! The thesis' published numbers, as data.
+//!
+//! Values are copied from M. Feixas, *An Information-Theory Framework for the Study of the
+//! Complexity of Visibility and Radiosity in a Scene* (UPC, 2002), rounded as printed there
+//! (3 decimals). `sceneinfo reproduce` and the test-suite compare the crate's results
+//! against them; keeping them in one place means both use the same numbers.
+
+/// The patches-per-side columns of Tables 3.4, 3.5 and 4.10.
+pub const POLYGON_PER_SIDE: [u64; 3] = [10, 30, 50];
+
+/// The side counts of the rows of Tables 3.4, 3.5 and 4.10 (regular polygons).
+pub const POLYGON_SIDES: [usize; 10] = [3, 4, 5, 6, 7, 8, 9, 10, 11, 12];
+
+/// Table 3.4: `H_S` of regular polygons (rows: 3–12 sides; columns: 10, 30, 50 patches per
+/// side), exact form factors by the string rule.
+pub const TABLE_3_4_H_S: [[f64; 3]; 10] = [
+    [3.739, 5.248, 5.969],
+    [4.590, 6.138, 6.867],
+    [5.094, 6.657, 7.389],
+    [5.455, 7.025, 7.758],
+    [5.737, 7.311, 8.045],
+    [5.969, 7.545, 8.281],
+    [6.166, 7.745, 8.480],
+    [6.338, 7.918, 8.654],
+    [6.491, 8.072, 8.808],
+    [6.628, 8.210, 8.946],
+];
+
+/// Table 3.5: `I_S` of regular polygons (same layout as [`TABLE_3_4_H_S`]).
+pub const TABLE_3_5_I_S: [[f64; 3]; 10] = [
+    [1.168, 1.244, 1.260],
+    [0.732, 0.769, 0.777],
+    [0.550, 0.572, 0.577],
+    [0.452, 0.467, 0.470],
+    [0.393, 0.404, 0.406],
+    [0.353, 0.362, 0.363],
+    [0.326, 0.332, 0.333],
+    [0.306, 0.311, 0.312],
+    [0.290, 0.295, 0.296],
+    [0.279, 0.282, 0.283],
+];
+
+/// Half a unit in the last printed place of the tables above: the rounding error of a
+/// correct value.
+pub const TABLE_ROUNDING: f64 = 0.0005;

@@ -1,0 +1,649 @@
+//! Exact flatland form factors with occlusion.
+//!
+//! # Method
+//!
+//! Place the source patch `i` on the axis of a local frame, `x(t) = (t, 0)` for
+//! `t ∈ [0, L_i]`, front side `h > 0`. From a point `x`, the point-to-patch form factor
+//! (the flatland form of 2.16) is half the sine-measure of the directions in which `x` sees
+//! the front of `j`:
+//!
+//! ```text
+//! F_{x→j} = ½ Σ_k (sin φ_hi,k − sin φ_lo,k)
+//! ```
+//!
+//! over the visible angular intervals `k`, with `φ` measured from the normal. Each interval
+//! bound is the direction towards a *point* `p` — an endpoint of `j` or of an occluder — and
+//! `sin φ = (p_t − t)/|p − x(t)|`, whose integral along the patch is exact:
+//!
+//! ```text
+//! ∫_{t0}^{t1} (p_t − t)/|p − x(t)| dt = |p − x(t0)| − |p − x(t1)|
+//! ```
+//!
+//! which is where the crossed-strings rule comes from. The *which points bound which
+//! intervals* structure only changes where `x(t)` is collinear with two such points (a
+//! visibility event), so the method
+//!
+//! 1. clips `j` and every occluder that can block sight lines (those meeting the convex hull
+//!    of `i ∪ j`) to the front half-plane of `i`, splitting an occluder where it crosses `j`;
+//! 2. collects the events: the points `t*` where the line through two of those points
+//!    crosses `i`, kept when the common direction falls inside `j`'s angular range;
+//! 3. between consecutive events, finds the visible intervals at the midpoint and integrates
+//!    each bound in closed form with the formula above.
+//!
+//! With no occluder this *is* the crossed-strings rule `L_i F_ij = ½(crossed − uncrossed)`.
+//! The result is exact up to rounding: each sub-interval adds a few ulps of
+//! `max |p − x|` (about 1e-15 relative), and an event located with error `δ` moves the
+//! integral by at most `δ/2` because `F_{x→j}` is continuous in `x`. Tests check rows of
+//! closed scenes sum to 1 within 1e-12 and agree with independent adaptive quadrature of
+//! `F_{x→j}` within 1e-10.
+//!
+//! Cost per pair is `O(m + e·k log k)` for `m` surfaces, `k` relevant occluders and `e`
+//! events; the whole matrix is computed once per unordered pair and filled by reciprocity,
+//! `F_ji = L_i F_ij / L_j` (2.21).
+
+use crate::geom::{DVec2, Segment, cross, distance};
+use crate::math;
+
+#[cfg(feature = "alloc")]
+use crate::error::{ErrorKind, Result};
+#[cfg(feature = "alloc")]
+use crate::formfactor::FormFactors;
+#[cfg(feature = "alloc")]
+use crate::scene::FlatScene;
+#[cfg(feature = "alloc")]
+use alloc::vec::Vec;
+
+/// Largest patch count for which [`form_factors`] builds the dense `n × n` matrix
+/// (10 000² doubles = 800 MB). Larger scenes need the Monte Carlo sparse estimators.
+pub const MAX_DENSE_PATCHES: usize = 10_000;
+
+/// Relative tolerance under which a point counts as lying on a supporting line.
+const ON_LINE: f64 = 1e-12;
+
+/// A patch's local frame: `origin` = its start, `u` = unit tangent, `n` = unit normal.
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    origin: DVec2,
+    u: DVec2,
+    n: DVec2,
+}
+
+impl Frame {
+    fn of(seg: &Segment) -> Self {
+        let u = seg.tangent();
+        Self { origin: seg.a, u, n: DVec2::new(-u.y, u.x) }
+    }
+
+    /// Local coordinates `(t, h)` of a world point.
+    fn local(&self, p: DVec2) -> DVec2 {
+        let d = p - self.origin;
+        DVec2::new(d.dot(self.u), d.dot(self.n))
+    }
+}
+
+/// Clips the local segment `p q` to the closed front half-plane `h ≥ 0`, snapping points
+/// within rounding of the axis onto it. `None` if nothing with `h > 0` remains.
+fn clip_front(p: DVec2, q: DVec2) -> Option<(DVec2, DVec2)> {
+    let snap = |v: DVec2| -> DVec2 {
+        if v.y.abs() <= ON_LINE * v.length() { DVec2::new(v.x, 0.0) } else { v }
+    };
+    let (p, q) = (snap(p), snap(q));
+    match (p.y > 0.0, q.y > 0.0) {
+        (false, false) => None,
+        (true, true) => Some((p, q)),
+        (true, false) | (false, true) => {
+            if p.y == 0.0 || q.y == 0.0 {
+                return Some((p, q));
+            }
+            // One endpoint strictly behind: cut at h = 0.
+            let s = p.y / (p.y - q.y);
+            let c = DVec2::new(p.x + s * (q.x - p.x), 0.0);
+            if p.y > 0.0 { Some((p, c)) } else { Some((c, q)) }
+        }
+    }
+}
+
+/// Direction angle of `p` seen from `(t, 0)`, measured from the normal towards the tangent:
+/// `ψ = atan2(p_t − t, p_h) ∈ [−π/2, π/2]` for `p_h ≥ 0`.
+#[inline]
+fn angle(p: DVec2, t: f64) -> f64 {
+    math::atan2(p.x - t, p.y)
+}
+
+/// `|p − (t, 0)|`.
+#[inline]
+fn dist(p: DVec2, t: f64) -> f64 {
+    math::hypot(p.x - t, p.y)
+}
+
+/// `∫_{t0}^{t1} sin φ_p(t) dt = |p − x(t0)| − |p − x(t1)|`.
+#[inline]
+fn sine_integral(p: DVec2, t0: f64, t1: f64) -> f64 {
+    dist(p, t0) - dist(p, t1)
+}
+
+/// Unoccluded flux `L_i F_ij` between two segments that see each other (or partly, where
+/// they cross each other's supporting lines), without allocating: the crossed-strings rule
+/// generalised to one-sided segments. `F_ij = flux / L_i`, `F_ji = flux / L_j`.
+///
+/// ```text
+/// L_i F_ij = ½ (|a_i a_j| + |b_i b_j| − |a_i b_j| − |b_i a_j|)     (fully facing)
+/// ```
+///
+/// Returns 0 when they do not face each other.
+#[must_use]
+pub fn unoccluded_flux(i: Segment, j: Segment) -> f64 {
+    let len_i = i.length();
+    if !(len_i > 0.0) || !(j.length() > 0.0) {
+        return 0.0;
+    }
+    let frame = Frame::of(&i);
+    let Some((p0, p1)) = clip_front(frame.local(j.a), frame.local(j.b)) else {
+        return 0.0;
+    };
+    let ja = frame.local(j.a);
+    let jb = frame.local(j.b);
+    // The one possible event: where j's supporting line crosses i.
+    let mut cuts = [0.0, len_i, len_i];
+    let mut n_cuts = 2;
+    if let Some(t) = line_crossing_axis(p0, p1) {
+        if t > 0.0 && t < len_i {
+            cuts = [0.0, t, len_i];
+            n_cuts = 3;
+        }
+    }
+    let mut flux = 0.0;
+    for w in cuts[..n_cuts].windows(2) {
+        let (t0, t1) = (w[0], w[1]);
+        let tm = 0.5 * (t0 + t1);
+        if cross(jb - ja, DVec2::new(tm, 0.0) - ja) <= 0.0 {
+            continue; // j shows its back here
+        }
+        let (lo, hi) = if angle(p0, tm) <= angle(p1, tm) { (p0, p1) } else { (p1, p0) };
+        flux += sine_integral(hi, t0, t1) - sine_integral(lo, t0, t1);
+    }
+    (0.5 * flux).max(0.0)
+}
+
+/// Where the line through local points `p`, `q` crosses the axis `h = 0`, if not parallel.
+#[inline]
+fn line_crossing_axis(p: DVec2, q: DVec2) -> Option<f64> {
+    let dh = p.y - q.y;
+    if dh == 0.0 {
+        return None;
+    }
+    let s = p.y / dh;
+    let t = p.x + s * (q.x - p.x);
+    t.is_finite().then_some(t)
+}
+
+/// Point-to-segment form factor `F_{x→j}` without occlusion (flatland form of 2.16): half
+/// the difference of the sines of the angles, from the normal `normal` at `x`, under which
+/// the front of `j` is seen.
+///
+/// ```text
+/// F_{x→j} = ½ (sin φ_hi − sin φ_lo)
+/// ```
+#[must_use]
+pub fn point_to_segment_unoccluded(x: DVec2, normal: DVec2, j: Segment) -> f64 {
+    let n = normal.normalize_or_zero();
+    if n == DVec2::ZERO || j.side(x) <= 0.0 {
+        return 0.0;
+    }
+    let frame = Frame { origin: x, u: DVec2::new(n.y, -n.x), n };
+    let Some((p0, p1)) = clip_front(frame.local(j.a), frame.local(j.b)) else {
+        return 0.0;
+    };
+    let s = |p: DVec2| p.x / math::hypot(p.x, p.y);
+    (0.5 * (s(p0) - s(p1)).abs()).min(1.0)
+}
+
+// ---------------------------------------------------------------------------------------
+// With occlusion (needs scratch space)
+// ---------------------------------------------------------------------------------------
+
+/// One endpoint-bounded angular interval: directions from `lo` to `hi`.
+#[cfg(feature = "alloc")]
+#[derive(Clone, Copy, Debug)]
+struct Bound {
+    angle: f64,
+    point: DVec2,
+}
+
+/// Reusable buffers of the occluded computation.
+#[cfg(feature = "alloc")]
+#[derive(Debug, Default)]
+struct Scratch {
+    occluders: Vec<(DVec2, DVec2)>,
+    points: Vec<DVec2>,
+    events: Vec<f64>,
+    shadows: Vec<(Bound, Bound)>,
+    visible: Vec<(DVec2, DVec2)>,
+}
+
+/// Visible intervals of target `(j0, j1)` (local, clipped; `ja jb` its full oriented
+/// segment for the facing test) from `x = (t, 0)`, as `(lo point, hi point)` pairs.
+#[cfg(feature = "alloc")]
+fn visible_intervals(
+    t: f64,
+    target: (DVec2, DVec2),
+    facing: (DVec2, DVec2),
+    occluders: &[(DVec2, DVec2)],
+    shadows: &mut Vec<(Bound, Bound)>,
+    out: &mut Vec<(DVec2, DVec2)>,
+) {
+    out.clear();
+    let x = DVec2::new(t, 0.0);
+    let (ja, jb) = facing;
+    if cross(jb - ja, x - ja) <= 0.0 {
+        return; // j shows its back to x
+    }
+    let (a0, a1) = (angle(target.0, t), angle(target.1, t));
+    let (lo, hi) = if a0 <= a1 {
+        (Bound { angle: a0, point: target.0 }, Bound { angle: a1, point: target.1 })
+    } else {
+        (Bound { angle: a1, point: target.1 }, Bound { angle: a0, point: target.0 })
+    };
+    if !(hi.angle > lo.angle) {
+        return;
+    }
+    // Shadows: the parts of j's angular range where an occluder is nearer than j.
+    shadows.clear();
+    for &(q0, q1) in occluders {
+        let (b0, b1) = (angle(q0, t), angle(q1, t));
+        let (klo, khi) = if b0 <= b1 {
+            (Bound { angle: b0, point: q0 }, Bound { angle: b1, point: q1 })
+        } else {
+            (Bound { angle: b1, point: q1 }, Bound { angle: b0, point: q0 })
+        };
+        let s_lo = if klo.angle > lo.angle { klo } else { lo };
+        let s_hi = if khi.angle < hi.angle { khi } else { hi };
+        if !(s_hi.angle > s_lo.angle) {
+            continue;
+        }
+        // Compare depths along the middle direction of the overlap. The two segments do not
+        // cross (occluders were split at j), so the order holds over the whole overlap.
+        let mid = 0.5 * (s_lo.angle + s_hi.angle);
+        let d = DVec2::new(math::sin(mid), math::cos(mid));
+        let r_j = ray_line_distance(x, d, target.0, target.1);
+        let r_k = ray_line_distance(x, d, q0, q1);
+        if r_k < r_j {
+            shadows.push((s_lo, s_hi));
+        }
+    }
+    shadows.sort_unstable_by(|a, b| a.0.angle.total_cmp(&b.0.angle));
+    // Sweep: j's range minus the union of shadows.
+    let mut cur = lo;
+    for &(s_lo, s_hi) in shadows.iter() {
+        if s_lo.angle > cur.angle {
+            out.push((cur.point, s_lo.point));
+        }
+        if s_hi.angle > cur.angle {
+            cur = s_hi;
+        }
+    }
+    if hi.angle > cur.angle {
+        out.push((cur.point, hi.point));
+    }
+}
+
+/// Distance along the ray `x + r d` to the line through `p`, `q` (∞ if parallel).
+#[cfg(feature = "alloc")]
+#[inline]
+fn ray_line_distance(x: DVec2, d: DVec2, p: DVec2, q: DVec2) -> f64 {
+    let e = q - p;
+    let denom = cross(d, e);
+    if denom == 0.0 {
+        return f64::INFINITY;
+    }
+    cross(p - x, e) / denom
+}
+
+/// Whether local point `p` lies in the closed convex quadrilateral hull of the source axis
+/// `[0, len]` and the target `(j0, j1)` — the only region whose points can bound a visible
+/// interval of `j` seen from `i`.
+#[cfg(feature = "alloc")]
+fn in_sight_region(p: DVec2, len: f64, j0: DVec2, j1: DVec2) -> bool {
+    let pts = [DVec2::ZERO, DVec2::new(len, 0.0), j0, j1];
+    // p is in the hull of 4 points iff it is in one of the triangles they span.
+    let tri = |a: DVec2, b: DVec2, c: DVec2| -> bool {
+        let s = cross(b - a, c - a);
+        let tol = ON_LINE * (b - a).length().max((c - a).length()).powi(2);
+        if s.abs() <= tol {
+            return false;
+        }
+        let d1 = cross(b - a, p - a) * s.signum();
+        let d2 = cross(c - b, p - b) * s.signum();
+        let d3 = cross(a - c, p - c) * s.signum();
+        let eps = -tol;
+        d1 >= eps && d2 >= eps && d3 >= eps
+    };
+    tri(pts[0], pts[1], pts[2])
+        || tri(pts[0], pts[1], pts[3])
+        || tri(pts[0], pts[2], pts[3])
+        || tri(pts[1], pts[2], pts[3])
+}
+
+/// Flux `L_i F_ij` between patch segments `i` and `j` with the given candidate occluders
+/// (world coordinates; those not meeting the sight region are ignored).
+#[cfg(feature = "alloc")]
+fn occluded_flux<'a>(
+    i: Segment,
+    j: Segment,
+    occluders: impl Iterator<Item = &'a Segment>,
+    scratch: &mut Scratch,
+) -> f64 {
+    let len_i = i.length();
+    let frame = Frame::of(&i);
+    let (ja, jb) = (frame.local(j.a), frame.local(j.b));
+    let Some((j0, j1)) = clip_front(ja, jb) else {
+        return 0.0;
+    };
+    // Quick reject: j faces away from the whole of i.
+    if cross(jb - ja, -ja) <= 0.0 && cross(jb - ja, DVec2::new(len_i, 0.0) - ja) <= 0.0 {
+        return 0.0;
+    }
+    let hull_world = [i.a, i.b, frame.origin + frame.u * j0.x + frame.n * j0.y, {
+        frame.origin + frame.u * j1.x + frame.n * j1.y
+    }];
+    let j_len = (j1 - j0).length();
+
+    // 1. Relevant occluders, clipped to the front and split where they cross j.
+    scratch.occluders.clear();
+    let (hlo, hhi) = hull_world
+        .iter()
+        .fold((DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    for occ in occluders {
+        let (olo, ohi) = occ.bounds();
+        if ohi.x < hlo.x || ohi.y < hlo.y || olo.x > hhi.x || olo.y > hhi.y {
+            continue;
+        }
+        if !crate::geom::segment_may_meet_hull(occ.a, occ.b, &hull_world, 0.0) {
+            continue;
+        }
+        let Some((q0, q1)) = clip_front(frame.local(occ.a), frame.local(occ.b)) else {
+            continue;
+        };
+        // Collinear with j: at j's own depth, it cannot hide j.
+        let on_j_line = |q: DVec2| cross(j1 - j0, q - j0).abs() <= ON_LINE * j_len * (q - j0).length().max(j_len);
+        if on_j_line(q0) && on_j_line(q1) {
+            continue;
+        }
+        match crate::geom::proper_crossing(q0, q1, j0, j1) {
+            Some((_, c)) => {
+                scratch.occluders.push((q0, c));
+                scratch.occluders.push((c, q1));
+            }
+            None => scratch.occluders.push((q0, q1)),
+        }
+    }
+    if scratch.occluders.is_empty() {
+        return unoccluded_flux(i, j);
+    }
+
+    // 2. Events: lines through two candidate points crossing the open patch.
+    scratch.points.clear();
+    scratch.points.push(j0);
+    scratch.points.push(j1);
+    for &(q0, q1) in &scratch.occluders {
+        for q in [q0, q1] {
+            if in_sight_region(q, len_i, j0, j1) {
+                scratch.points.push(q);
+            }
+        }
+    }
+    scratch.events.clear();
+    scratch.events.push(0.0);
+    scratch.events.push(len_i);
+    let pts = &scratch.points;
+    for (a, &p) in pts.iter().enumerate() {
+        for &q in &pts[a + 1..] {
+            let Some(t) = line_crossing_axis(p, q) else { continue };
+            if !(t > 0.0 && t < len_i) {
+                continue;
+            }
+            // Keep it only if the common direction lies within j's range seen from t.
+            let x = DVec2::new(t, 0.0);
+            let v = if p.y > 0.0 { p - x } else { q - x };
+            let (v0, v1) = (j0 - x, j1 - x);
+            let s = cross(v0, v1);
+            let tol = ON_LINE * v.length() * v0.length().max(v1.length());
+            let inside = if s >= 0.0 {
+                cross(v0, v) >= -tol && cross(v, v1) >= -tol
+            } else {
+                cross(v0, v) <= tol && cross(v, v1) <= tol
+            };
+            if inside {
+                scratch.events.push(t);
+            }
+        }
+    }
+    scratch.events.sort_unstable_by(f64::total_cmp);
+    let min_gap = 1e-14 * len_i;
+    scratch.events.dedup_by(|b, a| *b - *a <= min_gap);
+
+    // 3. Integrate each sub-interval in closed form.
+    let mut flux = math::KahanSum::new();
+    let Scratch { occluders, events, shadows, visible, .. } = scratch;
+    for w in events.windows(2) {
+        let (t0, t1) = (w[0], w[1]);
+        if !(t1 > t0) {
+            continue;
+        }
+        visible_intervals(0.5 * (t0 + t1), (j0, j1), (ja, jb), occluders, shadows, visible);
+        for &(lo, hi) in visible.iter() {
+            flux.add(sine_integral(hi, t0, t1) - sine_integral(lo, t0, t1));
+        }
+    }
+    (0.5 * flux.total()).max(0.0)
+}
+
+/// Point-to-patch form factor `F_{x→j}` (flatland form of 2.16) with occlusion by every
+/// other surface of the scene: `x` is a point with front normal `normal`, `j` a patch index.
+///
+/// # Errors
+/// [`ErrorKind::PatchIndex`] if `j` is out of range.
+#[cfg(feature = "alloc")]
+pub fn point_to_patch(scene: &FlatScene, x: DVec2, normal: DVec2, j: usize) -> Result<f64> {
+    let patch = scene
+        .patches()
+        .get(j)
+        .ok_or(ErrorKind::PatchIndex { index: j, len: scene.n_patches() })?;
+    let n = normal.normalize_or_zero();
+    if n == DVec2::ZERO {
+        return Ok(0.0);
+    }
+    let frame = Frame { origin: x, u: DVec2::new(n.y, -n.x), n };
+    let (ja, jb) = (frame.local(patch.segment.a), frame.local(patch.segment.b));
+    let Some((j0, j1)) = clip_front(ja, jb) else {
+        return Ok(0.0);
+    };
+    let j_len = (j1 - j0).length();
+    let mut occluders = Vec::new();
+    for (k, s) in scene.surfaces().iter().enumerate() {
+        if k == patch.surface {
+            continue;
+        }
+        let Some((q0, q1)) = clip_front(frame.local(s.segment.a), frame.local(s.segment.b)) else {
+            continue;
+        };
+        let on_j_line = |q: DVec2| cross(j1 - j0, q - j0).abs() <= ON_LINE * j_len * (q - j0).length().max(j_len);
+        if on_j_line(q0) && on_j_line(q1) {
+            continue;
+        }
+        match crate::geom::proper_crossing(q0, q1, j0, j1) {
+            Some((_, c)) => {
+                occluders.push((q0, c));
+                occluders.push((c, q1));
+            }
+            None => occluders.push((q0, q1)),
+        }
+    }
+    let mut shadows = Vec::new();
+    let mut visible = Vec::new();
+    visible_intervals(0.0, (j0, j1), (ja, jb), &occluders, &mut shadows, &mut visible);
+    let s = |p: DVec2| p.x / math::hypot(p.x, p.y);
+    let f: f64 = visible.iter().map(|&(lo, hi)| 0.5 * (s(hi) - s(lo))).sum();
+    Ok(f.clamp(0.0, 1.0))
+}
+
+/// The exact form-factor matrix of a flatland scene (2.20), with occlusion by every surface,
+/// plus a background state if the scene is open (see [`FormFactors`]).
+///
+/// # Errors
+/// [`ErrorKind::TooLarge`] above [`MAX_DENSE_PATCHES`] patches.
+#[cfg(feature = "alloc")]
+pub fn form_factors(scene: &FlatScene) -> Result<FormFactors> {
+    let n = scene.n_patches();
+    if n > MAX_DENSE_PATCHES {
+        return Err(
+            ErrorKind::TooLarge { what: "patch count for exact form factors", max: MAX_DENSE_PATCHES as u64 }
+                .into(),
+        );
+    }
+    let mut f = alloc::vec![0.0; n * n];
+    form_factors_into(scene, &mut f)?;
+    let lengths: Vec<f64> = scene.patches().iter().map(|p| p.length).collect();
+    FormFactors::from_patch_matrix(&lengths, f)
+}
+
+/// Writes the exact `n × n` patch form factors (no background state) row-major into `out`.
+///
+/// # Errors
+/// [`ErrorKind::BufferTooSmall`] if `out.len() < n²`.
+#[cfg(feature = "alloc")]
+pub fn form_factors_into(scene: &FlatScene, out: &mut [f64]) -> Result<()> {
+    let n = scene.n_patches();
+    let needed = n.saturating_mul(n);
+    if out.len() < needed {
+        return Err(ErrorKind::BufferTooSmall { needed, found: out.len() }.into());
+    }
+    let patches = scene.patches();
+    let surfaces: Vec<Segment> = scene.surfaces().iter().map(|s| s.segment).collect();
+    let mut scratch = Scratch::default();
+    for i in 0..n {
+        out[i * n + i] = 0.0;
+        for j in i + 1..n {
+            let (pi, pj) = (&patches[i], &patches[j]);
+            let flux = if pi.surface == pj.surface {
+                0.0 // collinear pieces of one surface
+            } else {
+                let occ = surfaces
+                    .iter()
+                    .enumerate()
+                    .filter(|&(k, _)| k != pi.surface && k != pj.surface)
+                    .map(|(_, s)| s);
+                occluded_flux(pi.segment, pj.segment, occ, &mut scratch)
+            };
+            // Reciprocity (2.21): one flux, two form factors.
+            out[i * n + j] = (flux / pi.length).min(1.0);
+            out[j * n + i] = (flux / pj.length).min(1.0);
+        }
+    }
+    Ok(())
+}
+
+/// `½ (|a_i a_j| + |b_i b_j| − |a_i b_j| − |b_i a_j|)`: Hottel's crossed-strings flux for
+/// two segments that face each other completely (each wholly in front of the other). Facing
+/// segments run in opposite senses, so the "crossed" strings join `a_i` to `a_j` and `b_i`
+/// to `b_j`. Given for reference and tests; [`unoccluded_flux`] handles every configuration.
+#[must_use]
+pub fn crossed_strings(i: Segment, j: Segment) -> f64 {
+    0.5 * (distance(i.a, j.a) + distance(i.b, j.b) - distance(i.a, j.b) - distance(i.b, j.a))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn seg(ax: f64, ay: f64, bx: f64, by: f64) -> Segment {
+        Segment::new(DVec2::new(ax, ay), DVec2::new(bx, by))
+    }
+
+    #[test]
+    fn parallel_facing_unit_segments() {
+        // Bottom faces up, top (reversed) faces down; distance 1. Crossed strings: √2 − 1.
+        let i = seg(0.0, 0.0, 1.0, 0.0);
+        let j = seg(1.0, 1.0, 0.0, 1.0);
+        let f = unoccluded_flux(i, j);
+        assert!((f - (2f64.sqrt() - 1.0)).abs() < 1e-15, "{f}");
+        assert!((crossed_strings(i, j) - f).abs() < 1e-15);
+        // Seen from behind: nothing.
+        assert_eq!(unoccluded_flux(i, j.reversed()), 0.0);
+    }
+
+    #[test]
+    fn perpendicular_corner() {
+        // Two unit sides meeting at a right angle: F = (1 + 1 − √2)/2.
+        let i = seg(0.0, 0.0, 1.0, 0.0);
+        let j = seg(1.0, 0.0, 1.0, 1.0);
+        let f = unoccluded_flux(i, j);
+        assert!((f - (2.0 - 2f64.sqrt()) / 2.0).abs() < 1e-15, "{f}");
+    }
+
+    #[test]
+    fn point_to_segment_matches_sines() {
+        // From the origin facing +y, a segment spanning 45° either side: ½(sin45 + sin45).
+        let f = point_to_segment_unoccluded(DVec2::ZERO, DVec2::Y, seg(1.0, 1.0, -1.0, 1.0));
+        assert!((f - 0.5f64.sqrt()).abs() < 1e-15);
+    }
+
+    #[cfg(feature = "alloc")]
+    #[test]
+    fn half_blocking_occluder() {
+        // i = [0,1]×{0} facing up, j = [0,1]×{2} facing down, a two-sided blocker covering
+        // x ∈ [−10, 0.5] at height 1. Compare with adaptive quadrature of F_{x→j}.
+        let mut b = FlatScene::builder();
+        b.segment(DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), 1).unwrap();
+        b.segment(DVec2::new(1.0, 2.0), DVec2::new(0.0, 2.0), 1).unwrap();
+        b.segment(DVec2::new(-10.0, 1.0), DVec2::new(0.5, 1.0), 1).unwrap();
+        let scene = b.build().unwrap();
+        let ff = form_factors(&scene).unwrap();
+        let reference = quadrature(&scene, 0, 1);
+        assert!((ff.get(0, 1) - reference).abs() < 1e-10, "{} vs {reference}", ff.get(0, 1));
+        assert!(ff.get(0, 1) > 0.0 && ff.get(0, 1) < unoccluded_flux(scene.patches()[0].segment, scene.patches()[1].segment));
+    }
+
+    /// Adaptive Simpson quadrature of `F_{x→j}` over patch `i` (an independent check).
+    #[cfg(feature = "alloc")]
+    fn quadrature(scene: &FlatScene, i: usize, j: usize) -> f64 {
+        let p = scene.patches()[i].segment;
+        let n = p.normal();
+        let g = |t: f64| point_to_patch(scene, p.point_at(t), n, j).unwrap();
+        fn simpson(g: &dyn Fn(f64) -> f64, a: f64, b: f64, fa: f64, fm: f64, fb: f64, depth: u32) -> f64 {
+            let m = 0.5 * (a + b);
+            let (lm, rm) = (0.5 * (a + m), 0.5 * (m + b));
+            let (flm, frm) = (g(lm), g(rm));
+            let whole = (b - a) / 6.0 * (fa + 4.0 * fm + fb);
+            let left = (m - a) / 6.0 * (fa + 4.0 * flm + fm);
+            let right = (b - m) / 6.0 * (fm + 4.0 * frm + fb);
+            if depth == 0 || (left + right - whole).abs() < 1e-14 {
+                return left + right + (left + right - whole) / 15.0;
+            }
+            simpson(g, a, m, fa, flm, fm, depth - 1) + simpson(g, m, b, fm, frm, fb, depth - 1)
+        }
+        let (fa, fm, fb) = (g(1e-12), g(0.5), g(1.0 - 1e-12));
+        simpson(&g, 1e-12, 1.0 - 1e-12, fa, fm, fb, 40)
+    }
+
+    #[cfg(feature = "alloc")]
+    #[test]
+    fn closed_room_with_box_rows_sum_to_one() {
+        let room = [DVec2::ZERO, DVec2::new(4.0, 0.0), DVec2::new(4.0, 3.0), DVec2::new(0.0, 3.0)];
+        let boxv = [DVec2::new(1.0, 1.0), DVec2::new(2.2, 1.0), DVec2::new(2.2, 1.7), DVec2::new(1.0, 1.7)];
+        let scene = FlatScene::room_with_objects((&room, 5), &[(&boxv, 3)]).unwrap();
+        let ff = form_factors(&scene).unwrap();
+        assert!(!ff.has_background(), "deficit {}", ff.max_row_deficit());
+        for i in 0..ff.n_states() {
+            let row: f64 = (0..ff.n_states()).map(|j| ff.get(i, j)).sum();
+            assert!((row - 1.0).abs() < 1e-12, "row {i}: {row}");
+        }
+        // Spot-check occluded pairs against quadrature.
+        for &(i, j) in &[(0, 12), (2, 27), (5, 16), (20, 31)] {
+            let q = quadrature(&scene, i, j);
+            assert!((ff.get(i, j) - q).abs() < 1e-10, "F[{i}][{j}] = {} vs {q}", ff.get(i, j));
+        }
+    }
+}

@@ -1,0 +1,79 @@
+//! Surface materials.
+
+use crate::error::{ErrorKind, Result};
+
+/// A diffuse material: reflectance ρ ∈ [0, 1) and emittance E ≥ 0, per RGB channel
+/// (thesis §2.1.4, the radiosity equation B = E + ρ F B).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// Reflectance ρ per channel, each in `[0, 1)`.
+    pub reflectance: [f64; 3],
+    /// Emittance E per channel, each `≥ 0`.
+    pub emittance: [f64; 3],
+}
+
+impl Default for Material {
+    /// Black and non-emitting: ρ = 0, E = 0.
+    fn default() -> Self {
+        Self::BLACK
+    }
+}
+
+impl Material {
+    /// ρ = 0, E = 0.
+    pub const BLACK: Self = Self { reflectance: [0.0; 3], emittance: [0.0; 3] };
+
+    /// A validated material.
+    ///
+    /// # Errors
+    /// [`ErrorKind::NonFiniteNumber`] for NaN or infinite values, [`ErrorKind::Reflectance`]
+    /// when some ρ is outside `[0, 1)` (ρ = 1 would make the radiosity system singular in a
+    /// closed scene), [`ErrorKind::Emittance`] when some E is negative.
+    pub fn new(reflectance: [f64; 3], emittance: [f64; 3]) -> Result<Self> {
+        for &r in &reflectance {
+            if !r.is_finite() {
+                return Err(ErrorKind::NonFiniteNumber { field: "rho" }.into());
+            }
+            if !(0.0..1.0).contains(&r) {
+                return Err(ErrorKind::Reflectance { value: r }.into());
+            }
+        }
+        for &e in &emittance {
+            if !e.is_finite() {
+                return Err(ErrorKind::NonFiniteNumber { field: "emit" }.into());
+            }
+            if e < 0.0 {
+                return Err(ErrorKind::Emittance { value: e }.into());
+            }
+        }
+        Ok(Self { reflectance, emittance })
+    }
+
+    /// Whether any channel emits.
+    #[must_use]
+    pub fn is_emitter(&self) -> bool {
+        self.emittance.iter().any(|&e| e > 0.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn validates_ranges() {
+        assert!(Material::new([0.5; 3], [0.0; 3]).is_ok());
+        assert!(matches!(
+            Material::new([1.0, 0.0, 0.0], [0.0; 3]).unwrap_err().kind(),
+            ErrorKind::Reflectance { .. }
+        ));
+        assert!(matches!(
+            Material::new([0.1; 3], [0.0, -1.0, 0.0]).unwrap_err().kind(),
+            ErrorKind::Emittance { .. }
+        ));
+        assert!(matches!(
+            Material::new([f64::NAN; 3], [0.0; 3]).unwrap_err().kind(),
+            ErrorKind::NonFiniteNumber { .. }
+        ));
+    }
+}

@@ -1,0 +1,3 @@
+//! The thesis' tables recomputed.
+
+mod regular_polygons;
