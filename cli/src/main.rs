@@ -1,2 +1,35 @@
-//! The `sceneinfo` command line.
-fn main() {}
+//! The `sceneinfo` command line: a thin front end over the `sceneinfo` crate.
+//!
+//! Two stages, as in ripgrep: [`args`] holds the raw clap arguments; each command in
+//! [`commands`] validates them into core objects and prints. Errors go to stderr as
+//! `file:line: what` with exit code 2; a closed pipe (e.g. `| head`) exits quietly with 0.
+
+mod args;
+mod commands;
+mod output;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+fn main() -> ExitCode {
+    let cli = args::Cli::parse();
+    match commands::run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            if is_broken_pipe(&err) {
+                return ExitCode::SUCCESS;
+            }
+            eprintln!("sceneinfo: {err:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Whether the error chain ends in a closed stdout.
+fn is_broken_pipe(err: &anyhow::Error) -> bool {
+    err.chain().any(|e| {
+        e.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}

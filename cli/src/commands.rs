@@ -1,0 +1,18 @@
+//! The subcommands: each validates its arguments into core objects, runs, and prints.
+
+mod measure;
+mod reproduce;
+mod scene;
+
+use anyhow::Result;
+
+use crate::args::{Cli, Command};
+
+/// Runs the command the user asked for.
+pub fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Scene { preset } => scene::run(preset),
+        Command::Measure(args) => measure::run(&args),
+        Command::Reproduce(args) => reproduce::run(&args),
+    }
+}
