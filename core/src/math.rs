@@ -105,26 +105,6 @@ pub fn sum<I: IntoIterator<Item = f64>>(values: I) -> f64 {
     s.total()
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn eta_handles_zero_and_one() {
-        assert_eq!(eta(0.0), 0.0);
-        assert_eq!(eta(1.0), 0.0);
-        assert!((eta(0.5) - 0.5).abs() < 1e-15);
-    }
-
-    #[test]
-    fn compensated_sum_beats_naive() {
-        // 1 + 10⁶ × 1e-16: naive summation loses every small term.
-        let terms = core::iter::once(1.0).chain(core::iter::repeat_n(1e-16, 1_000_000));
-        let s = sum(terms);
-        assert!((s - (1.0 + 1e-10)).abs() < 1e-15, "{s}");
-    }
-}
-
 /// `log₂(p / q)` for `p, q > 0`, accurate to a few ulps even when `p ≈ q`.
 ///
 /// ```text
@@ -146,3 +126,24 @@ pub fn log2_ratio(p: f64, q: f64) -> f64 {
         if r.is_finite() && r > 0.0 { libm::log2(r) } else { libm::log2(p) - libm::log2(q) }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn eta_handles_zero_and_one() {
+        assert_eq!(eta(0.0), 0.0);
+        assert_eq!(eta(1.0), 0.0);
+        assert!((eta(0.5) - 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn compensated_sum_beats_naive() {
+        // 1 + 10⁶ × 1e-16: naive summation loses every small term.
+        let terms = core::iter::once(1.0).chain(core::iter::repeat_n(1e-16, 1_000_000));
+        let s = sum(terms);
+        assert!((s - (1.0 + 1e-10)).abs() < 1e-15, "{s}");
+    }
+}
+

@@ -1,0 +1,680 @@
+//! Transition matrices: the [`Transitions`] row-access trait, a borrowed dense
+//! [`DenseMatrix`], a borrowed sparse [`CsrMatrix`] and (with `alloc`) the owning
+//! [`CsrMatrixBuf`].
+//!
+//! Every channel measure walks a matrix row by row, so one trait with a row visitor is all
+//! the measures need: small scenes keep a dense `n × n` form-factor matrix, large ones a
+//! compressed-sparse-row (CSR) matrix that stores only the non-zero form factors. Both
+//! constructors validate their input once (finite, non-negative, well-formed), so the
+//! measures never meet a NaN.
+
+use core::ops::Range;
+
+use crate::error::{Error, ErrorKind, Result};
+use crate::math::KahanSum;
+
+/// Row access to an `n × n` matrix of transition probabilities `P_ij` (form factors
+/// `F_ij` for a scene).
+///
+/// This is the crate's extension point for matrix storage: implement it for your own
+/// storage and every channel function accepts it. Implementations must visit the entries
+/// of a row in increasing column order, report only columns `< n_states()`, and never
+/// panic — an out-of-range row simply has no entries. Values are checked by
+/// [`Channel::new`](super::Channel::new), not trusted.
+pub trait Transitions {
+    /// Number of states `n` (rows and columns).
+    fn n_states(&self) -> usize;
+
+    /// Calls `f(j, P_ij)` for each stored entry of row `i` in increasing `j` (zeros may be
+    /// skipped). Does nothing when `i >= n_states()`.
+    fn for_each_in_row<F: FnMut(usize, f64)>(&self, i: usize, f: F);
+
+    /// `P_ij`, or 0 when the entry is not stored or the indices are out of range.
+    fn get(&self, i: usize, j: usize) -> f64;
+
+    /// Like [`for_each_in_row`](Self::for_each_in_row), restricted to columns in `cols`.
+    ///
+    /// The default filters the whole row; dense and CSR storage override it to touch only
+    /// the requested columns, which keeps blocked column sweeps cheap.
+    fn for_each_in_row_range<F: FnMut(usize, f64)>(&self, i: usize, cols: Range<usize>, mut f: F) {
+        self.for_each_in_row(i, |j, p| {
+            if cols.contains(&j) {
+                f(j, p);
+            }
+        });
+    }
+
+    /// Compensated sum of row `i`, `Σ_j P_ij` (0 for an out-of-range row).
+    #[must_use]
+    fn row_sum(&self, i: usize) -> f64 {
+        let mut s = KahanSum::new();
+        self.for_each_in_row(i, |_, p| s.add(p));
+        s.total()
+    }
+}
+
+impl<T: Transitions + ?Sized> Transitions for &T {
+    #[inline]
+    fn n_states(&self) -> usize {
+        (**self).n_states()
+    }
+
+    #[inline]
+    fn for_each_in_row<F: FnMut(usize, f64)>(&self, i: usize, f: F) {
+        (**self).for_each_in_row(i, f);
+    }
+
+    #[inline]
+    fn get(&self, i: usize, j: usize) -> f64 {
+        (**self).get(i, j)
+    }
+
+    #[inline]
+    fn for_each_in_row_range<F: FnMut(usize, f64)>(&self, i: usize, cols: Range<usize>, f: F) {
+        (**self).for_each_in_row_range(i, cols, f);
+    }
+
+    #[inline]
+    fn row_sum(&self, i: usize) -> f64 {
+        (**self).row_sum(i)
+    }
+}
+
+/// Checks one matrix entry: finite and non-negative.
+pub(crate) fn check_entry(row: usize, col: usize, value: f64) -> Result<()> {
+    if !value.is_finite() {
+        return Err(Error::new(ErrorKind::NonFiniteEntry { row, col }));
+    }
+    if value < 0.0 {
+        return Err(Error::new(ErrorKind::NegativeEntry { row, col }));
+    }
+    Ok(())
+}
+
+// ---- dense --------------------------------------------------------------------------------
+
+/// A borrowed dense `n × n` matrix stored row-major: `P_ij = data[i·n + j]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DenseMatrix<'a> {
+    n: usize,
+    data: &'a [f64],
+}
+
+impl<'a> DenseMatrix<'a> {
+    /// Wraps a row-major slice of `n·n` entries.
+    ///
+    /// # Errors
+    ///
+    /// - [`ErrorKind::DimensionMismatch`] if `data.len() != n·n`;
+    /// - [`ErrorKind::NonFiniteEntry`] for a NaN or infinite entry;
+    /// - [`ErrorKind::NegativeEntry`] for a negative entry (`-0.0` is accepted).
+    pub fn new(n: usize, data: &'a [f64]) -> Result<Self> {
+        let expected = n.saturating_mul(n);
+        if data.len() != expected || n.checked_mul(n).is_none() {
+            return Err(Error::new(ErrorKind::DimensionMismatch {
+                expected,
+                found: data.len(),
+            }));
+        }
+        for (k, &v) in data.iter().enumerate() {
+            check_entry(k / n, k % n, v)?;
+        }
+        Ok(Self { n, data })
+    }
+
+    /// Wraps a slice the crate itself built and already knows to be valid, skipping the
+    /// `O(n²)` scan of [`new`](Self::new).
+    ///
+    /// Safe even if the promise is broken: a short slice reads as zeros past its end, and
+    /// [`Channel::new`](super::Channel::new) checks every entry it visits again.
+    #[must_use]
+    #[cfg_attr(not(feature = "alloc"), allow(dead_code))]
+    pub(crate) fn from_validated(n: usize, data: &'a [f64]) -> Self {
+        debug_assert_eq!(Some(data.len()), n.checked_mul(n));
+        debug_assert!(data.iter().all(|v| v.is_finite() && *v >= 0.0));
+        Self { n, data }
+    }
+
+    /// Number of states `n`.
+    #[must_use]
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// The row-major entries, `n·n` of them.
+    #[must_use]
+    pub fn as_slice(&self) -> &'a [f64] {
+        self.data
+    }
+
+    /// Row `i` as a slice (empty when `i >= n`).
+    #[must_use]
+    pub fn row(&self, i: usize) -> &'a [f64] {
+        let start = i.saturating_mul(self.n);
+        self.data
+            .get(start..start.saturating_add(self.n))
+            .unwrap_or(&[])
+    }
+}
+
+impl Transitions for DenseMatrix<'_> {
+    #[inline]
+    fn n_states(&self) -> usize {
+        self.n
+    }
+
+    #[inline]
+    fn for_each_in_row<F: FnMut(usize, f64)>(&self, i: usize, mut f: F) {
+        // Zeros are skipped so that dense and sparse storage visit the same entries.
+        for (j, &p) in self.row(i).iter().enumerate() {
+            if p != 0.0 {
+                f(j, p);
+            }
+        }
+    }
+
+    #[inline]
+    fn get(&self, i: usize, j: usize) -> f64 {
+        if j >= self.n {
+            return 0.0;
+        }
+        self.row(i).get(j).copied().unwrap_or(0.0)
+    }
+
+    fn for_each_in_row_range<F: FnMut(usize, f64)>(&self, i: usize, cols: Range<usize>, mut f: F) {
+        let row = self.row(i);
+        let end = cols.end.min(row.len());
+        let start = cols.start.min(end);
+        for (k, &p) in row.get(start..end).unwrap_or(&[]).iter().enumerate() {
+            if p != 0.0 {
+                f(start + k, p);
+            }
+        }
+    }
+}
+
+// ---- sparse -------------------------------------------------------------------------------
+
+/// A borrowed `n × n` matrix in compressed sparse row (CSR) form.
+///
+/// Row `i` holds the entries `values[k]` at columns `col_idx[k]` for
+/// `k ∈ row_ptr[i] .. row_ptr[i+1]`; columns increase strictly within a row.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CsrMatrix<'a> {
+    n: usize,
+    row_ptr: &'a [usize],
+    col_idx: &'a [u32],
+    values: &'a [f64],
+}
+
+impl<'a> CsrMatrix<'a> {
+    /// Wraps CSR arrays after checking their structure and values.
+    ///
+    /// # Errors
+    ///
+    /// - [`ErrorKind::MalformedSparse`] unless `row_ptr` has `n + 1` entries starting at 0,
+    ///   never decreasing and ending at `col_idx.len() == values.len()`, and every row's
+    ///   columns are `< n` and strictly increasing;
+    /// - [`ErrorKind::NonFiniteEntry`] / [`ErrorKind::NegativeEntry`] for a bad value.
+    pub fn new(
+        n: usize,
+        row_ptr: &'a [usize],
+        col_idx: &'a [u32],
+        values: &'a [f64],
+    ) -> Result<Self> {
+        let malformed = || Error::new(ErrorKind::MalformedSparse);
+        if n.checked_add(1) != Some(row_ptr.len())
+            || row_ptr.first() != Some(&0)
+            || row_ptr.last() != Some(&col_idx.len())
+            || col_idx.len() != values.len()
+        {
+            return Err(malformed());
+        }
+        for (i, w) in row_ptr.windows(2).enumerate() {
+            let (start, end) = (w[0], w[1]);
+            if start > end {
+                return Err(malformed());
+            }
+            let cols = col_idx.get(start..end).ok_or_else(malformed)?;
+            let vals = values.get(start..end).ok_or_else(malformed)?;
+            let mut previous: Option<usize> = None;
+            for (&c, &v) in cols.iter().zip(vals) {
+                let j = c as usize;
+                if j >= n || previous.is_some_and(|p| j <= p) {
+                    return Err(malformed());
+                }
+                previous = Some(j);
+                check_entry(i, j, v)?;
+            }
+        }
+        Ok(Self {
+            n,
+            row_ptr,
+            col_idx,
+            values,
+        })
+    }
+
+    /// Number of states `n`.
+    #[must_use]
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// Number of stored entries.
+    #[must_use]
+    pub fn nnz(&self) -> usize {
+        self.values.len()
+    }
+
+    /// The row pointers (`n + 1` of them).
+    #[must_use]
+    pub fn row_ptr(&self) -> &'a [usize] {
+        self.row_ptr
+    }
+
+    /// The column index of each stored entry.
+    #[must_use]
+    pub fn col_idx(&self) -> &'a [u32] {
+        self.col_idx
+    }
+
+    /// The value of each stored entry.
+    #[must_use]
+    pub fn values(&self) -> &'a [f64] {
+        self.values
+    }
+
+    /// Columns and values of row `i` (both empty when `i >= n`).
+    #[must_use]
+    pub fn row(&self, i: usize) -> (&'a [u32], &'a [f64]) {
+        let (Some(&start), Some(&end)) = (self.row_ptr.get(i), self.row_ptr.get(i.wrapping_add(1)))
+        else {
+            return (&[], &[]);
+        };
+        match (self.col_idx.get(start..end), self.values.get(start..end)) {
+            (Some(c), Some(v)) => (c, v),
+            _ => (&[], &[]),
+        }
+    }
+}
+
+impl Transitions for CsrMatrix<'_> {
+    #[inline]
+    fn n_states(&self) -> usize {
+        self.n
+    }
+
+    #[inline]
+    fn for_each_in_row<F: FnMut(usize, f64)>(&self, i: usize, mut f: F) {
+        let (cols, vals) = self.row(i);
+        for (&c, &v) in cols.iter().zip(vals) {
+            f(c as usize, v);
+        }
+    }
+
+    fn get(&self, i: usize, j: usize) -> f64 {
+        let Ok(j) = u32::try_from(j) else {
+            return 0.0;
+        };
+        let (cols, vals) = self.row(i);
+        match cols.binary_search(&j) {
+            Ok(k) => vals.get(k).copied().unwrap_or(0.0),
+            Err(_) => 0.0,
+        }
+    }
+
+    fn for_each_in_row_range<F: FnMut(usize, f64)>(&self, i: usize, cols: Range<usize>, mut f: F) {
+        let (idx, vals) = self.row(i);
+        // First stored column >= cols.start, found by bisection.
+        let start = idx.partition_point(|&c| (c as usize) < cols.start);
+        for (&c, &v) in idx.iter().zip(vals).skip(start) {
+            let j = c as usize;
+            if j >= cols.end {
+                break;
+            }
+            f(j, v);
+        }
+    }
+}
+
+// ---- owning sparse ------------------------------------------------------------------------
+
+#[cfg(feature = "alloc")]
+pub use owned::CsrMatrixBuf;
+
+#[cfg(feature = "alloc")]
+mod owned {
+    use alloc::vec::Vec;
+
+    use super::{CsrMatrix, DenseMatrix, Transitions, check_entry};
+    use crate::error::{Error, ErrorKind, Result};
+
+    /// An owning CSR matrix (needs the `alloc` feature); borrow it with
+    /// [`as_matrix`](Self::as_matrix).
+    #[derive(Clone, Debug, Default, PartialEq)]
+    pub struct CsrMatrixBuf {
+        n: usize,
+        row_ptr: Vec<usize>,
+        col_idx: Vec<u32>,
+        values: Vec<f64>,
+    }
+
+    /// Largest dimension whose column indices fit a `u32`.
+    const MAX_DIM: u64 = 1 << 32;
+
+    /// Rejects sizes whose column indices do not fit a `u32`.
+    fn check_size(n: usize) -> Result<()> {
+        if n as u64 > MAX_DIM {
+            return Err(Error::new(ErrorKind::TooLarge {
+                what: "sparse matrix dimension",
+                max: MAX_DIM,
+            }));
+        }
+        Ok(())
+    }
+
+    impl CsrMatrixBuf {
+        /// Copies a row-major dense `n × n` matrix, dropping its zeros.
+        ///
+        /// # Errors
+        ///
+        /// As [`DenseMatrix::new`]; [`ErrorKind::TooLarge`] if `n > 2³²`.
+        pub fn from_dense(n: usize, data: &[f64]) -> Result<Self> {
+            check_size(n)?;
+            Ok(Self::from_transitions(&DenseMatrix::new(n, data)?))
+        }
+
+        /// Copies the non-zero entries of any validated [`Transitions`] (a
+        /// [`DenseMatrix`], a [`CsrMatrix`], …). Columns reported out of order or out of
+        /// range are dropped rather than trusted.
+        #[must_use]
+        pub fn from_transitions<M: Transitions>(p: &M) -> Self {
+            let n = p
+                .n_states()
+                .min(usize::try_from(MAX_DIM).unwrap_or(usize::MAX));
+            let mut out = Self {
+                n,
+                row_ptr: Vec::with_capacity(n + 1),
+                ..Self::default()
+            };
+            out.row_ptr.push(0);
+            for i in 0..n {
+                let mut next = 0_usize;
+                p.for_each_in_row(i, |j, v| {
+                    // Keep the CSR invariants even for a careless implementation.
+                    if v != 0.0 && j >= next && j < n && v.is_finite() && v > 0.0 {
+                        out.col_idx.push(j as u32);
+                        out.values.push(v);
+                        next = j + 1;
+                    }
+                });
+                out.row_ptr.push(out.values.len());
+            }
+            out
+        }
+
+        /// Builds an `n × n` matrix from `(row, col, value)` triplets in any order.
+        ///
+        /// Duplicated positions are summed, in the order given; entries that are (or sum
+        /// to) zero are dropped.
+        ///
+        /// # Errors
+        ///
+        /// - [`ErrorKind::MalformedSparse`] for a row or column `>= n`;
+        /// - [`ErrorKind::NonFiniteEntry`] / [`ErrorKind::NegativeEntry`] for a bad value
+        ///   (also when duplicates overflow to infinity);
+        /// - [`ErrorKind::TooLarge`] if `n > 2³²`.
+        pub fn from_triplets(n: usize, triplets: &[(usize, usize, f64)]) -> Result<Self> {
+            check_size(n)?;
+            for &(i, j, v) in triplets {
+                if i >= n || j >= n {
+                    return Err(Error::new(ErrorKind::MalformedSparse));
+                }
+                check_entry(i, j, v)?;
+            }
+            // A stable sort keeps duplicates in input order, so their sum is reproducible.
+            let mut sorted: Vec<(usize, usize, f64)> = triplets.to_vec();
+            sorted.sort_by_key(|&(i, j, _)| (i, j));
+
+            let mut out = Self {
+                n,
+                row_ptr: Vec::with_capacity(n + 1),
+                ..Self::default()
+            };
+            let mut k = 0;
+            out.row_ptr.push(0);
+            for i in 0..n {
+                while let Some(&(ti, tj, v)) = sorted.get(k) {
+                    if ti != i {
+                        break;
+                    }
+                    // Sum every duplicate of (i, j).
+                    let mut total = v;
+                    k += 1;
+                    while let Some(&(ui, uj, u)) = sorted.get(k) {
+                        if ui != ti || uj != tj {
+                            break;
+                        }
+                        total += u;
+                        k += 1;
+                    }
+                    check_entry(i, tj, total)?;
+                    if total != 0.0 {
+                        out.col_idx.push(tj as u32);
+                        out.values.push(total);
+                    }
+                }
+                out.row_ptr.push(out.values.len());
+            }
+            Ok(out)
+        }
+
+        /// Number of states `n`.
+        #[must_use]
+        pub fn n(&self) -> usize {
+            self.n
+        }
+
+        /// Number of stored entries.
+        #[must_use]
+        pub fn nnz(&self) -> usize {
+            self.values.len()
+        }
+
+        /// Borrows the matrix as a [`CsrMatrix`].
+        #[must_use]
+        pub fn as_matrix(&self) -> CsrMatrix<'_> {
+            if self.row_ptr.is_empty() {
+                // `Default` value: an empty 0 × 0 matrix.
+                return CsrMatrix {
+                    n: 0,
+                    row_ptr: &[0],
+                    col_idx: &[],
+                    values: &[],
+                };
+            }
+            CsrMatrix {
+                n: self.n,
+                row_ptr: &self.row_ptr,
+                col_idx: &self.col_idx,
+                values: &self.values,
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn err_kind<T: core::fmt::Debug>(r: Result<T>) -> ErrorKind {
+        r.unwrap_err().kind().clone()
+    }
+
+    #[test]
+    fn dense_validates() {
+        assert_eq!(
+            err_kind(DenseMatrix::new(2, &[0.0; 3])),
+            ErrorKind::DimensionMismatch {
+                expected: 4,
+                found: 3
+            }
+        );
+        assert_eq!(
+            err_kind(DenseMatrix::new(2, &[0.0, 0.0, f64::NAN, 0.0])),
+            ErrorKind::NonFiniteEntry { row: 1, col: 0 }
+        );
+        assert_eq!(
+            err_kind(DenseMatrix::new(2, &[0.0, -1e-300, 0.0, 0.0])),
+            ErrorKind::NegativeEntry { row: 0, col: 1 }
+        );
+        assert!(matches!(
+            err_kind(DenseMatrix::new(usize::MAX, &[])),
+            ErrorKind::DimensionMismatch { .. }
+        ));
+        let m = DenseMatrix::new(2, &[0.25, 0.75, 1.0, 0.0]).unwrap();
+        assert_eq!(m.get(0, 1), 0.75);
+        assert_eq!(m.get(2, 0), 0.0);
+        assert_eq!(m.get(0, 2), 0.0);
+        assert_eq!(m.get(usize::MAX, usize::MAX), 0.0);
+        assert_eq!(m.row_sum(0), 1.0);
+        let mut seen = heapless::Vec::<(usize, f64), 4>::new();
+        m.for_each_in_row(1, |j, p| seen.push((j, p)).unwrap());
+        assert_eq!(seen.as_slice(), &[(0, 1.0)]);
+        m.for_each_in_row(7, |_, _| panic!("no such row"));
+    }
+
+    #[test]
+    fn csr_validates() {
+        let v = [0.5, 0.5, 1.0];
+        let ok = CsrMatrix::new(2, &[0, 2, 3], &[0, 1, 0], &v).unwrap();
+        assert_eq!(ok.get(0, 1), 0.5);
+        assert_eq!(ok.get(1, 1), 0.0);
+        assert_eq!(ok.get(1, usize::MAX), 0.0);
+        let bad: [(&[usize], &[u32]); 6] = [
+            (&[0, 2], &[0, 1, 0]),    // row_ptr too short
+            (&[1, 2, 3], &[0, 1, 0]), // does not start at 0
+            (&[0, 2, 2], &[0, 1, 0]), // does not end at nnz
+            (&[0, 2, 1], &[0, 1, 0]), // decreasing (and end mismatch)
+            (&[0, 2, 3], &[1, 0, 0]), // columns not increasing
+            (&[0, 2, 3], &[0, 2, 0]), // column out of range
+        ];
+        for (rp, ci) in bad {
+            assert_eq!(
+                err_kind(CsrMatrix::new(2, rp, ci, &v)),
+                ErrorKind::MalformedSparse
+            );
+        }
+        assert_eq!(
+            err_kind(CsrMatrix::new(2, &[0, 1, 3], &[0, 0, 0], &v)),
+            ErrorKind::MalformedSparse
+        );
+        assert_eq!(
+            err_kind(CsrMatrix::new(2, &[0, 2, 3], &[0, 1, 0], &v[..2])),
+            ErrorKind::MalformedSparse
+        );
+        assert_eq!(
+            err_kind(CsrMatrix::new(
+                2,
+                &[0, 2, 3],
+                &[0, 1, 0],
+                &[0.5, f64::INFINITY, 1.0]
+            )),
+            ErrorKind::NonFiniteEntry { row: 0, col: 1 }
+        );
+        assert_eq!(
+            err_kind(CsrMatrix::new(2, &[0, 2, 3], &[0, 1, 0], &[0.5, 0.5, -1.0])),
+            ErrorKind::NegativeEntry { row: 1, col: 0 }
+        );
+        assert_eq!(
+            err_kind(CsrMatrix::new(usize::MAX, &[0], &[], &[])),
+            ErrorKind::MalformedSparse
+        );
+    }
+
+    #[test]
+    fn row_ranges_match_filtered_rows() {
+        let data = [
+            0.0, 0.2, 0.3, 0.5, 0.1, 0.0, 0.0, 0.9, 0.4, 0.4, 0.2, 0.0, 0.0, 0.0, 0.0, 1.0,
+        ];
+        let dense = DenseMatrix::new(4, &data).unwrap();
+        let (rp, ci, v) = (
+            [0, 3, 5, 8, 9],
+            [1u32, 2, 3, 0, 3, 0, 1, 2, 3],
+            [0.2, 0.3, 0.5, 0.1, 0.9, 0.4, 0.4, 0.2, 1.0],
+        );
+        let csr = CsrMatrix::new(4, &rp, &ci, &v).unwrap();
+        for i in 0..5 {
+            for a in 0..5 {
+                for b in 0..6 {
+                    let mut x = heapless::Vec::<(usize, f64), 8>::new();
+                    let mut y = heapless::Vec::<(usize, f64), 8>::new();
+                    let mut z = heapless::Vec::<(usize, f64), 8>::new();
+                    dense.for_each_in_row_range(i, a..b, |j, p| x.push((j, p)).unwrap());
+                    csr.for_each_in_row_range(i, a..b, |j, p| y.push((j, p)).unwrap());
+                    (&&dense).for_each_in_row(i, |j, p| {
+                        if (a..b).contains(&j) {
+                            z.push((j, p)).unwrap();
+                        }
+                    });
+                    assert_eq!(x, y);
+                    assert_eq!(x, z);
+                }
+            }
+        }
+    }
+
+    #[cfg(feature = "alloc")]
+    #[test]
+    fn owned_csr_round_trips() {
+        let data = [0.0, 0.25, 0.75, 1.0, 0.0, 0.0, 0.5, 0.5, 0.0];
+        let a = CsrMatrixBuf::from_dense(3, &data).unwrap();
+        assert_eq!(a.nnz(), 5);
+        let m = a.as_matrix();
+        for i in 0..3 {
+            for j in 0..3 {
+                assert_eq!(m.get(i, j), data[i * 3 + j]);
+            }
+        }
+        let b = CsrMatrixBuf::from_triplets(
+            3,
+            &[
+                (2, 1, 0.5),
+                (0, 2, 0.5),
+                (1, 0, 1.0),
+                (0, 1, 0.25),
+                (2, 0, 0.5),
+                (0, 2, 0.25),
+                (1, 1, 0.0),
+            ],
+        )
+        .unwrap();
+        assert_eq!(a, b);
+        assert_eq!(CsrMatrixBuf::from_transitions(&m), a);
+        assert_eq!(
+            err_kind(CsrMatrixBuf::from_triplets(3, &[(0, 3, 1.0)])),
+            ErrorKind::MalformedSparse
+        );
+        assert_eq!(
+            err_kind(CsrMatrixBuf::from_triplets(3, &[(0, 1, -1.0)])),
+            ErrorKind::NegativeEntry { row: 0, col: 1 }
+        );
+        assert_eq!(
+            err_kind(CsrMatrixBuf::from_triplets(
+                3,
+                &[(0, 1, f64::MAX), (0, 1, f64::MAX)]
+            )),
+            ErrorKind::NonFiniteEntry { row: 0, col: 1 }
+        );
+        let empty = CsrMatrixBuf::default();
+        assert_eq!(empty.as_matrix().n_states(), 0);
+        assert_eq!(
+            CsrMatrixBuf::from_triplets(0, &[])
+                .unwrap()
+                .as_matrix()
+                .row_ptr(),
+            &[0]
+        );
+    }
+}
