@@ -146,11 +146,12 @@ pub fn unoccluded_flux(i: Segment, j: Segment) -> f64 {
     // The one possible event: where j's supporting line crosses i.
     let mut cuts = [0.0, len_i, len_i];
     let mut n_cuts = 2;
-    if let Some(t) = line_crossing_axis(p0, p1) {
-        if t > 0.0 && t < len_i {
-            cuts = [0.0, t, len_i];
-            n_cuts = 3;
-        }
+    if let Some(t) = line_crossing_axis(p0, p1)
+        && t > 0.0
+        && t < len_i
+    {
+        cuts = [0.0, t, len_i];
+        n_cuts = 3;
     }
     let mut flux = 0.0;
     for w in cuts[..n_cuts].windows(2) {
