@@ -48,6 +48,8 @@
 //! ```
 
 mod checks;
+#[cfg(feature = "alloc")]
+mod csr_buf;
 mod markov;
 mod matrix;
 mod measures;
@@ -55,9 +57,9 @@ mod measures;
 mod proptests;
 
 pub use checks::Checks;
-pub use markov::{MAX_BLOCK_LEN, MAX_BLOCK_PATHS, entropy_rate, stationary_distribution};
 #[cfg(feature = "alloc")]
-pub use matrix::CsrMatrixBuf;
+pub use csr_buf::CsrMatrixBuf;
+pub use markov::{MAX_BLOCK_LEN, MAX_BLOCK_PATHS, entropy_rate, stationary_distribution};
 pub use matrix::{CsrMatrix, DenseMatrix, Transitions};
 pub use measures::Measures;
 
