@@ -22,5 +22,7 @@ pub fn max_deviation(ours: &[[f64; 3]], theirs: &[[f64; 3]]) -> (f64, usize, usi
 pub fn convex_polygon(angles: &[f64], rx: f64, ry: f64) -> Vec<DVec2> {
     let mut a = angles.to_vec();
     a.sort_by(f64::total_cmp);
-    a.iter().map(|&t| DVec2::new(rx * t.cos(), ry * t.sin())).collect()
+    a.iter()
+        .map(|&t| DVec2::new(rx * t.cos(), ry * t.sin()))
+        .collect()
 }

@@ -49,7 +49,11 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
         o.finish()?;
         writeln!(out, "{s}")?;
     } else {
-        write!(out, "{}", table(&args.file.display().to_string(), &report, seconds))?;
+        write!(
+            out,
+            "{}",
+            table(&args.file.display().to_string(), &report, seconds)
+        )?;
     }
     out.flush()?;
     Ok(())

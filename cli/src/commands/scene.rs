@@ -11,12 +11,17 @@ use crate::output::write_atomic;
 
 pub fn run(preset: ScenePreset) -> Result<()> {
     let (scene, output) = match preset {
-        ScenePreset::Polygon { sides, per_side, output } => {
-            (FlatScene::regular_polygon(sides, per_side), output)
-        }
-        ScenePreset::Rect { width, height, per_side, output } => {
-            (FlatScene::rectangle(width, height, per_side), output)
-        }
+        ScenePreset::Polygon {
+            sides,
+            per_side,
+            output,
+        } => (FlatScene::regular_polygon(sides, per_side), output),
+        ScenePreset::Rect {
+            width,
+            height,
+            per_side,
+            output,
+        } => (FlatScene::rectangle(width, height, per_side), output),
     };
     let scene = scene.map_err(|e| anyhow!("invalid preset: {e}"))?;
     emit(&sceneinfo::io::write_flat(&scene), output.as_deref())

@@ -57,21 +57,37 @@ use alloc::vec::Vec;
 /// (10 000² doubles = 800 MB). Larger scenes need the Monte Carlo sparse estimators.
 pub const MAX_DENSE_PATCHES: usize = 10_000;
 
-/// Relative tolerance under which a point counts as lying on a supporting line.
-const ON_LINE: f64 = 1e-12;
+/// Relative tolerance (about 500 ulps) under which a point counts as lying on a supporting
+/// line: coincident surfaces built from different endpoints differ by a few ulps.
+const ON_LINE: f64 = 1e-13;
 
-/// A patch's local frame: `origin` = its start, `u` = unit tangent, `n` = unit normal.
+/// A patch's local frame: `origin` = its start, `u` = unit tangent, `n` = unit normal, and
+/// `eps` = the distance below which a point counts as lying on the axis.
 #[derive(Clone, Copy, Debug)]
 struct Frame {
     origin: DVec2,
     u: DVec2,
     n: DVec2,
+    eps: f64,
 }
 
 impl Frame {
     fn of(seg: &Segment) -> Self {
         let u = seg.tangent();
-        Self { origin: seg.a, u, n: DVec2::new(-u.y, u.x) }
+        Self::new(seg.a, u, seg.length())
+    }
+
+    /// Frame at `origin` with unit tangent `u`; `len` is the source's extent along `u`.
+    fn new(origin: DVec2, u: DVec2, len: f64) -> Self {
+        // Coordinates carry rounding of a few ulps of their magnitude, so "on the axis" is
+        // judged relative to the frame's position and size, not to the point's distance.
+        let eps = ON_LINE * (origin.x.abs().max(origin.y.abs()) + len);
+        Self {
+            origin,
+            u,
+            n: DVec2::new(-u.y, u.x),
+            eps,
+        }
     }
 
     /// Local coordinates `(t, h)` of a world point.
@@ -79,13 +95,23 @@ impl Frame {
         let d = p - self.origin;
         DVec2::new(d.dot(self.u), d.dot(self.n))
     }
+
+    /// Whether local point `v` lies on the axis to within rounding.
+    fn on_axis(&self, v: DVec2) -> bool {
+        v.y.abs() <= self.eps + ON_LINE * v.length()
+    }
 }
 
-/// Clips the local segment `p q` to the closed front half-plane `h ≥ 0`, snapping points
-/// within rounding of the axis onto it. `None` if nothing with `h > 0` remains.
-fn clip_front(p: DVec2, q: DVec2) -> Option<(DVec2, DVec2)> {
+/// Clips the local segment `p q` to the closed front half-plane `h ≥ 0` of `frame`,
+/// snapping points within rounding of the axis onto it. `None` if nothing with `h > 0`
+/// remains.
+fn clip_front(frame: &Frame, p: DVec2, q: DVec2) -> Option<(DVec2, DVec2)> {
     let snap = |v: DVec2| -> DVec2 {
-        if v.y.abs() <= ON_LINE * v.length() { DVec2::new(v.x, 0.0) } else { v }
+        if frame.on_axis(v) {
+            DVec2::new(v.x, 0.0)
+        } else {
+            v
+        }
     };
     let (p, q) = (snap(p), snap(q));
     match (p.y > 0.0, q.y > 0.0) {
@@ -98,9 +124,20 @@ fn clip_front(p: DVec2, q: DVec2) -> Option<(DVec2, DVec2)> {
             // One endpoint strictly behind: cut at h = 0.
             let s = p.y / (p.y - q.y);
             let c = DVec2::new(p.x + s * (q.x - p.x), 0.0);
-            if p.y > 0.0 { Some((p, c)) } else { Some((c, q)) }
+            if p.y > 0.0 {
+                Some((p, c))
+            } else {
+                Some((c, q))
+            }
         }
     }
+}
+
+/// Whether local point `q` lies on the supporting line of local segment `j0 j1` (pass the
+/// whole, unclipped segment: a clipped sliver would give its line's direction poorly).
+fn on_line_of(frame: &Frame, j0: DVec2, j1: DVec2, q: DVec2) -> bool {
+    let j_len = (j1 - j0).length();
+    cross(j1 - j0, q - j0).abs() <= j_len * (frame.eps + ON_LINE * (q - j0).length().max(j_len))
 }
 
 /// Direction angle of `p` seen from `(t, 0)`, measured from the normal towards the tangent:
@@ -138,7 +175,7 @@ pub fn unoccluded_flux(i: Segment, j: Segment) -> f64 {
         return 0.0;
     }
     let frame = Frame::of(&i);
-    let Some((p0, p1)) = clip_front(frame.local(j.a), frame.local(j.b)) else {
+    let Some((p0, p1)) = clip_front(&frame, frame.local(j.a), frame.local(j.b)) else {
         return 0.0;
     };
     let ja = frame.local(j.a);
@@ -160,7 +197,11 @@ pub fn unoccluded_flux(i: Segment, j: Segment) -> f64 {
         if cross(jb - ja, DVec2::new(tm, 0.0) - ja) <= 0.0 {
             continue; // j shows its back here
         }
-        let (lo, hi) = if angle(p0, tm) <= angle(p1, tm) { (p0, p1) } else { (p1, p0) };
+        let (lo, hi) = if angle(p0, tm) <= angle(p1, tm) {
+            (p0, p1)
+        } else {
+            (p1, p0)
+        };
         flux += sine_integral(hi, t0, t1) - sine_integral(lo, t0, t1);
     }
     (0.5 * flux).max(0.0)
@@ -191,8 +232,8 @@ pub fn point_to_segment_unoccluded(x: DVec2, normal: DVec2, j: Segment) -> f64 {
     if n == DVec2::ZERO || j.side(x) <= 0.0 {
         return 0.0;
     }
-    let frame = Frame { origin: x, u: DVec2::new(n.y, -n.x), n };
-    let Some((p0, p1)) = clip_front(frame.local(j.a), frame.local(j.b)) else {
+    let frame = Frame::new(x, DVec2::new(n.y, -n.x), 0.0);
+    let Some((p0, p1)) = clip_front(&frame, frame.local(j.a), frame.local(j.b)) else {
         return 0.0;
     };
     let s = |p: DVec2| p.x / math::hypot(p.x, p.y);
@@ -241,9 +282,27 @@ fn visible_intervals(
     }
     let (a0, a1) = (angle(target.0, t), angle(target.1, t));
     let (lo, hi) = if a0 <= a1 {
-        (Bound { angle: a0, point: target.0 }, Bound { angle: a1, point: target.1 })
+        (
+            Bound {
+                angle: a0,
+                point: target.0,
+            },
+            Bound {
+                angle: a1,
+                point: target.1,
+            },
+        )
     } else {
-        (Bound { angle: a1, point: target.1 }, Bound { angle: a0, point: target.0 })
+        (
+            Bound {
+                angle: a1,
+                point: target.1,
+            },
+            Bound {
+                angle: a0,
+                point: target.0,
+            },
+        )
     };
     if !(hi.angle > lo.angle) {
         return;
@@ -253,9 +312,27 @@ fn visible_intervals(
     for &(q0, q1) in occluders {
         let (b0, b1) = (angle(q0, t), angle(q1, t));
         let (klo, khi) = if b0 <= b1 {
-            (Bound { angle: b0, point: q0 }, Bound { angle: b1, point: q1 })
+            (
+                Bound {
+                    angle: b0,
+                    point: q0,
+                },
+                Bound {
+                    angle: b1,
+                    point: q1,
+                },
+            )
         } else {
-            (Bound { angle: b1, point: q1 }, Bound { angle: b0, point: q0 })
+            (
+                Bound {
+                    angle: b1,
+                    point: q1,
+                },
+                Bound {
+                    angle: b0,
+                    point: q0,
+                },
+            )
         };
         let s_lo = if klo.angle > lo.angle { klo } else { lo };
         let s_hi = if khi.angle < hi.angle { khi } else { hi };
@@ -266,7 +343,8 @@ fn visible_intervals(
         // cross (occluders were split at j), so the order holds over the whole overlap.
         let mid = 0.5 * (s_lo.angle + s_hi.angle);
         let d = DVec2::new(math::sin(mid), math::cos(mid));
-        let r_j = ray_line_distance(x, d, target.0, target.1);
+        // j's full segment gives its line accurately even when the clipped piece is a sliver.
+        let r_j = ray_line_distance(x, d, ja, jb);
         let r_k = ray_line_distance(x, d, q0, q1);
         if r_k < r_j {
             shadows.push((s_lo, s_hi));
@@ -309,7 +387,8 @@ fn in_sight_region(p: DVec2, len: f64, j0: DVec2, j1: DVec2) -> bool {
     // p is in the hull of 4 points iff it is in one of the triangles they span.
     let tri = |a: DVec2, b: DVec2, c: DVec2| -> bool {
         let s = cross(b - a, c - a);
-        let tol = ON_LINE * (b - a).length().max((c - a).length()).powi(2);
+        let edge = (b - a).length().max((c - a).length());
+        let tol = ON_LINE * edge * edge;
         if s.abs() <= tol {
             return false;
         }
@@ -337,7 +416,7 @@ fn occluded_flux<'a>(
     let len_i = i.length();
     let frame = Frame::of(&i);
     let (ja, jb) = (frame.local(j.a), frame.local(j.b));
-    let Some((j0, j1)) = clip_front(ja, jb) else {
+    let Some((j0, j1)) = clip_front(&frame, ja, jb) else {
         return 0.0;
     };
     // Quick reject: j faces away from the whole of i.
@@ -347,15 +426,13 @@ fn occluded_flux<'a>(
     let hull_world = [i.a, i.b, frame.origin + frame.u * j0.x + frame.n * j0.y, {
         frame.origin + frame.u * j1.x + frame.n * j1.y
     }];
-    let j_len = (j1 - j0).length();
 
     // 1. Relevant occluders, clipped to the front and split where they cross j.
     scratch.occluders.clear();
-    let (hlo, hhi) = hull_world
-        .iter()
-        .fold((DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)), |(lo, hi), &p| {
-            (lo.min(p), hi.max(p))
-        });
+    let (hlo, hhi) = hull_world.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    );
     for occ in occluders {
         let (olo, ohi) = occ.bounds();
         if ohi.x < hlo.x || ohi.y < hlo.y || olo.x > hhi.x || olo.y > hhi.y {
@@ -364,12 +441,11 @@ fn occluded_flux<'a>(
         if !crate::geom::segment_may_meet_hull(occ.a, occ.b, &hull_world, 0.0) {
             continue;
         }
-        let Some((q0, q1)) = clip_front(frame.local(occ.a), frame.local(occ.b)) else {
+        let Some((q0, q1)) = clip_front(&frame, frame.local(occ.a), frame.local(occ.b)) else {
             continue;
         };
         // Collinear with j: at j's own depth, it cannot hide j.
-        let on_j_line = |q: DVec2| cross(j1 - j0, q - j0).abs() <= ON_LINE * j_len * (q - j0).length().max(j_len);
-        if on_j_line(q0) && on_j_line(q1) {
+        if on_line_of(&frame, ja, jb, q0) && on_line_of(&frame, ja, jb, q1) {
             continue;
         }
         match crate::geom::proper_crossing(q0, q1, j0, j1) {
@@ -401,7 +477,9 @@ fn occluded_flux<'a>(
     let pts = &scratch.points;
     for (a, &p) in pts.iter().enumerate() {
         for &q in &pts[a + 1..] {
-            let Some(t) = line_crossing_axis(p, q) else { continue };
+            let Some(t) = line_crossing_axis(p, q) else {
+                continue;
+            };
             if !(t > 0.0 && t < len_i) {
                 continue;
             }
@@ -427,18 +505,65 @@ fn occluded_flux<'a>(
 
     // 3. Integrate each sub-interval in closed form.
     let mut flux = math::KahanSum::new();
-    let Scratch { occluders, events, shadows, visible, .. } = scratch;
+    let Scratch {
+        occluders,
+        events,
+        shadows,
+        visible,
+        ..
+    } = scratch;
     for w in events.windows(2) {
         let (t0, t1) = (w[0], w[1]);
         if !(t1 > t0) {
             continue;
         }
-        visible_intervals(0.5 * (t0 + t1), (j0, j1), (ja, jb), occluders, shadows, visible);
+        visible_intervals(
+            0.5 * (t0 + t1),
+            (j0, j1),
+            (ja, jb),
+            occluders,
+            shadows,
+            visible,
+        );
         for &(lo, hi) in visible.iter() {
             flux.add(sine_integral(hi, t0, t1) - sine_integral(lo, t0, t1));
         }
     }
     (0.5 * flux.total()).max(0.0)
+}
+
+/// The flux `L_i F_ij` from patch `i` to patch `j`, integrated over the source patch `i`
+/// with occlusion by every other surface. [`form_factors`] computes each unordered pair once
+/// and fills both directions by reciprocity; this function lets a caller (or a test) compute
+/// `L_j F_ji` independently by integrating over `j` instead.
+///
+/// # Errors
+/// [`ErrorKind::PatchIndex`] if `i` or `j` is out of range.
+#[cfg(feature = "alloc")]
+pub fn pair_flux(scene: &FlatScene, i: usize, j: usize) -> Result<f64> {
+    let n = scene.n_patches();
+    let (Some(pi), Some(pj)) = (scene.patches().get(i), scene.patches().get(j)) else {
+        return Err(ErrorKind::PatchIndex {
+            index: i.max(j),
+            len: n,
+        }
+        .into());
+    };
+    if pi.surface == pj.surface {
+        return Ok(0.0);
+    }
+    let occ = scene
+        .surfaces()
+        .iter()
+        .enumerate()
+        .filter(|&(k, _)| k != pi.surface && k != pj.surface)
+        .map(|(_, s)| &s.segment);
+    Ok(occluded_flux(
+        pi.segment,
+        pj.segment,
+        occ,
+        &mut Scratch::default(),
+    ))
 }
 
 /// Point-to-patch form factor `F_{x→j}` (flatland form of 2.16) with occlusion by every
@@ -448,30 +573,29 @@ fn occluded_flux<'a>(
 /// [`ErrorKind::PatchIndex`] if `j` is out of range.
 #[cfg(feature = "alloc")]
 pub fn point_to_patch(scene: &FlatScene, x: DVec2, normal: DVec2, j: usize) -> Result<f64> {
-    let patch = scene
-        .patches()
-        .get(j)
-        .ok_or(ErrorKind::PatchIndex { index: j, len: scene.n_patches() })?;
+    let patch = scene.patches().get(j).ok_or(ErrorKind::PatchIndex {
+        index: j,
+        len: scene.n_patches(),
+    })?;
     let n = normal.normalize_or_zero();
     if n == DVec2::ZERO {
         return Ok(0.0);
     }
-    let frame = Frame { origin: x, u: DVec2::new(n.y, -n.x), n };
+    let frame = Frame::new(x, DVec2::new(n.y, -n.x), 0.0);
     let (ja, jb) = (frame.local(patch.segment.a), frame.local(patch.segment.b));
-    let Some((j0, j1)) = clip_front(ja, jb) else {
+    let Some((j0, j1)) = clip_front(&frame, ja, jb) else {
         return Ok(0.0);
     };
-    let j_len = (j1 - j0).length();
     let mut occluders = Vec::new();
     for (k, s) in scene.surfaces().iter().enumerate() {
         if k == patch.surface {
             continue;
         }
-        let Some((q0, q1)) = clip_front(frame.local(s.segment.a), frame.local(s.segment.b)) else {
+        let Some((q0, q1)) = clip_front(&frame, frame.local(s.segment.a), frame.local(s.segment.b))
+        else {
             continue;
         };
-        let on_j_line = |q: DVec2| cross(j1 - j0, q - j0).abs() <= ON_LINE * j_len * (q - j0).length().max(j_len);
-        if on_j_line(q0) && on_j_line(q1) {
+        if on_line_of(&frame, ja, jb, q0) && on_line_of(&frame, ja, jb, q1) {
             continue;
         }
         match crate::geom::proper_crossing(q0, q1, j0, j1) {
@@ -484,7 +608,14 @@ pub fn point_to_patch(scene: &FlatScene, x: DVec2, normal: DVec2, j: usize) -> R
     }
     let mut shadows = Vec::new();
     let mut visible = Vec::new();
-    visible_intervals(0.0, (j0, j1), (ja, jb), &occluders, &mut shadows, &mut visible);
+    visible_intervals(
+        0.0,
+        (j0, j1),
+        (ja, jb),
+        &occluders,
+        &mut shadows,
+        &mut visible,
+    );
     let s = |p: DVec2| p.x / math::hypot(p.x, p.y);
     let f: f64 = visible.iter().map(|&(lo, hi)| 0.5 * (s(hi) - s(lo))).sum();
     Ok(f.clamp(0.0, 1.0))
@@ -499,10 +630,11 @@ pub fn point_to_patch(scene: &FlatScene, x: DVec2, normal: DVec2, j: usize) -> R
 pub fn form_factors(scene: &FlatScene) -> Result<FormFactors> {
     let n = scene.n_patches();
     if n > MAX_DENSE_PATCHES {
-        return Err(
-            ErrorKind::TooLarge { what: "patch count for exact form factors", max: MAX_DENSE_PATCHES as u64 }
-                .into(),
-        );
+        return Err(ErrorKind::TooLarge {
+            what: "patch count for exact form factors",
+            max: MAX_DENSE_PATCHES as u64,
+        }
+        .into());
     }
     let mut f = alloc::vec![0.0; n * n];
     form_factors_into(scene, &mut f)?;
@@ -519,7 +651,11 @@ pub fn form_factors_into(scene: &FlatScene, out: &mut [f64]) -> Result<()> {
     let n = scene.n_patches();
     let needed = n.saturating_mul(n);
     if out.len() < needed {
-        return Err(ErrorKind::BufferTooSmall { needed, found: out.len() }.into());
+        return Err(ErrorKind::BufferTooSmall {
+            needed,
+            found: out.len(),
+        }
+        .into());
     }
     let patches = scene.patches();
     let surfaces: Vec<Segment> = scene.surfaces().iter().map(|s| s.segment).collect();
@@ -597,14 +733,25 @@ mod tests {
         // i = [0,1]×{0} facing up, j = [0,1]×{2} facing down, a two-sided blocker covering
         // x ∈ [−10, 0.5] at height 1. Compare with adaptive quadrature of F_{x→j}.
         let mut b = FlatScene::builder();
-        b.segment(DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), 1).unwrap();
-        b.segment(DVec2::new(1.0, 2.0), DVec2::new(0.0, 2.0), 1).unwrap();
-        b.segment(DVec2::new(-10.0, 1.0), DVec2::new(0.5, 1.0), 1).unwrap();
+        b.segment(DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), 1)
+            .unwrap();
+        b.segment(DVec2::new(1.0, 2.0), DVec2::new(0.0, 2.0), 1)
+            .unwrap();
+        b.segment(DVec2::new(-10.0, 1.0), DVec2::new(0.5, 1.0), 1)
+            .unwrap();
         let scene = b.build().unwrap();
         let ff = form_factors(&scene).unwrap();
         let reference = quadrature(&scene, 0, 1);
-        assert!((ff.get(0, 1) - reference).abs() < 1e-10, "{} vs {reference}", ff.get(0, 1));
-        assert!(ff.get(0, 1) > 0.0 && ff.get(0, 1) < unoccluded_flux(scene.patches()[0].segment, scene.patches()[1].segment));
+        assert!(
+            (ff.get(0, 1) - reference).abs() < 1e-10,
+            "{} vs {reference}",
+            ff.get(0, 1)
+        );
+        assert!(
+            ff.get(0, 1) > 0.0
+                && ff.get(0, 1)
+                    < unoccluded_flux(scene.patches()[0].segment, scene.patches()[1].segment)
+        );
     }
 
     /// Adaptive Simpson quadrature of `F_{x→j}` over patch `i` (an independent check).
@@ -613,7 +760,15 @@ mod tests {
         let p = scene.patches()[i].segment;
         let n = p.normal();
         let g = |t: f64| point_to_patch(scene, p.point_at(t), n, j).unwrap();
-        fn simpson(g: &dyn Fn(f64) -> f64, a: f64, b: f64, fa: f64, fm: f64, fb: f64, depth: u32) -> f64 {
+        fn simpson(
+            g: &dyn Fn(f64) -> f64,
+            a: f64,
+            b: f64,
+            fa: f64,
+            fm: f64,
+            fb: f64,
+            depth: u32,
+        ) -> f64 {
             let m = 0.5 * (a + b);
             let (lm, rm) = (0.5 * (a + m), 0.5 * (m + b));
             let (flm, frm) = (g(lm), g(rm));
@@ -632,8 +787,18 @@ mod tests {
     #[cfg(feature = "alloc")]
     #[test]
     fn closed_room_with_box_rows_sum_to_one() {
-        let room = [DVec2::ZERO, DVec2::new(4.0, 0.0), DVec2::new(4.0, 3.0), DVec2::new(0.0, 3.0)];
-        let boxv = [DVec2::new(1.0, 1.0), DVec2::new(2.2, 1.0), DVec2::new(2.2, 1.7), DVec2::new(1.0, 1.7)];
+        let room = [
+            DVec2::ZERO,
+            DVec2::new(4.0, 0.0),
+            DVec2::new(4.0, 3.0),
+            DVec2::new(0.0, 3.0),
+        ];
+        let boxv = [
+            DVec2::new(1.0, 1.0),
+            DVec2::new(2.2, 1.0),
+            DVec2::new(2.2, 1.7),
+            DVec2::new(1.0, 1.7),
+        ];
         let scene = FlatScene::room_with_objects((&room, 5), &[(&boxv, 3)]).unwrap();
         let ff = form_factors(&scene).unwrap();
         assert!(!ff.has_background(), "deficit {}", ff.max_row_deficit());
@@ -644,7 +809,11 @@ mod tests {
         // Spot-check occluded pairs against quadrature.
         for &(i, j) in &[(0, 12), (2, 27), (5, 16), (20, 31)] {
             let q = quadrature(&scene, i, j);
-            assert!((ff.get(i, j) - q).abs() < 1e-10, "F[{i}][{j}] = {} vs {q}", ff.get(i, j));
+            assert!(
+                (ff.get(i, j) - q).abs() < 1e-10,
+                "F[{i}][{j}] = {} vs {q}",
+                ff.get(i, j)
+            );
         }
     }
 }

@@ -50,14 +50,26 @@ impl FormFactors {
             return Err(ErrorKind::EmptyScene.into());
         }
         if f.len() != n * n {
-            return Err(ErrorKind::DimensionMismatch { expected: n * n, found: f.len() }.into());
+            return Err(ErrorKind::DimensionMismatch {
+                expected: n * n,
+                found: f.len(),
+            }
+            .into());
         }
         for (k, &v) in f.iter().enumerate() {
             if !v.is_finite() {
-                return Err(ErrorKind::NonFiniteEntry { row: k / n, col: k % n }.into());
+                return Err(ErrorKind::NonFiniteEntry {
+                    row: k / n,
+                    col: k % n,
+                }
+                .into());
             }
             if v < 0.0 {
-                return Err(ErrorKind::NegativeEntry { row: k / n, col: k % n }.into());
+                return Err(ErrorKind::NegativeEntry {
+                    row: k / n,
+                    col: k % n,
+                }
+                .into());
             }
         }
         for (k, &s) in sizes.iter().enumerate() {
