@@ -201,7 +201,10 @@ impl fmt::Display for ErrorKind {
             K::LineTooLong { max } => write!(f, "line longer than {max} bytes"),
             K::ZeroLengthSegment => write!(f, "segment has zero length"),
             K::PolygonVertexCount { given } => {
-                write!(f, "polygon needs at least 3 vertices (and at most 100000), got {given}")
+                write!(
+                    f,
+                    "polygon needs at least 3 vertices (and at most 100000), got {given}"
+                )
             }
             K::PatchCount { given, max } => {
                 write!(f, "patch count {given} is out of range (1 to {max})")
@@ -212,7 +215,10 @@ impl fmt::Display for ErrorKind {
             K::EmptyScene => write!(f, "scene has no patches"),
             K::BadCuts => write!(f, "cut positions must increase strictly inside (0, 1)"),
             K::PatchIndex { index, len } => {
-                write!(f, "patch index {index} out of range (scene has {len} patches)")
+                write!(
+                    f,
+                    "patch index {index} out of range (scene has {len} patches)"
+                )
             }
             K::CoordinateRange => write!(f, "coordinates too large: lengths overflow"),
             K::DimensionMismatch { expected, found } => {
@@ -255,7 +261,10 @@ impl Error {
     /// An error found on 1-based `line` of a text input.
     #[must_use]
     pub const fn at_line(kind: ErrorKind, line: u32) -> Self {
-        Self { kind, line: Some(line) }
+        Self {
+            kind,
+            line: Some(line),
+        }
     }
 
     /// Attaches a 1-based line number (keeps an existing one).

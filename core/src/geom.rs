@@ -114,7 +114,10 @@ impl Segment {
     #[inline]
     #[must_use]
     pub fn reversed(&self) -> Self {
-        Self { a: self.b, b: self.a }
+        Self {
+            a: self.b,
+            b: self.a,
+        }
     }
 
     /// Axis-aligned bounds `(min, max)`.
@@ -204,15 +207,7 @@ mod tests {
         )
         .unwrap();
         assert!((t - 0.5).abs() < 1e-15 && (p - DVec2::new(1.0, 0.0)).length() < 1e-15);
-        assert!(
-            proper_crossing(
-                DVec2::ZERO,
-                DVec2::X,
-                DVec2::X,
-                DVec2::new(1.0, 1.0)
-            )
-            .is_none()
-        );
+        assert!(proper_crossing(DVec2::ZERO, DVec2::X, DVec2::X, DVec2::new(1.0, 1.0)).is_none());
     }
 
     #[test]

@@ -71,7 +71,10 @@ impl KahanSum {
     /// An empty sum.
     #[must_use]
     pub const fn new() -> Self {
-        Self { sum: 0.0, compensation: 0.0 }
+        Self {
+            sum: 0.0,
+            compensation: 0.0,
+        }
     }
 
     /// Adds one term.
@@ -123,7 +126,11 @@ pub fn log2_ratio(p: f64, q: f64) -> f64 {
         libm::log1p((p - q) / q) * core::f64::consts::LOG2_E
     } else {
         let r = p / q;
-        if r.is_finite() && r > 0.0 { libm::log2(r) } else { libm::log2(p) - libm::log2(q) }
+        if r.is_finite() && r > 0.0 {
+            libm::log2(r)
+        } else {
+            libm::log2(p) - libm::log2(q)
+        }
     }
 }
 

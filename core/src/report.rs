@@ -47,7 +47,11 @@ impl<'w, W: Write> JsonObject<'w, W> {
     /// Whatever the underlying writer returns.
     pub fn number(&mut self, key: &str, v: f64) -> fmt::Result {
         self.key(key)?;
-        if v.is_finite() { write!(self.out, "{v:?}") } else { self.out.write_str("null") }
+        if v.is_finite() {
+            write!(self.out, "{v:?}")
+        } else {
+            self.out.write_str("null")
+        }
     }
 
     /// Writes `"key":integer`.
@@ -88,7 +92,11 @@ impl<'w, W: Write> JsonObject<'w, W> {
             if k > 0 {
                 self.out.write_char(',')?;
             }
-            if v.is_finite() { write!(self.out, "{v:?}")? } else { self.out.write_str("null")? }
+            if v.is_finite() {
+                write!(self.out, "{v:?}")?
+            } else {
+                self.out.write_str("null")?
+            }
         }
         self.out.write_char(']')
     }

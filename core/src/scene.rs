@@ -16,4 +16,6 @@ mod flat;
 #[cfg(feature = "alloc")]
 mod presets;
 #[cfg(feature = "alloc")]
-pub use flat::{FlatPatch, FlatScene, FlatSceneBuilder, FlatSurface, MAX_PATCHES, MAX_PATCHES_PER_SURFACE};
+pub use flat::{
+    FlatPatch, FlatScene, FlatSceneBuilder, FlatSurface, MAX_PATCHES, MAX_PATCHES_PER_SURFACE,
+};

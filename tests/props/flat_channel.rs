@@ -1,7 +1,6 @@
 //! Properties of exact flatland form factors and the channel they define.
 
 use proptest::prelude::*;
-use sceneinfo::channel::Channel;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::scene::FlatScene;
 

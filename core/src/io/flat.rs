@@ -47,7 +47,11 @@ impl<'a> Fields<'a> {
     }
 
     fn rgb(&mut self, field: &'static str) -> Result<[f64; 3]> {
-        Ok([self.number(field)?, self.number(field)?, self.number(field)?])
+        Ok([
+            self.number(field)?,
+            self.number(field)?,
+            self.number(field)?,
+        ])
     }
 
     fn finish(&mut self) -> Result<()> {
@@ -59,9 +63,10 @@ impl<'a> Fields<'a> {
 }
 
 fn parse_number(s: &str, field: &'static str) -> Result<f64> {
-    let v: f64 = s
-        .parse()
-        .map_err(|_| ErrorKind::BadNumber { field, found: token(s) })?;
+    let v: f64 = s.parse().map_err(|_| ErrorKind::BadNumber {
+        field,
+        found: token(s),
+    })?;
     if !v.is_finite() {
         return Err(ErrorKind::NonFiniteNumber { field }.into());
     }
@@ -69,7 +74,12 @@ fn parse_number(s: &str, field: &'static str) -> Result<f64> {
 }
 
 fn parse_count(s: &str, field: &'static str, max: u64) -> Result<u64> {
-    let bad = || Error::from(ErrorKind::BadCount { field, found: token(s) });
+    let bad = || {
+        Error::from(ErrorKind::BadCount {
+            field,
+            found: token(s),
+        })
+    };
     // Digits only: "+3", "3.0" and "-1" are not counts.
     if s.is_empty() || !s.bytes().all(|b| b.is_ascii_digit()) {
         return Err(bad());
@@ -79,7 +89,11 @@ fn parse_count(s: &str, field: &'static str, max: u64) -> Result<u64> {
         Ok(v) if v > max => Err(ErrorKind::PatchCount { given: v, max }.into()),
         Ok(v) => Ok(v),
         // Only overflow remains: all digits but more than u64 holds.
-        Err(_) => Err(ErrorKind::PatchCount { given: u64::MAX, max }.into()),
+        Err(_) => Err(ErrorKind::PatchCount {
+            given: u64::MAX,
+            max,
+        }
+        .into()),
     }
 }
 
@@ -109,8 +123,12 @@ pub fn parse_flat(text: &str) -> Result<FlatScene> {
         let line_no = u32::try_from(k + 1).unwrap_or(u32::MAX);
         last_line = line_no;
         let content = raw.split('#').next().unwrap_or("");
-        let mut fields = Fields { iter: content.split_whitespace() };
-        let Some(keyword) = fields.next() else { continue };
+        let mut fields = Fields {
+            iter: content.split_whitespace(),
+        };
+        let Some(keyword) = fields.next() else {
+            continue;
+        };
         parse_item(keyword, &mut fields, &mut builder).map_err(|e| e.with_line(line_no))?;
     }
     builder.build().map_err(|e| match e.kind() {
@@ -167,7 +185,9 @@ fn parse_item(keyword: &str, f: &mut Fields<'_>, builder: &mut FlatSceneBuilder)
             let per_side = match f.next() {
                 None => 1,
                 Some("per_side") => {
-                    let s = f.next().ok_or(ErrorKind::MissingField { field: "per_side" })?;
+                    let s = f
+                        .next()
+                        .ok_or(ErrorKind::MissingField { field: "per_side" })?;
                     parse_count(s, "per_side", MAX_PATCHES_PER_SURFACE)?
                 }
                 Some(other) => return Err(ErrorKind::TrailingField(token(other)).into()),
@@ -188,7 +208,10 @@ fn parse_item(keyword: &str, f: &mut Fields<'_>, builder: &mut FlatSceneBuilder)
                 any = true;
             }
             if !any {
-                return Err(ErrorKind::MissingField { field: "rho or emit" }.into());
+                return Err(ErrorKind::MissingField {
+                    field: "rho or emit",
+                }
+                .into());
             }
             builder.material(Material::new(rho, emit)?);
         }
@@ -204,11 +227,19 @@ fn parse_item(keyword: &str, f: &mut Fields<'_>, builder: &mut FlatSceneBuilder)
 #[must_use]
 pub fn write_flat(scene: &FlatScene) -> String {
     let mut out = String::new();
-    let _ = writeln!(out, "# sceneinfo flatland scene: {} patches", scene.n_patches());
+    let _ = writeln!(
+        out,
+        "# sceneinfo flatland scene: {} patches",
+        scene.n_patches()
+    );
     let mut current: Option<usize> = None;
     for s in scene.surfaces() {
         if current != Some(s.material) {
-            let m = scene.materials().get(s.material).copied().unwrap_or_default();
+            let m = scene
+                .materials()
+                .get(s.material)
+                .copied()
+                .unwrap_or_default();
             let [r, g, b] = m.reflectance;
             let [er, eg, eb] = m.emittance;
             let _ = writeln!(out, "mat rho {r:?} {g:?} {b:?} emit {er:?} {eg:?} {eb:?}");
@@ -261,27 +292,57 @@ mod tests {
     fn errors_name_line_and_problem() {
         assert_eq!(err("\n\nfoo 1 2"), "line 3: unknown keyword 'foo'");
         assert_eq!(err("seg 0 0 x 1"), "line 1: x1: 'x' is not a number");
-        assert_eq!(err("seg 0 0 NaN 1"), "line 1: x1: number is NaN or infinite");
-        assert_eq!(err("seg 0 0 inf 1"), "line 1: x1: number is NaN or infinite");
+        assert_eq!(
+            err("seg 0 0 NaN 1"),
+            "line 1: x1: number is NaN or infinite"
+        );
+        assert_eq!(
+            err("seg 0 0 inf 1"),
+            "line 1: x1: number is NaN or infinite"
+        );
         assert_eq!(err("seg 0 0 1"), "line 1: missing field y1");
         assert_eq!(err("seg 0 0 1 1 2 3"), "line 1: unexpected extra field '3'");
         assert_eq!(err("seg 1 1 1 1"), "line 1: segment has zero length");
-        assert_eq!(err("seg 0 0 1 1 0"), "line 1: patch count 0 is out of range (1 to 1000000)");
+        assert_eq!(
+            err("seg 0 0 1 1 0"),
+            "line 1: patch count 0 is out of range (1 to 1000000)"
+        );
         assert_eq!(
             err("seg 0 0 1 1 99999999999999999999999"),
             "line 1: patch count 18446744073709551615 is out of range (1 to 1000000)"
         );
-        assert_eq!(err("seg 0 0 1 1 -2"), "line 1: n: '-2' is not a positive integer");
-        assert_eq!(err("mat rho 1 0 0"), "line 1: reflectance 1 is outside [0, 1)");
-        assert_eq!(err("mat rho -0.1 0 0"), "line 1: reflectance -0.1 is outside [0, 1)");
+        assert_eq!(
+            err("seg 0 0 1 1 -2"),
+            "line 1: n: '-2' is not a positive integer"
+        );
+        assert_eq!(
+            err("mat rho 1 0 0"),
+            "line 1: reflectance 1 is outside [0, 1)"
+        );
+        assert_eq!(
+            err("mat rho -0.1 0 0"),
+            "line 1: reflectance -0.1 is outside [0, 1)"
+        );
         assert_eq!(err("mat emit 0 -1 0"), "line 1: emittance -1 is negative");
         assert_eq!(err("mat"), "line 1: missing field rho or emit");
-        assert_eq!(err("poly 2 0 0 1 1"), "line 1: polygon needs at least 3 vertices (and at most 100000), got 2");
-        assert_eq!(err("poly 3 0 0 1 0 1 1 per_side"), "line 1: missing field per_side");
+        assert_eq!(
+            err("poly 2 0 0 1 1"),
+            "line 1: polygon needs at least 3 vertices (and at most 100000), got 2"
+        );
+        assert_eq!(
+            err("poly 3 0 0 1 0 1 1 per_side"),
+            "line 1: missing field per_side"
+        );
         assert_eq!(err("# only a comment\n\n"), "line 2: scene has no patches");
         assert_eq!(err(""), "line 1: scene has no patches");
-        assert_eq!(err("seg 0 0 1 0 cuts 0.5 0.5"), "line 1: cut positions must increase strictly inside (0, 1)");
-        assert_eq!(err("seg 0 0 1e13 0"), "line 1: coordinates too large: lengths overflow");
+        assert_eq!(
+            err("seg 0 0 1 0 cuts 0.5 0.5"),
+            "line 1: cut positions must increase strictly inside (0, 1)"
+        );
+        assert_eq!(
+            err("seg 0 0 1e13 0"),
+            "line 1: coordinates too large: lengths overflow"
+        );
     }
 
     #[test]

@@ -108,7 +108,9 @@ impl FlatScene {
     /// The material of patch `i`, or `None` if `i` is out of range.
     #[must_use]
     pub fn patch_material(&self, i: usize) -> Option<&Material> {
-        self.patches.get(i).and_then(|p| self.materials.get(p.material))
+        self.patches
+            .get(i)
+            .and_then(|p| self.materials.get(p.material))
     }
 
     /// Relative lengths `l_i = L_i / L_T` (the stationary distribution, §3.3), written into
@@ -149,17 +151,21 @@ impl FlatScene {
     /// inside `(0, 1)` or the new pieces would have zero length, and the cap errors of
     /// [`FlatSceneBuilder::build`].
     pub fn split_patch(&self, i: usize, t: f64) -> Result<FlatScene> {
-        let patch = self
-            .patches
-            .get(i)
-            .ok_or(ErrorKind::PatchIndex { index: i, len: self.patches.len() })?;
+        let patch = self.patches.get(i).ok_or(ErrorKind::PatchIndex {
+            index: i,
+            len: self.patches.len(),
+        })?;
         if !(t > 0.0 && t < 1.0) {
             return Err(ErrorKind::BadCuts.into());
         }
         let surface = &self.surfaces[patch.surface];
         let local = i - surface.patches.start;
         // The patch spans [t0, t1] of its surface: the new cut lies in between.
-        let t0 = if local == 0 { 0.0 } else { surface.cuts[local - 1] };
+        let t0 = if local == 0 {
+            0.0
+        } else {
+            surface.cuts[local - 1]
+        };
         let t1 = surface.cuts.get(local).copied().unwrap_or(1.0);
         let cut = t0 + (t1 - t0) * t;
         let mut surfaces: Vec<(Segment, usize, Vec<f64>)> = self
@@ -213,11 +219,18 @@ impl FlatSceneBuilder {
     /// [`MAX_PATCHES_PER_SURFACE`]), [`ErrorKind::TooManyPatches`].
     pub fn segment(&mut self, a: DVec2, b: DVec2, n: u64) -> Result<&mut Self> {
         if n == 0 || n > MAX_PATCHES_PER_SURFACE {
-            return Err(ErrorKind::PatchCount { given: n, max: MAX_PATCHES_PER_SURFACE }.into());
+            return Err(ErrorKind::PatchCount {
+                given: n,
+                max: MAX_PATCHES_PER_SURFACE,
+            }
+            .into());
         }
         // Check the scene-wide cap before allocating the cuts.
         if self.patch_count.saturating_add(n) > MAX_PATCHES as u64 {
-            return Err(ErrorKind::TooManyPatches { max: MAX_PATCHES as u64 }.into());
+            return Err(ErrorKind::TooManyPatches {
+                max: MAX_PATCHES as u64,
+            }
+            .into());
         }
         let cuts = (1..n).map(|k| k as f64 / n as f64).collect();
         self.push(a, b, cuts, n)
@@ -231,7 +244,11 @@ impl FlatSceneBuilder {
     pub fn segment_with_cuts(&mut self, a: DVec2, b: DVec2, cuts: &[f64]) -> Result<&mut Self> {
         let n = cuts.len() as u64 + 1;
         if n > MAX_PATCHES_PER_SURFACE {
-            return Err(ErrorKind::PatchCount { given: n, max: MAX_PATCHES_PER_SURFACE }.into());
+            return Err(ErrorKind::PatchCount {
+                given: n,
+                max: MAX_PATCHES_PER_SURFACE,
+            }
+            .into());
         }
         let mut prev = 0.0;
         for &t in cuts {
@@ -251,7 +268,10 @@ impl FlatSceneBuilder {
     /// [`FlatSceneBuilder::segment`] for each side.
     pub fn polygon(&mut self, vertices: &[DVec2], per_side: u64) -> Result<&mut Self> {
         if vertices.len() < 3 {
-            return Err(ErrorKind::PolygonVertexCount { given: vertices.len() as u64 }.into());
+            return Err(ErrorKind::PolygonVertexCount {
+                given: vertices.len() as u64,
+            }
+            .into());
         }
         for k in 0..vertices.len() {
             let a = vertices[k];
@@ -264,7 +284,10 @@ impl FlatSceneBuilder {
     fn push(&mut self, a: DVec2, b: DVec2, cuts: Vec<f64>, n: u64) -> Result<&mut Self> {
         for v in [a.x, a.y, b.x, b.y] {
             if !v.is_finite() {
-                return Err(ErrorKind::NonFiniteNumber { field: "coordinate" }.into());
+                return Err(ErrorKind::NonFiniteNumber {
+                    field: "coordinate",
+                }
+                .into());
             }
             if v.abs() > MAX_COORDINATE {
                 return Err(ErrorKind::CoordinateRange.into());
@@ -276,7 +299,10 @@ impl FlatSceneBuilder {
         }
         let total = self.patch_count.saturating_add(n);
         if total > MAX_PATCHES as u64 {
-            return Err(ErrorKind::TooManyPatches { max: MAX_PATCHES as u64 }.into());
+            return Err(ErrorKind::TooManyPatches {
+                max: MAX_PATCHES as u64,
+            }
+            .into());
         }
         self.patch_count = total;
         let m = self.material_index();
@@ -314,7 +340,10 @@ fn assemble(
     }
     let n_total: usize = surfaces_in.iter().map(|s| s.2.len() + 1).sum();
     if n_total > MAX_PATCHES {
-        return Err(ErrorKind::TooManyPatches { max: MAX_PATCHES as u64 }.into());
+        return Err(ErrorKind::TooManyPatches {
+            max: MAX_PATCHES as u64,
+        }
+        .into());
     }
     let mut patches = Vec::with_capacity(n_total);
     let mut surfaces = Vec::with_capacity(surfaces_in.len());
@@ -329,16 +358,31 @@ fn assemble(
                 return Err(Error::new(ErrorKind::ZeroLengthSegment));
             }
             total.add(length);
-            patches.push(FlatPatch { segment: piece, surface: k, material, length });
+            patches.push(FlatPatch {
+                segment: piece,
+                surface: k,
+                material,
+                length,
+            });
             t0 = t1;
         }
-        surfaces.push(FlatSurface { segment, material, cuts, patches: start..patches.len() });
+        surfaces.push(FlatSurface {
+            segment,
+            material,
+            cuts,
+            patches: start..patches.len(),
+        });
     }
     let total_length = total.total();
     if !total_length.is_finite() {
         return Err(ErrorKind::CoordinateRange.into());
     }
-    Ok(FlatScene { surfaces, patches, materials, total_length })
+    Ok(FlatScene {
+        surfaces,
+        patches,
+        materials,
+        total_length,
+    })
 }
 
 #[cfg(test)]
@@ -373,7 +417,10 @@ mod tests {
     fn rejects_bad_items() {
         let mut b = FlatScene::builder();
         let e = |r: Result<&mut FlatSceneBuilder>| r.map(|_| ()).unwrap_err().kind().clone();
-        assert_eq!(e(b.segment(DVec2::ZERO, DVec2::ZERO, 1)), ErrorKind::ZeroLengthSegment);
+        assert_eq!(
+            e(b.segment(DVec2::ZERO, DVec2::ZERO, 1)),
+            ErrorKind::ZeroLengthSegment
+        );
         assert!(matches!(
             e(b.segment(DVec2::ZERO, DVec2::X, 0)),
             ErrorKind::PatchCount { given: 0, .. }
@@ -382,8 +429,14 @@ mod tests {
             e(b.segment(DVec2::new(f64::NAN, 0.0), DVec2::X, 1)),
             ErrorKind::NonFiniteNumber { .. }
         ));
-        assert_eq!(e(b.segment(DVec2::splat(1e13), DVec2::X, 1)), ErrorKind::CoordinateRange);
-        assert_eq!(e(b.segment_with_cuts(DVec2::ZERO, DVec2::X, &[0.5, 0.4])), ErrorKind::BadCuts);
+        assert_eq!(
+            e(b.segment(DVec2::splat(1e13), DVec2::X, 1)),
+            ErrorKind::CoordinateRange
+        );
+        assert_eq!(
+            e(b.segment_with_cuts(DVec2::ZERO, DVec2::X, &[0.5, 0.4])),
+            ErrorKind::BadCuts
+        );
         assert_eq!(b.build().unwrap_err().kind(), &ErrorKind::EmptyScene);
     }
 }

@@ -21,7 +21,10 @@ impl Default for Material {
 
 impl Material {
     /// ρ = 0, E = 0.
-    pub const BLACK: Self = Self { reflectance: [0.0; 3], emittance: [0.0; 3] };
+    pub const BLACK: Self = Self {
+        reflectance: [0.0; 3],
+        emittance: [0.0; 3],
+    };
 
     /// A validated material.
     ///
@@ -46,7 +49,10 @@ impl Material {
                 return Err(ErrorKind::Emittance { value: e }.into());
             }
         }
-        Ok(Self { reflectance, emittance })
+        Ok(Self {
+            reflectance,
+            emittance,
+        })
     }
 
     /// Whether any channel emits.
@@ -68,7 +74,9 @@ mod tests {
             ErrorKind::Reflectance { .. }
         ));
         assert!(matches!(
-            Material::new([0.1; 3], [0.0, -1.0, 0.0]).unwrap_err().kind(),
+            Material::new([0.1; 3], [0.0, -1.0, 0.0])
+                .unwrap_err()
+                .kind(),
             ErrorKind::Emittance { .. }
         ));
         assert!(matches!(

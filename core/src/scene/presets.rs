@@ -17,7 +17,10 @@ impl FlatScene {
     /// [`ErrorKind::PatchCount`] / [`ErrorKind::TooManyPatches`] for bad `per_side`.
     pub fn regular_polygon(sides: usize, per_side: u64) -> Result<Self> {
         if !(3..=100_000).contains(&sides) {
-            return Err(ErrorKind::PolygonVertexCount { given: sides as u64 }.into());
+            return Err(ErrorKind::PolygonVertexCount {
+                given: sides as u64,
+            }
+            .into());
         }
         let step = 2.0 * core::f64::consts::PI / sides as f64;
         let start = -core::f64::consts::FRAC_PI_2 - 0.5 * step;
@@ -98,13 +101,26 @@ mod tests {
 
     #[test]
     fn room_objects_face_outwards() {
-        let room = [DVec2::ZERO, DVec2::new(4.0, 0.0), DVec2::new(4.0, 4.0), DVec2::new(0.0, 4.0)];
-        let boxv = [DVec2::new(1.0, 1.0), DVec2::new(2.0, 1.0), DVec2::new(2.0, 2.0), DVec2::new(1.0, 2.0)];
+        let room = [
+            DVec2::ZERO,
+            DVec2::new(4.0, 0.0),
+            DVec2::new(4.0, 4.0),
+            DVec2::new(0.0, 4.0),
+        ];
+        let boxv = [
+            DVec2::new(1.0, 1.0),
+            DVec2::new(2.0, 1.0),
+            DVec2::new(2.0, 2.0),
+            DVec2::new(1.0, 2.0),
+        ];
         let s = FlatScene::room_with_objects((&room, 2), &[(&boxv, 1)]).unwrap();
         assert_eq!(s.n_patches(), 12);
         let centre = DVec2::new(1.5, 1.5);
         for surf in &s.surfaces()[4..] {
-            assert!(surf.segment.side(centre) < 0.0, "object side must face away from its centre");
+            assert!(
+                surf.segment.side(centre) < 0.0,
+                "object side must face away from its centre"
+            );
         }
     }
 }
