@@ -214,13 +214,19 @@ x() {
     "$@"
 }
 
+FMT_COLOR=never
+if [[ -t 1 ]]; then FMT_COLOR=always; fi
+
 check_fmt() {
-    x cargo fmt --all -- --check
-    x cargo fmt --manifest-path fuzz/Cargo.toml -- --check
+    x cargo fmt --all -- --check --color "$FMT_COLOR"
+    x cargo fmt --manifest-path fuzz/Cargo.toml -- --check --color "$FMT_COLOR"
 }
 
 check_clippy() {
     x cargo clippy --workspace --all-targets -- -D warnings
+    # wasm/tests/*.rs only compile for wasm32; fuzz/ is its own workspace.
+    x cargo clippy -p sceneinfo-wasm --all-targets --target wasm32-unknown-unknown -- -D warnings
+    x cargo clippy --manifest-path fuzz/Cargo.toml --all-targets -- -D warnings
 }
 
 check_tests() {
@@ -275,7 +281,7 @@ run_fuzz() {
 }
 
 run_step "cargo fmt --check (workspace and fuzz/)" check_fmt
-run_step "cargo clippy --workspace --all-targets -D warnings" check_clippy
+run_step "cargo clippy -D warnings (workspace, wasm32, fuzz/)" check_clippy
 run_step "cargo test --workspace" check_tests
 run_step "no_std: sceneinfo --no-default-features, thumbv7em-none-eabihf" \
     check_no_std thumbv7em-none-eabihf

@@ -12,23 +12,37 @@ function triangleFlat() {
   return lines.join('\n') + '\n';
 }
 
-// Shows every measure of `text` in the table, or the error message.
+// Formats one JSON value for the table.
+function format(value) {
+  if (typeof value !== 'number' || Number.isInteger(value)) return JSON.stringify(value);
+  return value === 0 || Math.abs(value) >= 1e-3 ? value.toFixed(6) : value.toExponential(3);
+}
+
+// Appends one row per measure to `table`; nested objects become `outer.inner` rows.
+function addRows(table, object, prefix) {
+  for (const [key, value] of Object.entries(object)) {
+    const name = prefix + key;
+    if (value !== null && typeof value === 'object' && !Array.isArray(value)) {
+      addRows(table, value, `${name}.`);
+      continue;
+    }
+    const row = table.insertRow();
+    row.insertCell().textContent = name;
+    const cell = row.insertCell();
+    cell.className = 'num';
+    cell.id = `m_${name.replaceAll('.', '_')}`;
+    cell.textContent = format(value);
+  }
+}
+
+// Measures the textarea's scene: every measure in the table, or the error message.
 function measureUserScene() {
   const error = document.getElementById('error');
   const table = document.getElementById('measures');
   table.replaceChildren();
   error.textContent = '';
   try {
-    const m = JSON.parse(measureFlat(document.getElementById('scene').value));
-    for (const [key, value] of Object.entries(m)) {
-      const row = table.insertRow();
-      row.insertCell().textContent = key;
-      const cell = row.insertCell();
-      cell.className = 'num';
-      cell.id = `m_${key}`;
-      cell.textContent = typeof value === 'number' && !Number.isInteger(value)
-        ? value.toFixed(6) : JSON.stringify(value);
-    }
+    addRows(table, JSON.parse(measureFlat(document.getElementById('scene').value)), '');
   } catch (e) {
     error.textContent = e instanceof Error ? e.message : String(e);
   }

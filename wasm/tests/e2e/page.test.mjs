@@ -117,6 +117,8 @@ test('a pasted scene is measured', async () => {
   assert.equal(await page.textContent('#m_n_patches'), '16');
   const hs = Number(await page.textContent('#m_h_s'));
   assert.ok(Number.isFinite(hs) && hs > 0, `h_s = ${hs}`);
+  // A closed room: rows sum to one, nested report fields get their own rows.
+  assert.equal(await page.textContent('#m_checks_row_stochastic'), 'true');
 });
 
 test('no console errors or uncaught exceptions', () => {
