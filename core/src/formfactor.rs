@@ -18,4 +18,4 @@ pub mod exact_2d;
 #[cfg(feature = "alloc")]
 mod matrix;
 #[cfg(feature = "alloc")]
-pub use matrix::{BACKGROUND_TOLERANCE, FormFactors};
+pub use matrix::{BACKGROUND_TOLERANCE, FormFactorView, FormFactors};

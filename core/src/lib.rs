@@ -61,6 +61,7 @@ extern crate alloc;
 extern crate std;
 
 pub mod channel;
+pub mod continuous;
 pub mod error;
 pub mod formfactor;
 pub mod geom;

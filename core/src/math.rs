@@ -4,6 +4,9 @@
 //! embedded builds compute bit-identical numbers (std's `f64::ln` may differ between
 //! platforms; `libm` is the same Rust code everywhere).
 
+mod fixed;
+pub use fixed::FixedSum;
+
 /// Base-2 logarithm, `log₂ x`. All entropies of the crate are in bits.
 #[inline]
 #[must_use]

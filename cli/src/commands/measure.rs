@@ -28,7 +28,9 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
     if let Some(path) = &args.matrix {
         let n = ff.n_states();
         let mut csv = String::with_capacity(n * n * 12);
-        for row in ff.as_slice().chunks_exact(n) {
+        let mut row = vec![0.0; n];
+        for i in 0..n {
+            ff.dense_row_into(i, &mut row).map_err(|e| located(&args.file, &e))?;
             for (k, v) in row.iter().enumerate() {
                 if k > 0 {
                     csv.push(',');

@@ -3,7 +3,9 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
-use crate::channel::{Channel, DenseMatrix};
+use core::ops::Range;
+
+use crate::channel::{Channel, CsrMatrix, CsrMatrixBuf, DenseMatrix, Transitions};
 use crate::error::{ErrorKind, Result};
 use crate::math::KahanSum;
 
@@ -12,7 +14,15 @@ use crate::math::KahanSum;
 /// state).
 pub const BACKGROUND_TOLERANCE: f64 = 1e-9;
 
-/// A dense form-factor matrix over the patches of a scene, plus — for open scenes — one
+/// Storage of a [`FormFactors`] matrix.
+#[derive(Clone, Debug, PartialEq)]
+enum Storage {
+    Dense(Vec<f64>),
+    Sparse(CsrMatrixBuf),
+}
+
+/// A form-factor matrix over the patches of a scene — dense (exact form factors, small
+/// scenes) or sparse CSR (Monte Carlo estimates, large scenes) — plus, for open scenes, one
 /// *background* state.
 ///
 /// The background is the minimal reversible closure of an open scene: a virtual surface of
@@ -30,15 +40,71 @@ pub struct FormFactors {
     n_patches: usize,
     n_states: usize,
     weights: Vec<f64>,
-    matrix: Vec<f64>,
+    storage: Storage,
     background_size: Option<f64>,
     max_row_deficit: f64,
 }
 
+/// Validates patch sizes and returns their compensated total.
+fn check_sizes(sizes: &[f64]) -> Result<f64> {
+    if sizes.is_empty() {
+        return Err(ErrorKind::EmptyScene.into());
+    }
+    let mut total = KahanSum::new();
+    for (k, &s) in sizes.iter().enumerate() {
+        if !(s.is_finite() && s > 0.0) {
+            return Err(ErrorKind::NonFiniteEntry { row: k, col: 0 }.into());
+        }
+        total.add(s);
+    }
+    Ok(total.total())
+}
+
+/// The background closure of rows with deficits `d_i`: `(L_b, F_ib, F_bi)` or `None` when
+/// every deficit is within [`BACKGROUND_TOLERANCE`].
+fn background(sizes: &[f64], deficits: &[f64]) -> Option<(f64, Vec<f64>, Vec<f64>)> {
+    let max = deficits.iter().fold(0.0f64, |m, &d| m.max(d));
+    if max <= BACKGROUND_TOLERANCE {
+        return None;
+    }
+    let mut flux = KahanSum::new();
+    for (&s, &d) in sizes.iter().zip(deficits) {
+        flux.add(s * d.max(0.0));
+    }
+    let l_b = flux.total();
+    let to_b: Vec<f64> = deficits.iter().map(|&d| d.max(0.0)).collect();
+    let from_b = sizes.iter().zip(&to_b).map(|(&s, &d)| s * d / l_b).collect();
+    Some((l_b, to_b, from_b))
+}
+
+fn weights_of(sizes: &[f64], total: f64, background: Option<f64>) -> Vec<f64> {
+    let t = total + background.unwrap_or(0.0);
+    let mut w: Vec<f64> = sizes.iter().map(|&s| s / t).collect();
+    if let Some(l_b) = background {
+        w.push(l_b / t);
+    }
+    w
+}
+
+fn check_entries(n: usize, entries: impl Iterator<Item = (usize, usize, f64)>) -> Result<()> {
+    for (i, j, v) in entries {
+        if i >= n || j >= n {
+            return Err(ErrorKind::MalformedSparse.into());
+        }
+        if !v.is_finite() {
+            return Err(ErrorKind::NonFiniteEntry { row: i, col: j }.into());
+        }
+        if v < 0.0 {
+            return Err(ErrorKind::NegativeEntry { row: i, col: j }.into());
+        }
+    }
+    Ok(())
+}
+
 impl FormFactors {
-    /// Builds the matrix from the patch sizes `sizes` (lengths or areas) and the row-major
-    /// `n × n` form factors `f`, adding a background state if some row loses more than
-    /// [`BACKGROUND_TOLERANCE`].
+    /// Builds a dense matrix from the patch sizes `sizes` (lengths or areas) and the
+    /// row-major `n × n` form factors `f`, adding a background state if some row loses more
+    /// than [`BACKGROUND_TOLERANCE`].
     ///
     /// # Errors
     /// [`ErrorKind::DimensionMismatch`] if `f` is not `n × n`; [`ErrorKind::EmptyScene`] for
@@ -46,81 +112,79 @@ impl FormFactors {
     /// entries or sizes.
     pub fn from_patch_matrix(sizes: &[f64], f: Vec<f64>) -> Result<Self> {
         let n = sizes.len();
-        if n == 0 {
-            return Err(ErrorKind::EmptyScene.into());
-        }
+        let total = check_sizes(sizes)?;
         if f.len() != n * n {
-            return Err(ErrorKind::DimensionMismatch {
-                expected: n * n,
-                found: f.len(),
-            }
-            .into());
+            return Err(ErrorKind::DimensionMismatch { expected: n * n, found: f.len() }.into());
         }
-        for (k, &v) in f.iter().enumerate() {
-            if !v.is_finite() {
-                return Err(ErrorKind::NonFiniteEntry {
-                    row: k / n,
-                    col: k % n,
-                }
-                .into());
-            }
-            if v < 0.0 {
-                return Err(ErrorKind::NegativeEntry {
-                    row: k / n,
-                    col: k % n,
-                }
-                .into());
-            }
-        }
-        for (k, &s) in sizes.iter().enumerate() {
-            if !(s.is_finite() && s > 0.0) {
-                return Err(ErrorKind::NonFiniteEntry { row: k, col: 0 }.into());
-            }
-        }
-        // Row deficits d_i = 1 − Σ_j F_ij.
+        check_entries(n, f.iter().enumerate().map(|(k, &v)| (k / n, k % n, v)))?;
         let deficits: Vec<f64> = f
             .chunks_exact(n)
             .map(|row| 1.0 - crate::math::sum(row.iter().copied()))
             .collect();
         let max_row_deficit = deficits.iter().fold(0.0f64, |m, &d| m.max(d));
-        let mut total = KahanSum::new();
-        sizes.iter().for_each(|&s| total.add(s));
-        if max_row_deficit <= BACKGROUND_TOLERANCE {
-            let t = total.total();
-            let weights = sizes.iter().map(|&s| s / t).collect();
+        let Some((l_b, to_b, from_b)) = background(sizes, &deficits) else {
             return Ok(Self {
                 n_patches: n,
                 n_states: n,
-                weights,
-                matrix: f,
+                weights: weights_of(sizes, total, None),
+                storage: Storage::Dense(f),
                 background_size: None,
                 max_row_deficit,
             });
-        }
+        };
         // Open scene: append the background state.
         let m = n + 1;
-        let mut flux = KahanSum::new();
-        for (&s, &d) in sizes.iter().zip(&deficits) {
-            flux.add(s * d.max(0.0));
-        }
-        let l_b = flux.total();
         let mut matrix = vec![0.0; m * m];
         for i in 0..n {
             matrix[i * m..i * m + n].copy_from_slice(&f[i * n..(i + 1) * n]);
-            let d = deficits[i].max(0.0);
-            matrix[i * m + n] = d;
-            matrix[n * m + i] = sizes[i] * d / l_b;
+            matrix[i * m + n] = to_b[i];
+            matrix[n * m + i] = from_b[i];
         }
-        total.add(l_b);
-        let t = total.total();
-        let mut weights: Vec<f64> = sizes.iter().map(|&s| s / t).collect();
-        weights.push(l_b / t);
         Ok(Self {
             n_patches: n,
             n_states: m,
-            weights,
-            matrix,
+            weights: weights_of(sizes, total, Some(l_b)),
+            storage: Storage::Dense(matrix),
             background_size: Some(l_b),
+            max_row_deficit,
+        })
+    }
+
+    /// Builds a sparse (CSR) matrix from patch sizes and `(i, j, F_ij)` triplets (duplicates
+    /// are summed, zeros dropped), adding a background state as
+    /// [`FormFactors::from_patch_matrix`] does.
+    ///
+    /// # Errors
+    /// As [`FormFactors::from_patch_matrix`]; [`ErrorKind::MalformedSparse`] for an index
+    /// out of range.
+    pub fn from_patch_triplets(sizes: &[f64], mut triplets: Vec<(usize, usize, f64)>) -> Result<Self> {
+        let n = sizes.len();
+        let total = check_sizes(sizes)?;
+        check_entries(n, triplets.iter().copied())?;
+        let mut row_sums = vec![KahanSum::new(); n];
+        for &(i, _, v) in &triplets {
+            row_sums[i].add(v);
+        }
+        let deficits: Vec<f64> = row_sums.iter().map(|s| 1.0 - s.total()).collect();
+        let max_row_deficit = deficits.iter().fold(0.0f64, |m, &d| m.max(d));
+        let bg = background(sizes, &deficits);
+        let (n_states, background_size) = match &bg {
+            Some((l_b, to_b, from_b)) => {
+                for i in 0..n {
+                    triplets.push((i, n, to_b[i]));
+                    triplets.push((n, i, from_b[i]));
+                }
+                (n + 1, Some(*l_b))
+            }
+            None => (n, None),
+        };
+        let csr = CsrMatrixBuf::from_triplets(n_states, &triplets)?;
+        Ok(Self {
+            n_patches: n,
+            n_states,
+            weights: weights_of(sizes, total, background_size),
+            storage: Storage::Sparse(csr),
+            background_size,
             max_row_deficit,
         })
     }
@@ -161,34 +225,94 @@ impl FormFactors {
         &self.weights
     }
 
-    /// The row-major `n_states × n_states` matrix.
+    /// Whether the matrix is stored sparse (CSR).
     #[must_use]
-    pub fn as_slice(&self) -> &[f64] {
-        &self.matrix
+    pub fn is_sparse(&self) -> bool {
+        matches!(self.storage, Storage::Sparse(_))
     }
 
-    /// `F_ij`, or 0 when out of range.
+    /// `F_ij`, or 0 when out of range or not stored.
     #[must_use]
     pub fn get(&self, i: usize, j: usize) -> f64 {
-        if i < self.n_states && j < self.n_states {
-            self.matrix[i * self.n_states + j]
-        } else {
-            0.0
-        }
+        self.matrix().get(i, j)
     }
 
-    /// The matrix as a channel-ready [`DenseMatrix`] view (validated on construction).
+    /// Writes row `i` densely into `out` (length `n_states`).
+    ///
+    /// # Errors
+    /// [`ErrorKind::BufferTooSmall`] if `out` is shorter than `n_states`;
+    /// [`ErrorKind::PatchIndex`] if `i` is out of range.
+    pub fn dense_row_into(&self, i: usize, out: &mut [f64]) -> Result<()> {
+        if i >= self.n_states {
+            return Err(ErrorKind::PatchIndex { index: i, len: self.n_states }.into());
+        }
+        let found = out.len();
+        let out = out
+            .get_mut(..self.n_states)
+            .ok_or(ErrorKind::BufferTooSmall { needed: self.n_states, found })?;
+        out.fill(0.0);
+        self.matrix().for_each_in_row(i, |j, v| out[j] = v);
+        Ok(())
+    }
+
+    /// The matrix as a channel-ready view (validated on construction).
     #[must_use]
-    pub fn matrix(&self) -> DenseMatrix<'_> {
-        DenseMatrix::from_validated(self.n_states, &self.matrix)
+    pub fn matrix(&self) -> FormFactorView<'_> {
+        match &self.storage {
+            Storage::Dense(d) => FormFactorView::Dense(DenseMatrix::from_validated(self.n_states, d)),
+            Storage::Sparse(c) => FormFactorView::Sparse(c.as_matrix()),
+        }
     }
 
     /// The scene's channel `(a, F)`.
     ///
     /// # Errors
     /// The validation errors of [`Channel::new`]; none for a matrix built by this crate.
-    pub fn channel(&self) -> Result<Channel<'_, DenseMatrix<'_>>> {
+    pub fn channel(&self) -> Result<Channel<'_, FormFactorView<'_>>> {
         Channel::new(&self.weights, self.matrix())
+    }
+}
+
+/// A borrowed view of a [`FormFactors`] matrix, dense or sparse.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FormFactorView<'a> {
+    /// Dense row-major storage.
+    Dense(DenseMatrix<'a>),
+    /// CSR storage.
+    Sparse(CsrMatrix<'a>),
+}
+
+impl Transitions for FormFactorView<'_> {
+    #[inline]
+    fn n_states(&self) -> usize {
+        match self {
+            Self::Dense(m) => m.n_states(),
+            Self::Sparse(m) => m.n_states(),
+        }
+    }
+
+    #[inline]
+    fn for_each_in_row<F: FnMut(usize, f64)>(&self, i: usize, f: F) {
+        match self {
+            Self::Dense(m) => m.for_each_in_row(i, f),
+            Self::Sparse(m) => m.for_each_in_row(i, f),
+        }
+    }
+
+    #[inline]
+    fn get(&self, i: usize, j: usize) -> f64 {
+        match self {
+            Self::Dense(m) => m.get(i, j),
+            Self::Sparse(m) => m.get(i, j),
+        }
+    }
+
+    #[inline]
+    fn for_each_in_row_range<F: FnMut(usize, f64)>(&self, i: usize, cols: Range<usize>, f: F) {
+        match self {
+            Self::Dense(m) => m.for_each_in_row_range(i, cols, f),
+            Self::Sparse(m) => m.for_each_in_row_range(i, cols, f),
+        }
     }
 }
 
@@ -202,6 +326,24 @@ mod tests {
         let ff = FormFactors::from_patch_matrix(&[1.0, 1.0], f).unwrap();
         assert!(!ff.has_background());
         assert_eq!(ff.weights(), &[0.5, 0.5]);
+    }
+
+    #[test]
+    fn sparse_and_dense_agree() {
+        let f = vec![0.0, 0.25, 0.125, 0.0];
+        let dense = FormFactors::from_patch_matrix(&[1.0, 2.0], f).unwrap();
+        let sparse =
+            FormFactors::from_patch_triplets(&[1.0, 2.0], vec![(0, 1, 0.25), (1, 0, 0.125)]).unwrap();
+        assert!(sparse.is_sparse() && !dense.is_sparse());
+        assert_eq!(dense.weights(), sparse.weights());
+        for i in 0..3 {
+            for j in 0..3 {
+                assert_eq!(dense.get(i, j), sparse.get(i, j));
+            }
+        }
+        let a = dense.channel().unwrap().measures();
+        let b = sparse.channel().unwrap().measures();
+        assert!((a.i_s - b.i_s).abs() < 1e-15 && (a.h_s - b.h_s).abs() < 1e-15);
     }
 
     #[test]
