@@ -70,7 +70,9 @@ install_targets() {
 
 install_nightly() {
     say "install: nightly toolchain (cargo-fuzz needs it)"
-    if rustup toolchain list | grep -q '^nightly-'; then
+    local toolchains
+    toolchains=$(rustup toolchain list)
+    if grep -q '^nightly-' <<<"$toolchains"; then
         ok "$(rustup run nightly rustc --version)"
     else
         echo "    installing nightly"
@@ -242,7 +244,7 @@ check_no_std_alloc() {
 }
 
 build_wasm() {
-    local wasm=target/wasm32-unknown-unknown/wasm-release/sceneinfo_wasm.wasm
+    local wasm=${CARGO_TARGET_DIR:-target}/wasm32-unknown-unknown/wasm-release/sceneinfo_wasm.wasm
     rm -rf wasm/www/pkg
     x cargo build -p sceneinfo-wasm --target wasm32-unknown-unknown --profile wasm-release
     x wasm-bindgen --target web --no-typescript --out-dir wasm/www/pkg "$wasm"
