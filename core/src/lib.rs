@@ -60,6 +60,7 @@ extern crate alloc;
 #[cfg(feature = "std")]
 extern crate std;
 
+pub mod accel;
 pub mod channel;
 pub mod continuous;
 pub mod error;
@@ -67,6 +68,7 @@ pub mod formfactor;
 pub mod geom;
 #[cfg(feature = "alloc")]
 pub mod io;
+pub mod lines;
 pub mod math;
 pub mod report;
 pub mod scene;

@@ -1,0 +1,668 @@
+//! A bounding volume hierarchy over flatland segments.
+//!
+//! # Layout
+//!
+//! A binary tree flattened depth-first into one `Vec` of 32-byte nodes (pbrt's
+//! `LinearBVHNode`): a node's first child is the next node, the second child is at an
+//! explicit index. Each node stores its box as an `f64` centre and `f32` half-extents
+//! rounded *up*, so the stored box always contains the true one. Leaves index a run of
+//! primitives stored in leaf order, each prepared as `(a, e = b − a)` for the intersection
+//! test, beside its original index.
+//!
+//! # Build
+//!
+//! Binned surface-area heuristic (Wald 2007) over centroids, both axes, 16 bins. In
+//! flatland the "surface area" of a box is its perimeter, and this is exact for our
+//! queries: by Crofton's formula the probability that a uniform line meeting a parent box
+//! also meets a child box is `perimeter(child)/perimeter(parent)` (see [`crate::lines`]).
+//! Below depth [`SAH_DEPTH`] splits follow the SAH; deeper (only reached on adversarial
+//! input) they are median splits, which halve the count, so the depth never exceeds
+//! `SAH_DEPTH + 31 < STACK_SIZE` and the queries' fixed-size stacks cannot overflow. The
+//! build uses an explicit work stack, no recursion, and costs `O(n log n)`.
+//!
+//! # Queries
+//!
+//! A node is entered when the line passes within the box's half-width of its centre,
+//!
+//! ```text
+//! |n·(c − o)| ≤ |n|·h + m,     n = d^⊥,  |n| componentwise
+//! ```
+//!
+//! with `m = 10⁻⁹ (‖o‖∞ + scale) ‖d‖₁`, a margin many orders of magnitude above the
+//! rounding of both this test and the segment test, so a segment the naive loop reports is
+//! never culled. `first_hit` also culls by the box's extent along `d`, `d·(c − o) ± |d|·h`,
+//! against `(t_min, t_best]`, and visits the nearer child first.
+
+use alloc::vec::Vec;
+use core::fmt;
+
+use crate::error::{Error, ErrorKind, Result};
+use crate::geom::{DVec2, Segment};
+use crate::lines::Line2;
+
+use super::{Hit2, LineQuery};
+
+/// Most primitives a [`Bvh2`] accepts: `u32::MAX / 2`, so node indices (< 2n) fit `u32`.
+pub const MAX_PRIMITIVES: usize = (u32::MAX / 2) as usize;
+
+/// Depth below which splits follow the SAH; median splits beyond.
+const SAH_DEPTH: u32 = 32;
+
+/// Capacity of the traversal stacks: more than the deepest possible tree
+/// (`SAH_DEPTH` + 31 median levels for at most 2³¹ primitives).
+const STACK_SIZE: usize = 64;
+
+/// Most primitives in a leaf (more are always split).
+const MAX_LEAF: usize = 4;
+
+/// Number of SAH bins per axis.
+const BINS: usize = 16;
+
+/// SAH cost of one node visit, relative to one segment test.
+const TRAVERSAL_COST: f64 = 1.0;
+
+/// Relative size of the culling margin (see the module docs).
+const MARGIN: f64 = 1e-9;
+
+/// One node: box centre (`f64`) and half-extents (`f32`, rounded up), then either the
+/// first primitive and the count (leaf) or the second child and the split axis (interior).
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(32))]
+struct Node {
+    center: DVec2,
+    half: [f32; 2],
+    /// Leaf: index of the first primitive. Interior: index of the second child.
+    offset: u32,
+    /// `count << 1 | axis`: `count` = number of primitives, 0 for an interior node;
+    /// `axis` = the split axis (0 = x, 1 = y) of an interior node.
+    meta: u32,
+}
+
+/// A segment prepared for the intersection test: start `a`, edge `e = b − a`.
+#[derive(Clone, Copy, Debug)]
+struct Prim {
+    a: DVec2,
+    e: DVec2,
+}
+
+/// A bounding volume hierarchy over flatland segments, answering "every hit of a line,
+/// sorted" ([`Bvh2::all_hits`]) and "nearest hit of a ray" ([`Bvh2::first_hit`]).
+///
+/// Queries allocate nothing (the caller's `Vec` is reused) and recurse nowhere (a
+/// fixed-size stack); for segments and lines with coordinates below `10¹⁵⁰` in magnitude
+/// they return exactly what [`super::all_hits_naive`] and [`super::first_hit_naive`]
+/// return, in the same order — the naive loops run the same per-segment arithmetic, and
+/// the tree only ever culls with a wide margin.
+///
+/// # Examples
+///
+/// ```
+/// use sceneinfo::accel::{Bvh2, Hit2};
+/// use sceneinfo::geom::{DVec2, Segment};
+/// use sceneinfo::lines::Line2;
+///
+/// let square = [
+///     Segment::new(DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0)),
+///     Segment::new(DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0)),
+///     Segment::new(DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)),
+///     Segment::new(DVec2::new(0.0, 1.0), DVec2::new(0.0, 0.0)),
+/// ];
+/// let bvh = Bvh2::build(&square).unwrap();
+/// let mut hits = Vec::new();
+/// bvh.all_hits(&Line2::new(DVec2::new(-1.0, 0.5), DVec2::X), &mut hits);
+/// assert_eq!(hits, [Hit2 { t: 1.0, prim: 3 }, Hit2 { t: 2.0, prim: 1 }]);
+/// let first = bvh.first_hit(DVec2::new(0.5, 0.5), DVec2::Y, 1e-9).unwrap();
+/// assert_eq!((first.t, first.prim), (0.5, 2));
+/// ```
+#[derive(Clone)]
+pub struct Bvh2 {
+    nodes: Vec<Node>,
+    prims: Vec<Prim>,
+    ids: Vec<u32>,
+    /// Largest coordinate magnitude of any endpoint (`∞` if any is infinite).
+    scale: f64,
+    depth: u32,
+}
+
+impl fmt::Debug for Bvh2 {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Bvh2")
+            .field("primitives", &self.prims.len())
+            .field("nodes", &self.nodes.len())
+            .field("depth", &self.depth)
+            .finish()
+    }
+}
+
+/// A primitive during the build: its box, centroid and original index.
+#[derive(Clone, Copy, Debug)]
+struct BuildPrim {
+    lo: DVec2,
+    hi: DVec2,
+    centroid: DVec2,
+    id: u32,
+}
+
+/// A pending subtree: primitives `start..end`, its depth, and the parent whose second
+/// child it is (`u32::MAX` for the root and for first children).
+#[derive(Clone, Copy, Debug)]
+struct Task {
+    start: usize,
+    end: usize,
+    depth: u32,
+    parent: u32,
+}
+
+/// An axis-aligned box accumulated with `f64::min`/`max`, which skip NaN.
+#[derive(Clone, Copy, Debug)]
+struct Aabb {
+    lo: DVec2,
+    hi: DVec2,
+}
+
+impl Aabb {
+    const EMPTY: Self = Self {
+        lo: DVec2::INFINITY,
+        hi: DVec2::NEG_INFINITY,
+    };
+
+    #[inline]
+    fn grow(&mut self, lo: DVec2, hi: DVec2) {
+        self.lo = DVec2::new(self.lo.x.min(lo.x), self.lo.y.min(lo.y));
+        self.hi = DVec2::new(self.hi.x.max(hi.x), self.hi.y.max(hi.y));
+    }
+
+    #[inline]
+    fn merged(mut self, other: &Self) -> Self {
+        self.grow(other.lo, other.hi);
+        self
+    }
+
+    /// Perimeter (the 2D "surface area" of the SAH); 0 for an empty box.
+    #[inline]
+    fn perimeter(&self) -> f64 {
+        let d = self.hi - self.lo;
+        if d.x >= 0.0 && d.y >= 0.0 {
+            2.0 * (d.x + d.y)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// `x` rounded up to an `f32` (`+∞` beyond its range; NaN stays NaN).
+#[inline]
+fn f32_up(x: f64) -> f32 {
+    let y = x as f32;
+    if f64::from(y) < x { y.next_up() } else { y }
+}
+
+impl Node {
+    /// The node for box `b`: centre and rounded-up half-extents. A box that is empty,
+    /// infinite or NaN becomes the whole plane (centre 0, half-extents ∞), which culls
+    /// nothing — conservative, so queries still match the naive loop.
+    fn new(b: &Aabb, offset: u32, meta: u32) -> Self {
+        let center = b.lo * 0.5 + b.hi * 0.5;
+        let half = DVec2::new(
+            (b.hi.x - center.x).max(center.x - b.lo.x),
+            (b.hi.y - center.y).max(center.y - b.lo.y),
+        );
+        let (center, half) =
+            if center.is_finite() && half.is_finite() && half.cmpge(DVec2::ZERO).all() {
+                (center, [f32_up(half.x), f32_up(half.y)])
+            } else {
+                (DVec2::ZERO, [f32::INFINITY; 2])
+            };
+        Self {
+            center,
+            half,
+            offset,
+            meta,
+        }
+    }
+}
+
+/// Per-query constants of the box tests.
+#[derive(Clone, Copy, Debug)]
+struct BoxQuery {
+    o: DVec2,
+    /// Normal of the line, `d^⊥ = (−d.y, d.x)`.
+    n: DVec2,
+    /// `|n|` componentwise.
+    abs_n: DVec2,
+    /// `|d|` componentwise.
+    abs_d: DVec2,
+    margin: f64,
+}
+
+impl BoxQuery {
+    #[inline]
+    fn new(o: DVec2, d: DVec2, scale: f64) -> Self {
+        let extent = o.x.abs().max(o.y.abs()) + scale;
+        let margin = MARGIN * extent * (d.x.abs() + d.y.abs()) + f64::MIN_POSITIVE;
+        Self {
+            o,
+            n: DVec2::new(-d.y, d.x),
+            abs_n: DVec2::new(d.y.abs(), d.x.abs()),
+            abs_d: d.abs(),
+            margin,
+        }
+    }
+
+    /// Whether the line may meet the node's box (`true` when unsure).
+    #[inline(always)]
+    fn line_meets(&self, node: &Node) -> bool {
+        let rel = node.center - self.o;
+        let dist = self.n.x * rel.x + self.n.y * rel.y;
+        let reach = self.abs_n.x * f64::from(node.half[0]) + self.abs_n.y * f64::from(node.half[1]);
+        // Negated so that NaN (an unbounded node, a NaN line) visits: culling must only
+        // ever be sure.
+        !(dist.abs() > reach + self.margin)
+    }
+}
+
+impl Bvh2 {
+    /// Builds the hierarchy over `segments`; hits report indices into this slice.
+    ///
+    /// `O(n log n)` time, `O(n)` memory. Any input is accepted — degenerate, coincident,
+    /// NaN or infinite segments included (they simply never produce a hit the naive loop
+    /// would not).
+    ///
+    /// # Errors
+    ///
+    /// [`ErrorKind::TooLarge`] for more than [`MAX_PRIMITIVES`] segments.
+    pub fn build(segments: &[Segment]) -> Result<Self> {
+        let n = segments.len();
+        if n > MAX_PRIMITIVES {
+            return Err(Error::new(ErrorKind::TooLarge {
+                what: "BVH primitive count",
+                max: MAX_PRIMITIVES as u64,
+            }));
+        }
+        // Primitive boxes, centroids and the scale of the margin
+        let mut scale: f64 = 0.0;
+        let mut build: Vec<BuildPrim> = Vec::with_capacity(n);
+        for (s, id) in segments.iter().zip(0u32..) {
+            let (lo, hi) = s.bounds();
+            scale = scale
+                .max(s.a.abs().max_element())
+                .max(s.b.abs().max_element());
+            build.push(BuildPrim {
+                lo,
+                hi,
+                centroid: lo * 0.5 + hi * 0.5,
+                id,
+            });
+        }
+        let mut bvh = Self {
+            nodes: Vec::with_capacity((2 * n).saturating_sub(1)),
+            prims: Vec::with_capacity(n),
+            ids: Vec::with_capacity(n),
+            scale,
+            depth: 0,
+        };
+        if n == 0 {
+            return Ok(bvh);
+        }
+
+        // Depth-first construction with an explicit stack: a first child is always
+        // popped right after its parent, so it lands at the parent's index + 1.
+        let mut tasks: Vec<Task> = Vec::with_capacity(2 * STACK_SIZE);
+        tasks.push(Task {
+            start: 0,
+            end: n,
+            depth: 0,
+            parent: u32::MAX,
+        });
+        while let Some(task) = tasks.pop() {
+            let index = bvh.nodes.len() as u32;
+            if task.parent != u32::MAX {
+                bvh.nodes[task.parent as usize].offset = index;
+            }
+            bvh.depth = bvh.depth.max(task.depth);
+            let items = &mut build[task.start..task.end];
+            let mut bounds = Aabb::EMPTY;
+            for p in items.iter() {
+                bounds.grow(p.lo, p.hi);
+            }
+            match split(items, &bounds, task.depth) {
+                None => {
+                    // Leaf: append its primitives in leaf order
+                    let first = bvh.prims.len() as u32;
+                    for p in items.iter() {
+                        let s = &segments[p.id as usize];
+                        bvh.prims.push(Prim {
+                            a: s.a,
+                            e: s.b - s.a,
+                        });
+                        bvh.ids.push(p.id);
+                    }
+                    let count = items.len() as u32;
+                    bvh.nodes.push(Node::new(&bounds, first, count << 1));
+                }
+                Some((mid, axis)) => {
+                    // Interior: the second child patches our offset when it is built
+                    bvh.nodes.push(Node::new(&bounds, 0, axis));
+                    let mid = task.start + mid;
+                    tasks.push(Task {
+                        start: mid,
+                        end: task.end,
+                        depth: task.depth + 1,
+                        parent: index,
+                    });
+                    tasks.push(Task {
+                        start: task.start,
+                        end: mid,
+                        depth: task.depth + 1,
+                        parent: u32::MAX,
+                    });
+                }
+            }
+        }
+        debug_assert!((bvh.depth as usize) < STACK_SIZE);
+        debug_assert_eq!(bvh.prims.len(), n);
+        Ok(bvh)
+    }
+
+    /// Number of segments.
+    #[inline]
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.prims.len()
+    }
+
+    /// Whether the hierarchy holds no segment.
+    #[inline]
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.prims.is_empty()
+    }
+
+    /// Number of nodes (`2n − 1` at most).
+    #[inline]
+    #[must_use]
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Depth of the deepest leaf (0 for a single leaf); always below 64.
+    #[inline]
+    #[must_use]
+    pub fn depth(&self) -> u32 {
+        self.depth
+    }
+
+    /// Calls `f` once for every intersection of the infinite `line` with a segment, in no
+    /// particular order (see [`Bvh2::all_hits`] for the sorted form). Allocates nothing.
+    #[inline]
+    pub fn for_each_hit<F: FnMut(Hit2)>(&self, line: &Line2, mut f: F) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let q = LineQuery::new(line.origin, line.dir);
+        let bq = BoxQuery::new(line.origin, line.dir, self.scale);
+        let mut stack = [0u32; STACK_SIZE];
+        let mut sp = 0usize;
+        let mut index = 0usize;
+        loop {
+            // Visit the node if the line meets its box
+            let node = &self.nodes[index];
+            if bq.line_meets(node) {
+                let count = (node.meta >> 1) as usize;
+                if count == 0 {
+                    stack[sp] = node.offset;
+                    sp += 1;
+                    index += 1;
+                    continue;
+                }
+                let first = node.offset as usize;
+                for k in first..first + count {
+                    let p = &self.prims[k];
+                    if let Some(t) = q.hit(p.a, p.e) {
+                        f(Hit2 {
+                            t,
+                            prim: self.ids[k],
+                        });
+                    }
+                }
+            }
+            // Next pending node
+            if sp == 0 {
+                break;
+            }
+            sp -= 1;
+            index = stack[sp] as usize;
+        }
+    }
+
+    /// Every intersection of the infinite `line` with a (closed) segment, sorted by `t`
+    /// then `prim`; collinear overlaps ignored. Clears `out` first and only grows it, so a
+    /// reused `out` makes the query allocation-free.
+    ///
+    /// Along a global line through a closed scene the consecutive hits pair up into the
+    /// segments of Figure 2.8 of the thesis, each contributing to two form factors (2.37).
+    pub fn all_hits(&self, line: &Line2, out: &mut Vec<Hit2>) {
+        out.clear();
+        self.for_each_hit(line, |h| out.push(h));
+        out.sort_unstable_by(Hit2::cmp_t_prim);
+    }
+
+    /// The nearest hit with `t > t_min` along the ray `origin + t·dir` (the smallest
+    /// `prim` among equally near ones); `t_min > 0` skips the surface the ray leaves from.
+    /// This is the query of local lines, estimator (2.36).
+    #[must_use]
+    pub fn first_hit(&self, origin: DVec2, dir: DVec2, t_min: f64) -> Option<Hit2> {
+        if self.nodes.is_empty() {
+            return None;
+        }
+        let q = LineQuery::new(origin, dir);
+        let bq = BoxQuery::new(origin, dir, self.scale);
+        let dd = dir.length_squared();
+        let lo_limit = t_min * dd - bq.margin;
+        let mut best_t = f64::INFINITY;
+        let mut best_prim = u32::MAX;
+        let mut stack = [0u32; STACK_SIZE];
+        let mut sp = 0usize;
+        let mut index = 0usize;
+        loop {
+            // Visit the node if the ray's live part (t_min, best_t] may meet its box
+            let node = &self.nodes[index];
+            let rel = node.center - origin;
+            let along = dir.dot(rel);
+            let reach = bq.abs_d.x * f64::from(node.half[0]) + bq.abs_d.y * f64::from(node.half[1]);
+            let hi_limit = best_t * dd + bq.margin;
+            if bq.line_meets(node) && !(along + reach < lo_limit) && !(along - reach > hi_limit) {
+                let count = (node.meta >> 1) as usize;
+                if count == 0 {
+                    // Nearer child first
+                    let axis = (node.meta & 1) as usize;
+                    let second = node.offset;
+                    if dir[axis] < 0.0 {
+                        stack[sp] = index as u32 + 1;
+                        index = second as usize;
+                    } else {
+                        stack[sp] = second;
+                        index += 1;
+                    }
+                    sp += 1;
+                    continue;
+                }
+                let first = node.offset as usize;
+                for k in first..first + count {
+                    let p = &self.prims[k];
+                    if let Some(t) = q.hit(p.a, p.e) {
+                        let prim = self.ids[k];
+                        if t > t_min && (t < best_t || (t == best_t && prim < best_prim)) {
+                            best_t = t;
+                            best_prim = prim;
+                        }
+                    }
+                }
+            }
+            if sp == 0 {
+                break;
+            }
+            sp -= 1;
+            index = stack[sp] as usize;
+        }
+        (best_prim != u32::MAX).then_some(Hit2 {
+            t: best_t,
+            prim: best_prim,
+        })
+    }
+}
+
+/// Chooses how to split `items` (in place): `None` for a leaf, or `Some((mid, axis))`
+/// with `items[..mid]` the first child, `items[mid..]` the second, `0 < mid < len`.
+fn split(items: &mut [BuildPrim], bounds: &Aabb, depth: u32) -> Option<(usize, u32)> {
+    let n = items.len();
+    if n <= 1 {
+        return None;
+    }
+    // Centroid bounds pick the axis of the median split and the bins of the SAH
+    let mut cb = Aabb::EMPTY;
+    for p in items.iter() {
+        cb.grow(p.centroid, p.centroid);
+    }
+    let extent = cb.hi - cb.lo;
+    let axis = usize::from(extent.y > extent.x);
+    if depth < SAH_DEPTH {
+        if let Some(choice) = sah_split(items, bounds, &cb) {
+            return choice;
+        }
+    }
+    if n <= MAX_LEAF {
+        return None;
+    }
+    Some((median_split(items, axis), axis as u32))
+}
+
+/// The binned SAH's choice: `Some(None)` = make a leaf, `Some(Some(split))` = split there
+/// (already partitioned), `None` = no usable split (all centroids in one bin).
+#[allow(clippy::option_option)]
+fn sah_split(items: &mut [BuildPrim], bounds: &Aabb, cb: &Aabb) -> Option<Option<(usize, u32)>> {
+    let n = items.len();
+    let parent = bounds.perimeter();
+    let mut best: Option<(f64, usize, usize)> = None; // (cost, axis, first bin of the right side)
+    for axis in 0..2 {
+        let (lo, width) = (cb.lo[axis], cb.hi[axis] - cb.lo[axis]);
+        if !(width > 0.0 && width.is_finite()) {
+            continue;
+        }
+        let inv = BINS as f64 / width;
+        // Bin the primitives
+        let mut boxes = [Aabb::EMPTY; BINS];
+        let mut counts = [0usize; BINS];
+        for p in items.iter() {
+            let b = bin_of(p.centroid[axis], lo, inv);
+            boxes[b].grow(p.lo, p.hi);
+            counts[b] += 1;
+        }
+        // Sweep from the right, then evaluate each plane from the left
+        let mut right_area = [0.0; BINS];
+        let mut acc = Aabb::EMPTY;
+        for b in (1..BINS).rev() {
+            acc = acc.merged(&boxes[b]);
+            right_area[b] = acc.perimeter();
+        }
+        let mut left = Aabb::EMPTY;
+        let mut left_n = 0usize;
+        for b in 1..BINS {
+            left = left.merged(&boxes[b - 1]);
+            left_n += counts[b - 1];
+            let right_n = n - left_n;
+            if left_n == 0 || right_n == 0 {
+                continue;
+            }
+            let cost = left.perimeter() * left_n as f64 + right_area[b] * right_n as f64;
+            if best.is_none_or(|(c, _, _)| cost < c) {
+                best = Some((cost, axis, b));
+            }
+        }
+    }
+    let (cost, axis, plane) = best?;
+    // SAH: C = C_trav + Σ P(child) n_child, P(child) = perimeter(child)/perimeter(parent)
+    let split_cost = if parent > 0.0 && parent.is_finite() {
+        TRAVERSAL_COST + cost / parent
+    } else {
+        f64::NAN
+    };
+    if n <= MAX_LEAF && !(split_cost < n as f64) {
+        return Some(None);
+    }
+    let (lo, inv) = (cb.lo[axis], BINS as f64 / (cb.hi[axis] - cb.lo[axis]));
+    let mid = partition(items, |p| bin_of(p.centroid[axis], lo, inv) < plane);
+    if mid == 0 || mid == n {
+        return None;
+    }
+    Some(Some((mid, axis as u32)))
+}
+
+/// The bin of centroid coordinate `c` (NaN and out-of-range clamp into `0..BINS`).
+#[inline]
+fn bin_of(c: f64, lo: f64, inv: f64) -> usize {
+    // `as usize` saturates: negative and NaN give 0.
+    (((c - lo) * inv) as usize).min(BINS - 1)
+}
+
+/// Moves the items satisfying `left` to the front; returns how many there are.
+fn partition<F: Fn(&BuildPrim) -> bool>(items: &mut [BuildPrim], left: F) -> usize {
+    let mut mid = 0;
+    for k in 0..items.len() {
+        if left(&items[k]) {
+            items.swap(mid, k);
+            mid += 1;
+        }
+    }
+    mid
+}
+
+/// Splits at the median centroid along `axis`: halves the count, whatever the geometry.
+fn median_split(items: &mut [BuildPrim], axis: usize) -> usize {
+    let mid = items.len() / 2;
+    items.select_nth_unstable_by(mid, |p, q| p.centroid[axis].total_cmp(&q.centroid[axis]));
+    mid
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn node_is_32_bytes() {
+        assert_eq!(core::mem::size_of::<Node>(), 32);
+    }
+
+    #[test]
+    fn f32_up_never_rounds_down() {
+        for x in [0.1, 1.0 / 3.0, 1e-40, 1e12 + 0.3, 3.5e38, f64::MAX, 0.0] {
+            assert!(f64::from(f32_up(x)) >= x, "{x}");
+        }
+        assert!(f32_up(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn too_large_is_an_error_not_a_panic() {
+        // Cannot allocate 2³¹ segments in a test; check the cap's arithmetic instead.
+        assert!(MAX_PRIMITIVES <= (u32::MAX / 2) as usize);
+        assert!(Bvh2::build(&[]).unwrap().is_empty());
+    }
+
+    #[test]
+    fn adversarial_input_keeps_depth_bounded() {
+        // Exponentially spaced segments drive the SAH to one-sided splits; identical
+        // segments give no usable SAH plane at all.
+        let mut segs = Vec::new();
+        for k in 0..2000 {
+            let x = libm::pow(1.01, f64::from(k));
+            segs.push(Segment::new(DVec2::new(x, 0.0), DVec2::new(x, 1.0)));
+        }
+        for _ in 0..3000 {
+            segs.push(Segment::new(DVec2::ZERO, DVec2::ONE));
+        }
+        let bvh = Bvh2::build(&segs).unwrap();
+        assert!((bvh.depth() as usize) < STACK_SIZE, "depth {}", bvh.depth());
+        assert_eq!(bvh.len(), segs.len());
+        assert!(bvh.node_count() < 2 * segs.len());
+    }
+}
