@@ -72,6 +72,39 @@ pub struct MeasureArgs {
     /// if any, last).
     #[arg(long, value_name = "F.csv")]
     pub matrix: Option<PathBuf>,
+    /// Estimate the form factors and the continuous mutual information I_S^c by Monte Carlo
+    /// with this many lines (e.g. 10000000 or 1e7). Without it, form factors are exact.
+    #[arg(long, value_name = "N", value_parser = parse_count)]
+    pub lines: Option<u64>,
+    /// Which lines: uniform global lines (2.37) or cosine local lines (2.36).
+    #[arg(long, value_enum, default_value_t = Method::Global)]
+    pub method: Method,
+    /// Seed of the line streams: the result depends on (seed, lines) only.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Worker threads (default: all cores). Never changes the result.
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// Line sampling methods.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Method {
+    /// Uniformly distributed global lines.
+    Global,
+    /// Cosine-distributed local lines.
+    Local,
+}
+
+/// Parses a count written as an integer (`10000000`) or in scientific notation (`1e7`).
+pub fn parse_count(s: &str) -> Result<u64, String> {
+    if let Ok(v) = s.parse::<u64>() {
+        return Ok(v);
+    }
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v >= 0.0 && v.fract() == 0.0 && v <= u64::MAX as f64 => Ok(v as u64),
+        _ => Err(format!("'{s}' is not a whole number of lines")),
+    }
 }
 
 /// Arguments of `reproduce`.

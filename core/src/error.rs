@@ -118,6 +118,8 @@ pub enum ErrorKind {
     },
     /// Coordinates so large that lengths or areas overflow `f64`.
     CoordinateRange,
+    /// A preset scene name that the catalogue does not know.
+    UnknownPreset(Token),
 
     // ---- channels -----------------------------------------------------------------------
     /// Two inputs that must have matching sizes do not.
@@ -183,6 +185,17 @@ pub enum ErrorKind {
         /// Iterations spent.
         iterations: u64,
     },
+
+    // ---- Monte Carlo ----------------------------------------------------------------------
+    /// A line budget of zero.
+    NoLines,
+    /// A patch received no line sample, so its form-factor row is unknown.
+    UnsampledPatch {
+        /// The patch.
+        patch: usize,
+        /// Lines cast.
+        lines: u64,
+    },
 }
 
 impl fmt::Display for ErrorKind {
@@ -221,6 +234,7 @@ impl fmt::Display for ErrorKind {
                 )
             }
             K::CoordinateRange => write!(f, "coordinates too large: lengths overflow"),
+            K::UnknownPreset(t) => write!(f, "unknown preset scene '{t}'"),
             K::DimensionMismatch { expected, found } => {
                 write!(f, "size mismatch: expected {expected}, found {found}")
             }
@@ -240,6 +254,11 @@ impl fmt::Display for ErrorKind {
             K::NoConvergence { what, iterations } => {
                 write!(f, "{what} did not converge in {iterations} iterations")
             }
+            K::NoLines => write!(f, "the line budget must be at least 1"),
+            K::UnsampledPatch { patch, lines } => write!(
+                f,
+                "patch {patch} received none of the {lines} lines: cast more lines"
+            ),
         }
     }
 }

@@ -9,13 +9,21 @@
 //!
 //! - [`exact_2d`]: exact flatland form factors with occlusion (crossed strings, generalised
 //!   to partial visibility by integrating over visibility events).
+//! - [`estimate_2d`] (feature `alloc`): Monte Carlo form factors and `I_S^c` from global or
+//!   local lines, deterministic per (seed, number of lines).
 //!
 //! The owning result type is [`FormFactors`] (feature `alloc`): the matrix, the stationary
 //! distribution, and the background state of open scenes.
 
+#[cfg(feature = "alloc")]
+mod counts;
+#[cfg(feature = "alloc")]
+pub mod estimate_2d;
 pub mod exact_2d;
 
 #[cfg(feature = "alloc")]
 mod matrix;
+#[cfg(feature = "alloc")]
+pub use counts::DENSE_PAIR_LIMIT;
 #[cfg(feature = "alloc")]
 pub use matrix::{BACKGROUND_TOLERANCE, FormFactorView, FormFactors};

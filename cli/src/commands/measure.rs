@@ -1,22 +1,54 @@
-//! `sceneinfo measure`: the discrete channel measures of a scene (thesis chapter 3).
+//! `sceneinfo measure`: the channel measures of a scene (thesis chapters 3 and 4), from
+//! exact form factors or from Monte Carlo lines.
 
 use std::fmt::Write as _;
 use std::io::Write;
 use std::time::Instant;
 
 use anyhow::Result;
+use sceneinfo::continuous::{ContinuousEstimate, relative_discretisation_error};
+use sceneinfo::formfactor::FormFactors;
+use sceneinfo::formfactor::estimate_2d::{FlatTracer, LineMethod};
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, SceneReport};
 
-use crate::args::MeasureArgs;
+use crate::args::{MeasureArgs, Method};
 use crate::output::{located, read_text, write_atomic};
+
+/// What the Monte Carlo run adds to a report.
+struct MonteCarlo {
+    method: Method,
+    lines: u64,
+    seed: u64,
+    continuous: ContinuousEstimate,
+}
 
 pub fn run(args: &MeasureArgs) -> Result<()> {
     let text = read_text(&args.file)?;
-    let scene = sceneinfo::io::parse_flat(&text).map_err(|e| located(&args.file, &e))?;
+    let at = |e: sceneinfo::Error| located(&args.file, &e);
+    let scene = sceneinfo::io::parse_flat(&text).map_err(at)?;
     let start = Instant::now();
-    let ff = exact_2d::form_factors(&scene).map_err(|e| located(&args.file, &e))?;
-    let channel = ff.channel().map_err(|e| located(&args.file, &e))?;
+    let (ff, mc) = match args.lines {
+        None => (exact_2d::form_factors(&scene).map_err(at)?, None),
+        Some(lines) => {
+            if lines == 0 {
+                return Err(at(sceneinfo::ErrorKind::NoLines.into()));
+            }
+            let method = match args.method {
+                Method::Global => LineMethod::Global,
+                Method::Local => LineMethod::Local,
+            };
+            let threads = args.threads.unwrap_or_else(|| {
+                std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
+            });
+            let tracer = FlatTracer::new(&scene).map_err(at)?;
+            let tally = crate::lines::run(&tracer, method, args.seed, lines, threads);
+            let est = tally.finish(&tracer).map_err(at)?;
+            let mc = MonteCarlo { method: args.method, lines, seed: args.seed, continuous: est.continuous };
+            (est.form_factors, Some(mc))
+        }
+    };
+    let channel = ff.channel().map_err(at)?;
     let report = SceneReport {
         n_patches: ff.n_patches(),
         background: ff.has_background(),
@@ -26,42 +58,64 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
     };
     let seconds = start.elapsed().as_secs_f64();
     if let Some(path) = &args.matrix {
-        let n = ff.n_states();
-        let mut csv = String::with_capacity(n * n * 12);
-        let mut row = vec![0.0; n];
-        for i in 0..n {
-            ff.dense_row_into(i, &mut row).map_err(|e| located(&args.file, &e))?;
-            for (k, v) in row.iter().enumerate() {
-                if k > 0 {
-                    csv.push(',');
-                }
-                let _ = write!(csv, "{v:?}");
-            }
-            csv.push('\n');
-        }
-        write_atomic(path, csv.as_bytes())?;
+        write_atomic(path, csv(&ff).map_err(at)?.as_bytes())?;
     }
     let mut out = std::io::stdout().lock();
     if args.json {
         let mut s = String::new();
         let mut o = JsonObject::new(&mut s)?;
         report.write_fields(&mut o)?;
-        o.string("form_factors", "exact")?;
+        match &mc {
+            None => o.string("form_factors", "exact")?,
+            Some(mc) => {
+                o.string("form_factors", method_name(mc.method))?;
+                o.number("i_s_continuous", mc.continuous.value)?;
+                o.number("i_s_continuous_stderr", mc.continuous.stderr)?;
+                o.number(
+                    "rel_discretisation_error",
+                    relative_discretisation_error(mc.continuous.value, report.measures.i_s),
+                )?;
+                o.integer("lines", mc.lines)?;
+                o.integer("seed", mc.seed)?;
+                o.integer("samples", mc.continuous.samples)?;
+                o.number("lines_per_second", mc.lines as f64 / seconds.max(1e-9))?;
+            }
+        }
         o.number("seconds", seconds)?;
         o.finish()?;
         writeln!(out, "{s}")?;
     } else {
-        write!(
-            out,
-            "{}",
-            table(&args.file.display().to_string(), &report, seconds)
-        )?;
+        write!(out, "{}", table(&args.file.display().to_string(), &report, mc.as_ref(), seconds))?;
     }
     out.flush()?;
     Ok(())
 }
 
-fn table(name: &str, r: &SceneReport, seconds: f64) -> String {
+fn method_name(m: Method) -> &'static str {
+    match m {
+        Method::Global => "global lines",
+        Method::Local => "local lines",
+    }
+}
+
+fn csv(ff: &FormFactors) -> sceneinfo::Result<String> {
+    let n = ff.n_states();
+    let mut csv = String::with_capacity(n * n * 12);
+    let mut row = vec![0.0; n];
+    for i in 0..n {
+        ff.dense_row_into(i, &mut row)?;
+        for (k, v) in row.iter().enumerate() {
+            if k > 0 {
+                csv.push(',');
+            }
+            let _ = write!(csv, "{v:?}");
+        }
+        csv.push('\n');
+    }
+    Ok(csv)
+}
+
+fn table(name: &str, r: &SceneReport, mc: Option<&MonteCarlo>, seconds: f64) -> String {
     let m = &r.measures;
     let c = &r.checks;
     let yes = |b: bool| if b { "yes" } else { "NO" };
@@ -75,11 +129,37 @@ fn table(name: &str, r: &SceneReport, seconds: f64) -> String {
             r.max_row_deficit
         );
     }
-    let _ = writeln!(s, "form factors          exact, {seconds:.3} s");
+    match mc {
+        None => {
+            let _ = writeln!(s, "form factors          exact, {seconds:.3} s");
+        }
+        Some(mc) => {
+            let _ = writeln!(
+                s,
+                "form factors          {} : {} lines, seed {}, {seconds:.3} s ({:.2} M lines/s)",
+                method_name(mc.method),
+                mc.lines,
+                mc.seed,
+                mc.lines as f64 / seconds.max(1e-9) / 1e6
+            );
+        }
+    }
     let _ = writeln!(s, "H_P   (3.5)           {:.6} bits", m.h_p);
     let _ = writeln!(s, "H_S   (3.1)           {:.6} bits", m.h_s);
     let _ = writeln!(s, "H_J   (3.6)           {:.6} bits", m.h_j);
     let _ = writeln!(s, "I_S   (3.8)           {:.6} bits", m.i_s);
+    if let Some(mc) = mc {
+        let _ = writeln!(
+            s,
+            "I_S^c (4.13)          {:.6} ± {:.6} bits (1 standard error)",
+            mc.continuous.value, mc.continuous.stderr
+        );
+        let _ = writeln!(
+            s,
+            "(I_S^c - I_S)/I_S^c   {:.4}",
+            relative_discretisation_error(mc.continuous.value, m.i_s)
+        );
+    }
     let _ = writeln!(s, "H_S / H_P  (3.12)     {:.6}", m.h_s_norm);
     let _ = writeln!(s, "I_S / H_P  (3.13)     {:.6}", m.i_s_norm);
     let _ = writeln!(s, "H_S / H_J             {:.6}", m.h_s_joint_norm);
@@ -95,9 +175,10 @@ fn table(name: &str, r: &SceneReport, seconds: f64) -> String {
     );
     let _ = writeln!(
         s,
-        "  reciprocity         {}  (max relative error {:.2e})",
+        "  reciprocity         {}  (max relative error {:.2e}{})",
         yes(c.is_reversible(CHECK_TOLERANCE)),
-        c.max_reciprocity_error
+        c.max_reciprocity_error,
+        if mc.is_some() { "; Monte Carlo F is reciprocal only within its error" } else { "" }
     );
     let _ = writeln!(
         s,

@@ -1,0 +1,82 @@
+//! Running seeded line chunks on threads, with a progress bar on stderr.
+//!
+//! Chunks are handed out dynamically, each thread keeps its own tally, and the tallies are
+//! merged at the end. The core's tallies are exact integers and fixed-point sums, so the
+//! result is bit-identical whatever the number of threads.
+
+use std::io::{IsTerminal, Write};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+use sceneinfo::formfactor::estimate_2d::{FlatTracer, LineMethod, LineTally};
+use sceneinfo::lines::{chunk_count, chunk_range};
+
+/// Casts `n_lines` lines of `method` with `seed` on `threads` threads.
+pub fn run(tracer: &FlatTracer, method: LineMethod, seed: u64, n_lines: u64, threads: usize) -> LineTally {
+    let chunks = chunk_count(n_lines);
+    let next = AtomicU64::new(0);
+    let done = AtomicU64::new(0);
+    let threads = threads.max(1).min(usize::try_from(chunks).unwrap_or(usize::MAX).max(1));
+    let start = Instant::now();
+    let tallies: Vec<LineTally> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut tally = tracer.new_tally(method);
+                    let mut hits = Vec::new();
+                    loop {
+                        let chunk = next.fetch_add(1, Ordering::Relaxed);
+                        if chunk >= chunks {
+                            break tally;
+                        }
+                        tracer.trace_chunk(seed, n_lines, chunk, &mut tally, &mut hits);
+                        let r = chunk_range(n_lines, chunk);
+                        done.fetch_add(r.end - r.start, Ordering::Relaxed);
+                    }
+                })
+            })
+            .collect();
+        show_progress(&done, n_lines, start, || workers.iter().all(|w| w.is_finished()));
+        workers.into_iter().filter_map(|w| w.join().ok()).collect()
+    });
+    let mut total = tracer.new_tally(method);
+    for t in &tallies {
+        total.merge(t);
+    }
+    total
+}
+
+/// Draws a progress bar on a terminal's stderr while the workers run, starting after one
+/// second (short jobs stay quiet), and erases it at the end.
+fn show_progress(done: &AtomicU64, total: u64, start: Instant, finished: impl Fn() -> bool) {
+    let tty = std::io::stderr().is_terminal();
+    let mut shown = false;
+    while !finished() {
+        std::thread::sleep(Duration::from_millis(100));
+        let elapsed = start.elapsed().as_secs_f64();
+        if !tty || elapsed < 1.0 {
+            continue;
+        }
+        let d = done.load(Ordering::Relaxed);
+        let frac = d as f64 / total as f64;
+        let width = 30;
+        let filled = ((frac * width as f64) as usize).min(width);
+        let rate = d as f64 / elapsed;
+        let eta = if rate > 0.0 { (total - d) as f64 / rate } else { 0.0 };
+        let _ = write!(
+            std::io::stderr(),
+            "\r[{}{}] {:5.1}%  {:.3e}/{:.3e} lines  {:.2} M lines/s  ETA {:.0} s ",
+            "#".repeat(filled),
+            " ".repeat(width - filled),
+            100.0 * frac,
+            d as f64,
+            total as f64,
+            rate / 1e6,
+            eta
+        );
+        shown = true;
+    }
+    if shown {
+        let _ = write!(std::io::stderr(), "\r{}\r", " ".repeat(100));
+    }
+}

@@ -1,0 +1,398 @@
+//! Monte Carlo flatland form factors and continuous mutual information, from uniformly
+//! distributed global lines or cosine-distributed local lines (thesis §2.1.6, §4.5.1).
+//!
+//! # Global lines (2.37)
+//!
+//! A uniform line (measure `dp dθ`) through the scene's bounding circle meets the surfaces at
+//! sorted points. Each intersection is one sample: a point uniform on the surfaces (Crofton)
+//! with the direction leaving its front side. Between consecutive intersections `x_k`,
+//! `x_{k+1}`, if the first faces forwards and the second backwards, the two see each other:
+//! the segment is one sample for *both* ends,
+//!
+//! ```text
+//! F_ij ≈ C_ij / N_i        (N_i = intersections with patch i, C_ij = segments i–j)
+//! ```
+//!
+//! A sample whose direction escapes or meets the back of a surface counts in `N_i` only: it
+//! is the row deficit that becomes the background state of an open scene. The same segment
+//! gives the continuous term `log₂(L_T cos θ_x cos θ_y / (2 r))` (4.13), counted for both ends.
+//!
+//! # Local lines (2.36)
+//!
+//! A patch `i` is picked with probability `l_i`, a point uniformly on it and a direction with
+//! density `½ cos φ` about its normal; the nearest surface hit `j` (if it faces back) gives
+//! one sample, `F_ij ≈ C_ij / N_i`, and one continuous term.
+//!
+//! # Determinism
+//!
+//! `N` lines are cut into chunks of [`CHUNK_LINES`]; chunk `k` draws from its own stream
+//! [`chunk_rng`]`(seed, k)`. Tallies are integers and 64.64 fixed-point sums, so merging the
+//! chunks' tallies in any order — on any number of threads — gives bit-identical results.
+
+use alloc::vec;
+use alloc::vec::Vec;
+
+use crate::accel::{Bvh2, Hit2};
+use crate::continuous::{self, ContinuousEstimate, ContinuousTally};
+use crate::error::{ErrorKind, Result};
+use crate::formfactor::FormFactors;
+use crate::formfactor::counts::PairCounts;
+use crate::geom::{DVec2, Segment};
+use crate::lines::{
+    BoundingCircle, CHUNK_LINES, canonical, canonical_2d, chunk_count, chunk_range, chunk_rng,
+    sample_global_line_2d, sample_local_line_2d,
+};
+use crate::math::FixedSum;
+use crate::scene::FlatScene;
+
+/// Which lines sample the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LineMethod {
+    /// Uniformly distributed global lines (2.37).
+    Global,
+    /// Cosine-distributed local lines from patches picked by length (2.36).
+    Local,
+}
+
+/// A flatland scene prepared for line casting: patch geometry and a BVH over the patches.
+#[derive(Debug)]
+pub struct FlatTracer {
+    segments: Vec<Segment>,
+    normals: Vec<DVec2>,
+    surface: Vec<u32>,
+    lengths: Vec<f64>,
+    cumulative: Vec<f64>,
+    total_length: f64,
+    bvh: Bvh2,
+    circle: BoundingCircle,
+}
+
+/// The tallies of some chunks of lines; merge them, then [`LineTally::finish`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct LineTally {
+    method: LineMethod,
+    lines: u64,
+    leaves: Vec<u64>,
+    counts: PairCounts,
+    patch_info: Vec<FixedSum>,
+    continuous: ContinuousTally,
+}
+
+/// The result of a Monte Carlo run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FlatEstimate {
+    /// Estimated form factors (with a background state if the scene is open).
+    pub form_factors: FormFactors,
+    /// `I_S^c` (4.13) and its standard error.
+    pub continuous: ContinuousEstimate,
+    /// Per-patch `I_i^c` (6.37); they sum to `I_S^c`.
+    pub patch_continuous: Vec<f64>,
+    /// Per-pair `I_ij^c` (6.35, 6.36), row-major `n × n`, kept for scenes of at most
+    /// [`crate::formfactor::DENSE_PAIR_LIMIT`] patches.
+    pub pair_continuous: Option<Vec<f64>>,
+    /// Lines cast.
+    pub lines: u64,
+    /// The sampling method.
+    pub method: LineMethod,
+}
+
+impl FlatTracer {
+    /// Prepares `scene` for line casting (builds the BVH in `O(n log n)`).
+    ///
+    /// # Errors
+    /// The errors of [`Bvh2::build`].
+    pub fn new(scene: &FlatScene) -> Result<Self> {
+        let patches = scene.patches();
+        let segments: Vec<Segment> = patches.iter().map(|p| p.segment).collect();
+        let normals = segments.iter().map(Segment::normal).collect();
+        let surface = patches.iter().map(|p| p.surface as u32).collect();
+        let lengths: Vec<f64> = patches.iter().map(|p| p.length).collect();
+        let total_length = scene.total_length();
+        let mut acc = 0.0;
+        let cumulative = lengths
+            .iter()
+            .map(|&l| {
+                acc += l / total_length;
+                acc
+            })
+            .collect();
+        let (lo, hi) = scene.bounds();
+        let bvh = Bvh2::build(&segments)?;
+        Ok(Self {
+            segments,
+            normals,
+            surface,
+            lengths,
+            cumulative,
+            total_length,
+            bvh,
+            circle: BoundingCircle::of_bounds(lo, hi),
+        })
+    }
+
+    /// Number of patches.
+    #[must_use]
+    pub fn n_patches(&self) -> usize {
+        self.segments.len()
+    }
+
+    /// An empty tally for this scene.
+    #[must_use]
+    pub fn new_tally(&self, method: LineMethod) -> LineTally {
+        let n = self.n_patches();
+        LineTally {
+            method,
+            lines: 0,
+            leaves: vec![0; n],
+            counts: PairCounts::new(n),
+            patch_info: vec![FixedSum::new(); n],
+            continuous: ContinuousTally::new(),
+        }
+    }
+
+    /// Casts the lines of chunk `chunk` of an `n_lines` job into `tally` (whose method is
+    /// used). `hits` is scratch space.
+    pub fn trace_chunk(
+        &self,
+        seed: u64,
+        n_lines: u64,
+        chunk: u64,
+        tally: &mut LineTally,
+        hits: &mut Vec<Hit2>,
+    ) {
+        let mut rng = chunk_rng(seed, chunk);
+        let range = chunk_range(n_lines, chunk);
+        for _ in range {
+            match tally.method {
+                LineMethod::Global => {
+                    let line = sample_global_line_2d(&self.circle, canonical_2d(&mut rng));
+                    self.bvh.all_hits(&line, hits);
+                    self.tally_global_line(line.dir, hits, tally);
+                }
+                LineMethod::Local => {
+                    let u0 = canonical(&mut rng);
+                    let u = canonical_2d(&mut rng);
+                    self.tally_local_line(u0, u, tally);
+                }
+            }
+            tally.lines += 1;
+        }
+    }
+
+    /// Casts all `n_lines` lines on this thread.
+    ///
+    /// # Errors
+    /// [`ErrorKind::NoLines`] if `n_lines == 0`.
+    pub fn run(&self, method: LineMethod, seed: u64, n_lines: u64) -> Result<LineTally> {
+        if n_lines == 0 {
+            return Err(ErrorKind::NoLines.into());
+        }
+        let mut tally = self.new_tally(method);
+        let mut hits = Vec::new();
+        for chunk in 0..chunk_count(n_lines) {
+            self.trace_chunk(seed, n_lines, chunk, &mut tally, &mut hits);
+        }
+        Ok(tally)
+    }
+
+    /// Orders coincident hits and drops the double hit of a line through the shared end of
+    /// two patches of one surface. Returns `false` for a degenerate line (two surfaces hit at
+    /// the same point facing the same way: the line passes exactly through a corner), which
+    /// the caller discards — a set of lines of measure zero.
+    fn normalise_hits(&self, dir: DVec2, hits: &mut Vec<Hit2>) -> bool {
+        let eps = 1e-12 * self.circle.radius;
+        // Same surface twice in a row: the line crossed a cut point.
+        hits.dedup_by(|b, a| self.surface[b.prim as usize] == self.surface[a.prim as usize]);
+        let forward = |h: &Hit2| dir.dot(self.normals[h.prim as usize]) > 0.0;
+        for k in 1..hits.len() {
+            if hits[k].t - hits[k - 1].t <= eps {
+                match (forward(&hits[k - 1]), forward(&hits[k])) {
+                    // Back to back (a two-sided wall, or a grazed corner of an object): the
+                    // one facing backwards comes first.
+                    (true, false) => hits.swap(k - 1, k),
+                    (false, true) => {}
+                    _ => return false,
+                }
+            }
+        }
+        true
+    }
+
+    fn tally_global_line(&self, dir: DVec2, hits: &mut Vec<Hit2>, tally: &mut LineTally) {
+        if !self.normalise_hits(dir, hits) {
+            return;
+        }
+        let mut line_sum = 0.0;
+        for k in 0..hits.len() {
+            let i = hits[k].prim as usize;
+            tally.leaves[i] += 1;
+            let cos_i = dir.dot(self.normals[i]);
+            if cos_i <= 0.0 {
+                continue; // leaves backwards: handled as the partner of hit k − 1
+            }
+            let Some(next) = hits.get(k + 1) else { continue }; // escapes
+            let j = next.prim as usize;
+            let cos_j = -dir.dot(self.normals[j]);
+            if cos_j <= 0.0 {
+                continue; // meets the back of j
+            }
+            tally.counts.add(i, j);
+            tally.counts.add(j, i);
+            if let Some(s) =
+                continuous::flat_sample(self.total_length, cos_i, cos_j, next.t - hits[k].t)
+            {
+                line_sum += 2.0 * s;
+                tally.patch_info[i].add(s);
+                tally.patch_info[j].add(s);
+                tally.counts.add_info(i, j, s);
+                tally.counts.add_info(j, i, s);
+            }
+        }
+        tally.continuous.add_group(line_sum, hits.len() as u64);
+    }
+
+    fn tally_local_line(&self, u0: f64, u: [f64; 2], tally: &mut LineTally) {
+        // Patch by length: the first cumulative share above u0.
+        let i = self.cumulative.partition_point(|&c| c <= u0).min(self.n_patches() - 1);
+        let seg = &self.segments[i];
+        let line = sample_local_line_2d(seg, u);
+        tally.leaves[i] += 1;
+        let t_min = 1e-12 * self.circle.radius;
+        let mut sample = 0.0;
+        if let Some(hit) = self.bvh.first_hit(line.origin, line.dir, t_min) {
+            let j = hit.prim as usize;
+            let cos_j = -line.dir.dot(self.normals[j]);
+            if cos_j > 0.0 && self.surface[j] != self.surface[i] {
+                tally.counts.add(i, j);
+                let cos_i = line.dir.dot(self.normals[i]);
+                if let Some(s) = continuous::flat_sample(self.total_length, cos_i, cos_j, hit.t) {
+                    sample = s;
+                    tally.patch_info[i].add(0.5 * s);
+                    tally.patch_info[j].add(0.5 * s);
+                    tally.counts.add_info(i, j, 0.5 * s);
+                    tally.counts.add_info(j, i, 0.5 * s);
+                }
+            }
+        }
+        tally.continuous.add_group(sample, 1);
+    }
+}
+
+impl LineTally {
+    /// Adds another tally of the same scene and method (exact, order-independent).
+    pub fn merge(&mut self, other: &LineTally) {
+        self.lines += other.lines;
+        for (a, b) in self.leaves.iter_mut().zip(&other.leaves) {
+            *a += *b;
+        }
+        self.counts.merge(&other.counts);
+        for (a, b) in self.patch_info.iter_mut().zip(&other.patch_info) {
+            a.merge(b);
+        }
+        self.continuous.merge(&other.continuous);
+    }
+
+    /// Lines tallied so far.
+    #[must_use]
+    pub fn lines(&self) -> u64 {
+        self.lines
+    }
+
+    /// Turns the tallies into form factors and continuous measures.
+    ///
+    /// # Errors
+    /// [`ErrorKind::NoLines`] for an empty tally; [`ErrorKind::UnsampledPatch`] when some patch
+    /// got no sample (its row of `F` would be unknown).
+    pub fn finish(mut self, tracer: &FlatTracer) -> Result<FlatEstimate> {
+        if self.lines == 0 {
+            return Err(ErrorKind::NoLines.into());
+        }
+        if let Some(patch) = self.leaves.iter().position(|&c| c == 0) {
+            return Err(ErrorKind::UnsampledPatch { patch, lines: self.lines }.into());
+        }
+        let n = self.leaves.len();
+        let samples = self.continuous.samples().max(1) as f64;
+        let dense = self.counts.has_pair_info();
+        let mut pair = dense.then(|| vec![0.0; n * n]);
+        let mut matrix = dense.then(|| vec![0.0; n * n]);
+        let mut triplets = Vec::new();
+        let leaves = &self.leaves;
+        self.counts.for_each(|i, j, c, info| {
+            let f = c as f64 / leaves[i] as f64;
+            match (&mut matrix, &mut pair) {
+                (Some(m), Some(p)) => {
+                    m[i * n + j] = f;
+                    p[i * n + j] = info.unwrap_or(0.0) / samples;
+                }
+                _ => triplets.push((i, j, f)),
+            }
+        });
+        let form_factors = match matrix {
+            Some(m) => FormFactors::from_patch_matrix(&tracer.lengths, m)?,
+            None => FormFactors::from_patch_triplets(&tracer.lengths, triplets)?,
+        };
+        let patch_continuous = self.patch_info.iter().map(|s| s.value() / samples).collect();
+        Ok(FlatEstimate {
+            form_factors,
+            continuous: self.continuous.estimate(),
+            patch_continuous,
+            pair_continuous: pair,
+            lines: self.lines,
+            method: self.method,
+        })
+    }
+}
+
+/// Casts `n_lines` lines of `method` with `seed` on this thread and returns the estimate.
+///
+/// # Errors
+/// [`ErrorKind::NoLines`], [`ErrorKind::UnsampledPatch`], and BVH construction errors.
+pub fn estimate(scene: &FlatScene, method: LineMethod, seed: u64, n_lines: u64) -> Result<FlatEstimate> {
+    let tracer = FlatTracer::new(scene)?;
+    tracer.run(method, seed, n_lines)?.finish(&tracer)
+}
+
+/// Lines per chunk, re-exported for front ends that schedule chunks on threads.
+pub const LINES_PER_CHUNK: u64 = CHUNK_LINES;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formfactor::exact_2d;
+
+    #[test]
+    fn global_lines_match_exact_form_factors() {
+        let scene = FlatScene::regular_polygon(4, 2).unwrap();
+        let exact = exact_2d::form_factors(&scene).unwrap();
+        let est = estimate(&scene, LineMethod::Global, 7, 200_000).unwrap();
+        let n = scene.n_patches();
+        for i in 0..n {
+            for j in 0..n {
+                let f = exact.get(i, j);
+                let got = est.form_factors.get(i, j);
+                // Binomial error with N_i ≈ 200k · l_i · (π R / ... ) samples: use 5σ.
+                let n_i = 20_000.0;
+                let sigma = (f * (1.0 - f) / n_i).sqrt().max(1e-4);
+                assert!((got - f).abs() < 6.0 * sigma, "F[{i}][{j}] {got} vs {f}");
+            }
+        }
+        assert!(!est.form_factors.has_background());
+    }
+
+    #[test]
+    fn same_seed_same_bits_any_chunking() {
+        let scene = FlatScene::regular_polygon(3, 3).unwrap();
+        let tracer = FlatTracer::new(&scene).unwrap();
+        let n = 3 * CHUNK_LINES + 17;
+        let whole = tracer.run(LineMethod::Global, 42, n).unwrap();
+        // The same chunks tallied separately and merged in reverse order.
+        let mut hits = Vec::new();
+        let mut merged = tracer.new_tally(LineMethod::Global);
+        for chunk in (0..chunk_count(n)).rev() {
+            let mut t = tracer.new_tally(LineMethod::Global);
+            tracer.trace_chunk(42, n, chunk, &mut t, &mut hits);
+            merged.merge(&t);
+        }
+        assert_eq!(whole, merged);
+    }
+}
