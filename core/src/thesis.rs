@@ -40,6 +40,34 @@ pub const TABLE_3_5_I_S: [[f64; 3]; 10] = [
     [0.279, 0.282, 0.283],
 ];
 
+/// Table 4.10, last column: `I_S^c` of regular polygons of 3–12 sides (10⁵ global lines in
+/// the thesis, so each value carries a Monte Carlo error of a few thousandths).
+pub const TABLE_4_10_I_S_CONTINUOUS: [f64; 10] =
+    [1.284, 0.788, 0.583, 0.475, 0.408, 0.366, 0.336, 0.314, 0.297, 0.284];
+
+/// Table 4.11: the thesis' rounded exact values and its Monte Carlo (10⁵ global lines)
+/// results for the circle, the regular hexagon, the square and the equilateral triangle:
+/// `(name, exact, monte_carlo)`.
+pub const TABLE_4_11: [(&str, f64, f64); 4] = [
+    ("circle", 0.209, 0.209),
+    ("hexagon", 0.475, 0.475),
+    ("square", 0.789, 0.788),
+    ("equilateral triangle", 1.285, 1.284),
+];
+
+/// Table 4.12 (Proposition 2): for the rotating square (Fig. 4.19i) and the pentagonal star
+/// (Fig. 4.18i): `(name, I^c of a subscene, number of subscenes N, I_S^c of the scene)`.
+pub const TABLE_4_12: [(&str, f64, u32, f64); 2] =
+    [("square rotation", 1.474, 4, 3.477), ("pentagonal star", 1.750, 5, 4.067)];
+
+/// Values quoted in the text of §4.5.2: `(what, I_S^c)`.
+pub const SECTION_4_5_2_QUOTES: [(&str, f64); 4] = [
+    ("triangle of Fig. 4.13(d)", 2.311),
+    ("L-shaped room of Fig. 4.14(c)", 1.218),
+    ("L-shaped room of Fig. 4.14(d)", 1.319),
+    ("square advanced into a corner, Fig. 4.20(i)", 3.304),
+];
+
 /// Half a unit in the last printed place of the tables above: the rounding error of a
 /// correct value.
 pub const TABLE_ROUNDING: f64 = 0.0005;

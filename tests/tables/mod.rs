@@ -1,3 +1,4 @@
 //! The thesis' tables recomputed.
 
+mod continuous;
 mod regular_polygons;
