@@ -39,7 +39,7 @@ use crate::formfactor::FormFactors;
 use crate::formfactor::counts::PairCounts;
 use crate::geom::{DVec2, Segment};
 use crate::lines::{
-    BoundingCircle, CHUNK_LINES, canonical, canonical_2d, chunk_count, chunk_range, chunk_rng,
+    BoundingCircle, CHUNK_LINES, Line2, canonical, canonical_2d, chunk_count, chunk_range, chunk_rng,
     sample_global_line_2d, sample_local_line_2d,
 };
 use crate::math::FixedSum;
@@ -172,7 +172,7 @@ impl FlatTracer {
                 LineMethod::Local => {
                     let u0 = canonical(&mut rng);
                     let u = canonical_2d(&mut rng);
-                    self.tally_local_line(u0, u, tally);
+                    self.tally_local_line(u0, u, tally, hits);
                 }
             }
             tally.lines += 1;
@@ -251,7 +251,18 @@ impl FlatTracer {
         tally.continuous.add_group(line_sum, hits.len() as u64);
     }
 
-    fn tally_local_line(&self, u0: f64, u: [f64; 2], tally: &mut LineTally) {
+    /// Among the surfaces the line meets at the same point as `hit`, one facing back
+    /// towards the origin, if any (else `hit`).
+    fn coincident_front_hit(&self, line: &Line2, hit: Hit2, hits: &mut Vec<Hit2>) -> Hit2 {
+        let eps = 1e-12 * self.circle.radius;
+        self.bvh.all_hits(line, hits);
+        hits.iter()
+            .find(|h| (h.t - hit.t).abs() <= eps && line.dir.dot(self.normals[h.prim as usize]) < 0.0)
+            .copied()
+            .unwrap_or(hit)
+    }
+
+    fn tally_local_line(&self, u0: f64, u: [f64; 2], tally: &mut LineTally, hits: &mut Vec<Hit2>) {
         // Patch by length: the first cumulative share above u0.
         let i = self.cumulative.partition_point(|&c| c <= u0).min(self.n_patches() - 1);
         let seg = &self.segments[i];
@@ -259,7 +270,12 @@ impl FlatTracer {
         tally.leaves[i] += 1;
         let t_min = 1e-12 * self.circle.radius;
         let mut sample = 0.0;
-        if let Some(hit) = self.bvh.first_hit(line.origin, line.dir, t_min) {
+        if let Some(mut hit) = self.bvh.first_hit(line.origin, line.dir, t_min) {
+            if line.dir.dot(self.normals[hit.prim as usize]) >= 0.0 {
+                // A back face: if a coincident surface faces us there (a two-sided wall),
+                // that one is what the line meets.
+                hit = self.coincident_front_hit(&line, hit, hits);
+            }
             let j = hit.prim as usize;
             let cos_j = -line.dir.dot(self.normals[j]);
             if cos_j > 0.0 && self.surface[j] != self.surface[i] {

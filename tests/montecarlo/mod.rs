@@ -1,0 +1,4 @@
+//! Monte Carlo estimators against exact results and the thesis' claims about them.
+
+mod agreement;
+mod proposition_2;
