@@ -148,7 +148,8 @@ install_node_and_playwright() {
         apt_install nodejs npm
     fi
     local want have
-    want=$(node -p "require('./$E2E_DIR/package-lock.json').packages['node_modules/playwright-core'].version")
+    want=$(node -p "require('./$E2E_DIR/package-lock.json').packages['node_modules/playwright-core'].version") \
+        || die "cannot read the playwright-core version from $E2E_DIR/package-lock.json"
     have=$(node -p "try { require('./$E2E_DIR/node_modules/playwright-core/package.json').version } catch { '' }")
     if [[ $have == "$want" ]]; then
         ok "playwright-core $have"
