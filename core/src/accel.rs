@@ -87,7 +87,7 @@ impl LineQuery {
         let w = self.o - a;
         let s = cross(w, self.d) / denom;
         // NaN (denom = 0 with w × d = 0, or NaN input) and ±∞ (parallel) fail here.
-        if !(s >= 0.0 && s <= 1.0) {
+        if !(0.0..=1.0).contains(&s) {
             return None;
         }
         // Project the hit point on the line; `+ 0.0` turns −0 into +0.

@@ -5,9 +5,27 @@
 //! A binary tree flattened depth-first into one `Vec` of 32-byte nodes (pbrt's
 //! `LinearBVHNode`): a node's first child is the next node, the second child is at an
 //! explicit index. Each node stores its box as an `f64` centre and `f32` half-extents
-//! rounded *up*, so the stored box always contains the true one. Leaves index a run of
-//! primitives stored in leaf order, each prepared as `(a, e = b − a)` for the intersection
-//! test, beside its original index.
+//! rounded *up*, so the stored box always contains the true one. Leaves index a range of
+//! *runs*, stored in leaf order.
+//!
+//! # Runs
+//!
+//! A surface cut into `k` patches gives `k` consecutive, contiguous, collinear segments;
+//! the tree holds such a chain as one primitive, a *run* (a lone segment is a run of one).
+//! A line meets the run's supporting segment `A + σE` at
+//!
+//! ```text
+//! σ* = ((o − A) × d) / (E × d),   δ = 10⁻⁹ (‖o − A‖₁ + ‖A‖₁ + ‖E‖₁) ‖d‖₁ / |E × d|
+//! ```
+//!
+//! and only the patches whose interval `[σ_a, σ_b]` along `E` meets `[σ* − δ, σ* + δ]`
+//! (a binary search) go through the exact per-segment test; when `δ` is not small (a line
+//! grazing the run, or NaN) every patch of the run does. `δ` bounds, with six orders of
+//! magnitude to spare, both the rounding of `σ*` and the shift of the crossing caused by
+//! the patches' deviation from exact collinearity, which the build checks to be below
+//! `10⁻¹²` of the run's size. A surface of `k` patches then costs one box path and
+//! `O(log k)`, not `O(log k)` box tests per level — the common case of the thesis' scenes,
+//! whose surfaces are cut into equal patches.
 //!
 //! # Build
 //!
@@ -37,7 +55,7 @@ use alloc::vec::Vec;
 use core::fmt;
 
 use crate::error::{Error, ErrorKind, Result};
-use crate::geom::{DVec2, Segment};
+use crate::geom::{DVec2, Segment, cross};
 use crate::lines::Line2;
 
 use super::{Hit2, LineQuery};
@@ -64,6 +82,15 @@ const TRAVERSAL_COST: f64 = 1.0;
 /// Relative size of the culling margin (see the module docs).
 const MARGIN: f64 = 1e-9;
 
+/// Relative size of a run's search window `δ` (see the module docs).
+const RUN_SLACK: f64 = 1e-9;
+
+/// Largest deviation from collinearity, relative to the run's size, accepted in a run.
+const RUN_COLLINEAR: f64 = 1e-12;
+
+/// Runs up to this length are tested patch by patch, without the search.
+const SHORT_RUN: u32 = 4;
+
 /// One node: box centre (`f64`) and half-extents (`f32`, rounded up), then either the
 /// first primitive and the count (leaf) or the second child and the split axis (interior).
 #[derive(Clone, Copy, Debug)]
@@ -83,6 +110,20 @@ struct Node {
 struct Prim {
     a: DVec2,
     e: DVec2,
+}
+
+/// A chain of contiguous collinear segments `first .. first + len` (indices into the
+/// prepared primitives), spanning `A + σE`, `σ ∈ [0, 1]`.
+#[derive(Clone, Copy, Debug)]
+struct Run {
+    a: DVec2,
+    e: DVec2,
+    first: u32,
+    len: u32,
+    /// `len` when the patches are equal to within `tau` (`σ_a,k ≈ k/len`), else 0.
+    uniform: f64,
+    /// Largest deviation of the patch bounds from `k/len` (uniform runs only).
+    tau: f64,
 }
 
 /// A bounding volume hierarchy over flatland segments, answering "every hit of a line,
@@ -117,7 +158,10 @@ struct Prim {
 #[derive(Clone)]
 pub struct Bvh2 {
     nodes: Vec<Node>,
+    runs: Vec<Run>,
     prims: Vec<Prim>,
+    /// `[σ_a, σ_b]` of each primitive along its run (`[0, 1]` for runs of one).
+    sigma: Vec<[f64; 2]>,
     ids: Vec<u32>,
     /// Largest coordinate magnitude of any endpoint (`∞` if any is infinite).
     scale: f64,
@@ -128,6 +172,7 @@ impl fmt::Debug for Bvh2 {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("Bvh2")
             .field("primitives", &self.prims.len())
+            .field("runs", &self.runs.len())
             .field("nodes", &self.nodes.len())
             .field("depth", &self.depth)
             .finish()
@@ -279,24 +324,34 @@ impl Bvh2 {
                 max: MAX_PRIMITIVES as u64,
             }));
         }
-        // Primitive boxes, centroids and the scale of the margin
+        // Scale of the margin, then runs and their boxes
         let mut scale: f64 = 0.0;
-        let mut build: Vec<BuildPrim> = Vec::with_capacity(n);
-        for (s, id) in segments.iter().zip(0u32..) {
-            let (lo, hi) = s.bounds();
+        for s in segments {
             scale = scale
                 .max(s.a.abs().max_element())
                 .max(s.b.abs().max_element());
+        }
+        let spans = find_runs(segments);
+        let mut build: Vec<BuildPrim> = Vec::with_capacity(spans.len());
+        for (span, id) in spans.iter().zip(0u32..) {
+            let mut b = Aabb::EMPTY;
+            for s in &segments[span.0 as usize..span.1 as usize] {
+                let (lo, hi) = s.bounds();
+                b.grow(lo, hi);
+            }
             build.push(BuildPrim {
-                lo,
-                hi,
-                centroid: lo * 0.5 + hi * 0.5,
+                lo: b.lo,
+                hi: b.hi,
+                centroid: b.lo * 0.5 + b.hi * 0.5,
                 id,
             });
         }
+        let n_runs = build.len();
         let mut bvh = Self {
-            nodes: Vec::with_capacity((2 * n).saturating_sub(1)),
+            nodes: Vec::with_capacity((2 * n_runs).saturating_sub(1)),
+            runs: Vec::with_capacity(n_runs),
             prims: Vec::with_capacity(n),
+            sigma: Vec::with_capacity(n),
             ids: Vec::with_capacity(n),
             scale,
             depth: 0,
@@ -310,7 +365,7 @@ impl Bvh2 {
         let mut tasks: Vec<Task> = Vec::with_capacity(2 * STACK_SIZE);
         tasks.push(Task {
             start: 0,
-            end: n,
+            end: n_runs,
             depth: 0,
             parent: u32::MAX,
         });
@@ -327,15 +382,10 @@ impl Bvh2 {
             }
             match split(items, &bounds, task.depth) {
                 None => {
-                    // Leaf: append its primitives in leaf order
-                    let first = bvh.prims.len() as u32;
+                    // Leaf: append its runs, and their segments, in leaf order
+                    let first = bvh.runs.len() as u32;
                     for p in items.iter() {
-                        let s = &segments[p.id as usize];
-                        bvh.prims.push(Prim {
-                            a: s.a,
-                            e: s.b - s.a,
-                        });
-                        bvh.ids.push(p.id);
+                        bvh.push_run(segments, spans[p.id as usize]);
                     }
                     let count = items.len() as u32;
                     bvh.nodes.push(Node::new(&bounds, first, count << 1));
@@ -361,7 +411,85 @@ impl Bvh2 {
         }
         debug_assert!((bvh.depth as usize) < STACK_SIZE);
         debug_assert_eq!(bvh.prims.len(), n);
+        debug_assert_eq!(bvh.sigma.len(), n);
         Ok(bvh)
+    }
+
+    /// Appends the run of segments `span.0 .. span.1` (validated by [`find_runs`]).
+    fn push_run(&mut self, segments: &[Segment], span: (u32, u32)) {
+        let chain = &segments[span.0 as usize..span.1 as usize];
+        let (a, e) = run_frame(chain);
+        let inv_ee = 1.0 / e.length_squared();
+        let first = self.prims.len();
+        let m = chain.len() as f64;
+        let mut tau: f64 = 0.0;
+        for ((s, id), k) in chain.iter().zip(span.0..).zip(0u32..) {
+            self.prims.push(Prim {
+                a: s.a,
+                e: s.b - s.a,
+            });
+            let sigma = if chain.len() == 1 {
+                [0.0, 1.0]
+            } else {
+                [(s.a - a).dot(e) * inv_ee, (s.b - a).dot(e) * inv_ee]
+            };
+            let k = f64::from(k);
+            tau = tau
+                .max((sigma[0] - k / m).abs())
+                .max((sigma[1] - (k + 1.0) / m).abs());
+            self.sigma.push(sigma);
+            self.ids.push(id);
+        }
+        // Equal patches (to a hundredth of one) are located by arithmetic, not search
+        let uniform = tau <= 0.01 / m;
+        self.runs.push(Run {
+            a,
+            e,
+            first: first as u32,
+            len: span.1 - span.0,
+            uniform: if uniform { m } else { 0.0 },
+            tau: if uniform { tau } else { 0.0 },
+        });
+    }
+
+    /// The primitives of `run` that `q`'s line may meet: all of a short run, else those
+    /// whose interval along the run meets `[σ* − δ, σ* + δ]` (module docs, "Runs").
+    #[inline(always)]
+    fn run_candidates(&self, run: &Run, q: &LineQuery) -> core::ops::Range<usize> {
+        let first = run.first as usize;
+        let end = first + run.len as usize;
+        if run.len <= SHORT_RUN {
+            return first..end;
+        }
+        let l1 = |v: DVec2| v.x.abs() + v.y.abs();
+        let denom = cross(run.e, q.d);
+        let inv = 1.0 / denom;
+        let w = q.o - run.a;
+        let s = cross(w, q.d) * inv;
+        let delta = RUN_SLACK * (l1(w) + l1(run.a) + l1(run.e)) * l1(q.d) * inv.abs();
+        // Grazing (δ not small), parallel (δ = ∞) or NaN: test every patch.
+        if !(delta < 0.25) {
+            return first..end;
+        }
+        if run.uniform > 0.0 {
+            // [σ_a,k, σ_b,k] ⊆ [k/m − τ, (k+1)/m + τ] meets [s − δ, s + δ] only for
+            // ⌈(s − δ − τ)m − 1⌉ ≤ k ≤ ⌊(s + δ + τ)m⌋ (with a rounding guard in τ);
+            // `as usize` truncates, and saturates negatives and NaN to 0.
+            let m = run.uniform;
+            let reach = delta + run.tau + 1e-12;
+            let x = (s - reach) * m - 1.0;
+            let lo = x as usize + usize::from(x > 0.0 && (x as usize as f64) < x);
+            let hi = (((s + reach) * m) as usize).saturating_add(1);
+            let len = run.len as usize;
+            return first + lo.min(len)..first + hi.min(len);
+        }
+        let sigma = &self.sigma[first..end];
+        let lo = sigma.partition_point(|x| x[1] < s - delta);
+        let mut hi = lo;
+        while hi < sigma.len() && sigma[hi][0] <= s + delta {
+            hi += 1;
+        }
+        first + lo..first + hi
     }
 
     /// Number of segments.
@@ -416,13 +544,15 @@ impl Bvh2 {
                     continue;
                 }
                 let first = node.offset as usize;
-                for k in first..first + count {
-                    let p = &self.prims[k];
-                    if let Some(t) = q.hit(p.a, p.e) {
-                        f(Hit2 {
-                            t,
-                            prim: self.ids[k],
-                        });
+                for run in &self.runs[first..first + count] {
+                    for k in self.run_candidates(run, &q) {
+                        let p = &self.prims[k];
+                        if let Some(t) = q.hit(p.a, p.e) {
+                            f(Hit2 {
+                                t,
+                                prim: self.ids[k],
+                            });
+                        }
                     }
                 }
             }
@@ -488,13 +618,15 @@ impl Bvh2 {
                     continue;
                 }
                 let first = node.offset as usize;
-                for k in first..first + count {
-                    let p = &self.prims[k];
-                    if let Some(t) = q.hit(p.a, p.e) {
-                        let prim = self.ids[k];
-                        if t > t_min && (t < best_t || (t == best_t && prim < best_prim)) {
-                            best_t = t;
-                            best_prim = prim;
+                for run in &self.runs[first..first + count] {
+                    for k in self.run_candidates(run, &q) {
+                        let p = &self.prims[k];
+                        if let Some(t) = q.hit(p.a, p.e) {
+                            let prim = self.ids[k];
+                            if t > t_min && (t < best_t || (t == best_t && prim < best_prim)) {
+                                best_t = t;
+                                best_prim = prim;
+                            }
                         }
                     }
                 }
@@ -512,6 +644,67 @@ impl Bvh2 {
     }
 }
 
+/// The frame `(A, E)` of a chain: from the first start to the last end.
+fn run_frame(chain: &[Segment]) -> (DVec2, DVec2) {
+    match (chain.first(), chain.last()) {
+        (Some(f), Some(l)) => (f.a, l.b - f.a),
+        _ => (DVec2::ZERO, DVec2::ZERO),
+    }
+}
+
+/// Cuts `segments` into runs `(start, end)`: maximal chains of consecutive segments, each
+/// starting exactly where the previous one ends, in the same direction, whose endpoints
+/// all lie within `10⁻¹²` of the chain's size from its supporting line and advance along
+/// it. A chain that fails the check is split into runs of one.
+fn find_runs(segments: &[Segment]) -> Vec<(u32, u32)> {
+    let n = segments.len() as u32;
+    let mut spans = Vec::new();
+    let mut i = 0u32;
+    while i < n {
+        // Grow the chain while contiguous and parallel
+        let t0 = segments[i as usize].tangent();
+        let mut j = i + 1;
+        while j < n {
+            let (prev, next) = (&segments[j as usize - 1], &segments[j as usize]);
+            let t = next.tangent();
+            if next.a != prev.b || !(cross(t0, t).abs() <= 1e-9 && t0.dot(t) > 0.0) {
+                break;
+            }
+            j += 1;
+        }
+        if j - i > 1 && chain_is_straight(&segments[i as usize..j as usize]) {
+            spans.push((i, j));
+        } else {
+            spans.extend((i..j).map(|k| (k, k + 1)));
+        }
+        i = j;
+    }
+    spans
+}
+
+/// Whether every endpoint of `chain` lies within `RUN_COLLINEAR` of the chain's size from
+/// its frame's line, with the projections non-decreasing along it.
+fn chain_is_straight(chain: &[Segment]) -> bool {
+    let (a, e) = run_frame(chain);
+    let len = e.length();
+    let size = a.abs().max_element() + e.abs().max_element();
+    if !(len > 0.0 && size.is_finite()) {
+        return false;
+    }
+    let tol = RUN_COLLINEAR * size;
+    let mut last = f64::NEG_INFINITY;
+    for s in chain {
+        for p in [s.a, s.b] {
+            let along = (p - a).dot(e);
+            if !((cross(e, p - a) / len).abs() <= tol && along >= last) {
+                return false;
+            }
+            last = along;
+        }
+    }
+    true
+}
+
 /// Chooses how to split `items` (in place): `None` for a leaf, or `Some((mid, axis))`
 /// with `items[..mid]` the first child, `items[mid..]` the second, `0 < mid < len`.
 fn split(items: &mut [BuildPrim], bounds: &Aabb, depth: u32) -> Option<(usize, u32)> {
@@ -526,10 +719,10 @@ fn split(items: &mut [BuildPrim], bounds: &Aabb, depth: u32) -> Option<(usize, u
     }
     let extent = cb.hi - cb.lo;
     let axis = usize::from(extent.y > extent.x);
-    if depth < SAH_DEPTH {
-        if let Some(choice) = sah_split(items, bounds, &cb) {
-            return choice;
-        }
+    if depth < SAH_DEPTH
+        && let Some(choice) = sah_split(items, bounds, &cb)
+    {
+        return choice;
     }
     if n <= MAX_LEAF {
         return None;
