@@ -222,6 +222,142 @@ fn crofton_hit_frequency_through_the_bvh() {
     }
 }
 
+/// The segment `a → b` cut at the parameters `cuts` (increasing in (0, 1)), the way the
+/// scenes cut surfaces into patches: consecutive patches share the exact cut point.
+fn chain(a: DVec2, b: DVec2, cuts: &[f64]) -> Vec<Segment> {
+    let seg = Segment::new(a, b);
+    let mut points = Vec::with_capacity(cuts.len() + 2);
+    points.push(a);
+    points.extend(cuts.iter().map(|&t| seg.point_at(t)));
+    points.push(b);
+    points
+        .windows(2)
+        .map(|w| Segment::new(w[0], w[1]))
+        .collect()
+}
+
+/// Equal cuts `k/n`.
+fn equal_cuts(n: u32) -> Vec<f64> {
+    (1..n).map(|k| f64::from(k) / f64::from(n)).collect()
+}
+
+/// Lines through every patch vertex of `segs` (random direction, along the axes, along and
+/// across the segment, and slightly off along it), plus random global lines.
+fn torture_lines(segs: &[Segment], seed: u64, circle: &BoundingCircle) -> Vec<Line2> {
+    let mut rng = chunk_rng(seed, 7);
+    let mut lines = Vec::new();
+    for s in segs {
+        let phi = core::f64::consts::TAU * canonical(&mut rng);
+        let t = s.tangent();
+        for dir in [
+            DVec2::new(libm::cos(phi), libm::sin(phi)),
+            DVec2::X,
+            DVec2::Y,
+            t,
+            -t,
+            s.normal(),
+            (t + s.normal() * 1e-13).normalize(),
+            (t - s.normal() * 1e-7).normalize(),
+        ] {
+            lines.push(Line2::new(s.a, dir));
+        }
+        // Parallel to the patch, a hair away from it.
+        lines.push(Line2::new(s.midpoint() + s.normal() * 1e-14, t));
+    }
+    for _ in 0..2000 {
+        lines.push(sample_global_line_2d(circle, canonical_2d(&mut rng)));
+    }
+    lines
+}
+
+#[test]
+fn runs_of_patches_agree_with_naive() {
+    // Scenes whose surfaces are cut into equal and unequal patches: the BVH stores each
+    // surface as one run and must still report exactly the naive hits.
+    let mut segs = Vec::new();
+    // A room of four walls, 60 equal patches each (counter-clockwise, facing in).
+    let room = [
+        DVec2::new(-1.0, -1.0),
+        DVec2::new(1.0, -1.0),
+        DVec2::new(1.0, 1.0),
+        DVec2::new(-1.0, 1.0),
+    ];
+    for k in 0..4 {
+        segs.extend(chain(room[k], room[(k + 1) % 4], &equal_cuts(60)));
+    }
+    // A tilted surface with irrational-looking coordinates, 37 equal patches.
+    segs.extend(chain(
+        DVec2::new(-0.71, 0.123_456_789),
+        DVec2::new(0.333_333_333_3, -0.42),
+        &equal_cuts(37),
+    ));
+    // Unequal cuts (searched, not computed).
+    segs.extend(chain(
+        DVec2::new(-0.9, 0.8),
+        DVec2::new(0.9, 0.7),
+        &[0.01, 0.02, 0.3, 0.31, 0.5, 0.9, 0.99],
+    ));
+    // Two collinear surfaces end to end form one run.
+    segs.extend(chain(
+        DVec2::new(-0.5, -0.8),
+        DVec2::new(0.0, -0.8),
+        &equal_cuts(5),
+    ));
+    segs.extend(chain(
+        DVec2::new(0.0, -0.8),
+        DVec2::new(0.5, -0.8),
+        &equal_cuts(9),
+    ));
+    // A nearly straight chain bent by 1e-9: too bent to be a run.
+    segs.push(Segment::new(DVec2::new(-0.5, 0.5), DVec2::new(0.0, 0.5)));
+    segs.push(Segment::new(
+        DVec2::new(0.0, 0.5),
+        DVec2::new(0.5, 0.5 + 1e-9),
+    ));
+    segs.push(Segment::new(
+        DVec2::new(0.5, 0.5 + 1e-9),
+        DVec2::new(1.0, 0.5),
+    ));
+    // A regular polygon scene as the scenes build it.
+    let poly = crate::scene::FlatScene::regular_polygon(7, 13).unwrap();
+    segs.extend(poly.patches().iter().map(|p| p.segment));
+
+    let bvh = Bvh2::build(&segs).unwrap();
+    assert!(bvh.len() == segs.len() && bvh.node_count() < segs.len() / 4);
+    let circle = BoundingCircle::of_bounds(DVec2::splat(-1.0), DVec2::splat(1.0));
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    let mut total = 0;
+    for line in torture_lines(&segs, 21, &circle) {
+        check_line(&segs, &bvh, &line, &mut a, &mut b);
+        total += a.len();
+    }
+    assert!(total > 1000);
+    // A line along a wall is collinear with every patch of it: no hit, as in the naive loop.
+    bvh.all_hits(&Line2::new(DVec2::new(-3.0, -1.0), DVec2::X), &mut a);
+    all_hits_naive(&segs, &Line2::new(DVec2::new(-3.0, -1.0), DVec2::X), &mut b);
+    assert_eq!(a, b);
+}
+
+#[test]
+fn runs_in_huge_and_tiny_coordinates_agree() {
+    for (offset, size) in [(1e9, 1e-3), (-1e11, 10.0), (0.0, 1e-9), (3.0, 1e6)] {
+        let o = DVec2::new(offset, -offset * 0.5);
+        let mut segs = chain(o, o + DVec2::new(size, size * 0.3), &equal_cuts(50));
+        segs.extend(chain(
+            o + DVec2::new(size, 0.0),
+            o + DVec2::new(0.0, size),
+            &[0.1, 0.15, 0.6, 0.61],
+        ));
+        let bvh = Bvh2::build(&segs).unwrap();
+        let circle =
+            BoundingCircle::of_bounds(o - DVec2::splat(size), o + DVec2::splat(2.0 * size));
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        for line in torture_lines(&segs, 22, &circle) {
+            check_line(&segs, &bvh, &line, &mut a, &mut b);
+        }
+    }
+}
+
 /// Finite, non-degenerate coordinates for the property tests.
 fn coord() -> impl Strategy<Value = f64> {
     -100.0..100.0f64
@@ -254,7 +390,47 @@ fn line() -> impl Strategy<Value = Line2> {
     (prop_oneof![point(), lattice], dir).prop_map(|(o, d)| Line2::new(o, d))
 }
 
+/// A surface cut into 1–40 patches, equally or at random cuts, with lattice or random ends.
+fn surface() -> impl Strategy<Value = Vec<Segment>> {
+    let lattice = (-4i32..=4, -4i32..=4).prop_map(|(x, y)| DVec2::new(f64::from(x), f64::from(y)));
+    let ends = prop_oneof![(point(), point()), (lattice.clone(), lattice)];
+    let cuts = prop_oneof![
+        (1u32..40).prop_map(equal_cuts),
+        proptest::collection::vec(0.0..1.0f64, 0..40).prop_map(|mut c| {
+            c.sort_by(f64::total_cmp);
+            c.dedup();
+            c.retain(|&t| t > 0.0 && t < 1.0);
+            c
+        }),
+    ];
+    (ends, cuts).prop_map(|((a, b), c)| chain(a, b, &c))
+}
+
 proptest! {
+    #[test]
+    fn bvh_runs_equal_naive(surfaces in proptest::collection::vec(surface(), 1..8),
+                            lines in proptest::collection::vec(line(), 1..20)) {
+        let segs: Vec<Segment> = surfaces.concat();
+        let bvh = Bvh2::build(&segs).unwrap();
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        let mut all = lines.clone();
+        // Lines through the patch vertices too.
+        for (k, s) in segs.iter().enumerate().step_by(3) {
+            all.push(Line2::new(s.a, lines[k % lines.len()].dir));
+        }
+        for l in &all {
+            all_hits_naive(&segs, l, &mut a);
+            bvh.all_hits(l, &mut b);
+            prop_assert_eq!(&a, &b);
+            for t_min in [0.0, 1e-9] {
+                prop_assert_eq!(
+                    bvh.first_hit(l.origin, l.dir, t_min),
+                    first_hit_naive(&segs, l.origin, l.dir, t_min)
+                );
+            }
+        }
+    }
+
     #[test]
     fn bvh_all_hits_equals_naive(segs in proptest::collection::vec(segment(), 0..200),
                                  lines in proptest::collection::vec(line(), 1..20)) {
