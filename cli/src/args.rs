@@ -26,6 +26,9 @@ pub enum Command {
     Measure(MeasureArgs),
     /// Recompute the thesis' tables and print ours beside theirs.
     Reproduce(ReproduceArgs),
+    /// Draw a flatland scene as SVG, patches coloured by I_i, H_i, I_i^c or I_i^c − I_i, and
+    /// optionally the mutual information matrix I_ij as a heat map.
+    Draw(DrawArgs),
 }
 
 /// Preset scenes.
@@ -113,4 +116,58 @@ pub struct ReproduceArgs {
     /// Print JSON instead of tables.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Arguments of `draw`.
+#[derive(Debug, clap::Args)]
+pub struct DrawArgs {
+    /// The scene file (.flat).
+    pub file: PathBuf,
+    /// Where to write the picture of the scene.
+    #[arg(long, value_name = "OUT.svg")]
+    pub svg: PathBuf,
+    /// What colours the patches: I_i (6.8), I_i^c (6.37, Monte Carlo), H_i (3.2), or the
+    /// discretisation error I_i^c − I_i (§6.5.2, Monte Carlo; its I_i from exact form factors
+    /// up to 2000 patches, from the run's Monte Carlo form factors above).
+    #[arg(long, value_enum, default_value_t = Colour::I)]
+    pub color: Colour,
+    /// Global lines for `ic` and `delta` (default 1e6). With `i` or `h`, estimate the form
+    /// factors with this many lines instead of computing them exactly.
+    #[arg(long, value_name = "N", value_parser = parse_count)]
+    pub lines: Option<u64>,
+    /// Seed of the line streams.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Worker threads (default: all cores). Never changes the result.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Also draw the mutual information matrix I_ij (6.7) as a heat map (scenes of more than
+    /// 400 patches are summed into 400 × 400 bins).
+    #[arg(long, value_name = "M.svg")]
+    pub matrix_svg: Option<PathBuf>,
+    /// Logarithmic colours for the matrix (cells at or below the low end, negative ones
+    /// included, take the lowest colour; pairs that do not see each other stay white).
+    #[arg(long)]
+    pub log: bool,
+    /// Width of the pictures in pixels.
+    #[arg(
+        long,
+        value_name = "PX",
+        default_value_t = 800,
+        value_parser = clap::value_parser!(u32).range(200..=20000)
+    )]
+    pub width: u32,
+}
+
+/// The per-patch quantity that colours a drawing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Colour {
+    /// Information transfer of each patch I_i (6.8), discrete.
+    I,
+    /// Continuous information transfer I_i^c (6.37), by Monte Carlo.
+    Ic,
+    /// Patch entropy H_i (3.2).
+    H,
+    /// Discretisation error I_i^c − I_i (§6.5.2).
+    Delta,
 }

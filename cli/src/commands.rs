@@ -1,5 +1,6 @@
 //! The subcommands: each validates its arguments into core objects, runs, and prints.
 
+mod draw;
 mod measure;
 mod reproduce;
 mod scene;
@@ -14,5 +15,6 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Scene { preset } => scene::run(preset),
         Command::Measure(args) => measure::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
+        Command::Draw(args) => draw::run(&args),
     }
 }

@@ -1,0 +1,729 @@
+//! `sceneinfo draw`: a flatland scene as SVG, its patches coloured by a per-patch measure
+//! (I_i, H_i, I_i^c or I_i^c − I_i), and optionally the mutual information matrix I_ij (6.7)
+//! as a heat map (thesis Fig. 6.14).
+//!
+//! Every measure comes from the core; this module only picks values and maps them to colours.
+
+use anyhow::Result;
+use sceneinfo::formfactor::FormFactors;
+use sceneinfo::formfactor::estimate_2d::{FlatEstimate, FlatTracer, LineMethod};
+use sceneinfo::formfactor::exact_2d;
+use sceneinfo::scene::FlatScene;
+
+use crate::args::{Colour, DrawArgs};
+use crate::output::{located, read_text, write_atomic};
+use crate::svg::{Anchor, ColourMap, Rgb, Scale, Svg, number};
+
+/// Lines cast for `ic` and `delta` when `--lines` is not given.
+const DEFAULT_LINES: u64 = 1_000_000;
+/// Up to this many patches, the discrete I_i of `delta` (and the matrix) use exact form
+/// factors; above it, the Monte Carlo form factors of the same run.
+const EXACT_LIMIT: usize = 2000;
+/// The matrix picture has at most this many rows and columns of cells.
+const MATRIX_BINS: usize = 400;
+/// Patches get a tooltip with their value up to this many patches.
+const TOOLTIP_LIMIT: usize = 5000;
+/// Patches are drawn this many pixels in front of their surface.
+const FRONT_OFFSET: f64 = 2.0;
+/// Patch boundaries are ticked on surfaces whose patches are at least this long, in pixels.
+const MIN_TICKED_PATCH: f64 = 6.0;
+/// Blank space around a picture, in pixels.
+const MARGIN: f64 = 30.0;
+
+/// Where the discrete form factors come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Source {
+    Exact,
+    MonteCarlo,
+}
+
+/// The validated command.
+#[derive(Debug)]
+struct Config {
+    colour: Colour,
+    /// Lines of the Monte Carlo run, if there is one.
+    lines: Option<u64>,
+    /// Where the discrete form factors come from, if they are needed.
+    discrete: Option<Source>,
+    seed: u64,
+    threads: usize,
+}
+
+impl Config {
+    fn new(args: &DrawArgs, n_patches: usize) -> sceneinfo::Result<Self> {
+        let lines = match args.color {
+            Colour::Ic | Colour::Delta => Some(args.lines.unwrap_or(DEFAULT_LINES)),
+            Colour::I | Colour::H => args.lines,
+        };
+        if lines == Some(0) {
+            return Err(sceneinfo::ErrorKind::NoLines.into());
+        }
+        let needs_discrete = args.color != Colour::Ic || args.matrix_svg.is_some();
+        let discrete = needs_discrete.then_some(match (args.color, lines) {
+            (_, None) => Source::Exact,
+            (Colour::I | Colour::H, Some(_)) => Source::MonteCarlo,
+            _ if n_patches <= EXACT_LIMIT => Source::Exact,
+            _ => Source::MonteCarlo,
+        });
+        let threads = args.threads.unwrap_or_else(|| {
+            std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
+        });
+        Ok(Self {
+            colour: args.color,
+            lines,
+            discrete,
+            seed: args.seed,
+            threads,
+        })
+    }
+}
+
+/// What a run computed.
+struct Computed {
+    /// The per-patch values that colour the picture.
+    values: Vec<f64>,
+    /// The discrete form factors, if needed.
+    ff: Option<FormFactors>,
+    /// Legend lines describing where the numbers come from.
+    notes: Vec<String>,
+}
+
+pub fn run(args: &DrawArgs) -> Result<()> {
+    let text = read_text(&args.file)?;
+    let at = |e: sceneinfo::Error| located(&args.file, &e);
+    let scene = sceneinfo::io::parse_flat(&text).map_err(at)?;
+    let config = Config::new(args, scene.n_patches()).map_err(at)?;
+    let computed = compute(&scene, &config).map_err(at)?;
+    let name = args.file.display().to_string();
+    let width = f64::from(args.width);
+    let svg = scene_picture(
+        &scene,
+        &computed.values,
+        config.colour,
+        &name,
+        &computed.notes,
+        width,
+    );
+    write_atomic(&args.svg, svg.as_bytes())?;
+    if let (Some(path), Some(ff)) = (&args.matrix_svg, &computed.ff) {
+        let grid = information_grid(ff, scene.n_patches()).map_err(at)?;
+        let mut notes = vec![source_note(config.discrete, "I_ij")];
+        if ff.has_background() {
+            notes
+                .push("open scene: the background state's row and column are not drawn".to_owned());
+        }
+        let svg = matrix_picture(&grid, &scene, args.log, &name, &notes, width);
+        write_atomic(path, svg.as_bytes())?;
+    }
+    Ok(())
+}
+
+/// Runs the Monte Carlo lines and the core measures the colouring needs.
+fn compute(scene: &FlatScene, config: &Config) -> sceneinfo::Result<Computed> {
+    let n = scene.n_patches();
+    let estimate: Option<FlatEstimate> = match config.lines {
+        None => None,
+        Some(lines) => {
+            let tracer = FlatTracer::new(scene)?;
+            let tally = crate::lines::run(
+                &tracer,
+                LineMethod::Global,
+                config.seed,
+                lines,
+                config.threads,
+            );
+            Some(tally.finish(&tracer)?)
+        }
+    };
+    let mut notes = Vec::new();
+    if let Some(lines) = config.lines {
+        notes.push(format!(
+            "Monte Carlo: {lines} global lines, seed {}",
+            config.seed
+        ));
+    }
+    let open = estimate
+        .as_ref()
+        .is_some_and(|e| e.form_factors.has_background());
+    let (ff, continuous) = match (config.discrete, estimate) {
+        (Some(Source::MonteCarlo), Some(est)) => {
+            (Some(est.form_factors), Some(est.patch_continuous))
+        }
+        (Some(_), est) => (
+            Some(exact_2d::form_factors(scene)?),
+            est.map(|e| e.patch_continuous),
+        ),
+        (None, est) => (None, est.map(|e| e.patch_continuous)),
+    };
+    let discrete = |measure: PatchMeasure| {
+        ff.as_ref()
+            .map_or(Ok(Vec::new()), |ff| patch_values(ff, n, measure))
+    };
+    let values = match config.colour {
+        Colour::I => {
+            notes.push(source_note(config.discrete, "I_i"));
+            discrete(PatchMeasure::Information)?
+        }
+        Colour::H => {
+            notes.push(source_note(config.discrete, "H_i"));
+            discrete(PatchMeasure::Entropy)?
+        }
+        Colour::Ic => continuous.unwrap_or_default(),
+        Colour::Delta => {
+            let mut note = source_note(config.discrete, "I_i");
+            if config.discrete == Some(Source::Exact) {
+                note.push_str(&format!(" (≤ {EXACT_LIMIT} patches)"));
+            }
+            notes.push(note);
+            let i = discrete(PatchMeasure::Information)?;
+            let ic = continuous.unwrap_or_default();
+            ic.iter().zip(&i).map(|(c, d)| c - d).collect()
+        }
+    };
+    if open || ff.as_ref().is_some_and(FormFactors::has_background) {
+        notes.push("open scene: some lines leave to the background state (not drawn)".to_owned());
+    }
+    Ok(Computed { values, ff, notes })
+}
+
+/// A discrete per-patch measure of the core.
+#[derive(Clone, Copy, Debug)]
+enum PatchMeasure {
+    /// I_i (6.8).
+    Information,
+    /// H_i (3.2).
+    Entropy,
+}
+
+/// The core's `measure` of the first `n` states (the patches) of the channel of `ff`.
+fn patch_values(ff: &FormFactors, n: usize, measure: PatchMeasure) -> sceneinfo::Result<Vec<f64>> {
+    let channel = ff.channel()?;
+    let mut out = vec![0.0; ff.n_states()];
+    match measure {
+        PatchMeasure::Information => channel.patch_mutual_information(&mut out)?,
+        PatchMeasure::Entropy => channel.patch_entropies(&mut out)?,
+    }
+    out.truncate(n);
+    Ok(out)
+}
+
+/// "`what` from exact form factors" or "… from the Monte Carlo form factors of this run".
+fn source_note(source: Option<Source>, what: &str) -> String {
+    match source {
+        Some(Source::MonteCarlo) => format!("{what} from the Monte Carlo form factors of this run"),
+        _ => format!("{what} from exact form factors"),
+    }
+}
+
+/// The legend's name of a quantity.
+fn quantity_name(c: Colour) -> &'static str {
+    match c {
+        Colour::I => "I_i: information transfer of patch i (6.8), bits",
+        Colour::H => "H_i: entropy of patch i (3.2), bits",
+        Colour::Ic => "I_i^c: continuous information transfer of patch i (6.37), bits",
+        Colour::Delta => "I_i^c − I_i: discretisation error of patch i (§6.5.2), bits",
+    }
+}
+
+/// The smallest and largest of `values` (`(0, 0)` for none).
+fn range(values: impl IntoIterator<Item = f64>) -> (f64, f64) {
+    values
+        .into_iter()
+        .fold(None, |acc: Option<(f64, f64)>, v| match acc {
+            None => Some((v, v)),
+            Some((lo, hi)) => Some((lo.min(v), hi.max(v))),
+        })
+        .unwrap_or((0.0, 0.0))
+}
+
+/// The colour map and scale for the patches: diverging about zero for the signed
+/// discretisation error, viridis from the smallest to the largest value otherwise.
+fn patch_colours(colour: Colour, values: &[f64]) -> (ColourMap, Scale) {
+    let (lo, hi) = range(values.iter().copied());
+    match colour {
+        Colour::Delta => (
+            ColourMap::CoolWarm,
+            Scale::Diverging {
+                lo: lo.min(0.0),
+                hi: hi.max(0.0),
+            },
+        ),
+        _ => (ColourMap::Viridis, Scale::Linear { lo, hi }),
+    }
+}
+
+/// The text and colour bar under a picture.
+struct Legend {
+    heading: String,
+    notes: Vec<String>,
+    label: String,
+    map: ColourMap,
+    scale: Scale,
+}
+
+impl Legend {
+    /// Its height in pixels.
+    fn height(&self) -> f64 {
+        16.0 * self.notes.len() as f64 + 112.0
+    }
+
+    /// Draws it with its top at `top`.
+    fn draw(&self, svg: &mut Svg, top: f64, width: f64) {
+        let mut y = top + 18.0;
+        svg.text(MARGIN, y, 14.0, Anchor::Start, &self.heading);
+        for note in &self.notes {
+            y += 16.0;
+            svg.text(MARGIN, y, 12.0, Anchor::Start, note);
+        }
+        let bar_width = (width - 2.0 * MARGIN).min(420.0);
+        svg.colour_bar(
+            (MARGIN, y + 34.0),
+            (bar_width, 14.0),
+            self.map,
+            self.scale,
+            &self.label,
+        );
+    }
+}
+
+/// Maps scene coordinates (y up) to picture pixels (y down).
+#[derive(Clone, Copy, Debug)]
+struct View {
+    min_x: f64,
+    max_y: f64,
+    scale: f64,
+    left: f64,
+    top: f64,
+}
+
+impl View {
+    fn px(&self, p: sceneinfo::geom::DVec2) -> (f64, f64) {
+        (
+            self.left + (p.x - self.min_x) * self.scale,
+            self.top + (self.max_y - p.y) * self.scale,
+        )
+    }
+
+    /// Pixel position of `p` moved [`FRONT_OFFSET`] pixels towards the front of a surface of
+    /// unit normal `n` (so the two sides of a two-sided wall both show).
+    fn front(&self, p: sceneinfo::geom::DVec2, n: sceneinfo::geom::DVec2) -> (f64, f64) {
+        let (x, y) = self.px(p);
+        (x + n.x * FRONT_OFFSET, y - n.y * FRONT_OFFSET)
+    }
+}
+
+/// The scene picture: patches as coloured strokes over a dark casing, small ticks at patch
+/// boundaries, a one-sided tick at each surface's midpoint on its front side, and a legend.
+fn scene_picture(
+    scene: &FlatScene,
+    values: &[f64],
+    colour: Colour,
+    name: &str,
+    notes: &[String],
+    width: f64,
+) -> String {
+    let (lo, hi) = scene.bounds();
+    let (dx, dy) = (hi.x - lo.x, hi.y - lo.y);
+    let inner = width - 2.0 * MARGIN;
+    let max_height = 1.25 * width - 2.0 * MARGIN;
+    let scale = match (dx > 0.0, dy > 0.0) {
+        (true, true) => (inner / dx).min(max_height / dy),
+        (true, false) => inner / dx,
+        _ => max_height / dy,
+    };
+    let height = dy * scale + 2.0 * MARGIN;
+    let view = View {
+        min_x: lo.x,
+        max_y: hi.y,
+        scale,
+        left: MARGIN + (inner - dx * scale) / 2.0,
+        top: MARGIN,
+    };
+    let patches = scene.patches();
+    let casing: Vec<_> = patches
+        .iter()
+        .map(|p| {
+            let n = p.segment.normal();
+            (view.front(p.segment.a, n), view.front(p.segment.b, n))
+        })
+        .collect();
+
+    // Patch boundaries: a short tick across the stroke at every patch end.
+    let mut ticks = Vec::new();
+    let mut normals = Vec::new();
+    let mut crowded = false;
+    for s in scene.surfaces() {
+        let n = s.segment.normal();
+        let across = (n.x, -n.y);
+        let tick = |p: (f64, f64), len: f64| {
+            (
+                (p.0 - across.0 * len, p.1 - across.1 * len),
+                (p.0 + across.0 * len, p.1 + across.1 * len),
+            )
+        };
+        let k = s.patches.len() as f64;
+        if s.segment.length() * view.scale / k >= MIN_TICKED_PATCH {
+            for p in &patches[s.patches.clone()] {
+                ticks.push(tick(view.front(p.segment.a, n), 4.0));
+            }
+            ticks.push(tick(view.front(s.segment.b, n), 4.0));
+        } else {
+            crowded = true;
+        }
+        let m = view.front(s.segment.midpoint(), n);
+        normals.push((m, (m.0 + across.0 * 12.0, m.1 + across.1 * 12.0)));
+    }
+    let (map, value_scale) = patch_colours(colour, values);
+    let (vlo, vhi) = range(values.iter().copied());
+    let mut legend_notes = notes.to_vec();
+    legend_notes.push(
+        "short black ticks: patch boundaries; red ticks: front side of each surface".to_owned(),
+    );
+    if crowded {
+        legend_notes.push(format!(
+            "(no boundary ticks on surfaces whose patches are shorter than {MIN_TICKED_PATCH} px)"
+        ));
+    }
+    let legend = Legend {
+        heading: format!(
+            "{name}: {} patches, {} surfaces",
+            scene.n_patches(),
+            scene.surfaces().len()
+        ),
+        notes: legend_notes,
+        label: format!(
+            "{}; from {} to {}",
+            quantity_name(colour),
+            number(vlo),
+            number(vhi)
+        ),
+        map,
+        scale: value_scale,
+    };
+    let mut svg = Svg::new(
+        width,
+        height + legend.height(),
+        &format!("sceneinfo draw {name}"),
+    );
+
+    svg.segments(&casing, Rgb(0x20, 0x20, 0x20), 4.5);
+    for (i, (p, &(a, b))) in patches.iter().zip(&casing).enumerate() {
+        let v = values.get(i).copied().unwrap_or(0.0);
+        let c = map.at(value_scale.fraction(v));
+        if patches.len() <= TOOLTIP_LIMIT {
+            svg.line_titled(
+                a,
+                b,
+                c,
+                3.0,
+                &format!("patch {i} (surface {}): {} bits", p.surface, number(v)),
+            );
+        } else {
+            svg.line(a, b, c, 3.0);
+        }
+    }
+    svg.segments(&ticks, Rgb(0x20, 0x20, 0x20), 1.0);
+    svg.segments(&normals, Rgb(0xd0, 0x10, 0x10), 1.5);
+
+    legend.draw(&mut svg, height, width);
+    svg.finish()
+}
+
+/// The I_ij matrix of the scene's patches, summed into at most `MATRIX_BINS²` cells.
+#[derive(Debug)]
+struct Grid {
+    /// Rows and columns.
+    bins: usize,
+    /// Patches.
+    n: usize,
+    /// Row-major `bins × bins` sums of I_ij.
+    cells: Vec<f64>,
+    /// Whether some pair of the cell sees each other (`P_ij > 0`).
+    visible: Vec<bool>,
+}
+
+impl Grid {
+    fn bin(&self, i: usize) -> usize {
+        // i < n ≤ 4·10⁶ and bins ≤ 400: no overflow in u64.
+        (i as u64 * self.bins as u64 / self.n as u64) as usize
+    }
+}
+
+/// Sums the core's I_ij (6.7) of the patch pairs into the grid's cells (the background state,
+/// if any, is left out).
+fn information_grid(ff: &FormFactors, n: usize) -> sceneinfo::Result<Grid> {
+    let channel = ff.channel()?;
+    let bins = n.min(MATRIX_BINS);
+    let mut grid = Grid {
+        bins,
+        n,
+        cells: Vec::new(),
+        visible: Vec::new(),
+    };
+    let mut sums = vec![0.0; bins * bins];
+    let mut visible = vec![false; bins * bins];
+    channel.for_each_pair_information(|i, j, v| {
+        if i < n && j < n {
+            let k = grid.bin(i) * bins + grid.bin(j);
+            sums[k] += v;
+            visible[k] = true;
+        }
+    });
+    grid.cells = sums;
+    grid.visible = visible;
+    Ok(grid)
+}
+
+/// The colour of cells whose patches do not see each other.
+const HIDDEN: Rgb = Rgb(0xff, 0xff, 0xff);
+
+/// The heat map of I_ij, rows i from top to bottom, with surface boundaries and a legend.
+fn matrix_picture(
+    grid: &Grid,
+    scene: &FlatScene,
+    log: bool,
+    name: &str,
+    notes: &[String],
+    width: f64,
+) -> String {
+    let left = MARGIN + 20.0;
+    let top = MARGIN + 20.0;
+    let side = width - left - MARGIN;
+    let height = top + side + 10.0;
+    let shown = || {
+        grid.cells
+            .iter()
+            .zip(&grid.visible)
+            .filter(|(_, v)| **v)
+            .map(|(c, _)| *c)
+    };
+    let (lo, hi) = range(shown());
+    let smallest_positive = shown().filter(|&v| v > 0.0).fold(f64::INFINITY, f64::min);
+    let (map, scale, how) = if log && hi > 0.0 {
+        let floor = smallest_positive.max(hi * 1e-6);
+        let how = format!(
+            "log colours; cells ≤ {} (negative ones too) take the lowest colour",
+            number(floor)
+        );
+        (ColourMap::Viridis, Scale::Log { lo: floor, hi }, how)
+    } else if lo < 0.0 {
+        let how = "linear colours diverging about 0, each side scaled to its extreme \
+                   (blue: I_ij < 0, less transfer than independence)"
+            .to_owned();
+        (
+            ColourMap::CoolWarm,
+            Scale::Diverging {
+                lo,
+                hi: hi.max(0.0),
+            },
+            how,
+        )
+    } else {
+        let how = "linear colours".to_owned();
+        (ColourMap::Viridis, Scale::Linear { lo: 0.0, hi }, how)
+    };
+    let bins = grid.bins;
+    let surfaces = scene.surfaces();
+    let mut legend_notes = notes.to_vec();
+    legend_notes.push(how);
+    legend_notes.push(if surfaces.len() <= 64 && surfaces.len() > 1 {
+        "white: the patches do not see each other (P_ij = 0); grey lines: surface boundaries"
+            .to_owned()
+    } else {
+        "white: the patches do not see each other (P_ij = 0)".to_owned()
+    });
+    let cells = if bins < grid.n {
+        format!("{bins} × {bins} cells, each the sum of the I_ij of its patch pairs")
+    } else {
+        format!("{bins} × {bins} cells")
+    };
+    let legend = Legend {
+        heading: format!("{name}: {} patches; {cells}", grid.n),
+        notes: legend_notes,
+        label: format!(
+            "I_ij: mutual information matrix (6.7), bits; cells from {} to {}",
+            number(lo),
+            number(hi)
+        ),
+        map,
+        scale,
+    };
+    let mut svg = Svg::new(
+        width,
+        height + legend.height(),
+        &format!("sceneinfo draw {name}: I_ij"),
+    );
+    let colour = |k: usize| {
+        if grid.visible[k] {
+            map.at(scale.fraction(grid.cells[k]))
+        } else {
+            HIDDEN
+        }
+    };
+    svg.open_cells((left, top), side / bins as f64);
+    for r in 0..bins {
+        let mut start = 0;
+        while start < bins {
+            let c = colour(r * bins + start);
+            let mut end = start + 1;
+            while end < bins && colour(r * bins + end) == c {
+                end += 1;
+            }
+            svg.rect(start as f64, r as f64, (end - start) as f64, 1.0, c);
+            start = end;
+        }
+    }
+    svg.close_group();
+    // Surface boundaries, where they are few enough to read.
+    if surfaces.len() <= 64 {
+        let n = grid.n as f64;
+        let mut lines = Vec::new();
+        for s in surfaces.iter().skip(1) {
+            let t = side * s.patches.start as f64 / n;
+            lines.push(((left + t, top), (left + t, top + side)));
+            lines.push(((left, top + t), (left + side, top + t)));
+        }
+        svg.segments(&lines, Rgb(0x90, 0x90, 0x90), 0.8);
+    }
+    svg.frame(left, top, side, side, Rgb(0, 0, 0), 1.0);
+    let last = grid.n - 1;
+    svg.text(left, top - 6.0, 12.0, Anchor::Start, "j = 0");
+    svg.text(
+        left + side,
+        top - 6.0,
+        12.0,
+        Anchor::End,
+        &format!("j = {last}"),
+    );
+    svg.text(
+        left + side / 2.0,
+        top - 6.0,
+        12.0,
+        Anchor::Middle,
+        "patch j →",
+    );
+    svg.text(left - 4.0, top + 12.0, 12.0, Anchor::End, "i = 0");
+    svg.text(left - 4.0, top + side / 2.0, 12.0, Anchor::End, "i ↓");
+    svg.text(
+        left - 4.0,
+        top + side,
+        12.0,
+        Anchor::End,
+        &format!("{last}"),
+    );
+    legend.draw(&mut svg, height, width);
+    svg.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::svg::check::well_formed;
+
+    fn triangle() -> FlatScene {
+        sceneinfo::io::parse_flat("poly 3 0 0 1 0 0.5 0.866 per_side 4\n").unwrap()
+    }
+
+    fn config(colour: Colour, lines: Option<u64>, matrix: bool, n: usize) -> Config {
+        let args = DrawArgs {
+            file: "t.flat".into(),
+            svg: "t.svg".into(),
+            color: colour,
+            lines,
+            seed: 3,
+            threads: Some(2),
+            matrix_svg: matrix.then(|| "m.svg".into()),
+            log: false,
+            width: 400,
+        };
+        Config::new(&args, n).unwrap()
+    }
+
+    #[test]
+    fn sources_follow_the_colouring() {
+        assert_eq!(
+            config(Colour::I, None, false, 10).discrete,
+            Some(Source::Exact)
+        );
+        assert_eq!(
+            config(Colour::I, Some(100), false, 10).discrete,
+            Some(Source::MonteCarlo)
+        );
+        assert_eq!(config(Colour::Ic, None, false, 10).discrete, None);
+        assert_eq!(
+            config(Colour::Ic, None, false, 10).lines,
+            Some(DEFAULT_LINES)
+        );
+        assert_eq!(
+            config(Colour::Ic, None, true, 10).discrete,
+            Some(Source::Exact)
+        );
+        assert_eq!(
+            config(Colour::Delta, None, false, EXACT_LIMIT).discrete,
+            Some(Source::Exact)
+        );
+        assert_eq!(
+            config(Colour::Delta, None, false, EXACT_LIMIT + 1).discrete,
+            Some(Source::MonteCarlo)
+        );
+    }
+
+    #[test]
+    fn every_colouring_draws_a_well_formed_picture() {
+        let scene = triangle();
+        for colour in [Colour::I, Colour::H, Colour::Ic, Colour::Delta] {
+            let lines = matches!(colour, Colour::Ic | Colour::Delta).then_some(20_000);
+            let c = config(colour, lines, true, scene.n_patches());
+            let computed = compute(&scene, &c).unwrap();
+            assert_eq!(computed.values.len(), scene.n_patches());
+            assert!(computed.values.iter().all(|v| v.is_finite()));
+            let svg = scene_picture(
+                &scene,
+                &computed.values,
+                colour,
+                "t & <u>.flat",
+                &computed.notes,
+                400.0,
+            );
+            well_formed(&svg).unwrap();
+            assert_eq!(
+                svg.matches("<line ").count(),
+                scene.n_patches() + 3,
+                "patches + bar ticks"
+            );
+            assert!(
+                !svg.split(|c: char| !c.is_alphanumeric())
+                    .any(|w| w == "NaN" || w == "inf")
+            );
+            let grid = information_grid(computed.ff.as_ref().unwrap(), scene.n_patches()).unwrap();
+            for log in [false, true] {
+                let m = matrix_picture(&grid, &scene, log, "t.flat", &computed.notes, 400.0);
+                well_formed(&m).unwrap();
+            }
+        }
+    }
+
+    #[test]
+    fn the_matrix_sums_into_bins() {
+        let scene = sceneinfo::io::parse_flat("poly 4 0 0 1 0 1 1 0 1 per_side 120\n").unwrap();
+        let ff = exact_2d::form_factors(&scene).unwrap();
+        let grid = information_grid(&ff, scene.n_patches()).unwrap();
+        assert_eq!(grid.bins, MATRIX_BINS);
+        let total: f64 = grid.cells.iter().sum();
+        let i_s = ff.channel().unwrap().i_s();
+        assert!(
+            (total - i_s).abs() < 1e-9 * i_s.max(1.0),
+            "{total} vs {i_s}"
+        );
+        assert_eq!(grid.bin(0), 0);
+        assert_eq!(grid.bin(scene.n_patches() - 1), MATRIX_BINS - 1);
+    }
+
+    #[test]
+    fn a_flat_scene_of_one_horizontal_segment_still_fits() {
+        let scene = sceneinfo::io::parse_flat("seg 0 0 3 0 5\n").unwrap();
+        let svg = scene_picture(&scene, &[1.0; 5], Colour::H, "s.flat", &[], 300.0);
+        well_formed(&svg).unwrap();
+        assert!(!svg.contains("NaN"));
+    }
+}
