@@ -29,7 +29,8 @@
 //!
 //! # Build
 //!
-//! Binned surface-area heuristic (Wald 2007) over centroids, both axes, 16 bins. In
+//! Binned surface-area heuristic (Wald 2007) over centroids, 16 bins along the axis of
+//! widest centroid extent. In
 //! flatland the "surface area" of a box is its perimeter, and this is exact for our
 //! queries: by Crofton's formula the probability that a uniform line meeting a parent box
 //! also meets a child box is `perimeter(child)/perimeter(parent)` (see [`crate::lines`]).
@@ -452,20 +453,27 @@ impl Bvh2 {
         });
     }
 
-    /// The primitives of `run` that `q`'s line may meet: all of a short run, else those
-    /// whose interval along the run meets `[σ* − δ, σ* + δ]` (module docs, "Runs").
+    /// The primitives of `run` that `q`'s line may meet (module docs, "Runs"): none when
+    /// both ends of the run lie beyond `margin` on one side of the line; else all of a
+    /// short run, or those whose interval along the run meets `[σ* − δ, σ* + δ]`.
     #[inline(always)]
-    fn run_candidates(&self, run: &Run, q: &LineQuery) -> core::ops::Range<usize> {
+    fn run_candidates(&self, run: &Run, q: &LineQuery, margin: f64) -> core::ops::Range<usize> {
         let first = run.first as usize;
         let end = first + run.len as usize;
+        // Side of each end, times |d|: (A − o) × ... = w × d at A, and w × d − E × d at B
+        let denom = cross(run.e, q.d);
+        let w = q.o - run.a;
+        let num = cross(w, q.d);
+        let num_b = num - denom;
+        if (num > margin && num_b > margin) || (num < -margin && num_b < -margin) {
+            return first..first;
+        }
         if run.len <= SHORT_RUN {
             return first..end;
         }
         let l1 = |v: DVec2| v.x.abs() + v.y.abs();
-        let denom = cross(run.e, q.d);
         let inv = 1.0 / denom;
-        let w = q.o - run.a;
-        let s = cross(w, q.d) * inv;
+        let s = num * inv;
         let delta = RUN_SLACK * (l1(w) + l1(run.a) + l1(run.e)) * l1(q.d) * inv.abs();
         // Grazing (δ not small), parallel (δ = ∞) or NaN: test every patch.
         if !(delta < 0.25) {
@@ -473,15 +481,14 @@ impl Bvh2 {
         }
         if run.uniform > 0.0 {
             // [σ_a,k, σ_b,k] ⊆ [k/m − τ, (k+1)/m + τ] meets [s − δ, s + δ] only for
-            // ⌈(s − δ − τ)m − 1⌉ ≤ k ≤ ⌊(s + δ + τ)m⌋ (with a rounding guard in τ);
-            // `as usize` truncates, and saturates negatives and NaN to 0.
+            // ⌈(s − δ − τ)m − 1⌉ ≤ k ≤ ⌊(s + δ + τ)m⌋ (with a rounding guard in τ). Both
+            // bounds are clamped into [0, m] before the (then exact) conversion.
             let m = run.uniform;
             let reach = delta + run.tau + 1e-12;
-            let x = (s - reach) * m - 1.0;
-            let lo = x as usize + usize::from(x > 0.0 && (x as usize as f64) < x);
-            let hi = (((s + reach) * m) as usize).saturating_add(1);
-            let len = run.len as usize;
-            return first + lo.min(len)..first + hi.min(len);
+            let x = ((s - reach) * m - 1.0).clamp(0.0, m);
+            let lo = x as u32 + u32::from(f64::from(x as u32) < x);
+            let hi = ((s + reach) * m).clamp(0.0, m - 1.0) as u32 + 1;
+            return first + lo as usize..first + (hi.max(lo)) as usize;
         }
         let sigma = &self.sigma[first..end];
         let lo = sigma.partition_point(|x| x[1] < s - delta);
@@ -545,7 +552,7 @@ impl Bvh2 {
                 }
                 let first = node.offset as usize;
                 for run in &self.runs[first..first + count] {
-                    for k in self.run_candidates(run, &q) {
+                    for k in self.run_candidates(run, &q, bq.margin) {
                         let p = &self.prims[k];
                         if let Some(t) = q.hit(p.a, p.e) {
                             f(Hit2 {
@@ -619,7 +626,7 @@ impl Bvh2 {
                 }
                 let first = node.offset as usize;
                 for run in &self.runs[first..first + count] {
-                    for k in self.run_candidates(run, &q) {
+                    for k in self.run_candidates(run, &q, bq.margin) {
                         let p = &self.prims[k];
                         if let Some(t) = q.hit(p.a, p.e) {
                             let prim = self.ids[k];
@@ -720,7 +727,7 @@ fn split(items: &mut [BuildPrim], bounds: &Aabb, depth: u32) -> Option<(usize, u
     let extent = cb.hi - cb.lo;
     let axis = usize::from(extent.y > extent.x);
     if depth < SAH_DEPTH
-        && let Some(choice) = sah_split(items, bounds, &cb)
+        && let Some(choice) = sah_split(items, bounds, &cb, axis)
     {
         return choice;
     }
@@ -730,50 +737,54 @@ fn split(items: &mut [BuildPrim], bounds: &Aabb, depth: u32) -> Option<(usize, u
     Some((median_split(items, axis), axis as u32))
 }
 
-/// The binned SAH's choice: `Some(None)` = make a leaf, `Some(Some(split))` = split there
-/// (already partitioned), `None` = no usable split (all centroids in one bin).
+/// The binned SAH's choice along `axis` (that of the widest centroid extent, as in pbrt):
+/// `Some(None)` = make a leaf, `Some(Some(split))` = split there (already partitioned),
+/// `None` = no usable split (all centroids in one bin).
 #[allow(clippy::option_option)]
-fn sah_split(items: &mut [BuildPrim], bounds: &Aabb, cb: &Aabb) -> Option<Option<(usize, u32)>> {
+fn sah_split(
+    items: &mut [BuildPrim],
+    bounds: &Aabb,
+    cb: &Aabb,
+    axis: usize,
+) -> Option<Option<(usize, u32)>> {
     let n = items.len();
     let parent = bounds.perimeter();
-    let mut best: Option<(f64, usize, usize)> = None; // (cost, axis, first bin of the right side)
-    for axis in 0..2 {
-        let (lo, width) = (cb.lo[axis], cb.hi[axis] - cb.lo[axis]);
-        if !(width > 0.0 && width.is_finite()) {
+    let (lo, width) = (cb.lo[axis], cb.hi[axis] - cb.lo[axis]);
+    if !(width > 0.0 && width.is_finite()) {
+        return None;
+    }
+    let inv = BINS as f64 / width;
+    // Bin the primitives
+    let mut boxes = [Aabb::EMPTY; BINS];
+    let mut counts = [0usize; BINS];
+    for p in items.iter() {
+        let b = bin_of(p.centroid[axis], lo, inv);
+        boxes[b].grow(p.lo, p.hi);
+        counts[b] += 1;
+    }
+    // Sweep from the right, then evaluate each plane from the left
+    let mut right_area = [0.0; BINS];
+    let mut acc = Aabb::EMPTY;
+    for b in (1..BINS).rev() {
+        acc = acc.merged(&boxes[b]);
+        right_area[b] = acc.perimeter();
+    }
+    let mut best: Option<(f64, usize)> = None; // (cost, first bin of the right side)
+    let mut left = Aabb::EMPTY;
+    let mut left_n = 0usize;
+    for b in 1..BINS {
+        left = left.merged(&boxes[b - 1]);
+        left_n += counts[b - 1];
+        let right_n = n - left_n;
+        if left_n == 0 || right_n == 0 {
             continue;
         }
-        let inv = BINS as f64 / width;
-        // Bin the primitives
-        let mut boxes = [Aabb::EMPTY; BINS];
-        let mut counts = [0usize; BINS];
-        for p in items.iter() {
-            let b = bin_of(p.centroid[axis], lo, inv);
-            boxes[b].grow(p.lo, p.hi);
-            counts[b] += 1;
-        }
-        // Sweep from the right, then evaluate each plane from the left
-        let mut right_area = [0.0; BINS];
-        let mut acc = Aabb::EMPTY;
-        for b in (1..BINS).rev() {
-            acc = acc.merged(&boxes[b]);
-            right_area[b] = acc.perimeter();
-        }
-        let mut left = Aabb::EMPTY;
-        let mut left_n = 0usize;
-        for b in 1..BINS {
-            left = left.merged(&boxes[b - 1]);
-            left_n += counts[b - 1];
-            let right_n = n - left_n;
-            if left_n == 0 || right_n == 0 {
-                continue;
-            }
-            let cost = left.perimeter() * left_n as f64 + right_area[b] * right_n as f64;
-            if best.is_none_or(|(c, _, _)| cost < c) {
-                best = Some((cost, axis, b));
-            }
+        let cost = left.perimeter() * left_n as f64 + right_area[b] * right_n as f64;
+        if best.is_none_or(|(c, _)| cost < c) {
+            best = Some((cost, b));
         }
     }
-    let (cost, axis, plane) = best?;
+    let (cost, plane) = best?;
     // SAH: C = C_trav + Σ P(child) n_child, P(child) = perimeter(child)/perimeter(parent)
     let split_cost = if parent > 0.0 && parent.is_finite() {
         TRAVERSAL_COST + cost / parent
@@ -783,7 +794,6 @@ fn sah_split(items: &mut [BuildPrim], bounds: &Aabb, cb: &Aabb) -> Option<Option
     if n <= MAX_LEAF && !(split_cost < n as f64) {
         return Some(None);
     }
-    let (lo, inv) = (cb.lo[axis], BINS as f64 / (cb.hi[axis] - cb.lo[axis]));
     let mid = partition(items, |p| bin_of(p.centroid[axis], lo, inv) < plane);
     if mid == 0 || mid == n {
         return None;
