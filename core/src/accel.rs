@@ -35,7 +35,7 @@ mod bvh2;
 mod tests;
 
 #[cfg(feature = "alloc")]
-pub use bvh2::Bvh2;
+pub use bvh2::{Bvh2, MAX_PRIMITIVES};
 
 #[cfg(feature = "alloc")]
 use crate::lines::Line2;

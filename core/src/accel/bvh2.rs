@@ -12,32 +12,35 @@
 //!
 //! A surface cut into `k` patches gives `k` consecutive, contiguous, collinear segments;
 //! the tree holds such a chain as one primitive, a *run* (a lone segment is a run of one).
-//! A line meets the run's supporting segment `A + σE` at
+//! Against a line `o + t d` a run is first tested by the side of its two ends — both
+//! farther than the margin `m` (below) on one side means no patch is hit — and otherwise
+//! the line meets the run's supporting segment `A + σE` at
 //!
 //! ```text
 //! σ* = ((o − A) × d) / (E × d),   δ = 10⁻⁹ (‖o − A‖₁ + ‖A‖₁ + ‖E‖₁) ‖d‖₁ / |E × d|
 //! ```
 //!
-//! and only the patches whose interval `[σ_a, σ_b]` along `E` meets `[σ* − δ, σ* + δ]`
-//! (a binary search) go through the exact per-segment test; when `δ` is not small (a line
-//! grazing the run, or NaN) every patch of the run does. `δ` bounds, with six orders of
-//! magnitude to spare, both the rounding of `σ*` and the shift of the crossing caused by
-//! the patches' deviation from exact collinearity, which the build checks to be below
-//! `10⁻¹²` of the run's size. A surface of `k` patches then costs one box path and
-//! `O(log k)`, not `O(log k)` box tests per level — the common case of the thesis' scenes,
-//! whose surfaces are cut into equal patches.
+//! and only the patches whose interval `[σ_a, σ_b]` along `E` meets `[σ* − δ, σ* + δ]` go
+//! through the exact per-segment test: for equal patches `k = ⌊σ* m⌋` (± the window),
+//! otherwise a binary search over the `σ_b`. When `δ` is not small (a line grazing the
+//! run, or NaN) every patch of the run is tested. `δ` bounds, with six orders of magnitude
+//! to spare, both the rounding of `σ*` and the shift of the crossing caused by the
+//! patches' deviation from exact collinearity, which the build checks to be below `10⁻¹²`
+//! of the run's size. A surface of `k` patches thus costs one box path and `O(1)` (equal
+//! patches) or `O(log k)` work instead of a subtree walk of `O(log k)` box tests — the
+//! common case of the thesis' scenes, whose surfaces are cut into equal patches.
 //!
 //! # Build
 //!
-//! Binned surface-area heuristic (Wald 2007) over centroids, 16 bins along the axis of
-//! widest centroid extent. In
-//! flatland the "surface area" of a box is its perimeter, and this is exact for our
-//! queries: by Crofton's formula the probability that a uniform line meeting a parent box
-//! also meets a child box is `perimeter(child)/perimeter(parent)` (see [`crate::lines`]).
-//! Below depth [`SAH_DEPTH`] splits follow the SAH; deeper (only reached on adversarial
-//! input) they are median splits, which halve the count, so the depth never exceeds
-//! `SAH_DEPTH + 31 < STACK_SIZE` and the queries' fixed-size stacks cannot overflow. The
-//! build uses an explicit work stack, no recursion, and costs `O(n log n)`.
+//! Binned surface-area heuristic (Wald 2007) over the runs' centroids, 16 bins along the
+//! axis of widest centroid extent. In flatland the "surface area" of a box is its
+//! perimeter, and this is exact for our queries: by Crofton's formula the probability that
+//! a uniform line meeting a parent box also meets a child box is
+//! `perimeter(child)/perimeter(parent)` (see [`crate::lines`]). Below depth 32 splits
+//! follow the SAH; deeper (only reached on adversarial input) they are median splits,
+//! which halve the count, so the depth stays below `32 + 31 < 64`, the size of the
+//! queries' fixed stacks. The build uses an explicit work stack, no recursion, and costs
+//! `O(n log n)`.
 //!
 //! # Queries
 //!
