@@ -61,6 +61,31 @@ impl Hit2 {
     }
 }
 
+/// Sorts hits by `(t, prim)` — a strict total order on hits, as every `prim` appears at
+/// most once, so any sort gives the same result. Lines meet a few segments each, so short
+/// lists get an inlined insertion sort (the library sort's call costs as much as the
+/// sorting).
+#[cfg(feature = "alloc")]
+#[inline]
+pub(crate) fn sort_hits(hits: &mut [Hit2]) {
+    if hits.len() > 16 {
+        hits.sort_unstable_by(Hit2::cmp_t_prim);
+        return;
+    }
+    for i in 1..hits.len() {
+        let h = hits[i];
+        let mut j = i;
+        // Plain comparisons: every `t` is finite and never −0, where they agree with
+        // `cmp_t_prim`'s total order.
+        while j > 0 && (h.t < hits[j - 1].t || (h.t == hits[j - 1].t && h.prim < hits[j - 1].prim))
+        {
+            hits[j] = hits[j - 1];
+            j -= 1;
+        }
+        hits[j] = h;
+    }
+}
+
 /// A line prepared for many segment tests: origin `o`, direction `d` and `1/(d·d)`.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct LineQuery {
@@ -110,7 +135,7 @@ pub fn all_hits_naive(segments: &[Segment], line: &Line2, out: &mut Vec<Hit2>) {
             out.push(Hit2 { t, prim });
         }
     }
-    out.sort_unstable_by(Hit2::cmp_t_prim);
+    sort_hits(out);
 }
 
 /// The nearest hit with `t > t_min` along the ray `origin + t·dir`, the smallest `prim`

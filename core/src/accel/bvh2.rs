@@ -584,7 +584,7 @@ impl Bvh2 {
     pub fn all_hits(&self, line: &Line2, out: &mut Vec<Hit2>) {
         out.clear();
         self.for_each_hit(line, |h| out.push(h));
-        out.sort_unstable_by(Hit2::cmp_t_prim);
+        super::sort_hits(out);
     }
 
     /// The nearest hit with `t > t_min` along the ray `origin + t·dir` (the smallest
