@@ -12,9 +12,17 @@ mod material;
 pub use material::Material;
 
 #[cfg(feature = "alloc")]
+mod catalogue;
+#[cfg(feature = "alloc")]
 mod flat;
 #[cfg(feature = "alloc")]
 mod presets;
+#[cfg(feature = "alloc")]
+pub use catalogue::{
+    CORNER_GAP, CatalogueEntry, L_ROOM_CUTS, MAX_ASPECT, NEAR_TOUCH_GAP, SINGULARITY_STEPS,
+    SIXTEEN_SQUARES_SIDE, STAR_INNER_RADII, THREE_OBJECTS_SCALES, TRIANGLE_LAST_APEX, catalogue,
+    catalogue_scene,
+};
 #[cfg(feature = "alloc")]
 pub use flat::{
     FlatPatch, FlatScene, FlatSceneBuilder, FlatSurface, MAX_PATCHES, MAX_PATCHES_PER_SURFACE,
