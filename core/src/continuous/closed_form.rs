@@ -28,7 +28,9 @@
 //!
 //! Table 4.10 shows `I_S^c` of the regular `n`-gon decreasing with `n` (1.284, 0.788, 0.583,
 //! 0.475, …, 0.284 at `n = 12`) towards the circle's 0.209, and the tests of this module
-//! check by quadrature that the 24-, 48- and 96-gons continue the approach. Here is why the
+//! check by quadrature that the 24-, 48- and 96-gons continue the approach: the excess over
+//! the circle is 0.075, 0.022, 0.006 and 0.002 bits at `n` = 12, 24, 48, 96, shrinking
+//! about 3.5-fold per doubling of `n`. Here is why the
 //! limit is the circle's value — a sketch of the argument, not a proof taken from the
 //! thesis. Read (4.12) as the expectation of `log₂(L_T F)` under the probability density
 //! `F/L_T` on pairs of points. Inscribe the `n`-gon `P_n` in the circle `C` and match points
@@ -238,6 +240,6 @@ mod tests {
             assert!(gap > 0.0 && gap < prev, "{n}-gon: I^c {q}, gap {gap}");
             prev = gap;
         }
-        assert!(prev < 0.02, "96-gon still {prev} above the circle");
+        assert!(prev < 0.0025, "96-gon still {prev} above the circle");
     }
 }
