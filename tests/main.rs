@@ -2,7 +2,10 @@
 //!
 //! - `tables`: the thesis' tables, recomputed and compared cell by cell.
 //! - `props`: the thesis' identities and inequalities as property tests over random scenes.
+//! - `montecarlo`: Monte Carlo estimators against exact results and Proposition 2.
+//! - `fuzz_replay`: every fuzz seed and saved crash input, through the fuzz targets' code.
 
+mod fuzz_replay;
 mod montecarlo;
 mod props;
 mod tables;
