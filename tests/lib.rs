@@ -29,7 +29,11 @@ pub fn convex_polygon(angles: &[f64], rx: f64, ry: f64) -> Vec<DVec2> {
 
 /// Global-line estimate of `I_S^c`: `(value, standard error, discrete I_S from the same F)`.
 #[must_use]
-pub fn continuous_estimate(scene: &sceneinfo::scene::FlatScene, lines: u64, seed: u64) -> (f64, f64, f64) {
+pub fn continuous_estimate(
+    scene: &sceneinfo::scene::FlatScene,
+    lines: u64,
+    seed: u64,
+) -> (f64, f64, f64) {
     use sceneinfo::formfactor::estimate_2d::{LineMethod, estimate};
     let est = estimate(scene, LineMethod::Global, seed, lines).unwrap();
     let i_s = est.form_factors.channel().unwrap().i_s();

@@ -105,7 +105,9 @@ pub fn parse_count(s: &str) -> Result<u64, String> {
         return Ok(v);
     }
     match s.parse::<f64>() {
-        Ok(v) if v.is_finite() && v >= 0.0 && v.fract() == 0.0 && v <= u64::MAX as f64 => Ok(v as u64),
+        Ok(v) if v.is_finite() && v >= 0.0 && v.fract() == 0.0 && v <= u64::MAX as f64 => {
+            Ok(v as u64)
+        }
         _ => Err(format!("'{s}' is not a whole number of lines")),
     }
 }
@@ -116,6 +118,18 @@ pub struct ReproduceArgs {
     /// Print JSON instead of tables.
     #[arg(long)]
     pub json: bool,
+    /// Global lines per scene for the Monte Carlo tables (e.g. 1e6).
+    #[arg(long, value_name = "N", value_parser = parse_count, default_value = "400000")]
+    pub lines: u64,
+    /// Seed of the line streams.
+    #[arg(long, default_value_t = 2002)]
+    pub seed: u64,
+    /// Worker threads (default: all cores). Never changes the result.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Only the exact tables of chapter 3 (a second or so).
+    #[arg(long)]
+    pub chapter_3_only: bool,
 }
 
 /// Arguments of `draw`.

@@ -12,11 +12,19 @@ use sceneinfo::formfactor::estimate_2d::{FlatTracer, LineMethod, LineTally};
 use sceneinfo::lines::{chunk_count, chunk_range};
 
 /// Casts `n_lines` lines of `method` with `seed` on `threads` threads.
-pub fn run(tracer: &FlatTracer, method: LineMethod, seed: u64, n_lines: u64, threads: usize) -> LineTally {
+pub fn run(
+    tracer: &FlatTracer,
+    method: LineMethod,
+    seed: u64,
+    n_lines: u64,
+    threads: usize,
+) -> LineTally {
     let chunks = chunk_count(n_lines);
     let next = AtomicU64::new(0);
     let done = AtomicU64::new(0);
-    let threads = threads.max(1).min(usize::try_from(chunks).unwrap_or(usize::MAX).max(1));
+    let threads = threads
+        .max(1)
+        .min(usize::try_from(chunks).unwrap_or(usize::MAX).max(1));
     let start = Instant::now();
     let tallies: Vec<LineTally> = std::thread::scope(|scope| {
         let workers: Vec<_> = (0..threads)
@@ -36,7 +44,9 @@ pub fn run(tracer: &FlatTracer, method: LineMethod, seed: u64, n_lines: u64, thr
                 })
             })
             .collect();
-        show_progress(&done, n_lines, start, || workers.iter().all(|w| w.is_finished()));
+        show_progress(&done, n_lines, start, || {
+            workers.iter().all(|w| w.is_finished())
+        });
         workers.into_iter().filter_map(|w| w.join().ok()).collect()
     });
     let mut total = tracer.new_tally(method);
@@ -62,7 +72,11 @@ fn show_progress(done: &AtomicU64, total: u64, start: Instant, finished: impl Fn
         let width = 30;
         let filled = ((frac * width as f64) as usize).min(width);
         let rate = d as f64 / elapsed;
-        let eta = if rate > 0.0 { (total - d) as f64 / rate } else { 0.0 };
+        let eta = if rate > 0.0 {
+            (total - d) as f64 / rate
+        } else {
+            0.0
+        };
         let _ = write!(
             std::io::stderr(),
             "\r[{}{}] {:5.1}%  {:.3e}/{:.3e} lines  {:.2} M lines/s  ETA {:.0} s ",

@@ -24,13 +24,35 @@ fn without_timing(json: &str) -> String {
 #[test]
 fn scene_then_measure_reproduces_table_3_4_first_cell() {
     let path = temp("triangle.flat");
-    let st = bin().args(["scene", "polygon", "--sides", "3", "--per-side", "10", "-o"]).arg(&path).status().unwrap();
+    let st = bin()
+        .args(["scene", "polygon", "--sides", "3", "--per-side", "10", "-o"])
+        .arg(&path)
+        .status()
+        .unwrap();
     assert!(st.success());
-    let out = bin().arg("measure").arg(&path).arg("--json").output().unwrap();
+    let out = bin()
+        .arg("measure")
+        .arg(&path)
+        .arg("--json")
+        .output()
+        .unwrap();
     assert!(out.status.success());
     let json = String::from_utf8(out.stdout).unwrap();
-    for key in ["n_patches", "h_p", "h_s", "h_j", "i_s", "h_s_norm", "i_s_norm", "e_mse", "fano"] {
-        assert!(json.contains(&format!("\"{key}\":")), "missing {key} in {json}");
+    for key in [
+        "n_patches",
+        "h_p",
+        "h_s",
+        "h_j",
+        "i_s",
+        "h_s_norm",
+        "i_s_norm",
+        "e_mse",
+        "fano",
+    ] {
+        assert!(
+            json.contains(&format!("\"{key}\":")),
+            "missing {key} in {json}"
+        );
     }
     assert!(json.contains("\"n_patches\":30"));
     assert!(json.contains("\"h_s\":3.739"), "{json}");
@@ -43,17 +65,33 @@ fn errors_name_file_and_line_and_exit_2() {
     let out = bin().arg("measure").arg(&path).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8(out.stderr).unwrap();
-    assert!(err.contains(&format!("{}:2: segment has zero length", path.display())), "{err}");
+    assert!(
+        err.contains(&format!("{}:2: segment has zero length", path.display())),
+        "{err}"
+    );
 }
 
 #[test]
 fn zero_lines_is_an_error() {
     let path = temp("square.flat");
-    let st = bin().args(["scene", "rect", "-o"]).arg(&path).status().unwrap();
+    let st = bin()
+        .args(["scene", "rect", "-o"])
+        .arg(&path)
+        .status()
+        .unwrap();
     assert!(st.success());
-    let out = bin().arg("measure").arg(&path).args(["--lines", "0"]).output().unwrap();
+    let out = bin()
+        .arg("measure")
+        .arg(&path)
+        .args(["--lines", "0"])
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8(out.stderr).unwrap().contains("line budget must be at least 1"));
+    assert!(
+        String::from_utf8(out.stderr)
+            .unwrap()
+            .contains("line budget must be at least 1")
+    );
 }
 
 /// Same seed and line count: bit-identical JSON (timing keys aside) on 1 and 2 threads.
@@ -69,7 +107,15 @@ fn monte_carlo_is_identical_on_one_and_two_threads() {
         let out = bin()
             .arg("measure")
             .arg(&path)
-            .args(["--lines", "300000", "--seed", "9", "--json", "--threads", threads])
+            .args([
+                "--lines",
+                "300000",
+                "--seed",
+                "9",
+                "--json",
+                "--threads",
+                threads,
+            ])
             .output()
             .unwrap();
         assert!(out.status.success());

@@ -129,17 +129,28 @@ impl ContinuousTally {
     pub fn estimate(&self) -> ContinuousEstimate {
         let n = self.sum_n as f64;
         if self.sum_n == 0 {
-            return ContinuousEstimate { value: 0.0, stderr: 0.0, samples: 0, groups: self.groups };
+            return ContinuousEstimate {
+                value: 0.0,
+                stderr: 0.0,
+                samples: 0,
+                groups: self.groups,
+            };
         }
         let r = self.sum_s.value() / n;
         let stderr = if self.groups >= 2 {
             let l = self.groups as f64;
-            let ss = self.sum_ss.value() - 2.0 * r * self.sum_sn.value() + r * r * self.sum_nn as f64;
+            let ss =
+                self.sum_ss.value() - 2.0 * r * self.sum_sn.value() + r * r * self.sum_nn as f64;
             math::sqrt((l / ((l - 1.0) * n * n) * ss).max(0.0))
         } else {
             0.0
         };
-        ContinuousEstimate { value: r, stderr, samples: self.sum_n, groups: self.groups }
+        ContinuousEstimate {
+            value: r,
+            stderr,
+            samples: self.sum_n,
+            groups: self.groups,
+        }
     }
 }
 
@@ -147,7 +158,11 @@ impl ContinuousTally {
 /// `δ̄` in per cent is 100 times this); 0 when `I_S^c ≤ 0`.
 #[must_use]
 pub fn relative_discretisation_error(i_s_continuous: f64, i_s: f64) -> f64 {
-    if i_s_continuous > 0.0 { (i_s_continuous - i_s) / i_s_continuous } else { 0.0 }
+    if i_s_continuous > 0.0 {
+        (i_s_continuous - i_s) / i_s_continuous
+    } else {
+        0.0
+    }
 }
 
 #[cfg(test)]
@@ -163,7 +178,11 @@ mod tests {
         let e = t.estimate();
         assert!((e.value - 2.5).abs() < 1e-15);
         let var = xs.iter().map(|x| (x - 2.5f64).powi(2)).sum::<f64>() / 3.0;
-        assert!((e.stderr - (var / 4.0).sqrt()).abs() < 1e-12, "{}", e.stderr);
+        assert!(
+            (e.stderr - (var / 4.0).sqrt()).abs() < 1e-12,
+            "{}",
+            e.stderr
+        );
     }
 
     #[test]

@@ -5,6 +5,7 @@
 //! platforms; `libm` is the same Rust code everywhere).
 
 mod fixed;
+pub use fixed::FIXED_MAX_TERM;
 pub use fixed::FixedSum;
 
 /// Base-2 logarithm, `log₂ x`. All entropies of the crate are in bits.

@@ -42,8 +42,9 @@ pub const TABLE_3_5_I_S: [[f64; 3]; 10] = [
 
 /// Table 4.10, last column: `I_S^c` of regular polygons of 3–12 sides (10⁵ global lines in
 /// the thesis, so each value carries a Monte Carlo error of a few thousandths).
-pub const TABLE_4_10_I_S_CONTINUOUS: [f64; 10] =
-    [1.284, 0.788, 0.583, 0.475, 0.408, 0.366, 0.336, 0.314, 0.297, 0.284];
+pub const TABLE_4_10_I_S_CONTINUOUS: [f64; 10] = [
+    1.284, 0.788, 0.583, 0.475, 0.408, 0.366, 0.336, 0.314, 0.297, 0.284,
+];
 
 /// Table 4.11: the thesis' rounded exact values and its Monte Carlo (10⁵ global lines)
 /// results for the circle, the regular hexagon, the square and the equilateral triangle:
@@ -57,8 +58,10 @@ pub const TABLE_4_11: [(&str, f64, f64); 4] = [
 
 /// Table 4.12 (Proposition 2): for the rotating square (Fig. 4.19i) and the pentagonal star
 /// (Fig. 4.18i): `(name, I^c of a subscene, number of subscenes N, I_S^c of the scene)`.
-pub const TABLE_4_12: [(&str, f64, u32, f64); 2] =
-    [("square rotation", 1.474, 4, 3.477), ("pentagonal star", 1.750, 5, 4.067)];
+pub const TABLE_4_12: [(&str, f64, u32, f64); 2] = [
+    ("square rotation", 1.474, 4, 3.477),
+    ("pentagonal star", 1.750, 5, 4.067),
+];
 
 /// Values quoted in the text of §4.5.2: `(what, I_S^c)`.
 pub const SECTION_4_5_2_QUOTES: [(&str, f64); 4] = [

@@ -8,9 +8,24 @@ use sceneinfo::scene::FlatScene;
 
 /// A room with two boxes and a two-sided wall stub: plenty of partial occlusion.
 fn room() -> FlatScene {
-    let room = [DVec2::ZERO, DVec2::new(6.0, 0.0), DVec2::new(6.0, 4.0), DVec2::new(0.0, 4.0)];
-    let a = [DVec2::new(1.0, 1.0), DVec2::new(2.0, 1.0), DVec2::new(2.0, 2.5), DVec2::new(1.0, 2.5)];
-    let b = [DVec2::new(3.5, 2.0), DVec2::new(4.5, 2.0), DVec2::new(4.5, 3.0), DVec2::new(3.5, 3.0)];
+    let room = [
+        DVec2::ZERO,
+        DVec2::new(6.0, 0.0),
+        DVec2::new(6.0, 4.0),
+        DVec2::new(0.0, 4.0),
+    ];
+    let a = [
+        DVec2::new(1.0, 1.0),
+        DVec2::new(2.0, 1.0),
+        DVec2::new(2.0, 2.5),
+        DVec2::new(1.0, 2.5),
+    ];
+    let b = [
+        DVec2::new(3.5, 2.0),
+        DVec2::new(4.5, 2.0),
+        DVec2::new(4.5, 3.0),
+        DVec2::new(3.5, 3.0),
+    ];
     let mut s = FlatScene::builder();
     s.polygon(&room, 4).unwrap();
     for o in [a, b] {
@@ -18,8 +33,10 @@ fn room() -> FlatScene {
         v.reverse(); // clockwise: faces outwards
         s.polygon(&v, 2).unwrap();
     }
-    s.segment(DVec2::new(6.0, 2.0), DVec2::new(5.0, 2.0), 2).unwrap();
-    s.segment(DVec2::new(5.0, 2.0), DVec2::new(6.0, 2.0), 2).unwrap();
+    s.segment(DVec2::new(6.0, 2.0), DVec2::new(5.0, 2.0), 2)
+        .unwrap();
+    s.segment(DVec2::new(5.0, 2.0), DVec2::new(6.0, 2.0), 2)
+        .unwrap();
     s.build().unwrap()
 }
 
@@ -31,7 +48,10 @@ fn check_method(method: LineMethod, lines: u64) {
     let exact = exact_2d::form_factors(&scene).unwrap();
     assert!(!exact.has_background());
     let est = estimate(&scene, method, 11, lines).unwrap();
-    assert!(!est.form_factors.has_background(), "closed scene: no background");
+    assert!(
+        !est.form_factors.has_background(),
+        "closed scene: no background"
+    );
     let n = scene.n_patches();
     let total = scene.total_length();
     // Expected samples per patch: global lines give ≈ (perimeter measure) hits; use the
@@ -50,10 +70,16 @@ fn check_method(method: LineMethod, lines: u64) {
             let sigma = (f * (1.0 - f) / n_i).sqrt();
             let z = (got - f).abs() / sigma;
             worst = worst.max(z);
-            assert!(z < 5.0, "{method:?}: F[{i}][{j}] = {got} vs exact {f} ({z:.1} σ)");
+            assert!(
+                z < 5.0,
+                "{method:?}: F[{i}][{j}] = {got} vs exact {f} ({z:.1} σ)"
+            );
         }
     }
-    println!("{method:?}: worst deviation {worst:.2} σ over {} pairs", n * n);
+    println!(
+        "{method:?}: worst deviation {worst:.2} σ over {} pairs",
+        n * n
+    );
 }
 
 #[test]
@@ -72,10 +98,19 @@ fn local_line_form_factors_agree_with_exact() {
 #[test]
 fn discrete_i_s_from_few_lines_is_biased_upward_and_converges() {
     let mut b = FlatScene::builder();
-    let room = [DVec2::ZERO, DVec2::new(6.0, 0.0), DVec2::new(6.0, 4.0), DVec2::new(0.0, 4.0)];
+    let room = [
+        DVec2::ZERO,
+        DVec2::new(6.0, 0.0),
+        DVec2::new(6.0, 4.0),
+        DVec2::new(0.0, 4.0),
+    ];
     b.polygon(&room, 30).unwrap();
     let scene = b.build().unwrap();
-    let exact = exact_2d::form_factors(&scene).unwrap().channel().unwrap().i_s();
+    let exact = exact_2d::form_factors(&scene)
+        .unwrap()
+        .channel()
+        .unwrap()
+        .i_s();
     let mut previous = f64::INFINITY;
     let mut bias = Vec::new();
     for lines in [10_000u64, 100_000, 1_000_000, 4_000_000] {
@@ -83,7 +118,10 @@ fn discrete_i_s_from_few_lines_is_biased_upward_and_converges() {
         let i_s = est.form_factors.channel().unwrap().i_s();
         println!("{lines:>8} lines: I_S = {i_s:.5} (exact {exact:.5})");
         assert!(i_s > exact, "{lines} lines: {i_s} not above exact {exact}");
-        assert!(i_s < previous, "{lines} lines: {i_s} did not decrease from {previous}");
+        assert!(
+            i_s < previous,
+            "{lines} lines: {i_s} did not decrease from {previous}"
+        );
         previous = i_s;
         bias.push(i_s - exact);
     }

@@ -17,18 +17,30 @@ fn room(offset: DVec2) -> Vec<DVec2> {
 fn copies(n: usize) -> FlatScene {
     let mut b = FlatScene::builder();
     for k in 0..n {
-        b.polygon(&room(DVec2::new(10.0 * k as f64, 0.0)), 3).unwrap();
+        b.polygon(&room(DVec2::new(10.0 * k as f64, 0.0)), 3)
+            .unwrap();
     }
     b.build().unwrap()
 }
 
 #[test]
 fn discrete_i_s_gains_log2_n_exactly() {
-    let one = exact_2d::form_factors(&copies(1)).unwrap().channel().unwrap().i_s();
+    let one = exact_2d::form_factors(&copies(1))
+        .unwrap()
+        .channel()
+        .unwrap()
+        .i_s();
     for n in [2usize, 3, 5] {
-        let many = exact_2d::form_factors(&copies(n)).unwrap().channel().unwrap().i_s();
+        let many = exact_2d::form_factors(&copies(n))
+            .unwrap()
+            .channel()
+            .unwrap()
+            .i_s();
         let expected = one + (n as f64).log2();
-        assert!((many - expected).abs() < 1e-12, "N = {n}: {many} vs {expected}");
+        assert!(
+            (many - expected).abs() < 1e-12,
+            "N = {n}: {many} vs {expected}"
+        );
     }
 }
 

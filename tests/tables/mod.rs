@@ -1,4 +1,5 @@
 //! The thesis' tables recomputed.
 
+mod catalogue;
 mod continuous;
 mod regular_polygons;

@@ -44,7 +44,12 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
             let tracer = FlatTracer::new(&scene).map_err(at)?;
             let tally = crate::lines::run(&tracer, method, args.seed, lines, threads);
             let est = tally.finish(&tracer).map_err(at)?;
-            let mc = MonteCarlo { method: args.method, lines, seed: args.seed, continuous: est.continuous };
+            let mc = MonteCarlo {
+                method: args.method,
+                lines,
+                seed: args.seed,
+                continuous: est.continuous,
+            };
             (est.form_factors, Some(mc))
         }
     };
@@ -85,7 +90,16 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
         o.finish()?;
         writeln!(out, "{s}")?;
     } else {
-        write!(out, "{}", table(&args.file.display().to_string(), &report, mc.as_ref(), seconds))?;
+        write!(
+            out,
+            "{}",
+            table(
+                &args.file.display().to_string(),
+                &report,
+                mc.as_ref(),
+                seconds
+            )
+        )?;
     }
     out.flush()?;
     Ok(())
@@ -178,7 +192,11 @@ fn table(name: &str, r: &SceneReport, mc: Option<&MonteCarlo>, seconds: f64) -> 
         "  reciprocity         {}  (max relative error {:.2e}{})",
         yes(c.is_reversible(CHECK_TOLERANCE)),
         c.max_reciprocity_error,
-        if mc.is_some() { "; Monte Carlo F is reciprocal only within its error" } else { "" }
+        if mc.is_some() {
+            "; Monte Carlo F is reciprocal only within its error"
+        } else {
+            ""
+        }
     );
     let _ = writeln!(
         s,

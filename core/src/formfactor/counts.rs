@@ -3,7 +3,7 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
-/// Largest patch count for which [`PairCounts`] keeps dense `n × n` tallies (and the per-pair
+/// Largest patch count for which the pair tallies stay dense `n × n` tallies (and the per-pair
 /// continuous information): 1024² × 24 bytes ≈ 25 MB per tally.
 pub const DENSE_PAIR_LIMIT: usize = 1024;
 
@@ -16,8 +16,15 @@ pub const DENSE_PAIR_LIMIT: usize = 1024;
 /// merging tallies gives the same result in any order.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) enum PairCounts {
-    Dense { n: usize, counts: Vec<u64>, info: Vec<i128> },
-    Sparse { buffer: Vec<u64>, merged: Vec<(u64, u64)> },
+    Dense {
+        n: usize,
+        counts: Vec<u64>,
+        info: Vec<i128>,
+    },
+    Sparse {
+        buffer: Vec<u64>,
+        merged: Vec<(u64, u64)>,
+    },
 }
 
 /// Raw fixed-point scale of [`crate::math::FixedSum`] (2⁶⁴), for the per-pair sums.
@@ -26,9 +33,16 @@ const SCALE: f64 = 18_446_744_073_709_551_616.0;
 impl PairCounts {
     pub(crate) fn new(n: usize) -> Self {
         if n <= DENSE_PAIR_LIMIT {
-            Self::Dense { n, counts: vec![0; n * n], info: vec![0; n * n] }
+            Self::Dense {
+                n,
+                counts: vec![0; n * n],
+                info: vec![0; n * n],
+            }
         } else {
-            Self::Sparse { buffer: Vec::new(), merged: Vec::new() }
+            Self::Sparse {
+                buffer: Vec::new(),
+                merged: Vec::new(),
+            }
         }
     }
 
@@ -65,7 +79,14 @@ impl PairCounts {
     /// Adds another tally exactly.
     pub(crate) fn merge(&mut self, other: &PairCounts) {
         match (self, other) {
-            (Self::Dense { counts, info, .. }, Self::Dense { counts: oc, info: oi, .. }) => {
+            (
+                Self::Dense { counts, info, .. },
+                Self::Dense {
+                    counts: oc,
+                    info: oi,
+                    ..
+                },
+            ) => {
                 for (a, b) in counts.iter_mut().zip(oc) {
                     *a += *b;
                 }
@@ -73,7 +94,13 @@ impl PairCounts {
                     *a = a.saturating_add(*b);
                 }
             }
-            (Self::Sparse { buffer, merged }, Self::Sparse { buffer: ob, merged: om }) => {
+            (
+                Self::Sparse { buffer, merged },
+                Self::Sparse {
+                    buffer: ob,
+                    merged: om,
+                },
+            ) => {
                 flush(buffer, merged);
                 let mut other_merged = om.clone();
                 let mut other_buffer = ob.clone();
@@ -166,7 +193,10 @@ mod tests {
     fn dense_and_sparse_count_alike() {
         let pairs = [(0, 1), (2, 0), (0, 1), (1, 1), (2, 0), (0, 1)];
         let mut d = PairCounts::new(3);
-        let mut s = PairCounts::Sparse { buffer: Vec::new(), merged: Vec::new() };
+        let mut s = PairCounts::Sparse {
+            buffer: Vec::new(),
+            merged: Vec::new(),
+        };
         for &(i, j) in &pairs {
             d.add(i, j);
             s.add(i, j);
@@ -178,8 +208,14 @@ mod tests {
 
     #[test]
     fn merge_is_exact() {
-        let mut a = PairCounts::Sparse { buffer: vec![5, 1, 5], merged: vec![(3, 2)] };
-        let b = PairCounts::Sparse { buffer: vec![3, 9], merged: vec![(1, 1)] };
+        let mut a = PairCounts::Sparse {
+            buffer: vec![5, 1, 5],
+            merged: vec![(3, 2)],
+        };
+        let b = PairCounts::Sparse {
+            buffer: vec![3, 9],
+            merged: vec![(1, 1)],
+        };
         a.merge(&b);
         let mut got = Vec::new();
         a.for_each(|i, j, c, _| got.push(((i as u64) << 32 | j as u64, c)));

@@ -39,8 +39,8 @@ use crate::formfactor::FormFactors;
 use crate::formfactor::counts::PairCounts;
 use crate::geom::{DVec2, Segment};
 use crate::lines::{
-    BoundingCircle, CHUNK_LINES, Line2, canonical, canonical_2d, chunk_count, chunk_range, chunk_rng,
-    sample_global_line_2d, sample_local_line_2d,
+    BoundingCircle, CHUNK_LINES, Line2, canonical, canonical_2d, chunk_count, chunk_range,
+    chunk_rng, sample_global_line_2d, sample_local_line_2d,
 };
 use crate::math::FixedSum;
 use crate::scene::FlatScene;
@@ -230,7 +230,9 @@ impl FlatTracer {
             if cos_i <= 0.0 {
                 continue; // leaves backwards: handled as the partner of hit k − 1
             }
-            let Some(next) = hits.get(k + 1) else { continue }; // escapes
+            let Some(next) = hits.get(k + 1) else {
+                continue;
+            }; // escapes
             let j = next.prim as usize;
             let cos_j = -dir.dot(self.normals[j]);
             if cos_j <= 0.0 {
@@ -257,14 +259,19 @@ impl FlatTracer {
         let eps = 1e-12 * self.circle.radius;
         self.bvh.all_hits(line, hits);
         hits.iter()
-            .find(|h| (h.t - hit.t).abs() <= eps && line.dir.dot(self.normals[h.prim as usize]) < 0.0)
+            .find(|h| {
+                (h.t - hit.t).abs() <= eps && line.dir.dot(self.normals[h.prim as usize]) < 0.0
+            })
             .copied()
             .unwrap_or(hit)
     }
 
     fn tally_local_line(&self, u0: f64, u: [f64; 2], tally: &mut LineTally, hits: &mut Vec<Hit2>) {
         // Patch by length: the first cumulative share above u0.
-        let i = self.cumulative.partition_point(|&c| c <= u0).min(self.n_patches() - 1);
+        let i = self
+            .cumulative
+            .partition_point(|&c| c <= u0)
+            .min(self.n_patches() - 1);
         let seg = &self.segments[i];
         let line = sample_local_line_2d(seg, u);
         tally.leaves[i] += 1;
@@ -324,7 +331,11 @@ impl LineTally {
             return Err(ErrorKind::NoLines.into());
         }
         if let Some(patch) = self.leaves.iter().position(|&c| c == 0) {
-            return Err(ErrorKind::UnsampledPatch { patch, lines: self.lines }.into());
+            return Err(ErrorKind::UnsampledPatch {
+                patch,
+                lines: self.lines,
+            }
+            .into());
         }
         let n = self.leaves.len();
         let samples = self.continuous.samples().max(1) as f64;
@@ -347,7 +358,11 @@ impl LineTally {
             Some(m) => FormFactors::from_patch_matrix(&tracer.lengths, m)?,
             None => FormFactors::from_patch_triplets(&tracer.lengths, triplets)?,
         };
-        let patch_continuous = self.patch_info.iter().map(|s| s.value() / samples).collect();
+        let patch_continuous = self
+            .patch_info
+            .iter()
+            .map(|s| s.value() / samples)
+            .collect();
         Ok(FlatEstimate {
             form_factors,
             continuous: self.continuous.estimate(),
@@ -363,7 +378,12 @@ impl LineTally {
 ///
 /// # Errors
 /// [`ErrorKind::NoLines`], [`ErrorKind::UnsampledPatch`], and BVH construction errors.
-pub fn estimate(scene: &FlatScene, method: LineMethod, seed: u64, n_lines: u64) -> Result<FlatEstimate> {
+pub fn estimate(
+    scene: &FlatScene,
+    method: LineMethod,
+    seed: u64,
+    n_lines: u64,
+) -> Result<FlatEstimate> {
     let tracer = FlatTracer::new(scene)?;
     tracer.run(method, seed, n_lines)?.finish(&tracer)
 }

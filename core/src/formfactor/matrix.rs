@@ -73,7 +73,11 @@ fn background(sizes: &[f64], deficits: &[f64]) -> Option<(f64, Vec<f64>, Vec<f64
     }
     let l_b = flux.total();
     let to_b: Vec<f64> = deficits.iter().map(|&d| d.max(0.0)).collect();
-    let from_b = sizes.iter().zip(&to_b).map(|(&s, &d)| s * d / l_b).collect();
+    let from_b = sizes
+        .iter()
+        .zip(&to_b)
+        .map(|(&s, &d)| s * d / l_b)
+        .collect();
     Some((l_b, to_b, from_b))
 }
 
@@ -114,7 +118,11 @@ impl FormFactors {
         let n = sizes.len();
         let total = check_sizes(sizes)?;
         if f.len() != n * n {
-            return Err(ErrorKind::DimensionMismatch { expected: n * n, found: f.len() }.into());
+            return Err(ErrorKind::DimensionMismatch {
+                expected: n * n,
+                found: f.len(),
+            }
+            .into());
         }
         check_entries(n, f.iter().enumerate().map(|(k, &v)| (k / n, k % n, v)))?;
         let deficits: Vec<f64> = f
@@ -157,7 +165,10 @@ impl FormFactors {
     /// # Errors
     /// As [`FormFactors::from_patch_matrix`]; [`ErrorKind::MalformedSparse`] for an index
     /// out of range.
-    pub fn from_patch_triplets(sizes: &[f64], mut triplets: Vec<(usize, usize, f64)>) -> Result<Self> {
+    pub fn from_patch_triplets(
+        sizes: &[f64],
+        mut triplets: Vec<(usize, usize, f64)>,
+    ) -> Result<Self> {
         let n = sizes.len();
         let total = check_sizes(sizes)?;
         check_entries(n, triplets.iter().copied())?;
@@ -234,7 +245,13 @@ impl FormFactors {
     /// `F_ij`, or 0 when out of range or not stored.
     #[must_use]
     pub fn get(&self, i: usize, j: usize) -> f64 {
-        self.matrix().get(i, j)
+        if i >= self.n_states || j >= self.n_states {
+            return 0.0;
+        }
+        match &self.storage {
+            Storage::Dense(d) => d.get(i * self.n_states + j).copied().unwrap_or(0.0),
+            Storage::Sparse(c) => c.as_matrix().get(i, j),
+        }
     }
 
     /// Writes row `i` densely into `out` (length `n_states`).
@@ -244,12 +261,19 @@ impl FormFactors {
     /// [`ErrorKind::PatchIndex`] if `i` is out of range.
     pub fn dense_row_into(&self, i: usize, out: &mut [f64]) -> Result<()> {
         if i >= self.n_states {
-            return Err(ErrorKind::PatchIndex { index: i, len: self.n_states }.into());
+            return Err(ErrorKind::PatchIndex {
+                index: i,
+                len: self.n_states,
+            }
+            .into());
         }
         let found = out.len();
         let out = out
             .get_mut(..self.n_states)
-            .ok_or(ErrorKind::BufferTooSmall { needed: self.n_states, found })?;
+            .ok_or(ErrorKind::BufferTooSmall {
+                needed: self.n_states,
+                found,
+            })?;
         out.fill(0.0);
         self.matrix().for_each_in_row(i, |j, v| out[j] = v);
         Ok(())
@@ -259,7 +283,9 @@ impl FormFactors {
     #[must_use]
     pub fn matrix(&self) -> FormFactorView<'_> {
         match &self.storage {
-            Storage::Dense(d) => FormFactorView::Dense(DenseMatrix::from_validated(self.n_states, d)),
+            Storage::Dense(d) => {
+                FormFactorView::Dense(DenseMatrix::from_validated(self.n_states, d))
+            }
             Storage::Sparse(c) => FormFactorView::Sparse(c.as_matrix()),
         }
     }
@@ -333,7 +359,8 @@ mod tests {
         let f = vec![0.0, 0.25, 0.125, 0.0];
         let dense = FormFactors::from_patch_matrix(&[1.0, 2.0], f).unwrap();
         let sparse =
-            FormFactors::from_patch_triplets(&[1.0, 2.0], vec![(0, 1, 0.25), (1, 0, 0.125)]).unwrap();
+            FormFactors::from_patch_triplets(&[1.0, 2.0], vec![(0, 1, 0.25), (1, 0, 0.125)])
+                .unwrap();
         assert!(sparse.is_sparse() && !dense.is_sparse());
         assert_eq!(dense.weights(), sparse.weights());
         for i in 0..3 {

@@ -26,7 +26,10 @@ impl FixedSum {
     /// Zero.
     #[must_use]
     pub const fn new() -> Self {
-        Self { acc: 0, saturated: false }
+        Self {
+            acc: 0,
+            saturated: false,
+        }
     }
 
     /// Adds `x` (non-finite values count as saturation and are otherwise ignored).
@@ -74,7 +77,10 @@ impl FixedSum {
     /// Rebuilds a sum from [`FixedSum::raw`].
     #[must_use]
     pub const fn from_raw(raw: i128) -> Self {
-        Self { acc: raw, saturated: false }
+        Self {
+            acc: raw,
+            saturated: false,
+        }
     }
 
     /// Whether a term or the total ever left the representable range.

@@ -244,7 +244,7 @@ static CATALOGUE: &[CatalogueEntry] = &[
     entry!(
         "pentagonal-star-8",
         "Fig. 4.18i",
-        "pentagram points 0.1% from the pentagon's vertices",
+        "pentagram points 0.01% from the pentagon's vertices",
         4.067
     ),
     entry!(
@@ -296,7 +296,7 @@ static CATALOGUE: &[CatalogueEntry] = &[
     entry!(
         "rotating-square-8",
         "Fig. 4.19i",
-        "interior square at 45°, vertices 0.1% from the wall midpoints",
+        "interior square at 45°, vertices 0.01% from the wall midpoints",
         3.477
     ),
     entry!(

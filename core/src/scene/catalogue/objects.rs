@@ -14,9 +14,9 @@ use crate::scene::{FlatScene, FlatSceneBuilder};
 pub const SINGULARITY_STEPS: usize = 9;
 
 /// Relative gap left at the last step of the point-contact sequences
-/// ([`FlatScene::pentagonal_star`], [`FlatScene::rotating_square`]): 0.1% of the enclosure's
+/// ([`FlatScene::pentagonal_star`], [`FlatScene::rotating_square`]): 0.01% of the enclosure's
 /// circumradius.
-pub const NEAR_TOUCH_GAP: f64 = 1e-3;
+pub const NEAR_TOUCH_GAP: f64 = 1e-4;
 
 /// Gap between the interior square and the corner walls at the last step of
 /// [`FlatScene::square_to_corner`], as a fraction of the room side.
@@ -159,7 +159,7 @@ impl FlatScene {
     /// Geometry: the pentagon of circumradius 1 with vertices at polar angles `90° + 72°k`;
     /// the pentagram outline (a 10-vertex star polygon) with its points at the same angles,
     /// radius `s`, and its inner vertices at angles `126° + 72°k`, radius `s/φ²` (a regular
-    /// pentagram). `s = (1 − 0.001)·step/8`, so the last step leaves gaps of 0.1% of the
+    /// pentagram). `s = (1 − 0.0001)·step/8`, so the last step leaves gaps of 0.01% of the
     /// circumradius at the pentagon's vertices. Pentagon sides cut into `per_side` patches,
     /// star edges proportionally (`round(s · per_side/φ)`, at least 1).
     ///
@@ -216,7 +216,7 @@ impl FlatScene {
     /// against 1.474 + log₂ 4 = 3.474.
     ///
     /// Geometry: room `[−1,1]²`; interior square centred at the origin with circumradius
-    /// `1 − 0.001` (side `√2 (1 − 0.001)`), vertices at polar angles `45° + θ + 90°k` with
+    /// `1 − 0.0001` (side `√2 (1 − 0.0001)`), vertices at polar angles `45° + θ + 90°k` with
     /// `θ = 45° · step/8`. Each wall cut into `2·per_side` patches (`per_side` per half wall,
     /// so the patches meet at the wall midpoints), each interior side into `round(√2 per_side)`.
     ///

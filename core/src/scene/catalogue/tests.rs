@@ -292,7 +292,7 @@ fn sixty_four_squares_reproduce_table_3_6() {
 #[test]
 fn proposition_2_near_touching_scenes() {
     // At the last step the scene is ≈ N copies of its subscene, discretised alike, so
-    // I_S(scene) ≈ I_S(subscene) + log₂ N (4.14); the 0.1% gaps couple the copies a little.
+    // I_S(scene) ≈ I_S(subscene) + log₂ N (4.14); the 0.01% gaps couple the copies a little.
     for per_side in [2, 4, 8] {
         for (scene, sub, n) in [
             ("rotating-square-8", "rotating-square-subscene", 4.0),
