@@ -8,12 +8,12 @@ use std::io::{IsTerminal, Write};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use sceneinfo::formfactor::estimate_2d::{FlatTracer, LineMethod, LineTally};
+use sceneinfo::formfactor::tally::{LineMethod, LineTally, LineTracer};
 use sceneinfo::lines::{chunk_count, chunk_range};
 
 /// Casts `n_lines` lines of `method` with `seed` on `threads` threads.
-pub fn run(
-    tracer: &FlatTracer,
+pub fn run<T: LineTracer + Sync>(
+    tracer: &T,
     method: LineMethod,
     seed: u64,
     n_lines: u64,
@@ -31,13 +31,12 @@ pub fn run(
             .map(|_| {
                 scope.spawn(|| {
                     let mut tally = tracer.new_tally(method);
-                    let mut hits = Vec::new();
                     loop {
                         let chunk = next.fetch_add(1, Ordering::Relaxed);
                         if chunk >= chunks {
                             break tally;
                         }
-                        tracer.trace_chunk(seed, n_lines, chunk, &mut tally, &mut hits);
+                        tracer.trace_chunk(seed, n_lines, chunk, &mut tally);
                         let r = chunk_range(n_lines, chunk);
                         done.fetch_add(r.end - r.start, Ordering::Relaxed);
                     }

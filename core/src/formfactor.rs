@@ -20,6 +20,8 @@ mod counts;
 #[cfg(feature = "alloc")]
 pub mod estimate_2d;
 pub mod exact_2d;
+#[cfg(feature = "alloc")]
+pub mod tally;
 
 #[cfg(feature = "alloc")]
 mod matrix;

@@ -1,0 +1,248 @@
+//! What a Monte Carlo run counts, shared by the flatland and 3D tracers.
+//!
+//! A [`LineTracer`] (the real extension point: one per kind of scene) casts the lines of one
+//! seeded chunk into a [`LineTally`]; tallies merge exactly, in any order; a finished tally
+//! becomes a [`LineEstimate`]: form factors `F_ij ≈ C_ij / N_i` (2.36, 2.37) and the
+//! continuous mutual information with its per-patch and per-pair split.
+
+use alloc::vec;
+use alloc::vec::Vec;
+
+use crate::continuous::{ContinuousEstimate, ContinuousTally};
+use crate::error::{ErrorKind, Result};
+use crate::formfactor::FormFactors;
+use crate::formfactor::counts::PairCounts;
+use crate::lines::chunk_count;
+use crate::math::FixedSum;
+
+/// Which lines sample the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LineMethod {
+    /// Uniformly distributed global lines (2.37).
+    Global,
+    /// Cosine-distributed local lines from patches picked by size (2.36).
+    Local,
+}
+
+/// A scene prepared for line casting.
+pub trait LineTracer {
+    /// Number of patches.
+    fn n_patches(&self) -> usize;
+
+    /// Patch sizes (lengths or areas), the stationary distribution up to normalisation.
+    fn patch_sizes(&self) -> &[f64];
+
+    /// Casts the lines of chunk `chunk` of an `n_lines` job into `tally` (using the tally's
+    /// method). Chunk `k` draws from [`crate::lines::chunk_rng`]`(seed, k)`, so the result
+    /// depends only on `(seed, n_lines)`.
+    fn trace_chunk(&self, seed: u64, n_lines: u64, chunk: u64, tally: &mut LineTally);
+
+    /// An empty tally for this scene.
+    fn new_tally(&self, method: LineMethod) -> LineTally {
+        LineTally::new(self.n_patches(), method)
+    }
+
+    /// Casts all `n_lines` lines on this thread.
+    ///
+    /// # Errors
+    /// [`ErrorKind::NoLines`] if `n_lines == 0`.
+    fn run(&self, method: LineMethod, seed: u64, n_lines: u64) -> Result<LineTally> {
+        if n_lines == 0 {
+            return Err(ErrorKind::NoLines.into());
+        }
+        let mut tally = self.new_tally(method);
+        for chunk in 0..chunk_count(n_lines) {
+            self.trace_chunk(seed, n_lines, chunk, &mut tally);
+        }
+        Ok(tally)
+    }
+}
+
+/// The tallies of some chunks of lines; merge them, then [`LineTally::finish`].
+///
+/// Only integers and 64.64 fixed-point sums: merging is exact and order-independent.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LineTally {
+    method: LineMethod,
+    lines: u64,
+    leaves: Vec<u64>,
+    counts: PairCounts,
+    patch_info: Vec<FixedSum>,
+    continuous: ContinuousTally,
+}
+
+/// The result of a Monte Carlo run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LineEstimate {
+    /// Estimated form factors (with a background state if the scene is open).
+    pub form_factors: FormFactors,
+    /// `I_S^c` (4.8, 4.13) and its standard error.
+    pub continuous: ContinuousEstimate,
+    /// Per-patch `I_i^c` (6.37); they sum to `I_S^c`.
+    pub patch_continuous: Vec<f64>,
+    /// Per-pair `I_ij^c` (6.35, 6.36), row-major `n × n`, kept for scenes of at most
+    /// [`crate::formfactor::DENSE_PAIR_LIMIT`] patches.
+    pub pair_continuous: Option<Vec<f64>>,
+    /// Lines cast.
+    pub lines: u64,
+    /// The sampling method.
+    pub method: LineMethod,
+}
+
+impl LineTally {
+    /// An empty tally over `n` patches.
+    #[must_use]
+    pub fn new(n: usize, method: LineMethod) -> Self {
+        Self {
+            method,
+            lines: 0,
+            leaves: vec![0; n],
+            counts: PairCounts::new(n),
+            patch_info: vec![FixedSum::new(); n],
+            continuous: ContinuousTally::new(),
+        }
+    }
+
+    /// The sampling method.
+    #[must_use]
+    pub fn method(&self) -> LineMethod {
+        self.method
+    }
+
+    /// A sample leaves patch `i` from its front side (it counts in `N_i`).
+    #[inline]
+    pub(crate) fn leave(&mut self, i: usize) {
+        if let Some(c) = self.leaves.get_mut(i) {
+            *c += 1;
+        }
+    }
+
+    /// A global-line segment between mutually facing patches `i` and `j` with continuous
+    /// term `s` (if not degenerate): one sample for each end. Returns the line-sum
+    /// contribution (`2s`).
+    #[inline]
+    pub(crate) fn global_pair(&mut self, i: usize, j: usize, s: Option<f64>) -> f64 {
+        self.counts.add(i, j);
+        self.counts.add(j, i);
+        match s {
+            Some(s) => {
+                self.add_info(i, j, s);
+                2.0 * s
+            }
+            None => 0.0,
+        }
+    }
+
+    /// A local line from `i` that reached the front of `j`, with continuous term `s`.
+    /// Returns the line-sum contribution (`s`).
+    #[inline]
+    pub(crate) fn local_pair(&mut self, i: usize, j: usize, s: Option<f64>) -> f64 {
+        self.counts.add(i, j);
+        match s {
+            Some(s) => {
+                self.add_info(i, j, 0.5 * s);
+                s
+            }
+            None => 0.0,
+        }
+    }
+
+    /// Splits a term half to `I_ij^c`, half to `I_ji^c` (6.35): `w` to each.
+    #[inline]
+    fn add_info(&mut self, i: usize, j: usize, w: f64) {
+        if let Some(p) = self.patch_info.get_mut(i) {
+            p.add(w);
+        }
+        if let Some(p) = self.patch_info.get_mut(j) {
+            p.add(w);
+        }
+        self.counts.add_info(i, j, w);
+        self.counts.add_info(j, i, w);
+    }
+
+    /// Closes one line: `n` samples whose terms add up to `sum`.
+    #[inline]
+    pub(crate) fn end_line(&mut self, sum: f64, n: u64) {
+        self.continuous.add_group(sum, n);
+        self.lines += 1;
+    }
+
+    /// Closes one line that was discarded (a degenerate line of measure zero): counted as
+    /// cast, contributes no sample.
+    #[inline]
+    pub(crate) fn skip_line(&mut self) {
+        self.lines += 1;
+    }
+
+    /// Adds another tally of the same scene and method (exact, order-independent).
+    pub fn merge(&mut self, other: &LineTally) {
+        self.lines += other.lines;
+        for (a, b) in self.leaves.iter_mut().zip(&other.leaves) {
+            *a += *b;
+        }
+        self.counts.merge(&other.counts);
+        for (a, b) in self.patch_info.iter_mut().zip(&other.patch_info) {
+            a.merge(b);
+        }
+        self.continuous.merge(&other.continuous);
+    }
+
+    /// Lines tallied so far.
+    #[must_use]
+    pub fn lines(&self) -> u64 {
+        self.lines
+    }
+
+    /// Turns the tallies into form factors and continuous measures.
+    ///
+    /// # Errors
+    /// [`ErrorKind::NoLines`] for an empty tally; [`ErrorKind::UnsampledPatch`] when some patch
+    /// got no sample (its row of `F` would be unknown).
+    pub fn finish<T: LineTracer + ?Sized>(mut self, tracer: &T) -> Result<LineEstimate> {
+        if self.lines == 0 {
+            return Err(ErrorKind::NoLines.into());
+        }
+        if let Some(patch) = self.leaves.iter().position(|&c| c == 0) {
+            return Err(ErrorKind::UnsampledPatch {
+                patch,
+                lines: self.lines,
+            }
+            .into());
+        }
+        let sizes = tracer.patch_sizes();
+        let n = self.leaves.len();
+        let samples = self.continuous.samples().max(1) as f64;
+        let dense = self.counts.has_pair_info();
+        let mut pair = dense.then(|| vec![0.0; n * n]);
+        let mut matrix = dense.then(|| vec![0.0; n * n]);
+        let mut triplets = Vec::new();
+        let leaves = &self.leaves;
+        self.counts.for_each(|i, j, c, info| {
+            let f = c as f64 / leaves[i] as f64;
+            match (&mut matrix, &mut pair) {
+                (Some(m), Some(p)) => {
+                    m[i * n + j] = f;
+                    p[i * n + j] = info.unwrap_or(0.0) / samples;
+                }
+                _ => triplets.push((i, j, f)),
+            }
+        });
+        let form_factors = match matrix {
+            Some(m) => FormFactors::from_patch_matrix(sizes, m)?,
+            None => FormFactors::from_patch_triplets(sizes, triplets)?,
+        };
+        let patch_continuous = self
+            .patch_info
+            .iter()
+            .map(|s| s.value() / samples)
+            .collect();
+        Ok(LineEstimate {
+            form_factors,
+            continuous: self.continuous.estimate(),
+            patch_continuous,
+            pair_continuous: pair,
+            lines: self.lines,
+            method: self.method,
+        })
+    }
+}
