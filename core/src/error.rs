@@ -74,6 +74,27 @@ pub enum ErrorKind {
         /// The limit in bytes.
         max: usize,
     },
+    /// An OBJ face refers to vertex 0 or to a vertex beyond those defined so far.
+    FaceIndex {
+        /// The index as written (negative indices count back from the last vertex).
+        index: i64,
+        /// The number of vertices defined before the face.
+        count: usize,
+    },
+    /// An OBJ `usemtl` names a material no loaded MTL library defines.
+    MissingMaterial(Token),
+    /// An OBJ `mtllib` names a library the caller could not provide.
+    MissingMaterialLibrary(Token),
+    /// A problem inside an MTL material library; the error's own line is that of the OBJ's
+    /// `mtllib` directive.
+    InMaterialLibrary {
+        /// The library's name as written after `mtllib`.
+        library: Token,
+        /// The 1-based line inside the library.
+        line: u32,
+        /// What was wrong there.
+        problem: MaterialProblem,
+    },
 
     // ---- geometry and scenes ------------------------------------------------------------
     /// A segment's two endpoints coincide (or are closer than the scene can resolve).
@@ -120,6 +141,30 @@ pub enum ErrorKind {
     CoordinateRange,
     /// A preset scene name that the catalogue does not know.
     UnknownPreset(Token),
+    /// A 3D face's vertices do not lie in one plane (beyond 10⁻⁶ of its size).
+    NonPlanarFace {
+        /// The largest distance of a vertex from the face's (Newell) plane.
+        deviation: f64,
+    },
+    /// A 3D face is not convex (a reflex turn, or a self-intersecting star).
+    NonConvexFace,
+    /// A 3D face has zero area for its size, or a zero-length edge.
+    DegenerateFace,
+    /// A 3D face has fewer than three vertices or more than the cap.
+    FaceVertexCount {
+        /// The number of vertices given.
+        given: u64,
+        /// The most accepted.
+        max: u64,
+    },
+    /// A subdivision parameter is out of range: a grid needs 1 to `max` cells a side, a
+    /// triangle subdivision 0 to `max` levels.
+    BadSubdivision {
+        /// The parameter given.
+        given: u64,
+        /// The largest accepted.
+        max: u64,
+    },
 
     // ---- channels -----------------------------------------------------------------------
     /// Two inputs that must have matching sizes do not.
@@ -212,6 +257,17 @@ impl fmt::Display for ErrorKind {
             K::TrailingField(t) => write!(f, "unexpected extra field '{t}'"),
             K::InvalidUtf8 => write!(f, "input is not valid UTF-8"),
             K::LineTooLong { max } => write!(f, "line longer than {max} bytes"),
+            K::FaceIndex { index, count } => write!(
+                f,
+                "vertex index {index} out of range ({count} vertices defined so far; 0 is never valid)"
+            ),
+            K::MissingMaterial(t) => write!(f, "material '{t}' is not defined by any mtllib"),
+            K::MissingMaterialLibrary(t) => write!(f, "material library '{t}' was not provided"),
+            K::InMaterialLibrary {
+                library,
+                line,
+                problem,
+            } => write!(f, "material library '{library}' line {line}: {problem}"),
             K::ZeroLengthSegment => write!(f, "segment has zero length"),
             K::PolygonVertexCount { given } => {
                 write!(
@@ -235,6 +291,19 @@ impl fmt::Display for ErrorKind {
             }
             K::CoordinateRange => write!(f, "coordinates too large: lengths overflow"),
             K::UnknownPreset(t) => write!(f, "unknown preset scene '{t}'"),
+            K::NonPlanarFace { deviation } => write!(
+                f,
+                "face is not planar: a vertex lies {deviation} from its plane (tolerance 1e-6 × its size)"
+            ),
+            K::NonConvexFace => write!(f, "face is not convex"),
+            K::DegenerateFace => write!(f, "face is degenerate (zero area or a zero-length edge)"),
+            K::FaceVertexCount { given, max } => {
+                write!(f, "face needs 3 to {max} vertices, got {given}")
+            }
+            K::BadSubdivision { given, max } => write!(
+                f,
+                "subdivision parameter {given} is out of range (at most {max}; a grid needs at least 1)"
+            ),
             K::DimensionMismatch { expected, found } => {
                 write!(f, "size mismatch: expected {expected}, found {found}")
             }
@@ -329,6 +398,59 @@ impl core::error::Error for Error {}
 
 /// Shorthand for `core::result::Result<T, Error>`.
 pub type Result<T> = core::result::Result<T, Error>;
+
+/// What was wrong inside an MTL material library ([`ErrorKind::InMaterialLibrary`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum MaterialProblem {
+    /// A field that must be a number is not one.
+    BadNumber {
+        /// The field's name, e.g. `"Kd"`.
+        field: &'static str,
+    },
+    /// A number is NaN or infinite.
+    NonFiniteNumber {
+        /// The field's name.
+        field: &'static str,
+    },
+    /// A required field is missing at the end of a line.
+    MissingField {
+        /// The field's name.
+        field: &'static str,
+    },
+    /// A line has more fields than its statement takes.
+    TrailingField,
+    /// A reflectance (`Kd`) is outside `[0, 1)`.
+    Reflectance {
+        /// The offending value.
+        value: f64,
+    },
+    /// An emittance (`Ke`) is negative.
+    Emittance {
+        /// The offending value.
+        value: f64,
+    },
+    /// A property (`Kd`, `Ke`) comes before any `newmtl`.
+    NoCurrentMaterial,
+    /// A `newmtl` name is defined twice.
+    DuplicateMaterial,
+}
+
+impl fmt::Display for MaterialProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        use MaterialProblem as P;
+        match self {
+            P::BadNumber { field } => write!(f, "{field}: not a number"),
+            P::NonFiniteNumber { field } => write!(f, "{field}: number is NaN or infinite"),
+            P::MissingField { field } => write!(f, "missing field {field}"),
+            P::TrailingField => write!(f, "unexpected extra field"),
+            P::Reflectance { value } => write!(f, "reflectance {value} is outside [0, 1)"),
+            P::Emittance { value } => write!(f, "emittance {value} is negative"),
+            P::NoCurrentMaterial => write!(f, "property before any newmtl"),
+            P::DuplicateMaterial => write!(f, "material defined twice"),
+        }
+    }
+}
 
 #[cfg(test)]
 mod tests {

@@ -185,6 +185,132 @@ pub fn segment_may_meet_hull(p0: DVec2, p1: DVec2, hull: &[DVec2], margin: f64) 
     true
 }
 
+// ---- 3D planar polygons ---------------------------------------------------------------------
+
+/// Vector area of the polygon through `vertices` (Newell's method): perpendicular to the
+/// polygon's best-fit plane, pointing to the side from which the vertices run
+/// counter-clockwise (right-hand rule), of length **twice** its area.
+///
+/// ```text
+/// N = Σ_{i=1}^{n−2} (v_i − v_0) × (v_{i+1} − v_0)
+/// ```
+///
+/// The fan sum about `v_0` equals Newell's `Σ v_i × v_{i+1}` exactly in real arithmetic, and
+/// loses less to rounding when the polygon lies far from the origin. Zero for fewer than three
+/// vertices.
+#[must_use]
+pub fn polygon_normal(vertices: &[DVec3]) -> DVec3 {
+    let Some(&v0) = vertices.first() else {
+        return DVec3::ZERO;
+    };
+    let mut n = DVec3::ZERO;
+    for w in vertices.windows(2).skip(1) {
+        n += (w[0] - v0).cross(w[1] - v0);
+    }
+    n
+}
+
+/// Area of a planar polygon: half the length of [`polygon_normal`].
+#[must_use]
+pub fn polygon_area(vertices: &[DVec3]) -> f64 {
+    0.5 * polygon_normal(vertices).length()
+}
+
+/// Length of the diagonal of the axis-aligned bounds of `points`: a size within a factor √3
+/// of the diameter, in O(n). Zero for no points.
+#[must_use]
+pub fn bounds_diagonal(points: &[DVec3]) -> f64 {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for &p in points {
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    if points.is_empty() {
+        0.0
+    } else {
+        (hi - lo).length()
+    }
+}
+
+/// Largest distance of a vertex from the plane with unit normal `unit_normal` through the
+/// vertices' mean (for Newell's normal, the least-squares-like plane of Newell's method).
+#[must_use]
+pub fn plane_deviation(vertices: &[DVec3], unit_normal: DVec3) -> f64 {
+    if vertices.is_empty() {
+        return 0.0;
+    }
+    let mean = vertices.iter().copied().sum::<DVec3>() / vertices.len() as f64;
+    vertices
+        .iter()
+        .map(|&v| (v - mean).dot(unit_normal).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Sine of the turn at vertex `k` of a polygon about `unit_normal`: positive for a
+/// counter-clockwise (convex) turn, negative for a reflex one, zero for a straight vertex or
+/// a zero-length edge.
+#[must_use]
+pub fn turn_sine(vertices: &[DVec3], k: usize, unit_normal: DVec3) -> f64 {
+    let n = vertices.len();
+    if n < 3 || k >= n {
+        return 0.0;
+    }
+    let e0 = vertices[k] - vertices[(k + n - 1) % n];
+    let e1 = vertices[(k + 1) % n] - vertices[k];
+    let scale = e0.length() * e1.length();
+    if scale > 0.0 {
+        e0.cross(e1).dot(unit_normal) / scale
+    } else {
+        0.0
+    }
+}
+
+/// Whether the polygon through `vertices` is convex when seen against `unit_normal`: every
+/// turn counter-clockwise (sine ≥ −`tolerance`) and the turns adding up to one revolution,
+/// which rules out self-intersecting stars whose turns all share a sign.
+#[must_use]
+pub fn is_convex(vertices: &[DVec3], unit_normal: DVec3, tolerance: f64) -> bool {
+    let n = vertices.len();
+    if n < 3 {
+        return false;
+    }
+    let mut turning = 0.0;
+    for k in 0..n {
+        let e0 = vertices[k] - vertices[(k + n - 1) % n];
+        let e1 = vertices[(k + 1) % n] - vertices[k];
+        let s = e0.cross(e1).dot(unit_normal);
+        let c = e0.dot(e1);
+        if s < -tolerance * e0.length() * e1.length() {
+            return false;
+        }
+        turning += math::atan2(s, c).abs();
+    }
+    // A simple convex polygon turns once (2π); a star turns at least twice (4π).
+    turning < 3.0 * core::f64::consts::PI
+}
+
+/// Area centroid of a planar polygon (the fan triangles' centroids weighted by their areas
+/// along `vector_area`, e.g. [`polygon_normal`]); the vertex mean if that weight vanishes.
+#[must_use]
+pub fn polygon_centroid(vertices: &[DVec3], vector_area: DVec3) -> DVec3 {
+    let Some(&v0) = vertices.first() else {
+        return DVec3::ZERO;
+    };
+    let mut sum = DVec3::ZERO;
+    let mut weight = 0.0;
+    for w in vertices.windows(2).skip(1) {
+        let a = (w[0] - v0).cross(w[1] - v0).dot(vector_area);
+        sum += (v0 + w[0] + w[1]) * (a / 3.0);
+        weight += a;
+    }
+    if weight > 0.0 && (sum / weight).is_finite() {
+        sum / weight
+    } else {
+        vertices.iter().copied().sum::<DVec3>() / vertices.len() as f64
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

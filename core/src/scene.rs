@@ -3,6 +3,8 @@
 //! - [`Material`]: reflectance ρ and emittance E per RGB channel.
 //! - [`FlatScene`] (feature `alloc`): a flatland scene of one-sided segments ("surfaces"),
 //!   each cut into patches (thesis §2.1.3, §3.3).
+//! - [`Scene`] (feature `alloc`): a 3D scene of planar convex faces ("surfaces"), each cut
+//!   into patches by a [`Subdivision`] (thesis §2.1.3).
 //!
 //! A flatland surface is the unit of *occlusion* — it blocks light whole — and a patch is the
 //! unit of *discretisation*, a state of the Markov chain. Patches of one surface are
@@ -18,6 +20,8 @@ mod flat;
 #[cfg(feature = "alloc")]
 mod presets;
 #[cfg(feature = "alloc")]
+mod scene3;
+#[cfg(feature = "alloc")]
 pub use catalogue::{
     CORNER_GAP, CatalogueEntry, L_ROOM_CUTS, MAX_ASPECT, NEAR_TOUCH_GAP, SINGULARITY_STEPS,
     SIXTEEN_SQUARES_SIDE, STAR_INNER_RADII, THREE_OBJECTS_SCALES, TRIANGLE_LAST_APEX, catalogue,
@@ -26,4 +30,9 @@ pub use catalogue::{
 #[cfg(feature = "alloc")]
 pub use flat::{
     FlatPatch, FlatScene, FlatSceneBuilder, FlatSurface, MAX_PATCHES, MAX_PATCHES_PER_SURFACE,
+};
+#[cfg(feature = "alloc")]
+pub use scene3::{
+    CONVEXITY_TOLERANCE, Face3, MAX_FACE_VERTICES, MAX_GRID, MAX_PATCHES_3D, MAX_TRIANGLE_LEVEL,
+    PLANARITY_TOLERANCE, Patch3, Scene, SceneBuilder, Subdivision,
 };
