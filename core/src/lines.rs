@@ -40,7 +40,8 @@ pub use global::{
 };
 pub use local::{
     cosine_direction_2d_pdf, invert_cosine_direction_2d, invert_local_line_2d,
-    invert_segment_point, sample_cosine_direction_2d, sample_local_line_2d, sample_segment_point,
+    invert_segment_point, sample_cosine_direction_2d, sample_local_line_2d, sample_point_pair,
+    sample_segment_point,
 };
 pub use stream::{CHUNK_LINES, canonical, canonical_2d, chunk_count, chunk_range, chunk_rng};
 

@@ -54,6 +54,15 @@ pub fn sample_segment_point(seg: &Segment, u: f64) -> DVec2 {
     seg.point_at(clamp_canonical(u))
 }
 
+/// A uniform pair of points, one on each segment: the sample of the area-sampling form
+/// factor estimator (2.34) and of patch-to-patch random lines (6.19). `u[0]` places the
+/// point on `i`, `u[1]` the point on `j`; joint density `1/(L_i L_j)`.
+#[inline]
+#[must_use]
+pub fn sample_point_pair(i: &Segment, j: &Segment, u: [f64; 2]) -> (DVec2, DVec2) {
+    (sample_segment_point(i, u[0]), sample_segment_point(j, u[1]))
+}
+
 /// The canonical sample that [`sample_segment_point`] maps to the point of the segment
 /// nearest to `p`: `u = (p − a)·(b − a)/|b − a|²`, clamped into `[0, 1)`. A degenerate
 /// segment (`a = b`) maps everything to 0.
