@@ -7,7 +7,8 @@
 //! I_S^c = ∫_L ∫_L (1/L_T) F(x, y) log₂(L_T F(x, y)) dL_x dL_y
 //! ```
 //!
-//! and in 3D (4.6) the same with areas and `F(x, y) = cos θ_x cos θ_y / (π r²)`. Sampling
+//! and in 3D (4.6) the same with areas and `F(x, y) = cos θ_x cos θ_y / (π r²)`
+//! ([`solid_sample`]). Sampling
 //! `x` uniformly on the surfaces and `y` along a cosine-distributed direction — what local
 //! lines do, and what each intersection of a uniform global line does — gives the Monte Carlo
 //! estimator (4.8, 4.13)
@@ -40,6 +41,15 @@ use crate::math::{self, FixedSum};
 #[must_use]
 pub fn flat_sample(total_length: f64, cos_x: f64, cos_y: f64, r: f64) -> Option<f64> {
     let f = total_length * cos_x * cos_y / (2.0 * r);
+    (f > 0.0 && f.is_finite()).then(|| math::log2(f))
+}
+
+/// `log₂(A_T F(x, y))` for 3D points with `F = cos θ_x cos θ_y / (π r²)` (the term of 4.8).
+/// `None` for a degenerate pair (`r ≤ 0` or a cosine `≤ 0`).
+#[inline]
+#[must_use]
+pub fn solid_sample(total_area: f64, cos_x: f64, cos_y: f64, r: f64) -> Option<f64> {
+    let f = total_area * cos_x * cos_y / (core::f64::consts::PI * r * r);
     (f > 0.0 && f.is_finite()).then(|| math::log2(f))
 }
 
