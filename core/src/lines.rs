@@ -32,11 +32,18 @@
 //! intersects patch i is proportional to A_i" (thesis §2.1.6, Santaló 1976).
 
 mod global;
+mod lines3;
 mod local;
 mod stream;
 
 pub use global::{
     BoundingCircle, Line2, global_line_2d_pdf, invert_global_line_2d, sample_global_line_2d,
+};
+pub use lines3::{
+    BoundingSphere, Line3, cosine_hemisphere_pdf, global_line_3d_pdf, invert_cosine_hemisphere,
+    invert_global_line_3d, invert_local_line_3d, invert_polygon_point, invert_uniform_sphere,
+    polygon_point_pdf, sample_cosine_hemisphere, sample_global_line_3d, sample_local_line_3d,
+    sample_polygon_point, sample_uniform_sphere, uniform_sphere_pdf,
 };
 pub use local::{
     cosine_direction_2d_pdf, invert_cosine_direction_2d, invert_local_line_2d,
