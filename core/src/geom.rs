@@ -247,23 +247,18 @@ pub fn plane_deviation(vertices: &[DVec3], unit_normal: DVec3) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Sine of the turn at vertex `k` of a polygon about `unit_normal`: positive for a
-/// counter-clockwise (convex) turn, negative for a reflex one, zero for a straight vertex or
-/// a zero-length edge.
+/// Turning (exterior) angle at vertex `k` of a polygon about `unit_normal`, in `[−π, π]`:
+/// positive for a counter-clockwise (convex) turn, negative for a reflex one, zero for a
+/// straight vertex or a zero-length edge, near `±π` where the boundary doubles back.
 #[must_use]
-pub fn turn_sine(vertices: &[DVec3], k: usize, unit_normal: DVec3) -> f64 {
+pub fn turn_angle(vertices: &[DVec3], k: usize, unit_normal: DVec3) -> f64 {
     let n = vertices.len();
     if n < 3 || k >= n {
         return 0.0;
     }
     let e0 = vertices[k] - vertices[(k + n - 1) % n];
     let e1 = vertices[(k + 1) % n] - vertices[k];
-    let scale = e0.length() * e1.length();
-    if scale > 0.0 {
-        e0.cross(e1).dot(unit_normal) / scale
-    } else {
-        0.0
-    }
+    math::atan2(e0.cross(e1).dot(unit_normal), e0.dot(e1))
 }
 
 /// Whether the polygon through `vertices` is convex when seen against `unit_normal`: every

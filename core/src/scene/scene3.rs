@@ -33,8 +33,8 @@ pub const MAX_TRIANGLE_LEVEL: u32 = 10;
 /// diagonal of its bounding box).
 pub const PLANARITY_TOLERANCE: f64 = 1e-6;
 
-/// Most negative sine of a turn still accepted as convex; turns with `|sine|` below it count
-/// as straight and are skipped when a face is triangulated.
+/// Most negative sine of a turn still accepted as convex; turns smaller than it (in radians)
+/// count as straight, and such vertices are skipped when a face is triangulated.
 pub const CONVEXITY_TOLERANCE: f64 = 1e-6;
 
 /// Smallest area accepted, relative to the square of a face's size; also the smallest edge
@@ -61,7 +61,11 @@ pub enum Subdivision {
 
 impl Subdivision {
     /// Checks the parameter's range.
-    fn validate(self) -> Result<()> {
+    ///
+    /// # Errors
+    /// [`ErrorKind::BadSubdivision`] for `Grid(0)`, `Grid(k > MAX_GRID)` or
+    /// `Triangles(l > MAX_TRIANGLE_LEVEL)`.
+    pub fn validate(self) -> Result<()> {
         match self {
             Self::None => Ok(()),
             Self::Grid(k) if (1..=MAX_GRID).contains(&k) => Ok(()),
@@ -369,7 +373,7 @@ impl SceneBuilder {
         // Patch count, against the cap, before allocating
         s.validate()?;
         let corners: Vec<usize> = (0..n)
-            .filter(|&k| geom::turn_sine(vertices, k, normal) > CONVEXITY_TOLERANCE)
+            .filter(|&k| n == 3 || geom::turn_angle(vertices, k, normal) > CONVEXITY_TOLERANCE)
             .collect();
         if corners.len() < 3 {
             return Err(ErrorKind::DegenerateFace.into());

@@ -314,3 +314,81 @@ fn faces_too_small_for_f64_are_degenerate() {
     );
     assert_eq!(b.patch_count(), 4_000_000);
 }
+
+#[cfg(feature = "std")]
+mod props {
+    use super::*;
+    use crate::math::{cos, sin};
+    use proptest::prelude::*;
+
+    /// A regular `n`-gon stretched by `(sx, sy)` in a random plane: convex and planar,
+    /// counter-clockwise about the returned unit normal.
+    fn polygon(
+        n: usize,
+        (theta, phi, spin): (f64, f64, f64),
+        (sx, sy): (f64, f64),
+        scale: f64,
+        centre: [f64; 3],
+    ) -> (Vec<DVec3>, DVec3) {
+        let normal = DVec3::new(sin(theta) * cos(phi), sin(theta) * sin(phi), cos(theta));
+        let u = normal.any_orthonormal_vector();
+        let v = normal.cross(u);
+        let c = DVec3::from_array(centre) * scale;
+        let vertices = (0..n)
+            .map(|k| {
+                let t = spin + k as f64 * core::f64::consts::TAU / n as f64;
+                c + (u * (sx * cos(t)) + v * (sy * sin(t))) * scale
+            })
+            .collect();
+        (vertices, normal)
+    }
+
+    fn subdivision() -> impl Strategy<Value = Subdivision> {
+        prop_oneof![
+            Just(Subdivision::None),
+            (1u32..7).prop_map(Subdivision::Grid),
+            (0u32..4).prop_map(Subdivision::Triangles),
+        ]
+    }
+
+    proptest! {
+        #[test]
+        fn convex_planar_polygons_build_and_patches_tile_them(
+            n in 3usize..40,
+            angles in (0.0..core::f64::consts::PI, 0.0..core::f64::consts::TAU, 0.0..1.0f64),
+            stretch in (0.2..5.0f64, 0.2..5.0f64),
+            log_scale in -3.0..4.0f64,
+            centre in proptest::array::uniform3(-10.0..10.0f64),
+            s in subdivision(),
+        ) {
+            let scale = libm::pow(10.0, log_scale);
+            let (vertices, normal) = polygon(n, angles, stretch, scale, centre);
+            let mut b = Scene::builder();
+            b.polygon(&vertices, s).unwrap();
+            let scene = b.build().unwrap();
+            let face = &scene.faces()[0];
+            prop_assert!((face.normal - normal).length() < 1e-12);
+            let expected = match s {
+                Subdivision::None => 1,
+                Subdivision::Grid(k) if n == 4 => (k * k) as usize,
+                Subdivision::Grid(k) => (n - 2) * (k * k) as usize,
+                Subdivision::Triangles(l) => (n - 2) << (2 * l),
+            };
+            prop_assert_eq!(scene.n_patches(), expected);
+            let sum = crate::math::sum(scene.patches().iter().map(|p| p.area));
+            prop_assert!((sum - face.area).abs() <= 1e-12 * face.area, "{} vs {}", sum, face.area);
+            prop_assert!((scene.total_area() - face.area).abs() <= 1e-12 * face.area);
+            for (i, p) in scene.patches().iter().enumerate() {
+                prop_assert!(p.area > 0.0);
+                prop_assert_eq!(p.normal, face.normal);
+                let pv = scene.patch_vertices(i);
+                let own = geom::polygon_normal(pv).normalize();
+                prop_assert!((own - face.normal).length() < 1e-9);
+                // Every patch vertex lies in the face's plane
+                for &q in pv {
+                    prop_assert!((q - vertices[0]).dot(face.normal).abs() <= 1e-12 * scale * 10.0);
+                }
+            }
+        }
+    }
+}
