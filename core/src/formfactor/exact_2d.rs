@@ -135,6 +135,7 @@ fn clip_front(frame: &Frame, p: DVec2, q: DVec2) -> Option<(DVec2, DVec2)> {
 
 /// Whether local point `q` lies on the supporting line of local segment `j0 j1` (pass the
 /// whole, unclipped segment: a clipped sliver would give its line's direction poorly).
+#[cfg(feature = "alloc")]
 fn on_line_of(frame: &Frame, j0: DVec2, j1: DVec2, q: DVec2) -> bool {
     let j_len = (j1 - j0).length();
     cross(j1 - j0, q - j0).abs() <= j_len * (frame.eps + ON_LINE * (q - j0).length().max(j_len))
