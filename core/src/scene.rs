@@ -20,6 +20,8 @@ mod flat;
 #[cfg(feature = "alloc")]
 mod presets;
 #[cfg(feature = "alloc")]
+mod presets3d;
+#[cfg(feature = "alloc")]
 mod scene3;
 #[cfg(feature = "alloc")]
 pub use catalogue::{
@@ -30,6 +32,13 @@ pub use catalogue::{
 #[cfg(feature = "alloc")]
 pub use flat::{
     FlatPatch, FlatScene, FlatSceneBuilder, FlatSurface, MAX_PATCHES, MAX_PATCHES_PER_SURFACE,
+};
+#[cfg(feature = "alloc")]
+pub use presets3d::{
+    CORNELL_BLOCK_LIFT, CORNELL_GREEN, CORNELL_LIGHT, CORNELL_RED, CORNELL_ROOM, CORNELL_WHITE,
+    CUBE_ROOM_GRID, CUBE_ROOM_SIDE, CUBE_ROOM_SPACING, ENCLOSURE, ENCLOSURE_MATERIAL,
+    FURNITURE_GAP, MAX_CUBES_PER_SIDE, MAX_SPHERE_LEVEL, OBJECT_MATERIAL, PRESET_SEED,
+    Preset3Entry, SIXTY_FOUR_CUBES_SIDE, SIXTY_FOUR_CUBES_STEPS, TABLE_ROOM, preset_3d, presets_3d,
 };
 #[cfg(feature = "alloc")]
 pub use scene3::{
