@@ -138,6 +138,20 @@ pub fn log2_ratio(p: f64, q: f64) -> f64 {
     }
 }
 
+/// Natural logarithm, `ln x`.
+#[inline]
+#[must_use]
+pub fn ln(x: f64) -> f64 {
+    libm::log(x)
+}
+
+/// Arctangent, `atan x ∈ (−π/2, π/2)`.
+#[inline]
+#[must_use]
+pub fn atan(x: f64) -> f64 {
+    libm::atan(x)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
