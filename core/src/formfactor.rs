@@ -20,6 +20,7 @@ mod counts;
 #[cfg(feature = "alloc")]
 pub mod estimate_2d;
 pub mod exact_2d;
+pub mod exact_3d;
 #[cfg(feature = "alloc")]
 pub mod tally;
 
