@@ -2,7 +2,7 @@
 //!
 //! Polygons are vertex slices `&[DVec3]`, counter-clockwise about their front normal
 //! (right-hand rule, as in OBJ), convex and planar. Nothing here tests visibility against
-//! other polygons: `may_be_occluded` (to come) tells whether that is safe for a whole scene.
+//! other polygons: [`may_be_occluded`] tells whether that is safe for a whole scene.
 //!
 //! # Method
 //!
@@ -64,7 +64,11 @@
 //! face each other, including coplanar ones, cost one vertex pass.
 
 mod contour;
+#[cfg(feature = "alloc")]
+mod occlusion;
 mod polygon;
+#[cfg(all(test, feature = "std"))]
+mod tests;
 
 use core::f64::consts::PI;
 
@@ -73,6 +77,9 @@ use crate::math::KahanSum;
 
 use contour::Kernel;
 use polygon::{HalfSpace, ON_PLANE, Plane};
+
+#[cfg(feature = "alloc")]
+pub use occlusion::may_be_occluded;
 
 #[cfg(feature = "alloc")]
 use crate::error::{ErrorKind, Result};
@@ -264,7 +271,7 @@ fn planes<'a>(
 /// [`FormFactors`].
 ///
 /// Valid for scenes where no polygon hides another, e.g. convex enclosures; check with
-/// `may_be_occluded` (to come).
+/// [`may_be_occluded`].
 ///
 /// # Errors
 /// [`ErrorKind::PolygonVertexCount`] for fewer than 3 vertices;

@@ -1,0 +1,190 @@
+//! A conservative test for whether unoccluded form factors are exact for a scene.
+
+use alloc::vec;
+use alloc::vec::Vec;
+
+use super::polygon::Plane;
+use crate::geom::DVec3;
+
+/// Relative tolerance (of the scene's size) under which polygons count as touching rather
+/// than overlapping. Lines grazing a polygon that only touches the sight region of a pair
+/// form a null set; an occluder reaching deeper than this is reported.
+const TOUCH: f64 = 1e-9;
+
+/// Whether some polygon **may** block a line between two others, so the unoccluded form
+/// factors of [`super::form_factors_unoccluded`] could be wrong. Conservative: `false`
+/// guarantees that no polygon meets the interior of the sight region of any facing pair.
+///
+/// A line from polygon `i` to polygon `j` stays inside the convex hull of `i ∪ j`. For each
+/// pair of polygons that face each other (each reaches strictly in front of the other) and
+/// each third polygon `k`, the test looks for a plane separating `k` from that hull, with
+/// touching counted as separated:
+///
+/// 1. `k`'s own plane, for all `k` at once through bit sets of which polygons lie wholly
+///    on its front or back side (this settles convex enclosures: each face's plane supports
+///    the enclosure, so no candidate survives);
+/// 2. bounding boxes;
+/// 3. the separating-axis theorem on the hull and `k`: the normals of `i`, `j` and `k`, the
+///    hull's side facets (an edge of one polygon with a vertex of the other), and the cross
+///    products of `k`'s edges with the hull's edges (edges of `i`, of `j`, and the bridges
+///    between their vertices) — complete for two convex bodies.
+///
+/// Returns `true` for invalid input (a range outside `points`, fewer than three vertices,
+/// zero area, non-finite coordinates): nothing can be vouched for.
+///
+/// Cost: `O(n² m)` for the bit sets and `O(n³ / 64)` word operations for the pairs, plus the
+/// separating-axis tests of the surviving candidates.
+#[must_use]
+pub fn may_be_occluded(points: &[DVec3], polygons: &[(usize, usize)]) -> bool {
+    let Ok(polys) = super::planes(points, polygons) else {
+        return true;
+    };
+    let n = polys.len();
+    if n < 3 {
+        return false;
+    }
+    // Scene size, for the touching tolerance.
+    let (lo, hi) = bounds(polys.iter().flat_map(|(v, _)| v.iter().copied()));
+    let tol = TOUCH * (hi - lo).length().max(hi.abs().max(lo.abs()).max_element());
+
+    // Bit sets per polygon i over k: i lies wholly on the closed front (back) side of k.
+    let words = n.div_ceil(64);
+    let mut front = vec![0u64; n * words];
+    let mut back = vec![0u64; n * words];
+    for (k, (_, pk)) in polys.iter().enumerate() {
+        for (i, (vi, _)) in polys.iter().enumerate() {
+            let (mut d_min, mut d_max) = (f64::INFINITY, f64::NEG_INFINITY);
+            for &v in vi.iter() {
+                let d = pk.distance(v);
+                d_min = d_min.min(d);
+                d_max = d_max.max(d);
+            }
+            if d_min >= -tol {
+                front[i * words + k / 64] |= 1 << (k % 64);
+            }
+            if d_max <= tol {
+                back[i * words + k / 64] |= 1 << (k % 64);
+            }
+        }
+    }
+    let boxes: Vec<(DVec3, DVec3)> = polys
+        .iter()
+        .map(|(v, _)| bounds(v.iter().copied()))
+        .collect();
+    let bit = |set: &[u64], i: usize, k: usize| set[i * words + k / 64] >> (k % 64) & 1 == 1;
+
+    for i in 0..n {
+        for j in i + 1..n {
+            // Facing: each reaches strictly in front of the other.
+            if bit(&back, j, i) || bit(&back, i, j) {
+                continue;
+            }
+            let (bi, bj) = (boxes[i], boxes[j]);
+            let (hlo, hhi) = (bi.0.min(bj.0), bi.1.max(bj.1));
+            for w in 0..words {
+                let (fi, fj) = (front[i * words + w], front[j * words + w]);
+                let (ki, kj) = (back[i * words + w], back[j * words + w]);
+                // Candidates: k whose plane does not separate the pair's hull from k.
+                let mut cand = !((fi & fj) | (ki & kj));
+                if w == words - 1 && n % 64 != 0 {
+                    cand &= (1u64 << (n % 64)) - 1;
+                }
+                while cand != 0 {
+                    let k = w * 64 + cand.trailing_zeros() as usize;
+                    cand &= cand - 1;
+                    if k == i || k == j {
+                        continue;
+                    }
+                    let (klo, khi) = boxes[k];
+                    if (klo - hhi).max_element() >= -tol || (hlo - khi).max_element() >= -tol {
+                        continue;
+                    }
+                    if hull_meets_polygon(&polys[i], &polys[j], &polys[k], tol) {
+                        return true;
+                    }
+                }
+            }
+        }
+    }
+    false
+}
+
+/// The edges `(v_e, v_{e+1})` of a closed polygon.
+fn edges(p: &[DVec3]) -> impl Iterator<Item = (DVec3, DVec3)> + '_ {
+    let m = p.len();
+    (0..m).map(move |e| (p[e], p[(e + 1) % m]))
+}
+
+/// Axis-aligned bounds of a set of points.
+fn bounds(points: impl Iterator<Item = DVec3>) -> (DVec3, DVec3) {
+    points.fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(p), hi.max(p)),
+    )
+}
+
+/// Whether the convex hull of polygons `a ∪ b` and the convex polygon `k` overlap by more
+/// than `tol` (no separating axis found among the complete candidate set).
+fn hull_meets_polygon(
+    (a, pa): &(&[DVec3], Plane),
+    (b, pb): &(&[DVec3], Plane),
+    (k, pk): &(&[DVec3], Plane),
+    tol: f64,
+) -> bool {
+    let separated = |axis: DVec3| -> bool {
+        let len = axis.length();
+        if !(len > 0.0) {
+            return false;
+        }
+        let (mut h_lo, mut h_hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for &v in a.iter().chain(b.iter()) {
+            let d = axis.dot(v);
+            h_lo = h_lo.min(d);
+            h_hi = h_hi.max(d);
+        }
+        let (mut k_lo, mut k_hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for &v in k.iter() {
+            let d = axis.dot(v);
+            k_lo = k_lo.min(d);
+            k_hi = k_hi.max(d);
+        }
+        let t = tol * len;
+        k_hi <= h_lo + t || k_lo >= h_hi - t
+    };
+    // Face normals of the hull (i, j) and of k, with k's in-plane edge normals.
+    if separated(pa.normal) || separated(pb.normal) || separated(pk.normal) {
+        return false;
+    }
+    for (u, v) in edges(k) {
+        if separated(pk.normal.cross(v - u)) {
+            return false;
+        }
+    }
+    // Side facets of the hull: an edge of one polygon with a vertex of the other.
+    for (p, q) in [(*a, *b), (*b, *a)] {
+        for (u, v) in edges(p) {
+            for &w in q {
+                if separated((v - u).cross(w - u)) {
+                    return false;
+                }
+            }
+        }
+    }
+    // Edge-edge axes: k's edges against the hull's edges and bridges.
+    for (u, v) in edges(k) {
+        let ek = v - u;
+        for (s, t) in edges(a).chain(edges(b)) {
+            if separated(ek.cross(t - s)) {
+                return false;
+            }
+        }
+        for &s in a.iter() {
+            for &t in b.iter() {
+                if separated(ek.cross(t - s)) {
+                    return false;
+                }
+            }
+        }
+    }
+    true
+}

@@ -1,0 +1,649 @@
+//! Tests of the exact 3D form factors against catalogue formulas, independent quadrature
+//! and the closure of enclosures.
+
+use super::*;
+use crate::math::{atan, ln, sqrt};
+
+fn v(x: f64, y: f64, z: f64) -> DVec3 {
+    DVec3::new(x, y, z)
+}
+
+// ---- catalogue formulas (Howell, *A Catalog of Radiation Heat Transfer Configuration
+// ---- Factors*, 3rd ed.; also Siegel & Howell, Appendix C) -------------------------------
+
+/// C-11: parallel, directly opposed rectangles `a × b` at distance `c`.
+fn parallel_rectangles(a: f64, b: f64, c: f64) -> f64 {
+    let (x, y) = (a / c, b / c);
+    let (x1, y1) = (sqrt(1.0 + x * x), sqrt(1.0 + y * y));
+    2.0 / (PI * x * y)
+        * (0.5 * ln((1.0 + x * x) * (1.0 + y * y) / (1.0 + x * x + y * y))
+            + x * y1 * atan(x / y1)
+            + y * x1 * atan(y / x1)
+            - x * atan(x)
+            - y * atan(y))
+}
+
+/// C-14: from a rectangle of width `w` to a perpendicular one of height `h`, sharing an
+/// edge of length `l`.
+fn perpendicular_rectangles(w: f64, h: f64, l: f64) -> f64 {
+    let (w, h) = (w / l, h / l);
+    let (w2, h2) = (w * w, h * h);
+    let s = sqrt(w2 + h2);
+    let a = (1.0 + w2) * (1.0 + h2) / (1.0 + w2 + h2);
+    let b = w2 * (1.0 + w2 + h2) / ((1.0 + w2) * (w2 + h2));
+    let c = h2 * (1.0 + h2 + w2) / ((1.0 + h2) * (h2 + w2));
+    1.0 / (PI * w)
+        * (w * atan(1.0 / w) + h * atan(1.0 / h) - s * atan(1.0 / s)
+            + 0.25 * (ln(a) + w2 * ln(b) + h2 * ln(c)))
+}
+
+/// B-3: from a differential area to a parallel rectangle `a × b` at distance `c`, on the
+/// normal through one of its corners.
+fn point_to_parallel_rectangle(a: f64, b: f64, c: f64) -> f64 {
+    let (x, y) = (a / c, b / c);
+    let (x1, y1) = (sqrt(1.0 + x * x), sqrt(1.0 + y * y));
+    1.0 / (2.0 * PI) * (x / x1 * atan(y / x1) + y / y1 * atan(x / y1))
+}
+
+/// Rectangle `[0, a] × [0, b]` in the plane `z`, facing `+z` (`up`) or `−z`.
+fn rect_z(a: f64, b: f64, z: f64, up: bool) -> [DVec3; 4] {
+    let r = [v(0., 0., z), v(a, 0., z), v(a, b, z), v(0., b, z)];
+    if up { r } else { [r[0], r[3], r[2], r[1]] }
+}
+
+#[test]
+fn parallel_unit_squares() {
+    let f = polygon_to_polygon(&rect_z(1., 1., 0., true), &rect_z(1., 1., 1., false));
+    let exact = parallel_rectangles(1., 1., 1.);
+    assert!((exact - 0.19982).abs() < 5e-6);
+    assert!((f - exact).abs() < 1e-10, "{f} vs {exact}");
+}
+
+/// Source `[0, w] × [0, l]` in `z = 0` facing up, target in `x = 0`, `y ∈ [0, l]`,
+/// `z ∈ [0, h]`, facing `+x`: they share the edge `x = z = 0`.
+fn perpendicular_pair(w: f64, h: f64, l: f64) -> ([DVec3; 4], [DVec3; 4]) {
+    let src = [v(0., 0., 0.), v(w, 0., 0.), v(w, l, 0.), v(0., l, 0.)];
+    let tgt = [v(0., 0., 0.), v(0., l, 0.), v(0., l, h), v(0., 0., h)];
+    (src, tgt)
+}
+
+#[test]
+fn perpendicular_unit_squares_sharing_an_edge() {
+    let (src, tgt) = perpendicular_pair(1., 1., 1.);
+    let f = polygon_to_polygon(&src, &tgt);
+    let exact = perpendicular_rectangles(1., 1., 1.);
+    assert!((exact - 0.20004).abs() < 5e-6);
+    assert!((f - exact).abs() < 1e-9, "{f} vs {exact}");
+    // Reciprocity of equal areas.
+    assert!((polygon_to_polygon(&tgt, &src) - f).abs() < 1e-14);
+}
+
+#[test]
+fn catalogue_rectangles() {
+    // Tolerance 1e-10: the closed forms on both sides agree to rounding (~1e-14).
+    for &(a, b, c) in &[
+        (2.0, 1.0, 1.0),
+        (0.3, 5.0, 0.7),
+        (10.0, 10.0, 0.1),
+        (0.1, 0.2, 3.0),
+    ] {
+        let f = polygon_to_polygon(&rect_z(a, b, 0., true), &rect_z(a, b, c, false));
+        let exact = parallel_rectangles(a, b, c);
+        assert!(
+            (f - exact).abs() < 1e-10,
+            "C-11 {a}×{b} at {c}: {f} vs {exact}"
+        );
+    }
+    for &(w, h, l) in &[
+        (1.0, 2.0, 1.0),
+        (0.2, 3.0, 1.5),
+        (4.0, 0.1, 0.5),
+        (1.0, 1.0, 7.0),
+    ] {
+        let (src, tgt) = perpendicular_pair(w, h, l);
+        let f = polygon_to_polygon(&src, &tgt);
+        let exact = perpendicular_rectangles(w, h, l);
+        assert!(
+            (f - exact).abs() < 1e-10,
+            "C-14 {w}, {h}, {l}: {f} vs {exact}"
+        );
+    }
+}
+
+#[test]
+fn point_to_rectangle_catalogue() {
+    for &(a, b, c) in &[(1.0, 1.0, 1.0), (2.0, 0.5, 0.3), (0.01, 3.0, 2.0)] {
+        let f = point_to_polygon(DVec3::ZERO, DVec3::Z, &rect_z(a, b, c, false));
+        let exact = point_to_parallel_rectangle(a, b, c);
+        assert!(
+            (f - exact).abs() < 1e-14,
+            "B-3 {a}×{b} at {c}: {f} vs {exact}"
+        );
+    }
+    // Facing away, behind, coplanar: nothing.
+    assert_eq!(
+        point_to_polygon(DVec3::ZERO, DVec3::Z, &rect_z(1., 1., 1., true)),
+        0.0
+    );
+    assert_eq!(
+        point_to_polygon(DVec3::ZERO, -DVec3::Z, &rect_z(1., 1., 1., false)),
+        0.0
+    );
+    assert_eq!(
+        point_to_polygon(v(2., 2., 0.), DVec3::Z, &rect_z(1., 1., 0., true)),
+        0.0
+    );
+    // A tilted normal sees only the part above its horizon: with normal +x, the square
+    // [−1, 1]² at height 1 counts as its half x > 0.
+    let full = [
+        v(-1., -1., 1.),
+        v(-1., 1., 1.),
+        v(1., 1., 1.),
+        v(1., -1., 1.),
+    ];
+    let half = [v(0., -1., 1.), v(0., 1., 1.), v(1., 1., 1.), v(1., -1., 1.)];
+    let n = v(1., 0., 0.);
+    let f_full = point_to_polygon(DVec3::ZERO, n, &full);
+    let f_half = point_to_polygon(DVec3::ZERO, n, &half);
+    assert!(f_full > 0.0 && (f_full - f_half).abs() < 1e-15);
+}
+
+// ---- independent quadrature -----------------------------------------------------------
+
+/// Gauss–Legendre nodes and weights on [0, 1], 12 points.
+fn gauss_legendre_01() -> ([f64; 12], [f64; 12]) {
+    // Symmetric nodes on [−1, 1] (positive half) and weights, from Abramowitz & Stegun 25.4.
+    let x = [
+        0.125_233_408_511_468_9,
+        0.367_831_498_998_180_2,
+        0.587_317_954_286_617_4,
+        0.769_902_674_194_304_7,
+        0.904_117_256_370_474_9,
+        0.981_560_634_246_719_3,
+    ];
+    let w = [
+        0.249_147_045_813_402_8,
+        0.233_492_536_538_354_8,
+        0.203_167_426_723_065_9,
+        0.160_078_328_543_346_2,
+        0.106_939_325_995_318_4,
+        0.047_175_336_386_511_8,
+    ];
+    let mut nodes = [0.0; 12];
+    let mut weights = [0.0; 12];
+    for k in 0..6 {
+        nodes[k] = 0.5 * (1.0 - x[k]);
+        nodes[11 - k] = 0.5 * (1.0 + x[k]);
+        weights[k] = 0.5 * w[k];
+        weights[11 - k] = 0.5 * w[k];
+    }
+    (nodes, weights)
+}
+
+/// `∫_0^1 g` by composite 12-point Gauss–Legendre on pieces graded geometrically towards 0
+/// (ratio 0.2, 20 levels) when `graded`, else on 4 equal pieces.
+fn integrate_01(g: &mut impl FnMut(f64) -> f64, graded: bool) -> f64 {
+    let (x, w) = gauss_legendre_01();
+    let mut cuts = [0.0; 22];
+    let n_cuts = if graded {
+        for (k, c) in cuts.iter_mut().enumerate().take(21).skip(1) {
+            *c = libm::pow(0.2, (21 - k) as f64);
+        }
+        cuts[21] = 1.0;
+        22
+    } else {
+        for (k, c) in cuts.iter_mut().enumerate().take(5) {
+            *c = k as f64 / 4.0;
+        }
+        5
+    };
+    let mut s = KahanSum::new();
+    for p in cuts[..n_cuts].windows(2) {
+        let (a, b) = (p[0], p[1]);
+        for k in 0..12 {
+            s.add((b - a) * w[k] * g(a + (b - a) * x[k]));
+        }
+    }
+    s.total()
+}
+
+/// `F_ij` by quadrature of `point_to_polygon` over the source, first clipped to the
+/// target's front (elsewhere the integrand vanishes, with a kink along the cut) and then
+/// fan-triangulated: each triangle `(a, b, c)` is mapped from `[0, 1]²` by
+/// `x = (1 − v)(a + s (b − a)) + v c`, graded towards the side `v = 0` (the edge `a b`, the
+/// source's first, so put a shared edge there) and towards both ends in `s`.
+fn quadrature(full: &[DVec3], tgt: &[DVec3]) -> f64 {
+    let plane = Plane::of(full).unwrap();
+    let pt = Plane::of(tgt).unwrap();
+    let mut src = Vec::new();
+    HalfSpace {
+        origin: pt.origin,
+        normal: pt.normal,
+        tol: 1e-12,
+    }
+    .for_each_clipped_edge(full, |a, _| src.push(a));
+    if src.len() < 3 {
+        return 0.0;
+    }
+    let mut total = 0.0;
+    for k in 1..src.len() - 1 {
+        // Fan from the far end of edge 0 so that triangle k = 1 has edge 0 as its side ab.
+        let (a, b, c) = if k == 1 {
+            (src[0], src[1], src[2])
+        } else {
+            (src[0], src[k], src[k + 1])
+        };
+        let twice = (b - a).cross(c - a).length();
+        let mut outer = |vv: f64| {
+            let mut inner = |s: f64| {
+                let x = (1.0 - vv) * (a + s * (b - a)) + vv * c;
+                point_to_polygon(x, plane.normal, tgt)
+            };
+            let half = |g: &mut dyn FnMut(f64) -> f64| {
+                // Graded towards both ends: split at 1/2 and mirror.
+                0.5 * integrate_01(&mut |t| g(0.5 * t), true)
+                    + 0.5 * integrate_01(&mut |t| g(1.0 - 0.5 * t), true)
+            };
+            twice * (1.0 - vv) * half(&mut inner)
+        };
+        total += integrate_01(&mut outer, true);
+    }
+    total / plane.area
+}
+
+#[test]
+fn general_pairs_match_quadrature() {
+    // Tilted, skew, partly clipped and touching configurations; quadrature tolerance
+    // 1e-10 (graded Gauss–Legendre on a smooth or log-singular integrand).
+    let tri = [v(0., 0., 0.), v(1., 0.2, 0.), v(0.3, 0.9, 0.1)];
+    // A planar quad `o + a u + b w` over the corners of [−1, 1]², clockwise in (a, b) so it
+    // faces along −(u × w).
+    let quad = |o: DVec3, u: DVec3, w: DVec3| [o - u - w, o - u + w, o + u + w, o + u - w];
+    // Above, tilted and rotated: skew edge pairs.
+    let far = quad(v(0.5, 0.4, 1.2), v(0.6, 0.1, 0.2), v(-0.1, 0.5, 0.15));
+    // Crossing the source's plane (clipped), leaning over it.
+    let crossing = quad(v(1.2, 0.4, 0.3), v(0.1, 0.7, 0.0), v(-0.3, 0.0, 0.9));
+    // Sharing the source's first edge (reversed), hinged at an oblique angle.
+    let hinge = [v(1., 0.2, 0.), v(0., 0., 0.), v(0.4, 0.3, 0.8)];
+    for tgt in [&far[..], &crossing[..], &hinge[..]] {
+        let f = polygon_to_polygon(&tri, tgt);
+        let q = quadrature(&tri, tgt);
+        assert!(f > 0.0);
+        assert!((f - q).abs() < 1e-10, "{f} vs {q}");
+    }
+    // The hinge once more against mpmath's tanh-sinh quadrature of the same integral at
+    // 30 digits: 0.354226041965558392896…; closed forms only, so rounding-level agreement.
+    let f = polygon_to_polygon(&tri, &hinge);
+    assert!((f - 0.354_226_041_965_558_4).abs() < 1e-14, "{f}");
+}
+
+#[test]
+fn random_pairs_match_quadrature_and_reciprocity() {
+    use rand_core::Rng;
+    let mut rng = rand_pcg::Pcg64::new(2002, 0);
+    let mut uniform = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    let mut checked = 0;
+    for _ in 0..60 {
+        // Two random planar polygons: a triangle and a parallelogram around random centres,
+        // at least 0.5 apart so the quadrature's integrand stays smooth (it then agrees to
+        // about 1e-15; the tolerance leaves room for other seeds).
+        let mut point = || v(uniform(), uniform(), uniform()) * 2.0 - DVec3::ONE;
+        let mut tri = [point(), point(), point()];
+        let (o, u, w) = (point() * 2.0, point() * 0.5, point() * 0.5);
+        let mut quad = [o - u - w, o + u - w, o + u + w, o - u + w];
+        // Turn each to face the other's centre (they may still be partly clipped).
+        if let (Some(pt), Some(pq)) = (Plane::of(&tri), Plane::of(&quad)) {
+            if pt.distance(pq.centroid) < 0.0 {
+                tri.reverse();
+            }
+            if pq.distance(pt.centroid) < 0.0 {
+                quad.reverse();
+            }
+        }
+        let (Some(pt), Some(pq)) = (Plane::of(&tri), Plane::of(&quad)) else {
+            continue;
+        };
+        if (pt.centroid - pq.centroid).length() < 0.5 + pt.radius + pq.radius {
+            continue;
+        }
+        let f = polygon_to_polygon(&tri, &quad);
+        let g = polygon_to_polygon(&quad, &tri);
+        assert!((f * pt.area - g * pq.area).abs() < 1e-13, "{f} {g}");
+        let q = quadrature(&tri, &quad);
+        assert!((f - q).abs() < 1e-12, "{f} vs {q}: {tri:?} {quad:?}");
+        checked += usize::from(f > 0.0);
+    }
+    assert!(checked >= 20, "only {checked} facing pairs");
+}
+
+// ---- enclosures -------------------------------------------------------------------------
+
+/// The unit cube, each face cut into `k × k` squares facing inwards (counter-clockwise
+/// about the inward normal), as `(points, polygons)`.
+fn cube(k: usize) -> (Vec<DVec3>, Vec<(usize, usize)>) {
+    cube_at(DVec3::ZERO, 1.0, k, true)
+}
+
+fn cube_at(origin: DVec3, side: f64, k: usize, inward: bool) -> (Vec<DVec3>, Vec<(usize, usize)>) {
+    let (x, y, z) = (DVec3::X, DVec3::Y, DVec3::Z);
+    // (corner, u, v) with u × v the inward normal.
+    let faces = [
+        (DVec3::ZERO, x, y),
+        (z, y, x),
+        (DVec3::ZERO, y, z),
+        (x, z, y),
+        (DVec3::ZERO, z, x),
+        (y, x, z),
+    ];
+    let mut points = Vec::new();
+    let mut polygons = Vec::new();
+    let h = side / k as f64;
+    for (o, u, w) in faces {
+        let (u, w) = if inward { (u, w) } else { (w, u) };
+        let o = origin + o * side;
+        for i in 0..k {
+            for j in 0..k {
+                let p = |a: usize, b: usize| o + u * (a as f64 * h) + w * (b as f64 * h);
+                polygons.push((points.len(), 4));
+                points.extend([p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1)]);
+            }
+        }
+    }
+    (points, polygons)
+}
+
+fn check_closed(ff: &FormFactors, row_tol: f64) {
+    assert!(!ff.has_background(), "deficit {}", ff.max_row_deficit());
+    let n = ff.n_states();
+    let w = ff.weights();
+    for i in 0..n {
+        let row = crate::math::sum((0..n).map(|j| ff.get(i, j)));
+        assert!((row - 1.0).abs() < row_tol, "row {i}: {row}");
+        for j in 0..n {
+            let (a, b) = (w[i] * ff.get(i, j), w[j] * ff.get(j, i));
+            assert!(
+                (a - b).abs() <= 1e-12 * a.max(b).max(1e-300),
+                "({i},{j}) {a} {b}"
+            );
+        }
+    }
+}
+
+#[test]
+fn subdivided_cube_is_closed() {
+    for k in [1, 2, 5] {
+        let (points, polygons) = cube(k);
+        let ff = form_factors_unoccluded(&points, &polygons).unwrap();
+        check_closed(&ff, 1e-9);
+        assert!(!may_be_occluded(&points, &polygons));
+    }
+    // Opposite faces of the cube: C-11 with a = b = c.
+    let (points, polygons) = cube(1);
+    let ff = form_factors_unoccluded(&points, &polygons).unwrap();
+    assert!((ff.get(0, 1) - parallel_rectangles(1., 1., 1.)).abs() < 1e-10);
+    assert!((ff.get(0, 2) - perpendicular_rectangles(1., 1., 1.)).abs() < 1e-9);
+}
+
+#[test]
+fn cube_600_patches_table_3_2() {
+    // Thesis Table 3.2 (10⁹ global lines): H_S = 7.838, I_S = 1.391, H_P = 9.229.
+    let (points, polygons) = cube(10);
+    let ff = form_factors_unoccluded(&points, &polygons).unwrap();
+    check_closed(&ff, 1e-9);
+    // The rounding bound of the module docs: a few ulps of Σ|J_pq| / (2π A_i) stay below
+    // 1e-12 (corner and middle patches against all others).
+    for i in [0, 45] {
+        let (src, ps) = (
+            &points[4 * i..4 * i + 4],
+            Plane::of(&points[4 * i..4 * i + 4]).unwrap(),
+        );
+        for j in 0..600 {
+            let tgt = &points[4 * j..4 * j + 4];
+            let (_, magnitude) = pair_flux(src, &ps, tgt, &Plane::of(tgt).unwrap());
+            assert!(16.0 * f64::EPSILON * magnitude / ps.area < 1e-12);
+        }
+    }
+    let m = ff.channel().unwrap().measures();
+    assert!((m.h_p - crate::math::log2(600.0)).abs() < 1e-12);
+    assert!((m.h_s - 7.838).abs() < 1.5e-3, "H_S = {}", m.h_s);
+    assert!((m.i_s - 1.391).abs() < 1.5e-3, "I_S = {}", m.i_s);
+}
+
+/// A convex polyhedron's faces, oriented inwards, from its vertices and vertex triples.
+fn solid(vertices: &[DVec3], faces: &[[usize; 3]]) -> (Vec<DVec3>, Vec<(usize, usize)>) {
+    let centre = vertices.iter().copied().sum::<DVec3>() / vertices.len() as f64;
+    let mut points = Vec::new();
+    let mut polygons = Vec::new();
+    for f in faces {
+        let (a, mut b, mut c) = (vertices[f[0]], vertices[f[1]], vertices[f[2]]);
+        if (b - a).cross(c - a).dot(centre - a) < 0.0 {
+            core::mem::swap(&mut b, &mut c);
+        }
+        polygons.push((points.len(), 3));
+        points.extend([a, b, c]);
+    }
+    (points, polygons)
+}
+
+fn tetrahedron() -> (Vec<DVec3>, Vec<(usize, usize)>) {
+    let vs = [
+        v(1., 1., 1.),
+        v(1., -1., -1.),
+        v(-1., 1., -1.),
+        v(-1., -1., 1.),
+    ];
+    solid(&vs, &[[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]])
+}
+
+#[test]
+fn regular_tetrahedron() {
+    // F_ij = 1/3 by symmetry and closure; Table 4.5: I_S = log₂ 4 − log₂ 3 = 0.415.
+    let (points, polygons) = tetrahedron();
+    let ff = form_factors_unoccluded(&points, &polygons).unwrap();
+    for i in 0..4 {
+        for j in 0..4 {
+            let expect = if i == j { 0.0 } else { 1.0 / 3.0 };
+            assert!(
+                (ff.get(i, j) - expect).abs() < 1e-12,
+                "F[{i}][{j}] = {}",
+                ff.get(i, j)
+            );
+        }
+    }
+    let m = ff.channel().unwrap().measures();
+    assert!((m.i_s - (2.0 - crate::math::log2(3.0))).abs() < 1e-11);
+    assert!((m.i_s - 0.415).abs() < 5e-4);
+    assert!(!may_be_occluded(&points, &polygons));
+}
+
+/// Each triangle cut into `4^level` by midpoints, keeping its orientation.
+fn subdivide(
+    points: &[DVec3],
+    polygons: &[(usize, usize)],
+    level: u32,
+) -> (Vec<DVec3>, Vec<(usize, usize)>) {
+    let mut tris: Vec<[DVec3; 3]> = polygons
+        .iter()
+        .map(|&(f, _)| [points[f], points[f + 1], points[f + 2]])
+        .collect();
+    for _ in 0..level {
+        tris = tris
+            .iter()
+            .flat_map(|&[a, b, c]| {
+                let (ab, bc, ca) = ((a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5);
+                [[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]
+            })
+            .collect();
+    }
+    let polygons = (0..tris.len()).map(|k| (3 * k, 3)).collect();
+    (tris.into_iter().flatten().collect(), polygons)
+}
+
+#[test]
+fn subdivided_tetrahedron_is_closed() {
+    // 64 triangles: oblique touching pairs (shared vertices and edges across faces) and
+    // skew pairs by quadrature.
+    let (points, polygons) = tetrahedron();
+    let (points, polygons) = subdivide(&points, &polygons, 2);
+    let ff = form_factors_unoccluded(&points, &polygons).unwrap();
+    check_closed(&ff, 1e-10);
+    assert!(!may_be_occluded(&points, &polygons));
+}
+
+#[test]
+fn additivity_over_split_patches() {
+    // (2.10) F_i(k∪l) = F_ik + F_il and (2.12) A_i F_ij = Σ A_ik F_ik,j, with a target that
+    // crosses the source's plane and is cut there and elsewhere.
+    let src = [v(0., 0., 0.), v(1., 0., 0.), v(1., 1., 0.), v(0., 1., 0.)];
+    let quad = |o: DVec3, u: DVec3, w: DVec3| [o - u - w, o - u + w, o + u + w, o + u - w];
+    let (o, u, w) = (v(1.3, 0.5, 0.2), v(0., 0.6, 0.), v(-0.2, 0., 0.7));
+    let tgt = quad(o, u, w);
+    // Halves of the target along its w axis, one cut exactly at the source's plane.
+    let s = -o.z / w.z; // o + s w lies in z = 0
+    let lower = [o - u - w, o - u + s * w, o + u + s * w, o + u - w];
+    let upper = [o - u + s * w, o - u + w, o + u + w, o + u + s * w];
+    let f = polygon_to_polygon(&src, &tgt);
+    let parts = polygon_to_polygon(&src, &lower) + polygon_to_polygon(&src, &upper);
+    assert!(f > 0.0 && (f - parts).abs() < 1e-13, "{f} vs {parts}");
+    assert!(polygon_to_polygon(&src, &lower) < 1e-12);
+    // Source quarters: A_i F_ij = Σ_k A_k F_kj.
+    let mut sum = 0.0;
+    for (x, y) in [(0., 0.), (0.5, 0.), (0., 0.5), (0.5, 0.5)] {
+        let q = [
+            v(x, y, 0.),
+            v(x + 0.5, y, 0.),
+            v(x + 0.5, y + 0.5, 0.),
+            v(x, y + 0.5, 0.),
+        ];
+        sum += 0.25 * polygon_to_polygon(&q, &tgt);
+    }
+    assert!((f - sum).abs() < 1e-13, "{f} vs {sum}");
+}
+
+#[test]
+fn octahedron_is_closed() {
+    // Adjacent faces share an edge at an oblique angle, others a vertex: skew and
+    // coplanar-intersecting edge pairs.
+    let vs = [
+        v(1., 0., 0.),
+        v(-1., 0., 0.),
+        v(0., 1., 0.),
+        v(0., -1., 0.),
+        v(0., 0., 1.),
+        v(0., 0., -1.),
+    ];
+    let mut faces = Vec::new();
+    for &x in &[0, 1] {
+        for &y in &[2, 3] {
+            for &z in &[4, 5] {
+                faces.push([x, y, z]);
+            }
+        }
+    }
+    let (points, polygons) = solid(&vs, &faces);
+    let ff = form_factors_unoccluded(&points, &polygons).unwrap();
+    check_closed(&ff, 1e-12);
+    assert!(!may_be_occluded(&points, &polygons));
+}
+
+#[test]
+fn spherical_patches_are_independent() {
+    let ff = spherical_patches(&[1.0; 8]).unwrap();
+    let m = ff.channel().unwrap().measures();
+    assert!(m.i_s.abs() < 1e-14);
+    assert!((m.h_s - 3.0).abs() < 1e-14 && (m.h_p - 3.0).abs() < 1e-14);
+    assert!((m.h_j - 2.0 * m.h_s).abs() < 1e-14);
+    // Unequal areas: still independent, H_S = H_P.
+    let ff = spherical_patches(&[1.0, 2.0, 0.5, 3.5]).unwrap();
+    let m = ff.channel().unwrap().measures();
+    assert!(m.i_s.abs() < 1e-14 && (m.h_s - m.h_p).abs() < 1e-14);
+    assert!(spherical_patches(&[]).is_err() && spherical_patches(&[1.0, -1.0]).is_err());
+}
+
+#[test]
+fn room_with_box_may_be_occluded() {
+    let (mut points, mut polygons) = cube_at(DVec3::ZERO, 4.0, 3, true);
+    assert!(!may_be_occluded(&points, &polygons));
+    let (bp, bq) = cube_at(v(1.5, 1.5, 1.5), 0.5, 1, false);
+    let offset = points.len();
+    points.extend(bp);
+    polygons.extend(bq.into_iter().map(|(f, c)| (f + offset, c)));
+    assert!(may_be_occluded(&points, &polygons));
+    // The box alone, seen from outside, hides nothing from itself.
+    let (bp, bq) = cube_at(v(1.5, 1.5, 1.5), 0.5, 2, false);
+    assert!(!may_be_occluded(&bp, &bq));
+}
+
+#[test]
+fn open_scene_gets_background() {
+    // Two facing unit squares: rows lose 1 − 0.19982 each.
+    let mut points = Vec::from(rect_z(1., 1., 0., true));
+    points.extend(rect_z(1., 1., 1., false));
+    let ff = form_factors_unoccluded(&points, &[(0, 4), (4, 4)]).unwrap();
+    assert!(ff.has_background() && ff.n_states() == 3);
+    assert!((ff.max_row_deficit() - (1.0 - parallel_rectangles(1., 1., 1.))).abs() < 1e-10);
+}
+
+#[test]
+fn invalid_polygons_are_errors() {
+    let pts = [v(0., 0., 0.), v(1., 0., 0.), v(2., 0., 0.)];
+    assert!(form_factors_unoccluded(&pts, &[(0, 2)]).is_err());
+    assert!(form_factors_unoccluded(&pts, &[(1, 3)]).is_err());
+    assert!(form_factors_unoccluded(&pts, &[(0, 3)]).is_err()); // collinear: zero area
+    assert!(may_be_occluded(&pts, &[(0, 3)]));
+    assert_eq!(polygon_to_polygon(&pts, &rect_z(1., 1., 1., false)), 0.0);
+}
+
+#[test]
+fn facing_rules() {
+    let lower = rect_z(1., 1., 0., true);
+    // Back to back, same side, coplanar.
+    assert_eq!(polygon_to_polygon(&lower, &rect_z(1., 1., 1., true)), 0.0);
+    assert_eq!(
+        polygon_to_polygon(&rect_z(1., 1., 0., false), &rect_z(1., 1., 1., false)),
+        0.0
+    );
+    let beside = [v(1., 0., 0.), v(2., 0., 0.), v(2., 1., 0.), v(1., 1., 0.)];
+    assert_eq!(polygon_to_polygon(&lower, &beside), 0.0);
+}
+
+/// Timing and Table 3.2 values: `cargo test --release -p sceneinfo --lib cube_timing --
+/// --ignored --nocapture`.
+#[test]
+#[ignore = "timing report; run in release"]
+fn cube_timing() {
+    for k in [10, 20] {
+        let (points, polygons) = cube(k);
+        let t = std::time::Instant::now();
+        let ff = form_factors_unoccluded(&points, &polygons).unwrap();
+        let dt = t.elapsed();
+        let t = std::time::Instant::now();
+        let occluded = may_be_occluded(&points, &polygons);
+        let dt_occ = t.elapsed();
+        let m = ff.channel().unwrap().measures();
+        let worst = (0..ff.n_states())
+            .map(|i| (crate::math::sum((0..ff.n_states()).map(|j| ff.get(i, j))) - 1.0).abs())
+            .fold(0.0, f64::max);
+        std::println!(
+            "cube {} patches: {dt:?} (occlusion test {dt_occ:?}, {occluded}); H_S = {:.4}, I_S = {:.4}, H_P = {:.4}; max |row − 1| = {worst:e}",
+            6 * k * k,
+            m.h_s,
+            m.i_s,
+            m.h_p
+        );
+    }
+    for level in [3, 4] {
+        let (points, polygons) = tetrahedron();
+        let (points, polygons) = subdivide(&points, &polygons, level);
+        let t = std::time::Instant::now();
+        let ff = form_factors_unoccluded(&points, &polygons).unwrap();
+        let dt = t.elapsed();
+        let m = ff.channel().unwrap().measures();
+        std::println!(
+            "tetrahedron {} triangles: {dt:?}; I_S = {:.4}, max deficit {:e}",
+            polygons.len(),
+            m.i_s,
+            ff.max_row_deficit()
+        );
+    }
+}
