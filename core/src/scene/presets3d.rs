@@ -39,8 +39,8 @@ pub use cornell::{
     CORNELL_BLOCK_LIFT, CORNELL_GREEN, CORNELL_LIGHT, CORNELL_RED, CORNELL_ROOM, CORNELL_WHITE,
 };
 pub use cubes::{
-    CUBE_ROOM_GRID, CUBE_ROOM_SIDE, CUBE_ROOM_SPACING, MAX_CUBES_PER_SIDE, PRESET_SEED,
-    SIXTY_FOUR_CUBES_SIDE, SIXTY_FOUR_CUBES_STEPS,
+    CUBE_ROOM_GRID, CUBE_ROOM_MIN_GAP, CUBE_ROOM_SIDE, CUBE_ROOM_SPACING, MAX_CUBES_PER_SIDE,
+    PRESET_SEED, SIXTY_FOUR_CUBES_GAPS, SIXTY_FOUR_CUBES_SIDE, SIXTY_FOUR_CUBES_STEPS,
 };
 pub use furniture::{FURNITURE_GAP, TABLE_ROOM};
 pub use solids::MAX_SPHERE_LEVEL;
@@ -121,7 +121,7 @@ static PRESETS_3D: &[Preset3Entry] = &[
     entry!(
         "cornell-lifted",
         "Table 4.1 (footnote), Table 4.6",
-        "Cornell box with both blocks lifted 1% of the room height from the floor"
+        "Cornell box with both blocks lifted 0.2% of the room height from the floor"
     ),
     entry!(
         "cubes-27-random",
@@ -271,7 +271,7 @@ static PRESETS_3D: &[Preset3Entry] = &[
     entry!(
         "table-chairs-f",
         "Fig. 4.2f, Table 4.2",
-        "10 × 10 × 3 room, 16 tables with chairs spread evenly over the floor"
+        "10 × 10 × 3 room, 16 tables with chairs spread evenly from wall to wall"
     ),
     entry!(
         "sphere-1",

@@ -187,9 +187,13 @@ impl Scene {
     /// Vertices: tetrahedron `(1,1,1), (1,−1,−1), (−1,1,−1), (−1,−1,1)`; cube
     /// `(±1,±1,±1)`; octahedron `±e_x, ±e_y, ±e_z`; icosahedron `(0, ±1, ±φ)` and its
     /// cyclic permutations; dodecahedron `(±1,±1,±1)` and `(0, ±1/φ, ±φ)` with its cyclic
-    /// permutations (φ the golden ratio), each scaled to unit length. Faces are the convex hull's. One object,
-    /// [`ENCLOSURE`], material [`ENCLOSURE_MATERIAL`]. (The unit cube of [`Scene::cube`] is
-    /// the same scene up to scale, which no visibility measure sees.)
+    /// permutations (φ the golden ratio), each scaled to unit length. Faces are the convex
+    /// hull's. One object, [`ENCLOSURE`], material [`ENCLOSURE_MATERIAL`]. (The unit cube of
+    /// [`Scene::cube`] is the same scene up to scale, which no visibility measure sees.)
+    ///
+    /// Global lines (10⁵) give `I_S^c` = 2.61, 1.62, 1.24, 0.81, 0.56 for the tetrahedron,
+    /// cube, octahedron, dodecahedron and icosahedron (thesis: 2.626, 1.609, 1.258, 0.825,
+    /// 0.543), and 0.004 for [`Scene::sphere`]`(4)` (thesis: 0 for the sphere).
     ///
     /// # Errors
     /// [`ErrorKind::UnknownPreset`] for another name; the builder's errors for a bad `s`.

@@ -173,6 +173,56 @@ fn check_separated(scene: &Scene, lo: DVec3, hi: DVec3, min_gap: f64, floor: (us
     }
 }
 
+/// Casts `lines` random lines through the scene (through two uniform points of a sphere
+/// around it) and checks what closed, consistently oriented surfaces imply: along each line
+/// the faces met alternate between being crossed from behind (`d · n > 0`: leaving a solid,
+/// or entering the room through its back) and from the front, starting from behind and
+/// ending at a front, so every free segment joins two faces that face it.
+fn check_lines(scene: &Scene, lines: u64, seed: u64) {
+    let (lo, hi) = scene.bounds();
+    let (centre, radius) = (0.5 * (lo + hi), (hi - lo).length());
+    let mut rng = crate::lines::chunk_rng(seed, 0);
+    let mut sphere = || {
+        let z = 1.0 - 2.0 * crate::lines::canonical(&mut rng);
+        let phi = 2.0 * core::f64::consts::PI * crate::lines::canonical(&mut rng);
+        let r = math::sqrt((1.0 - z * z).max(0.0));
+        centre + radius * DVec3::new(r * math::cos(phi), r * math::sin(phi), z)
+    };
+    for line in 0..lines {
+        let (o, d) = {
+            let (p, q) = (sphere(), sphere());
+            (p, q - p)
+        };
+        let mut hits: Vec<(f64, bool)> = Vec::new();
+        for (f, face) in scene.faces().iter().enumerate() {
+            let v = scene.face_vertices(f);
+            let n = face.normal;
+            let dn = d.dot(n);
+            if dn == 0.0 {
+                continue;
+            }
+            let t = (v[0] - o).dot(n) / dn;
+            let x = o + d * t;
+            let inside = (0..v.len()).all(|k| {
+                let (a, b) = (v[k], v[(k + 1) % v.len()]);
+                (b - a).cross(x - a).dot(n) > 0.0
+            });
+            if inside {
+                hits.push((t, dn > 0.0));
+            }
+        }
+        hits.sort_by(|a, b| a.0.total_cmp(&b.0));
+        assert!(
+            hits.len().is_multiple_of(2),
+            "line {line}: {} hits",
+            hits.len()
+        );
+        for (k, &(t, behind)) in hits.iter().enumerate() {
+            assert_eq!(behind, k % 2 == 0, "line {line}: hit {k} at t = {t}");
+        }
+    }
+}
+
 /// Positional entropy `H_P = −Σ a_i log₂ a_i` (thesis (3.4)).
 fn positional_entropy(scene: &Scene) -> f64 {
     let a_t = scene.total_area();
@@ -357,7 +407,7 @@ fn cornell_box_geometry() {
             if grid <= 2 {
                 check_closed(&s);
             }
-            let up = (1, if lifted { 5.488 - 1e-9 } else { 0.0 });
+            let up = (1, if lifted { 1.0976 - 1e-9 } else { 0.0 });
             check_separated(&s, DVec3::ZERO, DVec3::from(CORNELL_ROOM), 1.0, up);
             let light = s
                 .patches()
@@ -405,7 +455,7 @@ fn cube_rooms_reproduce_the_thesis_positional_entropy() {
             assert!((positional_entropy(&s) - h_p).abs() < 1.5e-3, "{m}");
             check_orientation(&s, DVec3::splat(0.5));
             check_vector_areas(&s, true);
-            let gap = CUBE_ROOM_SPACING - 1e-12;
+            let gap = CUBE_ROOM_MIN_GAP - 1e-12;
             check_separated(&s, DVec3::ZERO, DVec3::ONE, gap, (2, gap));
         }
     }
@@ -451,21 +501,21 @@ fn sixty_four_cubes_expand_from_the_centre_to_the_walls() {
                 &scene,
                 DVec3::ZERO,
                 DVec3::ONE,
-                0.01 * s - 1e-12,
-                (2, 0.01 * s - 1e-12),
+                0.1 * s - 1e-12,
+                (2, 0.1 * s - 1e-12),
             );
         }
     }
-    // The ends: neighbours 1% of a side apart at step 0, outer cubes 1% from the walls at 8.
+    // The ends: neighbours s/10 apart at step 0, outer cubes s/8 from the walls at step 8.
     let first = objects(&Scene::sixty_four_cubes(0, false).unwrap());
-    assert!((gap(&first[0], &first[1]) - 0.01 * s).abs() < 1e-12);
+    assert!((gap(&first[0], &first[1]) - 0.1 * s).abs() < 1e-12);
     let last = Scene::sixty_four_cubes(8, true).unwrap();
     let (lo, hi) = objects(&last)
         .iter()
         .flat_map(|o| o.0.clone())
         .fold((DVec3::ONE, DVec3::ZERO), |(l, h), p| (l.min(p), h.max(p)));
-    assert!((lo - DVec3::splat(0.01 * s)).abs().max_element() < 1e-12);
-    assert!((hi - DVec3::splat(1.0 - 0.01 * s)).abs().max_element() < 1e-12);
+    assert!((lo - DVec3::splat(0.125 * s)).abs().max_element() < 1e-12);
+    assert!((hi - DVec3::splat(1.0 - 0.125 * s)).abs().max_element() < 1e-12);
     check_closed(&Scene::sixty_four_cubes(0, false).unwrap());
     assert!(matches!(
         kind(Scene::sixty_four_cubes(SIXTY_FOUR_CUBES_STEPS, false)),
@@ -506,7 +556,9 @@ fn tables_and_chairs_in_six_arrangements() {
             .map(|p| p.x.min(p.y).min(room.x - p.x).min(room.y - p.y))
             .fold(f64::INFINITY, f64::min)
     };
-    assert!((near('d') - 0.1).abs() < 1e-9 && (near('e') - 0.1).abs() < 1e-9);
+    for letter in ['d', 'e', 'f'] {
+        assert!((near(letter) - 0.1).abs() < 1e-9, "{letter}");
+    }
     assert!(near('c') > 1.0);
     check_closed(&Scene::table_and_chairs_room('a').unwrap());
     assert!(matches!(
@@ -523,6 +575,7 @@ fn every_listed_preset_builds_by_name() {
         let s = preset_3d(e.name, 2).unwrap_or_else(|err| panic!("{}: {err}", e.name));
         assert!(s.n_patches() > 0);
         check_vector_areas(&s, !e.name.starts_with("cornell"));
+        check_lines(&s, 200, 3);
     }
     assert_eq!(preset_3d("cube", 10).unwrap().n_patches(), 600);
     assert_eq!(preset_3d("cubes-512-random", 0).unwrap().n_patches(), 3672);
@@ -558,4 +611,37 @@ fn every_listed_preset_builds_by_name() {
         kind(preset_3d("cube", 1000)),
         ErrorKind::TooManyPatches { .. }
     ));
+}
+
+/// The unit cube room with face `skip` left out, or reversed if `flip`.
+fn broken_cube(skip: usize, flip: bool) -> Scene {
+    let mut b = Scene::builder();
+    b.object(ENCLOSURE);
+    for (k, f) in box_faces(DVec3::ZERO, DVec3::ONE).iter().enumerate() {
+        let facing = DVec3::splat(0.5) - vertex_mean(f);
+        if k != skip {
+            add_facing(&mut b, f, facing, Subdivision::Grid(2)).unwrap();
+        } else if flip {
+            add_facing(&mut b, f, -facing, Subdivision::Grid(2)).unwrap();
+        }
+    }
+    b.build().unwrap()
+}
+
+#[test]
+#[should_panic(expected = "hits")]
+fn line_check_catches_a_hole() {
+    check_lines(&broken_cube(3, false), 200, 3);
+}
+
+#[test]
+#[should_panic(expected = "hit")]
+fn line_check_catches_a_flipped_face() {
+    check_lines(&broken_cube(3, true), 200, 3);
+}
+
+#[test]
+#[should_panic(expected = "unmatched")]
+fn edge_check_catches_a_hole() {
+    check_closed(&broken_cube(0, false));
 }
