@@ -24,6 +24,8 @@ pub enum Command {
     },
     /// Measure a scene: entropies, mutual information, E(MSE), Fano bound and checks.
     Measure(MeasureArgs),
+    /// Write a scene's form-factor matrix (CSV or View3D-style text) and report its checks.
+    Formfactors(FormFactorsArgs),
     /// Recompute the thesis' tables and print ours beside theirs.
     Reproduce(ReproduceArgs),
     /// Draw a flatland scene as SVG, patches coloured by I_i, H_i, I_i^c or I_i^c − I_i, and
@@ -61,12 +63,46 @@ pub enum ScenePreset {
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
+    /// A scene of the thesis' flatland catalogue by name (`sceneinfo scene list` lists them).
+    Catalogue {
+        /// The scene's name, e.g. koch-2, l-room-3, 16-squares-4, 64-squares-a.
+        name: String,
+        /// Patches per side of the enclosure (other sides proportionally).
+        #[arg(long, default_value_t = 10)]
+        per_side: u64,
+        /// Output file (default: stdout).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
+    /// The empty unit cube, each face cut into K × K patches (writes OBJ + MTL).
+    Cube {
+        /// Patches per face edge.
+        #[arg(long, default_value_t = 10)]
+        grid: u32,
+        /// Output .obj file (its .mtl is written beside it).
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// A 3D preset by name: tetrahedron, octahedron, dodecahedron, icosahedron, cornell,
+    /// cornell-lifted, … (`sceneinfo scene list` lists them; writes OBJ + MTL).
+    Solid {
+        /// The preset's name.
+        name: String,
+        /// Subdivision of the preset's faces where it has one (K × K per quad).
+        #[arg(long, default_value_t = 1)]
+        grid: u32,
+        /// Output .obj file (its .mtl is written beside it).
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// List the names of the flatland catalogue and the 3D presets.
+    List,
 }
 
 /// Arguments of `measure`.
 #[derive(Debug, clap::Args)]
 pub struct MeasureArgs {
-    /// The scene file (.flat).
+    /// The scene file: `.flat` (flatland) or `.obj` (3D, with its `.mtl`).
     pub file: PathBuf,
     /// Print JSON instead of a table.
     #[arg(long)]
@@ -75,6 +111,14 @@ pub struct MeasureArgs {
     /// if any, last).
     #[arg(long, value_name = "F.csv")]
     pub matrix: Option<PathBuf>,
+    /// How the form factors are computed.
+    #[command(flatten)]
+    pub sampling: SamplingArgs,
+}
+
+/// Exact form factors, or Monte Carlo lines.
+#[derive(Debug, clap::Args)]
+pub struct SamplingArgs {
     /// Estimate the form factors and the continuous mutual information I_S^c by Monte Carlo
     /// with this many lines (e.g. 10000000 or 1e7). Without it, form factors are exact.
     #[arg(long, value_name = "N", value_parser = parse_count)]
@@ -88,6 +132,20 @@ pub struct MeasureArgs {
     /// Worker threads (default: all cores). Never changes the result.
     #[arg(long)]
     pub threads: Option<usize>,
+}
+
+/// Arguments of `formfactors`.
+#[derive(Debug, clap::Args)]
+pub struct FormFactorsArgs {
+    /// The scene file: `.flat` or `.obj`.
+    pub file: PathBuf,
+    /// Output: `.csv` (one row of F per line) or `.txt` (View3D style: number of states,
+    /// their relative sizes, then the rows of F).
+    #[arg(long, value_name = "F.csv|F.txt")]
+    pub out: PathBuf,
+    /// How the form factors are computed.
+    #[command(flatten)]
+    pub sampling: SamplingArgs,
 }
 
 /// Line sampling methods.

@@ -1,7 +1,8 @@
 //! The subcommands: each validates its arguments into core objects, runs, and prints.
 
 mod draw;
-mod measure;
+pub mod formfactors;
+pub mod measure;
 mod reproduce;
 mod scene;
 
@@ -14,6 +15,7 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Scene { preset } => scene::run(preset),
         Command::Measure(args) => measure::run(&args),
+        Command::Formfactors(args) => formfactors::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Draw(args) => draw::run(&args),
     }

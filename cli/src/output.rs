@@ -57,3 +57,52 @@ pub fn located(path: &Path, err: &sceneinfo::Error) -> anyhow::Error {
         None => anyhow::anyhow!("{}: {}", path.display(), err.kind()),
     }
 }
+
+/// A scene file, flatland or 3D.
+pub enum Loaded {
+    /// A `.flat` scene.
+    Flat(sceneinfo::scene::FlatScene),
+    /// A Wavefront `.obj` scene (with its `.mtl` libraries).
+    Solid(sceneinfo::scene::Scene),
+}
+
+/// Whether `path` names a Wavefront OBJ file (by extension, case-insensitive).
+pub fn is_obj(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("obj"))
+}
+
+/// Loads a `.flat` or `.obj` scene; `mtllib` names resolve relative to the OBJ's folder.
+/// Errors read `file:line: what`.
+pub fn load_scene(path: &Path) -> Result<Loaded> {
+    let text = read_text(path)?;
+    if is_obj(path) {
+        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let mtl = |name: &str| std::fs::read_to_string(dir.join(name)).ok();
+        let scene = sceneinfo::io::parse_obj(&text, sceneinfo::scene::Subdivision::None, mtl)
+            .map_err(|e| located(path, &e))?;
+        Ok(Loaded::Solid(scene))
+    } else {
+        let scene = sceneinfo::io::parse_flat(&text).map_err(|e| located(path, &e))?;
+        Ok(Loaded::Flat(scene))
+    }
+}
+
+/// Exact form factors of a 3D scene when no pair can be occluded; otherwise an error that
+/// asks for `--lines` (exact 3D form factors with occlusion are not implemented).
+pub fn exact_3d_form_factors(
+    path: &Path,
+    scene: &sceneinfo::scene::Scene,
+) -> Result<sceneinfo::formfactor::FormFactors> {
+    use sceneinfo::formfactor::exact_3d;
+    let polygons: Vec<(usize, usize)> =
+        scene.patches().iter().map(|p| (p.first, p.count)).collect();
+    if exact_3d::may_be_occluded(scene.points(), &polygons) {
+        anyhow::bail!(
+            "{}: some patches may hide others; exact 3D form factors are computed only for \
+             unoccluded scenes: use --lines N for a Monte Carlo estimate",
+            path.display()
+        );
+    }
+    exact_3d::form_factors_unoccluded(scene.points(), &polygons).map_err(|e| located(path, &e))
+}

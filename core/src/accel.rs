@@ -31,11 +31,15 @@ use crate::geom::{DVec2, Segment, cross};
 
 #[cfg(feature = "alloc")]
 mod bvh2;
+mod bvh3;
 #[cfg(all(test, feature = "std"))]
 mod tests;
 
 #[cfg(feature = "alloc")]
 pub use bvh2::{Bvh2, MAX_PRIMITIVES};
+#[cfg(feature = "alloc")]
+pub use bvh3::{Bvh3, all_hits_naive3};
+pub use bvh3::{Hit3, first_hit_naive3};
 
 #[cfg(feature = "alloc")]
 use crate::lines::Line2;

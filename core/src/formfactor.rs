@@ -19,6 +19,8 @@
 mod counts;
 #[cfg(feature = "alloc")]
 pub mod estimate_2d;
+#[cfg(feature = "alloc")]
+pub mod estimate_3d;
 pub mod exact_2d;
 pub mod exact_3d;
 #[cfg(feature = "alloc")]

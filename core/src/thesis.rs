@@ -71,6 +71,44 @@ pub const SECTION_4_5_2_QUOTES: [(&str, f64); 4] = [
     ("square advanced into a corner, Fig. 4.20(i)", 3.304),
 ];
 
+/// Tables 3.2 and 3.8: the empty unit cube cut into 10², 20², 30² patches per face (600,
+/// 2400, 5400 patches): `(patches, lines, H_S, I_S, E(MSE))` by global lines. The thesis does
+/// not state its `E(MSE)` normalisation: its values are a constant multiple of `n − ΣF²`.
+pub const TABLE_3_8: [(usize, f64, f64, f64, f64); 9] = [
+    (600, 1e7, 7.821, 1.408, 497.7),
+    (600, 1e8, 7.837, 1.392, 497.7),
+    (600, 1e9, 7.838, 1.391, 497.7),
+    (2400, 1e7, 9.420, 1.809, 2012.7),
+    (2400, 1e8, 9.705, 1.524, 2013.0),
+    (2400, 1e9, 9.731, 1.498, 2013.0),
+    (5400, 1e7, 9.684, 2.715, 4543.9),
+    (5400, 1e8, 10.708, 1.691, 4545.8),
+    (5400, 1e9, 10.852, 1.547, 4546.1),
+];
+
+/// Table 4.1: `I_S^c` of the platonic solids and the Cornell box (10⁶ global lines):
+/// `(name, I_S^c)`.
+pub const TABLE_4_1: [(&str, f64); 7] = [
+    ("sphere", 0.0),
+    ("icosahedron", 0.543),
+    ("dodecahedron", 0.825),
+    ("octahedron", 1.258),
+    ("cube", 1.609),
+    ("tetrahedron", 2.626),
+    ("Cornell box", 3.274),
+];
+
+/// Independent high-precision `I_S^c` of the regular solids quoted by the project's issue
+/// tracker (not the thesis): `(name, value, uncertainty)`. The thesis' dodecahedron and
+/// tetrahedron are off beyond their Monte Carlo error.
+pub const PLATONIC_REFERENCE: [(&str, f64, f64); 5] = [
+    ("icosahedron", 0.5425, 0.0005),
+    ("dodecahedron", 0.8135, 0.0001),
+    ("octahedron", 1.2581, 0.0005),
+    ("cube", 1.6105, 0.0005),
+    ("tetrahedron", 2.6203, 0.0005),
+];
+
 /// Half a unit in the last printed place of the tables above: the rounding error of a
 /// correct value.
 pub const TABLE_ROUNDING: f64 = 0.0005;

@@ -2,4 +2,6 @@
 
 mod catalogue;
 mod continuous;
+mod pictured3d;
 mod regular_polygons;
+mod solids;

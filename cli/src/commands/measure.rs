@@ -3,17 +3,19 @@
 
 use std::fmt::Write as _;
 use std::io::Write;
+use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Result;
 use sceneinfo::continuous::{ContinuousEstimate, relative_discretisation_error};
 use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::estimate_2d::{FlatTracer, LineMethod};
+use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, SceneReport};
 
-use crate::args::{MeasureArgs, Method};
-use crate::output::{located, read_text, write_atomic};
+use crate::args::{MeasureArgs, Method, SamplingArgs};
+use crate::output::{Loaded, located, write_atomic};
 
 /// What the Monte Carlo run adds to a report.
 struct MonteCarlo {
@@ -23,36 +25,56 @@ struct MonteCarlo {
     continuous: ContinuousEstimate,
 }
 
-pub fn run(args: &MeasureArgs) -> Result<()> {
-    let text = read_text(&args.file)?;
-    let at = |e: sceneinfo::Error| located(&args.file, &e);
-    let scene = sceneinfo::io::parse_flat(&text).map_err(at)?;
-    let start = Instant::now();
-    let (ff, mc) = match args.lines {
-        None => (exact_2d::form_factors(&scene).map_err(at)?, None),
-        Some(lines) => {
-            if lines == 0 {
-                return Err(at(sceneinfo::ErrorKind::NoLines.into()));
-            }
-            let method = match args.method {
-                Method::Global => LineMethod::Global,
-                Method::Local => LineMethod::Local,
+/// The form factors of the scene in `path`: exact (flatland with occlusion; 3D when no
+/// pair can be occluded) or, with `--lines`, Monte Carlo on the requested threads.
+pub fn form_factors_of(path: &Path, sampling: &SamplingArgs) -> Result<FormFactors> {
+    Ok(compute(path, sampling)?.0)
+}
+
+fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<MonteCarlo>)> {
+    let at = |e: sceneinfo::Error| located(path, &e);
+    let scene = crate::output::load_scene(path)?;
+    let method = match sampling.method {
+        Method::Global => LineMethod::Global,
+        Method::Local => LineMethod::Local,
+    };
+    let threads = sampling
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get));
+    Ok(match (sampling.lines, &scene) {
+        (Some(0), _) => return Err(at(sceneinfo::ErrorKind::NoLines.into())),
+        (None, Loaded::Flat(s)) => (exact_2d::form_factors(s).map_err(at)?, None),
+        (None, Loaded::Solid(s)) => (crate::output::exact_3d_form_factors(path, s)?, None),
+        (Some(lines), scene) => {
+            let est = match scene {
+                Loaded::Flat(s) => {
+                    let tracer = FlatTracer::new(s).map_err(at)?;
+                    crate::lines::run(&tracer, method, sampling.seed, lines, threads)
+                        .finish(&tracer)
+                        .map_err(at)?
+                }
+                Loaded::Solid(s) => {
+                    let tracer = SceneTracer::new(s).map_err(at)?;
+                    crate::lines::run(&tracer, method, sampling.seed, lines, threads)
+                        .finish(&tracer)
+                        .map_err(at)?
+                }
             };
-            let threads = args.threads.unwrap_or_else(|| {
-                std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
-            });
-            let tracer = FlatTracer::new(&scene).map_err(at)?;
-            let tally = crate::lines::run(&tracer, method, args.seed, lines, threads);
-            let est = tally.finish(&tracer).map_err(at)?;
             let mc = MonteCarlo {
-                method: args.method,
+                method: sampling.method,
                 lines,
-                seed: args.seed,
+                seed: sampling.seed,
                 continuous: est.continuous,
             };
             (est.form_factors, Some(mc))
         }
-    };
+    })
+}
+
+pub fn run(args: &MeasureArgs) -> Result<()> {
+    let at = |e: sceneinfo::Error| located(&args.file, &e);
+    let start = Instant::now();
+    let (ff, mc) = compute(&args.file, &args.sampling)?;
     let channel = ff.channel().map_err(at)?;
     let report = SceneReport {
         n_patches: ff.n_patches(),
@@ -63,7 +85,7 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
     };
     let seconds = start.elapsed().as_secs_f64();
     if let Some(path) = &args.matrix {
-        write_atomic(path, csv(&ff).map_err(at)?.as_bytes())?;
+        write_atomic(path, crate::commands::formfactors::csv(&ff)?.as_bytes())?;
     }
     let mut out = std::io::stdout().lock();
     if args.json {
@@ -112,23 +134,6 @@ fn method_name(m: Method) -> &'static str {
     }
 }
 
-fn csv(ff: &FormFactors) -> sceneinfo::Result<String> {
-    let n = ff.n_states();
-    let mut csv = String::with_capacity(n * n * 12);
-    let mut row = vec![0.0; n];
-    for i in 0..n {
-        ff.dense_row_into(i, &mut row)?;
-        for (k, v) in row.iter().enumerate() {
-            if k > 0 {
-                csv.push(',');
-            }
-            let _ = write!(csv, "{v:?}");
-        }
-        csv.push('\n');
-    }
-    Ok(csv)
-}
-
 fn table(name: &str, r: &SceneReport, mc: Option<&MonteCarlo>, seconds: f64) -> String {
     let m = &r.measures;
     let c = &r.checks;
@@ -165,7 +170,7 @@ fn table(name: &str, r: &SceneReport, mc: Option<&MonteCarlo>, seconds: f64) -> 
     if let Some(mc) = mc {
         let _ = writeln!(
             s,
-            "I_S^c (4.13)          {:.6} ± {:.6} bits (1 standard error)",
+            "I_S^c (4.8, 4.13)     {:.6} ± {:.6} bits (1 standard error)",
             mc.continuous.value, mc.continuous.stderr
         );
         let _ = writeln!(

@@ -1,30 +1,73 @@
-//! `sceneinfo scene`: write preset scenes.
+//! `sceneinfo scene`: write preset scenes (`.flat` for flatland, OBJ + MTL for 3D).
 
 use std::io::Write;
 use std::path::Path;
 
 use anyhow::{Result, anyhow};
-use sceneinfo::scene::FlatScene;
+use sceneinfo::scene::{FlatScene, Scene, catalogue, catalogue_scene, preset_3d, presets_3d};
 
 use crate::args::ScenePreset;
 use crate::output::write_atomic;
 
 pub fn run(preset: ScenePreset) -> Result<()> {
-    let (scene, output) = match preset {
+    let invalid = |e: sceneinfo::Error| anyhow!("invalid preset: {e}");
+    match preset {
         ScenePreset::Polygon {
             sides,
             per_side,
             output,
-        } => (FlatScene::regular_polygon(sides, per_side), output),
+        } => {
+            let s = FlatScene::regular_polygon(sides, per_side).map_err(invalid)?;
+            emit(&sceneinfo::io::write_flat(&s), output.as_deref())
+        }
         ScenePreset::Rect {
             width,
             height,
             per_side,
             output,
-        } => (FlatScene::rectangle(width, height, per_side), output),
-    };
-    let scene = scene.map_err(|e| anyhow!("invalid preset: {e}"))?;
-    emit(&sceneinfo::io::write_flat(&scene), output.as_deref())
+        } => {
+            let s = FlatScene::rectangle(width, height, per_side).map_err(invalid)?;
+            emit(&sceneinfo::io::write_flat(&s), output.as_deref())
+        }
+        ScenePreset::Catalogue {
+            name,
+            per_side,
+            output,
+        } => {
+            let s = catalogue_scene(&name, per_side).map_err(invalid)?;
+            emit(&sceneinfo::io::write_flat(&s), output.as_deref())
+        }
+        ScenePreset::Cube { grid, output } => {
+            write_obj(&preset_3d("cube", grid).map_err(invalid)?, &output)
+        }
+        ScenePreset::Solid { name, grid, output } => {
+            write_obj(&preset_3d(&name, grid).map_err(invalid)?, &output)
+        }
+        ScenePreset::List => {
+            let mut out = std::io::stdout().lock();
+            writeln!(out, "flatland catalogue (sceneinfo scene catalogue NAME):")?;
+            for e in catalogue() {
+                writeln!(out, "  {:<28} {:<12} {}", e.name, e.figure, e.description)?;
+            }
+            writeln!(out, "3D presets (sceneinfo scene solid NAME -o FILE.obj):")?;
+            for e in presets_3d() {
+                writeln!(out, "  {:<28} {:<12} {}", e.name, e.figure, e.description)?;
+            }
+            Ok(())
+        }
+    }
+}
+
+/// Writes `scene` as `path` (OBJ) and its material library beside it (same stem, `.mtl`).
+fn write_obj(scene: &Scene, path: &Path) -> Result<()> {
+    let mtl_path = path.with_extension("mtl");
+    let mtl_name = mtl_path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .ok_or_else(|| anyhow!("{}: output needs a file name", path.display()))?;
+    let (obj, mtl) = sceneinfo::io::write_obj(scene, mtl_name);
+    write_atomic(&mtl_path, mtl.as_bytes())?;
+    write_atomic(path, obj.as_bytes())
 }
 
 fn emit(text: &str, output: Option<&Path>) -> Result<()> {

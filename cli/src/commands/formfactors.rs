@@ -1,0 +1,136 @@
+//! `sceneinfo formfactors`: write a scene's form-factor matrix (exact, or Monte Carlo with
+//! `--lines`) and report its checks: `0 ≤ F ≤ 1`, reciprocity, closure.
+
+use std::fmt::Write as _;
+use std::io::Write;
+
+use anyhow::{Result, bail};
+use sceneinfo::channel::Transitions;
+use sceneinfo::formfactor::FormFactors;
+use sceneinfo::report::CHECK_TOLERANCE;
+
+use crate::args::FormFactorsArgs;
+use crate::output::write_atomic;
+
+pub fn run(args: &FormFactorsArgs) -> Result<()> {
+    let ff = crate::commands::measure::form_factors_of(&args.file, &args.sampling)?;
+    let ext = args
+        .out
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let text = match ext.as_deref() {
+        Some("csv") => csv(&ff)?,
+        Some("txt") => view3d_text(&ff)?,
+        _ => bail!(
+            "{}: the output must end in .csv or .txt",
+            args.out.display()
+        ),
+    };
+    write_atomic(&args.out, text.as_bytes())?;
+    let channel = ff.channel().map_err(|e| anyhow::anyhow!("{e}"))?;
+    let c = channel.checks();
+    let (mut min, mut max) = (f64::INFINITY, f64::NEG_INFINITY);
+    let view = ff.matrix();
+    for i in 0..ff.n_states() {
+        view.for_each_in_row(i, |_, v| {
+            min = min.min(v);
+            max = max.max(v);
+        });
+    }
+    let yes = |b: bool| if b { "yes" } else { "NO" };
+    let mut out = std::io::stdout().lock();
+    writeln!(
+        out,
+        "wrote {} ({} states{})",
+        args.out.display(),
+        ff.n_states(),
+        if ff.has_background() {
+            ", background last"
+        } else {
+            ""
+        }
+    )?;
+    writeln!(
+        out,
+        "F >= 0              {}  (min stored entry {min:.3e})",
+        yes(min >= 0.0)
+    )?;
+    writeln!(
+        out,
+        "F <= 1              {}  (max entry {max:.6})",
+        yes(max <= 1.0)
+    )?;
+    writeln!(
+        out,
+        "reciprocity         {}  (max relative |a_i F_ij - a_j F_ji| = {:.2e}, tolerance {CHECK_TOLERANCE:e})",
+        yes(c.is_reversible(CHECK_TOLERANCE)),
+        c.max_reciprocity_error
+    )?;
+    writeln!(
+        out,
+        "closure             {}  (max |1 - row sum| = {:.2e}; largest loss before any background {:.2e})",
+        yes(c.is_row_stochastic(CHECK_TOLERANCE)),
+        c.max_row_sum_error,
+        ff.max_row_deficit()
+    )?;
+    out.flush()?;
+    Ok(())
+}
+
+fn rows(ff: &FormFactors, mut each: impl FnMut(&[f64])) -> Result<()> {
+    let n = ff.n_states();
+    let mut row = vec![0.0; n];
+    for i in 0..n {
+        ff.dense_row_into(i, &mut row)
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+        each(&row);
+    }
+    Ok(())
+}
+
+/// One row of `F` per line, comma-separated, shortest round-trip decimals.
+pub fn csv(ff: &FormFactors) -> Result<String> {
+    let n = ff.n_states();
+    let mut s = String::with_capacity(n * n * 12);
+    rows(ff, |row| {
+        for (k, v) in row.iter().enumerate() {
+            if k > 0 {
+                s.push(',');
+            }
+            let _ = write!(s, "{v:?}");
+        }
+        s.push('\n');
+    })?;
+    Ok(s)
+}
+
+/// A View3D-style text matrix: a header line with the number of states, a line with the
+/// relative sizes (areas, lengths) of the states, then one row of `F` per line,
+/// space-separated.
+fn view3d_text(ff: &FormFactors) -> Result<String> {
+    let n = ff.n_states();
+    let mut s = String::with_capacity(n * n * 12);
+    let _ = writeln!(
+        s,
+        "# sceneinfo form factors: {n} states; line 2: relative sizes; then F rows"
+    );
+    let _ = writeln!(s, "{n}");
+    for (k, w) in ff.weights().iter().enumerate() {
+        if k > 0 {
+            s.push(' ');
+        }
+        let _ = write!(s, "{w:?}");
+    }
+    s.push('\n');
+    rows(ff, |row| {
+        for (k, v) in row.iter().enumerate() {
+            if k > 0 {
+                s.push(' ');
+            }
+            let _ = write!(s, "{v:?}");
+        }
+        s.push('\n');
+    })?;
+    Ok(s)
+}

@@ -1,0 +1,673 @@
+//! Line queries against convex planar polygons in 3D: a bounding volume hierarchy
+//! ([`Bvh3`]) and the `O(n)` loops it must agree with exactly ([`all_hits_naive3`],
+//! [`first_hit_naive3`]).
+//!
+//! # Input
+//!
+//! Polygons are given as in a 3D scene: a vertex array `points` and, per polygon, the
+//! range `(first, count)` of its vertices, `points[first..first + count]`, counter-clockwise
+//! about the front normal (DESIGN.md, "Orientation"). Hits report a polygon's index in
+//! that list.
+//!
+//! # The intersection test
+//!
+//! Every query, naive or accelerated, runs the same arithmetic per polygon against the line
+//! `o + t d`, in three steps. All coordinates are taken relative to the centre `c` of the
+//! polygons' bounds (`v' = v − c`), which keeps them small wherever the scene is.
+//!
+//! ```text
+//! 1. crossing   p_k = (r₁·(v'_k − f), r₂·(v'_k − f))     vertex k seen along the line
+//!               E_k = p_k × p_{k+1}                       (2D cross product)
+//!               hit ⇔ no two E_k of opposite signs, and not all E_k = 0
+//! 2. bounds     [t₀, t₁] = the slab interval of the polygon's bounds grown by the margin
+//!               hit ⇔ t₀ ≤ t₁
+//! 3. parameter  t = clamp(n·(p₀ − o') / n·d, t₀, t₁),  n·d ≠ 0, t finite
+//! ```
+//!
+//! `(r₁, r₂, d/|d|)` is an orthonormal frame (Duff et al. 2017) and `f` the foot of the
+//! perpendicular from `c` to the line: step 1 projects the polygon on the plane `d^⊥`,
+//! where the line is the origin, and asks whether the origin lies in the projected polygon
+//! (Woop, Benthin and Wald 2013, "Watertight ray/triangle intersection", for polygons).
+//! `E_k` is the signed volume `d·((v_k − x) × (v_{k+1} − x))/|d|` for any point `x` of the
+//! line: for a line through the polygon all `E_k` share the sign of `n·d`, and a line
+//! through an edge or a vertex gives `E_k = 0` there — the polygon is *closed*. A line in
+//! the polygon's plane (all `E_k = 0`, or `n·d = 0`) is ignored.
+//!
+//! The test is **watertight**. A vertex shared by several polygons is projected once per
+//! polygon with the same arithmetic, hence to the same `p`, and the edge `b → a` of a
+//! neighbour gets `E = p_b × p_a`, exactly the negation of `p_a × p_b`: a line near a
+//! shared edge is caught by at least one of its two polygons. Near a shared vertex the
+//! rounding of each `E_k` is relative to `|p_k| |p_{k+1}|`, the distance of the vertex from
+//! the line, so the signs around the vertex keep turning: no global line slips through the
+//! seams of a closed mesh, along edges or through vertices (tested on quad and triangle
+//! meshes far from the origin).
+//!
+//! The margin is `m = 10⁻⁹ (‖o'‖∞ + scale)` (`scale` = the largest `|v'|` coordinate), far
+//! above the rounding of steps 1–2, so step 2 never rejects a crossing found by step 1.
+//! Its purpose is exactness of the tree: the slab interval is *monotone* in the box (IEEE
+//! subtraction and multiplication are monotone), so a node whose bounds contain a
+//! polygon's gets an interval containing the polygon's, and the clamped `t` lies in both.
+//! Hence the tree never culls a polygon the naive loop reports (step 2 passed, so the
+//! node's interval is not empty) nor one whose `t` could be the nearest (`t ∈ [t₀, t₁]` ⊆
+//! the node's interval) — by construction, not by error bounds. The clamp only acts on
+//! grazing lines, whose plane crossing is ill-conditioned; it keeps every reported `t`
+//! finite and near the polygon. Every `t` is finite and never `−0`.
+//!
+//! # Layout
+//!
+//! A binary tree of 64-byte interior nodes, one cache line each, holding the bounds of
+//! their two children and references to them (an interior node, or a leaf: a range of
+//! polygons). Bounds are stored relative to `c` in `f32`, rounded outwards, so they contain
+//! the `f64` bounds of every polygon below and the monotonicity argument holds as is.
+//! Polygons are stored in leaf order, struct-of-arrays: their vertices relative to `c` in
+//! one flat array (the only data the crossing test reads), the planes and the bounds (read
+//! only for the few crossings) and the original indices in others. Polygons that can
+//! never be hit (fewer than three vertices, zero area, non-finite coordinates) are left
+//! out of the tree.
+//!
+//! # Queries
+//!
+//! A walk keeps pending subtrees on a fixed stack and allocates nothing. A visit tests
+//! both children's boxes and pushes those the line meets without a branch (the pass/fail
+//! of a box test is a coin flip the branch predictor cannot learn). The walks are
+//! monomorphised for the 8 octants of `d`, so each box test reads its near and far bounds
+//! directly (pbrt's `dirIsNeg`): per axis `(bound ∓ m − o')/d`, 6 subtractions, 6
+//! multiplications and 6 maxima (the far planes' `t` negated, exactly). `first_hit` also
+//! culls by `(t_min, t_best]`, visits the nearer child first and drops a pending subtree
+//! whose entry is beyond the best hit found since it was pushed.
+//!
+//! # Build
+//!
+//! Binned surface-area heuristic (Wald 2007), 16 bins on each of the three axes. By
+//! Cauchy–Crofton (see [`crate::lines::sample_global_line_3d`]) a uniform line meeting a
+//! box meets a box inside it with probability `S(inner)/S(outer)`, so the SAH is exact for
+//! global lines. Below depth 32 splits follow the SAH; deeper (only on adversarial input)
+//! they are median splits, so the depth stays below 64, the size of the queries' fixed
+//! stacks. `O(n log n)` time, explicit work stack, no recursion.
+
+#[cfg(feature = "alloc")]
+use alloc::vec::Vec;
+#[cfg(feature = "alloc")]
+use core::fmt;
+
+use crate::geom::DVec3;
+#[cfg(feature = "alloc")]
+use crate::lines::Line3;
+
+#[cfg(feature = "alloc")]
+use crate::error::{Error, ErrorKind, Result};
+
+#[cfg(feature = "alloc")]
+mod build;
+mod prim;
+#[cfg(all(test, feature = "std"))]
+mod tests;
+
+use prim::{Frame, Query, Slab, prepare, vertices};
+
+#[cfg(feature = "alloc")]
+/// Capacity of the traversal stacks. Leaves are less than 64 levels deep (32 SAH levels
+/// plus 31 median levels for at most 2³¹ polygons); popping an interior node of depth
+/// `d ≤ 62` leaves at most `d` pending siblings, and it pushes two.
+const STACK_SIZE: usize = 64;
+
+/// One intersection of a line with a polygon: the line parameter `t` of the hit point
+/// `origin + t·dir` and the polygon's index `prim` in the list the query was built from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit3 {
+    /// Line parameter of the hit (a signed distance when `dir` is a unit vector).
+    pub t: f64,
+    /// Index of the polygon hit.
+    pub prim: u32,
+}
+
+impl Hit3 {
+    /// The order of [`Bvh3::all_hits`]: by `t`, then by `prim`.
+    #[inline]
+    #[must_use]
+    pub fn cmp_t_prim(&self, other: &Self) -> core::cmp::Ordering {
+        self.t.total_cmp(&other.t).then(self.prim.cmp(&other.prim))
+    }
+}
+
+/// Sorts hits by `(t, prim)` — a strict total order, as every `prim` appears at most once.
+/// A line meets a few polygons, so short lists get an inlined insertion sort.
+#[cfg(feature = "alloc")]
+#[inline]
+fn sort_hits(hits: &mut [Hit3]) {
+    if hits.len() > 16 {
+        hits.sort_unstable_by(Hit3::cmp_t_prim);
+        return;
+    }
+    for i in 1..hits.len() {
+        let h = hits[i];
+        let mut j = i;
+        // Plain comparisons: every `t` is finite and never −0.
+        while j > 0 && (h.t < hits[j - 1].t || (h.t == hits[j - 1].t && h.prim < hits[j - 1].prim))
+        {
+            hits[j] = hits[j - 1];
+            j -= 1;
+        }
+        hits[j] = h;
+    }
+}
+
+/// The hit of polygon `verts` by the query's line, if any: the three steps of the module
+/// docs, computing the polygon's data on the fly (the naive loops).
+#[inline]
+fn naive_hit(frame: &Frame, q: &Query, verts: &[DVec3]) -> Option<f64> {
+    let &last = verts.last()?;
+    if !q.crosses(last - frame.c, verts.iter().map(|&v| v - frame.c)) {
+        return None;
+    }
+    let p = prepare(frame.c, verts)?;
+    q.hit_t(p.n, p.p0, &p.bounds)
+}
+
+/// Every intersection of the infinite `line` with a polygon, sorted by `t` then `prim`,
+/// written into `out` (cleared first): the `O(n)` baseline of [`Bvh3::all_hits`], which
+/// returns exactly the same hits in the same order. Polygons whose range leaves `points`
+/// are skipped ([`Bvh3::build`] rejects them).
+///
+/// Only the first `2³²` polygons are considered (hit indices are `u32`).
+#[cfg(feature = "alloc")]
+pub fn all_hits_naive3(
+    points: &[DVec3],
+    polygons: &[(usize, usize)],
+    line: &Line3,
+    out: &mut Vec<Hit3>,
+) {
+    out.clear();
+    let frame = Frame::new(points, polygons);
+    let q = Query::new(line.origin, line.dir, &frame);
+    for (&(first, count), prim) in polygons.iter().zip(0..=u32::MAX) {
+        if let Some(t) = vertices(points, first, count).and_then(|v| naive_hit(&frame, &q, v)) {
+            out.push(Hit3 { t, prim });
+        }
+    }
+    sort_hits(out);
+}
+
+/// The nearest hit with `t > t_min` along the ray `origin + t·dir`, the smallest `prim`
+/// among equally near ones: the `O(n)` baseline of [`Bvh3::first_hit`], which returns
+/// exactly the same hit. Needs no allocator. Polygons whose range leaves `points` are
+/// skipped.
+///
+/// Only the first `2³²` polygons are considered (hit indices are `u32`).
+#[must_use]
+pub fn first_hit_naive3(
+    points: &[DVec3],
+    polygons: &[(usize, usize)],
+    origin: DVec3,
+    dir: DVec3,
+    t_min: f64,
+) -> Option<Hit3> {
+    let frame = Frame::new(points, polygons);
+    let q = Query::new(origin, dir, &frame);
+    let mut best: Option<Hit3> = None;
+    for (&(first, count), prim) in polygons.iter().zip(0..=u32::MAX) {
+        if let Some(t) = vertices(points, first, count).and_then(|v| naive_hit(&frame, &q, v)) {
+            // Strictly nearer wins; ties keep the earlier (smaller) prim.
+            if t > t_min && best.is_none_or(|b| t < b.t) {
+                best = Some(Hit3 { t, prim });
+            }
+        }
+    }
+    best
+}
+
+/// A reference to a subtree: an interior node (`count = 0`, `offset` = its index) or a
+/// leaf (`count` polygons from `offset`, in leaf order).
+#[cfg(feature = "alloc")]
+#[derive(Clone, Copy, Debug, Default)]
+struct Ref {
+    offset: u32,
+    count: u32,
+}
+
+/// An interior node: the bounds of its two children, relative to the frame's centre, in
+/// `f32` rounded outwards (so they contain the `f64` bounds of every polygon below), and
+/// the references to them. 64 bytes, one cache line: a visit tests both children's boxes
+/// and pushes the ones the line meets without a branch.
+#[cfg(feature = "alloc")]
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+struct Node {
+    /// `bounds[child] = [lo, hi]`.
+    bounds: [[[f32; 3]; 2]; 2],
+    child: [Ref; 2],
+}
+
+/// `x` rounded down to an `f32` (`−∞` below its range).
+#[cfg(feature = "alloc")]
+#[inline]
+fn f32_down(x: f64) -> f32 {
+    let y = x as f32;
+    if f64::from(y) > x { y.next_down() } else { y }
+}
+
+/// `x` rounded up to an `f32` (`+∞` above its range).
+#[cfg(feature = "alloc")]
+#[inline]
+fn f32_up(x: f64) -> f32 {
+    let y = x as f32;
+    if f64::from(y) < x { y.next_up() } else { y }
+}
+
+/// `[lo, hi]` rounded outwards to `f32`.
+#[cfg(feature = "alloc")]
+#[inline]
+fn f32_box(lo: DVec3, hi: DVec3) -> [[f32; 3]; 2] {
+    [
+        [f32_down(lo.x), f32_down(lo.y), f32_down(lo.z)],
+        [f32_up(hi.x), f32_up(hi.y), f32_up(hi.z)],
+    ]
+}
+
+#[cfg(feature = "alloc")]
+impl Node {
+    /// The query's slab interval of child `c`'s bounds ([`Slab::interval`]), for a line
+    /// whose near bounds are `[I, J, K]` (`Query::near`, fixed per monomorphised walk).
+    #[inline(always)]
+    fn slab<const I: usize, const J: usize, const K: usize>(
+        &self,
+        c: usize,
+        s: &Slab,
+    ) -> (f64, f64) {
+        let b = &self.bounds[c];
+        s.interval(
+            [f64::from(b[I][0]), f64::from(b[J][1]), f64::from(b[K][2])],
+            [
+                f64::from(b[1 - I][0]),
+                f64::from(b[1 - J][1]),
+                f64::from(b[1 - K][2]),
+            ],
+        )
+    }
+}
+
+/// Packs the depth-first tree of the build (one node per subtree, first child next) into
+/// interior nodes holding their children's bounds; returns them and the root's reference.
+#[cfg(feature = "alloc")]
+fn pack(tree: &[build::BuildNode]) -> (Vec<Node>, Ref) {
+    // Interior nodes keep their depth-first order
+    let mut index = alloc::vec![0u32; tree.len()];
+    let mut n = 0u32;
+    for (k, b) in tree.iter().enumerate() {
+        if b.count == 0 {
+            index[k] = n;
+            n += 1;
+        }
+    }
+    let at = |k: usize| {
+        let b = &tree[k];
+        if b.count == 0 {
+            Ref {
+                offset: index[k],
+                count: 0,
+            }
+        } else {
+            Ref {
+                offset: b.offset,
+                count: b.count,
+            }
+        }
+    };
+    let mut nodes = Vec::with_capacity(n as usize);
+    for (k, b) in tree.iter().enumerate() {
+        if b.count == 0 {
+            let (first, second) = (k + 1, b.offset as usize);
+            nodes.push(Node {
+                bounds: [
+                    f32_box(tree[first].lo, tree[first].hi),
+                    f32_box(tree[second].lo, tree[second].hi),
+                ],
+                child: [at(first), at(second)],
+            });
+        }
+    }
+    (nodes, at(0))
+}
+
+/// Calls `Self::$walk::<I, J, K $g>(args)` for the octant `[I, J, K]` of the query's
+/// direction (`Query::near`): the walks are monomorphised per octant, so the box tests
+/// pick their near and far bounds at no cost (pbrt's `dirIsNeg`).
+#[cfg(feature = "alloc")]
+macro_rules! by_octant {
+    ($near:expr, $walk:ident[$($g:tt)*]($($arg:expr),*)) => {
+        match $near {
+            [0, 0, 0] => Self::$walk::<0, 0, 0 $($g)*>($($arg),*),
+            [0, 0, _] => Self::$walk::<0, 0, 1 $($g)*>($($arg),*),
+            [0, _, 0] => Self::$walk::<0, 1, 0 $($g)*>($($arg),*),
+            [0, _, _] => Self::$walk::<0, 1, 1 $($g)*>($($arg),*),
+            [_, 0, 0] => Self::$walk::<1, 0, 0 $($g)*>($($arg),*),
+            [_, 0, _] => Self::$walk::<1, 0, 1 $($g)*>($($arg),*),
+            [_, _, 0] => Self::$walk::<1, 1, 0 $($g)*>($($arg),*),
+            [_, _, _] => Self::$walk::<1, 1, 1 $($g)*>($($arg),*),
+        }
+    };
+}
+
+/// A bounding volume hierarchy over convex planar polygons, answering "every hit of a
+/// line, sorted" ([`Bvh3::all_hits`], the query of global lines) and "nearest hit of a ray"
+/// ([`Bvh3::first_hit`], the query of local lines).
+///
+/// Queries allocate nothing (the caller's `Vec` is reused) and recurse nowhere (a
+/// fixed-size stack); they return exactly what [`all_hits_naive3`] and [`first_hit_naive3`]
+/// return, in the same order, for any input (see the module docs for why).
+///
+/// # Examples
+///
+/// ```
+/// use sceneinfo::accel::{Bvh3, Hit3};
+/// use sceneinfo::geom::DVec3;
+/// use sceneinfo::lines::Line3;
+///
+/// // Two unit squares, at z = 0 and z = 2.
+/// let points = [
+///     DVec3::new(0.0, 0.0, 0.0), DVec3::new(1.0, 0.0, 0.0),
+///     DVec3::new(1.0, 1.0, 0.0), DVec3::new(0.0, 1.0, 0.0),
+///     DVec3::new(0.0, 0.0, 2.0), DVec3::new(0.0, 1.0, 2.0),
+///     DVec3::new(1.0, 1.0, 2.0), DVec3::new(1.0, 0.0, 2.0),
+/// ];
+/// let bvh = Bvh3::build(&points, &[(0, 4), (4, 4)]).unwrap();
+/// let mut hits = Vec::new();
+/// bvh.all_hits(&Line3::new(DVec3::new(0.5, 0.5, -1.0), DVec3::Z), &mut hits);
+/// assert_eq!(hits, [Hit3 { t: 1.0, prim: 0 }, Hit3 { t: 3.0, prim: 1 }]);
+/// let first = bvh.first_hit(DVec3::new(0.5, 0.5, 0.0), DVec3::Z, 1e-9).unwrap();
+/// assert_eq!((first.t, first.prim), (2.0, 1));
+/// ```
+#[cfg(feature = "alloc")]
+#[derive(Clone)]
+pub struct Bvh3 {
+    nodes: Vec<Node>,
+    /// The root: an interior node, a leaf, or an empty leaf (no polygon in the tree).
+    root: Ref,
+    /// Vertices of polygon `k` (leaf order), relative to the frame's centre:
+    /// `verts[vert_start[k]..vert_start[k + 1]]`.
+    vert_start: Vec<u32>,
+    verts: Vec<DVec3>,
+    /// `(n, p0)` of each polygon: unit normal and a point of its plane (relative to the
+    /// frame's centre).
+    planes: Vec<[DVec3; 2]>,
+    /// Bounds `[lo, hi]` of each polygon (relative to the frame's centre).
+    bounds: Vec<[DVec3; 2]>,
+    /// Original index of each polygon.
+    ids: Vec<u32>,
+    frame: Frame,
+    /// Number of polygons given (hittable or not).
+    len: usize,
+    depth: u32,
+}
+
+#[cfg(feature = "alloc")]
+impl fmt::Debug for Bvh3 {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Bvh3")
+            .field("polygons", &self.len)
+            .field("in_tree", &self.ids.len())
+            .field("vertices", &self.verts.len())
+            .field("nodes", &self.nodes.len())
+            .field("depth", &self.depth)
+            .finish()
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl Bvh3 {
+    /// Builds the hierarchy over the polygons `points[first..first + count]`, one per
+    /// entry of `polygons`; hits report indices into `polygons`.
+    ///
+    /// `O(n log n)` time, `O(n)` memory. Any polygon is accepted — degenerate, repeated,
+    /// non-finite or with fewer than three vertices (they simply never produce a hit).
+    ///
+    /// # Errors
+    ///
+    /// [`ErrorKind::TooLarge`] for more than [`super::MAX_PRIMITIVES`] polygons or more
+    /// than `u32::MAX` vertices in all; [`ErrorKind::DimensionMismatch`] for a range that
+    /// leaves `points` (`expected` = `points.len()`, `found` = the range's end).
+    pub fn build(points: &[DVec3], polygons: &[(usize, usize)]) -> Result<Self> {
+        if polygons.len() > super::MAX_PRIMITIVES {
+            return Err(Error::new(ErrorKind::TooLarge {
+                what: "BVH primitive count",
+                max: super::MAX_PRIMITIVES as u64,
+            }));
+        }
+        for &(first, count) in polygons {
+            if vertices(points, first, count).is_none() {
+                return Err(Error::new(ErrorKind::DimensionMismatch {
+                    expected: points.len(),
+                    found: first.saturating_add(count),
+                }));
+            }
+        }
+        let frame = Frame::new(points, polygons);
+        // Prepare every polygon that can be hit
+        let mut prepared = Vec::new();
+        let mut items = Vec::new();
+        let mut n_verts = 0usize;
+        for (&(first, count), id) in polygons.iter().zip(0u32..) {
+            let verts = &points[first..first + count];
+            if let Some(p) = prepare(frame.c, verts) {
+                n_verts += count;
+                let [lo, hi] = p.bounds;
+                items.push(build::BuildPrim {
+                    lo,
+                    hi,
+                    centroid: lo * 0.5 + hi * 0.5,
+                    id: prepared.len() as u32,
+                });
+                prepared.push((id, p));
+            }
+        }
+        if n_verts > u32::MAX as usize {
+            return Err(Error::new(ErrorKind::TooLarge {
+                what: "BVH vertex count",
+                max: u64::from(u32::MAX),
+            }));
+        }
+        let mut bvh = Self {
+            nodes: Vec::new(),
+            root: Ref::default(),
+            vert_start: Vec::with_capacity(items.len() + 1),
+            verts: Vec::with_capacity(n_verts),
+            planes: Vec::with_capacity(items.len()),
+            bounds: Vec::with_capacity(items.len()),
+            ids: Vec::with_capacity(items.len()),
+            frame,
+            len: polygons.len(),
+            depth: 0,
+        };
+        bvh.vert_start.push(0);
+        if items.is_empty() {
+            return Ok(bvh);
+        }
+        let (tree, depth) = build::build_nodes(&mut items);
+        (bvh.nodes, bvh.root) = pack(&tree);
+        bvh.depth = depth;
+        // Polygon data in leaf order
+        for item in &items {
+            let (id, p) = prepared[item.id as usize];
+            let (first, count) = polygons[id as usize];
+            let c = frame.c;
+            bvh.verts
+                .extend(points[first..first + count].iter().map(|&v| v - c));
+            bvh.vert_start.push(bvh.verts.len() as u32);
+            bvh.planes.push([p.n, p.p0]);
+            bvh.bounds.push(p.bounds);
+            bvh.ids.push(id);
+        }
+        Ok(bvh)
+    }
+
+    /// Number of polygons given to [`Bvh3::build`] (including those that can never be hit).
+    #[inline]
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether no polygon was given.
+    #[inline]
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Number of interior nodes (`n − 1` at most).
+    #[inline]
+    #[must_use]
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Depth of the deepest leaf (0 for a single leaf); always below 64.
+    #[inline]
+    #[must_use]
+    pub fn depth(&self) -> u32 {
+        self.depth
+    }
+
+    /// The hit of polygon `k` (leaf order) by the query's line, if any.
+    #[inline(always)]
+    fn hit(&self, q: &Query, k: usize) -> Option<f64> {
+        let vs = &self.verts[self.vert_start[k] as usize..self.vert_start[k + 1] as usize];
+        // Every polygon in the tree has at least three vertices.
+        if !q.crosses(vs[vs.len() - 1], vs.iter().copied()) {
+            return None;
+        }
+        let [n, p0] = self.planes[k];
+        q.hit_t(n, p0, &self.bounds[k])
+    }
+
+    /// Calls `f` once for every intersection of the infinite `line` with a polygon, in no
+    /// particular order (see [`Bvh3::all_hits`] for the sorted form). Allocates nothing.
+    #[inline]
+    pub fn for_each_hit<F: FnMut(Hit3)>(&self, line: &Line3, mut f: F) {
+        if self.root.count == 0 && self.nodes.is_empty() {
+            return;
+        }
+        let q = Query::new(line.origin, line.dir, &self.frame);
+        by_octant!(q.near, walk_all[, F](self, &q, &mut f));
+    }
+
+    /// The polygons of a leaf that the query's line hits, each passed to `f`.
+    #[inline(always)]
+    fn leaf<F: FnMut(u32, f64)>(&self, q: &Query, leaf: Ref, f: &mut F) {
+        let first = leaf.offset as usize;
+        for k in first..first + leaf.count as usize {
+            if let Some(t) = self.hit(q, k) {
+                f(self.ids[k], t);
+            }
+        }
+    }
+
+    /// The walk of [`Bvh3::for_each_hit`] for the octant `[I, J, K]`.
+    #[inline(always)]
+    fn walk_all<const I: usize, const J: usize, const K: usize, F: FnMut(Hit3)>(
+        &self,
+        q: &Query,
+        f: &mut F,
+    ) {
+        let slab = q.slab;
+        let mut stack = [Ref::default(); STACK_SIZE];
+        stack[0] = self.root;
+        let mut sp = 1usize;
+        while sp > 0 {
+            sp -= 1;
+            let r = stack[sp];
+            if r.count > 0 {
+                self.leaf(q, r, &mut |prim, t| f(Hit3 { t, prim }));
+                continue;
+            }
+            // Push the children whose box the line meets; negated so that NaN visits:
+            // culling must only ever be sure.
+            let node = &self.nodes[r.offset as usize];
+            for c in 0..2 {
+                let (enter, exit) = node.slab::<I, J, K>(c, &slab);
+                stack[sp] = node.child[c];
+                sp += usize::from(!(enter > exit));
+            }
+        }
+    }
+
+    /// Every intersection of the infinite `line` with a (closed) polygon, sorted by `t`
+    /// then `prim`; lines in a polygon's plane ignored. Clears `out` first and only grows
+    /// it, so a reused `out` makes the query allocation-free.
+    ///
+    /// Along a global line through a closed scene the consecutive hits pair up into the
+    /// segments of Figure 2.8 of the thesis, each contributing to two form factors (2.37).
+    pub fn all_hits(&self, line: &Line3, out: &mut Vec<Hit3>) {
+        out.clear();
+        self.for_each_hit(line, |h| out.push(h));
+        sort_hits(out);
+    }
+
+    /// The nearest hit with `t > t_min` along the ray `origin + t·dir` (the smallest
+    /// `prim` among equally near ones); `t_min > 0` skips the surface the ray leaves from.
+    /// This is the query of local lines, estimator (2.36).
+    #[must_use]
+    pub fn first_hit(&self, origin: DVec3, dir: DVec3, t_min: f64) -> Option<Hit3> {
+        if self.root.count == 0 && self.nodes.is_empty() {
+            return None;
+        }
+        let q = Query::new(origin, dir, &self.frame);
+        by_octant!(q.near, walk_first[](self, &q, t_min))
+    }
+
+    /// The walk of [`Bvh3::first_hit`] for the octant `[I, J, K]`: children in the order
+    /// the ray enters their boxes, each pushed with its entry parameter so that a pending
+    /// subtree is dropped once a nearer hit is known.
+    #[inline(always)]
+    fn walk_first<const I: usize, const J: usize, const K: usize>(
+        &self,
+        q: &Query,
+        t_min: f64,
+    ) -> Option<Hit3> {
+        let slab = q.slab;
+        let mut best_t = f64::INFINITY;
+        let mut best_prim = u32::MAX;
+        let mut stack = [(Ref::default(), 0.0f64); STACK_SIZE];
+        stack[0] = (self.root, f64::NEG_INFINITY);
+        let mut sp = 1usize;
+        while sp > 0 {
+            sp -= 1;
+            let (r, enter) = stack[sp];
+            // Negated so that NaN visits: culling must only ever be sure.
+            if enter > best_t {
+                continue;
+            }
+            if r.count > 0 {
+                self.leaf(q, r, &mut |prim, t| {
+                    if t > t_min && (t < best_t || (t == best_t && prim < best_prim)) {
+                        best_t = t;
+                        best_prim = prim;
+                    }
+                });
+                continue;
+            }
+            // The ray's live part (t_min, best_t] may meet a child's box
+            let node = &self.nodes[r.offset as usize];
+            let (e0, x0) = node.slab::<I, J, K>(0, &slab);
+            let (e1, x1) = node.slab::<I, J, K>(1, &slab);
+            let live0 = !(e0 > x0) && !(x0 <= t_min) && !(e0 > best_t);
+            let live1 = !(e1 > x1) && !(x1 <= t_min) && !(e1 > best_t);
+            // The farther child first, so that the nearer one is popped first
+            let (far, near) = if e1 < e0 { (0, 1) } else { (1, 0) };
+            let (live_far, live_near) = if far == 0 {
+                (live0, live1)
+            } else {
+                (live1, live0)
+            };
+            let (e_far, e_near) = if far == 0 { (e0, e1) } else { (e1, e0) };
+            stack[sp] = (node.child[far], e_far);
+            sp += usize::from(live_far);
+            stack[sp] = (node.child[near], e_near);
+            sp += usize::from(live_near);
+        }
+        (best_prim != u32::MAX).then_some(Hit3 {
+            t: best_t,
+            prim: best_prim,
+        })
+    }
+}

@@ -1,0 +1,264 @@
+//! The per-polygon data and the exact line–polygon test that [`super::Bvh3`] and the naive
+//! loops share (see the parent module's docs for the formulas).
+
+use crate::geom::{DVec3, polygon_normal};
+
+/// Relative size of the spatial margin of the box tests (parent module docs).
+const MARGIN: f64 = 1e-9;
+
+/// The vertices of polygon `(first, count)`, or `None` when the range leaves `points`.
+#[inline]
+pub(super) fn vertices(points: &[DVec3], first: usize, count: usize) -> Option<&[DVec3]> {
+    points.get(first..first.checked_add(count)?)
+}
+
+/// The frame of a polygon list: the centre `c` of the bounds of its finite vertices (the
+/// origin of every coordinate the queries use) and `scale`, their largest coordinate
+/// magnitude relative to `c` (the size of the margin). The tree and the naive loops compute it with the
+/// same code, hence bit-identical.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Frame {
+    pub(super) c: DVec3,
+    pub(super) scale: f64,
+}
+
+impl Frame {
+    /// The frame of every in-range polygon's finite vertices (origin and 0 if none).
+    pub(super) fn new(points: &[DVec3], polygons: &[(usize, usize)]) -> Self {
+        let mut lo = DVec3::INFINITY;
+        let mut hi = DVec3::NEG_INFINITY;
+        for &(first, count) in polygons {
+            for &v in vertices(points, first, count).unwrap_or(&[]) {
+                if v.is_finite() {
+                    lo = lo.min(v);
+                    hi = hi.max(v);
+                }
+            }
+        }
+        if lo.x <= hi.x {
+            let c = lo * 0.5 + hi * 0.5;
+            Self {
+                c,
+                scale: (lo - c).abs().max(hi - c).max_element(),
+            }
+        } else {
+            Self {
+                c: DVec3::ZERO,
+                scale: 0.0,
+            }
+        }
+    }
+}
+
+/// What a polygon needs besides its vertices: unit normal `n` (Newell, fan form), and,
+/// relative to the frame's centre `c`, a point `p0` of its plane (the vertex mean) and its
+/// bounds.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Prepared {
+    pub(super) n: DVec3,
+    pub(super) p0: DVec3,
+    /// `[lo, hi]`.
+    pub(super) bounds: [DVec3; 2],
+}
+
+/// The prepared data of a polygon, or `None` for one that can never be hit: fewer than
+/// three vertices, a non-finite vertex (or vertex relative to `c`), or a zero (or
+/// non-finite) normal.
+pub(super) fn prepare(c: DVec3, verts: &[DVec3]) -> Option<Prepared> {
+    if verts.len() < 3 {
+        return None;
+    }
+    let mut lo = DVec3::INFINITY;
+    let mut hi = DVec3::NEG_INFINITY;
+    let mut sum = DVec3::ZERO;
+    for &v in verts {
+        let v = v - c;
+        if !v.is_finite() {
+            return None;
+        }
+        lo = lo.min(v);
+        hi = hi.max(v);
+        sum += v;
+    }
+    let n = polygon_normal(verts);
+    let len = n.length();
+    let p0 = sum / verts.len() as f64;
+    if !(len > 0.0 && len.is_finite() && p0.is_finite()) {
+        return None;
+    }
+    Some(Prepared {
+        n: n / len,
+        p0,
+        bounds: [lo, hi],
+    })
+}
+
+/// `w / |w|`, accurate for tiny and huge `w` too (rescaled by its largest component
+/// first); NaN for zero or non-finite `w`.
+#[inline]
+fn unit(w: DVec3) -> DVec3 {
+    let ll = w.length_squared();
+    if ll > 1e-200 && ll < 1e200 {
+        return w / libm::sqrt(ll);
+    }
+    let m = w.abs().max_element();
+    if !(m > 0.0 && w.is_finite()) {
+        return DVec3::NAN;
+    }
+    let s = w / m;
+    s / s.length()
+}
+
+/// A line prepared for many box and polygon tests, in the frame centred at `c`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Query {
+    /// Origin relative to `c`.
+    o: DVec3,
+    d: DVec3,
+    /// Foot of the perpendicular from the frame's centre `c` (relative to `c`): the
+    /// line's reference point for the crossing test.
+    f: DVec3,
+    /// Orthonormal basis of the plane `d^⊥`, `(r1, r2, d/|d|)` right-handed.
+    r1: DVec3,
+    r2: DVec3,
+    /// Per axis, which bound the line meets first: 0 (low) where `1/d ≥ +0`, 1 (high)
+    /// where `1/d ≤ −0` (pbrt's `dirIsNeg`).
+    pub(super) near: [usize; 3],
+    /// The constants of the box tests.
+    pub(super) slab: Slab,
+}
+
+impl Query {
+    /// The query of the line `o + t d` in `frame`.
+    #[inline]
+    pub(super) fn new(o: DVec3, d: DVec3, frame: &Frame) -> Self {
+        let rel = o - frame.c;
+        let f = rel - d * (rel.dot(d) / d.length_squared());
+        // NaN for a zero or non-finite direction: then no polygon is ever crossed.
+        let (r1, r2) = unit(d).any_orthonormal_pair();
+        let margin = MARGIN * (rel.abs().max_element() + frame.scale) + f64::MIN_POSITIVE;
+        let inv = (DVec3::ONE / d).to_array();
+        // The low plane moved by −margin is the origin moved by +margin, and conversely;
+        // the near plane is the low one unless 1/d ≤ −0.
+        let (o_lo, o_hi) = ((rel + margin).to_array(), (rel - margin).to_array());
+        let mut near = [0; 3];
+        let mut o_near = o_lo;
+        let mut o_far = o_hi;
+        for i in 0..3 {
+            if inv[i].is_sign_negative() {
+                near[i] = 1;
+                (o_near[i], o_far[i]) = (o_hi[i], o_lo[i]);
+            }
+        }
+        Self {
+            o: rel,
+            d,
+            f,
+            r1,
+            r2,
+            near,
+            slab: Slab {
+                o_near,
+                o_far,
+                inv,
+                neg_inv: inv.map(|x| -x),
+            },
+        }
+    }
+
+    /// [`Slab::interval`] of the box `b = [lo, hi]` (relative to `c`).
+    #[inline(always)]
+    pub(super) fn slab(&self, b: &[DVec3; 2]) -> (f64, f64) {
+        let [i, j, k] = self.near;
+        self.slab.interval(
+            [b[i].x, b[j].y, b[k].z],
+            [b[1 - i].x, b[1 - j].y, b[1 - k].z],
+        )
+    }
+
+    /// Vertex `v' = v − c` projected on the plane `d^⊥`, relative to the line.
+    #[inline(always)]
+    fn project(&self, v: DVec3) -> (f64, f64) {
+        let a = v - self.f;
+        (self.r1.dot(a), self.r2.dot(a))
+    }
+
+    /// Whether the line passes through the closed polygon of the vertices `verts`
+    /// (relative to `c`; `last` = the last of them): no two edge functions of opposite
+    /// signs, and not all of them zero (a line in the polygon's plane). The edge function
+    /// of `a → b` is the 2D cross product `a × b` of the projected vertices: that of
+    /// `b → a` is exactly its negation.
+    #[inline(always)]
+    pub(super) fn crosses<I: IntoIterator<Item = DVec3>>(&self, last: DVec3, verts: I) -> bool {
+        let (mut pos, mut neg) = (false, false);
+        let mut a = self.project(last);
+        for v in verts {
+            let b = self.project(v);
+            let s = a.0 * b.1 - a.1 * b.0;
+            pos |= s > 0.0;
+            neg |= s < 0.0;
+            if pos && neg {
+                return false;
+            }
+            a = b;
+        }
+        pos != neg
+    }
+
+    /// The line parameter of the hit of a polygon the line [`crosses`](Self::crosses)
+    /// (`p0`, `bounds` relative to `c`): the plane's `t` clamped into the polygon's slab
+    /// interval; `None` when that interval is empty, the line is parallel to the plane, or
+    /// `t` is not finite.
+    #[inline(always)]
+    pub(super) fn hit_t(&self, n: DVec3, p0: DVec3, bounds: &[DVec3; 2]) -> Option<f64> {
+        let (enter, exit) = self.slab(bounds);
+        let denom = n.dot(self.d);
+        if !(enter <= exit) || denom == 0.0 {
+            return None;
+        }
+        let t = n.dot(p0 - self.o) / denom;
+        if t.is_nan() {
+            return None;
+        }
+        // `+ 0.0` turns −0 into +0.
+        let t = t.max(enter).min(exit) + 0.0;
+        t.is_finite().then_some(t)
+    }
+}
+
+/// The per-query constants of the box tests: the origins of the near and far planes (the
+/// margin applied), `1/d` and `−1/d`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Slab {
+    o_near: [f64; 3],
+    o_far: [f64; 3],
+    inv: [f64; 3],
+    neg_inv: [f64; 3],
+}
+
+impl Slab {
+    /// The parameter interval `[enter, exit]` in which the line is inside a box grown by
+    /// the margin, given the box's near and far bounds per axis (`b[near[i]]` and
+    /// `b[1 − near[i]]`, relative to `c`); empty when `enter > exit`.
+    ///
+    /// Monotone in the box: a box containing another gets an interval containing the
+    /// other's. Each plane's `t = (bound ∓ margin − o)/d` is monotone in the bound (IEEE
+    /// subtraction and multiplication are); a NaN `t` (a bound exactly at `o ± margin`
+    /// with `d = 0` on that axis, where the slab is in fact unbounded) is ignored by the
+    /// folds, as `±∞` would be, so it too keeps the order. A NaN line gives anything
+    /// (it crosses no polygon).
+    #[inline(always)]
+    pub(super) fn interval(&self, near: [f64; 3], far: [f64; 3]) -> (f64, f64) {
+        // `t > acc` is false for NaN: NaN planes are skipped. The far planes' `t` are
+        // negated (exactly), so both folds are maxima (one `maxpd` per axis).
+        let mut enter = f64::NEG_INFINITY;
+        let mut neg_exit = f64::NEG_INFINITY;
+        for i in 0..3 {
+            let tn = (near[i] - self.o_near[i]) * self.inv[i];
+            let tf = (far[i] - self.o_far[i]) * self.neg_inv[i];
+            enter = if tn > enter { tn } else { enter };
+            neg_exit = if tf > neg_exit { tf } else { neg_exit };
+        }
+        (enter, -neg_exit)
+    }
+}

@@ -1,0 +1,554 @@
+//! Agreement of [`Bvh3`] with the naive loops on random polygon soups and lines, the
+//! degenerate configurations (lines through vertices and edges, axis-aligned and in-plane
+//! lines, shared edges), watertightness of closed meshes, and the Crofton hit statistics.
+
+use proptest::prelude::*;
+use std::vec::Vec;
+
+use super::*;
+use crate::lines::{
+    BoundingSphere, canonical, canonical_2d, chunk_rng, sample_global_line_3d,
+    sample_local_line_3d, sample_uniform_sphere,
+};
+
+/// Polygons as the BVH takes them.
+#[derive(Clone, Debug, Default)]
+struct Soup {
+    points: Vec<DVec3>,
+    polys: Vec<(usize, usize)>,
+}
+
+impl Soup {
+    fn push(&mut self, verts: &[DVec3]) {
+        self.polys.push((self.points.len(), verts.len()));
+        self.points.extend_from_slice(verts);
+    }
+
+    fn verts(&self, k: usize) -> &[DVec3] {
+        let (f, c) = self.polys[k];
+        &self.points[f..f + c]
+    }
+
+    fn bvh(&self) -> Bvh3 {
+        Bvh3::build(&self.points, &self.polys).unwrap()
+    }
+}
+
+fn canonical_4d<R: rand_core::Rng + ?Sized>(rng: &mut R) -> [f64; 4] {
+    let [a, b] = canonical_2d(rng);
+    let [c, d] = canonical_2d(rng);
+    [a, b, c, d]
+}
+
+/// A convex planar polygon of `k` vertices on an ellipse of axes `e1`, `e2` about `c`
+/// (counter-clockwise about `e1 × e2`), at sorted random angles.
+fn ellipse_polygon<R: rand_core::Rng>(
+    rng: &mut R,
+    c: DVec3,
+    e1: DVec3,
+    e2: DVec3,
+    k: usize,
+) -> Vec<DVec3> {
+    let mut angles: Vec<f64> = (0..k)
+        .map(|_| core::f64::consts::TAU * canonical(rng))
+        .collect();
+    angles.sort_by(f64::total_cmp);
+    angles
+        .iter()
+        .map(|&a| c + e1 * libm::cos(a) + e2 * libm::sin(a))
+        .collect()
+}
+
+/// A random soup of `n` polygons in `[-10, 10]³`: tilted triangles to hexagons of sizes
+/// from tiny to large, axis-aligned rectangles, and lattice triangles sharing vertices.
+fn soup(seed: u64, n: usize) -> Soup {
+    let mut rng = chunk_rng(seed, 0);
+    let mut s = Soup::default();
+    for k in 0..n {
+        let c = DVec3::new(
+            -10.0 + 20.0 * canonical(&mut rng),
+            -10.0 + 20.0 * canonical(&mut rng),
+            -10.0 + 20.0 * canonical(&mut rng),
+        );
+        match k % 4 {
+            0 | 1 => {
+                let size = if k % 4 == 0 { 3.0 } else { 0.05 };
+                let a = sample_uniform_sphere(canonical_2d(&mut rng));
+                let (b1, b2) = a.any_orthonormal_pair();
+                let r1 = size * (0.2 + canonical(&mut rng));
+                let r2 = size * (0.2 + canonical(&mut rng));
+                let m = 3 + (k / 4) % 4;
+                let poly = ellipse_polygon(&mut rng, c, b1 * r1, b2 * r2, m);
+                s.push(&poly);
+            }
+            2 => {
+                // Axis-aligned rectangle in a random axis plane.
+                let (w, h) = (4.0 * canonical(&mut rng), 4.0 * canonical(&mut rng));
+                let axis = (k / 4) % 3;
+                let (u, v) = match axis {
+                    0 => (DVec3::Y, DVec3::Z),
+                    1 => (DVec3::Z, DVec3::X),
+                    _ => (DVec3::X, DVec3::Y),
+                };
+                s.push(&[c, c + u * w, c + u * w + v * h, c + v * h]);
+            }
+            _ => {
+                // Lattice triangles: coincident vertices and exact coordinates.
+                let mut lat = || {
+                    DVec3::new(
+                        f64::from((canonical(&mut rng) * 9.0) as i32 - 4),
+                        f64::from((canonical(&mut rng) * 9.0) as i32 - 4),
+                        f64::from((canonical(&mut rng) * 9.0) as i32 - 4),
+                    )
+                };
+                let tri = [lat(), lat(), lat()];
+                s.push(&tri);
+            }
+        }
+    }
+    s
+}
+
+/// Both queries, naive and accelerated, for one line.
+fn check_line(s: &Soup, bvh: &Bvh3, line: &Line3, a: &mut Vec<Hit3>, b: &mut Vec<Hit3>) {
+    all_hits_naive3(&s.points, &s.polys, line, a);
+    bvh.all_hits(line, b);
+    assert_eq!(a, b, "line {line:?}");
+    assert!(
+        a.iter()
+            .all(|h| h.t.is_finite() && !(h.t == 0.0 && h.t.is_sign_negative()))
+    );
+    assert!(a.windows(2).all(|w| w[0].cmp_t_prim(&w[1]).is_lt()));
+    for t_min in [-f64::INFINITY, 0.0, 1e-9, 3.0] {
+        let naive = first_hit_naive3(&s.points, &s.polys, line.origin, line.dir, t_min);
+        let fast = bvh.first_hit(line.origin, line.dir, t_min);
+        assert_eq!(naive, fast, "ray {line:?} t_min {t_min}");
+        // The first hit is the first of all hits past t_min.
+        assert_eq!(a.iter().find(|h| h.t > t_min).copied(), fast);
+    }
+}
+
+/// Lines through every vertex, edge midpoint and vertex mean of the polygons: in a random
+/// direction, along the axes, along an edge (in the plane), along the normal, and
+/// slightly off the plane.
+fn torture_lines(s: &Soup, seed: u64) -> Vec<Line3> {
+    let mut rng = chunk_rng(seed, 7);
+    let mut lines = Vec::new();
+    for k in 0..s.polys.len() {
+        let v = s.verts(k);
+        if v.len() < 3 {
+            continue;
+        }
+        let n = crate::geom::polygon_normal(v).normalize_or_zero();
+        let mean = v.iter().copied().sum::<DVec3>() / v.len() as f64;
+        let e = (v[1] - v[0]).normalize_or_zero();
+        for p in [v[0], v[1], (v[1] + v[2]) * 0.5, mean] {
+            for dir in [
+                sample_uniform_sphere(canonical_2d(&mut rng)),
+                DVec3::X,
+                DVec3::Y,
+                -DVec3::Z,
+                e,
+                n,
+                (e + n * 1e-13).normalize_or_zero(),
+                (e - n * 1e-7).normalize_or_zero(),
+            ] {
+                lines.push(Line3::new(p, dir));
+            }
+        }
+        // In the plane, a hair above it.
+        lines.push(Line3::new(mean + n * 1e-14, e));
+    }
+    lines
+}
+
+#[test]
+fn soups_agree_with_naive_for_random_lines() {
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    for (seed, n) in [(1, 1), (2, 2), (3, 7), (4, 50), (5, 333), (6, 3000)] {
+        let s = soup(seed, n);
+        let bvh = s.bvh();
+        assert_eq!(bvh.len(), n);
+        let sphere = BoundingSphere::of_bounds(DVec3::splat(-12.0), DVec3::splat(12.0));
+        let mut rng = chunk_rng(seed, 1);
+        let mut total = 0;
+        for _ in 0..2000 {
+            let line = sample_global_line_3d(&sphere, canonical_4d(&mut rng));
+            check_line(&s, &bvh, &line, &mut a, &mut b);
+            total += a.len();
+        }
+        assert!(n < 50 || total > 100, "{total}");
+    }
+}
+
+#[test]
+fn lines_through_vertices_edges_and_axis_aligned_lines_agree() {
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    let s = soup(7, 400);
+    let bvh = s.bvh();
+    let mut total = 0;
+    for line in torture_lines(&s, 7) {
+        check_line(&s, &bvh, &line, &mut a, &mut b);
+        total += a.len();
+    }
+    assert!(total > 1000, "{total}");
+}
+
+/// The surface of the cube `offset + [0, scale]³` cut into `m × m` squares a face, with
+/// shared (bit-identical) vertices, each facing inwards; with `triangles`, each square cut
+/// into two triangles along alternating diagonals (vertices with 4 to 8 spokes).
+fn cube_mesh(m: usize, scale: f64, offset: DVec3, triangles: bool) -> Soup {
+    let mut s = Soup::default();
+    let mf = m as f64;
+    let p = |x: usize, y: usize, z: usize| {
+        offset + DVec3::new(x as f64, y as f64, z as f64) * (scale / mf)
+    };
+    for i in 0..m {
+        for j in 0..m {
+            // z = 0 (normal +z) and z = m (normal −z); likewise for x and y
+            for q in [
+                [
+                    p(i, j, 0),
+                    p(i + 1, j, 0),
+                    p(i + 1, j + 1, 0),
+                    p(i, j + 1, 0),
+                ],
+                [
+                    p(i, j, m),
+                    p(i, j + 1, m),
+                    p(i + 1, j + 1, m),
+                    p(i + 1, j, m),
+                ],
+                [
+                    p(0, i, j),
+                    p(0, i + 1, j),
+                    p(0, i + 1, j + 1),
+                    p(0, i, j + 1),
+                ],
+                [
+                    p(m, i, j),
+                    p(m, i, j + 1),
+                    p(m, i + 1, j + 1),
+                    p(m, i + 1, j),
+                ],
+                [
+                    p(j, 0, i),
+                    p(j, 0, i + 1),
+                    p(j + 1, 0, i + 1),
+                    p(j + 1, 0, i),
+                ],
+                [
+                    p(j, m, i),
+                    p(j + 1, m, i),
+                    p(j + 1, m, i + 1),
+                    p(j, m, i + 1),
+                ],
+            ] {
+                if !triangles {
+                    s.push(&q);
+                } else if (i + j) % 2 == 0 {
+                    s.push(&[q[0], q[1], q[2]]);
+                    s.push(&[q[0], q[2], q[3]]);
+                } else {
+                    s.push(&[q[0], q[1], q[3]]);
+                    s.push(&[q[1], q[2], q[3]]);
+                }
+            }
+        }
+    }
+    s
+}
+
+#[test]
+fn cube_mesh_is_watertight_and_agrees_with_naive() {
+    // Lines aimed exactly at mesh vertices and edge points (the seams), from inside and
+    // from outside the closed surface, cross it: from an interior point there are hits on
+    // both sides, and a line through two interior points has an even number ≥ 2 of hits.
+    let cases = [
+        (10, 10.0, DVec3::ZERO, false),
+        (10, 10.0, DVec3::ZERO, true),
+        (7, 0.3, DVec3::new(1e6, -2e5, 3.0), false),
+        (5, 1e-4, DVec3::new(-0.3, 0.1, 7.0), true),
+        (6, 3e7, DVec3::new(2e8, 0.0, -1e8), true),
+    ];
+    for (m, scale, offset, triangles) in cases {
+        let s = cube_mesh(m, scale, offset, triangles);
+        let bvh = s.bvh();
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        let mut rng = chunk_rng(41, m as u64);
+        let centre = offset + DVec3::splat(scale * 0.5);
+        let mut inner = || centre + sample_uniform_sphere(canonical_2d(&mut rng)) * 0.45 * scale;
+        for k in 0..s.polys.len() {
+            let v = s.verts(k);
+            for target in [v[0], v[1], (v[0] + v[1]) * 0.5, v[0] + (v[1] - v[0]) * 0.3] {
+                for origin in [centre, inner(), inner()] {
+                    let line = Line3::new(origin, (target - origin).normalize());
+                    check_line(&s, &bvh, &line, &mut a, &mut b);
+                    assert!(a.iter().any(|h| h.t > 0.0), "{line:?}");
+                    assert!(a.iter().any(|h| h.t < 0.0), "{line:?}");
+                    // From far outside, through the target and an interior point.
+                    let far = Line3::new(target + (target - origin) * 3.0, origin - target);
+                    all_hits_naive3(&s.points, &s.polys, &far, &mut a);
+                    assert!(a.len() >= 2, "{far:?}");
+                }
+            }
+        }
+        // Axis-aligned lines along the grid lines run in the faces' planes, across seams.
+        for i in 0..=m {
+            for j in 0..=m {
+                let g = |x: usize| x as f64 * scale / m as f64;
+                for line in [
+                    Line3::new(offset + DVec3::new(g(i), g(j), -1.0), DVec3::Z),
+                    Line3::new(offset + DVec3::new(-1.0, g(i), g(j)), DVec3::X),
+                    Line3::new(
+                        offset + DVec3::new(g(i) + 0.01 * scale, -1.0, g(j)),
+                        DVec3::Y,
+                    ),
+                ] {
+                    check_line(&s, &bvh, &line, &mut a, &mut b);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn local_lines_first_hit_in_a_closed_cube() {
+    // Inside a closed mesh facing inwards every local ray hits another patch.
+    let s = cube_mesh(6, 2.0, DVec3::new(-1.0, -1.0, -1.0), false);
+    let bvh = s.bvh();
+    let mut rng = chunk_rng(42, 0);
+    for k in 0..20_000 {
+        let i = k % s.polys.len();
+        let v = s.verts(i);
+        let n = crate::geom::polygon_normal(v).normalize();
+        let line = sample_local_line_3d(v, n, canonical_4d(&mut rng));
+        let hit = bvh.first_hit(line.origin, line.dir, 1e-9);
+        assert_eq!(
+            hit,
+            first_hit_naive3(&s.points, &s.polys, line.origin, line.dir, 1e-9)
+        );
+        let hit = hit.expect("a closed mesh catches every ray");
+        assert!(hit.t > 0.0 && hit.t <= 2.0 * 3f64.sqrt() + 1e-9);
+        assert_ne!(hit.prim as usize, i);
+    }
+}
+
+#[test]
+fn crofton_hit_frequency_through_the_bvh() {
+    // (a) N uniform global lines meeting a sphere of radius R hit a convex polygon of area
+    // A with frequency 2A/(4πR²) (Cauchy–Crofton), within 5 binomial σ; 10⁶ lines.
+    let s = soup(9, 24);
+    let bvh = s.bvh();
+    let sphere = BoundingSphere::of_bounds(DVec3::splat(-14.0), DVec3::splat(14.0));
+    let n = 1_000_000u32;
+    let mut counts = std::vec![0u32; s.polys.len()];
+    let mut rng = chunk_rng(10, 0);
+    let mut out = Vec::new();
+    for _ in 0..n {
+        bvh.all_hits(
+            &sample_global_line_3d(&sphere, canonical_4d(&mut rng)),
+            &mut out,
+        );
+        for h in &out {
+            counts[h.prim as usize] += 1;
+        }
+    }
+    for (k, &c) in counts.iter().enumerate() {
+        let area = crate::geom::polygon_area(s.verts(k));
+        let p = 2.0 * area / sphere.surface_area();
+        let sigma = libm::sqrt(p * (1.0 - p) / f64::from(n));
+        let f = f64::from(c) / f64::from(n);
+        assert!(
+            (f - p).abs() <= 5.0 * sigma + 1e-12,
+            "A = {area}: f = {f}, p = {p}"
+        );
+    }
+}
+
+#[test]
+fn weird_inputs_never_panic_or_give_nan() {
+    let mut s = Soup::default();
+    s.push(&[DVec3::NAN, DVec3::ONE, DVec3::X]);
+    s.push(&[DVec3::INFINITY, DVec3::ZERO, DVec3::Y]);
+    s.push(&[DVec3::ONE, DVec3::ONE, DVec3::ONE]); // a point
+    s.push(&[DVec3::ZERO, DVec3::X, DVec3::X * 2.0]); // collinear
+    s.push(&[DVec3::ZERO, DVec3::X]); // two vertices
+    s.push(&[]);
+    s.push(&[
+        DVec3::splat(-1e300),
+        DVec3::new(1e300, -1e300, 0.0),
+        DVec3::splat(1e300),
+    ]);
+    s.push(&[
+        DVec3::new(1e-310, 0.0, 0.0),
+        DVec3::new(0.0, 1e-310, 0.0),
+        DVec3::new(0.0, 0.0, 1e-310),
+    ]);
+    // A valid square x ∈ [0, 1], y ∈ [0, 1] at z = 0.5 (index 8).
+    s.push(&[
+        DVec3::new(0.0, 0.0, 0.5),
+        DVec3::new(1.0, 0.0, 0.5),
+        DVec3::new(1.0, 1.0, 0.5),
+        DVec3::new(0.0, 1.0, 0.5),
+    ]);
+    let bvh = s.bvh();
+    assert_eq!(bvh.len(), 9);
+    let mut out = Vec::new();
+    for line in [
+        Line3::new(DVec3::ZERO, DVec3::ZERO),
+        Line3::new(DVec3::NAN, DVec3::X),
+        Line3::new(DVec3::new(0.5, 0.5, -5.0), DVec3::Z),
+        Line3::new(
+            DVec3::new(0.5, 0.5, -5.0),
+            DVec3::new(0.0, 0.0, f64::INFINITY),
+        ),
+        Line3::new(DVec3::new(1e300, 0.0, 0.0), DVec3::Y),
+        Line3::new(DVec3::new(0.5, 0.5, 0.0), DVec3::new(1e-300, 0.0, 1e-300)),
+    ] {
+        bvh.all_hits(&line, &mut out);
+        assert!(out.iter().all(|h| h.t.is_finite()));
+        let mut naive = Vec::new();
+        all_hits_naive3(&s.points, &s.polys, &line, &mut naive);
+        assert_eq!(out, naive);
+        for t_min in [f64::NAN, 0.0, f64::INFINITY] {
+            let h = bvh.first_hit(line.origin, line.dir, t_min);
+            assert!(h.is_none_or(|h| h.t.is_finite()));
+            assert_eq!(
+                h,
+                first_hit_naive3(&s.points, &s.polys, line.origin, line.dir, t_min)
+            );
+        }
+    }
+    bvh.all_hits(&Line3::new(DVec3::new(0.5, 0.5, -5.0), DVec3::Z), &mut out);
+    assert_eq!(out, [Hit3 { t: 5.5, prim: 8 }]);
+    // Out-of-range polygons are an error for the tree and skipped by the naive loop.
+    let bad = [(0usize, 3usize), (usize::MAX, 2)];
+    assert!(Bvh3::build(&s.points[..3], &bad).is_err());
+    assert!(Bvh3::build(&s.points[..3], &[(1, 3)]).is_err());
+    all_hits_naive3(
+        &s.points[..3],
+        &bad,
+        &Line3::new(DVec3::ZERO, DVec3::Z),
+        &mut out,
+    );
+    assert!(out.is_empty());
+    // Empty input.
+    let empty = Bvh3::build(&[], &[]).unwrap();
+    assert!(empty.is_empty());
+    empty.all_hits(&Line3::new(DVec3::ZERO, DVec3::Z), &mut out);
+    assert!(out.is_empty() && empty.first_hit(DVec3::ZERO, DVec3::Z, 0.0).is_none());
+}
+
+#[test]
+fn nodes_are_one_cache_line_and_depth_is_bounded() {
+    assert_eq!(core::mem::size_of::<Node>(), 64);
+    // Exponentially spaced squares drive the SAH to one-sided splits; identical ones give
+    // no usable SAH plane at all.
+    let mut s = Soup::default();
+    for k in 0..2000 {
+        let x = libm::pow(1.01, f64::from(k));
+        s.push(&[
+            DVec3::new(x, 0.0, 0.0),
+            DVec3::new(x, 1.0, 0.0),
+            DVec3::new(x, 1.0, 1.0),
+            DVec3::new(x, 0.0, 1.0),
+        ]);
+    }
+    for _ in 0..3000 {
+        s.push(&[DVec3::ZERO, DVec3::X, DVec3::Y]);
+    }
+    let bvh = s.bvh();
+    assert!((bvh.depth() as usize) < STACK_SIZE, "depth {}", bvh.depth());
+    assert!(bvh.node_count() < s.polys.len());
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    let line = Line3::new(DVec3::new(-1.0, 0.25, 0.25), DVec3::X);
+    check_line(&s, &bvh, &line, &mut a, &mut b);
+    assert_eq!(a.len(), 2000);
+    let line = Line3::new(DVec3::new(0.1, 0.1, -1.0), DVec3::Z);
+    check_line(&s, &bvh, &line, &mut a, &mut b);
+    assert_eq!(a.len(), 3000);
+}
+
+/// Finite coordinates for the property tests, and small lattice points (shared vertices,
+/// exact hits through vertices and edges).
+fn point() -> impl Strategy<Value = DVec3> {
+    prop_oneof![
+        (-50.0..50.0f64, -50.0..50.0f64, -50.0..50.0f64).prop_map(|(x, y, z)| DVec3::new(x, y, z)),
+        (-3i32..=3, -3i32..=3, -3i32..=3).prop_map(|(x, y, z)| DVec3::new(
+            f64::from(x),
+            f64::from(y),
+            f64::from(z)
+        )),
+    ]
+}
+
+/// Triangles and parallelograms of any three points (planar and convex by construction).
+fn polygon() -> impl Strategy<Value = Vec<DVec3>> {
+    (point(), point(), point(), any::<bool>()).prop_map(|(a, b, c, quad)| {
+        if quad {
+            std::vec![a, b, b + (c - a), c]
+        } else {
+            std::vec![a, b, c]
+        }
+    })
+}
+
+fn line() -> impl Strategy<Value = Line3> {
+    let dir = prop_oneof![
+        (0.0..1.0f64, 0.0..1.0f64).prop_map(|(a, b)| sample_uniform_sphere([a, b])),
+        Just(DVec3::X),
+        Just(DVec3::Y),
+        Just(-DVec3::Z),
+        Just(DVec3::new(1.0, 1.0, 0.0).normalize()),
+        (-2i32..=2, -2i32..=2, -2i32..=2).prop_map(|(x, y, z)| DVec3::new(
+            f64::from(x),
+            f64::from(y),
+            f64::from(z)
+        )),
+    ];
+    (point(), dir).prop_map(|(o, d)| Line3::new(o, d))
+}
+
+proptest! {
+    #[test]
+    fn bvh_all_hits_equals_naive(polys in proptest::collection::vec(polygon(), 0..120),
+                                 lines in proptest::collection::vec(line(), 1..16)) {
+        let mut s = Soup::default();
+        for p in &polys {
+            s.push(p);
+        }
+        let bvh = s.bvh();
+        prop_assert_eq!(bvh.len(), polys.len());
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        let mut all = lines.clone();
+        // Lines through the polygons' vertices and edge midpoints too.
+        for (k, p) in polys.iter().enumerate() {
+            let d = lines[k % lines.len()].dir;
+            all.push(Line3::new(p[0], d));
+            all.push(Line3::new((p[1] + p[2]) * 0.5, d));
+        }
+        for l in &all {
+            all_hits_naive3(&s.points, &s.polys, l, &mut a);
+            bvh.all_hits(l, &mut b);
+            prop_assert_eq!(&a, &b);
+        }
+    }
+
+    #[test]
+    fn bvh_first_hit_equals_naive(polys in proptest::collection::vec(polygon(), 0..120),
+                                  lines in proptest::collection::vec(line(), 1..16),
+                                  t_min in prop_oneof![Just(0.0), Just(1e-9), -50.0..50.0f64]) {
+        let mut s = Soup::default();
+        for p in &polys {
+            s.push(p);
+        }
+        let bvh = s.bvh();
+        for l in &lines {
+            prop_assert_eq!(
+                bvh.first_hit(l.origin, l.dir, t_min),
+                first_hit_naive3(&s.points, &s.polys, l.origin, l.dir, t_min)
+            );
+        }
+    }
+}

@@ -1,0 +1,224 @@
+//! Monte Carlo form factors and continuous mutual information of 3D scenes, from uniformly
+//! distributed global lines or cosine-distributed local lines (thesis §2.1.6, §4.3).
+//!
+//! The same estimators as flatland ([`crate::formfactor::estimate_2d`]) with areas instead
+//! of lengths:
+//!
+//! - **Global lines** through two uniform points of the scene's circumscribed sphere (which
+//!   are uniformly distributed lines): every intersection is a sample leaving its patch's
+//!   front side; consecutive mutually facing intersections give `C_ij`, `C_ji` and two terms
+//!   `log₂(A_T cos θ_x cos θ_y / (π r²))` of (4.8).
+//! - **Local lines**: a patch picked by area, a uniform point on it, a cosine direction; the
+//!   nearest surface, if it faces back, gives `C_ij` and one term.
+//!
+//! `F_ij ≈ C_ij / N_i` (2.36, 2.37); tallies are exact and mergeable, so results depend on
+//! `(seed, lines)` only.
+
+use alloc::vec::Vec;
+
+use crate::accel::{Bvh3, Hit3};
+use crate::continuous;
+use crate::error::Result;
+use crate::geom::DVec3;
+use crate::lines::{
+    BoundingSphere, Line3, canonical, chunk_range, chunk_rng, sample_global_line_3d,
+    sample_local_line_3d,
+};
+use crate::scene::Scene;
+
+pub use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
+
+/// A 3D scene prepared for line casting: patch geometry and a BVH over the patches.
+#[derive(Debug)]
+pub struct SceneTracer {
+    points: Vec<DVec3>,
+    polygons: Vec<(usize, usize)>,
+    normals: Vec<DVec3>,
+    face: Vec<u32>,
+    areas: Vec<f64>,
+    cumulative: Vec<f64>,
+    total_area: f64,
+    bvh: Bvh3,
+    sphere: BoundingSphere,
+}
+
+/// Four canonical samples.
+fn canonical_4d<R: rand_core::Rng + ?Sized>(rng: &mut R) -> [f64; 4] {
+    [
+        canonical(rng),
+        canonical(rng),
+        canonical(rng),
+        canonical(rng),
+    ]
+}
+
+impl SceneTracer {
+    /// Prepares `scene` for line casting (builds the BVH in `O(n log n)`).
+    ///
+    /// # Errors
+    /// The errors of [`Bvh3::build`].
+    pub fn new(scene: &Scene) -> Result<Self> {
+        let patches = scene.patches();
+        let points = scene.points().to_vec();
+        let polygons: Vec<(usize, usize)> = patches.iter().map(|p| (p.first, p.count)).collect();
+        let normals = patches.iter().map(|p| p.normal).collect();
+        let face = patches.iter().map(|p| p.face as u32).collect();
+        let areas: Vec<f64> = patches.iter().map(|p| p.area).collect();
+        let total_area = scene.total_area();
+        let mut acc = 0.0;
+        let cumulative = areas
+            .iter()
+            .map(|&a| {
+                acc += a / total_area;
+                acc
+            })
+            .collect();
+        let (lo, hi) = scene.bounds();
+        let bvh = Bvh3::build(&points, &polygons)?;
+        Ok(Self {
+            points,
+            polygons,
+            normals,
+            face,
+            areas,
+            cumulative,
+            total_area,
+            bvh,
+            sphere: BoundingSphere::of_bounds(lo, hi),
+        })
+    }
+
+    fn vertices(&self, i: usize) -> &[DVec3] {
+        let (first, count) = self.polygons[i];
+        self.points.get(first..first + count).unwrap_or(&[])
+    }
+
+    /// Orders coincident hits and drops the double hit of a line through an edge shared by
+    /// two patches of one face; `false` for a degenerate line (two surfaces met at one point
+    /// facing the same way), which the caller discards (a set of lines of measure zero).
+    fn normalise_hits(&self, dir: DVec3, hits: &mut Vec<Hit3>) -> bool {
+        let eps = 1e-12 * self.sphere.radius;
+        hits.dedup_by(|b, a| {
+            self.face[b.prim as usize] == self.face[a.prim as usize] && b.t - a.t <= eps
+        });
+        let forward = |h: &Hit3| dir.dot(self.normals[h.prim as usize]) > 0.0;
+        for k in 1..hits.len() {
+            if hits[k].t - hits[k - 1].t <= eps {
+                match (forward(&hits[k - 1]), forward(&hits[k])) {
+                    (true, false) => hits.swap(k - 1, k),
+                    (false, true) => {}
+                    _ => return false,
+                }
+            }
+        }
+        true
+    }
+
+    fn tally_global_line(&self, dir: DVec3, hits: &mut Vec<Hit3>, tally: &mut LineTally) {
+        if !self.normalise_hits(dir, hits) {
+            tally.skip_line();
+            return;
+        }
+        let mut line_sum = 0.0;
+        for k in 0..hits.len() {
+            let i = hits[k].prim as usize;
+            tally.leave(i);
+            let cos_i = dir.dot(self.normals[i]);
+            if cos_i <= 0.0 {
+                continue; // leaves backwards: the partner of hit k − 1
+            }
+            let Some(next) = hits.get(k + 1) else {
+                continue;
+            }; // escapes
+            let j = next.prim as usize;
+            let cos_j = -dir.dot(self.normals[j]);
+            if cos_j <= 0.0 {
+                continue; // meets the back of j
+            }
+            let s = continuous::solid_sample(self.total_area, cos_i, cos_j, next.t - hits[k].t);
+            line_sum += tally.global_pair(i, j, s);
+        }
+        tally.end_line(line_sum, hits.len() as u64);
+    }
+
+    /// Among the surfaces the line meets at the same point as `hit`, one facing back towards
+    /// the origin, if any (else `hit`).
+    fn coincident_front_hit(&self, line: &Line3, hit: Hit3, hits: &mut Vec<Hit3>) -> Hit3 {
+        let eps = 1e-12 * self.sphere.radius;
+        self.bvh.all_hits(line, hits);
+        hits.iter()
+            .find(|h| {
+                (h.t - hit.t).abs() <= eps && line.dir.dot(self.normals[h.prim as usize]) < 0.0
+            })
+            .copied()
+            .unwrap_or(hit)
+    }
+
+    fn tally_local_line(&self, u0: f64, u: [f64; 4], tally: &mut LineTally, hits: &mut Vec<Hit3>) {
+        let i = self
+            .cumulative
+            .partition_point(|&c| c <= u0)
+            .min(self.polygons.len() - 1);
+        let line = sample_local_line_3d(self.vertices(i), self.normals[i], u);
+        tally.leave(i);
+        let t_min = 1e-12 * self.sphere.radius;
+        let mut sample = 0.0;
+        if let Some(mut hit) = self.bvh.first_hit(line.origin, line.dir, t_min) {
+            if line.dir.dot(self.normals[hit.prim as usize]) >= 0.0 {
+                hit = self.coincident_front_hit(&line, hit, hits);
+            }
+            let j = hit.prim as usize;
+            let cos_j = -line.dir.dot(self.normals[j]);
+            if cos_j > 0.0 && self.face[j] != self.face[i] {
+                let cos_i = line.dir.dot(self.normals[i]);
+                let s = continuous::solid_sample(self.total_area, cos_i, cos_j, hit.t);
+                sample = tally.local_pair(i, j, s);
+            }
+        }
+        tally.end_line(sample, 1);
+    }
+}
+
+impl LineTracer for SceneTracer {
+    fn n_patches(&self) -> usize {
+        self.polygons.len()
+    }
+
+    fn patch_sizes(&self) -> &[f64] {
+        &self.areas
+    }
+
+    fn trace_chunk(&self, seed: u64, n_lines: u64, chunk: u64, tally: &mut LineTally) {
+        let mut rng = chunk_rng(seed, chunk);
+        let mut hits = Vec::new();
+        for _ in chunk_range(n_lines, chunk) {
+            match tally.method() {
+                LineMethod::Global => {
+                    let line = sample_global_line_3d(&self.sphere, canonical_4d(&mut rng));
+                    self.bvh.all_hits(&line, &mut hits);
+                    self.tally_global_line(line.dir, &mut hits, tally);
+                }
+                LineMethod::Local => {
+                    let u0 = canonical(&mut rng);
+                    let u = canonical_4d(&mut rng);
+                    self.tally_local_line(u0, u, tally, &mut hits);
+                }
+            }
+        }
+    }
+}
+
+/// Casts `n_lines` lines of `method` with `seed` on this thread and returns the estimate.
+///
+/// # Errors
+/// [`crate::ErrorKind::NoLines`], [`crate::ErrorKind::UnsampledPatch`], and BVH
+/// construction errors.
+pub fn estimate(
+    scene: &Scene,
+    method: LineMethod,
+    seed: u64,
+    n_lines: u64,
+) -> Result<LineEstimate> {
+    let tracer = SceneTracer::new(scene)?;
+    tracer.run(method, seed, n_lines)?.finish(&tracer)
+}

@@ -1,0 +1,165 @@
+//! 3D tables: the empty cube (Tables 3.2, 3.8), the platonic solids (Table 4.1), the
+//! tetrahedron (Table 4.5) and the sphere model (§3.2.1).
+
+use sceneinfo::formfactor::estimate_3d::{LineMethod, estimate};
+use sceneinfo::formfactor::exact_3d;
+use sceneinfo::scene::{Scene, preset_3d};
+use sceneinfo::thesis::{PLATONIC_REFERENCE, TABLE_3_8, TABLE_ROUNDING};
+
+fn exact_measures(scene: &Scene) -> sceneinfo::channel::Measures {
+    let polygons: Vec<(usize, usize)> =
+        scene.patches().iter().map(|p| (p.first, p.count)).collect();
+    assert!(!exact_3d::may_be_occluded(scene.points(), &polygons));
+    let ff = exact_3d::form_factors_unoccluded(scene.points(), &polygons).unwrap();
+    assert!(!ff.has_background());
+    ff.channel().unwrap().measures()
+}
+
+/// Table 3.2: with exact form factors the 600-patch cube gives the thesis' 10⁹-line values,
+/// which had converged (3 printed decimals: half a unit of rounding).
+#[test]
+fn cube_600_exact_matches_the_converged_thesis_values() {
+    let m = exact_measures(&Scene::cube(10).unwrap());
+    let (_, _, h_s, i_s, _) = TABLE_3_8[2];
+    assert!(
+        (m.h_s - h_s).abs() <= TABLE_ROUNDING + 1e-4,
+        "H_S {} vs {h_s}",
+        m.h_s
+    );
+    assert!(
+        (m.i_s - i_s).abs() <= TABLE_ROUNDING + 1e-4,
+        "I_S {} vs {i_s}",
+        m.i_s
+    );
+    assert!((m.h_p - 600f64.log2()).abs() < 1e-12);
+}
+
+/// Table 3.8's first row: 10⁷ global lines through pairs of uniform points of the
+/// circumscribed sphere land where the thesis' did (within 0.01), and `I_S^c` of the cube is
+/// 1.610 ± 0.003 (the thesis: 1.609, Table 4.1; 1.610 in §4.4).
+#[test]
+fn cube_600_with_ten_million_global_lines_lands_on_the_thesis_row() {
+    let e = estimate(
+        &Scene::cube(10).unwrap(),
+        LineMethod::Global,
+        38,
+        10_000_000,
+    )
+    .unwrap();
+    let m = e.form_factors.channel().unwrap().measures();
+    let (_, _, h_s, i_s, _) = TABLE_3_8[0];
+    assert!((m.h_s - h_s).abs() < 0.01, "H_S {} vs {h_s}", m.h_s);
+    assert!((m.i_s - i_s).abs() < 0.01, "I_S {} vs {i_s}", m.i_s);
+}
+
+/// `I_S^c` of the cube, 1.610 ± 0.003 (Table 4.1: 1.609; §4.4: 1.610). `I_S^c` does not
+/// depend on the discretisation, so one patch per face and 2·10⁷ lines (σ ≈ 8e-4).
+#[test]
+fn cube_continuous_mutual_information() {
+    let c = estimate(&Scene::cube(1).unwrap(), LineMethod::Global, 39, 20_000_000)
+        .unwrap()
+        .continuous;
+    assert!(3.0 * c.stderr < 0.003, "σ {}", c.stderr);
+    assert!(
+        (c.value - 1.610).abs() < 0.003,
+        "I_S^c {} ± {}",
+        c.value,
+        c.stderr
+    );
+}
+
+/// Monte Carlo `I_S` is biased upward and converges to the exact value as lines grow
+/// (Table 3.8's columns), here on the 2400-patch cube.
+#[test]
+fn cube_2400_estimates_converge_to_exact_from_above() {
+    let cube = Scene::cube(20).unwrap();
+    let exact = exact_measures(&cube).i_s;
+    let mut previous = f64::INFINITY;
+    for lines in [500_000u64, 2_000_000, 8_000_000] {
+        let e = estimate(&cube, LineMethod::Global, 24, lines).unwrap();
+        let i_s = e.form_factors.channel().unwrap().i_s();
+        assert!(
+            i_s > exact && i_s < previous,
+            "{lines}: {i_s} (exact {exact}, before {previous})"
+        );
+        previous = i_s;
+    }
+}
+
+/// Table 3.8's `E(MSE)`: the thesis' values are a constant multiple of `n − ΣF²` (with
+/// `N = 1, α = a`); the ratio between the 2400- and 600-patch cubes must match, 0.1%.
+#[test]
+fn e_mse_ratio_between_meshes_matches_table_3_8() {
+    let a = exact_measures(&Scene::cube(10).unwrap()).e_mse;
+    let b = exact_measures(&Scene::cube(20).unwrap()).e_mse;
+    let thesis = TABLE_3_8[5].4 / TABLE_3_8[2].4;
+    let ours = b / a;
+    assert!(
+        (ours / thesis - 1.0).abs() < 1e-3,
+        "ratio {ours} vs thesis {thesis}"
+    );
+}
+
+/// Table 4.1 against independent references (see `thesis::PLATONIC_REFERENCE`): the global
+/// line estimate lies within 3 standard errors (plus the reference's own uncertainty).
+#[test]
+fn platonic_solids_continuous_mutual_information() {
+    for (name, reference, uncertainty) in PLATONIC_REFERENCE {
+        let scene = preset_3d(name, 1).unwrap();
+        let e = estimate(&scene, LineMethod::Global, 41, 4_000_000)
+            .unwrap()
+            .continuous;
+        assert!(e.stderr < 0.004, "{name}: σ {}", e.stderr);
+        assert!(
+            (e.value - reference).abs() <= 3.0 * e.stderr + uncertainty,
+            "{name}: I_S^c {} ± {} vs reference {reference}",
+            e.value,
+            e.stderr
+        );
+    }
+}
+
+/// Table 4.5: the regular tetrahedron with one patch per face has `F_ij = 1/3`, so
+/// `I_S = 2 − log₂ 3 = 0.415` exactly; refining its faces raises `I_S` towards `I_S^c`
+/// (Tables 4.5, 4.6).
+#[test]
+fn tetrahedron_exact_and_refinement() {
+    let m = exact_measures(&Scene::tetrahedron().unwrap());
+    assert!((m.i_s - (2.0 - 3f64.log2())).abs() < 1e-12, "I_S {}", m.i_s);
+    assert!((m.i_s - 0.415).abs() < TABLE_ROUNDING);
+    let mut previous = m.i_s;
+    for level in 1..=2 {
+        let i_s = exact_measures(&Scene::tetrahedron_mesh(level).unwrap()).i_s;
+        assert!(i_s > previous, "level {level}: {i_s} <= {previous}");
+        previous = i_s;
+    }
+    let c = estimate(
+        &Scene::tetrahedron().unwrap(),
+        LineMethod::Global,
+        45,
+        2_000_000,
+    )
+    .unwrap()
+    .continuous;
+    assert!(
+        previous < c.value - 3.0 * c.stderr,
+        "I_S {previous} vs I_S^c {}",
+        c.value
+    );
+}
+
+/// §3.2.1: the exact spherical-patches model is the independence channel: `I_S = 0`,
+/// `H_S = H_P = log₂ n` for equal patches and `H_J = 2 H_S` (3.19).
+#[test]
+fn sphere_model_is_the_independence_channel() {
+    for n in [1usize, 2, 7, 64] {
+        let ff = exact_3d::spherical_patches(&vec![1.0; n]).unwrap();
+        let m = ff.channel().unwrap().measures();
+        let log_n = (n as f64).log2();
+        assert!(
+            m.i_s.abs() < 1e-12 && (m.h_s - log_n).abs() < 1e-12,
+            "{m:?}"
+        );
+        assert!((m.h_p - log_n).abs() < 1e-12 && (m.h_j - 2.0 * m.h_s).abs() < 1e-12);
+    }
+}
