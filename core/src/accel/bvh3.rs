@@ -103,7 +103,9 @@ mod prim;
 #[cfg(all(test, feature = "std"))]
 mod tests;
 
-use prim::{Frame, Query, Slab, prepare, vertices};
+#[cfg(feature = "alloc")]
+use prim::Slab;
+use prim::{Frame, Query, prepare, vertices};
 
 #[cfg(feature = "alloc")]
 /// Capacity of the traversal stacks. Leaves are less than 64 levels deep (32 SAH levels
