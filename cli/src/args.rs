@@ -188,16 +188,32 @@ pub struct ReproduceArgs {
     /// Only the exact tables of chapter 3 (a second or so).
     #[arg(long)]
     pub chapter_3_only: bool,
+    /// Also the slow 3D rows: the 5,400-patch cube exactly and the cubes with the thesis'
+    /// 10⁷ lines (a few minutes).
+    #[arg(long)]
+    pub full: bool,
 }
 
 /// Arguments of `draw`.
 #[derive(Debug, clap::Args)]
 pub struct DrawArgs {
-    /// The scene file (.flat).
+    /// The scene file: .flat (drawn as SVG with --svg) or .obj (written as a coloured PLY
+    /// mesh with --ply).
     pub file: PathBuf,
-    /// Where to write the picture of the scene.
+    /// Where to write the picture of a .flat scene (required for .flat).
     #[arg(long, value_name = "OUT.svg")]
-    pub svg: PathBuf,
+    pub svg: Option<PathBuf>,
+    /// Where to write a .obj scene as an ASCII PLY mesh (required for .obj): one polygon per
+    /// patch with its own vertices and a flat `red green blue` colour (viridis; cool–warm
+    /// about 0 for `delta`), the quantity, its range and its sources in `comment` lines.
+    #[arg(long, value_name = "OUT.ply")]
+    pub ply: Option<PathBuf>,
+    /// With --ply: colour I_i, I_i^c or I_i^c − I_i divided by the patch's relative area
+    /// a_i = A_i / A_T, a density comparable across patch sizes (I_i and I_i^c are a patch's
+    /// share of I_S and I_S^c, so they shrink with the patch). Not for `h` (H_i is a row
+    /// entropy, not a share).
+    #[arg(long)]
+    pub per_area: bool,
     /// What colours the patches: I_i (6.8), I_i^c (6.37, Monte Carlo), H_i (3.2), or the
     /// discretisation error I_i^c − I_i (§6.5.2, Monte Carlo; its I_i from exact form factors
     /// up to 2000 patches, from the run's Monte Carlo form factors above).

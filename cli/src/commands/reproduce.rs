@@ -10,11 +10,12 @@ use std::time::Instant;
 use anyhow::{Result, anyhow};
 use sceneinfo::continuous::closed_form;
 use sceneinfo::formfactor::estimate_2d::{FlatEstimate, FlatTracer, LineMethod};
+use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::report::JsonObject;
-use sceneinfo::scene::{FlatScene, catalogue, catalogue_scene};
+use sceneinfo::scene::{FlatScene, Scene, catalogue, catalogue_scene, preset_3d};
 use sceneinfo::thesis::{
-    POLYGON_PER_SIDE, POLYGON_SIDES, TABLE_3_4_H_S, TABLE_3_5_I_S, TABLE_4_10_I_S_CONTINUOUS,
-    TABLE_4_11, TABLE_4_12,
+    PLATONIC_REFERENCE, POLYGON_PER_SIDE, POLYGON_SIDES, TABLE_3_4_H_S, TABLE_3_5_I_S, TABLE_3_8,
+    TABLE_4_1, TABLE_4_10_I_S_CONTINUOUS, TABLE_4_11, TABLE_4_12,
 };
 
 use crate::args::ReproduceArgs;
@@ -89,6 +90,8 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
         tables.push(table_4_11(&runner)?);
         tables.push(table_4_12(&runner)?);
         tables.push(catalogue_table(&runner)?);
+        tables.push(table_3_8(&runner, args.full)?);
+        tables.push(table_4_1(&runner)?);
     }
     let seconds = start.elapsed().as_secs_f64();
     let mut out = std::io::stdout().lock();
@@ -278,6 +281,115 @@ fn catalogue_table(runner: &Runner) -> Result<Table> {
         key: "catalogue",
         title: "§4.5.2 and Fig. 3.12: the flatland catalogue (I_S^c; thesis values where printed)"
             .into(),
+        rows,
+    })
+}
+
+impl Runner {
+    fn estimate_3d(&self, scene: &Scene, lines: u64) -> Result<FlatEstimate> {
+        let tracer = SceneTracer::new(scene).map_err(|e| anyhow!("{e}"))?;
+        let tally = crate::lines::run(&tracer, LineMethod::Global, self.seed, lines, self.threads);
+        tally.finish(&tracer).map_err(|e| anyhow!("{e}"))
+    }
+}
+
+/// Exact measures of an unoccluded 3D scene.
+fn exact_3d(scene: &Scene) -> Result<sceneinfo::channel::Measures> {
+    let ff = crate::output::exact_3d_form_factors(std::path::Path::new("<preset>"), scene)?;
+    Ok(ff.channel().map_err(|e| anyhow!("{e}"))?.measures())
+}
+
+/// Tables 3.2 and 3.8: the empty cube with 600, 2400 (and with `--full` 5400) patches —
+/// exact form factors beside the thesis' 10⁹-line values, the `E(MSE)` ratios, and with
+/// `--full` our global-line estimate with the thesis' 10⁷ lines beside its 10⁷-line row.
+fn table_3_8(runner: &Runner, full: bool) -> Result<Table> {
+    let grids: &[(u32, usize)] = if full {
+        &[(10, 600), (20, 2400), (30, 5400)]
+    } else {
+        &[(10, 600), (20, 2400)]
+    };
+    let mut rows = Vec::new();
+    let mut e_mse_600 = None;
+    for &(grid, n) in grids {
+        let cube = Scene::cube(grid).map_err(|e| anyhow!("{e}"))?;
+        let m = exact_3d(&cube)?;
+        let row9 = TABLE_3_8.iter().find(|r| r.0 == n && r.1 == 1e9).copied();
+        let row7 = TABLE_3_8.iter().find(|r| r.0 == n && r.1 == 1e7).copied();
+        let mut cells = vec![
+            cell("H_S exact", m.h_s, 0.0, row9.map(|r| r.2)),
+            cell("I_S exact", m.i_s, 0.0, row9.map(|r| r.3)),
+        ];
+        match e_mse_600 {
+            None => e_mse_600 = Some(m.e_mse),
+            Some(base) => {
+                let thesis = row9.map(|r| r.4 / TABLE_3_8[2].4);
+                cells.push(cell("E(MSE) ratio to 600", m.e_mse / base, 0.0, thesis));
+            }
+        }
+        if full {
+            let e = runner.estimate_3d(&cube, 10_000_000)?;
+            let mc = e
+                .form_factors
+                .channel()
+                .map_err(|e| anyhow!("{e}"))?
+                .measures();
+            cells.push(cell("H_S 1e7 lines", mc.h_s, 0.0, row7.map(|r| r.2)));
+            cells.push(cell("I_S 1e7 lines", mc.i_s, 0.0, row7.map(|r| r.3)));
+        }
+        rows.push(Row {
+            label: format!("cube {n} patches"),
+            cells,
+        });
+    }
+    if let Some(base) = e_mse_600 {
+        rows.push(Row {
+            label: "E(MSE) factor thesis/ours (600)".into(),
+            cells: vec![cell("factor", TABLE_3_8[2].4 / base, 0.0, None)],
+        });
+    }
+    Ok(Table {
+        key: "table_3_8",
+        title: "Tables 3.2 and 3.8: the empty cube (exact form factors; --full adds 5400 patches and 1e7-line estimates)".into(),
+        rows,
+    })
+}
+
+/// Table 4.1: `I_S^c` of the platonic solids and the Cornell box, beside the thesis and, for
+/// the regular solids, the independent references the issue tracker quotes.
+fn table_4_1(runner: &Runner) -> Result<Table> {
+    let mut rows = Vec::new();
+    for (name, thesis) in TABLE_4_1 {
+        let (scene, preset) = match name {
+            "sphere" => {
+                // The exact spherical-patches model: independence, I_S = I_S^c = 0.
+                let ff = sceneinfo::formfactor::exact_3d::spherical_patches(&[1.0; 64])
+                    .map_err(|e| anyhow!("{e}"))?;
+                let i_s = ff.channel().map_err(|e| anyhow!("{e}"))?.i_s();
+                rows.push(Row {
+                    label: "sphere (exact spherical-patches model, 64 patches)".into(),
+                    cells: vec![cell("I_S", i_s, 0.0, Some(thesis))],
+                });
+                continue;
+            }
+            "Cornell box" => (preset_3d("cornell-lifted", 1), "cornell-lifted"),
+            other => (preset_3d(other, 1), other),
+        };
+        let scene = scene.map_err(|e| anyhow!("{e}"))?;
+        let c = runner
+            .estimate_3d(&scene, runner.lines.max(1_000_000))?
+            .continuous;
+        let mut cells = vec![cell("I_S^c", c.value, c.stderr, Some(thesis))];
+        if let Some((_, reference, _)) = PLATONIC_REFERENCE.iter().find(|r| r.0 == name) {
+            cells.push(cell("reference", *reference, 0.0, Some(thesis)));
+        }
+        rows.push(Row {
+            label: format!("{name} ({preset})"),
+            cells,
+        });
+    }
+    Ok(Table {
+        key: "table_4_1",
+        title: "Table 4.1: I_S^c of the platonic solids and the Cornell box (global lines)".into(),
         rows,
     })
 }
