@@ -86,6 +86,10 @@ pub const TABLE_3_8: [(usize, f64, f64, f64, f64); 9] = [
     (5400, 1e9, 10.852, 1.547, 4546.1),
 ];
 
+/// Table 4.3's 10⁵-line rows for the same cubes: `(patches, H_S, I_S, I_S^c)`.
+pub const TABLE_4_3_FEW_LINES: [(usize, f64, f64, f64); 3] =
+    [(600, 6.482, 2.747, 1.610), (2400, 5.342, 5.887, 1.608), (5400, 4.313, 8.086, 1.610)];
+
 /// Table 4.1: `I_S^c` of the platonic solids and the Cornell box (10⁶ global lines):
 /// `(name, I_S^c)`.
 pub const TABLE_4_1: [(&str, f64); 7] = [
