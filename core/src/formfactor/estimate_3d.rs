@@ -26,6 +26,7 @@ use crate::lines::{
 };
 use crate::scene::Scene;
 
+use crate::formfactor::tally::{Crossing, tally_global_line};
 pub use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
 
 /// A 3D scene prepared for line casting: patch geometry and a BVH over the patches.
@@ -93,52 +94,25 @@ impl SceneTracer {
         self.points.get(first..first + count).unwrap_or(&[])
     }
 
-    /// Orders coincident hits and drops the double hit of a line through an edge shared by
-    /// two patches of one face; `false` for a degenerate line (two surfaces met at one point
-    /// facing the same way), which the caller discards (a set of lines of measure zero).
-    fn normalise_hits(&self, dir: DVec3, hits: &mut Vec<Hit3>) -> bool {
+    /// Tallies one global line from its sorted hits (see [`tally_global_line`]).
+    fn tally_global_line(
+        &self,
+        dir: DVec3,
+        hits: &[Hit3],
+        crossings: &mut Vec<Crossing>,
+        tally: &mut LineTally,
+    ) {
+        crossings.clear();
+        crossings.extend(hits.iter().map(|h| Crossing {
+            t: h.t,
+            patch: h.prim,
+            surface: self.face[h.prim as usize],
+            cos: dir.dot(self.normals[h.prim as usize]),
+        }));
         let eps = 1e-12 * self.sphere.radius;
-        hits.dedup_by(|b, a| {
-            self.face[b.prim as usize] == self.face[a.prim as usize] && b.t - a.t <= eps
+        tally_global_line(crossings, eps, tally, |ci, cj, r| {
+            continuous::solid_sample(self.total_area, ci, cj, r)
         });
-        let forward = |h: &Hit3| dir.dot(self.normals[h.prim as usize]) > 0.0;
-        for k in 1..hits.len() {
-            if hits[k].t - hits[k - 1].t <= eps {
-                match (forward(&hits[k - 1]), forward(&hits[k])) {
-                    (true, false) => hits.swap(k - 1, k),
-                    (false, true) => {}
-                    _ => return false,
-                }
-            }
-        }
-        true
-    }
-
-    fn tally_global_line(&self, dir: DVec3, hits: &mut Vec<Hit3>, tally: &mut LineTally) {
-        if !self.normalise_hits(dir, hits) {
-            tally.skip_line();
-            return;
-        }
-        let mut line_sum = 0.0;
-        for k in 0..hits.len() {
-            let i = hits[k].prim as usize;
-            tally.leave(i);
-            let cos_i = dir.dot(self.normals[i]);
-            if cos_i <= 0.0 {
-                continue; // leaves backwards: the partner of hit k − 1
-            }
-            let Some(next) = hits.get(k + 1) else {
-                continue;
-            }; // escapes
-            let j = next.prim as usize;
-            let cos_j = -dir.dot(self.normals[j]);
-            if cos_j <= 0.0 {
-                continue; // meets the back of j
-            }
-            let s = continuous::solid_sample(self.total_area, cos_i, cos_j, next.t - hits[k].t);
-            line_sum += tally.global_pair(i, j, s);
-        }
-        tally.end_line(line_sum, hits.len() as u64);
     }
 
     /// Among the surfaces the line meets at the same point as `hit`, one facing back towards
@@ -191,12 +165,13 @@ impl LineTracer for SceneTracer {
     fn trace_chunk(&self, seed: u64, n_lines: u64, chunk: u64, tally: &mut LineTally) {
         let mut rng = chunk_rng(seed, chunk);
         let mut hits = Vec::new();
+        let mut crossings = Vec::new();
         for _ in chunk_range(n_lines, chunk) {
             match tally.method() {
                 LineMethod::Global => {
                     let line = sample_global_line_3d(&self.sphere, canonical_4d(&mut rng));
                     self.bvh.all_hits(&line, &mut hits);
-                    self.tally_global_line(line.dir, &mut hits, tally);
+                    self.tally_global_line(line.dir, &hits, &mut crossings, tally);
                 }
                 LineMethod::Local => {
                     let u0 = canonical(&mut rng);
