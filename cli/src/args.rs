@@ -220,7 +220,8 @@ pub struct DrawArgs {
     #[arg(long, value_enum, default_value_t = Colour::I)]
     pub color: Colour,
     /// Global lines for `ic` and `delta` (default 1e6). With `i` or `h`, estimate the form
-    /// factors with this many lines instead of computing them exactly.
+    /// factors with this many lines instead of computing them exactly (a .obj scene whose
+    /// patches may hide one another, or of more than 2000 patches, uses 1e6 lines anyway).
     #[arg(long, value_name = "N", value_parser = parse_count)]
     pub lines: Option<u64>,
     /// Seed of the line streams.

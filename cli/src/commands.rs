@@ -1,6 +1,7 @@
 //! The subcommands: each validates its arguments into core objects, runs, and prints.
 
 mod draw;
+mod draw3d;
 pub mod formfactors;
 pub mod measure;
 mod reproduce;

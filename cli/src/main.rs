@@ -8,6 +8,7 @@ mod args;
 mod commands;
 mod lines;
 mod output;
+mod ply;
 mod svg;
 
 use std::process::ExitCode;

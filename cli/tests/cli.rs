@@ -125,3 +125,69 @@ fn monte_carlo_is_identical_on_one_and_two_threads() {
     assert!(one.contains("\"i_s_continuous\":"));
     assert_eq!(one, run("2"));
 }
+
+/// `draw FILE.obj --ply`: a coloured PLY mesh, one face per patch; .flat still needs --svg.
+#[test]
+fn draw_obj_writes_a_ply_of_one_face_per_patch() {
+    let obj = temp("cube.obj");
+    let st = bin()
+        .args(["scene", "cube", "--grid", "3", "-o"])
+        .arg(&obj)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let ply = temp("cube.ply");
+    let faces_of = |extra: &[&str]| {
+        let out = bin()
+            .arg("draw")
+            .arg(&obj)
+            .arg("--ply")
+            .arg(&ply)
+            .args(extra)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        let stdout = String::from_utf8(out.stdout).unwrap();
+        assert!(stdout.contains("54 patches"), "{stdout}");
+        let text = std::fs::read_to_string(&ply).unwrap();
+        let (header, body) = text.split_once("end_header\n").unwrap();
+        let count = |element: &str| -> usize {
+            header
+                .lines()
+                .find_map(|l| l.strip_prefix(&format!("element {element} ")))
+                .unwrap()
+                .parse()
+                .unwrap()
+        };
+        let (nv, nf) = (count("vertex"), count("face"));
+        let lines: Vec<&str> = body.lines().collect();
+        assert_eq!(lines.len(), nv + nf);
+        for face in &lines[nv..] {
+            let nums: Vec<usize> = face.split(' ').map(|w| w.parse().unwrap()).collect();
+            assert_eq!(nums.len(), 1 + nums[0] + 3, "{face}");
+            assert!(nums[1..=nums[0]].iter().all(|&k| k < nv), "{face}");
+        }
+        (nf, header.to_owned())
+    };
+    let (nf, header) = faces_of(&[]);
+    assert_eq!(nf, 54);
+    assert!(header.contains("form factors: exact"), "{header}");
+    let (nf, header) = faces_of(&["--color", "ic", "--lines", "200000", "--per-area"]);
+    assert_eq!(nf, 54);
+    assert!(header.contains("200000 global lines"), "{header}");
+
+    let out = bin().arg("draw").arg(&obj).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--ply OUT.ply"));
+    let flat = temp("draw-square.flat");
+    let st = bin()
+        .args(["scene", "rect", "-o"])
+        .arg(&flat)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let out = bin().arg("draw").arg(&flat).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--svg OUT.svg"));
+}

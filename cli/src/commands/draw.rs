@@ -89,6 +89,21 @@ struct Computed {
 }
 
 pub fn run(args: &DrawArgs) -> Result<()> {
+    if crate::output::is_obj(&args.file) {
+        return super::draw3d::run(args);
+    }
+    let Some(svg_path) = &args.svg else {
+        anyhow::bail!(
+            "{}: a .flat scene is drawn as SVG: give --svg OUT.svg (--ply is for .obj scenes)",
+            args.file.display()
+        );
+    };
+    if args.ply.is_some() || args.per_area {
+        anyhow::bail!(
+            "{}: --ply and --per-area are for .obj scenes; a .flat scene is drawn with --svg",
+            args.file.display()
+        );
+    }
     let text = read_text(&args.file)?;
     let at = |e: sceneinfo::Error| located(&args.file, &e);
     let scene = sceneinfo::io::parse_flat(&text).map_err(at)?;
@@ -104,7 +119,7 @@ pub fn run(args: &DrawArgs) -> Result<()> {
         &computed.notes,
         width,
     );
-    write_atomic(&args.svg, svg.as_bytes())?;
+    write_atomic(svg_path, svg.as_bytes())?;
     if let (Some(path), Some(ff)) = (&args.matrix_svg, &computed.ff) {
         let grid = information_grid(ff, scene.n_patches()).map_err(at)?;
         let mut notes = vec![source_note(config.discrete, "I_ij")];
@@ -188,7 +203,7 @@ fn compute(scene: &FlatScene, config: &Config) -> sceneinfo::Result<Computed> {
 
 /// A discrete per-patch measure of the core.
 #[derive(Clone, Copy, Debug)]
-enum PatchMeasure {
+pub(super) enum PatchMeasure {
     /// I_i (6.8).
     Information,
     /// H_i (3.2).
@@ -196,7 +211,11 @@ enum PatchMeasure {
 }
 
 /// The core's `measure` of the first `n` states (the patches) of the channel of `ff`.
-fn patch_values(ff: &FormFactors, n: usize, measure: PatchMeasure) -> sceneinfo::Result<Vec<f64>> {
+pub(super) fn patch_values(
+    ff: &FormFactors,
+    n: usize,
+    measure: PatchMeasure,
+) -> sceneinfo::Result<Vec<f64>> {
     let channel = ff.channel()?;
     let mut out = vec![0.0; ff.n_states()];
     match measure {
@@ -226,7 +245,7 @@ fn quantity_name(c: Colour) -> &'static str {
 }
 
 /// The smallest and largest of `values` (`(0, 0)` for none).
-fn range(values: impl IntoIterator<Item = f64>) -> (f64, f64) {
+pub(super) fn range(values: impl IntoIterator<Item = f64>) -> (f64, f64) {
     values
         .into_iter()
         .fold(None, |acc: Option<(f64, f64)>, v| match acc {
@@ -238,7 +257,7 @@ fn range(values: impl IntoIterator<Item = f64>) -> (f64, f64) {
 
 /// The colour map and scale for the patches: diverging about zero for the signed
 /// discretisation error, viridis from the smallest to the largest value otherwise.
-fn patch_colours(colour: Colour, values: &[f64]) -> (ColourMap, Scale) {
+pub(super) fn patch_colours(colour: Colour, values: &[f64]) -> (ColourMap, Scale) {
     let (lo, hi) = range(values.iter().copied());
     match colour {
         Colour::Delta => (
@@ -627,7 +646,9 @@ mod tests {
     fn config(colour: Colour, lines: Option<u64>, matrix: bool, n: usize) -> Config {
         let args = DrawArgs {
             file: "t.flat".into(),
-            svg: "t.svg".into(),
+            svg: Some("t.svg".into()),
+            ply: None,
+            per_area: false,
             color: colour,
             lines,
             seed: 3,

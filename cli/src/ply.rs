@@ -1,0 +1,276 @@
+//! A small ASCII PLY writer: polygons with flat per-face colours, for `sceneinfo draw`.
+//!
+//! Every polygon gets its own vertices (shared corners are written once per polygon), so a
+//! viewer that interpolates colours across vertices still shows each face in one colour.
+//! The header is plain ASCII: comments are cut to one line of printable ASCII.
+
+use std::fmt::Write as _;
+
+use anyhow::{Result, bail};
+use sceneinfo::geom::DVec3;
+
+use crate::svg::Rgb;
+
+/// A polygon mesh being assembled.
+#[derive(Debug, Default)]
+pub struct Ply {
+    comments: Vec<String>,
+    vertices: Vec<[f32; 3]>,
+    /// `(first vertex, vertex count, colour)` of each face.
+    faces: Vec<(usize, usize, Rgb)>,
+}
+
+impl Ply {
+    /// An empty mesh.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds a `comment` line to the header; anything but printable ASCII becomes `?`.
+    pub fn comment(&mut self, text: &str) {
+        let line: String = text
+            .chars()
+            .map(|c| {
+                if c == ' ' || c.is_ascii_graphic() {
+                    c
+                } else {
+                    '?'
+                }
+            })
+            .collect();
+        self.comments.push(line);
+    }
+
+    /// Adds a polygon with its own copies of `vertices` (in order) and one colour.
+    pub fn polygon(&mut self, vertices: &[DVec3], colour: Rgb) {
+        let first = self.vertices.len();
+        self.vertices.extend(
+            vertices
+                .iter()
+                .map(|v| [v.x as f32, v.y as f32, v.z as f32]),
+        );
+        self.faces.push((first, vertices.len(), colour));
+    }
+
+    /// The file's text.
+    ///
+    /// The face's vertex count is a `uchar` unless some face has more than 255 vertices
+    /// (then `ushort`).
+    ///
+    /// # Errors
+    /// A face of fewer than 3 or more than 65 535 vertices; more vertices than an `int` index.
+    pub fn finish(&self) -> Result<String> {
+        let max_count = self.faces.iter().map(|f| f.1).max().unwrap_or(3);
+        if let Some(f) = self.faces.iter().position(|f| f.1 < 3) {
+            bail!("PLY face {f} has fewer than 3 vertices");
+        }
+        let count_type = match max_count {
+            0..=255 => "uchar",
+            256..=65535 => "ushort",
+            _ => bail!("a PLY face has more than 65535 vertices"),
+        };
+        if i32::try_from(self.vertices.len()).is_err() {
+            bail!("too many vertices for a PLY file ({})", self.vertices.len());
+        }
+        let mut s = String::with_capacity(64 * self.vertices.len() + 512);
+        s.push_str("ply\nformat ascii 1.0\n");
+        for c in &self.comments {
+            let _ = writeln!(s, "comment {c}");
+        }
+        let _ = writeln!(s, "element vertex {}", self.vertices.len());
+        s.push_str("property float x\nproperty float y\nproperty float z\n");
+        let _ = writeln!(s, "element face {}", self.faces.len());
+        let _ = writeln!(s, "property list {count_type} int vertex_indices");
+        s.push_str("property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n");
+        for [x, y, z] in &self.vertices {
+            let _ = writeln!(s, "{x} {y} {z}");
+        }
+        for &(first, count, Rgb(r, g, b)) in &self.faces {
+            let _ = write!(s, "{count}");
+            for k in first..first + count {
+                let _ = write!(s, " {k}");
+            }
+            let _ = writeln!(s, " {r} {g} {b}");
+        }
+        Ok(s)
+    }
+}
+
+#[cfg(test)]
+pub mod check {
+    //! A tiny reader of the PLY files [`super::Ply`] writes, for tests.
+
+    /// What a PLY file holds.
+    #[derive(Debug)]
+    pub struct Parsed {
+        /// Header comments.
+        pub comments: Vec<String>,
+        /// Vertex positions.
+        pub vertices: Vec<[f32; 3]>,
+        /// Each face's vertex indices and colour.
+        pub faces: Vec<(Vec<usize>, [u8; 3])>,
+    }
+
+    /// Parses an ASCII PLY of one `vertex` element (x, y, z floats) and one `face` element
+    /// (a vertex index list, then red, green, blue), checking the header against the body.
+    pub fn parse(text: &str) -> Result<Parsed, String> {
+        let mut lines = text.lines();
+        if lines.next() != Some("ply") || lines.next() != Some("format ascii 1.0") {
+            return Err("not an ASCII PLY 1.0 file".into());
+        }
+        let mut comments = Vec::new();
+        let mut elements: Vec<(String, usize, Vec<String>)> = Vec::new();
+        loop {
+            let line = lines.next().ok_or("no end_header")?;
+            if !line.is_ascii() {
+                return Err(format!("non-ASCII header line {line:?}"));
+            }
+            let words: Vec<&str> = line.split(' ').collect();
+            match words.as_slice() {
+                ["end_header"] => break,
+                ["comment", ..] => comments.push(line["comment ".len()..].to_owned()),
+                ["element", name, n] => elements.push((
+                    (*name).to_owned(),
+                    n.parse().map_err(|e| format!("{line}: {e}"))?,
+                    Vec::new(),
+                )),
+                ["property", ..] => elements
+                    .last_mut()
+                    .ok_or("property before element")?
+                    .2
+                    .push(words[1..].join(" ")),
+                _ => return Err(format!("unexpected header line {line:?}")),
+            }
+        }
+        let [(v, nv, vprops), (f, nf, fprops)] = elements.as_slice() else {
+            return Err(format!("expected two elements, found {}", elements.len()));
+        };
+        if v != "vertex" || vprops != &["float x", "float y", "float z"] {
+            return Err(format!("bad vertex element {vprops:?}"));
+        }
+        let list_ok = matches!(
+            fprops.first().map(String::as_str),
+            Some("list uchar int vertex_indices" | "list ushort int vertex_indices")
+        );
+        if f != "face" || !list_ok || fprops[1..] != ["uchar red", "uchar green", "uchar blue"] {
+            return Err(format!("bad face element {fprops:?}"));
+        }
+        let mut vertices = Vec::with_capacity(*nv);
+        for _ in 0..*nv {
+            let line = lines.next().ok_or("too few vertex lines")?;
+            let xyz: Vec<f32> = line
+                .split(' ')
+                .map(str::parse)
+                .collect::<Result<_, _>>()
+                .map_err(|e| format!("{line}: {e}"))?;
+            let [x, y, z] = xyz[..] else {
+                return Err(format!("vertex line {line:?}"));
+            };
+            vertices.push([x, y, z]);
+        }
+        let mut faces = Vec::with_capacity(*nf);
+        for _ in 0..*nf {
+            let line = lines.next().ok_or("too few face lines")?;
+            let nums: Vec<usize> = line
+                .split(' ')
+                .map(str::parse)
+                .collect::<Result<_, _>>()
+                .map_err(|e| format!("{line}: {e}"))?;
+            let count = *nums.first().ok_or("empty face line")?;
+            if nums.len() != 1 + count + 3 {
+                return Err(format!(
+                    "face line {line:?} does not hold {count} indices + rgb"
+                ));
+            }
+            let idx = nums[1..=count].to_vec();
+            if let Some(&k) = idx.iter().find(|&&k| k >= *nv) {
+                return Err(format!("face index {k} ≥ vertex count {nv}"));
+            }
+            let rgb = nums[count + 1..]
+                .iter()
+                .map(|&c| u8::try_from(c).map_err(|e| format!("{line}: {e}")))
+                .collect::<Result<Vec<u8>, _>>()?;
+            faces.push((idx, [rgb[0], rgb[1], rgb[2]]));
+        }
+        if let Some(extra) = lines.next() {
+            return Err(format!("trailing line {extra:?}"));
+        }
+        Ok(Parsed {
+            comments,
+            vertices,
+            faces,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::check::parse;
+    use super::*;
+
+    fn square(x: f64) -> Vec<DVec3> {
+        vec![
+            DVec3::new(x, 0.0, 0.0),
+            DVec3::new(x + 1.0, 0.0, 0.0),
+            DVec3::new(x + 1.0, 1.0, 0.0),
+            DVec3::new(x, 1.0, 0.0),
+        ]
+    }
+
+    #[test]
+    fn header_counts_match_the_body() {
+        let mut ply = Ply::new();
+        ply.comment("quantity: I_i (6.8), bits\nsecond line");
+        ply.comment("I_i^c − I_i, é");
+        ply.polygon(&square(0.0), Rgb(1, 2, 3));
+        ply.polygon(&square(0.5), Rgb(250, 128, 0));
+        ply.polygon(&square(0.0)[..3], Rgb(0, 0, 0));
+        let text = ply.finish().unwrap();
+        assert!(text.contains("\nelement vertex 11\n"), "{text}");
+        assert!(text.contains("\nelement face 3\n"));
+        assert!(text.contains("\nproperty list uchar int vertex_indices\n"));
+        let p = parse(&text).unwrap();
+        assert_eq!(p.vertices.len(), 11);
+        assert_eq!(p.faces.len(), 3);
+        assert_eq!(
+            p.comments,
+            ["quantity: I_i (6.8), bits?second line", "I_i^c ? I_i, ?"]
+        );
+        // Each face has its own vertices, in order, and its colour.
+        assert_eq!(p.faces[0], (vec![0, 1, 2, 3], [1, 2, 3]));
+        assert_eq!(p.faces[1], (vec![4, 5, 6, 7], [250, 128, 0]));
+        assert_eq!(p.faces[2], (vec![8, 9, 10], [0, 0, 0]));
+        assert_eq!(p.vertices[5], [1.5, 0.0, 0.0]);
+        assert!(text.ends_with("3 8 9 10 0 0 0\n"));
+    }
+
+    #[test]
+    fn an_empty_mesh_is_still_a_valid_file() {
+        let p = parse(&Ply::new().finish().unwrap()).unwrap();
+        assert!(p.vertices.is_empty() && p.faces.is_empty());
+    }
+
+    #[test]
+    fn faces_of_more_than_255_vertices_count_in_ushort() {
+        let ring: Vec<DVec3> = (0..300)
+            .map(|k| {
+                let t = std::f64::consts::TAU * f64::from(k) / 300.0;
+                DVec3::new(t.cos(), t.sin(), 1.0 / 3.0)
+            })
+            .collect();
+        let mut ply = Ply::new();
+        ply.polygon(&ring, Rgb(9, 9, 9));
+        let text = ply.finish().unwrap();
+        assert!(text.contains("property list ushort int vertex_indices"));
+        let p = parse(&text).unwrap();
+        assert_eq!(p.faces[0].0.len(), 300);
+        assert_eq!(p.vertices[0], [1.0, 0.0, 1.0 / 3.0]);
+    }
+
+    #[test]
+    fn degenerate_faces_are_refused() {
+        let mut ply = Ply::new();
+        ply.polygon(&square(0.0)[..2], Rgb(0, 0, 0));
+        assert!(ply.finish().is_err());
+    }
+}
