@@ -6,3 +6,5 @@
 
 mod flat_channel;
 mod scenes;
+mod solid_channel;
+mod solids;
