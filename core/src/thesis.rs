@@ -87,8 +87,33 @@ pub const TABLE_3_8: [(usize, f64, f64, f64, f64); 9] = [
 ];
 
 /// Table 4.3's 10⁵-line rows for the same cubes: `(patches, H_S, I_S, I_S^c)`.
-pub const TABLE_4_3_FEW_LINES: [(usize, f64, f64, f64); 3] =
-    [(600, 6.482, 2.747, 1.610), (2400, 5.342, 5.887, 1.608), (5400, 4.313, 8.086, 1.610)];
+pub const TABLE_4_3_FEW_LINES: [(usize, f64, f64, f64); 3] = [
+    (600, 6.482, 2.747, 1.610),
+    (2400, 5.342, 5.887, 1.608),
+    (5400, 4.313, 8.086, 1.610),
+];
+
+/// Table 3.3: the empty cube and the cube rooms with 27, 64 and 512 small cubes, random (a)
+/// and clustered (b, c), 10⁷ global lines: `(preset, figure, H_S, I_S, H_S/H_P)`.
+pub const TABLE_3_3: [(&str, &str, f64, f64, f64); 7] = [
+    ("cube", "Fig. 3.5a", 7.821, 1.408, 0.847),
+    ("cubes-27-random", "Fig. 3.7a", 7.780, 1.669, 0.823),
+    ("cubes-27-clustered", "Fig. 3.7b", 7.589, 1.861, 0.803),
+    ("cubes-64-random", "Fig. 3.8a", 7.709, 2.009, 0.793),
+    ("cubes-64-clustered", "Fig. 3.8b", 7.606, 2.112, 0.783),
+    ("cubes-512-random", "Fig. 3.3a", 6.761, 4.779, 0.586),
+    ("cubes-512-clustered", "Fig. 3.3c", 4.849, 6.692, 0.420),
+];
+
+/// Table 4.2: `I_S^c` of the rooms with tables and chairs (Fig. 4.2 a–f), 10⁶ global lines.
+pub const TABLE_4_2: [(&str, f64); 6] = [
+    ("table-chairs-a", 3.837),
+    ("table-chairs-b", 4.102),
+    ("table-chairs-c", 5.023),
+    ("table-chairs-d", 5.043),
+    ("table-chairs-e", 5.044),
+    ("table-chairs-f", 5.089),
+];
 
 /// Table 4.1: `I_S^c` of the platonic solids and the Cornell box (10⁶ global lines):
 /// `(name, I_S^c)`.

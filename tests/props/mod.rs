@@ -1,8 +1,13 @@
-//! The thesis' identities and inequalities as property tests over random flatland scenes.
+//! The thesis' identities and inequalities as property tests over random scenes.
 //!
-//! Two families of scenes (see [`scenes`]): random convex polygons with random cut points
+//! Flatland ([`scenes`], [`flat_channel`]): random convex polygons with random cut points
 //! (no occlusion), and convex rooms with random two-sided interior segments (occlusion; a
 //! two-sided segment is a pair of coincident opposite segments, so the scene stays closed).
+//!
+//! 3D ([`solids`], [`solid_channel`]): random boxes and prisms and subdivided platonic solids
+//! facing inwards (convex enclosures, exact form factors), and Monte Carlo form factors on
+//! random boxes within their binomial errors (with a fixed proptest seed: it is a
+//! statistical property).
 
 mod flat_channel;
 mod scenes;

@@ -171,7 +171,13 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 8, ..ProptestConfig::default() })]
+    // A statistical property (5σ bounds over ~3,000 comparisons) fails by chance about once
+    // in 500 runs with fresh seeds; a fixed seed keeps CI deterministic.
+    #![proptest_config(ProptestConfig {
+        cases: 8,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x5ce7e1f0),
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn global_lines_within_binomial_error(solid in random_box(), seed in any::<u64>()) {

@@ -24,8 +24,18 @@ fn clustered_cubes_are_more_correlated_than_random_ones() {
         let noise = (measure("random", 34).i_s - random.i_s).abs().max(1e-3);
         assert!((random.h_p - clustered.h_p).abs() < 1e-12);
         let (di, dh) = (clustered.i_s - random.i_s, random.h_s - clustered.h_s);
-        assert!(di > 3.0 * noise, "{m} cubes: I_S {} vs {} (noise {noise})", clustered.i_s, random.i_s);
-        assert!(dh > 3.0 * noise, "{m} cubes: H_S {} vs {} (noise {noise})", clustered.h_s, random.h_s);
+        assert!(
+            di > 3.0 * noise,
+            "{m} cubes: I_S {} vs {} (noise {noise})",
+            clustered.i_s,
+            random.i_s
+        );
+        assert!(
+            dh > 3.0 * noise,
+            "{m} cubes: H_S {} vs {} (noise {noise})",
+            clustered.h_s,
+            random.h_s
+        );
     }
 }
 
@@ -36,14 +46,19 @@ fn sixty_four_cubes_are_most_complex_at_both_ends() {
     let values: Vec<(f64, f64)> = (0..9)
         .map(|step| {
             let s = preset_3d(&format!("64-cubes-{step}"), 1).unwrap();
-            let c = estimate(&s, LineMethod::Global, 47, 400_000).unwrap().continuous;
+            let c = estimate(&s, LineMethod::Global, 47, 400_000)
+                .unwrap()
+                .continuous;
             (c.value, c.stderr)
         })
         .collect();
     for end in [0, 8] {
         let (ve, ee) = values[end];
         for (k, &(v, e)) in values.iter().enumerate().take(8).skip(1) {
-            assert!(ve - v > 3.0 * (e * e + ee * ee).sqrt(), "end {end} vs step {k}: {values:?}");
+            assert!(
+                ve - v > 3.0 * (e * e + ee * ee).sqrt(),
+                "end {end} vs step {k}: {values:?}"
+            );
         }
     }
 }

@@ -14,8 +14,9 @@ use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::report::JsonObject;
 use sceneinfo::scene::{FlatScene, Scene, catalogue, catalogue_scene, preset_3d};
 use sceneinfo::thesis::{
-    PLATONIC_REFERENCE, POLYGON_PER_SIDE, POLYGON_SIDES, TABLE_3_4_H_S, TABLE_3_5_I_S, TABLE_3_8,
-    TABLE_4_1, TABLE_4_3_FEW_LINES, TABLE_4_10_I_S_CONTINUOUS, TABLE_4_11, TABLE_4_12,
+    PLATONIC_REFERENCE, POLYGON_PER_SIDE, POLYGON_SIDES, TABLE_3_3, TABLE_3_4_H_S, TABLE_3_5_I_S,
+    TABLE_3_8, TABLE_4_1, TABLE_4_2, TABLE_4_3_FEW_LINES, TABLE_4_10_I_S_CONTINUOUS, TABLE_4_11,
+    TABLE_4_12,
 };
 
 use crate::args::ReproduceArgs;
@@ -92,6 +93,10 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
         tables.push(catalogue_table(&runner)?);
         tables.push(table_3_8(&runner, args.full)?);
         tables.push(table_4_1(&runner)?);
+        tables.push(table_4_2(&runner)?);
+        if args.full {
+            tables.push(table_3_3(&runner)?);
+        }
     }
     let seconds = start.elapsed().as_secs_f64();
     let mut out = std::io::stdout().lock();
@@ -286,6 +291,19 @@ fn catalogue_table(runner: &Runner) -> Result<Table> {
 }
 
 impl Runner {
+    /// `I_S^c` of a 3D scene (no form factors: small patches may stay unsampled).
+    fn continuous_3d(&self, scene: &Scene) -> Result<sceneinfo::continuous::ContinuousEstimate> {
+        let tracer = SceneTracer::new(scene).map_err(|e| anyhow!("{e}"))?;
+        let tally = crate::lines::run(
+            &tracer,
+            LineMethod::Global,
+            self.seed,
+            self.lines,
+            self.threads,
+        );
+        Ok(tally.continuous())
+    }
+
     fn estimate_3d(&self, scene: &Scene, lines: u64) -> Result<FlatEstimate> {
         let tracer = SceneTracer::new(scene).map_err(|e| anyhow!("{e}"))?;
         let tally = crate::lines::run(&tracer, LineMethod::Global, self.seed, lines, self.threads);
@@ -400,6 +418,59 @@ fn table_4_1(runner: &Runner) -> Result<Table> {
     Ok(Table {
         key: "table_4_1",
         title: "Table 4.1: I_S^c of the platonic solids and the Cornell box (global lines)".into(),
+        rows,
+    })
+}
+
+/// Table 4.2: `I_S^c` of the rooms with tables and chairs. Our furniture is invented (the
+/// thesis gives pictures only), so only the trend is comparable.
+fn table_4_2(runner: &Runner) -> Result<Table> {
+    let mut rows = Vec::new();
+    for (name, thesis) in TABLE_4_2 {
+        let scene = preset_3d(name, 1).map_err(|e| anyhow!("{e}"))?;
+        let c = runner.continuous_3d(&scene)?;
+        rows.push(Row {
+            label: format!("{name} ({} patches)", scene.n_patches()),
+            cells: vec![cell("I_S^c", c.value, c.stderr, Some(thesis))],
+        });
+    }
+    Ok(Table {
+        key: "table_4_2",
+        title:
+            "Table 4.2: rooms with tables and chairs (our furniture is invented: compare trends)"
+                .into(),
+        rows,
+    })
+}
+
+/// Table 3.3 (`--full`): the cube rooms with 10⁷ global lines, discrete measures from the
+/// Monte Carlo form factors as in the thesis.
+fn table_3_3(runner: &Runner) -> Result<Table> {
+    let mut rows = Vec::new();
+    for (name, figure, h_s, i_s, h_norm) in TABLE_3_3 {
+        let scene = preset_3d(name, 10).map_err(|e| anyhow!("{e}"))?;
+        let e = runner.estimate_3d(&scene, 10_000_000)?;
+        let m = e
+            .form_factors
+            .channel()
+            .map_err(|e| anyhow!("{e}"))?
+            .measures();
+        rows.push(Row {
+            label: format!(
+                "{name} ({figure}, {} patches, H_P {:.3})",
+                scene.n_patches(),
+                m.h_p
+            ),
+            cells: vec![
+                cell("H_S", m.h_s, 0.0, Some(h_s)),
+                cell("I_S", m.i_s, 0.0, Some(i_s)),
+                cell("H_S/H_P", m.h_s_norm, 0.0, Some(h_norm)),
+            ],
+        });
+    }
+    Ok(Table {
+        key: "table_3_3",
+        title: "Table 3.3: cube rooms with small cubes, 1e7 global lines".into(),
         rows,
     })
 }

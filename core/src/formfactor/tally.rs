@@ -193,6 +193,13 @@ impl LineTally {
         self.lines
     }
 
+    /// `I_S^c` and its standard error so far. Unlike [`LineTally::finish`] this needs no
+    /// sample on every patch: the continuous estimate is over the whole scene.
+    #[must_use]
+    pub fn continuous(&self) -> ContinuousEstimate {
+        self.continuous.estimate()
+    }
+
     /// Turns the tallies into form factors and continuous measures.
     ///
     /// # Errors
