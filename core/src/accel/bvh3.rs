@@ -53,17 +53,33 @@
 //! grazing lines, whose plane crossing is ill-conditioned; it keeps every reported `t`
 //! finite and near the polygon. Every `t` is finite and never `−0`.
 //!
+//! # Sheets
+//!
+//! A face cut into an `m × k` grid of quads, pushed row by row with shared vertices
+//! bit-identical (as scenes cut faces into patches, `q(i, j) = [P(i, j), P(i + 1, j),
+//! P(i + 1, j + 1), P(i, j + 1)]`), is held as one item, a *sheet*, when its lattice points
+//! lie within `10⁻⁶` of a cell of the ideal lattice `A + i u + j v`. A line meets the
+//! lattice at `(s, t)`, found from the projections of `A`, `u`, `v` on `d^⊥` (a 2×2
+//! solve), and only the quads of a window about it — one or two cells a side, derived
+//! from the rounding of the edge functions and the lattice's deviation, with seven orders
+//! of magnitude to spare — go through the exact test above. Sheets thus change the cost,
+//! not the results: a face of 30 × 30 patches costs one box test and one to four polygon
+//! tests instead of some twenty box tests. (Unlike the tree's culling, the window rests on
+//! an error bound, like [`super::Bvh2`]'s runs; a grazing line, whose window would be
+//! wide, tests the whole sheet.) Each sheet has a leaf of its own, whose box test stands
+//! for the sheet's.
+//!
 //! # Layout
 //!
 //! A binary tree of 64-byte interior nodes, one cache line each, holding the bounds of
 //! their two children and references to them (an interior node, or a leaf: a range of
-//! polygons). Bounds are stored relative to `c` in `f32`, rounded outwards, so they contain
-//! the `f64` bounds of every polygon below and the monotonicity argument holds as is.
-//! Polygons are stored in leaf order, struct-of-arrays: their vertices relative to `c` in
-//! one flat array (the only data the crossing test reads), the planes and the bounds (read
-//! only for the few crossings) and the original indices in others. Polygons that can
-//! never be hit (fewer than three vertices, zero area, non-finite coordinates) are left
-//! out of the tree.
+//! items, each a polygon or a sheet). Bounds are stored relative to `c` in `f32`, rounded
+//! outwards, so they contain the `f64` bounds of every polygon below and the monotonicity
+//! argument holds as is. Polygons are stored in leaf order (a sheet's row by row),
+//! struct-of-arrays: their vertices relative to `c` in one flat array (the only data the
+//! crossing test reads), the planes and the bounds (read only for the few crossings) and
+//! the original indices in others. Polygons that can never be hit (fewer than three
+//! vertices, zero area, non-finite coordinates) are left out of the tree.
 //!
 //! # Queries
 //!
@@ -83,7 +99,8 @@
 //! box meets a box inside it with probability `S(inner)/S(outer)`, so the SAH is exact for
 //! global lines. Below depth 32 splits follow the SAH; deeper (only on adversarial input)
 //! they are median splits, so the depth stays below 64, the size of the queries' fixed
-//! stacks. `O(n log n)` time, explicit work stack, no recursion.
+//! stacks. Sheets are found first, in one `O(n)` pass over the polygons in order.
+//! `O(n log n)` time, explicit work stack, no recursion.
 
 #[cfg(feature = "alloc")]
 use alloc::vec::Vec;
@@ -100,6 +117,8 @@ use crate::error::{Error, ErrorKind, Result};
 #[cfg(feature = "alloc")]
 mod build;
 mod prim;
+#[cfg(feature = "alloc")]
+mod sheet;
 #[cfg(all(test, feature = "std"))]
 mod tests;
 
@@ -219,7 +238,7 @@ pub fn first_hit_naive3(
 }
 
 /// A reference to a subtree: an interior node (`count = 0`, `offset` = its index) or a
-/// leaf (`count` polygons from `offset`, in leaf order).
+/// leaf (`count` items from `offset`, in leaf order).
 #[cfg(feature = "alloc")]
 #[derive(Clone, Copy, Debug, Default)]
 struct Ref {
@@ -286,6 +305,15 @@ impl Node {
             ],
         )
     }
+}
+
+/// What a leaf holds: a polygon or a sheet, by its first polygon (storage order).
+#[cfg(feature = "alloc")]
+#[derive(Clone, Copy, Debug)]
+struct Item {
+    first: u32,
+    /// Index into the sheets, `u32::MAX` for a single polygon.
+    sheet: u32,
 }
 
 /// Packs the depth-first tree of the build (one node per subtree, first child next) into
@@ -356,7 +384,9 @@ macro_rules! by_octant {
 ///
 /// Queries allocate nothing (the caller's `Vec` is reused) and recurse nowhere (a
 /// fixed-size stack); they return exactly what [`all_hits_naive3`] and [`first_hit_naive3`]
-/// return, in the same order, for any input (see the module docs for why).
+/// return, in the same order (see the module docs for why: the tree's culling is exact by
+/// construction, the sheets' windows by an error bound with seven orders of magnitude to
+/// spare).
 ///
 /// # Examples
 ///
@@ -385,6 +415,9 @@ pub struct Bvh3 {
     nodes: Vec<Node>,
     /// The root: an interior node, a leaf, or an empty leaf (no polygon in the tree).
     root: Ref,
+    /// The leaves' items, in leaf order.
+    items: Vec<Item>,
+    sheets: Vec<sheet::Sheet>,
     /// Vertices of polygon `k` (leaf order), relative to the frame's centre:
     /// `verts[vert_start[k]..vert_start[k + 1]]`.
     vert_start: Vec<u32>,
@@ -409,6 +442,7 @@ impl fmt::Debug for Bvh3 {
             .field("polygons", &self.len)
             .field("in_tree", &self.ids.len())
             .field("vertices", &self.verts.len())
+            .field("sheets", &self.sheets.len())
             .field("nodes", &self.nodes.len())
             .field("depth", &self.depth)
             .finish()
@@ -444,23 +478,31 @@ impl Bvh3 {
             }
         }
         let frame = Frame::new(points, polygons);
-        // Prepare every polygon that can be hit
-        let mut prepared = Vec::new();
-        let mut items = Vec::new();
+        let c = frame.c;
+        // Prepare every polygon that can be hit, then group them into units
+        let prepared: Vec<_> = polygons
+            .iter()
+            .map(|&(first, count)| prepare(c, &points[first..first + count]))
+            .collect();
+        let units = sheet::find_units(points, polygons, &prepared, c);
+        let mut n_polys = 0usize;
         let mut n_verts = 0usize;
-        for (&(first, count), id) in polygons.iter().zip(0u32..) {
-            let verts = &points[first..first + count];
-            if let Some(p) = prepare(frame.c, verts) {
-                n_verts += count;
-                let [lo, hi] = p.bounds;
-                items.push(build::BuildPrim {
-                    lo,
-                    hi,
-                    centroid: lo * 0.5 + hi * 0.5,
-                    id: prepared.len() as u32,
-                });
-                prepared.push((id, p));
-            }
+        let mut items: Vec<build::BuildPrim> = Vec::with_capacity(units.len());
+        for (unit, id) in units.iter().zip(0u32..) {
+            let range = match unit {
+                sheet::Unit::Polygon(p) => *p..*p + 1,
+                sheet::Unit::Sheet(start, s) => *start..*start + s.len(),
+            };
+            n_polys += range.len();
+            n_verts += polygons[range].iter().map(|p| p.1).sum::<usize>();
+            let [lo, hi] = unit.bounds(&prepared);
+            items.push(build::BuildPrim {
+                lo,
+                hi,
+                centroid: lo * 0.5 + hi * 0.5,
+                id,
+                alone: matches!(unit, sheet::Unit::Sheet(..)),
+            });
         }
         if n_verts > u32::MAX as usize {
             return Err(Error::new(ErrorKind::TooLarge {
@@ -471,11 +513,13 @@ impl Bvh3 {
         let mut bvh = Self {
             nodes: Vec::new(),
             root: Ref::default(),
-            vert_start: Vec::with_capacity(items.len() + 1),
+            items: Vec::with_capacity(units.len()),
+            sheets: Vec::new(),
+            vert_start: Vec::with_capacity(n_polys + 1),
             verts: Vec::with_capacity(n_verts),
-            planes: Vec::with_capacity(items.len()),
-            bounds: Vec::with_capacity(items.len()),
-            ids: Vec::with_capacity(items.len()),
+            planes: Vec::with_capacity(n_polys),
+            bounds: Vec::with_capacity(n_polys),
+            ids: Vec::with_capacity(n_polys),
             frame,
             len: polygons.len(),
             depth: 0,
@@ -487,17 +531,29 @@ impl Bvh3 {
         let (tree, depth) = build::build_nodes(&mut items);
         (bvh.nodes, bvh.root) = pack(&tree);
         bvh.depth = depth;
-        // Polygon data in leaf order
+        // Items and their polygons' data in leaf order
         for item in &items {
-            let (id, p) = prepared[item.id as usize];
-            let (first, count) = polygons[id as usize];
-            let c = frame.c;
-            bvh.verts
-                .extend(points[first..first + count].iter().map(|&v| v - c));
-            bvh.vert_start.push(bvh.verts.len() as u32);
-            bvh.planes.push([p.n, p.p0]);
-            bvh.bounds.push(p.bounds);
-            bvh.ids.push(id);
+            let (range, sheet) = match units[item.id as usize] {
+                sheet::Unit::Polygon(p) => (p..p + 1, u32::MAX),
+                sheet::Unit::Sheet(start, s) => {
+                    bvh.sheets.push(s);
+                    (start..start + s.len(), bvh.sheets.len() as u32 - 1)
+                }
+            };
+            bvh.items.push(Item {
+                first: bvh.ids.len() as u32,
+                sheet,
+            });
+            for id in range {
+                let (first, count) = polygons[id];
+                let Some(p) = prepared[id] else { continue };
+                bvh.verts
+                    .extend(points[first..first + count].iter().map(|&v| v - c));
+                bvh.vert_start.push(bvh.verts.len() as u32);
+                bvh.planes.push([p.n, p.p0]);
+                bvh.bounds.push(p.bounds);
+                bvh.ids.push(id as u32);
+            }
         }
         Ok(bvh)
     }
@@ -557,9 +613,26 @@ impl Bvh3 {
     #[inline(always)]
     fn leaf<F: FnMut(u32, f64)>(&self, q: &Query, leaf: Ref, f: &mut F) {
         let first = leaf.offset as usize;
-        for k in first..first + leaf.count as usize {
-            if let Some(t) = self.hit(q, k) {
-                f(self.ids[k], t);
+        for item in &self.items[first..first + leaf.count as usize] {
+            let k = item.first as usize;
+            if item.sheet == u32::MAX {
+                if let Some(t) = self.hit(q, k) {
+                    f(self.ids[k], t);
+                }
+                continue;
+            }
+            // A sheet, alone in its leaf (whose box test stood for the sheet's): the quads
+            // in the window about the line's crossing
+            let sheet = &self.sheets[item.sheet as usize];
+            let (cols, rows) = sheet.window(q);
+            let m = sheet.cols() as usize;
+            for j in rows {
+                let row = k + j as usize * m;
+                for i in cols.clone() {
+                    if let Some(t) = self.hit(q, row + i as usize) {
+                        f(self.ids[row + i as usize], t);
+                    }
+                }
             }
         }
     }

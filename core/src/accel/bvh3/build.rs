@@ -18,14 +18,16 @@ const BINS: usize = 16;
 /// SAH cost of one node visit, relative to one polygon test.
 const TRAVERSAL_COST: f64 = 1.0;
 
-/// A polygon during the build: its bounds, their centre and its index among the
-/// prepared polygons.
+/// An item during the build: its bounds, their centre, its index among the units, and
+/// whether it must have a leaf of its own (a sheet: the leaf's box test then stands for
+/// the sheet's).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct BuildPrim {
     pub(super) lo: DVec3,
     pub(super) hi: DVec3,
     pub(super) centroid: DVec3,
     pub(super) id: u32,
+    pub(super) alone: bool,
 }
 
 /// A node of the tree as built (pbrt's `LinearBVHNode`, flattened depth-first: a first
@@ -157,16 +159,17 @@ fn split(items: &mut [BuildPrim], bounds: &Aabb, depth: u32) -> Option<usize> {
     if n <= 1 {
         return None;
     }
+    let leaf_ok = n <= MAX_LEAF && !items.iter().any(|p| p.alone);
     let mut cb = Aabb::EMPTY;
     for p in items.iter() {
         cb.grow(p.centroid, p.centroid);
     }
     if depth < SAH_DEPTH
-        && let Some(choice) = sah_split(items, bounds, &cb)
+        && let Some(choice) = sah_split(items, bounds, &cb, leaf_ok)
     {
         return choice;
     }
-    if n <= MAX_LEAF {
+    if leaf_ok {
         return None;
     }
     // Median split along the widest centroid extent: halves the count whatever the
@@ -184,11 +187,16 @@ fn split(items: &mut [BuildPrim], bounds: &Aabb, depth: u32) -> Option<usize> {
     Some(mid)
 }
 
-/// The binned SAH's choice over the three axes: `Some(None)` = make a leaf,
-/// `Some(Some(mid))` = split there (already partitioned), `None` = no usable split (all
-/// centroids in one bin on every axis).
+/// The binned SAH's choice over the three axes: `Some(None)` = make a leaf (only if
+/// `leaf_ok`), `Some(Some(mid))` = split there (already partitioned), `None` = no usable
+/// split (all centroids in one bin on every axis).
 #[allow(clippy::option_option)]
-fn sah_split(items: &mut [BuildPrim], bounds: &Aabb, cb: &Aabb) -> Option<Option<usize>> {
+fn sah_split(
+    items: &mut [BuildPrim],
+    bounds: &Aabb,
+    cb: &Aabb,
+    leaf_ok: bool,
+) -> Option<Option<usize>> {
     let n = items.len();
     // (cost, axis, first bin of the right side, lo, inv)
     let mut best: Option<(f64, usize, usize, f64, f64)> = None;
@@ -235,7 +243,7 @@ fn sah_split(items: &mut [BuildPrim], bounds: &Aabb, cb: &Aabb) -> Option<Option
     } else {
         f64::NAN
     };
-    if n <= MAX_LEAF && !(split_cost < n as f64) {
+    if leaf_ok && !(split_cost < n as f64) {
         return Some(None);
     }
     let mut mid = 0;

@@ -178,9 +178,16 @@ impl Query {
 
     /// Vertex `v' = v − c` projected on the plane `d^⊥`, relative to the line.
     #[inline(always)]
-    fn project(&self, v: DVec3) -> (f64, f64) {
+    pub(super) fn project(&self, v: DVec3) -> (f64, f64) {
         let a = v - self.f;
         (self.r1.dot(a), self.r2.dot(a))
+    }
+
+    /// Vector `w` projected on the plane `d^⊥`.
+    #[cfg(feature = "alloc")]
+    #[inline(always)]
+    pub(super) fn project_dir(&self, w: DVec3) -> (f64, f64) {
+        (self.r1.dot(w), self.r2.dot(w))
     }
 
     /// Whether the line passes through the closed polygon of the vertices `verts`

@@ -196,62 +196,50 @@ fn lines_through_vertices_edges_and_axis_aligned_lines_agree() {
 
 /// The surface of the cube `offset + [0, scale]³` cut into `m × m` squares a face, with
 /// shared (bit-identical) vertices, each facing inwards; with `triangles`, each square cut
-/// into two triangles along alternating diagonals (vertices with 4 to 8 spokes).
-fn cube_mesh(m: usize, scale: f64, offset: DVec3, triangles: bool) -> Soup {
+/// into two triangles along alternating diagonals (vertices with 4 to 8 spokes). With
+/// `face_major`, face by face, each row by row as scenes cut faces (the tree makes sheets
+/// of them); else the six faces' patches interleaved (no sheets).
+fn cube_mesh(m: usize, scale: f64, offset: DVec3, triangles: bool, face_major: bool) -> Soup {
     let mut s = Soup::default();
-    let mf = m as f64;
-    let p = |x: usize, y: usize, z: usize| {
-        offset + DVec3::new(x as f64, y as f64, z as f64) * (scale / mf)
+    let p = |(x, y, z): (usize, usize, usize)| {
+        offset + DVec3::new(x as f64, y as f64, z as f64) * (scale / m as f64)
     };
-    for i in 0..m {
-        for j in 0..m {
-            // z = 0 (normal +z) and z = m (normal −z); likewise for x and y
-            for q in [
-                [
-                    p(i, j, 0),
-                    p(i + 1, j, 0),
-                    p(i + 1, j + 1, 0),
-                    p(i, j + 1, 0),
-                ],
-                [
-                    p(i, j, m),
-                    p(i, j + 1, m),
-                    p(i + 1, j + 1, m),
-                    p(i + 1, j, m),
-                ],
-                [
-                    p(0, i, j),
-                    p(0, i + 1, j),
-                    p(0, i + 1, j + 1),
-                    p(0, i, j + 1),
-                ],
-                [
-                    p(m, i, j),
-                    p(m, i, j + 1),
-                    p(m, i + 1, j + 1),
-                    p(m, i + 1, j),
-                ],
-                [
-                    p(j, 0, i),
-                    p(j, 0, i + 1),
-                    p(j + 1, 0, i + 1),
-                    p(j + 1, 0, i),
-                ],
-                [
-                    p(j, m, i),
-                    p(j + 1, m, i),
-                    p(j + 1, m, i + 1),
-                    p(j, m, i + 1),
-                ],
-            ] {
-                if !triangles {
-                    s.push(&q);
-                } else if (i + j) % 2 == 0 {
-                    s.push(&[q[0], q[1], q[2]]);
-                    s.push(&[q[0], q[2], q[3]]);
+    // Lattice point (i, j) of each face, counter-clockwise seen from inside.
+    let faces: [&dyn Fn(usize, usize) -> (usize, usize, usize); 6] = [
+        &|i, j| (i, j, 0),
+        &|i, j| (j, i, m),
+        &|i, j| (0, i, j),
+        &|i, j| (m, j, i),
+        &|i, j| (j, 0, i),
+        &|i, j| (i, m, j),
+    ];
+    let mut push = |f: usize, i: usize, j: usize| {
+        let q = [
+            p(faces[f](i, j)),
+            p(faces[f](i + 1, j)),
+            p(faces[f](i + 1, j + 1)),
+            p(faces[f](i, j + 1)),
+        ];
+        if !triangles {
+            s.push(&q);
+        } else if (i + j).is_multiple_of(2) {
+            s.push(&[q[0], q[1], q[2]]);
+            s.push(&[q[0], q[2], q[3]]);
+        } else {
+            s.push(&[q[0], q[1], q[3]]);
+            s.push(&[q[1], q[2], q[3]]);
+        }
+    };
+    for outer in 0..m.max(6) {
+        for mid in 0..m {
+            for inner in 0..m.max(6) {
+                let (f, i, j) = if face_major {
+                    (outer, inner, mid)
                 } else {
-                    s.push(&[q[0], q[1], q[3]]);
-                    s.push(&[q[1], q[2], q[3]]);
+                    (inner, outer, mid)
+                };
+                if f < 6 && i < m {
+                    push(f, i, j);
                 }
             }
         }
@@ -265,15 +253,21 @@ fn cube_mesh_is_watertight_and_agrees_with_naive() {
     // from outside the closed surface, cross it: from an interior point there are hits on
     // both sides, and a line through two interior points has an even number ≥ 2 of hits.
     let cases = [
-        (10, 10.0, DVec3::ZERO, false),
-        (10, 10.0, DVec3::ZERO, true),
-        (7, 0.3, DVec3::new(1e6, -2e5, 3.0), false),
-        (5, 1e-4, DVec3::new(-0.3, 0.1, 7.0), true),
-        (6, 3e7, DVec3::new(2e8, 0.0, -1e8), true),
+        (10, 10.0, DVec3::ZERO, false, false),
+        (10, 10.0, DVec3::ZERO, true, false),
+        (10, 10.0, DVec3::ZERO, false, true),
+        (7, 0.3, DVec3::new(1e6, -2e5, 3.0), false, false),
+        (7, 0.3, DVec3::new(1e6, -2e5, 3.0), false, true),
+        (5, 1e-4, DVec3::new(-0.3, 0.1, 7.0), true, true),
+        (6, 3e7, DVec3::new(2e8, 0.0, -1e8), true, false),
+        (6, 3e7, DVec3::new(2e8, 0.0, -1e8), false, true),
     ];
-    for (m, scale, offset, triangles) in cases {
-        let s = cube_mesh(m, scale, offset, triangles);
+    for (m, scale, offset, triangles, face_major) in cases {
+        let s = cube_mesh(m, scale, offset, triangles, face_major);
         let bvh = s.bvh();
+        // Six sheets, one a face, when the quads come face by face.
+        let sheets = if face_major && !triangles { 6 } else { 0 };
+        assert_eq!(bvh.sheets.len(), sheets);
         let (mut a, mut b) = (Vec::new(), Vec::new());
         let mut rng = chunk_rng(41, m as u64);
         let centre = offset + DVec3::splat(scale * 0.5);
@@ -312,10 +306,148 @@ fn cube_mesh_is_watertight_and_agrees_with_naive() {
     }
 }
 
+/// An `m × k` grid of quads, row by row as scenes cut faces: lattice points
+/// `a + (i + δ) u + (j + δ') v` with interior jitters `δ, δ' ∈ [−jitter, jitter]` (in the
+/// plane, so the quads stay planar), shared bit-identically.
+fn grid<R: rand_core::Rng>(
+    s: &mut Soup,
+    rng: &mut R,
+    (a, u, v): (DVec3, DVec3, DVec3),
+    (m, k): (usize, usize),
+    jitter: f64,
+) {
+    let mut lattice = Vec::with_capacity((m + 1) * (k + 1));
+    for j in 0..=k {
+        for i in 0..=m {
+            let inner = i > 0 && i < m && j > 0 && j < k;
+            let mut jig = || {
+                if inner {
+                    jitter * (2.0 * canonical(rng) - 1.0)
+                } else {
+                    0.0
+                }
+            };
+            let (x, y) = (i as f64 + jig(), j as f64 + jig());
+            lattice.push(a + u * x + v * y);
+        }
+    }
+    let at = |i: usize, j: usize| lattice[j * (m + 1) + i];
+    for j in 0..k {
+        for i in 0..m {
+            s.push(&[at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+}
+
+/// Lines through every lattice point of `s` (random direction, along the grid, across it,
+/// grazing it, in its plane), plus global lines through `sphere`.
+fn lattice_lines(s: &Soup, seed: u64, sphere: &BoundingSphere) -> Vec<Line3> {
+    let mut rng = chunk_rng(seed, 9);
+    let mut lines = torture_lines(s, seed);
+    for k in 0..s.polys.len() {
+        let v = s.verts(k);
+        if v.len() != 4 {
+            continue;
+        }
+        let n = crate::geom::polygon_normal(v).normalize_or_zero();
+        let (e1, e2) = (
+            (v[1] - v[0]).normalize_or_zero(),
+            (v[3] - v[0]).normalize_or_zero(),
+        );
+        let g = (e1 + e2 * 0.37).normalize_or_zero();
+        for (p, dir) in [
+            (v[2], e2),
+            (v[2], (g + n * 1e-3).normalize_or_zero()),
+            (v[2], (g - n * 1e-9).normalize_or_zero()),
+            (v[0] + n * 1e-12, g),
+            ((v[0] + v[2]) * 0.5, (n + e1 * 1e3).normalize_or_zero()),
+        ] {
+            lines.push(Line3::new(p, dir));
+        }
+    }
+    for _ in 0..3000 {
+        lines.push(sample_global_line_3d(sphere, canonical_4d(&mut rng)));
+    }
+    lines
+}
+
+#[test]
+fn sheets_agree_with_naive() {
+    // Tilted, sheared, slightly jittered, long and thin grids, single rows, a grid too
+    // irregular to be a sheet, and a bilinear (trapezoid) grid, in several coordinate
+    // ranges.
+    let mut rng = chunk_rng(43, 0);
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    for (offset, size) in [(0.0, 1.0), (1e6, 1e-3), (-3e8, 5e3), (0.0, 1e-7)] {
+        let o = DVec3::new(offset, -0.5 * offset, 0.25 * offset);
+        let mut s = Soup::default();
+        let t = |x: f64, y: f64, z: f64| DVec3::new(x, y, z) * size;
+        let specs = [
+            (
+                (t(0.1, 0.2, 0.3), t(0.1, 0.0, 0.02), t(0.013, 0.09, -0.01)),
+                (12, 9),
+                0.0,
+            ),
+            (
+                (t(-1.0, 0.5, 0.0), t(0.0, 0.05, 0.05), t(0.3, 0.0, 0.0)),
+                (40, 3),
+                1e-8,
+            ),
+            (
+                (t(0.7, -0.9, 0.4), t(0.021, 0.0, 0.0), t(0.0, 0.0, 0.033)),
+                (1, 17),
+                0.0,
+            ),
+            (
+                (t(0.0, 0.0, -1.0), t(0.2, 0.1, 0.0), t(0.25, -0.1, 0.0)),
+                (5, 1),
+                0.0,
+            ),
+            (
+                (t(0.3, 0.3, 0.9), t(0.1, 0.0, 0.0), t(0.0, 0.1, 0.0)),
+                (6, 6),
+                0.45,
+            ),
+        ];
+        for ((a0, u, v), mk, jitter) in specs {
+            grid(&mut s, &mut rng, (o + a0, u, v), mk, jitter);
+        }
+        // A trapezoid cut bilinearly, as scenes cut a non-parallelogram quad.
+        let q = [
+            t(-0.9, -0.9, 0.5),
+            t(0.9, -0.9, 0.5),
+            t(0.3, 0.2, 0.5),
+            t(-0.3, 0.2, 0.5),
+        ];
+        let kq = 8;
+        let lerp = |p: DVec3, r: DVec3, w: f64| p * (1.0 - w) + r * w;
+        let pt = |i: usize, j: usize| {
+            let (x, y) = (i as f64 / kq as f64, j as f64 / kq as f64);
+            o + lerp(lerp(q[0], q[1], x), lerp(q[3], q[2], x), y)
+        };
+        for j in 0..kq {
+            for i in 0..kq {
+                s.push(&[pt(i, j), pt(i + 1, j), pt(i + 1, j + 1), pt(i, j + 1)]);
+            }
+        }
+        let bvh = s.bvh();
+        // Sheets: all but the 6 × 6 grid jittered by 0.45 cell and the trapezoid.
+        assert_eq!(bvh.sheets.len(), 4, "{bvh:?}");
+        let sphere =
+            BoundingSphere::of_bounds(o - DVec3::splat(2.0 * size), o + DVec3::splat(2.0 * size));
+        let mut total = 0;
+        for line in lattice_lines(&s, 44, &sphere) {
+            check_line(&s, &bvh, &line, &mut a, &mut b);
+            total += a.len();
+        }
+        assert!(total > 3000, "{total}");
+    }
+}
+
 #[test]
 fn local_lines_first_hit_in_a_closed_cube() {
     // Inside a closed mesh facing inwards every local ray hits another patch.
-    let s = cube_mesh(6, 2.0, DVec3::new(-1.0, -1.0, -1.0), false);
+    let s = cube_mesh(6, 2.0, DVec3::new(-1.0, -1.0, -1.0), false, true);
     let bvh = s.bvh();
     let mut rng = chunk_rng(42, 0);
     for k in 0..20_000 {
@@ -510,7 +642,54 @@ fn line() -> impl Strategy<Value = Line3> {
     (point(), dir).prop_map(|(o, d)| Line3::new(o, d))
 }
 
+/// A grid of 1–12 × 1–12 quads with random frame and jitter, among a few loose polygons.
+fn sheet_soup() -> impl Strategy<Value = (Soup, Vec<DVec3>)> {
+    let vec3 = |r: f64| (-r..r, -r..r, -r..r).prop_map(|(x, y, z)| DVec3::new(x, y, z));
+    (
+        vec3(20.0),
+        vec3(3.0),
+        vec3(3.0),
+        (1usize..12, 1usize..12),
+        prop_oneof![Just(0.0), 0.0..1e-7f64, 0.0..0.4f64],
+        any::<u64>(),
+        proptest::collection::vec(polygon(), 0..6),
+    )
+        .prop_map(|(a, u, v, mk, jitter, seed, extra)| {
+            let mut s = Soup::default();
+            let mut rng = chunk_rng(seed, 0);
+            grid(&mut s, &mut rng, (a, u, v), mk, jitter);
+            for p in &extra {
+                s.push(p);
+            }
+            let lattice = s.points.clone();
+            (s, lattice)
+        })
+}
+
 proptest! {
+    #[test]
+    fn bvh_sheets_equal_naive((s, lattice) in sheet_soup(),
+                              lines in proptest::collection::vec(line(), 1..12)) {
+        let bvh = s.bvh();
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        let mut all = lines.clone();
+        // Lines through the lattice points, in the given directions.
+        for (k, p) in lattice.iter().enumerate().step_by(3) {
+            all.push(Line3::new(*p, lines[k % lines.len()].dir));
+        }
+        for l in &all {
+            all_hits_naive3(&s.points, &s.polys, l, &mut a);
+            bvh.all_hits(l, &mut b);
+            prop_assert_eq!(&a, &b);
+            for t_min in [0.0, 1e-9] {
+                prop_assert_eq!(
+                    bvh.first_hit(l.origin, l.dir, t_min),
+                    first_hit_naive3(&s.points, &s.polys, l.origin, l.dir, t_min)
+                );
+            }
+        }
+    }
+
     #[test]
     fn bvh_all_hits_equals_naive(polys in proptest::collection::vec(polygon(), 0..120),
                                  lines in proptest::collection::vec(line(), 1..16)) {
