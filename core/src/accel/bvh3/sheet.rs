@@ -70,8 +70,8 @@ fn quad(
 
 /// Cuts the hittable polygons into units: sheets where consecutive quads form a grid row
 /// by row, `q(i, j) = [P(i, j), P(i + 1, j), P(i + 1, j + 1), P(i, j + 1)]` with shared
-/// vertices bit-identical (as scenes cut faces into patches), and single polygons
-/// elsewhere. `O(n)`.
+/// vertices bit-identical (as scenes cut faces into patches) and every vertex on the
+/// lattice the first quad spans, and single polygons elsewhere. `O(n)`.
 pub(super) fn find_units(
     points: &[DVec3],
     polygons: &[(usize, usize)],
@@ -90,11 +90,23 @@ pub(super) fn find_units(
             s += 1;
             continue;
         };
+        // The lattice the first quad predicts; a grid stops where it leaves it (at the fold
+        // onto an adjacent face that shares its edge, say)
+        let a = first[0];
+        let (u0, v0) = (first[1] - a, first[3] - a);
+        let tol = MAX_DEVIATION * u0.length().min(v0.length());
+        let on = |p: DVec3, i: usize, j: usize| {
+            (p - (a + u0 * i as f64 + v0 * j as f64)).length() <= tol
+        };
         // First row: each quad starts on the previous one's right edge
         let mut m = 1;
         let mut prev = first;
         while let Some(next) = q(s + m) {
-            if next[0] != prev[1] || next[3] != prev[2] {
+            if next[0] != prev[1]
+                || next[3] != prev[2]
+                || !on(next[1], m + 1, 0)
+                || !on(next[2], m + 1, 1)
+            {
                 break;
             }
             prev = next;
@@ -109,7 +121,8 @@ pub(super) fn find_units(
                 };
                 let left_ok = i == 0
                     || q(s + k * m + i - 1).is_some_and(|l| here[0] == l[1] && here[3] == l[2]);
-                if here[0] != below[3] || here[1] != below[2] || !left_ok {
+                let shared = here[0] == below[3] && here[1] == below[2] && left_ok;
+                if !shared || !on(here[2], i + 1, k + 1) || !on(here[3], i, k + 1) {
                     break 'rows;
                 }
             }

@@ -445,6 +445,33 @@ fn sheets_agree_with_naive() {
 }
 
 #[test]
+fn scene_faces_become_sheets() {
+    // The scenes' cubes cut their faces into grids whose edges meet the next face's
+    // bit-identically: each face is one sheet (not folded onto its neighbour), and the
+    // tree still equals the naive loops.
+    for (scene, sheets) in [
+        (crate::scene::Scene::cube(12).unwrap(), 6),
+        (
+            crate::scene::Scene::cube_room_with_cubes(2, false, 3).unwrap(),
+            6,
+        ),
+    ] {
+        let mut s = Soup::default();
+        for i in 0..scene.n_patches() {
+            s.push(scene.patch_vertices(i));
+        }
+        let bvh = s.bvh();
+        assert_eq!(bvh.sheets.len(), sheets, "{bvh:?}");
+        let (lo, hi) = scene.bounds();
+        let sphere = BoundingSphere::of_bounds(lo, hi);
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        for line in lattice_lines(&s, 45, &sphere) {
+            check_line(&s, &bvh, &line, &mut a, &mut b);
+        }
+    }
+}
+
+#[test]
 fn local_lines_first_hit_in_a_closed_cube() {
     // Inside a closed mesh facing inwards every local ray hits another patch.
     let s = cube_mesh(6, 2.0, DVec3::new(-1.0, -1.0, -1.0), false, true);
