@@ -99,8 +99,9 @@ impl BoundingCircle {
 /// the circle is `t ∈ [−√(r² − p²), √(r² − p²)]`. By Crofton's formula the probability that
 /// the line meets a convex set `K` inside the circle is `perimeter(K) / 2πr`; for a segment
 /// of length `L` it is `L / πr` (Santaló 1976): the number of lines crossing a patch is
-/// proportional to its length, as (2.37)'s variance (2.38) assumes. Equivalent to Sbert's
-/// "pairs of uniform points on the circle" construction.
+/// proportional to its length, as (2.37)'s variance (2.38) assumes. (Unlike the 3D sphere,
+/// lines through two uniform points of a circle are *not* uniformly distributed — thesis
+/// §4.5.1 — so flatland samples `(p, θ)` directly.)
 ///
 /// Inputs outside `[0, 1)` are clamped; NaN reads as 0.
 ///
