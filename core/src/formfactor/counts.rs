@@ -3,23 +3,28 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
-/// Largest patch count for which the pair tallies stay dense `n × n` tallies (and the per-pair
-/// continuous information): 1024² × 24 bytes ≈ 25 MB per tally.
+/// Largest patch count for which the per-pair continuous information `I_ij^c` is kept
+/// (dense `n × n` 64.64 fixed-point sums: 1024² × 16 bytes = 16 MiB per tally).
 pub const DENSE_PAIR_LIMIT: usize = 1024;
+
+/// Largest patch count for which the counts `C_ij` are kept dense (`n² × 8` bytes ≤ 256 MiB
+/// per tally): faster than sparse and, for scenes where most pairs see each other (a
+/// subdivided cube), smaller too.
+pub const DENSE_COUNT_LIMIT: usize = 5792;
 
 /// Tallies `C_ij` of samples leaving patch `i` that reached patch `j`.
 ///
-/// Dense for small scenes (`n ≤` [`DENSE_PAIR_LIMIT`]): `C_ij` as `u64` plus the per-pair sum
-/// of continuous-information terms (raw 64.64 fixed point). Sparse beyond: keys
-/// `(i << 32) | j` are buffered and periodically sorted and merged into a sorted
-/// `(key, count)` list — 16 bytes per non-zero pair. Counting is exact integer arithmetic, so
-/// merging tallies gives the same result in any order.
+/// Dense for `n ≤` [`DENSE_COUNT_LIMIT`]: `C_ij` as `u64`, plus, for `n ≤`
+/// [`DENSE_PAIR_LIMIT`], the per-pair sum of continuous-information terms (raw 64.64 fixed
+/// point). Sparse beyond: keys `(i << 32) | j` are buffered and periodically sorted and merged
+/// into a sorted `(key, count)` list — 16 bytes per non-zero pair. Counting is exact integer
+/// arithmetic, so merging tallies gives the same result in any order.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) enum PairCounts {
     Dense {
         n: usize,
         counts: Vec<u64>,
-        info: Vec<i128>,
+        info: Option<Vec<i128>>,
     },
     Sparse {
         buffer: Vec<u64>,
@@ -32,11 +37,11 @@ const SCALE: f64 = 18_446_744_073_709_551_616.0;
 
 impl PairCounts {
     pub(crate) fn new(n: usize) -> Self {
-        if n <= DENSE_PAIR_LIMIT {
+        if n <= DENSE_COUNT_LIMIT {
             Self::Dense {
                 n,
                 counts: vec![0; n * n],
-                info: vec![0; n * n],
+                info: (n <= DENSE_PAIR_LIMIT).then(|| vec![0; n * n]),
             }
         } else {
             Self::Sparse {
@@ -68,7 +73,11 @@ impl PairCounts {
     /// sparse).
     #[inline]
     pub(crate) fn add_info(&mut self, i: usize, j: usize, value: f64) {
-        if let Self::Dense { n, info, .. } = self
+        if let Self::Dense {
+            n,
+            info: Some(info),
+            ..
+        } = self
             && value.is_finite()
             && let Some(v) = info.get_mut(i * *n + j)
         {
@@ -90,8 +99,10 @@ impl PairCounts {
                 for (a, b) in counts.iter_mut().zip(oc) {
                     *a += *b;
                 }
-                for (a, b) in info.iter_mut().zip(oi) {
-                    *a = a.saturating_add(*b);
+                if let (Some(info), Some(oi)) = (info, oi) {
+                    for (a, b) in info.iter_mut().zip(oi) {
+                        *a = a.saturating_add(*b);
+                    }
                 }
             }
             (
@@ -117,9 +128,10 @@ impl PairCounts {
     pub(crate) fn for_each(&mut self, mut f: impl FnMut(usize, usize, u64, Option<f64>)) {
         match self {
             Self::Dense { n, counts, info } => {
-                for (k, (&c, &v)) in counts.iter().zip(info.iter()).enumerate() {
+                for (k, &c) in counts.iter().enumerate() {
                     if c > 0 {
-                        f(k / *n, k % *n, c, Some(v as f64 / SCALE));
+                        let v = info.as_ref().and_then(|info| info.get(k));
+                        f(k / *n, k % *n, c, v.map(|&v| v as f64 / SCALE));
                     }
                 }
             }
@@ -134,6 +146,11 @@ impl PairCounts {
 
     /// Whether per-pair continuous information is kept.
     pub(crate) fn has_pair_info(&self) -> bool {
+        matches!(self, Self::Dense { info: Some(_), .. })
+    }
+
+    /// Whether the counts are dense.
+    pub(crate) fn is_dense(&self) -> bool {
         matches!(self, Self::Dense { .. })
     }
 }

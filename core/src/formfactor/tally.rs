@@ -219,19 +219,18 @@ impl LineTally {
         let sizes = tracer.patch_sizes();
         let n = self.leaves.len();
         let samples = self.continuous.samples().max(1) as f64;
-        let dense = self.counts.has_pair_info();
-        let mut pair = dense.then(|| vec![0.0; n * n]);
-        let mut matrix = dense.then(|| vec![0.0; n * n]);
+        let mut pair = self.counts.has_pair_info().then(|| vec![0.0; n * n]);
+        let mut matrix = self.counts.is_dense().then(|| vec![0.0; n * n]);
         let mut triplets = Vec::new();
         let leaves = &self.leaves;
         self.counts.for_each(|i, j, c, info| {
             let f = c as f64 / leaves[i] as f64;
-            match (&mut matrix, &mut pair) {
-                (Some(m), Some(p)) => {
-                    m[i * n + j] = f;
-                    p[i * n + j] = info.unwrap_or(0.0) / samples;
-                }
-                _ => triplets.push((i, j, f)),
+            match &mut matrix {
+                Some(m) => m[i * n + j] = f,
+                None => triplets.push((i, j, f)),
+            }
+            if let (Some(p), Some(v)) = (&mut pair, info) {
+                p[i * n + j] = v / samples;
             }
         });
         let form_factors = match matrix {
