@@ -2,9 +2,8 @@
 //!
 //! A thin [`wasm_bindgen`](mod@wasm_bindgen) layer in the style of `ruff_wasm`: every export
 //! takes plain text and returns plain text, all numerics live in the core, and every core
-//! error goes through
-//! the single `into_error` function, so JavaScript always receives an `Error` whose
-//! `message` is the core's `Display` text (`"line N: what"`).
+//! error goes through the single `into_error` function, so JavaScript always receives an
+//! `Error` whose `message` is the core's `Display` text (`"line N: what"`).
 //!
 //! # JavaScript API
 //!
