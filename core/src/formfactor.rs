@@ -11,6 +11,12 @@
 //!   to partial visibility by integrating over visibility events).
 //! - [`estimate_2d`] (feature `alloc`): Monte Carlo form factors and `I_S^c` from global or
 //!   local lines, deterministic per (seed, number of lines).
+//! - [`exact_3d`]: exact unoccluded 3D form factors (point-to-polygon by Lambert's contour
+//!   formula, polygon-to-polygon by the double contour integral), an occlusion detector and
+//!   the spherical-patches model. In 3D, (2.9):
+//!   `F_ij = 1/A_i ∫∫ cos θ_x cos θ_y / (π r²) V(x, y) dA_y dA_x`.
+//! - [`estimate_3d`] (feature `alloc`): the same Monte Carlo estimators over 3D scenes.
+//! - [`tally`] (feature `alloc`): what a Monte Carlo run counts, shared by 2D and 3D.
 //!
 //! The owning result type is [`FormFactors`] (feature `alloc`): the matrix, the stationary
 //! distribution, and the background state of open scenes.
@@ -29,6 +35,6 @@ pub mod tally;
 #[cfg(feature = "alloc")]
 mod matrix;
 #[cfg(feature = "alloc")]
-pub use counts::DENSE_PAIR_LIMIT;
+pub use counts::{DENSE_COUNT_LIMIT, DENSE_PAIR_LIMIT};
 #[cfg(feature = "alloc")]
 pub use matrix::{BACKGROUND_TOLERANCE, FormFactorView, FormFactors};
