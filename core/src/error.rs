@@ -241,6 +241,15 @@ pub enum ErrorKind {
         /// Lines cast.
         lines: u64,
     },
+
+    // ---- solvers --------------------------------------------------------------------------
+    /// A numeric parameter (e.g. a solver tolerance) is NaN, infinite or out of range.
+    BadParameter {
+        /// The parameter's name.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
 }
 
 impl fmt::Display for ErrorKind {
@@ -328,6 +337,9 @@ impl fmt::Display for ErrorKind {
                 f,
                 "patch {patch} received none of the {lines} lines: cast more lines"
             ),
+            K::BadParameter { name, value } => {
+                write!(f, "parameter {name} = {value} is out of range")
+            }
         }
     }
 }

@@ -70,6 +70,7 @@ pub mod geom;
 pub mod io;
 pub mod lines;
 pub mod math;
+pub mod radiosity;
 pub mod report;
 pub mod scene;
 pub mod thesis;
