@@ -369,7 +369,8 @@ impl<M: Transitions> System<'_, M> {
                 residual: 0.0,
             });
         }
-        let threshold = opts.tolerance * scale;
+        // Clamped so an overflowing (infinite) residual can never pass.
+        let threshold = (opts.tolerance * scale).min(f64::MAX);
         let done = |iterations: u64, r: f64| SolveReport {
             iterations,
             residual: r / scale,

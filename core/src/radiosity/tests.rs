@@ -348,3 +348,35 @@ fn bad_input_is_typed() {
         ErrorKind::NegativeEntry { row: 0, .. }
     ));
 }
+
+#[test]
+fn overflow_is_an_error_not_a_nan() {
+    // B_1 = E_1 / (1 − ρ²) overflows: no solver may return Ok with infinities or NaNs.
+    let data = [0.0, 1.0, 1.0, 0.0];
+    let f = DenseMatrix::new(2, &data).unwrap();
+    let o = SolveOptions {
+        tolerance: 10.0,
+        max_iterations: 200,
+    };
+    for solver in SOLVERS {
+        match run(
+            &f,
+            &[1.0, 1.0],
+            &[0.99, 0.99],
+            &[f64::MAX, f64::MAX],
+            solver,
+            &o,
+        ) {
+            Ok((b, rep)) => {
+                assert!(
+                    b.iter().all(|x| x.is_finite()) && rep.residual.is_finite(),
+                    "{solver:?}"
+                )
+            }
+            Err(e) => assert!(
+                matches!(e.kind(), ErrorKind::NoConvergence { .. }),
+                "{solver:?}"
+            ),
+        }
+    }
+}
