@@ -25,6 +25,9 @@ use crate::channel::Transitions;
 use crate::error::{Error, ErrorKind, Result};
 use crate::math::KahanSum;
 
+mod channel;
+pub use channel::radiosity_channel_into;
+
 #[cfg(all(test, feature = "alloc"))]
 mod tests;
 

@@ -380,3 +380,103 @@ fn overflow_is_an_error_not_a_nan() {
         }
     }
 }
+
+/// Sizes (areas or lengths) of a matrix's states, from its stationary distribution.
+fn sizes_of(ff: &FormFactors) -> Vec<f64> {
+    ff.weights().to_vec()
+}
+
+/// Constant radiosity (E_i = k(1 − ρ_i) ⇒ B ≡ k) turns the radiosity channel into the
+/// visibility channel: same weights, same transitions, same measures (Table 5.1's claim).
+#[test]
+fn constant_radiosity_channel_is_the_visibility_channel() {
+    for ff in [flat_room(), cube_room()] {
+        let n = ff.n_states();
+        let (rho, _) = materials(n, 9);
+        let k = 3.0;
+        let e: Vec<f64> = rho.iter().map(|r| k * (1.0 - r)).collect();
+        let mut b = vec![0.0; n];
+        let mut scratch = vec![0.0; n];
+        solve(
+            &ff.matrix(),
+            ff.weights(),
+            &rho,
+            &e,
+            Solver::GaussSeidel,
+            &opts(1e-13),
+            &mut b,
+            &mut scratch,
+        )
+        .unwrap();
+        let mut w = vec![0.0; n];
+        let mut p = vec![0.0; n * n];
+        radiosity_channel_into(&ff.matrix(), &sizes_of(&ff), &b, &mut w, &mut p).unwrap();
+        let radiosity = crate::channel::Channel::new(&w, DenseMatrix::new(n, &p).unwrap())
+            .unwrap()
+            .measures();
+        let visibility = ff.channel().unwrap().measures();
+        for (a, v) in [
+            (radiosity.h_s, visibility.h_s),
+            (radiosity.i_s, visibility.i_s),
+            (radiosity.h_p, visibility.h_p),
+        ] {
+            assert!((a - v).abs() < 1e-12, "{a} vs {v}");
+        }
+    }
+}
+
+/// For any lighting the radiosity channel is row-stochastic and reversible (5.3, 5.4), and
+/// its stationary distribution is stationary.
+#[test]
+fn radiosity_channel_is_reversible_and_stochastic() {
+    for (seed, ff) in [(1, flat_room()), (2, cube_room())] {
+        let n = ff.n_states();
+        let (rho, e) = materials(n, seed);
+        let mut b = vec![0.0; n];
+        let mut scratch = vec![0.0; n];
+        solve(
+            &ff.matrix(),
+            ff.weights(),
+            &rho,
+            &e,
+            Solver::Jacobi,
+            &opts(1e-12),
+            &mut b,
+            &mut scratch,
+        )
+        .unwrap();
+        let mut w = vec![0.0; n];
+        let mut p = vec![0.0; n * n];
+        radiosity_channel_into(&ff.matrix(), &sizes_of(&ff), &b, &mut w, &mut p).unwrap();
+        let channel = crate::channel::Channel::new(&w, DenseMatrix::new(n, &p).unwrap()).unwrap();
+        let c = channel.checks();
+        assert!(
+            c.is_row_stochastic(1e-12) && c.is_reversible(1e-12) && c.is_stationary(1e-12),
+            "{c:?}"
+        );
+        let m = channel.measures();
+        assert!(m.i_s >= 0.0 && (m.h_j - (2.0 * m.h_s + m.i_s)).abs() < 1e-12);
+    }
+}
+
+/// An emitter that receives no light cannot be a state of the chain: a typed error.
+#[test]
+fn emitter_without_incoming_light_is_an_error() {
+    // Two facing patches; patch 1 is black and dark, patch 0 emits: B = (1, 0).
+    let f = [0.0, 1.0, 1.0, 0.0];
+    let m = DenseMatrix::new(2, &f).unwrap();
+    let mut w = [0.0; 2];
+    let mut p = [0.0; 4];
+    let err = radiosity_channel_into(&m, &[1.0, 1.0], &[1.0, 0.0], &mut w, &mut p).unwrap_err();
+    assert!(
+        matches!(
+            err.kind(),
+            ErrorKind::NotNormalized { .. } | ErrorKind::TransitionToNullState { .. }
+        ),
+        "{err}"
+    );
+    // Bad inputs.
+    assert!(radiosity_channel_into(&m, &[1.0], &[1.0, 1.0], &mut w, &mut p).is_err());
+    assert!(radiosity_channel_into(&m, &[1.0, 1.0], &[f64::NAN, 1.0], &mut w, &mut p).is_err());
+    assert!(radiosity_channel_into(&m, &[1.0, 1.0], &[1.0, 1.0], &mut w, &mut [0.0; 3]).is_err());
+}
