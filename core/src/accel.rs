@@ -71,9 +71,9 @@ impl Hit2 {
 /// sorting).
 #[cfg(feature = "alloc")]
 #[inline]
-pub(crate) fn sort_hits(hits: &mut [Hit2]) {
+pub(crate) fn sort_hits<H: HitKey>(hits: &mut [H]) {
     if hits.len() > 16 {
-        hits.sort_unstable_by(Hit2::cmp_t_prim);
+        hits.sort_unstable_by(|a, b| a.t().total_cmp(&b.t()).then(a.prim().cmp(&b.prim())));
         return;
     }
     for i in 1..hits.len() {
@@ -81,12 +81,33 @@ pub(crate) fn sort_hits(hits: &mut [Hit2]) {
         let mut j = i;
         // Plain comparisons: every `t` is finite and never −0, where they agree with
         // `cmp_t_prim`'s total order.
-        while j > 0 && (h.t < hits[j - 1].t || (h.t == hits[j - 1].t && h.prim < hits[j - 1].prim))
+        while j > 0
+            && (h.t() < hits[j - 1].t()
+                || (h.t() == hits[j - 1].t() && h.prim() < hits[j - 1].prim()))
         {
             hits[j] = hits[j - 1];
             j -= 1;
         }
         hits[j] = h;
+    }
+}
+
+/// What [`sort_hits`] orders by: the line parameter, then the primitive (2D and 3D hits).
+#[cfg(feature = "alloc")]
+pub(crate) trait HitKey: Copy {
+    fn t(&self) -> f64;
+    fn prim(&self) -> u32;
+}
+
+#[cfg(feature = "alloc")]
+impl HitKey for Hit2 {
+    #[inline]
+    fn t(&self) -> f64 {
+        self.t
+    }
+    #[inline]
+    fn prim(&self) -> u32 {
+        self.prim
     }
 }
 

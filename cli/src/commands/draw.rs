@@ -32,7 +32,7 @@ const MARGIN: f64 = 30.0;
 
 /// Where the discrete form factors come from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Source {
+pub(super) enum Source {
     Exact,
     MonteCarlo,
 }

@@ -13,7 +13,7 @@ use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::scene::Scene;
 
-use super::draw::{PatchMeasure, patch_colours, patch_values, range};
+use super::draw::{PatchMeasure, Source, patch_colours, patch_values, range};
 use crate::args::{Colour, DrawArgs};
 use crate::output::{Loaded, located, write_atomic};
 use crate::ply::Ply;
@@ -25,13 +25,6 @@ const DEFAULT_LINES: u64 = 1_000_000;
 /// Up to this many patches, exact form factors are tried (when no patch may hide another);
 /// above it, Monte Carlo (the exact double contour integrals take seconds at 2000 patches).
 const EXACT_LIMIT: usize = 2000;
-
-/// Where the discrete form factors come from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Source {
-    Exact,
-    MonteCarlo,
-}
 
 /// The validated command.
 #[derive(Debug)]

@@ -152,24 +152,15 @@ impl Hit3 {
 }
 
 /// Sorts hits by `(t, prim)` — a strict total order, as every `prim` appears at most once.
-/// A line meets a few polygons, so short lists get an inlined insertion sort.
 #[cfg(feature = "alloc")]
-#[inline]
-fn sort_hits(hits: &mut [Hit3]) {
-    if hits.len() > 16 {
-        hits.sort_unstable_by(Hit3::cmp_t_prim);
-        return;
+impl super::HitKey for Hit3 {
+    #[inline]
+    fn t(&self) -> f64 {
+        self.t
     }
-    for i in 1..hits.len() {
-        let h = hits[i];
-        let mut j = i;
-        // Plain comparisons: every `t` is finite and never −0.
-        while j > 0 && (h.t < hits[j - 1].t || (h.t == hits[j - 1].t && h.prim < hits[j - 1].prim))
-        {
-            hits[j] = hits[j - 1];
-            j -= 1;
-        }
-        hits[j] = h;
+    #[inline]
+    fn prim(&self) -> u32 {
+        self.prim
     }
 }
 
@@ -206,7 +197,7 @@ pub fn all_hits_naive3(
             out.push(Hit3 { t, prim });
         }
     }
-    sort_hits(out);
+    super::sort_hits(out);
 }
 
 /// The nearest hit with `t > t_min` along the ray `origin + t·dir`, the smallest `prim`
@@ -675,7 +666,7 @@ impl Bvh3 {
     pub fn all_hits(&self, line: &Line3, out: &mut Vec<Hit3>) {
         out.clear();
         self.for_each_hit(line, |h| out.push(h));
-        sort_hits(out);
+        super::sort_hits(out);
     }
 
     /// The nearest hit with `t > t_min` along the ray `origin + t·dir` (the smallest

@@ -381,9 +381,34 @@ fn overflow_is_an_error_not_a_nan() {
     }
 }
 
-/// Sizes (areas or lengths) of a matrix's states, from its stationary distribution.
-fn sizes_of(ff: &FormFactors) -> Vec<f64> {
-    ff.weights().to_vec()
+/// Solves the lighting `(rho, e)` on `ff` and returns the radiosity channel `(weights,
+/// row-major transitions)`.
+fn lit_channel(
+    ff: &FormFactors,
+    rho: &[f64],
+    e: &[f64],
+    solver: Solver,
+    tol: f64,
+) -> (Vec<f64>, Vec<f64>) {
+    let n = ff.n_states();
+    let mut b = vec![0.0; n];
+    let mut scratch = vec![0.0; n];
+    solve(
+        &ff.matrix(),
+        ff.weights(),
+        rho,
+        e,
+        solver,
+        &opts(tol),
+        &mut b,
+        &mut scratch,
+    )
+    .unwrap();
+    let mut w = vec![0.0; n];
+    let mut p = vec![0.0; n * n];
+    // The stationary distribution serves as the patch sizes (areas up to a common factor).
+    radiosity_channel_into(&ff.matrix(), ff.weights(), &b, &mut w, &mut p).unwrap();
+    (w, p)
 }
 
 /// Constant radiosity (E_i = k(1 − ρ_i) ⇒ B ≡ k) turns the radiosity channel into the
@@ -395,22 +420,7 @@ fn constant_radiosity_channel_is_the_visibility_channel() {
         let (rho, _) = materials(n, 9);
         let k = 3.0;
         let e: Vec<f64> = rho.iter().map(|r| k * (1.0 - r)).collect();
-        let mut b = vec![0.0; n];
-        let mut scratch = vec![0.0; n];
-        solve(
-            &ff.matrix(),
-            ff.weights(),
-            &rho,
-            &e,
-            Solver::GaussSeidel,
-            &opts(1e-13),
-            &mut b,
-            &mut scratch,
-        )
-        .unwrap();
-        let mut w = vec![0.0; n];
-        let mut p = vec![0.0; n * n];
-        radiosity_channel_into(&ff.matrix(), &sizes_of(&ff), &b, &mut w, &mut p).unwrap();
+        let (w, p) = lit_channel(&ff, &rho, &e, Solver::GaussSeidel, 1e-13);
         let radiosity = crate::channel::Channel::new(&w, DenseMatrix::new(n, &p).unwrap())
             .unwrap()
             .measures();
@@ -432,22 +442,7 @@ fn radiosity_channel_is_reversible_and_stochastic() {
     for (seed, ff) in [(1, flat_room()), (2, cube_room())] {
         let n = ff.n_states();
         let (rho, e) = materials(n, seed);
-        let mut b = vec![0.0; n];
-        let mut scratch = vec![0.0; n];
-        solve(
-            &ff.matrix(),
-            ff.weights(),
-            &rho,
-            &e,
-            Solver::Jacobi,
-            &opts(1e-12),
-            &mut b,
-            &mut scratch,
-        )
-        .unwrap();
-        let mut w = vec![0.0; n];
-        let mut p = vec![0.0; n * n];
-        radiosity_channel_into(&ff.matrix(), &sizes_of(&ff), &b, &mut w, &mut p).unwrap();
+        let (w, p) = lit_channel(&ff, &rho, &e, Solver::Jacobi, 1e-12);
         let channel = crate::channel::Channel::new(&w, DenseMatrix::new(n, &p).unwrap()).unwrap();
         let c = channel.checks();
         assert!(
