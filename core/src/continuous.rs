@@ -79,12 +79,12 @@ pub struct ContinuousEstimate {
 /// Allocation-free and exactly mergeable.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ContinuousTally {
-    sum_s: FixedSum,
-    sum_ss: FixedSum,
-    sum_sn: FixedSum,
-    sum_n: u64,
-    sum_nn: u128,
-    groups: u64,
+    pub(crate) sum_s: FixedSum,
+    pub(crate) sum_ss: FixedSum,
+    pub(crate) sum_sn: FixedSum,
+    pub(crate) sum_n: u64,
+    pub(crate) sum_nn: u128,
+    pub(crate) groups: u64,
 }
 
 impl ContinuousTally {

@@ -64,11 +64,11 @@ pub trait LineTracer {
 #[derive(Clone, Debug, PartialEq)]
 pub struct LineTally {
     method: LineMethod,
-    lines: u64,
-    leaves: Vec<u64>,
-    counts: PairCounts,
-    patch_info: Vec<FixedSum>,
-    continuous: ContinuousTally,
+    pub(crate) lines: u64,
+    pub(crate) leaves: Vec<u64>,
+    pub(crate) counts: PairCounts,
+    pub(crate) patch_info: Vec<FixedSum>,
+    pub(crate) continuous: ContinuousTally,
 }
 
 /// The result of a Monte Carlo run.
@@ -193,6 +193,16 @@ impl LineTally {
         self.lines
     }
 
+    /// Memory of the pair counts `C_ij`: `(heap bytes, pairs with a count or
+    /// information)`. Sparse counts (more than [`crate::formfactor::DENSE_COUNT_LIMIT`]
+    /// patches) take 16 bytes per non-zero pair once merged, plus the pending buffer.
+    #[must_use]
+    pub fn count_memory(&self) -> (usize, u64) {
+        let mut pairs = 0u64;
+        self.counts.for_each_raw(|_, _, _, _| pairs += 1);
+        (self.counts.heap_bytes(), pairs)
+    }
+
     /// `I_S^c` and its standard error so far. Unlike [`LineTally::finish`] this needs no
     /// sample on every patch: the continuous estimate is over the whole scene.
     #[must_use]
@@ -205,7 +215,24 @@ impl LineTally {
     /// # Errors
     /// [`ErrorKind::NoLines`] for an empty tally; [`ErrorKind::UnsampledPatch`] when some patch
     /// got no sample (its row of `F` would be unknown).
-    pub fn finish<T: LineTracer + ?Sized>(mut self, tracer: &T) -> Result<LineEstimate> {
+    pub fn finish<T: LineTracer + ?Sized>(self, tracer: &T) -> Result<LineEstimate> {
+        self.finish_with_sizes(tracer.patch_sizes())
+    }
+
+    /// [`LineTally::finish`] given the patch sizes (lengths or areas) instead of the tracer:
+    /// what merging partial results from files needs.
+    ///
+    /// # Errors
+    /// Those of [`LineTally::finish`], and [`ErrorKind::DimensionMismatch`] when `sizes`
+    /// does not have one entry per patch.
+    pub fn finish_with_sizes(mut self, sizes: &[f64]) -> Result<LineEstimate> {
+        if sizes.len() != self.leaves.len() {
+            return Err(ErrorKind::DimensionMismatch {
+                expected: self.leaves.len(),
+                found: sizes.len(),
+            }
+            .into());
+        }
         if self.lines == 0 {
             return Err(ErrorKind::NoLines.into());
         }
@@ -216,7 +243,6 @@ impl LineTally {
             }
             .into());
         }
-        let sizes = tracer.patch_sizes();
         let n = self.leaves.len();
         let samples = self.continuous.samples().max(1) as f64;
         let mut pair = self.counts.has_pair_info().then(|| vec![0.0; n * n]);

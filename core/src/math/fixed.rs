@@ -83,6 +83,15 @@ impl FixedSum {
         }
     }
 
+    /// Rebuilds a sum from [`FixedSum::raw`] and [`FixedSum::saturated`].
+    #[must_use]
+    pub const fn from_raw_parts(raw: i128, saturated: bool) -> Self {
+        Self {
+            acc: raw,
+            saturated,
+        }
+    }
+
     /// Whether a term or the total ever left the representable range.
     #[must_use]
     pub fn saturated(&self) -> bool {
