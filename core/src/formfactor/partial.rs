@@ -279,7 +279,7 @@ impl Partial {
         };
         let pairs = r.u64()?;
         let entry = if with_info { 32 } else { 16 };
-        if r.bytes.len() as u64 / entry != pairs || r.bytes.len() as u64 % entry != 0 {
+        if r.bytes.len() as u64 / entry != pairs || !(r.bytes.len() as u64).is_multiple_of(entry) {
             return Err(bad("pair count disagrees with the file length").into());
         }
         let mut counts = PairCounts::new(n);
