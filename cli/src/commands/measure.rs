@@ -16,7 +16,7 @@ use sceneinfo::formfactor::exact_2d;
 use sceneinfo::formfactor::partial::{JobId, Partial, fingerprint};
 use sceneinfo::formfactor::tally::{LineTally, LineTracer};
 use sceneinfo::lines::{CHUNK_LINES, chunk_count};
-use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, SceneReport};
+use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport};
 
 use crate::args::{MeasureArgs, Method, SamplingArgs};
 use crate::output::{Loaded, located, write_atomic};
@@ -125,14 +125,7 @@ pub fn print_report(
     matrix: Option<&Path>,
 ) -> Result<()> {
     let at = |e: sceneinfo::Error| located(file, &e);
-    let channel = ff.channel().map_err(at)?;
-    let report = SceneReport {
-        n_patches: ff.n_patches(),
-        background: ff.has_background(),
-        max_row_deficit: ff.max_row_deficit(),
-        measures: channel.measures(),
-        checks: channel.checks(),
-    };
+    let report = SceneReport::of(ff).map_err(at)?;
     let seconds = timing.earlier + timing.start.elapsed().as_secs_f64();
     if let Some(path) = matrix {
         write_atomic(path, crate::commands::formfactors::csv(ff)?.as_bytes())?;
@@ -145,16 +138,14 @@ pub fn print_report(
         match mc {
             None => o.string("form_factors", "exact")?,
             Some(mc) => {
-                o.string("form_factors", method_name(mc.method))?;
-                o.number("i_s_continuous", mc.continuous.value)?;
-                o.number("i_s_continuous_stderr", mc.continuous.stderr)?;
-                o.number(
-                    "rel_discretisation_error",
-                    relative_discretisation_error(mc.continuous.value, report.measures.i_s),
-                )?;
-                o.integer("lines", mc.lines)?;
-                o.integer("seed", mc.seed)?;
-                o.integer("samples", mc.continuous.samples)?;
+                let run = LineRunReport {
+                    method: mc.method,
+                    lines: mc.lines,
+                    seed: mc.seed,
+                    continuous: mc.continuous,
+                    i_s: report.measures.i_s,
+                };
+                run.write_fields(&mut o)?;
                 o.number("lines_per_second", mc.lines as f64 / seconds.max(1e-9))?;
             }
         }
