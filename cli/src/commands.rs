@@ -1,5 +1,6 @@
 //! The subcommands: each validates its arguments into core objects, runs, and prints.
 
+mod bench;
 mod draw;
 mod draw3d;
 pub mod formfactors;
@@ -21,5 +22,6 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Draw(args) => draw::run(&args),
         Command::Merge(args) => merge::run(&args),
+        Command::Bench(args) => bench::run(&args),
     }
 }

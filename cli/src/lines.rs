@@ -87,12 +87,15 @@ pub fn run_chunks<T: LineTracer + Sync>(
 fn show_progress(done: &AtomicU64, total: u64, start: Instant, finished: impl Fn() -> bool) {
     let tty = std::io::stderr().is_terminal();
     let mut shown = false;
+    let mut drawn = Instant::now();
     while !finished() {
-        std::thread::sleep(Duration::from_millis(100));
+        // Poll often (a short job must not wait for the next redraw), redraw every 100 ms.
+        std::thread::sleep(Duration::from_millis(2));
         let elapsed = start.elapsed().as_secs_f64();
-        if !tty || elapsed < 1.0 {
+        if !tty || elapsed < 1.0 || drawn.elapsed() < Duration::from_millis(100) {
             continue;
         }
+        drawn = Instant::now();
         let d = done.load(Ordering::Relaxed);
         let frac = d as f64 / total as f64;
         let width = 30;

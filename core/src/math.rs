@@ -5,8 +5,10 @@
 //! platforms; `libm` is the same Rust code everywhere).
 
 mod fixed;
+mod turns;
 pub use fixed::FIXED_MAX_TERM;
 pub use fixed::FixedSum;
+pub use turns::sin_cos_turns;
 
 /// Base-2 logarithm, `log₂ x`. All entropies of the crate are in bits.
 #[inline]

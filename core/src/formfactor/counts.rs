@@ -69,19 +69,19 @@ impl PairCounts {
         }
     }
 
-    /// Adds a continuous-information term to pair `(i, j)` (dense mode only; ignored when
-    /// sparse).
+    /// Adds a continuous-information term, quantised by
+    /// [`crate::math::FixedSum::quantise`], to pair `(i, j)` (dense mode only; ignored
+    /// when sparse).
     #[inline]
-    pub(crate) fn add_info(&mut self, i: usize, j: usize, value: f64) {
+    pub(crate) fn add_info(&mut self, i: usize, j: usize, raw: i128) {
         if let Self::Dense {
             n,
             info: Some(info),
             ..
         } = self
-            && value.is_finite()
             && let Some(v) = info.get_mut(i * *n + j)
         {
-            *v = v.saturating_add((value * SCALE) as i128);
+            *v = v.saturating_add(raw);
         }
     }
 

@@ -150,14 +150,23 @@ impl LineTally {
     /// Splits a term half to `I_ij^c`, half to `I_ji^c` (6.35): `w` to each.
     #[inline]
     fn add_info(&mut self, i: usize, j: usize, w: f64) {
+        // Quantised once for the four sums (the same bits as four separate additions).
+        let Some(raw) = FixedSum::quantise(w) else {
+            for k in [i, j] {
+                if let Some(p) = self.patch_info.get_mut(k) {
+                    p.add(w); // records the saturation
+                }
+            }
+            return;
+        };
         if let Some(p) = self.patch_info.get_mut(i) {
-            p.add(w);
+            p.add_quantised(raw);
         }
         if let Some(p) = self.patch_info.get_mut(j) {
-            p.add(w);
+            p.add_quantised(raw);
         }
-        self.counts.add_info(i, j, w);
-        self.counts.add_info(j, i, w);
+        self.counts.add_info(i, j, raw);
+        self.counts.add_info(j, i, raw);
     }
 
     /// Closes one line: `n` samples whose terms add up to `sum`.
