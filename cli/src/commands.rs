@@ -6,6 +6,7 @@ mod draw3d;
 pub mod formfactors;
 pub mod measure;
 mod merge;
+pub mod refine;
 mod reproduce;
 mod scene;
 
@@ -23,5 +24,6 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Draw(args) => draw::run(&args),
         Command::Merge(args) => merge::run(&args),
         Command::Bench(args) => bench::run(&args),
+        Command::Refine(args) => refine::run(&args),
     }
 }
