@@ -295,6 +295,8 @@ fn four_partials_merged_equal_one_run_bit_for_bit() {
     bytes[mid] ^= 0x10;
     std::fs::write(&damaged, bytes).unwrap();
     fail(vec![damaged], "checksum mismatch");
+}
+
 #[test]
 fn refine_flat_reports_its_keys_draws_and_writes_the_mesh() {
     let scene = temp("refine-room.flat");
