@@ -4,8 +4,10 @@
 //! embedded builds compute bit-identical numbers (std's `f64::ln` may differ between
 //! platforms; `libm` is the same Rust code everywhere).
 
+mod fast_log2;
 mod fixed;
 mod turns;
+pub use fast_log2::log2_fast;
 pub use fixed::FIXED_MAX_TERM;
 pub use fixed::FixedSum;
 pub use turns::sin_cos_turns;
