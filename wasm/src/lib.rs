@@ -28,9 +28,11 @@
 
 mod lab;
 mod lines;
+mod refine;
 
 pub use lab::{FlatLab, catalogue};
 pub use lines::{LineJob, LineResult};
+pub use refine::Refiner;
 
 use wasm_bindgen::prelude::*;
 

@@ -258,7 +258,10 @@ export class Editor {
     const mod = e.ctrlKey || e.metaKey;
     if (mod && e.key.toLowerCase() === 'z') this.undo();
     else if (e.key === 'Delete' || e.key === 'Backspace') this.deleteSelected();
-    else if (e.key === 'Escape') this.setTool(this.tool);
+    else if (e.key === 'Escape') {
+      this.selected = -1;
+      this.setTool(this.tool);
+    }
     else if (e.key === 'Enter' && this.tool === 'polygon' && this.draft.length >= 3) this.finishPolygon();
     else if (e.key === 'r' || e.key === 'R') this.transformSelected(((e.shiftKey ? -1 : 1) * Math.PI) / 12, 1);
     else if (e.key === '+' || e.key === '=') this.transformSelected(0, 1.1);

@@ -169,8 +169,12 @@ export function refinementPlot(c, points, ceiling) {
   if (ceiling) ys.push(ceiling.value + ceiling.stderr);
   let [x0, x1] = [Math.min(...xs), Math.max(...xs)];
   if (x1 === x0) x1 = x0 + 1;
-  const y0 = 0;
-  const y1 = Math.max(...ys) * 1.08 || 1;
+  // The I_S range with the ceiling and a margin (I_S moves by small steps: a zero-based
+  // axis would flatten them).
+  const [lo, hi] = [Math.min(...ys), Math.max(...ys)];
+  const margin = Math.max(0.08 * (hi - lo), 0.02 * hi, 1e-3);
+  const y0 = Math.max(0, lo - margin);
+  const y1 = hi + margin;
   const px = (x) => pad.l + ((x - x0) / (x1 - x0)) * (w - pad.l - pad.r);
   const py = (y) => h - pad.b - ((y - y0) / (y1 - y0)) * (h - pad.t - pad.b);
   if (ceiling) {
@@ -205,7 +209,7 @@ export function refinementPlot(c, points, ceiling) {
   g.fillText(String(x1), w - pad.r - 8, h - pad.b + 12);
   g.textAlign = 'right';
   g.fillText(y1.toFixed(2), pad.l - 4, pad.t + 8);
-  g.fillText('0', pad.l - 4, h - pad.b);
+  g.fillText(y0.toFixed(2), pad.l - 4, h - pad.b);
   g.save();
   g.translate(12, (pad.t + h - pad.b) / 2);
   g.rotate(-Math.PI / 2);

@@ -189,6 +189,7 @@ test('three DE steps raise the patch count and I_S', async () => {
 });
 
 test('the screenshot shows the refined scene coloured by I_i^c − I_i', async () => {
+  await page.keyboard.press('Escape'); // deselect, so the colours show everywhere
   await page.selectOption('#colour', 'delta');
   await page.waitForFunction(() => document.body.dataset.mc === 'done', null, { timeout: 120_000 });
   await page.waitForFunction(() => !document.getElementById('colour-bar').hidden);
