@@ -4,9 +4,11 @@
 //! embedded builds compute bit-identical numbers (std's `f64::ln` may differ between
 //! platforms; `libm` is the same Rust code everywhere).
 
+mod clausen;
 mod fast_log2;
 mod fixed;
 mod turns;
+pub use clausen::clausen2;
 pub use fast_log2::log2_fast;
 pub use fixed::FIXED_MAX_TERM;
 pub use fixed::FixedSum;
