@@ -373,7 +373,7 @@ proptest! {
     /// leaning past the shared vertex.
     #[test]
     fn hinge_flux_matches_exact(
-        dihedral in 0.9f64..3.0,
+        dihedral in 0.2f64..3.0,
         apex_p in (-0.5f64..1.5, 0.2f64..1.5),
         apex_q in (-0.5f64..1.5, 0.2f64..1.5),
     ) {
@@ -391,7 +391,12 @@ proptest! {
         let estimate = (got.flux - coarse.flux).abs();
         prop_assert!((got.flux - exact).abs() <= estimate + 1e-12, "{} vs {exact} (estimate {estimate})", got.flux);
         prop_assert!(estimate < 1e-3 * exact, "{estimate} for {exact}");
-        prop_assert!((got.flux_log2 - back.flux_log2).abs() < 1e-7, "{:?} {:?}", got, back);
+        // Symmetric up to the quadrature error (the two orders use different profiles).
+        let estimate_log2 = (got.flux_log2 - coarse.flux_log2).abs();
+        prop_assert!(
+            (got.flux_log2 - back.flux_log2).abs() <= 2.0 * estimate_log2 + 1e-12,
+            "{:?} {:?} (estimate {estimate_log2})", got, back
+        );
     }
 }
 
