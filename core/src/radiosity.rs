@@ -26,7 +26,11 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::math::KahanSum;
 
 mod channel;
+pub mod measures;
+#[cfg(feature = "alloc")]
+pub mod rgb;
 pub use channel::radiosity_channel_into;
+pub use measures::{RadiosityMeasures, RadiosityTransitions, radiosity_measures};
 
 #[cfg(all(test, feature = "alloc"))]
 mod tests;
