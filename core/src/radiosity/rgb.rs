@@ -112,20 +112,21 @@ pub fn solve_rgb<M: Transitions>(
     let mut scratch = vec![0.0; n];
     for (c, report) in reports.iter_mut().enumerate() {
         let (rho, e) = channel_vectors(materials, n, c);
-        *report = solve(f, sizes, &rho, &e, solver, opts, &mut b, &mut scratch).map_err(
-            |err| match *err.kind() {
-                ErrorKind::NoConvergence { iterations, .. } => ErrorKind::NoConvergence {
-                    what: [
-                        "radiosity equation (2.6), red channel",
-                        "radiosity equation (2.6), green channel",
-                        "radiosity equation (2.6), blue channel",
-                    ][c],
-                    iterations,
-                }
-                .into(),
-                _ => err,
-            },
-        )?;
+        *report =
+            solve(f, sizes, &rho, &e, solver, opts, &mut b, &mut scratch).map_err(
+                |err| match *err.kind() {
+                    ErrorKind::NoConvergence { iterations, .. } => ErrorKind::NoConvergence {
+                        what: [
+                            "radiosity equation (2.6), red channel",
+                            "radiosity equation (2.6), green channel",
+                            "radiosity equation (2.6), blue channel",
+                        ][c],
+                        iterations,
+                    }
+                    .into(),
+                    _ => err,
+                },
+            )?;
         for (out, &x) in radiosity.iter_mut().zip(&b) {
             out[c] = x;
         }
@@ -203,8 +204,17 @@ mod tests {
         for c in 0..3 {
             let (rho, e) = channel_vectors(&m, n, c);
             let (mut b, mut s) = (vec![0.0; n], vec![0.0; n]);
-            solve(&ff.matrix(), ff.weights(), &rho, &e, Solver::Jacobi, &opts(), &mut b, &mut s)
-                .unwrap();
+            solve(
+                &ff.matrix(),
+                ff.weights(),
+                &rho,
+                &e,
+                Solver::Jacobi,
+                &opts(),
+                &mut b,
+                &mut s,
+            )
+            .unwrap();
             assert_eq!(sol.channel(c), b);
         }
         assert!(sol.residual() <= 1e-13);
@@ -214,16 +224,25 @@ mod tests {
     #[test]
     fn solvers_agree_on_dense_and_sparse() {
         let (ff, m) = lit_room();
-        let dense = solve_rgb(&ff.matrix(), ff.weights(), &m, Solver::GaussSeidel, &opts())
-            .unwrap();
+        let dense =
+            solve_rgb(&ff.matrix(), ff.weights(), &m, Solver::GaussSeidel, &opts()).unwrap();
         let csr = CsrMatrixBuf::from_transitions(&ff.matrix());
-        let sparse =
-            solve_rgb(&csr.as_matrix(), ff.weights(), &m, Solver::Southwell, &opts()).unwrap();
+        let sparse = solve_rgb(
+            &csr.as_matrix(),
+            ff.weights(),
+            &m,
+            Solver::Southwell,
+            &opts(),
+        )
+        .unwrap();
         for (a, b) in dense.radiosity.iter().zip(&sparse.radiosity) {
             for c in 0..3 {
                 // Both within a relative residual of 1e-13 of the fixed point, whose
                 // amplification is at most 1/(1 − ρ_max) = 10.
-                assert!((a[c] - b[c]).abs() <= 1e-11 * (1.0 + a[c]), "{a:?} vs {b:?}");
+                assert!(
+                    (a[c] - b[c]).abs() <= 1e-11 * (1.0 + a[c]),
+                    "{a:?} vs {b:?}"
+                );
             }
         }
     }
@@ -234,19 +253,26 @@ mod tests {
         let mut builder = FlatScene::builder();
         builder.material(Material::new([0.5; 3], [1.0, 0.0, 0.0]).unwrap());
         builder
-            .segment(crate::geom::DVec2::new(0.0, 0.0), crate::geom::DVec2::new(1.0, 0.0), 2)
+            .segment(
+                crate::geom::DVec2::new(0.0, 0.0),
+                crate::geom::DVec2::new(1.0, 0.0),
+                2,
+            )
             .unwrap();
         builder.material(Material::new([0.8; 3], [0.0; 3]).unwrap());
         builder
-            .segment(crate::geom::DVec2::new(1.0, 1.0), crate::geom::DVec2::new(0.0, 1.0), 2)
+            .segment(
+                crate::geom::DVec2::new(1.0, 1.0),
+                crate::geom::DVec2::new(0.0, 1.0),
+                2,
+            )
             .unwrap();
         let scene = builder.build().unwrap();
         let ff = exact_2d::form_factors(&scene).unwrap();
         assert!(ff.has_background());
         let m = flat_patch_materials(&scene);
         assert_eq!(m.len(), ff.n_patches());
-        let sol = solve_rgb(&ff.matrix(), ff.weights(), &m, Solver::GaussSeidel, &opts())
-            .unwrap();
+        let sol = solve_rgb(&ff.matrix(), ff.weights(), &m, Solver::GaussSeidel, &opts()).unwrap();
         assert_eq!(sol.radiosity[ff.n_patches()], [0.0; 3]);
         // The upper segment is lit in red only.
         assert!(sol.radiosity[2][0] > 0.0 && sol.radiosity[2][1] == 0.0);
@@ -258,8 +284,7 @@ mod tests {
     #[test]
     fn measures_match_the_dense_radiosity_channel() {
         let (ff, m) = lit_room();
-        let sol = solve_rgb(&ff.matrix(), ff.weights(), &m, Solver::GaussSeidel, &opts())
-            .unwrap();
+        let sol = solve_rgb(&ff.matrix(), ff.weights(), &m, Solver::GaussSeidel, &opts()).unwrap();
         let measures = rgb_measures(&ff.matrix(), ff.weights(), &sol).unwrap();
         let n = ff.n_states();
         for (c, got) in measures.iter().enumerate() {
@@ -288,8 +313,7 @@ mod tests {
                 Material::new([rho, 0.5, 0.0], [3.0 * (1.0 - rho), 1.5, 3.0]).unwrap()
             })
             .collect();
-        let sol = solve_rgb(&ff.matrix(), ff.weights(), &m, Solver::GaussSeidel, &opts())
-            .unwrap();
+        let sol = solve_rgb(&ff.matrix(), ff.weights(), &m, Solver::GaussSeidel, &opts()).unwrap();
         let vis = ff.channel().unwrap().measures();
         for r in rgb_measures(&ff.matrix(), ff.weights(), &sol).unwrap() {
             assert!((r.h_p - vis.h_p).abs() <= 1e-12, "{} {}", r.h_p, vis.h_p);
@@ -304,9 +328,15 @@ mod tests {
         let mut too_many = m.clone();
         too_many.extend_from_slice(&m);
         assert!(matches!(
-            solve_rgb(&ff.matrix(), ff.weights(), &too_many, Solver::Jacobi, &opts())
-                .unwrap_err()
-                .kind(),
+            solve_rgb(
+                &ff.matrix(),
+                ff.weights(),
+                &too_many,
+                Solver::Jacobi,
+                &opts()
+            )
+            .unwrap_err()
+            .kind(),
             ErrorKind::DimensionMismatch { .. }
         ));
         let capped = SolveOptions {
