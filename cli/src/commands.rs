@@ -4,6 +4,7 @@ mod draw;
 mod draw3d;
 pub mod formfactors;
 pub mod measure;
+mod radiosity;
 pub mod refine;
 mod reproduce;
 mod scene;
@@ -21,5 +22,6 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Draw(args) => draw::run(&args),
         Command::Refine(args) => refine::run(&args),
+        Command::Radiosity(args) => radiosity::run(&args),
     }
 }

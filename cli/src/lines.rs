@@ -12,7 +12,7 @@ use sceneinfo::formfactor::tally::{LineMethod, LineTally, LineTracer};
 use sceneinfo::lines::{chunk_count, chunk_range};
 
 /// Casts `n_lines` lines of `method` with `seed` on `threads` threads.
-pub fn run<T: LineTracer + Sync>(
+pub fn run<T: LineTracer + Sync + ?Sized>(
     tracer: &T,
     method: LineMethod,
     seed: u64,

@@ -26,12 +26,19 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::math::KahanSum;
 
 mod channel;
+#[cfg(feature = "alloc")]
+pub mod continuous;
+#[cfg(feature = "alloc")]
+pub mod display;
 pub mod measures;
 #[cfg(feature = "alloc")]
 pub mod rgb;
+pub mod walk;
 pub use channel::radiosity_channel_into;
 pub use measures::{RadiosityMeasures, RadiosityTransitions, radiosity_measures};
 
+#[cfg(test)]
+mod proptests;
 #[cfg(all(test, feature = "alloc"))]
 mod tests;
 

@@ -2,6 +2,9 @@
 //!
 //! Chapter 3: Tables 3.4 and 3.5 (exact form factors). Chapter 4: Tables 4.10, 4.11 and 4.12
 //! and the flatland catalogue of §4.5.2 (global lines; `--lines` per scene, fixed seed).
+//! Chapter 5 (the radiosity channel) lives in [`chapter5`].
+
+mod chapter5;
 
 use std::fmt::Write as _;
 use std::io::Write;
@@ -97,6 +100,7 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
         if args.full {
             tables.push(table_3_3(&runner)?);
         }
+        tables.extend(chapter5::tables(&runner)?);
     }
     let seconds = start.elapsed().as_secs_f64();
     let mut out = std::io::stdout().lock();
