@@ -144,6 +144,10 @@ pub const TABLE_ROUNDING: f64 = 0.0005;
 
 // ---- chapter 5: the radiosity channel ---------------------------------------------------
 
+/// A row of a colour table: `(figure, patches, lines in millions, first quantity (R, G, B),
+/// second quantity (R, G, B))`.
+pub type RgbRow = (&'static str, usize, f64, [f64; 3], [f64; 3]);
+
 /// Table 5.1: the labyrinth of Fig. 5.1 with constant radiosity (`ρ_i + E_i = 1`):
 /// `(setting, H_P, H_S, I_S)` for visibility and radiosity. The thesis prints 4–6 decimals;
 /// its two rows differ by up to 0.0043, which is its numerical error (they are equal in
@@ -156,7 +160,7 @@ pub const TABLE_5_1: [(&str, f64, f64, f64); 2] = [
 /// Table 5.2: the Cornell box (Fig. 5.2), regular meshes (I.a–c) and meshes from a
 /// mutual-information-based oracle (II.a–c): `(figure, patches, lines in millions,
 /// I_S (R, G, B), H_S (R, G, B))`.
-pub const TABLE_5_2: [(&str, usize, f64, [f64; 3], [f64; 3]); 6] = [
+pub const TABLE_5_2: [RgbRow; 6] = [
     (
         "Fig.5.2I.a",
         121,
@@ -203,7 +207,7 @@ pub const TABLE_5_2: [(&str, usize, f64, [f64; 3], [f64; 3]); 6] = [
 
 /// Table 5.3: the tetrahedron (Fig. 4.3) with one blue face: `(figure, patches, lines in
 /// millions, I_S (R, G, B), H_S (R, G, B))`. The 151- and 793-patch meshes are irregular.
-pub const TABLE_5_3: [(&str, usize, f64, [f64; 3], [f64; 3]); 3] = [
+pub const TABLE_5_3: [RgbRow; 3] = [
     (
         "Fig.4.3a",
         4,
@@ -248,7 +252,7 @@ pub const TABLE_5_4: [(&str, usize, f64, [f64; 3]); 13] = [
 /// Table 5.5: `I_S` and `I_S^c` (R, G, B) of the Cornell box at regular (Fig. 5.2I, 5.5a) and
 /// oracle-driven (Fig. 5.2II, 5.5b) meshes: `(figure, patches, lines in millions, I_S,
 /// I_S^c)`.
-pub const TABLE_5_5: [(&str, usize, f64, [f64; 3], [f64; 3]); 8] = [
+pub const TABLE_5_5: [RgbRow; 8] = [
     (
         "Fig.5.2I.a",
         121,

@@ -54,7 +54,7 @@ impl ToneMap {
     /// One channel: `B ↦ 0..=255`.
     #[must_use]
     pub fn channel(&self, b: f64) -> u8 {
-        if !(self.white > 0.0 && self.white.is_finite()) || !(b > 0.0) {
+        if !(self.white > 0.0 && self.white.is_finite() && b > 0.0) {
             return 0;
         }
         let c = (b / self.white).min(1.0);
