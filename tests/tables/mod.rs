@@ -4,5 +4,6 @@ mod catalogue;
 mod chapter5;
 mod continuous;
 mod pictured3d;
+mod refinement_flat;
 mod regular_polygons;
 mod solids;
