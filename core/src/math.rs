@@ -63,13 +63,6 @@ pub fn hypot(x: f64, y: f64) -> f64 {
     libm::hypot(x, y)
 }
 
-/// `x^y`.
-#[inline]
-#[must_use]
-pub fn pow(x: f64, y: f64) -> f64 {
-    libm::pow(x, y)
-}
-
 /// Rounds half away from zero.
 #[inline]
 #[must_use]
