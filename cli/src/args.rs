@@ -28,6 +28,10 @@ pub enum Command {
     Formfactors(FormFactorsArgs),
     /// Recompute the thesis' tables and print ours beside theirs.
     Reproduce(ReproduceArgs),
+    /// Solve the scene's illumination (B = E + ρFB per colour channel) and measure its
+    /// radiosity entropy and complexity beside the visibility ones; optionally write the lit
+    /// scene as a PLY mesh.
+    Radiosity(RadiosityArgs),
     /// Draw a flatland scene as SVG, patches coloured by I_i, H_i, I_i^c or I_i^c − I_i, and
     /// optionally the mutual information matrix I_ij as a heat map.
     Draw(DrawArgs),
@@ -252,6 +256,48 @@ pub struct ReproduceArgs {
     /// 10⁷ lines (a few minutes).
     #[arg(long)]
     pub full: bool,
+}
+
+/// Arguments of `radiosity`.
+#[derive(Debug, clap::Args)]
+pub struct RadiosityArgs {
+    /// The scene file: `.flat` (flatland) or `.obj` (3D, with its `.mtl`: `Kd` is the
+    /// reflectance, `Ke` the emittance).
+    pub file: PathBuf,
+    /// The iterative solver of (2.6).
+    #[arg(long, value_enum, default_value_t = SolverArg::GaussSeidel)]
+    pub solver: SolverArg,
+    /// Largest accepted max-norm of the residual E + ρFB − B relative to max E.
+    #[arg(long, default_value_t = 1e-10)]
+    pub tolerance: f64,
+    /// Iteration cap (sweeps for Jacobi and Gauss–Seidel, shots for Southwell); reaching it
+    /// is an error.
+    #[arg(long, default_value_t = 1_000_000)]
+    pub max_iterations: u64,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Write a .obj scene lit as an ASCII PLY mesh: shared vertices with Gouraud colours
+    /// (area-weighted average of the patches of one face around the vertex) and per-face
+    /// colours, both tone-mapped (linear exposure with white at the brightest non-emitting
+    /// patch, then the sRGB curve).
+    #[arg(long, value_name = "OUT.ply")]
+    pub ply: Option<PathBuf>,
+    /// How the form factors are computed; with --lines, also the continuous radiosity
+    /// mutual information I_S^c (5.20) per colour channel.
+    #[command(flatten)]
+    pub sampling: SamplingArgs,
+}
+
+/// The radiosity solvers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SolverArg {
+    /// Jacobi relaxation (gathering).
+    Jacobi,
+    /// Gauss–Seidel relaxation (gathering).
+    GaussSeidel,
+    /// Southwell relaxation, progressive refinement (shooting).
+    Southwell,
 }
 
 /// Arguments of `draw`.

@@ -6,6 +6,7 @@ mod draw3d;
 pub mod formfactors;
 pub mod measure;
 mod merge;
+mod radiosity;
 pub mod refine;
 mod reproduce;
 mod scene;
@@ -25,5 +26,6 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Merge(args) => merge::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Refine(args) => refine::run(&args),
+        Command::Radiosity(args) => radiosity::run(&args),
     }
 }

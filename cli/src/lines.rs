@@ -13,7 +13,7 @@ use sceneinfo::formfactor::tally::{LineMethod, LineTally, LineTracer};
 use sceneinfo::lines::{chunk_count, chunk_range};
 
 /// Casts `n_lines` lines of `method` with `seed` on `threads` threads.
-pub fn run<T: LineTracer + Sync>(
+pub fn run<T: LineTracer + Sync + ?Sized>(
     tracer: &T,
     method: LineMethod,
     seed: u64,
@@ -32,7 +32,7 @@ pub fn run<T: LineTracer + Sync>(
 
 /// Casts only the seeded chunks `range` of a job of `n_lines` lines (a partial result;
 /// `range` must lie within `0..chunk_count(n_lines)`).
-pub fn run_chunks<T: LineTracer + Sync>(
+pub fn run_chunks<T: LineTracer + Sync + ?Sized>(
     tracer: &T,
     method: LineMethod,
     seed: u64,

@@ -1,7 +1,11 @@
-//! A small ASCII PLY writer: polygons with flat per-face colours, for `sceneinfo draw`.
+//! A small ASCII PLY writer: polygons with per-face colours, and optionally per-vertex
+//! colours on shared vertices, for `sceneinfo draw` and `sceneinfo radiosity`.
 //!
-//! Every polygon gets its own vertices (shared corners are written once per polygon), so a
-//! viewer that interpolates colours across vertices still shows each face in one colour.
+//! [`Ply::polygon`] gives a polygon its own vertices (shared corners are written once per
+//! polygon), so a viewer that interpolates colours across vertices still shows each face in
+//! one colour. [`Ply::vertex`] and [`Ply::face`] build an indexed mesh whose vertices carry
+//! colours too (Gouraud shading in viewers that use vertex colours, e.g. MeshLab and
+//! Blender); the two styles cannot be mixed in one file.
 //! The header is plain ASCII: comments are cut to one line of printable ASCII.
 
 use std::fmt::Write as _;
@@ -16,7 +20,11 @@ use crate::svg::Rgb;
 pub struct Ply {
     comments: Vec<String>,
     vertices: Vec<[f32; 3]>,
-    /// `(first vertex, vertex count, colour)` of each face.
+    /// Vertex colours, one per vertex when the mesh is indexed ([`Ply::vertex`]).
+    vertex_colours: Vec<Rgb>,
+    /// The faces' vertex indices, back to back.
+    indices: Vec<usize>,
+    /// `(first index, vertex count, colour)` of each face.
     faces: Vec<(usize, usize, Rgb)>,
 }
 
@@ -49,7 +57,22 @@ impl Ply {
                 .iter()
                 .map(|v| [v.x as f32, v.y as f32, v.z as f32]),
         );
-        self.faces.push((first, vertices.len(), colour));
+        self.faces
+            .push((self.indices.len(), vertices.len(), colour));
+        self.indices.extend(first..first + vertices.len());
+    }
+
+    /// Adds a shared vertex with its colour and returns its index (for [`Ply::face`]).
+    pub fn vertex(&mut self, v: DVec3, colour: Rgb) -> usize {
+        self.vertices.push([v.x as f32, v.y as f32, v.z as f32]);
+        self.vertex_colours.push(colour);
+        self.vertices.len() - 1
+    }
+
+    /// Adds a face over vertices added with [`Ply::vertex`], with its own colour.
+    pub fn face(&mut self, indices: &[usize], colour: Rgb) {
+        self.faces.push((self.indices.len(), indices.len(), colour));
+        self.indices.extend_from_slice(indices);
     }
 
     /// The file's text.
@@ -72,6 +95,13 @@ impl Ply {
         if i32::try_from(self.vertices.len()).is_err() {
             bail!("too many vertices for a PLY file ({})", self.vertices.len());
         }
+        let coloured = !self.vertex_colours.is_empty();
+        if coloured && self.vertex_colours.len() != self.vertices.len() {
+            bail!("a PLY mesh mixes coloured shared vertices with per-polygon vertices");
+        }
+        if let Some(&k) = self.indices.iter().find(|&&k| k >= self.vertices.len()) {
+            bail!("PLY face index {k} is not a vertex");
+        }
         let mut s = String::with_capacity(64 * self.vertices.len() + 512);
         s.push_str("ply\nformat ascii 1.0\n");
         for c in &self.comments {
@@ -79,15 +109,25 @@ impl Ply {
         }
         let _ = writeln!(s, "element vertex {}", self.vertices.len());
         s.push_str("property float x\nproperty float y\nproperty float z\n");
+        if coloured {
+            s.push_str("property uchar red\nproperty uchar green\nproperty uchar blue\n");
+        }
         let _ = writeln!(s, "element face {}", self.faces.len());
         let _ = writeln!(s, "property list {count_type} int vertex_indices");
         s.push_str("property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n");
-        for [x, y, z] in &self.vertices {
-            let _ = writeln!(s, "{x} {y} {z}");
+        for (k, [x, y, z]) in self.vertices.iter().enumerate() {
+            match self.vertex_colours.get(k) {
+                Some(Rgb(r, g, b)) => {
+                    let _ = writeln!(s, "{x} {y} {z} {r} {g} {b}");
+                }
+                None => {
+                    let _ = writeln!(s, "{x} {y} {z}");
+                }
+            }
         }
         for &(first, count, Rgb(r, g, b)) in &self.faces {
             let _ = write!(s, "{count}");
-            for k in first..first + count {
+            for k in &self.indices[first..first + count] {
                 let _ = write!(s, " {k}");
             }
             let _ = writeln!(s, " {r} {g} {b}");
@@ -107,11 +147,14 @@ pub mod check {
         pub comments: Vec<String>,
         /// Vertex positions.
         pub vertices: Vec<[f32; 3]>,
+        /// Vertex colours, when the vertex element has them.
+        pub vertex_colours: Vec<[u8; 3]>,
         /// Each face's vertex indices and colour.
         pub faces: Vec<(Vec<usize>, [u8; 3])>,
     }
 
-    /// Parses an ASCII PLY of one `vertex` element (x, y, z floats) and one `face` element
+    /// Parses an ASCII PLY of one `vertex` element (x, y, z floats, optionally red, green,
+    /// blue) and one `face` element
     /// (a vertex index list, then red, green, blue), checking the header against the body.
     pub fn parse(text: &str) -> Result<Parsed, String> {
         let mut lines = text.lines();
@@ -145,7 +188,14 @@ pub mod check {
         let [(v, nv, vprops), (f, nf, fprops)] = elements.as_slice() else {
             return Err(format!("expected two elements, found {}", elements.len()));
         };
-        if v != "vertex" || vprops != &["float x", "float y", "float z"] {
+        let xyz = ["float x", "float y", "float z"];
+        let rgb = ["uchar red", "uchar green", "uchar blue"];
+        let coloured = vprops.len() == 6 && vprops[3..] == rgb;
+        if v != "vertex"
+            || vprops.len() < 3
+            || vprops[..3] != xyz
+            || !(vprops.len() == 3 || coloured)
+        {
             return Err(format!("bad vertex element {vprops:?}"));
         }
         let list_ok = matches!(
@@ -156,17 +206,27 @@ pub mod check {
             return Err(format!("bad face element {fprops:?}"));
         }
         let mut vertices = Vec::with_capacity(*nv);
+        let mut vertex_colours = Vec::new();
         for _ in 0..*nv {
             let line = lines.next().ok_or("too few vertex lines")?;
-            let xyz: Vec<f32> = line
-                .split(' ')
-                .map(str::parse)
+            let words: Vec<&str> = line.split(' ').collect();
+            if words.len() != if coloured { 6 } else { 3 } {
+                return Err(format!("vertex line {line:?}"));
+            }
+            let xyz: Vec<f32> = words[..3]
+                .iter()
+                .map(|w| w.parse())
                 .collect::<Result<_, _>>()
                 .map_err(|e| format!("{line}: {e}"))?;
-            let [x, y, z] = xyz[..] else {
-                return Err(format!("vertex line {line:?}"));
-            };
-            vertices.push([x, y, z]);
+            vertices.push([xyz[0], xyz[1], xyz[2]]);
+            if coloured {
+                let c: Vec<u8> = words[3..]
+                    .iter()
+                    .map(|w| w.parse())
+                    .collect::<Result<_, _>>()
+                    .map_err(|e| format!("{line}: {e}"))?;
+                vertex_colours.push([c[0], c[1], c[2]]);
+            }
         }
         let mut faces = Vec::with_capacity(*nf);
         for _ in 0..*nf {
@@ -198,6 +258,7 @@ pub mod check {
         Ok(Parsed {
             comments,
             vertices,
+            vertex_colours,
             faces,
         })
     }
@@ -265,6 +326,32 @@ mod tests {
         let p = parse(&text).unwrap();
         assert_eq!(p.faces[0].0.len(), 300);
         assert_eq!(p.vertices[0], [1.0, 0.0, 1.0 / 3.0]);
+    }
+
+    #[test]
+    fn indexed_meshes_carry_vertex_colours() {
+        let mut ply = Ply::new();
+        let sq = square(0.0);
+        let v: Vec<usize> = sq
+            .iter()
+            .enumerate()
+            .map(|(k, &p)| ply.vertex(p, Rgb(k as u8, 10, 20)))
+            .collect();
+        ply.face(&v[..3], Rgb(1, 2, 3));
+        ply.face(&[v[0], v[2], v[3]], Rgb(4, 5, 6));
+        let text = ply.finish().unwrap();
+        let p = parse(&text).unwrap();
+        assert_eq!(p.vertices.len(), 4);
+        assert_eq!(p.vertex_colours[3], [3, 10, 20]);
+        assert_eq!(p.faces[1], (vec![0, 2, 3], [4, 5, 6]));
+        // Mixing styles, or a face over a missing vertex, is refused.
+        let mut mixed = Ply::new();
+        mixed.vertex(sq[0], Rgb(0, 0, 0));
+        mixed.polygon(&sq, Rgb(0, 0, 0));
+        assert!(mixed.finish().is_err());
+        let mut dangling = Ply::new();
+        dangling.face(&[0, 1, 2], Rgb(0, 0, 0));
+        assert!(dangling.finish().is_err());
     }
 
     #[test]

@@ -67,6 +67,13 @@ pub fn hypot(x: f64, y: f64) -> f64 {
     libm::hypot(x, y)
 }
 
+/// Rounds half away from zero.
+#[inline]
+#[must_use]
+pub fn round(x: f64) -> f64 {
+    libm::round(x)
+}
+
 /// Neumaier's compensated (Kahan–Babuška) summation.
 ///
 /// Adding `n` terms loses at most a few ulps of the result instead of `O(n)` ulps, which

@@ -26,8 +26,19 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::math::KahanSum;
 
 mod channel;
+#[cfg(feature = "alloc")]
+pub mod continuous;
+#[cfg(feature = "alloc")]
+pub mod display;
+pub mod measures;
+#[cfg(feature = "alloc")]
+pub mod rgb;
+pub mod walk;
 pub use channel::radiosity_channel_into;
+pub use measures::{RadiosityMeasures, RadiosityTransitions, radiosity_measures};
 
+#[cfg(test)]
+mod proptests;
 #[cfg(all(test, feature = "alloc"))]
 mod tests;
 
@@ -45,8 +56,11 @@ pub enum Solver {
     /// sweep.
     GaussSeidel,
     /// Southwell relaxation, i.e. progressive refinement (shooting): repeatedly shoot the
-    /// unshot quantity of the patch with the largest unshot power `A_i ΔB_i`, using
-    /// reciprocity `F_ji = A_i F_ij / A_j` (2.8). One iteration is one shot.
+    /// unshot quantity of the patch with the largest unshot power `A_i ΔB_i`. Patch `j`
+    /// receives `ρ_j F_ji ΔB_i`, read from column `i` of `F` — for an exactly reciprocal `F`
+    /// that is (2.8)'s `A_i F_ij / A_j`; reading the column makes Monte Carlo form factors,
+    /// reciprocal only within their error, solve the same system as the gathering methods.
+    /// A shot costs `n` lookups of `F`. One iteration is one shot.
     Southwell,
 }
 
@@ -478,15 +492,16 @@ impl<M: Transitions> System<'_, M> {
             }
             let d = unshot[shooter];
             unshot[shooter] = 0.0;
-            let source = self.w[shooter] * self.beta.at(shooter) * d;
-            self.f.for_each_in_row(shooter, |j, p| {
-                // H_ji d = α_j F_ji β_i d with F_ji = w_i F_ij / w_j (2.8).
-                if j < x.len() && j < unshot.len() && j < self.w.len() {
-                    let gain = self.alpha.at(j) * p * source / self.w[j];
-                    x[j] += gain;
-                    unshot[j] += gain;
-                }
-            });
+            let source = self.beta.at(shooter) * d;
+            for j in 0..x.len().min(unshot.len()) {
+                // H_ji d = α_j F_ji β_i d, F_ji from column `shooter`.
+                self.f
+                    .for_each_in_row_range(j, shooter..shooter + 1, |_, p| {
+                        let gain = self.alpha.at(j) * p * source;
+                        x[j] += gain;
+                        unshot[j] += gain;
+                    });
+            }
             shots += 1;
         }
     }

@@ -142,6 +142,175 @@ pub const PLATONIC_REFERENCE: [(&str, f64, f64); 5] = [
 /// correct value.
 pub const TABLE_ROUNDING: f64 = 0.0005;
 
+// ---- chapter 5: the radiosity channel ---------------------------------------------------
+
+/// A row of a colour table: `(figure, patches, lines in millions, first quantity (R, G, B),
+/// second quantity (R, G, B))`.
+pub type RgbRow = (&'static str, usize, f64, [f64; 3], [f64; 3]);
+
+/// Table 5.1: the labyrinth of Fig. 5.1 with constant radiosity (`ρ_i + E_i = 1`):
+/// `(setting, H_P, H_S, I_S)` for visibility and radiosity. The thesis prints 4–6 decimals;
+/// its two rows differ by up to 0.0043, which is its numerical error (they are equal in
+/// exact arithmetic, 5.8–5.9).
+pub const TABLE_5_1: [(&str, f64, f64, f64); 2] = [
+    ("visibility", 10.6883, 6.47804, 4.21022),
+    ("radiosity", 10.6842, 6.47833, 4.20591),
+];
+
+/// Table 5.2: the Cornell box (Fig. 5.2), regular meshes (I.a–c) and meshes from a
+/// mutual-information-based oracle (II.a–c): `(figure, patches, lines in millions,
+/// I_S (R, G, B), H_S (R, G, B))`.
+pub const TABLE_5_2: [RgbRow; 6] = [
+    (
+        "Fig.5.2I.a",
+        121,
+        10.0,
+        [0.935, 0.965, 0.960],
+        [3.138, 2.636, 2.285],
+    ),
+    (
+        "Fig.5.2I.b",
+        481,
+        10.0,
+        [0.958, 0.974, 0.959],
+        [4.210, 3.658, 3.278],
+    ),
+    (
+        "Fig.5.2I.c",
+        1924,
+        100.0,
+        [1.004, 1.014, 0.993],
+        [6.170, 5.616, 5.243],
+    ),
+    (
+        "Fig.5.2II.a",
+        121,
+        10.0,
+        [1.009, 1.028, 1.014],
+        [3.407, 2.989, 2.694],
+    ),
+    (
+        "Fig.5.2II.b",
+        493,
+        10.0,
+        [1.017, 1.017, 0.996],
+        [5.077, 4.538, 4.214],
+    ),
+    (
+        "Fig.5.2II.c",
+        1933,
+        100.0,
+        [1.052, 1.046, 1.020],
+        [6.849, 6.339, 6.059],
+    ),
+];
+
+/// Table 5.3: the tetrahedron (Fig. 4.3) with one blue face: `(figure, patches, lines in
+/// millions, I_S (R, G, B), H_S (R, G, B))`. The 151- and 793-patch meshes are irregular.
+pub const TABLE_5_3: [RgbRow; 3] = [
+    (
+        "Fig.4.3a",
+        4,
+        10.0,
+        [1.000, 1.000, 0.000],
+        [0.000, 0.000, 1.362],
+    ),
+    (
+        "Fig.4.3b",
+        151,
+        10.0,
+        [2.912, 2.158, 0.000],
+        [4.003, 3.077, 6.117],
+    ),
+    (
+        "Fig.4.3c",
+        793,
+        10.0,
+        [3.432, 2.765, 0.000],
+        [5.696, 4.854, 8.259],
+    ),
+];
+
+/// Table 5.4: continuous radiosity mutual information `I_S^c` (R, G, B): `(figure, patches,
+/// lines in millions, I_S^c)`.
+pub const TABLE_5_4: [(&str, usize, f64, [f64; 3]); 13] = [
+    ("Fig.4.4a", 19, 10.0, [1.676, 1.676, 1.676]),
+    ("Fig.4.4b", 196, 10.0, [1.654, 1.654, 1.654]),
+    ("Fig.4.4c", 826, 10.0, [1.286, 1.286, 1.286]),
+    ("Fig.4.9a", 1924, 100.0, [1.163, 1.163, 1.163]),
+    ("Fig.4.9b", 1924, 100.0, [1.129, 1.129, 1.129]),
+    ("Fig.4.9c", 1924, 100.0, [1.375, 1.375, 1.375]),
+    ("Fig.5.3a", 444, 50.0, [2.443, 2.443, 2.443]),
+    ("Fig.5.3b", 759, 100.0, [2.455, 2.455, 2.455]),
+    ("Fig.5.4a", 2029, 100.0, [2.149, 1.481, 1.980]),
+    ("Fig.5.4b", 546, 100.0, [5.087, 5.300, 0.541]),
+    ("Fig.4.3a", 4, 10.0, [3.219, 3.197, 0.000]),
+    ("Fig.4.3b", 151, 10.0, [3.419, 3.102, 0.000]),
+    ("Fig.4.3c", 793, 10.0, [3.629, 3.158, 0.000]),
+];
+
+/// Table 5.5: `I_S` and `I_S^c` (R, G, B) of the Cornell box at regular (Fig. 5.2I, 5.5a) and
+/// oracle-driven (Fig. 5.2II, 5.5b) meshes: `(figure, patches, lines in millions, I_S,
+/// I_S^c)`.
+pub const TABLE_5_5: [RgbRow; 8] = [
+    (
+        "Fig.5.2I.a",
+        121,
+        10.0,
+        [0.935, 0.965, 0.960],
+        [1.132, 1.144, 1.107],
+    ),
+    (
+        "Fig.5.2I.b",
+        481,
+        10.0,
+        [0.958, 0.974, 0.959],
+        [1.055, 1.066, 1.037],
+    ),
+    (
+        "Fig.5.2I.c",
+        1924,
+        100.0,
+        [1.004, 1.014, 0.993],
+        [1.044, 1.051, 1.024],
+    ),
+    (
+        "Fig.5.5a",
+        7744,
+        1000.0,
+        [1.027, 1.028, 1.013],
+        [1.032, 1.032, 1.016],
+    ),
+    (
+        "Fig.5.2II.a",
+        121,
+        10.0,
+        [1.009, 1.028, 1.014],
+        [1.194, 1.194, 1.138],
+    ),
+    (
+        "Fig.5.2II.b",
+        493,
+        10.0,
+        [1.017, 1.017, 0.996],
+        [1.082, 1.080, 1.043],
+    ),
+    (
+        "Fig.5.2II.c",
+        1933,
+        100.0,
+        [1.052, 1.046, 1.020],
+        [1.070, 1.064, 1.032],
+    ),
+    (
+        "Fig.5.5b",
+        6595,
+        500.0,
+        [1.078, 1.064, 1.046],
+        [1.056, 1.048, 1.027],
+    ),
+];
+
 /// Table 4.4: the room with 512 random cubes (Fig. 3.3a): `(global lines, I_S, I_S^c)`.
 /// `I_S` falls as lines grow (few lines per patch overstate the correlation); `I_S^c` is
 /// stable from 10⁴ lines.

@@ -1,6 +1,7 @@
 //! The thesis' tables recomputed.
 
 mod catalogue;
+mod chapter5;
 mod continuous;
 mod pictured3d;
 mod refinement_cuts;

@@ -2,6 +2,7 @@
 //!
 //! Chapter 3: Tables 3.4 and 3.5 (exact form factors). Chapter 4: Tables 4.10, 4.11 and 4.12
 //! and the flatland catalogue of §4.5.2 (global lines; `--lines` per scene, fixed seed).
+//! Chapter 5 (the radiosity channel) lives in [`chapter5`].
 //! Chapter 6 ([`refinement_flat`]): the single cuts of §6.1, and in flatland Fig. 6.12,
 //! Tables 6.1 and 6.2, Fig. 6.19.
 
@@ -24,6 +25,7 @@ use sceneinfo::thesis::{
 
 use crate::args::ReproduceArgs;
 
+mod chapter5;
 mod pictured3d;
 mod refinement_flat;
 
@@ -107,6 +109,7 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
         if args.full {
             tables.push(table_3_3(&runner)?);
         }
+        tables.extend(chapter5::tables(&runner)?);
         tables.push(refinement_flat::section_6_1()?);
         tables.push(refinement_flat::table_6_1()?);
         tables.extend(refinement_flat::table_6_2(&runner)?);

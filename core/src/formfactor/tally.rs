@@ -14,6 +14,7 @@ use crate::formfactor::FormFactors;
 use crate::formfactor::counts::PairCounts;
 use crate::lines::chunk_count;
 use crate::math::FixedSum;
+use crate::radiosity::continuous::RadiosityLineTally;
 
 /// Which lines sample the scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -69,6 +70,9 @@ pub struct LineTally {
     pub(crate) counts: PairCounts,
     pub(crate) patch_info: Vec<FixedSum>,
     pub(crate) continuous: ContinuousTally,
+    /// The radiosity terms of (5.20), when a [`crate::radiosity::continuous::RadiosityTracer`]
+    /// made the tally.
+    pub(crate) radiosity: Option<RadiosityLineTally>,
 }
 
 /// The result of a Monte Carlo run.
@@ -100,7 +104,20 @@ impl LineTally {
             counts: PairCounts::new(n),
             patch_info: vec![FixedSum::new(); n],
             continuous: ContinuousTally::new(),
+            radiosity: None,
         }
+    }
+
+    /// Also accumulates the radiosity terms of (5.20) (see
+    /// [`crate::radiosity::continuous`]).
+    pub fn set_radiosity(&mut self, terms: RadiosityLineTally) {
+        self.radiosity = Some(terms);
+    }
+
+    /// The radiosity terms, if any.
+    #[must_use]
+    pub fn radiosity(&self) -> Option<&RadiosityLineTally> {
+        self.radiosity.as_ref()
     }
 
     /// The sampling method.
@@ -127,6 +144,9 @@ impl LineTally {
         match s {
             Some(s) => {
                 self.add_info(i, j, s);
+                if let Some(r) = &mut self.radiosity {
+                    r.pair(i, j, s, 2.0);
+                }
                 2.0 * s
             }
             None => 0.0,
@@ -141,6 +161,9 @@ impl LineTally {
         match s {
             Some(s) => {
                 self.add_info(i, j, 0.5 * s);
+                if let Some(r) = &mut self.radiosity {
+                    r.pair(i, j, s, 1.0);
+                }
                 s
             }
             None => 0.0,
@@ -173,6 +196,9 @@ impl LineTally {
     #[inline]
     pub(crate) fn end_line(&mut self, sum: f64, n: u64) {
         self.continuous.add_group(sum, n);
+        if let Some(r) = &mut self.radiosity {
+            r.end_line(n);
+        }
         self.lines += 1;
     }
 
@@ -194,6 +220,9 @@ impl LineTally {
             a.merge(b);
         }
         self.continuous.merge(&other.continuous);
+        if let (Some(a), Some(b)) = (&mut self.radiosity, &other.radiosity) {
+            a.merge(b);
+        }
     }
 
     /// Lines tallied so far.

@@ -1,0 +1,386 @@
+//! `sceneinfo radiosity`: solve a scene's illumination per colour channel (2.6), measure
+//! its radiosity entropy and complexity (5.5–5.7, 5.19–5.21) beside the visibility ones,
+//! and optionally write the lit scene as a PLY mesh.
+//!
+//! Form factors are exact (flatland; 3D when nothing can be occluded) or, with `--lines`,
+//! Monte Carlo. With lines the run casts them twice with the same seed: once for `F`, then —
+//! once `B` is known — again through a [`RadiosityTracer`] for the continuous radiosity
+//! mutual information (5.20) and the visibility one of the same lines.
+
+use std::fmt::Write as _;
+use std::io::Write;
+use std::time::Instant;
+
+use anyhow::{Result, bail};
+use sceneinfo::continuous::ContinuousEstimate;
+use sceneinfo::formfactor::FormFactors;
+use sceneinfo::formfactor::estimate_2d::FlatTracer;
+use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::formfactor::exact_2d;
+use sceneinfo::formfactor::tally::{LineMethod, LineTracer};
+use sceneinfo::radiosity::continuous::estimate_lit;
+use sceneinfo::radiosity::display::{ToneMap, gouraud_mesh};
+use sceneinfo::radiosity::rgb::{
+    self, CHANNEL_NAMES, RgbSolution, flat_patch_materials, patch_materials,
+};
+use sceneinfo::radiosity::{RadiosityMeasures, SolveOptions, Solver};
+use sceneinfo::report::{JsonObject, SceneReport};
+use sceneinfo::scene::{Material, Scene};
+
+use crate::args::{Method, RadiosityArgs, SamplingArgs, SolverArg};
+use crate::output::{Loaded, located, write_atomic};
+use crate::ply::Ply;
+use crate::svg::Rgb;
+
+/// The Monte Carlo part of a run.
+struct Lines {
+    method: Method,
+    lines: u64,
+    seed: u64,
+    visibility: ContinuousEstimate,
+    radiosity: [ContinuousEstimate; 3],
+}
+
+/// Everything a run computed.
+struct Run {
+    ff: FormFactors,
+    materials: Vec<Material>,
+    solution: RgbSolution,
+    radiosity: [RadiosityMeasures; 3],
+    visibility: SceneReport,
+    lines: Option<Lines>,
+    seconds: f64,
+}
+
+pub fn run(args: &RadiosityArgs) -> Result<()> {
+    let path = &args.file;
+    let at = |e: sceneinfo::Error| located(path, &e);
+    if !(args.tolerance.is_finite() && args.tolerance >= 0.0) {
+        bail!(
+            "--tolerance must be a finite number ≥ 0, not {}",
+            args.tolerance
+        );
+    }
+    let scene = crate::output::load_scene(path)?;
+    if args.ply.is_some() && matches!(scene, Loaded::Flat(_)) {
+        bail!(
+            "{}: --ply writes 3D scenes; a .flat scene has no surfaces to mesh",
+            path.display()
+        );
+    }
+    let start = Instant::now();
+    let opts = SolveOptions {
+        tolerance: args.tolerance,
+        max_iterations: args.max_iterations,
+    };
+    let solver = match args.solver {
+        SolverArg::Jacobi => Solver::Jacobi,
+        SolverArg::GaussSeidel => Solver::GaussSeidel,
+        SolverArg::Southwell => Solver::Southwell,
+    };
+    let mut result = match &scene {
+        Loaded::Flat(s) => {
+            let materials = flat_patch_materials(s);
+            match args.sampling.lines {
+                None => solve(
+                    exact_2d::form_factors(s).map_err(at)?,
+                    materials,
+                    solver,
+                    &opts,
+                )
+                .map_err(at)?,
+                Some(_) => {
+                    let tracer = FlatTracer::new(s).map_err(at)?;
+                    with_lines(&tracer, materials, solver, &opts, &args.sampling).map_err(at)?
+                }
+            }
+        }
+        Loaded::Solid(s) => {
+            let materials = patch_materials(s);
+            match args.sampling.lines {
+                None => solve(
+                    crate::output::exact_3d_form_factors(path, s)?,
+                    materials,
+                    solver,
+                    &opts,
+                )
+                .map_err(at)?,
+                Some(_) => {
+                    let tracer = SceneTracer::new(s).map_err(at)?;
+                    with_lines(&tracer, materials, solver, &opts, &args.sampling).map_err(at)?
+                }
+            }
+        }
+    };
+    result.seconds = start.elapsed().as_secs_f64();
+    if let (Some(out), Loaded::Solid(s)) = (&args.ply, &scene) {
+        let name = path.display().to_string();
+        write_atomic(out, lit_mesh(s, &result, &name).finish()?.as_bytes())?;
+    }
+    let mut out = std::io::stdout().lock();
+    if args.json {
+        writeln!(out, "{}", json(&result, args.solver)?)?;
+    } else {
+        write!(
+            out,
+            "{}",
+            table(&path.display().to_string(), &result, args.solver)
+        )?;
+    }
+    out.flush()?;
+    Ok(())
+}
+
+/// Solves and measures on given form factors.
+fn solve(
+    ff: FormFactors,
+    materials: Vec<Material>,
+    solver: Solver,
+    opts: &SolveOptions,
+) -> sceneinfo::Result<Run> {
+    let solution = rgb::solve_rgb(&ff.matrix(), ff.weights(), &materials, solver, opts)?;
+    let radiosity = rgb::rgb_measures(&ff.matrix(), ff.weights(), &solution)?;
+    let visibility = SceneReport::of(&ff)?;
+    Ok(Run {
+        ff,
+        materials,
+        solution,
+        radiosity,
+        visibility,
+        lines: None,
+        seconds: 0.0,
+    })
+}
+
+/// Monte Carlo form factors, the solve, then the same lines again for `I_S^c`
+/// ([`estimate_lit`] on this process' threads).
+fn with_lines<T: LineTracer + Sync>(
+    tracer: &T,
+    materials: Vec<Material>,
+    solver: Solver,
+    opts: &SolveOptions,
+    sampling: &SamplingArgs,
+) -> sceneinfo::Result<Run> {
+    let lines = sampling.lines.unwrap_or(0);
+    if lines == 0 {
+        return Err(sceneinfo::ErrorKind::NoLines.into());
+    }
+    let method = match sampling.method {
+        Method::Global => LineMethod::Global,
+        Method::Local => LineMethod::Local,
+    };
+    let threads = sampling
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get));
+    let est = estimate_lit(tracer, &materials, solver, opts, |t| {
+        Ok(crate::lines::run(t, method, sampling.seed, lines, threads))
+    })?;
+    let visibility = SceneReport::of(&est.form_factors)?;
+    Ok(Run {
+        visibility,
+        materials,
+        solution: est.solution,
+        radiosity: est.measures,
+        lines: Some(Lines {
+            method: sampling.method,
+            lines,
+            seed: sampling.seed,
+            visibility: est.visibility,
+            radiosity: est.radiosity,
+        }),
+        ff: est.form_factors,
+        seconds: 0.0,
+    })
+}
+
+fn solver_name(s: SolverArg) -> &'static str {
+    match s {
+        SolverArg::Jacobi => "jacobi",
+        SolverArg::GaussSeidel => "gauss-seidel",
+        SolverArg::Southwell => "southwell",
+    }
+}
+
+fn rgb_of(m: &[RadiosityMeasures; 3], f: impl Fn(&RadiosityMeasures) -> f64) -> [f64; 3] {
+    [f(&m[0]), f(&m[1]), f(&m[2])]
+}
+
+fn json(r: &Run, solver: SolverArg) -> Result<String> {
+    let mut s = String::new();
+    let mut o = JsonObject::new(&mut s)?;
+    r.visibility.write_fields(&mut o)?;
+    o.string("solver", solver_name(solver))?;
+    o.integer("iterations", r.solution.iterations())?;
+    o.number("residual", r.solution.residual())?;
+    let reports = &r.solution.reports;
+    o.numbers("iterations_rgb", &reports.map(|x| x.iterations as f64))?;
+    o.numbers("residual_rgb", &reports.map(|x| x.residual))?;
+    let n = r.ff.n_patches();
+    o.object("radiosity", |o| {
+        for (c, name) in CHANNEL_NAMES.iter().enumerate() {
+            let column: Vec<f64> = r.solution.radiosity[..n].iter().map(|b| b[c]).collect();
+            o.numbers(name, &column)?;
+        }
+        Ok(())
+    })?;
+    o.numbers("h_p_rgb", &rgb_of(&r.radiosity, |m| m.h_p))?;
+    o.numbers("h_s_rgb", &rgb_of(&r.radiosity, |m| m.h_s))?;
+    o.numbers("h_j_rgb", &rgb_of(&r.radiosity, |m| m.h_j))?;
+    o.numbers("i_s_rgb", &rgb_of(&r.radiosity, |m| m.i_s))?;
+    let flows = r.radiosity.map(|m| m.light_flows);
+    o.object("light_flows_rgb", |o| {
+        for (c, name) in CHANNEL_NAMES.iter().enumerate() {
+            o.boolean(name, flows[c])?;
+        }
+        Ok(())
+    })?;
+    match &r.lines {
+        None => o.string("form_factors", "exact")?,
+        Some(l) => {
+            o.string("form_factors", method_name(l.method))?;
+            o.number("i_s_continuous", l.visibility.value)?;
+            o.number("i_s_continuous_stderr", l.visibility.stderr)?;
+            o.numbers("i_s_continuous_rgb", &l.radiosity.map(|e| e.value))?;
+            o.numbers("i_s_continuous_stderr_rgb", &l.radiosity.map(|e| e.stderr))?;
+            let delta: Vec<f64> = (0..3)
+                .map(|c| l.radiosity[c].value - r.radiosity[c].i_s)
+                .collect();
+            o.numbers("discretisation_error_rgb", &delta)?;
+            o.integer("lines", l.lines)?;
+            o.integer("seed", l.seed)?;
+            o.integer("samples", l.visibility.samples)?;
+        }
+    }
+    o.number("seconds", r.seconds)?;
+    o.finish()?;
+    Ok(s)
+}
+
+fn method_name(m: Method) -> &'static str {
+    match m {
+        Method::Global => "global lines",
+        Method::Local => "local lines",
+    }
+}
+
+fn table(name: &str, r: &Run, solver: SolverArg) -> String {
+    let v = &r.visibility.measures;
+    let rad = &r.radiosity;
+    let mut s = String::new();
+    let _ = writeln!(s, "scene                 {name}");
+    let _ = writeln!(s, "patches               {}", r.ff.n_patches());
+    if r.visibility.background {
+        let _ = writeln!(s, "background            included (open scene, black)");
+    }
+    match &r.lines {
+        None => {
+            let _ = writeln!(s, "form factors          exact");
+        }
+        Some(l) => {
+            let _ = writeln!(
+                s,
+                "form factors          {} : {} lines, seed {} (cast twice: F, then I_S^c)",
+                method_name(l.method),
+                l.lines,
+                l.seed
+            );
+        }
+    }
+    let reports = &r.solution.reports;
+    let _ = writeln!(
+        s,
+        "solver                {} : iterations (R, G, B) = ({}, {}, {}), max relative residual {:.2e}",
+        solver_name(solver),
+        reports[0].iterations,
+        reports[1].iterations,
+        reports[2].iterations,
+        r.solution.residual()
+    );
+    let _ = writeln!(s, "time                  {:.3} s", r.seconds);
+    let _ = writeln!(
+        s,
+        "                      visibility   radiosity R  radiosity G  radiosity B"
+    );
+    let row = |s: &mut String, label: &str, vis: f64, f: &dyn Fn(&RadiosityMeasures) -> f64| {
+        let _ = writeln!(
+            s,
+            "{label:<22}{vis:<13.6}{:<13.6}{:<13.6}{:.6}",
+            f(&rad[0]),
+            f(&rad[1]),
+            f(&rad[2])
+        );
+    };
+    row(&mut s, "H_P  (3.5, 5.6)", v.h_p, &|m| m.h_p);
+    row(&mut s, "H_S  (3.1, 5.5)", v.h_s, &|m| m.h_s);
+    row(&mut s, "H_J", v.h_j, &|m| m.h_j);
+    row(&mut s, "I_S  (3.8, 5.7)", v.i_s, &|m| m.i_s);
+    if let Some(l) = &r.lines {
+        let _ = writeln!(
+            s,
+            "{:<22}{:<13.6}{:<13.6}{:<13.6}{:.6}",
+            "I_S^c (4.8, 5.20)",
+            l.visibility.value,
+            l.radiosity[0].value,
+            l.radiosity[1].value,
+            l.radiosity[2].value
+        );
+        let _ = writeln!(
+            s,
+            "{:<22}{:<13.6}{:<13.6}{:<13.6}{:.6}",
+            "  ± 1 standard error",
+            l.visibility.stderr,
+            l.radiosity[0].stderr,
+            l.radiosity[1].stderr,
+            l.radiosity[2].stderr
+        );
+        let _ = writeln!(
+            s,
+            "{:<22}{:<13.6}{:<13.6}{:<13.6}{:.6}",
+            "I_S^c - I_S (5.21)",
+            l.visibility.value - v.i_s,
+            l.radiosity[0].value - rad[0].i_s,
+            l.radiosity[1].value - rad[1].i_s,
+            l.radiosity[2].value - rad[2].i_s
+        );
+    }
+    for (c, m) in rad.iter().enumerate() {
+        if !m.light_flows {
+            let _ = writeln!(
+                s,
+                "note: no light flows between patches in the {} channel (all its measures 0)",
+                CHANNEL_NAMES[c]
+            );
+        }
+    }
+    s
+}
+
+/// The lit scene as a PLY mesh with Gouraud vertex colours and flat face colours.
+fn lit_mesh(scene: &Scene, r: &Run, name: &str) -> Ply {
+    let tone = ToneMap::for_scene(&r.solution.radiosity, &r.materials);
+    let mesh = gouraud_mesh(scene, &r.solution.radiosity);
+    let rgb = |b: [f64; 3]| {
+        let [x, y, z] = tone.rgb(b);
+        Rgb(x, y, z)
+    };
+    let mut ply = Ply::new();
+    ply.comment(&format!("sceneinfo radiosity {name}"));
+    ply.comment("colours: radiosity B (2.6) per channel, tone-mapped: c = min(B / white, 1), then the sRGB curve");
+    ply.comment(&format!(
+        "white = {} (the largest radiosity of a non-emitting patch; emitters clip)",
+        tone.white
+    ));
+    ply.comment("vertex colours: area-weighted average of the patches of one face around the vertex (Gouraud)");
+    ply.comment("face colours: the patch's own radiosity (flat)");
+    let ids: Vec<usize> = mesh
+        .positions
+        .iter()
+        .zip(&mesh.vertex_radiosity)
+        .map(|(&p, &b)| ply.vertex(p, rgb(b)))
+        .collect();
+    for (i, face) in mesh.faces.iter().enumerate() {
+        let idx: Vec<usize> = face.iter().map(|&v| ids[v]).collect();
+        ply.face(&idx, rgb(r.solution.radiosity[i]));
+    }
+    ply
+}

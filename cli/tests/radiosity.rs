@@ -1,0 +1,214 @@
+//! `sceneinfo radiosity` through the real binary.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_sceneinfo"))
+}
+
+fn temp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("sceneinfo-radiosity-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn run_json(args: &[&str], file: &PathBuf) -> String {
+    let out = bin()
+        .arg("radiosity")
+        .arg(file)
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// The number after `"key":`.
+fn number(json: &str, key: &str) -> f64 {
+    let at = json
+        .find(&format!("\"{key}\":"))
+        .unwrap_or_else(|| panic!("no {key} in {json}"));
+    let rest = &json[at + key.len() + 3..];
+    let end = rest.find([',', '}', ']']).unwrap();
+    rest[..end].parse().unwrap()
+}
+
+/// The array after `"key":`.
+fn array(json: &str, key: &str) -> Vec<f64> {
+    let at = json
+        .find(&format!("\"{key}\":["))
+        .unwrap_or_else(|| panic!("no {key} in {json}"));
+    let rest = &json[at + key.len() + 4..];
+    let end = rest.find(']').unwrap();
+    rest[..end].split(',').map(|x| x.parse().unwrap()).collect()
+}
+
+fn without_timing(json: &str) -> String {
+    json.split(',')
+        .filter(|kv| !kv.contains("\"seconds\""))
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// A flatland room lit by one white lamp, with a red wall: every key, constant-radiosity
+/// free, exact form factors; all three solvers give the same radiosities.
+#[test]
+fn flat_room_keys_and_solver_agreement() {
+    let path = temp("room.flat");
+    std::fs::write(
+        &path,
+        "mat rho 0.7 0.7 0.7\nseg 0 0 2 0 4\nseg 2 0 2 1 2\nseg 0 1 0 0 2\n\
+         mat rho 0.8 0.1 0.1\nseg 2 1 1 1 2\nmat emit 5 5 5\nseg 1 1 0 1 2\n",
+    )
+    .unwrap();
+    let gs = run_json(&["--json"], &path);
+    for key in [
+        "n_patches",
+        "h_p",
+        "i_s",
+        "solver",
+        "iterations",
+        "residual",
+        "iterations_rgb",
+        "residual_rgb",
+        "radiosity",
+        "h_p_rgb",
+        "h_s_rgb",
+        "h_j_rgb",
+        "i_s_rgb",
+        "light_flows_rgb",
+        "form_factors",
+        "seconds",
+    ] {
+        assert!(gs.contains(&format!("\"{key}\":")), "missing {key} in {gs}");
+    }
+    assert!(gs.contains("\"form_factors\":\"exact\""));
+    assert!(number(&gs, "residual") <= 1e-10);
+    let i_s = array(&gs, "i_s_rgb");
+    assert_eq!(i_s.len(), 3);
+    assert!(i_s.iter().all(|&x| x > 0.0));
+    // The red wall makes the red channel differ.
+    assert!((i_s[0] - i_s[2]).abs() > 1e-4);
+    let red = array(&gs, "red");
+    assert_eq!(red.len(), 12);
+    for solver in ["jacobi", "southwell"] {
+        let other = run_json(
+            &["--json", "--solver", solver, "--tolerance", "1e-12"],
+            &path,
+        );
+        for (a, b) in red.iter().zip(array(&other, "red")) {
+            assert!(
+                (a - b).abs() <= 1e-8 * a.abs().max(1.0),
+                "{solver}: {a} vs {b}"
+            );
+        }
+    }
+}
+
+/// With lines: the continuous keys, results independent of the thread count, and a PLY
+/// with per-vertex and per-face colours for a 3D scene.
+#[test]
+fn cornell_box_with_lines_and_ply() {
+    let obj = temp("cornell.obj");
+    let st = bin()
+        .args(["scene", "solid", "cornell", "--grid", "2", "-o"])
+        .arg(&obj)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    // Occluded: exact form factors are refused, naming --lines.
+    let out = bin().arg("radiosity").arg(&obj).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--lines"));
+
+    let ply = temp("lit.ply");
+    let one = run_json(
+        &[
+            "--json",
+            "--lines",
+            "200000",
+            "--threads",
+            "1",
+            "--ply",
+            ply.to_str().unwrap(),
+        ],
+        &obj,
+    );
+    let two = run_json(&["--json", "--lines", "200000", "--threads", "2"], &obj);
+    assert_eq!(without_timing(&one), without_timing(&two));
+    let ic = array(&one, "i_s_continuous_rgb");
+    let se = array(&one, "i_s_continuous_stderr_rgb");
+    let delta = array(&one, "discretisation_error_rgb");
+    let i_s = array(&one, "i_s_rgb");
+    for c in 0..3 {
+        assert!(ic[c] > 0.0 && se[c] > 0.0 && se[c] < 0.1);
+        assert!((delta[c] - (ic[c] - i_s[c])).abs() < 1e-12);
+    }
+    assert!(number(&one, "i_s_continuous") > 0.0);
+
+    let text = std::fs::read_to_string(&ply).unwrap();
+    assert!(text.starts_with("ply\nformat ascii 1.0\n"));
+    assert!(text.contains("sRGB"));
+    let header_end = text.find("end_header\n").unwrap();
+    let header = &text[..header_end];
+    // Vertex colours and face colours.
+    let vertex = header.find("element vertex").unwrap();
+    let face = header.find("element face").unwrap();
+    assert!(header[vertex..face].contains("property uchar red"));
+    assert!(header[face..].contains("property uchar red"));
+    let faces: usize = header[face..]
+        .lines()
+        .next()
+        .unwrap()
+        .rsplit(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(faces as f64, number(&one, "n_patches"));
+    // Shared vertices: fewer than four per patch.
+    let vertices: usize = header[vertex..]
+        .lines()
+        .next()
+        .unwrap()
+        .rsplit(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(
+        vertices < 4 * faces,
+        "{vertices} vertices for {faces} faces"
+    );
+}
+
+#[test]
+fn bad_arguments_are_errors() {
+    let path = temp("tri.flat");
+    std::fs::write(
+        &path,
+        "mat rho 0.5 0.5 0.5 emit 1 1 1\npoly 3 0 0 1 0 0 1 per_side 2\n",
+    )
+    .unwrap();
+    let out = bin()
+        .arg("radiosity")
+        .arg(&path)
+        .args(["--ply", "x.ply"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--ply"));
+    let out = bin()
+        .arg("radiosity")
+        .arg(&path)
+        .args(["--max-iterations", "1", "--tolerance", "1e-15"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("converge"));
+}

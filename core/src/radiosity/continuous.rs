@@ -1,0 +1,422 @@
+//! Continuous scene radiosity mutual information `I_S^c` (thesis §5.3, 5.19–5.21) by global
+//! or local lines, with radiosity piecewise constant on the patches.
+//!
+//! ```text
+//! I_S^c = ∫_S ∫_S F(x,y) B(x) B(y) / 𝐀_T · log₂(𝐀_T F(x,y) / (B^in(x) B^in(y))) dA_x dA_y   (5.19)
+//! 𝐀_T   = ∫_S B(x) B^in(x) dA_x  ≈  Σ_i A_i B_i B_i^in
+//! ```
+//!
+//! The lines sample `x` uniformly on the surfaces (density `1/A`, `A` the total area or
+//! length) and `y` along a cosine direction (density `F(x,y)`), exactly as for the
+//! visibility `I_S^c` (4.8, 4.13), so the Monte Carlo estimator (5.20) reuses every sample
+//! of the visibility one. A sample from patch `i` to patch `j` whose visibility term is
+//! `s = log₂(A F(x,y))` contributes
+//!
+//! ```text
+//! t_ij(s) = (A B_i B_j / 𝐀_T) · (s + log₂(𝐀_T / A) − log₂ B_i^in − log₂ B_j^in)
+//! I_S^c ≈ (1/N) Σ_k t_{i_k j_k}(s_k)                                                 (5.20)
+//! ```
+//!
+//! (the thesis writes (5.20) with one symbol `A_T` for both totals; the factor `A` is the
+//! inverse density of `x`). `B^in_i = Σ_j F_ij B_j` is the incoming radiosity of the
+//! discrete solution, as in the discrete channel ([`super::measures`]); a sample with
+//! `B_i B_j = 0` carries no light and contributes 0. With constant radiosity every `t_ij(s)`
+//! equals `s` and the estimate is the visibility `I_S^c` (5.24). The standard error is the
+//! per-line ratio estimator's of [`ContinuousTally`].
+//!
+//! The discretisation error for radiosity is `δ^r = I_S^c − I_S` (5.21).
+//!
+//! How it plugs into the line machinery: a [`RadiosityTracer`] wraps any [`LineTracer`] and
+//! hands out tallies that carry a [`RadiosityLineTally`]; the wrapped tracer's samples reach
+//! it through [`LineTally`]'s pair hooks. Run it like any tracer (one thread with
+//! [`LineTracer::run`], or the CLI's threads), then read [`radiosity_continuous`].
+
+use alloc::vec::Vec;
+
+use super::measures::RadiosityMeasures;
+use super::rgb::{RgbSolution, rgb_measures, solve_rgb};
+use super::{SolveOptions, Solver};
+use crate::continuous::{ContinuousEstimate, ContinuousTally};
+use crate::error::{ErrorKind, Result};
+use crate::formfactor::FormFactors;
+use crate::formfactor::tally::{LineMethod, LineTally, LineTracer};
+use crate::math::{self, KahanSum};
+use crate::scene::Material;
+
+/// Per-patch data of one colour channel's term `t_ij`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct PatchTerm {
+    /// `B_i`.
+    b: f64,
+    /// `log₂ B_i^in`, meaningful only when `B_i^in > 0`.
+    log_b_in: f64,
+    /// Whether `B_i B_i^in > 0` (the patch carries light in the channel).
+    lit: bool,
+}
+
+/// The radiosity terms of (5.20) for the three colour channels, accumulated per line.
+///
+/// Built by [`RadiosityLineTally::new`]; lives inside a [`LineTally`] (see
+/// [`RadiosityTracer`]). Exactly mergeable, like the visibility tallies.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RadiosityLineTally {
+    patches: Vec<[PatchTerm; 3]>,
+    /// `A / 𝐀_T` per channel (0 when no light flows).
+    scale: [f64; 3],
+    /// `log₂(𝐀_T / A)` per channel.
+    offset: [f64; 3],
+    line_sum: [f64; 3],
+    tallies: [ContinuousTally; 3],
+}
+
+impl RadiosityLineTally {
+    /// Prepares the terms of (5.20) from the patch sizes `sizes` (the tracer's
+    /// [`LineTracer::patch_sizes`]), the radiosities `b` (`[R, G, B]` per state, as
+    /// [`super::rgb::RgbSolution::radiosity`]; entries past the patches — a background — are
+    /// ignored) and the incoming radiosities `b_in` (same layout, `Σ_j F_ij B_j`).
+    ///
+    /// # Errors
+    /// [`ErrorKind::DimensionMismatch`] when `b` or `b_in` has fewer entries than `sizes`;
+    /// [`ErrorKind::NonFiniteEntry`] / [`ErrorKind::NegativeEntry`] for bad entries.
+    pub fn new(sizes: &[f64], b: &[[f64; 3]], b_in: &[[f64; 3]]) -> Result<Self> {
+        let n = sizes.len();
+        for len in [b.len(), b_in.len()] {
+            if len < n {
+                return Err(ErrorKind::DimensionMismatch {
+                    expected: n,
+                    found: len,
+                }
+                .into());
+            }
+        }
+        let mut area = KahanSum::new();
+        let mut totals = [KahanSum::new(), KahanSum::new(), KahanSum::new()];
+        let mut patches = Vec::with_capacity(n);
+        for (k, &a) in sizes.iter().enumerate() {
+            if !a.is_finite() {
+                return Err(ErrorKind::NonFiniteEntry { row: k, col: 0 }.into());
+            }
+            if !(a > 0.0) {
+                return Err(ErrorKind::NegativeEntry { row: k, col: 0 }.into());
+            }
+            area.add(a);
+            let mut terms = [PatchTerm {
+                b: 0.0,
+                log_b_in: 0.0,
+                lit: false,
+            }; 3];
+            for (c, t) in terms.iter_mut().enumerate() {
+                let (x, y) = (b[k][c], b_in[k][c]);
+                if !(x.is_finite() && y.is_finite()) {
+                    return Err(ErrorKind::NonFiniteEntry { row: k, col: c }.into());
+                }
+                if x < 0.0 || y < 0.0 {
+                    return Err(ErrorKind::NegativeEntry { row: k, col: c }.into());
+                }
+                let lit = x > 0.0 && y > 0.0;
+                *t = PatchTerm {
+                    b: x,
+                    log_b_in: if lit { math::log2(y) } else { 0.0 },
+                    lit,
+                };
+                totals[c].add(a * x * y);
+            }
+            patches.push(terms);
+        }
+        let area = area.total();
+        let mut scale = [0.0; 3];
+        let mut offset = [0.0; 3];
+        for c in 0..3 {
+            let t = totals[c].total();
+            if t > 0.0 && t.is_finite() && area > 0.0 {
+                scale[c] = area / t;
+                offset[c] = math::log2(t / area);
+            }
+        }
+        Ok(Self {
+            patches,
+            scale,
+            offset,
+            line_sum: [0.0; 3],
+            tallies: [ContinuousTally::new(); 3],
+        })
+    }
+
+    /// Adds `weight` copies of the terms `t_ij(s)` of a sample between patches `i` and `j`
+    /// to the current line (`weight` 2 for a global-line segment, which serves both ends).
+    #[inline]
+    pub(crate) fn pair(&mut self, i: usize, j: usize, s: f64, weight: f64) {
+        let (Some(pi), Some(pj)) = (self.patches.get(i), self.patches.get(j)) else {
+            return;
+        };
+        for c in 0..3 {
+            let (a, b) = (pi[c], pj[c]);
+            if a.lit && b.lit {
+                self.line_sum[c] += weight
+                    * self.scale[c]
+                    * a.b
+                    * b.b
+                    * (s + self.offset[c] - a.log_b_in - b.log_b_in);
+            }
+        }
+    }
+
+    /// Closes a line of `n` samples.
+    #[inline]
+    pub(crate) fn end_line(&mut self, n: u64) {
+        for (t, s) in self.tallies.iter_mut().zip(&mut self.line_sum) {
+            t.add_group(*s, n);
+            *s = 0.0;
+        }
+    }
+
+    /// Adds another tally of the same terms (exact, order-independent).
+    pub(crate) fn merge(&mut self, other: &Self) {
+        for (a, b) in self.tallies.iter_mut().zip(&other.tallies) {
+            a.merge(b);
+        }
+    }
+
+    /// `I_S^c` (5.20) and its standard error per colour channel; 0 ± 0 for a channel in
+    /// which no light flows.
+    #[must_use]
+    pub fn estimates(&self) -> [ContinuousEstimate; 3] {
+        [
+            self.tallies[0].estimate(),
+            self.tallies[1].estimate(),
+            self.tallies[2].estimate(),
+        ]
+    }
+}
+
+/// A [`LineTracer`] whose tallies also accumulate the radiosity `I_S^c` (5.20) of a solved
+/// scene: it traces exactly the lines of the tracer it wraps.
+#[derive(Debug)]
+pub struct RadiosityTracer<'a, T: ?Sized> {
+    inner: &'a T,
+    template: RadiosityLineTally,
+}
+
+impl<'a, T: LineTracer + ?Sized> RadiosityTracer<'a, T> {
+    /// Wraps `inner` with the radiosities `b` and incoming radiosities `b_in` (`[R, G, B]`
+    /// per state; see [`RadiosityLineTally::new`]).
+    ///
+    /// # Errors
+    /// The errors of [`RadiosityLineTally::new`].
+    pub fn new(inner: &'a T, b: &[[f64; 3]], b_in: &[[f64; 3]]) -> Result<Self> {
+        let template = RadiosityLineTally::new(inner.patch_sizes(), b, b_in)?;
+        Ok(Self { inner, template })
+    }
+}
+
+impl<T: LineTracer + ?Sized> LineTracer for RadiosityTracer<'_, T> {
+    fn n_patches(&self) -> usize {
+        self.inner.n_patches()
+    }
+
+    fn patch_sizes(&self) -> &[f64] {
+        self.inner.patch_sizes()
+    }
+
+    fn trace_chunk(&self, seed: u64, n_lines: u64, chunk: u64, tally: &mut LineTally) {
+        self.inner.trace_chunk(seed, n_lines, chunk, tally);
+    }
+
+    fn new_tally(&self, method: LineMethod) -> LineTally {
+        let mut tally = self.inner.new_tally(method);
+        tally.set_radiosity(self.template.clone());
+        tally
+    }
+}
+
+/// The radiosity `I_S^c` per colour channel of a tally from a [`RadiosityTracer`]
+/// (`None` for a tally without radiosity terms).
+#[must_use]
+pub fn radiosity_continuous(tally: &LineTally) -> Option<[ContinuousEstimate; 3]> {
+    tally.radiosity().map(RadiosityLineTally::estimates)
+}
+
+/// Incoming radiosities `B_i^in = Σ_j F_ij B_j` of every state and colour channel.
+///
+/// # Errors
+/// As [`super::measures::incoming_radiosity_into`].
+pub fn incoming_rgb<M: crate::channel::Transitions>(
+    f: &M,
+    b: &[[f64; 3]],
+) -> Result<Vec<[f64; 3]>> {
+    let n = f.n_states();
+    let mut out = alloc::vec![[0.0; 3]; n];
+    let mut channel = alloc::vec![0.0; n];
+    let mut incoming = alloc::vec![0.0; n];
+    if b.len() != n {
+        return Err(ErrorKind::DimensionMismatch {
+            expected: n,
+            found: b.len(),
+        }
+        .into());
+    }
+    for c in 0..3 {
+        for (x, v) in channel.iter_mut().zip(b) {
+            *x = v[c];
+        }
+        super::measures::incoming_radiosity_into(f, &channel, &mut incoming)?;
+        for (o, &x) in out.iter_mut().zip(&incoming) {
+            o[c] = x;
+        }
+    }
+    Ok(out)
+}
+
+/// A Monte Carlo radiosity run: form factors from lines, the solve, and the continuous
+/// mutual informations of the same lines.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LitEstimate {
+    /// Form factors estimated from the first pass (with a background state if open).
+    pub form_factors: FormFactors,
+    /// The solution of (2.6) per colour channel on those form factors.
+    pub solution: RgbSolution,
+    /// Discrete radiosity measures (5.5–5.7) per colour channel.
+    pub measures: [RadiosityMeasures; 3],
+    /// Visibility `I_S^c` (4.8, 4.13) of the second pass.
+    pub visibility: ContinuousEstimate,
+    /// Radiosity `I_S^c` (5.20) per colour channel.
+    pub radiosity: [ContinuousEstimate; 3],
+}
+
+/// Runs the radiosity pipeline on `tracer`: `cast` the lines once for `F`
+/// ([`LineTally::finish`]), solve (2.6) per channel with `materials` (per patch), measure
+/// (5.5–5.7), then `cast` the same job again through a [`RadiosityTracer`] for `I_S^c`
+/// (5.20). `cast` runs a tracer's whole job — on one thread (`|t| t.run(method, seed, n)`)
+/// or on many (the CLI); with the same seed both passes draw the same lines.
+///
+/// # Errors
+/// The errors of `cast`, [`LineTally::finish`], [`solve_rgb`], [`rgb_measures`] and
+/// [`RadiosityTracer::new`].
+pub fn estimate_lit<T: LineTracer + Sync>(
+    tracer: &T,
+    materials: &[Material],
+    solver: Solver,
+    opts: &SolveOptions,
+    mut cast: impl FnMut(&(dyn LineTracer + Sync)) -> Result<LineTally>,
+) -> Result<LitEstimate> {
+    let form_factors = cast(tracer)?.finish(tracer)?;
+    let form_factors = form_factors.form_factors;
+    let f = form_factors.matrix();
+    let solution = solve_rgb(&f, form_factors.weights(), materials, solver, opts)?;
+    let measures = rgb_measures(&f, form_factors.weights(), &solution)?;
+    let b_in = incoming_rgb(&f, &solution.radiosity)?;
+    let lit = RadiosityTracer::new(tracer, &solution.radiosity, &b_in)?;
+    let tally = cast(&lit)?;
+    let radiosity = radiosity_continuous(&tally).ok_or(ErrorKind::NoLines)?;
+    let visibility = tally.continuous();
+    Ok(LitEstimate {
+        form_factors,
+        solution,
+        measures,
+        visibility,
+        radiosity,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formfactor::estimate_2d::FlatTracer;
+    use crate::formfactor::exact_3d;
+    use crate::radiosity::rgb::solve_rgb;
+    use crate::radiosity::{SolveOptions, Solver};
+    use crate::scene::{FlatScene, Material};
+
+    fn opts() -> SolveOptions {
+        SolveOptions {
+            tolerance: 1e-14,
+            max_iterations: 1_000_000,
+        }
+    }
+
+    /// (5.25): in a sphere `F(x, y) = 1/A_S`, so every visibility term `log₂(A F)` is 0; with
+    /// one source and constant ρ every radiosity term `t_ij(0)` is 0 too (to rounding), for
+    /// every pair — so `I_S^c = 0` whatever the samples.
+    #[test]
+    fn sphere_with_one_source_has_zero_continuous_information() {
+        let areas: Vec<f64> = (0..12).map(|i| 1.0 + (i % 5) as f64 * 0.3).collect();
+        let ff = exact_3d::spherical_patches(&areas).unwrap();
+        let mut materials = alloc::vec![Material::new([0.7; 3], [0.0; 3]).unwrap(); 12];
+        materials[3] = Material::new([0.7; 3], [4.0, 1.0, 0.0]).unwrap();
+        let sol = solve_rgb(
+            &ff.matrix(),
+            ff.weights(),
+            &materials,
+            Solver::GaussSeidel,
+            &opts(),
+        )
+        .unwrap();
+        let b_in = incoming_rgb(&ff.matrix(), &sol.radiosity).unwrap();
+        let mut t = RadiosityLineTally::new(&areas, &sol.radiosity, &b_in).unwrap();
+        for i in 0..12 {
+            for j in 0..12 {
+                if i != j {
+                    t.pair(i, j, 0.0, 1.0);
+                    t.end_line(1);
+                }
+            }
+        }
+        for (c, e) in t.estimates().iter().enumerate().take(2) {
+            assert!(e.value.abs() <= 1e-12, "channel {c}: {e:?}");
+        }
+        // No blue light: the channel is empty, its estimate 0.
+        assert_eq!(t.estimates()[2].value, 0.0);
+    }
+
+    /// (5.24): with constant radiosity every term equals the visibility term, so the
+    /// estimate from any lines is the visibility one (to rounding).
+    #[test]
+    fn constant_radiosity_gives_the_visibility_estimate() {
+        let scene = FlatScene::regular_polygon(5, 4).unwrap();
+        let n = scene.n_patches();
+        let ff = crate::formfactor::exact_2d::form_factors(&scene).unwrap();
+        let materials: Vec<Material> = (0..n)
+            .map(|i| {
+                let rho = 0.1 + 0.04 * i as f64;
+                Material::new([rho; 3], [2.0 * (1.0 - rho); 3]).unwrap()
+            })
+            .collect();
+        let sol = solve_rgb(
+            &ff.matrix(),
+            ff.weights(),
+            &materials,
+            Solver::GaussSeidel,
+            &opts(),
+        )
+        .unwrap();
+        let b_in = incoming_rgb(&ff.matrix(), &sol.radiosity).unwrap();
+        let tracer = FlatTracer::new(&scene).unwrap();
+        let lit = RadiosityTracer::new(&tracer, &sol.radiosity, &b_in).unwrap();
+        let tally = lit.run(LineMethod::Global, 4, 200_000).unwrap();
+        let vis = tally.continuous();
+        for r in radiosity_continuous(&tally).unwrap() {
+            assert!((r.value - vis.value).abs() <= 1e-10, "{r:?} vs {vis:?}");
+            assert_eq!(r.samples, vis.samples);
+        }
+        // A plain tracer's tally has no radiosity terms.
+        assert!(radiosity_continuous(&tracer.run(LineMethod::Global, 4, 1000).unwrap()).is_none());
+    }
+
+    #[test]
+    fn bad_inputs_are_errors() {
+        let sizes = [1.0, 2.0];
+        let b = [[1.0; 3], [1.0; 3]];
+        assert!(RadiosityLineTally::new(&sizes, &b[..1], &b).is_err());
+        assert!(RadiosityLineTally::new(&[1.0, 0.0], &b, &b).is_err());
+        let nan = [[f64::NAN; 3], [1.0; 3]];
+        assert!(RadiosityLineTally::new(&sizes, &nan, &b).is_err());
+        let neg = [[-1.0; 3], [1.0; 3]];
+        assert!(RadiosityLineTally::new(&sizes, &b, &neg).is_err());
+        // Dark: all terms zero, no NaN.
+        let dark = [[0.0; 3]; 2];
+        let mut t = RadiosityLineTally::new(&sizes, &dark, &dark).unwrap();
+        t.pair(0, 1, 3.0, 2.0);
+        t.end_line(2);
+        assert!(t.estimates().iter().all(|e| e.value == 0.0));
+    }
+}

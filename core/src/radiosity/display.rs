@@ -1,0 +1,209 @@
+//! Turning a radiosity solution into display colours: Gouraud vertex radiosities and a
+//! stated tone-mapping operator, for mesh writers (the CLI's PLY output).
+//!
+//! **Vertex radiosity (Gouraud).** A vertex shared by patches of one plane gets the
+//! area-weighted average of their radiosities, `B_v = Σ_{i ∋ v} A_i B_i / Σ_{i ∋ v} A_i`.
+//! Only patches in the *same plane, facing the same way* are averaged (a scene read from an
+//! OBJ file has one face per patch, so faces cannot tell which patches belong together): a
+//! corner where a wall meets the floor keeps one vertex per plane, so colours do not bleed
+//! across creases. Positions and plane offsets are matched after quantising to `1e-9` of the
+//! scene's bounding-box diagonal, normals to `1e-9`.
+//!
+//! **Tone mapping.** [`ToneMap`] is a linear exposure followed by the sRGB transfer function
+//! (IEC 61966-2-1): `c = B / B_white`, clamped to `[0, 1]`, then
+//! `c ≤ 0.0031308 ? 12.92 c : 1.055 c^(1/2.4) − 0.055`, times 255, rounded.
+//! [`ToneMap::for_scene`] picks `B_white` as the largest radiosity (over the three channels)
+//! of the patches that do not emit, so reflected light uses the whole range and light
+//! sources clip to white.
+
+use alloc::vec::Vec;
+
+use crate::geom::DVec3;
+use crate::math;
+use crate::scene::{Material, Scene};
+
+/// Linear exposure with white at `white`, then sRGB encoding (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ToneMap {
+    /// The radiosity shown as full white (`> 0`; a non-positive or non-finite value maps
+    /// everything to black).
+    pub white: f64,
+}
+
+impl ToneMap {
+    /// White at the largest radiosity of a non-emitting patch (or of any patch when every
+    /// patch emits); `materials` per patch, `radiosity` per state (extra states ignored).
+    #[must_use]
+    pub fn for_scene(radiosity: &[[f64; 3]], materials: &[Material]) -> Self {
+        let max_of = |emitters: bool| {
+            radiosity
+                .iter()
+                .zip(materials)
+                .filter(|(_, m)| emitters || !m.is_emitter())
+                .flat_map(|(b, _)| b.iter().copied())
+                .filter(|x| x.is_finite())
+                .fold(0.0_f64, f64::max)
+        };
+        let white = match max_of(false) {
+            w if w > 0.0 => w,
+            _ => max_of(true),
+        };
+        Self { white }
+    }
+
+    /// One channel: `B ↦ 0..=255`.
+    #[must_use]
+    pub fn channel(&self, b: f64) -> u8 {
+        if !(self.white > 0.0 && self.white.is_finite() && b > 0.0) {
+            return 0;
+        }
+        let c = (b / self.white).min(1.0);
+        let encoded = if c <= 0.003_130_8 {
+            12.92 * c
+        } else {
+            1.055 * math::pow(c, 1.0 / 2.4) - 0.055
+        };
+        // In [0, 1] by construction; the cast saturates anyway.
+        (255.0 * encoded + 0.5) as u8
+    }
+
+    /// An RGB triple.
+    #[must_use]
+    pub fn rgb(&self, b: [f64; 3]) -> [u8; 3] {
+        [self.channel(b[0]), self.channel(b[1]), self.channel(b[2])]
+    }
+}
+
+/// A mesh of the scene's patches with welded vertices per plane and Gouraud radiosities.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GouraudMesh {
+    /// Vertex positions.
+    pub positions: Vec<DVec3>,
+    /// Vertex radiosity `[R, G, B]`: the area-weighted average of the patches around it.
+    pub vertex_radiosity: Vec<[f64; 3]>,
+    /// Per patch, its vertex indices in order.
+    pub faces: Vec<Vec<usize>>,
+}
+
+/// Welds the patches' vertices within each plane and averages the patch radiosities
+/// `radiosity` (per state; states past the patches are ignored) at the vertices.
+#[must_use]
+pub fn gouraud_mesh(scene: &Scene, radiosity: &[[f64; 3]]) -> GouraudMesh {
+    let patches = scene.patches();
+    let (lo, hi) = scene.bounds();
+    let quantum = 1e-9 * (hi - lo).length().max(f64::MIN_POSITIVE);
+    let quantise = |x: f64, q: f64| math::round(x / q) as i64;
+    let at = |v: DVec3, q: f64| [quantise(v.x, q), quantise(v.y, q), quantise(v.z, q)];
+    // (plane, quantised position, corner id) for every patch corner, sorted to weld.
+    type Plane = ([i64; 3], i64);
+    let mut corners: Vec<(Plane, [i64; 3], usize)> = Vec::new();
+    let mut corner_of: Vec<(usize, DVec3)> = Vec::new();
+    for (i, p) in patches.iter().enumerate() {
+        let vertices = scene.patch_vertices(i);
+        let offset = vertices.first().map_or(0.0, |&v| p.normal.dot(v));
+        let plane = (at(p.normal, 1e-9), quantise(offset, quantum));
+        for &v in vertices {
+            let id = corner_of.len();
+            corner_of.push((i, v));
+            corners.push((plane, at(v, quantum), id));
+        }
+    }
+    corners.sort_unstable();
+    let mut vertex_of_corner = alloc::vec![0usize; corner_of.len()];
+    let mut positions = Vec::new();
+    let mut previous: Option<(Plane, [i64; 3])> = None;
+    for &(plane, key, id) in &corners {
+        if previous != Some((plane, key)) {
+            positions.push(corner_of[id].1);
+            previous = Some((plane, key));
+        }
+        vertex_of_corner[id] = positions.len() - 1;
+    }
+    // Area-weighted sums at the vertices.
+    let mut sums = alloc::vec![([0.0_f64; 3], 0.0_f64); positions.len()];
+    let mut faces = Vec::with_capacity(patches.len());
+    let mut corner = 0;
+    for (i, p) in patches.iter().enumerate() {
+        let b = radiosity.get(i).copied().unwrap_or([0.0; 3]);
+        let count = scene.patch_vertices(i).len();
+        let face: Vec<usize> = vertex_of_corner[corner..corner + count].to_vec();
+        corner += count;
+        for &v in &face {
+            let (s, a) = &mut sums[v];
+            for c in 0..3 {
+                s[c] += p.area * b[c];
+            }
+            *a += p.area;
+        }
+        faces.push(face);
+    }
+    let vertex_radiosity = sums
+        .iter()
+        .map(|(s, a)| {
+            if *a > 0.0 {
+                [s[0] / a, s[1] / a, s[2] / a]
+            } else {
+                [0.0; 3]
+            }
+        })
+        .collect();
+    GouraudMesh {
+        positions,
+        vertex_radiosity,
+        faces,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Scene;
+
+    #[test]
+    fn tone_map_is_srgb_of_a_linear_exposure() {
+        let t = ToneMap { white: 2.0 };
+        assert_eq!(t.channel(0.0), 0);
+        assert_eq!(t.channel(2.0), 255);
+        assert_eq!(t.channel(50.0), 255);
+        assert_eq!(t.channel(f64::NAN), 0);
+        // 18 % grey encodes to 118 in sRGB.
+        assert_eq!(t.channel(0.36), 118);
+        // The linear toe.
+        assert_eq!(t.channel(2.0 * 0.002), (255.0 * 12.92 * 0.002 + 0.5) as u8);
+        assert_eq!(ToneMap { white: 0.0 }.channel(1.0), 0);
+    }
+
+    #[test]
+    fn white_is_the_brightest_reflector() {
+        let lamp = Material::new([0.0; 3], [5.0; 3]).unwrap();
+        let wall = Material::new([0.5; 3], [0.0; 3]).unwrap();
+        let b = [[5.0; 3], [0.2, 0.7, 0.1], [0.3, 0.3, 0.3]];
+        let t = ToneMap::for_scene(&b, &[lamp, wall, wall]);
+        assert_eq!(t.white, 0.7);
+        assert_eq!(ToneMap::for_scene(&b[..1], &[lamp]).white, 5.0);
+    }
+
+    #[test]
+    fn vertices_are_welded_within_faces_and_averaged_by_area() {
+        let scene = Scene::cube(2).unwrap();
+        let n = scene.n_patches();
+        let b: Vec<[f64; 3]> = (0..n).map(|i| [i as f64, 1.0, 0.0]).collect();
+        let mesh = gouraud_mesh(&scene, &b);
+        // Each face's 2 × 2 grid has 9 distinct vertices; faces (planes) are not welded
+        // together.
+        assert_eq!(mesh.positions.len(), 6 * 9);
+        assert_eq!(mesh.faces.len(), n);
+        // The centre vertex of face 0 is shared by its four (equal-area) patches.
+        let centre = mesh.faces[0]
+            .iter()
+            .copied()
+            .find(|v| (0..4).all(|p| mesh.faces[p].contains(v)))
+            .unwrap();
+        assert!((mesh.vertex_radiosity[centre][0] - 1.5).abs() < 1e-12);
+        assert!((mesh.vertex_radiosity[centre][1] - 1.0).abs() < 1e-12);
+        // Every patch keeps its corner count.
+        for (i, f) in mesh.faces.iter().enumerate() {
+            assert_eq!(f.len(), scene.patch_vertices(i).len());
+        }
+    }
+}

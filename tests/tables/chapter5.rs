@@ -1,0 +1,314 @@
+//! Chapter 5: the radiosity channel. Constant radiosity (Table 5.1, 5.8–5.9, 5.24), the
+//! sphere with one source (5.10, 5.14–5.17), the tetrahedron with one blue face (Tables 5.3,
+//! 5.4) and the Cornell box at three regular meshes (Tables 5.2, 5.5).
+//!
+//! Exact checks use exact form factors and tolerances of rounding (1e-12). Monte Carlo checks
+//! use fixed seeds and compare within 3 standard errors; where the thesis' value is the
+//! reference, the slack is its own printed spread (stated at each check).
+
+use sceneinfo::continuous::ContinuousEstimate;
+use sceneinfo::formfactor::FormFactors;
+use sceneinfo::formfactor::estimate_2d::FlatTracer;
+use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::formfactor::exact_3d;
+use sceneinfo::formfactor::tally::{LineMethod, LineTracer};
+use sceneinfo::radiosity::continuous::{LitEstimate, estimate_lit};
+use sceneinfo::radiosity::rgb::{patch_materials, rgb_measures, solve_rgb};
+use sceneinfo::radiosity::{RadiosityMeasures, SolveOptions, Solver};
+use sceneinfo::scene::{Material, Scene, catalogue_scene};
+use sceneinfo::thesis::{TABLE_5_3, TABLE_5_4};
+
+fn opts() -> SolveOptions {
+    SolveOptions {
+        tolerance: 1e-13,
+        max_iterations: 1_000_000,
+    }
+}
+
+fn exact(scene: &Scene) -> FormFactors {
+    let polygons: Vec<(usize, usize)> =
+        scene.patches().iter().map(|p| (p.first, p.count)).collect();
+    assert!(!exact_3d::may_be_occluded(scene.points(), &polygons));
+    exact_3d::form_factors_unoccluded(scene.points(), &polygons).unwrap()
+}
+
+fn measures(ff: &FormFactors, materials: &[Material]) -> [RadiosityMeasures; 3] {
+    let sol = solve_rgb(
+        &ff.matrix(),
+        ff.weights(),
+        materials,
+        Solver::GaussSeidel,
+        &opts(),
+    )
+    .unwrap();
+    rgb_measures(&ff.matrix(), ff.weights(), &sol).unwrap()
+}
+
+fn lit<T: LineTracer + Sync>(
+    tracer: &T,
+    materials: &[Material],
+    seed: u64,
+    lines: u64,
+) -> LitEstimate {
+    estimate_lit(tracer, materials, Solver::GaussSeidel, &opts(), |t| {
+        t.run(LineMethod::Global, seed, lines)
+    })
+    .unwrap()
+}
+
+/// Table 5.1 (5.8, 5.9, 5.24): with `E_i = k (1 − ρ_i)` the radiosity is `k` everywhere and
+/// the radiosity channel is the visibility channel. The thesis' labyrinth (Fig. 5.1) has no
+/// published coordinates; the 64-squares room of the catalogue stands in for it. Discrete
+/// measures agree to 1e-12 (the thesis' own two rows differ by up to 0.004, its numerical
+/// error); the continuous estimate from the same lines agrees to rounding, and from other
+/// lines within 3 combined standard errors.
+#[test]
+fn table_5_1_constant_radiosity_is_visibility() {
+    let scene = catalogue_scene("64-squares-a", 4).unwrap();
+    let n = scene.n_patches();
+    let materials: Vec<Material> = (0..n)
+        .map(|i| {
+            let rho = [0.05 + 0.9 * ((i * 37) % 101) as f64 / 101.0, 0.5, 0.0];
+            Material::new(rho, [2.0 * (1.0 - rho[0]), 1.0, 2.0]).unwrap()
+        })
+        .collect();
+    let tracer = FlatTracer::new(&scene).unwrap();
+    let est = lit(&tracer, &materials, 51, 2_000_000);
+    let vis = est.form_factors.channel().unwrap().measures();
+    for (c, m) in est.measures.iter().enumerate() {
+        assert!(
+            (m.h_p - vis.h_p).abs() <= 1e-12,
+            "channel {c}: H_P {} vs {}",
+            m.h_p,
+            vis.h_p
+        );
+        assert!(
+            (m.h_s - vis.h_s).abs() <= 1e-12,
+            "channel {c}: H_S {} vs {}",
+            m.h_s,
+            vis.h_s
+        );
+        assert!(
+            (m.i_s - vis.i_s).abs() <= 1e-12,
+            "channel {c}: I_S {} vs {}",
+            m.i_s,
+            vis.i_s
+        );
+        let r = est.radiosity[c];
+        assert!(
+            (r.value - est.visibility.value).abs() <= 1e-9,
+            "channel {c}: I_S^c {} vs {}",
+            r.value,
+            est.visibility.value
+        );
+    }
+    let other = lit(&tracer, &materials, 52, 2_000_000);
+    let (a, b) = (other.radiosity[0], est.visibility);
+    let sigma = (a.stderr * a.stderr + b.stderr * b.stderr).sqrt();
+    assert!((a.value - b.value).abs() <= 3.0 * sigma, "{a:?} vs {b:?}");
+}
+
+/// The empty sphere with one source and constant reflectance (§5.2.2, exact spherical-patches
+/// model `F_ij = A_j / A_S`): `B` by (5.10), weights by (5.14, 5.15), transitions
+/// `𝐅_ij = 𝐚_j` (5.16, 5.17), so `I_S = 0` and `H_S = H_P`.
+#[test]
+fn sphere_with_one_source() {
+    let areas: Vec<f64> = (0..40)
+        .map(|i| 0.5 + ((i * 13) % 17) as f64 / 17.0)
+        .collect();
+    let ff = exact_3d::spherical_patches(&areas).unwrap();
+    let a_total: f64 = areas.iter().sum();
+    let (rho, e_s, s) = (0.6, 3.0, 7);
+    let mut materials = vec![Material::new([rho; 3], [0.0; 3]).unwrap(); areas.len()];
+    materials[s] = Material::new([rho; 3], [e_s, 0.5 * e_s, 0.0]).unwrap();
+    let sol = solve_rgb(
+        &ff.matrix(),
+        ff.weights(),
+        &materials,
+        Solver::Southwell,
+        &opts(),
+    )
+    .unwrap();
+    let m = rgb_measures(&ff.matrix(), ff.weights(), &sol).unwrap();
+    for c in 0..2 {
+        let e = [e_s, 0.5 * e_s][c];
+        let b = rho / (1.0 - rho) * areas[s] * e / a_total; // (5.11)
+        for (i, x) in sol.radiosity.iter().enumerate() {
+            let want = b + if i == s { e } else { 0.0 }; // (5.10)
+            // The solve's residual is at most 1e-13 · max E and its error at most
+            // 1/(1 − ρ) = 2.5 times that.
+            assert!(
+                (x[c] - want).abs() <= 2.5e-13 * e_s + 1e-15,
+                "B_{i} = {} vs {want}",
+                x[c]
+            );
+        }
+        // (5.14), (5.15): the generalised areas.
+        let b_ch: Vec<f64> = sol.radiosity.iter().map(|x| x[c]).collect();
+        let mut b_in = vec![0.0; areas.len()];
+        let mut w = vec![0.0; areas.len()];
+        sceneinfo::radiosity::radiosity_measures(
+            &ff.matrix(),
+            ff.weights(),
+            &b_ch,
+            &mut b_in,
+            &mut w,
+        )
+        .unwrap();
+        for (i, &wi) in w.iter().enumerate() {
+            let want = rho * areas[i] / a_total + if i == s { 1.0 - rho } else { 0.0 };
+            assert!((wi - want).abs() <= 1e-12, "a_{i} = {wi} vs {want}");
+        }
+        assert!(m[c].i_s.abs() <= 1e-12, "I_S = {}", m[c].i_s);
+        assert!((m[c].h_s - m[c].h_p).abs() <= 1e-12);
+    }
+    // Nothing emits blue: no light flows, no information.
+    assert!(!m[2].light_flows && m[2].i_s == 0.0);
+}
+
+/// Materials for the tetrahedron of Table 5.3, by face: a light emitting red and green
+/// (`E = (1, 1, 0)`, black), a red face `ρ = (0.8, 0, 0)`, a green face `(0, 0.8, 0)` and a
+/// blue face `(0, 0, 0.8)`: "only one surface in the tetrahedron with a blue component", and
+/// in red and green exactly two faces exchange light. (The `tetra-mesh` presets' own
+/// materials — a white light and a yellow face — give other numbers; see the report.)
+fn tetra_materials(scene: &Scene) -> Vec<Material> {
+    let by_face = [
+        Material::new([0.0; 3], [1.0, 1.0, 0.0]).unwrap(),
+        Material::new([0.8, 0.0, 0.0], [0.0; 3]).unwrap(),
+        Material::new([0.0, 0.8, 0.0], [0.0; 3]).unwrap(),
+        Material::new([0.0, 0.0, 0.8], [0.0; 3]).unwrap(),
+    ];
+    scene
+        .patches()
+        .iter()
+        .map(|p| by_face[p.face % 4])
+        .collect()
+}
+
+/// Table 5.3, first row (Fig. 4.3a, 4 patches): `I_S = (1, 1, 0)` and `H_S = (0, 0, ·)`
+/// exactly — in red and green the chain swaps light and red (or green) face. The thesis'
+/// blue `H_S` = 1.362 cannot come from an empty channel and is not reproduced.
+/// Finer (regular) meshes: blue stays 0, red and green grow with refinement as in the
+/// thesis' irregular 151- and 793-patch meshes.
+#[test]
+fn table_5_3_tetrahedron_with_one_blue_face() {
+    let mut previous = [0.0; 3];
+    for level in 0..=2 {
+        let scene = Scene::tetrahedron_mesh(level).unwrap();
+        let m = measures(&exact(&scene), &tetra_materials(&scene));
+        assert_eq!(m[2].i_s, 0.0);
+        assert!(!m[2].light_flows);
+        for c in 0..2 {
+            assert!(
+                m[c].i_s > previous[c] + 0.1,
+                "level {level}: {} after {}",
+                m[c].i_s,
+                previous[c]
+            );
+            previous[c] = m[c].i_s;
+        }
+        if level == 0 {
+            let (_, _, _, i_s, h_s) = TABLE_5_3[0];
+            for c in 0..2 {
+                assert!((m[c].i_s - i_s[c]).abs() <= 1e-12);
+                assert!((m[c].h_s - h_s[c]).abs() <= 1e-12);
+            }
+        }
+    }
+}
+
+/// Table 5.4, Fig. 4.3a: `I_S^c` of the 4-patch tetrahedron. In red (and green) only the
+/// light–face pairs carry light, and (5.20) reduces to the visibility term plus
+/// `log₂(3/2)` on those samples, so `I_S^c(R) = I_S^c(vis) + log₂ 1.5` in expectation
+/// (3.204 with the quadrature's 2.6195). Ours within 3σ of the prediction from the same
+/// lines' visibility estimate, and that prediction within 0.03 of the thesis' 3.219 and 3.197
+/// — the thesis' own red and green values, equal by symmetry here, differ by 0.022.
+#[test]
+fn table_5_4_tetrahedron_continuous() {
+    let scene = Scene::tetrahedron_mesh(0).unwrap();
+    let tracer = SceneTracer::new(&scene).unwrap();
+    let est = lit(&tracer, &tetra_materials(&scene), 54, 4_000_000);
+    let (_, _, _, thesis) = TABLE_5_4
+        .iter()
+        .find(|r| r.0 == "Fig.4.3a")
+        .copied()
+        .unwrap();
+    let predicted = est.visibility.value + 1.5f64.log2();
+    assert!(est.visibility.stderr < 0.004, "{:?}", est.visibility);
+    for (r, t) in est.radiosity.iter().zip(thesis).take(2) {
+        assert!(r.stderr < 0.015, "{r:?}");
+        assert!(
+            (r.value - predicted).abs() <= 3.0 * r.stderr,
+            "{r:?} vs {predicted}"
+        );
+        assert!((predicted - t).abs() <= 0.03, "{predicted} vs thesis {t}");
+    }
+    assert_eq!(est.radiosity[2].value, 0.0);
+}
+
+/// Tables 5.2 and 5.5: the standard Cornell box (blocks on the floor) at three regular
+/// meshes (49, 133, 523 patches; the thesis' 121, 481, 1924). As in the thesis, radiosity
+/// `I_S` grows with refinement in every channel (thesis, red: 0.935 → 0.958 → 1.004) and
+/// `I_S^c` falls (1.132 → 1.055 → 1.044; here from the coarsest to the finest mesh by more
+/// than 3 combined standard errors — single steps are within the noise of 4·10⁶ lines); `I_S`
+/// stays below `I_S^c` by more than 3σ with 4·10⁶ lines. Our absolute values are not the
+/// thesis' (its materials and light are not published; see `reproduce`). Gauss–Seidel and
+/// Southwell agree on every radiosity to the solver tolerance.
+#[test]
+fn tables_5_2_and_5_5_cornell_box() {
+    let mut previous: Option<[f64; 3]> = None;
+    let mut coarsest: Option<[ContinuousEstimate; 3]> = None;
+    for grid in [2, 4, 8] {
+        let scene = Scene::cornell_box(false, grid).unwrap();
+        let materials = patch_materials(&scene);
+        let tracer = SceneTracer::new(&scene).unwrap();
+        let est = lit(&tracer, &materials, 55, 4_000_000);
+        let i_s = [0, 1, 2].map(|c| est.measures[c].i_s);
+        for c in 0..3 {
+            let ic = est.radiosity[c];
+            assert!(
+                i_s[c] < ic.value - 3.0 * ic.stderr,
+                "grid {grid}, channel {c}: I_S {} vs I_S^c {ic:?}",
+                i_s[c]
+            );
+            if let Some(prev) = &previous {
+                assert!(
+                    i_s[c] > prev[c],
+                    "grid {grid}, channel {c}: I_S {} after {}",
+                    i_s[c],
+                    prev[c]
+                );
+            }
+            if let (8, Some(first)) = (grid, &coarsest) {
+                let p = first[c];
+                let sigma = (p.stderr * p.stderr + ic.stderr * ic.stderr).sqrt();
+                assert!(
+                    ic.value < p.value - 3.0 * sigma,
+                    "channel {c}: I_S^c {ic:?} at grid 8, {p:?} at grid 2"
+                );
+            }
+        }
+        let f = est.form_factors.matrix();
+        let w = est.form_factors.weights();
+        // Southwell's shots stop improving a little above 1e-13 (rounding of the
+        // accumulated sums), so it solves to 1e-11.
+        let loose = SolveOptions {
+            tolerance: 1e-11,
+            ..opts()
+        };
+        let southwell = solve_rgb(&f, w, &materials, Solver::Southwell, &loose).unwrap();
+        let max_e = 15.0; // the light's emittance
+        for (a, b) in est.solution.radiosity.iter().zip(&southwell.radiosity) {
+            for c in 0..3 {
+                // Residuals ≤ 1e-13 and 1e-11 times max E; the error is at most
+                // 1/(1 − ρ_max) < 5 times the residual for these materials (ρ ≤ 0.78).
+                assert!(
+                    (a[c] - b[c]).abs() <= 5.0 * (1e-13 + 1e-11) * max_e,
+                    "{a:?} vs {b:?}"
+                );
+            }
+        }
+        previous = Some(i_s);
+        coarsest.get_or_insert(est.radiosity);
+    }
+}
