@@ -32,11 +32,25 @@ pub fn eta(p: f64) -> f64 {
     if p > 0.0 { -p * libm::log2(p) } else { 0.0 }
 }
 
-/// Square root.
+/// Square root. IEEE 754 square roots are correctly rounded, so every implementation gives
+/// the same bits: `libm::sqrt` (the hardware instruction on x86-64 and aarch64), except on
+/// wasm32 with the `std` feature, where std's `f64::sqrt` is the `f64.sqrt` instruction and
+/// libm's portable routine costs several times more.
 #[inline]
 #[must_use]
 pub fn sqrt(x: f64) -> f64 {
+    #[cfg(all(target_arch = "wasm32", feature = "std"))]
+    return x.sqrt();
+    #[cfg(not(all(target_arch = "wasm32", feature = "std")))]
     libm::sqrt(x)
+}
+
+/// Euclidean length `√(x² + y²)` of a vector, the same bits as glam's `DVec2::length` but
+/// through [`sqrt`] (glam calls `libm::sqrt` directly, slow on wasm32).
+#[inline]
+#[must_use]
+pub fn length(v: glam::DVec2) -> f64 {
+    sqrt(v.x * v.x + v.y * v.y)
 }
 
 /// `atan2(y, x)`.

@@ -8,6 +8,9 @@ import { Refinement } from './refine.js';
 
 const $ = (id) => document.getElementById(id);
 const HEAT_MAP_LIMIT = 2000; // patches: above this the I_ij matrix is not drawn
+// Patches: above this the exact form factors (quadratic and more in the patch count, on the
+// main thread) are skipped, so a big preset cannot freeze the page; Monte Carlo still runs.
+const EXACT_LIMIT = 3000;
 
 const state = {
   lab: null, // FlatLab of the scene on the canvas
@@ -82,6 +85,14 @@ function clearScene() {
 }
 
 function measureExact() {
+  if (state.lab.nPatches > EXACT_LIMIT) {
+    state.measures = null;
+    $('m-exact-ms').textContent = `skipped above ${EXACT_LIMIT} patches`;
+    delete $('m-exact-ms').dataset.ms;
+    showMeasures();
+    $('m-patches').textContent = String(state.lab.nPatches);
+    return;
+  }
   const t0 = performance.now();
   try {
     state.measures = JSON.parse(state.lab.measures());
@@ -192,10 +203,12 @@ function colourPatches() {
   const mode = $('colour').value;
   let values = null;
   let note = '';
+  const exact = state.measures !== null; // H_i and I_i need the exact form factors
   try {
-    if (state.lab && mode === 'h') values = state.lab.patchEntropies();
-    if (state.lab && mode === 'i') values = state.lab.patchInformation();
-    if (mode === 'ic' || mode === 'delta') {
+    if (exact && mode === 'h') values = state.lab.patchEntropies();
+    if (exact && mode === 'i') values = state.lab.patchInformation();
+    if (!exact && (mode === 'h' || mode === 'i' || mode === 'delta')) note = 'needs the exact form factors';
+    if (!note && (mode === 'ic' || mode === 'delta')) {
       const ic = state.mc?.patchContinuous;
       if (!ic) note = 'waiting for the Monte Carlo run (I_i^c)…';
       else if (mode === 'ic') values = ic;
@@ -226,6 +239,8 @@ function drawHeatMap() {
   const note = $('heat-note');
   if (!lab) return;
   if (lab.nPatches > HEAT_MAP_LIMIT) {
+    const c = $('heat');
+    c.getContext('2d').clearRect(0, 0, c.width, c.height);
     note.textContent = `not drawn above ${HEAT_MAP_LIMIT} patches`;
     return;
   }

@@ -98,7 +98,7 @@ impl Frame {
 
     /// Whether local point `v` lies on the axis to within rounding.
     fn on_axis(&self, v: DVec2) -> bool {
-        v.y.abs() <= self.eps + ON_LINE * v.length()
+        v.y.abs() <= self.eps + ON_LINE * math::length(v)
     }
 }
 
@@ -137,8 +137,8 @@ fn clip_front(frame: &Frame, p: DVec2, q: DVec2) -> Option<(DVec2, DVec2)> {
 /// whole, unclipped segment: a clipped sliver would give its line's direction poorly).
 #[cfg(feature = "alloc")]
 fn on_line_of(frame: &Frame, j0: DVec2, j1: DVec2, q: DVec2) -> bool {
-    let j_len = (j1 - j0).length();
-    cross(j1 - j0, q - j0).abs() <= j_len * (frame.eps + ON_LINE * (q - j0).length().max(j_len))
+    let j_len = math::length(j1 - j0);
+    cross(j1 - j0, q - j0).abs() <= j_len * (frame.eps + ON_LINE * math::length(q - j0).max(j_len))
 }
 
 /// Direction angle of `p` seen from `(t, 0)`, measured from the normal towards the tangent:
@@ -388,7 +388,7 @@ fn in_sight_region(p: DVec2, len: f64, j0: DVec2, j1: DVec2) -> bool {
     // p is in the hull of 4 points iff it is in one of the triangles they span.
     let tri = |a: DVec2, b: DVec2, c: DVec2| -> bool {
         let s = cross(b - a, c - a);
-        let edge = (b - a).length().max((c - a).length());
+        let edge = math::length(b - a).max(math::length(c - a));
         let tol = ON_LINE * edge * edge;
         if s.abs() <= tol {
             return false;
@@ -489,7 +489,7 @@ fn occluded_flux<'a>(
             let v = if p.y > 0.0 { p - x } else { q - x };
             let (v0, v1) = (j0 - x, j1 - x);
             let s = cross(v0, v1);
-            let tol = ON_LINE * v.length() * v0.length().max(v1.length());
+            let tol = ON_LINE * math::length(v) * math::length(v0).max(math::length(v1));
             let inside = if s >= 0.0 {
                 cross(v0, v) >= -tol && cross(v, v1) >= -tol
             } else {
