@@ -6,8 +6,18 @@
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 
+#[path = "../fuzz/src/channel.rs"]
+mod channel;
 #[path = "../fuzz/src/flat_parse.rs"]
 mod flat_parse;
+#[path = "../fuzz/src/flat_pipeline.rs"]
+mod flat_pipeline;
+#[path = "../fuzz/src/invariants.rs"]
+mod invariants;
+#[path = "../fuzz/src/obj_parse.rs"]
+mod obj_parse;
+#[path = "../fuzz/src/obj_pipeline.rs"]
+mod obj_pipeline;
 
 /// Directories holding one sub-directory of inputs per fuzz target.
 fn corpus_roots() -> [PathBuf; 2] {
@@ -49,6 +59,18 @@ fn replay(target: &str, data: &[u8]) {
     match target {
         "fuzz_flat_parse" => {
             flat_parse::check(data);
+        }
+        "fuzz_obj_parse" => {
+            obj_parse::check(data);
+        }
+        "fuzz_flat_pipeline" => {
+            flat_pipeline::check(data);
+        }
+        "fuzz_obj_pipeline" => {
+            obj_pipeline::check(data);
+        }
+        "fuzz_channel" => {
+            channel::check(data);
         }
         other => panic!("no replay for fuzz target {other:?}: add it to tests/fuzz_replay.rs"),
     }

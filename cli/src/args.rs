@@ -158,12 +158,20 @@ pub enum Method {
 }
 
 /// Parses a count written as an integer (`10000000`) or in scientific notation (`1e7`).
+///
+/// Whole numbers beyond `u64` (`18446744073709551616`, `1e30`) saturate to `u64::MAX`: far
+/// above `sceneinfo::lines::MAX_LINES`, so the command refuses them with the scene file's
+/// name, like every other line budget it cannot run (`FILE: line budget exceeds the cap`).
 pub fn parse_count(s: &str) -> Result<u64, String> {
     if let Ok(v) = s.parse::<u64>() {
         return Ok(v);
     }
+    if !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit()) {
+        return Ok(u64::MAX);
+    }
     match s.parse::<f64>() {
-        Ok(v) if v.is_finite() && v >= 0.0 && v.fract() == 0.0 && v <= u64::MAX as f64 => {
+        Ok(v) if v.is_finite() && v >= 0.0 && v.fract() == 0.0 => {
+            // Saturating: 2^64 and above become u64::MAX
             Ok(v as u64)
         }
         _ => Err(format!("'{s}' is not a whole number of lines")),

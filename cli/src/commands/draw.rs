@@ -55,8 +55,8 @@ impl Config {
             Colour::Ic | Colour::Delta => Some(args.lines.unwrap_or(DEFAULT_LINES)),
             Colour::I | Colour::H => args.lines,
         };
-        if lines == Some(0) {
-            return Err(sceneinfo::ErrorKind::NoLines.into());
+        if let Some(n) = lines {
+            sceneinfo::lines::check_line_budget(n)?;
         }
         let needs_discrete = args.color != Colour::Ic || args.matrix_svg.is_some();
         let discrete = needs_discrete.then_some(match (args.color, lines) {

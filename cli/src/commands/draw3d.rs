@@ -43,8 +43,8 @@ impl Config {
     /// `exact_possible` is asked only when exact form factors would be used: whether the
     /// scene is small enough and no patch may hide another.
     fn new(args: &DrawArgs, exact_possible: impl FnOnce() -> bool) -> Result<Self> {
-        if args.lines == Some(0) {
-            return Err(sceneinfo::Error::from(sceneinfo::ErrorKind::NoLines).into());
+        if let Some(n) = args.lines {
+            sceneinfo::lines::check_line_budget(n)?;
         }
         if args.per_area && args.color == Colour::H {
             bail!(

@@ -41,8 +41,10 @@ fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<
     let threads = sampling
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get));
+    if let Some(n) = sampling.lines {
+        sceneinfo::lines::check_line_budget(n).map_err(at)?;
+    }
     Ok(match (sampling.lines, &scene) {
-        (Some(0), _) => return Err(at(sceneinfo::ErrorKind::NoLines.into())),
         (None, Loaded::Flat(s)) => (exact_2d::form_factors(s).map_err(at)?, None),
         (None, Loaded::Solid(s)) => (crate::output::exact_3d_form_factors(path, s)?, None),
         (Some(lines), scene) => {

@@ -82,9 +82,7 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
             std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
         }),
     };
-    if runner.lines == 0 {
-        return Err(anyhow!("{}", sceneinfo::ErrorKind::NoLines));
-    }
+    sceneinfo::lines::check_line_budget(runner.lines).map_err(|e| anyhow!("{e}"))?;
     let mut tables = chapter_3()?;
     if !args.chapter_3_only {
         tables.push(table_4_10(&runner)?);
