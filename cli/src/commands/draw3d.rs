@@ -122,7 +122,10 @@ pub fn run(args: &DrawArgs) -> Result<()> {
         bail!("{}: not a 3D scene", args.file.display());
     };
     let config = Config::new(args, || exact_possible(&scene))?;
-    let computed = compute(&args.file, &scene, &config)?;
+    let computed = compute(&args.file, &scene, &config);
+    // After Ctrl-C the line job stopped early: write nothing
+    crate::interrupt::stop_if_requested()?;
+    let computed = computed?;
     let name = args.file.display().to_string();
     let (ply, (lo, hi)) = mesh(&scene, &computed, &config, &name);
     write_atomic(ply_path, ply.finish()?.as_bytes())?;

@@ -15,20 +15,49 @@ use sceneinfo::formfactor::exact_2d;
 use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport};
 
 use crate::args::{MeasureArgs, Method, SamplingArgs};
+use crate::interrupt::Interrupted;
 use crate::output::{Loaded, located, write_atomic};
 
 /// What the Monte Carlo run adds to a report.
 struct MonteCarlo {
     method: Method,
+    /// Lines cast: fewer than `requested` after Ctrl-C (a partial run).
     lines: u64,
+    /// Lines asked for.
+    requested: u64,
     seed: u64,
     continuous: ContinuousEstimate,
 }
 
+impl MonteCarlo {
+    /// Whether Ctrl-C stopped the run early.
+    fn partial(&self) -> bool {
+        self.lines < self.requested
+    }
+}
+
 /// The form factors of the scene in `path`: exact (flatland with occlusion; 3D when no
 /// pair can be occluded) or, with `--lines`, Monte Carlo on the requested threads.
+///
+/// # Errors
+///
+/// Besides the scene's errors, [`Interrupted`] when Ctrl-C stopped the lines early (so
+/// that no partial matrix is written as if it were the one asked for).
 pub fn form_factors_of(path: &Path, sampling: &SamplingArgs) -> Result<FormFactors> {
-    Ok(compute(path, sampling)?.0)
+    let (ff, mc) = compute(path, sampling)?;
+    if mc.is_some_and(|mc| mc.partial()) {
+        return Err(Interrupted { partial: None }.into());
+    }
+    Ok(ff)
+}
+
+/// The result of a line job's `finish`: after Ctrl-C (`done < asked`) a job that cast no
+/// line, or too few to estimate every patch, is [`Interrupted`] rather than its error.
+fn finished<T>(result: sceneinfo::Result<T>, done: u64, asked: u64, path: &Path) -> Result<T> {
+    if done < asked && (done == 0 || result.is_err()) {
+        return Err(Interrupted { partial: None }.into());
+    }
+    result.map_err(|e| located(path, &e))
 }
 
 fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<MonteCarlo>)> {
@@ -48,23 +77,24 @@ fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<
         (None, Loaded::Flat(s)) => (exact_2d::form_factors(s).map_err(at)?, None),
         (None, Loaded::Solid(s)) => (crate::output::exact_3d_form_factors(path, s)?, None),
         (Some(lines), scene) => {
-            let est = match scene {
+            let (est, done) = match scene {
                 Loaded::Flat(s) => {
                     let tracer = FlatTracer::new(s).map_err(at)?;
-                    crate::lines::run(&tracer, method, sampling.seed, lines, threads)
-                        .finish(&tracer)
-                        .map_err(at)?
+                    let tally = crate::lines::run(&tracer, method, sampling.seed, lines, threads);
+                    let done = tally.lines();
+                    (finished(tally.finish(&tracer), done, lines, path)?, done)
                 }
                 Loaded::Solid(s) => {
                     let tracer = SceneTracer::new(s).map_err(at)?;
-                    crate::lines::run(&tracer, method, sampling.seed, lines, threads)
-                        .finish(&tracer)
-                        .map_err(at)?
+                    let tally = crate::lines::run(&tracer, method, sampling.seed, lines, threads);
+                    let done = tally.lines();
+                    (finished(tally.finish(&tracer), done, lines, path)?, done)
                 }
             };
             let mc = MonteCarlo {
                 method: sampling.method,
-                lines,
+                lines: done,
+                requested: lines,
                 seed: sampling.seed,
                 continuous: est.continuous,
             };
@@ -102,6 +132,11 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
                 };
                 run.write_fields(&mut o)?;
                 o.number("lines_per_second", mc.lines as f64 / seconds.max(1e-9))?;
+                if mc.partial() {
+                    // Only after Ctrl-C: a complete run's keys match the wasm API's
+                    o.boolean("partial", true)?;
+                    o.integer("lines_requested", mc.requested)?;
+                }
             }
         }
         o.number("seconds", seconds)?;
@@ -120,7 +155,13 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
         )?;
     }
     out.flush()?;
-    Ok(())
+    match mc {
+        Some(mc) if mc.partial() => Err(Interrupted {
+            partial: Some((mc.lines, mc.requested)),
+        }
+        .into()),
+        _ => Ok(()),
+    }
 }
 
 fn method_name(m: Method) -> &'static str {
@@ -157,6 +198,13 @@ fn table(name: &str, r: &SceneReport, mc: Option<&MonteCarlo>, seconds: f64) -> 
                 mc.seed,
                 mc.lines as f64 / seconds.max(1e-9) / 1e6
             );
+            if mc.partial() {
+                let _ = writeln!(
+                    s,
+                    "PARTIAL               interrupted after {} of the {} lines asked for",
+                    mc.lines, mc.requested
+                );
+            }
         }
     }
     let _ = writeln!(s, "H_P   (3.5)           {:.6} bits", m.h_p);

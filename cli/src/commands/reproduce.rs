@@ -63,6 +63,7 @@ impl Runner {
     fn estimate(&self, scene: &FlatScene, lines: u64) -> Result<FlatEstimate> {
         let tracer = FlatTracer::new(scene).map_err(|e| anyhow!("{e}"))?;
         let tally = crate::lines::run(&tracer, LineMethod::Global, self.seed, lines, self.threads);
+        crate::interrupt::stop_if_requested()?;
         tally.finish(&tracer).map_err(|e| anyhow!("{e}"))
     }
 
@@ -299,12 +300,14 @@ impl Runner {
             self.lines,
             self.threads,
         );
+        crate::interrupt::stop_if_requested()?;
         Ok(tally.continuous())
     }
 
     fn estimate_3d(&self, scene: &Scene, lines: u64) -> Result<FlatEstimate> {
         let tracer = SceneTracer::new(scene).map_err(|e| anyhow!("{e}"))?;
         let tally = crate::lines::run(&tracer, LineMethod::Global, self.seed, lines, self.threads);
+        crate::interrupt::stop_if_requested()?;
         tally.finish(&tracer).map_err(|e| anyhow!("{e}"))
     }
 }

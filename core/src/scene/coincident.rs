@@ -367,7 +367,7 @@ mod tests {
         #[test]
         fn sliding_a_segment_along_its_line(
             ax in -1e3..1e3f64, ay in -1e3..1e3f64,
-            angle in 0.0..6.283f64, length in 1e-3..1e3f64,
+            angle in 0.0..core::f64::consts::TAU, length in 1e-3..1e3f64,
             slide in -0.99..0.99f64, apart in 1.0..3.0f64,
         ) {
             let a = v2(ax, ay);
