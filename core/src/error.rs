@@ -267,6 +267,18 @@ pub enum ErrorKind {
         /// The value given.
         value: f64,
     },
+
+    // ---- refinement -----------------------------------------------------------------------
+    /// A state split breaks a condition of Proposition 3 (thesis §5.4.1), so its gain in
+    /// mutual information is not computed.
+    InvalidSplit {
+        /// The condition, e.g. `"(b) cover P_ji = sum_k P_j,ik"`.
+        condition: &'static str,
+        /// The state (or sub-state) index where it fails.
+        index: usize,
+        /// By how much it fails (or the offending value).
+        deviation: f64,
+    },
 }
 
 impl fmt::Display for ErrorKind {
@@ -384,6 +396,14 @@ impl fmt::Display for ErrorKind {
             K::BadParameter { name, value } => {
                 write!(f, "parameter {name} = {value} is out of range")
             }
+            K::InvalidSplit {
+                condition,
+                index,
+                deviation,
+            } => write!(
+                f,
+                "state split violates Proposition 3's condition '{condition}' at index {index} (off by {deviation})"
+            ),
         }
     }
 }
