@@ -240,6 +240,9 @@ pub enum ErrorKind {
         /// The cap.
         max: u64,
     },
+    /// Some polygon of a 3D scene may hide part of another, so a computation that assumes
+    /// full visibility (exact form factors, the `I_S^c` quadrature) does not apply.
+    MayBeOccluded,
     /// An iteration did not converge within its cap.
     NoConvergence {
         /// What was iterated.
@@ -385,6 +388,10 @@ impl fmt::Display for ErrorKind {
                 write!(f, "buffer too small: need {needed}, got {found}")
             }
             K::TooLarge { what, max } => write!(f, "{what} exceeds the cap of {max}"),
+            K::MayBeOccluded => write!(
+                f,
+                "some polygon may hide part of another: this needs an unoccluded scene (use line estimates, e.g. --lines N)"
+            ),
             K::NoConvergence { what, iterations } => {
                 write!(f, "{what} did not converge in {iterations} iterations")
             }

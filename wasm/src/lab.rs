@@ -12,6 +12,7 @@ use sceneinfo::scene::{FlatScene, catalogue_scene};
 use wasm_bindgen::prelude::*;
 
 use crate::lines::LineJob;
+use crate::refine::Refiner;
 use crate::{count, into_error};
 
 /// Largest scene whose dense `I_ij` matrix [`FlatLab::information_matrix`] returns (4096²
@@ -30,6 +31,11 @@ pub struct FlatLab {
 impl FlatLab {
     pub(crate) fn from_scene(scene: FlatScene) -> Self {
         Self { scene, exact: None }
+    }
+
+    /// The scene.
+    pub(crate) fn scene(&self) -> &FlatScene {
+        &self.scene
     }
 
     /// The exact form factors, computed once.
@@ -283,6 +289,17 @@ impl FlatLab {
     pub fn global_lines(&self, seed: f64, lines: f64) -> Result<LineJob, JsError> {
         self.line_job(LineMethod::Global, seed, lines)
             .map_err(into_error)
+    }
+
+    /// A refiner of this scene (thesis §6.5.2) with the oracle `oracle` — `"de"` (largest
+    /// `I_i^c − I_i`), `"power"` (largest `I_i`) or `"regular"` (longest patch) — its `I^c`
+    /// profile tallied from `lines` global lines with `seed`.
+    ///
+    /// # Errors
+    /// An unknown oracle; `BadParameter` for bad `lines` or `seed`; the refiner's errors
+    /// (`NoLines`, `TooLarge` above its patch cap, …).
+    pub fn refiner(&self, oracle: &str, lines: f64, seed: f64) -> Result<Refiner, JsError> {
+        Refiner::new(self, oracle, lines, seed)
     }
 
     /// A Monte Carlo job of `lines` cosine-distributed local lines (2.36) from `seed`.

@@ -28,9 +28,11 @@
 
 mod lab;
 mod lines;
+mod refine;
 
 pub use lab::{FlatLab, catalogue};
 pub use lines::{LineJob, LineResult};
+pub use refine::Refiner;
 
 use wasm_bindgen::prelude::*;
 
@@ -55,6 +57,14 @@ pub fn start() {
 #[wasm_bindgen(js_name = measureFlat)]
 pub fn measure_flat(text: &str) -> Result<String, JsError> {
     sceneinfo::report::measure_flat_json(text).map_err(into_error)
+}
+
+/// The relative discretisation error `δ̄ = (I_S^c − I_S) / I_S^c` (thesis §4.4.2), 0 when
+/// `I_S^c ≤ 0`: [`sceneinfo::continuous::relative_discretisation_error`].
+#[wasm_bindgen(js_name = relativeDiscretisationError)]
+#[must_use]
+pub fn relative_discretisation_error(i_s_continuous: f64, i_s: f64) -> f64 {
+    sceneinfo::continuous::relative_discretisation_error(i_s_continuous, i_s)
 }
 
 /// Returns the version of this crate (and so of the core it was built with).

@@ -275,3 +275,48 @@ fn catalogue_lists_the_thesis_scenes_in_order() {
         assert!(FlatLab::preset(name, 2.0).is_ok(), "{name}");
     }
 }
+
+#[wasm_bindgen_test]
+fn refiner_steps_raise_patch_count_and_information() {
+    // Proposition 3 (5.36): halving a patch never lowers I_S; each DE step adds one patch.
+    let lab = FlatLab::preset("koch-0", 4.0).expect("catalogue scene");
+    let mut refiner = lab.refiner("de", 2e5, 1.0).expect("refiner");
+    let start = refiner.report();
+    assert_eq!(number(&start, "n_patches"), 12.0);
+    assert!(!start.contains("\"split\""), "{start}");
+    let mut i_s = number(&start, "i_s");
+    for step in 1..=3 {
+        let report = refiner.step().expect("step");
+        assert_eq!(number(&report, "step"), f64::from(step));
+        assert_eq!(number(&report, "n_patches"), 12.0 + f64::from(step));
+        let next = number(&report, "i_s");
+        assert!(next >= i_s, "step {step}: {i_s} -> {next}");
+        i_s = next;
+        // The same I^c ceiling at every step: one profile of the continuous scene.
+        assert_eq!(
+            number(&report, "i_s_continuous"),
+            number(&start, "i_s_continuous")
+        );
+    }
+    // The refined mesh reads back as a lab with the same measures.
+    let mut again = FlatLab::new(&refiner.to_flat()).expect("valid .flat");
+    let exact = number(&again.measures().expect("measures"), "i_s");
+    assert!((exact - i_s).abs() < 1e-12, "{exact} vs {i_s}");
+    assert_eq!(refiner.patch_errors().len(), 15);
+}
+
+#[wasm_bindgen_test]
+fn refiner_errors_are_js_errors() {
+    let lab = FlatLab::new(TRIANGLE).expect("valid");
+    assert_eq!(
+        message(
+            lab.refiner("mi", 1e4, 1.0)
+                .expect_err("not a flatland oracle")
+        ),
+        "unknown refinement oracle 'mi': use de, power or regular"
+    );
+    assert_eq!(
+        message(lab.refiner("de", 0.5, 1.0).expect_err("fractional lines")),
+        "parameter lines = 0.5 is out of range"
+    );
+}
