@@ -9,8 +9,9 @@
 //!   (NaN, infinities, negatives and all): the constructors must refuse or accept
 //!   cleanly;
 //! - 1, reversible: a symmetric `n × n` matrix `S` from byte pairs (mantissa, exponent:
-//!   `m · 2^−(x mod 96)`), `w_i = Σ_j S_ij / Σ S`, `P_ij = S_ij / Σ_j S_ij`: a closed,
-//!   reversible, stationary channel whose identities must hold;
+//!   `m · 2^−(x mod 96)`; a zero row gets `S_ii = 1`), `w_i = Σ_j S_ij / Σ S`,
+//!   `P_ij = S_ij / Σ_j S_ij`: a closed, reversible, stationary channel whose identities
+//!   must hold;
 //! - 2, sub-stochastic: `w` and the rows of `P` from single bytes, each row scaled to sum
 //!   to at most one;
 //! - 3, reversible as in 1, plus the Markov helpers (stationary distribution, entropy rate,
@@ -111,6 +112,13 @@ pub fn decode(data: &[u8]) -> ChannelCase {
                     let v = bytes.scaled();
                     s[i * n + j] = v;
                     s[j * n + i] = v;
+                }
+            }
+            // A state that sees nothing keeps to itself (S_ii = 1): every row then sums
+            // to one and w = row sums stays stationary
+            for i in 0..n {
+                if s[i * n..(i + 1) * n].iter().all(|&v| v == 0.0) {
+                    s[i * n + i] = 1.0;
                 }
             }
             let row_sums: Vec<f64> = s.chunks(n).map(|r| r.iter().sum()).collect();

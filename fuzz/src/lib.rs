@@ -8,3 +8,4 @@ pub mod flat_pipeline;
 pub mod invariants;
 pub mod obj_parse;
 pub mod obj_pipeline;
+pub mod refine;

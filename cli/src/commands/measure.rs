@@ -253,5 +253,8 @@ fn table(name: &str, r: &SceneReport, mc: Option<&MonteCarlo>, seconds: f64) -> 
         yes(c.is_stationary(CHECK_TOLERANCE)),
         c.stationarity_error
     );
+    for w in r.warnings() {
+        let _ = writeln!(s, "WARNING: {w}");
+    }
     s
 }
