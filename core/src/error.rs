@@ -262,6 +262,16 @@ pub enum ErrorKind {
         lines: u64,
     },
 
+    /// A job would need more memory than the caller allows (`--max-memory`).
+    MemoryLimit {
+        /// What needs it, e.g. `"exact form factors"`.
+        what: &'static str,
+        /// Bytes needed (a lower bound).
+        needed: u64,
+        /// Bytes allowed.
+        limit: u64,
+    },
+
     // ---- solvers --------------------------------------------------------------------------
     /// A numeric parameter (e.g. a solver tolerance) is NaN, infinite or out of range.
     BadParameter {
@@ -399,6 +409,17 @@ impl fmt::Display for ErrorKind {
             K::UnsampledPatch { patch, lines } => write!(
                 f,
                 "patch {patch} received none of the {lines} lines: cast more lines"
+            ),
+            K::MemoryLimit {
+                what,
+                needed,
+                limit,
+            } => write!(
+                f,
+                "{what} need at least {needed} bytes ({:.1} MiB), more than the {limit} bytes \
+                 ({:.1} MiB) allowed",
+                *needed as f64 / 1048576.0,
+                *limit as f64 / 1048576.0
             ),
             K::BadParameter { name, value } => {
                 write!(f, "parameter {name} = {value} is out of range")

@@ -73,6 +73,30 @@ fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<
     if let Some(n) = sampling.lines {
         sceneinfo::lines::check_line_budget(n).map_err(at)?;
     }
+    // The large tables, before anything is allocated for them
+    if let Some(limit) = sampling.max_memory {
+        use sceneinfo::formfactor::memory;
+        let n = match &scene {
+            Loaded::Flat(s) => s.n_patches(),
+            Loaded::Solid(s) => s.n_patches(),
+        };
+        let (what, needed) = match sampling.lines {
+            // One tally per thread and the merged total
+            Some(_) => (
+                "Monte Carlo pair tallies and form factors",
+                memory::line_job_bytes(n, threads.saturating_add(1)),
+            ),
+            None => ("exact form factors", memory::exact_bytes(n)),
+        };
+        if needed > limit {
+            let kind = sceneinfo::ErrorKind::MemoryLimit {
+                what,
+                needed,
+                limit,
+            };
+            return Err(at(kind.into()));
+        }
+    }
     Ok(match (sampling.lines, &scene) {
         (None, Loaded::Flat(s)) => (exact_2d::form_factors(s).map_err(at)?, None),
         (None, Loaded::Solid(s)) => (crate::output::exact_3d_form_factors(path, s)?, None),
