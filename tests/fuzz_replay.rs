@@ -6,8 +6,20 @@
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 
+#[path = "../fuzz/src/channel.rs"]
+mod channel;
 #[path = "../fuzz/src/flat_parse.rs"]
 mod flat_parse;
+#[path = "../fuzz/src/flat_pipeline.rs"]
+mod flat_pipeline;
+#[path = "../fuzz/src/invariants.rs"]
+mod invariants;
+#[path = "../fuzz/src/obj_parse.rs"]
+mod obj_parse;
+#[path = "../fuzz/src/obj_pipeline.rs"]
+mod obj_pipeline;
+#[path = "../fuzz/src/refine.rs"]
+mod refine;
 
 /// Directories holding one sub-directory of inputs per fuzz target.
 fn corpus_roots() -> [PathBuf; 2] {
@@ -40,16 +52,21 @@ fn inputs(root: &Path) -> Vec<(String, PathBuf)> {
     found
 }
 
-/// Runs one input through the check of its target.
+/// Runs one input through the check of its target; whether it went through every stage
+/// (`Measured` / `Checked`) rather than being refused or skipped.
 ///
 /// # Panics
 ///
 /// When the invariant breaks, or the directory names no known target.
-fn replay(target: &str, data: &[u8]) {
+fn replay(target: &str, data: &[u8]) -> bool {
+    use invariants::Outcome::Checked;
     match target {
-        "fuzz_flat_parse" => {
-            flat_parse::check(data);
-        }
+        "fuzz_flat_parse" => flat_parse::check(data) == flat_parse::Outcome::Measured,
+        "fuzz_obj_parse" => obj_parse::check(data) == Checked,
+        "fuzz_flat_pipeline" => flat_pipeline::check(data) == Checked,
+        "fuzz_obj_pipeline" => obj_pipeline::check(data) == Checked,
+        "fuzz_channel" => channel::check(data) == Checked,
+        "fuzz_refine" => refine::check(data) == Checked,
         other => panic!("no replay for fuzz target {other:?}: add it to tests/fuzz_replay.rs"),
     }
 }
@@ -70,13 +87,20 @@ fn fuzz_inputs_replay_without_panics() {
     // Replay each one, collecting failures so one run reports all of them
     let mut failures = Vec::new();
     let mut count = 0;
+    let mut complete: std::collections::BTreeMap<String, usize> = Default::default();
     for (target, path) in all {
         count += 1;
         let data = std::fs::read(&path).expect("readable input");
-        if catch_unwind(AssertUnwindSafe(|| replay(&target, &data))).is_err() {
-            failures.push(path.display().to_string());
+        match catch_unwind(AssertUnwindSafe(|| replay(&target, &data))) {
+            Ok(through) => *complete.entry(target).or_default() += usize::from(through),
+            Err(_) => failures.push(path.display().to_string()),
         }
     }
+    // Every target has seeds that go all the way through its pipeline
+    for (target, n) in &complete {
+        assert!(*n > 0, "no input of {target} passes every stage");
+    }
+    assert_eq!(complete.len(), 6, "targets replayed: {complete:?}");
     assert!(
         failures.is_empty(),
         "{} of {count} fuzz inputs failed:\n{}",

@@ -4,7 +4,9 @@
 //! - `props`: the thesis' identities and inequalities as property tests over random scenes.
 //! - `montecarlo`: Monte Carlo estimators against exact results and Proposition 2.
 //! - `fuzz_replay`: every fuzz seed and saved crash input, through the fuzz targets' code.
+//! - `extremes`: finite measures and the identities on extreme but valid scenes.
 
+mod extremes;
 mod fuzz_replay;
 mod montecarlo;
 mod props;

@@ -196,6 +196,36 @@ pub struct SamplingArgs {
     /// Worker threads (default: all cores). Never changes the result.
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Refuse the job, before it starts, if its large tables would need more memory than
+    /// this (bytes, or with a suffix K, M, G, T = 2^10, 2^20, 2^30, 2^40: `512M`, `1.5G`).
+    #[arg(long, value_name = "SIZE", value_parser = parse_bytes)]
+    pub max_memory: Option<u64>,
+}
+
+/// Parses a memory size: bytes (`1000000`, `1e9`) or a number with a binary suffix `K`,
+/// `M`, `G`, `T` (optionally followed by `iB` or `B`, any case): `512M`, `1.5GiB`.
+pub fn parse_bytes(s: &str) -> Result<u64, String> {
+    let t = s.trim();
+    let lower = t.to_ascii_lowercase();
+    let stripped = lower
+        .strip_suffix("ib")
+        .or_else(|| lower.strip_suffix('b'))
+        .unwrap_or(&lower);
+    let (number, scale) = match stripped.chars().last() {
+        Some('k') => (&stripped[..stripped.len() - 1], 1u64 << 10),
+        Some('m') => (&stripped[..stripped.len() - 1], 1 << 20),
+        Some('g') => (&stripped[..stripped.len() - 1], 1 << 30),
+        Some('t') => (&stripped[..stripped.len() - 1], 1 << 40),
+        _ => (stripped, 1),
+    };
+    match number.parse::<f64>() {
+        Ok(v) if v.is_finite() && v >= 0.0 && v * (scale as f64) < u64::MAX as f64 => {
+            Ok((v * scale as f64) as u64)
+        }
+        _ => Err(format!(
+            "'{s}' is not a memory size (bytes, or a number with K, M, G or T)"
+        )),
+    }
 }
 
 /// Arguments of `formfactors`.
@@ -222,12 +252,20 @@ pub enum Method {
 }
 
 /// Parses a count written as an integer (`10000000`) or in scientific notation (`1e7`).
+///
+/// Whole numbers beyond `u64` (`18446744073709551616`, `1e30`) saturate to `u64::MAX`: far
+/// above `sceneinfo::lines::MAX_LINES`, so the command refuses them with the scene file's
+/// name, like every other line budget it cannot run (`FILE: line budget exceeds the cap`).
 pub fn parse_count(s: &str) -> Result<u64, String> {
     if let Ok(v) = s.parse::<u64>() {
         return Ok(v);
     }
+    if !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit()) {
+        return Ok(u64::MAX);
+    }
     match s.parse::<f64>() {
-        Ok(v) if v.is_finite() && v >= 0.0 && v.fract() == 0.0 && v <= u64::MAX as f64 => {
+        Ok(v) if v.is_finite() && v >= 0.0 && v.fract() == 0.0 => {
+            // Saturating: 2^64 and above become u64::MAX
             Ok(v as u64)
         }
         _ => Err(format!("'{s}' is not a whole number of lines")),
@@ -443,4 +481,22 @@ pub enum Oracle {
     De,
     /// Regular meshing (halve the longest patch), flatland.
     Regular,
+}
+
+#[cfg(test)]
+mod memory_size_tests {
+    use super::parse_bytes;
+
+    #[test]
+    fn memory_sizes_take_binary_suffixes() {
+        assert_eq!(parse_bytes("1000"), Ok(1000));
+        assert_eq!(parse_bytes("1e9"), Ok(1_000_000_000));
+        assert_eq!(parse_bytes("512M"), Ok(512 << 20));
+        assert_eq!(parse_bytes("1.5GiB"), Ok(3 << 29));
+        assert_eq!(parse_bytes("2g"), Ok(2 << 30));
+        assert_eq!(parse_bytes("64kb"), Ok(64 << 10));
+        for bad in ["", "M", "-1M", "lots", "1e30T", "nan"] {
+            assert!(parse_bytes(bad).is_err(), "{bad}");
+        }
+    }
 }

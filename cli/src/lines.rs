@@ -59,6 +59,11 @@ pub fn run_chunks<T: LineTracer + Sync + ?Sized>(
                 scope.spawn(|| {
                     let mut tally = tracer.new_tally(method);
                     loop {
+                        // After Ctrl-C no new chunk starts: the chunks done are then
+                        // 0..k, the job of k whole chunks (same seed).
+                        if crate::interrupt::requested() {
+                            break tally;
+                        }
                         let chunk = next.fetch_add(1, Ordering::Relaxed);
                         if chunk >= chunks {
                             break tally;

@@ -6,6 +6,7 @@
 
 mod args;
 mod commands;
+mod interrupt;
 mod lines;
 mod output;
 mod ply;
@@ -17,11 +18,16 @@ use clap::Parser;
 
 fn main() -> ExitCode {
     let cli = args::Cli::parse();
+    interrupt::install();
     match commands::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
             if is_broken_pipe(&err) {
                 return ExitCode::SUCCESS;
+            }
+            if err.downcast_ref::<interrupt::Interrupted>().is_some() {
+                eprintln!("sceneinfo: {err:#}");
+                return ExitCode::from(interrupt::EXIT_INTERRUPTED);
             }
             eprintln!("sceneinfo: {err:#}");
             ExitCode::from(2)

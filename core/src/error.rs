@@ -137,8 +137,25 @@ pub enum ErrorKind {
         /// The number of patches.
         len: usize,
     },
-    /// Coordinates so large that lengths or areas overflow `f64`.
+    /// A coordinate beyond [`crate::geom::MAX_COORDINATE`] (lengths, areas and the
+    /// exact form factors' tolerances need room below `f64`'s range).
     CoordinateRange,
+    /// Two surfaces (flatland segments, or 3D faces) lie on one line or plane, face the
+    /// same way and overlap: two surfaces in one place (see `scene::coincident`). Indices
+    /// are the surfaces' (segments', faces') in input order.
+    CoincidentSurfaces {
+        /// The earlier surface.
+        first: usize,
+        /// The later surface.
+        second: usize,
+    },
+    /// [`ErrorKind::CoincidentSurfaces`] as a parser reports it: the surface on the
+    /// error's line coincides with the surface on line `other_line`, or (`None`) with
+    /// another side of the polygon on the same line.
+    CoincidentWith {
+        /// The line of the earlier surface; `None` when it is the same line.
+        other_line: Option<u32>,
+    },
     /// A preset scene name that the catalogue does not know.
     UnknownPreset(Token),
     /// A 3D face's vertices do not lie in one plane (beyond 10⁻⁶ of its size).
@@ -276,6 +293,16 @@ pub enum ErrorKind {
         total: u64,
     },
 
+    /// A job would need more memory than the caller allows (`--max-memory`).
+    MemoryLimit {
+        /// What needs it, e.g. `"exact form factors"`.
+        what: &'static str,
+        /// Bytes needed (a lower bound).
+        needed: u64,
+        /// Bytes allowed.
+        limit: u64,
+    },
+
     // ---- solvers --------------------------------------------------------------------------
     /// A numeric parameter (e.g. a solver tolerance) is NaN, infinite or out of range.
     BadParameter {
@@ -304,7 +331,10 @@ impl fmt::Display for ErrorKind {
         match self {
             K::UnknownKeyword(t) => write!(f, "unknown keyword '{t}'"),
             K::BadNumber { field, found } => write!(f, "{field}: '{found}' is not a number"),
-            K::NonFiniteNumber { field } => write!(f, "{field}: number is NaN or infinite"),
+            K::NonFiniteNumber { field } => write!(
+                f,
+                "{field}: number is NaN, infinite or beyond the range of f64"
+            ),
             K::BadCount { field, found } => {
                 write!(f, "{field}: '{found}' is not a positive integer")
             }
@@ -330,6 +360,10 @@ impl fmt::Display for ErrorKind {
                     "polygon needs at least 3 vertices (and at most 100000), got {given}"
                 )
             }
+            K::PatchCount { given, max } if *given == u64::MAX => write!(
+                f,
+                "patch count {given} or more is out of range (1 to {max})"
+            ),
             K::PatchCount { given, max } => {
                 write!(f, "patch count {given} is out of range (1 to {max})")
             }
@@ -344,7 +378,27 @@ impl fmt::Display for ErrorKind {
                     "patch index {index} out of range (scene has {len} patches)"
                 )
             }
-            K::CoordinateRange => write!(f, "coordinates too large: lengths overflow"),
+            K::CoordinateRange => write!(
+                f,
+                "coordinate too large: every coordinate must lie within ±{}",
+                crate::geom::MAX_COORDINATE
+            ),
+            K::CoincidentSurfaces { first, second } => write!(
+                f,
+                "surfaces {first} and {second} coincide: same line or plane, same facing, \
+                 overlapping (reverse one of them for a two-sided wall)"
+            ),
+            K::CoincidentWith {
+                other_line: Some(other),
+            } => write!(
+                f,
+                "coincides with a surface of line {other}: same line or plane, same \
+                 facing, overlapping (reverse one of them for a two-sided wall)"
+            ),
+            K::CoincidentWith { other_line: None } => write!(
+                f,
+                "two sides of this polygon coincide: same line, same facing, overlapping"
+            ),
             K::UnknownPreset(t) => write!(f, "unknown preset scene '{t}'"),
             K::NonPlanarFace { deviation } => write!(
                 f,
@@ -386,6 +440,17 @@ impl fmt::Display for ErrorKind {
             K::UnsampledPatch { patch, lines } => write!(
                 f,
                 "patch {patch} received none of the {lines} lines: cast more lines"
+            ),
+            K::MemoryLimit {
+                what,
+                needed,
+                limit,
+            } => write!(
+                f,
+                "{what} need at least {needed} bytes ({:.1} MiB), more than the {limit} bytes \
+                 ({:.1} MiB) allowed",
+                *needed as f64 / 1048576.0,
+                *limit as f64 / 1048576.0
             ),
             K::BadPartial { what } => write!(f, "bad partial-result file: {what}"),
             K::PartialVersion { found, supported } => write!(
@@ -541,7 +606,12 @@ impl fmt::Display for MaterialProblem {
         use MaterialProblem as P;
         match self {
             P::BadNumber { field } => write!(f, "{field}: not a number"),
-            P::NonFiniteNumber { field } => write!(f, "{field}: number is NaN or infinite"),
+            P::NonFiniteNumber { field } => {
+                write!(
+                    f,
+                    "{field}: number is NaN, infinite or beyond the range of f64"
+                )
+            }
             P::MissingField { field } => write!(f, "missing field {field}"),
             P::TrailingField => write!(f, "unexpected extra field"),
             P::Reflectance { value } => write!(f, "reflectance {value} is outside [0, 1)"),

@@ -17,6 +17,8 @@
 //!   `F_ij = 1/A_i ∫∫ cos θ_x cos θ_y / (π r²) V(x, y) dA_y dA_x`.
 //! - [`estimate_3d`] (feature `alloc`): the same Monte Carlo estimators over 3D scenes.
 //! - [`tally`] (feature `alloc`): what a Monte Carlo run counts, shared by 2D and 3D.
+//! - [`memory`] (feature `alloc`): lower bounds on what a job will allocate, checked by front
+//!   ends before it starts.
 //!
 //! The owning result type is [`FormFactors`] (feature `alloc`): the matrix, the stationary
 //! distribution, and the background state of open scenes.
@@ -29,6 +31,8 @@ pub mod estimate_2d;
 pub mod estimate_3d;
 pub mod exact_2d;
 pub mod exact_3d;
+#[cfg(feature = "alloc")]
+pub mod memory;
 #[cfg(feature = "alloc")]
 pub mod partial;
 #[cfg(feature = "alloc")]

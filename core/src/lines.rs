@@ -31,11 +31,13 @@
 //! `2L / 2πR = L/(πR)` — the flatland form of "the probability that a global line
 //! intersects patch i is proportional to A_i" (thesis §2.1.6, Santaló 1976).
 
+mod budget;
 mod global;
 mod lines3;
 mod local;
 mod stream;
 
+pub use budget::{MAX_LINES, check_line_budget};
 pub use global::{
     BoundingCircle, Line2, global_line_2d_pdf, invert_global_line_2d, sample_global_line_2d,
 };

@@ -141,6 +141,76 @@ fn write_json_string<W: Write>(out: &mut W, s: &str) -> fmt::Result {
     out.write_char('"')
 }
 
+/// Largest row deficit for which an added background state draws a
+/// [`Warning::NearlyClosed`]: a scene drawn closed whose form factors lose this little is
+/// losing it to rounding, not to the outside.
+pub const NEARLY_CLOSED_DEFICIT: f64 = 1e-6;
+
+/// Where a report's numbers cannot be trusted to full precision (issue 8: a warning, never a
+/// silently wrong number).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum Warning {
+    /// A background state was added for a row deficit of at most [`NEARLY_CLOSED_DEFICIT`]:
+    /// the scene is probably closed and its form factors accurate only to about `deficit`.
+    NearlyClosed {
+        /// The largest row deficit.
+        deficit: f64,
+    },
+    /// Rows sum to one only within `error` (more than [`CHECK_TOLERANCE`]): the identities
+    /// `H_J = H_P + H_S` (3.7) hold only to about `error · H_P`.
+    RowSums {
+        /// `max_i |1 − Σ_j F_ij|`.
+        error: f64,
+    },
+    /// `w` is stationary only within `error` (more than [`CHECK_TOLERANCE`]), as Monte
+    /// Carlo form factors are: `H_J = 2H_S + I_S` holds only to about that times
+    /// `Σ_j |log₂ w_j|`.
+    Stationarity {
+        /// `‖wF − w‖_∞`.
+        error: f64,
+    },
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NearlyClosed { deficit } => write!(
+                f,
+                "a background state was added for a row deficit of only {deficit:e}: if the \
+                 scene is closed, its form factors are accurate only to about that"
+            ),
+            Self::RowSums { error } => write!(
+                f,
+                "rows of F sum to 1 only within {error:e}: H_J = H_P + H_S holds only to \
+                 about that times H_P"
+            ),
+            Self::Stationarity { error } => write!(
+                f,
+                "the weights are stationary only within {error:e}: H_J = 2H_S + I_S holds \
+                 only approximately"
+            ),
+        }
+    }
+}
+
+/// A `fmt::Write` adapter that escapes what it writes as the inside of a JSON string.
+struct JsonEscaped<'a, W: Write>(&'a mut W);
+
+impl<W: Write> Write for JsonEscaped<'_, W> {
+    fn write_str(&mut self, s: &str) -> fmt::Result {
+        for c in s.chars() {
+            match c {
+                '"' => self.0.write_str("\\\"")?,
+                '\\' => self.0.write_str("\\\\")?,
+                c if (c as u32) < 0x20 => write!(self.0, "\\u{:04x}", c as u32)?,
+                c => self.0.write_char(c)?,
+            }
+        }
+        Ok(())
+    }
+}
+
 /// The discrete measures of a scene's channel, with the checks and the background flag.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SceneReport {
@@ -198,7 +268,47 @@ impl SceneReport {
             o.boolean("row_stochastic", c.is_row_stochastic(CHECK_TOLERANCE))?;
             o.boolean("reversible", c.is_reversible(CHECK_TOLERANCE))?;
             o.boolean("stationary", c.is_stationary(CHECK_TOLERANCE))
-        })
+        })?;
+        // Only when there is something to say, so clean reports keep their keys
+        let warnings = self.warnings();
+        if !warnings.is_empty() {
+            o.key("warnings")?;
+            o.out.write_char('[')?;
+            for (k, w) in warnings.iter().enumerate() {
+                if k > 0 {
+                    o.out.write_char(',')?;
+                }
+                o.out.write_char('"')?;
+                write!(JsonEscaped(&mut *o.out), "{w}")?;
+                o.out.write_char('"')?;
+            }
+            o.out.write_char(']')?;
+        }
+        Ok(())
+    }
+
+    /// What the numbers of this report cannot promise (see [`Warning`]); empty for exact
+    /// form factors of a well-conditioned scene.
+    #[must_use]
+    pub fn warnings(&self) -> heapless::Vec<Warning, 3> {
+        let c = &self.checks;
+        let mut out = heapless::Vec::new();
+        if self.background && self.max_row_deficit <= NEARLY_CLOSED_DEFICIT {
+            let _ = out.push(Warning::NearlyClosed {
+                deficit: self.max_row_deficit,
+            });
+        }
+        if !c.is_row_stochastic(CHECK_TOLERANCE) {
+            let _ = out.push(Warning::RowSums {
+                error: c.max_row_sum_error,
+            });
+        }
+        if !c.is_stationary(CHECK_TOLERANCE) {
+            let _ = out.push(Warning::Stationarity {
+                error: c.stationarity_error,
+            });
+        }
+        out
     }
 
     /// The report as a JSON string.

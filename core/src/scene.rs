@@ -16,6 +16,8 @@ pub use material::Material;
 #[cfg(feature = "alloc")]
 mod catalogue;
 #[cfg(feature = "alloc")]
+pub mod coincident;
+#[cfg(feature = "alloc")]
 mod flat;
 #[cfg(feature = "alloc")]
 mod presets;

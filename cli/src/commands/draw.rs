@@ -55,8 +55,8 @@ impl Config {
             Colour::Ic | Colour::Delta => Some(args.lines.unwrap_or(DEFAULT_LINES)),
             Colour::I | Colour::H => args.lines,
         };
-        if lines == Some(0) {
-            return Err(sceneinfo::ErrorKind::NoLines.into());
+        if let Some(n) = lines {
+            sceneinfo::lines::check_line_budget(n)?;
         }
         let needs_discrete = args.color != Colour::Ic || args.matrix_svg.is_some();
         let discrete = needs_discrete.then_some(match (args.color, lines) {
@@ -108,7 +108,10 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     let at = |e: sceneinfo::Error| located(&args.file, &e);
     let scene = sceneinfo::io::parse_flat(&text).map_err(at)?;
     let config = Config::new(args, scene.n_patches()).map_err(at)?;
-    let computed = compute(&scene, &config).map_err(at)?;
+    let computed = compute(&scene, &config);
+    // After Ctrl-C the line job stopped early: draw nothing
+    crate::interrupt::stop_if_requested()?;
+    let computed = computed.map_err(at)?;
     let name = args.file.display().to_string();
     let width = f64::from(args.width);
     let svg = scene_picture(

@@ -43,8 +43,8 @@ impl Config {
     /// `exact_possible` is asked only when exact form factors would be used: whether the
     /// scene is small enough and no patch may hide another.
     fn new(args: &DrawArgs, exact_possible: impl FnOnce() -> bool) -> Result<Self> {
-        if args.lines == Some(0) {
-            return Err(sceneinfo::Error::from(sceneinfo::ErrorKind::NoLines).into());
+        if let Some(n) = args.lines {
+            sceneinfo::lines::check_line_budget(n)?;
         }
         if args.per_area && args.color == Colour::H {
             bail!(
@@ -122,7 +122,10 @@ pub fn run(args: &DrawArgs) -> Result<()> {
         bail!("{}: not a 3D scene", args.file.display());
     };
     let config = Config::new(args, || exact_possible(&scene))?;
-    let computed = compute(&args.file, &scene, &config)?;
+    let computed = compute(&args.file, &scene, &config);
+    // After Ctrl-C the line job stopped early: write nothing
+    crate::interrupt::stop_if_requested()?;
+    let computed = computed?;
     let name = args.file.display().to_string();
     let (ply, (lo, hi)) = mesh(&scene, &computed, &config, &name);
     write_atomic(ply_path, ply.finish()?.as_bytes())?;

@@ -19,24 +19,52 @@ use sceneinfo::lines::{CHUNK_LINES, chunk_count};
 use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport};
 
 use crate::args::{MeasureArgs, Method, SamplingArgs};
+use crate::interrupt::Interrupted;
 use crate::output::{Loaded, located, write_atomic};
 
 /// What the Monte Carlo run adds to a report.
 pub struct MonteCarlo {
     /// The sampling method.
     pub method: LineMethod,
-    /// Lines cast.
+    /// Lines cast: fewer than `requested` after Ctrl-C (a partial run).
     pub lines: u64,
+    /// Lines asked for.
+    pub requested: u64,
     /// Seed of the chunk streams.
     pub seed: u64,
     /// `I_S^c` and its standard error.
     pub continuous: ContinuousEstimate,
 }
 
+impl MonteCarlo {
+    /// Whether Ctrl-C stopped the run early.
+    fn partial(&self) -> bool {
+        self.lines < self.requested
+    }
+}
+
 /// The form factors of the scene in `path`: exact (flatland with occlusion; 3D when no
 /// pair can be occluded) or, with `--lines`, Monte Carlo on the requested threads.
+///
+/// # Errors
+///
+/// Besides the scene's errors, [`Interrupted`] when Ctrl-C stopped the lines early (so
+/// that no partial matrix is written as if it were the one asked for).
 pub fn form_factors_of(path: &Path, sampling: &SamplingArgs) -> Result<FormFactors> {
-    Ok(compute(path, sampling)?.0)
+    let (ff, mc) = compute(path, sampling)?;
+    if mc.is_some_and(|mc| mc.partial()) {
+        return Err(Interrupted { partial: None }.into());
+    }
+    Ok(ff)
+}
+
+/// The result of a line job's `finish`: after Ctrl-C (`done < asked`) a job that cast no
+/// line, or too few to estimate every patch, is [`Interrupted`] rather than its error.
+fn finished<T>(result: sceneinfo::Result<T>, done: u64, asked: u64, path: &Path) -> Result<T> {
+    if done < asked && (done == 0 || result.is_err()) {
+        return Err(Interrupted { partial: None }.into());
+    }
+    result.map_err(|e| located(path, &e))
 }
 
 fn line_method(m: Method) -> LineMethod {
@@ -57,28 +85,55 @@ fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<
     let scene = crate::output::load_scene(path)?;
     let method = line_method(sampling.method);
     let threads = threads_of(sampling);
+    if let Some(n) = sampling.lines {
+        sceneinfo::lines::check_line_budget(n).map_err(at)?;
+    }
+    // The large tables, before anything is allocated for them
+    if let Some(limit) = sampling.max_memory {
+        use sceneinfo::formfactor::memory;
+        let n = match &scene {
+            Loaded::Flat(s) => s.n_patches(),
+            Loaded::Solid(s) => s.n_patches(),
+        };
+        let (what, needed) = match sampling.lines {
+            // One tally per thread and the merged total
+            Some(_) => (
+                "Monte Carlo pair tallies and form factors",
+                memory::line_job_bytes(n, threads.saturating_add(1)),
+            ),
+            None => ("exact form factors", memory::exact_bytes(n)),
+        };
+        if needed > limit {
+            let kind = sceneinfo::ErrorKind::MemoryLimit {
+                what,
+                needed,
+                limit,
+            };
+            return Err(at(kind.into()));
+        }
+    }
     Ok(match (sampling.lines, &scene) {
-        (Some(0), _) => return Err(at(sceneinfo::ErrorKind::NoLines.into())),
         (None, Loaded::Flat(s)) => (exact_2d::form_factors(s).map_err(at)?, None),
         (None, Loaded::Solid(s)) => (crate::output::exact_3d_form_factors(path, s)?, None),
         (Some(lines), scene) => {
-            let est = match scene {
+            let (est, done) = match scene {
                 Loaded::Flat(s) => {
                     let tracer = FlatTracer::new(s).map_err(at)?;
-                    crate::lines::run(&tracer, method, sampling.seed, lines, threads)
-                        .finish(&tracer)
-                        .map_err(at)?
+                    let tally = crate::lines::run(&tracer, method, sampling.seed, lines, threads);
+                    let done = tally.lines();
+                    (finished(tally.finish(&tracer), done, lines, path)?, done)
                 }
                 Loaded::Solid(s) => {
                     let tracer = SceneTracer::new(s).map_err(at)?;
-                    crate::lines::run(&tracer, method, sampling.seed, lines, threads)
-                        .finish(&tracer)
-                        .map_err(at)?
+                    let tally = crate::lines::run(&tracer, method, sampling.seed, lines, threads);
+                    let done = tally.lines();
+                    (finished(tally.finish(&tracer), done, lines, path)?, done)
                 }
             };
             let mc = MonteCarlo {
                 method,
-                lines,
+                lines: done,
+                requested: lines,
                 seed: sampling.seed,
                 continuous: est.continuous,
             };
@@ -147,6 +202,11 @@ pub fn print_report(
                 };
                 run.write_fields(&mut o)?;
                 o.number("lines_per_second", mc.lines as f64 / seconds.max(1e-9))?;
+                if mc.partial() {
+                    // Only after Ctrl-C: a complete run's keys match the wasm API's
+                    o.boolean("partial", true)?;
+                    o.integer("lines_requested", mc.requested)?;
+                }
             }
         }
         o.number("seconds", seconds)?;
@@ -160,7 +220,13 @@ pub fn print_report(
         )?;
     }
     out.flush()?;
-    Ok(())
+    match mc {
+        Some(mc) if mc.partial() => Err(Interrupted {
+            partial: Some((mc.lines, mc.requested)),
+        }
+        .into()),
+        _ => Ok(()),
+    }
 }
 
 /// `measure … --lines N [--chunks A..B] --partial OUT.sip`: tallies the chunks into a
@@ -286,6 +352,13 @@ fn table(name: &str, r: &SceneReport, mc: Option<&MonteCarlo>, seconds: f64) -> 
                 mc.seed,
                 mc.lines as f64 / seconds.max(1e-9) / 1e6
             );
+            if mc.partial() {
+                let _ = writeln!(
+                    s,
+                    "PARTIAL               interrupted after {} of the {} lines asked for",
+                    mc.lines, mc.requested
+                );
+            }
         }
     }
     let _ = writeln!(s, "H_P   (3.5)           {:.6} bits", m.h_p);
@@ -334,5 +407,8 @@ fn table(name: &str, r: &SceneReport, mc: Option<&MonteCarlo>, seconds: f64) -> 
         yes(c.is_stationary(CHECK_TOLERANCE)),
         c.stationarity_error
     );
+    for w in r.warnings() {
+        let _ = writeln!(s, "WARNING: {w}");
+    }
     s
 }

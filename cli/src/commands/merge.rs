@@ -44,6 +44,7 @@ pub fn run(args: &MergeArgs) -> Result<()> {
     let mc = MonteCarlo {
         method: job.method,
         lines: job.lines,
+        requested: job.lines,
         seed: job.seed,
         continuous: est.continuous,
     };

@@ -71,6 +71,7 @@ impl Runner {
     fn estimate(&self, scene: &FlatScene, lines: u64) -> Result<FlatEstimate> {
         let tracer = FlatTracer::new(scene).map_err(|e| anyhow!("{e}"))?;
         let tally = crate::lines::run(&tracer, LineMethod::Global, self.seed, lines, self.threads);
+        crate::interrupt::stop_if_requested()?;
         tally.finish(&tracer).map_err(|e| anyhow!("{e}"))
     }
 
@@ -90,9 +91,7 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
             std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
         }),
     };
-    if runner.lines == 0 {
-        return Err(anyhow!("{}", sceneinfo::ErrorKind::NoLines));
-    }
+    sceneinfo::lines::check_line_budget(runner.lines).map_err(|e| anyhow!("{e}"))?;
     let mut tables = chapter_3()?;
     if !args.chapter_3_only {
         tables.push(table_4_10(&runner)?);
@@ -317,12 +316,14 @@ impl Runner {
             self.lines,
             self.threads,
         );
+        crate::interrupt::stop_if_requested()?;
         Ok(tally.continuous())
     }
 
     fn estimate_3d(&self, scene: &Scene, lines: u64) -> Result<FlatEstimate> {
         let tracer = SceneTracer::new(scene).map_err(|e| anyhow!("{e}"))?;
         let tally = crate::lines::run(&tracer, LineMethod::Global, self.seed, lines, self.threads);
+        crate::interrupt::stop_if_requested()?;
         tally.finish(&tracer).map_err(|e| anyhow!("{e}"))
     }
 }

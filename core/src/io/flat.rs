@@ -119,6 +119,8 @@ fn parse_count(s: &str, field: &'static str, max: u64) -> Result<u64> {
 pub fn parse_flat(text: &str) -> Result<FlatScene> {
     let mut builder = FlatScene::builder();
     let mut last_line = 1u32;
+    // The line of each surface, to locate coincident surfaces found at the end
+    let mut surface_lines: Vec<u32> = Vec::new();
     for (k, raw) in text.lines().enumerate() {
         let line_no = u32::try_from(k + 1).unwrap_or(u32::MAX);
         last_line = line_no;
@@ -130,11 +132,28 @@ pub fn parse_flat(text: &str) -> Result<FlatScene> {
             continue;
         };
         parse_item(keyword, &mut fields, &mut builder).map_err(|e| e.with_line(line_no))?;
+        surface_lines.resize(builder.surface_count(), line_no);
     }
-    builder.build().map_err(|e| match e.kind() {
+    builder.build().map_err(|e| match *e.kind() {
         ErrorKind::EmptyScene => e.with_line(last_line),
+        ErrorKind::CoincidentSurfaces { first, second } => {
+            locate_coincident(&surface_lines, first, second)
+        }
         _ => e,
     })
+}
+
+/// [`ErrorKind::CoincidentSurfaces`] located by the lines of the two surfaces: the error
+/// is on the later one's line and names the earlier one's.
+pub(super) fn locate_coincident(lines: &[u32], first: usize, second: usize) -> Error {
+    let line = |k: usize| lines.get(k).copied().unwrap_or(0);
+    let (other, here) = (line(first), line(second));
+    Error::at_line(
+        ErrorKind::CoincidentWith {
+            other_line: (other != here).then_some(other),
+        },
+        here,
+    )
 }
 
 fn parse_item(keyword: &str, f: &mut Fields<'_>, builder: &mut FlatSceneBuilder) -> Result<()> {
@@ -294,11 +313,11 @@ mod tests {
         assert_eq!(err("seg 0 0 x 1"), "line 1: x1: 'x' is not a number");
         assert_eq!(
             err("seg 0 0 NaN 1"),
-            "line 1: x1: number is NaN or infinite"
+            "line 1: x1: number is NaN, infinite or beyond the range of f64"
         );
         assert_eq!(
             err("seg 0 0 inf 1"),
-            "line 1: x1: number is NaN or infinite"
+            "line 1: x1: number is NaN, infinite or beyond the range of f64"
         );
         assert_eq!(err("seg 0 0 1"), "line 1: missing field y1");
         assert_eq!(err("seg 0 0 1 1 2 3"), "line 1: unexpected extra field '3'");
@@ -309,7 +328,7 @@ mod tests {
         );
         assert_eq!(
             err("seg 0 0 1 1 99999999999999999999999"),
-            "line 1: patch count 18446744073709551615 is out of range (1 to 1000000)"
+            "line 1: patch count 18446744073709551615 or more is out of range (1 to 1000000)"
         );
         assert_eq!(
             err("seg 0 0 1 1 -2"),
@@ -341,7 +360,7 @@ mod tests {
         );
         assert_eq!(
             err("seg 0 0 1e13 0"),
-            "line 1: coordinates too large: lengths overflow"
+            "line 1: coordinate too large: every coordinate must lie within ±1000000000000"
         );
     }
 

@@ -109,15 +109,21 @@ pub fn parse_obj(
         subdivision,
     };
     let mut last_line = 1;
+    // The line of each face, to locate coincident faces found at the end
+    let mut face_lines: Vec<u32> = Vec::new();
     for (k, raw) in obj.lines().enumerate() {
         let line_no = line_number(k);
         last_line = line_no;
         state
             .statement(content(raw), &mtl)
             .map_err(|e| e.with_line(line_no))?;
+        face_lines.resize(state.builder.face_count(), line_no);
     }
-    state.builder.build().map_err(|e| match e.kind() {
+    state.builder.build().map_err(|e| match *e.kind() {
         ErrorKind::EmptyScene => e.with_line(last_line),
+        ErrorKind::CoincidentSurfaces { first, second } => {
+            super::flat::locate_coincident(&face_lines, first, second)
+        }
         _ => e,
     })
 }

@@ -310,6 +310,12 @@ impl FlatSceneBuilder {
         Ok(self)
     }
 
+    /// Number of surfaces (segments) added so far.
+    #[must_use]
+    pub fn surface_count(&self) -> usize {
+        self.surfaces.len()
+    }
+
     /// Number of patches added so far.
     #[must_use]
     pub fn patch_count(&self) -> u64 {
@@ -320,13 +326,22 @@ impl FlatSceneBuilder {
     ///
     /// # Errors
     /// [`ErrorKind::EmptyScene`] if nothing was added; [`ErrorKind::ZeroLengthSegment`] if a
-    /// patch is too short to have a positive `f64` length.
+    /// patch is too short to have a positive `f64` length; [`ErrorKind::CoincidentSurfaces`]
+    /// if two segments lie on one line, face the same way and overlap
+    /// ([`super::coincident`]).
     pub fn build(&self) -> Result<FlatScene> {
         let mut materials = self.materials.clone();
         if materials.is_empty() {
             materials.push(Material::BLACK);
         }
-        assemble(self.surfaces.clone(), materials)
+        let scene = assemble(self.surfaces.clone(), materials)?;
+        let segments: Vec<(DVec2, DVec2)> = scene
+            .surfaces
+            .iter()
+            .map(|s| (s.segment.a, s.segment.b))
+            .collect();
+        super::coincident::refuse(super::coincident::coincident_segments(&segments))?;
+        Ok(scene)
     }
 }
 

@@ -446,11 +446,19 @@ impl SceneBuilder {
     /// The finished scene.
     ///
     /// # Errors
-    /// [`ErrorKind::EmptyScene`] if no face was added.
+    /// [`ErrorKind::EmptyScene`] if no face was added; [`ErrorKind::CoincidentSurfaces`]
+    /// (face indices) if two faces lie in one plane, face the same way and overlap
+    /// ([`super::coincident`]).
     pub fn build(&self) -> Result<Scene> {
         if self.faces.is_empty() {
             return Err(ErrorKind::EmptyScene.into());
         }
+        let faces: Vec<(&[DVec3], DVec3)> = self
+            .faces
+            .iter()
+            .map(|f| (&self.points[f.first..f.first + f.count], f.normal))
+            .collect();
+        super::coincident::refuse(super::coincident::coincident_faces(&faces))?;
         let mut total = KahanSum::new();
         for p in &self.patches {
             total.add(p.area);

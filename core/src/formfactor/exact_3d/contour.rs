@@ -45,6 +45,13 @@ const INTERSECTION_REACH: f64 = 8.0;
 /// Deepest bisection of the adaptive quadrature.
 const MAX_DEPTH: u32 = 48;
 
+/// Most bisections of one adaptive integral. Depth alone does not bound the work: an
+/// integrand whose rounding noise stays above the error floor would be bisected down to
+/// `MAX_DEPTH` everywhere (2⁴⁸ pieces — a hang, found by `fuzz_obj_pipeline` on three
+/// slivers 950 units long sharing edges). Past the budget, pieces keep their 15-point
+/// estimate; smooth integrands converge in a few dozen bisections.
+const MAX_BISECTIONS: u32 = 1 << 12;
+
 /// Gauss–Kronrod (7, 15) nodes on `[−1, 1]` (non-negative half, descending: `x₀ = 0.991…`,
 /// `x₇ = 0`). Odd indices are the 7-point Gauss nodes. Values from QUADPACK (Piessens et
 /// al. 1983), `qk15`.
@@ -232,12 +239,13 @@ impl Kernel {
             self.f1(lq - a, h) - self.f1(-a, h)
         };
         let tol = self.tol;
+        let mut budget = MAX_BISECTIONS;
         if s_star > 0.0 && s_star < lp {
             let f = s_star / lp;
-            adapt(&g, 0.0, s_star, tol * f, MAX_DEPTH)
-                + adapt(&g, s_star, lp, tol * (1.0 - f), MAX_DEPTH)
+            adapt(&g, 0.0, s_star, tol * f, MAX_DEPTH, &mut budget)
+                + adapt(&g, s_star, lp, tol * (1.0 - f), MAX_DEPTH, &mut budget)
         } else {
-            adapt(&g, 0.0, lp, tol, MAX_DEPTH)
+            adapt(&g, 0.0, lp, tol, MAX_DEPTH, &mut budget)
         }
     }
 }
@@ -263,14 +271,16 @@ fn gk15(g: &impl Fn(f64) -> f64, a: f64, b: f64) -> (f64, f64, f64) {
 }
 
 /// Adaptive bisection of [`gk15`] until the error estimate of each piece is below its share
-/// of `tol` (proportional to its length) or at the rounding floor of its terms.
-fn adapt(g: &impl Fn(f64) -> f64, a: f64, b: f64, tol: f64, depth: u32) -> f64 {
+/// of `tol` (proportional to its length) or at the rounding floor of its terms, at most
+/// `depth` levels deep and `budget` bisections in all (decremented).
+fn adapt(g: &impl Fn(f64) -> f64, a: f64, b: f64, tol: f64, depth: u32, budget: &mut u32) -> f64 {
     let (k, err, abs) = gk15(g, a, b);
-    if err <= tol || err <= 50.0 * f64::EPSILON * abs || depth == 0 {
+    if err <= tol || err <= 50.0 * f64::EPSILON * abs || depth == 0 || *budget == 0 {
         return k;
     }
+    *budget -= 1;
     let m = 0.5 * (a + b);
-    adapt(g, a, m, 0.5 * tol, depth - 1) + adapt(g, m, b, 0.5 * tol, depth - 1)
+    adapt(g, a, m, 0.5 * tol, depth - 1, budget) + adapt(g, m, b, 0.5 * tol, depth - 1, budget)
 }
 
 #[cfg(test)]
@@ -283,6 +293,7 @@ mod tests {
         let (e1, e2) = ((p1 - p0) / lp, (q1 - q0) / lq);
         let inner = |s: f64| {
             let x = p0 + s * e1;
+            let mut unlimited = u32::MAX;
             adapt(
                 &|t: f64| {
                     // The singular point itself (a null set) is skipped.
@@ -297,9 +308,11 @@ mod tests {
                 lq,
                 1e-14,
                 40,
+                &mut unlimited,
             )
         };
-        e1.dot(e2) * adapt(&inner, 0.0, lp, 1e-13, 40)
+        let mut unlimited = u32::MAX;
+        e1.dot(e2) * adapt(&inner, 0.0, lp, 1e-13, 40, &mut unlimited)
     }
 
     fn kernel() -> Kernel {

@@ -69,20 +69,24 @@ fn subdivisions_of_the_cube() {
 #[test]
 fn face_vertex_forms_and_negative_indices() {
     let forms = "v 0 0 0\nv 1 0 0\nv 1 1 0 1.0\nv 0 1 0 0.5 0.5 0.5\nvt 0 0\nvt 1 0\nvn 0 0 1\n\
-                 s off\nf 1/1 2/2/1 3//1 4\nf -4/-2/-1 -3 -2//-1 -1\nl 1 2\np 3\n";
+                 s off\nf 1/1 2/2/1 3//1 4\nf -1 -2//-1 -3 -4/-2/-1\nl 1 2\np 3\n";
+    // (The second face is the first one reversed: the same face twice would be two
+    // coincident surfaces.)
     let s = parse_obj(forms, Subdivision::None, no_mtl).unwrap();
     assert_eq!(s.n_patches(), 2);
-    assert_eq!(s.face_vertices(0), s.face_vertices(1));
+    let mut reversed = s.face_vertices(1).to_vec();
+    reversed.reverse();
+    assert_eq!(s.face_vertices(0), reversed);
     assert_eq!(s.face_vertices(0)[2], DVec3::new(1.0, 1.0, 0.0));
     // A negative index counts back from the vertices defined so far.
-    let rel = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 5 0 0\nv 5 1 0\nf -5 -2 -1\n";
+    let rel = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 5 0 1\nv 5 1 1\nf -5 -2 -1\n";
     let s = parse_obj(rel, Subdivision::None, no_mtl).unwrap();
     assert_eq!(
         s.face_vertices(1),
         [
             DVec3::ZERO,
-            DVec3::new(5.0, 0.0, 0.0),
-            DVec3::new(5.0, 1.0, 0.0)
+            DVec3::new(5.0, 0.0, 1.0),
+            DVec3::new(5.0, 1.0, 1.0)
         ]
     );
 }
@@ -138,10 +142,13 @@ fn errors_name_line_and_problem() {
     );
     assert_eq!(err("v 0 0\n"), "line 1: missing field z");
     assert_eq!(err("v 0 x 0\n"), "line 1: y: 'x' is not a number");
-    assert_eq!(err("v 0 0 nan\n"), "line 1: z: number is NaN or infinite");
+    assert_eq!(
+        err("v 0 0 nan\n"),
+        "line 1: z: number is NaN, infinite or beyond the range of f64"
+    );
     assert_eq!(
         err("v 0 0 1e13\nv 1 0 0\nv 0 1 0\nf 1 2 3"),
-        "line 4: coordinates too large: lengths overflow"
+        "line 4: coordinate too large: every coordinate must lie within ±1000000000000"
     );
     assert_eq!(
         err("v 0 0 0 1 2 3 4\n"),
@@ -185,7 +192,7 @@ fn material_library_errors_name_both_lines() {
     );
     assert_eq!(
         e("newmtl a\nKe 1 inf 1\n"),
-        "line 2: material library 'box.mtl' line 2: Ke: number is NaN or infinite"
+        "line 2: material library 'box.mtl' line 2: Ke: number is NaN, infinite or beyond the range of f64"
     );
     assert_eq!(
         e("newmtl a\nKd 0.5 0.5\n"),

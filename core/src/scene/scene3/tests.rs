@@ -178,15 +178,22 @@ fn cube_like(s: &Scene) -> Scene {
 #[test]
 fn materials_and_objects_are_listed_once_in_first_use_order() {
     let red = Material::new([0.5, 0.0, 0.0], [0.0; 3]).unwrap();
-    let tri = [DVec3::ZERO, DVec3::X, DVec3::Y];
+    // Three parallel triangles (one triangle three times would be coincident faces)
+    let tri = |z: f64| {
+        [
+            DVec3::new(0.0, 0.0, z),
+            DVec3::new(1.0, 0.0, z),
+            DVec3::new(0.0, 1.0, z),
+        ]
+    };
     let mut b = Scene::builder();
     b.material(Material::new([0.9; 3], [0.0; 3]).unwrap()); // never used
     b.material(red).object("a");
-    b.polygon(&tri, Subdivision::None).unwrap();
+    b.polygon(&tri(0.0), Subdivision::None).unwrap();
     b.material(Material::BLACK).object("b");
-    b.polygon(&tri, Subdivision::None).unwrap();
+    b.polygon(&tri(1.0), Subdivision::None).unwrap();
     b.material(red).object("a");
-    b.polygon(&tri, Subdivision::None).unwrap();
+    b.polygon(&tri(2.0), Subdivision::None).unwrap();
     let s = b.build().unwrap();
     assert_eq!(s.materials(), [red, Material::BLACK]);
     assert_eq!(s.objects(), ["a", "b"]);
@@ -214,7 +221,7 @@ fn rejects_bad_faces_with_clear_messages() {
     nan[2].y = f64::NAN;
     assert_eq!(
         message(b.polygon(&nan, Subdivision::None)),
-        "coordinate: number is NaN or infinite"
+        "coordinate: number is NaN, infinite or beyond the range of f64"
     );
     let mut far = sq;
     far[2].y = 2e12;

@@ -1,0 +1,384 @@
+//! Coincident surfaces: two flatland segments on one line, or two 3D faces in one plane,
+//! facing the same way and overlapping over a positive length or area.
+//!
+//! Such a pair is two surfaces in one place: which one a line meets first is decided by
+//! rounding, so form factors to either are arbitrary (and Monte Carlo may starve one of
+//! samples). The builders refuse them ([`ErrorKind::CoincidentSurfaces`]). Opposite facings
+//! are legal (a two-sided wall), as are surfaces that only touch (a wall cut into pieces).
+//!
+//! # Tolerances
+//!
+//! With `R` the largest coordinate magnitude of the scene, two surfaces coincide when
+//!
+//! ```text
+//! |n_i − n_j|_∞ ≤ 1e-9          unit directions (2D) or normals (3D), same facing
+//! |dist(v, plane_i)| ≤ 1e-12 R  for every vertex v of j (and of i to plane j)
+//! overlap depth > 1e-12 R        along every separating axis (convex sets)
+//! ```
+//!
+//! `1e-12 R` is ten times the exact flatland form factors' "on a line" tolerance, so what
+//! this refuses is what they could not tell apart; nearly coincident surfaces further
+//! apart are legal and measured.
+//!
+//! # Cost
+//!
+//! `O(n log n)`: surfaces are sorted by their quantised direction and line offset (cells
+//! of `1e-6`, `1e-6 R`), then each is compared with those of its cell (and of a neighbour
+//! cell when it lies within the tolerance of a cell boundary) whose extent along the
+//! direction overlaps its own.
+
+use alloc::vec::Vec;
+
+use crate::error::{ErrorKind, Result};
+use crate::geom::{DVec2, DVec3, cross};
+
+/// Largest difference of unit directions or normals, per component, between coincident
+/// surfaces.
+const DIRECTION_TOLERANCE: f64 = 1e-9;
+
+/// Distance tolerance, relative to the scene's largest coordinate magnitude.
+const DISTANCE_TOLERANCE: f64 = 1e-12;
+
+/// Cell width of the direction components.
+const DIRECTION_CELL: f64 = 1e-6;
+
+/// Cell width of the line or plane offset, relative to the largest coordinate magnitude.
+const OFFSET_CELL: f64 = 1e-6;
+
+/// One surface in the sort: its cell, its extent along the sweep axis, its index.
+struct Entry<const K: usize> {
+    cell: [i64; K],
+    /// Fractional positions inside the cell, per dimension, to find near-boundary ones.
+    frac: [f64; K],
+    lo: f64,
+    hi: f64,
+    index: usize,
+}
+
+/// Quantises `x` into cells of width `w`: the cell and the position inside it in `[0, 1)`.
+fn quantise(x: f64, w: f64) -> (i64, f64) {
+    let x = x / w;
+    // Floor by a saturating cast (the values are bounded: unit vectors, offsets ≤ 2R)
+    let t = x as i64;
+    let q = if (t as f64) > x { t - 1 } else { t };
+    (q, x - q as f64)
+}
+
+/// Sweeps the entries for a pair `precise` accepts, returning the pair `(i, j)`, `i < j`,
+/// with the smallest `j` (the first surface, in input order, that coincides with an
+/// earlier one).
+fn sweep<const K: usize>(
+    entries: &mut [Entry<K>],
+    slack: [f64; K],
+    window: f64,
+    precise: impl Fn(usize, usize) -> bool,
+) -> Option<(usize, usize)> {
+    entries.sort_by(|a, b| a.cell.cmp(&b.cell).then(a.lo.total_cmp(&b.lo)));
+    let mut best: Option<(usize, usize)> = None;
+    for e in entries.iter() {
+        // The cells to search: this one, and a neighbour per dimension where e lies
+        // within the tolerance of the boundary.
+        let mut offsets: heapless::Vec<[i64; K], 81> = heapless::Vec::new();
+        let _ = offsets.push([0; K]);
+        for d in 0..K {
+            let steps: heapless::Vec<i64, 2> = [
+                (e.frac[d] < slack[d]).then_some(-1),
+                (e.frac[d] > 1.0 - slack[d]).then_some(1),
+            ]
+            .into_iter()
+            .flatten()
+            .collect();
+            let current = offsets.clone();
+            for step in steps {
+                for o in &current {
+                    let mut o = *o;
+                    o[d] = step;
+                    let _ = offsets.push(o);
+                }
+            }
+        }
+        for o in &offsets {
+            let mut cell = e.cell;
+            for d in 0..K {
+                cell[d] = cell[d].saturating_add(o[d]);
+            }
+            // Entries of that cell starting before e ends (those starting before e's start
+            // are found from their own side, unless they start within the window)
+            let from = entries
+                .partition_point(|x| x.cell < cell || (x.cell == cell && x.lo < e.lo - window));
+            let to = entries
+                .partition_point(|x| x.cell < cell || (x.cell == cell && x.lo < e.hi - window));
+            for x in &entries[from..to.max(from)] {
+                if x.index == e.index {
+                    continue;
+                }
+                let pair = (x.index.min(e.index), x.index.max(e.index));
+                if best.is_some_and(|b| (b.1, b.0) <= (pair.1, pair.0)) {
+                    continue;
+                }
+                if precise(pair.0, pair.1) {
+                    best = Some(pair);
+                }
+            }
+        }
+    }
+    best
+}
+
+/// The first pair of coincident flatland segments `(a, b)` (each facing its left), as
+/// indices `(i, j)` with `i < j` and `j` as small as possible.
+#[must_use]
+pub fn coincident_segments(segments: &[(DVec2, DVec2)]) -> Option<(usize, usize)> {
+    let r = segments
+        .iter()
+        .flat_map(|&(a, b)| [a.x, a.y, b.x, b.y])
+        .fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+    let tol = DISTANCE_TOLERANCE * r;
+    let unit = |k: usize| {
+        let (a, b) = segments[k];
+        (b - a) / crate::math::hypot(b.x - a.x, b.y - a.y)
+    };
+    let mut entries: Vec<Entry<3>> = Vec::with_capacity(segments.len());
+    for (k, &(a, b)) in segments.iter().enumerate() {
+        let d = unit(k);
+        let c = cross(d, a);
+        let cells = [
+            quantise(d.x, DIRECTION_CELL),
+            quantise(d.y, DIRECTION_CELL),
+            quantise(c, OFFSET_CELL * r),
+        ];
+        let (t0, t1) = (d.dot(a), d.dot(b));
+        entries.push(Entry {
+            cell: cells.map(|c| c.0),
+            frac: cells.map(|c| c.1),
+            lo: t0.min(t1),
+            hi: t0.max(t1),
+            index: k,
+        });
+    }
+    let direction_slack = DIRECTION_TOLERANCE / DIRECTION_CELL;
+    // Offsets c = d × a of coincident segments differ by the tolerance plus the direction
+    // difference times |a| ≤ √2 R.
+    let offset_slack = (tol + 2.0 * DIRECTION_TOLERANCE * r) / (OFFSET_CELL * r);
+    let precise = |i: usize, j: usize| {
+        let (di, dj) = (unit(i), unit(j));
+        let (ai, bi) = segments[i];
+        let (aj, bj) = segments[j];
+        let length = (bi - ai).dot(di);
+        let (s0, s1) = ((aj - ai).dot(di), (bj - ai).dot(di));
+        (di - dj).abs().max_element() <= DIRECTION_TOLERANCE
+            && di.dot(dj) > 0.0
+            && cross(di, aj - ai).abs() <= tol
+            && cross(di, bj - ai).abs() <= tol
+            && cross(dj, ai - aj).abs() <= tol
+            && cross(dj, bi - aj).abs() <= tol
+            && s1.min(length) - s0.max(0.0) > tol
+    };
+    sweep(
+        &mut entries,
+        [direction_slack, direction_slack, offset_slack],
+        2.0 * DIRECTION_TOLERANCE * r + tol,
+        precise,
+    )
+}
+
+/// The first pair of coincident convex planar faces, given as vertex lists with unit
+/// normals, as indices `(i, j)` with `i < j` and `j` as small as possible.
+#[must_use]
+pub fn coincident_faces(faces: &[(&[DVec3], DVec3)]) -> Option<(usize, usize)> {
+    let r = faces
+        .iter()
+        .flat_map(|(v, _)| v.iter().flat_map(|p| p.to_array()))
+        .fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+    let tol = DISTANCE_TOLERANCE * r;
+    let mut entries: Vec<Entry<4>> = Vec::with_capacity(faces.len());
+    for (k, &(vertices, n)) in faces.iter().enumerate() {
+        let Some(&p0) = vertices.first() else {
+            continue;
+        };
+        let cells = [
+            quantise(n.x, DIRECTION_CELL),
+            quantise(n.y, DIRECTION_CELL),
+            quantise(n.z, DIRECTION_CELL),
+            quantise(n.dot(p0), OFFSET_CELL * r),
+        ];
+        let (lo, hi) = vertices
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p.x), hi.max(p.x))
+            });
+        entries.push(Entry {
+            cell: cells.map(|c| c.0),
+            frac: cells.map(|c| c.1),
+            lo,
+            hi,
+            index: k,
+        });
+    }
+    let direction_slack = DIRECTION_TOLERANCE / DIRECTION_CELL;
+    let offset_slack = (tol + 2.0 * DIRECTION_TOLERANCE * r) / (OFFSET_CELL * r);
+    let precise = |i: usize, j: usize| {
+        let ((vi, ni), (vj, nj)) = (faces[i], faces[j]);
+        let on_plane =
+            |vs: &[DVec3], n: DVec3, p: DVec3| vs.iter().all(|v| n.dot(*v - p).abs() <= tol);
+        (ni - nj).abs().max_element() <= DIRECTION_TOLERANCE
+            && ni.dot(nj) > 0.0
+            && on_plane(vj, ni, vi[0])
+            && on_plane(vi, nj, vj[0])
+            && convex_overlap(vi, vj, ni, tol)
+    };
+    sweep(
+        &mut entries,
+        [
+            direction_slack,
+            direction_slack,
+            direction_slack,
+            offset_slack,
+        ],
+        tol,
+        precise,
+    )
+}
+
+/// Whether two coplanar convex polygons (plane normal `n`) overlap deeper than `tol` along
+/// every edge normal of both (the separating axis theorem): touching along an edge or at a
+/// vertex is not overlap.
+fn convex_overlap(a: &[DVec3], b: &[DVec3], n: DVec3, tol: f64) -> bool {
+    // A basis of the plane
+    let u = n.any_orthonormal_vector();
+    let v = n.cross(u);
+    let flat = |p: &DVec3| DVec2::new(p.dot(u), p.dot(v));
+    let separated_by_edges_of = |p: &[DVec3]| {
+        (0..p.len()).any(|k| {
+            let e = flat(&p[(k + 1) % p.len()]) - flat(&p[k]);
+            let len = crate::math::hypot(e.x, e.y);
+            if !(len > 0.0) {
+                return false;
+            }
+            let axis = DVec2::new(-e.y, e.x) / len;
+            let span = |q: &[DVec3]| {
+                q.iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                        let s = flat(x).dot(axis);
+                        (lo.min(s), hi.max(s))
+                    })
+            };
+            let ((a0, a1), (b0, b1)) = (span(a), span(b));
+            a1.min(b1) - a0.max(b0) <= tol
+        })
+    };
+    !(separated_by_edges_of(a) || separated_by_edges_of(b))
+}
+
+/// Refuses coincident surfaces found by `find`.
+///
+/// # Errors
+///
+/// [`ErrorKind::CoincidentSurfaces`] naming the pair.
+pub fn refuse(found: Option<(usize, usize)>) -> Result<()> {
+    match found {
+        Some((first, second)) => Err(ErrorKind::CoincidentSurfaces { first, second }.into()),
+        None => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn v2(x: f64, y: f64) -> DVec2 {
+        DVec2::new(x, y)
+    }
+
+    #[test]
+    fn segments_on_one_line_facing_one_way_and_overlapping_coincide() {
+        let floor = (v2(0.0, 0.0), v2(1.0, 0.0));
+        assert_eq!(coincident_segments(&[floor, floor]), Some((0, 1)));
+        let shifted = (v2(0.5, 0.0), v2(1.5, 0.0));
+        assert_eq!(coincident_segments(&[floor, shifted]), Some((0, 1)));
+        // A two-sided wall, pieces that only touch, parallel neighbours: all legal
+        let reversed = (v2(1.0, 0.0), v2(0.0, 0.0));
+        let next = (v2(1.0, 0.0), v2(2.0, 0.0));
+        let above = (v2(0.0, 1e-6), v2(1.0, 1e-6));
+        let tilted = (v2(0.0, 0.0), v2(1.0, 1e-7));
+        for other in [reversed, next, above, tilted] {
+            assert_eq!(coincident_segments(&[floor, other]), None, "{other:?}");
+        }
+        // The first coincidence in input order is reported
+        let far = (v2(5.0, 5.0), v2(6.0, 5.0));
+        assert_eq!(
+            coincident_segments(&[far, floor, next, far, floor]),
+            Some((0, 3))
+        );
+    }
+
+    #[test]
+    fn faces_in_one_plane_facing_one_way_and_overlapping_coincide() {
+        let square = |dx: f64, z: f64| {
+            [
+                DVec3::new(dx, 0.0, z),
+                DVec3::new(dx + 1.0, 0.0, z),
+                DVec3::new(dx + 1.0, 1.0, z),
+                DVec3::new(dx, 1.0, z),
+            ]
+        };
+        let (a, b, c, d) = (
+            square(0.0, 0.0),
+            square(0.5, 0.0),
+            square(1.0, 0.0),
+            square(0.0, 1e-6),
+        );
+        let mut rotated = a;
+        rotated.rotate_left(1);
+        let mut reversed = a;
+        reversed.reverse();
+        let (up, down) = (DVec3::Z, -DVec3::Z);
+        assert_eq!(coincident_faces(&[(&a, up), (&rotated, up)]), Some((0, 1)));
+        assert_eq!(coincident_faces(&[(&a, up), (&b, up)]), Some((0, 1)));
+        for (other, n) in [(&reversed, down), (&c, up), (&d, up)] {
+            assert_eq!(coincident_faces(&[(&a, up), (other, n)]), None, "{other:?}");
+        }
+    }
+
+    #[test]
+    fn preset_scenes_have_no_coincident_surfaces() {
+        // Their builders run the check: cut faces only touch, packed cubes face each other.
+        for name in [
+            "cube",
+            "cornell",
+            "cornell-lifted",
+            "cubes-27-clustered",
+            "64-cubes-0",
+        ] {
+            let scene = crate::scene::preset_3d(name, 3);
+            assert!(scene.is_ok(), "{name}: {scene:?}");
+        }
+        for name in ["16-squares-0", "three-objects-5", "koch-3", "l-room-3"] {
+            let scene = crate::scene::catalogue_scene(name, 4);
+            assert!(scene.is_ok(), "{name}: {scene:?}");
+        }
+    }
+
+    proptest! {
+        /// A copy of a segment slid along its own line by less than its length coincides
+        /// with it; slid by its length or more (touching or apart), or reversed, it does
+        /// not. Anywhere in the plane, at any scale.
+        #[test]
+        fn sliding_a_segment_along_its_line(
+            ax in -1e3..1e3f64, ay in -1e3..1e3f64,
+            angle in 0.0..core::f64::consts::TAU, length in 1e-3..1e3f64,
+            slide in -0.99..0.99f64, apart in 1.0..3.0f64,
+        ) {
+            let a = v2(ax, ay);
+            let d = v2(crate::math::cos(angle), crate::math::sin(angle));
+            let b = a + d * length;
+            let seg = (a, b);
+            let slid = |t: f64| (a + d * (t * length), b + d * (t * length));
+            prop_assert_eq!(coincident_segments(&[seg, slid(slide)]), Some((0, 1)));
+            prop_assert_eq!(coincident_segments(&[seg, slid(apart)]), None);
+            prop_assert_eq!(coincident_segments(&[seg, slid(-apart)]), None);
+            prop_assert_eq!(coincident_segments(&[seg, (b, a)]), None);
+        }
+    }
+}

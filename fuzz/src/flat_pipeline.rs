@@ -1,0 +1,141 @@
+//! The check behind the `fuzz_flat_pipeline` target: `.flat` text → `parse_flat` → exact
+//! form factors → channel measures → a short seeded global-line estimate → its channel
+//! and `I_S^c`, asserting the invariant stated in
+//! `fuzz/fuzz_targets/fuzz_flat_pipeline.rs`.
+//!
+//! Compiled by the fuzz crate and, through `#[path]`, by `tests/fuzz_replay.rs`.
+
+use core::fmt;
+
+use sceneinfo::formfactor::estimate_2d::{FlatTracer, LineMethod};
+use sceneinfo::formfactor::exact_2d;
+use sceneinfo::formfactor::tally::LineTracer;
+
+use super::invariants::{self, MAX_INPUT_BYTES, Outcome};
+
+/// Largest scene, in patches, that goes through the pipeline.
+pub const MAX_PATCHES: usize = 48;
+
+/// Global lines of the Monte Carlo stage (less than one chunk: fast, yet most patches of
+/// a small scene are hit).
+pub const LINES: u64 = 3000;
+
+/// Tolerance of the exact form factors' closure and reciprocity: the report's
+/// `CHECK_TOLERANCE`. Exact flatland form factors are computed once per unordered pair
+/// and mirrored by reciprocity, and an open scene gets a background state, so both hold
+/// to rounding.
+pub const EXACT_TOLERANCE: f64 = sceneinfo::report::CHECK_TOLERANCE;
+
+/// One fuzz case; its `Debug` output is a Rust reproducer.
+pub struct FlatPipelineCase<'a>(pub &'a str);
+
+impl fmt::Debug for FlatPipelineCase<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "reproducer:")?;
+        writeln!(f, "    let text = {:?};", self.0)?;
+        writeln!(
+            f,
+            "    let scene = sceneinfo::io::parse_flat(text).unwrap();"
+        )?;
+        writeln!(
+            f,
+            "    let ff = sceneinfo::formfactor::exact_2d::form_factors(&scene);"
+        )?;
+        write!(
+            f,
+            "    let est = sceneinfo::formfactor::estimate_2d::estimate(&scene, \
+             LineMethod::Global, {:#x}, {LINES});",
+            invariants::seed_of(self.0.as_bytes())
+        )
+    }
+}
+
+/// Runs one input through the pipeline.
+///
+/// # Panics
+///
+/// When the core panics or an invariant breaks (the message holds a reproducer).
+pub fn check(data: &[u8]) -> Outcome {
+    if data.len() > MAX_INPUT_BYTES {
+        return Outcome::Rejected;
+    }
+    let Ok(text) = core::str::from_utf8(data) else {
+        return Outcome::Rejected;
+    };
+    let case = FlatPipelineCase(text);
+    let fail = |problem: String| -> ! { panic!("{problem}\n{case:?}") };
+
+    // Parse
+    let scene = match sceneinfo::io::parse_flat(text) {
+        Ok(scene) => scene,
+        Err(err) => return invariants::refused(&err, &case),
+    };
+    if scene.n_patches() > MAX_PATCHES {
+        return Outcome::TooLarge;
+    }
+
+    // Exact form factors: closed (with the background), reciprocal, identities exact
+    let ff = match exact_2d::form_factors(&scene) {
+        Ok(ff) => ff,
+        Err(err) => return invariants::refused(&err, &case),
+    };
+    if ff.n_patches() != scene.n_patches() {
+        fail(format!(
+            "{} form-factor patches for {} scene patches",
+            ff.n_patches(),
+            scene.n_patches()
+        ));
+    }
+    let channel = match ff.channel() {
+        Ok(channel) => channel,
+        Err(err) => fail(format!("exact form factors rejected by the channel: {err}")),
+    };
+    let checks = channel.checks();
+    if !checks.is_row_stochastic(EXACT_TOLERANCE) || !checks.is_reversible(EXACT_TOLERANCE) {
+        fail(format!(
+            "exact form factors not closed and reciprocal: {checks:?}"
+        ));
+    }
+    if let Err(problem) = invariants::check_channel(&channel) {
+        fail(format!("exact channel: {problem}"));
+    }
+
+    // A short seeded Monte Carlo run: finite estimates, consistent I_S^c split
+    let seed = invariants::seed_of(data);
+    let tracer = match FlatTracer::new(&scene) {
+        Ok(tracer) => tracer,
+        Err(err) => return invariants::refused(&err, &case),
+    };
+    let estimate = match tracer
+        .run(LineMethod::Global, seed, LINES)
+        .and_then(|tally| tally.finish(&tracer))
+    {
+        Ok(estimate) => estimate,
+        Err(err) => return invariants::refused(&err, &case),
+    };
+    let continuous = estimate.continuous;
+    if let Err(problem) = invariants::all_finite(
+        "I_S^c, its standard error",
+        &[continuous.value, continuous.stderr],
+    )
+    .and_then(|()| invariants::all_finite("I_i^c", &estimate.patch_continuous))
+    {
+        fail(problem);
+    }
+    let split: f64 = estimate.patch_continuous.iter().sum();
+    if (split - continuous.value).abs() > 1e-9 * (1.0 + continuous.value.abs()) {
+        fail(format!(
+            "per-patch I_i^c sum to {split}, I_S^c = {}",
+            continuous.value
+        ));
+    }
+    match estimate.form_factors.channel() {
+        Ok(channel) => {
+            if let Err(problem) = invariants::check_channel(&channel) {
+                fail(format!("Monte Carlo channel: {problem}"));
+            }
+        }
+        Err(err) => return invariants::refused(&err, &case),
+    }
+    Outcome::Checked
+}

@@ -1,0 +1,246 @@
+//! The bad-input catalogue (`tests/data/bad/`) through the JavaScript API: for every `.flat`
+//! file of `tests/data/bad/expected.txt` that a JavaScript string can hold (valid UTF-8)
+//! and that needs no command-line argument, `measureFlat` — and `new FlatLab` followed by
+//! `measures()` — throw a JavaScript `Error` whose message is exactly the catalogue's core
+//! message, the text the CLI prints after `FILE:`.
+//!
+//! Run on wasm32 by `wasm-bindgen-test-runner`: `cargo test -p sceneinfo-wasm --target
+//! wasm32-unknown-unknown` (scripts/test.sh does).
+
+#![cfg(target_arch = "wasm32")]
+
+use sceneinfo_wasm::FlatLab;
+use sceneinfo_wasm::measure_flat;
+use wasm_bindgen::{JsCast, JsError, JsValue};
+use wasm_bindgen_test::wasm_bindgen_test;
+
+/// The catalogue's table.
+const EXPECTED: &str = include_str!("../../tests/data/bad/expected.txt");
+
+/// Every `.flat` file of the catalogue that takes no argument, by name.
+const FILES: &[(&str, &[u8])] = &[
+    (
+        "binary_garbage.flat",
+        include_bytes!("../../tests/data/bad/binary_garbage.flat"),
+    ),
+    (
+        "coordinate_beyond_cap.flat",
+        include_bytes!("../../tests/data/bad/coordinate_beyond_cap.flat"),
+    ),
+    (
+        "cuts_not_increasing.flat",
+        include_bytes!("../../tests/data/bad/cuts_not_increasing.flat"),
+    ),
+    (
+        "cuts_outside_segment.flat",
+        include_bytes!("../../tests/data/bad/cuts_outside_segment.flat"),
+    ),
+    (
+        "duplicate_polygon.flat",
+        include_bytes!("../../tests/data/bad/duplicate_polygon.flat"),
+    ),
+    (
+        "duplicate_segment.flat",
+        include_bytes!("../../tests/data/bad/duplicate_segment.flat"),
+    ),
+    (
+        "emittance_negative.flat",
+        include_bytes!("../../tests/data/bad/emittance_negative.flat"),
+    ),
+    (
+        "empty.flat",
+        include_bytes!("../../tests/data/bad/empty.flat"),
+    ),
+    (
+        "exact_form_factors_too_many_patches.flat",
+        include_bytes!("../../tests/data/bad/exact_form_factors_too_many_patches.flat"),
+    ),
+    (
+        "extremely_long_line.flat",
+        include_bytes!("../../tests/data/bad/extremely_long_line.flat"),
+    ),
+    (
+        "extremely_long_number.flat",
+        include_bytes!("../../tests/data/bad/extremely_long_number.flat"),
+    ),
+    (
+        "inf_coordinate.flat",
+        include_bytes!("../../tests/data/bad/inf_coordinate.flat"),
+    ),
+    (
+        "invalid_utf8.flat",
+        include_bytes!("../../tests/data/bad/invalid_utf8.flat"),
+    ),
+    (
+        "material_unknown_clause.flat",
+        include_bytes!("../../tests/data/bad/material_unknown_clause.flat"),
+    ),
+    (
+        "material_without_clause.flat",
+        include_bytes!("../../tests/data/bad/material_without_clause.flat"),
+    ),
+    (
+        "missing_field.flat",
+        include_bytes!("../../tests/data/bad/missing_field.flat"),
+    ),
+    (
+        "nan_coordinate.flat",
+        include_bytes!("../../tests/data/bad/nan_coordinate.flat"),
+    ),
+    (
+        "nan_reflectance.flat",
+        include_bytes!("../../tests/data/bad/nan_reflectance.flat"),
+    ),
+    (
+        "negative_inf_vertex.flat",
+        include_bytes!("../../tests/data/bad/negative_inf_vertex.flat"),
+    ),
+    (
+        "not_a_number.flat",
+        include_bytes!("../../tests/data/bad/not_a_number.flat"),
+    ),
+    (
+        "number_overflows_f64.flat",
+        include_bytes!("../../tests/data/bad/number_overflows_f64.flat"),
+    ),
+    (
+        "only_a_material.flat",
+        include_bytes!("../../tests/data/bad/only_a_material.flat"),
+    ),
+    (
+        "only_comments.flat",
+        include_bytes!("../../tests/data/bad/only_comments.flat"),
+    ),
+    (
+        "only_whitespace.flat",
+        include_bytes!("../../tests/data/bad/only_whitespace.flat"),
+    ),
+    (
+        "overlapping_collinear_segments.flat",
+        include_bytes!("../../tests/data/bad/overlapping_collinear_segments.flat"),
+    ),
+    (
+        "patch_count_above_surface_cap.flat",
+        include_bytes!("../../tests/data/bad/patch_count_above_surface_cap.flat"),
+    ),
+    (
+        "patch_count_absurd.flat",
+        include_bytes!("../../tests/data/bad/patch_count_absurd.flat"),
+    ),
+    (
+        "patch_count_fraction.flat",
+        include_bytes!("../../tests/data/bad/patch_count_fraction.flat"),
+    ),
+    (
+        "patch_count_negative.flat",
+        include_bytes!("../../tests/data/bad/patch_count_negative.flat"),
+    ),
+    (
+        "patch_count_zero.flat",
+        include_bytes!("../../tests/data/bad/patch_count_zero.flat"),
+    ),
+    (
+        "polygon_folding_onto_itself.flat",
+        include_bytes!("../../tests/data/bad/polygon_folding_onto_itself.flat"),
+    ),
+    (
+        "polygon_missing_vertex.flat",
+        include_bytes!("../../tests/data/bad/polygon_missing_vertex.flat"),
+    ),
+    (
+        "polygon_trailing_field.flat",
+        include_bytes!("../../tests/data/bad/polygon_trailing_field.flat"),
+    ),
+    (
+        "polygon_two_vertices.flat",
+        include_bytes!("../../tests/data/bad/polygon_two_vertices.flat"),
+    ),
+    (
+        "polygon_vertex_count_absurd.flat",
+        include_bytes!("../../tests/data/bad/polygon_vertex_count_absurd.flat"),
+    ),
+    (
+        "reflectance_negative.flat",
+        include_bytes!("../../tests/data/bad/reflectance_negative.flat"),
+    ),
+    (
+        "reflectance_one.flat",
+        include_bytes!("../../tests/data/bad/reflectance_one.flat"),
+    ),
+    (
+        "scene_patch_total_above_cap.flat",
+        include_bytes!("../../tests/data/bad/scene_patch_total_above_cap.flat"),
+    ),
+    (
+        "trailing_field.flat",
+        include_bytes!("../../tests/data/bad/trailing_field.flat"),
+    ),
+    (
+        "truncated_utf8.flat",
+        include_bytes!("../../tests/data/bad/truncated_utf8.flat"),
+    ),
+    (
+        "unknown_keyword.flat",
+        include_bytes!("../../tests/data/bad/unknown_keyword.flat"),
+    ),
+    (
+        "zero_length_polygon_side.flat",
+        include_bytes!("../../tests/data/bad/zero_length_polygon_side.flat"),
+    ),
+    (
+        "zero_length_segment.flat",
+        include_bytes!("../../tests/data/bad/zero_length_segment.flat"),
+    ),
+];
+
+/// The message of a thrown `JsError`.
+fn message(err: JsError) -> String {
+    let err: js_sys::Error = JsValue::from(err).dyn_into().expect("a JS Error");
+    String::from(err.message())
+}
+
+/// `(file, message)` for the `.flat` lines of the table without arguments.
+fn flat_entries() -> Vec<(String, String)> {
+    EXPECTED
+        .lines()
+        .filter(|l| !l.trim().is_empty() && !l.starts_with('#'))
+        .filter_map(|l| {
+            let fields: Vec<&str> = l.splitn(3, " | ").collect();
+            let (file, args, msg) = (fields[0].trim(), fields[1].trim(), fields[2].trim());
+            (file.ends_with(".flat") && args.is_empty()).then(|| (file.into(), msg.into()))
+        })
+        .collect()
+}
+
+#[wasm_bindgen_test]
+fn every_flat_file_of_the_catalogue_is_included() {
+    let mut listed: Vec<String> = flat_entries().into_iter().map(|(f, _)| f).collect();
+    let mut included: Vec<String> = FILES.iter().map(|(f, _)| (*f).into()).collect();
+    listed.sort();
+    included.sort();
+    assert_eq!(listed, included, "add the new catalogue files to FILES");
+}
+
+#[wasm_bindgen_test]
+fn bad_flat_inputs_throw_the_core_message() {
+    let mut failures = Vec::new();
+    let mut checked = 0;
+    for (file, want) in flat_entries() {
+        let bytes = FILES.iter().find(|(f, _)| *f == file).map(|(_, b)| *b);
+        let Some(Ok(text)) = bytes.map(core::str::from_utf8) else {
+            continue; // not valid UTF-8: no JavaScript string holds it
+        };
+        checked += 1;
+        let via_measure = measure_flat(text).map(|_| ()).map_err(message);
+        let via_lab = FlatLab::new(text)
+            .and_then(|mut lab| lab.measures().map(|_| ()))
+            .map_err(message);
+        for (api, got) in [("measureFlat", via_measure), ("FlatLab", via_lab)] {
+            if got.as_deref() != Err(want.as_str()) {
+                failures.push(format!("{file} ({api}): want {want:?}, got {got:?}"));
+            }
+        }
+    }
+    assert!(checked >= 35, "only {checked} catalogue files checked");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
