@@ -250,6 +250,15 @@ pub enum ErrorKind {
         /// The value given.
         value: f64,
     },
+
+    // ---- hierarchical radiosity -----------------------------------------------------------
+    /// A refinement oracle's name is not known.
+    UnknownOracle(Token),
+    /// A reference solution's polygon lies on no element of the scene compared with it.
+    ReferenceOffScene {
+        /// Index of the reference polygon.
+        polygon: usize,
+    },
 }
 
 impl fmt::Display for ErrorKind {
@@ -340,6 +349,15 @@ impl fmt::Display for ErrorKind {
             K::BadParameter { name, value } => {
                 write!(f, "parameter {name} = {value} is out of range")
             }
+            K::UnknownOracle(t) => write!(
+                f,
+                "unknown oracle '{t}' (power, ks, ks-av, mi, mi-increase or regular)"
+            ),
+            K::ReferenceOffScene { polygon } => write!(
+                f,
+                "reference polygon {polygon} lies on no surface of the scene: the reference \
+                 is of another scene"
+            ),
         }
     }
 }
