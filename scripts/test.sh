@@ -245,12 +245,8 @@ check_no_std_alloc() {
 }
 
 build_wasm() {
-    local wasm=${CARGO_TARGET_DIR:-target}/wasm32-unknown-unknown/wasm-release/sceneinfo_wasm.wasm
-    rm -rf wasm/www/pkg
-    x cargo build -p sceneinfo-wasm --target wasm32-unknown-unknown --profile wasm-release
-    x wasm-bindgen --target web --no-typescript --out-dir wasm/www/pkg "$wasm"
-    printf 'wasm size: %s bytes (cargo output), %s bytes (wasm/www/pkg/sceneinfo_wasm_bg.wasm)\n' \
-        "$(stat -c %s "$wasm")" "$(stat -c %s wasm/www/pkg/sceneinfo_wasm_bg.wasm)"
+    # The README's one command for the page: cargo build (wasm-release) + wasm-bindgen.
+    x ./scripts/build-web.sh
 }
 
 test_wasm_node() {
@@ -261,7 +257,10 @@ test_wasm_node() {
 
 test_browser() {
     [[ -f wasm/www/pkg/sceneinfo_wasm.js ]] || { echo "wasm/www/pkg is missing: the wasm build failed"; return 1; }
-    x node --test --test-reporter=spec "$E2E_DIR/page.test.mjs"
+    # cli_parity.test.mjs compares the wasm API with the CLI binary (built by cargo test).
+    x cargo build -p sceneinfo-cli
+    SCENEINFO_BIN=${CARGO_TARGET_DIR:-target}/debug/sceneinfo \
+        x node --test --test-reporter=spec "$E2E_DIR/cli_parity.test.mjs" "$E2E_DIR/page.test.mjs"
     [[ -s target/e2e/index.png ]] || { echo "no screenshot at target/e2e/index.png"; return 1; }
     printf 'screenshot: target/e2e/index.png (%s bytes)\n' "$(stat -c %s target/e2e/index.png)"
 }

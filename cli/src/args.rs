@@ -31,6 +31,10 @@ pub enum Command {
     /// Draw a flatland scene as SVG, patches coloured by I_i, H_i, I_i^c or I_i^c − I_i, and
     /// optionally the mutual information matrix I_ij as a heat map.
     Draw(DrawArgs),
+    /// Refine a scene's mesh with an oracle: flatland (.flat) by halving patches (de, power,
+    /// regular; thesis §6.5.2), 3D (.obj) by hierarchical radiosity (power, ks, ks-av, mi,
+    /// mi-increase; §6.4). Prints the mesh's measures; --svg/--ply/--png draw it.
+    Refine(RefineArgs),
 }
 
 /// Preset scenes.
@@ -259,4 +263,82 @@ pub enum Colour {
     H,
     /// Discretisation error I_i^c − I_i (§6.5.2).
     Delta,
+}
+
+/// Arguments of `refine`.
+#[derive(Debug, clap::Args)]
+pub struct RefineArgs {
+    /// The scene file: `.flat` (flatland refinement) or `.obj` (hierarchical radiosity).
+    pub file: PathBuf,
+    /// Which oracle decides what to split.
+    #[arg(long, value_enum)]
+    pub oracle: Oracle,
+    /// Accuracy to stop at: for .flat, the relative discretisation error
+    /// (I_S^c − I_S)/I_S^c; for .obj, the oracle's threshold ε.
+    #[arg(long, value_name = "E")]
+    pub eps: Option<f64>,
+    /// Patch (element) count to stop at. For .flat the default is 8 times the starting mesh
+    /// (26 → 208 as in the thesis' Table 6.2).
+    #[arg(long, value_name = "N")]
+    pub target: Option<usize>,
+    /// Point pairs per oracle evaluation of the 3D oracles (default 10; the thesis' robustness
+    /// experiment uses 4).
+    #[arg(long, value_name = "K")]
+    pub pairs: Option<u32>,
+    /// Lines: for .flat, the global lines that tally I^c along the surfaces once (default
+    /// 1e6); for .obj, the radiosity rays.
+    #[arg(long, value_name = "N", value_parser = parse_count)]
+    pub lines: Option<u64>,
+    /// Seed of the line streams: the result depends on the seed and the budgets only.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Worker threads (default: all cores). Never changes the result.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Write the refined flatland mesh as SVG, patches coloured by I_i^c − I_i.
+    #[arg(long, value_name = "OUT.svg")]
+    pub svg: Option<PathBuf>,
+    /// Write the refined 3D mesh as a PLY with radiosity colours.
+    #[arg(long, value_name = "OUT.ply")]
+    pub ply: Option<PathBuf>,
+    /// Render the refined 3D mesh (Gouraud-shaded radiosity, element edges) as PNG.
+    #[arg(long, value_name = "OUT.png")]
+    pub png: Option<PathBuf>,
+    /// A reference solution to report the RMS error against (3D).
+    #[arg(long, value_name = "F")]
+    pub reference: Option<PathBuf>,
+    /// Write the refined flatland mesh as a .flat file (it reads back bit for bit).
+    #[arg(short, long, value_name = "OUT.flat")]
+    pub output: Option<PathBuf>,
+    /// Width of an SVG picture in pixels.
+    #[arg(
+        long,
+        value_name = "PX",
+        default_value_t = 800,
+        value_parser = clap::value_parser!(u32).range(200..=20000)
+    )]
+    pub width: u32,
+}
+
+/// Refinement oracles (thesis chapter 6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Oracle {
+    /// Transported power (2.48): flatland splits the patch of largest I_i (the thesis'
+    /// "power-based" rival); 3D refines links by B_j F_ij A_i.
+    Power,
+    /// Kernel smoothness (2.49), 3D.
+    Ks,
+    /// Kernel smoothness, average variant (2.50), 3D.
+    KsAv,
+    /// Mutual-information-based (6.29–6.30), 3D.
+    Mi,
+    /// Increase in mutual information (6.3–6.5), 3D.
+    MiIncrease,
+    /// Discretisation error I_i^c − I_i (§6.5.2), flatland.
+    De,
+    /// Regular meshing (halve the longest patch), flatland.
+    Regular,
 }

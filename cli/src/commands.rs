@@ -4,6 +4,7 @@ mod draw;
 mod draw3d;
 pub mod formfactors;
 pub mod measure;
+pub mod refine;
 mod reproduce;
 mod scene;
 
@@ -19,5 +20,6 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Formfactors(args) => formfactors::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Draw(args) => draw::run(&args),
+        Command::Refine(args) => refine::run(&args),
     }
 }

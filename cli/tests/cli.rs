@@ -191,3 +191,85 @@ fn draw_obj_writes_a_ply_of_one_face_per_patch() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--svg OUT.svg"));
 }
+
+#[test]
+fn refine_flat_reports_its_keys_draws_and_writes_the_mesh() {
+    let scene = temp("refine-room.flat");
+    let st = bin()
+        .args(["scene", "catalogue", "refinement-1", "-o"])
+        .arg(&scene)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let (svg, mesh) = (temp("refine.svg"), temp("refined.flat"));
+    let run = |threads: &str| {
+        bin()
+            .arg("refine")
+            .arg(&scene)
+            .args(["--oracle", "de", "--target", "40", "--lines", "100000"])
+            .args(["--json", "--threads", threads, "--svg"])
+            .arg(&svg)
+            .arg("-o")
+            .arg(&mesh)
+            .output()
+            .unwrap()
+    };
+    let out = run("1");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json = String::from_utf8(out.stdout).unwrap();
+    for key in [
+        "n_patches",
+        "i_s",
+        "h_s",
+        "h_j",
+        "i_s_continuous",
+        "rel_discretisation_error",
+        "history",
+    ] {
+        assert!(
+            json.contains(&format!("\"{key}\":")),
+            "missing {key} in {json}"
+        );
+    }
+    assert!(json.contains("\"n_patches\":40"), "{json}");
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("<svg"));
+    let text = std::fs::read_to_string(&mesh).unwrap();
+    assert_eq!(sceneinfo::io::parse_flat(&text).unwrap().n_patches(), 40);
+    let two = run("2");
+    assert_eq!(
+        without_timing(&json),
+        without_timing(&String::from_utf8(two.stdout).unwrap())
+    );
+}
+
+#[test]
+fn refine_rejects_mismatched_oracles_and_obj_scenes_clearly() {
+    let scene = temp("refine-square.flat");
+    std::fs::write(&scene, "poly 4 0 0 1 0 1 1 0 1 per_side 2\n").unwrap();
+    let out = bin()
+        .arg("refine")
+        .arg(&scene)
+        .args(["--oracle", "mi"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("a .flat scene takes de, power or regular"),
+        "{err}"
+    );
+    let obj = temp("refine-tri.obj");
+    std::fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let out = bin()
+        .arg("refine")
+        .arg(&obj)
+        .args(["--oracle", "mi"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("not supported yet"));
+}

@@ -223,6 +223,9 @@ pub enum ErrorKind {
         /// The cap.
         max: u64,
     },
+    /// Some polygon of a 3D scene may hide part of another, so a computation that assumes
+    /// full visibility (exact form factors, the `I_S^c` quadrature) does not apply.
+    MayBeOccluded,
     /// An iteration did not converge within its cap.
     NoConvergence {
         /// What was iterated.
@@ -249,6 +252,18 @@ pub enum ErrorKind {
         name: &'static str,
         /// The value given.
         value: f64,
+    },
+
+    // ---- refinement -----------------------------------------------------------------------
+    /// A state split breaks a condition of Proposition 3 (thesis §5.4.1), so its gain in
+    /// mutual information is not computed.
+    InvalidSplit {
+        /// The condition, e.g. `"(b) cover P_ji = sum_k P_j,ik"`.
+        condition: &'static str,
+        /// The state (or sub-state) index where it fails.
+        index: usize,
+        /// By how much it fails (or the offending value).
+        deviation: f64,
     },
 
     // ---- hierarchical radiosity -----------------------------------------------------------
@@ -338,6 +353,10 @@ impl fmt::Display for ErrorKind {
                 write!(f, "buffer too small: need {needed}, got {found}")
             }
             K::TooLarge { what, max } => write!(f, "{what} exceeds the cap of {max}"),
+            K::MayBeOccluded => write!(
+                f,
+                "some polygon may hide part of another: this needs an unoccluded scene (use line estimates, e.g. --lines N)"
+            ),
             K::NoConvergence { what, iterations } => {
                 write!(f, "{what} did not converge in {iterations} iterations")
             }
@@ -349,6 +368,14 @@ impl fmt::Display for ErrorKind {
             K::BadParameter { name, value } => {
                 write!(f, "parameter {name} = {value} is out of range")
             }
+            K::InvalidSplit {
+                condition,
+                index,
+                deviation,
+            } => write!(
+                f,
+                "state split violates Proposition 3's condition '{condition}' at index {index} (off by {deviation})"
+            ),
             K::UnknownOracle(t) => write!(
                 f,
                 "unknown oracle '{t}' (power, ks, ks-av, mi, mi-increase or regular)"

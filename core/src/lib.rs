@@ -72,6 +72,7 @@ pub mod io;
 pub mod lines;
 pub mod math;
 pub mod radiosity;
+pub mod refine;
 pub mod report;
 pub mod scene;
 pub mod thesis;

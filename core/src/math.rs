@@ -4,7 +4,9 @@
 //! embedded builds compute bit-identical numbers (std's `f64::ln` may differ between
 //! platforms; `libm` is the same Rust code everywhere).
 
+mod clausen;
 mod fixed;
+pub use clausen::clausen2;
 pub use fixed::FIXED_MAX_TERM;
 pub use fixed::FixedSum;
 

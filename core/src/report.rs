@@ -212,6 +212,70 @@ impl SceneReport {
     }
 }
 
+#[cfg(feature = "alloc")]
+impl SceneReport {
+    /// The report of the channel of `ff` (exact or Monte Carlo form factors).
+    ///
+    /// # Errors
+    /// The errors of the channel constructor ([`crate::formfactor::FormFactors::channel`]).
+    pub fn of(ff: &crate::formfactor::FormFactors) -> crate::Result<Self> {
+        let channel = ff.channel()?;
+        Ok(Self {
+            n_patches: ff.n_patches(),
+            background: ff.has_background(),
+            max_row_deficit: ff.max_row_deficit(),
+            measures: channel.measures(),
+            checks: channel.checks(),
+        })
+    }
+}
+
+/// What a Monte Carlo run adds to a report: its lines, seed and the continuous mutual
+/// information `I_S^c` (4.8, 4.13) with its standard error.
+#[cfg(feature = "alloc")]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineRunReport {
+    /// Global (2.37) or local (2.36) lines.
+    pub method: crate::formfactor::tally::LineMethod,
+    /// Lines cast.
+    pub lines: u64,
+    /// Seed of the line streams.
+    pub seed: u64,
+    /// `I_S^c` and its standard error.
+    pub continuous: crate::continuous::ContinuousEstimate,
+    /// The discrete `I_S` the relative discretisation error is measured against.
+    pub i_s: f64,
+}
+
+#[cfg(feature = "alloc")]
+impl LineRunReport {
+    /// Writes the run's fields into an open JSON object: `form_factors` (`"global lines"` or
+    /// `"local lines"`), `i_s_continuous`, `i_s_continuous_stderr`,
+    /// `rel_discretisation_error` (`δ̄ = (I_S^c − I_S) / I_S^c`, §4.4.2), `lines`, `seed`,
+    /// `samples`. The CLI's `measure --lines --json` and the wasm `LineJob` both write
+    /// them with this function, so their bytes agree.
+    ///
+    /// # Errors
+    /// Whatever the writer returns.
+    pub fn write_fields<W: Write>(&self, o: &mut JsonObject<'_, W>) -> fmt::Result {
+        use crate::formfactor::tally::LineMethod;
+        let method = match self.method {
+            LineMethod::Global => "global lines",
+            LineMethod::Local => "local lines",
+        };
+        o.string("form_factors", method)?;
+        o.number("i_s_continuous", self.continuous.value)?;
+        o.number("i_s_continuous_stderr", self.continuous.stderr)?;
+        o.number(
+            "rel_discretisation_error",
+            crate::continuous::relative_discretisation_error(self.continuous.value, self.i_s),
+        )?;
+        o.integer("lines", self.lines)?;
+        o.integer("seed", self.seed)?;
+        o.integer("samples", self.continuous.samples)
+    }
+}
+
 /// Measures a flatland scene with exact form factors (thesis §3.3).
 ///
 /// # Errors
@@ -219,15 +283,7 @@ impl SceneReport {
 /// constructor.
 #[cfg(feature = "alloc")]
 pub fn measure_flat(scene: &crate::scene::FlatScene) -> crate::Result<SceneReport> {
-    let ff = crate::formfactor::exact_2d::form_factors(scene)?;
-    let channel = ff.channel()?;
-    Ok(SceneReport {
-        n_patches: ff.n_patches(),
-        background: ff.has_background(),
-        max_row_deficit: ff.max_row_deficit(),
-        measures: channel.measures(),
-        checks: channel.checks(),
-    })
+    SceneReport::of(&crate::formfactor::exact_2d::form_factors(scene)?)
 }
 
 /// Parses `.flat` text, measures it with exact form factors and returns the JSON report

@@ -1,22 +1,38 @@
-//! WebAssembly front end of [`sceneinfo`].
+//! WebAssembly front end of [`sceneinfo`], the engine of the flatland laboratory in
+//! `wasm/www/`.
 //!
-//! A thin [`wasm_bindgen`](mod@wasm_bindgen) layer in the style of `ruff_wasm`: every export
-//! takes plain text and returns plain text, all numerics live in the core, and every core
-//! error goes through the single `into_error` function, so JavaScript always receives an
-//! `Error` whose `message` is the core's `Display` text (`"line N: what"`).
+//! A thin [`wasm_bindgen`](mod@wasm_bindgen) layer in the style of `ruff_wasm`: every number
+//! comes from the core, this crate only moves scenes, arrays and JSON across the boundary.
+//! Every core error goes through the single [`into_error`] function, so JavaScript always
+//! receives an `Error` whose `message` is the core's `Display` text (`"line N: what"`).
 //!
 //! # JavaScript API
 //!
 //! ```text
-//! import init, { measureFlat } from './pkg/sceneinfo_wasm.js';
+//! import init, { FlatLab, catalogue, measureFlat } from './pkg/sceneinfo_wasm.js';
 //! await init();
-//! const m = JSON.parse(measureFlat('poly 3 0 0 1 0 0.5 0.8660254 per_side 10'));
-//! m.h_s; // 3.739… bits
+//! const lab = new FlatLab('poly 3 0 0 1 0 0.5 0.8660254 per_side 10');  // or FlatLab.preset('koch-0', 10)
+//! JSON.parse(lab.measures()).i_s;     // 1.168… bits: exact I_S (3.8)
+//! lab.patchEntropies();               // Float64Array of H_i (3.2)
+//! lab.informationMatrix();            // Float64Array of I_ij (6.7), n × n row-major
+//! const job = lab.lineJob('global', 1, 1e6);
+//! while (!job.done) job.run(1);       // one chunk of 2^16 lines per call: show progress
+//! const run = job.finish();           // LineResult: JSON like `sceneinfo measure --lines`
+//! run.patchContinuous();              // Float64Array of I_i^c (6.37)
+//! const refiner = lab.refiner('de', 1e6, 1);   // one refinement step at a time
 //! ```
 //!
 //! # Crate features
 //!
 //! - `console_error_panic_hook` (default): forward Rust panic messages to `console.error`.
+
+mod lab;
+mod lines;
+mod refine;
+
+pub use lab::{FlatLab, catalogue};
+pub use lines::{LineJob, LineResult};
+pub use refine::Refiner;
 
 use wasm_bindgen::prelude::*;
 
@@ -43,6 +59,14 @@ pub fn measure_flat(text: &str) -> Result<String, JsError> {
     sceneinfo::report::measure_flat_json(text).map_err(into_error)
 }
 
+/// The relative discretisation error `δ̄ = (I_S^c − I_S) / I_S^c` (thesis §4.4.2), 0 when
+/// `I_S^c ≤ 0`: [`sceneinfo::continuous::relative_discretisation_error`].
+#[wasm_bindgen(js_name = relativeDiscretisationError)]
+#[must_use]
+pub fn relative_discretisation_error(i_s_continuous: f64, i_s: f64) -> f64 {
+    sceneinfo::continuous::relative_discretisation_error(i_s_continuous, i_s)
+}
+
 /// Returns the version of this crate (and so of the core it was built with).
 #[wasm_bindgen]
 #[must_use]
@@ -53,6 +77,19 @@ pub fn version() -> String {
 /// Maps a core error to a JavaScript `Error` carrying the core's `Display` message.
 ///
 /// The one door through which errors leave this crate.
-fn into_error(err: sceneinfo::Error) -> JsError {
+pub(crate) fn into_error(err: sceneinfo::Error) -> JsError {
     JsError::new(&err.to_string())
+}
+
+/// A count that JavaScript passes as a number (lines, seeds, patch counts): a non-negative
+/// integer that an `f64` holds exactly (at most 2^53), else
+/// [`sceneinfo::ErrorKind::BadParameter`] naming the parameter.
+pub(crate) fn count(name: &'static str, value: f64) -> Result<u64, sceneinfo::Error> {
+    const MAX_EXACT: f64 = 9_007_199_254_740_992.0; // 2^53
+    // NaN fails the range test; in range, the round trip through u64 is exact iff integral.
+    if (0.0..=MAX_EXACT).contains(&value) && value as u64 as f64 == value {
+        Ok(value as u64)
+    } else {
+        Err(sceneinfo::ErrorKind::BadParameter { name, value }.into())
+    }
 }

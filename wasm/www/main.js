@@ -1,71 +1,411 @@
-// sceneinfo demo: the page draws, Rust computes (all numbers come from measureFlat).
-import init, { measureFlat } from './pkg/sceneinfo_wasm.js';
+// The flatland lab: wires the editor, the wasm module (all the numbers), the Monte Carlo
+// worker and the pictures together.
+import init, { FlatLab, catalogue, relativeDiscretisationError } from './pkg/sceneinfo_wasm.js';
+import { Editor } from './editor.js';
+import { adoptCuts, decodeHash, encodeHash, fromLab, toFlat } from './model.js';
+import { colourBar, heatMap, scale, venn } from './plots.js';
+import { Refinement } from './refine.js';
 
-// Equilateral triangle, counter-clockwise (so every segment faces inwards), 10 patches a side.
-function triangleFlat() {
-  const v = [[0, 0], [1, 0], [0.5, Math.sqrt(3) / 2]];
-  const lines = ['# equilateral triangle, 10 patches per side'];
-  for (let k = 0; k < 3; k++) {
-    const [a, b] = [v[k], v[(k + 1) % 3]];
-    lines.push(`seg ${a[0]} ${a[1]} ${b[0]} ${b[1]} 10`);
+const $ = (id) => document.getElementById(id);
+const HEAT_MAP_LIMIT = 2000; // patches: above this the I_ij matrix is not drawn
+
+const state = {
+  lab: null, // FlatLab of the scene on the canvas
+  text: '', // its .flat text
+  measures: null, // exact measures (parsed JSON)
+  mc: null, // the latest Monte Carlo result for `text`: { value, stderr, patchContinuous, … }
+  keep: false, // whether the running job only refreshes I_i^c (new cuts, same geometry)
+  job: 0, // id of the latest Monte Carlo job
+  worker: null,
+  hash: '',
+};
+
+let editor;
+let refinement;
+
+// ---- errors and status --------------------------------------------------------------------
+
+function showError(message) {
+  $('error').textContent = message;
+  $('error').hidden = !message;
+}
+
+function fmt(v, digits = 4) {
+  return Number.isFinite(v) ? v.toFixed(digits) : '–';
+}
+
+// ---- the scene changed: exact measures now, Monte Carlo in the worker ----------------------
+
+/// Rebuilds the lab from the editor's model. `kind` is 'geometry' (drop the refinement
+/// history) or 'cuts' (a refinement step: same geometry, same I_S^c).
+function sceneChanged(kind) {
+  const text = toFlat(editor.model);
+  if (editor.model.objects.length === 0) {
+    clearScene();
+    return;
   }
-  return lines.join('\n') + '\n';
-}
-
-// Formats one JSON value for the table.
-function format(value) {
-  if (typeof value !== 'number' || Number.isInteger(value)) return JSON.stringify(value);
-  return value === 0 || Math.abs(value) >= 1e-3 ? value.toFixed(6) : value.toExponential(3);
-}
-
-// Appends one row per measure to `table`; nested objects become `outer.inner` rows.
-function addRows(table, object, prefix) {
-  for (const [key, value] of Object.entries(object)) {
-    const name = prefix + key;
-    if (value !== null && typeof value === 'object' && !Array.isArray(value)) {
-      addRows(table, value, `${name}.`);
-      continue;
-    }
-    const row = table.insertRow();
-    row.insertCell().textContent = name;
-    const cell = row.insertCell();
-    cell.className = 'num';
-    cell.id = `m_${name.replaceAll('.', '_')}`;
-    cell.textContent = format(value);
-  }
-}
-
-// Measures the textarea's scene: every measure in the table, or the error message.
-function measureUserScene() {
-  const error = document.getElementById('error');
-  const table = document.getElementById('measures');
-  table.replaceChildren();
-  error.textContent = '';
+  let lab;
   try {
-    addRows(table, JSON.parse(measureFlat(document.getElementById('scene').value)), '');
+    lab = new FlatLab(text);
   } catch (e) {
-    error.textContent = e instanceof Error ? e.message : String(e);
+    showError(e.message);
+    return;
   }
+  state.lab?.free();
+  state.lab = lab;
+  state.text = text;
+  showError('');
+  measureExact();
+  if (kind === 'geometry') refinement.reset();
+  // New cuts on the same geometry keep I_S^c (same lines, same samples) but need a new run
+  // for the per-patch I_i^c: the running estimate is not shown meanwhile.
+  startMonteCarlo({ keep: kind === 'cuts' });
+  colourPatches();
+  drawHeatMap();
+  scheduleHash();
+}
+
+function clearScene() {
+  state.lab?.free();
+  state.lab = null;
+  state.text = '';
+  state.measures = null;
+  state.mc = null;
+  stopMonteCarlo();
+  showMeasures();
+  showMonteCarlo();
+  editor.colours = null;
+  editor.draw();
+  refinement.reset();
+  $('heat').getContext('2d').clearRect(0, 0, $('heat').width, $('heat').height);
+  scheduleHash();
+}
+
+function measureExact() {
+  const t0 = performance.now();
+  try {
+    state.measures = JSON.parse(state.lab.measures());
+  } catch (e) {
+    state.measures = null;
+    showError(e.message);
+  }
+  const ms = performance.now() - t0;
+  $('m-exact-ms').textContent = `${ms.toFixed(1)} ms`;
+  $('m-exact-ms').dataset.ms = String(ms);
+  showMeasures();
+}
+
+function showMeasures() {
+  const m = state.measures;
+  for (const key of ['h_p', 'h_s', 'h_j', 'i_s', 'h_s_norm', 'i_s_norm']) {
+    $(`m-${key}`).textContent = m ? fmt(m[key]) : '–';
+  }
+  $('m-patches').textContent = m ? String(m.n_patches) : '–';
+  $('m-open').hidden = !m?.background;
+  venn($('venn'), m);
+  showDelta();
+}
+
+/// δ̄ = (I_S^c − I_S) / I_S^c (§4.4.2): exact I_S, Monte Carlo I_S^c.
+function showDelta() {
+  const m = state.measures;
+  const mc = state.mc;
+  const ok = m && mc && mc.samples !== 0;
+  $('m-delta').textContent = ok ? `${fmt(100 * relativeDiscretisationError(mc.value, m.i_s), 2)} %` : '–';
+}
+
+// ---- Monte Carlo in the worker ---------------------------------------------------------------
+
+function worker() {
+  if (!state.worker) {
+    state.worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
+    state.worker.onmessage = ({ data }) => monteCarloMessage(data);
+    state.worker.onerror = (e) => showError(`Monte Carlo worker: ${e.message}`);
+  }
+  return state.worker;
+}
+
+function startMonteCarlo({ keep = false } = {}) {
+  state.job += 1;
+  state.keep = keep && state.mc !== null && !state.mc.partial;
+  if (state.keep) state.mc = { ...state.mc, patchContinuous: null };
+  else state.mc = null;
+  document.body.dataset.mc = 'running';
+  const lines = Number($('mc-lines').value);
+  const seed = Number($('mc-seed').value);
+  const method = $('mc-method').value;
+  $('mc-progress').value = 0;
+  $('mc-status').textContent = 'starting…';
+  $('mc-stop').disabled = false;
+  worker().postMessage({ type: 'run', id: state.job, text: state.text, method, seed, lines });
+  showMonteCarlo();
+}
+
+function stopMonteCarlo() {
+  state.worker?.postMessage({ type: 'stop', id: state.job });
+}
+
+function monteCarloMessage(data) {
+  if (data.id !== state.job) return; // an older scene's job
+  if (data.type === 'progress') {
+    if (!state.keep) state.mc = { ...data, patchContinuous: null, partial: true };
+    $('mc-progress').value = data.done / data.total;
+    $('mc-status').textContent = `${data.done.toLocaleString('en')} / ${data.total.toLocaleString('en')} lines, ` +
+      `${(data.done / Math.max(data.seconds, 1e-9) / 1e6).toFixed(2)} M lines/s`;
+  } else if (data.type === 'done') {
+    state.mc = { ...data, partial: false };
+    $('mc-progress').value = data.done / data.total;
+    $('mc-status').textContent = `${data.stopped ? 'stopped' : 'done'}: ${data.done.toLocaleString('en')} lines, seed ` +
+      `${$('mc-seed').value}, ${data.seconds.toFixed(2)} s`;
+    $('mc-stop').disabled = true;
+    document.body.dataset.mc = 'done';
+    document.body.dataset.mcDone = String(data.id);
+    colourPatches();
+  } else {
+    $('mc-status').textContent = `stopped: ${data.message}`;
+    $('mc-stop').disabled = true;
+    document.body.dataset.mc = 'done';
+    document.body.dataset.mcDone = String(data.id);
+    if (state.mc) state.mc.partial = false;
+    colourPatches();
+  }
+  showMonteCarlo();
+}
+
+function showMonteCarlo() {
+  const mc = state.mc;
+  $('m-isc').textContent = mc && mc.samples !== 0 ? fmt(mc.value) : '–';
+  $('m-isc-err').textContent = mc && mc.samples !== 0 ? fmt(mc.stderr) : '–';
+  showDelta();
+}
+
+// ---- colouring, heat map ------------------------------------------------------------------------
+
+const COLOUR_LABELS = {
+  h: 'H_i (3.2), bits',
+  i: 'I_i (6.8), bits',
+  ic: 'I_i^c (6.37), bits',
+  delta: 'I_i^c − I_i, bits',
+};
+
+function colourPatches() {
+  const mode = $('colour').value;
+  let values = null;
+  let note = '';
+  try {
+    if (state.lab && mode === 'h') values = state.lab.patchEntropies();
+    if (state.lab && mode === 'i') values = state.lab.patchInformation();
+    if (mode === 'ic' || mode === 'delta') {
+      const ic = state.mc?.patchContinuous;
+      if (!ic) note = 'waiting for the Monte Carlo run (I_i^c)…';
+      else if (mode === 'ic') values = ic;
+      else {
+        const i = state.lab.patchInformation();
+        values = ic.map((v, k) => v - i[k]);
+      }
+    }
+  } catch (e) {
+    showError(e.message);
+  }
+  if (values) {
+    const s = scale(values, mode === 'delta');
+    editor.colours = Array.from(values, s.colour);
+    colourBar($('colour-bar'), s, COLOUR_LABELS[mode]);
+  } else {
+    editor.colours = null;
+    const c = $('colour-bar');
+    c.getContext('2d').clearRect(0, 0, c.width, c.height);
+  }
+  $('colour-note').textContent = note;
+  $('colour-bar').hidden = !values;
+  editor.draw();
+}
+
+function drawHeatMap() {
+  const lab = state.lab;
+  const note = $('heat-note');
+  if (!lab) return;
+  if (lab.nPatches > HEAT_MAP_LIMIT) {
+    note.textContent = `not drawn above ${HEAT_MAP_LIMIT} patches`;
+    return;
+  }
+  try {
+    const max = heatMap($('heat'), lab.informationMatrix(), lab.nPatches);
+    note.textContent = `${lab.nPatches} × ${lab.nPatches} patches, largest |I_ij| cell ${max.toExponential(2)} bits; ` +
+      'red > 0 (more transfer than chance), blue < 0, √ scale';
+  } catch (e) {
+    note.textContent = e.message;
+  }
+}
+
+// ---- presets, import, export, link ---------------------------------------------------------------
+
+function fillPresets() {
+  const entries = JSON.parse(catalogue());
+  const select = $('preset');
+  for (const [name, e] of Object.entries(entries)) {
+    const option = document.createElement('option');
+    option.value = name;
+    option.textContent = `${name} — ${e.figure}: ${e.description}`;
+    select.append(option);
+  }
+}
+
+function loadPreset() {
+  const name = $('preset').value;
+  if (!name) return;
+  try {
+    const lab = FlatLab.preset(name, Number($('per-side').value));
+    const model = fromLab(lab);
+    lab.free();
+    editor.setModel(model);
+  } catch (e) {
+    showError(e.message);
+  }
+}
+
+/// Loads `.flat` text into the editor; errors name `source`.
+function loadText(text, source) {
+  let lab;
+  try {
+    lab = new FlatLab(text);
+  } catch (e) {
+    showError(`${source}: ${e.message}`);
+    return false;
+  }
+  const model = fromLab(lab);
+  lab.free();
+  $('preset').value = '';
+  editor.setModel(model);
+  return true;
+}
+
+async function importFile(file) {
+  if (!file) return;
+  loadText(await file.text(), file.name);
+  $('import').value = '';
+}
+
+function exportFile() {
+  if (!state.lab) return;
+  const blob = new Blob([state.lab.toFlat()], { type: 'text/plain' });
+  const a = document.createElement('a');
+  a.href = URL.createObjectURL(blob);
+  a.download = `${$('preset').value || 'scene'}.flat`;
+  a.click();
+  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+}
+
+let hashTimer = 0;
+function scheduleHash() {
+  clearTimeout(hashTimer);
+  hashTimer = setTimeout(async () => {
+    state.hash = state.text ? `#scene=${await encodeHash(state.text)}` : '';
+    history.replaceState(null, '', state.hash || location.pathname);
+  }, 250);
+}
+
+async function loadHash() {
+  const hash = location.hash;
+  if (!hash.startsWith('#scene=') || hash === state.hash) return false;
+  try {
+    return loadText(await decodeHash(hash.slice('#scene='.length)), 'link');
+  } catch (e) {
+    showError(`link: ${e.message}`);
+    return false;
+  }
+}
+
+async function copyLink() {
+  clearTimeout(hashTimer);
+  state.hash = `#scene=${await encodeHash(state.text)}`;
+  history.replaceState(null, '', state.hash);
+  try {
+    await navigator.clipboard.writeText(location.href);
+    $('share-note').textContent = 'link copied';
+  } catch {
+    $('share-note').textContent = 'the address bar holds the link';
+  }
+  setTimeout(() => ($('share-note').textContent = ''), 2500);
+}
+
+// ---- wiring ------------------------------------------------------------------------------------
+
+function wire() {
+  for (const tool of ['select', 'segment', 'polygon']) {
+    $(`tool-${tool}`).addEventListener('click', () => {
+      editor.setTool(tool);
+      for (const t of ['select', 'segment', 'polygon']) $(`tool-${t}`).classList.toggle('on', t === tool);
+    });
+  }
+  $('snap').addEventListener('change', (e) => {
+    editor.snap = e.target.checked;
+    editor.draw();
+  });
+  $('two-sided').addEventListener('change', (e) => (editor.twoSided = e.target.checked));
+  $('density').addEventListener('change', (e) => (editor.density = Math.max(1, Number(e.target.value) || 10)));
+  $('undo').addEventListener('click', () => editor.undo());
+  $('delete').addEventListener('click', () => editor.deleteSelected());
+  $('flip').addEventListener('click', () => editor.flipSelected());
+  $('rotate').addEventListener('click', () => editor.transformSelected(Math.PI / 12, 1));
+  $('fit').addEventListener('click', () => editor.fit());
+  $('preset').addEventListener('change', loadPreset);
+  $('per-side').addEventListener('change', loadPreset);
+  $('import').addEventListener('change', (e) => importFile(e.target.files[0]));
+  $('export').addEventListener('click', exportFile);
+  $('share').addEventListener('click', copyLink);
+  $('colour').addEventListener('change', colourPatches);
+  $('mc-run').addEventListener('click', () => state.text && startMonteCarlo());
+  $('mc-stop').addEventListener('click', stopMonteCarlo);
+  window.addEventListener('hashchange', loadHash);
 }
 
 async function main() {
   await init();
-  const text = triangleFlat();
-  const m = JSON.parse(measureFlat(text));
-  document.getElementById('h_s').textContent = m.h_s.toFixed(3);
-  document.getElementById('i_s').textContent = m.i_s.toFixed(3);
-
-  const scene = document.getElementById('scene');
-  scene.value = text;
-  const button = document.getElementById('measure');
-  button.addEventListener('click', measureUserScene);
-  button.disabled = false;
-  measureUserScene();
-  document.title = 'sceneinfo ready';
+  editor = new Editor($('editor'), {
+    onChange: (kind) => sceneChanged(kind),
+    onStatus: (text) => ($('hint').textContent = text),
+  });
+  refinement = new Refinement({
+    plot: $('refine-plot'),
+    controls: {
+      oracle: $('refine-oracle'), lines: $('refine-lines'), step: $('refine-step'),
+      play: $('refine-play'), reset: $('refine-reset'),
+    },
+    out: {
+      patches: $('refine-patches'), is: $('refine-is'), isc: $('refine-isc'),
+      delta: $('refine-delta'), last: $('refine-last'),
+    },
+    text: () => state.text,
+    seed: () => Number($('mc-seed').value),
+    onMesh: (flat) => {
+      let lab;
+      try {
+        lab = new FlatLab(flat);
+      } catch (e) {
+        showError(e.message);
+        return;
+      }
+      editor.pushUndo();
+      adoptCuts(editor.model, lab);
+      lab.free();
+      sceneChanged('cuts');
+    },
+    onError: showError,
+  });
+  fillPresets();
+  wire();
+  editor.status();
+  if (!(await loadHash())) {
+    $('preset').value = 'koch-0';
+    loadPreset();
+  }
+  document.title = 'sceneinfo flatland lab';
+  document.body.dataset.ready = 'yes';
 }
 
 main().catch((e) => {
   const message = e instanceof Error ? e.message : String(e);
   document.title = `sceneinfo error: ${message}`;
-  document.getElementById('error').textContent = message;
+  showError(message);
 });

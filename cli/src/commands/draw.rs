@@ -333,7 +333,7 @@ impl View {
 
 /// The scene picture: patches as coloured strokes over a dark casing, small ticks at patch
 /// boundaries, a one-sided tick at each surface's midpoint on its front side, and a legend.
-fn scene_picture(
+pub(crate) fn scene_picture(
     scene: &FlatScene,
     values: &[f64],
     colour: Colour,

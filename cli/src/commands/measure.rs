@@ -12,7 +12,7 @@ use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::estimate_2d::{FlatTracer, LineMethod};
 use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::formfactor::exact_2d;
-use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, SceneReport};
+use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport};
 
 use crate::args::{MeasureArgs, Method, SamplingArgs};
 use crate::output::{Loaded, located, write_atomic};
@@ -75,14 +75,7 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
     let at = |e: sceneinfo::Error| located(&args.file, &e);
     let start = Instant::now();
     let (ff, mc) = compute(&args.file, &args.sampling)?;
-    let channel = ff.channel().map_err(at)?;
-    let report = SceneReport {
-        n_patches: ff.n_patches(),
-        background: ff.has_background(),
-        max_row_deficit: ff.max_row_deficit(),
-        measures: channel.measures(),
-        checks: channel.checks(),
-    };
+    let report = SceneReport::of(&ff).map_err(at)?;
     let seconds = start.elapsed().as_secs_f64();
     if let Some(path) = &args.matrix {
         write_atomic(path, crate::commands::formfactors::csv(&ff)?.as_bytes())?;
@@ -95,16 +88,17 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
         match &mc {
             None => o.string("form_factors", "exact")?,
             Some(mc) => {
-                o.string("form_factors", method_name(mc.method))?;
-                o.number("i_s_continuous", mc.continuous.value)?;
-                o.number("i_s_continuous_stderr", mc.continuous.stderr)?;
-                o.number(
-                    "rel_discretisation_error",
-                    relative_discretisation_error(mc.continuous.value, report.measures.i_s),
-                )?;
-                o.integer("lines", mc.lines)?;
-                o.integer("seed", mc.seed)?;
-                o.integer("samples", mc.continuous.samples)?;
+                let run = LineRunReport {
+                    method: match mc.method {
+                        Method::Global => LineMethod::Global,
+                        Method::Local => LineMethod::Local,
+                    },
+                    lines: mc.lines,
+                    seed: mc.seed,
+                    continuous: mc.continuous,
+                    i_s: report.measures.i_s,
+                };
+                run.write_fields(&mut o)?;
                 o.number("lines_per_second", mc.lines as f64 / seconds.max(1e-9))?;
             }
         }

@@ -76,7 +76,7 @@ use crate::geom::DVec3;
 use crate::math::KahanSum;
 
 use contour::Kernel;
-use polygon::{HalfSpace, ON_PLANE, Plane};
+pub(crate) use polygon::{HalfSpace, ON_PLANE, Plane};
 
 #[cfg(feature = "alloc")]
 pub use occlusion::may_be_occluded;
@@ -232,7 +232,7 @@ fn pair_flux(src: &[DVec3], ps: &Plane, tgt: &[DVec3], pt: &Plane) -> (f64, f64)
 
 /// The polygons `(first, count)` of `points` with their planes, validated.
 #[cfg(feature = "alloc")]
-fn planes<'a>(
+pub(crate) fn planes<'a>(
     points: &'a [DVec3],
     polygons: &[(usize, usize)],
 ) -> Result<Vec<(&'a [DVec3], Plane)>> {

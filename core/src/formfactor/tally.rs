@@ -200,6 +200,18 @@ impl LineTally {
         self.continuous.estimate()
     }
 
+    /// Per-patch `I_i^c` (6.37) so far, like [`LineEstimate::patch_continuous`] but without
+    /// [`LineTally::finish`]'s form factors, so patches without a sample are allowed (their
+    /// value is 0). Used to tally `I^c` along surfaces on a fine grid of patches.
+    #[must_use]
+    pub fn patch_continuous(&self) -> Vec<f64> {
+        let samples = self.continuous.samples().max(1) as f64;
+        self.patch_info
+            .iter()
+            .map(|s| s.value() / samples)
+            .collect()
+    }
+
     /// Turns the tallies into form factors and continuous measures.
     ///
     /// # Errors
@@ -237,11 +249,7 @@ impl LineTally {
             Some(m) => FormFactors::from_patch_matrix(sizes, m)?,
             None => FormFactors::from_patch_triplets(sizes, triplets)?,
         };
-        let patch_continuous = self
-            .patch_info
-            .iter()
-            .map(|s| s.value() / samples)
-            .collect();
+        let patch_continuous = self.patch_continuous();
         Ok(LineEstimate {
             form_factors,
             continuous: self.continuous.estimate(),

@@ -1,12 +1,14 @@
-// Headless-Chromium test of the demo page in wasm/www (run by scripts/test.sh, after the
-// wasm build and `wasm-bindgen --target web --out-dir wasm/www/pkg`).
+// Headless-Chromium test of the flatland lab in wasm/www (run by scripts/test.sh, after
+// ./scripts/build-web.sh has written wasm/www/pkg).
 //
 //   node --test wasm/tests/e2e/page.test.mjs
 //
 // Serves wasm/www from a node:http server on 127.0.0.1 (a free port), opens it in the
-// system Chromium (CHROMIUM, default /usr/bin/chromium) through playwright-core, and checks
-// the numbers the page shows against the thesis (Tables 3.4 and 3.5). Saves a screenshot
-// to target/e2e/index.png (E2E_SCREENSHOT overrides).
+// system Chromium (CHROMIUM, default /usr/bin/chromium) through playwright-core, and drives
+// the page as a user would: picks the thesis' equilateral triangle and reads I_S^c, draws an
+// interior segment, steps the DE oracle, imports a broken .flat file, follows a shared link.
+// Saves a screenshot to target/e2e/index.png (E2E_SCREENSHOT overrides) and prints the time
+// the page took for the exact measures of a 300- and a 600-patch room.
 
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
@@ -55,6 +57,13 @@ async function serve(req, res) {
   }
 }
 
+function watch(p) {
+  p.on('console', (msg) => {
+    if (msg.type() === 'error') problems.push(`console.error: ${msg.text()}`);
+  });
+  p.on('pageerror', (err) => problems.push(`page error: ${err.message}`));
+}
+
 before(async () => {
   server = createServer((req, res) => void serve(req, res));
   await new Promise((ok) => server.listen(0, '127.0.0.1', ok));
@@ -64,17 +73,14 @@ before(async () => {
   context = await chromium.launchPersistentContext(userDataDir, {
     executablePath,
     headless: true,
-    viewport: { width: 900, height: 900 },
+    viewport: { width: 1360, height: 1000 },
     args: [
       '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
       '--disable-background-networking', '--disable-component-update', '--disable-sync',
     ],
   });
   page = context.pages()[0] ?? (await context.newPage());
-  page.on('console', (msg) => {
-    if (msg.type() === 'error') problems.push(`console.error: ${msg.text()}`);
-  });
-  page.on('pageerror', (err) => problems.push(`page error: ${err.message}`));
+  watch(page);
 });
 
 after(async () => {
@@ -83,42 +89,152 @@ after(async () => {
   if (userDataDir) await rm(userDataDir, { recursive: true, force: true });
 });
 
-test('the page loads the wasm module and shows the triangle measures', async () => {
+// The number shown in element `id`.
+async function shown(p, id) {
+  const text = await p.textContent(`#${id}`);
+  const v = Number(text);
+  assert.ok(Number.isFinite(v), `#${id} shows a number, not '${text}'`);
+  return v;
+}
+
+// Runs `action`, then waits until the Monte Carlo job it started has finished.
+async function andMonteCarlo(p, action) {
+  const before = Number((await p.getAttribute('body', 'data-mc-done')) ?? 0);
+  await action();
+  await p.waitForFunction((b) => Number(document.body.dataset.mcDone ?? 0) > b, before, {
+    timeout: 120_000,
+  });
+}
+
+// The I_S^c ± stderr the page shows.
+async function continuous(p) {
+  return { value: await shown(p, 'm-isc'), stderr: await shown(p, 'm-isc-err') };
+}
+
+test('the page loads the wasm module', async () => {
   await page.goto(baseUrl);
-  await page.waitForFunction(() => document.title.startsWith('sceneinfo ') &&
-    !document.title.includes('loading'), null, { timeout: 30_000 });
-  const title = await page.title();
-  assert.equal(title, 'sceneinfo ready', `page failed: ${title}; ${problems.join('; ')}`);
+  await page.waitForFunction(() => document.body.dataset.ready === 'yes' ||
+    document.title.startsWith('sceneinfo error'), null, { timeout: 60_000 });
+  assert.equal(await page.title(), 'sceneinfo flatland lab', problems.join('; '));
+});
 
-  // Thesis Table 3.4 / 3.5: equilateral triangle, 10 patches per side.
-  assert.equal(await page.textContent('#h_s'), '3.739');
-  assert.equal(await page.textContent('#i_s'), '1.168');
-  // The textarea starts with the same scene, measured.
-  assert.equal(await page.textContent('#m_n_patches'), '30');
+test('the equilateral triangle shows the thesis I_S^c = 1.285', async () => {
+  await andMonteCarlo(page, () => page.selectOption('#preset', 'koch-0'));
+  assert.equal(await page.textContent('#m-patches'), '30');
+  // Tables 3.4/3.5 (exact, printed to 3 decimals).
+  assert.equal((await shown(page, 'm-h_s')).toFixed(3), '3.739');
+  assert.equal((await shown(page, 'm-i_s')).toFixed(3), '1.168');
+  // Fig. 4.12a / Table 4.10: I_S^c = 1.285. 10^6 global lines, seed 1: the standard
+  // error shown is ≈ 0.002; 5σ plus the thesis' rounding passes with a wide margin.
+  const c = await continuous(page);
+  assert.ok(c.stderr > 0 && c.stderr < 0.003, `stderr ${c.stderr}`);
+  assert.ok(Math.abs(c.value - 1.285) < 5 * c.stderr + 5e-4, `I_S^c = ${c.value} ± ${c.stderr}`);
+  assert.match(await page.textContent('#mc-status'), /^done: 1,000,000 lines/);
+});
 
+test('an interior segment raises I_S^c, and the link shares the scene', async () => {
+  const before = await continuous(page);
+  await page.click('#tool-segment');
+  const box = await page.locator('#editor').boundingBox();
+  // The view centres the triangle's bounds (x ∈ ±0.87, y ∈ [−0.5, 1]); 10% of the canvas
+  // width either side of the centre, 10% of its height below, is well inside.
+  const [cx, cy] = [box.x + box.width / 2, box.y + box.height / 2];
+  await andMonteCarlo(page, async () => {
+    await page.mouse.move(cx - 0.1 * box.width, cy + 0.1 * box.height);
+    await page.mouse.down();
+    await page.mouse.move(cx + 0.1 * box.width, cy + 0.1 * box.height, { steps: 5 });
+    await page.mouse.up();
+  });
+  // A two-sided wall of 2 × 5 patches (10 patches per unit length, ~0.5 long).
+  const patches = Number(await page.textContent('#m-patches'));
+  assert.ok(patches > 30, `patches ${patches}`);
+  const after = await continuous(page);
+  assert.ok(after.value > before.value + 5 * (before.stderr + after.stderr),
+    `I_S^c ${before.value} → ${after.value}`);
+
+  // The URL hash now holds the scene: a fresh page shows the same scene and numbers.
+  await page.waitForFunction(() => location.hash.startsWith('#scene='));
+  const url = page.url();
+  const other = await context.newPage();
+  watch(other);
+  await other.goto(url);
+  await other.waitForFunction(() => document.body.dataset.mcDone === '1', null, { timeout: 120_000 });
+  assert.equal(await other.textContent('#m-patches'), String(patches));
+  assert.equal(await other.textContent('#m-i_s'), await page.textContent('#m-i_s'));
+  assert.deepEqual(await continuous(other), after);
+  await other.close();
+});
+
+test('three DE steps raise the patch count and I_S', async () => {
+  await page.click('#tool-select');
+  await page.selectOption('#refine-oracle', 'de');
+  let patches = Number(await page.textContent('#m-patches'));
+  let i_s = await shown(page, 'm-i_s');
+  for (let k = 1; k <= 3; k++) {
+    await page.click('#refine-step');
+    await page.waitForFunction((n) => Number(document.getElementById('refine-patches').textContent) === n,
+      patches + 1, { timeout: 120_000 });
+    await page.waitForFunction((n) => Number(document.getElementById('m-patches').textContent) === n,
+      patches + 1);
+    const next = await shown(page, 'm-i_s');
+    // Proposition 3: a split never loses information; a useful one gains.
+    assert.ok(next > i_s, `step ${k}: I_S ${i_s} → ${next}`);
+    assert.ok(Math.abs((await shown(page, 'refine-is')) - next) < 1e-4, 'player and measures agree');
+    patches += 1;
+    i_s = next;
+  }
+  assert.match(await page.textContent('#refine-last'), /^step 3: halved patch \d+/);
+  // The plot's ceiling is the refiner's I_S^c.
+  assert.match(await page.textContent('#refine-isc'), /^\d\.\d{4} ± \d\.\d{4}$/);
+});
+
+test('the screenshot shows the refined scene coloured by I_i^c − I_i', async () => {
+  await page.keyboard.press('Escape'); // deselect, so the colours show everywhere
+  await page.selectOption('#colour', 'delta');
+  await page.waitForFunction(() => document.body.dataset.mc === 'done', null, { timeout: 120_000 });
+  await page.waitForFunction(() => !document.getElementById('colour-bar').hidden);
   await mkdir(dirname(screenshot), { recursive: true });
   await page.screenshot({ path: screenshot, fullPage: true });
   console.log(`screenshot: ${screenshot}`);
 });
 
-test('a malformed scene shows the core error message', async () => {
-  await page.fill('#scene', 'seg 0 0 1 0 4\nseg 0 0 one 1\n');
-  await page.click('#measure');
-  const error = await page.textContent('#error');
-  assert.match(error, /^line 2: /, `error shown: ${error}`);
-  assert.equal(await page.locator('#measures tr').count(), 0);
+test('importing a .flat with an error shows the message', async () => {
+  const patches = await page.textContent('#m-patches');
+  await page.setInputFiles('#import', {
+    name: 'broken.flat',
+    mimeType: 'text/plain',
+    buffer: Buffer.from('# a broken scene\nseg 0 0 1 0 4\nseg 0 0 one 1\n'),
+  });
+  await page.waitForFunction(() => document.getElementById('error').textContent !== '');
+  assert.equal(await page.textContent('#error'), "broken.flat: line 3: x1: 'one' is not a number");
+  assert.ok(await page.isVisible('#error'));
+  // The scene on the canvas is untouched.
+  assert.equal(await page.textContent('#m-patches'), patches);
 });
 
-test('a pasted scene is measured', async () => {
-  // A unit square room, counter-clockwise, 4 patches per side.
-  await page.fill('#scene', '# square\npoly 4 0 0 1 0 1 1 0 1 per_side 4\n');
-  await page.click('#measure');
+test('importing a good .flat replaces the scene; undo brings the old one back', async () => {
+  const patches = await page.textContent('#m-patches');
+  await andMonteCarlo(page, () => page.setInputFiles('#import', {
+    name: 'square.flat',
+    mimeType: 'text/plain',
+    buffer: Buffer.from('poly 4 0 0 1 0 1 1 0 1 per_side 4\n'),
+  }));
   assert.equal(await page.textContent('#error'), '');
-  assert.equal(await page.textContent('#m_n_patches'), '16');
-  const hs = Number(await page.textContent('#m_h_s'));
-  assert.ok(Number.isFinite(hs) && hs > 0, `h_s = ${hs}`);
-  // A closed room: rows sum to one, nested report fields get their own rows.
-  assert.equal(await page.textContent('#m_checks_row_stochastic'), 'true');
+  assert.equal(await page.textContent('#m-patches'), '16');
+  await page.click('#undo');
+  assert.equal(await page.textContent('#m-patches'), patches);
+});
+
+test('the page times the exact measures of 300- and 600-patch rooms', async () => {
+  // Square room with three objects (Fig. 4.15d), patches per side chosen for ~300 and ~600.
+  for (const perSide of [44, 88]) {
+    await page.fill('#per-side', String(perSide));
+    await andMonteCarlo(page, () => page.selectOption('#preset', 'three-objects-3'));
+    const n = await page.textContent('#m-patches');
+    const ms = Number(await page.getAttribute('#m-exact-ms', 'data-ms'));
+    assert.ok(Number.isFinite(ms) && ms > 0);
+    console.log(`exact form factors + measures of three-objects-3, ${n} patches: ${ms.toFixed(1)} ms`);
+  }
 });
 
 test('no console errors or uncaught exceptions', () => {

@@ -5,11 +5,11 @@ use crate::geom::DVec3;
 /// Relative tolerance (about 5 000 ulps) under which a vertex counts as lying on a plane:
 /// vertices shared by two faces, or computed by different subdivisions of one edge, differ
 /// by a few ulps of the coordinates.
-pub(super) const ON_PLANE: f64 = 1e-12;
+pub(crate) const ON_PLANE: f64 = 1e-12;
 
 /// The plane of a convex polygon with its area.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Plane {
+pub(crate) struct Plane {
     /// First vertex: a point of the plane.
     pub origin: DVec3,
     /// Unit normal of the front side (right-hand rule).
@@ -82,7 +82,7 @@ impl Plane {
 /// A half-space `{y : n · (y − o) ≥ 0}` with a tolerance `tol` under which a point counts as
 /// lying on its boundary plane.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct HalfSpace {
+pub(crate) struct HalfSpace {
     /// A point of the boundary plane.
     pub origin: DVec3,
     /// Unit normal pointing into the half-space.

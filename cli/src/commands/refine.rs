@@ -1,0 +1,283 @@
+//! `sceneinfo refine`: oracle-driven mesh refinement (thesis chapter 6).
+//!
+//! A `.flat` scene is refined here by halving one patch a step ([`FlatRefiner`], §6.5.2):
+//! the `de`, `power` and `regular` oracles. A `.obj` scene goes to hierarchical radiosity
+//! (§6.4), whose oracles are `power`, `ks`, `ks-av`, `mi` and `mi-increase`.
+
+use std::fmt::Write as _;
+use std::io::Write;
+use std::time::Instant;
+
+use anyhow::{Result, bail};
+use sceneinfo::formfactor::estimate_2d::{FlatTracer, LineMethod};
+use sceneinfo::refine::flat::{FlatOracle, FlatRefiner, StepReport};
+use sceneinfo::refine::profile::{InformationProfile, cells_per_patch, fine_scene};
+use sceneinfo::report::JsonObject;
+use sceneinfo::scene::FlatScene;
+
+use crate::args::{Colour, Oracle, RefineArgs};
+use crate::output::{is_obj, located, read_text, write_atomic};
+
+/// Global lines that tally `I^c` along the surfaces when `--lines` is not given.
+pub const DEFAULT_FLAT_LINES: u64 = 1_000_000;
+
+/// How many times the starting mesh a flatland refinement grows to without `--target`
+/// (26 → 208 patches, as in Table 6.2).
+pub const DEFAULT_GROWTH: usize = 8;
+
+/// Runs `refine`.
+pub fn run(args: &RefineArgs) -> Result<()> {
+    if is_obj(&args.file) {
+        bail!(
+            "{}: refining .obj scenes (hierarchical radiosity, oracles power, ks, ks-av, mi, \
+             mi-increase) is not supported yet",
+            args.file.display()
+        );
+    }
+    run_flat(args)
+}
+
+/// The validated flatland settings.
+#[derive(Debug)]
+struct FlatConfig {
+    oracle: FlatOracle,
+    target: usize,
+    eps: Option<f64>,
+    lines: u64,
+    threads: usize,
+}
+
+impl FlatConfig {
+    fn new(args: &RefineArgs, n_patches: usize) -> Result<Self> {
+        let file = args.file.display();
+        let oracle = match args.oracle {
+            Oracle::De => FlatOracle::DiscretisationError,
+            Oracle::Power => FlatOracle::Power,
+            Oracle::Regular => FlatOracle::Regular,
+            other => bail!(
+                "{file}: --oracle {} is a hierarchical-radiosity oracle for .obj scenes; \
+                 a .flat scene takes de, power or regular",
+                oracle_name(other)
+            ),
+        };
+        for (flag, given) in [
+            ("--ply", args.ply.is_some()),
+            ("--png", args.png.is_some()),
+            ("--reference", args.reference.is_some()),
+            ("--pairs", args.pairs.is_some()),
+        ] {
+            if given {
+                bail!("{file}: {flag} applies to .obj scenes (hierarchical radiosity), not .flat");
+            }
+        }
+        if let Some(e) = args.eps
+            && !(e.is_finite() && e >= 0.0)
+        {
+            bail!("{file}: --eps {e} must be a finite relative error >= 0");
+        }
+        let target = match args.target {
+            Some(0) => bail!("{file}: --target must be at least 1"),
+            Some(t) => t,
+            None => n_patches.saturating_mul(DEFAULT_GROWTH),
+        };
+        let lines = args.lines.unwrap_or(DEFAULT_FLAT_LINES);
+        if lines == 0 {
+            bail!(
+                "{}",
+                located(&args.file, &sceneinfo::ErrorKind::NoLines.into())
+            );
+        }
+        let threads = args.threads.unwrap_or_else(|| {
+            std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
+        });
+        Ok(Self {
+            oracle,
+            target,
+            eps: args.eps,
+            lines,
+            threads,
+        })
+    }
+}
+
+/// The CLI spelling of an oracle.
+fn oracle_name(o: Oracle) -> &'static str {
+    match o {
+        Oracle::Power => "power",
+        Oracle::Ks => "ks",
+        Oracle::KsAv => "ks-av",
+        Oracle::Mi => "mi",
+        Oracle::MiIncrease => "mi-increase",
+        Oracle::De => "de",
+        Oracle::Regular => "regular",
+    }
+}
+
+/// `I^c` along the surfaces of `scene`, tallied on `threads` threads (bit-identical for any
+/// thread count).
+pub fn flat_profile(
+    scene: &FlatScene,
+    lines: u64,
+    seed: u64,
+    threads: usize,
+) -> sceneinfo::Result<InformationProfile> {
+    let fine = fine_scene(scene, cells_per_patch(scene.n_patches()))?;
+    let tracer = FlatTracer::new(&fine)?;
+    let tally = crate::lines::run(&tracer, LineMethod::Global, seed, lines, threads);
+    InformationProfile::from_tally(&fine, &tally)
+}
+
+/// Refines a flatland scene and reports every step's measures.
+fn run_flat(args: &RefineArgs) -> Result<()> {
+    let at = |e: sceneinfo::Error| located(&args.file, &e);
+    let scene = sceneinfo::io::parse_flat(&read_text(&args.file)?).map_err(at)?;
+    let config = FlatConfig::new(args, scene.n_patches())?;
+    let start = Instant::now();
+    let profile = flat_profile(&scene, config.lines, args.seed, config.threads).map_err(at)?;
+    let mut refiner = FlatRefiner::with_profile(scene, config.oracle, profile).map_err(at)?;
+    let mut history = vec![refiner.report()];
+    while refiner.scene().n_patches() < config.target
+        && config
+            .eps
+            .is_none_or(|e| refiner.report().rel_discretisation_error > e)
+    {
+        history.push(refiner.step().map_err(at)?);
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    if let Some(path) = &args.svg {
+        let errors = refiner.patch_errors();
+        let notes = vec![format!(
+            "refined by the {} oracle to {} patches; I^c from {} global lines (seed {})",
+            config.oracle.name(),
+            refiner.scene().n_patches(),
+            config.lines,
+            args.seed
+        )];
+        let name = args.file.display().to_string();
+        let svg = crate::commands::draw::scene_picture(
+            refiner.scene(),
+            &errors,
+            Colour::Delta,
+            &name,
+            &notes,
+            f64::from(args.width),
+        );
+        write_atomic(path, svg.as_bytes())?;
+    }
+    if let Some(path) = &args.output {
+        write_atomic(path, sceneinfo::io::write_flat(refiner.scene()).as_bytes())?;
+    }
+    let mut out = std::io::stdout().lock();
+    if args.json {
+        writeln!(
+            out,
+            "{}",
+            json(&config, args.seed, &refiner.report(), &history, seconds)?
+        )?;
+    } else {
+        write!(
+            out,
+            "{}",
+            table(&args.file.display().to_string(), &config, &history, seconds)
+        )?;
+    }
+    out.flush()?;
+    Ok(())
+}
+
+/// The JSON report: the final mesh's measures and the history of every step.
+fn json(
+    config: &FlatConfig,
+    seed: u64,
+    last: &StepReport,
+    history: &[StepReport],
+    seconds: f64,
+) -> Result<String, std::fmt::Error> {
+    let mut s = String::new();
+    let mut o = JsonObject::new(&mut s)?;
+    o.string("oracle", config.oracle.name())?;
+    o.integer("n_patches", last.n_patches as u64)?;
+    o.integer("steps", last.step)?;
+    o.number("i_s", last.i_s)?;
+    o.number("h_s", last.h_s)?;
+    o.number("h_j", last.h_j)?;
+    o.number("e_mse", last.e_mse)?;
+    o.number("i_s_continuous", last.i_s_continuous)?;
+    o.number("i_s_continuous_stderr", last.i_s_continuous_stderr)?;
+    o.number("rel_discretisation_error", last.rel_discretisation_error)?;
+    o.boolean("background", last.background)?;
+    o.integer("lines", config.lines)?;
+    o.integer("seed", seed)?;
+    o.object("history", |h| {
+        let col = |f: fn(&StepReport) -> f64| history.iter().map(f).collect::<Vec<f64>>();
+        h.numbers("n_patches", &col(|r| r.n_patches as f64))?;
+        h.numbers("split", &col(|r| r.split.map_or(-1.0, |i| i as f64)))?;
+        h.numbers("split_error", &col(|r| r.split_error))?;
+        h.numbers("i_s", &col(|r| r.i_s))?;
+        h.numbers("h_s", &col(|r| r.h_s))?;
+        h.numbers("h_j", &col(|r| r.h_j))
+    })?;
+    o.number("seconds", seconds)?;
+    o.finish()?;
+    Ok(s)
+}
+
+/// The table: the first and last mesh, and a few rows of the history in between.
+fn table(name: &str, config: &FlatConfig, history: &[StepReport], seconds: f64) -> String {
+    let mut s = String::new();
+    let (Some(first), Some(last)) = (history.first(), history.last()) else {
+        return s;
+    };
+    let _ = writeln!(s, "scene                 {name}");
+    let _ = writeln!(
+        s,
+        "oracle                {} ({} steps, {seconds:.2} s)",
+        config.oracle.name(),
+        last.step
+    );
+    let _ = writeln!(
+        s,
+        "I_S^c (4.13)          {:.6} ± {:.6} bits ({} global lines)",
+        last.i_s_continuous, last.i_s_continuous_stderr, config.lines
+    );
+    if last.background {
+        let _ = writeln!(s, "background            included (open scene)");
+    }
+    let _ = writeln!(
+        s,
+        "\n{:>8} {:>10} {:>10} {:>10} {:>10} {:>8}",
+        "patches", "I_S", "H_S", "H_J", "E(MSE)", "δ̄ %"
+    );
+    // Rows at the start, at every doubling of the patch count, and at the end.
+    let mut next = first.n_patches;
+    for r in history {
+        if r.n_patches >= next || std::ptr::eq(r, last) {
+            let _ = writeln!(
+                s,
+                "{:>8} {:>10.4} {:>10.4} {:>10.4} {:>10.2} {:>8.2}",
+                r.n_patches,
+                r.i_s,
+                r.h_s,
+                r.h_j,
+                r.e_mse,
+                100.0 * r.rel_discretisation_error
+            );
+            next = r.n_patches.saturating_mul(2);
+        }
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn profile_is_the_same_on_any_number_of_threads() {
+        let scene = FlatScene::refinement_scene_one().unwrap();
+        let one = flat_profile(&scene, 70_000, 4, 1).unwrap();
+        let two = flat_profile(&scene, 70_000, 4, 2).unwrap();
+        assert_eq!(one, two);
+        assert_eq!(one, InformationProfile::trace(&scene, 70_000, 4).unwrap());
+    }
+}

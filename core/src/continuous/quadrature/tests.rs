@@ -1,0 +1,395 @@
+use super::*;
+use crate::formfactor::exact_3d::unoccluded_flux;
+use crate::scene::{Subdivision, preset_3d};
+use proptest::prelude::*;
+use std::format;
+use std::vec::Vec;
+
+fn v(x: f64, y: f64, z: f64) -> DVec3 {
+    DVec3::new(x, y, z)
+}
+
+/// The pair integrals of two polygons with the given rule (zero if they do not face).
+fn pair(p: &[DVec3], q: &[DVec3], options: QuadratureOptions) -> PairIntegrals {
+    let (pp, pq) = (Plane::of(p).unwrap(), Plane::of(q).unwrap());
+    Pair::new(p, &pp, q, &pq).map_or_else(PairIntegrals::default, |pair| {
+        pair.integrate(&Rules::new(options))
+    })
+}
+
+/// Composite Gauss–Legendre on `[lo, hi]`: `pieces` equal pieces of the 12-point rule.
+fn composite(lo: f64, hi: f64, pieces: usize) -> Vec<(f64, f64)> {
+    let gl = gauss_legendre(12);
+    let h = (hi - lo) / pieces as f64;
+    (0..pieces)
+        .flat_map(|k| {
+            let a = lo + k as f64 * h;
+            gl.iter().map(move |&(x, w)| (a + h * x, h * w))
+        })
+        .collect()
+}
+
+#[test]
+fn gauss_legendre_integrates_polynomials_exactly() {
+    for n in [1, 2, 5, 12, 33] {
+        let rule = gauss_legendre(n);
+        assert!((rule.iter().map(|p| p.1).sum::<f64>() - 1.0).abs() < 1e-14);
+        for k in 0..2 * n {
+            let got: f64 = rule.iter().map(|&(x, w)| w * x.powi(k as i32)).sum();
+            let exact = 1.0 / (k as f64 + 1.0);
+            assert!(
+                (got - exact).abs() < 1e-14,
+                "n {n}, x^{k}: {got} vs {exact}"
+            );
+        }
+    }
+}
+
+#[test]
+fn graded_rule_integrates_a_log_singularity() {
+    // ∫₀¹ ln x dx = −1, ∫₀¹ x ln x dx = −1/4: the grading resolves the endpoint.
+    let r = Rules::new(QuadratureOptions::STANDARD);
+    let log: f64 = r.graded.iter().map(|&(x, w)| w * x.ln()).sum();
+    let x_log: f64 = r.graded_weak.iter().map(|&(x, w)| w * x * x.ln()).sum();
+    assert!((log + 1.0).abs() < 1e-8, "{log}");
+    assert!((x_log + 0.25).abs() < 1e-10, "{x_log}");
+}
+
+/// The closed-form inner integral against brute-force quadrature over `(u, v)` of
+/// `F = K/(D + (u − v)²)²` and `F log₂ F`, on slices overlapping, disjoint, nested and of
+/// equal width, with narrow and wide peaks.
+#[test]
+fn slices_integral_matches_brute_force() {
+    let cases = [
+        // (K, D, a, b, c, d)
+        (0.3, 0.5, 0.0, 1.0, 0.0, 1.0),
+        (0.02, 0.01, -0.3, 0.7, 0.1, 0.4),
+        (1.7, 2.0, 0.0, 0.5, 1.5, 3.0),
+        (0.4, 0.05, 0.2, 1.1, -0.4, 0.9),
+        (0.1, 0.3, -1.0, 1.0, -1.0, 1.0),
+        (5.0, 0.2, 0.0, 2.0, 0.5, 0.6),
+    ];
+    for (k, d, a, b, c, dd) in cases {
+        let (flux, log) = slices_integral(k, d, a, b, c, dd);
+        let (mut bf, mut bl) = (0.0, 0.0);
+        for &(u, wu) in &composite(a, b, 60) {
+            for &(w_v, wv) in &composite(c, dd, 60) {
+                let r2 = d + (u - w_v) * (u - w_v);
+                let f = k / (r2 * r2);
+                bf += wu * wv * f;
+                bl += wu * wv * f * f.log2();
+            }
+        }
+        assert!(
+            (flux - bf).abs() < 1e-11 * bf.abs().max(1.0),
+            "{flux} vs {bf}"
+        );
+        assert!(
+            (log - bl).abs() < 1e-11 * bl.abs().max(1.0),
+            "{log} vs {bl}"
+        );
+    }
+    // Degenerate kernels contribute nothing, never NaN.
+    assert_eq!(slices_integral(0.0, 1.0, 0.0, 1.0, 0.0, 1.0), (0.0, 0.0));
+    assert_eq!(slices_integral(1.0, 0.0, 0.0, 1.0, 0.0, 1.0), (0.0, 0.0));
+    assert_eq!(
+        slices_integral(f64::NAN, 1.0, 0.0, 1.0, 0.0, 1.0),
+        (0.0, 0.0)
+    );
+}
+
+/// `∫∫ F` by the quadrature against the exact unoccluded flux (double contour integral,
+/// error ≤ 10⁻¹²) on the textbook cases and on pairs sharing an edge, part of an edge or a
+/// vertex, tilted, clipped by each other's planes, and parallel.
+#[test]
+fn pair_flux_matches_exact_form_factors() {
+    let floor = [v(0., 0., 0.), v(1., 0., 0.), v(1., 1., 0.), v(0., 1., 0.)];
+    let ceiling = [v(0., 0., 1.), v(0., 1., 1.), v(1., 1., 1.), v(1., 0., 1.)];
+    let wall = [v(0., 0., 0.), v(0., 0., 1.), v(1., 0., 1.), v(1., 0., 0.)];
+    // Parallel facing unit squares at distance 1, perpendicular ones sharing an edge.
+    let parallel = pair(&floor, &ceiling, QuadratureOptions::STANDARD).flux;
+    assert!(
+        (parallel - 0.199_824_895_698_387_46).abs() < 1e-12,
+        "{parallel}"
+    );
+    let perpendicular = pair(&floor, &wall, QuadratureOptions::STANDARD).flux;
+    assert!(
+        (perpendicular - 0.200_043_776_075_403_13).abs() < 1e-10,
+        "{perpendicular}"
+    );
+    let cases: Vec<(&str, Vec<DVec3>, Vec<DVec3>)> = std::vec![
+        // A wall sharing half of the floor's edge and reaching beyond it.
+        (
+            "partial edge",
+            floor.to_vec(),
+            std::vec![v(0.5, 0., 0.), v(0.5, 0., 1.), v(2., 0., 1.), v(2., 0., 0.)],
+        ),
+        // Two triangles of a regular tetrahedron's corner: acute dihedral angle.
+        (
+            "acute hinge",
+            std::vec![v(0., 0., 0.), v(1., 0., 0.), v(0.5, 0.8, 0.)],
+            std::vec![v(0., 0., 0.), v(0.5, 0.3, 0.7), v(1., 0., 0.)],
+        ),
+        // An obtuse hinge, nearly flat.
+        (
+            "obtuse hinge",
+            std::vec![v(0., 0., 0.), v(1., 0., 0.), v(1., 1., 0.), v(0., 1., 0.)],
+            std::vec![
+                v(0., 0., 0.),
+                v(0., 1., 0.),
+                v(-1., 1., 0.2),
+                v(-1., 0., 0.2)
+            ],
+        ),
+        // Sharing only a vertex.
+        (
+            "vertex",
+            std::vec![v(0., 0., 0.), v(1., 0., 0.), v(0.3, 1., 0.)],
+            std::vec![v(0., 0., 0.), v(-0.2, 0.4, 0.9), v(-0.8, -0.1, 0.6)],
+        ),
+        // A tilted parallelogram crossing the triangle's plane: each clipped by the other.
+        (
+            "clipped",
+            std::vec![v(0., 0., 0.), v(2., 0., 0.), v(0.5, 1.5, 0.)],
+            std::vec![
+                v(0.2, 0.3, -0.4),
+                v(0.3, 1.2, 0.9),
+                v(1.6, 1.0, 1.1),
+                v(1.5, 0.1, -0.2)
+            ],
+        ),
+        // Skew, separated.
+        (
+            "skew",
+            std::vec![v(0., 0., 0.), v(1., 0.2, 0.), v(0.3, 0.9, 0.1)],
+            std::vec![v(0.1, 0.2, 1.5), v(0.2, 1.1, 1.9), v(1.2, 0.5, 1.3)],
+        ),
+    ];
+    for (name, p, q) in cases {
+        // Orient both to face each other: flip a polygon whose centroid sees the other's back.
+        let (mut p, mut q) = (p, q);
+        let (cp, cq) = (
+            Plane::of(&p).unwrap().centroid,
+            Plane::of(&q).unwrap().centroid,
+        );
+        if Plane::of(&p).unwrap().normal.dot(cq - cp) < 0.0 {
+            p.reverse();
+        }
+        if Plane::of(&q).unwrap().normal.dot(cp - cq) < 0.0 {
+            q.reverse();
+        }
+        let exact = unoccluded_flux(&p, &q);
+        assert!(exact > 1e-3, "{name}: exact {exact}");
+        let got = pair(&p, &q, QuadratureOptions::STANDARD);
+        let coarse = pair(&p, &q, QuadratureOptions::STANDARD.coarser());
+        let again = pair(&q, &p, QuadratureOptions::STANDARD);
+        // Within the refinement estimate, itself small.
+        let estimate = (got.flux - coarse.flux).abs();
+        assert!(estimate < 1e-5 * exact, "{name}: estimate {estimate}");
+        assert!(
+            (got.flux - exact).abs() <= estimate + 1e-12,
+            "{name}: {} vs {exact}, estimate {estimate}",
+            got.flux
+        );
+        assert!(
+            (again.flux - got.flux).abs() < 1e-12,
+            "{name}: {}",
+            again.flux
+        );
+        assert!(
+            (got.flux_log2 - again.flux_log2).abs() < 1e-8,
+            "{name}: {} vs {}",
+            got.flux_log2,
+            again.flux_log2
+        );
+    }
+    // Back to back, or one behind the other: nothing.
+    let mut down = ceiling;
+    down.reverse();
+    assert_eq!(pair(&floor, &down, QuadratureOptions::STANDARD).flux, 0.0);
+    assert_eq!(pair(&floor, &floor, QuadratureOptions::STANDARD).flux, 0.0);
+}
+
+/// Table 4.1's regular solids against the independent references the issue tracker quotes
+/// (`thesis::PLATONIC_REFERENCE`): cube, octahedron, dodecahedron and icosahedron agree
+/// within the stated uncertainty. The tetrahedron does not: see
+/// `tetrahedron_is_below_the_quoted_reference`.
+#[test]
+fn platonic_solids_match_the_independent_references() {
+    for (name, reference, uncertainty) in crate::thesis::PLATONIC_REFERENCE {
+        if name == "tetrahedron" {
+            continue;
+        }
+        let r = scene_i_s_continuous(&preset_3d(name, 1).unwrap(), QuadratureOptions::STANDARD)
+            .unwrap();
+        assert!(r.error_estimate < 1e-5, "{name}: {r:?}");
+        assert!(
+            (r.value - reference).abs() <= uncertainty,
+            "{name}: {} vs {reference} ± {uncertainty}",
+            r.value
+        );
+        // Closed: the visible flux is the whole area.
+        assert!((r.visible_area / r.total_area - 1.0).abs() < 1e-12, "{r:?}");
+    }
+}
+
+/// The regular tetrahedron: 2.619458 ± 10⁻⁵, below both the thesis' 2.626 (10⁶ lines,
+/// within its Monte Carlo error) and the quoted reference 2.6203 ± 0.0005 (by 0.0008).
+/// The value does not move when every face is cut in four (different pair geometries:
+/// partial edges, vertex contacts, coplanar pairs), nor with a much finer rule.
+#[test]
+fn tetrahedron_is_below_the_quoted_reference() {
+    let tetra = preset_3d("tetrahedron", 1).unwrap();
+    // Regular: all edges equal.
+    let (lo, hi) = (0..4)
+        .flat_map(|f| {
+            let p = tetra.face_vertices(f);
+            (0..3).map(move |k| (p[k] - p[(k + 1) % 3]).length())
+        })
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), l| {
+            (lo.min(l), hi.max(l))
+        });
+    assert!(hi - lo < 1e-12 * hi, "edges {lo}..{hi}");
+    let r = scene_i_s_continuous(&tetra, QuadratureOptions::STANDARD).unwrap();
+    let fine = scene_i_s_continuous(
+        &tetra,
+        QuadratureOptions {
+            order: 16,
+            levels: 16,
+        },
+    )
+    .unwrap();
+    assert!(
+        (r.value - fine.value).abs() <= r.error_estimate,
+        "{r:?} {fine:?}"
+    );
+    assert!((r.value - 2.619_458).abs() < 1e-5, "{r:?}");
+    let cut = tetra.subdivided(Subdivision::Triangles(1)).unwrap();
+    let polygons: Vec<(usize, usize)> = cut.patches().iter().map(|p| (p.first, p.count)).collect();
+    let split = i_s_continuous(cut.points(), &polygons, QuadratureOptions::STANDARD).unwrap();
+    assert!((split.value - r.value).abs() < 1e-7, "{split:?} vs {r:?}");
+    assert!((split.visible_area / split.total_area - 1.0).abs() < 1e-10);
+    let (_, reference, uncertainty) = crate::thesis::PLATONIC_REFERENCE[4];
+    assert!(reference - r.value > uncertainty, "{r:?}");
+}
+
+/// The error estimate (difference from the coarser rule) bounds the actual error, taken
+/// against a much finer rule, and shrinks as the rule grows.
+#[test]
+fn error_estimate_bounds_the_error() {
+    let scene = preset_3d("dodecahedron", 1).unwrap();
+    let fine = scene_i_s_continuous(
+        &scene,
+        QuadratureOptions {
+            order: 16,
+            levels: 14,
+        },
+    )
+    .unwrap();
+    let mut previous = f64::INFINITY;
+    for (order, levels) in [(6, 4), (9, 7), (12, 10)] {
+        let r = scene_i_s_continuous(&scene, QuadratureOptions { order, levels }).unwrap();
+        assert!(
+            (r.value - fine.value).abs() <= r.error_estimate,
+            "{order}/{levels}: {r:?} vs {}",
+            fine.value
+        );
+        assert!(r.error_estimate < previous, "{r:?}");
+        previous = r.error_estimate;
+    }
+}
+
+#[test]
+fn occluded_scenes_and_bad_options_are_refused() {
+    let cornell = preset_3d("cornell", 1).unwrap();
+    let e = scene_i_s_continuous(&cornell, QuadratureOptions::STANDARD).unwrap_err();
+    assert_eq!(e.kind(), &ErrorKind::MayBeOccluded);
+    assert!(format!("{e}").contains("unoccluded"), "{e}");
+    let cube = preset_3d("cube", 1).unwrap();
+    for (order, levels) in [(1, 5), (MAX_ORDER + 1, 5), (8, 0), (8, MAX_LEVELS + 1)] {
+        let e = scene_i_s_continuous(&cube, QuadratureOptions { order, levels }).unwrap_err();
+        assert!(matches!(e.kind(), ErrorKind::BadParameter { .. }), "{e}");
+    }
+    assert_eq!(
+        i_s_continuous(&[], &[], QuadratureOptions::STANDARD)
+            .unwrap_err()
+            .kind(),
+        &ErrorKind::EmptyScene
+    );
+    let e = i_s_continuous(&[v(0., 0., 0.)], &[(0, 3)], QuadratureOptions::STANDARD).unwrap_err();
+    assert!(
+        matches!(e.kind(), ErrorKind::DimensionMismatch { .. }),
+        "{e}"
+    );
+}
+
+/// An open scene (two facing squares): `I_S^c` counts only the visible pairs, normalised by
+/// the total area, as the line estimators do.
+#[test]
+fn open_scene_counts_visible_pairs_only() {
+    let points = [
+        v(0., 0., 0.),
+        v(1., 0., 0.),
+        v(1., 1., 0.),
+        v(0., 1., 0.),
+        v(0., 0., 1.),
+        v(0., 1., 1.),
+        v(1., 1., 1.),
+        v(1., 0., 1.),
+    ];
+    let r = i_s_continuous(&points, &[(0, 4), (4, 4)], QuadratureOptions::STANDARD).unwrap();
+    let flux = 0.199_824_895_698_387_46;
+    assert!((r.visible_area - 2.0 * flux).abs() < 1e-12, "{r:?}");
+    assert_eq!(r.facing_pairs, 1);
+    assert!(r.value.is_finite() && r.error_estimate < 1e-9, "{r:?}");
+}
+
+/// A hinge: two convex polygons sharing the edge from the origin to `(1, 0, 0)`, with
+/// apexes at angles `alpha` and `beta` about it (so the dihedral angle is `beta − alpha`).
+fn hinge(alpha: f64, beta: f64, apex_p: (f64, f64), apex_q: (f64, f64)) -> [Vec<DVec3>; 2] {
+    let dir = |a: f64| v(0.0, a.cos(), a.sin());
+    let (dp, dq) = (dir(alpha), dir(beta));
+    let p = std::vec![
+        v(0., 0., 0.),
+        v(1., 0., 0.),
+        v(apex_p.0, 0., 0.) + apex_p.1 * dp
+    ];
+    let q = std::vec![
+        v(0., 0., 0.),
+        v(1., 0., 0.),
+        v(apex_q.0, 0., 0.) + apex_q.1 * dq
+    ];
+    [p, q]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// On random hinges (shared edge, dihedral angle from 52° to nearly flat) the
+    /// quadrature's flux equals the exact form factor's within its error estimate, and the
+    /// pair is symmetric. Thin triangles converge slower than the solids' faces: the
+    /// estimate reaches 2·10⁻⁴ of the flux (actual error 5·10⁻⁵) for a 1 × 0.2 triangle
+    /// leaning past the shared vertex.
+    #[test]
+    fn hinge_flux_matches_exact(
+        dihedral in 0.9f64..3.0,
+        apex_p in (-0.5f64..1.5, 0.2f64..1.5),
+        apex_q in (-0.5f64..1.5, 0.2f64..1.5),
+    ) {
+        let [mut p, mut q] = hinge(0.0, dihedral, apex_p, apex_q);
+        // Face each other.
+        let (cp, cq) = (Plane::of(&p).unwrap().centroid, Plane::of(&q).unwrap().centroid);
+        if Plane::of(&p).unwrap().normal.dot(cq - cp) < 0.0 { p.reverse(); }
+        if Plane::of(&q).unwrap().normal.dot(cp - cq) < 0.0 { q.reverse(); }
+        let exact = unoccluded_flux(&p, &q);
+        let got = pair(&p, &q, QuadratureOptions::STANDARD);
+        let coarse = pair(&p, &q, QuadratureOptions::STANDARD.coarser());
+        let back = pair(&q, &p, QuadratureOptions::STANDARD);
+        // Within the refinement estimate (sharp wedges peak along s = t and converge
+        // slowest), and that estimate small.
+        let estimate = (got.flux - coarse.flux).abs();
+        prop_assert!((got.flux - exact).abs() <= estimate + 1e-12, "{} vs {exact} (estimate {estimate})", got.flux);
+        prop_assert!(estimate < 1e-3 * exact, "{estimate} for {exact}");
+        prop_assert!((got.flux_log2 - back.flux_log2).abs() < 1e-7, "{:?} {:?}", got, back);
+    }
+}

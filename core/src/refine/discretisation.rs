@@ -1,0 +1,246 @@
+//! The discretisation error between two patches (thesis §6.3.2) and of one patch (§6.5.2):
+//! the information transfer a mesh loses against the continuous scene, `δ = I^c − I ≥ 0`
+//! (6.16).
+//!
+//! Between patches `i` and `j` (areas, or lengths in flatland, `A_i`, `A_j`; `A_T` the total)
+//!
+//! ```text
+//! δ^v_ij = I_ij^c − I_ij,   I_ij^c = ∫_{A_i} ∫_{A_j} (1/A_T) F(x,y) log₂(A_T F(x,y)),
+//!                           I_ij   = (A_i F_ij / A_T) log₂(A_T F_ij / A_j)          (6.12, 6.18)
+//! ```
+//!
+//! estimated two ways:
+//!
+//! 1. **Patch-to-patch random lines** (6.19): `N` point pairs `(x_k, y_k)` uniform on
+//!    `A_i × A_j`, `F_k = F(x_k, y_k)` the point-to-point kernel with visibility, and the
+//!    discrete `F_ij / A_j` estimated by the same samples' mean `F̄`:
+//!
+//!    ```text
+//!    δ^v_ij ≈ (A_i A_j / A_T) ((1/N) Σ_k F_k log₂ F_k − F̄ log₂ F̄) ≥ 0
+//!    ```
+//!
+//!    `≥ 0` by construction: it is `(A_i A_j / (A_T N)) Σ_k F_k log₂(F_k / F̄)`, the log-sum
+//!    inequality (2.67) with `Σ_k F_k = N F̄`. Symmetric in `i`, `j` for the same pairs.
+//! 2. **Local or global lines** (6.21): `N_ij` segments from `i` to `j` (cosine-distributed,
+//!    so the pairs have density `∝ F(x, y)`):
+//!
+//!    ```text
+//!    δ^v_ij ≈ (A_i F_ij / A_T) ((1/N_ij) Σ_k log₂ F_k − log₂(F_ij / A_j))
+//!    ```
+//!
+//!    Its expectation is `(A_i F_ij / A_T) · D(q ‖ u) ≥ 0` (`q ∝ F` against the uniform
+//!    density on `A_i × A_j`); one estimate can fall below 0 by its Monte Carlo error.
+//!    Symmetric when `A_i F_ij = A_j F_ji` and the same segments serve both ends.
+//!
+//! The radiosity forms (6.24, 6.27) multiply by `B_i B_j` and normalise by
+//! `A_T^c = Σ_i A_i B_i B_i^in` instead of `A_T` (6.25: `δ^r_ij = B_i B_j (A_T / A_T^c) δ^v_ij`).
+//!
+//! Per patch, the DE oracle's measure is `I_i^c − I_i` (§6.5.2): [`patch_errors_into`].
+
+use super::log_sum_gap;
+use crate::error::{ErrorKind, Result};
+use crate::math::{self, KahanSum};
+
+/// Checks `value > 0` and finite.
+fn positive(name: &'static str, value: f64) -> Result<f64> {
+    if value > 0.0 && value.is_finite() {
+        Ok(value)
+    } else {
+        Err(ErrorKind::BadParameter { name, value }.into())
+    }
+}
+
+/// Checks `value ≥ 0` and finite.
+fn non_negative(name: &'static str, value: f64) -> Result<f64> {
+    if value >= 0.0 && value.is_finite() {
+        Ok(value)
+    } else {
+        Err(ErrorKind::BadParameter { name, value }.into())
+    }
+}
+
+/// `(1/N) Σ_k F_k log₂ F_k − F̄ log₂ F̄` for the kernel samples, `≥ 0` by construction.
+fn kernel_spread(kernel: &[f64]) -> Result<f64> {
+    if kernel.is_empty() {
+        return Err(ErrorKind::NoLines.into());
+    }
+    if let Some(k) = kernel.iter().position(|f| !(f.is_finite() && *f >= 0.0)) {
+        return Err(ErrorKind::NonFiniteEntry { row: k, col: 0 }.into());
+    }
+    // Σ_k F_k log(F_k / F̄) = Σ_k F_k log((F_k / ΣF) / (1 / N)): the log-sum gap with v_k = 1.
+    let gap = log_sum_gap(kernel.iter().map(|&f| (f, 1.0)));
+    Ok(gap / kernel.len() as f64)
+}
+
+/// Visibility discretisation error by patch-to-patch random lines (6.19):
+/// `δ^v_ij ≈ (A_i A_j / A_T)((1/N) Σ F_k log₂ F_k − F̄ log₂ F̄)`, where `kernel[k]` is the
+/// point-to-point form factor `F(x_k, y_k)` (0 when the points do not see each other) of
+/// the `k`-th uniform point pair. `≥ 0`, and 0 when the kernel is constant over the pairs.
+///
+/// # Errors
+/// [`ErrorKind::BadParameter`] for a non-positive area or total; [`ErrorKind::NoLines`] for
+/// no samples; [`ErrorKind::NonFiniteEntry`] (row = the sample) for a negative or non-finite
+/// kernel value.
+pub fn visibility_error_point_pairs(a_i: f64, a_j: f64, a_t: f64, kernel: &[f64]) -> Result<f64> {
+    let scale = positive("A_i", a_i)? * positive("A_j", a_j)? / positive("A_T", a_t)?;
+    Ok(scale * kernel_spread(kernel)?)
+}
+
+/// Radiosity discretisation error by patch-to-patch random lines (6.24):
+/// `δ^r_ij ≈ (A_i A_j B_i B_j / A_T^c)((1/N) Σ F_k log₂ F_k − F̄ log₂ F̄)` for radiosities
+/// `B_i`, `B_j` constant on the patches and `A_T^c = Σ_i A_i B_i B_i^in` (5.41).
+///
+/// # Errors
+/// As [`visibility_error_point_pairs`]; a negative or non-finite radiosity, or
+/// `A_T^c ≤ 0`, is [`ErrorKind::BadParameter`].
+pub fn radiosity_error_point_pairs(
+    radiosities: (f64, f64),
+    a_i: f64,
+    a_j: f64,
+    total_weight: f64,
+    kernel: &[f64],
+) -> Result<f64> {
+    let b = non_negative("B_i", radiosities.0)? * non_negative("B_j", radiosities.1)?;
+    let scale =
+        b * positive("A_i", a_i)? * positive("A_j", a_j)? / positive("A_T^c", total_weight)?;
+    Ok(scale * kernel_spread(kernel)?)
+}
+
+/// Visibility discretisation error by local or global lines (6.21):
+/// `δ^v_ij ≈ (A_i F_ij / A_T)(mean_log_kernel − log₂(F_ij / A_j))`, where
+/// `mean_log_kernel = (1/N_ij) Σ_k log₂ F(x_k, y_k)` over the `N_ij` line segments joining
+/// `i` and `j`. 0 when `F_ij = 0` (no segment, no transfer, nothing lost).
+///
+/// # Errors
+/// [`ErrorKind::BadParameter`] for a non-positive area or total, a negative or non-finite
+/// `F_ij`, or a non-finite mean (with `F_ij > 0`).
+pub fn visibility_error_lines(
+    a_i: f64,
+    f_ij: f64,
+    a_j: f64,
+    a_t: f64,
+    mean_log_kernel: f64,
+) -> Result<f64> {
+    let (a_i, a_j, a_t) = (
+        positive("A_i", a_i)?,
+        positive("A_j", a_j)?,
+        positive("A_T", a_t)?,
+    );
+    if non_negative("F_ij", f_ij)? == 0.0 {
+        return Ok(0.0);
+    }
+    if !mean_log_kernel.is_finite() {
+        return Err(ErrorKind::BadParameter {
+            name: "mean log kernel",
+            value: mean_log_kernel,
+        }
+        .into());
+    }
+    Ok(a_i * f_ij / a_t * (mean_log_kernel - math::log2(f_ij / a_j)))
+}
+
+/// Radiosity discretisation error by local or global lines (6.27):
+/// `δ^r_ij ≈ (A_i F_ij B_i B_j / A_T^c)(mean_log_kernel − log₂(F_ij / A_j))`.
+///
+/// # Errors
+/// As [`visibility_error_lines`]; a negative or non-finite radiosity, or `A_T^c ≤ 0`, is
+/// [`ErrorKind::BadParameter`].
+pub fn radiosity_error_lines(
+    radiosities: (f64, f64),
+    a_i: f64,
+    f_ij: f64,
+    a_j: f64,
+    total_weight: f64,
+    mean_log_kernel: f64,
+) -> Result<f64> {
+    let b = non_negative("B_i", radiosities.0)? * non_negative("B_j", radiosities.1)?;
+    let total = positive("A_T^c", total_weight)?;
+    // (6.27) is (6.21) with A_T → A_T^c and the factor B_i B_j.
+    Ok(b * visibility_error_lines(a_i, f_ij, a_j, total, mean_log_kernel)?)
+}
+
+/// Per-patch discretisation error `I_i^c − I_i` (§6.5.2), the DE oracle's measure, into
+/// `out[..n]`; returns `Σ_i (I_i^c − I_i) = I_S^c − I_S`. With Monte Carlo `I_i^c` a value
+/// can fall below 0 by its error.
+///
+/// # Errors
+/// [`ErrorKind::DimensionMismatch`] if `continuous` and `discrete` differ in length;
+/// [`ErrorKind::BufferTooSmall`] if `out` is shorter.
+pub fn patch_errors_into(continuous: &[f64], discrete: &[f64], out: &mut [f64]) -> Result<f64> {
+    let n = continuous.len();
+    if discrete.len() != n {
+        return Err(ErrorKind::DimensionMismatch {
+            expected: n,
+            found: discrete.len(),
+        }
+        .into());
+    }
+    let found = out.len();
+    let out = out
+        .get_mut(..n)
+        .ok_or(ErrorKind::BufferTooSmall { needed: n, found })?;
+    let mut total = KahanSum::new();
+    for ((o, &c), &d) in out.iter_mut().zip(continuous).zip(discrete) {
+        *o = c - d;
+        total.add(*o);
+    }
+    Ok(total.total())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn constant_kernel_loses_nothing() {
+        let d = visibility_error_point_pairs(1.0, 2.0, 10.0, &[0.3; 50]).unwrap();
+        assert!(d.abs() < 1e-15, "{d}");
+    }
+
+    #[test]
+    fn two_valued_kernel_matches_the_closed_form() {
+        // F ∈ {1, 3}, half each: mean 2; (1/N)Σ F log F − F̄ log F̄ = ½·3 log₂ 3 − 2.
+        let k = [1.0, 3.0, 1.0, 3.0];
+        let d = visibility_error_point_pairs(1.0, 1.0, 1.0, &k).unwrap();
+        let expected = 1.5 * 3f64.log2() - 2.0;
+        assert!((d - expected).abs() < 1e-14, "{d} vs {expected}");
+        let r = radiosity_error_point_pairs((2.0, 3.0), 1.0, 1.0, 4.0, &k).unwrap();
+        assert!((r - 6.0 / 4.0 * expected).abs() < 1e-14);
+    }
+
+    #[test]
+    fn lines_form_is_zero_for_a_constant_kernel_and_scales_for_radiosity() {
+        // F(x,y) = F_ij / A_j everywhere: mean log = log(F_ij / A_j).
+        let (a_i, f_ij, a_j, a_t) = (0.5, 0.2, 2.0, 5.0);
+        let d = visibility_error_lines(a_i, f_ij, a_j, a_t, (f_ij / a_j).log2()).unwrap();
+        assert!(d.abs() < 1e-15);
+        let v = visibility_error_lines(a_i, f_ij, a_j, a_t, 1.0).unwrap();
+        let r = radiosity_error_lines((2.0, 0.5), a_i, f_ij, a_j, a_t, 1.0).unwrap();
+        assert!((r - v).abs() < 1e-15);
+        assert_eq!(
+            visibility_error_lines(a_i, 0.0, a_j, a_t, f64::NAN),
+            Ok(0.0)
+        );
+    }
+
+    #[test]
+    fn bad_input_is_an_error() {
+        assert!(visibility_error_point_pairs(1.0, 1.0, 1.0, &[]).is_err());
+        assert!(visibility_error_point_pairs(1.0, 1.0, 1.0, &[1.0, f64::NAN]).is_err());
+        assert!(visibility_error_point_pairs(1.0, 1.0, 1.0, &[1.0, -1.0]).is_err());
+        assert!(visibility_error_point_pairs(0.0, 1.0, 1.0, &[1.0]).is_err());
+        assert!(radiosity_error_point_pairs((-1.0, 1.0), 1.0, 1.0, 1.0, &[1.0]).is_err());
+        assert!(visibility_error_lines(1.0, 0.5, 1.0, 1.0, f64::INFINITY).is_err());
+        let mut out = [0.0; 1];
+        assert!(patch_errors_into(&[1.0, 2.0], &[0.5, 0.5], &mut out).is_err());
+        assert!(patch_errors_into(&[1.0, 2.0], &[0.5], &mut out).is_err());
+    }
+
+    #[test]
+    fn per_patch_errors_sum_to_the_scene_error() {
+        let mut out = [0.0; 3];
+        let total = patch_errors_into(&[0.5, 0.25, 1.0], &[0.25, 0.25, 0.5], &mut out).unwrap();
+        assert_eq!(out, [0.25, 0.0, 0.5]);
+        assert_eq!(total, 0.75);
+    }
+}

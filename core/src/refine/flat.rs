@@ -1,0 +1,435 @@
+//! Flatland refinement one split at a time (thesis §6.5.2).
+//!
+//! Each step halves one patch, chosen by an oracle:
+//!
+//! - [`FlatOracle::DiscretisationError`] ("DE-based"): the patch with the largest
+//!   discretisation error `I_i^c − I_i` — the largest potential gain of information transfer;
+//! - [`FlatOracle::Power`] ("power-based", the thesis' rival): the patch with the largest
+//!   information transfer `I_i` (6.32);
+//! - [`FlatOracle::Regular`]: the longest patch (the first of equals), which from a mesh of
+//!   equal patches `n₀` gives the regular mesh at every `n₀ · 2^k` patches.
+//!
+//! `I_i` comes from exact form factors with occlusion, updated incrementally: halving patch
+//! `i` recomputes only the two new rows (and, by reciprocity, columns) of `F`. `I_i^c` comes
+//! from an [`InformationProfile`] tallied once. A refiner is deterministic for its scene,
+//! oracle, lines and seed.
+//!
+//! # Examples
+//!
+//! ```
+//! use sceneinfo::refine::flat::{FlatOracle, FlatRefiner};
+//! use sceneinfo::scene::FlatScene;
+//!
+//! let scene = FlatScene::regular_polygon(3, 2)?;
+//! let mut refiner = FlatRefiner::new(scene, FlatOracle::DiscretisationError, 20_000, 1)?;
+//! let before = refiner.report();
+//! let step = refiner.step()?;
+//! assert_eq!(step.n_patches, 7);
+//! assert!(step.i_s >= before.i_s); // Proposition 3: a split never loses information
+//! # Ok::<(), sceneinfo::Error>(())
+//! ```
+
+use alloc::vec;
+use alloc::vec::Vec;
+
+use super::profile::InformationProfile;
+use crate::error::{ErrorKind, Result};
+use crate::formfactor::{FormFactors, exact_2d};
+use crate::scene::FlatScene;
+
+/// Most patches a [`FlatRefiner`] grows a mesh to (it keeps a dense `n × n` matrix).
+pub const MAX_REFINED_PATCHES: usize = 4096;
+
+/// Which patch a refinement step halves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum FlatOracle {
+    /// The largest discretisation error `I_i^c − I_i` (the thesis' DE-based oracle).
+    DiscretisationError,
+    /// The largest information transfer `I_i` (the thesis' "power-based" oracle).
+    Power,
+    /// The longest patch (regular meshing).
+    Regular,
+}
+
+impl FlatOracle {
+    /// The oracle's name as the CLI spells it: `de`, `power`, `regular`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::DiscretisationError => "de",
+            Self::Power => "power",
+            Self::Regular => "regular",
+        }
+    }
+}
+
+/// The state of a refinement after a step (or at the start).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepReport {
+    /// Steps taken so far.
+    pub step: u64,
+    /// The patch index this step halved (before the split; the halves are `split` and
+    /// `split + 1` afterwards), `None` for the starting mesh.
+    pub split: Option<usize>,
+    /// The halved patch's `I_i^c − I_i` before the split (bits).
+    pub split_error: f64,
+    /// Patches now.
+    pub n_patches: usize,
+    /// `I_S` (3.8), exact form factors.
+    pub i_s: f64,
+    /// `H_S` (3.1).
+    pub h_s: f64,
+    /// `H_J` (3.6).
+    pub h_j: f64,
+    /// `E(MSE)` (3.20) of form factors estimated with one line per patch pair.
+    pub e_mse: f64,
+    /// `I_S^c` (4.13) from the profile's lines (the same for every mesh).
+    pub i_s_continuous: f64,
+    /// Its standard error.
+    pub i_s_continuous_stderr: f64,
+    /// `δ̄ = (I_S^c − I_S) / I_S^c` (§4.4.2).
+    pub rel_discretisation_error: f64,
+    /// Whether the exact form factors needed a background state (an open scene).
+    pub background: bool,
+}
+
+/// A flatland mesh being refined one split at a time (§6.5.2).
+#[derive(Clone, Debug)]
+pub struct FlatRefiner {
+    scene: FlatScene,
+    oracle: FlatOracle,
+    profile: InformationProfile,
+    /// Exact patch form factors, row-major `n × n`, no background state.
+    f: Vec<f64>,
+    /// `I_i` per patch.
+    discrete: Vec<f64>,
+    /// `I_i^c` per patch.
+    continuous: Vec<f64>,
+    report: StepReport,
+}
+
+impl FlatRefiner {
+    /// Starts refining `scene` with `oracle`; `I^c` is tallied from `lines` global lines
+    /// drawn with `seed` (on this thread; see [`FlatRefiner::with_profile`] to bring a
+    /// tally made elsewhere).
+    ///
+    /// # Errors
+    /// [`ErrorKind::NoLines`] for `lines == 0`; [`ErrorKind::TooLarge`] above
+    /// [`MAX_REFINED_PATCHES`] patches; the errors of [`InformationProfile::trace`].
+    pub fn new(scene: FlatScene, oracle: FlatOracle, lines: u64, seed: u64) -> Result<Self> {
+        check_size(scene.n_patches())?;
+        let profile = InformationProfile::trace(&scene, lines, seed)?;
+        Self::with_profile(scene, oracle, profile)
+    }
+
+    /// Starts refining `scene` with `oracle` and a profile of its surfaces.
+    ///
+    /// # Errors
+    /// [`ErrorKind::DimensionMismatch`] if the profile is of other surfaces;
+    /// [`ErrorKind::TooLarge`] above [`MAX_REFINED_PATCHES`] patches.
+    pub fn with_profile(
+        scene: FlatScene,
+        oracle: FlatOracle,
+        profile: InformationProfile,
+    ) -> Result<Self> {
+        check_size(scene.n_patches())?;
+        profile.check_scene(&scene)?;
+        let n = scene.n_patches();
+        let mut f = vec![0.0; n * n];
+        exact_2d::form_factors_into(&scene, &mut f)?;
+        let mut refiner = Self {
+            scene,
+            oracle,
+            profile,
+            f,
+            discrete: Vec::new(),
+            continuous: Vec::new(),
+            report: empty_report(),
+        };
+        refiner.measure(None, 0.0)?;
+        Ok(refiner)
+    }
+
+    /// The current mesh.
+    #[must_use]
+    pub fn scene(&self) -> &FlatScene {
+        &self.scene
+    }
+
+    /// The oracle.
+    #[must_use]
+    pub fn oracle(&self) -> FlatOracle {
+        self.oracle
+    }
+
+    /// The profile `I_i^c` is read from.
+    #[must_use]
+    pub fn profile(&self) -> &InformationProfile {
+        &self.profile
+    }
+
+    /// The measures of the current mesh.
+    #[must_use]
+    pub fn report(&self) -> StepReport {
+        self.report
+    }
+
+    /// `I_i` (6.32) of every patch of the current mesh.
+    #[must_use]
+    pub fn patch_information(&self) -> &[f64] {
+        &self.discrete
+    }
+
+    /// `I_i^c` (6.37) of every patch of the current mesh.
+    #[must_use]
+    pub fn patch_continuous(&self) -> &[f64] {
+        &self.continuous
+    }
+
+    /// `I_i^c − I_i` of every patch (the DE oracle's measure).
+    #[must_use]
+    pub fn patch_errors(&self) -> Vec<f64> {
+        self.continuous
+            .iter()
+            .zip(&self.discrete)
+            .map(|(c, d)| c - d)
+            .collect()
+    }
+
+    /// The current exact patch form factors, row-major `n × n`.
+    #[must_use]
+    pub fn form_factors(&self) -> &[f64] {
+        &self.f
+    }
+
+    /// The patch the oracle would halve next.
+    #[must_use]
+    pub fn choose(&self) -> usize {
+        let n = self.scene.n_patches();
+        let key = |i: usize| match self.oracle {
+            FlatOracle::DiscretisationError => self.continuous[i] - self.discrete[i],
+            FlatOracle::Power => self.discrete[i],
+            FlatOracle::Regular => self.scene.patches()[i].length,
+        };
+        let mut best = 0;
+        for i in 1..n {
+            // Strictly larger by more than rounding, so equal patches go in index order.
+            let (k, b) = (key(i), key(best));
+            if k > b + 1e-12 * b.abs().max(1e-300) {
+                best = i;
+            }
+        }
+        best
+    }
+
+    /// Halves the patch the oracle chooses and measures the new mesh.
+    ///
+    /// # Errors
+    /// [`ErrorKind::TooLarge`] when the mesh already has [`MAX_REFINED_PATCHES`] patches;
+    /// [`ErrorKind::ZeroLengthSegment`] when the chosen patch is too short to halve.
+    pub fn step(&mut self) -> Result<StepReport> {
+        let n = self.scene.n_patches();
+        check_size(n + 1)?;
+        let i = self.choose();
+        let split_error = self.continuous[i] - self.discrete[i];
+        let scene = self.scene.split_patch(i, 0.5)?;
+        let f = split_form_factors(&scene, &self.f, i)?;
+        // Measure before committing, so a failed step leaves the refiner as it was.
+        let (old_scene, old_f) = (
+            core::mem::replace(&mut self.scene, scene),
+            core::mem::replace(&mut self.f, f),
+        );
+        if let Err(e) = self.measure(Some(i), split_error) {
+            self.scene = old_scene;
+            self.f = old_f;
+            return Err(e);
+        }
+        Ok(self.report)
+    }
+
+    /// Steps until the mesh has `target` patches or `δ̄ ≤ eps`, whichever comes first;
+    /// returns the last report (the current one if no step was needed).
+    ///
+    /// # Errors
+    /// [`ErrorKind::BadParameter`] for a negative or NaN `eps`; the errors of
+    /// [`FlatRefiner::step`] (for a `target` above [`MAX_REFINED_PATCHES`]: `TooLarge`).
+    pub fn run_until(&mut self, target: usize, eps: Option<f64>) -> Result<StepReport> {
+        if let Some(e) = eps
+            && !(e >= 0.0)
+        {
+            return Err(ErrorKind::BadParameter {
+                name: "eps",
+                value: e,
+            }
+            .into());
+        }
+        while self.scene.n_patches() < target
+            && eps.is_none_or(|e| self.report.rel_discretisation_error > e)
+        {
+            self.step()?;
+        }
+        Ok(self.report)
+    }
+
+    /// Recomputes the channel measures, `I_i` and `I_i^c` of the current mesh.
+    fn measure(&mut self, split: Option<usize>, split_error: f64) -> Result<()> {
+        let n = self.scene.n_patches();
+        let lengths: Vec<f64> = self.scene.patches().iter().map(|p| p.length).collect();
+        let ff = FormFactors::from_patch_matrix(&lengths, self.f.clone())?;
+        let channel = ff.channel()?;
+        let m = channel.measures();
+        let mut discrete = vec![0.0; ff.n_states()];
+        channel.patch_mutual_information(&mut discrete)?;
+        discrete.truncate(n);
+        let mut continuous = vec![0.0; n];
+        self.profile
+            .patch_information_into(&self.scene, &mut continuous)?;
+        let c = self.profile.continuous();
+        self.discrete = discrete;
+        self.continuous = continuous;
+        self.report = StepReport {
+            step: self.report.step + u64::from(split.is_some()),
+            split,
+            split_error,
+            n_patches: n,
+            i_s: m.i_s,
+            h_s: m.h_s,
+            h_j: m.h_j,
+            e_mse: m.e_mse,
+            i_s_continuous: c.value,
+            i_s_continuous_stderr: c.stderr,
+            rel_discretisation_error: crate::continuous::relative_discretisation_error(
+                c.value, m.i_s,
+            ),
+            background: ff.has_background(),
+        };
+        Ok(())
+    }
+}
+
+fn empty_report() -> StepReport {
+    StepReport {
+        step: 0,
+        split: None,
+        split_error: 0.0,
+        n_patches: 0,
+        i_s: 0.0,
+        h_s: 0.0,
+        h_j: 0.0,
+        e_mse: 0.0,
+        i_s_continuous: 0.0,
+        i_s_continuous_stderr: 0.0,
+        rel_discretisation_error: 0.0,
+        background: false,
+    }
+}
+
+fn check_size(n: usize) -> Result<()> {
+    if n > MAX_REFINED_PATCHES {
+        return Err(ErrorKind::TooLarge {
+            what: "patch count of a refined flatland mesh",
+            max: MAX_REFINED_PATCHES as u64,
+        }
+        .into());
+    }
+    Ok(())
+}
+
+/// The exact form factors of `scene` (patch `i` of the previous mesh halved into `i`,
+/// `i + 1`) from the previous mesh's `old`: every other pair is unchanged; the halves' rows
+/// and columns are integrated anew (one flux per unordered pair, reciprocity for the other
+/// direction, as [`exact_2d::form_factors`] does).
+fn split_form_factors(scene: &FlatScene, old: &[f64], i: usize) -> Result<Vec<f64>> {
+    let n = scene.n_patches();
+    let old_n = n - 1;
+    let old_index = |j: usize| if j < i { j } else { j - 1 };
+    let mut f = vec![0.0; n * n];
+    for r in (0..n).filter(|&r| r != i && r != i + 1) {
+        let (src, dst) = (old_index(r) * old_n, r * n);
+        for c in (0..n).filter(|&c| c != i && c != i + 1) {
+            f[dst + c] = old[src + old_index(c)];
+        }
+    }
+    let patches = scene.patches();
+    for half in [i, i + 1] {
+        for j in (0..n).filter(|&j| j != i && j != i + 1) {
+            let flux = exact_2d::pair_flux(scene, half, j)?;
+            f[half * n + j] = flux / patches[half].length;
+            f[j * n + half] = flux / patches[j].length;
+        }
+    }
+    Ok(f)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn room() -> FlatScene {
+        FlatScene::refinement_scene_one().unwrap()
+    }
+
+    #[test]
+    fn incremental_form_factors_match_a_full_recomputation() {
+        let mut r = FlatRefiner::new(room(), FlatOracle::DiscretisationError, 20_000, 3).unwrap();
+        for _ in 0..6 {
+            r.step().unwrap();
+        }
+        let n = r.scene().n_patches();
+        let mut full = vec![0.0; n * n];
+        exact_2d::form_factors_into(r.scene(), &mut full).unwrap();
+        for (a, b) in r.form_factors().iter().zip(&full) {
+            assert!((a - b).abs() < 1e-12, "{a} vs {b}");
+        }
+    }
+
+    #[test]
+    fn regular_oracle_gives_the_regular_mesh_at_doublings() {
+        let start = FlatScene::regular_polygon(3, 2).unwrap();
+        let mut r = FlatRefiner::new(start, FlatOracle::Regular, 10_000, 1).unwrap();
+        let last = r.run_until(24, None).unwrap();
+        assert_eq!(last.n_patches, 24);
+        let regular = FlatScene::regular_polygon(3, 8).unwrap();
+        let ff = exact_2d::form_factors(&regular).unwrap();
+        let i_s = ff.channel().unwrap().i_s();
+        assert!((last.i_s - i_s).abs() < 1e-12, "{} vs {i_s}", last.i_s);
+    }
+
+    #[test]
+    fn every_step_gains_information_and_is_deterministic() {
+        for oracle in [FlatOracle::DiscretisationError, FlatOracle::Power] {
+            let mut a = FlatRefiner::new(room(), oracle, 20_000, 9).unwrap();
+            let mut b = FlatRefiner::new(room(), oracle, 20_000, 9).unwrap();
+            let mut prev = a.report();
+            for _ in 0..10 {
+                let ra = a.step().unwrap();
+                assert_eq!(ra, b.step().unwrap());
+                assert!(ra.i_s >= prev.i_s - 1e-12, "{oracle:?}: {ra:?}");
+                prev = ra;
+            }
+        }
+    }
+
+    #[test]
+    fn the_oracles_pick_their_maxima() {
+        let r = FlatRefiner::new(room(), FlatOracle::DiscretisationError, 20_000, 2).unwrap();
+        let errors = r.patch_errors();
+        let best = errors.iter().cloned().fold(f64::MIN, f64::max);
+        assert_eq!(errors[r.choose()], best);
+        let p = FlatRefiner::new(room(), FlatOracle::Power, 20_000, 2).unwrap();
+        let best = p
+            .patch_information()
+            .iter()
+            .cloned()
+            .fold(f64::MIN, f64::max);
+        assert_eq!(p.patch_information()[p.choose()], best);
+    }
+
+    #[test]
+    fn bad_budgets_are_errors() {
+        assert!(FlatRefiner::new(room(), FlatOracle::Power, 0, 1).is_err());
+        let mut r = FlatRefiner::new(room(), FlatOracle::Power, 1000, 1).unwrap();
+        assert!(r.run_until(30, Some(f64::NAN)).is_err());
+        assert!(r.run_until(MAX_REFINED_PATCHES + 1, Some(0.5)).is_ok());
+    }
+}

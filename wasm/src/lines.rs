@@ -1,0 +1,171 @@
+//! `LineJob`: a Monte Carlo run of global or local lines, cast chunk by chunk so that the
+//! page can show progress between chunks and stop whenever it likes.
+//!
+//! Chunk `k` of an `N`-line job draws from [`sceneinfo::lines::chunk_rng`]`(seed, k)` and
+//! tallies exactly (integers and 64.64 fixed-point sums), so a finished job gives the same
+//! bits as `sceneinfo measure --lines N --seed S` on any number of threads; a job stopped
+//! after `k` whole chunks equals the job of `k · 2^16` lines.
+
+use sceneinfo::formfactor::estimate_2d::{FlatEstimate, FlatTracer};
+use sceneinfo::formfactor::tally::{LineMethod, LineTally, LineTracer};
+use sceneinfo::lines::{CHUNK_LINES, chunk_count};
+use sceneinfo::report::{JsonObject, LineRunReport, SceneReport};
+use wasm_bindgen::prelude::*;
+
+use crate::into_error;
+
+/// A Monte Carlo job over one scene (made by `FlatLab.globalLines` / `localLines`).
+#[wasm_bindgen]
+#[derive(Debug)]
+pub struct LineJob {
+    tracer: FlatTracer,
+    tally: LineTally,
+    method: LineMethod,
+    seed: u64,
+    lines: u64,
+    next_chunk: u64,
+}
+
+impl LineJob {
+    pub(crate) fn new(tracer: FlatTracer, method: LineMethod, seed: u64, lines: u64) -> Self {
+        let tally = tracer.new_tally(method);
+        Self {
+            tracer,
+            tally,
+            method,
+            seed,
+            lines,
+            next_chunk: 0,
+        }
+    }
+}
+
+#[wasm_bindgen]
+impl LineJob {
+    /// Casts the next `chunks` chunks of 2^16 lines (fewer if the job ends first) and
+    /// returns the number of lines cast so far.
+    pub fn run(&mut self, chunks: u32) -> f64 {
+        let end = chunk_count(self.lines).min(self.next_chunk + u64::from(chunks));
+        while self.next_chunk < end {
+            self.tracer
+                .trace_chunk(self.seed, self.lines, self.next_chunk, &mut self.tally);
+            self.next_chunk += 1;
+        }
+        self.tally.lines() as f64
+    }
+
+    /// Lines cast so far.
+    #[wasm_bindgen(getter, js_name = linesDone)]
+    #[must_use]
+    pub fn lines_done(&self) -> f64 {
+        self.tally.lines() as f64
+    }
+
+    /// The job's line budget.
+    #[wasm_bindgen(getter, js_name = linesTotal)]
+    #[must_use]
+    pub fn lines_total(&self) -> f64 {
+        self.lines as f64
+    }
+
+    /// Lines per chunk (2^16).
+    #[wasm_bindgen(getter, js_name = chunkLines)]
+    #[must_use]
+    pub fn chunk_lines(&self) -> f64 {
+        CHUNK_LINES as f64
+    }
+
+    /// Whether every chunk has been cast.
+    #[wasm_bindgen(getter)]
+    #[must_use]
+    pub fn done(&self) -> bool {
+        self.next_chunk >= chunk_count(self.lines)
+    }
+
+    /// `I_S^c` (4.8, 4.13) from the lines cast so far, in bits (0 before any sample).
+    #[wasm_bindgen(getter)]
+    #[must_use]
+    pub fn value(&self) -> f64 {
+        self.tally.continuous().value
+    }
+
+    /// The standard error of [`LineJob::value`] (each line one observation of a ratio
+    /// estimator).
+    #[wasm_bindgen(getter)]
+    #[must_use]
+    pub fn stderr(&self) -> f64 {
+        self.tally.continuous().stderr
+    }
+
+    /// Samples (global lines: intersections) so far.
+    #[wasm_bindgen(getter)]
+    #[must_use]
+    pub fn samples(&self) -> f64 {
+        self.tally.continuous().samples as f64
+    }
+
+    /// The result of the lines cast so far: Monte Carlo form factors (2.36, 2.37), their
+    /// channel measures and `I_S^c` with its per-patch split.
+    ///
+    /// # Errors
+    /// `NoLines` before the first chunk; `UnsampledPatch` when some patch has no sample yet
+    /// (cast more lines); the channel's errors.
+    pub fn finish(&self) -> Result<LineResult, JsError> {
+        let estimate = self
+            .tally
+            .clone()
+            .finish(&self.tracer)
+            .map_err(into_error)?;
+        let report = SceneReport::of(&estimate.form_factors).map_err(into_error)?;
+        let run = LineRunReport {
+            method: self.method,
+            lines: self.tally.lines(),
+            seed: self.seed,
+            continuous: estimate.continuous,
+            i_s: report.measures.i_s,
+        };
+        let mut json = String::new();
+        let mut o = JsonObject::new(&mut json).map_err(|e| JsError::new(&e.to_string()))?;
+        let written = report
+            .write_fields(&mut o)
+            .and_then(|()| run.write_fields(&mut o))
+            .and_then(|()| o.finish());
+        written.map_err(|e| JsError::new(&e.to_string()))?;
+        Ok(LineResult { estimate, json })
+    }
+}
+
+/// A finished (or stopped) Monte Carlo run.
+#[wasm_bindgen]
+#[derive(Debug)]
+pub struct LineResult {
+    estimate: FlatEstimate,
+    json: String,
+}
+
+#[wasm_bindgen]
+impl LineResult {
+    /// The report as JSON, the keys and bytes of `sceneinfo measure --lines N --json` less
+    /// its timing (`seconds`, `lines_per_second`): the measures of the Monte Carlo form
+    /// factors, then `form_factors, i_s_continuous, i_s_continuous_stderr,
+    /// rel_discretisation_error, lines, seed, samples`.
+    #[must_use]
+    pub fn json(&self) -> String {
+        self.json.clone()
+    }
+
+    /// `I_i^c` of each patch (6.37); they sum to `I_S^c`.
+    #[wasm_bindgen(js_name = patchContinuous)]
+    #[must_use]
+    pub fn patch_continuous(&self) -> Vec<f64> {
+        self.estimate.patch_continuous.clone()
+    }
+
+    /// `I_ij^c` (6.35, 6.36), `n × n` row-major, for scenes of at most
+    /// [`sceneinfo::formfactor::DENSE_PAIR_LIMIT`] patches (`undefined` beyond).
+    #[wasm_bindgen(js_name = pairContinuous)]
+    #[must_use]
+    pub fn pair_continuous(&self) -> Option<Vec<f64>> {
+        self.estimate.pair_continuous.clone()
+    }
+}

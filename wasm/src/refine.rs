@@ -1,0 +1,104 @@
+//! `Refiner`: flatland refinement one split at a time (thesis §6.5.2), for the page's
+//! refinement player — a thin handle on [`sceneinfo::refine::flat::FlatRefiner`].
+
+use sceneinfo::refine::flat::{FlatOracle, FlatRefiner, StepReport};
+use sceneinfo::report::JsonObject;
+use wasm_bindgen::prelude::*;
+
+use crate::lab::FlatLab;
+use crate::{count, into_error};
+
+/// A mesh being refined by an oracle (made by `FlatLab.refiner`).
+#[wasm_bindgen]
+#[derive(Debug)]
+pub struct Refiner {
+    inner: FlatRefiner,
+}
+
+impl Refiner {
+    /// Starts refining `lab`'s scene with the oracle called `oracle` (`de`, `power`,
+    /// `regular`), `I^c` tallied from `lines` global lines with `seed`.
+    pub(crate) fn new(lab: &FlatLab, oracle: &str, lines: f64, seed: f64) -> Result<Self, JsError> {
+        let oracle = [
+            FlatOracle::DiscretisationError,
+            FlatOracle::Power,
+            FlatOracle::Regular,
+        ]
+        .into_iter()
+        .find(|o| o.name() == oracle)
+        .ok_or_else(|| {
+            JsError::new(&format!(
+                "unknown refinement oracle '{oracle}': use de, power or regular"
+            ))
+        })?;
+        let lines = count("lines", lines).map_err(into_error)?;
+        let seed = count("seed", seed).map_err(into_error)?;
+        let inner =
+            FlatRefiner::new(lab.scene().clone(), oracle, lines, seed).map_err(into_error)?;
+        Ok(Self { inner })
+    }
+}
+
+#[wasm_bindgen]
+impl Refiner {
+    /// Halves the patch the oracle chooses; returns the new mesh's report as JSON (see
+    /// [`Refiner::report`]).
+    ///
+    /// # Errors
+    /// `TooLarge` at the refiner's patch cap; a patch too short to halve.
+    pub fn step(&mut self) -> Result<String, JsError> {
+        self.inner
+            .step()
+            .map(|r| report_json(&r))
+            .map_err(into_error)
+    }
+
+    /// The current mesh's report as JSON: `step`, `split` (the patch halved last; absent
+    /// for the starting mesh), `split_error` (its `I_i^c − I_i`), `n_patches`, `i_s`,
+    /// `h_s`, `h_j`, `e_mse`, `i_s_continuous`, `i_s_continuous_stderr`,
+    /// `rel_discretisation_error`, `background`.
+    #[must_use]
+    pub fn report(&self) -> String {
+        report_json(&self.inner.report())
+    }
+
+    /// The current mesh as `.flat` text (same surfaces as the starting scene, more cuts).
+    #[wasm_bindgen(js_name = toFlat)]
+    #[must_use]
+    pub fn to_flat(&self) -> String {
+        sceneinfo::io::write_flat(self.inner.scene())
+    }
+
+    /// `I_i^c − I_i` of every patch of the current mesh (what the DE oracle ranks).
+    #[wasm_bindgen(js_name = patchErrors)]
+    #[must_use]
+    pub fn patch_errors(&self) -> Vec<f64> {
+        self.inner.patch_errors()
+    }
+}
+
+/// A [`StepReport`] as one JSON object.
+fn report_json(r: &StepReport) -> String {
+    let mut s = String::new();
+    let write = |s: &mut String| -> core::fmt::Result {
+        let mut o = JsonObject::new(s)?;
+        o.integer("step", r.step)?;
+        if let Some(split) = r.split {
+            o.integer("split", split as u64)?;
+        }
+        o.number("split_error", r.split_error)?;
+        o.integer("n_patches", r.n_patches as u64)?;
+        o.number("i_s", r.i_s)?;
+        o.number("h_s", r.h_s)?;
+        o.number("h_j", r.h_j)?;
+        o.number("e_mse", r.e_mse)?;
+        o.number("i_s_continuous", r.i_s_continuous)?;
+        o.number("i_s_continuous_stderr", r.i_s_continuous_stderr)?;
+        o.number("rel_discretisation_error", r.rel_discretisation_error)?;
+        o.boolean("background", r.background)?;
+        o.finish()
+    };
+    // Writing into a String cannot fail.
+    let _ = write(&mut s);
+    s
+}
