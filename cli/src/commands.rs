@@ -5,6 +5,7 @@ mod draw3d;
 pub mod formfactors;
 pub mod measure;
 pub mod refine;
+mod refine3d;
 mod reproduce;
 mod scene;
 

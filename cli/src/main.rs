@@ -9,6 +9,8 @@ mod commands;
 mod lines;
 mod output;
 mod ply;
+mod png;
+mod raster;
 mod svg;
 
 use std::process::ExitCode;

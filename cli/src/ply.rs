@@ -18,6 +18,9 @@ pub struct Ply {
     vertices: Vec<[f32; 3]>,
     /// `(first vertex, vertex count, colour)` of each face.
     faces: Vec<(usize, usize, Rgb)>,
+    /// Per face, the RGB radiosity written as three float properties
+    /// (`radiosity_red`, `radiosity_green`, `radiosity_blue`) when every face has one.
+    radiosity: Vec<[f32; 3]>,
 }
 
 impl Ply {
@@ -52,6 +55,13 @@ impl Ply {
         self.faces.push((first, vertices.len(), colour));
     }
 
+    /// Adds a polygon as [`Ply::polygon`] does, with its radiosity as float properties
+    /// (written only if every face has one).
+    pub fn polygon_with_radiosity(&mut self, vertices: &[DVec3], colour: Rgb, b: [f64; 3]) {
+        self.polygon(vertices, colour);
+        self.radiosity.push(b.map(|x| x as f32));
+    }
+
     /// The file's text.
     ///
     /// The face's vertex count is a `uchar` unless some face has more than 255 vertices
@@ -81,16 +91,29 @@ impl Ply {
         s.push_str("property float x\nproperty float y\nproperty float z\n");
         let _ = writeln!(s, "element face {}", self.faces.len());
         let _ = writeln!(s, "property list {count_type} int vertex_indices");
-        s.push_str("property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n");
+        s.push_str("property uchar red\nproperty uchar green\nproperty uchar blue\n");
+        let with_radiosity = self.radiosity.len() == self.faces.len() && !self.faces.is_empty();
+        if with_radiosity {
+            s.push_str(
+                "property float radiosity_red\nproperty float radiosity_green\n\
+                 property float radiosity_blue\n",
+            );
+        }
+        s.push_str("end_header\n");
         for [x, y, z] in &self.vertices {
             let _ = writeln!(s, "{x} {y} {z}");
         }
-        for &(first, count, Rgb(r, g, b)) in &self.faces {
+        for (k, &(first, count, Rgb(r, g, b))) in self.faces.iter().enumerate() {
             let _ = write!(s, "{count}");
             for k in first..first + count {
                 let _ = write!(s, " {k}");
             }
-            let _ = writeln!(s, " {r} {g} {b}");
+            let _ = write!(s, " {r} {g} {b}");
+            if with_radiosity {
+                let [br, bg, bb] = self.radiosity[k];
+                let _ = write!(s, " {br} {bg} {bb}");
+            }
+            s.push('\n');
         }
         Ok(s)
     }

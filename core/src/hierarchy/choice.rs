@@ -56,7 +56,7 @@ impl OracleChoice {
                 gradient: MiIncreaseOracle::DEFAULT_GRADIENT,
             }),
             "regular" => {
-                if epsilon.fract() != 0.0 || epsilon > f64::from(MAX_REGULAR_LEVEL) {
+                if epsilon > f64::from(MAX_REGULAR_LEVEL) || f64::from(epsilon as u32) != epsilon {
                     return Err(ErrorKind::BadParameter {
                         name: "regular level (0 to 8)",
                         value: epsilon,

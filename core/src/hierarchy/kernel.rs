@@ -196,7 +196,9 @@ impl KernelSamples {
     pub fn min_max(&self) -> (f64, f64) {
         self.values()
             .iter()
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), &f| (lo.min(f), hi.max(f)))
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), &f| {
+                (lo.min(f), hi.max(f))
+            })
     }
 
     /// The bracket of (6.24) and (6.30), in bits per unit area:
@@ -226,7 +228,10 @@ mod tests {
         let f = point_kernel(DVec3::ZERO, DVec3::Z, DVec3::Z, -DVec3::Z);
         assert!((f - 1.0 / PI).abs() < 1e-15);
         assert_eq!(point_kernel(DVec3::ZERO, DVec3::Z, DVec3::Z, DVec3::Z), 0.0);
-        assert_eq!(point_kernel(DVec3::ZERO, DVec3::Z, DVec3::ZERO, -DVec3::Z), 0.0);
+        assert_eq!(
+            point_kernel(DVec3::ZERO, DVec3::Z, DVec3::ZERO, -DVec3::Z),
+            0.0
+        );
     }
 
     #[test]

@@ -29,7 +29,11 @@ impl Hierarchy {
             e.normal.dot(p - v[0]).abs() <= ON_ELEMENT * size
                 && e.polygon.contains(p, e.normal, ON_ELEMENT)
         };
-        let mut e = self.roots().iter().map(|&r| &els[r as usize]).find(|e| on(e))?;
+        let mut e = self
+            .roots()
+            .iter()
+            .map(|&r| &els[r as usize])
+            .find(|e| on(e))?;
         while !e.is_leaf() {
             let first = e.children as usize;
             let kids = &els[first..first + 4];
@@ -73,7 +77,9 @@ impl Hierarchy {
             let b = self
                 .radiosity_at(c)
                 .ok_or(ErrorKind::ReferenceOffScene { polygon: k })?;
-            let d2: f64 = (0..3).map(|ch| (b[ch] - b_ref[ch]).powi(2)).sum();
+            let d2: f64 = (0..3)
+                .map(|ch| (b[ch] - b_ref[ch]) * (b[ch] - b_ref[ch]))
+                .sum();
             sum.add(a * d2 / 3.0);
             area.add(a);
         }

@@ -83,8 +83,12 @@ pub trait Oracle {
     /// A short name, e.g. `"mi"`.
     fn name(&self) -> &'static str;
     /// The decision for `pair`, given `samples` of its kernel.
-    fn decide(&self, pair: &Pair<'_>, samples: &KernelSamples, visibility: &dyn Visibility)
-    -> Decision;
+    fn decide(
+        &self,
+        pair: &Pair<'_>,
+        samples: &KernelSamples,
+        visibility: &dyn Visibility,
+    ) -> Decision;
 }
 
 /// Link when the value is below `epsilon`, else refine the larger element.
@@ -169,11 +173,7 @@ impl Oracle for KernelAverageOracle {
         let (lo, hi) = s.min_max();
         let av = s.mean();
         let spread = (hi - av).max(av - lo).max(0.0);
-        threshold(
-            pair,
-            pair.rho_b() * spread * pair.source.area,
-            self.epsilon,
-        )
+        threshold(pair, pair.rho_b() * spread * pair.source.area, self.epsilon)
     }
 }
 
@@ -374,7 +374,12 @@ mod tests {
             },
         ];
         for o in oracles {
-            assert_eq!(o.decide(&pair, &s, &NoOccluders), Decision::Link, "{}", o.name());
+            assert_eq!(
+                o.decide(&pair, &s, &NoOccluders),
+                Decision::Link,
+                "{}",
+                o.name()
+            );
         }
     }
 
@@ -430,10 +435,7 @@ mod tests {
         };
         assert_eq!(o.decide(&pair, &s, &NoOccluders), Decision::RefineSource);
         // A threshold above any relative variation never splits.
-        let lazy = MiIncreaseOracle {
-            gradient: 1.0,
-            ..o
-        };
+        let lazy = MiIncreaseOracle { gradient: 1.0, ..o };
         assert_eq!(lazy.decide(&pair, &s, &NoOccluders), Decision::Link);
     }
 

@@ -270,7 +270,11 @@ impl Hierarchy {
         let mut elements = Vec::new();
         let mut roots = Vec::new();
         for (k, p) in scene.patches().iter().enumerate() {
-            let m = scene.materials().get(p.material).copied().unwrap_or_default();
+            let m = scene
+                .materials()
+                .get(p.material)
+                .copied()
+                .unwrap_or_default();
             let v = scene.patch_vertices(k);
             let fan: Vec<Polygon4> = match Polygon4::new(v) {
                 Some(poly) => vec![poly],
@@ -391,8 +395,8 @@ impl Hierarchy {
             (b.map(|x| x / area), hh.map(|x| x / area))
         };
         let el = &mut self.elements[e as usize];
-        for c in 0..3 {
-            *change = change.max((b[c] - el.radiosity[c]).abs());
+        for (new, old) in b.iter().zip(&el.radiosity) {
+            *change = change.max((new - old).abs());
         }
         el.radiosity = b;
         el.irradiance = irradiance;

@@ -61,7 +61,11 @@ mod tests {
 
     #[test]
     fn the_cornell_blocks_hide_and_the_empty_cube_does_not() {
-        assert!(SceneVisibility::new(&Scene::cube(2).unwrap()).unwrap().is_none());
+        assert!(
+            SceneVisibility::new(&Scene::cube(2).unwrap())
+                .unwrap()
+                .is_none()
+        );
         let cornell = Scene::cornell_box(false, 1).unwrap();
         let vis = SceneVisibility::new(&cornell).unwrap().unwrap();
         // Straight down from the ceiling over the tall block: its top (y = 330) is seen,
