@@ -11,6 +11,8 @@
 //! - [`profile`] (alloc): `I^c` along every surface, tallied once from lines over a fine
 //!   copy of the scene, so the `I_i^c` of any patch of any later mesh is a difference of two
 //!   cumulative values.
+//! - [`symmetric`] (alloc): `I_S` maximised over mirrored cut positions of a regular polygon
+//!   (§6.5.1, Fig. 6.12, Table 6.1).
 //! - [`flat`] (alloc): flatland refinement one step at a time (§6.5.2): the
 //!   discretisation-error (DE) oracle, the "power-based" rival and regular halving.
 //!
@@ -22,6 +24,8 @@ pub mod flat;
 #[cfg(feature = "alloc")]
 pub mod profile;
 pub mod proposition;
+#[cfg(feature = "alloc")]
+pub mod symmetric;
 
 use crate::math::{self, KahanSum};
 

@@ -141,3 +141,96 @@ pub const PLATONIC_REFERENCE: [(&str, f64, f64); 5] = [
 /// Half a unit in the last printed place of the tables above: the rounding error of a
 /// correct value.
 pub const TABLE_ROUNDING: f64 = 0.0005;
+
+/// Fig. 6.12: the 6-patch equilateral triangle with each patch split in two, symmetrically
+/// about the sides' midpoints; `I_S` is largest for the cut at this fraction of the side from
+/// the vertex (15.6%).
+pub const FIGURE_6_12_BEST_CUT: f64 = 0.156;
+
+/// One row of Tables 6.1 and 6.2: a discretisation of a scene and its measures.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiscretisationRow {
+    /// The scene (a catalogue name, or `"triangle"`).
+    pub scene: &'static str,
+    /// How it was discretised: `optimal`, `regular`, `power` or `de` (DE-based).
+    pub algorithm: &'static str,
+    /// `I_S^c`.
+    pub i_s_continuous: f64,
+    /// `I_S`.
+    pub i_s: f64,
+    /// `H_S`.
+    pub h_s: f64,
+    /// `H_J`.
+    pub h_j: f64,
+    /// `E(MSE)`, printed as a whole number.
+    pub e_mse: f64,
+    /// `δ̄` in per cent.
+    pub delta_percent: f64,
+}
+
+const fn row(scene: &'static str, algorithm: &'static str, v: [f64; 6]) -> DiscretisationRow {
+    DiscretisationRow {
+        scene,
+        algorithm,
+        i_s_continuous: v[0],
+        i_s: v[1],
+        h_s: v[2],
+        h_j: v[3],
+        e_mse: v[4],
+        delta_percent: v[5],
+    }
+}
+
+/// Table 6.1: the equilateral triangle with each half side cut into three (18 patches), the
+/// `I_S`-maximising cuts (`optimal`) and the regular ones.
+pub const TABLE_6_1: [DiscretisationRow; 2] = [
+    row(
+        "triangle",
+        "optimal",
+        [1.285, 1.137, 2.896, 6.929, 14.0, 11.52],
+    ),
+    row(
+        "triangle",
+        "regular",
+        [1.285, 1.097, 3.073, 7.243, 15.0, 14.63],
+    ),
+];
+
+/// Table 6.2: scenes I and II (the catalogue's `refinement-1`, `refinement-2`: our versions
+/// of the thesis' drawings) refined from 26 to 208 patches by the regular, power-based and
+/// DE-based (`de`) strategies.
+pub const TABLE_6_2: [DiscretisationRow; 6] = [
+    row(
+        "refinement-1",
+        "regular",
+        [2.519, 2.492, 5.208, 12.908, 68.0, 1.07],
+    ),
+    row(
+        "refinement-1",
+        "power",
+        [2.519, 2.490, 5.220, 12.930, 68.0, 1.15],
+    ),
+    row(
+        "refinement-1",
+        "de",
+        [2.519, 2.496, 4.715, 11.926, 67.0, 0.90],
+    ),
+    row(
+        "refinement-2",
+        "regular",
+        [3.245, 3.173, 4.530, 12.233, 63.0, 2.21],
+    ),
+    row(
+        "refinement-2",
+        "power",
+        [3.245, 3.185, 4.280, 11.745, 62.0, 1.84],
+    ),
+    row(
+        "refinement-2",
+        "de",
+        [3.245, 3.195, 3.899, 10.993, 61.0, 1.54],
+    ),
+];
+
+/// The patch counts of Figs. 6.15–6.19 (from the 26 patches of scenes I and II).
+pub const REFINEMENT_PATCH_COUNTS: [usize; 4] = [26, 52, 104, 208];

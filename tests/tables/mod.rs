@@ -3,5 +3,6 @@
 mod catalogue;
 mod continuous;
 mod pictured3d;
+mod refinement_flat;
 mod regular_polygons;
 mod solids;

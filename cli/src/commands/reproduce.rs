@@ -2,6 +2,7 @@
 //!
 //! Chapter 3: Tables 3.4 and 3.5 (exact form factors). Chapter 4: Tables 4.10, 4.11 and 4.12
 //! and the flatland catalogue of §4.5.2 (global lines; `--lines` per scene, fixed seed).
+//! Chapter 6 in flatland ([`refinement_flat`]): Fig. 6.12, Tables 6.1 and 6.2, Fig. 6.19.
 
 use std::fmt::Write as _;
 use std::io::Write;
@@ -21,6 +22,8 @@ use sceneinfo::thesis::{
 };
 
 use crate::args::ReproduceArgs;
+
+mod refinement_flat;
 
 /// One row of a reproduced table: a label, our values, the thesis' values (NaN = none).
 struct Row {
@@ -98,6 +101,8 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
         if args.full {
             tables.push(table_3_3(&runner)?);
         }
+        tables.push(refinement_flat::table_6_1()?);
+        tables.extend(refinement_flat::table_6_2(&runner)?);
     }
     let seconds = start.elapsed().as_secs_f64();
     let mut out = std::io::stdout().lock();

@@ -173,8 +173,10 @@ fn check_split<M: Transitions>(channel: &Channel<'_, M>, split: &StateSplit<'_>)
 }
 
 /// The exact gain `ΔI = I' − I` (5.29) of splitting a state of a reversible chain, after
-/// checking the split's conditions. `ΔI ≥ 0` (5.31) and `ΔI ≤ 2 w_i log₂ m`
-/// ([`regular_patch_gain_max`] bounds every split into `m`, regular or not).
+/// checking the split's conditions. `ΔI ≥ 0` (5.31); for a regular split
+/// (`w_{i_k} = w_i / m`) `ΔI ≤ 2 w_i log₂ m` (5.35, [`regular_patch_gain_max`]), and for any
+/// split `ΔI ≤ 2 w_i log₂(w_i / min_k w_{i_k})` (each bracket is a divergence from
+/// `r_k = w_{i_k} / w_i`, at most `log₂(1 / min_k r_k)`).
 ///
 /// # Errors
 /// [`ErrorKind::PatchIndex`] for a bad state, [`ErrorKind::DimensionMismatch`] for slices of
