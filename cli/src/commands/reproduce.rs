@@ -23,6 +23,7 @@ use sceneinfo::thesis::{
 
 use crate::args::ReproduceArgs;
 
+mod pictured3d;
 mod refinement_flat;
 
 /// One row of a reproduced table: a label, our values, the thesis' values (NaN = none).
@@ -98,6 +99,10 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
         tables.push(table_3_8(&runner, args.full)?);
         tables.push(table_4_1(&runner)?);
         tables.push(table_4_2(&runner)?);
+        tables.push(pictured3d::table_4_4(&runner, args.full)?);
+        tables.push(pictured3d::table_4_5()?);
+        tables.push(pictured3d::table_4_6(&runner, args.full)?);
+        tables.push(pictured3d::table_4_7(&runner, args.full)?);
         if args.full {
             tables.push(table_3_3(&runner)?);
         }
@@ -480,7 +485,7 @@ fn table_3_3(runner: &Runner) -> Result<Table> {
     }
     Ok(Table {
         key: "table_3_3",
-        title: "Table 3.3: cube rooms with small cubes, 1e7 global lines".into(),
+        title: "Tables 3.1 and 3.3: cube rooms with small cubes, 1e7 global lines (Table 3.1's Fig. 3.3b, a second clustering, is not built)".into(),
         rows,
     })
 }
