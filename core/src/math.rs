@@ -140,6 +140,13 @@ pub fn log2_ratio(p: f64, q: f64) -> f64 {
     }
 }
 
+/// `x^y`.
+#[inline]
+#[must_use]
+pub fn pow(x: f64, y: f64) -> f64 {
+    libm::pow(x, y)
+}
+
 /// Natural logarithm, `ln x`.
 #[inline]
 #[must_use]

@@ -5,6 +5,8 @@
 //!   reversible Markov chain (5.26–5.31), the patch-to-patch gain (5.32), its regular-split
 //!   maxima (5.34, 5.35) and the visibility, radiosity and importance instances (5.36, 5.42,
 //!   5.44–5.45). Slices in, numbers out; no allocation.
+//! - [`cuts`]: the best single cut of the configurations of §6.1 (squares sharing an
+//!   edge, a square in a corner, a radiosity gradient `lⁿ`).
 //! - [`discretisation`]: the discretisation error between two patches, `δ_ij = I_ij^c − I_ij`,
 //!   for visibility and radiosity, from patch-to-patch random point pairs (6.19, 6.24) or from
 //!   local/global lines (6.21, 6.27), and per patch `I_i^c − I_i`.
@@ -18,6 +20,7 @@
 //!
 //! Every gain and error is in bits.
 
+pub mod cuts;
 pub mod discretisation;
 #[cfg(feature = "alloc")]
 pub mod flat;

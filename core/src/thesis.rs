@@ -280,3 +280,18 @@ pub const TABLE_6_2: [DiscretisationRow; 6] = [
 
 /// The patch counts of Figs. 6.15–6.19 (from the 26 patches of scenes I and II).
 pub const REFINEMENT_PATCH_COUNTS: [usize; 4] = [26, 52, 104, 208];
+
+/// §6.1, Figs. 6.2 and 6.3: the cut parallel to the shared edge that gains the most
+/// information, as a fraction of the side from the edge, for two squares sharing an edge
+/// (40%) and for a square in the corner of three (39%).
+pub const SECTION_6_1_BEST_PARALLEL_CUT: [(&str, f64); 2] =
+    [("two squares", 0.40), ("corner of three squares", 0.39)];
+
+/// §6.1: the best cut of a patch with radiosity `B(l) = lⁿ B`, `n = 1..4`, by mutual
+/// information (the thesis' expression from 5.42) and by mean square error.
+pub const SECTION_6_1_GRADIENT_CUTS: [(u32, f64, f64); 4] = [
+    (1, 0.48, 0.5),
+    (2, 0.61, 0.64),
+    (3, 0.68, 0.72),
+    (4, 0.74, 0.77),
+];

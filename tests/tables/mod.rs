@@ -3,6 +3,7 @@
 mod catalogue;
 mod continuous;
 mod pictured3d;
+mod refinement_cuts;
 mod refinement_flat;
 mod regular_polygons;
 mod solids;

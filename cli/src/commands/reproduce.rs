@@ -2,7 +2,8 @@
 //!
 //! Chapter 3: Tables 3.4 and 3.5 (exact form factors). Chapter 4: Tables 4.10, 4.11 and 4.12
 //! and the flatland catalogue of §4.5.2 (global lines; `--lines` per scene, fixed seed).
-//! Chapter 6 in flatland ([`refinement_flat`]): Fig. 6.12, Tables 6.1 and 6.2, Fig. 6.19.
+//! Chapter 6 ([`refinement_flat`]): the single cuts of §6.1, and in flatland Fig. 6.12,
+//! Tables 6.1 and 6.2, Fig. 6.19.
 
 use std::fmt::Write as _;
 use std::io::Write;
@@ -106,6 +107,7 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
         if args.full {
             tables.push(table_3_3(&runner)?);
         }
+        tables.push(refinement_flat::section_6_1()?);
         tables.push(refinement_flat::table_6_1()?);
         tables.extend(refinement_flat::table_6_2(&runner)?);
     }

@@ -183,6 +183,38 @@ impl FlatTracer {
         }
     }
 
+    /// The point-to-point kernel `F(x, y) V(x, y)` (`F = cos θ_x cos θ_y / (2 r)`, `V` the
+    /// visibility) for the point pair of patches `i`, `j` that canonical sample `u` maps to
+    /// ([`crate::lines::sample_point_pair`]); 0 for points that do not see each other and for
+    /// a degenerate pair. The samples of "patch-to-patch random lines" (thesis 2.34, 6.17).
+    ///
+    /// # Errors
+    /// [`crate::ErrorKind::PatchIndex`] for a bad index.
+    pub fn point_pair_kernel(&self, i: usize, j: usize, u: [f64; 2]) -> Result<f64> {
+        match (self.segments.get(i), self.segments.get(j)) {
+            (Some(si), Some(sj)) => Ok(self.kernel(i, j, si, sj, u)),
+            _ => Err(crate::ErrorKind::PatchIndex {
+                index: i.max(j),
+                len: self.segments.len(),
+            }
+            .into()),
+        }
+    }
+
+    /// [`FlatTracer::point_pair_kernel`] for checked indices and their segments.
+    fn kernel(&self, i: usize, j: usize, si: &Segment, sj: &Segment, u: [f64; 2]) -> f64 {
+        let (x, y) = crate::lines::sample_point_pair(si, sj, u);
+        let d = y - x;
+        let r = d.length();
+        let (cx, cy) = (self.normals[i].dot(d) / r, -self.normals[j].dot(d) / r);
+        let f = if cx > 0.0 && cy > 0.0 && self.visible(x, y) {
+            cx * cy / (2.0 * r)
+        } else {
+            0.0
+        };
+        if f.is_finite() { f } else { 0.0 }
+    }
+
     /// `F_ij` by area sampling (2.34): `n` uniform point pairs `(x_k, y_k)` on patches `i`
     /// and `j` (drawn from stream `(seed, 0)`),
     ///
@@ -209,19 +241,10 @@ impl FlatTracer {
         if n == 0 {
             return Err(crate::ErrorKind::NoLines.into());
         }
-        let (ni, nj) = (self.normals[i], self.normals[j]);
         let mut rng = chunk_rng(seed, 0);
         let (mut sum, mut sum_sq) = (crate::math::KahanSum::new(), crate::math::KahanSum::new());
         for _ in 0..n {
-            let (x, y) = crate::lines::sample_point_pair(si, sj, canonical_2d(&mut rng));
-            let d = y - x;
-            let r = d.length();
-            let (cx, cy) = (ni.dot(d) / r, -nj.dot(d) / r);
-            let f = if cx > 0.0 && cy > 0.0 && self.visible(x, y) {
-                self.lengths[j] * cx * cy / (2.0 * r)
-            } else {
-                0.0
-            };
+            let f = self.lengths[j] * self.kernel(i, j, si, sj, canonical_2d(&mut rng));
             if f.is_finite() {
                 sum.add(f);
                 sum_sq.add(f * f);

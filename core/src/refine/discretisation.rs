@@ -86,6 +86,49 @@ pub fn visibility_error_point_pairs(a_i: f64, a_j: f64, a_t: f64, kernel: &[f64]
     Ok(scale * kernel_spread(kernel)?)
 }
 
+/// Most point pairs [`flat_visibility_error_point_pairs`] draws (it keeps their kernels).
+#[cfg(feature = "alloc")]
+pub const MAX_POINT_PAIRS: u64 = 1 << 24;
+
+/// `δ^v_ij` (6.19) between patches `i` and `j` of a flatland scene from `n` uniform point
+/// pairs drawn from stream `(seed, 0)` ([`crate::formfactor::estimate_2d::FlatTracer::point_pair_kernel`]:
+/// the kernel with visibility), lengths for areas.
+///
+/// # Errors
+/// [`ErrorKind::PatchIndex`] for a bad index; [`ErrorKind::NoLines`] for `n = 0`;
+/// [`ErrorKind::TooLarge`] above [`MAX_POINT_PAIRS`].
+#[cfg(feature = "alloc")]
+pub fn flat_visibility_error_point_pairs(
+    tracer: &crate::formfactor::estimate_2d::FlatTracer,
+    i: usize,
+    j: usize,
+    n: u64,
+    seed: u64,
+) -> Result<f64> {
+    use crate::formfactor::tally::LineTracer;
+    if n > MAX_POINT_PAIRS {
+        return Err(ErrorKind::TooLarge {
+            what: "point pairs",
+            max: MAX_POINT_PAIRS,
+        }
+        .into());
+    }
+    let sizes = tracer.patch_sizes();
+    let len = sizes.len();
+    let (Some(&a_i), Some(&a_j)) = (sizes.get(i), sizes.get(j)) else {
+        return Err(ErrorKind::PatchIndex {
+            index: i.max(j),
+            len,
+        }
+        .into());
+    };
+    let mut rng = crate::lines::chunk_rng(seed, 0);
+    let kernel = (0..n)
+        .map(|_| tracer.point_pair_kernel(i, j, crate::lines::canonical_2d(&mut rng)))
+        .collect::<Result<alloc::vec::Vec<f64>>>()?;
+    visibility_error_point_pairs(a_i, a_j, math::sum(sizes.iter().copied()), &kernel)
+}
+
 /// Radiosity discretisation error by patch-to-patch random lines (6.24):
 /// `δ^r_ij ≈ (A_i A_j B_i B_j / A_T^c)((1/N) Σ F_k log₂ F_k − F̄ log₂ F̄)` for radiosities
 /// `B_i`, `B_j` constant on the patches and `A_T^c = Σ_i A_i B_i B_i^in` (5.41).
@@ -190,6 +233,98 @@ pub fn patch_errors_into(continuous: &[f64], discrete: &[f64], out: &mut [f64]) 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two unit segments facing each other at distance 1 (an open scene): (6.19) by point
+    /// pairs against its expectation by quadrature.
+    #[cfg(feature = "alloc")]
+    #[test]
+    fn point_pairs_estimate_the_quadrature_value() {
+        use crate::formfactor::estimate_2d::FlatTracer;
+        use crate::geom::DVec2;
+        use crate::scene::FlatScene;
+        let mut b = FlatScene::builder();
+        b.segment(DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), 1)
+            .unwrap();
+        b.segment(DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0), 1)
+            .unwrap();
+        let scene = b.build().unwrap();
+        let tracer = FlatTracer::new(&scene).unwrap();
+        // Expectation: (A_i A_j / A_T)(E[F log F] − E[F] log E[F]) over uniform pairs, by the
+        // midpoint rule on 1000² points (F is smooth here: error ~1e-7).
+        let k = 1000;
+        let (mut s_f, mut s_flf) = (0.0, 0.0);
+        for a in 0..k {
+            for c in 0..k {
+                let (x, y) = ((a as f64 + 0.5) / k as f64, (c as f64 + 0.5) / k as f64);
+                let r2 = (x - y) * (x - y) + 1.0;
+                // cos θ_x = cos θ_y = 1/r: F = 1 / (2 r³).
+                let f = 0.5 / (r2 * r2.sqrt());
+                s_f += f;
+                s_flf += f * f.log2();
+            }
+        }
+        let (m_f, m_flf) = (s_f / (k * k) as f64, s_flf / (k * k) as f64);
+        let expected = 0.5 * (m_flf - m_f * m_f.log2());
+        // 20 independent batches of 20,000 pairs: their spread gives the standard error.
+        let batches: alloc::vec::Vec<f64> = (0..20)
+            .map(|seed| flat_visibility_error_point_pairs(&tracer, 0, 1, 20_000, seed).unwrap())
+            .collect();
+        let mean = batches.iter().sum::<f64>() / 20.0;
+        let var = batches.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / 19.0;
+        let stderr = (var / 20.0).sqrt();
+        assert!(
+            stderr > 0.0 && stderr < 0.02 * expected,
+            "{stderr} vs {expected}"
+        );
+        assert!(
+            (mean - expected).abs() < 4.0 * stderr,
+            "{mean} ± {stderr} vs {expected}"
+        );
+        assert!(flat_visibility_error_point_pairs(&tracer, 0, 2, 10, 1).is_err());
+        assert!(flat_visibility_error_point_pairs(&tracer, 0, 1, 0, 1).is_err());
+    }
+
+    /// In the unit square (one patch a side), `δ_02` between opposite sides by point pairs
+    /// (6.19) agrees with `I_02^c − I_02` from global lines (6.35) and exact form factors:
+    /// both estimate `I_ij^c − I_ij`.
+    #[cfg(feature = "alloc")]
+    #[test]
+    fn point_pairs_agree_with_global_lines() {
+        use crate::formfactor::estimate_2d::{FlatTracer, LineMethod, LineTracer};
+        use crate::formfactor::exact_2d;
+        use crate::scene::FlatScene;
+        let scene = FlatScene::regular_polygon(4, 1).unwrap();
+        let tracer = FlatTracer::new(&scene).unwrap();
+        let ff = exact_2d::form_factors(&scene).unwrap();
+        let mut i_ij = alloc::vec![0.0; 16];
+        ff.channel()
+            .unwrap()
+            .mutual_information_matrix(&mut i_ij)
+            .unwrap();
+        let spread = |xs: &[f64]| {
+            let m = xs.iter().sum::<f64>() / xs.len() as f64;
+            let v = xs.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (xs.len() - 1) as f64;
+            (m, (v / xs.len() as f64).sqrt())
+        };
+        let pairs: alloc::vec::Vec<f64> = (0..20)
+            .map(|seed| flat_visibility_error_point_pairs(&tracer, 0, 2, 20_000, seed).unwrap())
+            .collect();
+        let lines: alloc::vec::Vec<f64> = (0..8)
+            .map(|seed| {
+                let est = tracer
+                    .run(LineMethod::Global, 100 + seed, 200_000)
+                    .unwrap()
+                    .finish(&tracer)
+                    .unwrap();
+                est.pair_continuous.unwrap()[2] - i_ij[2]
+            })
+            .collect();
+        let ((mp, ep), (ml, el)) = (spread(&pairs), spread(&lines));
+        // Batch means: their spread is the standard error; 4 combined standard errors.
+        let tol = 4.0 * (ep * ep + el * el).sqrt();
+        assert!(mp > 0.0 && tol < 0.2 * mp, "{mp} ± {ep}, {ml} ± {el}");
+        assert!((mp - ml).abs() < tol, "{mp} ± {ep} vs {ml} ± {el}");
+    }
 
     #[test]
     fn constant_kernel_loses_nothing() {

@@ -1,20 +1,67 @@
-//! Chapter 6 in flatland: Fig. 6.12 and Table 6.1 (the equilateral triangle, exact form
+//! Chapter 6: the single cuts of §6.1 (Figs. 6.2, 6.3 and the `lⁿ` radiosity gradient), and
+//! in flatland Fig. 6.12 and Table 6.1 (the equilateral triangle, exact form
 //! factors), Table 6.2 and Fig. 6.19 (scenes I and II refined from 26 to 208 patches by the
 //! regular, power-based and DE-based strategies).
 
 use anyhow::{Result, anyhow};
 use sceneinfo::continuous::{closed_form, relative_discretisation_error};
 use sceneinfo::formfactor::exact_2d;
+use sceneinfo::refine::cuts::{
+    CutDirection, maximise, mse_optimal_cut, radiosity_gradient_gain, square_cut_gain,
+};
 use sceneinfo::refine::flat::{FlatOracle, FlatRefiner, StepReport};
 use sceneinfo::refine::symmetric::{best_mirrored_cuts, polygon_with_mirrored_cuts};
 use sceneinfo::scene::{FlatScene, catalogue_scene};
-use sceneinfo::thesis::{FIGURE_6_12_BEST_CUT, REFINEMENT_PATCH_COUNTS, TABLE_6_1, TABLE_6_2};
+use sceneinfo::thesis::{
+    FIGURE_6_12_BEST_CUT, REFINEMENT_PATCH_COUNTS, SECTION_6_1_BEST_PARALLEL_CUT,
+    SECTION_6_1_GRADIENT_CUTS, TABLE_6_1, TABLE_6_2,
+};
 
 use super::{Row, Runner, Table, cell};
 
 fn measures(scene: &FlatScene) -> Result<sceneinfo::channel::Measures> {
     let ff = exact_2d::form_factors(scene).map_err(|e| anyhow!("{e}"))?;
     Ok(ff.channel().map_err(|e| anyhow!("{e}"))?.measures())
+}
+
+/// §6.1: the best single cut of two squares sharing an edge, of a square in a corner, and
+/// of a patch with radiosity `lⁿ B` (by mutual information and by mean square error).
+pub(super) fn section_6_1() -> Result<Table> {
+    let mut rows = Vec::new();
+    for ((what, thesis), corner) in SECTION_6_1_BEST_PARALLEL_CUT.iter().zip([false, true]) {
+        let (l, _) = maximise(
+            |l| square_cut_gain(l, CutDirection::Parallel, corner),
+            0.01,
+            0.99,
+            1e-6,
+        )
+        .map_err(|e| anyhow!("{e}"))?;
+        rows.push(Row {
+            label: format!("{what}: best parallel cut"),
+            cells: vec![cell("l", l, 0.0, Some(*thesis))],
+        });
+    }
+    for &(n, by_mi, by_mse) in &SECTION_6_1_GRADIENT_CUTS {
+        let (l, _) = maximise(
+            |l| Ok(radiosity_gradient_gain(l, n)),
+            1e-3,
+            1.0 - 1e-3,
+            1e-7,
+        )
+        .map_err(|e| anyhow!("{e}"))?;
+        rows.push(Row {
+            label: format!("B(l) = l^{n} B: best cut"),
+            cells: vec![
+                cell("by MI", l, 0.0, Some(by_mi)),
+                cell("by MSE", mse_optimal_cut(n), 0.0, Some(by_mse)),
+            ],
+        });
+    }
+    Ok(Table {
+        key: "section_6_1",
+        title: "Section 6.1: the cut that gains the most information (exact)".into(),
+        rows,
+    })
 }
 
 /// Fig. 6.12: the best cut of the 6-patch triangle's patches, and Table 6.1: the best
