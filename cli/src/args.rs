@@ -31,10 +31,47 @@ pub enum Command {
     /// Draw a flatland scene as SVG, patches coloured by I_i, H_i, I_i^c or I_i^c − I_i, and
     /// optionally the mutual information matrix I_ij as a heat map.
     Draw(DrawArgs),
+    /// Merge partial results (`measure … --partial`) into the result of one run, bit for bit.
+    Merge(MergeArgs),
+    /// Benchmark whole jobs: lines/s against a naive baseline, 1 vs N threads, peak memory,
+    /// exact form-factor times and the cost per line against the number of patches.
+    Bench(BenchArgs),
     /// Refine a scene's mesh with an oracle: flatland (.flat) by halving patches (de, power,
     /// regular; thesis §6.5.2), 3D (.obj) by hierarchical radiosity (power, ks, ks-av, mi,
     /// mi-increase; §6.4). Prints the mesh's measures; --svg/--ply/--png draw it.
     Refine(RefineArgs),
+}
+
+/// Arguments of `bench`.
+#[derive(Debug, clap::Args)]
+pub struct BenchArgs {
+    /// Longer measurements (3 s each instead of 0.25 s) and the curve up to 10^6 patches.
+    #[arg(long)]
+    pub full: bool,
+    /// Print JSON instead of tables.
+    #[arg(long)]
+    pub json: bool,
+    /// Threads of the multi-threaded measurement (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// Arguments of `merge`.
+#[derive(Debug, clap::Args)]
+pub struct MergeArgs {
+    /// Partial-result files of one job (any order).
+    #[arg(required = true, value_name = "PART.sip")]
+    pub files: Vec<PathBuf>,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Also write the form-factor matrix as CSV.
+    #[arg(long, value_name = "F.csv")]
+    pub matrix: Option<PathBuf>,
+    /// Write the merged partial result instead of measuring (the inputs need not cover the
+    /// whole job; neighbouring chunk ranges only): for merging in stages.
+    #[arg(long, value_name = "OUT.sip")]
+    pub partial: Option<PathBuf>,
 }
 
 /// Preset scenes.
@@ -118,6 +155,25 @@ pub struct MeasureArgs {
     /// How the form factors are computed.
     #[command(flatten)]
     pub sampling: SamplingArgs,
+    /// Compute only the seeded chunks A..B (half-open; chunk k holds lines k·65536 ..
+    /// (k+1)·65536 of the job) of the `--lines` job, into the `--partial` file.
+    #[arg(long, value_name = "A..B", value_parser = parse_chunks, requires = "partial")]
+    pub chunks: Option<std::ops::Range<u64>>,
+    /// Write the tally of the job (or of its `--chunks`) to this partial-result file
+    /// instead of measuring; `sceneinfo merge` combines such files.
+    #[arg(long, value_name = "OUT.sip", requires = "lines")]
+    pub partial: Option<PathBuf>,
+}
+
+/// Parses a half-open chunk range `A..B` with `A < B`.
+pub fn parse_chunks(s: &str) -> Result<std::ops::Range<u64>, String> {
+    let bad = || format!("'{s}' is not a chunk range A..B with A < B (e.g. 0..16)");
+    let (a, b) = s.split_once("..").ok_or_else(bad)?;
+    let (a, b) = (
+        a.trim().parse::<u64>().map_err(|_| bad())?,
+        b.trim().parse::<u64>().map_err(|_| bad())?,
+    );
+    if a < b { Ok(a..b) } else { Err(bad()) }
 }
 
 /// Exact form factors, or Monte Carlo lines.

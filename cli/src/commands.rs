@@ -1,9 +1,11 @@
 //! The subcommands: each validates its arguments into core objects, runs, and prints.
 
+mod bench;
 mod draw;
 mod draw3d;
 pub mod formfactors;
 pub mod measure;
+mod merge;
 pub mod refine;
 mod refine3d;
 mod reproduce;
@@ -21,6 +23,8 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Formfactors(args) => formfactors::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Draw(args) => draw::run(&args),
+        Command::Merge(args) => merge::run(&args),
+        Command::Bench(args) => bench::run(&args),
         Command::Refine(args) => refine::run(&args),
     }
 }

@@ -5,6 +5,7 @@
 //! result is bit-identical whatever the number of threads.
 
 use std::io::{IsTerminal, Write};
+use std::ops::Range;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
@@ -19,12 +20,38 @@ pub fn run<T: LineTracer + Sync>(
     n_lines: u64,
     threads: usize,
 ) -> LineTally {
-    let chunks = chunk_count(n_lines);
-    let next = AtomicU64::new(0);
+    run_chunks(
+        tracer,
+        method,
+        seed,
+        n_lines,
+        0..chunk_count(n_lines),
+        threads,
+    )
+}
+
+/// Casts only the seeded chunks `range` of a job of `n_lines` lines (a partial result;
+/// `range` must lie within `0..chunk_count(n_lines)`).
+pub fn run_chunks<T: LineTracer + Sync>(
+    tracer: &T,
+    method: LineMethod,
+    seed: u64,
+    n_lines: u64,
+    range: Range<u64>,
+    threads: usize,
+) -> LineTally {
+    let chunks = range.end.min(chunk_count(n_lines));
+    let next = AtomicU64::new(range.start);
     let done = AtomicU64::new(0);
-    let threads = threads
-        .max(1)
-        .min(usize::try_from(chunks).unwrap_or(usize::MAX).max(1));
+    // Lines in the range: where its end chunk starts minus where its first one does (a
+    // chunk at or past the end starts at `n_lines`).
+    let range_lines =
+        chunk_range(n_lines, chunks).start - chunk_range(n_lines, range.start.min(chunks)).start;
+    let threads = threads.max(1).min(
+        usize::try_from(chunks.saturating_sub(range.start))
+            .unwrap_or(usize::MAX)
+            .max(1),
+    );
     let start = Instant::now();
     let tallies: Vec<LineTally> = std::thread::scope(|scope| {
         let workers: Vec<_> = (0..threads)
@@ -43,7 +70,7 @@ pub fn run<T: LineTracer + Sync>(
                 })
             })
             .collect();
-        show_progress(&done, n_lines, start, || {
+        show_progress(&done, range_lines.max(1), start, || {
             workers.iter().all(|w| w.is_finished())
         });
         workers.into_iter().filter_map(|w| w.join().ok()).collect()
@@ -60,12 +87,15 @@ pub fn run<T: LineTracer + Sync>(
 fn show_progress(done: &AtomicU64, total: u64, start: Instant, finished: impl Fn() -> bool) {
     let tty = std::io::stderr().is_terminal();
     let mut shown = false;
+    let mut drawn = Instant::now();
     while !finished() {
-        std::thread::sleep(Duration::from_millis(100));
+        // Poll often (a short job must not wait for the next redraw), redraw every 100 ms.
+        std::thread::sleep(Duration::from_millis(2));
         let elapsed = start.elapsed().as_secs_f64();
-        if !tty || elapsed < 1.0 {
+        if !tty || elapsed < 1.0 || drawn.elapsed() < Duration::from_millis(100) {
             continue;
         }
+        drawn = Instant::now();
         let d = done.load(Ordering::Relaxed);
         let frac = d as f64 / total as f64;
         let width = 30;

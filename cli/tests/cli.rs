@@ -192,6 +192,111 @@ fn draw_obj_writes_a_ply_of_one_face_per_patch() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("--svg OUT.svg"));
 }
 
+/// `measure --chunks A..B --partial` on 4 ranges, then `merge`: the JSON and the
+/// form-factor CSV of one whole run, bit for bit (flatland and 3D, global and local lines);
+/// partials of another job, a gap and a damaged file are refused with exit 2.
+#[test]
+fn four_partials_merged_equal_one_run_bit_for_bit() {
+    let flat = temp("merge-room.flat");
+    std::fs::write(
+        &flat,
+        "poly 4 0 0 4 0 4 3 0 3 per_side 6\npoly 4 1 1 1 2 2 2 2 1 per_side 2\n",
+    )
+    .unwrap();
+    let obj = temp("merge-cube.obj");
+    assert!(
+        bin()
+            .args(["scene", "cube", "--grid", "2", "-o"])
+            .arg(&obj)
+            .status()
+            .unwrap()
+            .success()
+    );
+    // 7 chunks: the last one is short.
+    let lines = (6 * 65536 + 1234).to_string();
+    for (scene, method) in [(&flat, "global"), (&obj, "local"), (&obj, "global")] {
+        let common = ["--lines", &lines, "--seed", "5", "--method", method];
+        let whole_csv = temp(&format!("whole-{method}.csv"));
+        let whole = bin()
+            .arg("measure")
+            .arg(scene)
+            .args(common)
+            .args(["--json", "--threads", "2", "--matrix"])
+            .arg(&whole_csv)
+            .output()
+            .unwrap();
+        assert!(whole.status.success());
+        let mut parts = Vec::new();
+        for (k, range) in ["4..7", "0..1", "1..3", "3..4"].iter().enumerate() {
+            let part = temp(&format!("part{k}-{method}.sip"));
+            let st = bin()
+                .arg("measure")
+                .arg(scene)
+                .args(common)
+                .args(["--threads", "1", "--chunks", range, "--partial"])
+                .arg(&part)
+                .status()
+                .unwrap();
+            assert!(st.success());
+            parts.push(part);
+        }
+        let merged_csv = temp(&format!("merged-{method}.csv"));
+        let merged = bin()
+            .arg("merge")
+            .args(&parts)
+            .args(["--json", "--matrix"])
+            .arg(&merged_csv)
+            .output()
+            .unwrap();
+        assert!(merged.status.success(), "{merged:?}");
+        let (w, m) = (
+            without_timing(&String::from_utf8(whole.stdout).unwrap()),
+            without_timing(&String::from_utf8(merged.stdout).unwrap()),
+        );
+        assert!(w.contains("\"i_s_continuous\":"));
+        assert_eq!(w, m);
+        assert_eq!(
+            std::fs::read(&whole_csv).unwrap(),
+            std::fs::read(&merged_csv).unwrap()
+        );
+    }
+    // Another seed, a missing range, a damaged file: clear errors, exit 2.
+    let other = temp("other-seed.sip");
+    assert!(
+        bin()
+            .arg("measure")
+            .arg(&obj)
+            .args(["--lines", &lines, "--seed", "6", "--chunks", "0..1"])
+            .arg("--partial")
+            .arg(&other)
+            .status()
+            .unwrap()
+            .success()
+    );
+    let part = |k: usize| temp(&format!("part{k}-global.sip"));
+    let fail = |files: Vec<PathBuf>, expect: &str| {
+        let out = bin().arg("merge").args(&files).output().unwrap();
+        assert_eq!(out.status.code(), Some(2));
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert!(err.contains(expect), "{err}");
+    };
+    fail(vec![other.clone(), part(2)], "their seed differs");
+    fail(
+        vec![part(1), part(3), part(0)],
+        "chunks 1..3 are in no partial",
+    );
+    fail(
+        vec![part(1), part(2)],
+        "cover chunks 0..3 of the job's 0..7",
+    );
+    let damaged = temp("damaged.sip");
+    let mut bytes = std::fs::read(part(2)).unwrap();
+    let mid = bytes.len() / 2;
+    bytes[mid] ^= 0x10;
+    std::fs::write(&damaged, bytes).unwrap();
+    fail(vec![damaged], "checksum mismatch");
+}
+
 #[test]
 fn refine_flat_reports_its_keys_draws_and_writes_the_mesh() {
     let scene = temp("refine-room.flat");

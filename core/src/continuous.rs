@@ -43,7 +43,7 @@ use crate::math::{self, FixedSum};
 #[must_use]
 pub fn flat_sample(total_length: f64, cos_x: f64, cos_y: f64, r: f64) -> Option<f64> {
     let f = total_length * cos_x * cos_y / (2.0 * r);
-    (f > 0.0 && f.is_finite()).then(|| math::log2(f))
+    (f > 0.0 && f.is_finite()).then(|| math::log2_fast(f))
 }
 
 /// `log₂(A_T F(x, y))` for 3D points with `F = cos θ_x cos θ_y / (π r²)` (the term of 4.8).
@@ -52,7 +52,7 @@ pub fn flat_sample(total_length: f64, cos_x: f64, cos_y: f64, r: f64) -> Option<
 #[must_use]
 pub fn solid_sample(total_area: f64, cos_x: f64, cos_y: f64, r: f64) -> Option<f64> {
     let f = total_area * cos_x * cos_y / (core::f64::consts::PI * r * r);
-    (f > 0.0 && f.is_finite()).then(|| math::log2(f))
+    (f > 0.0 && f.is_finite()).then(|| math::log2_fast(f))
 }
 
 /// A Monte Carlo estimate with its standard error.
@@ -81,12 +81,12 @@ pub struct ContinuousEstimate {
 /// Allocation-free and exactly mergeable.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ContinuousTally {
-    sum_s: FixedSum,
-    sum_ss: FixedSum,
-    sum_sn: FixedSum,
-    sum_n: u64,
-    sum_nn: u128,
-    groups: u64,
+    pub(crate) sum_s: FixedSum,
+    pub(crate) sum_ss: FixedSum,
+    pub(crate) sum_sn: FixedSum,
+    pub(crate) sum_n: u64,
+    pub(crate) sum_nn: u128,
+    pub(crate) groups: u64,
 }
 
 impl ContinuousTally {

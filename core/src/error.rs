@@ -244,6 +244,37 @@ pub enum ErrorKind {
         /// Lines cast.
         lines: u64,
     },
+    /// A partial-result file is damaged or not one.
+    BadPartial {
+        /// What is wrong with it.
+        what: &'static str,
+    },
+    /// A partial-result file of a layout version this build does not read.
+    PartialVersion {
+        /// The version in the file.
+        found: u32,
+        /// The version this build reads.
+        supported: u32,
+    },
+    /// Two partial results come from different jobs.
+    PartialMismatch {
+        /// What differs: `scene`, `method`, `seed`, `lines` or `patches`.
+        field: &'static str,
+    },
+    /// Two partial results overlap or leave chunks between them.
+    ChunkRanges {
+        /// The chunks merged so far.
+        first: core::ops::Range<u64>,
+        /// The next partial's chunks (by first chunk).
+        second: core::ops::Range<u64>,
+    },
+    /// Partial results do not cover the whole job.
+    MissingChunks {
+        /// The chunks present.
+        have: core::ops::Range<u64>,
+        /// The job's number of chunks.
+        total: u64,
+    },
 
     // ---- solvers --------------------------------------------------------------------------
     /// A numeric parameter (e.g. a solver tolerance) is NaN, infinite or out of range.
@@ -364,6 +395,36 @@ impl fmt::Display for ErrorKind {
             K::UnsampledPatch { patch, lines } => write!(
                 f,
                 "patch {patch} received none of the {lines} lines: cast more lines"
+            ),
+            K::BadPartial { what } => write!(f, "bad partial-result file: {what}"),
+            K::PartialVersion { found, supported } => write!(
+                f,
+                "partial-result file has layout version {found}; this build reads version {supported}"
+            ),
+            K::PartialMismatch { field } => write!(
+                f,
+                "partial results come from different jobs: their {field} differs"
+            ),
+            K::ChunkRanges { first, second } => {
+                if second.start < first.end {
+                    write!(
+                        f,
+                        "partial results overlap: chunks {}..{} and {}..{}",
+                        first.start, first.end, second.start, second.end
+                    )
+                } else {
+                    write!(
+                        f,
+                        "chunks {}..{} are in no partial result (between {}..{} and {}..{})",
+                        first.end, second.start, first.start, first.end, second.start, second.end
+                    )
+                }
+            }
+            K::MissingChunks { have, total } => write!(
+                f,
+                "partial results cover chunks {}..{} of the job's 0..{total}: compute the rest \
+                 (measure --chunks A..B --partial) before merging",
+                have.start, have.end
             ),
             K::BadParameter { name, value } => {
                 write!(f, "parameter {name} = {value} is out of range")

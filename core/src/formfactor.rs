@@ -30,6 +30,8 @@ pub mod estimate_3d;
 pub mod exact_2d;
 pub mod exact_3d;
 #[cfg(feature = "alloc")]
+pub mod partial;
+#[cfg(feature = "alloc")]
 pub mod tally;
 
 #[cfg(feature = "alloc")]

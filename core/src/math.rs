@@ -5,10 +5,14 @@
 //! platforms; `libm` is the same Rust code everywhere).
 
 mod clausen;
+mod fast_log2;
 mod fixed;
+mod turns;
 pub use clausen::clausen2;
+pub use fast_log2::log2_fast;
 pub use fixed::FIXED_MAX_TERM;
 pub use fixed::FixedSum;
+pub use turns::sin_cos_turns;
 
 /// Base-2 logarithm, `log₂ x`. All entropies of the crate are in bits.
 #[inline]

@@ -3,26 +3,34 @@
 
 use std::fmt::Write as _;
 use std::io::Write;
+use std::ops::Range;
 use std::path::Path;
 use std::time::Instant;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use sceneinfo::continuous::{ContinuousEstimate, relative_discretisation_error};
 use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::estimate_2d::{FlatTracer, LineMethod};
 use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::formfactor::exact_2d;
+use sceneinfo::formfactor::partial::{JobId, Partial, fingerprint};
+use sceneinfo::formfactor::tally::{LineTally, LineTracer};
+use sceneinfo::lines::{CHUNK_LINES, chunk_count};
 use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport};
 
 use crate::args::{MeasureArgs, Method, SamplingArgs};
 use crate::output::{Loaded, located, write_atomic};
 
 /// What the Monte Carlo run adds to a report.
-struct MonteCarlo {
-    method: Method,
-    lines: u64,
-    seed: u64,
-    continuous: ContinuousEstimate,
+pub struct MonteCarlo {
+    /// The sampling method.
+    pub method: LineMethod,
+    /// Lines cast.
+    pub lines: u64,
+    /// Seed of the chunk streams.
+    pub seed: u64,
+    /// `I_S^c` and its standard error.
+    pub continuous: ContinuousEstimate,
 }
 
 /// The form factors of the scene in `path`: exact (flatland with occlusion; 3D when no
@@ -31,16 +39,24 @@ pub fn form_factors_of(path: &Path, sampling: &SamplingArgs) -> Result<FormFacto
     Ok(compute(path, sampling)?.0)
 }
 
+fn line_method(m: Method) -> LineMethod {
+    match m {
+        Method::Global => LineMethod::Global,
+        Method::Local => LineMethod::Local,
+    }
+}
+
+fn threads_of(sampling: &SamplingArgs) -> usize {
+    sampling
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get))
+}
+
 fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<MonteCarlo>)> {
     let at = |e: sceneinfo::Error| located(path, &e);
     let scene = crate::output::load_scene(path)?;
-    let method = match sampling.method {
-        Method::Global => LineMethod::Global,
-        Method::Local => LineMethod::Local,
-    };
-    let threads = sampling
-        .threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get));
+    let method = line_method(sampling.method);
+    let threads = threads_of(sampling);
     Ok(match (sampling.lines, &scene) {
         (Some(0), _) => return Err(at(sceneinfo::ErrorKind::NoLines.into())),
         (None, Loaded::Flat(s)) => (exact_2d::form_factors(s).map_err(at)?, None),
@@ -61,7 +77,7 @@ fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<
                 }
             };
             let mc = MonteCarlo {
-                method: sampling.method,
+                method,
                 lines,
                 seed: sampling.seed,
                 continuous: est.continuous,
@@ -72,27 +88,58 @@ fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<
 }
 
 pub fn run(args: &MeasureArgs) -> Result<()> {
-    let at = |e: sceneinfo::Error| located(&args.file, &e);
+    if let Some(out) = &args.partial {
+        return write_partial(args, out);
+    }
     let start = Instant::now();
     let (ff, mc) = compute(&args.file, &args.sampling)?;
-    let report = SceneReport::of(&ff).map_err(at)?;
-    let seconds = start.elapsed().as_secs_f64();
-    if let Some(path) = &args.matrix {
-        write_atomic(path, crate::commands::formfactors::csv(&ff)?.as_bytes())?;
+    print_report(
+        &args.file,
+        &ff,
+        mc.as_ref(),
+        Timing {
+            start,
+            earlier: 0.0,
+        },
+        args.json,
+        args.matrix.as_deref(),
+    )
+}
+
+/// Where the wall time of a report comes from: this process since `start`, plus
+/// `earlier` seconds spent elsewhere (the partial results a merge combines).
+pub struct Timing {
+    /// When this process started the work.
+    pub start: Instant,
+    /// Seconds spent before, elsewhere.
+    pub earlier: f64,
+}
+
+/// Prints the report of `ff` (a table, or JSON), and writes the matrix CSV if asked.
+pub fn print_report(
+    file: &Path,
+    ff: &FormFactors,
+    mc: Option<&MonteCarlo>,
+    timing: Timing,
+    json: bool,
+    matrix: Option<&Path>,
+) -> Result<()> {
+    let at = |e: sceneinfo::Error| located(file, &e);
+    let report = SceneReport::of(ff).map_err(at)?;
+    let seconds = timing.earlier + timing.start.elapsed().as_secs_f64();
+    if let Some(path) = matrix {
+        write_atomic(path, crate::commands::formfactors::csv(ff)?.as_bytes())?;
     }
     let mut out = std::io::stdout().lock();
-    if args.json {
+    if json {
         let mut s = String::new();
         let mut o = JsonObject::new(&mut s)?;
         report.write_fields(&mut o)?;
-        match &mc {
+        match mc {
             None => o.string("form_factors", "exact")?,
             Some(mc) => {
                 let run = LineRunReport {
-                    method: match mc.method {
-                        Method::Global => LineMethod::Global,
-                        Method::Local => LineMethod::Local,
-                    },
+                    method: mc.method,
                     lines: mc.lines,
                     seed: mc.seed,
                     continuous: mc.continuous,
@@ -109,22 +156,106 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
         write!(
             out,
             "{}",
-            table(
-                &args.file.display().to_string(),
-                &report,
-                mc.as_ref(),
-                seconds
-            )
+            table(&file.display().to_string(), &report, mc, seconds)
         )?;
     }
     out.flush()?;
     Ok(())
 }
 
-fn method_name(m: Method) -> &'static str {
+/// `measure … --lines N [--chunks A..B] --partial OUT.sip`: tallies the chunks into a
+/// partial-result file and prints what it wrote.
+fn write_partial(args: &MeasureArgs, out: &Path) -> Result<()> {
+    let start = Instant::now();
+    let path = &args.file;
+    let at = |e: sceneinfo::Error| located(path, &e);
+    let sampling = &args.sampling;
+    let lines = match sampling.lines {
+        Some(0) | None => return Err(at(sceneinfo::ErrorKind::NoLines.into())),
+        Some(n) => n,
+    };
+    let total = chunk_count(lines);
+    let chunks = args.chunks.clone().unwrap_or(0..total);
+    if chunks.end > total {
+        anyhow::bail!(
+            "--chunks {}..{}: a job of {lines} lines has chunks 0..{total} ({} lines each)",
+            chunks.start,
+            chunks.end,
+            CHUNK_LINES
+        );
+    }
+    let bytes = std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let method = line_method(sampling.method);
+    let threads = threads_of(sampling);
+    let job = |c: Range<u64>| (method, sampling.seed, lines, c, threads);
+    let (tally, sizes) = match crate::output::load_scene(path)? {
+        Loaded::Flat(s) => tally_chunks(&FlatTracer::new(&s).map_err(at)?, job(chunks.clone())),
+        Loaded::Solid(s) => tally_chunks(&SceneTracer::new(&s).map_err(at)?, job(chunks.clone())),
+    };
+    let cast = tally.lines();
+    let seconds = start.elapsed().as_secs_f64();
+    let partial = Partial {
+        job: JobId {
+            scene: fingerprint(&bytes),
+            method,
+            seed: sampling.seed,
+            lines,
+        },
+        chunks: chunks.clone(),
+        seconds,
+        sizes,
+        tally,
+    };
+    let file = partial.to_bytes();
+    write_atomic(out, &file)?;
+    let mut o = std::io::stdout().lock();
+    if args.json {
+        let mut s = String::new();
+        let mut j = JsonObject::new(&mut s)?;
+        j.string("partial", &out.display().to_string())?;
+        j.integer("chunks_start", chunks.start)?;
+        j.integer("chunks_end", chunks.end)?;
+        j.integer("chunks_total", total)?;
+        j.integer("lines", cast)?;
+        j.integer("job_lines", lines)?;
+        j.integer("seed", sampling.seed)?;
+        j.integer("bytes", file.len() as u64)?;
+        j.number("lines_per_second", cast as f64 / seconds.max(1e-9))?;
+        j.number("seconds", seconds)?;
+        j.finish()?;
+        writeln!(o, "{s}")?;
+    } else {
+        writeln!(
+            o,
+            "wrote {}: chunks {}..{} of 0..{total} ({cast} of {lines} lines, seed {}, {}), \
+             {} bytes, {seconds:.3} s ({:.2} M lines/s)",
+            out.display(),
+            chunks.start,
+            chunks.end,
+            sampling.seed,
+            method_name(method),
+            file.len(),
+            cast as f64 / seconds.max(1e-9) / 1e6
+        )?;
+    }
+    o.flush()?;
+    Ok(())
+}
+
+/// The tally of `chunks` of the job `(method, seed, lines)` on `threads` threads, and the
+/// patch sizes.
+fn tally_chunks<T: LineTracer + Sync>(
+    tracer: &T,
+    (method, seed, lines, chunks, threads): (LineMethod, u64, u64, Range<u64>, usize),
+) -> (LineTally, Vec<f64>) {
+    let tally = crate::lines::run_chunks(tracer, method, seed, lines, chunks, threads);
+    (tally, tracer.patch_sizes().to_vec())
+}
+
+fn method_name(m: LineMethod) -> &'static str {
     match m {
-        Method::Global => "global lines",
-        Method::Local => "local lines",
+        LineMethod::Global => "global lines",
+        LineMethod::Local => "local lines",
     }
 }
 

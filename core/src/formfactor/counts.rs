@@ -69,19 +69,19 @@ impl PairCounts {
         }
     }
 
-    /// Adds a continuous-information term to pair `(i, j)` (dense mode only; ignored when
-    /// sparse).
+    /// Adds a continuous-information term, quantised by
+    /// [`crate::math::FixedSum::quantise`], to pair `(i, j)` (dense mode only; ignored
+    /// when sparse).
     #[inline]
-    pub(crate) fn add_info(&mut self, i: usize, j: usize, value: f64) {
+    pub(crate) fn add_info(&mut self, i: usize, j: usize, raw: i128) {
         if let Self::Dense {
             n,
             info: Some(info),
             ..
         } = self
-            && value.is_finite()
             && let Some(v) = info.get_mut(i * *n + j)
         {
-            *v = v.saturating_add((value * SCALE) as i128);
+            *v = v.saturating_add(raw);
         }
     }
 
@@ -141,6 +141,69 @@ impl PairCounts {
                     f((key >> 32) as usize, (key & 0xffff_ffff) as usize, c, None);
                 }
             }
+        }
+    }
+
+    /// Calls `f(i, j, C_ij, raw I_ij^c)` for every pair with a non-zero count or
+    /// information in row-major order, the per-pair information as raw 64.64 fixed point
+    /// (0 when not kept). A local line `i → j` adds information to `(j, i)` too, so that
+    /// pair may have information without a count. Does not change `self` (unflushed sparse
+    /// keys are merged into a copy).
+    pub(crate) fn for_each_raw(&self, mut f: impl FnMut(usize, usize, u64, i128)) {
+        match self {
+            Self::Dense { n, counts, info } => {
+                for (k, &c) in counts.iter().enumerate() {
+                    let v = info.as_ref().and_then(|info| info.get(k)).copied();
+                    let v = v.unwrap_or(0);
+                    if c > 0 || v != 0 {
+                        f(k / *n, k % *n, c, v);
+                    }
+                }
+            }
+            Self::Sparse { buffer, merged } => {
+                let mut copy;
+                let list = if buffer.is_empty() {
+                    merged
+                } else {
+                    copy = (buffer.clone(), merged.clone());
+                    flush(&mut copy.0, &mut copy.1);
+                    &copy.1
+                };
+                for &(key, c) in list.iter() {
+                    f((key >> 32) as usize, (key & 0xffff_ffff) as usize, c, 0);
+                }
+            }
+        }
+    }
+
+    /// Sets pair `(i, j)` to `count` (and raw information `info`, when kept), for pairs
+    /// given in increasing `(i, j)` order into empty counts (reading a partial file).
+    pub(crate) fn push_sorted(&mut self, i: usize, j: usize, count: u64, info: i128) {
+        match self {
+            Self::Dense {
+                n,
+                counts,
+                info: pi,
+            } => {
+                let k = i * *n + j;
+                if let Some(c) = counts.get_mut(k) {
+                    *c = count;
+                }
+                if let Some(v) = pi.as_mut().and_then(|pi| pi.get_mut(k)) {
+                    *v = info;
+                }
+            }
+            Self::Sparse { merged, .. } => merged.push((((i as u64) << 32) | j as u64, count)),
+        }
+    }
+
+    /// Bytes held per non-zero pair (sparse) or in total (dense): what `bench` reports.
+    pub(crate) fn heap_bytes(&self) -> usize {
+        match self {
+            Self::Dense { counts, info, .. } => {
+                counts.capacity() * 8 + info.as_ref().map_or(0, |i| i.capacity() * 16)
+            }
+            Self::Sparse { buffer, merged } => buffer.capacity() * 8 + merged.capacity() * 16,
         }
     }
 

@@ -58,6 +58,8 @@ pub struct FlatTracer {
     total_length: f64,
     bvh: Bvh2,
     circle: BoundingCircle,
+    /// Answer queries with the `O(n)` loops instead of the BVH (benchmark baseline).
+    naive: bool,
 }
 
 impl FlatTracer {
@@ -91,7 +93,18 @@ impl FlatTracer {
             total_length,
             bvh,
             circle: BoundingCircle::of_bounds(lo, hi),
+            naive: false,
         })
+    }
+
+    /// The same tracer answering every line query with the `O(n)` loop over all patches
+    /// ([`crate::accel`]'s naive baselines, which return exactly the BVH's hits) instead of
+    /// the BVH: the baseline against which benchmarks measure the BVH's gain. Results are
+    /// bit-identical; only the speed differs.
+    #[must_use]
+    pub fn naive_baseline(mut self) -> Self {
+        self.naive = true;
+        self
     }
 
     /// Tallies one global line from its sorted hits (see [`tally_global_line`]).
@@ -139,7 +152,12 @@ impl FlatTracer {
         tally.leave(i);
         let t_min = 1e-12 * self.circle.radius;
         let mut sample = 0.0;
-        if let Some(mut hit) = self.bvh.first_hit(line.origin, line.dir, t_min) {
+        let first = if self.naive {
+            crate::accel::first_hit_naive(&self.segments, line.origin, line.dir, t_min)
+        } else {
+            self.bvh.first_hit(line.origin, line.dir, t_min)
+        };
+        if let Some(mut hit) = first {
             if line.dir.dot(self.normals[hit.prim as usize]) >= 0.0 {
                 // A back face: if a coincident surface faces us there (a two-sided wall),
                 // that one is what the line meets.
@@ -281,7 +299,11 @@ impl LineTracer for FlatTracer {
             match tally.method() {
                 LineMethod::Global => {
                     let line = sample_global_line_2d(&self.circle, canonical_2d(&mut rng));
-                    self.bvh.all_hits(&line, &mut hits);
+                    if self.naive {
+                        crate::accel::all_hits_naive(&self.segments, &line, &mut hits);
+                    } else {
+                        self.bvh.all_hits(&line, &mut hits);
+                    }
                     self.tally_global_line(line.dir, &hits, &mut crossings, tally);
                 }
                 LineMethod::Local => {

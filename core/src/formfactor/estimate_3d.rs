@@ -41,6 +41,8 @@ pub struct SceneTracer {
     total_area: f64,
     bvh: Bvh3,
     sphere: BoundingSphere,
+    /// Answer queries with the `O(n)` loops instead of the BVH (benchmark baseline).
+    naive: bool,
 }
 
 /// Four canonical samples.
@@ -86,7 +88,18 @@ impl SceneTracer {
             total_area,
             bvh,
             sphere: BoundingSphere::of_bounds(lo, hi),
+            naive: false,
         })
+    }
+
+    /// The same tracer answering every line query with the `O(n)` loop over all patches
+    /// ([`crate::accel`]'s naive baselines, which return exactly the BVH's hits) instead of
+    /// the BVH: the baseline against which benchmarks measure the BVH's gain. Results are
+    /// bit-identical; only the speed differs.
+    #[must_use]
+    pub fn naive_baseline(mut self) -> Self {
+        self.naive = true;
+        self
     }
 
     fn vertices(&self, i: usize) -> &[DVec3] {
@@ -137,7 +150,18 @@ impl SceneTracer {
         tally.leave(i);
         let t_min = 1e-12 * self.sphere.radius;
         let mut sample = 0.0;
-        if let Some(mut hit) = self.bvh.first_hit(line.origin, line.dir, t_min) {
+        let first = if self.naive {
+            crate::accel::first_hit_naive3(
+                &self.points,
+                &self.polygons,
+                line.origin,
+                line.dir,
+                t_min,
+            )
+        } else {
+            self.bvh.first_hit(line.origin, line.dir, t_min)
+        };
+        if let Some(mut hit) = first {
             if line.dir.dot(self.normals[hit.prim as usize]) >= 0.0 {
                 hit = self.coincident_front_hit(&line, hit, hits);
             }
@@ -170,7 +194,16 @@ impl LineTracer for SceneTracer {
             match tally.method() {
                 LineMethod::Global => {
                     let line = sample_global_line_3d(&self.sphere, canonical_4d(&mut rng));
-                    self.bvh.all_hits(&line, &mut hits);
+                    if self.naive {
+                        crate::accel::all_hits_naive3(
+                            &self.points,
+                            &self.polygons,
+                            &line,
+                            &mut hits,
+                        );
+                    } else {
+                        self.bvh.all_hits(&line, &mut hits);
+                    }
                     self.tally_global_line(line.dir, &hits, &mut crossings, tally);
                 }
                 LineMethod::Local => {

@@ -64,11 +64,11 @@ pub trait LineTracer {
 #[derive(Clone, Debug, PartialEq)]
 pub struct LineTally {
     method: LineMethod,
-    lines: u64,
-    leaves: Vec<u64>,
-    counts: PairCounts,
-    patch_info: Vec<FixedSum>,
-    continuous: ContinuousTally,
+    pub(crate) lines: u64,
+    pub(crate) leaves: Vec<u64>,
+    pub(crate) counts: PairCounts,
+    pub(crate) patch_info: Vec<FixedSum>,
+    pub(crate) continuous: ContinuousTally,
 }
 
 /// The result of a Monte Carlo run.
@@ -150,14 +150,23 @@ impl LineTally {
     /// Splits a term half to `I_ij^c`, half to `I_ji^c` (6.35): `w` to each.
     #[inline]
     fn add_info(&mut self, i: usize, j: usize, w: f64) {
+        // Quantised once for the four sums (the same bits as four separate additions).
+        let Some(raw) = FixedSum::quantise(w) else {
+            for k in [i, j] {
+                if let Some(p) = self.patch_info.get_mut(k) {
+                    p.add(w); // records the saturation
+                }
+            }
+            return;
+        };
         if let Some(p) = self.patch_info.get_mut(i) {
-            p.add(w);
+            p.add_quantised(raw);
         }
         if let Some(p) = self.patch_info.get_mut(j) {
-            p.add(w);
+            p.add_quantised(raw);
         }
-        self.counts.add_info(i, j, w);
-        self.counts.add_info(j, i, w);
+        self.counts.add_info(i, j, raw);
+        self.counts.add_info(j, i, raw);
     }
 
     /// Closes one line: `n` samples whose terms add up to `sum`.
@@ -193,6 +202,16 @@ impl LineTally {
         self.lines
     }
 
+    /// Memory of the pair counts `C_ij`: `(heap bytes, pairs with a count or
+    /// information)`. Sparse counts (more than [`crate::formfactor::DENSE_COUNT_LIMIT`]
+    /// patches) take 16 bytes per non-zero pair once merged, plus the pending buffer.
+    #[must_use]
+    pub fn count_memory(&self) -> (usize, u64) {
+        let mut pairs = 0u64;
+        self.counts.for_each_raw(|_, _, _, _| pairs += 1);
+        (self.counts.heap_bytes(), pairs)
+    }
+
     /// `I_S^c` and its standard error so far. Unlike [`LineTally::finish`] this needs no
     /// sample on every patch: the continuous estimate is over the whole scene.
     #[must_use]
@@ -217,7 +236,24 @@ impl LineTally {
     /// # Errors
     /// [`ErrorKind::NoLines`] for an empty tally; [`ErrorKind::UnsampledPatch`] when some patch
     /// got no sample (its row of `F` would be unknown).
-    pub fn finish<T: LineTracer + ?Sized>(mut self, tracer: &T) -> Result<LineEstimate> {
+    pub fn finish<T: LineTracer + ?Sized>(self, tracer: &T) -> Result<LineEstimate> {
+        self.finish_with_sizes(tracer.patch_sizes())
+    }
+
+    /// [`LineTally::finish`] given the patch sizes (lengths or areas) instead of the tracer:
+    /// what merging partial results from files needs.
+    ///
+    /// # Errors
+    /// Those of [`LineTally::finish`], and [`ErrorKind::DimensionMismatch`] when `sizes`
+    /// does not have one entry per patch.
+    pub fn finish_with_sizes(mut self, sizes: &[f64]) -> Result<LineEstimate> {
+        if sizes.len() != self.leaves.len() {
+            return Err(ErrorKind::DimensionMismatch {
+                expected: self.leaves.len(),
+                found: sizes.len(),
+            }
+            .into());
+        }
         if self.lines == 0 {
             return Err(ErrorKind::NoLines.into());
         }
@@ -228,7 +264,6 @@ impl LineTally {
             }
             .into());
         }
-        let sizes = tracer.patch_sizes();
         let n = self.leaves.len();
         let samples = self.continuous.samples().max(1) as f64;
         let mut pair = self.counts.has_pair_info().then(|| vec![0.0; n * n]);

@@ -118,9 +118,10 @@ impl BoundingCircle {
 /// ```
 #[must_use]
 pub fn sample_global_line_2d(circle: &BoundingCircle, u: [f64; 2]) -> Line2 {
-    let theta = PI * clamp_canonical(u[0]);
+    // θ = π u₀ = 2π (u₀/2), without a general trigonometric range reduction
+    let (sin_theta, cos_theta) = math::sin_cos_turns(0.5 * clamp_canonical(u[0]));
     let p = (2.0 * clamp_canonical(u[1]) - 1.0) * circle.radius;
-    let n = DVec2::new(math::cos(theta), math::sin(theta));
+    let n = DVec2::new(cos_theta, sin_theta);
     Line2 {
         origin: circle.center + n * p,
         dir: left_perp(n),

@@ -141,8 +141,9 @@ pub fn sample_uniform_sphere(u: [f64; 2]) -> DVec3 {
     let u0 = clamp_canonical(u[0]);
     let z = 1.0 - 2.0 * u0;
     let rho = 2.0 * math::sqrt(u0 * (1.0 - u0));
-    let phi = TAU * clamp_canonical(u[1]);
-    DVec3::new(rho * math::cos(phi), rho * math::sin(phi), z)
+    // φ = 2π u₁ without a general trigonometric range reduction
+    let (sin_phi, cos_phi) = math::sin_cos_turns(clamp_canonical(u[1]));
+    DVec3::new(rho * cos_phi, rho * sin_phi, z)
 }
 
 /// Density of [`sample_uniform_sphere`] with respect to solid angle: `1/4π`.

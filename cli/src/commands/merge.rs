@@ -1,0 +1,58 @@
+//! `sceneinfo merge`: combines partial results (`measure … --partial`) into the result of
+//! one run of the whole job — bit for bit, since tallies are exact integers and fixed-point
+//! sums — or into one larger partial result.
+
+use std::io::Write;
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use sceneinfo::formfactor::partial::{Partial, merge_partials};
+
+use crate::args::MergeArgs;
+use crate::commands::measure::{MonteCarlo, Timing, print_report};
+use crate::output::{located, write_atomic};
+
+pub fn run(args: &MergeArgs) -> Result<()> {
+    let start = Instant::now();
+    let mut parts = Vec::with_capacity(args.files.len());
+    for path in &args.files {
+        let bytes =
+            std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?;
+        parts.push(Partial::from_bytes(&bytes).map_err(|e| located(path, &e))?);
+    }
+    let first = &args.files[0];
+    let merged = merge_partials(parts).map_err(|e| anyhow::anyhow!("merge: {}", e.kind()))?;
+    if let Some(out) = &args.partial {
+        let bytes = merged.to_bytes();
+        write_atomic(out, &bytes)?;
+        writeln!(
+            std::io::stdout().lock(),
+            "wrote {}: chunks {}..{} of a job of {} lines, {} bytes",
+            out.display(),
+            merged.chunks.start,
+            merged.chunks.end,
+            merged.job.lines,
+            bytes.len()
+        )?;
+        return Ok(());
+    }
+    let (job, earlier) = (merged.job, merged.seconds);
+    let est = merged
+        .finish()
+        .map_err(|e| anyhow::anyhow!("merge: {}", e.kind()))?;
+    let mc = MonteCarlo {
+        method: job.method,
+        lines: job.lines,
+        seed: job.seed,
+        continuous: est.continuous,
+    };
+    print_report(
+        Path::new(first),
+        &est.form_factors,
+        Some(&mc),
+        Timing { start, earlier },
+        args.json,
+        args.matrix.as_deref(),
+    )
+}

@@ -1,0 +1,177 @@
+//! Criterion benchmarks of the line-casting hot paths, each beside its naive baseline.
+//!
+//! `cargo bench -p sceneinfo` (add `-- --quick` for a fast pass). Whole jobs, threads and
+//! memory are measured by `sceneinfo bench`.
+
+use std::hint::black_box;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use sceneinfo::accel::{Bvh2, Bvh3, all_hits_naive, all_hits_naive3};
+use sceneinfo::formfactor::estimate_2d::FlatTracer;
+use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::formfactor::exact_3d;
+use sceneinfo::formfactor::tally::{LineMethod, LineTracer};
+use sceneinfo::geom::{DVec2, DVec3, Segment};
+use sceneinfo::lines::{
+    BoundingCircle, BoundingSphere, Line2, Line3, canonical, canonical_2d, chunk_rng,
+    sample_global_line_2d, sample_global_line_3d,
+};
+use sceneinfo::scene::{FlatScene, Scene, catalogue_scene};
+
+/// Lines per measured batch.
+const BATCH: usize = 4096;
+
+fn lines_2d(scene: &FlatScene) -> Vec<Line2> {
+    let (lo, hi) = scene.bounds();
+    let circle = BoundingCircle::of_bounds(lo, hi);
+    let mut rng = chunk_rng(1, 0);
+    (0..BATCH)
+        .map(|_| sample_global_line_2d(&circle, canonical_2d(&mut rng)))
+        .collect()
+}
+
+fn lines_3d(scene: &Scene) -> Vec<Line3> {
+    let (lo, hi) = scene.bounds();
+    let sphere = BoundingSphere::of_bounds(lo, hi);
+    let mut rng = chunk_rng(1, 0);
+    (0..BATCH)
+        .map(|_| {
+            let u = [(); 4].map(|()| canonical(&mut rng));
+            sample_global_line_3d(&sphere, u)
+        })
+        .collect()
+}
+
+fn queries_2d(c: &mut Criterion) {
+    let scene = catalogue_scene("64-squares-a", 10).unwrap();
+    let segments: Vec<Segment> = scene.patches().iter().map(|p| p.segment).collect();
+    let bvh = Bvh2::build(&segments).unwrap();
+    let lines = lines_2d(&scene);
+    let mut g = c.benchmark_group("all_hits 2D, 64 squares");
+    g.throughput(Throughput::Elements(BATCH as u64));
+    let mut hits = Vec::new();
+    g.bench_function("bvh", |b| {
+        b.iter(|| {
+            for l in &lines {
+                bvh.all_hits(l, &mut hits);
+                black_box(&hits);
+            }
+        });
+    });
+    g.bench_function("naive", |b| {
+        b.iter(|| {
+            for l in &lines {
+                all_hits_naive(&segments, l, &mut hits);
+                black_box(&hits);
+            }
+        });
+    });
+    g.finish();
+}
+
+fn queries_3d(c: &mut Criterion) {
+    let scene = Scene::cube(30).unwrap();
+    let points = scene.points().to_vec();
+    let polygons: Vec<(usize, usize)> =
+        scene.patches().iter().map(|p| (p.first, p.count)).collect();
+    let bvh = Bvh3::build(&points, &polygons).unwrap();
+    let lines = lines_3d(&scene);
+    let mut g = c.benchmark_group("all_hits 3D, cube 5400");
+    g.throughput(Throughput::Elements(BATCH as u64));
+    let mut hits = Vec::new();
+    g.bench_function("bvh", |b| {
+        b.iter(|| {
+            for l in &lines {
+                bvh.all_hits(l, &mut hits);
+                black_box(&hits);
+            }
+        });
+    });
+    g.sample_size(10);
+    g.bench_function("naive", |b| {
+        b.iter(|| {
+            for l in &lines[..256] {
+                all_hits_naive3(&points, &polygons, l, &mut hits);
+                black_box(&hits);
+            }
+        });
+    });
+    g.finish();
+}
+
+fn sampling(c: &mut Criterion) {
+    let sphere = BoundingSphere::of_bounds(DVec3::ZERO, DVec3::ONE);
+    let circle = BoundingCircle::of_bounds(DVec2::ZERO, DVec2::ONE);
+    let mut g = c.benchmark_group("global line sampling");
+    g.throughput(Throughput::Elements(BATCH as u64));
+    g.bench_function("3D (4 canonical samples)", |b| {
+        let mut rng = chunk_rng(2, 0);
+        b.iter(|| {
+            for _ in 0..BATCH {
+                let u = [(); 4].map(|()| canonical(&mut rng));
+                black_box(sample_global_line_3d(&sphere, u));
+            }
+        });
+    });
+    g.bench_function("2D (2 canonical samples)", |b| {
+        let mut rng = chunk_rng(2, 0);
+        b.iter(|| {
+            for _ in 0..BATCH {
+                black_box(sample_global_line_2d(&circle, canonical_2d(&mut rng)));
+            }
+        });
+    });
+    g.finish();
+}
+
+/// Whole chunks: sampling, queries and the full tally, against the naive tracer.
+fn chunks(c: &mut Criterion) {
+    let lines = BATCH as u64;
+    let mut g = c.benchmark_group("global-line chunk with tally");
+    g.throughput(Throughput::Elements(lines));
+    let flat = catalogue_scene("64-squares-a", 10).unwrap();
+    let tracer = FlatTracer::new(&flat).unwrap();
+    g.bench_function("64 squares, bvh", |b| {
+        b.iter(|| {
+            let mut t = tracer.new_tally(LineMethod::Global);
+            tracer.trace_chunk(3, lines, 0, &mut t);
+            black_box(t.lines())
+        });
+    });
+    let naive = FlatTracer::new(&flat).unwrap().naive_baseline();
+    g.bench_function("64 squares, naive", |b| {
+        b.iter(|| {
+            let mut t = naive.new_tally(LineMethod::Global);
+            naive.trace_chunk(3, lines, 0, &mut t);
+            black_box(t.lines())
+        });
+    });
+    let cube = Scene::cube(30).unwrap();
+    let tracer = SceneTracer::new(&cube).unwrap();
+    let mut tally = tracer.new_tally(LineMethod::Global);
+    g.bench_function("cube 5400, bvh", |b| {
+        b.iter(|| {
+            tracer.trace_chunk(3, lines, 0, &mut tally);
+            black_box(tally.lines())
+        });
+    });
+    g.finish();
+}
+
+fn exact(c: &mut Criterion) {
+    let cube = Scene::cube(10).unwrap();
+    let polygons: Vec<(usize, usize)> = cube.patches().iter().map(|p| (p.first, p.count)).collect();
+    let mut g = c.benchmark_group("exact form factors");
+    g.sample_size(10);
+    g.bench_function("3D cube 600", |b| {
+        b.iter(|| black_box(exact_3d::form_factors_unoccluded(cube.points(), &polygons).unwrap()));
+    });
+    let flat = catalogue_scene("16-squares-4", 52).unwrap();
+    g.bench_function("flatland 16-squares-4 (605)", |b| {
+        b.iter(|| black_box(sceneinfo::formfactor::exact_2d::form_factors(&flat).unwrap()));
+    });
+    g.finish();
+}
+
+criterion_group!(benches, queries_2d, queries_3d, sampling, chunks, exact);
+criterion_main!(benches);
