@@ -426,7 +426,8 @@ pub struct RefineArgs {
     #[arg(long, value_name = "K")]
     pub pairs: Option<u32>,
     /// Lines: for .flat, the global lines that tally I^c along the surfaces once (default
-    /// 1e6); for .obj, the radiosity rays.
+    /// 1e6); for .obj, the global lines that measure the final mesh's channel (I_S, H_S,
+    /// H_J, I_S^c; default 1e6).
     #[arg(long, value_name = "N", value_parser = parse_count)]
     pub lines: Option<u64>,
     /// Seed of the line streams: the result depends on the seed and the budgets only.
@@ -447,9 +448,23 @@ pub struct RefineArgs {
     /// Render the refined 3D mesh (Gouraud-shaded radiosity, element edges) as PNG.
     #[arg(long, value_name = "OUT.png")]
     pub png: Option<PathBuf>,
-    /// A reference solution to report the RMS error against (3D).
-    #[arg(long, value_name = "F")]
+    /// A reference solution to report the RMS error against (3D): a PLY written by
+    /// `refine FILE.obj --ply` (its faces carry their radiosities), typically a finer run.
+    #[arg(long, value_name = "REF.ply")]
     pub reference: Option<PathBuf>,
+    /// With --png: the camera's eye, `x,y,z` (default: in front of the scene, on its −z
+    /// side, far enough to frame it).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub eye: Option<String>,
+    /// With --png: the point the camera looks at, `x,y,z` (default: the scene's centre).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub look: Option<String>,
+    /// With --png: vertical field of view in degrees.
+    #[arg(long, value_name = "DEG", default_value_t = 40.0)]
+    pub fov: f64,
+    /// With --png: image size in pixels, `WxH`.
+    #[arg(long, value_name = "WxH", default_value = "800x800")]
+    pub size: String,
     /// Write the refined flatland mesh as a .flat file (it reads back bit for bit).
     #[arg(short, long, value_name = "OUT.flat")]
     pub output: Option<PathBuf>,

@@ -8,6 +8,7 @@ pub mod measure;
 mod merge;
 mod radiosity;
 pub mod refine;
+mod refine3d;
 mod reproduce;
 mod scene;
 

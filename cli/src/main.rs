@@ -10,6 +10,8 @@ mod interrupt;
 mod lines;
 mod output;
 mod ply;
+mod png;
+mod raster;
 mod svg;
 
 use std::process::ExitCode;

@@ -26,6 +26,9 @@ pub struct Ply {
     indices: Vec<usize>,
     /// `(first index, vertex count, colour)` of each face.
     faces: Vec<(usize, usize, Rgb)>,
+    /// Per face, the RGB radiosity written as three float properties
+    /// (`radiosity_red`, `radiosity_green`, `radiosity_blue`) when every face has one.
+    radiosity: Vec<[f32; 3]>,
 }
 
 impl Ply {
@@ -75,6 +78,13 @@ impl Ply {
         self.indices.extend_from_slice(indices);
     }
 
+    /// Adds a polygon as [`Ply::polygon`] does, with its radiosity as float properties
+    /// (written only if every face has one).
+    pub fn polygon_with_radiosity(&mut self, vertices: &[DVec3], colour: Rgb, b: [f64; 3]) {
+        self.polygon(vertices, colour);
+        self.radiosity.push(b.map(|x| x as f32));
+    }
+
     /// The file's text.
     ///
     /// The face's vertex count is a `uchar` unless some face has more than 255 vertices
@@ -114,7 +124,15 @@ impl Ply {
         }
         let _ = writeln!(s, "element face {}", self.faces.len());
         let _ = writeln!(s, "property list {count_type} int vertex_indices");
-        s.push_str("property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n");
+        s.push_str("property uchar red\nproperty uchar green\nproperty uchar blue\n");
+        let with_radiosity = self.radiosity.len() == self.faces.len() && !self.faces.is_empty();
+        if with_radiosity {
+            s.push_str(
+                "property float radiosity_red\nproperty float radiosity_green\n\
+                 property float radiosity_blue\n",
+            );
+        }
+        s.push_str("end_header\n");
         for (k, [x, y, z]) in self.vertices.iter().enumerate() {
             match self.vertex_colours.get(k) {
                 Some(Rgb(r, g, b)) => {
@@ -125,12 +143,17 @@ impl Ply {
                 }
             }
         }
-        for &(first, count, Rgb(r, g, b)) in &self.faces {
+        for (k, &(first, count, Rgb(r, g, b))) in self.faces.iter().enumerate() {
             let _ = write!(s, "{count}");
-            for k in &self.indices[first..first + count] {
-                let _ = write!(s, " {k}");
+            for v in &self.indices[first..first + count] {
+                let _ = write!(s, " {v}");
             }
-            let _ = writeln!(s, " {r} {g} {b}");
+            let _ = write!(s, " {r} {g} {b}");
+            if with_radiosity {
+                let [br, bg, bb] = self.radiosity[k];
+                let _ = write!(s, " {br} {bg} {bb}");
+            }
+            s.push('\n');
         }
         Ok(s)
     }

@@ -372,9 +372,108 @@ fn refine_rejects_mismatched_oracles_and_obj_scenes_clearly() {
     let out = bin()
         .arg("refine")
         .arg(&obj)
-        .args(["--oracle", "mi"])
+        .args(["--oracle", "de"])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("not supported yet"));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--oracle de refines flatland scenes"), "{err}");
+}
+
+/// The value of `"key":` in a flat JSON object.
+fn json_number(json: &str, key: &str) -> f64 {
+    let at = json.find(&format!("\"{key}\":")).unwrap() + key.len() + 3;
+    let rest = &json[at..];
+    let end = rest.find([',', '}']).unwrap();
+    rest[..end].parse().unwrap_or(f64::NAN)
+}
+
+#[test]
+fn refine_obj_runs_hierarchical_radiosity_draws_and_compares() {
+    let obj = temp("hr-cornell.obj");
+    let st = bin()
+        .args(["scene", "solid", "cornell", "-o"])
+        .arg(&obj)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let (ply, png) = (temp("hr-mi.ply"), temp("hr-mi.png"));
+    // Thresholds rather than --target keep the debug binary quick: mi at 1.5e-4 gives about
+    // 150 leaves, power at 1e4 about 40.
+    let run = |oracle: &str, eps: &str, threads: &str, extra: &[&std::ffi::OsStr]| {
+        let out = bin()
+            .arg("refine")
+            .arg(&obj)
+            .args(["--oracle", oracle, "--eps", eps, "--lines", "30000"])
+            .args(["--threads", threads, "--json"])
+            .args(extra)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let mi = run(
+        "mi",
+        "1.5e-4",
+        "2",
+        &[
+            "--ply".as_ref(),
+            ply.as_os_str(),
+            "--png".as_ref(),
+            png.as_os_str(),
+        ],
+    );
+    for key in [
+        "n_patches",
+        "i_s",
+        "h_s",
+        "h_j",
+        "i_s_continuous",
+        "rel_discretisation_error",
+        "elements",
+        "links",
+        "rays",
+        "rms_error",
+    ] {
+        assert!(mi.contains(&format!("\"{key}\":")), "{key} missing: {mi}");
+    }
+    assert!(mi.contains("\"rms_error\":null"), "{mi}");
+    let leaves = json_number(&mi, "n_patches");
+    assert!((100.0..=220.0).contains(&leaves), "{mi}");
+    assert!(json_number(&mi, "rays") > 0.0 && json_number(&mi, "links") > 0.0);
+    // The same on one thread, bit for bit.
+    assert_eq!(
+        without_timing(&run("mi", "1.5e-4", "1", &[])),
+        without_timing(&mi)
+    );
+    // The PLY carries the radiosities; the PNG is an image of the default size.
+    let text = std::fs::read_to_string(&ply).unwrap();
+    assert!(text.contains("property float radiosity_red"));
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG");
+    assert_eq!(u32::from_be_bytes(bytes[16..20].try_into().unwrap()), 800);
+    // Against itself the RMS error is zero (up to the PLY's single precision); a coarser
+    // power mesh is off.
+    let reference: [&std::ffi::OsStr; 2] = ["--reference".as_ref(), ply.as_os_str()];
+    let itself = json_number(&run("mi", "1.5e-4", "2", &reference), "rms_error");
+    let power = json_number(&run("power", "1e4", "2", &reference), "rms_error");
+    assert!(itself < 1e-4, "{itself}");
+    assert!(power > 1e-3, "{power}");
+    // --target searches the threshold.
+    let out = bin()
+        .arg("refine")
+        .arg(&obj)
+        .args([
+            "--oracle", "power", "--target", "40", "--lines", "20000", "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let n = json_number(&String::from_utf8(out.stdout).unwrap(), "n_patches");
+    assert!((30.0..=50.0).contains(&n), "{n}");
 }

@@ -323,6 +323,15 @@ pub enum ErrorKind {
         /// By how much it fails (or the offending value).
         deviation: f64,
     },
+
+    // ---- hierarchical radiosity -----------------------------------------------------------
+    /// A refinement oracle's name is not known.
+    UnknownOracle(Token),
+    /// A reference solution's polygon lies on no element of the scene compared with it.
+    ReferenceOffScene {
+        /// Index of the reference polygon.
+        polygon: usize,
+    },
 }
 
 impl fmt::Display for ErrorKind {
@@ -492,6 +501,15 @@ impl fmt::Display for ErrorKind {
             } => write!(
                 f,
                 "state split violates Proposition 3's condition '{condition}' at index {index} (off by {deviation})"
+            ),
+            K::UnknownOracle(t) => write!(
+                f,
+                "unknown oracle '{t}' (power, ks, ks-av, mi, mi-increase or regular)"
+            ),
+            K::ReferenceOffScene { polygon } => write!(
+                f,
+                "reference polygon {polygon} lies on no surface of the scene: the reference \
+                 is of another scene"
             ),
         }
     }

@@ -66,6 +66,7 @@ pub mod continuous;
 pub mod error;
 pub mod formfactor;
 pub mod geom;
+pub mod hierarchy;
 #[cfg(feature = "alloc")]
 pub mod io;
 pub mod lines;

@@ -52,7 +52,9 @@ pub use local::{
     invert_segment_point, sample_cosine_direction_2d, sample_local_line_2d, sample_point_pair,
     sample_segment_point,
 };
-pub use stream::{CHUNK_LINES, canonical, canonical_2d, chunk_count, chunk_range, chunk_rng};
+pub use stream::{
+    CHUNK_LINES, canonical, canonical_2d, chunk_count, chunk_range, chunk_rng, mix64,
+};
 
 /// The largest `f64` below one, `1 − 2⁻⁵³`: canonical samples live in `[0, ONE_MINUS_EPSILON]`.
 pub const ONE_MINUS_EPSILON: f64 = 1.0 - f64::EPSILON / 2.0;

@@ -28,11 +28,7 @@ pub const DEFAULT_GROWTH: usize = 8;
 /// Runs `refine`.
 pub fn run(args: &RefineArgs) -> Result<()> {
     if is_obj(&args.file) {
-        bail!(
-            "{}: refining .obj scenes (hierarchical radiosity, oracles power, ks, ks-av, mi, \
-             mi-increase) is not supported yet",
-            args.file.display()
-        );
+        return crate::commands::refine3d::run(args);
     }
     run_flat(args)
 }
@@ -65,6 +61,8 @@ impl FlatConfig {
             ("--png", args.png.is_some()),
             ("--reference", args.reference.is_some()),
             ("--pairs", args.pairs.is_some()),
+            ("--eye", args.eye.is_some()),
+            ("--look", args.look.is_some()),
         ] {
             if given {
                 bail!("{file}: {flag} applies to .obj scenes (hierarchical radiosity), not .flat");

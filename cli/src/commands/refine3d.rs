@@ -1,0 +1,525 @@
+//! `sceneinfo refine FILE.obj`: hierarchical radiosity driven by an oracle (thesis §6.4),
+//! the final mesh's channel measures, its RMS error against a reference solution, and
+//! pictures of it (PLY with radiosities, PNG rendering).
+//!
+//! The numbers come from the core ([`Hierarchy`], the channel and the line tallies); this
+//! module validates the flags, runs the lines on threads, reads a reference PLY and draws.
+
+use std::fmt::Write as _;
+use std::io::Write;
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use sceneinfo::continuous::relative_discretisation_error;
+use sceneinfo::formfactor::estimate_2d::LineMethod;
+use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::geom::DVec3;
+use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, MAX_PAIRS, OracleChoice};
+use sceneinfo::report::JsonObject;
+use sceneinfo::scene::Scene;
+
+use crate::args::{Oracle, RefineArgs};
+use crate::output::{Loaded, located, read_text, write_atomic};
+use crate::ply::Ply;
+use crate::raster::{Camera, Raster};
+use crate::svg::Rgb;
+
+/// Leaves aimed at when neither `--eps` nor `--target` is given.
+pub const DEFAULT_TARGET: usize = 1000;
+/// Global lines that measure the final mesh's channel when `--lines` is not given.
+pub const DEFAULT_LINES: u64 = 1_000_000;
+
+/// The validated settings.
+#[derive(Debug)]
+struct Config {
+    oracle: &'static str,
+    eps: Option<f64>,
+    target: usize,
+    options: HrOptions,
+    lines: u64,
+    threads: usize,
+}
+
+impl Config {
+    fn new(args: &RefineArgs) -> Result<Self> {
+        let file = args.file.display();
+        let oracle = match args.oracle {
+            Oracle::Power => "power",
+            Oracle::Ks => "ks",
+            Oracle::KsAv => "ks-av",
+            Oracle::Mi => "mi",
+            Oracle::MiIncrease => "mi-increase",
+            Oracle::Regular => "regular",
+            Oracle::De => bail!(
+                "{file}: --oracle de refines flatland scenes; a .obj scene takes power, ks, \
+                 ks-av, mi, mi-increase or regular"
+            ),
+        };
+        if let Some(path) = &args.svg {
+            bail!(
+                "{file}: --svg draws flatland meshes; for a .obj scene use --ply or --png (not {})",
+                path.display()
+            );
+        }
+        if args.output.is_some() {
+            bail!("{file}: -o writes refined .flat scenes; for a .obj scene use --ply or --png");
+        }
+        let pairs = args.pairs.unwrap_or(10) as usize;
+        if !(1..=MAX_PAIRS).contains(&pairs) {
+            bail!("{file}: --pairs {pairs} must be 1 to {MAX_PAIRS}");
+        }
+        if let Some(e) = args.eps {
+            // Checked again by the core, with the oracle's own rule for `regular`.
+            OracleChoice::new(oracle, e).map_err(|e| located(&args.file, &e))?;
+        }
+        let target = match args.target {
+            Some(0) => bail!("{file}: --target must be at least 1"),
+            Some(t) => t,
+            None => DEFAULT_TARGET,
+        };
+        let lines = args.lines.unwrap_or(DEFAULT_LINES);
+        if lines == 0 {
+            return Err(located(&args.file, &sceneinfo::ErrorKind::NoLines.into()));
+        }
+        let threads = args.threads.unwrap_or_else(|| {
+            std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
+        });
+        Ok(Self {
+            oracle,
+            eps: args.eps,
+            target,
+            options: HrOptions {
+                pairs,
+                seed: args.seed,
+                ..HrOptions::default()
+            },
+            lines,
+            threads,
+        })
+    }
+}
+
+/// The final mesh's channel, from global lines over its leaves.
+#[derive(Debug)]
+struct MeshMeasures {
+    n_patches: usize,
+    i_s: f64,
+    h_s: f64,
+    h_j: f64,
+    i_s_continuous: f64,
+    i_s_continuous_stderr: f64,
+    background: bool,
+}
+
+/// Runs `refine` on a `.obj` scene.
+pub fn run(args: &RefineArgs) -> Result<()> {
+    let config = Config::new(args)?;
+    let Loaded::Solid(scene) = crate::output::load_scene(&args.file)? else {
+        bail!("{}: not a 3D scene", args.file.display());
+    };
+    let at = |e: sceneinfo::Error| located(&args.file, &e);
+    let start = Instant::now();
+    let (eps, h) = match config.eps {
+        Some(eps) => {
+            let oracle = OracleChoice::new(config.oracle, eps).map_err(at)?;
+            (
+                eps,
+                Hierarchy::build(&scene, &oracle, &config.options).map_err(at)?,
+            )
+        }
+        None => Hierarchy::build_to_target(&scene, config.oracle, config.target, &config.options)
+            .map_err(at)?,
+    };
+    let hr_seconds = start.elapsed().as_secs_f64();
+    let measures = measure(&h, &config, args.seed).map_err(at)?;
+    let rms = match &args.reference {
+        Some(path) => Some(rms_error(&h, path)?),
+        None => None,
+    };
+    if let Some(path) = &args.ply {
+        write_atomic(path, mesh_ply(&h, &args.file, &config, eps)?.as_bytes())?;
+    }
+    if let Some(path) = &args.png {
+        let png = render(&h, &scene, args)?;
+        write_atomic(path, &png)?;
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    let report = Report {
+        config: &config,
+        eps,
+        h: &h,
+        m: &measures,
+        rms,
+        hr_seconds,
+        seconds,
+    };
+    let mut out = std::io::stdout().lock();
+    if args.json {
+        writeln!(out, "{}", report.json(args.seed)?)?;
+    } else {
+        write!(out, "{}", report.table(&args.file.display().to_string()))?;
+    }
+    out.flush()?;
+    Ok(())
+}
+
+/// The leaves' channel: discrete measures and `I_S^c` from `config.lines` global lines.
+fn measure(h: &Hierarchy, config: &Config, seed: u64) -> sceneinfo::Result<MeshMeasures> {
+    let leaves = h.leaf_scene()?;
+    let tracer = SceneTracer::new(&leaves)?;
+    let est = crate::lines::run(
+        &tracer,
+        LineMethod::Global,
+        seed,
+        config.lines,
+        config.threads,
+    )
+    .finish(&tracer)?;
+    let m = est.form_factors.channel()?.measures();
+    Ok(MeshMeasures {
+        n_patches: leaves.n_patches(),
+        i_s: m.i_s,
+        h_s: m.h_s,
+        h_j: m.h_j,
+        i_s_continuous: est.continuous.value,
+        i_s_continuous_stderr: est.continuous.stderr,
+        background: est.form_factors.has_background(),
+    })
+}
+
+/// Reads a reference solution: a PLY written by `refine --ply` (faces with float
+/// `radiosity_red/green/blue` properties), as polygons with their radiosities.
+fn read_reference(path: &Path) -> Result<Vec<(Vec<DVec3>, [f64; 3])>> {
+    let text = read_text(path)?;
+    let bad = |what: &str| anyhow::anyhow!("{}: {what}", path.display());
+    let mut lines = text.lines().enumerate();
+    if lines.next().map(|l| l.1) != Some("ply")
+        || lines.next().map(|l| l.1) != Some("format ascii 1.0")
+    {
+        return Err(bad("line 1: not an ASCII PLY file"));
+    }
+    let (mut n_vertices, mut n_faces, mut face_props) = (None, None, Vec::new());
+    let mut in_face = false;
+    for (k, line) in lines.by_ref() {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        match words.as_slice() {
+            ["end_header"] => break,
+            ["comment", ..] => {}
+            ["element", "vertex", n] => {
+                n_vertices = Some(
+                    n.parse::<usize>()
+                        .map_err(|_| bad(&format!("line {}: bad count", k + 1)))?,
+                );
+            }
+            ["element", "face", n] => {
+                n_faces = Some(
+                    n.parse::<usize>()
+                        .map_err(|_| bad(&format!("line {}: bad count", k + 1)))?,
+                );
+                in_face = true;
+            }
+            ["property", ..] if in_face => face_props.push(words[words.len() - 1].to_owned()),
+            ["property", ..] => {}
+            _ => return Err(bad(&format!("line {}: unexpected header line", k + 1))),
+        }
+    }
+    let (Some(nv), Some(nf)) = (n_vertices, n_faces) else {
+        return Err(bad("no vertex or face element"));
+    };
+    let want = [
+        "vertex_indices",
+        "red",
+        "green",
+        "blue",
+        "radiosity_red",
+        "radiosity_green",
+        "radiosity_blue",
+    ];
+    if face_props != want {
+        return Err(bad(
+            "faces carry no radiosity_red/green/blue: write the reference with `sceneinfo \
+             refine FILE.obj --ply REF.ply`",
+        ));
+    }
+    let mut vertices = Vec::with_capacity(nv.min(1 << 24));
+    for _ in 0..nv {
+        let (k, line) = lines.next().ok_or_else(|| bad("too few vertex lines"))?;
+        let xyz: Vec<f64> = line
+            .split_whitespace()
+            .map(str::parse)
+            .collect::<Result<_, _>>()
+            .map_err(|_| bad(&format!("line {}: bad vertex", k + 1)))?;
+        let [x, y, z] = xyz[..] else {
+            return Err(bad(&format!("line {}: a vertex needs x y z", k + 1)));
+        };
+        vertices.push(DVec3::new(x, y, z));
+    }
+    let mut faces = Vec::with_capacity(nf.min(1 << 24));
+    for _ in 0..nf {
+        let (k, line) = lines.next().ok_or_else(|| bad("too few face lines"))?;
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        let at_line = |what: &str| bad(&format!("line {}: {what}", k + 1));
+        let count: usize = fields
+            .first()
+            .and_then(|c| c.parse().ok())
+            .ok_or_else(|| at_line("bad vertex count"))?;
+        if fields.len() != 1 + count + 6 {
+            return Err(at_line(
+                "a face needs its indices, red green blue and 3 radiosities",
+            ));
+        }
+        let poly = fields[1..=count]
+            .iter()
+            .map(|i| {
+                i.parse::<usize>()
+                    .ok()
+                    .and_then(|i| vertices.get(i).copied())
+            })
+            .collect::<Option<Vec<DVec3>>>()
+            .ok_or_else(|| at_line("bad vertex index"))?;
+        let b: Vec<f64> = fields[count + 4..]
+            .iter()
+            .map(|x| x.parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| at_line("bad radiosity"))?;
+        if b.iter().any(|x| !x.is_finite()) {
+            return Err(at_line("radiosity is NaN or infinite"));
+        }
+        faces.push((poly, [b[0], b[1], b[2]]));
+    }
+    Ok(faces)
+}
+
+/// The RMS difference from the reference PLY at `path`.
+fn rms_error(h: &Hierarchy, path: &Path) -> Result<f64> {
+    let reference = read_reference(path)?;
+    h.rms_difference(reference.iter().map(|(p, b)| (p.as_slice(), *b)))
+        .map_err(|e| located(path, &e))
+        .with_context(|| "comparing with the reference solution")
+}
+
+/// Exposure of the pictures: the largest radiosity channel of a non-emitting leaf maps to
+/// white (emitters are brighter and saturate), or the largest of all if everything emits.
+fn exposure(h: &Hierarchy) -> f64 {
+    let max = |emitters: bool| {
+        h.leaves()
+            .filter(|e| emitters || e.emission.iter().all(|&x| x == 0.0))
+            .flat_map(|e| e.radiosity)
+            .fold(0.0, f64::max)
+    };
+    let m = max(false);
+    let m = if m > 0.0 { m } else { max(true) };
+    if m > 0.0 { 1.0 / m } else { 1.0 }
+}
+
+/// Linear radiosity to an 8-bit display colour (gamma 1/2.2).
+fn display(b: [f64; 3], exposure: f64) -> Rgb {
+    let c = b.map(|x| ((x * exposure).clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0).round() as u8);
+    Rgb(c[0], c[1], c[2])
+}
+
+/// The leaves as a PLY mesh: display colours and the radiosities themselves.
+fn mesh_ply(h: &Hierarchy, file: &Path, config: &Config, eps: f64) -> Result<String> {
+    let mut ply = Ply::new();
+    ply.comment(&format!("sceneinfo refine {}", file.display()));
+    ply.comment(&format!(
+        "hierarchical radiosity, oracle {} eps {eps}, {} pairs per evaluation, seed {}",
+        config.oracle, config.options.pairs, config.options.seed
+    ));
+    ply.comment(&format!(
+        "{} leaves (elements), {} links, {} rays",
+        h.n_leaves(),
+        h.links().len(),
+        h.rays()
+    ));
+    let x = exposure(h);
+    ply.comment(&format!(
+        "colour: radiosity x {x} (brightest non-emitter = white), gamma 1/2.2; \
+         radiosity_red/green/blue: the radiosity B"
+    ));
+    for e in h.leaves() {
+        ply.polygon_with_radiosity(e.polygon.vertices(), display(e.radiosity, x), e.radiosity);
+    }
+    ply.finish()
+}
+
+/// Parses `x,y,z`.
+fn triple(flag: &str, s: &str) -> Result<DVec3> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("{flag} {s}: expected x,y,z"))?;
+    match v[..] {
+        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(DVec3::new(x, y, z)),
+        _ => bail!("{flag} {s}: expected three finite numbers x,y,z"),
+    }
+}
+
+/// Parses `WxH`.
+fn size(s: &str) -> Result<(u32, u32)> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .with_context(|| format!("--size {s}: expected WxH, e.g. 800x600"))?;
+    let parse = |t: &str| {
+        t.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|v| (16..=8192).contains(v))
+    };
+    match (parse(w), parse(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => bail!("--size {s}: width and height must be 16 to 8192"),
+    }
+}
+
+/// Renders the leaves: Gouraud-shaded radiosity, element edges, z-buffer; PNG bytes.
+fn render(h: &Hierarchy, scene: &Scene, args: &RefineArgs) -> Result<Vec<u8>> {
+    let (width, height) = size(&args.size)?;
+    let (lo, hi) = scene.bounds();
+    let framing = Camera::framing(lo, hi, args.fov, width, height);
+    let camera = Camera {
+        eye: match &args.eye {
+            Some(s) => triple("--eye", s)?,
+            None => framing.eye,
+        },
+        look: match &args.look {
+            Some(s) => triple("--look", s)?,
+            None => framing.look,
+        },
+        ..framing
+    };
+    let Some(mut raster) = Raster::new(camera, (hi - lo).length(), [0.0; 3]) else {
+        bail!(
+            "--eye and --look must differ and --fov lie strictly between 0 and 180 degrees \
+             (got {})",
+            args.fov
+        );
+    };
+    let x = exposure(h);
+    let colours = h.vertex_radiosities();
+    for (e, c) in h.leaves().zip(&colours) {
+        let n = e.polygon.vertices().len();
+        let c: Vec<[f64; 3]> = c[..n].iter().map(|b| b.map(|v| v * x)).collect();
+        raster.polygon(e.polygon.vertices(), e.normal, &c);
+    }
+    for e in h.leaves() {
+        raster.outline(e.polygon.vertices(), e.normal, [0.05; 3]);
+    }
+    crate::png::encode_rgb(width, height, &raster.to_rgb8()).context("empty image")
+}
+
+/// What `refine` prints.
+struct Report<'a> {
+    config: &'a Config,
+    eps: f64,
+    h: &'a Hierarchy,
+    m: &'a MeshMeasures,
+    rms: Option<f64>,
+    hr_seconds: f64,
+    seconds: f64,
+}
+
+fn budget_name(b: Option<Budget>) -> &'static str {
+    match b {
+        None => "none",
+        Some(Budget::Elements) => "elements",
+        Some(Budget::Links) => "links",
+        Some(Budget::Rays) => "rays",
+    }
+}
+
+impl Report<'_> {
+    fn json(&self, seed: u64) -> Result<String, std::fmt::Error> {
+        let (h, m) = (self.h, self.m);
+        let mut s = String::new();
+        let mut o = JsonObject::new(&mut s)?;
+        o.string("oracle", self.config.oracle)?;
+        o.number("eps", self.eps)?;
+        o.integer("pairs", self.config.options.pairs as u64)?;
+        o.integer("n_patches", m.n_patches as u64)?;
+        o.number("i_s", m.i_s)?;
+        o.number("h_s", m.h_s)?;
+        o.number("h_j", m.h_j)?;
+        o.number("i_s_continuous", m.i_s_continuous)?;
+        o.number("i_s_continuous_stderr", m.i_s_continuous_stderr)?;
+        o.number(
+            "rel_discretisation_error",
+            relative_discretisation_error(m.i_s_continuous, m.i_s),
+        )?;
+        o.boolean("background", m.background)?;
+        o.integer("elements", h.elements().len() as u64)?;
+        o.integer("links", h.links().len() as u64)?;
+        o.integer("rays", h.rays())?;
+        // null without --reference
+        o.number("rms_error", self.rms.unwrap_or(f64::NAN))?;
+        o.string("budget_hit", budget_name(h.budget_hit()))?;
+        o.integer("passes", u64::from(h.passes()))?;
+        o.integer("iterations", h.iterations())?;
+        o.integer("lines", self.config.lines)?;
+        o.integer("seed", seed)?;
+        o.number("seconds", self.seconds)?;
+        o.finish()?;
+        Ok(s)
+    }
+
+    fn table(&self, name: &str) -> String {
+        let (h, m) = (self.h, self.m);
+        let mut s = String::new();
+        let _ = writeln!(s, "scene                 {name}");
+        let _ = writeln!(
+            s,
+            "oracle                {} (eps {}, {} pairs per evaluation, {} passes)",
+            self.config.oracle,
+            self.eps,
+            self.config.options.pairs,
+            h.passes()
+        );
+        let _ = writeln!(
+            s,
+            "mesh                  {} leaves of {} elements, {} links, {} rays ({:.2} s; budget hit: {})",
+            h.n_leaves(),
+            h.elements().len(),
+            h.links().len(),
+            h.rays(),
+            self.hr_seconds,
+            budget_name(h.budget_hit())
+        );
+        let _ = writeln!(
+            s,
+            "I_S, H_S, H_J         {:.4}, {:.4}, {:.4} bits ({} global lines)",
+            m.i_s, m.h_s, m.h_j, self.config.lines
+        );
+        let _ = writeln!(
+            s,
+            "I_S^c (4.13)          {:.4} ± {:.4} bits; δ̄ = {:.2} %",
+            m.i_s_continuous,
+            m.i_s_continuous_stderr,
+            100.0 * relative_discretisation_error(m.i_s_continuous, m.i_s)
+        );
+        if let Some(r) = self.rms {
+            let _ = writeln!(s, "RMS error             {r:.6} (against the reference)");
+        }
+        let _ = writeln!(s, "time                  {:.2} s", self.seconds);
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn camera_flags_parse() {
+        assert_eq!(
+            triple("--eye", "1, 2,3").unwrap(),
+            DVec3::new(1.0, 2.0, 3.0)
+        );
+        assert!(triple("--eye", "1,2").is_err());
+        assert!(triple("--eye", "1,2,nan").is_err());
+        assert_eq!(size("640x480").unwrap(), (640, 480));
+        assert!(size("640").is_err());
+        assert!(size("0x10").is_err());
+    }
+}

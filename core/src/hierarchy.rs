@@ -1,0 +1,59 @@
+//! Hierarchical radiosity driven by refinement oracles (thesis §2.1.11–2.1.12, §6.2, §6.4).
+//!
+//! # Overview
+//!
+//! - [`Polygon4`]: the elements' shape, a triangle or convex quad split in four.
+//! - [`point_kernel`], [`KernelSamples`]: the point-to-point kernel
+//!   `F(x, y) = cos θ_x cos θ_y / (π r²)` at `N` random point pairs of two elements, with
+//!   visibility through a [`Visibility`] (rays through the scene's BVH, or none in a scene
+//!   where nothing hides anything).
+//! - [`Oracle`]: link a pair of elements or refine one of them. Implementations: power
+//!   (2.48) [`PowerOracle`], kernel smoothness (2.49) [`KernelSmoothnessOracle`] and about
+//!   the average (2.50) [`KernelAverageOracle`], MI-based (6.29)–(6.30)
+//!   [`MutualInformationOracle`], MI-increase (6.3)–(6.5) [`MiIncreaseOracle`], and the
+//!   regular mesh [`RegularOracle`]; [`OracleChoice`] picks one by name.
+//! - [`Hierarchy`] (`alloc`): Hanrahan–Salzman hierarchical radiosity over a
+//!   [`crate::scene::Scene`]'s patches — element quadtrees, links, gather and push–pull,
+//!   refinement passes with the current radiosities, budgets ([`HrOptions`]) and counts of
+//!   elements, links and rays; the final mesh's radiosity at a point, its RMS difference
+//!   from a reference, Gouraud vertex colours and the leaves as a scene;
+//!   [`Hierarchy::build_to_target`] finds the threshold that gives a wanted mesh size.
+//!
+//! # Link form factors
+//!
+//! A link's `F_ij` is the exact unoccluded polygon-to-polygon form factor
+//! ([`crate::formfactor::exact_3d::polygon_to_polygon`]) times the fraction of the
+//! oracle's `N` point pairs that see each other, so a link in an empty enclosure is exact
+//! and the regular mesh reproduces the full-matrix solution of
+//! [`crate::radiosity::solve`].
+
+mod choice;
+mod element;
+mod kernel;
+#[cfg(feature = "alloc")]
+mod mesh;
+mod oracle;
+#[cfg(feature = "alloc")]
+mod target;
+#[cfg(all(test, feature = "std"))]
+mod tests;
+#[cfg(feature = "alloc")]
+mod tree;
+#[cfg(feature = "alloc")]
+mod visibility;
+
+pub use choice::{MAX_REGULAR_LEVEL, ORACLE_NAMES, OracleChoice};
+pub use element::Polygon4;
+pub use kernel::{
+    KernelSamples, MAX_PAIRS, NoOccluders, RayCounter, Surface, Visibility, point_kernel,
+};
+pub use oracle::{
+    Decision, KernelAverageOracle, KernelSmoothnessOracle, MiIncreaseOracle,
+    MutualInformationOracle, Oracle, Pair, PowerOracle, RegularOracle, Side,
+};
+#[cfg(feature = "alloc")]
+pub use target::MAX_TARGET_BUILDS;
+#[cfg(feature = "alloc")]
+pub use tree::{Budget, Element, Hierarchy, HrOptions, Link, MAX_DEPTH, NONE};
+#[cfg(feature = "alloc")]
+pub use visibility::{OCCLUSION_TEST_LIMIT, SceneVisibility};

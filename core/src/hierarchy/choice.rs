@@ -1,0 +1,117 @@
+//! The oracles by name, as one value: what front ends build from a user's choice.
+
+use crate::error::{ErrorKind, Result, token};
+use crate::hierarchy::kernel::{KernelSamples, Visibility};
+use crate::hierarchy::oracle::{
+    Decision, KernelAverageOracle, KernelSmoothnessOracle, MiIncreaseOracle,
+    MutualInformationOracle, Oracle, Pair, PowerOracle, RegularOracle,
+};
+
+/// The names [`OracleChoice::new`] accepts.
+pub const ORACLE_NAMES: [&str; 6] = ["power", "ks", "ks-av", "mi", "mi-increase", "regular"];
+
+/// Most splits per patch of the regular mesh (`4⁸ = 65 536` elements a patch).
+pub const MAX_REGULAR_LEVEL: u32 = 8;
+
+/// Any of the oracles of [`super::oracle`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum OracleChoice {
+    /// (2.48).
+    Power(PowerOracle),
+    /// (2.49).
+    KernelSmoothness(KernelSmoothnessOracle),
+    /// (2.50).
+    KernelAverage(KernelAverageOracle),
+    /// (6.29)–(6.30).
+    MutualInformation(MutualInformationOracle),
+    /// (6.3)–(6.5).
+    MiIncrease(MiIncreaseOracle),
+    /// The regular mesh.
+    Regular(RegularOracle),
+}
+
+impl OracleChoice {
+    /// The oracle called `name` (one of [`ORACLE_NAMES`]) with threshold `epsilon`; for
+    /// `regular`, `epsilon` is the number of splits per patch (an integer from 0 to
+    /// [`MAX_REGULAR_LEVEL`]).
+    ///
+    /// # Errors
+    /// [`ErrorKind::UnknownOracle`] for another name; [`ErrorKind::BadParameter`] for a
+    /// negative or non-finite `epsilon`, or a level that is not such an integer.
+    pub fn new(name: &str, epsilon: f64) -> Result<Self> {
+        if !(epsilon.is_finite() && epsilon >= 0.0) {
+            return Err(ErrorKind::BadParameter {
+                name: "epsilon",
+                value: epsilon,
+            }
+            .into());
+        }
+        Ok(match name {
+            "power" => Self::Power(PowerOracle { epsilon }),
+            "ks" => Self::KernelSmoothness(KernelSmoothnessOracle { epsilon }),
+            "ks-av" => Self::KernelAverage(KernelAverageOracle { epsilon }),
+            "mi" => Self::MutualInformation(MutualInformationOracle { epsilon }),
+            "mi-increase" => Self::MiIncrease(MiIncreaseOracle {
+                epsilon,
+                gradient: MiIncreaseOracle::DEFAULT_GRADIENT,
+            }),
+            "regular" => {
+                if epsilon > f64::from(MAX_REGULAR_LEVEL) || f64::from(epsilon as u32) != epsilon {
+                    return Err(ErrorKind::BadParameter {
+                        name: "regular level (0 to 8)",
+                        value: epsilon,
+                    }
+                    .into());
+                }
+                Self::Regular(RegularOracle {
+                    level: epsilon as u32,
+                })
+            }
+            _ => return Err(ErrorKind::UnknownOracle(token(name)).into()),
+        })
+    }
+
+    fn inner(&self) -> &dyn Oracle {
+        match self {
+            Self::Power(o) => o,
+            Self::KernelSmoothness(o) => o,
+            Self::KernelAverage(o) => o,
+            Self::MutualInformation(o) => o,
+            Self::MiIncrease(o) => o,
+            Self::Regular(o) => o,
+        }
+    }
+}
+
+impl Oracle for OracleChoice {
+    fn name(&self) -> &'static str {
+        self.inner().name()
+    }
+    fn decide(&self, pair: &Pair<'_>, s: &KernelSamples, vis: &dyn Visibility) -> Decision {
+        self.inner().decide(pair, s, vis)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_bad_input_is_typed() {
+        for name in ORACLE_NAMES {
+            assert_eq!(OracleChoice::new(name, 2.0).unwrap().name(), name);
+        }
+        assert!(matches!(
+            OracleChoice::new("gradient", 1.0).unwrap_err().kind(),
+            ErrorKind::UnknownOracle(_)
+        ));
+        for bad in [f64::NAN, -1.0, f64::INFINITY] {
+            assert!(matches!(
+                OracleChoice::new("mi", bad).unwrap_err().kind(),
+                ErrorKind::BadParameter { .. }
+            ));
+        }
+        assert!(OracleChoice::new("regular", 1.5).is_err());
+        assert!(OracleChoice::new("regular", 9.0).is_err());
+    }
+}
