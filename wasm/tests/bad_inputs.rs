@@ -52,6 +52,10 @@ const FILES: &[(&str, &[u8])] = &[
         include_bytes!("../../tests/data/bad/empty.flat"),
     ),
     (
+        "exact_precision_lost.flat",
+        include_bytes!("../../tests/data/bad/exact_precision_lost.flat"),
+    ),
+    (
         "exact_form_factors_too_many_patches.flat",
         include_bytes!("../../tests/data/bad/exact_form_factors_too_many_patches.flat"),
     ),
