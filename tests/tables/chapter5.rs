@@ -246,45 +246,51 @@ fn table_5_4_tetrahedron_continuous() {
     assert_eq!(est.radiosity[2].value, 0.0);
 }
 
-/// Tables 5.2 and 5.5: the standard Cornell box (blocks on the floor) at three regular
-/// meshes (49, 133, 523 patches; the thesis' 121, 481, 1924). As in the thesis, radiosity
-/// `I_S` grows with refinement in every channel (thesis, red: 0.935 → 0.958 → 1.004) and
-/// `I_S^c` falls (1.132 → 1.055 → 1.044; here from the coarsest to the finest mesh by more
-/// than 3 combined standard errors — single steps are within the noise of 4·10⁶ lines); `I_S`
-/// stays below `I_S^c` by more than 3σ with 4·10⁶ lines. Our absolute values are not the
-/// thesis' (its materials and light are not published; see `reproduce`). Gauss–Seidel and
-/// Southwell agree on every radiosity to the solver tolerance.
-#[test]
-fn tables_5_2_and_5_5_cornell_box() {
-    let mut previous: Option<[f64; 3]> = None;
-    let mut coarsest: Option<[ContinuousEstimate; 3]> = None;
-    for grid in [2, 4, 8] {
-        let scene = Scene::cornell_box(false, grid).unwrap();
+/// Tables 5.2 and 5.5 on the thesis' own meshes of the Cornell box
+/// ([`Scene::cornell_box_thesis`]: 121, 481 and 1924 patches, as printed). The thesis does
+/// not publish its materials or its light, so its values are not a reference for ours (ours
+/// sit 0.09–0.26 bits from them, see `reproduce --chapter-5-only`); what is checked are its
+/// printed claims: radiosity `I_S` grows with refinement in every channel (red: 0.935 →
+/// 0.958 → 1.004), `I_S^c` falls (1.132 → 1.055 → 1.044), `I_S` stays below `I_S^c` once
+/// enough lines are cast (by more than 3σ here), `H_S` grows with refinement and is highest
+/// in red. Gauss–Seidel and an independent Southwell solve agree on every radiosity to the
+/// solver tolerances.
+fn check_cornell_meshes(meshes: &[(u32, u64)]) {
+    let mut previous: Option<([f64; 3], [f64; 3], [ContinuousEstimate; 3])> = None;
+    for &(level, lines) in meshes {
+        let scene = Scene::cornell_box_thesis(level).unwrap();
+        let patches = [19, 121, 481, 1924][level as usize];
+        assert_eq!(scene.n_patches(), patches);
         let materials = patch_materials(&scene);
         let tracer = SceneTracer::new(&scene).unwrap();
-        let est = lit(&tracer, &materials, 55, 4_000_000);
+        let est = lit(&tracer, &materials, 55, lines);
         let i_s = [0, 1, 2].map(|c| est.measures[c].i_s);
+        let h_s = [0, 1, 2].map(|c| est.measures[c].h_s);
+        assert!(
+            h_s[0] > h_s[1] && h_s[0] > h_s[2],
+            "level {level}: H_S {h_s:?}"
+        );
         for c in 0..3 {
             let ic = est.radiosity[c];
             assert!(
                 i_s[c] < ic.value - 3.0 * ic.stderr,
-                "grid {grid}, channel {c}: I_S {} vs I_S^c {ic:?}",
+                "level {level}, channel {c}: I_S {} vs I_S^c {ic:?}",
                 i_s[c]
             );
-            if let Some(prev) = &previous {
+            if let Some((prev_i, prev_h, prev_c)) = &previous {
                 assert!(
-                    i_s[c] > prev[c],
-                    "grid {grid}, channel {c}: I_S {} after {}",
+                    i_s[c] > prev_i[c] && h_s[c] > prev_h[c],
+                    "level {level}, channel {c}: I_S {} after {}, H_S {} after {}",
                     i_s[c],
-                    prev[c]
+                    prev_i[c],
+                    h_s[c],
+                    prev_h[c]
                 );
-            }
-            if let (8, Some(first)) = (grid, &coarsest) {
-                let p = first[c];
+                let p = prev_c[c];
                 let sigma = (p.stderr * p.stderr + ic.stderr * ic.stderr).sqrt();
                 assert!(
                     ic.value < p.value - 3.0 * sigma,
-                    "channel {c}: I_S^c {ic:?} at grid 8, {p:?} at grid 2"
+                    "level {level}, channel {c}: I_S^c {ic:?} after {p:?}"
                 );
             }
         }
@@ -308,7 +314,23 @@ fn tables_5_2_and_5_5_cornell_box() {
                 );
             }
         }
-        previous = Some(i_s);
-        coarsest.get_or_insert(est.radiosity);
+        previous = Some((i_s, h_s, est.radiosity));
     }
+}
+
+/// The two coarse meshes of Tables 5.2/5.5 (121 and 481 patches) with 2·10⁶ lines.
+#[test]
+fn tables_5_2_and_5_5_cornell_box() {
+    check_cornell_meshes(&[(1, 2_000_000), (2, 2_000_000)]);
+}
+
+/// All three meshes of Tables 5.2/5.5 with the thesis' lines: 10⁷, 10⁷ and 10⁸. The
+/// 1924-patch mesh needs its 10⁸: at 10⁷ lines its blue `I_S` (1.1353) is only 2.9σ below
+/// `I_S^c` (1.1521 ± 0.0057), as the thesis says of its own meshes with too few lines.
+/// Several minutes; run with
+/// `cargo test -p sceneinfo-tests -- --ignored tables_5_2_and_5_5_cornell_box_all`.
+#[test]
+#[ignore = "several minutes: the 1924-patch mesh at 10^8 lines"]
+fn tables_5_2_and_5_5_cornell_box_all_meshes() {
+    check_cornell_meshes(&[(1, 10_000_000), (2, 10_000_000), (3, 100_000_000)]);
 }
