@@ -19,8 +19,9 @@
 //! is the line-by-line estimator's exactly (up to rounding). The standard error treats each
 //! unit as its own group: for local lines that is the line-by-line formula; for global lines
 //! it leaves out the covariance of the segments of one line (a line crossing the room,
-//! then a block), which the line-by-line estimator keeps (1.23× the line-by-line error in
-//! a flatland room of 64 squares, 7.5 surfaces met per line). `s` and `s²` are summed in 64.64
+//! then a block), which the line-by-line estimator keeps: 1.004× the line-by-line error
+//! in the Cornell box of 121 and 481 patches (2·10⁶ lines, same value to the last digit),
+//! 1.23× in a flatland room of 64 squares, where a line meets 7.5 surfaces. `s` and `s²` are summed in 64.64
 //! fixed point, so the tallies merge exactly and the result does not depend on threads.
 //!
 //! Memory: 40 bytes per unordered pair, `20 n²` bytes a tally (84 MB at
