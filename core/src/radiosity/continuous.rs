@@ -26,8 +26,7 @@
 //!
 //! The discretisation error for radiosity is `δ^r = I_S^c − I_S` (5.21).
 //!
-//! How it plugs into the line machinery: a [`PairMomentTracer`] or a [`RadiosityTracer`]
-//! wraps any [`LineTracer`] and hands out tallies that carry a [`RadiosityLineTally`]; the
+//! How it plugs into the line machinery: a [`RadiosityTracer`] wraps any [`LineTracer`] and hands out tallies that carry a [`RadiosityLineTally`]; the
 //! wrapped tracer's samples reach it through [`LineTally`]'s pair hooks. Run it like any
 //! tracer (one thread with [`LineTracer::run`], or the CLI's threads). The pair-moment
 //! tally needs no solution in advance, so one cast gives `F`, then `B`, then (5.20)
@@ -48,7 +47,7 @@ use crate::math::{self, KahanSum};
 use crate::scene::Material;
 
 mod moments;
-pub use moments::{PAIR_MOMENT_LIMIT, PairMomentTracer, PairMoments};
+pub use moments::{PAIR_MOMENT_LIMIT, PairMoments};
 
 /// Per-patch data of one colour channel's term `t_ij`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -175,7 +174,7 @@ struct TermSums {
 /// estimator does); [`RadiosityLineTally::pair_moments`] keeps per-pair moments of the
 /// samples, so one cast of lines serves both the form factors and — once `B` is solved from
 /// them — the radiosity `I_S^c` ([`RadiosityLineTally::estimates_for`]). Both live inside a
-/// [`LineTally`] (see [`RadiosityTracer`], [`PairMomentTracer`]) and merge exactly.
+/// [`LineTally`] (see [`RadiosityTracer`]) and merge exactly.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RadiosityLineTally(Mode);
 
@@ -288,23 +287,47 @@ impl RadiosityLineTally {
     }
 }
 
-/// A [`LineTracer`] whose tallies also accumulate the radiosity `I_S^c` (5.20) of a solved
-/// scene: it traces exactly the lines of the tracer it wraps.
+/// A [`LineTracer`] whose tallies also carry a [`RadiosityLineTally`]: it traces exactly the
+/// lines of the tracer it wraps.
 #[derive(Debug)]
 pub struct RadiosityTracer<'a, T: ?Sized> {
     inner: &'a T,
-    template: RadiosityLineTally,
+    /// The radiosity tally of a new line tally: the terms of a solution, or `None` for
+    /// per-pair moments (which depend on the line method).
+    template: Option<RadiosityLineTally>,
 }
 
 impl<'a, T: LineTracer + ?Sized> RadiosityTracer<'a, T> {
     /// Wraps `inner` with the radiosities `b` and incoming radiosities `b_in` (`[R, G, B]`
-    /// per state; see [`RadiosityLineTally::new`]).
+    /// per state; see [`RadiosityLineTally::new`]): its tallies sum the terms of (5.20).
     ///
     /// # Errors
     /// The errors of [`RadiosityLineTally::new`].
     pub fn new(inner: &'a T, b: &[[f64; 3]], b_in: &[[f64; 3]]) -> Result<Self> {
         let template = RadiosityLineTally::new(inner.patch_sizes(), b, b_in)?;
-        Ok(Self { inner, template })
+        Ok(Self {
+            inner,
+            template: Some(template),
+        })
+    }
+
+    /// Wraps `inner` for a solution not known yet: its tallies keep the [`PairMoments`] of
+    /// their samples ([`RadiosityLineTally::pair_moments`]).
+    ///
+    /// # Errors
+    /// [`ErrorKind::TooManyPatches`] when `inner` has more than [`PAIR_MOMENT_LIMIT`]
+    /// patches.
+    pub fn pair_moments(inner: &'a T) -> Result<Self> {
+        if inner.n_patches() > PAIR_MOMENT_LIMIT {
+            return Err(ErrorKind::TooManyPatches {
+                max: PAIR_MOMENT_LIMIT as u64,
+            }
+            .into());
+        }
+        Ok(Self {
+            inner,
+            template: None,
+        })
     }
 }
 
@@ -323,7 +346,15 @@ impl<T: LineTracer + ?Sized> LineTracer for RadiosityTracer<'_, T> {
 
     fn new_tally(&self, method: LineMethod) -> LineTally {
         let mut tally = self.inner.new_tally(method);
-        tally.set_radiosity(self.template.clone());
+        match &self.template {
+            Some(t) => tally.set_radiosity(t.clone()),
+            // The patch count was checked by `pair_moments`.
+            None => {
+                if let Ok(m) = RadiosityLineTally::pair_moments(self.inner.n_patches(), method) {
+                    tally.set_radiosity(m);
+                }
+            }
+        }
         tally
     }
 }
@@ -388,10 +419,10 @@ pub struct LitEstimate {
 /// job — on one thread (`|t| t.run(method, seed, n)`) or on many (the CLI).
 ///
 /// Up to [`PAIR_MOMENT_LIMIT`] patches the lines are cast once, through a
-/// [`PairMomentTracer`], and (5.20) is evaluated from the pair moments after the solve
+/// [`RadiosityTracer::pair_moments`], and (5.20) is evaluated from the pair moments after the solve
 /// (see [`moments`] for its standard error). Beyond, the pair moments would take too much
 /// memory: the job is cast a second time with the same seed (the same lines) through a
-/// [`RadiosityTracer`] that sums the terms of the solution line by line.
+/// [`RadiosityTracer::new`] that sums the terms of the solution line by line.
 ///
 /// # Errors
 /// The errors of `cast`, [`LineTally::finish`], [`solve_rgb`], [`rgb_measures`] and
@@ -403,7 +434,7 @@ pub fn estimate_lit<T: LineTracer + Sync>(
     opts: &SolveOptions,
     mut cast: impl FnMut(&(dyn LineTracer + Sync)) -> Result<LineTally>,
 ) -> Result<LitEstimate> {
-    let one_pass = PairMomentTracer::new(tracer).ok();
+    let one_pass = RadiosityTracer::pair_moments(tracer).ok();
     let mut tally = match &one_pass {
         Some(t) => cast(t)?,
         None => cast(tracer)?,

@@ -31,10 +31,10 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
-use super::{PatchTerms, RadiosityLineTally};
+use super::PatchTerms;
 use crate::continuous::ContinuousEstimate;
 use crate::error::{ErrorKind, Result};
-use crate::formfactor::tally::{LineMethod, LineTally, LineTracer};
+use crate::formfactor::tally::LineMethod;
 use crate::math::{self, FixedSum};
 
 /// Largest patch count of a [`PairMoments`] tally (84 MB).
@@ -218,57 +218,12 @@ impl PairMoments {
     }
 }
 
-/// A [`LineTracer`] whose tallies also keep the [`PairMoments`] of their samples: it
-/// traces exactly the lines of the tracer it wraps.
-#[derive(Debug)]
-pub struct PairMomentTracer<'a, T: ?Sized> {
-    inner: &'a T,
-}
-
-impl<'a, T: LineTracer + ?Sized> PairMomentTracer<'a, T> {
-    /// Wraps `inner`.
-    ///
-    /// # Errors
-    /// [`ErrorKind::TooManyPatches`] when it has more than [`PAIR_MOMENT_LIMIT`] patches.
-    pub fn new(inner: &'a T) -> Result<Self> {
-        if inner.n_patches() > PAIR_MOMENT_LIMIT {
-            return Err(ErrorKind::TooManyPatches {
-                max: PAIR_MOMENT_LIMIT as u64,
-            }
-            .into());
-        }
-        Ok(Self { inner })
-    }
-}
-
-impl<T: LineTracer + ?Sized> LineTracer for PairMomentTracer<'_, T> {
-    fn n_patches(&self) -> usize {
-        self.inner.n_patches()
-    }
-
-    fn patch_sizes(&self) -> &[f64] {
-        self.inner.patch_sizes()
-    }
-
-    fn trace_chunk(&self, seed: u64, n_lines: u64, chunk: u64, tally: &mut LineTally) {
-        self.inner.trace_chunk(seed, n_lines, chunk, tally);
-    }
-
-    fn new_tally(&self, method: LineMethod) -> LineTally {
-        let mut tally = self.inner.new_tally(method);
-        // The patch count was checked by `new`.
-        if let Ok(m) = RadiosityLineTally::pair_moments(self.inner.n_patches(), method) {
-            tally.set_radiosity(m);
-        }
-        tally
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::formfactor::estimate_2d::FlatTracer;
     use crate::formfactor::exact_2d;
+    use crate::formfactor::tally::LineTracer;
     use crate::radiosity::continuous::{RadiosityTracer, incoming_rgb, radiosity_continuous};
     use crate::radiosity::rgb::solve_rgb;
     use crate::radiosity::{SolveOptions, Solver};
@@ -314,7 +269,7 @@ mod tests {
         for (method, spread) in [(LineMethod::Local, 1e-9), (LineMethod::Global, 0.35)] {
             let terms = RadiosityTracer::new(&tracer, &b, &b_in).unwrap();
             let want = radiosity_continuous(&terms.run(method, 11, 300_000).unwrap()).unwrap();
-            let moments = PairMomentTracer::new(&tracer).unwrap();
+            let moments = RadiosityTracer::pair_moments(&tracer).unwrap();
             let tally = moments.run(method, 11, 300_000).unwrap();
             let got = tally
                 .radiosity()
@@ -345,7 +300,7 @@ mod tests {
         let scene = FlatScene::rectangle(2.0, 1.0, 3).unwrap();
         let (b, b_in) = lit(&scene);
         let tracer = FlatTracer::new(&scene).unwrap();
-        let moments = PairMomentTracer::new(&tracer).unwrap();
+        let moments = RadiosityTracer::pair_moments(&tracer).unwrap();
         let whole = moments.run(LineMethod::Global, 5, 3 << 16).unwrap();
         // The same chunks, merged in reverse order.
         let mut merged = moments.new_tally(LineMethod::Global);
