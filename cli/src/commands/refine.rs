@@ -61,6 +61,7 @@ impl FlatConfig {
             ("--png", args.png.is_some()),
             ("--reference", args.reference.is_some()),
             ("--pairs", args.pairs.is_some()),
+            ("--min-area", args.min_area.is_some()),
             ("--eye", args.eye.is_some()),
             ("--look", args.look.is_some()),
         ] {
