@@ -162,7 +162,8 @@ pub(super) fn table_6_2(runner: &Runner) -> Result<Vec<Table>> {
                     cell("I_S", last.i_s, 0.0, Some(t.i_s)),
                     cell("H_S", last.h_s, 0.0, Some(t.h_s)),
                     cell("H_J", last.h_j, 0.0, Some(t.h_j)),
-                    cell("E(MSE)", last.e_mse, 0.0, Some(t.e_mse)),
+                    cell("E(MSE)/line", last.e_mse_per_line, 0.0, Some(t.e_mse)),
+                    cell("n_p − ΣF²", last.e_mse, 0.0, None),
                     cell(
                         "δ̄ %",
                         100.0 * last.rel_discretisation_error,
