@@ -495,7 +495,9 @@ fn refine_obj_writes_its_outputs_when_some_leaf_misses_the_lines() {
     let out = bin()
         .arg("refine")
         .arg(&obj)
-        .args(["--oracle", "ks", "--eps", "0.02", "--lines", "2000", "--json"])
+        .args([
+            "--oracle", "ks", "--eps", "0.02", "--lines", "2000", "--json",
+        ])
         .arg("--ply")
         .arg(&ply)
         .arg("--png")
@@ -512,7 +514,11 @@ fn refine_obj_writes_its_outputs_when_some_leaf_misses_the_lines() {
     let json = String::from_utf8(out.stdout).unwrap();
     assert!(json.contains("\"i_s\":null"), "{json}");
     assert!(json_number(&json, "n_patches") > 500.0, "{json}");
-    assert!(std::fs::read_to_string(&ply).unwrap().contains("radiosity_red"));
+    assert!(
+        std::fs::read_to_string(&ply)
+            .unwrap()
+            .contains("radiosity_red")
+    );
     assert_eq!(&std::fs::read(&png).unwrap()[1..4], b"PNG");
     // The automatic budget: the same mesh is measured once the lines reach every leaf.
     let out = bin()

@@ -49,7 +49,9 @@ mod visibility;
 
 pub use choice::{MAX_REGULAR_LEVEL, ORACLE_NAMES, OracleChoice};
 #[cfg(feature = "alloc")]
-pub use compare::{OracleComparison, ReferenceOracle, compare_at_size, emitted_power};
+pub use compare::{
+    COMPARISON_RUNS, OracleComparison, ReferenceOracle, compare_at_size, emitted_power,
+};
 pub use element::Polygon4;
 pub use kernel::{
     KernelSamples, MAX_PAIRS, NoOccluders, RayCounter, Surface, Visibility, point_kernel,

@@ -164,7 +164,11 @@ fn check_table_6_2(name: &str) {
     // geometry of scene I; unnormalised E(MSE) is 2.9 × the thesis'.
     for (ours, t) in last.iter().zip(&thesis) {
         let ratio = ours.e_mse_per_line / t.e_mse;
-        assert!((0.92..1.08).contains(&ratio), "{name}: E(MSE) {ours:?} vs {}", t.e_mse);
+        assert!(
+            (0.92..1.08).contains(&ratio),
+            "{name}: E(MSE) {ours:?} vs {}",
+            t.e_mse
+        );
         assert!(ours.e_mse / t.e_mse > 2.5);
     }
     assert!(thesis[2].i_s > thesis[0].i_s && thesis[2].i_s > thesis[1].i_s);

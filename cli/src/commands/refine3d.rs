@@ -11,15 +11,15 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
+use sceneinfo::ErrorKind;
 use sceneinfo::continuous::relative_discretisation_error;
 use sceneinfo::formfactor::estimate_2d::LineMethod;
 use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::geom::DVec3;
 use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, MAX_PAIRS, OracleChoice};
-use sceneinfo::report::JsonObject;
 use sceneinfo::lines::{CHUNK_LINES, chunk_count};
+use sceneinfo::report::JsonObject;
 use sceneinfo::scene::Scene;
-use sceneinfo::ErrorKind;
 
 use crate::args::{Oracle, RefineArgs};
 use crate::output::{Loaded, located, read_text, write_atomic};

@@ -105,6 +105,17 @@ impl Hierarchy {
     }
 }
 
+/// The runs of Figures 6.6 and 6.9, as `(oracle, point pairs per evaluation)`: the
+/// power-based (2.48), KS-based (2.50) and MI-based (6.30) oracles with 10 pairs, then the
+/// KS- and MI-based ones with 4 (the robustness experiment).
+pub const COMPARISON_RUNS: [(&str, usize); 5] = [
+    ("power", 10),
+    ("ks-av", 10),
+    ("mi", 10),
+    ("ks-av", 4),
+    ("mi", 4),
+];
+
 /// One oracle's mesh at a wanted size, and its error against a reference.
 #[derive(Clone, Debug, PartialEq)]
 pub struct OracleComparison {

@@ -376,7 +376,10 @@ fn kernel_smoothness_refines_junctions_down_to_the_area_bound() {
         );
     }
     let growth = fine.0 as f64 / coarse.0 as f64;
-    assert!((10f64.sqrt()..10.0).contains(&growth), "{coarse:?} {fine:?}");
+    assert!(
+        (10f64.sqrt()..10.0).contains(&growth),
+        "{coarse:?} {fine:?}"
+    );
     let (mi_coarse, mi_fine) = (at("mi", 1e-4, 1e-4), at("mi", 1e-4, 1e-5));
     assert_eq!(mi_coarse, mi_fine);
     assert!(mi_fine.1 >= 4e-5, "{mi_fine:?}");
