@@ -53,8 +53,9 @@ fn run(
         ..HrOptions::default()
     };
     let c = compare_at_size(&cornell(), reference, oracle, target, &opts).unwrap();
-    // Matched sizes: the threshold search lands within 3 % of the target.
-    assert!(c.leaves.abs_diff(target) * 33 <= target, "{c:?}");
+    // Matched sizes: the threshold search lands within 6 % of the target (KS-av's count
+    // jumps as whole junctions refine at once: 1906 for 2000 with 4 pairs).
+    assert!(c.leaves.abs_diff(target) * 100 <= 6 * target, "{c:?}");
     c
 }
 
