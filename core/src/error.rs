@@ -217,6 +217,17 @@ pub enum ErrorKind {
         /// Its sum.
         sum: f64,
     },
+    /// Exact form factors whose rows sum above one beyond rounding: the scene's extent is
+    /// too large beside its shortest patch for `f64` (see
+    /// [`crate::formfactor::exact_2d::RESOLVED_RANGE`]).
+    PrecisionLoss {
+        /// The patch whose row overflows.
+        patch: usize,
+        /// Its row sum.
+        sum: f64,
+        /// The scene's extent (bounding-box diagonal) over its shortest patch's length.
+        range: f64,
+    },
     /// `P_ij > 0` towards a state of zero probability, so `p log(p/0)` is undefined.
     TransitionToNullState {
         /// Source state.
@@ -429,6 +440,13 @@ impl fmt::Display for ErrorKind {
             K::NegativeEntry { row, col } => write!(f, "entry ({row}, {col}) is negative"),
             K::NotNormalized { sum } => write!(f, "distribution sums to {sum}, not 1"),
             K::RowSumAboveOne { row, sum } => write!(f, "row {row} sums to {sum} > 1"),
+            K::PrecisionLoss { patch, sum, range } => write!(
+                f,
+                "exact form factors of patch {patch} sum to {sum} > 1: the scene spans {range:.2e} \
+                 times its shortest patch, too much for double precision (exact results are \
+                 guaranteed up to {:.0e}); rescale or split the scene, or estimate with --lines",
+                crate::formfactor::exact_2d::RESOLVED_RANGE
+            ),
             K::TransitionToNullState { row, col } => write!(
                 f,
                 "transition {row} -> {col} is positive but state {col} has probability 0"
