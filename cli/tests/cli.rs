@@ -13,6 +13,20 @@ fn temp(name: &str) -> PathBuf {
     dir.join(name)
 }
 
+/// Writes a preset scene with `sceneinfo scene ARGS -o FILE` into the temporary folder.
+fn preset(args: &[&str], file: &str) -> PathBuf {
+    let path = temp(file);
+    let st = bin()
+        .arg("scene")
+        .args(args)
+        .arg("-o")
+        .arg(&path)
+        .status()
+        .unwrap();
+    assert!(st.success(), "scene {args:?}");
+    path
+}
+
 /// Drops the keys whose values are wall-clock times from a flat JSON object.
 fn without_timing(json: &str) -> String {
     json.split(',')
@@ -299,13 +313,7 @@ fn four_partials_merged_equal_one_run_bit_for_bit() {
 
 #[test]
 fn refine_flat_reports_its_keys_draws_and_writes_the_mesh() {
-    let scene = temp("refine-room.flat");
-    let st = bin()
-        .args(["scene", "catalogue", "refinement-1", "-o"])
-        .arg(&scene)
-        .status()
-        .unwrap();
-    assert!(st.success());
+    let scene = preset(&["catalogue", "refinement-1"], "refine-room.flat");
     let (svg, mesh) = (temp("refine.svg"), temp("refined.flat"));
     let run = |threads: &str| {
         bin()
@@ -390,13 +398,7 @@ fn json_number(json: &str, key: &str) -> f64 {
 
 #[test]
 fn refine_obj_runs_hierarchical_radiosity_draws_and_compares() {
-    let obj = temp("hr-cornell.obj");
-    let st = bin()
-        .args(["scene", "solid", "cornell", "-o"])
-        .arg(&obj)
-        .status()
-        .unwrap();
-    assert!(st.success());
+    let obj = preset(&["solid", "cornell"], "hr-cornell.obj");
     let (ply, png) = (temp("hr-mi.ply"), temp("hr-mi.png"));
     // Thresholds rather than --target keep the debug binary quick: mi at 1.5e-4 gives about
     // 150 leaves, power at 1e4 about 40.
@@ -483,13 +485,7 @@ fn refine_obj_runs_hierarchical_radiosity_draws_and_compares() {
 /// exit status is 0. Without `--lines` the budget doubles until every leaf is sampled.
 #[test]
 fn refine_obj_writes_its_outputs_when_some_leaf_misses_the_lines() {
-    let obj = temp("hr-fine-cornell.obj");
-    let st = bin()
-        .args(["scene", "solid", "cornell", "-o"])
-        .arg(&obj)
-        .status()
-        .unwrap();
-    assert!(st.success());
+    let obj = preset(&["solid", "cornell"], "hr-fine-cornell.obj");
     let (ply, png) = (temp("hr-fine.ply"), temp("hr-fine.png"));
     // KS at 0.02 refines the junctions down to the smallest elements (2e-6 of the area).
     let out = bin()
