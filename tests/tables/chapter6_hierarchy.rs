@@ -11,14 +11,18 @@
 //! | 1000 | 0.00941 | 0.01168 | 0.01203 | 0.01171 (×1.003) | 0.01175 (×0.977) |
 //! | 2000 | 0.00863 | 0.01186 | 0.01135 | 0.01185 (×0.999) | 0.01149 (×1.012) |
 //!
+//! Over four oracle seeds (2–5) at 1000 leaves the means are: power 0.00928, KS-av 0.01200,
+//! MI 0.01200; with 4 pairs KS-av 0.01393 (×1.16), MI 0.01395 (×1.16), single seeds ranging
+//! from ×0.98 to ×1.29 for both. The RMS of display values (exposure: brightest non-emitter
+//! white, gamma 1/2.2) ranks them the same (power 0.0160, KS-av 0.0199, MI 0.0197).
+//!
 //! The thesis' first claim — MI no worse than power and KS at equal leaf counts — fails in
-//! RMS radiosity: power is best at both sizes by 20–25 %; MI and KS-av are level (MI 3 %
-//! worse at 1000 leaves, 4 % better at 2000, where KS-av spends its elements on the
-//! junctions and gets no better than at 1000). The RMS of absolute radiosity weighs bright
-//! regions most, where power puts its elements, while MI and KS spend theirs on kernel
-//! variation (junctions, shadow boundaries) in dim regions; the thesis judged pictures.
-//! Its second claim — with 4 pairs KS degrades, MI keeps its quality — is not seen: with 4
-//! pairs instead of 10 neither error changes by more than 2.5 %, in either direction.
+//! RMS: power is best by 20–25 % at both sizes, in radiosity and in display values; MI and
+//! KS-av are level (KS-av spends its elements on the junctions and gets no better from 1000
+//! to 2000 leaves). The thesis judged pictures — shadow boundaries, a small part of the
+//! area — which an area-weighted RMS does not single out. Its second claim — with 4 pairs
+//! KS degrades while MI keeps its quality — is not seen: both degrade alike, by as much as
+//! the seed-to-seed spread.
 
 use sceneinfo::hierarchy::{
     COMPARISON_RUNS, Hierarchy, HrOptions, MAX_PAIRS, OracleComparison, compare_at_size,
@@ -39,8 +43,7 @@ fn reference(level: u32, pairs: usize) -> Hierarchy {
 
 /// The oracles draw their point pairs with seed 2, the reference with seed 1: with one
 /// seed the same element pairs would share their first samples with the reference's, and
-/// the meshes' visibility noise would partly cancel against it (seen: 10-pair meshes
-/// 20 % "better" than 4-pair ones, a difference that vanishes with independent seeds).
+/// the meshes' visibility noise would be correlated with the reference's.
 fn run(
     reference: &Hierarchy,
     oracle: &'static str,
@@ -76,7 +79,7 @@ fn at_300_leaves_power_beats_mi_in_rms_and_finer_mi_meshes_are_better() {
 /// `cargo test --release -p sceneinfo-tests --test integration figures_6_6 -- --ignored`.
 #[test]
 #[ignore = "minutes: the thesis' 1000 and 2000 leaves against a 7180-leaf reference"]
-fn figures_6_6_and_6_9_power_has_the_lowest_rms_and_4_pairs_change_little() {
+fn figures_6_6_and_6_9_power_has_the_lowest_rms_and_4_pairs_affect_mi_and_ks_alike() {
     let reference = reference(4, MAX_PAIRS);
     for target in [1000, 2000] {
         let rms: Vec<f64> = COMPARISON_RUNS
@@ -90,9 +93,8 @@ fn figures_6_6_and_6_9_power_has_the_lowest_rms_and_4_pairs_change_little() {
         assert!(power < 0.9 * mi && power < 0.9 * ks, "{target}: {rms:?}");
         // MI and KS-av within 10 % of each other.
         assert!((mi / ks - 1.0).abs() < 0.1, "{target}: {rms:?}");
-        // Its second is not seen: 4 pairs change neither error by 5 % (seen: ≤ 2.5 %).
-        for ratio in [mi4 / mi, ks4 / ks] {
-            assert!((ratio - 1.0).abs() < 0.05, "{target}: {rms:?}");
-        }
+        // Its second is not seen: 4 pairs change MI's error as much as KS-av's (seen with
+        // this seed: ×0.98 and ×1.00 at 1000 leaves, ×1.01 and ×1.00 at 2000).
+        assert!((mi4 / mi - ks4 / ks).abs() < 0.1, "{target}: {rms:?}");
     }
 }

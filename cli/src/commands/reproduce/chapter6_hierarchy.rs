@@ -94,8 +94,8 @@ pub(super) fn figures_6_6_and_6_9(runner: &Runner) -> Result<Table> {
                         break;
                     }
                     // Another seed than the reference's: sharing streams, the same
-                    // element pairs would draw the reference's first point pairs and
-                    // their visibility noise would partly cancel in the RMS.
+                    // element pairs would draw the reference's first point pairs, and
+                    // their visibility noise would be correlated with the reference's.
                     let opts = HrOptions {
                         pairs,
                         seed: runner.seed.wrapping_add(1),
