@@ -18,6 +18,20 @@ pub fn temp(name: &str) -> PathBuf {
     dir.join(name)
 }
 
+/// Writes a preset scene with `sceneinfo scene ARGS -o FILE` into the temporary folder.
+pub fn preset(args: &[&str], file: &str) -> PathBuf {
+    let path = temp(file);
+    let st = bin()
+        .arg("scene")
+        .args(args)
+        .arg("-o")
+        .arg(&path)
+        .status()
+        .unwrap();
+    assert!(st.success(), "scene {args:?}");
+    path
+}
+
 /// Drops the keys whose values are wall-clock times from a flat JSON object.
 pub fn without_timing(json: &str) -> String {
     json.split(',')
