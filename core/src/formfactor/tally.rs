@@ -101,7 +101,7 @@ impl LineTally {
             method,
             lines: 0,
             leaves: vec![0; n],
-            counts: PairCounts::new(n),
+            counts: PairCounts::new(n, method == LineMethod::Global),
             patch_info: vec![FixedSum::new(); n],
             continuous: ContinuousTally::new(),
             radiosity: None,
@@ -139,8 +139,7 @@ impl LineTally {
     /// contribution (`2s`).
     #[inline]
     pub(crate) fn global_pair(&mut self, i: usize, j: usize, s: Option<f64>) -> f64 {
-        self.counts.add(i, j);
-        self.counts.add(j, i);
+        self.counts.add_pair(i, j);
         match s {
             Some(s) => {
                 self.add_info(i, j, s);
@@ -189,7 +188,6 @@ impl LineTally {
             p.add_quantised(raw);
         }
         self.counts.add_info(i, j, raw);
-        self.counts.add_info(j, i, raw);
     }
 
     /// Closes one line: `n` samples whose terms add up to `sum`.
@@ -233,12 +231,12 @@ impl LineTally {
 
     /// Memory of the pair counts `C_ij`: `(heap bytes, pairs with a count or
     /// information)`. Sparse counts (more than [`crate::formfactor::DENSE_COUNT_LIMIT`]
-    /// patches) take 16 bytes per non-zero pair once merged, plus the pending buffer.
+    /// patches) take 16 bytes per stored pair once merged, plus the pending buffer: 16 per
+    /// non-zero pair for local lines, 8 for global lines (whose counts are symmetric and
+    /// stored once per unordered pair).
     #[must_use]
     pub fn count_memory(&self) -> (usize, u64) {
-        let mut pairs = 0u64;
-        self.counts.for_each_raw(|_, _, _, _| pairs += 1);
-        (self.counts.heap_bytes(), pairs)
+        (self.counts.heap_bytes(), self.counts.nonzero_pairs())
     }
 
     /// `I_S^c` and its standard error so far. Unlike [`LineTally::finish`] this needs no
