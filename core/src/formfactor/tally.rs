@@ -8,11 +8,12 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
+use crate::accel::HitKey;
 use crate::continuous::{ContinuousEstimate, ContinuousTally};
 use crate::error::{ErrorKind, Result};
 use crate::formfactor::FormFactors;
 use crate::formfactor::counts::PairCounts;
-use crate::lines::chunk_count;
+use crate::lines::{chunk_count, chunk_range, chunk_rng};
 use crate::math::FixedSum;
 use crate::radiosity::continuous::RadiosityLineTally;
 
@@ -382,4 +383,61 @@ pub(crate) fn tally_global_line(
         line_sum += tally.global_pair(i, next.patch as usize, s);
     }
     tally.end_line(line_sum, crossings.len() as u64);
+}
+
+/// Tallies one global line from the hits of a line query, sorted by `t` (2.37, 4.8,
+/// 4.13), for either tracer: each hit becomes a [`Crossing`] with its patch's surface
+/// (`surface[prim]`) and `cos(prim)` = `dir · n_prim`, then [`tally_global_line`] counts
+/// them, `sample(cos θ_i, cos θ_j, r)` giving each segment's continuous term.
+#[inline]
+pub(crate) fn tally_global_hits<H: HitKey>(
+    hits: &[H],
+    surface: &[u32],
+    cos: impl Fn(usize) -> f64,
+    eps: f64,
+    crossings: &mut Vec<Crossing>,
+    tally: &mut LineTally,
+    sample: impl Fn(f64, f64, f64) -> Option<f64>,
+) {
+    crossings.clear();
+    crossings.extend(hits.iter().map(|h| {
+        let p = h.prim() as usize;
+        Crossing {
+            t: h.t(),
+            patch: h.prim(),
+            surface: surface.get(p).copied().unwrap_or(u32::MAX),
+            cos: cos(p),
+        }
+    }));
+    tally_global_line(crossings, eps, tally, sample);
+}
+
+/// The line loop of [`LineTracer::trace_chunk`], for either tracer: the lines of chunk
+/// `chunk` of an `n_lines` job, drawn from [`chunk_rng`]`(seed, chunk)`, each cast by
+/// `global` or `local` (the tally's method) with the generator and scratch buffers reused
+/// across the chunk (no allocation per line).
+#[inline]
+pub(crate) fn trace_chunk_lines<H>(
+    seed: u64,
+    n_lines: u64,
+    chunk: u64,
+    tally: &mut LineTally,
+    mut global: impl FnMut(&mut rand_pcg::Pcg64, &mut Vec<H>, &mut Vec<Crossing>, &mut LineTally),
+    mut local: impl FnMut(&mut rand_pcg::Pcg64, &mut Vec<H>, &mut LineTally),
+) {
+    let mut rng = chunk_rng(seed, chunk);
+    let mut hits = Vec::new();
+    let mut crossings = Vec::new();
+    match tally.method() {
+        LineMethod::Global => {
+            for _ in chunk_range(n_lines, chunk) {
+                global(&mut rng, &mut hits, &mut crossings, tally);
+            }
+        }
+        LineMethod::Local => {
+            for _ in chunk_range(n_lines, chunk) {
+                local(&mut rng, &mut hits, tally);
+            }
+        }
+    }
 }
