@@ -121,7 +121,7 @@ pub fn run_chunks_timed<T: LineTracer + Sync + ?Sized>(
     let mut tallies = results.into_iter().map(|r| r.0);
     let mut total = tallies.next().unwrap_or_else(|| tracer.new_tally(method));
     for t in tallies {
-        total.merge(&t);
+        total.merge_owned(t);
     }
     let times = JobTimes {
         wall: start.elapsed().as_secs_f64(),

@@ -234,15 +234,28 @@ impl PairCounts {
                 },
             ) => {
                 flush(buffer, merged);
-                let mut other_merged = om.clone();
-                let mut other_buffer = ob.clone();
-                flush(&mut other_buffer, &mut other_merged);
-                drop(other_buffer);
-                merge_into(merged, &other_merged);
+                if ob.is_empty() {
+                    merge_into(merged, om);
+                } else {
+                    let mut other_merged = om.clone();
+                    let mut other_buffer = ob.clone();
+                    flush(&mut other_buffer, &mut other_merged);
+                    drop(other_buffer);
+                    merge_into(merged, &other_merged);
+                }
             }
             // Tallies of one tracer always share a mode; mixing modes is a caller bug that
             // we ignore rather than panic on.
             _ => debug_assert!(false, "merging dense and sparse pair counts"),
+        }
+    }
+
+    /// Merges the pending sparse keys into the sorted list (nothing to do when dense), so
+    /// that [`PairCounts::merge`] of these counts into others copies nothing.
+    pub(crate) fn flush_pending(&mut self) {
+        if let Self::Sparse { buffer, merged, .. } = self {
+            flush(buffer, merged);
+            *buffer = Vec::new();
         }
     }
 
@@ -563,6 +576,9 @@ fn flush(buffer: &mut Vec<u64>, merged: &mut Vec<(u64, u64)>) {
 /// left by equal keys is closed. Peak memory `|a| + |b|` entries.
 fn merge_into(a: &mut Vec<(u64, u64)>, b: &[(u64, u64)]) {
     let old = a.len();
+    // Exactly: the list is the bulk of sparse counts' memory, and doubling would waste
+    // up to half of it (a large block grows in place, without a copy).
+    a.reserve_exact(b.len());
     a.resize(old + b.len(), (0, 0));
     // Backwards: x = entries of the old `a` left, y = of `b`, w = the write position
     let (mut x, mut y, mut w) = (old, b.len(), old + b.len());

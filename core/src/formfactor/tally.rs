@@ -224,6 +224,14 @@ impl LineTally {
         }
     }
 
+    /// [`LineTally::merge`] of a tally that is no longer needed: the same result, with
+    /// less memory for sparse counts (the other tally's pending keys are sorted in place
+    /// instead of in a copy).
+    pub fn merge_owned(&mut self, mut other: LineTally) {
+        other.counts.flush_pending();
+        self.merge(&other);
+    }
+
     /// Lines tallied so far.
     #[must_use]
     pub fn lines(&self) -> u64 {
@@ -298,7 +306,13 @@ impl LineTally {
         let mut matrix = self.counts.is_dense().then(|| vec![0.0; n * n]);
         let mut triplets = Vec::new();
         let leaves = &self.leaves;
-        self.counts.for_each(|i, j, c, info| {
+        // The counts are taken out and dropped before the matrix is built: for sparse
+        // counts they are a large part of the peak memory.
+        let mut counts = core::mem::replace(
+            &mut self.counts,
+            PairCounts::new(0, self.method == LineMethod::Global),
+        );
+        counts.for_each(|i, j, c, info| {
             let f = c as f64 / leaves[i] as f64;
             match &mut matrix {
                 Some(m) => m[i * n + j] = f,
@@ -308,6 +322,7 @@ impl LineTally {
                 p[i * n + j] = v / samples;
             }
         });
+        drop(counts);
         let form_factors = match matrix {
             Some(m) => FormFactors::from_patch_matrix(sizes, m)?,
             None => FormFactors::from_patch_triplets(sizes, triplets)?,
