@@ -58,6 +58,13 @@ pub struct BenchArgs {
     /// Threads of the multi-threaded measurement (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Run only the parts whose name contains this text (a scene's name, `exact`, `curve`).
+    #[arg(long)]
+    pub only: Option<String>,
+    /// Also run the memory check: this many global lines on the 99,846-patch cube (sparse
+    /// counts) on all threads, printing the time and the peak resident memory.
+    #[arg(long, value_name = "N", value_parser = parse_count)]
+    pub memory_lines: Option<u64>,
 }
 
 /// Arguments of `merge`.

@@ -40,6 +40,38 @@ pub fn run_chunks<T: LineTracer + Sync + ?Sized>(
     range: Range<u64>,
     threads: usize,
 ) -> LineTally {
+    run_chunks_timed(tracer, method, seed, n_lines, range, threads).0
+}
+
+/// What a line job cost: wall time, and the CPU time its worker threads spent casting
+/// lines (Linux `/proc/thread-self/schedstat`, nanosecond resolution; `None` elsewhere).
+/// The CPU time leaves out waiting for a core, so on a loaded machine it measures the code
+/// where the wall time measures the machine.
+#[derive(Clone, Copy, Debug)]
+pub struct JobTimes {
+    /// Wall time of the whole job (threads, casting, merging), seconds.
+    pub wall: f64,
+    /// CPU time of the workers from their first chunk to their last, summed, seconds.
+    pub worker_cpu: Option<f64>,
+}
+
+/// CPU time this thread has run, in seconds (the first field of
+/// `/proc/thread-self/schedstat`, user and system time in nanoseconds).
+fn thread_cpu_seconds() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: u64 = s.split_whitespace().next()?.parse().ok()?;
+    Some(ns as f64 * 1e-9)
+}
+
+/// [`run_chunks`], also returning what the job cost.
+pub fn run_chunks_timed<T: LineTracer + Sync + ?Sized>(
+    tracer: &T,
+    method: LineMethod,
+    seed: u64,
+    n_lines: u64,
+    range: Range<u64>,
+    threads: usize,
+) -> (LineTally, JobTimes) {
     let chunks = range.end.min(chunk_count(n_lines));
     let next = AtomicU64::new(range.start);
     let done = AtomicU64::new(0);
@@ -53,25 +85,28 @@ pub fn run_chunks<T: LineTracer + Sync + ?Sized>(
             .max(1),
     );
     let start = Instant::now();
-    let tallies: Vec<LineTally> = std::thread::scope(|scope| {
+    let results: Vec<(LineTally, Option<f64>)> = std::thread::scope(|scope| {
         let workers: Vec<_> = (0..threads)
             .map(|_| {
                 scope.spawn(|| {
                     let mut tally = tracer.new_tally(method);
+                    let cpu_start = thread_cpu_seconds();
                     loop {
                         // After Ctrl-C no new chunk starts: the chunks done are then
                         // 0..k, the job of k whole chunks (same seed).
                         if crate::interrupt::requested() {
-                            break tally;
+                            break;
                         }
                         let chunk = next.fetch_add(1, Ordering::Relaxed);
                         if chunk >= chunks {
-                            break tally;
+                            break;
                         }
                         tracer.trace_chunk(seed, n_lines, chunk, &mut tally);
                         let r = chunk_range(n_lines, chunk);
                         done.fetch_add(r.end - r.start, Ordering::Relaxed);
                     }
+                    let cpu = cpu_start.zip(thread_cpu_seconds()).map(|(a, b)| b - a);
+                    (tally, cpu)
                 })
             })
             .collect();
@@ -80,11 +115,19 @@ pub fn run_chunks<T: LineTracer + Sync + ?Sized>(
         });
         workers.into_iter().filter_map(|w| w.join().ok()).collect()
     });
-    let mut total = tracer.new_tally(method);
-    for t in &tallies {
-        total.merge(t);
+    let worker_cpu = results.iter().map(|r| r.1).sum::<Option<f64>>();
+    // Merged into the first worker's tally: exact, so the same bits as a fresh sum, without
+    // one more pass over (and allocation of) the whole count matrix.
+    let mut tallies = results.into_iter().map(|r| r.0);
+    let mut total = tallies.next().unwrap_or_else(|| tracer.new_tally(method));
+    for t in tallies {
+        total.merge_owned(t);
     }
-    total
+    let times = JobTimes {
+        wall: start.elapsed().as_secs_f64(),
+        worker_cpu,
+    };
+    (total, times)
 }
 
 /// Draws a progress bar on a terminal's stderr while the workers run, starting after one

@@ -70,6 +70,24 @@ fn queries_2d(c: &mut Criterion) {
 }
 
 fn queries_3d(c: &mut Criterion) {
+    let room = sceneinfo::scene::preset_3d("cubes-512-random", 1).unwrap();
+    let points = room.points().to_vec();
+    let polygons: Vec<(usize, usize)> = room.patches().iter().map(|p| (p.first, p.count)).collect();
+    let bvh = Bvh3::build(&points, &polygons).unwrap();
+    let lines = lines_3d(&room);
+    let mut g = c.benchmark_group("all_hits 3D, room with 512 cubes");
+    g.throughput(Throughput::Elements(BATCH as u64));
+    let mut hits = Vec::new();
+    g.bench_function("bvh", |b| {
+        b.iter(|| {
+            for l in &lines {
+                bvh.all_hits(l, &mut hits);
+                black_box(&hits);
+            }
+        });
+    });
+    g.finish();
+
     let scene = Scene::cube(30).unwrap();
     let points = scene.points().to_vec();
     let polygons: Vec<(usize, usize)> =
@@ -130,20 +148,21 @@ fn chunks(c: &mut Criterion) {
     let mut g = c.benchmark_group("global-line chunk with tally");
     g.throughput(Throughput::Elements(lines));
     let flat = catalogue_scene("64-squares-a", 10).unwrap();
+    // One tally per tracer, reused: a long job allocates its tallies once.
     let tracer = FlatTracer::new(&flat).unwrap();
+    let mut tally = tracer.new_tally(LineMethod::Global);
     g.bench_function("64 squares, bvh", |b| {
         b.iter(|| {
-            let mut t = tracer.new_tally(LineMethod::Global);
-            tracer.trace_chunk(3, lines, 0, &mut t);
-            black_box(t.lines())
+            tracer.trace_chunk(3, lines, 0, &mut tally);
+            black_box(tally.lines())
         });
     });
     let naive = FlatTracer::new(&flat).unwrap().naive_baseline();
+    let mut tally = naive.new_tally(LineMethod::Global);
     g.bench_function("64 squares, naive", |b| {
         b.iter(|| {
-            let mut t = naive.new_tally(LineMethod::Global);
-            naive.trace_chunk(3, lines, 0, &mut t);
-            black_box(t.lines())
+            naive.trace_chunk(3, lines, 0, &mut tally);
+            black_box(tally.lines())
         });
     });
     let cube = Scene::cube(30).unwrap();

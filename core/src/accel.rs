@@ -32,6 +32,8 @@ use crate::geom::{DVec2, Segment, cross};
 #[cfg(feature = "alloc")]
 mod bvh2;
 mod bvh3;
+#[cfg(feature = "alloc")]
+mod sah;
 #[cfg(all(test, feature = "std"))]
 mod tests;
 
@@ -92,10 +94,13 @@ pub(crate) fn sort_hits<H: HitKey>(hits: &mut [H]) {
     }
 }
 
-/// What [`sort_hits`] orders by: the line parameter, then the primitive (2D and 3D hits).
+/// What [`sort_hits`] orders by, and what the tallies read: the line parameter, then the
+/// primitive (2D and 3D hits).
 #[cfg(feature = "alloc")]
 pub(crate) trait HitKey: Copy {
+    /// Line parameter of the hit.
     fn t(&self) -> f64;
+    /// Index of the primitive hit.
     fn prim(&self) -> u32;
 }
 

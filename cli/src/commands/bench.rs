@@ -8,8 +8,11 @@
 //! `/proc/self/clear_refs` before each scene), and the memory of the pair counts. Then the
 //! exact form factors' times, and the per-line cost against the number of patches.
 //!
-//! A rate is the marginal rate of jobs of `L` and `2L` lines, `L` grown until a job takes a
-//! quarter of the time budget (see `rate`).
+//! Two clocks (see `rate`): rates on one thread are per second of the workers' CPU time,
+//! which a loaded machine does not dilute; the multi-threaded rate is per second of wall
+//! time, the only clock that shows thread scaling (and only on an idle machine). Both are
+//! marginal rates of jobs of `L` and `2L` lines, so per-job costs (allocating and merging
+//! tallies) do not count. The load average is printed with the results.
 
 use std::fmt::Write as _;
 use std::io::Write;
@@ -29,14 +32,22 @@ use crate::args::BenchArgs;
 /// Seed of every benchmark job.
 const SEED: u64 = 9;
 
+/// A benchmark scene: its name and how to build it (built only when it runs).
+type Named<S> = (&'static str, fn() -> sceneinfo::Result<S>);
+
 /// One Monte Carlo benchmark scene.
 struct McRow {
     name: &'static str,
     patches: usize,
     /// Samples (crossings) per line.
     hits_per_line: f64,
+    /// Naive baseline, 1 thread, lines per CPU second.
     naive: f64,
+    /// BVH, 1 thread, lines per CPU second.
     one: f64,
+    /// BVH, 1 thread, lines per wall second.
+    one_wall: f64,
+    /// BVH, `threads` threads, lines per wall second.
     many: f64,
     peak_mb: Option<f64>,
     count_bytes: usize,
@@ -64,6 +75,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get));
     let start = Instant::now();
+    let load_before = load_average();
     let mut mc = Vec::new();
     let quiet = args.json;
     let note = |s: &str| {
@@ -71,28 +83,31 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             eprintln!("bench: {s}");
         }
     };
+    let wanted = |name: &str| args.only.as_ref().is_none_or(|o| name.contains(o.as_str()));
 
     // Monte Carlo scenes: flatland, then 3D
-    let flat: [(&'static str, FlatScene); 2] = [
-        ("triangle (30)", FlatScene::regular_polygon(3, 10)?),
-        ("64-squares-a", catalogue_scene("64-squares-a", 10)?),
+    let flat: [Named<FlatScene>; 2] = [
+        ("triangle (30)", || FlatScene::regular_polygon(3, 10)),
+        ("64-squares-a", || catalogue_scene("64-squares-a", 10)),
     ];
-    for (name, scene) in flat {
+    for (name, make) in flat.into_iter().filter(|(n, _)| wanted(n)) {
         note(name);
+        let scene = make()?;
         reset_peak();
         let tracer = FlatTracer::new(&scene)?;
         let naive = FlatTracer::new(&scene)?.naive_baseline();
         mc.push(bench_scene(name, &tracer, &naive, budget, threads));
     }
-    let mut solid: Vec<(&'static str, Scene)> = vec![
-        ("cube 600", Scene::cube(10)?),
-        ("cube 5400", Scene::cube(30)?),
-        ("cornell (grid 10)", preset_3d("cornell", 10)?),
-        ("room, 512 cubes", preset_3d("cubes-512-random", 1)?),
-        ("cube 99846", Scene::cube(129)?),
+    let solid: [Named<Scene>; 5] = [
+        ("cube 600", || Scene::cube(10)),
+        ("cube 5400", || Scene::cube(30)),
+        ("cornell (grid 10)", || preset_3d("cornell", 10)),
+        ("room, 512 cubes", || preset_3d("cubes-512-random", 1)),
+        ("cube 99846", || Scene::cube(129)),
     ];
-    for (name, scene) in solid.drain(..) {
+    for (name, make) in solid.into_iter().filter(|(n, _)| wanted(n)) {
         note(name);
+        let scene = make()?;
         reset_peak();
         let tracer = SceneTracer::new(&scene)?;
         let naive = SceneTracer::new(&scene)?.naive_baseline();
@@ -100,61 +115,140 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
 
     // Exact form factors
-    note("exact form factors");
     let mut exact = Vec::new();
-    let scene = catalogue_scene("16-squares-4", 52)?;
-    let t = Instant::now();
-    let ff = exact_2d::form_factors(&scene)?;
-    exact.push(ExactRow {
-        name: "flatland 16-squares-4",
-        patches: ff.n_patches(),
-        seconds: t.elapsed().as_secs_f64(),
-    });
-    let cube = Scene::cube(10)?;
-    let polygons: Vec<(usize, usize)> = cube.patches().iter().map(|p| (p.first, p.count)).collect();
-    let t = Instant::now();
-    let ff = exact_3d::form_factors_unoccluded(cube.points(), &polygons)?;
-    exact.push(ExactRow {
-        name: "3D cube",
-        patches: ff.n_patches(),
-        seconds: t.elapsed().as_secs_f64(),
-    });
+    if wanted("exact") {
+        note("exact form factors");
+        let scene = catalogue_scene("16-squares-4", 52)?;
+        let t = Instant::now();
+        let ff = exact_2d::form_factors(&scene)?;
+        exact.push(ExactRow {
+            name: "flatland 16-squares-4",
+            patches: ff.n_patches(),
+            seconds: t.elapsed().as_secs_f64(),
+        });
+        let cube = Scene::cube(10)?;
+        let polygons: Vec<(usize, usize)> =
+            cube.patches().iter().map(|p| (p.first, p.count)).collect();
+        let t = Instant::now();
+        let ff = exact_3d::form_factors_unoccluded(cube.points(), &polygons)?;
+        exact.push(ExactRow {
+            name: "3D cube",
+            patches: ff.n_patches(),
+            seconds: t.elapsed().as_secs_f64(),
+        });
+    }
 
     // Cost per line against the number of patches
     let mut curve = Vec::new();
-    let grids: &[u32] = if args.full {
-        &[4, 13, 41, 129, 408]
-    } else {
-        &[4, 13, 41, 129]
-    };
-    for &k in grids {
-        note(&format!("curve: cube grid {k}"));
-        curve.push(curve_point(
-            format!("cube grid {k}"),
-            &Scene::cube(k)?,
-            budget,
-        )?);
-    }
-    let levels: &[u32] = if args.full { &[1, 3, 5, 7] } else { &[1, 3, 5] };
-    for &l in levels {
-        note(&format!("curve: triangulated cube level {l}"));
-        let scene = triangulated_cube(l)?;
-        curve.push(curve_point(format!("cube triangles {l}"), &scene, budget)?);
+    if wanted("curve") {
+        let grids: &[u32] = if args.full {
+            &[4, 13, 41, 129, 408]
+        } else {
+            &[4, 13, 41, 129]
+        };
+        for &k in grids {
+            note(&format!("curve: cube grid {k}"));
+            curve.push(curve_point(
+                format!("cube grid {k}"),
+                &Scene::cube(k)?,
+                budget,
+            )?);
+        }
+        let levels: &[u32] = if args.full { &[1, 3, 5, 7] } else { &[1, 3, 5] };
+        for &l in levels {
+            note(&format!("curve: triangulated cube level {l}"));
+            let scene = triangulated_cube(l)?;
+            curve.push(curve_point(format!("cube triangles {l}"), &scene, budget)?);
+        }
     }
 
+    // The memory check
+    let memory = match args.memory_lines {
+        Some(lines) => {
+            note(&format!(
+                "memory check: {lines} lines on the 99,846-patch cube"
+            ));
+            Some(memory_check(lines, threads)?)
+        }
+        None => None,
+    };
+
     let total = start.elapsed().as_secs_f64();
+    let load = [load_before, load_average()];
+    let report = Report {
+        mc: &mc,
+        exact: &exact,
+        curve: &curve,
+        memory: memory.as_ref(),
+        threads,
+        load,
+        total,
+    };
     let mut out = std::io::stdout().lock();
     if args.json {
-        writeln!(out, "{}", json(&mc, &exact, &curve, threads, total)?)?;
+        writeln!(out, "{}", json(&report)?)?;
     } else {
-        write!(
-            out,
-            "{}",
-            table(&mc, &exact, &curve, threads, budget, total)
-        )?;
+        write!(out, "{}", table(&report, budget))?;
     }
     out.flush()?;
     Ok(())
+}
+
+/// Everything `bench` measured, for printing.
+struct Report<'a> {
+    mc: &'a [McRow],
+    exact: &'a [ExactRow],
+    curve: &'a [CurvePoint],
+    memory: Option<&'a MemoryCheck>,
+    threads: usize,
+    /// The 1-minute load average before and after.
+    load: [Option<f64>; 2],
+    total: f64,
+}
+
+/// The memory check: one long job on a 10⁵-patch scene.
+struct MemoryCheck {
+    patches: usize,
+    lines: u64,
+    threads: usize,
+    seconds: f64,
+    peak_mb: Option<f64>,
+    count_bytes: usize,
+    pairs: u64,
+}
+
+/// Casts `lines` global lines on the 99,846-patch cube (sparse counts) and finishes the
+/// estimate, as `measure` would, recording the peak resident memory of the whole job.
+fn memory_check(lines: u64, threads: usize) -> Result<MemoryCheck> {
+    let scene = Scene::cube(129)?;
+    reset_peak();
+    let t = Instant::now();
+    let tracer = SceneTracer::new(&scene)?;
+    let tally = crate::lines::run(&tracer, LineMethod::Global, SEED, lines, threads);
+    let (count_bytes, pairs) = tally.count_memory();
+    let estimate = tally.finish(&tracer)?;
+    let seconds = t.elapsed().as_secs_f64();
+    let peak_mb = peak_bytes().map(|b| b as f64 / 1e6);
+    drop(estimate);
+    Ok(MemoryCheck {
+        patches: tracer.n_patches(),
+        lines,
+        threads,
+        seconds,
+        peak_mb,
+        count_bytes,
+        pairs,
+    })
+}
+
+/// The 1-minute load average (Linux `/proc/loadavg`).
+fn load_average() -> Option<f64> {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()
 }
 
 /// The unit cube with each face cut into triangles (`Subdivision::Triangles(level)`:
@@ -170,26 +264,60 @@ fn triangulated_cube(level: u32) -> Result<Scene> {
     Ok(b.build()?)
 }
 
-/// Lines per second of `tracer` on `threads` threads, and the tally of the last job.
+/// Rates of a tracer on some threads: lines per second of wall time and per second of
+/// the workers' CPU time.
+struct Rate {
+    wall: f64,
+    /// `None` where the CPU time cannot be read (not Linux).
+    cpu: Option<f64>,
+}
+
+impl Rate {
+    /// The CPU rate, or the wall rate where there is none.
+    fn cpu_or_wall(&self) -> f64 {
+        self.cpu.unwrap_or(self.wall)
+    }
+}
+
+/// Rates of `tracer` on `threads` threads, and the tally of the last job.
 ///
-/// Jobs of `L` and `2L` lines give the marginal rate `L / (t(2L) − t(L))`, `L` grown
-/// (×4) until that difference reaches a quarter of `budget`: it leaves out what a job pays
-/// once (allocating and merging the tallies — 233 MB a thread for the 5400-patch cube's
-/// dense counts — and starting threads), so it is the rate of a long job.
-fn rate<T: LineTracer + Sync>(tracer: &T, budget: f64, threads: usize) -> (f64, LineTally) {
+/// Jobs of `L` and `2L` lines give the marginal rates `L / (t(2L) − t(L))`, with `L` grown
+/// (×2) until a job of `L` lines takes half of `budget`: the difference then leaves out
+/// what a job pays once (allocating and merging the tallies — 233 MB a thread for the
+/// 5400-patch cube's dense counts — and starting threads), so it is the rate of a long
+/// job, and it is large beside the noise of those costs. (A difference that is not
+/// positive — noise larger than a job — falls back to the rate of the `2L` job.)
+fn rate<T: LineTracer + Sync>(tracer: &T, budget: f64, threads: usize) -> (Rate, LineTally) {
     let timed = |lines: u64| {
-        let t = Instant::now();
-        let tally = crate::lines::run(tracer, LineMethod::Global, SEED, lines, threads);
-        (t.elapsed().as_secs_f64(), tally)
+        crate::lines::run_chunks_timed(
+            tracer,
+            LineMethod::Global,
+            SEED,
+            lines,
+            0..sceneinfo::lines::chunk_count(lines),
+            threads,
+        )
     };
-    let mut lines = 1024u64;
-    loop {
-        let (t1, _) = timed(lines);
-        let (t2, tally) = timed(2 * lines);
-        if t2 - t1 >= budget / 4.0 || lines >= 1 << 40 {
-            return (lines as f64 / (t2 - t1).max(1e-9), tally);
+    let marginal = |lines: u64, t1: f64, t2: f64| {
+        if t2 > t1 {
+            lines as f64 / (t2 - t1)
+        } else {
+            2.0 * lines as f64 / t2.max(1e-9)
         }
-        lines *= 4;
+    };
+    let mut lines = 4096u64;
+    loop {
+        let (_, job1) = timed(lines);
+        if job1.wall >= budget / 2.0 || lines >= 1 << 40 {
+            let (tally, job2) = timed(2 * lines);
+            let wall = marginal(lines, job1.wall, job2.wall);
+            let cpu = job1
+                .worker_cpu
+                .zip(job2.worker_cpu)
+                .map(|(c1, c2)| marginal(lines, c1, c2) * threads as f64);
+            return (Rate { wall, cpu }, tally);
+        }
+        lines *= 2;
     }
 }
 
@@ -209,9 +337,10 @@ fn bench_scene<T: LineTracer + Sync>(
         name,
         patches: tracer.n_patches(),
         hits_per_line: samples as f64 / tally.lines().max(1) as f64,
-        naive: naive_rate,
-        one,
-        many,
+        naive: naive_rate.cpu_or_wall(),
+        one: one.cpu_or_wall(),
+        one_wall: one.wall,
+        many: many.wall,
         peak_mb: peak_bytes().map(|b| b as f64 / 1e6),
         count_bytes,
         pairs,
@@ -224,7 +353,7 @@ fn curve_point(mesh: String, scene: &Scene, budget: f64) -> Result<CurvePoint> {
     Ok(CurvePoint {
         mesh,
         patches: tracer.n_patches(),
-        ns_per_line: 1e9 / r,
+        ns_per_line: 1e9 / r.cpu_or_wall(),
         hits_per_line: tally.continuous().samples as f64 / tally.lines().max(1) as f64,
     })
 }
@@ -243,71 +372,87 @@ fn peak_bytes() -> Option<u64> {
     Some(kb * 1024)
 }
 
-fn table(
-    mc: &[McRow],
-    exact: &[ExactRow],
-    curve: &[CurvePoint],
-    threads: usize,
-    budget: f64,
-    total: f64,
-) -> String {
+/// `x` with one decimal, or `n/a`.
+fn or_na(x: Option<f64>) -> String {
+    x.map_or("n/a".to_string(), |x| format!("{x:.1}"))
+}
+
+fn table(r: &Report, budget: f64) -> String {
     let mut s = String::new();
+    let threads = r.threads;
     let _ = writeln!(
         s,
-        "Global lines with full count accumulation, M lines/s ({budget} s per measurement; \
-         other load on the machine lowers every rate, so compare within one run)"
+        "Load average (1 min) {} before, {} after, on {} cores",
+        or_na(r.load[0]),
+        or_na(r.load[1]),
+        std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
     );
-    let _ = writeln!(
-        s,
-        "{:<20} {:>7} {:>6} {:>9} {:>8} {:>8} {:>9} {:>6} {:>8} {:>9} {:>7}",
-        "scene",
-        "patches",
-        "hits",
-        "naive 1t",
-        "BVH 1t",
-        format!("BVH {threads}t"),
-        "BVH/naive",
-        "Nt/1t",
-        "peak MB",
-        "counts MB",
-        "B/pair"
-    );
-    for r in mc {
-        let per_pair = if r.pairs > 0 && r.patches > sceneinfo::formfactor::DENSE_COUNT_LIMIT {
-            format!("{:.1}", r.count_bytes as f64 / r.pairs as f64)
+    if !r.mc.is_empty() {
+        let _ = writeln!(
+            s,
+            "\nGlobal lines with full count accumulation, M lines/s ({budget} s per \
+             measurement). 1t: per CPU second of the worker (load does not dilute it); \
+             {threads}t: per wall second (shows scaling only on an idle machine)"
+        );
+        let _ = writeln!(
+            s,
+            "{:<20} {:>7} {:>6} {:>9} {:>8} {:>9} {:>8} {:>9} {:>6} {:>8} {:>9} {:>7}",
+            "scene",
+            "patches",
+            "hits",
+            "naive 1t",
+            "BVH 1t",
+            "1t wall",
+            format!("BVH {threads}t"),
+            "BVH/naive",
+            "Nt/1t",
+            "peak MB",
+            "counts MB",
+            "B/pair"
+        );
+    }
+    for m in r.mc {
+        let per_pair = if m.pairs > 0 && m.patches > sceneinfo::formfactor::DENSE_COUNT_LIMIT {
+            format!("{:.1}", m.count_bytes as f64 / m.pairs as f64)
         } else {
             "dense".to_string()
         };
         let _ = writeln!(
             s,
-            "{:<20} {:>7} {:>6.2} {:>9.4} {:>8.3} {:>8.3} {:>9.1} {:>6.2} {:>8} {:>9.1} {:>7}",
-            r.name,
-            r.patches,
-            r.hits_per_line,
-            r.naive / 1e6,
-            r.one / 1e6,
-            r.many / 1e6,
-            r.one / r.naive,
-            r.many / r.one,
-            r.peak_mb.map_or("n/a".to_string(), |m| format!("{m:.0}")),
-            r.count_bytes as f64 / 1e6,
+            "{:<20} {:>7} {:>6.2} {:>9.4} {:>8.3} {:>9.3} {:>8.3} {:>9.1} {:>6.2} {:>8} {:>9.1} {:>7}",
+            m.name,
+            m.patches,
+            m.hits_per_line,
+            m.naive / 1e6,
+            m.one / 1e6,
+            m.one_wall / 1e6,
+            m.many / 1e6,
+            m.one / m.naive,
+            m.many / m.one_wall,
+            m.peak_mb.map_or("n/a".to_string(), |m| format!("{m:.0}")),
+            m.count_bytes as f64 / 1e6,
             per_pair
         );
     }
-    let _ = writeln!(s, "\nExact form factors");
-    for e in exact {
+    if !r.exact.is_empty() {
+        let _ = writeln!(s, "\nExact form factors (wall time)");
+    }
+    for e in r.exact {
         let _ = writeln!(
             s,
             "{:<24} {:>6} patches {:>8.3} s",
             e.name, e.patches, e.seconds
         );
     }
-    let _ = writeln!(
-        s,
-        "\nCost per global line against patches (1 thread, full tally)\n{:<20} {:>8} {:>9} {:>6} {:>12}",
-        "mesh", "patches", "ns/line", "hits", "ns/log2(n)"
-    );
-    for p in curve {
+    if !r.curve.is_empty() {
+        let _ = writeln!(
+            s,
+            "\nCost per global line against patches (1 thread, full tally, CPU time)\n\
+             {:<20} {:>8} {:>9} {:>6} {:>12}",
+            "mesh", "patches", "ns/line", "hits", "ns/log2(n)"
+        );
+    }
+    for p in r.curve {
         let _ = writeln!(
             s,
             "{:<20} {:>8} {:>9.0} {:>6.2} {:>12.1}",
@@ -318,41 +463,62 @@ fn table(
             p.ns_per_line / (p.patches as f64).log2()
         );
     }
-    let _ = writeln!(s, "\ntotal {total:.1} s");
+    if let Some(m) = r.memory {
+        let _ = writeln!(
+            s,
+            "\nMemory check: {} lines on {} patches, {} threads: {:.1} s, {:.2} M lines/s \
+             (wall), peak {} MB, counts {:.1} MB for {} non-zero pairs ({} B/pair)",
+            m.lines,
+            m.patches,
+            m.threads,
+            m.seconds,
+            m.lines as f64 / m.seconds / 1e6,
+            m.peak_mb.map_or("n/a".to_string(), |m| format!("{m:.0}")),
+            m.count_bytes as f64 / 1e6,
+            m.pairs,
+            if m.pairs > 0 {
+                format!("{:.1}", m.count_bytes as f64 / m.pairs as f64)
+            } else {
+                "n/a".to_string()
+            }
+        );
+    }
+    let _ = writeln!(s, "\ntotal {:.1} s", r.total);
     s
 }
 
-fn json(
-    mc: &[McRow],
-    exact: &[ExactRow],
-    curve: &[CurvePoint],
-    threads: usize,
-    total: f64,
-) -> Result<String> {
+fn json(r: &Report) -> Result<String> {
     let mut s = String::new();
     let mut o = JsonObject::new(&mut s).context("json")?;
-    o.integer("threads", threads as u64)?;
+    o.integer("threads", r.threads as u64)?;
+    if let Some(l) = r.load[0] {
+        o.number("load_average_before", l)?;
+    }
+    if let Some(l) = r.load[1] {
+        o.number("load_average_after", l)?;
+    }
     o.object("monte_carlo", |o| {
-        for r in mc {
-            o.object(r.name, |o| {
-                o.integer("patches", r.patches as u64)?;
-                o.number("hits_per_line", r.hits_per_line)?;
-                o.number("naive_lines_per_second", r.naive)?;
-                o.number("lines_per_second_1_thread", r.one)?;
-                o.number("lines_per_second", r.many)?;
-                o.number("speedup_over_naive", r.one / r.naive)?;
-                o.number("thread_scaling", r.many / r.one)?;
-                if let Some(m) = r.peak_mb {
-                    o.number("peak_mb", m)?;
+        for m in r.mc {
+            o.object(m.name, |o| {
+                o.integer("patches", m.patches as u64)?;
+                o.number("hits_per_line", m.hits_per_line)?;
+                o.number("naive_lines_per_cpu_second", m.naive)?;
+                o.number("lines_per_cpu_second_1_thread", m.one)?;
+                o.number("lines_per_second_1_thread", m.one_wall)?;
+                o.number("lines_per_second", m.many)?;
+                o.number("speedup_over_naive", m.one / m.naive)?;
+                o.number("thread_scaling", m.many / m.one_wall)?;
+                if let Some(p) = m.peak_mb {
+                    o.number("peak_mb", p)?;
                 }
-                o.integer("count_bytes", r.count_bytes as u64)?;
-                o.integer("nonzero_pairs", r.pairs)
+                o.integer("count_bytes", m.count_bytes as u64)?;
+                o.integer("nonzero_pairs", m.pairs)
             })?;
         }
         Ok(())
     })?;
     o.object("exact", |o| {
-        for e in exact {
+        for e in r.exact {
             o.object(e.name, |o| {
                 o.integer("patches", e.patches as u64)?;
                 o.number("seconds", e.seconds)
@@ -361,7 +527,7 @@ fn json(
         Ok(())
     })?;
     o.object("cost_per_line", |o| {
-        for p in curve {
+        for p in r.curve {
             o.object(&p.mesh, |o| {
                 o.integer("patches", p.patches as u64)?;
                 o.number("ns_per_line", p.ns_per_line)?;
@@ -370,7 +536,20 @@ fn json(
         }
         Ok(())
     })?;
-    o.number("seconds", total)?;
+    if let Some(m) = r.memory {
+        o.object("memory_check", |o| {
+            o.integer("patches", m.patches as u64)?;
+            o.integer("lines", m.lines)?;
+            o.integer("threads", m.threads as u64)?;
+            o.number("seconds", m.seconds)?;
+            if let Some(p) = m.peak_mb {
+                o.number("peak_mb", p)?;
+            }
+            o.integer("count_bytes", m.count_bytes as u64)?;
+            o.integer("nonzero_pairs", m.pairs)
+        })?;
+    }
+    o.number("seconds", r.total)?;
     o.finish()?;
     Ok(s)
 }

@@ -62,6 +62,7 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::geom::{DVec2, Segment, cross};
 use crate::lines::Line2;
 
+use super::sah::{BINS, SahBox, best_plane, bin_of};
 use super::{Hit2, LineQuery};
 
 /// Most primitives a [`Bvh2`] accepts: `u32::MAX / 2`, so node indices (< 2n) fit `u32`.
@@ -76,9 +77,6 @@ const STACK_SIZE: usize = 64;
 
 /// Most primitives in a leaf (more are always split).
 const MAX_LEAF: usize = 4;
-
-/// Number of SAH bins per axis.
-const BINS: usize = 16;
 
 /// SAH cost of one node visit, relative to one segment test.
 const TRAVERSAL_COST: f64 = 1.0;
@@ -235,6 +233,31 @@ impl Aabb {
             2.0 * (d.x + d.y)
         } else {
             0.0
+        }
+    }
+}
+
+impl SahBox for Aabb {
+    const EMPTY: Self = Self::EMPTY;
+
+    #[inline]
+    fn merged(self, other: &Self) -> Self {
+        Aabb::merged(self, other)
+    }
+
+    #[inline]
+    fn measure(&self) -> f64 {
+        self.perimeter()
+    }
+}
+
+impl BuildPrim {
+    /// The primitive's box.
+    #[inline]
+    fn bounds(&self) -> Aabb {
+        Aabb {
+            lo: self.lo,
+            hi: self.hi,
         }
     }
 }
@@ -757,37 +780,7 @@ fn sah_split(
         return None;
     }
     let inv = BINS as f64 / width;
-    // Bin the primitives
-    let mut boxes = [Aabb::EMPTY; BINS];
-    let mut counts = [0usize; BINS];
-    for p in items.iter() {
-        let b = bin_of(p.centroid[axis], lo, inv);
-        boxes[b].grow(p.lo, p.hi);
-        counts[b] += 1;
-    }
-    // Sweep from the right, then evaluate each plane from the left
-    let mut right_area = [0.0; BINS];
-    let mut acc = Aabb::EMPTY;
-    for b in (1..BINS).rev() {
-        acc = acc.merged(&boxes[b]);
-        right_area[b] = acc.perimeter();
-    }
-    let mut best: Option<(f64, usize)> = None; // (cost, first bin of the right side)
-    let mut left = Aabb::EMPTY;
-    let mut left_n = 0usize;
-    for b in 1..BINS {
-        left = left.merged(&boxes[b - 1]);
-        left_n += counts[b - 1];
-        let right_n = n - left_n;
-        if left_n == 0 || right_n == 0 {
-            continue;
-        }
-        let cost = left.perimeter() * left_n as f64 + right_area[b] * right_n as f64;
-        if best.is_none_or(|(c, _)| cost < c) {
-            best = Some((cost, b));
-        }
-    }
-    let (cost, plane) = best?;
+    let (cost, plane) = best_plane(items, |p| p.centroid[axis], |p| p.bounds(), lo, inv)?;
     // SAH: C = C_trav + Σ P(child) n_child, P(child) = perimeter(child)/perimeter(parent)
     let split_cost = if parent > 0.0 && parent.is_finite() {
         TRAVERSAL_COST + cost / parent
@@ -802,13 +795,6 @@ fn sah_split(
         return None;
     }
     Some(Some((mid, axis as u32)))
-}
-
-/// The bin of centroid coordinate `c` (NaN and out-of-range clamp into `0..BINS`).
-#[inline]
-fn bin_of(c: f64, lo: f64, inv: f64) -> usize {
-    // `as usize` saturates: negative and NaN give 0.
-    (((c - lo) * inv) as usize).min(BINS - 1)
 }
 
 /// Moves the items satisfying `left` to the front; returns how many there are.

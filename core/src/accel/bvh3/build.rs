@@ -5,15 +5,13 @@ use alloc::vec::Vec;
 use crate::geom::DVec3;
 
 use super::STACK_SIZE;
+use crate::accel::sah::{BINS, SahBox, best_plane, bin_of};
 
 /// Depth below which splits follow the SAH; median splits beyond.
 const SAH_DEPTH: u32 = 32;
 
 /// Most polygons in a leaf (more are always split).
 const MAX_LEAF: usize = 4;
-
-/// Number of SAH bins per axis.
-const BINS: usize = 16;
 
 /// SAH cost of one node visit, relative to one polygon test.
 const TRAVERSAL_COST: f64 = 1.0;
@@ -87,6 +85,20 @@ impl Aabb {
         } else {
             0.0
         }
+    }
+}
+
+impl SahBox for Aabb {
+    const EMPTY: Self = Self::EMPTY;
+
+    #[inline]
+    fn merged(self, other: &Self) -> Self {
+        Aabb::merged(self, other)
+    }
+
+    #[inline]
+    fn measure(&self) -> f64 {
+        self.area()
     }
 }
 
@@ -206,33 +218,11 @@ fn sah_split(
             continue;
         }
         let inv = BINS as f64 / width;
-        let mut boxes = [Aabb::EMPTY; BINS];
-        let mut counts = [0usize; BINS];
-        for p in items.iter() {
-            let b = bin_of(p.centroid[axis], lo, inv);
-            boxes[b].grow(p.lo, p.hi);
-            counts[b] += 1;
-        }
-        // Sweep from the right, then evaluate each plane from the left
-        let mut right_area = [0.0; BINS];
-        let mut acc = Aabb::EMPTY;
-        for b in (1..BINS).rev() {
-            acc = acc.merged(&boxes[b]);
-            right_area[b] = acc.area();
-        }
-        let mut left = Aabb::EMPTY;
-        let mut left_n = 0usize;
-        for b in 1..BINS {
-            left = left.merged(&boxes[b - 1]);
-            left_n += counts[b - 1];
-            let right_n = n - left_n;
-            if left_n == 0 || right_n == 0 {
-                continue;
-            }
-            let cost = left.area() * left_n as f64 + right_area[b] * right_n as f64;
-            if best.is_none_or(|c| cost < c.0) {
-                best = Some((cost, axis, b, lo, inv));
-            }
+        let bounds = |p: &BuildPrim| Aabb { lo: p.lo, hi: p.hi };
+        if let Some((cost, b)) = best_plane(items, |p| p.centroid[axis], bounds, lo, inv)
+            && best.is_none_or(|c| cost < c.0)
+        {
+            best = Some((cost, axis, b, lo, inv));
         }
     }
     let (cost, axis, plane, lo, inv) = best?;
@@ -257,11 +247,4 @@ fn sah_split(
         return None;
     }
     Some(Some(mid))
-}
-
-/// The bin of centroid coordinate `c` (NaN and out-of-range clamp into `0..BINS`).
-#[inline]
-fn bin_of(c: f64, lo: f64, inv: f64) -> usize {
-    // `as usize` saturates: negative and NaN give 0.
-    (((c - lo) * inv) as usize).min(BINS - 1)
 }
