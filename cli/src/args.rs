@@ -290,6 +290,9 @@ pub struct ReproduceArgs {
     /// Only the exact tables of chapter 3 (a second or so).
     #[arg(long)]
     pub chapter_3_only: bool,
+    /// Only chapter 5, the radiosity channel (Tables 5.1–5.5; under a minute).
+    #[arg(long, conflicts_with = "chapter_3_only")]
+    pub chapter_5_only: bool,
     /// Also the slow 3D rows: the 5,400-patch cube exactly and the cubes with the thesis'
     /// 10⁷ lines (a few minutes).
     #[arg(long)]

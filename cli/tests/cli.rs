@@ -1,17 +1,10 @@
 //! The real `sceneinfo` binary, run as a user would.
 
+mod common;
+
 use std::path::PathBuf;
-use std::process::Command;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_sceneinfo"))
-}
-
-fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sceneinfo-cli-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
+use common::{bin, number as json_number, temp, without_timing};
 
 /// Writes a preset scene with `sceneinfo scene ARGS -o FILE` into the temporary folder.
 fn preset(args: &[&str], file: &str) -> PathBuf {
@@ -25,14 +18,6 @@ fn preset(args: &[&str], file: &str) -> PathBuf {
         .unwrap();
     assert!(st.success(), "scene {args:?}");
     path
-}
-
-/// Drops the keys whose values are wall-clock times from a flat JSON object.
-fn without_timing(json: &str) -> String {
-    json.split(',')
-        .filter(|kv| !kv.contains("\"seconds\"") && !kv.contains("\"lines_per_second\""))
-        .collect::<Vec<_>>()
-        .join(",")
 }
 
 #[test]
@@ -386,14 +371,6 @@ fn refine_rejects_mismatched_oracles_and_obj_scenes_clearly() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("--oracle de refines flatland scenes"), "{err}");
-}
-
-/// The value of `"key":` in a flat JSON object.
-fn json_number(json: &str, key: &str) -> f64 {
-    let at = json.find(&format!("\"{key}\":")).unwrap() + key.len() + 3;
-    let rest = &json[at..];
-    let end = rest.find([',', '}']).unwrap();
-    rest[..end].parse().unwrap_or(f64::NAN)
 }
 
 #[test]

@@ -69,11 +69,6 @@ pub enum ErrorKind {
     TrailingField(Token),
     /// The input is not valid UTF-8.
     InvalidUtf8,
-    /// A line is longer than the parser accepts.
-    LineTooLong {
-        /// The limit in bytes.
-        max: usize,
-    },
     /// An OBJ face refers to vertex 0 or to a vertex beyond those defined so far.
     FaceIndex {
         /// The index as written (negative indices count back from the last vertex).
@@ -361,7 +356,6 @@ impl fmt::Display for ErrorKind {
             K::MissingField { field } => write!(f, "missing field {field}"),
             K::TrailingField(t) => write!(f, "unexpected extra field '{t}'"),
             K::InvalidUtf8 => write!(f, "input is not valid UTF-8"),
-            K::LineTooLong { max } => write!(f, "line longer than {max} bytes"),
             K::FaceIndex { index, count } => write!(
                 f,
                 "vertex index {index} out of range ({count} vertices defined so far; 0 is never valid)"

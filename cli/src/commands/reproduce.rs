@@ -94,8 +94,12 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
         }),
     };
     sceneinfo::lines::check_line_budget(runner.lines).map_err(|e| anyhow!("{e}"))?;
-    let mut tables = chapter_3()?;
-    if !args.chapter_3_only {
+    let mut tables = if args.chapter_5_only {
+        chapter5::tables(&runner, args.full)?
+    } else {
+        chapter_3()?
+    };
+    if !args.chapter_3_only && !args.chapter_5_only {
         tables.push(table_4_10(&runner)?);
         tables.push(table_4_11(&runner)?);
         tables.push(table_4_12(&runner)?);
@@ -110,7 +114,7 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
         if args.full {
             tables.push(table_3_3(&runner)?);
         }
-        tables.extend(chapter5::tables(&runner)?);
+        tables.extend(chapter5::tables(&runner, args.full)?);
         tables.push(refinement_flat::section_6_1()?);
         tables.push(refinement_flat::table_6_1()?);
         tables.extend(refinement_flat::table_6_2(&runner)?);
