@@ -399,7 +399,7 @@ impl PairCounts {
                 ..
             }
         );
-        if symmetric && i == j && count % 2 != 0 {
+        if symmetric && i == j && !count.is_multiple_of(2) {
             return Err("a global-line count of a patch with itself is odd");
         }
         let stored = if symmetric && i == j {
