@@ -297,6 +297,9 @@ pub struct ReproduceArgs {
     /// Only the exact tables of chapter 3 (a second or so).
     #[arg(long)]
     pub chapter_3_only: bool,
+    /// Only chapter 5, the radiosity channel (Tables 5.1–5.5; under a minute).
+    #[arg(long, conflicts_with = "chapter_3_only")]
+    pub chapter_5_only: bool,
     /// Also the slow 3D rows: the 5,400-patch cube exactly and the cubes with the thesis'
     /// 10⁷ lines (a few minutes).
     #[arg(long)]
@@ -434,7 +437,7 @@ pub struct RefineArgs {
     pub pairs: Option<u32>,
     /// Lines: for .flat, the global lines that tally I^c along the surfaces once (default
     /// 1e6); for .obj, the global lines that measure the final mesh's channel (I_S, H_S,
-    /// H_J, I_S^c; default 1e6).
+    /// H_J, I_S^c; default 2^20, doubled up to 2^25 until every leaf received a line).
     #[arg(long, value_name = "N", value_parser = parse_count)]
     pub lines: Option<u64>,
     /// Seed of the line streams: the result depends on the seed and the budgets only.
@@ -455,6 +458,10 @@ pub struct RefineArgs {
     /// Render the refined 3D mesh (Gouraud-shaded radiosity, element edges) as PNG.
     #[arg(long, value_name = "OUT.png")]
     pub png: Option<PathBuf>,
+    /// For .obj: the smallest element, as a fraction of the scene's total area (default
+    /// 1e-6); no element is split into children smaller than this.
+    #[arg(long, value_name = "A")]
+    pub min_area: Option<f64>,
     /// A reference solution to report the RMS error against (3D): a PLY written by
     /// `refine FILE.obj --ply` (its faces carry their radiosities), typically a finer run.
     #[arg(long, value_name = "REF.ply")]

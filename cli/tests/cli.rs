@@ -1,25 +1,10 @@
 //! The real `sceneinfo` binary, run as a user would.
 
+mod common;
+
 use std::path::PathBuf;
-use std::process::Command;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_sceneinfo"))
-}
-
-fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sceneinfo-cli-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-/// Drops the keys whose values are wall-clock times from a flat JSON object.
-fn without_timing(json: &str) -> String {
-    json.split(',')
-        .filter(|kv| !kv.contains("\"seconds\"") && !kv.contains("\"lines_per_second\""))
-        .collect::<Vec<_>>()
-        .join(",")
-}
+use common::{bin, number as json_number, preset, temp, without_timing};
 
 #[test]
 fn scene_then_measure_reproduces_table_3_4_first_cell() {
@@ -299,13 +284,7 @@ fn four_partials_merged_equal_one_run_bit_for_bit() {
 
 #[test]
 fn refine_flat_reports_its_keys_draws_and_writes_the_mesh() {
-    let scene = temp("refine-room.flat");
-    let st = bin()
-        .args(["scene", "catalogue", "refinement-1", "-o"])
-        .arg(&scene)
-        .status()
-        .unwrap();
-    assert!(st.success());
+    let scene = preset(&["catalogue", "refinement-1"], "refine-room.flat");
     let (svg, mesh) = (temp("refine.svg"), temp("refined.flat"));
     let run = |threads: &str| {
         bin()
@@ -380,23 +359,9 @@ fn refine_rejects_mismatched_oracles_and_obj_scenes_clearly() {
     assert!(err.contains("--oracle de refines flatland scenes"), "{err}");
 }
 
-/// The value of `"key":` in a flat JSON object.
-fn json_number(json: &str, key: &str) -> f64 {
-    let at = json.find(&format!("\"{key}\":")).unwrap() + key.len() + 3;
-    let rest = &json[at..];
-    let end = rest.find([',', '}']).unwrap();
-    rest[..end].parse().unwrap_or(f64::NAN)
-}
-
 #[test]
 fn refine_obj_runs_hierarchical_radiosity_draws_and_compares() {
-    let obj = temp("hr-cornell.obj");
-    let st = bin()
-        .args(["scene", "solid", "cornell", "-o"])
-        .arg(&obj)
-        .status()
-        .unwrap();
-    assert!(st.success());
+    let obj = preset(&["solid", "cornell"], "hr-cornell.obj");
     let (ply, png) = (temp("hr-mi.ply"), temp("hr-mi.png"));
     // Thresholds rather than --target keep the debug binary quick: mi at 1.5e-4 gives about
     // 150 leaves, power at 1e4 about 40.
@@ -476,4 +441,54 @@ fn refine_obj_runs_hierarchical_radiosity_draws_and_compares() {
     );
     let n = json_number(&String::from_utf8(out.stdout).unwrap(), "n_patches");
     assert!((30.0..=50.0).contains(&n), "{n}");
+}
+
+/// A fine mesh whose smallest leaves miss the lines still gives its pictures and mesh
+/// counts: the channel's measures are `null` with a warning saying how to get them, and the
+/// exit status is 0. Without `--lines` the budget doubles until every leaf is sampled.
+#[test]
+fn refine_obj_writes_its_outputs_when_some_leaf_misses_the_lines() {
+    let obj = preset(&["solid", "cornell"], "hr-fine-cornell.obj");
+    let (ply, png) = (temp("hr-fine.ply"), temp("hr-fine.png"));
+    // KS at 0.02 refines the junctions down to the smallest elements (2e-6 of the area).
+    let out = bin()
+        .arg("refine")
+        .arg(&obj)
+        .args([
+            "--oracle", "ks", "--eps", "0.02", "--lines", "2000", "--json",
+        ])
+        .arg("--ply")
+        .arg(&ply)
+        .arg("--png")
+        .arg(&png)
+        .args(["--size", "64x64"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("warning") && stderr.contains("received none of the 2000 global lines"),
+        "{stderr}"
+    );
+    let json = String::from_utf8(out.stdout).unwrap();
+    assert!(json.contains("\"i_s\":null"), "{json}");
+    assert!(json_number(&json, "n_patches") > 500.0, "{json}");
+    assert!(
+        std::fs::read_to_string(&ply)
+            .unwrap()
+            .contains("radiosity_red")
+    );
+    assert_eq!(&std::fs::read(&png).unwrap()[1..4], b"PNG");
+    // The automatic budget: the same mesh is measured once the lines reach every leaf.
+    let out = bin()
+        .arg("refine")
+        .arg(&obj)
+        .args(["--oracle", "ks", "--eps", "0.02", "--json"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let json = String::from_utf8(out.stdout).unwrap();
+    assert!(json_number(&json, "i_s") > 0.0, "{json}");
+    assert!(json_number(&json, "lines") > 1048576.0, "{json}");
 }

@@ -1,17 +1,10 @@
 //! `sceneinfo radiosity` through the real binary.
 
+mod common;
+
 use std::path::PathBuf;
-use std::process::Command;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_sceneinfo"))
-}
-
-fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sceneinfo-radiosity-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
+use common::{array, bin, number, temp, without_timing};
 
 fn run_json(args: &[&str], file: &PathBuf) -> String {
     let out = bin()
@@ -26,33 +19,6 @@ fn run_json(args: &[&str], file: &PathBuf) -> String {
         String::from_utf8_lossy(&out.stderr)
     );
     String::from_utf8(out.stdout).unwrap()
-}
-
-/// The number after `"key":`.
-fn number(json: &str, key: &str) -> f64 {
-    let at = json
-        .find(&format!("\"{key}\":"))
-        .unwrap_or_else(|| panic!("no {key} in {json}"));
-    let rest = &json[at + key.len() + 3..];
-    let end = rest.find([',', '}', ']']).unwrap();
-    rest[..end].parse().unwrap()
-}
-
-/// The array after `"key":`.
-fn array(json: &str, key: &str) -> Vec<f64> {
-    let at = json
-        .find(&format!("\"{key}\":["))
-        .unwrap_or_else(|| panic!("no {key} in {json}"));
-    let rest = &json[at + key.len() + 4..];
-    let end = rest.find(']').unwrap();
-    rest[..end].split(',').map(|x| x.parse().unwrap()).collect()
-}
-
-fn without_timing(json: &str) -> String {
-    json.split(',')
-        .filter(|kv| !kv.contains("\"seconds\""))
-        .collect::<Vec<_>>()
-        .join(",")
 }
 
 /// A flatland room lit by one white lamp, with a red wall: every key, constant-radiosity

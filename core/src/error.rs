@@ -69,11 +69,6 @@ pub enum ErrorKind {
     TrailingField(Token),
     /// The input is not valid UTF-8.
     InvalidUtf8,
-    /// A line is longer than the parser accepts.
-    LineTooLong {
-        /// The limit in bytes.
-        max: usize,
-    },
     /// An OBJ face refers to vertex 0 or to a vertex beyond those defined so far.
     FaceIndex {
         /// The index as written (negative indices count back from the last vertex).
@@ -217,6 +212,17 @@ pub enum ErrorKind {
         /// Its sum.
         sum: f64,
     },
+    /// Exact form factors whose rows sum above one beyond rounding: the scene's extent is
+    /// too large beside its shortest patch for `f64` (see
+    /// [`crate::formfactor::exact_2d::RESOLVED_RANGE`]).
+    PrecisionLoss {
+        /// The patch whose row overflows.
+        patch: usize,
+        /// Its row sum.
+        sum: f64,
+        /// The scene's extent (bounding-box diagonal) over its shortest patch's length.
+        range: f64,
+    },
     /// `P_ij > 0` towards a state of zero probability, so `p log(p/0)` is undefined.
     TransitionToNullState {
         /// Source state.
@@ -350,7 +356,6 @@ impl fmt::Display for ErrorKind {
             K::MissingField { field } => write!(f, "missing field {field}"),
             K::TrailingField(t) => write!(f, "unexpected extra field '{t}'"),
             K::InvalidUtf8 => write!(f, "input is not valid UTF-8"),
-            K::LineTooLong { max } => write!(f, "line longer than {max} bytes"),
             K::FaceIndex { index, count } => write!(
                 f,
                 "vertex index {index} out of range ({count} vertices defined so far; 0 is never valid)"
@@ -429,6 +434,13 @@ impl fmt::Display for ErrorKind {
             K::NegativeEntry { row, col } => write!(f, "entry ({row}, {col}) is negative"),
             K::NotNormalized { sum } => write!(f, "distribution sums to {sum}, not 1"),
             K::RowSumAboveOne { row, sum } => write!(f, "row {row} sums to {sum} > 1"),
+            K::PrecisionLoss { patch, sum, range } => write!(
+                f,
+                "exact form factors of patch {patch} sum to {sum} > 1: the scene spans {range:.2e} \
+                 times its shortest patch, too much for double precision (exact results are \
+                 guaranteed up to {:.0e}); rescale or split the scene, or estimate with --lines",
+                crate::formfactor::exact_2d::RESOLVED_RANGE
+            ),
             K::TransitionToNullState { row, col } => write!(
                 f,
                 "transition {row} -> {col} is positive but state {col} has probability 0"

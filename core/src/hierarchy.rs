@@ -18,6 +18,9 @@
 //!   elements, links and rays; the final mesh's radiosity at a point, its RMS difference
 //!   from a reference, Gouraud vertex colours and the leaves as a scene;
 //!   [`Hierarchy::build_to_target`] finds the threshold that gives a wanted mesh size.
+//! - [`compare_at_size`] (`alloc`): an oracle's mesh at a wanted size and its RMS error
+//!   against a reference that is fine everywhere ([`ReferenceOracle`],
+//!   [`Hierarchy::build_reference`]) — the comparisons of Figures 6.6 and 6.9.
 //!
 //! # Link form factors
 //!
@@ -28,6 +31,8 @@
 //! [`crate::radiosity::solve`].
 
 mod choice;
+#[cfg(feature = "alloc")]
+mod compare;
 mod element;
 mod kernel;
 #[cfg(feature = "alloc")]
@@ -43,6 +48,10 @@ mod tree;
 mod visibility;
 
 pub use choice::{MAX_REGULAR_LEVEL, ORACLE_NAMES, OracleChoice};
+#[cfg(feature = "alloc")]
+pub use compare::{
+    COMPARISON_RUNS, OracleComparison, ReferenceOracle, compare_at_size, emitted_power,
+};
 pub use element::Polygon4;
 pub use kernel::{
     KernelSamples, MAX_PAIRS, NoOccluders, RayCounter, Surface, Visibility, point_kernel,

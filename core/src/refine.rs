@@ -9,7 +9,9 @@
 //!   edge, a square in a corner, a radiosity gradient `lⁿ`).
 //! - [`discretisation`]: the discretisation error between two patches, `δ_ij = I_ij^c − I_ij`,
 //!   for visibility and radiosity, from patch-to-patch random point pairs (6.19, 6.24) or from
-//!   local/global lines (6.21, 6.27), and per patch `I_i^c − I_i`.
+//!   local/global lines (6.21, 6.27; for every pair at once from one line estimate:
+//!   `visibility_errors_from_lines`, `radiosity_errors_from_lines`), and per patch
+//!   `I_i^c − I_i`.
 //! - [`profile`] (alloc): `I^c` along every surface, tallied once from lines over a fine
 //!   copy of the scene, so the `I_i^c` of any patch of any later mesh is a difference of two
 //!   cumulative values.

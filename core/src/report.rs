@@ -407,9 +407,68 @@ pub fn measure_flat_json(text: &str) -> crate::Result<String> {
     Ok(measure_flat(&scene)?.to_json())
 }
 
+/// Measures a 3D scene with exact unoccluded form factors (the contour integral, 2.16, over
+/// each source polygon; [`crate::formfactor::exact_3d::form_factors_unoccluded`]).
+///
+/// # Errors
+/// [`crate::ErrorKind::MayBeOccluded`] when some polygon may hide part of another (exact 3D
+/// form factors are computed only for unoccluded scenes: estimate with lines instead); the
+/// errors of the exact form factors and of the channel constructor.
+#[cfg(feature = "alloc")]
+pub fn measure_solid(scene: &crate::scene::Scene) -> crate::Result<SceneReport> {
+    use crate::formfactor::exact_3d;
+    let polygons: alloc::vec::Vec<(usize, usize)> =
+        scene.patches().iter().map(|p| (p.first, p.count)).collect();
+    if exact_3d::may_be_occluded(scene.points(), &polygons) {
+        return Err(crate::ErrorKind::MayBeOccluded.into());
+    }
+    SceneReport::of(&exact_3d::form_factors_unoccluded(
+        scene.points(),
+        &polygons,
+    )?)
+}
+
+/// Parses OBJ text (its `mtllib` libraries looked up by `mtl`, as [`crate::io::parse_obj`]
+/// does; faces not subdivided), measures it with [`measure_solid`] and returns the JSON
+/// report (the function behind the wasm `measureObj`).
+///
+/// # Errors
+/// Parse errors (with their line) and the errors of [`measure_solid`].
+#[cfg(feature = "alloc")]
+pub fn measure_obj_json(
+    obj: &str,
+    mtl: impl Fn(&str) -> Option<alloc::string::String>,
+) -> crate::Result<alloc::string::String> {
+    let scene = crate::io::parse_obj(obj, crate::scene::Subdivision::None, mtl)?;
+    Ok(measure_solid(&scene)?.to_json())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The unit cube as an enclosure: exact form factors give the cube's measures (the
+    /// faces' F are the textbook 0.19982 facing / 0.20004 adjacent); a box inside it may hide
+    /// faces and is refused with the reason.
+    #[test]
+    fn obj_cube_is_measured_and_an_occluded_scene_refused() {
+        let cube = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+                    f 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\nf 4 8 5 1\n";
+        let json = measure_obj_json(cube, |_| None).unwrap();
+        assert!(json.starts_with("{\"n_patches\":6,"), "{json}");
+        let report = measure_solid(
+            &crate::io::parse_obj(cube, crate::scene::Subdivision::None, |_| None).unwrap(),
+        )
+        .unwrap();
+        // Uniform cube: H_P = log2 6; F_facing = 0.19982, F_adjacent = 0.20004 (×4)
+        assert!((report.measures.h_p - libm::log2(6.0)).abs() < 1e-12);
+        let (f, g) = (0.199_824_8, 0.200_043_8);
+        let h_s = -(f * libm::log2(f) + 4.0 * g * libm::log2(g));
+        assert!((report.measures.h_s - h_s).abs() < 1e-5, "{report:?}");
+        let inner = "v 0.4 0.4 0.4\nv 0.6 0.4 0.4\nv 0.6 0.6 0.4\nv 0.4 0.6 0.4\nf 12 11 10 9\n";
+        let err = measure_obj_json(&alloc::format!("{cube}{inner}"), |_| None).unwrap_err();
+        assert_eq!(err.kind(), &crate::ErrorKind::MayBeOccluded);
+    }
 
     #[test]
     fn json_escapes_and_nulls() {

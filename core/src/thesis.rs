@@ -464,3 +464,15 @@ pub const SECTION_6_1_GRADIENT_CUTS: [(u32, f64, f64); 4] = [
     (3, 0.68, 0.72),
     (4, 0.74, 0.77),
 ];
+
+/// Figure 6.6: leaves of the Cornell box meshes of the power-based, KS-based (2.50) and
+/// MI-based (6.30) oracles, coarse (I) and fine (II), with 10 point pairs per evaluation.
+pub const FIGURE_6_6_PATCHES: [(&str, usize, usize); 3] = [
+    ("power", 1051, 1979),
+    ("ks-av", 1039, 1955),
+    ("mi", 1047, 1995),
+];
+
+/// Figure 6.9: leaves of the KS-based and MI-based Cornell box meshes with 4 point pairs
+/// per evaluation (the robustness experiment).
+pub const FIGURE_6_9_PATCHES: [(&str, usize); 2] = [("ks-av", 875), ("mi", 891)];

@@ -77,7 +77,17 @@ pub fn check(data: &[u8]) -> Outcome {
     // Exact form factors: closed (with the background), reciprocal, identities exact
     let ff = match exact_2d::form_factors(&scene) {
         Ok(ff) => ff,
-        Err(err) => return invariants::refused(&err, &case),
+        Err(err) => {
+            // Losing precision is allowed only where the core says it may happen.
+            if let sceneinfo::ErrorKind::PrecisionLoss { range, .. } = *err.kind()
+                && range <= exact_2d::RESOLVED_RANGE
+            {
+                fail(format!(
+                    "exact form factors lost precision on a scene of range {range:e}: {err}"
+                ));
+            }
+            return invariants::refused(&err, &case);
+        }
     };
     if ff.n_patches() != scene.n_patches() {
         fail(format!(

@@ -90,7 +90,9 @@ pub fn check_channel<M: Transitions>(channel: &Channel<'_, M>) -> Result<Measure
         ("h_j", m.h_j),
         ("e_mse", m.e_mse),
     ] {
-        if v < -slack {
+        // Entropies and E(MSE) are sums of non-negative terms (probabilities accepted a
+        // rounding above one count as one), so not even a rounding below zero is allowed.
+        if v < 0.0 {
             return Err(format!("{name} = {v} is negative ({m:?})"));
         }
     }

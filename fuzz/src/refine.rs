@@ -39,7 +39,7 @@ pub const GAIN_TOLERANCE: f64 = 1e-8;
 /// over a piece 10⁻⁶ as long: rows drift by ~10⁻¹⁰ and worse, see `tests/extremes.rs`), so
 /// that Proposition 3's 1e-9 check on the split may fail on their rounding. For such
 /// scenes a refused split is accepted; an accepted one must still satisfy everything.
-pub const RESOLVED_PATCH: f64 = 1e-6;
+pub const RESOLVED_PATCH: f64 = 1.0 / exact_2d::RESOLVED_RANGE;
 
 /// Whether every patch of `scene` is at least [`RESOLVED_PATCH`] of its extent.
 fn resolved(scene: &FlatScene) -> bool {

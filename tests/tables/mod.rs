@@ -2,6 +2,7 @@
 
 mod catalogue;
 mod chapter5;
+mod chapter6_hierarchy;
 mod continuous;
 mod pictured3d;
 mod refinement_cuts;

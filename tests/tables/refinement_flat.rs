@@ -158,6 +158,19 @@ fn check_table_6_2(name: &str) {
     // The thesis' rows keep the same order (a check of the data as copied).
     let thesis: Vec<_> = TABLE_6_2.iter().filter(|r| r.scene == name).collect();
     assert_eq!(thesis.len(), 3);
+    // E(MSE) per global line (Table 6.2's normalisation): ours / thesis is 1.02–1.03 in
+    // scene I and 0.93–0.95 in scene II (its integers round by up to 0.8 %). The 8 %
+    // allows the thesis' lines behaving as 0.93 × ours (chapters 3, 4) and our own
+    // geometry of scene I; unnormalised E(MSE) is 2.9 × the thesis'.
+    for (ours, t) in last.iter().zip(&thesis) {
+        let ratio = ours.e_mse_per_line / t.e_mse;
+        assert!(
+            (0.92..1.08).contains(&ratio),
+            "{name}: E(MSE) {ours:?} vs {}",
+            t.e_mse
+        );
+        assert!(ours.e_mse / t.e_mse > 2.5);
+    }
     assert!(thesis[2].i_s > thesis[0].i_s && thesis[2].i_s > thesis[1].i_s);
 }
 

@@ -9,7 +9,7 @@
 //! # JavaScript API
 //!
 //! ```text
-//! import init, { FlatLab, catalogue, measureFlat } from './pkg/sceneinfo_wasm.js';
+//! import init, { FlatLab, catalogue, measureFlat, measureObj } from './pkg/sceneinfo_wasm.js';
 //! await init();
 //! const lab = new FlatLab('poly 3 0 0 1 0 0.5 0.8660254 per_side 10');  // or FlatLab.preset('koch-0', 10)
 //! JSON.parse(lab.measures()).i_s;     // 1.168… bits: exact I_S (3.8)
@@ -20,6 +20,7 @@
 //! const run = job.finish();           // LineResult: JSON like `sceneinfo measure --lines`
 //! run.patchContinuous();              // Float64Array of I_i^c (6.37)
 //! const refiner = lab.refiner('de', 1e6, 1);   // one refinement step at a time
+//! JSON.parse(measureObj(objText, ['room.mtl'], [mtlText])).i_s;  // exact, unoccluded 3D
 //! ```
 //!
 //! # Crate features
@@ -57,6 +58,44 @@ pub fn start() {
 #[wasm_bindgen(js_name = measureFlat)]
 pub fn measure_flat(text: &str) -> Result<String, JsError> {
     sceneinfo::report::measure_flat_json(text).map_err(into_error)
+}
+
+/// Measures a 3D scene given as OBJ text with exact form factors, when no polygon can hide
+/// another (an enclosure such as a cube or a platonic solid).
+///
+/// `mtlNames[k]` is the name an `mtllib` statement uses for the library text `mtlTexts[k]`
+/// (a browser has no file system to look it up in). Faces are not subdivided. Returns the
+/// JSON object of [`sceneinfo::report::measure_obj_json`], with the keys of
+/// [`measure_flat`].
+///
+/// # Errors
+///
+/// Throws a JavaScript `Error` with the core's message: `"line N: …"` for OBJ or MTL text
+/// that does not parse (the `sceneinfo measure` CLI prints the same after `FILE:`), and
+/// the core's refusal for a scene in which some polygon may hide another, or for
+/// `mtlNames` and `mtlTexts` of different lengths.
+#[wasm_bindgen(js_name = measureObj)]
+pub fn measure_obj(
+    obj: &str,
+    #[wasm_bindgen(js_name = mtlNames)] mtl_names: Vec<String>,
+    #[wasm_bindgen(js_name = mtlTexts)] mtl_texts: Vec<String>,
+) -> Result<String, JsError> {
+    if mtl_names.len() != mtl_texts.len() {
+        return Err(into_error(
+            sceneinfo::ErrorKind::DimensionMismatch {
+                expected: mtl_names.len(),
+                found: mtl_texts.len(),
+            }
+            .into(),
+        ));
+    }
+    let library = |name: &str| {
+        mtl_names
+            .iter()
+            .position(|n| n == name)
+            .and_then(|k| mtl_texts.get(k).cloned())
+    };
+    sceneinfo::report::measure_obj_json(obj, library).map_err(into_error)
 }
 
 /// The relative discretisation error `δ̄ = (I_S^c − I_S) / I_S^c` (thesis §4.4.2), 0 when

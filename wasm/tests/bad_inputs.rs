@@ -2,7 +2,8 @@
 //! file of `tests/data/bad/expected.txt` that a JavaScript string can hold (valid UTF-8)
 //! and that needs no command-line argument, `measureFlat` — and `new FlatLab` followed by
 //! `measures()` — throw a JavaScript `Error` whose message is exactly the catalogue's core
-//! message, the text the CLI prints after `FILE:`.
+//! message, the text the CLI prints after `FILE:`; for every such `.obj` file,
+//! `measureObj` (given the catalogue's `.mtl` libraries) does.
 //!
 //! Run on wasm32 by `wasm-bindgen-test-runner`: `cargo test -p sceneinfo-wasm --target
 //! wasm32-unknown-unknown` (scripts/test.sh does).
@@ -10,14 +11,14 @@
 #![cfg(target_arch = "wasm32")]
 
 use sceneinfo_wasm::FlatLab;
-use sceneinfo_wasm::measure_flat;
+use sceneinfo_wasm::{measure_flat, measure_obj};
 use wasm_bindgen::{JsCast, JsError, JsValue};
 use wasm_bindgen_test::wasm_bindgen_test;
 
 /// The catalogue's table.
 const EXPECTED: &str = include_str!("../../tests/data/bad/expected.txt");
 
-/// Every `.flat` file of the catalogue that takes no argument, by name.
+/// Every `.flat` and `.obj` file of the catalogue that takes no argument, by name.
 const FILES: &[(&str, &[u8])] = &[
     (
         "binary_garbage.flat",
@@ -50,6 +51,10 @@ const FILES: &[(&str, &[u8])] = &[
     (
         "empty.flat",
         include_bytes!("../../tests/data/bad/empty.flat"),
+    ),
+    (
+        "exact_precision_lost.flat",
+        include_bytes!("../../tests/data/bad/exact_precision_lost.flat"),
     ),
     (
         "exact_form_factors_too_many_patches.flat",
@@ -191,6 +196,122 @@ const FILES: &[(&str, &[u8])] = &[
         "zero_length_segment.flat",
         include_bytes!("../../tests/data/bad/zero_length_segment.flat"),
     ),
+    (
+        "obj_bow_tie_face.obj",
+        include_bytes!("../../tests/data/bad/obj_bow_tie_face.obj"),
+    ),
+    (
+        "obj_duplicate_face.obj",
+        include_bytes!("../../tests/data/bad/obj_duplicate_face.obj"),
+    ),
+    (
+        "obj_emittance_negative.obj",
+        include_bytes!("../../tests/data/bad/obj_emittance_negative.obj"),
+    ),
+    (
+        "obj_empty.obj",
+        include_bytes!("../../tests/data/bad/obj_empty.obj"),
+    ),
+    (
+        "obj_face_before_vertices.obj",
+        include_bytes!("../../tests/data/bad/obj_face_before_vertices.obj"),
+    ),
+    (
+        "obj_face_index_out_of_range.obj",
+        include_bytes!("../../tests/data/bad/obj_face_index_out_of_range.obj"),
+    ),
+    (
+        "obj_face_index_zero.obj",
+        include_bytes!("../../tests/data/bad/obj_face_index_zero.obj"),
+    ),
+    (
+        "obj_face_negative_index_out_of_range.obj",
+        include_bytes!("../../tests/data/bad/obj_face_negative_index_out_of_range.obj"),
+    ),
+    (
+        "obj_face_two_vertices.obj",
+        include_bytes!("../../tests/data/bad/obj_face_two_vertices.obj"),
+    ),
+    (
+        "obj_inf_vertex.obj",
+        include_bytes!("../../tests/data/bad/obj_inf_vertex.obj"),
+    ),
+    (
+        "obj_invalid_utf8.obj",
+        include_bytes!("../../tests/data/bad/obj_invalid_utf8.obj"),
+    ),
+    (
+        "obj_missing_library.obj",
+        include_bytes!("../../tests/data/bad/obj_missing_library.obj"),
+    ),
+    (
+        "obj_nan_vertex.obj",
+        include_bytes!("../../tests/data/bad/obj_nan_vertex.obj"),
+    ),
+    (
+        "obj_non_convex_face.obj",
+        include_bytes!("../../tests/data/bad/obj_non_convex_face.obj"),
+    ),
+    (
+        "obj_non_planar_face.obj",
+        include_bytes!("../../tests/data/bad/obj_non_planar_face.obj"),
+    ),
+    (
+        "obj_only_comments.obj",
+        include_bytes!("../../tests/data/bad/obj_only_comments.obj"),
+    ),
+    (
+        "obj_only_vertices.obj",
+        include_bytes!("../../tests/data/bad/obj_only_vertices.obj"),
+    ),
+    (
+        "obj_overlapping_coplanar_faces.obj",
+        include_bytes!("../../tests/data/bad/obj_overlapping_coplanar_faces.obj"),
+    ),
+    (
+        "obj_reflectance_one.obj",
+        include_bytes!("../../tests/data/bad/obj_reflectance_one.obj"),
+    ),
+    (
+        "obj_repeated_vertex.obj",
+        include_bytes!("../../tests/data/bad/obj_repeated_vertex.obj"),
+    ),
+    (
+        "obj_self_intersecting_face.obj",
+        include_bytes!("../../tests/data/bad/obj_self_intersecting_face.obj"),
+    ),
+    (
+        "obj_unknown_keyword.obj",
+        include_bytes!("../../tests/data/bad/obj_unknown_keyword.obj"),
+    ),
+    (
+        "obj_unknown_material.obj",
+        include_bytes!("../../tests/data/bad/obj_unknown_material.obj"),
+    ),
+    (
+        "obj_vertex_missing_z.obj",
+        include_bytes!("../../tests/data/bad/obj_vertex_missing_z.obj"),
+    ),
+    (
+        "obj_zero_area_face.obj",
+        include_bytes!("../../tests/data/bad/obj_zero_area_face.obj"),
+    ),
+];
+
+/// The material libraries of the catalogue, by the name an `mtllib` statement uses.
+const LIBRARIES: &[(&str, &str)] = &[
+    (
+        "emittance_negative.mtl",
+        include_str!("../../tests/data/bad/emittance_negative.mtl"),
+    ),
+    (
+        "materials.mtl",
+        include_str!("../../tests/data/bad/materials.mtl"),
+    ),
+    (
+        "reflectance_one.mtl",
+        include_str!("../../tests/data/bad/reflectance_one.mtl"),
+    ),
 ];
 
 /// The message of a thrown `JsError`.
@@ -199,26 +320,73 @@ fn message(err: JsError) -> String {
     String::from(err.message())
 }
 
-/// `(file, message)` for the `.flat` lines of the table without arguments.
-fn flat_entries() -> Vec<(String, String)> {
+/// `(file, message)` for the lines of the table without arguments whose file name ends
+/// with `ext`.
+fn entries(ext: &str) -> Vec<(String, String)> {
     EXPECTED
         .lines()
         .filter(|l| !l.trim().is_empty() && !l.starts_with('#'))
         .filter_map(|l| {
             let fields: Vec<&str> = l.splitn(3, " | ").collect();
             let (file, args, msg) = (fields[0].trim(), fields[1].trim(), fields[2].trim());
-            (file.ends_with(".flat") && args.is_empty()).then(|| (file.into(), msg.into()))
+            (file.ends_with(ext) && args.is_empty()).then(|| (file.into(), msg.into()))
         })
         .collect()
 }
 
+/// The `.flat` entries of the table without arguments.
+fn flat_entries() -> Vec<(String, String)> {
+    entries(".flat")
+}
+
 #[wasm_bindgen_test]
-fn every_flat_file_of_the_catalogue_is_included() {
-    let mut listed: Vec<String> = flat_entries().into_iter().map(|(f, _)| f).collect();
+fn every_catalogue_file_is_included() {
+    let mut listed: Vec<String> = flat_entries()
+        .into_iter()
+        .chain(entries(".obj"))
+        .map(|(f, _)| f)
+        .collect();
     let mut included: Vec<String> = FILES.iter().map(|(f, _)| (*f).into()).collect();
     listed.sort();
     included.sort();
     assert_eq!(listed, included, "add the new catalogue files to FILES");
+}
+
+/// Every OBJ file of the catalogue that a JavaScript string can hold: `measureObj`, given
+/// the catalogue's material libraries, throws the core's message.
+#[wasm_bindgen_test]
+fn bad_obj_inputs_throw_the_core_message() {
+    let names: Vec<String> = LIBRARIES.iter().map(|(n, _)| (*n).into()).collect();
+    let texts: Vec<String> = LIBRARIES.iter().map(|(_, t)| (*t).into()).collect();
+    let mut failures = Vec::new();
+    let mut checked = 0;
+    for (file, want) in entries(".obj") {
+        let bytes = FILES.iter().find(|(f, _)| *f == file).map(|(_, b)| *b);
+        let Some(Ok(text)) = bytes.map(core::str::from_utf8) else {
+            continue; // not valid UTF-8: no JavaScript string holds it
+        };
+        checked += 1;
+        let got = measure_obj(text, names.clone(), texts.clone())
+            .map(|_| ())
+            .map_err(message);
+        if got.as_ref().err().map(String::as_str) != Some(want.as_str()) {
+            failures.push(format!("{file}: want {want:?}, got {got:?}"));
+        }
+    }
+    assert!(checked >= 20, "only {checked} OBJ catalogue files checked");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// `measureObj` measures an unoccluded enclosure, and refuses libraries given as arrays of
+/// different lengths.
+#[wasm_bindgen_test]
+fn measure_obj_measures_a_cube_and_checks_its_arguments() {
+    let cube = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+                f 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\nf 4 8 5 1\n";
+    let json = measure_obj(cube, vec![], vec![]).unwrap_or_else(|e| panic!("{}", message(e)));
+    assert!(json.starts_with("{\"n_patches\":6,"), "{json}");
+    let err = measure_obj(cube, vec!["a.mtl".into()], vec![]).map_err(message);
+    assert_eq!(err, Err("size mismatch: expected 1, found 0".into()));
 }
 
 #[wasm_bindgen_test]

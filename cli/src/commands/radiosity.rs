@@ -3,9 +3,11 @@
 //! and optionally write the lit scene as a PLY mesh.
 //!
 //! Form factors are exact (flatland; 3D when nothing can be occluded) or, with `--lines`,
-//! Monte Carlo. With lines the run casts them twice with the same seed: once for `F`, then —
-//! once `B` is known — again through a [`RadiosityTracer`] for the continuous radiosity
-//! mutual information (5.20) and the visibility one of the same lines.
+//! Monte Carlo: [`estimate_lit`] casts the lines once for `F`, the visibility `I_S^c` and
+//! the per-pair moments from which the continuous radiosity mutual information (5.20)
+//! follows once `B` is solved (scenes of more than
+//! [`sceneinfo::radiosity::continuous::PAIR_MOMENT_LIMIT`] patches cast the same lines a
+//! second time instead).
 
 use std::fmt::Write as _;
 use std::io::Write;
@@ -18,7 +20,7 @@ use sceneinfo::formfactor::estimate_2d::FlatTracer;
 use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::formfactor::tally::{LineMethod, LineTracer};
-use sceneinfo::radiosity::continuous::estimate_lit;
+use sceneinfo::radiosity::continuous::{PAIR_MOMENT_LIMIT, estimate_lit};
 use sceneinfo::radiosity::display::{ToneMap, gouraud_mesh};
 use sceneinfo::radiosity::rgb::{
     self, CHANNEL_NAMES, RgbSolution, flat_patch_materials, patch_materials,
@@ -152,8 +154,8 @@ fn solve(
     })
 }
 
-/// Monte Carlo form factors, the solve, then the same lines again for `I_S^c`
-/// ([`estimate_lit`] on this process' threads).
+/// Monte Carlo form factors, the solve and `I_S^c` from the same lines ([`estimate_lit`] on
+/// this process' threads).
 fn with_lines<T: LineTracer + Sync>(
     tracer: &T,
     materials: Vec<Material>,
@@ -279,10 +281,15 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
         Some(l) => {
             let _ = writeln!(
                 s,
-                "form factors          {} : {} lines, seed {} (cast twice: F, then I_S^c)",
+                "form factors          {} : {} lines, seed {} ({})",
                 method_name(l.method),
                 l.lines,
-                l.seed
+                l.seed,
+                if r.ff.n_patches() <= PAIR_MOMENT_LIMIT {
+                    "cast once for F, I_S^c and radiosity I_S^c"
+                } else {
+                    "cast twice: F, then radiosity I_S^c"
+                }
             );
         }
     }

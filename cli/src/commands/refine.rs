@@ -61,6 +61,7 @@ impl FlatConfig {
             ("--png", args.png.is_some()),
             ("--reference", args.reference.is_some()),
             ("--pairs", args.pairs.is_some()),
+            ("--min-area", args.min_area.is_some()),
             ("--eye", args.eye.is_some()),
             ("--look", args.look.is_some()),
         ] {
@@ -200,6 +201,7 @@ fn json(
     o.number("h_s", last.h_s)?;
     o.number("h_j", last.h_j)?;
     o.number("e_mse", last.e_mse)?;
+    o.number("e_mse_per_line", last.e_mse_per_line)?;
     o.number("i_s_continuous", last.i_s_continuous)?;
     o.number("i_s_continuous_stderr", last.i_s_continuous_stderr)?;
     o.number("rel_discretisation_error", last.rel_discretisation_error)?;

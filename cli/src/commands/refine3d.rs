@@ -11,11 +11,13 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
+use sceneinfo::ErrorKind;
 use sceneinfo::continuous::relative_discretisation_error;
 use sceneinfo::formfactor::estimate_2d::LineMethod;
 use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::geom::DVec3;
 use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, MAX_PAIRS, OracleChoice};
+use sceneinfo::lines::{CHUNK_LINES, chunk_count};
 use sceneinfo::report::JsonObject;
 use sceneinfo::scene::Scene;
 
@@ -27,8 +29,12 @@ use crate::svg::Rgb;
 
 /// Leaves aimed at when neither `--eps` nor `--target` is given.
 pub const DEFAULT_TARGET: usize = 1000;
-/// Global lines that measure the final mesh's channel when `--lines` is not given.
-pub const DEFAULT_LINES: u64 = 1_000_000;
+/// Global lines that first measure the final mesh's channel when `--lines` is not given
+/// (16 seeded chunks, `2²⁰`).
+pub const DEFAULT_LINES: u64 = 16 * CHUNK_LINES;
+/// Most global lines the automatic budget doubles up to (`2²⁵`, 32 × [`DEFAULT_LINES`]) for
+/// every leaf to receive some.
+pub const MAX_AUTO_LINES: u64 = 32 * DEFAULT_LINES;
 
 /// The validated settings.
 #[derive(Debug)]
@@ -37,7 +43,10 @@ struct Config {
     eps: Option<f64>,
     target: usize,
     options: HrOptions,
+    /// The first line budget of the mesh's measures.
     lines: u64,
+    /// Whether the budget may double (no `--lines`) until every leaf is sampled.
+    auto_lines: bool,
     threads: usize,
 }
 
@@ -78,6 +87,10 @@ impl Config {
             Some(t) => t,
             None => DEFAULT_TARGET,
         };
+        let min_area = args.min_area.unwrap_or(HrOptions::default().min_area);
+        if !(min_area.is_finite() && (0.0..1.0).contains(&min_area)) {
+            bail!("{file}: --min-area {min_area} must be a fraction of the scene's area, 0 to 1");
+        }
         let lines = args.lines.unwrap_or(DEFAULT_LINES);
         if lines == 0 {
             return Err(located(&args.file, &sceneinfo::ErrorKind::NoLines.into()));
@@ -92,15 +105,18 @@ impl Config {
             options: HrOptions {
                 pairs,
                 seed: args.seed,
+                min_area,
                 ..HrOptions::default()
             },
             lines,
+            auto_lines: args.lines.is_none(),
             threads,
         })
     }
 }
 
-/// The final mesh's channel, from global lines over its leaves.
+/// The final mesh's channel, from global lines over its leaves: NaN measures (JSON `null`)
+/// and a warning when some leaf received none of the lines.
 #[derive(Debug)]
 struct MeshMeasures {
     n_patches: usize,
@@ -110,6 +126,10 @@ struct MeshMeasures {
     i_s_continuous: f64,
     i_s_continuous_stderr: f64,
     background: bool,
+    /// Global lines cast.
+    lines: u64,
+    /// Why the measures are missing.
+    warning: Option<String>,
 }
 
 /// Runs `refine` on a `.obj` scene.
@@ -132,17 +152,22 @@ pub fn run(args: &RefineArgs) -> Result<()> {
             .map_err(at)?,
     };
     let hr_seconds = start.elapsed().as_secs_f64();
-    let measures = measure(&h, &config, args.seed).map_err(at)?;
-    let rms = match &args.reference {
-        Some(path) => Some(rms_error(&h, path)?),
-        None => None,
-    };
+    // The pictures and the RMS error need only the hierarchy: they come first, so a mesh
+    // whose channel cannot be measured still gives them.
     if let Some(path) = &args.ply {
         write_atomic(path, mesh_ply(&h, &args.file, &config, eps)?.as_bytes())?;
     }
     if let Some(path) = &args.png {
         let png = render(&h, &scene, args)?;
         write_atomic(path, &png)?;
+    }
+    let rms = match &args.reference {
+        Some(path) => Some(rms_error(&h, path)?),
+        None => None,
+    };
+    let measures = measure(&h, &config, args.seed, &args.file)?;
+    if let Some(w) = &measures.warning {
+        eprintln!("sceneinfo: warning: {}: {w}", args.file.display());
     }
     let seconds = start.elapsed().as_secs_f64();
     let report = Report {
@@ -164,28 +189,73 @@ pub fn run(args: &RefineArgs) -> Result<()> {
     Ok(())
 }
 
-/// The leaves' channel: discrete measures and `I_S^c` from `config.lines` global lines.
-fn measure(h: &Hierarchy, config: &Config, seed: u64) -> sceneinfo::Result<MeshMeasures> {
-    let leaves = h.leaf_scene()?;
-    let tracer = SceneTracer::new(&leaves)?;
-    let est = crate::lines::run(
-        &tracer,
-        LineMethod::Global,
-        seed,
-        config.lines,
-        config.threads,
-    )
-    .finish(&tracer)?;
-    let m = est.form_factors.channel()?.measures();
-    Ok(MeshMeasures {
-        n_patches: leaves.n_patches(),
-        i_s: m.i_s,
-        h_s: m.h_s,
-        h_j: m.h_j,
-        i_s_continuous: est.continuous.value,
-        i_s_continuous_stderr: est.continuous.stderr,
-        background: est.form_factors.has_background(),
-    })
+/// The leaves' channel: discrete measures and `I_S^c` from global lines.
+///
+/// A global line meets a leaf with a probability proportional to its area, so the smallest
+/// leaves of a fine mesh may receive none of `config.lines`. Without `--lines` the budget
+/// then doubles — the tally grows by the seeded chunks of the larger job, so the result
+/// equals one run of the final budget — up to [`MAX_AUTO_LINES`]. A leaf still unsampled
+/// after that (or with `--lines` given) leaves the measures NaN, with a warning that says
+/// how many lines to ask for.
+fn measure(h: &Hierarchy, config: &Config, seed: u64, file: &Path) -> Result<MeshMeasures> {
+    let at = |e: sceneinfo::Error| located(file, &e);
+    let leaves = h.leaf_scene().map_err(at)?;
+    let tracer = SceneTracer::new(&leaves).map_err(at)?;
+    let mut lines = config.lines;
+    let mut tally = crate::lines::run(&tracer, LineMethod::Global, seed, lines, config.threads);
+    loop {
+        let unsampled = match tally.clone().finish(&tracer) {
+            Ok(est) => {
+                let m = est.form_factors.channel().map_err(at)?.measures();
+                return Ok(MeshMeasures {
+                    n_patches: leaves.n_patches(),
+                    i_s: m.i_s,
+                    h_s: m.h_s,
+                    h_j: m.h_j,
+                    i_s_continuous: est.continuous.value,
+                    i_s_continuous_stderr: est.continuous.stderr,
+                    background: est.form_factors.has_background(),
+                    lines,
+                    warning: None,
+                });
+            }
+            Err(e) => match e.kind() {
+                ErrorKind::UnsampledPatch { patch, .. } => *patch,
+                _ => return Err(at(e)),
+            },
+        };
+        crate::interrupt::stop_if_requested()?;
+        if !config.auto_lines || lines >= MAX_AUTO_LINES {
+            let area = leaves.patches()[unsampled].area / leaves.total_area();
+            return Ok(MeshMeasures {
+                n_patches: leaves.n_patches(),
+                i_s: f64::NAN,
+                h_s: f64::NAN,
+                h_j: f64::NAN,
+                i_s_continuous: f64::NAN,
+                i_s_continuous_stderr: f64::NAN,
+                background: false,
+                lines,
+                warning: Some(format!(
+                    "the mesh's channel is not measured: leaf {unsampled} ({area:.1e} of the \
+                     scene's area) received none of the {lines} global lines; cast more with \
+                     --lines (about {:.0e}), or bound the leaves with --min-area",
+                    (20.0 / area).max(2.0 * lines as f64)
+                )),
+            });
+        }
+        let more = 2 * lines;
+        let extra = crate::lines::run_chunks(
+            &tracer,
+            LineMethod::Global,
+            seed,
+            more,
+            chunk_count(lines)..chunk_count(more),
+            config.threads,
+        );
+        tally.merge(&extra);
+        lines = more;
+    }
 }
 
 /// Reads a reference solution: a PLY written by `refine --ply` (faces with float
@@ -457,7 +527,7 @@ impl Report<'_> {
         o.string("budget_hit", budget_name(h.budget_hit()))?;
         o.integer("passes", u64::from(h.passes()))?;
         o.integer("iterations", h.iterations())?;
-        o.integer("lines", self.config.lines)?;
+        o.integer("lines", m.lines)?;
         o.integer("seed", seed)?;
         o.number("seconds", self.seconds)?;
         o.finish()?;
@@ -486,18 +556,26 @@ impl Report<'_> {
             self.hr_seconds,
             budget_name(h.budget_hit())
         );
-        let _ = writeln!(
-            s,
-            "I_S, H_S, H_J         {:.4}, {:.4}, {:.4} bits ({} global lines)",
-            m.i_s, m.h_s, m.h_j, self.config.lines
-        );
-        let _ = writeln!(
-            s,
-            "I_S^c (4.13)          {:.4} ± {:.4} bits; δ̄ = {:.2} %",
-            m.i_s_continuous,
-            m.i_s_continuous_stderr,
-            100.0 * relative_discretisation_error(m.i_s_continuous, m.i_s)
-        );
+        if m.warning.is_some() {
+            let _ = writeln!(
+                s,
+                "I_S, H_S, H_J, I_S^c  not measured: a leaf received none of {} global lines",
+                m.lines
+            );
+        } else {
+            let _ = writeln!(
+                s,
+                "I_S, H_S, H_J         {:.4}, {:.4}, {:.4} bits ({} global lines)",
+                m.i_s, m.h_s, m.h_j, m.lines
+            );
+            let _ = writeln!(
+                s,
+                "I_S^c (4.13)          {:.4} ± {:.4} bits; δ̄ = {:.2} %",
+                m.i_s_continuous,
+                m.i_s_continuous_stderr,
+                100.0 * relative_discretisation_error(m.i_s_continuous, m.i_s)
+            );
+        }
         if let Some(r) = self.rms {
             let _ = writeln!(s, "RMS error             {r:.6} (against the reference)");
         }

@@ -4,7 +4,8 @@
 //! and the flatland catalogue of §4.5.2 (global lines; `--lines` per scene, fixed seed).
 //! Chapter 5 (the radiosity channel) lives in [`chapter5`].
 //! Chapter 6 ([`refinement_flat`]): the single cuts of §6.1, and in flatland Fig. 6.12,
-//! Tables 6.1 and 6.2, Fig. 6.19.
+//! Tables 6.1 and 6.2, Fig. 6.19; in 3D ([`chapter6_hierarchy`]) Figs. 6.6 and 6.9, the
+//! oracles of hierarchical radiosity compared on the Cornell box.
 
 use std::fmt::Write as _;
 use std::io::Write;
@@ -26,6 +27,7 @@ use sceneinfo::thesis::{
 use crate::args::ReproduceArgs;
 
 mod chapter5;
+mod chapter6_hierarchy;
 mod pictured3d;
 mod refinement_flat;
 
@@ -92,8 +94,12 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
         }),
     };
     sceneinfo::lines::check_line_budget(runner.lines).map_err(|e| anyhow!("{e}"))?;
-    let mut tables = chapter_3()?;
-    if !args.chapter_3_only {
+    let mut tables = if args.chapter_5_only {
+        chapter5::tables(&runner, args.full)?
+    } else {
+        chapter_3()?
+    };
+    if !args.chapter_3_only && !args.chapter_5_only {
         tables.push(table_4_10(&runner)?);
         tables.push(table_4_11(&runner)?);
         tables.push(table_4_12(&runner)?);
@@ -108,10 +114,11 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
         if args.full {
             tables.push(table_3_3(&runner)?);
         }
-        tables.extend(chapter5::tables(&runner)?);
+        tables.extend(chapter5::tables(&runner, args.full)?);
         tables.push(refinement_flat::section_6_1()?);
         tables.push(refinement_flat::table_6_1()?);
         tables.extend(refinement_flat::table_6_2(&runner)?);
+        tables.push(chapter6_hierarchy::figures_6_6_and_6_9(&runner)?);
     }
     let seconds = start.elapsed().as_secs_f64();
     let mut out = std::io::stdout().lock();

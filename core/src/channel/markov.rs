@@ -2,7 +2,7 @@
 //! entropy (2.60) and excess entropy (2.64) — thesis §2.1.8, §2.2.3 and Proposition 1.
 
 use super::matrix::check_entry;
-use super::measures::row_entropy;
+use super::measures::{eta_prob, row_entropy};
 use super::{Channel, Transitions};
 use crate::error::{Error, ErrorKind, Result};
 use crate::math::{self, KahanSum};
@@ -189,7 +189,7 @@ fn extend<M: Transitions>(p: &M, state: usize, prob: f64, remaining: usize, walk
         return;
     }
     if remaining == 0 {
-        walk.h.add(math::eta(prob));
+        walk.h.add(eta_prob(prob));
         return;
     }
     p.for_each_in_row(state, |j, p_ij| {

@@ -38,8 +38,9 @@
 //! `F_{x→j}` within 1e-10.
 //!
 //! Cost per pair is `O(m + e·k log k)` for `m` surfaces, `k` relevant occluders and `e`
-//! events; the whole matrix is computed once per unordered pair and filled by reciprocity,
-//! `F_ji = L_i F_ij / L_j` (2.21).
+//! events; the whole matrix is computed once per unordered pair, integrating over the
+//! shorter patch of the two (which keeps digits when it is tiny and far from the other),
+//! and filled by reciprocity, `F_ji = L_i F_ij / L_j` (2.21).
 
 use crate::geom::{DVec2, Segment, cross, distance};
 use crate::math;
@@ -56,6 +57,14 @@ use alloc::vec::Vec;
 /// Largest patch count for which [`form_factors`] builds the dense `n × n` matrix
 /// (10 000² doubles = 800 MB). Larger scenes need the Monte Carlo sparse estimators.
 pub const MAX_DENSE_PATCHES: usize = 10_000;
+
+/// Extent-to-shortest-patch ratio up to which the exact flatland form factors are
+/// guaranteed to close (rows sum to one within 1e-9): each sine integral carries a few ulps
+/// of the distances involved, up to the scene's extent, relative to the source patch's
+/// length. Tested at 10⁷ (`tests::extreme_aspect_sliver_rows_sum_to_one`); beyond this
+/// [`form_factors`] may refuse with [`ErrorKind::PrecisionLoss`] rather than return rows
+/// that overflow.
+pub const RESOLVED_RANGE: f64 = 1e6;
 
 /// Relative tolerance (about 500 ulps) under which a point counts as lying on a supporting
 /// line: coincident surfaces built from different endpoints differ by a few ulps.
@@ -141,6 +150,28 @@ fn on_line_of(frame: &Frame, j0: DVec2, j1: DVec2, q: DVec2) -> bool {
     cross(j1 - j0, q - j0).abs() <= j_len * (frame.eps + ON_LINE * math::length(q - j0).max(j_len))
 }
 
+/// Whether two segments lie on one line, to within rounding: the shorter one's endpoints
+/// are tested against the longer one's supporting line, whose direction its rounded
+/// endpoints give far better (a segment 1e-4 long has a direction good to ~1e-12 only,
+/// enough to lift a collinear neighbour 2 units away off its axis by 5e-12 and make it
+/// "seen" at grazing distance; `fuzz_refine` found that). Segments on one line exchange no
+/// light and hide nothing from each other.
+fn collinear(p: Segment, q: Segment) -> bool {
+    let (long, short) = if p.length() >= q.length() {
+        (p, q)
+    } else {
+        (q, p)
+    };
+    let len = long.length();
+    if !(len > 0.0) {
+        return false;
+    }
+    let scale = long.a.abs().max_element().max(long.b.abs().max_element()) + len;
+    let tolerance = ON_LINE * scale * len;
+    let d = long.b - long.a;
+    cross(d, short.a - long.a).abs() <= tolerance && cross(d, short.b - long.a).abs() <= tolerance
+}
+
 /// Direction angle of `p` seen from `(t, 0)`, measured from the normal towards the tangent:
 /// `ψ = atan2(p_t − t, p_h) ∈ [−π/2, π/2]` for `p_h ≥ 0`.
 #[inline]
@@ -154,10 +185,24 @@ fn dist(p: DVec2, t: f64) -> f64 {
     math::hypot(p.x - t, p.y)
 }
 
-/// `∫_{t0}^{t1} sin φ_p(t) dt = |p − x(t0)| − |p − x(t1)|`.
+/// `∫_{t0}^{t1} sin φ_p(t) dt = |p − x(t0)| − |p − x(t1)|`, evaluated without cancellation:
+///
+/// ```text
+/// d0 − d1 = (d0² − d1²) / (d0 + d1) = (t1 − t0) ((p_t − t0) + (p_t − t1)) / (d0 + d1)
+/// ```
+///
+/// The plain difference of two distances loses `log10(d / (t1 − t0))` digits when the
+/// point is far from a short interval (a patch 2.5e-4 long seen from 2.5e3 away lost 7 of
+/// them and rows summed to `1 + 3.6e-9`, found by `fuzz_flat_pipeline`); the product form
+/// keeps a few ulps relative error whatever the ratio.
 #[inline]
 fn sine_integral(p: DVec2, t0: f64, t1: f64) -> f64 {
-    dist(p, t0) - dist(p, t1)
+    let sum = dist(p, t0) + dist(p, t1);
+    if sum > 0.0 {
+        (t1 - t0) * ((p.x - t0) + (p.x - t1)) / sum
+    } else {
+        0.0
+    }
 }
 
 /// Unoccluded flux `L_i F_ij` between two segments that see each other (or partly, where
@@ -172,7 +217,7 @@ fn sine_integral(p: DVec2, t0: f64, t1: f64) -> f64 {
 #[must_use]
 pub fn unoccluded_flux(i: Segment, j: Segment) -> f64 {
     let len_i = i.length();
-    if !(len_i > 0.0) || !(j.length() > 0.0) {
+    if !(len_i > 0.0) || !(j.length() > 0.0) || collinear(i, j) {
         return 0.0;
     }
     let frame = Frame::of(&i);
@@ -415,6 +460,9 @@ fn occluded_flux<'a>(
     scratch: &mut Scratch,
 ) -> f64 {
     let len_i = i.length();
+    if collinear(i, j) {
+        return 0.0;
+    }
     let frame = Frame::of(&i);
     let (ja, jb) = (frame.local(j.a), frame.local(j.b));
     let Some((j0, j1)) = clip_front(&frame, ja, jb) else {
@@ -439,7 +487,8 @@ fn occluded_flux<'a>(
         if ohi.x < hlo.x || ohi.y < hlo.y || olo.x > hhi.x || olo.y > hhi.y {
             continue;
         }
-        if !crate::geom::segment_may_meet_hull(occ.a, occ.b, &hull_world, 0.0) {
+        if !crate::geom::segment_may_meet_hull(occ.a, occ.b, &hull_world, 0.0) || collinear(i, *occ)
+        {
             continue;
         }
         let Some((q0, q1)) = clip_front(&frame, frame.local(occ.a), frame.local(occ.b)) else {
@@ -626,7 +675,9 @@ pub fn point_to_patch(scene: &FlatScene, x: DVec2, normal: DVec2, j: usize) -> R
 /// plus a background state if the scene is open (see [`FormFactors`]).
 ///
 /// # Errors
-/// [`ErrorKind::TooLarge`] above [`MAX_DENSE_PATCHES`] patches.
+/// [`ErrorKind::TooLarge`] above [`MAX_DENSE_PATCHES`] patches; [`ErrorKind::PrecisionLoss`]
+/// when a row sums above one beyond rounding, which only a scene spanning more than
+/// [`RESOLVED_RANGE`] times its shortest patch can cause.
 #[cfg(feature = "alloc")]
 pub fn form_factors(scene: &FlatScene) -> Result<FormFactors> {
     let n = scene.n_patches();
@@ -640,7 +691,30 @@ pub fn form_factors(scene: &FlatScene) -> Result<FormFactors> {
     let mut f = alloc::vec![0.0; n * n];
     form_factors_into(scene, &mut f)?;
     let lengths: Vec<f64> = scene.patches().iter().map(|p| p.length).collect();
+    check_closure(scene, &lengths, &f)?;
     FormFactors::from_patch_matrix(&lengths, f)
+}
+
+/// Refuses rows that sum above one by more than the channel accepts
+/// ([`crate::channel::ROW_SUM_TOLERANCE`]) with [`ErrorKind::PrecisionLoss`], which says
+/// why, rather than leaving the channel to refuse them without a reason.
+#[cfg(feature = "alloc")]
+fn check_closure(scene: &FlatScene, lengths: &[f64], f: &[f64]) -> Result<()> {
+    let n = lengths.len();
+    for (patch, row) in f.chunks_exact(n.max(1)).enumerate() {
+        let sum = math::sum(row.iter().copied());
+        if sum > 1.0 + crate::channel::ROW_SUM_TOLERANCE {
+            let (lo, hi) = scene.bounds();
+            let shortest = lengths.iter().fold(f64::INFINITY, |m, &l| m.min(l));
+            return Err(ErrorKind::PrecisionLoss {
+                patch,
+                sum,
+                range: math::length(hi - lo) / shortest,
+            }
+            .into());
+        }
+    }
+    Ok(())
 }
 
 /// Writes the exact `n × n` patch form factors (no background state) row-major into `out`.
@@ -673,7 +747,15 @@ pub fn form_factors_into(scene: &FlatScene, out: &mut [f64]) -> Result<()> {
                     .enumerate()
                     .filter(|&(k, _)| k != pi.surface && k != pj.surface)
                     .map(|(_, s)| s);
-                occluded_flux(pi.segment, pj.segment, occ, &mut scratch)
+                // Integrate over the shorter patch: the flux is the same either way (2.21),
+                // but over the longer one it is a difference of sine integrals of size
+                // L_long, which for a short far target loses digits relative to L_short.
+                let (source, target) = if pj.length < pi.length {
+                    (pj.segment, pi.segment)
+                } else {
+                    (pi.segment, pj.segment)
+                };
+                occluded_flux(source, target, occ, &mut scratch)
             };
             // Reciprocity (2.21): one flux, two form factors.
             out[i * n + j] = (flux / pi.length).min(1.0);
@@ -783,6 +865,41 @@ mod tests {
         }
         let (fa, fm, fb) = (g(1e-12), g(0.5), g(1.0 - 1e-12));
         simpson(&g, 1e-12, 1.0 - 1e-12, fa, fm, fb, 40)
+    }
+
+    /// A short piece of a wall and a long wall on the same line, back to back (a polygon
+    /// whose vertex lies on one of its own edges): no light passes between them, however
+    /// badly the short piece's rounded endpoints give its direction (`fuzz_refine` found
+    /// the piece "seeing" all of the other wall, `F = 1`).
+    #[cfg(feature = "alloc")]
+    #[test]
+    fn collinear_back_to_back_segments_exchange_nothing() {
+        let wall = seg(2.0, 1.0, 0.0, 2.0);
+        let piece = seg(0.0, 2.0, 9.472977730894943e-5, 1.9999526351113455);
+        assert_eq!(unoccluded_flux(piece, wall), 0.0);
+        assert_eq!(unoccluded_flux(wall, piece), 0.0);
+        let scene = crate::io::parse_flat("poly 4 0 2 4 0 2 2 2 1\n")
+            .unwrap()
+            .split_patch(0, 2.3689e-5)
+            .unwrap();
+        let last = scene.n_patches() - 1;
+        assert_eq!(pair_flux(&scene, 0, last).unwrap(), 0.0);
+        assert_eq!(pair_flux(&scene, last, 0).unwrap(), 0.0);
+    }
+
+    /// A 10⁴ × 10⁻³ quadrilateral (aspect 10⁷) in 4 patches per side: every row of the
+    /// closed scene sums to one within 1e-12 (found by `fuzz_flat_pipeline`: the difference
+    /// of two far distances made row 12 sum to `1 + 3.6e-9`).
+    #[cfg(feature = "alloc")]
+    #[test]
+    fn extreme_aspect_sliver_rows_sum_to_one() {
+        let scene =
+            crate::io::parse_flat("poly 4 0 0 10000 0 100 0.001 0 0.001 per_side 4\n").unwrap();
+        let ff = form_factors(&scene).unwrap();
+        for i in 0..ff.n_states() {
+            let row: f64 = (0..ff.n_states()).map(|j| ff.get(i, j)).sum();
+            assert!((row - 1.0).abs() < 1e-12, "row {i}: {row}");
+        }
     }
 
     #[cfg(feature = "alloc")]

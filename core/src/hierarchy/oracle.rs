@@ -113,13 +113,21 @@ pub struct PowerOracle {
     pub epsilon: f64,
 }
 
+impl PowerOracle {
+    /// The left-hand side of (2.48).
+    #[must_use]
+    pub fn value(pair: &Pair<'_>, s: &KernelSamples) -> f64 {
+        let f_ij = pair.source.area * s.mean_unoccluded();
+        pair.rho_b() * pair.receiver.area * f_ij
+    }
+}
+
 impl Oracle for PowerOracle {
     fn name(&self) -> &'static str {
         "power"
     }
     fn decide(&self, pair: &Pair<'_>, s: &KernelSamples, _: &dyn Visibility) -> Decision {
-        let f_ij = pair.source.area * s.mean_unoccluded();
-        threshold(pair, pair.rho_b() * pair.receiver.area * f_ij, self.epsilon)
+        threshold(pair, Self::value(pair, s), self.epsilon)
     }
 }
 
@@ -131,10 +139,32 @@ impl Oracle for PowerOracle {
 ///
 /// with `F^max`, `F^min` the largest and smallest kernel (with visibility) over the point
 /// pairs.
+///
+/// # Where elements touch
+///
+/// The kernel is unbounded where two elements meet at an edge (`r → 0`), and there the
+/// left-hand side does not shrink under refinement: scaling both elements by `s` scales
+/// the kernel by `1/s²` and `A_j` by `s²`, so two touching elements of any size draw the
+/// same values from the same canonical samples. Whenever ε lies below that value, KS
+/// refines along every junction down to the smallest element allowed
+/// ([`crate::hierarchy::HrOptions::min_area`]). This is the oracle as (2.49) defines it;
+/// the thesis notes the effect ("unnecessary subdivisions where the kernel is unbounded",
+/// §2.1.12) and bounds refinement by "a previously imposed bound on the area of the
+/// patches" (§2.1.11) — the `min_area` option. The MI oracle (6.30) weights by `A_i A_j`
+/// instead, which vanishes as the elements shrink.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct KernelSmoothnessOracle {
     /// The threshold ε (units of radiosity).
     pub epsilon: f64,
+}
+
+impl KernelSmoothnessOracle {
+    /// The left-hand side of (2.49).
+    #[must_use]
+    pub fn value(pair: &Pair<'_>, s: &KernelSamples) -> f64 {
+        let (lo, hi) = s.min_max();
+        pair.rho_b() * (hi - lo) * pair.source.area
+    }
 }
 
 impl Oracle for KernelSmoothnessOracle {
@@ -142,12 +172,7 @@ impl Oracle for KernelSmoothnessOracle {
         "ks"
     }
     fn decide(&self, pair: &Pair<'_>, s: &KernelSamples, _: &dyn Visibility) -> Decision {
-        let (lo, hi) = s.min_max();
-        threshold(
-            pair,
-            pair.rho_b() * (hi - lo) * pair.source.area,
-            self.epsilon,
-        )
+        threshold(pair, Self::value(pair, s), self.epsilon)
     }
 }
 
@@ -158,11 +183,23 @@ impl Oracle for KernelSmoothnessOracle {
 /// ```
 ///
 /// with `F^av` the mean kernel over the point pairs (2.34). This is the "KS-based" oracle
-/// of the thesis' experiments (§6.4.2).
+/// of the thesis' experiments (§6.4.2). Like (2.49) it does not shrink where elements
+/// touch (see [`KernelSmoothnessOracle`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct KernelAverageOracle {
     /// The threshold ε (units of radiosity).
     pub epsilon: f64,
+}
+
+impl KernelAverageOracle {
+    /// The left-hand side of (2.50).
+    #[must_use]
+    pub fn value(pair: &Pair<'_>, s: &KernelSamples) -> f64 {
+        let (lo, hi) = s.min_max();
+        let av = s.mean();
+        let spread = (hi - av).max(av - lo).max(0.0);
+        pair.rho_b() * spread * pair.source.area
+    }
 }
 
 impl Oracle for KernelAverageOracle {
@@ -170,10 +207,7 @@ impl Oracle for KernelAverageOracle {
         "ks-av"
     }
     fn decide(&self, pair: &Pair<'_>, s: &KernelSamples, _: &dyn Visibility) -> Decision {
-        let (lo, hi) = s.min_max();
-        let av = s.mean();
-        let spread = (hi - av).max(av - lo).max(0.0);
-        threshold(pair, pair.rho_b() * spread * pair.source.area, self.epsilon)
+        threshold(pair, Self::value(pair, s), self.epsilon)
     }
 }
 
@@ -437,6 +471,48 @@ mod tests {
         // A threshold above any relative variation never splits.
         let lazy = MiIncreaseOracle { gradient: 1.0, ..o };
         assert_eq!(lazy.decide(&pair, &s, &NoOccluders), Decision::Link);
+    }
+
+    /// A floor square and a wall square meeting at an edge, both scaled by `size`.
+    fn junction(size: f64) -> (Polygon4, Polygon4) {
+        let v = |x: f64, y: f64, z: f64| DVec3::new(x, y, z) * size;
+        let floor = Polygon4::new(&[v(0., 0., 0.), v(1., 0., 0.), v(1., 1., 0.), v(0., 1., 0.)]);
+        let wall = Polygon4::new(&[v(0., 0., 0.), v(0., 1., 0.), v(0., 1., 1.), v(0., 0., 1.)]);
+        (floor.unwrap(), wall.unwrap())
+    }
+
+    #[test]
+    fn kernel_smoothness_does_not_shrink_where_elements_touch() {
+        // The same canonical samples at every scale: KS and KS-av give the same value at
+        // 1 and at 1/1024 (only rounding differs), power and MI fall with the areas.
+        let values = |size: f64| {
+            let (floor, wall) = junction(size);
+            let receiver = side(&floor, true, 1.0);
+            let mut source = side(&wall, true, 1.0);
+            source.normal = DVec3::X;
+            let pair = Pair {
+                receiver,
+                source,
+                total_area: 2.0,
+            };
+            let s = samples(&pair.receiver, &pair.source, 10);
+            [
+                KernelSmoothnessOracle::value(&pair, &s),
+                KernelAverageOracle::value(&pair, &s),
+                PowerOracle::value(&pair, &s),
+                MutualInformationOracle::value(&pair, &s),
+            ]
+        };
+        let (big, small) = (values(1.0), values(1.0 / 1024.0));
+        for k in 0..2 {
+            assert!(big[k] > 0.0);
+            assert!((small[k] / big[k] - 1.0).abs() < 1e-9, "{big:?} {small:?}");
+        }
+        // Power scales as A_i F_ij ∝ s², and so does MI: A_i A_j ∝ s⁴ times a log spread
+        // of kernels ∝ 1/s², whose log s terms cancel.
+        for k in 2..4 {
+            assert!((small[k] / big[k] * 1024.0 * 1024.0 - 1.0).abs() < 1e-9);
+        }
     }
 
     #[test]

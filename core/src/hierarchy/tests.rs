@@ -347,3 +347,40 @@ fn gouraud_colours_average_neighbours_and_leaves_make_a_scene() {
         ErrorKind::ReferenceOffScene { polygon: 0 }
     ));
 }
+
+#[test]
+fn kernel_smoothness_refines_junctions_down_to_the_area_bound() {
+    // The lit box: every face meets four others at an edge, where the KS value does not
+    // shrink with the elements (see `KernelSmoothnessOracle`). Below that value KS splits
+    // along every edge until children would be smaller than `min_area`, so the bound sets
+    // its mesh: its smallest leaf sits at the bound, and a 10× smaller bound gives several
+    // times the leaves — more than the √10 of a one-dimensional band of elements of side
+    // √(min_area) along the edges (seen: 5.3×, the band widens near the box's corners),
+    // less than the 10 of a mesh filling the faces.
+    // MI gives the same mesh under both bounds: its smallest leaves are not at the finer.
+    let scene = lit_box(Subdivision::None);
+    let at = |oracle: &str, eps: f64, min_area: f64| {
+        let opts = HrOptions {
+            min_area,
+            ..HrOptions::default()
+        };
+        let h = build(&scene, oracle, eps, &opts);
+        let smallest = h.leaves().map(|e| e.area).fold(f64::INFINITY, f64::min);
+        (h.n_leaves(), smallest / h.total_area())
+    };
+    let (coarse, fine) = (at("ks", 0.01, 1e-4), at("ks", 0.01, 1e-5));
+    for ((_, smallest), bound) in [(coarse, 1e-4), (fine, 1e-5)] {
+        assert!(
+            smallest >= bound && smallest < 4.0 * bound,
+            "{coarse:?} {fine:?}"
+        );
+    }
+    let growth = fine.0 as f64 / coarse.0 as f64;
+    assert!(
+        (10f64.sqrt()..10.0).contains(&growth),
+        "{coarse:?} {fine:?}"
+    );
+    let (mi_coarse, mi_fine) = (at("mi", 1e-4, 1e-4), at("mi", 1e-4, 1e-5));
+    assert_eq!(mi_coarse, mi_fine);
+    assert!(mi_fine.1 >= 4e-5, "{mi_fine:?}");
+}

@@ -18,9 +18,9 @@
 //! none cannot be a state of the chain (its transitions would be infinite): that is the error
 //! [`ErrorKind::TransitionToNullState`].
 
+use super::measures::{RadiosityTransitions, generalised_areas_in_place, incoming_radiosity_into};
 use crate::channel::Transitions;
 use crate::error::{ErrorKind, Result};
-use crate::math::KahanSum;
 
 /// Writes the radiosity channel of one colour channel: the stationary distribution
 /// `𝐚_i = 𝐀_i / Σ 𝐀` into `weights` (length `n`) and the row-major `n × n` transitions
@@ -60,36 +60,19 @@ pub fn radiosity_channel_into<M: Transitions>(
         };
         return Err(ErrorKind::BufferTooSmall { needed, found }.into());
     }
-    for (k, (&a, &x)) in sizes.iter().zip(b).enumerate() {
-        if !a.is_finite() || !x.is_finite() {
-            return Err(ErrorKind::NonFiniteEntry { row: k, col: 0 }.into());
-        }
-        if !(a > 0.0) || x < 0.0 {
-            return Err(ErrorKind::NegativeEntry { row: k, col: 0 }.into());
-        }
-    }
-    // Incoming radiosity B_i^in = Σ_j F_ij B_j and the generalised areas (5.2).
-    let mut total = KahanSum::new();
+    let weights = &mut weights[..n];
+    // Incoming radiosity B_i^in = Σ_j F_ij B_j (into `weights`), the rows (5.1) ...
+    incoming_radiosity_into(f, b, weights)?;
+    let p = RadiosityTransitions::new(f, b, weights)?;
     for i in 0..n {
-        let mut incoming = KahanSum::new();
-        f.for_each_in_row(i, |j, v| incoming.add(v * b[j]));
-        let b_in = incoming.total();
         let row = &mut matrix[i * n..(i + 1) * n];
         row.fill(0.0);
-        if b_in > 0.0 && b[i] > 0.0 {
-            f.for_each_in_row(i, |j, v| row[j] = v * b[j] / b_in);
-            weights[i] = sizes[i] * b_in * b[i];
-        } else {
-            weights[i] = 0.0;
-        }
-        total.add(weights[i]);
+        p.for_each_in_row(i, |j, v| row[j] = v);
     }
-    let total = total.total();
-    if !(total > 0.0 && total.is_finite()) {
+    // ... and the generalised areas (5.2), in place.
+    let total = generalised_areas_in_place(sizes, b, weights)?;
+    if !(total > 0.0) {
         return Err(ErrorKind::NotNormalized { sum: total }.into());
-    }
-    for w in weights[..n].iter_mut() {
-        *w /= total;
     }
     // A transition into a state of weight 0 that still sends light (it receives none).
     for i in 0..n {

@@ -159,9 +159,21 @@ pub fn radiosity_weights_into(
             .into());
         }
     }
+    out.copy_from_slice(b_in);
+    generalised_areas_in_place(sizes, b, out)
+}
+
+/// [`radiosity_weights_into`] with the incoming radiosities `B^in` given in `weights` and
+/// replaced by the weights `𝐚`: the one implementation of (5.2). Lengths are the caller's
+/// to check (extra entries of `b` or `weights` are ignored).
+pub(super) fn generalised_areas_in_place(
+    sizes: &[f64],
+    b: &[f64],
+    weights: &mut [f64],
+) -> Result<f64> {
     let mut total = KahanSum::new();
-    for (k, o) in out.iter_mut().enumerate() {
-        let (a, x, y) = (sizes[k], b[k], b_in[k]);
+    for (k, ((&a, &x), o)) in sizes.iter().zip(b).zip(weights.iter_mut()).enumerate() {
+        let y = *o;
         if !(a.is_finite() && x.is_finite() && y.is_finite()) {
             return Err(ErrorKind::NonFiniteEntry { row: k, col: 0 }.into());
         }
@@ -176,7 +188,7 @@ pub fn radiosity_weights_into(
         return Err(ErrorKind::NotNormalized { sum: total }.into());
     }
     if total > 0.0 {
-        for o in out.iter_mut() {
+        for o in weights.iter_mut() {
             *o /= total;
         }
     }

@@ -236,6 +236,44 @@ fn for_each_walk(
     Ok(())
 }
 
+/// One null-variance walk (2.46, 2.47) from `start = (k, weight)`: at state `k` the guess'
+/// one-step value is `x'_k = s_k + out_k` with `out_k = Σ_j kernel(k, j, F_kj)`; the walk is
+/// absorbed with probability `s_k / x'_k`, scoring `weight · x'_k`, or moves to `j` with
+/// probability `kernel(k, j, F_kj) / out_k`, its weight multiplied by `x'_k / guess_j`. A
+/// state with `x'_k = 0`, or an escape through a row's deficit, scores 0. With the exact
+/// solution as the guess every walk scores the same value: zero variance.
+fn null_variance_walk<M: Transitions>(
+    f: &M,
+    rng: &mut Pcg64,
+    m: &mut Moments,
+    source: &[f64],
+    guess: &[f64],
+    start: (usize, f64),
+    kernel: impl Fn(usize, usize, f64) -> f64,
+) -> Result<()> {
+    let (mut k, mut weight) = start;
+    for _ in 0..MAX_WALK_STEPS {
+        let out = row_total(f, k, |j, v| kernel(k, j, v));
+        let one_step = source[k] + out;
+        if !(one_step > 0.0) {
+            m.add(0.0);
+            return Ok(());
+        }
+        if canonical(rng) < source[k] / one_step {
+            m.add(weight * one_step);
+            return Ok(());
+        }
+        m.steps += 1;
+        let Some(j) = pick(f, k, canonical(rng), out, |j, v| kernel(k, j, v)) else {
+            m.add(0.0);
+            return Ok(());
+        };
+        weight *= one_step / guess[j];
+        k = j;
+    }
+    Err(too_long())
+}
+
 fn too_long() -> crate::Error {
     ErrorKind::NoConvergence {
         what: "random walk (longer than MAX_WALK_STEPS)",
@@ -301,29 +339,11 @@ pub fn gather<M: Transitions>(
         })?,
         WalkTransitions::NullVariance(guess) => {
             check_vector(guess, n, None)?;
+            // The kernel ρ_k F_kj B̃_j: B'_k = E_k + ρ_k B_k^in of the guess.
             for_each_walk(seed, n_walks, |rng| {
-                let (mut k, mut weight) = (patch, 1.0);
-                for _ in 0..MAX_WALK_STEPS {
-                    // B_k^in of the guess and its one-step radiosity B'_k.
-                    let b_in = row_total(f, k, |j, v| v * guess[j]);
-                    let one_step = e[k] + rho[k] * b_in;
-                    if !(one_step > 0.0) {
-                        m.add(0.0);
-                        return Ok(());
-                    }
-                    if canonical(rng) < e[k] / one_step {
-                        m.add(weight * one_step);
-                        return Ok(());
-                    }
-                    m.steps += 1;
-                    let Some(j) = pick(f, k, canonical(rng), b_in, |j, v| v * guess[j]) else {
-                        m.add(0.0);
-                        return Ok(());
-                    };
-                    weight *= one_step / guess[j];
-                    k = j;
-                }
-                Err(too_long())
+                null_variance_walk(f, rng, &mut m, e, guess, (patch, 1.0), |k, j, v| {
+                    rho[k] * v * guess[j]
+                })
             })?;
         }
     }
@@ -508,30 +528,17 @@ pub fn shoot_functional<M: Transitions>(
                     m.add(0.0);
                     return Ok(());
                 }
-                let mut k = pick_source(sizes, e, canonical(rng), total, |s| guess[s]);
-                let mut weight = total / guess[k];
-                for _ in 0..MAX_WALK_STEPS {
-                    // Outgoing importance of the guess and its one-step importance I'_k.
-                    let out = row_total(f, k, |j, x| rho[j] * x * guess[j]);
-                    let one_step = v[k] + out;
-                    if !(one_step > 0.0) {
-                        m.add(0.0);
-                        return Ok(());
-                    }
-                    if canonical(rng) < v[k] / one_step {
-                        m.add(weight * one_step);
-                        return Ok(());
-                    }
-                    m.steps += 1;
-                    let Some(j) = pick(f, k, canonical(rng), out, |j, x| rho[j] * x * guess[j])
-                    else {
-                        m.add(0.0);
-                        return Ok(());
-                    };
-                    weight *= one_step / guess[j];
-                    k = j;
-                }
-                Err(too_long())
+                let k = pick_source(sizes, e, canonical(rng), total, |s| guess[s]);
+                // The kernel ρ_j F_kj Ĩ_j: I'_k = V_k + the outgoing importance of the guess.
+                null_variance_walk(
+                    f,
+                    rng,
+                    &mut m,
+                    v,
+                    guess,
+                    (k, total / guess[k]),
+                    |_, j, x| rho[j] * x * guess[j],
+                )
             })?;
         }
     }

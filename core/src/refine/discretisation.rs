@@ -39,6 +39,8 @@
 
 use super::log_sum_gap;
 use crate::error::{ErrorKind, Result};
+#[cfg(feature = "alloc")]
+use crate::formfactor::tally::LineEstimate;
 use crate::math::{self, KahanSum};
 
 /// Checks `value > 0` and finite.
@@ -202,6 +204,105 @@ pub fn radiosity_error_lines(
     Ok(b * visibility_error_lines(a_i, f_ij, a_j, total, mean_log_kernel)?)
 }
 
+/// The visibility discretisation error of every pair of patches from one run of local or
+/// global lines (6.21), into `out[i n + j]` (`n` patches, row-major); returns
+/// `Σ_ij δ^v_ij = I_S^c − I_S` over the patches:
+///
+/// ```text
+/// δ^v_ij = I_ij^c − I_ij
+///        = (A_i F_ij / A_T) ((1/N_ij) Σ_k log₂ F(x_k, y_k) − log₂(F_ij / A_j))      (6.21)
+/// ```
+///
+/// with `I_ij^c` the lines' per-pair tally of `log₂(A_T F(x_k, y_k))` over the `N_ij`
+/// segments joining `i` and `j` (6.20, 6.35: [`LineEstimate::pair_continuous`]) and
+/// `I_ij = (A_i F_ij / A_T) log₂(A_T F_ij / A_j)` (6.7) of the same lines' `F_ij`. 0 where
+/// no segment joins the pair. A background state (an open scene) is left out.
+///
+/// # Errors
+/// [`ErrorKind::TooLarge`] when the estimate kept no per-pair tally (more than
+/// [`crate::formfactor::DENSE_PAIR_LIMIT`] patches); [`ErrorKind::BufferTooSmall`] when
+/// `out` is shorter than `n²`; the channel's errors.
+#[cfg(feature = "alloc")]
+pub fn visibility_errors_from_lines(estimate: &LineEstimate, out: &mut [f64]) -> Result<f64> {
+    let n = estimate.form_factors.n_patches();
+    let Some(continuous) = &estimate.pair_continuous else {
+        return Err(ErrorKind::TooLarge {
+            what: "patches for a per-pair tally (DENSE_PAIR_LIMIT)",
+            max: crate::formfactor::DENSE_PAIR_LIMIT as u64,
+        }
+        .into());
+    };
+    if out.len() < n * n {
+        return Err(ErrorKind::BufferTooSmall {
+            needed: n * n,
+            found: out.len(),
+        }
+        .into());
+    }
+    let states = estimate.form_factors.n_states();
+    let mut discrete = alloc::vec![0.0; states * states];
+    estimate
+        .form_factors
+        .channel()?
+        .mutual_information_matrix(&mut discrete)?;
+    let mut total = KahanSum::new();
+    for i in 0..n {
+        for j in 0..n {
+            let d = continuous[i * n + j] - discrete[i * states + j];
+            out[i * n + j] = d;
+            total.add(d);
+        }
+    }
+    Ok(total.total())
+}
+
+/// The radiosity discretisation error of every pair of patches from one run of local or
+/// global lines (6.27), into `out[i n + j]`; returns their sum. By (6.25) it is the
+/// visibility error ([`visibility_errors_from_lines`]) weighted by the radiosities:
+///
+/// ```text
+/// δ^r_ij = (A_i F_ij B_i B_j / A_T^c)((1/N_ij) Σ_k log₂ F(x_k, y_k) − log₂(F_ij / A_j))
+///        = B_i B_j (A_T / A_T^c) δ^v_ij,        A_T^c = Σ_i A_i B_i B_i^in
+/// ```
+///
+/// `radiosities[i] = B_i` per patch; `total_area = A_T`, `total_weight = A_T^c`.
+///
+/// # Errors
+/// Those of [`visibility_errors_from_lines`]; [`ErrorKind::DimensionMismatch`] when
+/// `radiosities` has not one entry per patch; [`ErrorKind::BadParameter`] for a negative
+/// or non-finite radiosity, or `A_T ≤ 0` or `A_T^c ≤ 0`.
+#[cfg(feature = "alloc")]
+pub fn radiosity_errors_from_lines(
+    estimate: &LineEstimate,
+    radiosities: &[f64],
+    total_area: f64,
+    total_weight: f64,
+    out: &mut [f64],
+) -> Result<f64> {
+    let n = estimate.form_factors.n_patches();
+    if radiosities.len() != n {
+        return Err(ErrorKind::DimensionMismatch {
+            expected: n,
+            found: radiosities.len(),
+        }
+        .into());
+    }
+    for &b in radiosities {
+        non_negative("B_i", b)?;
+    }
+    let scale = positive("A_T", total_area)? / positive("A_T^c", total_weight)?;
+    visibility_errors_from_lines(estimate, out)?;
+    let mut total = KahanSum::new();
+    for i in 0..n {
+        for j in 0..n {
+            let d = &mut out[i * n + j];
+            *d *= radiosities[i] * radiosities[j] * scale;
+            total.add(*d);
+        }
+    }
+    Ok(total.total())
+}
+
 /// Per-patch discretisation error `I_i^c − I_i` (§6.5.2), the DE oracle's measure, into
 /// `out[..n]`; returns `Σ_i (I_i^c − I_i) = I_S^c − I_S`. With Monte Carlo `I_i^c` a value
 /// can fall below 0 by its error.
@@ -309,6 +410,8 @@ mod tests {
         let pairs: alloc::vec::Vec<f64> = (0..20)
             .map(|seed| flat_visibility_error_point_pairs(&tracer, 0, 2, 20_000, seed).unwrap())
             .collect();
+        // (6.21) from the lines' own tallies, and `I_02^c` from lines with the exact `I_02`.
+        let mut lines_621 = alloc::vec::Vec::new();
         let lines: alloc::vec::Vec<f64> = (0..8)
             .map(|seed| {
                 let est = tracer
@@ -316,6 +419,12 @@ mod tests {
                     .unwrap()
                     .finish(&tracer)
                     .unwrap();
+                let mut delta = [0.0; 16];
+                let sum = visibility_errors_from_lines(&est, &mut delta).unwrap();
+                // Σ_ij δ_ij = I_S^c − I_S of the same lines.
+                let i_s = est.form_factors.channel().unwrap().measures().i_s;
+                assert!((sum - (est.continuous.value - i_s)).abs() < 1e-12, "{sum}");
+                lines_621.push(delta[2]);
                 est.pair_continuous.unwrap()[2] - i_ij[2]
             })
             .collect();
@@ -324,6 +433,43 @@ mod tests {
         let tol = 4.0 * (ep * ep + el * el).sqrt();
         assert!(mp > 0.0 && tol < 0.2 * mp, "{mp} ± {ep}, {ml} ± {el}");
         assert!((mp - ml).abs() < tol, "{mp} ± {ep} vs {ml} ± {el}");
+        let (m621, e621) = spread(&lines_621);
+        let tol621 = 4.0 * (ep * ep + e621 * e621).sqrt();
+        assert!(
+            (mp - m621).abs() < tol621,
+            "{mp} ± {ep} vs (6.21) {m621} ± {e621}"
+        );
+    }
+
+    /// (6.27) from lines is (6.21) times `B_i B_j A_T / A_T^c` (6.25), pair by pair.
+    #[cfg(feature = "alloc")]
+    #[test]
+    fn radiosity_errors_from_lines_weight_the_visibility_ones() {
+        use crate::formfactor::estimate_2d::{FlatTracer, LineMethod, LineTracer};
+        use crate::scene::FlatScene;
+        let scene = FlatScene::regular_polygon(3, 2).unwrap();
+        let tracer = FlatTracer::new(&scene).unwrap();
+        let est = tracer
+            .run(LineMethod::Global, 7, 100_000)
+            .unwrap()
+            .finish(&tracer)
+            .unwrap();
+        let b = [1.0, 2.0, 0.5, 0.0, 3.0, 1.5];
+        let (mut v, mut r) = ([0.0; 36], [0.0; 36]);
+        visibility_errors_from_lines(&est, &mut v).unwrap();
+        let sum = radiosity_errors_from_lines(&est, &b, 6.0, 4.0, &mut r).unwrap();
+        let mut total = 0.0;
+        for i in 0..6 {
+            for j in 0..6 {
+                let want = b[i] * b[j] * 1.5 * v[i * 6 + j];
+                assert!((r[i * 6 + j] - want).abs() <= 1e-15 * want.abs().max(1.0));
+                total += want;
+            }
+        }
+        assert!((sum - total).abs() < 1e-12);
+        assert!(radiosity_errors_from_lines(&est, &b[..5], 6.0, 4.0, &mut r).is_err());
+        assert!(radiosity_errors_from_lines(&est, &b, 6.0, 0.0, &mut r).is_err());
+        assert!(visibility_errors_from_lines(&est, &mut r[..35]).is_err());
     }
 
     #[test]

@@ -36,7 +36,8 @@ mod furniture;
 mod solids;
 
 pub use cornell::{
-    CORNELL_BLOCK_LIFT, CORNELL_GREEN, CORNELL_LIGHT, CORNELL_RED, CORNELL_ROOM, CORNELL_WHITE,
+    CORNELL_BLOCK_LIFT, CORNELL_GREEN, CORNELL_LIGHT, CORNELL_RED, CORNELL_ROOM,
+    CORNELL_THESIS_EDGE, CORNELL_THESIS_LIGHT_GAP, CORNELL_WHITE,
 };
 pub use cubes::{
     CUBE_ROOM_GRID, CUBE_ROOM_MIN_GAP, CUBE_ROOM_SIDE, CUBE_ROOM_SPACING, MAX_CUBES_PER_SIDE,
@@ -122,6 +123,11 @@ static PRESETS_3D: &[Preset3Entry] = &[
         "cornell-lifted",
         "Table 4.1 (footnote), Table 4.6",
         "Cornell box with both blocks lifted 0.2% of the room height from the floor"
+    ),
+    entry!(
+        "cornell-thesis",
+        "Figs. 4.4, 5.2I, Tables 4.6, 5.2, 5.5",
+        "lifted Cornell box meshed as the thesis: grid = level 0-4, 19/121/481/1924/7696 patches"
     ),
     entry!(
         "cubes-27-random",
@@ -317,7 +323,8 @@ static PRESETS_3D: &[Preset3Entry] = &[
 
 /// Every 3D preset, by name, in thesis order.
 ///
-/// Only `cube`, `cornell` and `cornell-lifted` take the `grid` of [`preset_3d`]; the others
+/// Only `cube`, `cornell`, `cornell-lifted` and `cornell-thesis` (where it is the mesh level
+/// of [`Scene::cornell_box_thesis`]) take the `grid` of [`preset_3d`]; the others
 /// have the fixed discretisation their constructor documents. The random cube rooms use the
 /// seed [`PRESET_SEED`].
 #[must_use]
@@ -342,6 +349,7 @@ pub fn preset_3d(name: &str, grid: u32) -> Result<Scene> {
         "icosahedron" => return Scene::icosahedron(),
         "cornell" => return Scene::cornell_box(false, grid),
         "cornell-lifted" => return Scene::cornell_box(true, grid),
+        "cornell-thesis" => return Scene::cornell_box_thesis(grid),
         _ => {}
     }
     if !PRESETS_3D.iter().any(|e| e.name == name) {
