@@ -115,7 +115,11 @@ pub fn check_channel<M: Transitions>(channel: &Channel<'_, M>) -> Result<Measure
             .filter(|&&x| x > 0.0)
             .map(|&x| sceneinfo::math::log2(x).abs())
             .sum();
-        let rows = checks.max_row_sum_error * m.h_p + slack;
+        // A probability off by δ moves its η = −p log₂ p by |log₂ p + 1/ln 2| δ: rows and
+        // weights accepted within rounding of one (and entries rounded above one, counted
+        // as one) move the entropies by up to (Σ |log₂| + 1.45) times their error.
+        let weight_error = (sceneinfo::math::sum(w.iter().copied()) - 1.0).abs();
+        let rows = (checks.max_row_sum_error + weight_error) * (m.h_p + 1.5) + slack;
         let stationary = rows + checks.stationarity_error * log_mass;
         let joint = m.h_j - (m.h_p + m.h_s);
         if joint.abs() > rows {
