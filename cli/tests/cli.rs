@@ -4,7 +4,7 @@ mod common;
 
 use std::path::PathBuf;
 
-use common::{bin, number as json_number, preset, temp, without_timing};
+use common::{bin, number as json_number, preset, stdout_of, temp, without_timing};
 
 #[test]
 fn scene_then_measure_reproduces_table_3_4_first_cell() {
@@ -491,4 +491,30 @@ fn refine_obj_writes_its_outputs_when_some_leaf_misses_the_lines() {
     let json = String::from_utf8(out.stdout).unwrap();
     assert!(json_number(&json, "i_s") > 0.0, "{json}");
     assert!(json_number(&json, "lines") > 1048576.0, "{json}");
+}
+
+#[test]
+fn bench_prints_rates_beside_the_naive_baseline_and_the_load() {
+    // One small scene only: naive, 1 and 2 threads, each a pair of short jobs.
+    let json = stdout_of(&["bench", "--only", "triangle", "--json", "--threads", "2"]);
+    assert!(json.contains("\"triangle (30)\""), "{json}");
+    assert!(
+        !json.contains("cube"),
+        "--only runs only the matching scene: {json}"
+    );
+    for key in [
+        "naive_lines_per_cpu_second",
+        "lines_per_cpu_second_1_thread",
+        "lines_per_second_1_thread",
+        "lines_per_second",
+        "speedup_over_naive",
+    ] {
+        let v = json_number(&json, key);
+        assert!(v > 0.0 && v.is_finite(), "{key} = {v} in {json}");
+    }
+    // The triangle's 30 patches meet a line 1.44 times on average (Crofton)
+    let hits = json_number(&json, "hits_per_line");
+    assert!((1.3..1.6).contains(&hits), "{hits}");
+    assert_eq!(json_number(&json, "patches"), 30.0);
+    assert_eq!(json_number(&json, "threads"), 2.0);
 }

@@ -267,8 +267,10 @@ fn triangulated_cube(level: u32) -> Result<Scene> {
 /// Rates of a tracer on some threads: lines per second of wall time and per second of
 /// the workers' CPU time.
 struct Rate {
+    /// Lines per second of wall time.
     wall: f64,
-    /// `None` where the CPU time cannot be read (not Linux).
+    /// Lines per second of the workers' CPU time, summed over the workers; `None` where
+    /// the CPU time cannot be read (not Linux).
     cpu: Option<f64>,
 }
 
@@ -314,7 +316,7 @@ fn rate<T: LineTracer + Sync>(tracer: &T, budget: f64, threads: usize) -> (Rate,
             let cpu = job1
                 .worker_cpu
                 .zip(job2.worker_cpu)
-                .map(|(c1, c2)| marginal(lines, c1, c2) * threads as f64);
+                .map(|(c1, c2)| marginal(lines, c1, c2));
             return (Rate { wall, cpu }, tally);
         }
         lines *= 2;

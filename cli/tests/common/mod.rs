@@ -11,6 +11,17 @@ pub fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_sceneinfo"))
 }
 
+/// The standard output of `sceneinfo ARGS`, which must succeed (else its stderr is shown).
+pub fn stdout_of(args: &[&str]) -> String {
+    let out = bin().args(args).output().unwrap();
+    assert!(
+        out.status.success(),
+        "sceneinfo {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
 /// A path in this test process' own temporary directory.
 pub fn temp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("sceneinfo-cli-test-{}", std::process::id()));

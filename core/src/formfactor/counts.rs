@@ -708,6 +708,22 @@ mod tests {
     }
 
     #[test]
+    fn symmetric_entries_must_repeat_on_reading() {
+        for mut c in [PairCounts::new(3, true), sparse(3, true)] {
+            assert_eq!(c.push_sorted(0, 1, 3, 0), Ok(()));
+            assert_eq!(c.push_sorted(1, 1, 4, 0), Ok(()));
+            assert!(c.push_sorted(1, 1, 3, 0).is_err(), "odd diagonal");
+            assert!(
+                c.push_sorted(1, 0, 2, 0).is_err(),
+                "(1, 0) differs from (0, 1)"
+            );
+            assert!(c.push_sorted(2, 0, 1, 0).is_err(), "(2, 0) without (0, 2)");
+            assert_eq!(c.push_sorted(1, 0, 3, 0), Ok(()));
+            assert_eq!(collect(&mut c), vec![(0, 1, 3), (1, 0, 3), (1, 1, 4)]);
+        }
+    }
+
+    #[test]
     fn merge_into_matches_a_plain_merge() {
         let a0 = vec![(1, 1), (4, 2), (6, 1), (9, 5)];
         let b = vec![(0, 3), (4, 1), (5, 1), (9, 1), (12, 2)];
