@@ -1,12 +1,12 @@
 //! Robustness of the real binary (issue 8): bit-identical results across runs and thread
 //! counts, Ctrl-C during a long line job, resource caps.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_sceneinfo"))
-}
+use common::{bin, without_timing};
 
 /// A fresh directory for one test.
 fn temp_dir(test: &str) -> PathBuf {
@@ -17,14 +17,6 @@ fn temp_dir(test: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
-}
-
-/// Drops the keys whose values are wall-clock times from a JSON object.
-fn without_timing(json: &str) -> String {
-    json.split(',')
-        .filter(|kv| !kv.contains("\"seconds\"") && !kv.contains("\"lines_per_second\""))
-        .collect::<Vec<_>>()
-        .join(",")
 }
 
 /// A flatland room with a two-sided wall and a box: occlusion, 34 patches.
