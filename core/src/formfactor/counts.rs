@@ -317,20 +317,11 @@ impl PairCounts {
                 buffer,
                 merged,
             } => {
-                let copy;
-                let list = if buffer.is_empty() {
-                    merged
-                } else {
-                    let mut b = buffer.clone();
-                    let mut m = merged.clone();
-                    flush(&mut b, &mut m);
-                    copy = m;
-                    &copy
-                };
+                let list = flushed(buffer, merged);
                 if *symmetric {
-                    for_each_symmetric(*n, list, |i, j, c| f(i, j, c, 0));
+                    for_each_symmetric(*n, &list, |i, j, c| f(i, j, c, 0));
                 } else {
-                    for &(k, c) in list {
+                    for &(k, c) in list.iter() {
                         let (i, j) = unkey(k);
                         f(i, j, c, 0);
                     }
@@ -349,16 +340,7 @@ impl PairCounts {
                 merged,
                 ..
             } => {
-                let copy;
-                let list = if buffer.is_empty() {
-                    merged
-                } else {
-                    let mut b = buffer.clone();
-                    let mut m = merged.clone();
-                    flush(&mut b, &mut m);
-                    copy = m;
-                    &copy
-                };
+                let list = flushed(buffer, merged);
                 list.iter()
                     .map(|&(k, _)| {
                         let (i, j) = unkey(k);
@@ -552,6 +534,17 @@ fn for_each_symmetric(n: usize, list: &[(u64, u64)], mut f: impl FnMut(usize, us
             next += 1;
         }
     }
+}
+
+/// The merged sparse list with the unflushed `buffer` folded in, without touching either:
+/// borrowed when nothing is pending, else a flushed copy.
+fn flushed<'a>(buffer: &[u64], merged: &'a [(u64, u64)]) -> alloc::borrow::Cow<'a, [(u64, u64)]> {
+    if buffer.is_empty() {
+        return alloc::borrow::Cow::Borrowed(merged);
+    }
+    let (mut b, mut m) = (buffer.to_vec(), merged.to_vec());
+    flush(&mut b, &mut m);
+    alloc::borrow::Cow::Owned(m)
 }
 
 /// Sorts and run-length encodes the buffered keys into the sorted list.
