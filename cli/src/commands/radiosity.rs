@@ -308,46 +308,38 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
         s,
         "                      visibility   radiosity R  radiosity G  radiosity B"
     );
+    // One row: the label, the visibility value, then red, green, blue
+    let line = |s: &mut String, label: &str, [vis, r, g, b]: [f64; 4]| {
+        let _ = writeln!(s, "{label:<22}{vis:<13.6}{r:<13.6}{g:<13.6}{b:.6}");
+    };
     let row = |s: &mut String, label: &str, vis: f64, f: &dyn Fn(&RadiosityMeasures) -> f64| {
-        let _ = writeln!(
-            s,
-            "{label:<22}{vis:<13.6}{:<13.6}{:<13.6}{:.6}",
-            f(&rad[0]),
-            f(&rad[1]),
-            f(&rad[2])
-        );
+        line(s, label, [vis, f(&rad[0]), f(&rad[1]), f(&rad[2])]);
     };
     row(&mut s, "H_P  (3.5, 5.6)", v.h_p, &|m| m.h_p);
     row(&mut s, "H_S  (3.1, 5.5)", v.h_s, &|m| m.h_s);
     row(&mut s, "H_J", v.h_j, &|m| m.h_j);
     row(&mut s, "I_S  (3.8, 5.7)", v.i_s, &|m| m.i_s);
     if let Some(l) = &r.lines {
-        let _ = writeln!(
-            s,
-            "{:<22}{:<13.6}{:<13.6}{:<13.6}{:.6}",
+        let [lr, lg, lb] = &l.radiosity;
+        line(
+            &mut s,
             "I_S^c (4.8, 5.20)",
-            l.visibility.value,
-            l.radiosity[0].value,
-            l.radiosity[1].value,
-            l.radiosity[2].value
+            [l.visibility.value, lr.value, lg.value, lb.value],
         );
-        let _ = writeln!(
-            s,
-            "{:<22}{:<13.6}{:<13.6}{:<13.6}{:.6}",
+        line(
+            &mut s,
             "  ± 1 standard error",
-            l.visibility.stderr,
-            l.radiosity[0].stderr,
-            l.radiosity[1].stderr,
-            l.radiosity[2].stderr
+            [l.visibility.stderr, lr.stderr, lg.stderr, lb.stderr],
         );
-        let _ = writeln!(
-            s,
-            "{:<22}{:<13.6}{:<13.6}{:<13.6}{:.6}",
+        line(
+            &mut s,
             "I_S^c - I_S (5.21)",
-            l.visibility.value - v.i_s,
-            l.radiosity[0].value - rad[0].i_s,
-            l.radiosity[1].value - rad[1].i_s,
-            l.radiosity[2].value - rad[2].i_s
+            [
+                l.visibility.value - v.i_s,
+                lr.value - rad[0].i_s,
+                lg.value - rad[1].i_s,
+                lb.value - rad[2].i_s,
+            ],
         );
     }
     for (c, m) in rad.iter().enumerate() {
