@@ -94,15 +94,15 @@ pub fn exact_3d_form_factors(
     path: &Path,
     scene: &sceneinfo::scene::Scene,
 ) -> Result<sceneinfo::formfactor::FormFactors> {
-    use sceneinfo::formfactor::exact_3d;
-    let polygons: Vec<(usize, usize)> =
-        scene.patches().iter().map(|p| (p.first, p.count)).collect();
-    if exact_3d::may_be_occluded(scene.points(), &polygons) {
-        anyhow::bail!(
-            "{}: some patches may hide others; exact 3D form factors are computed only for \
-             unoccluded scenes: use --lines N for a Monte Carlo estimate",
-            path.display()
-        );
-    }
-    exact_3d::form_factors_unoccluded(scene.points(), &polygons).map_err(|e| located(path, &e))
+    sceneinfo::formfactor::exact_3d::scene_form_factors(scene).map_err(|e| {
+        if matches!(e.kind(), sceneinfo::ErrorKind::MayBeOccluded) {
+            anyhow::anyhow!(
+                "{}: some patches may hide others; exact 3D form factors are computed only for \
+                 unoccluded scenes: use --lines N for a Monte Carlo estimate",
+                path.display()
+            )
+        } else {
+            located(path, &e)
+        }
+    })
 }

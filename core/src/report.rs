@@ -416,16 +416,7 @@ pub fn measure_flat_json(text: &str) -> crate::Result<String> {
 /// errors of the exact form factors and of the channel constructor.
 #[cfg(feature = "alloc")]
 pub fn measure_solid(scene: &crate::scene::Scene) -> crate::Result<SceneReport> {
-    use crate::formfactor::exact_3d;
-    let polygons: alloc::vec::Vec<(usize, usize)> =
-        scene.patches().iter().map(|p| (p.first, p.count)).collect();
-    if exact_3d::may_be_occluded(scene.points(), &polygons) {
-        return Err(crate::ErrorKind::MayBeOccluded.into());
-    }
-    SceneReport::of(&exact_3d::form_factors_unoccluded(
-        scene.points(),
-        &polygons,
-    )?)
+    SceneReport::of(&crate::formfactor::exact_3d::scene_form_factors(scene)?)
 }
 
 /// Parses OBJ text (its `mtllib` libraries looked up by `mtl`, as [`crate::io::parse_obj`]

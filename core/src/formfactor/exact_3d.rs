@@ -264,6 +264,22 @@ pub(crate) fn planes<'a>(
     Ok(out)
 }
 
+/// The exact form factors of a scene's patches when no polygon can hide another: the
+/// [`may_be_occluded`] test, then [`form_factors_unoccluded`].
+///
+/// # Errors
+/// [`ErrorKind::MayBeOccluded`] when some patch may hide part of another; the errors of
+/// [`form_factors_unoccluded`].
+#[cfg(feature = "alloc")]
+pub fn scene_form_factors(scene: &crate::scene::Scene) -> Result<FormFactors> {
+    let polygons: alloc::vec::Vec<(usize, usize)> =
+        scene.patches().iter().map(|p| (p.first, p.count)).collect();
+    if may_be_occluded(scene.points(), &polygons) {
+        return Err(ErrorKind::MayBeOccluded.into());
+    }
+    form_factors_unoccluded(scene.points(), &polygons)
+}
+
 /// Reciprocity-consistent form-factor matrix of `polygons` — `(first, count)` ranges of
 /// `points`, each a convex planar polygon counter-clockwise about its front — with no
 /// occlusion: `A_i F_ij` is computed once per unordered pair and gives both `F_ij` and
