@@ -436,9 +436,10 @@ impl fmt::Display for ErrorKind {
             K::RowSumAboveOne { row, sum } => write!(f, "row {row} sums to {sum} > 1"),
             K::PrecisionLoss { patch, sum, range } => write!(
                 f,
-                "exact form factors of patch {patch} sum to {sum} > 1: the scene spans {range:.2e} \
-                 times its shortest patch, too much for double precision (exact results are \
-                 guaranteed up to {:.0e}); rescale or split the scene, or estimate with --lines",
+                "exact form factors of patch {patch} sum to {sum} > 1: rounding in this scene's \
+                 geometry exceeds double precision (it spans {range:.2e} times its shortest \
+                 patch; exact results are guaranteed up to {:.0e} without needle-thin \
+                 features); rescale or split the scene, or estimate with --lines",
                 crate::formfactor::exact_2d::RESOLVED_RANGE
             ),
             K::TransitionToNullState { row, col } => write!(

@@ -61,7 +61,8 @@ pub const MAX_DENSE_PATCHES: usize = 10_000;
 /// Extent-to-shortest-patch ratio up to which the exact flatland form factors are
 /// guaranteed to close (rows sum to one within 1e-9): each sine integral carries a few ulps
 /// of the distances involved, up to the scene's extent, relative to the source patch's
-/// length. Tested at 10⁷ (`tests::extreme_aspect_sliver_rows_sum_to_one`); beyond this
+/// length. Tested at 10⁷ (`tests::extreme_aspect_sliver_rows_sum_to_one`). Needle-thin
+/// polygons (widths 1e-10 of their length) lose precision inside this range too; beyond it, or there,
 /// [`form_factors`] may refuse with [`ErrorKind::PrecisionLoss`] rather than return rows
 /// that overflow.
 pub const RESOLVED_RANGE: f64 = 1e6;
