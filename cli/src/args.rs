@@ -194,7 +194,9 @@ pub struct SamplingArgs {
     /// with this many lines (e.g. 10000000 or 1e7). Without it, form factors are exact.
     #[arg(long, value_name = "N", value_parser = parse_count)]
     pub lines: Option<u64>,
-    /// Which lines: uniform global lines (2.37) or cosine local lines (2.36).
+    /// Which lines: uniform global lines (2.37), cosine local lines (2.36), or global lines
+    /// cast in bundles of 1024 parallel lines (flatland only; each bundle is one observation
+    /// of the standard error).
     #[arg(long, value_enum, default_value_t = Method::Global)]
     pub method: Method,
     /// Seed of the line streams: the result depends on (seed, lines) only.
@@ -256,6 +258,21 @@ pub enum Method {
     Global,
     /// Cosine-distributed local lines.
     Local,
+    /// Global lines cast in bundles of parallel lines (flatland only).
+    Bundle,
+}
+
+impl Method {
+    /// The core's sampling method.
+    #[must_use]
+    pub fn line_method(self) -> sceneinfo::formfactor::tally::LineMethod {
+        use sceneinfo::formfactor::tally::LineMethod;
+        match self {
+            Method::Global => LineMethod::Global,
+            Method::Local => LineMethod::Local,
+            Method::Bundle => LineMethod::Bundle,
+        }
+    }
 }
 
 /// Parses a count written as an integer (`10000000`) or in scientific notation (`1e7`).

@@ -199,7 +199,12 @@ fn four_partials_merged_equal_one_run_bit_for_bit() {
     );
     // 7 chunks: the last one is short.
     let lines = (6 * 65536 + 1234).to_string();
-    for (scene, method) in [(&flat, "global"), (&obj, "local"), (&obj, "global")] {
+    for (scene, method) in [
+        (&flat, "global"),
+        (&flat, "bundle"),
+        (&obj, "local"),
+        (&obj, "global"),
+    ] {
         let common = ["--lines", &lines, "--seed", "5", "--method", method];
         let whole_csv = temp(&format!("whole-{method}.csv"));
         let whole = bin()

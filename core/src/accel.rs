@@ -34,6 +34,8 @@ mod bvh2;
 mod bvh3;
 #[cfg(feature = "alloc")]
 mod sah;
+#[cfg(feature = "alloc")]
+mod sweep2;
 #[cfg(all(test, feature = "std"))]
 mod tests;
 
@@ -42,6 +44,8 @@ pub use bvh2::{Bvh2, MAX_PRIMITIVES};
 #[cfg(feature = "alloc")]
 pub use bvh3::{Bvh3, all_hits_naive3};
 pub use bvh3::{Hit3, first_hit_naive3};
+#[cfg(feature = "alloc")]
+pub use sweep2::{BundleHits, ParallelSweep};
 
 #[cfg(feature = "alloc")]
 use crate::lines::Line2;
@@ -132,6 +136,14 @@ impl LineQuery {
             d,
             inv_dd: 1.0 / d.length_squared(),
         }
+    }
+
+    /// The same direction from another origin (the lines of a bundle: `1/(d·d)` is
+    /// shared, with the bits [`LineQuery::new`] computes).
+    #[cfg(feature = "alloc")]
+    #[inline]
+    pub(crate) fn with_origin(&self, o: DVec2) -> Self {
+        Self { o, ..*self }
     }
 
     /// The line parameter where the line meets the closed segment `a → a + e`, if it does

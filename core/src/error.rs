@@ -309,6 +309,13 @@ pub enum ErrorKind {
         limit: u64,
     },
 
+    /// The scene's tracer does not cast lines of this method (bundles of parallel lines
+    /// are flatland only).
+    UnsupportedMethod {
+        /// The method's description, e.g. `"bundles of parallel lines"`.
+        method: &'static str,
+    },
+
     // ---- solvers --------------------------------------------------------------------------
     /// A numeric parameter (e.g. a solver tolerance) is NaN, infinite or out of range.
     BadParameter {
@@ -504,6 +511,9 @@ impl fmt::Display for ErrorKind {
                  (measure --chunks A..B --partial) before merging",
                 have.start, have.end
             ),
+            K::UnsupportedMethod { method } => {
+                write!(f, "{method} are implemented for flatland scenes only")
+            }
             K::BadParameter { name, value } => {
                 write!(f, "parameter {name} = {value} is out of range")
             }

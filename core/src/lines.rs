@@ -39,7 +39,8 @@ mod stream;
 
 pub use budget::{MAX_LINES, check_line_budget};
 pub use global::{
-    BoundingCircle, Line2, global_line_2d_pdf, invert_global_line_2d, sample_global_line_2d,
+    BoundingCircle, GlobalBundle2, Line2, global_line_2d_pdf, invert_global_line_2d,
+    sample_global_line_2d,
 };
 pub use lines3::{
     BoundingSphere, Line3, cosine_hemisphere_pdf, global_line_3d_pdf, invert_cosine_hemisphere,

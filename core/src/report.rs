@@ -368,12 +368,7 @@ impl LineRunReport {
     /// # Errors
     /// Whatever the writer returns.
     pub fn write_fields<W: Write>(&self, o: &mut JsonObject<'_, W>) -> fmt::Result {
-        use crate::formfactor::tally::LineMethod;
-        let method = match self.method {
-            LineMethod::Global => "global lines",
-            LineMethod::Local => "local lines",
-        };
-        o.string("form_factors", method)?;
+        o.string("form_factors", self.method.description())?;
         o.number("i_s_continuous", self.continuous.value)?;
         o.number("i_s_continuous_stderr", self.continuous.stderr)?;
         o.number(

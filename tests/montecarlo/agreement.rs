@@ -87,6 +87,13 @@ fn global_line_form_factors_agree_with_exact() {
     check_method(LineMethod::Global, 1_000_000);
 }
 
+/// Bundles of parallel lines stratify directions and offsets, so their errors are below
+/// the binomial ones of independent samples and the same 5σ band holds with margin.
+#[test]
+fn bundle_form_factors_agree_with_exact() {
+    check_method(LineMethod::Bundle, 1_000_000);
+}
+
 #[test]
 fn local_line_form_factors_agree_with_exact() {
     check_method(LineMethod::Local, 2_000_000);

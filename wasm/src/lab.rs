@@ -291,6 +291,17 @@ impl FlatLab {
             .map_err(into_error)
     }
 
+    /// A Monte Carlo job of `lines` global lines cast in bundles of parallel lines
+    /// (`LineMethod::Bundle`: one uniform direction and shift per bundle) from `seed`.
+    ///
+    /// # Errors
+    /// As [`FlatLab::global_lines`].
+    #[wasm_bindgen(js_name = bundleLines)]
+    pub fn bundle_lines(&self, seed: f64, lines: f64) -> Result<LineJob, JsError> {
+        self.line_job(LineMethod::Bundle, seed, lines)
+            .map_err(into_error)
+    }
+
     /// A refiner of this scene (thesis §6.5.2) with the oracle `oracle` — `"de"` (largest
     /// `I_i^c − I_i`), `"power"` (largest `I_i`) or `"regular"` (longest patch) — its `I^c`
     /// profile tallied from `lines` global lines with `seed`.

@@ -54,6 +54,50 @@ struct McRow {
     pairs: u64,
 }
 
+/// Global lines and bundles of parallel lines on one flatland scene, in the same run.
+struct BundleRow {
+    name: &'static str,
+    /// Global lines: 1 thread, lines per CPU second; the figure of merit of `I_S^c`.
+    global: f64,
+    global_merit: Merit,
+    /// Bundles: 1 thread, lines per CPU second and per wall second; `threads`, per wall
+    /// second; the figure of merit of `I_S^c`.
+    bundle: f64,
+    bundle_wall: f64,
+    bundle_many: f64,
+    bundle_merit: Merit,
+}
+
+/// How much a job's `I_S^c` is worth per unit of work: the job's standard error and CPU
+/// seconds, and the efficiency `1 / (stderr² · CPU seconds)` (the inverse of the variance
+/// a CPU second buys: larger is better, and it does not depend on the job's length).
+#[derive(Clone, Copy)]
+struct Merit {
+    lines: u64,
+    stderr: f64,
+    cpu_seconds: f64,
+}
+
+impl Merit {
+    fn of(tally: &LineTally, job: &crate::lines::JobTimes) -> Self {
+        Self {
+            lines: tally.lines(),
+            stderr: tally.continuous().stderr,
+            cpu_seconds: job.worker_cpu.unwrap_or(job.wall),
+        }
+    }
+
+    /// The standard error of a job of one line, `stderr · √lines`: the ratio of two
+    /// methods' is the ratio of their standard errors at equal lines.
+    fn stderr_per_line(&self) -> f64 {
+        self.stderr * (self.lines as f64).sqrt()
+    }
+
+    fn efficiency(&self) -> f64 {
+        1.0 / (self.stderr * self.stderr * self.cpu_seconds)
+    }
+}
+
 /// One exact form-factor computation.
 struct ExactRow {
     name: &'static str,
@@ -77,6 +121,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let start = Instant::now();
     let load_before = load_average();
     let mut mc = Vec::new();
+    let mut bundles = Vec::new();
     let quiet = args.json;
     let note = |s: &str| {
         if !quiet {
@@ -96,7 +141,20 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         reset_peak();
         let tracer = FlatTracer::new(&scene)?;
         let naive = FlatTracer::new(&scene)?.naive_baseline();
-        mc.push(bench_scene(name, &tracer, &naive, budget, threads));
+        let (row, global_merit) = bench_scene(name, &tracer, &naive, budget, threads);
+        note(&format!("{name}: bundles"));
+        let (one, tally, job) = rate(&tracer, LineMethod::Bundle, budget, 1);
+        let (many, _, _) = rate(&tracer, LineMethod::Bundle, budget, threads);
+        bundles.push(BundleRow {
+            name,
+            global: row.one,
+            global_merit,
+            bundle: one.cpu_or_wall(),
+            bundle_wall: one.wall,
+            bundle_many: many.wall,
+            bundle_merit: Merit::of(&tally, &job),
+        });
+        mc.push(row);
     }
     let solid: [Named<Scene>; 5] = [
         ("cube 600", || Scene::cube(10)),
@@ -111,7 +169,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         reset_peak();
         let tracer = SceneTracer::new(&scene)?;
         let naive = SceneTracer::new(&scene)?.naive_baseline();
-        mc.push(bench_scene(name, &tracer, &naive, budget, threads));
+        mc.push(bench_scene(name, &tracer, &naive, budget, threads).0);
     }
 
     // Exact form factors
@@ -177,6 +235,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let load = [load_before, load_average()];
     let report = Report {
         mc: &mc,
+        bundles: &bundles,
         exact: &exact,
         curve: &curve,
         memory: memory.as_ref(),
@@ -197,6 +256,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
 /// Everything `bench` measured, for printing.
 struct Report<'a> {
     mc: &'a [McRow],
+    bundles: &'a [BundleRow],
     exact: &'a [ExactRow],
     curve: &'a [CurvePoint],
     memory: Option<&'a MemoryCheck>,
@@ -281,7 +341,8 @@ impl Rate {
     }
 }
 
-/// Rates of `tracer` on `threads` threads, and the tally of the last job.
+/// Rates of `tracer` casting lines of `method` on `threads` threads, and the tally and
+/// times of the last job.
 ///
 /// Jobs of `L` and `2L` lines give the marginal rates `L / (t(2L) − t(L))`, with `L` grown
 /// (×2) until a job of `L` lines takes half of `budget`: the difference then leaves out
@@ -289,11 +350,16 @@ impl Rate {
 /// 5400-patch cube's dense counts — and starting threads), so it is the rate of a long
 /// job, and it is large beside the noise of those costs. (A difference that is not
 /// positive — noise larger than a job — falls back to the rate of the `2L` job.)
-fn rate<T: LineTracer + Sync>(tracer: &T, budget: f64, threads: usize) -> (Rate, LineTally) {
+fn rate<T: LineTracer + Sync>(
+    tracer: &T,
+    method: LineMethod,
+    budget: f64,
+    threads: usize,
+) -> (Rate, LineTally, crate::lines::JobTimes) {
     let timed = |lines: u64| {
         crate::lines::run_chunks_timed(
             tracer,
-            LineMethod::Global,
+            method,
             SEED,
             lines,
             0..sceneinfo::lines::chunk_count(lines),
@@ -317,7 +383,7 @@ fn rate<T: LineTracer + Sync>(tracer: &T, budget: f64, threads: usize) -> (Rate,
                 .worker_cpu
                 .zip(job2.worker_cpu)
                 .map(|(c1, c2)| marginal(lines, c1, c2));
-            return (Rate { wall, cpu }, tally);
+            return (Rate { wall, cpu }, tally, job2);
         }
         lines *= 2;
     }
@@ -329,13 +395,13 @@ fn bench_scene<T: LineTracer + Sync>(
     naive: &T,
     budget: f64,
     threads: usize,
-) -> McRow {
-    let (naive_rate, _) = rate(naive, budget, 1);
-    let (one, _) = rate(tracer, budget, 1);
-    let (many, tally) = rate(tracer, budget, threads);
+) -> (McRow, Merit) {
+    let (naive_rate, _, _) = rate(naive, LineMethod::Global, budget, 1);
+    let (one, one_tally, one_job) = rate(tracer, LineMethod::Global, budget, 1);
+    let (many, tally, _) = rate(tracer, LineMethod::Global, budget, threads);
     let (count_bytes, pairs) = tally.count_memory();
     let samples = tally.continuous().samples;
-    McRow {
+    let row = McRow {
         name,
         patches: tracer.n_patches(),
         hits_per_line: samples as f64 / tally.lines().max(1) as f64,
@@ -346,12 +412,13 @@ fn bench_scene<T: LineTracer + Sync>(
         peak_mb: peak_bytes().map(|b| b as f64 / 1e6),
         count_bytes,
         pairs,
-    }
+    };
+    (row, Merit::of(&one_tally, &one_job))
 }
 
 fn curve_point(mesh: String, scene: &Scene, budget: f64) -> Result<CurvePoint> {
     let tracer = SceneTracer::new(scene)?;
-    let (r, tally) = rate(&tracer, budget, 1);
+    let (r, tally, _) = rate(&tracer, LineMethod::Global, budget, 1);
     Ok(CurvePoint {
         mesh,
         patches: tracer.n_patches(),
@@ -436,6 +503,45 @@ fn table(r: &Report, budget: f64) -> String {
             per_pair
         );
     }
+    if !r.bundles.is_empty() {
+        let _ = writeln!(
+            s,
+            "\nFlatland: global lines vs bundles of parallel lines, M lines/s (1t: per CPU \
+             second; {threads}t: per wall second) and the efficiency of I_S^c, \
+             1/(stderr^2 * CPU s), of the 1-thread jobs (their stderr from one job: ±10-20 %)"
+        );
+        let _ = writeln!(
+            s,
+            "{:<20} {:>9} {:>9} {:>9} {:>9} {:>8} {:>11} {:>11} {:>11} {:>7}",
+            "scene",
+            "global 1t",
+            "bundle 1t",
+            "1t wall",
+            format!("bundle {threads}t"),
+            "speed",
+            "eff global",
+            "eff bundle",
+            "σ b/g",
+            "eff b/g"
+        );
+    }
+    for b in r.bundles {
+        let (g, u) = (&b.global_merit, &b.bundle_merit);
+        let _ = writeln!(
+            s,
+            "{:<20} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>8.2} {:>11.3e} {:>11.3e} {:>11.3} {:>7.1}",
+            b.name,
+            b.global / 1e6,
+            b.bundle / 1e6,
+            b.bundle_wall / 1e6,
+            b.bundle_many / 1e6,
+            b.bundle / b.global,
+            g.efficiency(),
+            u.efficiency(),
+            u.stderr_per_line() / g.stderr_per_line(),
+            u.efficiency() / g.efficiency()
+        );
+    }
     if !r.exact.is_empty() {
         let _ = writeln!(s, "\nExact form factors (wall time)");
     }
@@ -515,6 +621,26 @@ fn json(r: &Report) -> Result<String> {
                 }
                 o.integer("count_bytes", m.count_bytes as u64)?;
                 o.integer("nonzero_pairs", m.pairs)
+            })?;
+        }
+        Ok(())
+    })?;
+    o.object("bundles", |o| {
+        for b in r.bundles {
+            o.object(b.name, |o| {
+                o.number("global_lines_per_cpu_second_1_thread", b.global)?;
+                o.number("bundle_lines_per_cpu_second_1_thread", b.bundle)?;
+                o.number("bundle_lines_per_second_1_thread", b.bundle_wall)?;
+                o.number("bundle_lines_per_second", b.bundle_many)?;
+                for (key, m) in [("global", &b.global_merit), ("bundle", &b.bundle_merit)] {
+                    o.object(key, |o| {
+                        o.integer("lines", m.lines)?;
+                        o.number("i_s_continuous_stderr", m.stderr)?;
+                        o.number("cpu_seconds", m.cpu_seconds)?;
+                        o.number("efficiency", m.efficiency())
+                    })?;
+                }
+                Ok(())
             })?;
         }
         Ok(())

@@ -18,7 +18,7 @@ use sceneinfo::formfactor::tally::{LineTally, LineTracer};
 use sceneinfo::lines::{CHUNK_LINES, chunk_count};
 use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport};
 
-use crate::args::{MeasureArgs, Method, SamplingArgs};
+use crate::args::{MeasureArgs, SamplingArgs};
 use crate::interrupt::Interrupted;
 use crate::output::{Loaded, located, write_atomic};
 
@@ -67,11 +67,20 @@ fn finished<T>(result: sceneinfo::Result<T>, done: u64, asked: u64, path: &Path)
     result.map_err(|e| located(path, &e))
 }
 
-fn line_method(m: Method) -> LineMethod {
-    match m {
-        Method::Global => LineMethod::Global,
-        Method::Local => LineMethod::Local,
+/// Refuses, with the file's name, a method the scene's tracer cannot cast (bundles of
+/// parallel lines in 3D).
+pub fn check_supported<T: LineTracer + ?Sized>(
+    tracer: &T,
+    method: LineMethod,
+    path: &Path,
+) -> Result<()> {
+    if tracer.supports(method) {
+        return Ok(());
     }
+    let kind = sceneinfo::ErrorKind::UnsupportedMethod {
+        method: method.description(),
+    };
+    Err(located(path, &kind.into()))
 }
 
 fn threads_of(sampling: &SamplingArgs) -> usize {
@@ -83,7 +92,7 @@ fn threads_of(sampling: &SamplingArgs) -> usize {
 fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<MonteCarlo>)> {
     let at = |e: sceneinfo::Error| located(path, &e);
     let scene = crate::output::load_scene(path)?;
-    let method = line_method(sampling.method);
+    let method = sampling.method.line_method();
     let threads = threads_of(sampling);
     if let Some(n) = sampling.lines {
         sceneinfo::lines::check_line_budget(n).map_err(at)?;
@@ -119,12 +128,14 @@ fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<
             let (est, done) = match scene {
                 Loaded::Flat(s) => {
                     let tracer = FlatTracer::new(s).map_err(at)?;
+                    check_supported(&tracer, method, path)?;
                     let tally = crate::lines::run(&tracer, method, sampling.seed, lines, threads);
                     let done = tally.lines();
                     (finished(tally.finish(&tracer), done, lines, path)?, done)
                 }
                 Loaded::Solid(s) => {
                     let tracer = SceneTracer::new(s).map_err(at)?;
+                    check_supported(&tracer, method, path)?;
                     let tally = crate::lines::run(&tracer, method, sampling.seed, lines, threads);
                     let done = tally.lines();
                     (finished(tally.finish(&tracer), done, lines, path)?, done)
@@ -251,12 +262,18 @@ fn write_partial(args: &MeasureArgs, out: &Path) -> Result<()> {
         );
     }
     let bytes = std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?;
-    let method = line_method(sampling.method);
+    let method = sampling.method.line_method();
     let threads = threads_of(sampling);
     let job = |c: Range<u64>| (method, sampling.seed, lines, c, threads);
     let (tally, sizes) = match crate::output::load_scene(path)? {
-        Loaded::Flat(s) => tally_chunks(&FlatTracer::new(&s).map_err(at)?, job(chunks.clone())),
-        Loaded::Solid(s) => tally_chunks(&SceneTracer::new(&s).map_err(at)?, job(chunks.clone())),
+        Loaded::Flat(s) => {
+            tally_chunks(&FlatTracer::new(&s).map_err(at)?, job(chunks.clone()), path)?
+        }
+        Loaded::Solid(s) => tally_chunks(
+            &SceneTracer::new(&s).map_err(at)?,
+            job(chunks.clone()),
+            path,
+        )?,
     };
     let cast = tally.lines();
     let seconds = start.elapsed().as_secs_f64();
@@ -299,7 +316,7 @@ fn write_partial(args: &MeasureArgs, out: &Path) -> Result<()> {
             chunks.start,
             chunks.end,
             sampling.seed,
-            method_name(method),
+            method.description(),
             file.len(),
             cast as f64 / seconds.max(1e-9) / 1e6
         )?;
@@ -313,16 +330,11 @@ fn write_partial(args: &MeasureArgs, out: &Path) -> Result<()> {
 fn tally_chunks<T: LineTracer + Sync>(
     tracer: &T,
     (method, seed, lines, chunks, threads): (LineMethod, u64, u64, Range<u64>, usize),
-) -> (LineTally, Vec<f64>) {
+    path: &Path,
+) -> Result<(LineTally, Vec<f64>)> {
+    check_supported(tracer, method, path)?;
     let tally = crate::lines::run_chunks(tracer, method, seed, lines, chunks, threads);
-    (tally, tracer.patch_sizes().to_vec())
-}
-
-fn method_name(m: LineMethod) -> &'static str {
-    match m {
-        LineMethod::Global => "global lines",
-        LineMethod::Local => "local lines",
-    }
+    Ok((tally, tracer.patch_sizes().to_vec()))
 }
 
 fn table(name: &str, r: &SceneReport, mc: Option<&MonteCarlo>, seconds: f64) -> String {
@@ -347,7 +359,7 @@ fn table(name: &str, r: &SceneReport, mc: Option<&MonteCarlo>, seconds: f64) -> 
             let _ = writeln!(
                 s,
                 "form factors          {} : {} lines, seed {}, {seconds:.3} s ({:.2} M lines/s)",
-                method_name(mc.method),
+                mc.method.description(),
                 mc.lines,
                 mc.seed,
                 mc.lines as f64 / seconds.max(1e-9) / 1e6

@@ -19,7 +19,7 @@ use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::estimate_2d::FlatTracer;
 use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::formfactor::exact_2d;
-use sceneinfo::formfactor::tally::{LineMethod, LineTracer};
+use sceneinfo::formfactor::tally::LineTracer;
 use sceneinfo::radiosity::continuous::{PAIR_MOMENT_LIMIT, estimate_lit};
 use sceneinfo::radiosity::display::{ToneMap, gouraud_mesh};
 use sceneinfo::radiosity::rgb::{
@@ -167,10 +167,13 @@ fn with_lines<T: LineTracer + Sync>(
     if lines == 0 {
         return Err(sceneinfo::ErrorKind::NoLines.into());
     }
-    let method = match sampling.method {
-        Method::Global => LineMethod::Global,
-        Method::Local => LineMethod::Local,
-    };
+    let method = sampling.method.line_method();
+    if !tracer.supports(method) {
+        return Err(sceneinfo::ErrorKind::UnsupportedMethod {
+            method: method.description(),
+        }
+        .into());
+    }
     let threads = sampling
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get));
@@ -239,7 +242,7 @@ fn json(r: &Run, solver: SolverArg) -> Result<String> {
     match &r.lines {
         None => o.string("form_factors", "exact")?,
         Some(l) => {
-            o.string("form_factors", method_name(l.method))?;
+            o.string("form_factors", l.method.line_method().description())?;
             o.number("i_s_continuous", l.visibility.value)?;
             o.number("i_s_continuous_stderr", l.visibility.stderr)?;
             o.numbers("i_s_continuous_rgb", &l.radiosity.map(|e| e.value))?;
@@ -256,13 +259,6 @@ fn json(r: &Run, solver: SolverArg) -> Result<String> {
     o.number("seconds", r.seconds)?;
     o.finish()?;
     Ok(s)
-}
-
-fn method_name(m: Method) -> &'static str {
-    match m {
-        Method::Global => "global lines",
-        Method::Local => "local lines",
-    }
 }
 
 fn table(name: &str, r: &Run, solver: SolverArg) -> String {
@@ -282,7 +278,7 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
             let _ = writeln!(
                 s,
                 "form factors          {} : {} lines, seed {} ({})",
-                method_name(l.method),
+                l.method.line_method().description(),
                 l.lines,
                 l.seed,
                 if r.ff.n_patches() <= PAIR_MOMENT_LIMIT {

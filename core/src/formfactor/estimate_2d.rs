@@ -31,18 +31,34 @@
 
 use alloc::vec::Vec;
 
-use crate::accel::{Bvh2, Hit2};
+use crate::accel::{BundleHits, Bvh2, Hit2, ParallelSweep};
 use crate::continuous;
 use crate::error::Result;
 use crate::geom::{DVec2, Segment};
 use crate::lines::{
-    BoundingCircle, Line2, canonical, canonical_2d, chunk_rng, sample_global_line_2d,
-    sample_local_line_2d,
+    BoundingCircle, GlobalBundle2, Line2, canonical, canonical_2d, chunk_range, chunk_rng,
+    sample_global_line_2d, sample_local_line_2d,
 };
 use crate::scene::FlatScene;
 
-use crate::formfactor::tally::{Crossing, tally_global_hits, trace_chunk_lines};
+use crate::formfactor::tally::{
+    Crossing, crossings_of_hits, global_line_terms, tally_global_hits, trace_chunk_lines,
+};
 pub use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
+
+/// Lines per bundle of [`LineMethod::Bundle`] (the last bundle of a chunk may have fewer):
+/// enough that projecting every segment once per bundle costs little per line.
+pub const BUNDLE_LINES: u32 = 256;
+
+/// Bundles per sheaf of [`LineMethod::Bundle`]: equally spaced directions under one random
+/// rotation, so that the lines of a sheaf cover the directions evenly. The lines of one
+/// bundle share their direction, and the variance between directions dominates: on the
+/// 64-squares room (4.2·10⁶ lines) lone bundles of 256 lines gave a standard error of
+/// `I_S^c` 2.4 times that of independent lines, sheaves of 16 bundles 0.64 times and
+/// sheaves of 64 bundles 0.13 times. A sheaf holds 16,384 lines, so a chunk of
+/// [`crate::lines::CHUNK_LINES`] lines holds 4 sheaves: 4 observations of the standard
+/// error.
+pub const SHEAF_BUNDLES: u32 = 64;
 
 /// The result of a flatland Monte Carlo run (an alias kept for readability).
 pub type FlatEstimate = LineEstimate;
@@ -57,6 +73,7 @@ pub struct FlatTracer {
     cumulative: Vec<f64>,
     total_length: f64,
     bvh: Bvh2,
+    sweep: ParallelSweep,
     circle: BoundingCircle,
     /// Answer queries with the `O(n)` loops instead of the BVH (benchmark baseline).
     naive: bool,
@@ -84,6 +101,7 @@ impl FlatTracer {
             .collect();
         let (lo, hi) = scene.bounds();
         let bvh = Bvh2::build(&segments)?;
+        let sweep = ParallelSweep::new(&segments);
         Ok(Self {
             segments,
             normals,
@@ -92,6 +110,7 @@ impl FlatTracer {
             cumulative,
             total_length,
             bvh,
+            sweep,
             circle: BoundingCircle::of_bounds(lo, hi),
             naive: false,
         })
@@ -125,6 +144,78 @@ impl FlatTracer {
             tally,
             |ci, cj, r| continuous::flat_sample(self.total_length, ci, cj, r),
         );
+    }
+
+    /// Casts the lines of chunk `chunk` of an `n_lines` job as bundles of parallel lines,
+    /// drawn from [`chunk_rng`]`(seed, chunk)`: sheaves of [`SHEAF_BUNDLES`] bundles of
+    /// [`BUNDLE_LINES`] lines while the chunk has room for a whole sheaf, then single
+    /// bundles (the last one takes what is left). In a sheaf of `G` bundles, bundle `j`
+    /// has the direction of the canonical sample `(j + u₀)/G` — equally spaced directions
+    /// under one uniform rotation `u₀` — and its own shift ([`GlobalBundle2`]); a single
+    /// bundle has a uniform direction. Every line is marginally a uniform global line
+    /// (direction and offset each uniform within a stratum, the strata covering `[0, π) ×
+    /// [−r, r)` evenly), so the tallies keep their expectations, and every line is tallied
+    /// as a global line. A sheaf (or single bundle) is one group of the standard error:
+    /// its lines are correlated, different sheaves are independent.
+    fn trace_chunk_bundles(&self, seed: u64, n_lines: u64, chunk: u64, tally: &mut LineTally) {
+        let mut rng = chunk_rng(seed, chunk);
+        let mut scratch = (BundleHits::new(), Vec::new());
+        let range = chunk_range(n_lines, chunk);
+        let mut left = range.end - range.start;
+        let (m, g) = (u64::from(BUNDLE_LINES), u64::from(SHEAF_BUNDLES));
+        while left >= m * g {
+            let u0 = canonical(&mut rng);
+            let (mut sum, mut samples) = (0.0, 0u64);
+            for j in 0..SHEAF_BUNDLES {
+                let u = [
+                    (f64::from(j) + u0) / f64::from(SHEAF_BUNDLES),
+                    canonical(&mut rng),
+                ];
+                let bundle = GlobalBundle2::new(&self.circle, u, BUNDLE_LINES);
+                let (s, n) = self.tally_bundle(&bundle, &mut scratch, tally);
+                sum += s;
+                samples += n;
+            }
+            tally.end_group(sum, samples, m * g);
+            left -= m * g;
+        }
+        while left > 0 {
+            let lines = left.min(m);
+            let bundle = GlobalBundle2::new(&self.circle, canonical_2d(&mut rng), lines as u32);
+            let (sum, samples) = self.tally_bundle(&bundle, &mut scratch, tally);
+            tally.end_group(sum, samples, lines);
+            left -= lines;
+        }
+    }
+
+    /// Casts one bundle by the sweep and tallies each line as a global line, returning
+    /// the bundle's `(Σ terms, samples)` (its group is closed by the caller).
+    fn tally_bundle(
+        &self,
+        bundle: &GlobalBundle2,
+        (bundle_hits, crossings): &mut (BundleHits, Vec<Crossing>),
+        tally: &mut LineTally,
+    ) -> (f64, u64) {
+        let eps = 1e-12 * self.circle.radius;
+        self.sweep.cast(bundle, bundle_hits);
+        let dir = bundle.dir();
+        let (mut sum, mut samples) = (0.0, 0u64);
+        for k in 0..bundle.len() as usize {
+            crossings_of_hits(
+                bundle_hits.line_hits(k),
+                &self.surface,
+                |p| dir.dot(self.normals[p]),
+                crossings,
+            );
+            let terms = global_line_terms(crossings, eps, tally, |ci, cj, r| {
+                continuous::flat_sample(self.total_length, ci, cj, r)
+            });
+            if let Some((s, n)) = terms {
+                sum += s;
+                samples += n;
+            }
+        }
+        (sum, samples)
     }
 
     /// Among the surfaces the line meets at the same point as `hit`, one facing back
@@ -290,7 +381,15 @@ impl LineTracer for FlatTracer {
         &self.lengths
     }
 
+    fn supports(&self, _method: LineMethod) -> bool {
+        true
+    }
+
     fn trace_chunk(&self, seed: u64, n_lines: u64, chunk: u64, tally: &mut LineTally) {
+        if tally.method() == LineMethod::Bundle {
+            self.trace_chunk_bundles(seed, n_lines, chunk, tally);
+            return;
+        }
         trace_chunk_lines(
             seed,
             n_lines,
@@ -375,6 +474,66 @@ mod tests {
             (est.value - exact).abs() < 4.0 * est.stderr,
             "{est:?} vs {exact}"
         );
+    }
+
+    #[test]
+    fn bundles_same_bits_any_chunking() {
+        // Two whole chunks and a ragged last one (whole sheaves, then single bundles).
+        let scene = FlatScene::regular_polygon(5, 3).unwrap();
+        let tracer = FlatTracer::new(&scene).unwrap();
+        let n = 2 * crate::lines::CHUNK_LINES + 3 * 16_384 + 2 * 256 + 17;
+        let whole = tracer.run(LineMethod::Bundle, 8, n).unwrap();
+        assert_eq!(whole.lines(), n);
+        // 4 sheaves per whole chunk; in the last, 3 sheaves and 3 single bundles.
+        assert_eq!(whole.continuous.groups, 4 + 4 + 3 + 3);
+        let mut merged = tracer.new_tally(LineMethod::Bundle);
+        for chunk in (0..crate::lines::chunk_count(n)).rev() {
+            let mut t = tracer.new_tally(LineMethod::Bundle);
+            tracer.trace_chunk(8, n, chunk, &mut t);
+            merged.merge(&t);
+        }
+        assert_eq!(whole, merged);
+    }
+
+    #[test]
+    fn bundle_lines_tally_like_the_same_global_lines() {
+        // Every line of a bundle, cast through the BVH and tallied as a global line, gives
+        // the counts and information of the bundle's sweep.
+        let scene = crate::scene::catalogue_scene("64-squares-a", 10).unwrap();
+        let tracer = FlatTracer::new(&scene).unwrap();
+        let mut rng = chunk_rng(3, 0);
+        for m in [1, 7, 256] {
+            let bundle = GlobalBundle2::new(&tracer.circle, canonical_2d(&mut rng), m);
+            let mut by_sweep = tracer.new_tally(LineMethod::Global);
+            let (sum, n) =
+                tracer.tally_bundle(&bundle, &mut (BundleHits::new(), Vec::new()), &mut by_sweep);
+            by_sweep.end_group(sum, n, u64::from(m));
+            let mut by_bvh = tracer.new_tally(LineMethod::Global);
+            let (mut hits, mut crossings) = (Vec::new(), Vec::new());
+            let (mut sum_bvh, mut n_bvh) = (0.0, 0);
+            for k in 0..m {
+                let line = bundle.line(k);
+                tracer.bvh.all_hits(&line, &mut hits);
+                crossings_of_hits(
+                    &hits,
+                    &tracer.surface,
+                    |p| line.dir.dot(tracer.normals[p]),
+                    &mut crossings,
+                );
+                let eps = 1e-12 * tracer.circle.radius;
+                if let Some((s, c)) =
+                    global_line_terms(&mut crossings, eps, &mut by_bvh, |ci, cj, r| {
+                        continuous::flat_sample(tracer.total_length, ci, cj, r)
+                    })
+                {
+                    sum_bvh += s;
+                    n_bvh += c;
+                }
+            }
+            by_bvh.end_group(sum_bvh, n_bvh, u64::from(m));
+            assert!(n > 0);
+            assert_eq!(by_sweep, by_bvh, "bundle of {m}");
+        }
     }
 
     #[test]

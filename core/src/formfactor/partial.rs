@@ -14,7 +14,8 @@
 //! ```text
 //! magic      8 bytes  "SCNINFOP"
 //! version    u32      1
-//! method     u32      0 = global lines, 1 = local lines
+//! method     u32      0 = global lines, 1 = local lines, 2 = bundles of parallel lines
+//!                     (code 2 added within version 1: older files read unchanged)
 //! scene      u64      fingerprint of the scene file (caller's choice of bytes)
 //! seed       u64
 //! lines      u64      N, the lines of the whole job
@@ -226,6 +227,7 @@ impl Partial {
         let method = match r.u32()? {
             0 => LineMethod::Global,
             1 => LineMethod::Local,
+            2 => LineMethod::Bundle,
             _ => return Err(bad("unknown sampling method").into()),
         };
         let job = JobId {
@@ -282,7 +284,7 @@ impl Partial {
         if r.bytes.len() as u64 / entry != pairs || !(r.bytes.len() as u64).is_multiple_of(entry) {
             return Err(bad("pair count disagrees with the file length").into());
         }
-        let mut counts = PairCounts::new(n, method == LineMethod::Global);
+        let mut counts = PairCounts::new(n, method.is_global());
         if with_info != counts.has_pair_info() {
             return Err(bad("per-pair flag disagrees with the patch count").into());
         }
@@ -370,6 +372,7 @@ fn method_code(m: LineMethod) -> u32 {
     match m {
         LineMethod::Global => 0,
         LineMethod::Local => 1,
+        LineMethod::Bundle => 2,
     }
 }
 

@@ -24,6 +24,46 @@ pub enum LineMethod {
     Global,
     /// Cosine-distributed local lines from patches picked by size (2.36).
     Local,
+    /// Bundles of parallel global lines (flatland only): each bundle shares one uniform
+    /// direction and covers the bounding circle with evenly spaced lines under one uniform
+    /// shift ([`crate::lines::GlobalBundle2`]); every line is tallied as a global line, and
+    /// each bundle is one observation of the standard error. Cast by a sweep
+    /// ([`crate::accel::ParallelSweep`]) instead of one tree query per line.
+    Bundle,
+}
+
+impl LineMethod {
+    /// Every method, in the order of their codes.
+    pub const ALL: [LineMethod; 3] = [LineMethod::Global, LineMethod::Local, LineMethod::Bundle];
+
+    /// Whether each line is tallied as a global line (2.37): a segment between two
+    /// intersections counts for both ends, so pair counts are symmetric.
+    #[inline]
+    #[must_use]
+    pub const fn is_global(self) -> bool {
+        matches!(self, LineMethod::Global | LineMethod::Bundle)
+    }
+
+    /// The name of the method on the command line (`--method NAME`).
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            LineMethod::Global => "global",
+            LineMethod::Local => "local",
+            LineMethod::Bundle => "bundle",
+        }
+    }
+
+    /// What reports print: `"global lines"`, `"local lines"`, `"bundles of parallel
+    /// lines"`.
+    #[must_use]
+    pub const fn description(self) -> &'static str {
+        match self {
+            LineMethod::Global => "global lines",
+            LineMethod::Local => "local lines",
+            LineMethod::Bundle => "bundles of parallel lines",
+        }
+    }
 }
 
 /// A scene prepared for line casting.
@@ -36,8 +76,15 @@ pub trait LineTracer {
 
     /// Casts the lines of chunk `chunk` of an `n_lines` job into `tally` (using the tally's
     /// method). Chunk `k` draws from [`crate::lines::chunk_rng`]`(seed, k)`, so the result
-    /// depends only on `(seed, n_lines)`.
+    /// depends only on `(seed, n_lines)`. A method the tracer does not
+    /// [`LineTracer::supports`] casts nothing.
     fn trace_chunk(&self, seed: u64, n_lines: u64, chunk: u64, tally: &mut LineTally);
+
+    /// Whether this tracer casts lines of `method` (every tracer casts global and local
+    /// lines; bundles of parallel lines are flatland only).
+    fn supports(&self, method: LineMethod) -> bool {
+        method != LineMethod::Bundle
+    }
 
     /// An empty tally for this scene.
     fn new_tally(&self, method: LineMethod) -> LineTally {
@@ -47,10 +94,17 @@ pub trait LineTracer {
     /// Casts all `n_lines` lines on this thread.
     ///
     /// # Errors
-    /// [`ErrorKind::NoLines`] if `n_lines == 0`.
+    /// [`ErrorKind::NoLines`] if `n_lines == 0`; [`ErrorKind::UnsupportedMethod`] for a
+    /// method this tracer does not [`LineTracer::supports`].
     fn run(&self, method: LineMethod, seed: u64, n_lines: u64) -> Result<LineTally> {
         if n_lines == 0 {
             return Err(ErrorKind::NoLines.into());
+        }
+        if !self.supports(method) {
+            return Err(ErrorKind::UnsupportedMethod {
+                method: method.description(),
+            }
+            .into());
         }
         let mut tally = self.new_tally(method);
         for chunk in 0..chunk_count(n_lines) {
@@ -102,7 +156,7 @@ impl LineTally {
             method,
             lines: 0,
             leaves: vec![0; n],
-            counts: PairCounts::new(n, method == LineMethod::Global),
+            counts: PairCounts::new(n, method.is_global()),
             patch_info: vec![FixedSum::new(); n],
             continuous: ContinuousTally::new(),
             radiosity: None,
@@ -199,6 +253,18 @@ impl LineTally {
             r.end_line(n);
         }
         self.lines += 1;
+    }
+
+    /// Closes a group of `lines` lines tallied together (a bundle of parallel lines,
+    /// whose lines are correlated): `n` samples whose terms add up to `sum`, one
+    /// observation of the standard error.
+    #[inline]
+    pub(crate) fn end_group(&mut self, sum: f64, n: u64, lines: u64) {
+        self.continuous.add_group(sum, n);
+        if let Some(r) = &mut self.radiosity {
+            r.end_line(n);
+        }
+        self.lines += lines;
     }
 
     /// Closes one line that was discarded (a degenerate line of measure zero): counted as
@@ -310,7 +376,7 @@ impl LineTally {
         // counts they are a large part of the peak memory.
         let mut counts = core::mem::replace(
             &mut self.counts,
-            PairCounts::new(0, self.method == LineMethod::Global),
+            PairCounts::new(0, self.method.is_global()),
         );
         counts.for_each(|i, j, c, info| {
             let f = c as f64 / leaves[i] as f64;
@@ -368,16 +434,28 @@ pub(crate) fn tally_global_line(
     tally: &mut LineTally,
     sample: impl Fn(f64, f64, f64) -> Option<f64>,
 ) {
+    match global_line_terms(crossings, eps, tally, sample) {
+        Some((line_sum, n)) => tally.end_line(line_sum, n),
+        None => tally.skip_line(),
+    }
+}
+
+/// [`tally_global_line`] without closing the line: the counts and information of the
+/// line's segments go into `tally`, and the line's `(Σ terms, samples)` are returned
+/// (`None` for a degenerate line, which adds nothing).
+pub(crate) fn global_line_terms(
+    crossings: &mut Vec<Crossing>,
+    eps: f64,
+    tally: &mut LineTally,
+    sample: impl Fn(f64, f64, f64) -> Option<f64>,
+) -> Option<(f64, u64)> {
     crossings.dedup_by(|b, a| b.surface == a.surface && b.t - a.t <= eps);
     for k in 1..crossings.len() {
         if crossings[k].t - crossings[k - 1].t <= eps {
             match (crossings[k - 1].cos > 0.0, crossings[k].cos > 0.0) {
                 (true, false) => crossings.swap(k - 1, k),
                 (false, true) => {}
-                _ => {
-                    tally.skip_line();
-                    return;
-                }
+                _ => return None,
             }
         }
     }
@@ -397,7 +475,7 @@ pub(crate) fn tally_global_line(
         let s = sample(c.cos, -next.cos, next.t - c.t);
         line_sum += tally.global_pair(i, next.patch as usize, s);
     }
-    tally.end_line(line_sum, crossings.len() as u64);
+    Some((line_sum, crossings.len() as u64))
 }
 
 /// Tallies one global line from the hits of a line query, sorted by `t` (2.37, 4.8,
@@ -414,6 +492,19 @@ pub(crate) fn tally_global_hits<H: HitKey>(
     tally: &mut LineTally,
     sample: impl Fn(f64, f64, f64) -> Option<f64>,
 ) {
+    crossings_of_hits(hits, surface, cos, crossings);
+    tally_global_line(crossings, eps, tally, sample);
+}
+
+/// The [`Crossing`]s of sorted hits, into `crossings` (cleared first): each hit with its
+/// patch's surface (`surface[prim]`) and `cos(prim)` = `dir · n_prim`.
+#[inline]
+pub(crate) fn crossings_of_hits<H: HitKey>(
+    hits: &[H],
+    surface: &[u32],
+    cos: impl Fn(usize) -> f64,
+    crossings: &mut Vec<Crossing>,
+) {
     crossings.clear();
     crossings.extend(hits.iter().map(|h| {
         let p = h.prim() as usize;
@@ -424,7 +515,6 @@ pub(crate) fn tally_global_hits<H: HitKey>(
             cos: cos(p),
         }
     }));
-    tally_global_line(crossings, eps, tally, sample);
 }
 
 /// The line loop of [`LineTracer::trace_chunk`], for either tracer: the lines of chunk
@@ -454,5 +544,8 @@ pub(crate) fn trace_chunk_lines<H>(
                 local(&mut rng, &mut hits, tally);
             }
         }
+        // Cast by the tracers that support bundles before this loop; nothing otherwise
+        // (see `LineTracer::supports`).
+        LineMethod::Bundle => {}
     }
 }

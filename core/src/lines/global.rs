@@ -118,13 +118,130 @@ impl BoundingCircle {
 /// ```
 #[must_use]
 pub fn sample_global_line_2d(circle: &BoundingCircle, u: [f64; 2]) -> Line2 {
+    global_line_at(circle, global_line_normal(u[0]), u[1])
+}
+
+/// The unit normal `n(θ) = (cos θ, sin θ)` of the global lines with `θ = π u₀`.
+#[inline]
+fn global_line_normal(u0: f64) -> DVec2 {
     // θ = π u₀ = 2π (u₀/2), without a general trigonometric range reduction
-    let (sin_theta, cos_theta) = math::sin_cos_turns(0.5 * clamp_canonical(u[0]));
-    let p = (2.0 * clamp_canonical(u[1]) - 1.0) * circle.radius;
-    let n = DVec2::new(cos_theta, sin_theta);
+    let (sin_theta, cos_theta) = math::sin_cos_turns(0.5 * clamp_canonical(u0));
+    DVec2::new(cos_theta, sin_theta)
+}
+
+/// The line of normal `n` at offset `p = (2u₁ − 1) r` from the centre.
+#[inline]
+fn global_line_at(circle: &BoundingCircle, n: DVec2, u1: f64) -> Line2 {
+    let p = (2.0 * clamp_canonical(u1) - 1.0) * circle.radius;
     Line2 {
         origin: circle.center + n * p,
         dir: left_perp(n),
+    }
+}
+
+/// A bundle of `m` parallel global lines through `circle` (Sbert's global lines cast as
+/// bundles of parallel lines; thesis §2.1.6): one direction and one shift for all,
+///
+/// ```text
+/// θ = π u₀,   v_k = (k + u₁)/m,   p_k = (2 v_k − 1) r,   k = 0 … m − 1
+/// ```
+///
+/// so line `k` is exactly [`sample_global_line_2d`]`(circle, [u₀, v_k])`. `v_k` is uniform on
+/// the `k`-th of `m` equal strata of `[0, 1)`, so averaged over `k` the lines have the density
+/// `1/(2πr)` in `dp dθ` of independent global lines (2.37): every sum over the lines of a
+/// bundle has the expectation of the same sum over `m` independent global lines (a
+/// systematic sample in `p`), and every estimator built on such sums stays unbiased. The
+/// lines of one bundle are correlated (they share `θ` and `u₁`), so a standard error must
+/// treat a bundle as one observation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GlobalBundle2 {
+    circle: BoundingCircle,
+    /// `n(θ)`, the common normal.
+    normal: DVec2,
+    u1: f64,
+    m: u32,
+}
+
+impl GlobalBundle2 {
+    /// The bundle of `m` lines for the canonical sample `u = [u₀, u₁]` (inputs outside
+    /// `[0, 1)` clamped, NaN read as 0; `m = 0` is read as 1).
+    #[must_use]
+    pub fn new(circle: &BoundingCircle, u: [f64; 2], m: u32) -> Self {
+        Self {
+            circle: *circle,
+            normal: global_line_normal(u[0]),
+            u1: clamp_canonical(u[1]),
+            m: m.max(1),
+        }
+    }
+
+    /// Number of lines `m`.
+    #[inline]
+    #[must_use]
+    pub fn len(&self) -> u32 {
+        self.m
+    }
+
+    /// Always false: a bundle holds at least one line.
+    #[inline]
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// The common unit normal `n(θ)`; every line's direction is `n^⊥`.
+    #[inline]
+    #[must_use]
+    pub fn normal(&self) -> DVec2 {
+        self.normal
+    }
+
+    /// The common direction `n(θ)^⊥` of the lines.
+    #[inline]
+    #[must_use]
+    pub fn dir(&self) -> DVec2 {
+        left_perp(self.normal)
+    }
+
+    /// The circle the lines cross.
+    #[inline]
+    #[must_use]
+    pub fn circle(&self) -> &BoundingCircle {
+        &self.circle
+    }
+
+    /// The common shift `u₁ ∈ [0, 1)` of the lines within their strata.
+    #[inline]
+    #[must_use]
+    pub fn shift(&self) -> f64 {
+        self.u1
+    }
+
+    /// `v_k = (k + u₁)/m`, the canonical offset of line `k`.
+    #[inline]
+    #[must_use]
+    pub fn canonical_offset(&self, k: u32) -> f64 {
+        (f64::from(k) + self.u1) / f64::from(self.m)
+    }
+
+    /// Line `k` (`k < m`; larger `k` give the last line): bit for bit
+    /// [`sample_global_line_2d`]`(circle, [u₀, v_k])`.
+    #[inline]
+    #[must_use]
+    pub fn line(&self, k: u32) -> Line2 {
+        global_line_at(
+            &self.circle,
+            self.normal,
+            self.canonical_offset(k.min(self.m - 1)),
+        )
+    }
+
+    /// The offset `p_k = (n · (origin_k − c))` of line `k` as [`GlobalBundle2::line`]
+    /// computes it (non-decreasing in `k`).
+    #[inline]
+    #[must_use]
+    pub fn offset(&self, k: u32) -> f64 {
+        (2.0 * clamp_canonical(self.canonical_offset(k.min(self.m - 1))) - 1.0) * self.circle.radius
     }
 }
 

@@ -344,6 +344,10 @@ impl<T: LineTracer + ?Sized> LineTracer for RadiosityTracer<'_, T> {
         self.inner.trace_chunk(seed, n_lines, chunk, tally);
     }
 
+    fn supports(&self, method: LineMethod) -> bool {
+        self.inner.supports(method)
+    }
+
     fn new_tally(&self, method: LineMethod) -> LineTally {
         let mut tally = self.inner.new_tally(method);
         match &self.template {

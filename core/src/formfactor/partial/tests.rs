@@ -38,7 +38,7 @@ fn small() -> (FlatTracer, u64) {
 #[test]
 fn four_partials_through_bytes_merge_into_the_whole_run_bit_for_bit() {
     let (tracer, lines) = small();
-    for method in [LineMethod::Global, LineMethod::Local] {
+    for method in LineMethod::ALL {
         let whole = partial_of(&tracer, method, lines, 0..4);
         // Out of order, through files.
         let parts: Vec<Partial> = [3..4, 0..1, 2..3, 1..2]

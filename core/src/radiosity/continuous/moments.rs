@@ -80,7 +80,7 @@ impl PairMoments {
         Ok(Self {
             n,
             weight: match method {
-                LineMethod::Global => 2,
+                LineMethod::Global | LineMethod::Bundle => 2,
                 LineMethod::Local => 1,
             },
             units: vec![0; pairs],

@@ -1,0 +1,317 @@
+//! Every hit of every line of a bundle of parallel lines, without a tree: the segments are
+//! projected once on the bundle's normal, and each segment is tested only against the lines
+//! whose offsets fall inside its projection.
+//!
+//! # Method
+//!
+//! The lines of a [`GlobalBundle2`] share the unit normal `n` and sit at non-decreasing
+//! offsets `p_0 ≤ … ≤ p_{m−1}` from the circle's centre `c`. A line at offset `p` can meet
+//! the segment `a → b` only if `p` lies between the projections `n·(a − c)` and
+//! `n·(b − c)`, so per segment
+//!
+//! ```text
+//! lo = min(n·(a − c), n·(b − c)) − δ,   hi = max(…) + δ,
+//! candidates = {k : lo ≤ p_k ≤ hi}      (a range k₀ … k₁ − 1: the offsets are sorted)
+//! ```
+//!
+//! found in `O(1)` from `k ≈ ((p/r + 1)/2)·m − u₁` and corrected against the stored
+//! offsets. Every candidate then runs the exact per-segment test of [`super::all_hits_naive`]
+//! (the module docs of [`crate::accel`]) against line `k` as [`GlobalBundle2::line`] builds it.
+//! The margin `δ = 10⁻⁹ (‖c‖∞ + r + scale)` (scale: the largest endpoint coordinate) is many
+//! orders of magnitude above the rounding of the projections and of the exact test, so the
+//! candidates always contain the true hits, and each line gets exactly the hits
+//! [`super::all_hits_naive`] and [`super::Bvh2::all_hits`] return for it, sorted the same way
+//! (`t`, then `prim`): shared endpoints, lines through endpoints and segments parallel to the
+//! lines are whatever the exact test says, as for a single line.
+//!
+//! The hits are bucketed per line by a counting sort (a difference array over the candidate
+//! ranges), so a bundle of `m` lines over `n` segments costs `O(n + m + candidates)` plus a
+//! short insertion sort per line: no per-line tree walk.
+
+use alloc::vec::Vec;
+
+use crate::geom::{DVec2, Segment};
+use crate::lines::GlobalBundle2;
+
+use super::{Hit2, LineQuery, sort_hits};
+
+/// Relative size of the candidate margin `δ` (see the module docs).
+const MARGIN: f64 = 1e-9;
+
+/// Segments prepared for bundles of parallel lines: start `a`, edge `e = b − a` (the same
+/// values the naive loop tests), and the coordinate scale of the margin.
+#[derive(Clone, Debug)]
+pub struct ParallelSweep {
+    a: Vec<DVec2>,
+    e: Vec<DVec2>,
+    scale: f64,
+}
+
+/// The hits of the lines of one bundle, bucketed per line (the caller's scratch space,
+/// reused from bundle to bundle without allocating once it has grown).
+#[derive(Clone, Debug, Default)]
+pub struct BundleHits {
+    /// Offsets `p_k` of the current bundle's lines.
+    offsets: Vec<f64>,
+    /// Candidate line range `k₀ .. k₁` of each segment.
+    ranges: Vec<(u32, u32)>,
+    /// Line `k`'s bucket starts at `start[k]`; `start[m]` = number of candidates.
+    start: Vec<usize>,
+    /// Line `k`'s bucket ends (so far) at `end[k]`.
+    end: Vec<usize>,
+    /// The buckets.
+    hits: Vec<Hit2>,
+}
+
+impl ParallelSweep {
+    /// Prepares `segments` (only the first `2³²` are considered: hit indices are `u32`).
+    #[must_use]
+    pub fn new(segments: &[Segment]) -> Self {
+        let segments = &segments[..segments.len().min(u32::MAX as usize)];
+        let a = segments.iter().map(|s| s.a).collect();
+        let e = segments.iter().map(|s| s.b - s.a).collect();
+        let scale = segments
+            .iter()
+            .map(|s| s.a.abs().max_element().max(s.b.abs().max_element()))
+            .fold(0.0, f64::max);
+        Self { a, e, scale }
+    }
+
+    /// Number of segments.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.a.len()
+    }
+
+    /// Whether there are no segments.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.a.is_empty()
+    }
+
+    /// Finds every hit of every line of `bundle` into `out`: afterwards
+    /// [`BundleHits::line_hits`]`(k)` is exactly [`super::all_hits_naive`] of
+    /// `bundle.line(k)`.
+    pub fn cast(&self, bundle: &GlobalBundle2, out: &mut BundleHits) {
+        let m = bundle.len();
+        let mu = m as usize;
+        let circle = bundle.circle();
+        let (c, r, n) = (circle.center, circle.radius, bundle.normal());
+        // The lines' offsets, as the lines themselves compute them
+        out.offsets.clear();
+        out.offsets.extend((0..m).map(|k| bundle.offset(k)));
+        let delta = MARGIN * (c.abs().max_element() + r + self.scale);
+        // Candidate ranges, counted per line in a difference array
+        out.start.clear();
+        out.start.resize(mu + 1, 0);
+        out.ranges.clear();
+        let to_k = 0.5 * f64::from(m) / r;
+        let u1 = bundle.shift();
+        for (a, e) in self.a.iter().zip(&self.e) {
+            let pa = n.dot(*a - c);
+            let pb = pa + n.dot(*e);
+            let (lo, hi) = (pa.min(pb) - delta, pa.max(pb) + delta);
+            let k0 = first_at_least(&out.offsets, lo, (lo + r) * to_k - u1);
+            let k1 = first_above(&out.offsets, hi, (hi + r) * to_k - u1).max(k0);
+            out.ranges.push((k0, k1));
+            out.start[k0 as usize] = out.start[k0 as usize].wrapping_add(1);
+            out.start[k1 as usize] = out.start[k1 as usize].wrapping_sub(1);
+        }
+        // Bucket starts: prefix sums of the counts (the wrapping differences add up to
+        // counts ≥ 0, as every range has k₀ ≤ k₁)
+        let mut running = 0usize;
+        let mut total = 0usize;
+        for s in &mut out.start {
+            running = running.wrapping_add(*s);
+            *s = total;
+            total = total.wrapping_add(running);
+        }
+        out.end.clear();
+        out.end.extend_from_slice(&out.start[..mu]);
+        out.hits.clear();
+        out.hits.resize(total, Hit2 { t: 0.0, prim: 0 });
+        // The exact test of every candidate, segment by segment
+        let query = LineQuery::new(c, bundle.dir());
+        let BundleHits {
+            offsets,
+            ranges,
+            end,
+            hits,
+            ..
+        } = out;
+        for (prim, (&(k0, k1), (a, e))) in
+            (0u32..).zip(ranges.iter().zip(self.a.iter().zip(&self.e)))
+        {
+            let lines = k0 as usize..k1 as usize;
+            for (&p, end) in offsets[lines.clone()].iter().zip(&mut end[lines]) {
+                if let Some(t) = query.with_origin(c + n * p).hit(*a, *e) {
+                    hits[*end] = Hit2 { t, prim };
+                    *end += 1;
+                }
+            }
+        }
+        // Each line's hits in the order of all_hits
+        for (&s, &e) in out.start.iter().zip(&out.end) {
+            sort_hits(&mut out.hits[s..e]);
+        }
+    }
+}
+
+impl BundleHits {
+    /// Empty scratch space.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The hits of line `k` of the last bundle cast, sorted by `t` then `prim` (empty for
+    /// `k` beyond the bundle).
+    #[must_use]
+    pub fn line_hits(&self, k: usize) -> &[Hit2] {
+        match (self.start.get(k), self.end.get(k)) {
+            (Some(&s), Some(&e)) => &self.hits[s..e],
+            _ => &[],
+        }
+    }
+}
+
+/// The first `k` with `offsets[k] ≥ x`, starting the search from the estimate `guess`.
+#[inline]
+fn first_at_least(offsets: &[f64], x: f64, guess: f64) -> u32 {
+    let m = offsets.len();
+    // `as` truncates and saturates (NaN → 0); the walks below correct the estimate, and
+    // the clamp keeps them inside the offsets.
+    let mut k = (guess.max(0.0) as usize).min(m);
+    while k > 0 && offsets[k - 1] >= x {
+        k -= 1;
+    }
+    while k < m && offsets[k] < x {
+        k += 1;
+    }
+    k as u32
+}
+
+/// The first `k` with `offsets[k] > x`, starting the search from the estimate `guess`.
+#[inline]
+fn first_above(offsets: &[f64], x: f64, guess: f64) -> u32 {
+    let m = offsets.len();
+    let mut k = ((guess + 1.0).max(0.0) as usize).min(m);
+    while k > 0 && offsets[k - 1] > x {
+        k -= 1;
+    }
+    while k < m && offsets[k] <= x {
+        k += 1;
+    }
+    k as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::{Bvh2, all_hits_naive};
+    use crate::lines::{BoundingCircle, canonical, canonical_2d, chunk_rng, sample_global_line_2d};
+    use proptest::prelude::*;
+
+    /// A scene-like soup: random segments, some sharing endpoints, some axis-aligned.
+    fn soup(seed: u64, n: usize) -> Vec<Segment> {
+        let mut rng = chunk_rng(seed, 0);
+        let mut coord = || -10.0 + 20.0 * canonical(&mut rng);
+        let mut segs: Vec<Segment> = Vec::with_capacity(n);
+        for k in 0..n {
+            let a = match segs.last() {
+                Some(prev) if k % 3 == 0 => prev.b, // a shared endpoint
+                _ => DVec2::new(coord(), coord()),
+            };
+            let b = match k % 4 {
+                0 => DVec2::new(coord(), coord()),
+                1 => a + DVec2::new(coord(), coord()) * 0.05,
+                2 => DVec2::new(coord(), a.y),
+                _ => DVec2::new(a.x, coord()),
+            };
+            if a != b {
+                segs.push(Segment::new(a, b));
+            }
+        }
+        segs
+    }
+
+    fn check(segs: &[Segment], circle: &BoundingCircle, u: [f64; 2], m: u32) {
+        let sweep = ParallelSweep::new(segs);
+        let bvh = Bvh2::build(segs).unwrap();
+        let bundle = GlobalBundle2::new(circle, u, m);
+        let mut out = BundleHits::new();
+        sweep.cast(&bundle, &mut out);
+        let (mut naive, mut tree) = (Vec::new(), Vec::new());
+        for k in 0..m {
+            let line = bundle.line(k);
+            assert_eq!(
+                line,
+                sample_global_line_2d(circle, [u[0], bundle.canonical_offset(k)])
+            );
+            all_hits_naive(segs, &line, &mut naive);
+            bvh.all_hits(&line, &mut tree);
+            assert_eq!(
+                out.line_hits(k as usize),
+                &naive[..],
+                "line {k} of {bundle:?}"
+            );
+            assert_eq!(naive, tree);
+        }
+        assert!(out.line_hits(m as usize).is_empty());
+    }
+
+    proptest! {
+        /// Bundle hits equal the naive loop's and the BVH's, line by line.
+        #[test]
+        fn bundle_hits_equal_naive_and_bvh(
+            seed in 0u64..1_000_000,
+            n in 1usize..120,
+            u0 in 0.0f64..1.0,
+            u1 in 0.0f64..1.0,
+            m in 1u32..300,
+        ) {
+            let segs = soup(seed, n);
+            let circle = BoundingCircle::of_bounds(DVec2::splat(-10.0), DVec2::splat(10.0));
+            check(&segs, &circle, [u0, u1], m);
+        }
+    }
+
+    #[test]
+    fn axis_directions_through_shared_endpoints() {
+        // A grid of unit squares' edges: vertical and horizontal bundles pass exactly
+        // through shared endpoints and along segments (u = 0 gives θ = 0).
+        let mut segs = Vec::new();
+        for i in 0..4 {
+            for j in 0..4 {
+                let p = DVec2::new(f64::from(i), f64::from(j));
+                segs.push(Segment::new(p, p + DVec2::X));
+                segs.push(Segment::new(p + DVec2::X, p + DVec2::ONE));
+            }
+        }
+        let circle = BoundingCircle {
+            center: DVec2::splat(2.0),
+            radius: 4.0,
+        };
+        for u in [[0.0, 0.0], [0.5, 0.0], [0.25, 0.5], [0.0, 0.5], [0.5, 0.5]] {
+            for m in [1, 2, 4, 8, 16, 64] {
+                check(&segs, &circle, u, m);
+            }
+        }
+        let mut rng = chunk_rng(9, 0);
+        for _ in 0..50 {
+            check(&segs, &circle, canonical_2d(&mut rng), 32);
+        }
+    }
+
+    #[test]
+    fn empty_and_degenerate_inputs() {
+        let circle = BoundingCircle::of_bounds(DVec2::ZERO, DVec2::ONE);
+        let sweep = ParallelSweep::new(&[]);
+        let mut out = BundleHits::new();
+        sweep.cast(&GlobalBundle2::new(&circle, [0.3, 0.7], 8), &mut out);
+        assert!((0..8).all(|k| out.line_hits(k).is_empty()));
+        let bad = [Segment::new(DVec2::new(f64::NAN, 0.0), DVec2::ONE)];
+        ParallelSweep::new(&bad).cast(&GlobalBundle2::new(&circle, [f64::NAN, 2.0], 0), &mut out);
+        assert!(out.line_hits(0).iter().all(|h| h.t.is_finite()));
+    }
+}
