@@ -58,11 +58,24 @@ fn results_are_bit_identical_across_runs_and_threads() {
                 let err = String::from_utf8_lossy(&out.stderr);
                 assert!(
                     err.contains(
-                        "bundles of parallel lines are implemented for flatland scenes only"
+                        "bundles of parallel lines cannot be used here: they are implemented \
+                         for flatland scenes only"
                     ),
                     "{err}"
                 );
                 continue;
+            }
+            if method == "bundle" {
+                // The radiosity I_S^c's pair moments cannot group a sheaf's lines.
+                let out = bin()
+                    .args(["radiosity"])
+                    .arg(&scene)
+                    .args(["--lines", "1000", "--method", method])
+                    .output()
+                    .unwrap();
+                assert_eq!(out.status.code(), Some(2));
+                let err = String::from_utf8_lossy(&out.stderr);
+                assert!(err.contains("does not group the lines of a sheaf"), "{err}");
             }
             let mut results = Vec::new();
             for (k, threads) in ["1", "2", "2"].into_iter().enumerate() {

@@ -310,11 +310,13 @@ pub enum ErrorKind {
         limit: u64,
     },
 
-    /// The scene's tracer does not cast lines of this method (bundles of parallel lines
-    /// are flatland only).
+    /// Lines of this method cannot serve the job (bundles of parallel lines are flatland
+    /// only, and not for radiosity).
     UnsupportedMethod {
         /// The method's description, e.g. `"bundles of parallel lines"`.
         method: &'static str,
+        /// Why, e.g. `"they are implemented for flatland scenes only"`.
+        reason: &'static str,
     },
 
     // ---- solvers --------------------------------------------------------------------------
@@ -513,8 +515,8 @@ impl fmt::Display for ErrorKind {
                  (measure --chunks A..B --partial) before merging",
                 have.start, have.end
             ),
-            K::UnsupportedMethod { method } => {
-                write!(f, "{method} are implemented for flatland scenes only")
+            K::UnsupportedMethod { method, reason } => {
+                write!(f, "{method} cannot be used here: {reason}")
             }
             K::BadParameter { name, value } => {
                 write!(f, "parameter {name} = {value} is out of range")

@@ -79,6 +79,7 @@ pub fn check_supported<T: LineTracer + ?Sized>(
     }
     let kind = sceneinfo::ErrorKind::UnsupportedMethod {
         method: method.description(),
+        reason: sceneinfo::formfactor::tally::UNSUPPORTED_BY_TRACER,
     };
     Err(located(path, &kind.into()))
 }

@@ -19,7 +19,7 @@ use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::estimate_2d::FlatTracer;
 use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::formfactor::exact_2d;
-use sceneinfo::formfactor::tally::LineTracer;
+use sceneinfo::formfactor::tally::{LineMethod, LineTracer};
 use sceneinfo::radiosity::continuous::{PAIR_MOMENT_LIMIT, estimate_lit};
 use sceneinfo::radiosity::display::{ToneMap, gouraud_mesh};
 use sceneinfo::radiosity::rgb::{
@@ -168,9 +168,12 @@ fn with_lines<T: LineTracer + Sync>(
         return Err(sceneinfo::ErrorKind::NoLines.into());
     }
     let method = sampling.method.line_method();
-    if !tracer.supports(method) {
+    if method == LineMethod::Bundle {
+        // The pair moments of (5.20) treat every segment as one observation, which the
+        // correlated lines of a sheaf are not: the standard error would not be honest.
         return Err(sceneinfo::ErrorKind::UnsupportedMethod {
             method: method.description(),
+            reason: "the radiosity I_S^c's standard error does not group the lines of a sheaf",
         }
         .into());
     }

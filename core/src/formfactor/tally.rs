@@ -66,6 +66,10 @@ impl LineMethod {
     }
 }
 
+/// The reason of [`ErrorKind::UnsupportedMethod`] for a method a tracer does not
+/// [`LineTracer::supports`].
+pub const UNSUPPORTED_BY_TRACER: &str = "they are implemented for flatland scenes only";
+
 /// A scene prepared for line casting.
 pub trait LineTracer {
     /// Number of patches.
@@ -103,6 +107,7 @@ pub trait LineTracer {
         if !self.supports(method) {
             return Err(ErrorKind::UnsupportedMethod {
                 method: method.description(),
+                reason: UNSUPPORTED_BY_TRACER,
             }
             .into());
         }
