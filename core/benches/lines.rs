@@ -157,6 +157,15 @@ fn chunks(c: &mut Criterion) {
             black_box(tally.lines())
         });
     });
+    // A chunk of BATCH lines holds single bundles (a sheaf needs 16,384 lines), each
+    // re-sorting the segments' depth order: a little slower per line than a long job.
+    let mut tally = tracer.new_tally(LineMethod::Bundle);
+    g.bench_function("64 squares, bundles", |b| {
+        b.iter(|| {
+            tracer.trace_chunk(3, lines, 0, &mut tally);
+            black_box(tally.lines())
+        });
+    });
     let naive = FlatTracer::new(&flat).unwrap().naive_baseline();
     let mut tally = naive.new_tally(LineMethod::Global);
     g.bench_function("64 squares, naive", |b| {

@@ -225,6 +225,28 @@ fn local_lines_job_runs_and_differs_from_global() {
 }
 
 #[wasm_bindgen_test]
+fn bundle_lines_job_gives_the_core_estimate_bit_for_bit() {
+    // Bundles of parallel lines chunk by chunk: the same tallies as the core's one-shot
+    // estimate with LineMethod::Bundle.
+    let lab = FlatLab::new(ROOM_WITH_WALL).expect("valid");
+    let lines = 2 * CHUNK_LINES + 300;
+    let mut job = lab.bundle_lines(5.0, lines as f64).expect("job");
+    while !job.done() {
+        job.run(1);
+    }
+    let result = job.finish().expect("every patch sampled");
+    let scene = sceneinfo::io::parse_flat(ROOM_WITH_WALL).expect("valid");
+    let core = estimate_2d::estimate(&scene, LineMethod::Bundle, 5, lines).expect("ok");
+    assert_eq!(job.value().to_bits(), core.continuous.value.to_bits());
+    assert_eq!(job.stderr().to_bits(), core.continuous.stderr.to_bits());
+    let json = result.json();
+    assert!(
+        json.contains("\"form_factors\":\"bundles of parallel lines\""),
+        "{json}"
+    );
+}
+
+#[wasm_bindgen_test]
 fn bad_arguments_are_js_errors_with_the_core_message() {
     let lab = FlatLab::new(TRIANGLE).expect("valid");
     assert_eq!(
