@@ -476,6 +476,17 @@ mod tests {
         );
     }
 
+    /// The chunks of a job tallied separately and merged in reverse order.
+    fn merged_in_reverse(tracer: &FlatTracer, method: LineMethod, seed: u64, n: u64) -> LineTally {
+        let mut merged = tracer.new_tally(method);
+        for chunk in (0..crate::lines::chunk_count(n)).rev() {
+            let mut t = tracer.new_tally(method);
+            tracer.trace_chunk(seed, n, chunk, &mut t);
+            merged.merge(&t);
+        }
+        merged
+    }
+
     #[test]
     fn bundles_same_bits_any_chunking() {
         // Two whole chunks and a ragged last one (whole sheaves, then single bundles).
@@ -486,13 +497,7 @@ mod tests {
         assert_eq!(whole.lines(), n);
         // 4 sheaves per whole chunk; in the last, 3 sheaves and 3 single bundles.
         assert_eq!(whole.continuous.groups, 4 + 4 + 3 + 3);
-        let mut merged = tracer.new_tally(LineMethod::Bundle);
-        for chunk in (0..crate::lines::chunk_count(n)).rev() {
-            let mut t = tracer.new_tally(LineMethod::Bundle);
-            tracer.trace_chunk(8, n, chunk, &mut t);
-            merged.merge(&t);
-        }
-        assert_eq!(whole, merged);
+        assert_eq!(whole, merged_in_reverse(&tracer, LineMethod::Bundle, 8, n));
     }
 
     #[test]
@@ -542,13 +547,6 @@ mod tests {
         let tracer = FlatTracer::new(&scene).unwrap();
         let n = 3 * crate::lines::CHUNK_LINES + 17;
         let whole = tracer.run(LineMethod::Global, 42, n).unwrap();
-        // The same chunks tallied separately and merged in reverse order.
-        let mut merged = tracer.new_tally(LineMethod::Global);
-        for chunk in (0..crate::lines::chunk_count(n)).rev() {
-            let mut t = tracer.new_tally(LineMethod::Global);
-            tracer.trace_chunk(42, n, chunk, &mut t);
-            merged.merge(&t);
-        }
-        assert_eq!(whole, merged);
+        assert_eq!(whole, merged_in_reverse(&tracer, LineMethod::Global, 42, n));
     }
 }
