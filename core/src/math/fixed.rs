@@ -45,13 +45,15 @@ impl FixedSum {
     /// or `None` when `x` is not finite or beyond [`FIXED_MAX_TERM`].
     ///
     /// ```text
-    /// a = |x|,  k = ⌊a⌋,  f = ⌊(a − k)·2⁶⁴⌋,  raw = ±(k·2⁶⁴ + f)
+    /// |x| = m · 2^(e − 1075)       (m the 53-bit integer significand, e the biased exponent)
+    /// raw = ±⌊m · 2^(e − 1011)⌋    (a shift of m: left for e ≥ 1011, right otherwise)
     /// ```
     ///
-    /// `a − k` is exact (Sterbenz: `k ≤ a < 2k` for `a ≥ 1`) and so is the scaling, so
-    /// this is the same truncation as the `i128` conversion, done with two `u64`
-    /// conversions instead of the software `f64 → i128` routine (a hot spot of the line
-    /// tallies).
+    /// Shifting the significand truncates exactly as the conversion does, with integer
+    /// operations only: no `f64 → integer` conversion, which on x86-64 is a software
+    /// routine for `i128` and a chain of dependent conversions and fix-ups for `u64` (a
+    /// hot spot of the line tallies: one term per segment of every line). `|x| ≤ 10¹⁸ <
+    /// 2⁶⁰` keeps the left shift below 72 bits, so the result fits `i128`.
     #[inline]
     #[must_use]
     pub fn quantise(x: f64) -> Option<i128> {
@@ -59,9 +61,23 @@ impl FixedSum {
         if !(a <= FIXED_MAX_TERM) {
             return None;
         }
-        let k = a as u64;
-        let f = ((a - k as f64) * SCALE) as u64;
-        let v = (i128::from(k) << 64) | i128::from(f);
+        let bits = a.to_bits();
+        let biased = (bits >> 52) as i32; // the sign bit of |x| is 0
+        let fraction = bits & ((1u64 << 52) - 1);
+        // Subnormals have no implicit bit and the exponent of the smallest normals.
+        let (m, biased) = if biased == 0 {
+            (fraction, 1)
+        } else {
+            (fraction | (1u64 << 52), biased)
+        };
+        let shift = biased - 1011;
+        let v = if shift >= 0 {
+            i128::from(m) << shift
+        } else if shift > -64 {
+            i128::from(m >> -shift)
+        } else {
+            0
+        };
         Some(if x < 0.0 { -v } else { v })
     }
 
@@ -166,6 +182,15 @@ mod tests {
             -FIXED_MAX_TERM,
             0.5,
             -2.5e-20,
+            // Around the shift's turning points: a·2⁶⁴ near 1 and 2⁵², subnormals.
+            libm::ldexp(1.0, -12),
+            libm::ldexp(1.0, -12) * (1.0 - f64::EPSILON),
+            libm::ldexp(1.0, -64),
+            libm::ldexp(1.0, -64) * (1.0 - f64::EPSILON),
+            -libm::ldexp(1.0, -75),
+            f64::MIN_POSITIVE,
+            5e-324,
+            libm::ldexp(1.0, 59) - 1.0,
         ] {
             assert_eq!(FixedSum::quantise(x), Some((x * SCALE) as i128), "{x:e}");
         }
