@@ -23,6 +23,15 @@
 //! density `½ cos φ` about its normal; the nearest surface hit `j` (if it faces back) gives
 //! one sample, `F_ij ≈ C_ij / N_i`, and one continuous term.
 //!
+//! # Bundles of parallel lines
+//!
+//! [`LineMethod::Bundle`] casts the same global lines in sheaves: [`SHEAF_BUNDLES`]
+//! equally spaced directions under one uniform rotation, [`BUNDLE_LINES`] evenly spaced
+//! parallel lines per direction under one uniform shift ([`GlobalBundle2`]). Each line is
+//! tallied exactly as an independent global line and the sums keep their expectations;
+//! the hits come from a sweep ([`ParallelSweep`]) instead of a tree query per line, and each
+//! sheaf is one observation of the standard error.
+//!
 //! # Determinism
 //!
 //! `N` lines are cut into chunks of [`crate::lines::CHUNK_LINES`]; chunk `k` draws from its
