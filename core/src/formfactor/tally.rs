@@ -454,5 +454,6 @@ pub(crate) fn trace_chunk_lines<H>(
                 local(&mut rng, &mut hits, tally);
             }
         }
-    }
+    } // Counts are observed only between chunks: apply the increments held back
+    tally.counts.settle();
 }
