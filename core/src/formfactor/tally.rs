@@ -381,23 +381,35 @@ pub(crate) fn tally_global_line(
             }
         }
     }
+    tally_normalised_crossings(crossings.iter().copied(), tally, sample);
+}
+
+/// The counting part of [`tally_global_line`], for crossings already normalised: each is
+/// a sample leaving its patch; a crossing facing along the line followed by one facing
+/// back is a segment between them.
+#[inline]
+fn tally_normalised_crossings(
+    crossings: impl Iterator<Item = Crossing>,
+    tally: &mut LineTally,
+    sample: impl Fn(f64, f64, f64) -> Option<f64>,
+) {
     let mut line_sum = 0.0;
-    for (k, c) in crossings.iter().enumerate() {
-        let i = c.patch as usize;
-        tally.leave(i);
-        if c.cos <= 0.0 {
-            continue; // leaves backwards: the partner of crossing k − 1
+    let mut n = 0u64;
+    let mut previous: Option<Crossing> = None;
+    for c in crossings {
+        tally.leave(c.patch as usize);
+        n += 1;
+        // A segment from the front of the previous surface to the back of this one
+        if let Some(p) = previous
+            && p.cos > 0.0
+            && c.cos < 0.0
+        {
+            let s = sample(p.cos, -c.cos, c.t - p.t);
+            line_sum += tally.global_pair(p.patch as usize, c.patch as usize, s);
         }
-        let Some(next) = crossings.get(k + 1) else {
-            continue;
-        }; // escapes
-        if next.cos >= 0.0 {
-            continue; // meets the back of the next surface
-        }
-        let s = sample(c.cos, -next.cos, next.t - c.t);
-        line_sum += tally.global_pair(i, next.patch as usize, s);
+        previous = Some(c);
     }
-    tally.end_line(line_sum, crossings.len() as u64);
+    tally.end_line(line_sum, n);
 }
 
 /// Tallies one global line from the hits of a line query, sorted by `t` (2.37, 4.8,
@@ -414,8 +426,7 @@ pub(crate) fn tally_global_hits<H: HitKey>(
     tally: &mut LineTally,
     sample: impl Fn(f64, f64, f64) -> Option<f64>,
 ) {
-    crossings.clear();
-    crossings.extend(hits.iter().map(|h| {
+    let crossing = |h: &H| {
         let p = h.prim() as usize;
         Crossing {
             t: h.t(),
@@ -423,7 +434,15 @@ pub(crate) fn tally_global_hits<H: HitKey>(
             surface: surface.get(p).copied().unwrap_or(u32::MAX),
             cos: cos(p),
         }
-    }));
+    };
+    // No two hits within `eps` (nearly every line): nothing to normalise, so the hits are
+    // counted as they are, without the crossing list (the same counts, bit for bit)
+    if hits.windows(2).all(|w| !(w[1].t() - w[0].t() <= eps)) {
+        tally_normalised_crossings(hits.iter().map(crossing), tally, sample);
+        return;
+    }
+    crossings.clear();
+    crossings.extend(hits.iter().map(crossing));
     tally_global_line(crossings, eps, tally, sample);
 }
 
