@@ -148,3 +148,19 @@ fn lost_precision_is_an_error_that_says_why() {
         _ => panic!("{err}"),
     }
 }
+
+/// A vertex 6.4e-12 from the opposite edge of a polygon 5e10 long (found by
+/// `fuzz_flat_pipeline`): its smallest feature is that gap, so the scene spans 8e21 times it
+/// and the overflowing row is refused with that range — past the guarantee, not inside it
+/// (counting patches only, the range was 1e2).
+#[test]
+fn a_vertex_a_hair_from_a_long_edge_is_a_feature_of_the_range() {
+    let text = "poly 5 1 50000000010 0.2 0.14 0 5000000001 0.2 0.54 5 500000001\n";
+    let err = exact_report(text).unwrap_err();
+    match *err.kind() {
+        ErrorKind::PrecisionLoss { range, .. } => {
+            assert!(range > 1e21 && range < 1e22, "{err}");
+        }
+        _ => panic!("{err}"),
+    }
+}

@@ -220,7 +220,8 @@ pub enum ErrorKind {
         patch: usize,
         /// Its row sum.
         sum: f64,
-        /// The scene's extent (bounding-box diagonal) over its shortest patch's length.
+        /// The scene's extent (bounding-box diagonal) over its smallest feature: its shortest
+        /// patch, or the closest approach of a surface's end to another surface.
         range: f64,
     },
     /// `P_ij > 0` towards a state of zero probability, so `p log(p/0)` is undefined.
@@ -437,9 +438,10 @@ impl fmt::Display for ErrorKind {
             K::PrecisionLoss { patch, sum, range } => write!(
                 f,
                 "exact form factors of patch {patch} sum to {sum} > 1: rounding in this scene's \
-                 geometry exceeds double precision (it spans {range:.2e} times its shortest \
-                 patch; exact results are guaranteed up to {:.0e} without needle-thin \
-                 features); rescale or split the scene, or estimate with --lines",
+                 geometry exceeds double precision (it spans {range:.2e} times its smallest \
+                 feature, a patch or the gap between a surface's end and another surface; \
+                 exact results are guaranteed up to {:.0e}); rescale or split the scene, or \
+                 estimate with --lines",
                 crate::formfactor::exact_2d::RESOLVED_RANGE
             ),
             K::TransitionToNullState { row, col } => write!(

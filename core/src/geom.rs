@@ -110,6 +110,28 @@ impl Segment {
         cross(self.b - self.a, p - self.a)
     }
 
+    /// Distance from `p` to the closest point of the segment. The perpendicular distance is
+    /// `|cross(b − a, p − e)| / |b − a|` measured from the endpoint `e` nearer to `p`, so a
+    /// point a hair's breadth from a long segment keeps its digits (from the far end the
+    /// cross product would cancel).
+    #[must_use]
+    pub fn distance_to(&self, p: DVec2) -> f64 {
+        let d = self.b - self.a;
+        let len2 = d.dot(d);
+        if len2 == 0.0 {
+            return distance(p, self.a);
+        }
+        let t = (p - self.a).dot(d);
+        if t <= 0.0 {
+            return distance(p, self.a);
+        }
+        if t >= len2 {
+            return distance(p, self.b);
+        }
+        let near = if t <= 0.5 * len2 { self.a } else { self.b };
+        cross(d, p - near).abs() / crate::math::sqrt(len2)
+    }
+
     /// The same segment traversed `b → a` (facing the other way).
     #[inline]
     #[must_use]
@@ -315,6 +337,23 @@ pub fn polygon_centroid(vertices: &[DVec3], vector_area: DVec3) -> DVec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn distance_to_a_long_segment_keeps_its_digits() {
+        // The fuzz-found needle: (0.2, 0.54) lies 0.32/5e10 = 6.4e-12 from this edge;
+        // measured from the far end the cross product would cancel to ~1e-6 absolute.
+        let s = Segment::new(DVec2::new(1.0, 5e10 + 10.0), DVec2::new(0.2, 0.14));
+        let d = s.distance_to(DVec2::new(0.2, 0.54));
+        assert!((d - 6.4e-12).abs() < 1e-15, "{d}");
+        // Beyond the ends: the distance to the nearer end.
+        let u = Segment::new(DVec2::ZERO, DVec2::new(1.0, 0.0));
+        assert_eq!(u.distance_to(DVec2::new(-3.0, 4.0)), 5.0);
+        assert_eq!(u.distance_to(DVec2::new(4.0, 4.0)), 5.0);
+        assert_eq!(u.distance_to(DVec2::new(0.25, -2.0)), 2.0);
+        // A degenerate segment is a point.
+        let p = Segment::new(DVec2::ONE, DVec2::ONE);
+        assert_eq!(p.distance_to(DVec2::new(4.0, 5.0)), 5.0);
+    }
 
     #[test]
     fn normal_is_left() {

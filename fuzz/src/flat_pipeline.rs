@@ -7,6 +7,7 @@
 
 use core::fmt;
 
+use sceneinfo::ErrorKind;
 use sceneinfo::formfactor::estimate_2d::{FlatTracer, LineMethod};
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::formfactor::tally::LineTracer;
@@ -78,10 +79,18 @@ pub fn check(data: &[u8]) -> Outcome {
     let ff = match exact_2d::form_factors(&scene) {
         Ok(ff) => ff,
         Err(err) => {
-            // Lost precision is refused with `PrecisionLoss`, never returned as numbers. It
-            // happens past `RESOLVED_RANGE`, and also on needle-thin polygons within it (a
-            // fuzz-found pentagon 5e10 long and 0.2 wide, range 1e2, rows 1.4e-7 over one:
-            // a known defect, ARCHITECTURE.md), so the range is not asserted here.
+            // Lost precision is refused with `PrecisionLoss`, never returned as numbers, and
+            // only past what the guarantee covers: a scene spanning more than
+            // `RESOLVED_RANGE` times its smallest feature (a patch, or the gap between a
+            // surface's end and another surface).
+            if let ErrorKind::PrecisionLoss { range, .. } = *err.kind()
+                && range <= exact_2d::RESOLVED_RANGE
+            {
+                fail(format!(
+                    "precision lost at range {range:e}, within the guaranteed {:e}: {err}",
+                    exact_2d::RESOLVED_RANGE
+                ));
+            }
             return invariants::refused(&err, &case);
         }
     };

@@ -58,13 +58,12 @@ use alloc::vec::Vec;
 /// (10 000² doubles = 800 MB). Larger scenes need the Monte Carlo sparse estimators.
 pub const MAX_DENSE_PATCHES: usize = 10_000;
 
-/// Extent-to-shortest-patch ratio up to which the exact flatland form factors are
-/// guaranteed to close (rows sum to one within 1e-9): each sine integral carries a few ulps
-/// of the distances involved, up to the scene's extent, relative to the source patch's
-/// length. Tested at 10⁷ (`tests::extreme_aspect_sliver_rows_sum_to_one`). Needle-thin
-/// polygons (widths 1e-10 of their length) lose precision inside this range too; beyond it, or there,
-/// [`form_factors`] may refuse with [`ErrorKind::PrecisionLoss`] rather than return rows
-/// that overflow.
+/// Extent-to-smallest-feature ratio ([`feature_range`]) up to which the exact flatland form
+/// factors are guaranteed to close (rows sum to one within 1e-9): each sine integral carries
+/// a few ulps of the distances involved, up to the scene's extent, relative to the source
+/// patch's length. Tested at 10⁷ (`tests::extreme_aspect_sliver_rows_sum_to_one`) and on
+/// rooms of aspect 10⁸ (`tests/extremes.rs`). Beyond it [`form_factors`] may refuse with
+/// [`ErrorKind::PrecisionLoss`] rather than return rows that overflow.
 pub const RESOLVED_RANGE: f64 = 1e6;
 
 /// Relative tolerance (about 500 ulps) under which a point counts as lying on a supporting
@@ -678,7 +677,7 @@ pub fn point_to_patch(scene: &FlatScene, x: DVec2, normal: DVec2, j: usize) -> R
 /// # Errors
 /// [`ErrorKind::TooLarge`] above [`MAX_DENSE_PATCHES`] patches; [`ErrorKind::PrecisionLoss`]
 /// when a row sums above one beyond rounding, which only a scene spanning more than
-/// [`RESOLVED_RANGE`] times its shortest patch can cause.
+/// [`RESOLVED_RANGE`] times its smallest feature can cause.
 #[cfg(feature = "alloc")]
 pub fn form_factors(scene: &FlatScene) -> Result<FormFactors> {
     let n = scene.n_patches();
@@ -705,17 +704,43 @@ fn check_closure(scene: &FlatScene, lengths: &[f64], f: &[f64]) -> Result<()> {
     for (patch, row) in f.chunks_exact(n.max(1)).enumerate() {
         let sum = math::sum(row.iter().copied());
         if sum > 1.0 + crate::channel::ROW_SUM_TOLERANCE {
-            let (lo, hi) = scene.bounds();
-            let shortest = lengths.iter().fold(f64::INFINITY, |m, &l| m.min(l));
             return Err(ErrorKind::PrecisionLoss {
                 patch,
                 sum,
-                range: math::length(hi - lo) / shortest,
+                range: feature_range(scene, lengths),
             }
             .into());
         }
     }
     Ok(())
+}
+
+/// The scene's extent (bounding-box diagonal) over its smallest feature: the shortest patch,
+/// or the closest approach of a surface's end to another surface it does not end on (a
+/// vertex a hair's breadth from a long wall is a feature as small as that gap, whatever the
+/// patch lengths). Ends that touch another surface exactly are joints, not features.
+/// [`RESOLVED_RANGE`] bounds this ratio. Costs `O(surfaces²)`: computed only to explain a
+/// [`ErrorKind::PrecisionLoss`].
+#[cfg(feature = "alloc")]
+fn feature_range(scene: &FlatScene, lengths: &[f64]) -> f64 {
+    let (lo, hi) = scene.bounds();
+    let mut smallest = lengths.iter().fold(f64::INFINITY, |m, &l| m.min(l));
+    let surfaces = scene.surfaces();
+    for (k, s) in surfaces.iter().enumerate() {
+        for end in [s.segment.a, s.segment.b] {
+            for (m, other) in surfaces.iter().enumerate() {
+                let o = other.segment;
+                if m == k || end == o.a || end == o.b {
+                    continue;
+                }
+                let gap = o.distance_to(end);
+                if gap > 0.0 {
+                    smallest = smallest.min(gap);
+                }
+            }
+        }
+    }
+    math::length(hi - lo) / smallest
 }
 
 /// Writes the exact `n × n` patch form factors (no background state) row-major into `out`.
