@@ -57,7 +57,7 @@ pub struct JobTimes {
 
 /// CPU time this thread has run, in seconds (the first field of
 /// `/proc/thread-self/schedstat`, user and system time in nanoseconds).
-fn thread_cpu_seconds() -> Option<f64> {
+pub(crate) fn thread_cpu_seconds() -> Option<f64> {
     let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
     let ns: u64 = s.split_whitespace().next()?.parse().ok()?;
     Some(ns as f64 * 1e-9)

@@ -19,11 +19,13 @@ use std::io::Write;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
+use sceneinfo::accel::Bvh3;
 use sceneinfo::formfactor::estimate_2d::FlatTracer;
 use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::formfactor::tally::{LineMethod, LineTally, LineTracer};
 use sceneinfo::formfactor::{exact_2d, exact_3d};
 use sceneinfo::geom::DVec3;
+use sceneinfo::lines::{BoundingSphere, canonical, chunk_rng, sample_global_line_3d};
 use sceneinfo::report::JsonObject;
 use sceneinfo::scene::{FlatScene, Scene, Subdivision, catalogue_scene, preset_3d};
 
@@ -116,6 +118,8 @@ struct CurvePoint {
     mesh: String,
     patches: usize,
     ns_per_line: f64,
+    /// Of it, sampling the line and finding its hits (`Bvh3::all_hits`), without the tally.
+    query_ns_per_line: f64,
     hits_per_line: f64,
 }
 
@@ -432,8 +436,46 @@ fn curve_point(mesh: String, scene: &Scene, budget: f64) -> Result<CurvePoint> {
         mesh,
         patches: tracer.n_patches(),
         ns_per_line: 1e9 / r.cpu_or_wall(),
+        query_ns_per_line: query_ns_per_line(scene, budget)?,
         hits_per_line: tally.continuous().samples as f64 / tally.lines().max(1) as f64,
     })
+}
+
+/// CPU (else wall) nanoseconds per line of sampling a global line of `scene` and finding
+/// all its hits with the BVH, without tallying them: the query's share of a curve point's
+/// cost, the rest being the tally's. Lines as in the tracer's jobs (seed [`SEED`], chunk
+/// 0's stream); jobs of `L` and `2L` lines, `L` grown until a job takes half of `budget`,
+/// as in `rate`.
+fn query_ns_per_line(scene: &Scene, budget: f64) -> Result<f64> {
+    let polygons: Vec<(usize, usize)> =
+        scene.patches().iter().map(|p| (p.first, p.count)).collect();
+    let bvh = Bvh3::build(scene.points(), &polygons)?;
+    let (lo, hi) = scene.bounds();
+    let sphere = BoundingSphere::of_bounds(lo, hi);
+    let mut hits = Vec::new();
+    let mut timed = |lines: u64| {
+        let mut rng = chunk_rng(SEED, 0);
+        let (cpu, wall) = (crate::lines::thread_cpu_seconds(), Instant::now());
+        let mut found = 0usize;
+        for _ in 0..lines {
+            let u = [0; 4].map(|_| canonical(&mut rng));
+            bvh.all_hits(&sample_global_line_3d(&sphere, u), &mut hits);
+            found += hits.len();
+        }
+        std::hint::black_box(found);
+        let cpu = cpu.zip(crate::lines::thread_cpu_seconds());
+        cpu.map_or(wall.elapsed().as_secs_f64(), |(a, b)| b - a)
+    };
+    let mut lines = 4096u64;
+    loop {
+        let t1 = timed(lines);
+        if t1 >= budget / 2.0 || lines >= 1 << 40 {
+            let t2 = timed(2 * lines);
+            let dt = if t2 > t1 { t2 - t1 } else { t2 / 2.0 };
+            return Ok(dt / lines as f64 * 1e9);
+        }
+        lines *= 2;
+    }
 }
 
 /// Resets the kernel's peak-RSS mark of this process (Linux; ignored elsewhere).
@@ -566,17 +608,18 @@ fn table(r: &Report, budget: f64) -> String {
         let _ = writeln!(
             s,
             "\nCost per global line against patches (1 thread, full tally, CPU time)\n\
-             {:<20} {:>8} {:>9} {:>6} {:>12}",
-            "mesh", "patches", "ns/line", "hits", "ns/log2(n)"
+             {:<20} {:>8} {:>9} {:>9} {:>6} {:>12}",
+            "mesh", "patches", "ns/line", "query ns", "hits", "ns/log2(n)"
         );
     }
     for p in r.curve {
         let _ = writeln!(
             s,
-            "{:<20} {:>8} {:>9.0} {:>6.2} {:>12.1}",
+            "{:<20} {:>8} {:>9.0} {:>9.0} {:>6.2} {:>12.1}",
             p.mesh,
             p.patches,
             p.ns_per_line,
+            p.query_ns_per_line,
             p.hits_per_line,
             p.ns_per_line / (p.patches as f64).log2()
         );
@@ -669,6 +712,7 @@ fn json(r: &Report) -> Result<String> {
             o.object(&p.mesh, |o| {
                 o.integer("patches", p.patches as u64)?;
                 o.number("ns_per_line", p.ns_per_line)?;
+                o.number("query_ns_per_line", p.query_ns_per_line)?;
                 o.number("hits_per_line", p.hits_per_line)
             })?;
         }

@@ -50,9 +50,7 @@ use crate::lines::{
 };
 use crate::scene::FlatScene;
 
-use crate::formfactor::tally::{
-    Crossing, crossings_of_hits, global_line_terms, tally_global_hits, trace_chunk_lines,
-};
+use crate::formfactor::tally::{Crossing, global_hit_terms, tally_global_hits, trace_chunk_lines};
 pub use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
 
 /// Lines per bundle of [`LineMethod::Bundle`] (the last bundle of a chunk may have fewer):
@@ -195,6 +193,8 @@ impl FlatTracer {
             tally.end_group(sum, samples, lines);
             left -= lines;
         }
+        // Counts are observed only between chunks: apply the increments held back
+        tally.counts.settle();
     }
 
     /// Casts one bundle by the sweep and tallies each line as a global line, returning
@@ -210,15 +210,15 @@ impl FlatTracer {
         let dir = bundle.dir();
         let (mut sum, mut samples) = (0.0, 0u64);
         for k in 0..bundle.len() as usize {
-            crossings_of_hits(
+            let terms = global_hit_terms(
                 bundle_hits.line_hits(k),
                 &self.surface,
                 |p| dir.dot(self.normals[p]),
+                eps,
                 crossings,
+                tally,
+                |ci, cj, r| continuous::flat_sample(self.total_length, ci, cj, r),
             );
-            let terms = global_line_terms(crossings, eps, tally, |ci, cj, r| {
-                continuous::flat_sample(self.total_length, ci, cj, r)
-            });
             if let Some((s, n)) = terms {
                 sum += s;
                 samples += n;
@@ -528,23 +528,24 @@ mod tests {
             for k in 0..m {
                 let line = bundle.line(k);
                 tracer.bvh.all_hits(&line, &mut hits);
-                crossings_of_hits(
+                let eps = 1e-12 * tracer.circle.radius;
+                let terms = global_hit_terms(
                     &hits,
                     &tracer.surface,
                     |p| line.dir.dot(tracer.normals[p]),
+                    eps,
                     &mut crossings,
+                    &mut by_bvh,
+                    |ci, cj, r| continuous::flat_sample(tracer.total_length, ci, cj, r),
                 );
-                let eps = 1e-12 * tracer.circle.radius;
-                if let Some((s, c)) =
-                    global_line_terms(&mut crossings, eps, &mut by_bvh, |ci, cj, r| {
-                        continuous::flat_sample(tracer.total_length, ci, cj, r)
-                    })
-                {
+                if let Some((s, c)) = terms {
                     sum_bvh += s;
                     n_bvh += c;
                 }
             }
             by_bvh.end_group(sum_bvh, n_bvh, u64::from(m));
+            by_sweep.counts.settle();
+            by_bvh.counts.settle();
             assert!(n > 0);
             assert_eq!(by_sweep, by_bvh, "bundle of {m}");
         }

@@ -410,7 +410,7 @@ impl LineTally {
     }
 }
 
-/// One intersection of a global line with a patch, as [`tally_global_line`] sees it.
+/// One intersection of a global line with a patch, as [`global_line_terms`] sees it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Crossing {
     /// Parameter along the line.
@@ -423,31 +423,17 @@ pub(crate) struct Crossing {
     pub cos: f64,
 }
 
-/// Tallies one global line from its crossings, sorted by `t` (2.37, 4.8, 4.13).
+/// Tallies one global line from its crossings, sorted by `t` (2.37, 4.8, 4.13), except
+/// for closing the line: returns the line's `(Σ terms, samples)`, or `None` for a
+/// degenerate line, which adds nothing (the caller counts it as cast).
 ///
 /// First the crossings are normalised: a line through the common end or edge of two
 /// patches of one surface counts once; at one point, a surface facing backwards comes
 /// before one facing forwards (a two-sided wall, or a grazed corner of an object); two
 /// surfaces met at one point facing the same way make the line degenerate (it passes
-/// exactly through a corner — a set of measure zero), and it is counted as cast but
-/// contributes no sample. Then every crossing is a sample leaving its front side, and
-/// consecutive mutually facing crossings `i`, `j` give `C_ij`, `C_ji` and two continuous
-/// terms `sample(cos θ_i, cos θ_j, r)`.
-pub(crate) fn tally_global_line(
-    crossings: &mut Vec<Crossing>,
-    eps: f64,
-    tally: &mut LineTally,
-    sample: impl Fn(f64, f64, f64) -> Option<f64>,
-) {
-    match global_line_terms(crossings, eps, tally, sample) {
-        Some((line_sum, n)) => tally.end_line(line_sum, n),
-        None => tally.skip_line(),
-    }
-}
-
-/// [`tally_global_line`] without closing the line: the counts and information of the
-/// line's segments go into `tally`, and the line's `(Σ terms, samples)` are returned
-/// (`None` for a degenerate line, which adds nothing).
+/// exactly through a corner — a set of measure zero). Then every crossing is a sample
+/// leaving its front side, and consecutive mutually facing crossings `i`, `j` give `C_ij`,
+/// `C_ji` and two continuous terms `sample(cos θ_i, cos θ_j, r)`.
 pub(crate) fn global_line_terms(
     crossings: &mut Vec<Crossing>,
     eps: f64,
@@ -464,28 +450,44 @@ pub(crate) fn global_line_terms(
             }
         }
     }
+    Some(normalised_crossing_terms(
+        crossings.iter().copied(),
+        tally,
+        sample,
+    ))
+}
+
+/// The counting part of [`global_line_terms`], for crossings already normalised: each is
+/// a sample leaving its patch; a crossing facing along the line followed by one facing
+/// back is a segment between them. Returns the line's `(Σ terms, samples)`.
+#[inline]
+fn normalised_crossing_terms(
+    crossings: impl Iterator<Item = Crossing>,
+    tally: &mut LineTally,
+    sample: impl Fn(f64, f64, f64) -> Option<f64>,
+) -> (f64, u64) {
     let mut line_sum = 0.0;
-    for (k, c) in crossings.iter().enumerate() {
-        let i = c.patch as usize;
-        tally.leave(i);
-        if c.cos <= 0.0 {
-            continue; // leaves backwards: the partner of crossing k − 1
+    let mut n = 0u64;
+    let mut previous: Option<Crossing> = None;
+    for c in crossings {
+        tally.leave(c.patch as usize);
+        n += 1;
+        // A segment from the front of the previous surface to the back of this one
+        if let Some(p) = previous
+            && p.cos > 0.0
+            && c.cos < 0.0
+        {
+            let s = sample(p.cos, -c.cos, c.t - p.t);
+            line_sum += tally.global_pair(p.patch as usize, c.patch as usize, s);
         }
-        let Some(next) = crossings.get(k + 1) else {
-            continue;
-        }; // escapes
-        if next.cos >= 0.0 {
-            continue; // meets the back of the next surface
-        }
-        let s = sample(c.cos, -next.cos, next.t - c.t);
-        line_sum += tally.global_pair(i, next.patch as usize, s);
+        previous = Some(c);
     }
-    Some((line_sum, crossings.len() as u64))
+    (line_sum, n)
 }
 
 /// Tallies one global line from the hits of a line query, sorted by `t` (2.37, 4.8,
 /// 4.13), for either tracer: each hit becomes a [`Crossing`] with its patch's surface
-/// (`surface[prim]`) and `cos(prim)` = `dir · n_prim`, then [`tally_global_line`] counts
+/// (`surface[prim]`) and `cos(prim)` = `dir · n_prim`, then [`global_line_terms`] counts
 /// them, `sample(cos θ_i, cos θ_j, r)` giving each segment's continuous term.
 #[inline]
 pub(crate) fn tally_global_hits<H: HitKey>(
@@ -497,21 +499,25 @@ pub(crate) fn tally_global_hits<H: HitKey>(
     tally: &mut LineTally,
     sample: impl Fn(f64, f64, f64) -> Option<f64>,
 ) {
-    crossings_of_hits(hits, surface, cos, crossings);
-    tally_global_line(crossings, eps, tally, sample);
+    match global_hit_terms(hits, surface, cos, eps, crossings, tally, sample) {
+        Some((line_sum, n)) => tally.end_line(line_sum, n),
+        None => tally.skip_line(),
+    }
 }
 
-/// The [`Crossing`]s of sorted hits, into `crossings` (cleared first): each hit with its
-/// patch's surface (`surface[prim]`) and `cos(prim)` = `dir · n_prim`.
+/// [`tally_global_hits`] without closing the line (see [`global_line_terms`]): the line's
+/// `(Σ terms, samples)`, or `None` for a degenerate line.
 #[inline]
-pub(crate) fn crossings_of_hits<H: HitKey>(
+pub(crate) fn global_hit_terms<H: HitKey>(
     hits: &[H],
     surface: &[u32],
     cos: impl Fn(usize) -> f64,
+    eps: f64,
     crossings: &mut Vec<Crossing>,
-) {
-    crossings.clear();
-    crossings.extend(hits.iter().map(|h| {
+    tally: &mut LineTally,
+    sample: impl Fn(f64, f64, f64) -> Option<f64>,
+) -> Option<(f64, u64)> {
+    let crossing = |h: &H| {
         let p = h.prim() as usize;
         Crossing {
             t: h.t(),
@@ -519,7 +525,19 @@ pub(crate) fn crossings_of_hits<H: HitKey>(
             surface: surface.get(p).copied().unwrap_or(u32::MAX),
             cos: cos(p),
         }
-    }));
+    };
+    // No two hits within `eps` (nearly every line): nothing to normalise, so the hits are
+    // counted as they are, without the crossing list (the same counts, bit for bit)
+    if hits.windows(2).all(|w| !(w[1].t() - w[0].t() <= eps)) {
+        return Some(normalised_crossing_terms(
+            hits.iter().map(crossing),
+            tally,
+            sample,
+        ));
+    }
+    crossings.clear();
+    crossings.extend(hits.iter().map(crossing));
+    global_line_terms(crossings, eps, tally, sample)
 }
 
 /// The line loop of [`LineTracer::trace_chunk`], for either tracer: the lines of chunk
@@ -553,4 +571,6 @@ pub(crate) fn trace_chunk_lines<H>(
         // (see `LineTracer::supports`).
         LineMethod::Bundle => {}
     }
+    // Counts are observed only between chunks: apply the increments held back
+    tally.counts.settle();
 }

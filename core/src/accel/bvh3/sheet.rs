@@ -229,26 +229,31 @@ impl Sheet {
     ///
     /// ```text
     /// s ∈ [i − w_s, i + 1 + w_s],  w_s = (δE + τ(|v'| + 2R))/|det|     (t, w_t alike)
-    /// δE = 10⁻⁹ R²,   R = |a| + m|u'| + k|v'| + τ
+    /// δE = 10⁻⁹ R²,   R = |a|₁ + m|u'|₁ + k|v'|₁ + τ
     /// ```
     ///
-    /// `10⁻⁹` is seven orders above `20ε` and also covers the rounding of `(s, t)`. The
-    /// window is one or two cells a side; a grazing line (tiny `det`, huge windows) or NaN
-    /// gives the whole sheet.
+    /// The lengths are the 1-norms `|x| + |y| ≥ √(x² + y²)`: larger bounds only widen the
+    /// window, and need no square roots. `10⁻⁹` is seven orders above `20ε` and also
+    /// covers the rounding of `(s, t)`, computed with the one reciprocal `1/det` (its
+    /// rounding adds `2ε` relative to `|v' × a|/|det| ≤ R²/|det|`). The window is one or
+    /// two cells a side; a grazing line (tiny `det`, huge windows, `1/det` overflowing)
+    /// or NaN gives the whole sheet.
     #[inline(always)]
     pub(super) fn window(&self, q: &Query) -> (Range<u32>, Range<u32>) {
         let a = q.project(self.a);
         let pu = q.project_dir(self.u);
         let pv = q.project_dir(self.v);
         let det = pu.0 * pv.1 - pu.1 * pv.0;
-        let s = (pv.0 * a.1 - pv.1 * a.0) / det;
-        let t = (a.0 * pu.1 - a.1 * pu.0) / det;
-        let norm = |p: (f64, f64)| crate::math::sqrt(p.0 * p.0 + p.1 * p.1);
+        // One division per sheet visit (it was four, and three square roots)
+        let inv_det = 1.0 / det;
+        let s = (pv.0 * a.1 - pv.1 * a.0) * inv_det;
+        let t = (a.0 * pu.1 - a.1 * pu.0) * inv_det;
+        let norm = |p: (f64, f64)| p.0.abs() + p.1.abs();
         let (na, nu, nv) = (norm(a), norm(pu), norm(pv));
         let r = na + f64::from(self.m) * nu + f64::from(self.k) * nv + self.tau;
         let de = WINDOW_SLACK * r * r;
-        let ws = (de + self.tau * (nv + 2.0 * r)) / det.abs() + WINDOW_SLACK;
-        let wt = (de + self.tau * (nu + 2.0 * r)) / det.abs() + WINDOW_SLACK;
+        let ws = (de + self.tau * (nv + 2.0 * r)) * inv_det.abs() + WINDOW_SLACK;
+        let wt = (de + self.tau * (nu + 2.0 * r)) * inv_det.abs() + WINDOW_SLACK;
         (cells(s, ws, self.m), cells(t, wt, self.k))
     }
 }
