@@ -230,6 +230,8 @@ check_clippy() {
     # wasm/tests/*.rs only compile for wasm32; fuzz/ is its own workspace.
     x cargo clippy -p sceneinfo-wasm --all-targets --target wasm32-unknown-unknown -- -D warnings
     x cargo clippy --manifest-path fuzz/Cargo.toml --all-targets -- -D warnings
+    # The API docs: no broken or private intra-doc links.
+    RUSTDOCFLAGS="-D warnings" x cargo doc --no-deps --workspace
 }
 
 check_tests() {
@@ -285,7 +287,7 @@ run_fuzz() {
 }
 
 run_step "cargo fmt --check (workspace and fuzz/)" check_fmt
-run_step "cargo clippy -D warnings (workspace, wasm32, fuzz/)" check_clippy
+run_step "cargo clippy and rustdoc -D warnings (workspace, wasm32, fuzz/)" check_clippy
 run_step "cargo test --workspace" check_tests
 run_step "no_std: sceneinfo --no-default-features, thumbv7em-none-eabihf" \
     check_no_std thumbv7em-none-eabihf

@@ -3,7 +3,7 @@
 //!
 //! A thin [`wasm_bindgen`](mod@wasm_bindgen) layer in the style of `ruff_wasm`: every number
 //! comes from the core, this crate only moves scenes, arrays and JSON across the boundary.
-//! Every core error goes through the single [`into_error`] function, so JavaScript always
+//! Every core error goes through the single `into_error` function, so JavaScript always
 //! receives an `Error` whose `message` is the core's `Display` text (`"line N: what"`).
 //!
 //! # JavaScript API

@@ -68,7 +68,7 @@
 //! towards the ridge: `η → 1` in the corners, `t → s` in the rectangles.
 //!
 //! Two families of lines inside a rectangle also break `Φ`'s smoothness, and the rules are
-//! split at them ([`Break`]): where an end of one slice passes the start of the other
+//! split at them (the private `Break`): where an end of one slice passes the start of the other
 //! (`a(s) = d(t)`, `b(s) = c(t)`), the peak of `F` at `w = 0`, of width `√D`, crosses a
 //! corner of the trapezoid `h(w)`, so `Φ` has a complex singularity `√D / |∇w|` from the
 //! line; the rules are split there and graded towards it until their pieces are that small.

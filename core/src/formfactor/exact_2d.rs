@@ -58,7 +58,8 @@ use alloc::vec::Vec;
 /// (10 000² doubles = 800 MB). Larger scenes need the Monte Carlo sparse estimators.
 pub const MAX_DENSE_PATCHES: usize = 10_000;
 
-/// Extent-to-smallest-feature ratio ([`feature_range`]) up to which the exact flatland form
+/// Extent-to-smallest-feature ratio (the scene's extent over its shortest patch or the
+/// closest approach of a surface's end to another surface) up to which the exact flatland form
 /// factors are guaranteed to close (rows sum to one within 1e-9): each sine integral carries
 /// a few ulps of the distances involved, up to the scene's extent, relative to the source
 /// patch's length. Tested at 10⁷ (`tests::extreme_aspect_sliver_rows_sum_to_one`) and on

@@ -13,7 +13,7 @@ pub const ORACLE_NAMES: [&str; 6] = ["power", "ks", "ks-av", "mi", "mi-increase"
 /// Most splits per patch of the regular mesh (`4⁸ = 65 536` elements a patch).
 pub const MAX_REGULAR_LEVEL: u32 = 8;
 
-/// Any of the oracles of [`super::oracle`].
+/// Any of the oracles of the hierarchy (power, KS, KS-av, MI, MI increase).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum OracleChoice {
     /// (2.48).

@@ -424,7 +424,7 @@ pub struct LitEstimate {
 ///
 /// Up to [`PAIR_MOMENT_LIMIT`] patches the lines are cast once, through a
 /// [`RadiosityTracer::pair_moments`], and (5.20) is evaluated from the pair moments after the solve
-/// (see [`moments`] for its standard error). Beyond, the pair moments would take too much
+/// (the private `moments` module explains its standard error). Beyond, the pair moments would take too much
 /// memory: the job is cast a second time with the same seed (the same lines) through a
 /// [`RadiosityTracer::new`] that sums the terms of the solution line by line.
 ///
