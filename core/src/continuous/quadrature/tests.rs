@@ -219,18 +219,7 @@ fn pair_flux_matches_exact_form_factors() {
         ),
     ];
     for (name, p, q) in cases {
-        // Orient both to face each other: flip a polygon whose centroid sees the other's back.
-        let (mut p, mut q) = (p, q);
-        let (cp, cq) = (
-            Plane::of(&p).unwrap().centroid,
-            Plane::of(&q).unwrap().centroid,
-        );
-        if Plane::of(&p).unwrap().normal.dot(cq - cp) < 0.0 {
-            p.reverse();
-        }
-        if Plane::of(&q).unwrap().normal.dot(cp - cq) < 0.0 {
-            q.reverse();
-        }
+        let [p, q] = facing(p, q);
         let exact = unoccluded_flux(&p, &q);
         assert!(exact > 1e-3, "{name}: exact {exact}");
         let got = pair(&p, &q, QuadratureOptions::STANDARD);
@@ -456,7 +445,13 @@ proptest! {
 
 /// [`hinge`] with both polygons facing each other.
 fn facing_hinge(dihedral: f64, apex_p: (f64, f64), apex_q: (f64, f64)) -> [Vec<DVec3>; 2] {
-    let [mut p, mut q] = hinge(0.0, dihedral, apex_p, apex_q);
+    let [p, q] = hinge(0.0, dihedral, apex_p, apex_q);
+    facing(p, q)
+}
+
+/// Both polygons oriented to face each other: one whose centroid sees the other's back is
+/// flipped.
+fn facing(mut p: Vec<DVec3>, mut q: Vec<DVec3>) -> [Vec<DVec3>; 2] {
     let (cp, cq) = (
         Plane::of(&p).unwrap().centroid,
         Plane::of(&q).unwrap().centroid,
