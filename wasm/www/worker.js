@@ -23,7 +23,8 @@ async function run({ id, text, method, seed, lines }) {
   let job;
   try {
     lab = new FlatLab(text);
-    job = method === 'local' ? lab.localLines(seed, lines) : lab.globalLines(seed, lines);
+    const start_job = { local: 'localLines', bundle: 'bundleLines' }[method] ?? 'globalLines';
+    job = lab[start_job](seed, lines);
     const start = performance.now();
     while (!job.done && !me.stop && current === me) {
       job.run(1);
