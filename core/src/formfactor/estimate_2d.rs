@@ -50,7 +50,7 @@ use crate::lines::{
 };
 use crate::scene::FlatScene;
 
-use crate::formfactor::tally::{Crossing, global_hit_terms, tally_global_hits, trace_chunk_lines};
+use crate::formfactor::tally::{Crossing, global_hit_terms, trace_chunk_lines};
 pub use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
 
 /// Lines per bundle of [`LineMethod::Bundle`] (the last bundle of a chunk may have fewer):
@@ -133,7 +133,7 @@ impl FlatTracer {
         self
     }
 
-    /// Tallies one global line from its sorted hits (see [`tally_global_hits`]).
+    /// Tallies one global line from its sorted hits.
     fn tally_global_line(
         &self,
         dir: DVec2,
@@ -141,8 +141,22 @@ impl FlatTracer {
         crossings: &mut Vec<Crossing>,
         tally: &mut LineTally,
     ) {
+        let terms = self.global_line_terms(dir, hits, crossings, tally);
+        tally.close_line(terms);
+    }
+
+    /// The counts and `(Σ terms, samples)` of one global line of direction `dir` from its
+    /// sorted hits, without closing it (see [`global_hit_terms`]): what a line cast alone
+    /// and a line of a bundle share.
+    fn global_line_terms(
+        &self,
+        dir: DVec2,
+        hits: &[Hit2],
+        crossings: &mut Vec<Crossing>,
+        tally: &mut LineTally,
+    ) -> Option<(f64, u64)> {
         let eps = 1e-12 * self.circle.radius;
-        tally_global_hits(
+        global_hit_terms(
             hits,
             &self.surface,
             |p| dir.dot(self.normals[p]),
@@ -150,7 +164,7 @@ impl FlatTracer {
             crossings,
             tally,
             |ci, cj, r| continuous::flat_sample(self.total_length, ci, cj, r),
-        );
+        )
     }
 
     /// Casts the lines of chunk `chunk` of an `n_lines` job as bundles of parallel lines,
@@ -205,20 +219,11 @@ impl FlatTracer {
         (bundle_hits, crossings): &mut (BundleHits, Vec<Crossing>),
         tally: &mut LineTally,
     ) -> (f64, u64) {
-        let eps = 1e-12 * self.circle.radius;
         self.sweep.cast(bundle, bundle_hits);
         let dir = bundle.dir();
         let (mut sum, mut samples) = (0.0, 0u64);
         for k in 0..bundle.len() as usize {
-            let terms = global_hit_terms(
-                bundle_hits.line_hits(k),
-                &self.surface,
-                |p| dir.dot(self.normals[p]),
-                eps,
-                crossings,
-                tally,
-                |ci, cj, r| continuous::flat_sample(self.total_length, ci, cj, r),
-            );
+            let terms = self.global_line_terms(dir, bundle_hits.line_hits(k), crossings, tally);
             if let Some((s, n)) = terms {
                 sum += s;
                 samples += n;
@@ -528,16 +533,7 @@ mod tests {
             for k in 0..m {
                 let line = bundle.line(k);
                 tracer.bvh.all_hits(&line, &mut hits);
-                let eps = 1e-12 * tracer.circle.radius;
-                let terms = global_hit_terms(
-                    &hits,
-                    &tracer.surface,
-                    |p| line.dir.dot(tracer.normals[p]),
-                    eps,
-                    &mut crossings,
-                    &mut by_bvh,
-                    |ci, cj, r| continuous::flat_sample(tracer.total_length, ci, cj, r),
-                );
+                let terms = tracer.global_line_terms(line.dir, &hits, &mut crossings, &mut by_bvh);
                 if let Some((s, c)) = terms {
                     sum_bvh += s;
                     n_bvh += c;

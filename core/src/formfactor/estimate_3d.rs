@@ -23,7 +23,7 @@ use crate::geom::DVec3;
 use crate::lines::{BoundingSphere, Line3, canonical, sample_global_line_3d, sample_local_line_3d};
 use crate::scene::Scene;
 
-use crate::formfactor::tally::{Crossing, tally_global_hits, trace_chunk_lines};
+use crate::formfactor::tally::{Crossing, global_hit_terms, trace_chunk_lines};
 pub use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
 
 /// A 3D scene prepared for line casting: patch geometry and a BVH over the patches.
@@ -104,7 +104,7 @@ impl SceneTracer {
         self.points.get(first..first + count).unwrap_or(&[])
     }
 
-    /// Tallies one global line from its sorted hits (see [`tally_global_hits`]).
+    /// Tallies one global line from its sorted hits (see [`global_hit_terms`]).
     fn tally_global_line(
         &self,
         dir: DVec3,
@@ -113,7 +113,7 @@ impl SceneTracer {
         tally: &mut LineTally,
     ) {
         let eps = 1e-12 * self.sphere.radius;
-        tally_global_hits(
+        let terms = global_hit_terms(
             hits,
             &self.face,
             |p| dir.dot(self.normals[p]),
@@ -122,6 +122,7 @@ impl SceneTracer {
             tally,
             |ci, cj, r| continuous::solid_sample(self.total_area, ci, cj, r),
         );
+        tally.close_line(terms);
     }
 
     /// Among the surfaces the line meets at the same point as `hit`, one facing back towards

@@ -272,6 +272,16 @@ impl LineTally {
         self.lines += lines;
     }
 
+    /// Closes one line from its `(Σ terms, samples)`, or as a discarded degenerate line
+    /// when `None` ([`LineTally::end_line`], [`LineTally::skip_line`]).
+    #[inline]
+    pub(crate) fn close_line(&mut self, terms: Option<(f64, u64)>) {
+        match terms {
+            Some((sum, n)) => self.end_line(sum, n),
+            None => self.skip_line(),
+        }
+    }
+
     /// Closes one line that was discarded (a degenerate line of measure zero): counted as
     /// cast, contributes no sample.
     #[inline]
@@ -485,28 +495,12 @@ fn normalised_crossing_terms(
     (line_sum, n)
 }
 
-/// Tallies one global line from the hits of a line query, sorted by `t` (2.37, 4.8,
+/// The terms of one global line from the hits of a line query, sorted by `t` (2.37, 4.8,
 /// 4.13), for either tracer: each hit becomes a [`Crossing`] with its patch's surface
 /// (`surface[prim]`) and `cos(prim)` = `dir · n_prim`, then [`global_line_terms`] counts
-/// them, `sample(cos θ_i, cos θ_j, r)` giving each segment's continuous term.
-#[inline]
-pub(crate) fn tally_global_hits<H: HitKey>(
-    hits: &[H],
-    surface: &[u32],
-    cos: impl Fn(usize) -> f64,
-    eps: f64,
-    crossings: &mut Vec<Crossing>,
-    tally: &mut LineTally,
-    sample: impl Fn(f64, f64, f64) -> Option<f64>,
-) {
-    match global_hit_terms(hits, surface, cos, eps, crossings, tally, sample) {
-        Some((line_sum, n)) => tally.end_line(line_sum, n),
-        None => tally.skip_line(),
-    }
-}
-
-/// [`tally_global_hits`] without closing the line (see [`global_line_terms`]): the line's
-/// `(Σ terms, samples)`, or `None` for a degenerate line.
+/// them, `sample(cos θ_i, cos θ_j, r)` giving each segment's continuous term. Returns the
+/// line's `(Σ terms, samples)`, or `None` for a degenerate line; the caller closes the
+/// line ([`LineTally::close_line`]) or its group.
 #[inline]
 pub(crate) fn global_hit_terms<H: HitKey>(
     hits: &[H],
