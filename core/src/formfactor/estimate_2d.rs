@@ -50,6 +50,7 @@ use crate::lines::{
 };
 use crate::scene::FlatScene;
 
+use crate::formfactor::pair_blocks::PairBlocks;
 use crate::formfactor::tally::{Crossing, global_hit_terms, trace_chunk_lines};
 pub use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
 
@@ -66,6 +67,19 @@ pub const BUNDLE_LINES: u32 = 256;
 /// [`crate::lines::CHUNK_LINES`] lines holds 4 sheaves: 4 observations of the standard
 /// error.
 pub const SHEAF_BUNDLES: u32 = 64;
+
+/// Scratch space of [`FlatTracer::tally_bundle`], reused from bundle to bundle.
+#[derive(Debug, Default)]
+struct BundleScratch {
+    /// The hits of the bundle's lines.
+    hits: BundleHits,
+    /// One line's crossings, for the lines normalised one by one.
+    crossings: Vec<Crossing>,
+    /// The bundle's segments per patch pair.
+    blocks: PairBlocks,
+    /// Each patch's cosine `dir · n` with the bundle's direction.
+    cos: Vec<f64>,
+}
 
 /// The result of a flatland Monte Carlo run (an alias kept for readability).
 pub type FlatEstimate = LineEstimate;
@@ -180,7 +194,7 @@ impl FlatTracer {
     /// its lines are correlated, different sheaves are independent.
     fn trace_chunk_bundles(&self, seed: u64, n_lines: u64, chunk: u64, tally: &mut LineTally) {
         let mut rng = chunk_rng(seed, chunk);
-        let mut scratch = (BundleHits::new(), Vec::new());
+        let mut scratch = BundleScratch::default();
         let range = chunk_range(n_lines, chunk);
         let mut left = range.end - range.start;
         let (m, g) = (u64::from(BUNDLE_LINES), u64::from(SHEAF_BUNDLES));
@@ -213,23 +227,81 @@ impl FlatTracer {
 
     /// Casts one bundle by the sweep and tallies each line as a global line, returning
     /// the bundle's `(Σ terms, samples)` (its group is closed by the caller).
+    ///
+    /// The lines share their direction, so each patch's cosine is computed once per
+    /// bundle, and a segment's term differs between lines only by `−log₂ r`: the segments
+    /// are gathered per patch pair ([`PairBlocks`]: a count and `Π r`) and each pair is
+    /// added once per bundle ([`LineTally::add_pair_block`]). Leaving counts and pair
+    /// counts are exactly those of the lines tallied one by one; the information differs
+    /// by rounding only (quantised once per pair instead of once per term). A line with
+    /// two hits within `eps` (through a shared endpoint or a corner, or along a two-sided
+    /// wall) is normalised and tallied exactly as a line cast alone
+    /// ([`global_hit_terms`]), and so is every line of a tally with radiosity terms,
+    /// which need each segment's term.
     fn tally_bundle(
         &self,
         bundle: &GlobalBundle2,
-        (bundle_hits, crossings): &mut (BundleHits, Vec<Crossing>),
+        scratch: &mut BundleScratch,
         tally: &mut LineTally,
     ) -> (f64, u64) {
-        self.sweep.cast(bundle, bundle_hits);
+        let BundleScratch {
+            hits,
+            crossings,
+            blocks,
+            cos,
+        } = scratch;
+        self.sweep.cast(bundle, hits);
         let dir = bundle.dir();
         let (mut sum, mut samples) = (0.0, 0u64);
-        for k in 0..bundle.len() as usize {
-            let terms = self.global_line_terms(dir, bundle_hits.line_hits(k), crossings, tally);
-            if let Some((s, n)) = terms {
+        let mut line_by_line = |line: &[Hit2], tally: &mut LineTally| {
+            if let Some((s, n)) = self.global_line_terms(dir, line, crossings, tally) {
                 sum += s;
                 samples += n;
             }
+        };
+        if tally.radiosity().is_some() {
+            for k in 0..bundle.len() as usize {
+                line_by_line(hits.line_hits(k), tally);
+            }
+            return (sum, samples);
         }
-        (sum, samples)
+        // Each patch's cosine with the bundle's direction
+        cos.clear();
+        cos.extend(self.normals.iter().map(|n| dir.dot(*n)));
+        let radius = self.circle.radius;
+        let eps = 1e-12 * radius;
+        let inv_radius = 1.0 / radius;
+        let mut fast_samples = 0u64;
+        for k in 0..bundle.len() as usize {
+            let line = hits.line_hits(k);
+            if !line.windows(2).all(|w| !(w[1].t - w[0].t <= eps)) {
+                line_by_line(line, tally);
+                continue;
+            }
+            // Every hit a sample; a hit facing along the line followed by one facing back
+            // is a segment between them (as `global_hit_terms` counts a line)
+            fast_samples += line.len() as u64;
+            let mut front: Option<&Hit2> = None;
+            for h in line {
+                let p = h.prim as usize;
+                tally.leave(p);
+                let c = cos.get(p).copied().unwrap_or(0.0);
+                if let Some(f) = front
+                    && c < 0.0
+                {
+                    blocks.add(f.prim, h.prim, (h.t - f.t) * inv_radius);
+                }
+                front = (c > 0.0).then_some(h);
+            }
+        }
+        // Each pair once: its count, and its terms' sum quantised once
+        blocks.drain(|i, j, count, sum_log2_r| {
+            let (ci, cj) = (cos[i], -cos[j]);
+            let info =
+                continuous::flat_sample_sum(self.total_length, ci, cj, radius, count, sum_log2_r);
+            sum += tally.add_pair_block(i, j, count, info);
+        });
+        (sum, samples + fast_samples)
     }
 
     /// Among the surfaces the line meets at the same point as `hit`, one facing back
@@ -446,6 +518,7 @@ pub fn estimate(
 mod tests {
     use super::*;
     use crate::formfactor::exact_2d;
+    use alloc::{format, vec};
 
     #[test]
     fn global_lines_match_exact_form_factors() {
@@ -514,37 +587,138 @@ mod tests {
         assert_eq!(whole, merged_in_reverse(&tracer, LineMethod::Bundle, 8, n));
     }
 
+    /// The tally of `bundle` by the sweep and the aggregated tally, and the tally of its
+    /// lines cast one by one through the BVH and tallied as lone global lines, each
+    /// closed as one group.
+    fn bundle_and_lone_lines(
+        tracer: &FlatTracer,
+        bundle: &GlobalBundle2,
+    ) -> (LineTally, LineTally) {
+        let m = bundle.len();
+        let mut by_sweep = tracer.new_tally(LineMethod::Global);
+        let (sum, n) = tracer.tally_bundle(bundle, &mut BundleScratch::default(), &mut by_sweep);
+        by_sweep.end_group(sum, n, u64::from(m));
+        let mut by_bvh = tracer.new_tally(LineMethod::Global);
+        let (mut hits, mut crossings) = (Vec::new(), Vec::new());
+        let (mut sum_bvh, mut n_bvh) = (0.0, 0);
+        for k in 0..m {
+            let line = bundle.line(k);
+            tracer.bvh.all_hits(&line, &mut hits);
+            let terms = tracer.global_line_terms(line.dir, &hits, &mut crossings, &mut by_bvh);
+            if let Some((s, c)) = terms {
+                sum_bvh += s;
+                n_bvh += c;
+            }
+        }
+        by_bvh.end_group(sum_bvh, n_bvh, u64::from(m));
+        by_sweep.counts.settle();
+        by_bvh.counts.settle();
+        (by_sweep, by_bvh)
+    }
+
+    /// Rounding bound of a pair's aggregated information against the sum of its terms
+    /// tallied one by one, per segment. Each term `log₂(L_T cos cos / 2r)` is computed
+    /// once per segment from `f` (3 roundings, `< 4.5u` after the logarithm) with
+    /// `log2_fast`'s error `2·10⁻¹⁵·max(1, |log₂ f|)`, and quantised (`2⁻⁶⁴`); the
+    /// aggregate has the same per-segment share of `count·log2_fast(f)`, one rounding of
+    /// `r/R` and the product's `1.46u` ([`crate::math::Log2Product`]). With every
+    /// `|log₂|` involved below 64 (asserted), the difference is below
+    /// `2·2·10⁻¹⁵·65 + 20u < 2.7·10⁻¹³` per segment.
+    const INFO_BOUND_PER_SEGMENT: f64 = 2.7e-13;
+
+    /// Asserts that the aggregated tally has exactly the lone lines' counts, and their
+    /// information within [`INFO_BOUND_PER_SEGMENT`].
+    fn assert_tallies_agree(agg: &LineTally, lone: &LineTally, what: &str) {
+        assert_eq!(agg.lines, lone.lines, "{what}");
+        assert_eq!(agg.leaves, lone.leaves, "{what}");
+        let (ca, cl) = (&agg.continuous, &lone.continuous);
+        assert_eq!(
+            (ca.sum_n, ca.sum_nn, ca.groups),
+            (cl.sum_n, cl.sum_nn, cl.groups)
+        );
+        let scale = 18_446_744_073_709_551_616.0;
+        let collect = |t: &LineTally| {
+            let mut v = Vec::new();
+            t.counts
+                .for_each_raw(|i, j, c, info| v.push((i, j, c, info as f64 / scale)));
+            v
+        };
+        let (pa, pl) = (collect(agg), collect(lone));
+        assert_eq!(pa.len(), pl.len(), "{what}");
+        let mut segments_of = vec![0u64; agg.leaves.len()];
+        let mut segments = 0;
+        for (a, l) in pa.iter().zip(&pl) {
+            assert_eq!((a.0, a.1, a.2), (l.0, l.1, l.2), "{what}: pair counts");
+            let c = a.2 as f64;
+            assert!(
+                a.3.abs() < 32.0 * c.max(1.0),
+                "{what}: a term beyond the bound's range"
+            );
+            let bound = INFO_BOUND_PER_SEGMENT * c;
+            assert!((a.3 - l.3).abs() <= bound, "{what}: I_ij {a:?} vs {l:?}");
+            segments_of[a.0] += a.2;
+            segments += a.2;
+        }
+        for (i, (a, l)) in agg.patch_info.iter().zip(&lone.patch_info).enumerate() {
+            let bound = INFO_BOUND_PER_SEGMENT * segments_of[i] as f64;
+            assert!((a.value() - l.value()).abs() <= bound, "{what}: I_{i}");
+        }
+        // The group sum counts each segment's term twice; each ordered pair appears twice
+        // in `segments` (`C_ij` and `C_ji`)
+        let bound = INFO_BOUND_PER_SEGMENT * segments as f64;
+        assert!(
+            (ca.sum_s.value() - cl.sum_s.value()).abs() <= bound,
+            "{what}: Σ s"
+        );
+    }
+
     #[test]
-    fn bundle_lines_tally_like_the_same_global_lines() {
-        // Every line of a bundle, cast through the BVH and tallied as a global line, gives
-        // the counts and information of the bundle's sweep.
+    fn aggregated_bundle_tally_equals_the_lone_lines_tally() {
+        // Every line of a bundle, cast through the BVH and tallied as a lone global line,
+        // gives the bundle's counts exactly and its information within rounding.
         let scene = crate::scene::catalogue_scene("64-squares-a", 10).unwrap();
         let tracer = FlatTracer::new(&scene).unwrap();
         let mut rng = chunk_rng(3, 0);
-        for m in [1, 7, 256] {
+        for m in [1, 7, 256, 1024] {
             let bundle = GlobalBundle2::new(&tracer.circle, canonical_2d(&mut rng), m);
-            let mut by_sweep = tracer.new_tally(LineMethod::Global);
-            let (sum, n) =
-                tracer.tally_bundle(&bundle, &mut (BundleHits::new(), Vec::new()), &mut by_sweep);
-            by_sweep.end_group(sum, n, u64::from(m));
-            let mut by_bvh = tracer.new_tally(LineMethod::Global);
-            let (mut hits, mut crossings) = (Vec::new(), Vec::new());
-            let (mut sum_bvh, mut n_bvh) = (0.0, 0);
-            for k in 0..m {
-                let line = bundle.line(k);
-                tracer.bvh.all_hits(&line, &mut hits);
-                let terms = tracer.global_line_terms(line.dir, &hits, &mut crossings, &mut by_bvh);
-                if let Some((s, c)) = terms {
-                    sum_bvh += s;
-                    n_bvh += c;
-                }
-            }
-            by_bvh.end_group(sum_bvh, n_bvh, u64::from(m));
-            by_sweep.counts.settle();
-            by_bvh.counts.settle();
-            assert!(n > 0);
-            assert_eq!(by_sweep, by_bvh, "bundle of {m}");
+            let (by_sweep, by_bvh) = bundle_and_lone_lines(&tracer, &bundle);
+            assert!(by_sweep.continuous.sum_n > 0);
+            assert_tallies_agree(&by_sweep, &by_bvh, &format!("bundle of {m}"));
         }
+    }
+
+    #[test]
+    fn bundle_through_shared_endpoints_tallies_like_lone_lines() {
+        // A 4 × 4 room of 16 patches around a box of 4 patches, and bundles along the axes
+        // whose lines run exactly through the cut points, the corners and along the walls:
+        // those lines take the normalisation of lines cast alone.
+        let mut b = FlatScene::builder();
+        let p = |x: f64, y: f64| DVec2::new(x, y);
+        b.polygon(&[p(0.0, 0.0), p(4.0, 0.0), p(4.0, 4.0), p(0.0, 4.0)], 4)
+            .unwrap();
+        b.polygon(&[p(1.0, 1.0), p(1.0, 3.0), p(3.0, 3.0), p(3.0, 1.0)], 1)
+            .unwrap();
+        let scene = b.build().unwrap();
+        let mut tracer = FlatTracer::new(&scene).unwrap();
+        // Offsets p_k = k − 4 from the centre (2, 2): lines x = −2 … 5 (or y), through
+        // every cut point and corner
+        tracer.circle = crate::lines::BoundingCircle {
+            center: DVec2::splat(2.0),
+            radius: 4.0,
+        };
+        for u in [[0.0, 0.0], [0.5, 0.0], [0.25, 0.0], [0.3, 0.25]] {
+            let bundle = GlobalBundle2::new(&tracer.circle, u, 8);
+            let (by_sweep, by_bvh) = bundle_and_lone_lines(&tracer, &bundle);
+            assert_tallies_agree(&by_sweep, &by_bvh, &format!("{u:?}"));
+        }
+        // The axis bundles do meet coincident hits (else this test would not test them)
+        let bundle = GlobalBundle2::new(&tracer.circle, [0.0, 0.0], 8);
+        let mut hits = BundleHits::new();
+        tracer.sweep.cast(&bundle, &mut hits);
+        let eps = 1e-12 * tracer.circle.radius;
+        let close =
+            (0..8).filter(|&k| hits.line_hits(k).windows(2).any(|w| w[1].t - w[0].t <= eps));
+        assert!(close.count() >= 3);
     }
 
     #[test]
