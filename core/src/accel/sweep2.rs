@@ -57,6 +57,8 @@ pub struct ParallelSweep {
 pub struct BundleHits {
     /// Offsets `p_k` of the current bundle's lines.
     offsets: Vec<f64>,
+    /// Origins `c + p_k n` of the current bundle's lines.
+    origins: Vec<DVec2>,
     /// Candidate line range `k₀ .. k₁` of each segment.
     ranges: Vec<(u32, u32)>,
     /// Line `k`'s bucket starts at `start[k]`; `start[m]` = number of candidates.
@@ -146,8 +148,11 @@ impl ParallelSweep {
         // midpoints' depth along the lines, so that each line's bucket fills nearly sorted
         order_by_depth(&mut out.order, &out.depth);
         let query = LineQuery::new(c, d);
+        // The lines' origins, as the lines compute them
+        out.origins.clear();
+        out.origins.extend(out.offsets.iter().map(|&p| c + n * p));
         let BundleHits {
-            offsets,
+            origins,
             ranges,
             end,
             hits,
@@ -161,8 +166,8 @@ impl ParallelSweep {
                 continue;
             };
             let lines = k0 as usize..k1 as usize;
-            for (&p, end) in offsets[lines.clone()].iter().zip(&mut end[lines]) {
-                if let Some(t) = query.with_origin(c + n * p).hit(*a, *e) {
+            for (&o, end) in origins[lines.clone()].iter().zip(&mut end[lines]) {
+                if let Some(t) = query.with_origin(o).hit(*a, *e) {
                     hits[*end] = Hit2 { t, prim };
                     *end += 1;
                 }

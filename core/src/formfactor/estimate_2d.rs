@@ -54,19 +54,29 @@ use crate::formfactor::pair_blocks::PairBlocks;
 use crate::formfactor::tally::{Crossing, global_hit_terms, trace_chunk_lines};
 pub use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
 
-/// Lines per bundle of [`LineMethod::Bundle`] (the last bundle of a chunk may have fewer):
-/// enough that projecting every segment once per bundle costs little per line.
+/// Lines per bundle of [`LineMethod::Bundle`] (a chunk's last bundle may have fewer).
+///
+/// With a sheaf of a whole chunk (65,536 lines), the standard error of `I_S^c` on the
+/// 64-squares room (1.6·10⁷ lines, seeds 1–3) was, by lines per bundle × bundles per
+/// sheaf: 64 × 1024: 5.3·10⁻⁵, 128 × 512: 4.1·10⁻⁵, **256 × 256: 3.6·10⁻⁵**, 512 × 128:
+/// 4.6·10⁻⁵, 1024 × 64: 1.0·10⁻⁴, 4096 × 16: 1.0·10⁻³. Fewer lines per bundle cost more
+/// per line (the sweep and the pair blocks have per-bundle work), more cost precision
+/// (fewer directions): 256 gave the best `1/(σ² · CPU s)`, ×2.6 that of session 4's 256 ×
+/// 64 sheaves of 16,384 lines (`docs/performance.md`, session 5).
 pub const BUNDLE_LINES: u32 = 256;
 
 /// Bundles per sheaf of [`LineMethod::Bundle`]: equally spaced directions under one random
 /// rotation, so that the lines of a sheaf cover the directions evenly. The lines of one
-/// bundle share their direction, and the variance between directions dominates: on the
-/// 64-squares room (4.2·10⁶ lines) lone bundles of 256 lines gave a standard error of
-/// `I_S^c` 2.4 times that of independent lines, sheaves of 16 bundles 0.64 times and
-/// sheaves of 64 bundles 0.13 times. A sheaf holds 16,384 lines, so a chunk of
-/// [`crate::lines::CHUNK_LINES`] lines holds 4 sheaves: 4 observations of the standard
-/// error.
-pub const SHEAF_BUNDLES: u32 = 64;
+/// bundle share their direction, and the variance between directions dominates; equally
+/// spaced directions (a systematic sample of the angle) make it fall faster than one over
+/// their number: at 65,536 lines, 256 directions gave a standard error 0.63 times that of
+/// 4 sheaves of 64 (see [`BUNDLE_LINES`]). `BUNDLE_LINES × SHEAF_BUNDLES` is
+/// [`crate::lines::CHUNK_LINES`]: a whole chunk is one sheaf, one observation of the
+/// standard error.
+pub const SHEAF_BUNDLES: u32 = 256;
+
+// A whole chunk is one sheaf (the docs of `SHEAF_BUNDLES` say so).
+const _: () = assert!(BUNDLE_LINES as u64 * SHEAF_BUNDLES as u64 == crate::lines::CHUNK_LINES);
 
 /// Scratch space of [`FlatTracer::tally_bundle`], reused from bundle to bundle.
 #[derive(Debug, Default)]
@@ -183,27 +193,30 @@ impl FlatTracer {
 
     /// Casts the lines of chunk `chunk` of an `n_lines` job as bundles of parallel lines,
     /// drawn from [`chunk_rng`]`(seed, chunk)`: sheaves of [`SHEAF_BUNDLES`] bundles of
-    /// [`BUNDLE_LINES`] lines while the chunk has room for a whole sheaf, then single
-    /// bundles (the last one takes what is left). In a sheaf of `G` bundles, bundle `j`
-    /// has the direction of the canonical sample `(j + u₀)/G` — equally spaced directions
-    /// under one uniform rotation `u₀` — and its own shift ([`GlobalBundle2`]); a single
-    /// bundle has a uniform direction. Every line is marginally a uniform global line
-    /// (direction and offset each uniform within a stratum, the strata covering `[0, π) ×
-    /// [−r, r)` evenly), so the tallies keep their expectations, and every line is tallied
-    /// as a global line. A sheaf (or single bundle) is one group of the standard error:
-    /// its lines are correlated, different sheaves are independent.
+    /// [`BUNDLE_LINES`] lines while the chunk has room for a whole sheaf, then one sheaf
+    /// of as many whole bundles as are left, then one single bundle of the remaining
+    /// lines. In a sheaf of `G` bundles, bundle `j` has the direction of the canonical
+    /// sample `(j + u₀)/G` — equally spaced directions under one uniform rotation `u₀` —
+    /// and its own shift ([`GlobalBundle2`]); a single bundle has a uniform direction.
+    /// Every line is marginally a uniform global line (direction and offset each uniform
+    /// within a stratum, the strata covering `[0, π) × [−r, r)` evenly, every direction of
+    /// a sheaf with the same number of lines), so the tallies keep their expectations, and
+    /// every line is tallied as a global line. A sheaf (or single bundle) is one group of
+    /// the standard error: its lines are correlated, different sheaves are independent.
     fn trace_chunk_bundles(&self, seed: u64, n_lines: u64, chunk: u64, tally: &mut LineTally) {
         let mut rng = chunk_rng(seed, chunk);
         let mut scratch = BundleScratch::default();
         let range = chunk_range(n_lines, chunk);
         let mut left = range.end - range.start;
-        let (m, g) = (u64::from(BUNDLE_LINES), u64::from(SHEAF_BUNDLES));
-        while left >= m * g {
+        let m = u64::from(BUNDLE_LINES);
+        while left >= m {
+            // A whole sheaf, or the whole bundles that are left
+            let bundles = (left / m).min(u64::from(SHEAF_BUNDLES)) as u32;
             let u0 = canonical(&mut rng);
             let (mut sum, mut samples) = (0.0, 0u64);
-            for j in 0..SHEAF_BUNDLES {
+            for j in 0..bundles {
                 let u = [
-                    (f64::from(j) + u0) / f64::from(SHEAF_BUNDLES),
+                    (f64::from(j) + u0) / f64::from(bundles),
                     canonical(&mut rng),
                 ];
                 let bundle = GlobalBundle2::new(&self.circle, u, BUNDLE_LINES);
@@ -211,15 +224,14 @@ impl FlatTracer {
                 sum += s;
                 samples += n;
             }
-            tally.end_group(sum, samples, m * g);
-            left -= m * g;
-        }
-        while left > 0 {
-            let lines = left.min(m);
-            let bundle = GlobalBundle2::new(&self.circle, canonical_2d(&mut rng), lines as u32);
-            let (sum, samples) = self.tally_bundle(&bundle, &mut scratch, tally);
+            let lines = m * u64::from(bundles);
             tally.end_group(sum, samples, lines);
             left -= lines;
+        }
+        if left > 0 {
+            let bundle = GlobalBundle2::new(&self.circle, canonical_2d(&mut rng), left as u32);
+            let (sum, samples) = self.tally_bundle(&bundle, &mut scratch, tally);
+            tally.end_group(sum, samples, left);
         }
         // Counts are observed only between chunks: apply the increments held back
         tally.counts.settle();
@@ -576,14 +588,15 @@ mod tests {
 
     #[test]
     fn bundles_same_bits_any_chunking() {
-        // Two whole chunks and a ragged last one (whole sheaves, then single bundles).
+        // Two whole chunks and a ragged last one (a smaller sheaf, then a single bundle).
         let scene = FlatScene::regular_polygon(5, 3).unwrap();
         let tracer = FlatTracer::new(&scene).unwrap();
         let n = 2 * crate::lines::CHUNK_LINES + 3 * 16_384 + 2 * 256 + 17;
         let whole = tracer.run(LineMethod::Bundle, 8, n).unwrap();
         assert_eq!(whole.lines(), n);
-        // 4 sheaves per whole chunk; in the last, 3 sheaves and 3 single bundles.
-        assert_eq!(whole.continuous.groups, 4 + 4 + 3 + 3);
+        // One sheaf per whole chunk; in the last, a sheaf of 194 bundles and a single
+        // bundle of 17 lines.
+        assert_eq!(whole.continuous.groups, 1 + 1 + 2);
         assert_eq!(whole, merged_in_reverse(&tracer, LineMethod::Bundle, 8, n));
     }
 
