@@ -42,34 +42,17 @@ use crate::math::{self, FixedSum};
 #[inline]
 #[must_use]
 pub fn flat_sample(total_length: f64, cos_x: f64, cos_y: f64, r: f64) -> Option<f64> {
-    let f = total_length * cos_x * cos_y / (2.0 * r);
+    let f = flat_sample_ratio(total_length, cos_x, cos_y, r);
     (f > 0.0 && f.is_finite()).then(|| math::log2_fast(f))
 }
 
-/// The sum of `count` flatland terms [`flat_sample`] that share both cosines — the
-/// segments between one pair of patches in a bundle of parallel lines — given
-/// `Σ_k log₂(r_k/ρ)` for some scale `ρ > 0` (a [`math::Log2Product`] of `r_k/ρ`):
-///
-/// ```text
-/// Σ_k log₂(L_T cos θ_x cos θ_y / (2 r_k)) = count · log₂(L_T cos θ_x cos θ_y / (2ρ)) − Σ_k log₂(r_k/ρ)
-/// ```
-///
-/// `None` when the shared factor is not a positive finite number (a cosine `≤ 0`) or the
-/// logarithm sum is `None` (some `r_k ≤ 0`). The terms never overflow, unlike
-/// [`flat_sample`]'s ratio for `r` below `10⁻³⁰⁰`.
+/// `L_T F(x, y) = L_T cos θ_x cos θ_y / (2 r)`, the argument of [`flat_sample`]'s
+/// logarithm (6.34), unchecked: what a tally that sums the logarithms of many samples as
+/// the logarithm of their product ([`math::Log2Product`]) pushes per sample.
 #[inline]
 #[must_use]
-pub fn flat_sample_sum(
-    total_length: f64,
-    cos_x: f64,
-    cos_y: f64,
-    scale: f64,
-    count: u32,
-    sum_log2_r_over_scale: Option<f64>,
-) -> Option<f64> {
-    let f = total_length * cos_x * cos_y / (2.0 * scale);
-    let sum = sum_log2_r_over_scale?;
-    (f > 0.0 && f.is_finite()).then(|| f64::from(count) * math::log2_fast(f) - sum)
+pub fn flat_sample_ratio(total_length: f64, cos_x: f64, cos_y: f64, r: f64) -> f64 {
+    total_length * cos_x * cos_y / (2.0 * r)
 }
 
 /// `log₂(A_T F(x, y))` for 3D points with `F = cos θ_x cos θ_y / (π r²)` (the term of 4.8).

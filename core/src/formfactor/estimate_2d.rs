@@ -241,13 +241,13 @@ impl FlatTracer {
     /// the bundle's `(Σ terms, samples)` (its group is closed by the caller).
     ///
     /// The lines share their direction, so each patch's cosine is computed once per
-    /// bundle, and a segment's term differs between lines only by `−log₂ r`: the segments
-    /// are gathered per patch pair ([`PairBlocks`]: a count and `Π r`) and each pair is
-    /// added once per bundle ([`LineTally::add_pair_block`]). Leaving counts and pair
-    /// counts are exactly those of the lines tallied one by one; the information differs
-    /// by rounding only (quantised once per pair instead of once per term). A line with
-    /// two hits within `eps` (through a shared endpoint or a corner, or along a two-sided
-    /// wall) is normalised and tallied exactly as a line cast alone
+    /// bundle, and the segments are gathered per patch pair ([`PairBlocks`]: a count and
+    /// the product of the terms' arguments) and each pair is added once per bundle
+    /// ([`LineTally::add_pair_block`]): one logarithm and one fixed-point quantisation per
+    /// pair instead of per segment. Leaving counts and pair counts are exactly those of
+    /// the lines tallied one by one; the information differs by rounding only. A line
+    /// with two hits within `eps` (through a shared endpoint or a corner, or along a
+    /// two-sided wall) is normalised and tallied exactly as a line cast alone
     /// ([`global_hit_terms`]), and so is every line of a tally with radiosity terms,
     /// which need each segment's term.
     fn tally_bundle(
@@ -280,9 +280,7 @@ impl FlatTracer {
         // Each patch's cosine with the bundle's direction
         cos.clear();
         cos.extend(self.normals.iter().map(|n| dir.dot(*n)));
-        let radius = self.circle.radius;
-        let eps = 1e-12 * radius;
-        let inv_radius = 1.0 / radius;
+        let eps = 1e-12 * self.circle.radius;
         let mut fast_samples = 0u64;
         for k in 0..bundle.len() as usize {
             let line = hits.line_hits(k);
@@ -293,24 +291,22 @@ impl FlatTracer {
             // Every hit a sample; a hit facing along the line followed by one facing back
             // is a segment between them (as `global_hit_terms` counts a line)
             fast_samples += line.len() as u64;
-            let mut front: Option<&Hit2> = None;
+            let mut front: Option<(&Hit2, f64)> = None;
             for h in line {
                 let p = h.prim as usize;
                 tally.leave(p);
                 let c = cos.get(p).copied().unwrap_or(0.0);
-                if let Some(f) = front
+                if let Some((f, cf)) = front
                     && c < 0.0
                 {
-                    blocks.add(f.prim, h.prim, (h.t - f.t) * inv_radius);
+                    let ratio = continuous::flat_sample_ratio(self.total_length, cf, -c, h.t - f.t);
+                    blocks.add(f.prim, h.prim, ratio);
                 }
-                front = (c > 0.0).then_some(h);
+                front = (c > 0.0).then_some((h, c));
             }
         }
         // Each pair once: its count, and its terms' sum quantised once
-        blocks.drain(|i, j, count, sum_log2_r| {
-            let (ci, cj) = (cos[i], -cos[j]);
-            let info =
-                continuous::flat_sample_sum(self.total_length, ci, cj, radius, count, sum_log2_r);
+        blocks.drain(|i, j, count, info| {
             sum += tally.add_pair_block(i, j, count, info);
         });
         (sum, samples + fast_samples)
@@ -630,13 +626,14 @@ mod tests {
     }
 
     /// Rounding bound of a pair's aggregated information against the sum of its terms
-    /// tallied one by one, per segment. Each term `log₂(L_T cos cos / 2r)` is computed
-    /// once per segment from `f` (3 roundings, `< 4.5u` after the logarithm) with
-    /// `log2_fast`'s error `2·10⁻¹⁵·max(1, |log₂ f|)`, and quantised (`2⁻⁶⁴`); the
-    /// aggregate has the same per-segment share of `count·log2_fast(f)`, one rounding of
-    /// `r/R` and the product's `1.46u` ([`crate::math::Log2Product`]). With every
-    /// `|log₂|` involved below 64 (asserted), the difference is below
-    /// `2·2·10⁻¹⁵·65 + 20u < 2.7·10⁻¹³` per segment.
+    /// tallied one by one, per segment. Both compute the same `f_k` (the same formula on
+    /// the same cosines and `r`); one by one, each term is `log2_fast(f_k)`, within
+    /// `2·10⁻¹⁵·max(1, |log₂ f_k|)`, quantised with an error below `2⁻⁶⁴`; aggregated,
+    /// `Σ log₂ f_k` comes from their product, within `1.46u` per factor plus
+    /// `2·10⁻¹⁵ + u·|Σ|` per pair ([`crate::math::Log2Product`]), quantised once. With
+    /// every `|log₂ f_k|` below 64 (the pair's mean term is asserted below 32), the
+    /// difference is below `2·10⁻¹⁵·(64 + 1) + 64u + 2⁻⁶⁴ < 1.4·10⁻¹³` per segment; the
+    /// bound allows twice that.
     const INFO_BOUND_PER_SEGMENT: f64 = 2.7e-13;
 
     /// Asserts that the aggregated tally has exactly the lone lines' counts, and their

@@ -1,14 +1,16 @@
 //! The segments of a bundle of parallel lines, gathered per patch pair before they reach a
 //! [`LineTally`](super::tally::LineTally).
 //!
-//! Within one bundle every line has the same direction, so a global-line segment from
-//! patch `i` to patch `j` has the same cosines `cos θ_i`, `cos θ_j` on every line: its
-//! continuous term (4.13) `log₂(L_T cos θ_i cos θ_j / 2r)` differs from line to line only
-//! by `−log₂ r`. [`PairBlocks`] keeps, per pair met in the bundle, the number of segments
-//! and `Σ log₂ r` as a running product ([`Log2Product`]: one multiplication per segment);
-//! the tracer then adds each pair once per bundle with
+//! A global-line segment from patch `i` to patch `j` adds one to the pair's count and
+//! its continuous term (4.13) `log₂ f`, `f = L_T cos θ_i cos θ_j / 2r`, to the pair's
+//! information. [`PairBlocks`] keeps, per pair met in a bundle of parallel lines, the
+//! number of segments and `Σ log₂ f` as a running product ([`Log2Product`]: one
+//! multiplication per segment, one logarithm per pair); the tracer then adds each pair
+//! once per bundle with
 //! [`LineTally::add_pair_block`](super::tally::LineTally::add_pair_block), which
-//! quantises its information once instead of once per segment.
+//! quantises its information once instead of once per segment. The lines of a bundle
+//! share their direction, so a pair's segments are many (they are met by neighbouring
+//! lines), and the per-pair work is shared by all of them.
 
 use alloc::vec;
 use alloc::vec::Vec;
@@ -29,14 +31,14 @@ struct Block {
     key: u64,
     /// Segments from `i` to `j`.
     count: u32,
-    /// `Π r_k` of their lengths (scaled by the caller).
-    lengths: Log2Product,
+    /// `Π f_k` of their terms' arguments.
+    terms: Log2Product,
 }
 
 const FREE: Block = Block {
     key: EMPTY,
     count: 0,
-    lengths: Log2Product::new(),
+    terms: Log2Product::new(),
 };
 
 /// Scratch space gathering one bundle's segments per ordered patch pair `(i, j)`: an
@@ -59,10 +61,9 @@ impl Default for PairBlocks {
 }
 
 impl PairBlocks {
-    /// A segment from patch `i` to patch `j` of length `r` (any positive scale, the same
-    /// for all segments of a drain).
+    /// A segment from patch `i` to patch `j` whose term is `log₂ f`.
     #[inline]
-    pub(crate) fn add(&mut self, i: u32, j: u32, r: f64) {
+    pub(crate) fn add(&mut self, i: u32, j: u32, f: f64) {
         let key = (u64::from(i) << 32) | u64::from(j);
         let mask = self.slots.len() - 1;
         // Fibonacci hashing: the top bits of key · 2⁶⁴/φ
@@ -73,14 +74,14 @@ impl PairBlocks {
             };
             if block.key == key {
                 block.count += 1;
-                block.lengths.push(r);
+                block.terms.push(f);
                 return;
             }
             if block.key == EMPTY {
                 *block = Block {
                     key,
                     count: 1,
-                    lengths: Log2Product::of(r),
+                    terms: Log2Product::of(f),
                 };
                 self.touched.push(s as u32);
                 if 2 * self.touched.len() > self.slots.len() {
@@ -109,17 +110,17 @@ impl PairBlocks {
         }
     }
 
-    /// Calls `f(i, j, count, Σ log₂ r)` for every pair met since the last drain, in the
-    /// order first met (`Σ log₂ r` is `None` if some `r` was not a positive finite
+    /// Calls `visit(i, j, count, Σ log₂ f)` for every pair met since the last drain, in
+    /// the order first met (`Σ log₂ f` is `None` if some `f` was not a positive finite
     /// number), and empties the table.
-    pub(crate) fn drain(&mut self, mut f: impl FnMut(usize, usize, u32, Option<f64>)) {
+    pub(crate) fn drain(&mut self, mut visit: impl FnMut(usize, usize, u32, Option<f64>)) {
         for &t in &self.touched {
             if let Some(block) = self.slots.get_mut(t as usize) {
                 let (i, j) = (
                     (block.key >> 32) as usize,
                     (block.key & 0xffff_ffff) as usize,
                 );
-                f(i, j, block.count, block.lengths.log2());
+                visit(i, j, block.count, block.terms.log2());
                 *block = FREE;
             }
         }
