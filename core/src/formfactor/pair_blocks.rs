@@ -78,11 +78,12 @@ impl PairBlocks {
                 return;
             }
             if block.key == EMPTY {
-                *block = Block {
-                    key,
-                    count: 1,
-                    terms: Log2Product::of(f),
-                };
+                // A free block is an empty one (drained blocks are reset): it is filled in
+                // place, field by field (a whole new block, built apart and copied in,
+                // stalled on forwarding its parts' stores)
+                block.key = key;
+                block.count = 1;
+                block.terms.push(f);
                 self.touched.push(s as u32);
                 if 2 * self.touched.len() > self.slots.len() {
                     self.grow();
