@@ -195,8 +195,9 @@ pub struct SamplingArgs {
     #[arg(long, value_name = "N", value_parser = parse_count)]
     pub lines: Option<u64>,
     /// Which lines: uniform global lines (2.37), cosine local lines (2.36), or global lines
-    /// cast as bundles of 256 parallel lines in sheaves of 64 directions (flatland only, not
-    /// for radiosity; each sheaf of 16,384 lines is one observation of the standard error).
+    /// cast as bundles of 256 parallel lines in sheaves of 256 directions (flatland only, not
+    /// for radiosity; each sheaf, a chunk of 65,536 lines, is one observation of the
+    /// standard error).
     #[arg(long, value_enum, default_value_t = Method::Global)]
     pub method: Method,
     /// Seed of the line streams: the result depends on (seed, lines) only.

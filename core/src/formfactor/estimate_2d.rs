@@ -69,7 +69,7 @@ pub const BUNDLE_LINES: u32 = 256;
 /// rotation, so that the lines of a sheaf cover the directions evenly. The lines of one
 /// bundle share their direction, and the variance between directions dominates; equally
 /// spaced directions (a systematic sample of the angle) make it fall faster than one over
-/// their number: at 65,536 lines, 256 directions gave a standard error 0.63 times that of
+/// their number: at 65,536 lines, 256 directions gave a standard error 0.64 times that of
 /// 4 sheaves of 64 (see [`BUNDLE_LINES`]). `BUNDLE_LINES × SHEAF_BUNDLES` is
 /// [`crate::lines::CHUNK_LINES`]: a whole chunk is one sheaf, one observation of the
 /// standard error.
