@@ -142,8 +142,12 @@ impl ParallelSweep {
         }
         out.end.clear();
         out.end.extend_from_slice(&out.start[..mu]);
-        out.hits.clear();
-        out.hits.resize(total, Hit2 { t: 0.0, prim: 0 });
+        // Room for every candidate; what earlier bundles left there is never read (a
+        // line's bucket is read up to its end, written in this bundle), so the buckets
+        // are not cleared: they only grow
+        if out.hits.len() < total {
+            out.hits.resize(total, Hit2 { t: 0.0, prim: 0 });
+        }
         // The exact test of every candidate, segment by segment in the order of their
         // midpoints' depth along the lines, so that each line's bucket fills nearly sorted
         order_by_depth(&mut out.order, &out.depth);
