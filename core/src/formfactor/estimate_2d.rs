@@ -57,19 +57,19 @@ pub use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally, LineTrac
 /// Lines per bundle of [`LineMethod::Bundle`] (a chunk's last bundle may have fewer).
 ///
 /// With a sheaf of a whole chunk (65,536 lines), the standard error of `I_S^c` on the
-/// 64-squares room (1.6·10⁷ lines, seeds 1–3) was, by lines per bundle × bundles per
-/// sheaf: 64 × 1024: 5.3·10⁻⁵, 128 × 512: 4.1·10⁻⁵, **256 × 256: 3.6·10⁻⁵**, 512 × 128:
-/// 4.6·10⁻⁵, 1024 × 64: 1.0·10⁻⁴, 4096 × 16: 1.0·10⁻³. Fewer lines per bundle cost more
-/// per line (the sweep and the pair blocks have per-bundle work), more cost precision
-/// (fewer directions): 256 gave the best `1/(σ² · CPU s)`, ×2.6 that of session 4's 256 ×
-/// 64 sheaves of 16,384 lines (`docs/performance.md`, session 5).
+/// 64-squares room (1.6·10⁷ lines, seeds 1–2) was, by lines per bundle × bundles per
+/// sheaf: 64 × 1024: 5.2·10⁻⁵, 128 × 512: 3.8·10⁻⁵, **256 × 256: 3.0·10⁻⁵**, 512 × 128:
+/// 3.8·10⁻⁵, 1024 × 64: 9.2·10⁻⁵, 4096 × 16: 1.0·10⁻³. Fewer lines per bundle cost more
+/// per line (the sweep and the tally have per-bundle work), more cost precision (fewer
+/// directions): 256 gave the best `1/(σ² · CPU s)`, ×3.6 that of session 4's sheaves of
+/// 64 × 256 lines with the same code (`docs/performance.md`, session 5).
 pub const BUNDLE_LINES: u32 = 256;
 
 /// Bundles per sheaf of [`LineMethod::Bundle`]: equally spaced directions under one random
 /// rotation, so that the lines of a sheaf cover the directions evenly. The lines of one
 /// bundle share their direction, and the variance between directions dominates; equally
 /// spaced directions (a systematic sample of the angle) make it fall faster than one over
-/// their number: at 65,536 lines, 256 directions gave a standard error 0.64 times that of
+/// their number: at 65,536 lines, 256 directions gave a standard error 0.56 times that of
 /// 4 sheaves of 64 (see [`BUNDLE_LINES`]). `BUNDLE_LINES × SHEAF_BUNDLES` is
 /// [`crate::lines::CHUNK_LINES`]: a whole chunk is one sheaf, one observation of the
 /// standard error.
