@@ -111,6 +111,38 @@ fn monte_carlo_is_identical_on_one_and_two_threads() {
     assert_eq!(one, run("2"));
 }
 
+/// The standard error says how many independent observations it rests on, and the text
+/// report warns when they are few: a bundle job of 10⁵ lines is one full sheaf (a chunk of
+/// 65,536 lines), a sheaf of the last chunk's 134 whole bundles of 256 lines and one single
+/// bundle of the 160 left (3 groups); 2,000 global lines on a closed room are 2,000.
+#[test]
+fn the_standard_error_reports_its_groups_and_warns_when_few() {
+    let path = temp("groups.flat");
+    std::fs::write(&path, "poly 4 0 0 4 0 4 3 0 3 per_side 4\n").unwrap();
+    let measure = |method: &str, lines: &str, json: bool| {
+        let mut cmd = bin();
+        cmd.arg("measure")
+            .arg(&path)
+            .args(["--lines", lines, "--method", method]);
+        if json {
+            cmd.arg("--json");
+        }
+        let out = cmd.output().unwrap();
+        assert!(out.status.success());
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let bundles = measure("bundle", "100000", true);
+    assert_eq!(json_number(&bundles, "stderr_groups"), 3.0, "{bundles}");
+    let text = measure("bundle", "100000", false);
+    assert!(text.contains("from 3 independent groups"), "{text}");
+    assert!(text.contains("rests on 3 observations only"), "{text}");
+    let global = measure("global", "2000", true);
+    assert_eq!(json_number(&global, "stderr_groups"), 2000.0, "{global}");
+    let text = measure("global", "2000", false);
+    assert!(text.contains("from 2000 independent groups"), "{text}");
+    assert!(!text.contains("observations only"), "{text}");
+}
+
 /// `draw FILE.obj --ply`: a coloured PLY mesh, one face per patch; .flat still needs --svg.
 #[test]
 fn draw_obj_writes_a_ply_of_one_face_per_patch() {

@@ -362,7 +362,8 @@ impl LineRunReport {
     /// Writes the run's fields into an open JSON object: `form_factors` (`"global lines"` or
     /// `"local lines"`), `i_s_continuous`, `i_s_continuous_stderr`,
     /// `rel_discretisation_error` (`δ̄ = (I_S^c − I_S) / I_S^c`, §4.4.2), `lines`, `seed`,
-    /// `samples`. The CLI's `measure --lines --json` and the wasm `LineJob` both write
+    /// `samples`, `stderr_groups` (the independent observations the standard error rests
+    /// on: one per line for global and local lines, one per sheaf for bundles). The CLI's `measure --lines --json` and the wasm `LineJob` both write
     /// them with this function, so their bytes agree.
     ///
     /// # Errors
@@ -377,7 +378,8 @@ impl LineRunReport {
         )?;
         o.integer("lines", self.lines)?;
         o.integer("seed", self.seed)?;
-        o.integer("samples", self.continuous.samples)
+        o.integer("samples", self.continuous.samples)?;
+        o.integer("stderr_groups", self.continuous.groups)
     }
 }
 

@@ -22,6 +22,10 @@ use crate::args::{MeasureArgs, SamplingArgs};
 use crate::interrupt::Interrupted;
 use crate::output::{Loaded, located, write_atomic};
 
+/// Below this many independent groups the text report warns that the standard error of
+/// `I_S^c` is itself unreliable (its relative error is about `1/√(2(G − 1))`: 24 % at 10).
+const FEW_STDERR_GROUPS: u64 = 10;
+
 /// What the Monte Carlo run adds to a report.
 pub struct MonteCarlo {
     /// The sampling method.
@@ -381,9 +385,17 @@ fn table(name: &str, r: &SceneReport, mc: Option<&MonteCarlo>, seconds: f64) -> 
     if let Some(mc) = mc {
         let _ = writeln!(
             s,
-            "I_S^c (4.8, 4.13)     {:.6} ± {:.6} bits (1 standard error)",
-            mc.continuous.value, mc.continuous.stderr
+            "I_S^c (4.8, 4.13)     {:.6} ± {:.6} bits (1 standard error, from {} independent groups)",
+            mc.continuous.value, mc.continuous.stderr, mc.continuous.groups
         );
+        if mc.continuous.groups < FEW_STDERR_GROUPS {
+            let _ = writeln!(
+                s,
+                "WARNING               the standard error rests on {} observations only: \
+                 ask for more lines to trust it",
+                mc.continuous.groups
+            );
+        }
         let _ = writeln!(
             s,
             "(I_S^c - I_S)/I_S^c   {:.4}",
