@@ -195,8 +195,10 @@ pub struct SamplingArgs {
     #[arg(long, value_name = "N", value_parser = parse_count)]
     pub lines: Option<u64>,
     /// Which lines: uniform global lines (2.37), cosine local lines (2.36), or global lines
-    /// cast as bundles of 256 parallel lines in sheaves of 64 directions (flatland only, not
-    /// for radiosity; each sheaf of 16,384 lines is one observation of the standard error).
+    /// cast as bundles of parallel lines (not for radiosity): in flatland 256 lines a bundle
+    /// in sheaves of 64 directions, each sheaf of 16,384 lines one observation of the
+    /// standard error; in 3D square lattices of about n/4 lines (256 to 4096, n patches) in
+    /// sheaves of up to 16 directions, and the lines cast differ from --lines by a few.
     #[arg(long, value_enum, default_value_t = Method::Global)]
     pub method: Method,
     /// Seed of the line streams: the result depends on (seed, lines) only.
@@ -258,7 +260,7 @@ pub enum Method {
     Global,
     /// Cosine-distributed local lines.
     Local,
-    /// Global lines cast in bundles of parallel lines (flatland only).
+    /// Global lines cast in bundles of parallel lines.
     Bundle,
 }
 

@@ -122,11 +122,12 @@ mod prim;
 #[cfg(feature = "alloc")]
 mod sheet;
 #[cfg(all(test, feature = "std"))]
-mod tests;
+pub(super) mod tests;
 
 #[cfg(feature = "alloc")]
 use prim::Slab;
-use prim::{Frame, Query, prepare, vertices};
+pub(super) use prim::prepare;
+use prim::{Frame, Query, vertices};
 
 /// Entries of a polygon's record before its vertices: `n, p0, lo, hi` ([`Bvh3`]'s
 /// `records`).

@@ -54,17 +54,17 @@ impl Frame {
 /// relative to the frame's centre `c`, a point `p0` of its plane (the vertex mean) and its
 /// bounds.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Prepared {
-    pub(super) n: DVec3,
-    pub(super) p0: DVec3,
+pub(in crate::accel) struct Prepared {
+    pub(in crate::accel) n: DVec3,
+    pub(in crate::accel) p0: DVec3,
     /// `[lo, hi]`.
-    pub(super) bounds: [DVec3; 2],
+    pub(in crate::accel) bounds: [DVec3; 2],
 }
 
 /// The prepared data of a polygon, or `None` for one that can never be hit: fewer than
 /// three vertices, a non-finite vertex (or vertex relative to `c`), or a zero (or
 /// non-finite) normal.
-pub(super) fn prepare(c: DVec3, verts: &[DVec3]) -> Option<Prepared> {
+pub(in crate::accel) fn prepare(c: DVec3, verts: &[DVec3]) -> Option<Prepared> {
     if verts.len() < 3 {
         return None;
     }
