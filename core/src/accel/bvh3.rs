@@ -120,7 +120,7 @@ use crate::error::{Error, ErrorKind, Result};
 mod build;
 mod prim;
 #[cfg(feature = "alloc")]
-mod sheet;
+pub(super) mod sheet;
 #[cfg(all(test, feature = "std"))]
 pub(super) mod tests;
 

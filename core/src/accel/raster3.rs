@@ -38,37 +38,75 @@
 //! clamp it into the polygon's extent, so it is always finite (tests compare them on
 //! random scenes and bundles).
 //!
+//! # Sheets
+//!
+//! A face cut into a grid of quads is held as one item, a *sheet* (found as
+//! [`super::Bvh3`] finds them: consecutive quads sharing bit-identical vertices, near a
+//! lattice `A + i u + j v`). Per bundle a sheet costs `O(1)`: the lattice points inside
+//! its projected parallelogram (grown by its deviation from the ideal lattice and the
+//! margin) are its candidates, and each candidate tests only the quads of the window about
+//! its crossing of the lattice, by the same error bound as the BVH's sheets
+//! (`Sheet::window_projected`, with the rounding of these projections, `10⁻¹² (|A − c|₁ +
+//! m|u|₁ + k|v|₁ + r)`, added to the deviation). A quad's vertices are projected when it is
+//! tested, by the same arithmetic as every other vertex, so the seams stay watertight.
+//!
 //! Hits are bucketed per line by a counting sort and each line's hits sorted by `(t,
-//! prim)` like [`super::Bvh3::all_hits`]. A bundle of `m` lines over `n` polygons costs
-//! `O(V + n + m + candidates)` (`V` distinct vertices): no per-line tree walk, so `m` is
-//! chosen large enough that the per-polygon setup is amortised.
+//! prim)` like [`super::Bvh3::all_hits`]. A bundle of `m` lines over `n` loose polygons
+//! (not in a sheet) and `s` sheets costs `O(V + n + s + m + candidates)` (`V` distinct
+//! vertices of the loose polygons): no per-line tree walk, so `m` is chosen large enough
+//! that the per-item setup is amortised.
 
 use alloc::vec::Vec;
 
 use crate::geom::DVec3;
 use crate::lines::GlobalBundle3;
 
-use super::{Hit3, bvh3::prepare, sort_hits};
+use super::bvh3::prepare;
+use super::bvh3::sheet::{Sheet, Unit, find_units};
+use super::{Hit3, sort_hits};
 
 /// Relative size of the covering margin `δ` (module docs).
 const MARGIN: f64 = 1e-9;
 
-/// A polygon list prepared for bundles of parallel lines: distinct vertices, each
-/// polygon's vertex indices, unit normal and a point of its plane.
+/// Relative size of the rounding of a sheet's projected lattice (module docs, "Sheets").
+const SHEET_ROUNDING: f64 = 1e-12;
+
+/// A polygon list prepared for bundles of parallel lines: sheets of quads, and the other
+/// polygons by their distinct vertices, unit normal and a point of their plane.
 #[derive(Clone, Debug)]
 pub struct ParallelRaster3 {
-    /// The distinct vertices (by their bits).
+    /// The distinct vertices of the polygons outside sheets (by their bits).
     vertices: Vec<DVec3>,
     /// Polygon `k`'s vertices are `vertices[corner[k]]` for the entries
     /// `corners[first[k]..first[k + 1]]`.
     first: Vec<u32>,
     corners: Vec<u32>,
-    /// Per hittable polygon: its index in the input, unit normal and mean vertex.
+    /// Per polygon outside sheets: its index in the input, unit normal and mean vertex.
     prim: Vec<u32>,
     normal: Vec<DVec3>,
     p0: Vec<DVec3>,
+    /// The sheets, and their quads row by row.
+    sheets: Vec<RasterSheet>,
+    quads: Vec<Quad>,
     /// The largest coordinate magnitude of the vertices (the margin's scale).
     scale: f64,
+}
+
+/// A sheet: its lattice, its first quad in `quads`, and the input index of its first quad
+/// (quad `o = j·m + i` is input polygon `prim + o`).
+#[derive(Clone, Copy, Debug)]
+struct RasterSheet {
+    sheet: Sheet,
+    first_quad: u32,
+    prim: u32,
+}
+
+/// A quad of a sheet: its vertices, unit normal and mean vertex.
+#[derive(Clone, Copy, Debug)]
+struct Quad {
+    v: [DVec3; 4],
+    n: DVec3,
+    p0: DVec3,
 }
 
 /// The hits of the lines of one bundle, bucketed per line (the caller's scratch space,
@@ -76,18 +114,66 @@ pub struct ParallelRaster3 {
 #[derive(Clone, Debug, Default)]
 pub struct BundleHits3 {
     /// Projected vertices `P_v` and depths `D_v` of the current bundle.
-    projected: Vec<[f64; 2]>,
-    depth: Vec<f64>,
-    /// Per row: `b`, `first` (in units of `h`), number of points, index of its first line.
-    row_b: Vec<f64>,
-    row_first: Vec<f64>,
-    row_count: Vec<u32>,
-    row_line: Vec<u32>,
+    projected: Vec<[f64; 3]>,
+    rows: Rows,
     /// The hits as found: `(line, hit)`.
     found: Vec<(u32, Hit3)>,
     /// Line `k`'s hits are `hits[start[k]..start[k + 1]]`.
     start: Vec<u32>,
     hits: Vec<Hit3>,
+}
+
+/// The rows of a bundle's lattice points: per row, `b`, `first` (in units of `h`), the
+/// number of points and the index of its first line (one more entry: the line count).
+#[derive(Clone, Debug, Default)]
+struct Rows {
+    b: Vec<f64>,
+    first: Vec<f64>,
+    count: Vec<u32>,
+    line: Vec<u32>,
+}
+
+/// What every test of one bundle shares: the frame, the lattice and the margin.
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    c: DVec3,
+    e1: DVec3,
+    e2: DVec3,
+    d: DVec3,
+    h: f64,
+    inv_h: f64,
+    delta: f64,
+    /// `b` of the first row, and the number of rows.
+    first_row_b: f64,
+    rows: i64,
+}
+
+impl Frame {
+    /// `(e₁·(v − c), e₂·(v − c), d·(v − c))`: the projection and depth of a vertex, by the
+    /// one arithmetic every test uses (watertightness needs equal bits for equal vertices).
+    #[inline(always)]
+    fn project(&self, v: DVec3) -> [f64; 3] {
+        let w = v - self.c;
+        [self.e1.dot(w), self.e2.dot(w), self.d.dot(w)]
+    }
+
+    /// The parameter of the hit of the line through `(a, b)` with the plane of unit normal
+    /// `n` through `p0`, clamped into the depths `[near − δ, far + δ]` of the polygon;
+    /// `None` if the line is parallel to the plane or `t` is not finite.
+    #[inline(always)]
+    fn plane_t(&self, n: DVec3, p0: DVec3, a: f64, b: f64, near: f64, far: f64) -> Option<f64> {
+        let nd = n.dot(self.d);
+        if nd == 0.0 {
+            return None;
+        }
+        let t = (n.dot(p0 - self.c) - a * n.dot(self.e1) - b * n.dot(self.e2)) / nd;
+        if t.is_nan() {
+            return None;
+        }
+        // `+ 0.0` turns −0 into +0.
+        let t = t.max(near - self.delta).min(far + self.delta) + 0.0;
+        t.is_finite().then_some(t)
+    }
 }
 
 impl ParallelRaster3 {
@@ -99,53 +185,106 @@ impl ParallelRaster3 {
     #[must_use]
     pub fn new(points: &[DVec3], polygons: &[(usize, usize)]) -> Self {
         let points = &points[..points.len().min(u32::MAX as usize)];
-        // Distinct vertices: points sorted by their bits, equal runs merged
-        let key = |p: &DVec3| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
-        let mut order: Vec<u32> = (0..points.len() as u32).collect();
-        order.sort_unstable_by_key(|&i| key(&points[i as usize]));
-        let mut id = alloc::vec![0u32; points.len()];
-        let mut vertices = Vec::new();
-        for (k, &i) in order.iter().enumerate() {
-            let p = points[i as usize];
-            if k == 0 || key(&points[order[k - 1] as usize]) != key(&p) {
-                vertices.push(p);
-            }
-            id[i as usize] = vertices.len() as u32 - 1;
-        }
+        let polygons = &polygons[..polygons.len().min(u32::MAX as usize)];
+        let range = |&(first, count): &(usize, usize)| {
+            first
+                .checked_add(count)
+                .and_then(|end| points.get(first..end))
+        };
+        let prepared: Vec<_> = polygons
+            .iter()
+            .map(|p| range(p).and_then(|v| prepare(DVec3::ZERO, v)))
+            .collect();
         let mut raster = Self {
-            vertices,
+            vertices: Vec::new(),
             first: alloc::vec![0],
             corners: Vec::new(),
             prim: Vec::new(),
             normal: Vec::new(),
             p0: Vec::new(),
+            sheets: Vec::new(),
+            quads: Vec::new(),
             scale: 0.0,
         };
-        for (&(first, count), index) in polygons.iter().zip(0..=u32::MAX) {
-            let Some(verts) = first
-                .checked_add(count)
-                .and_then(|end| points.get(first..end))
-            else {
-                continue;
-            };
-            let Some(p) = prepare(DVec3::ZERO, verts) else {
-                continue;
-            };
-            raster.corners.extend(&id[first..first + count]);
-            raster.first.push(raster.corners.len() as u32);
-            raster.prim.push(index);
-            raster.normal.push(p.n);
-            raster.p0.push(p.p0);
+        for p in prepared.iter().flatten() {
             let size = p.bounds[0].abs().max(p.bounds[1].abs()).max_element();
             raster.scale = raster.scale.max(size);
+        }
+        // Sheets where the polygons form grids (ranges that leave `points` are not hit)
+        let valid: Vec<_> = polygons
+            .iter()
+            .map(|p| if range(p).is_some() { *p } else { (0, 0) })
+            .collect();
+        let mut loose = Vec::new();
+        for unit in find_units(points, &valid, &prepared, DVec3::ZERO) {
+            match unit {
+                Unit::Polygon(id) => loose.push(id),
+                Unit::Sheet(start, sheet) => {
+                    raster.sheets.push(RasterSheet {
+                        sheet,
+                        first_quad: raster.quads.len() as u32,
+                        prim: start as u32,
+                    });
+                    for id in start..start + sheet.len() {
+                        let (Some(v), Some(p)) = (range(&valid[id]), prepared[id]) else {
+                            continue;
+                        };
+                        raster.quads.push(Quad {
+                            v: [v[0], v[1], v[2], v[3]],
+                            n: p.n,
+                            p0: p.p0,
+                        });
+                    }
+                }
+            }
+        }
+        // The other polygons by their distinct vertices (sorted by their bits)
+        let key = |p: &DVec3| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+        let mut used: Vec<u32> = loose
+            .iter()
+            .flat_map(|&id| {
+                let (first, count) = valid[id];
+                first as u32..(first + count) as u32
+            })
+            .collect();
+        used.sort_unstable_by_key(|&i| key(&points[i as usize]));
+        let mut id = alloc::vec![0u32; points.len()];
+        for (k, &i) in used.iter().enumerate() {
+            let p = points[i as usize];
+            if k == 0 || key(&points[used[k - 1] as usize]) != key(&p) {
+                raster.vertices.push(p);
+            }
+            id[i as usize] = raster.vertices.len() as u32 - 1;
+        }
+        for index in loose {
+            let (first, count) = valid[index];
+            let Some(p) = prepared[index] else { continue };
+            raster.corners.extend(&id[first..first + count]);
+            raster.first.push(raster.corners.len() as u32);
+            raster.prim.push(index as u32);
+            raster.normal.push(p.n);
+            raster.p0.push(p.p0);
         }
         raster
     }
 
-    /// Number of distinct vertices.
+    /// Number of distinct vertices of the polygons outside sheets.
     #[must_use]
     pub fn vertex_count(&self) -> usize {
         self.vertices.len()
+    }
+
+    /// Number of sheets.
+    #[must_use]
+    pub fn sheet_count(&self) -> usize {
+        self.sheets.len()
+    }
+
+    /// Number of items a bundle sets up: sheets and polygons outside them (the `O(n)`
+    /// part of a bundle's cost).
+    #[must_use]
+    pub fn items(&self) -> usize {
+        self.sheets.len() + self.prim.len()
     }
 
     /// Finds every hit of every line of `bundle` into `out`: afterwards
@@ -155,97 +294,40 @@ impl ParallelRaster3 {
         let c = bundle.sphere().center;
         let r = bundle.sphere().radius;
         let (e1, e2) = bundle.frame();
-        let d = bundle.dir();
-        let h = bundle.spacing();
-        let inv_h = 1.0 / h;
-        let delta = MARGIN * (c.abs().max_element() + r + self.scale);
         // The rows of lattice points and the index of each row's first line
-        out.row_b.clear();
-        out.row_first.clear();
-        out.row_count.clear();
-        out.row_line.clear();
+        let rows = &mut out.rows;
+        rows.b.clear();
+        rows.first.clear();
+        rows.count.clear();
+        rows.line.clear();
         let mut lines = 0u32;
         for k in 0..bundle.rows() {
             let row = bundle.row(k);
-            out.row_b.push(row.b);
-            out.row_first.push(row.first);
-            out.row_count.push(row.count);
-            out.row_line.push(lines);
+            rows.b.push(row.b);
+            rows.first.push(row.first);
+            rows.count.push(row.count);
+            rows.line.push(lines);
             lines = lines.saturating_add(row.count);
         }
-        out.row_line.push(lines);
-        // Every distinct vertex projected once
+        rows.line.push(lines);
+        let frame = Frame {
+            c,
+            e1,
+            e2,
+            d: bundle.dir(),
+            h: bundle.spacing(),
+            inv_h: 1.0 / bundle.spacing(),
+            delta: MARGIN * (c.abs().max_element() + r + self.scale),
+            first_row_b: out.rows.b.first().copied().unwrap_or(0.0),
+            rows: i64::from(bundle.rows()),
+        };
+        // Every distinct vertex of the loose polygons projected once
         out.projected.clear();
-        out.depth.clear();
-        for &v in &self.vertices {
-            let w = v - c;
-            out.projected.push([e1.dot(w), e2.dot(w)]);
-            out.depth.push(d.dot(w));
-        }
-        // Each polygon against the lattice points of its projected bounds
+        out.projected
+            .extend(self.vertices.iter().map(|&v| frame.project(v)));
         out.found.clear();
-        let rows = i64::from(bundle.rows());
-        let first_row_b = out.row_b.first().copied().unwrap_or(0.0);
-        let BundleHits3 {
-            projected,
-            depth,
-            row_b,
-            row_first,
-            row_count,
-            row_line,
-            found,
-            ..
-        } = out;
-        for (k, ((&index, &n), &p0)) in self.prim.iter().zip(&self.normal).zip(&self.p0).enumerate()
-        {
-            let nd = n.dot(d);
-            if nd == 0.0 {
-                continue;
-            }
-            let corners = &self.corners[self.first[k] as usize..self.first[k + 1] as usize];
-            let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-            let (mut near, mut far) = (f64::INFINITY, f64::NEG_INFINITY);
-            for &v in corners {
-                let p = projected[v as usize];
-                lo = [lo[0].min(p[0]), lo[1].min(p[1])];
-                hi = [hi[0].max(p[0]), hi[1].max(p[1])];
-                near = near.min(depth[v as usize]);
-                far = far.max(depth[v as usize]);
-            }
-            // Rows whose b lies in [lo₁ − δ, hi₁ + δ] (rows are h apart from the first)
-            let row_lo = ceil_index((lo[1] - delta - first_row_b) * inv_h).max(0);
-            let row_hi = floor_index((hi[1] + delta - first_row_b) * inv_h).min(rows - 1);
-            if row_hi < row_lo {
-                continue;
-            }
-            let (x_lo, x_hi) = ((lo[0] - delta) * inv_h, (hi[0] + delta) * inv_h);
-            let (t0, t1) = (near - delta, far + delta);
-            let k0 = n.dot(p0 - c);
-            let (k1, k2) = (n.dot(e1), n.dot(e2));
-            let Some(&last) = corners.last() else {
-                continue;
-            };
-            for row in row_lo as usize..=row_hi as usize {
-                let (b, first, count) = (row_b[row], row_first[row], row_count[row]);
-                let q_lo = ceil_index(x_lo - first).max(0);
-                let q_hi = floor_index(x_hi - first).min(i64::from(count) - 1);
-                for q in q_lo..=q_hi {
-                    let a = (first + q as f64) * h;
-                    if !crosses(projected, corners, last, a, b) {
-                        continue;
-                    }
-                    let t = (k0 - a * k1 - b * k2) / nd;
-                    if t.is_nan() {
-                        continue;
-                    }
-                    // `+ 0.0` turns −0 into +0.
-                    let t = t.max(t0).min(t1) + 0.0;
-                    if t.is_finite() {
-                        found.push((row_line[row] + q as u32, Hit3 { t, prim: index }));
-                    }
-                }
-            }
-        }
+        self.cast_polygons(&frame, out);
+        self.cast_sheets(&frame, r, out);
         // Bucket the hits per line (a counting sort), then sort each line's
         out.start.clear();
         out.start.resize(lines as usize + 2, 0);
@@ -268,33 +350,147 @@ impl ParallelRaster3 {
             sort_hits(&mut out.hits[s..e]);
         }
     }
+
+    /// Each loose polygon against the lattice points of its projected bounds.
+    fn cast_polygons(&self, frame: &Frame, out: &mut BundleHits3) {
+        let BundleHits3 {
+            projected,
+            rows,
+            found,
+            ..
+        } = out;
+        for (k, ((&index, &n), &p0)) in self.prim.iter().zip(&self.normal).zip(&self.p0).enumerate()
+        {
+            let corners = &self.corners[self.first[k] as usize..self.first[k + 1] as usize];
+            let Some(&last) = corners.last() else {
+                continue;
+            };
+            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            for &v in corners {
+                let p = projected[v as usize];
+                lo = [lo[0].min(p[0]), lo[1].min(p[1]), lo[2].min(p[2])];
+                hi = [hi[0].max(p[0]), hi[1].max(p[1]), hi[2].max(p[2])];
+            }
+            let vertex = |v: &u32| projected[*v as usize];
+            let last = projected[last as usize];
+            for_each_candidate(frame, rows, lo, hi, frame.delta, |line, a, b| {
+                if crosses(corners.iter().map(vertex), last, a, b)
+                    && let Some(t) = frame.plane_t(n, p0, a, b, lo[2], hi[2])
+                {
+                    found.push((line, Hit3 { t, prim: index }));
+                }
+            });
+        }
+    }
 }
 
-/// Whether the line through `x = (a, b)` crosses the closed polygon of the projected
-/// vertices `corners` (`last` = the last of them): no two edge functions of opposite
-/// signs, and not all of them zero.
+impl ParallelRaster3 {
+    /// Each sheet against the lattice points of its projected parallelogram, each point
+    /// against the quads of its window (module docs, "Sheets").
+    fn cast_sheets(&self, frame: &Frame, r: f64, out: &mut BundleHits3) {
+        let BundleHits3 { rows, found, .. } = out;
+        for rs in &self.sheets {
+            let sheet = &rs.sheet;
+            let [a0, u, v] = sheet.lattice();
+            let (m, k) = (sheet.cols(), sheet.rows());
+            let pa = frame.project(a0);
+            let pu = [frame.e1.dot(u), frame.e2.dot(u)];
+            let pv = [frame.e1.dot(v), frame.e2.dot(v)];
+            let norm1 = |w: DVec3| w.x.abs() + w.y.abs() + w.z.abs();
+            let size = norm1(a0 - frame.c) + f64::from(m) * norm1(u) + f64::from(k) * norm1(v) + r;
+            let tau = sheet.deviation() + SHEET_ROUNDING * size;
+            // The projected parallelogram's bounds
+            let (mf, kf) = (f64::from(m), f64::from(k));
+            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            for (i, j) in [(0.0, 0.0), (mf, 0.0), (0.0, kf), (mf, kf)] {
+                let x = pa[0] + i * pu[0] + j * pv[0];
+                let y = pa[1] + i * pu[1] + j * pv[1];
+                lo = [lo[0].min(x), lo[1].min(y), 0.0];
+                hi = [hi[0].max(x), hi[1].max(y), 0.0];
+            }
+            let quads = &self.quads[rs.first_quad as usize..][..sheet.len()];
+            for_each_candidate(frame, rows, lo, hi, frame.delta + tau, |line, a, b| {
+                let rel = (pa[0] - a, pa[1] - b);
+                let (cols, rws) = sheet.window_projected(rel, (pu[0], pu[1]), (pv[0], pv[1]), tau);
+                for j in rws {
+                    for i in cols.clone() {
+                        let o = (j * m + i) as usize;
+                        let Some(q) = quads.get(o) else { continue };
+                        let p = q.v.map(|v| frame.project(v));
+                        if !crosses(p.iter().copied(), p[3], a, b) {
+                            continue;
+                        }
+                        let near = p[0][2].min(p[1][2]).min(p[2][2]).min(p[3][2]);
+                        let far = p[0][2].max(p[1][2]).max(p[2][2]).max(p[3][2]);
+                        if let Some(t) = frame.plane_t(q.n, q.p0, a, b, near, far) {
+                            found.push((
+                                line,
+                                Hit3 {
+                                    t,
+                                    prim: rs.prim + o as u32,
+                                },
+                            ));
+                        }
+                    }
+                }
+            });
+        }
+    }
+}
+
+/// Calls `f(line, a, b)` for every lattice point `(a, b)` of the bundle inside the box
+/// `[lo, hi]` of the plane (first two coordinates) grown by `grow`.
+#[inline(always)]
+fn for_each_candidate(
+    frame: &Frame,
+    rows: &Rows,
+    lo: [f64; 3],
+    hi: [f64; 3],
+    grow: f64,
+    mut f: impl FnMut(u32, f64, f64),
+) {
+    // Rows whose b lies in [lo₁ − grow, hi₁ + grow] (rows are h apart from the first)
+    let row_lo = ceil_index((lo[1] - grow - frame.first_row_b) * frame.inv_h).max(0);
+    let row_hi = floor_index((hi[1] + grow - frame.first_row_b) * frame.inv_h).min(frame.rows - 1);
+    if row_hi < row_lo {
+        return;
+    }
+    let (x_lo, x_hi) = ((lo[0] - grow) * frame.inv_h, (hi[0] + grow) * frame.inv_h);
+    for row in row_lo as usize..=row_hi as usize {
+        let (b, first, count) = (rows.b[row], rows.first[row], rows.count[row]);
+        let q_lo = ceil_index(x_lo - first).max(0);
+        let q_hi = floor_index(x_hi - first).min(i64::from(count) - 1);
+        for q in q_lo..=q_hi {
+            let a = (first + q as f64) * frame.h;
+            f(rows.line[row] + q as u32, a, b);
+        }
+    }
+}
+
 /// `⌊x⌋` as an integer, for the lattice indices of a bundle (`|x|` far below `2⁶³`; `as`
 /// saturates, and NaN gives 0, which the callers' range checks absorb).
 #[inline(always)]
 fn floor_index(x: f64) -> i64 {
+    // Branch-free: the sign of `x` decides the correction, and it is unpredictable
     let i = x as i64;
-    if (i as f64) > x { i - 1 } else { i }
+    i - i64::from((i as f64) > x)
 }
 
 /// `⌈x⌉` as an integer (see [`floor_index`]).
 #[inline(always)]
 fn ceil_index(x: f64) -> i64 {
     let i = x as i64;
-    if (i as f64) < x { i + 1 } else { i }
+    i + i64::from((i as f64) < x)
 }
 
+/// Whether the line through `x = (a, b)` crosses the closed polygon of the projected
+/// vertices `corners` (`last` = the last of them): no two edge functions of opposite
+/// signs, and not all of them zero.
 #[inline(always)]
-fn crosses(projected: &[[f64; 2]], corners: &[u32], last: u32, a: f64, b: f64) -> bool {
+fn crosses(corners: impl Iterator<Item = [f64; 3]>, last: [f64; 3], a: f64, b: f64) -> bool {
     let (mut pos, mut neg) = (false, false);
-    let p = projected[last as usize];
-    let mut u = (p[0] - a, p[1] - b);
-    for &v in corners {
-        let p = projected[v as usize];
+    let mut u = (last[0] - a, last[1] - b);
+    for p in corners {
         let w = (p[0] - a, p[1] - b);
         let s = u.0 * w.1 - u.1 * w.0;
         pos |= s > 0.0;
@@ -335,11 +531,12 @@ impl BundleHits3 {
     #[must_use]
     pub fn line_point(&self, bundle: &GlobalBundle3, k: usize) -> Option<(f64, f64)> {
         let k = u32::try_from(k).ok()?;
-        let row = self.row_line.partition_point(|&s| s <= k).checked_sub(1)?;
-        let q = k - self.row_line[row];
-        (q < *self.row_count.get(row)?).then(|| {
-            let a = (self.row_first[row] + f64::from(q)) * bundle.spacing();
-            (a, self.row_b[row])
+        let rows = &self.rows;
+        let row = rows.line.partition_point(|&s| s <= k).checked_sub(1)?;
+        let q = k - rows.line[row];
+        (q < *rows.count.get(row)?).then(|| {
+            let a = (rows.first[row] + f64::from(q)) * bundle.spacing();
+            (a, rows.b[row])
         })
     }
 }

@@ -21,8 +21,9 @@
 //!
 //! # Bundles: how many lines, and the budget
 //!
-//! Projecting the scene costs `O(n)` per bundle, so a bundle holds about
-//! [`bundle_lines_3d`]`(n)` lines, proportional to the patch count within bounds. A chunk
+//! Setting up the scene's items (sheets and loose polygons, `n` of them) costs `O(n)` per
+//! bundle, so a bundle holds about [`bundle_lines_3d`]`(n)` lines, proportional to `n`
+//! within bounds. A chunk
 //! of `L` lines (at most [`crate::lines::CHUNK_LINES`]) casts a fixed number of bundles,
 //! `B = max(1, round(L / bundle_lines_3d(n)))`, each of expected size `L / B`: the number
 //! of bundles does not depend on what they meet or on their shifts, every bundle is cast
@@ -53,18 +54,20 @@ pub use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally, LineTrac
 /// observation.
 pub const SHEAF_BUNDLES_3D: u64 = 16;
 
-/// The expected number of lines of a 3D bundle for a scene of `n` patches: `n/4` within
-/// `[256, 4096]`. Projecting the `n` patches costs `O(n)` per bundle, so the bundle must
-/// not be much smaller than `n`; but the lines of a bundle share their direction, so
-/// bundles much denser than the patches sample each patch's row of `F` from few
-/// directions (several parallel lines per patch), which costs precision: on the
-/// 5400-patch cube bundles of 16,384 lines gave `I_S^c` a standard error 3.8 times that
-/// of independent lines at equal lines, bundles of about 1,000 lines 0.6 times.
+/// The expected number of lines of a 3D bundle for a scene whose raster sets up `n`
+/// items a bundle (sheets, and polygons outside sheets: [`ParallelRaster3::items`]):
+/// `n/4` within `[1024, 4096]`. The setup costs `O(n)` per bundle, so a bundle must not
+/// be much smaller than `n`; but the lines of a bundle share their direction, and bundles
+/// dense beside the patches sample each patch's row of `F` from few directions, which
+/// costs precision: on the 5400-patch cube (before sheets, 5400 items) bundles of 16,384
+/// lines gave `I_S^c` a standard error 3.8 times that of independent lines at equal lines,
+/// bundles of 1,350 lines 0.9 times; with sheets (6 items) 256 and 1024 lines a bundle cost
+/// the same per line and gave the same standard error.
 #[must_use]
 pub const fn bundle_lines_3d(n: usize) -> u64 {
     let m = (n / 4) as u64;
-    if m < 256 {
-        256
+    if m < 1024 {
+        1024
     } else if m > 4096 {
         4096
     } else {
@@ -198,7 +201,7 @@ impl SceneTracer {
         if budget == 0 {
             return;
         }
-        let per_bundle = bundle_lines_3d(self.polygons.len());
+        let per_bundle = bundle_lines_3d(self.raster.items());
 
         let bundles = ((budget + per_bundle / 2) / per_bundle).max(1);
         let expected = budget as f64 / bundles as f64;
@@ -367,8 +370,8 @@ mod tests {
 
     #[test]
     fn bundles_same_bits_any_chunking_and_about_the_lines_asked_for() {
-        // Two whole chunks and a short one: 16 bundles of 4096 / 3 a chunk (the cube of
-        // 600 patches asks 256 lines a bundle), sheaves of at most 16.
+        // Two whole chunks and a short one: 64 bundles of 1024 lines a chunk (the cube's
+        // six sheets ask the fewest), sheaves of at most 16; the last chunk 1 bundle.
         let tracer = SceneTracer::new(&Scene::cube(10).unwrap()).unwrap();
         let n = 2 * CHUNK_LINES + 1000;
         let whole = tracer.run(LineMethod::Bundle, 8, n).unwrap();
@@ -376,9 +379,9 @@ mod tests {
         // Lattice counts in a disc: within a few tens of the expected lines per bundle
         let lines = whole.lines();
         assert!(lines.abs_diff(n) < 2_000, "{lines} lines for {n}");
-        // 256 bundles a whole chunk in 16 sheaves; 4 bundles in 1 sheaf in the last
-        assert_eq!(whole.continuous.groups, 16 + 16 + 1);
-        assert_eq!(bundle_lines_3d(600), 256);
+        assert_eq!(tracer.raster.items(), 6);
+        assert_eq!(whole.continuous.groups, 4 + 4 + 1);
+        assert_eq!(bundle_lines_3d(6), 1024);
         assert_eq!(bundle_lines_3d(5400), 1350);
         assert_eq!(bundle_lines_3d(1_000_000), 4096);
     }

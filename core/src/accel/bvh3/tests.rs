@@ -676,7 +676,7 @@ fn line() -> impl Strategy<Value = Line3> {
 }
 
 /// A grid of 1–12 × 1–12 quads with random frame and jitter, among a few loose polygons.
-fn sheet_soup() -> impl Strategy<Value = (Soup, Vec<DVec3>)> {
+pub(in crate::accel) fn sheet_soup() -> impl Strategy<Value = (Soup, Vec<DVec3>)> {
     let vec3 = |r: f64| (-r..r, -r..r, -r..r).prop_map(|(x, y, z)| DVec3::new(x, y, z));
     (
         vec3(20.0),

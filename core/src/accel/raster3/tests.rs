@@ -6,7 +6,7 @@ use proptest::prelude::*;
 use std::vec::Vec;
 
 use super::*;
-use crate::accel::bvh3::tests::{Soup, cube_mesh, soup};
+use crate::accel::bvh3::tests::{Soup, cube_mesh, sheet_soup, soup};
 use crate::accel::{Bvh3, all_hits_naive3};
 use crate::lines::{BoundingSphere, canonical, canonical_2d, chunk_rng};
 
@@ -78,6 +78,18 @@ proptest! {
         let bvh = s.bvh();
         let sphere = sphere_of(&s);
         let mut rng = chunk_rng(seed, 1);
+        for _ in 0..3 {
+            check_bundle(&s, &bvh, &sphere, &bundle(&mut rng, &sphere, m));
+        }
+    }
+
+    /// Sheets: tilted, sheared, jittered grids (up to 0.4 of a cell, beyond which no sheet
+    /// is made) among loose polygons.
+    #[test]
+    fn sheet_hits_equal_bvh((s, _) in sheet_soup(), seed in 0u64..1_000_000, m in 1.0f64..600.0) {
+        let bvh = s.bvh();
+        let sphere = sphere_of(&s);
+        let mut rng = chunk_rng(seed, 3);
         for _ in 0..3 {
             check_bundle(&s, &bvh, &sphere, &bundle(&mut rng, &sphere, m));
         }
@@ -164,13 +176,17 @@ fn closed_mesh_far_from_the_origin_is_watertight() {
 }
 
 #[test]
-fn shared_vertices_are_one_vertex() {
-    // A cube mesh of 4 × 4 quads a face has 6·16 quads of 4 corners but 98 distinct
-    // vertices (6·25 − 12·5 + 8).
-    let s = cube_mesh(4, 1.0, DVec3::ZERO, false, true);
+fn shared_vertices_are_one_vertex_and_grids_are_sheets() {
+    // A cube mesh of 4 × 4 quads a face, its faces' quads interleaved (no grid in input
+    // order), has 6·16 quads of 4 corners but 98 distinct vertices (6·25 − 12·5 + 8).
+    let s = cube_mesh(4, 1.0, DVec3::ZERO, false, false);
     let raster = ParallelRaster3::new(&s.points, &s.polys);
     assert_eq!(s.points.len(), 6 * 16 * 4);
-    assert_eq!(raster.vertex_count(), 98);
+    assert_eq!((raster.vertex_count(), raster.sheet_count()), (98, 0));
+    // Face by face, row by row: six sheets and no loose polygon.
+    let s = cube_mesh(4, 1.0, DVec3::ZERO, false, true);
+    let raster = ParallelRaster3::new(&s.points, &s.polys);
+    assert_eq!((raster.vertex_count(), raster.sheet_count()), (0, 6));
 }
 
 #[test]
