@@ -85,9 +85,11 @@ pub struct ParallelRaster3 {
     prim: Vec<u32>,
     normal: Vec<DVec3>,
     p0: Vec<DVec3>,
-    /// The sheets, and their quads row by row.
+    /// The sheets, and their quads' vertices row by row (and apart, what only a hit reads:
+    /// their unit normals and mean vertices).
     sheets: Vec<RasterSheet>,
-    quads: Vec<Quad>,
+    quads: Vec<[DVec3; 4]>,
+    quad_planes: Vec<(DVec3, DVec3)>,
     /// The largest coordinate magnitude of the vertices (the margin's scale).
     scale: f64,
 }
@@ -99,14 +101,6 @@ struct RasterSheet {
     sheet: Sheet,
     first_quad: u32,
     prim: u32,
-}
-
-/// A quad of a sheet: its vertices, unit normal and mean vertex.
-#[derive(Clone, Copy, Debug)]
-struct Quad {
-    v: [DVec3; 4],
-    n: DVec3,
-    p0: DVec3,
 }
 
 /// The hits of the lines of one bundle, bucketed per line (the caller's scratch space,
@@ -204,6 +198,7 @@ impl ParallelRaster3 {
             p0: Vec::new(),
             sheets: Vec::new(),
             quads: Vec::new(),
+            quad_planes: Vec::new(),
             scale: 0.0,
         };
         for p in prepared.iter().flatten() {
@@ -229,11 +224,8 @@ impl ParallelRaster3 {
                         let (Some(v), Some(p)) = (range(&valid[id]), prepared[id]) else {
                             continue;
                         };
-                        raster.quads.push(Quad {
-                            v: [v[0], v[1], v[2], v[3]],
-                            n: p.n,
-                            p0: p.p0,
-                        });
+                        raster.quads.push([v[0], v[1], v[2], v[3]]);
+                        raster.quad_planes.push((p.n, p.p0));
                     }
                 }
             }
@@ -409,6 +401,7 @@ impl ParallelRaster3 {
                 hi = [hi[0].max(x), hi[1].max(y), 0.0];
             }
             let quads = &self.quads[rs.first_quad as usize..][..sheet.len()];
+            let planes = &self.quad_planes[rs.first_quad as usize..][..sheet.len()];
             for_each_candidate(frame, rows, lo, hi, frame.delta + tau, |line, a, b| {
                 let rel = (pa[0] - a, pa[1] - b);
                 let (cols, rws) = sheet.window_projected(rel, (pu[0], pu[1]), (pv[0], pv[1]), tau);
@@ -416,13 +409,22 @@ impl ParallelRaster3 {
                     for i in cols.clone() {
                         let o = (j * m + i) as usize;
                         let Some(q) = quads.get(o) else { continue };
-                        let p = q.v.map(|v| frame.project(v));
+                        // Written out: `q.map(…)` was not inlined (7 % of a cube job)
+                        let p = [
+                            frame.project(q[0]),
+                            frame.project(q[1]),
+                            frame.project(q[2]),
+                            frame.project(q[3]),
+                        ];
                         if !crosses(p.iter().copied(), p[3], a, b) {
                             continue;
                         }
                         let near = p[0][2].min(p[1][2]).min(p[2][2]).min(p[3][2]);
                         let far = p[0][2].max(p[1][2]).max(p[2][2]).max(p[3][2]);
-                        if let Some(t) = frame.plane_t(q.n, q.p0, a, b, near, far) {
+                        let Some(&(n, p0)) = planes.get(o) else {
+                            continue;
+                        };
+                        if let Some(t) = frame.plane_t(n, p0, a, b, near, far) {
                             found.push((
                                 line,
                                 Hit3 {

@@ -274,17 +274,60 @@ impl Sheet {
         pv: (f64, f64),
         tau: f64,
     ) -> (Range<u32>, Range<u32>) {
+        self.projected(pu, pv, tau).window(a)
+    }
+
+    /// What [`Sheet::window_projected`] computes from `u`'s and `v`'s projections alone,
+    /// for many lines of one direction.
+    #[inline(always)]
+    pub(in crate::accel) fn projected(
+        &self,
+        pu: (f64, f64),
+        pv: (f64, f64),
+        tau: f64,
+    ) -> ProjectedSheet {
         let det = pu.0 * pv.1 - pu.1 * pv.0;
-        // One division per sheet visit (it was four, and three square roots)
-        let inv_det = 1.0 / det;
+        let norm = |p: (f64, f64)| p.0.abs() + p.1.abs();
+        ProjectedSheet {
+            pu,
+            pv,
+            // One division per sheet visit (it was four, and three square roots)
+            inv_det: 1.0 / det,
+            nu: norm(pu),
+            nv: norm(pv),
+            tau,
+            m: self.m,
+            k: self.k,
+        }
+    }
+}
+
+/// A sheet projected on the plane `d^⊥` of one direction: [`Sheet::window`] for any
+/// line of that direction from the projection of `A` relative to the line.
+#[derive(Clone, Copy, Debug)]
+pub(in crate::accel) struct ProjectedSheet {
+    pu: (f64, f64),
+    pv: (f64, f64),
+    inv_det: f64,
+    nu: f64,
+    nv: f64,
+    tau: f64,
+    m: u32,
+    k: u32,
+}
+
+impl ProjectedSheet {
+    /// The window of [`Sheet::window`] for the line to which `A` projects at `a`.
+    #[inline(always)]
+    pub(in crate::accel) fn window(&self, a: (f64, f64)) -> (Range<u32>, Range<u32>) {
+        let (pu, pv, inv_det, tau) = (self.pu, self.pv, self.inv_det, self.tau);
         let s = (pv.0 * a.1 - pv.1 * a.0) * inv_det;
         let t = (a.0 * pu.1 - a.1 * pu.0) * inv_det;
-        let norm = |p: (f64, f64)| p.0.abs() + p.1.abs();
-        let (na, nu, nv) = (norm(a), norm(pu), norm(pv));
-        let r = na + f64::from(self.m) * nu + f64::from(self.k) * nv + tau;
+        let na = a.0.abs() + a.1.abs();
+        let r = na + f64::from(self.m) * self.nu + f64::from(self.k) * self.nv + tau;
         let de = WINDOW_SLACK * r * r;
-        let ws = (de + tau * (nv + 2.0 * r)) * inv_det.abs() + WINDOW_SLACK;
-        let wt = (de + tau * (nu + 2.0 * r)) * inv_det.abs() + WINDOW_SLACK;
+        let ws = (de + tau * (self.nv + 2.0 * r)) * inv_det.abs() + WINDOW_SLACK;
+        let wt = (de + tau * (self.nu + 2.0 * r)) * inv_det.abs() + WINDOW_SLACK;
         (cells(s, ws, self.m), cells(t, wt, self.k))
     }
 }
