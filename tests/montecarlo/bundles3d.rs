@@ -6,8 +6,7 @@
 use sceneinfo::continuous::quadrature::{QuadratureOptions, scene_i_s_continuous};
 use sceneinfo::formfactor::estimate_3d::{LineMethod, estimate};
 use sceneinfo::formfactor::exact_3d;
-use sceneinfo::scene::{Scene, preset_3d};
-use sceneinfo::thesis::PLATONIC_REFERENCE;
+use sceneinfo::scene::Scene;
 
 /// The cube cut 3 × 3 a face (54 patches, no occlusion): the mean of 20 bundle estimates of
 /// each `F_ij` (seeds 0–19, 250,000 lines each) lies within 6 standard errors of the mean
@@ -62,22 +61,11 @@ fn cube_form_factors_agree_with_exact() {
 /// `tests/tables/solids.rs`), from 10⁶ lines each.
 #[test]
 fn platonic_solids_by_bundles() {
-    for (name, _, _) in PLATONIC_REFERENCE {
-        let scene = preset_3d(name, 1).unwrap();
-        let exact = scene_i_s_continuous(&scene, QuadratureOptions::STANDARD).unwrap();
-        let e = estimate(&scene, LineMethod::Bundle, 41, 1_000_000)
-            .unwrap()
-            .continuous;
-        println!("{name}: {} ± {} vs {}", e.value, e.stderr, exact.value);
-        assert!(e.stderr > 0.0 && e.stderr < 0.006, "{name}: σ {}", e.stderr);
-        assert!(
-            (e.value - exact.value).abs() <= 3.0 * e.stderr,
-            "{name}: I_S^c {} ± {} vs quadrature {}",
-            e.value,
-            e.stderr,
-            exact.value
-        );
-    }
+    crate::tables::solids::platonic_estimates_match_quadrature(
+        LineMethod::Bundle,
+        1_000_000,
+        0.006,
+    );
 }
 
 /// The standard error a run prints (each sheaf of up to 16 bundles one observation)

@@ -126,8 +126,8 @@ pub(super) mod tests;
 
 #[cfg(feature = "alloc")]
 use prim::Slab;
-pub(super) use prim::prepare;
 use prim::{Frame, Query, vertices};
+pub(super) use prim::{origin_in_closed_polygon, prepare};
 
 /// Entries of a polygon's record before its vertices: `n, p0, lo, hi` ([`Bvh3`]'s
 /// `records`).

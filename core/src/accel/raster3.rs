@@ -61,8 +61,8 @@ use alloc::vec::Vec;
 use crate::geom::DVec3;
 use crate::lines::GlobalBundle3;
 
-use super::bvh3::prepare;
 use super::bvh3::sheet::{Sheet, Unit, find_units};
+use super::bvh3::{origin_in_closed_polygon, prepare};
 use super::{Hit3, sort_hits};
 
 /// Relative size of the covering margin `δ` (module docs).
@@ -486,23 +486,14 @@ fn ceil_index(x: f64) -> i64 {
 }
 
 /// Whether the line through `x = (a, b)` crosses the closed polygon of the projected
-/// vertices `corners` (`last` = the last of them): no two edge functions of opposite
-/// signs, and not all of them zero.
+/// vertices `corners` (`last` = the last of them): the origin in the polygon of the
+/// differences `P − x` (the closed edge test of [`super::Bvh3`]).
 #[inline(always)]
 fn crosses(corners: impl Iterator<Item = [f64; 3]>, last: [f64; 3], a: f64, b: f64) -> bool {
-    let (mut pos, mut neg) = (false, false);
-    let mut u = (last[0] - a, last[1] - b);
-    for p in corners {
-        let w = (p[0] - a, p[1] - b);
-        let s = u.0 * w.1 - u.1 * w.0;
-        pos |= s > 0.0;
-        neg |= s < 0.0;
-        if pos && neg {
-            return false;
-        }
-        u = w;
-    }
-    pos != neg
+    origin_in_closed_polygon(
+        (last[0] - a, last[1] - b),
+        corners.map(|p| (p[0] - a, p[1] - b)),
+    )
 }
 
 impl BundleHits3 {
