@@ -215,17 +215,28 @@ impl ParallelRaster3 {
             match unit {
                 Unit::Polygon(id) => loose.push(id),
                 Unit::Sheet(start, sheet) => {
+                    // Every quad of a sheet is a hittable quad (`find_units` makes sheets of
+                    // nothing else); should one not be, the sheet's polygons go loose
+                    let ids = start..start + sheet.len();
+                    let quads: Option<Vec<_>> = ids
+                        .clone()
+                        .map(|id| match (range(&valid[id]), prepared[id]) {
+                            (Some(&[a, b, c, d]), Some(p)) => Some(([a, b, c, d], (p.n, p.p0))),
+                            _ => None,
+                        })
+                        .collect();
+                    let Some(quads) = quads else {
+                        loose.extend(ids);
+                        continue;
+                    };
                     raster.sheets.push(RasterSheet {
                         sheet,
                         first_quad: raster.quads.len() as u32,
                         prim: start as u32,
                     });
-                    for id in start..start + sheet.len() {
-                        let (Some(v), Some(p)) = (range(&valid[id]), prepared[id]) else {
-                            continue;
-                        };
-                        raster.quads.push([v[0], v[1], v[2], v[3]]);
-                        raster.quad_planes.push((p.n, p.p0));
+                    for (quad, plane) in quads {
+                        raster.quads.push(quad);
+                        raster.quad_planes.push(plane);
                     }
                 }
             }
