@@ -196,8 +196,8 @@ pub struct SamplingArgs {
     pub lines: Option<u64>,
     /// Which lines: uniform global lines (2.37), cosine local lines (2.36), or global lines
     /// cast as bundles of parallel lines (not for radiosity): in flatland 256 lines a bundle
-    /// in sheaves of 64 directions, each sheaf of 16,384 lines one observation of the
-    /// standard error; in 3D square lattices of 1024 to 4096 lines (a quarter of the
+    /// in sheaves of 256 directions, each sheaf (a chunk of 65,536 lines) one observation of
+    /// the standard error; in 3D square lattices of 1024 to 4096 lines (a quarter of the
     /// polygons outside gridded faces) in sheaves of up to 16 directions, and the lines
     /// cast differ from --lines by a few.
     #[arg(long, value_enum, default_value_t = Method::Global)]

@@ -157,8 +157,9 @@ fn chunks(c: &mut Criterion) {
             black_box(tally.lines())
         });
     });
-    // A chunk of BATCH lines holds single bundles (a sheaf needs 16,384 lines), each
-    // re-sorting the segments' depth order: a little slower per line than a long job.
+    // A chunk of BATCH lines is a sheaf of 16 bundles (a whole sheaf has 65,536 lines),
+    // π/16 apart, each re-sorting much of the segments' depth order, the pairs drained
+    // once at its end: slower per line than a long job.
     let mut tally = tracer.new_tally(LineMethod::Bundle);
     g.bench_function("64 squares, bundles", |b| {
         b.iter(|| {

@@ -42,8 +42,17 @@ use crate::math::{self, FixedSum};
 #[inline]
 #[must_use]
 pub fn flat_sample(total_length: f64, cos_x: f64, cos_y: f64, r: f64) -> Option<f64> {
-    let f = total_length * cos_x * cos_y / (2.0 * r);
+    let f = flat_sample_ratio(total_length, cos_x, cos_y, r);
     (f > 0.0 && f.is_finite()).then(|| math::log2_fast(f))
+}
+
+/// `L_T F(x, y) = L_T cos θ_x cos θ_y / (2 r)`, the argument of [`flat_sample`]'s
+/// logarithm (6.34), unchecked: what a tally that sums the logarithms of many samples as
+/// the logarithm of their product ([`math::Log2Product`]) pushes per sample.
+#[inline]
+#[must_use]
+pub fn flat_sample_ratio(total_length: f64, cos_x: f64, cos_y: f64, r: f64) -> f64 {
+    total_length * cos_x * cos_y / (2.0 * r)
 }
 
 /// `log₂(A_T F(x, y))` for 3D points with `F = cos θ_x cos θ_y / (π r²)` (the term of 4.8).

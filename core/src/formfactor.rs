@@ -34,6 +34,8 @@ pub mod exact_3d;
 #[cfg(feature = "alloc")]
 pub mod memory;
 #[cfg(feature = "alloc")]
+mod pair_blocks;
+#[cfg(feature = "alloc")]
 pub mod partial;
 #[cfg(feature = "alloc")]
 pub mod tally;

@@ -7,11 +7,13 @@
 mod clausen;
 mod fast_log2;
 mod fixed;
+mod log_product;
 mod turns;
 pub use clausen::clausen2;
 pub use fast_log2::log2_fast;
 pub use fixed::FIXED_MAX_TERM;
 pub use fixed::FixedSum;
+pub use log_product::Log2Product;
 pub use turns::sin_cos_turns;
 
 /// Base-2 logarithm, `log₂ x`. All entropies of the crate are in bits.

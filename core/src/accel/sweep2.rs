@@ -28,9 +28,10 @@
 //! ranges), so a bundle of `m` lines over `n` segments costs `O(n + m + candidates)` plus a
 //! short insertion sort per line: no per-line tree walk. The segments are tested in the
 //! order of their midpoints' depth along the lines, kept from bundle to bundle and repaired
-//! by insertion (the bundles of a sheaf turn by small steps), so each line's bucket fills
-//! nearly sorted and its sort moves few hits: 8 % less time on the 64-squares room, none
-//! measurable on the triangle.
+//! by insertion once the bundles have turned by `REORDER_TURN` (the bundles of a sheaf
+//! turn by small steps), so each line's bucket fills nearly sorted and its sort moves few
+//! hits: 8 % less time on the 64-squares room, none measurable on the triangle (session
+//! 4, repaired every bundle); repairing it only every ~32 bundles saved another 12 %.
 
 use alloc::vec::Vec;
 
@@ -41,6 +42,16 @@ use super::{Hit2, LineQuery, sort_hits};
 
 /// Relative size of the candidate margin `δ` (see the module docs).
 const MARGIN: f64 = 1e-9;
+
+/// How far the bundles may turn (the chord between unit directions, about the angle in
+/// radians) before the segments' depth order is repaired. The order only makes each
+/// line's hits arrive nearly sorted, so a stale one costs a few more moves of the
+/// per-line sort, while repairing it costs the depths and an insertion pass over all
+/// segments. 64-squares room, 8·10⁶ lines, user time: repaired every bundle 1.04–1.06 s,
+/// past a turn of 0.05: 0.96–0.97, 0.1: 0.95–0.98, 0.2: 0.92–0.96, **0.4: 0.90–0.94**,
+/// 0.8: 0.90–0.92, never: 1.07–1.09. With a sheaf's 256 directions π/256 apart, 0.4
+/// repairs every ~32 bundles, and at every sheaf (a new random rotation).
+const REORDER_TURN: f64 = 0.4;
 
 /// Segments prepared for bundles of parallel lines: start `a`, edge `e = b − a` (the same
 /// values the naive loop tests), and the coordinate scale of the margin.
@@ -57,6 +68,8 @@ pub struct ParallelSweep {
 pub struct BundleHits {
     /// Offsets `p_k` of the current bundle's lines.
     offsets: Vec<f64>,
+    /// Origins `c + p_k n` of the current bundle's lines.
+    origins: Vec<DVec2>,
     /// Candidate line range `k₀ .. k₁` of each segment.
     ranges: Vec<(u32, u32)>,
     /// Line `k`'s bucket starts at `start[k]`; `start[m]` = number of candidates.
@@ -65,11 +78,14 @@ pub struct BundleHits {
     end: Vec<usize>,
     /// The buckets.
     hits: Vec<Hit2>,
-    /// Depth `d · (midpoint − c)` of each segment along the current bundle's lines.
+    /// Depth `d · (midpoint − c)` of each segment along the lines of the bundle the order
+    /// was last repaired for.
     depth: Vec<f64>,
     /// The segments sorted by depth, kept from bundle to bundle: the bundles of a sheaf
-    /// turn by small steps, so the last order is nearly sorted for the next.
+    /// turn by small steps, so the last order is nearly sorted for the next ones.
     order: Vec<u32>,
+    /// The direction `order` was sorted for.
+    order_dir: DVec2,
 }
 
 impl ParallelSweep {
@@ -117,11 +133,17 @@ impl ParallelSweep {
         let to_k = 0.5 * f64::from(m) / r;
         let u1 = bundle.shift();
         let d = bundle.dir();
+        // The depth order is repaired only when the direction has turned by more than
+        // REORDER_TURN since it was last sorted (or the segments changed)
+        let reorder = out.order.len() != self.a.len()
+            || !((d - out.order_dir).length_squared() <= REORDER_TURN * REORDER_TURN);
         out.depth.clear();
         for (a, e) in self.a.iter().zip(&self.e) {
             let pa = n.dot(*a - c);
             let pb = pa + n.dot(*e);
-            out.depth.push(d.dot(*a - c) + 0.5 * d.dot(*e));
+            if reorder {
+                out.depth.push(d.dot(*a - c) + 0.5 * d.dot(*e));
+            }
             let (lo, hi) = (pa.min(pb) - delta, pa.max(pb) + delta);
             let k0 = first_at_least(&out.offsets, lo, (lo + r) * to_k - u1);
             let k1 = first_above(&out.offsets, hi, (hi + r) * to_k - u1).max(k0);
@@ -140,14 +162,24 @@ impl ParallelSweep {
         }
         out.end.clear();
         out.end.extend_from_slice(&out.start[..mu]);
-        out.hits.clear();
-        out.hits.resize(total, Hit2 { t: 0.0, prim: 0 });
+        // Room for every candidate; what earlier bundles left there is never read (a
+        // line's bucket is read up to its end, written in this bundle), so the buckets
+        // are not cleared: they only grow
+        if out.hits.len() < total {
+            out.hits.resize(total, Hit2 { t: 0.0, prim: 0 });
+        }
         // The exact test of every candidate, segment by segment in the order of their
         // midpoints' depth along the lines, so that each line's bucket fills nearly sorted
-        order_by_depth(&mut out.order, &out.depth);
+        if reorder {
+            order_by_depth(&mut out.order, &out.depth);
+            out.order_dir = d;
+        }
         let query = LineQuery::new(c, d);
+        // The lines' origins, as the lines compute them
+        out.origins.clear();
+        out.origins.extend(out.offsets.iter().map(|&p| c + n * p));
         let BundleHits {
-            offsets,
+            origins,
             ranges,
             end,
             hits,
@@ -161,8 +193,8 @@ impl ParallelSweep {
                 continue;
             };
             let lines = k0 as usize..k1 as usize;
-            for (&p, end) in offsets[lines.clone()].iter().zip(&mut end[lines]) {
-                if let Some(t) = query.with_origin(c + n * p).hit(*a, *e) {
+            for (&o, end) in origins[lines.clone()].iter().zip(&mut end[lines]) {
+                if let Some(t) = query.with_origin(o).hit(*a, *e) {
                     hits[*end] = Hit2 { t, prim };
                     *end += 1;
                 }

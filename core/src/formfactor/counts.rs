@@ -160,6 +160,18 @@ fn bump(counts: &mut [u32], carries: &mut BTreeMap<usize, u64>, k: usize) {
     }
 }
 
+/// Adds `c` to `counts[k]`, recording a wrap past `2³²` in `carries`.
+#[inline(always)]
+fn add_count(counts: &mut [u32], carries: &mut BTreeMap<usize, u64>, k: usize, c: u32) {
+    if let Some(x) = counts.get_mut(k) {
+        let (sum, wrapped) = x.overflowing_add(c);
+        *x = sum;
+        if wrapped {
+            *carries.entry(k).or_insert(0) += 1;
+        }
+    }
+}
+
 impl PairCounts {
     /// Empty counts over `n` patches; `symmetric` for global lines (module docs).
     pub(crate) fn new(n: usize, symmetric: bool) -> Self {
@@ -237,6 +249,34 @@ impl PairCounts {
                 } else {
                     push_key(buffer, merged, key(i, j));
                     push_key(buffer, merged, key(j, i));
+                }
+            }
+        }
+    }
+
+    /// Counts `count` global-line segments between `i` and `j` at once: the same counts
+    /// as `count` calls of [`PairCounts::add_pair`] (dense counts are added directly,
+    /// wraps past `2³²` kept; sparse keys are buffered `count` times).
+    #[inline]
+    pub(crate) fn add_pair_block(&mut self, i: usize, j: usize, count: u32) {
+        match self {
+            Self::Dense {
+                n,
+                symmetric,
+                counts,
+                carries,
+                ..
+            } => {
+                if *symmetric {
+                    add_count(counts, carries, tri(i, j), count);
+                } else {
+                    add_count(counts, carries, i * *n + j, count);
+                    add_count(counts, carries, j * *n + i, count);
+                }
+            }
+            Self::Sparse { .. } => {
+                for _ in 0..count {
+                    self.add_pair(i, j);
                 }
             }
         }

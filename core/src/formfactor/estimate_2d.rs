@@ -50,22 +50,55 @@ use crate::lines::{
 };
 use crate::scene::FlatScene;
 
+use crate::formfactor::pair_blocks::PairBlocks;
 use crate::formfactor::tally::{Crossing, global_hit_terms, trace_chunk_lines};
 pub use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
 
-/// Lines per bundle of [`LineMethod::Bundle`] (the last bundle of a chunk may have fewer):
-/// enough that projecting every segment once per bundle costs little per line.
+/// Lines per bundle of [`LineMethod::Bundle`] (a chunk's last bundle may have fewer).
+///
+/// With a sheaf of a whole chunk (65,536 lines), the standard error of `I_S^c` on the
+/// 64-squares room (1.6·10⁷ lines, seeds 1–2) was, by lines per bundle × bundles per
+/// sheaf: 64 × 1024: 5.2·10⁻⁵, 128 × 512: 3.8·10⁻⁵, **256 × 256: 3.0·10⁻⁵**, 512 × 128:
+/// 3.8·10⁻⁵, 1024 × 64: 9.2·10⁻⁵, 4096 × 16: 1.0·10⁻³. Fewer lines per bundle cost more
+/// per line (the sweep and the tally have per-bundle work), more cost precision (fewer
+/// directions): 256 gave the best `1/(σ² · CPU s)`, ×3.6 that of session 4's sheaves of
+/// 64 × 256 lines with the same code (`docs/performance.md`, session 5).
 pub const BUNDLE_LINES: u32 = 256;
 
 /// Bundles per sheaf of [`LineMethod::Bundle`]: equally spaced directions under one random
 /// rotation, so that the lines of a sheaf cover the directions evenly. The lines of one
-/// bundle share their direction, and the variance between directions dominates: on the
-/// 64-squares room (4.2·10⁶ lines) lone bundles of 256 lines gave a standard error of
-/// `I_S^c` 2.4 times that of independent lines, sheaves of 16 bundles 0.64 times and
-/// sheaves of 64 bundles 0.13 times. A sheaf holds 16,384 lines, so a chunk of
-/// [`crate::lines::CHUNK_LINES`] lines holds 4 sheaves: 4 observations of the standard
-/// error.
-pub const SHEAF_BUNDLES: u32 = 64;
+/// bundle share their direction, and the variance between directions dominates; equally
+/// spaced directions (a systematic sample of the angle) make it fall faster than one over
+/// their number: at 65,536 lines, 256 directions gave a standard error 0.56 times that of
+/// 4 sheaves of 64 (see [`BUNDLE_LINES`]). `BUNDLE_LINES × SHEAF_BUNDLES` is
+/// [`crate::lines::CHUNK_LINES`]: a whole chunk is one sheaf, one observation of the
+/// standard error.
+pub const SHEAF_BUNDLES: u32 = 256;
+
+/// Bundles of a sheaf whose segments are gathered per pair before the pairs are added
+/// to the tally. A pair block's product holds the terms' arguments, cosines included, so
+/// it may gather segments of any directions; neighbouring directions of a sheaf (π/256
+/// apart) meet mostly the same pairs, so gathering several bundles adds each pair for
+/// more segments at once. 64-squares room, 8·10⁶ lines, user time by bundles per drain:
+/// 1: 1.36 s, 2: 1.25, 4: 1.16, 8: 1.09, 16: 1.06, 32: 1.05, 256 (a sheaf): 1.09 (the
+/// table outgrows the fastest caches).
+const DRAIN_BUNDLES: u32 = 32;
+
+// A whole chunk is one sheaf (the docs of `SHEAF_BUNDLES` say so).
+const _: () = assert!(BUNDLE_LINES as u64 * SHEAF_BUNDLES as u64 == crate::lines::CHUNK_LINES);
+
+/// Scratch space of [`FlatTracer::tally_bundle`], reused from bundle to bundle.
+#[derive(Debug, Default)]
+struct BundleScratch {
+    /// The hits of the bundle's lines.
+    hits: BundleHits,
+    /// One line's crossings, for the lines normalised one by one.
+    crossings: Vec<Crossing>,
+    /// The bundle's segments per patch pair.
+    blocks: PairBlocks,
+    /// Each patch's cosine `dir · n` with the bundle's direction.
+    cos: Vec<f64>,
+}
 
 /// The result of a flatland Monte Carlo run (an alias kept for readability).
 pub type FlatEstimate = LineEstimate;
@@ -169,67 +202,152 @@ impl FlatTracer {
 
     /// Casts the lines of chunk `chunk` of an `n_lines` job as bundles of parallel lines,
     /// drawn from [`chunk_rng`]`(seed, chunk)`: sheaves of [`SHEAF_BUNDLES`] bundles of
-    /// [`BUNDLE_LINES`] lines while the chunk has room for a whole sheaf, then single
-    /// bundles (the last one takes what is left). In a sheaf of `G` bundles, bundle `j`
-    /// has the direction of the canonical sample `(j + u₀)/G` — equally spaced directions
-    /// under one uniform rotation `u₀` — and its own shift ([`GlobalBundle2`]); a single
-    /// bundle has a uniform direction. Every line is marginally a uniform global line
-    /// (direction and offset each uniform within a stratum, the strata covering `[0, π) ×
-    /// [−r, r)` evenly), so the tallies keep their expectations, and every line is tallied
-    /// as a global line. A sheaf (or single bundle) is one group of the standard error:
-    /// its lines are correlated, different sheaves are independent.
+    /// [`BUNDLE_LINES`] lines while the chunk has room for a whole sheaf, then one sheaf
+    /// of as many whole bundles as are left, then one single bundle of the remaining
+    /// lines. In a sheaf of `G` bundles, bundle `j` has the direction of the canonical
+    /// sample `(j + u₀)/G` — equally spaced directions under one uniform rotation `u₀` —
+    /// and its own shift ([`GlobalBundle2`]); a single bundle has a uniform direction.
+    /// Every line is marginally a uniform global line (direction and offset each uniform
+    /// within a stratum, the strata covering `[0, π) × [−r, r)` evenly, every direction of
+    /// a sheaf with the same number of lines), so the tallies keep their expectations, and
+    /// every line is tallied as a global line (pairs gathered over [`DRAIN_BUNDLES`]
+    /// bundles at a time, [`FlatTracer::tally_bundle`]). A sheaf (or single bundle) is one
+    /// group of the standard error: its lines are correlated, different sheaves are
+    /// independent.
     fn trace_chunk_bundles(&self, seed: u64, n_lines: u64, chunk: u64, tally: &mut LineTally) {
         let mut rng = chunk_rng(seed, chunk);
-        let mut scratch = (BundleHits::new(), Vec::new());
+        let mut scratch = BundleScratch::default();
         let range = chunk_range(n_lines, chunk);
         let mut left = range.end - range.start;
-        let (m, g) = (u64::from(BUNDLE_LINES), u64::from(SHEAF_BUNDLES));
-        while left >= m * g {
+        let m = u64::from(BUNDLE_LINES);
+        while left >= m {
+            // A whole sheaf, or the whole bundles that are left
+            let bundles = (left / m).min(u64::from(SHEAF_BUNDLES)) as u32;
             let u0 = canonical(&mut rng);
             let (mut sum, mut samples) = (0.0, 0u64);
-            for j in 0..SHEAF_BUNDLES {
+            for j in 0..bundles {
                 let u = [
-                    (f64::from(j) + u0) / f64::from(SHEAF_BUNDLES),
+                    (f64::from(j) + u0) / f64::from(bundles),
                     canonical(&mut rng),
                 ];
                 let bundle = GlobalBundle2::new(&self.circle, u, BUNDLE_LINES);
-                let (s, n) = self.tally_bundle(&bundle, &mut scratch, tally);
+                let (s, n) = self.cast_bundle(&bundle, &mut scratch, tally);
                 sum += s;
                 samples += n;
+                if (j + 1) % DRAIN_BUNDLES == 0 {
+                    sum += Self::drain_blocks(&mut scratch.blocks, tally);
+                }
             }
-            tally.end_group(sum, samples, m * g);
-            left -= m * g;
-        }
-        while left > 0 {
-            let lines = left.min(m);
-            let bundle = GlobalBundle2::new(&self.circle, canonical_2d(&mut rng), lines as u32);
-            let (sum, samples) = self.tally_bundle(&bundle, &mut scratch, tally);
+            sum += Self::drain_blocks(&mut scratch.blocks, tally);
+            let lines = m * u64::from(bundles);
             tally.end_group(sum, samples, lines);
             left -= lines;
+        }
+        if left > 0 {
+            let bundle = GlobalBundle2::new(&self.circle, canonical_2d(&mut rng), left as u32);
+            let (sum, samples) = self.tally_bundle(&bundle, &mut scratch, tally);
+            tally.end_group(sum, samples, left);
         }
         // Counts are observed only between chunks: apply the increments held back
         tally.counts.settle();
     }
 
     /// Casts one bundle by the sweep and tallies each line as a global line, returning
-    /// the bundle's `(Σ terms, samples)` (its group is closed by the caller).
+    /// the bundle's `(Σ terms, samples)` (its group is closed by the caller): what
+    /// [`FlatTracer::cast_bundle`] gathers, added at once.
+    ///
+    /// The lines share their direction, so each patch's cosine is computed once per
+    /// bundle, and the segments are gathered per patch pair ([`PairBlocks`]: a count and
+    /// the product of the terms' arguments) and each pair is added once per drain
+    /// ([`LineTally::add_pair_block`]): one logarithm and one fixed-point quantisation per
+    /// pair instead of per segment. Leaving counts and pair counts are exactly those of
+    /// the lines tallied one by one; the information differs by rounding only. A line
+    /// with two hits within `eps` (through a shared endpoint or a corner, or along a
+    /// two-sided wall) is normalised and tallied exactly as a line cast alone
+    /// ([`global_hit_terms`]), and so is every line of a tally with radiosity terms,
+    /// which need each segment's term.
     fn tally_bundle(
         &self,
         bundle: &GlobalBundle2,
-        (bundle_hits, crossings): &mut (BundleHits, Vec<Crossing>),
+        scratch: &mut BundleScratch,
         tally: &mut LineTally,
     ) -> (f64, u64) {
-        self.sweep.cast(bundle, bundle_hits);
+        let (sum, samples) = self.cast_bundle(bundle, scratch, tally);
+        (
+            sum + Self::drain_blocks(&mut scratch.blocks, tally),
+            samples,
+        )
+    }
+
+    /// Adds the pairs gathered in `blocks` to `tally`, each once, and returns their part
+    /// of the group's sum.
+    fn drain_blocks(blocks: &mut PairBlocks, tally: &mut LineTally) -> f64 {
+        let mut sum = 0.0;
+        blocks.drain(|i, j, count, info| {
+            sum += tally.add_pair_block(i, j, count, info);
+        });
+        sum
+    }
+
+    /// [`FlatTracer::tally_bundle`] without adding the pairs gathered in
+    /// `scratch.blocks` (they may gather the segments of several bundles): returns the
+    /// `(Σ terms, samples)` of the lines tallied one by one, and the samples of all.
+    fn cast_bundle(
+        &self,
+        bundle: &GlobalBundle2,
+        scratch: &mut BundleScratch,
+        tally: &mut LineTally,
+    ) -> (f64, u64) {
+        let BundleScratch {
+            hits,
+            crossings,
+            blocks,
+            cos,
+        } = scratch;
+        self.sweep.cast(bundle, hits);
         let dir = bundle.dir();
         let (mut sum, mut samples) = (0.0, 0u64);
-        for k in 0..bundle.len() as usize {
-            let terms = self.global_line_terms(dir, bundle_hits.line_hits(k), crossings, tally);
-            if let Some((s, n)) = terms {
+        let mut line_by_line = |line: &[Hit2], tally: &mut LineTally| {
+            if let Some((s, n)) = self.global_line_terms(dir, line, crossings, tally) {
                 sum += s;
                 samples += n;
             }
+        };
+        if tally.radiosity().is_some() {
+            for k in 0..bundle.len() as usize {
+                line_by_line(hits.line_hits(k), tally);
+            }
+            return (sum, samples);
         }
-        (sum, samples)
+        // Each patch's cosine with the bundle's direction
+        cos.clear();
+        cos.extend(self.normals.iter().map(|n| dir.dot(*n)));
+        let eps = 1e-12 * self.circle.radius;
+        let mut fast_samples = 0u64;
+        for k in 0..bundle.len() as usize {
+            let line = hits.line_hits(k);
+            if !line.windows(2).all(|w| !(w[1].t - w[0].t <= eps)) {
+                line_by_line(line, tally);
+                continue;
+            }
+            // Every hit a sample; a hit facing along the line followed by one facing back
+            // is a segment between them (as `global_hit_terms` counts a line)
+            fast_samples += line.len() as u64;
+            let mut front: Option<(&Hit2, f64)> = None;
+            for h in line {
+                let p = h.prim as usize;
+                tally.leave(p);
+                let c = cos.get(p).copied().unwrap_or(0.0);
+                if let Some((f, cf)) = front
+                    && c < 0.0
+                {
+                    let ratio = continuous::flat_sample_ratio(self.total_length, cf, -c, h.t - f.t);
+                    blocks.add(f.prim, h.prim, ratio);
+                }
+                front = (c > 0.0).then_some((h, c));
+            }
+        }
+        (sum, samples + fast_samples)
     }
 
     /// Among the surfaces the line meets at the same point as `hit`, one facing back
@@ -446,6 +564,7 @@ pub fn estimate(
 mod tests {
     use super::*;
     use crate::formfactor::exact_2d;
+    use alloc::{format, vec};
 
     #[test]
     fn global_lines_match_exact_form_factors() {
@@ -503,34 +622,41 @@ mod tests {
 
     #[test]
     fn bundles_same_bits_any_chunking() {
-        // Two whole chunks and a ragged last one (whole sheaves, then single bundles).
+        // Two whole chunks and a ragged last one (a smaller sheaf, then a single bundle).
         let scene = FlatScene::regular_polygon(5, 3).unwrap();
         let tracer = FlatTracer::new(&scene).unwrap();
         let n = 2 * crate::lines::CHUNK_LINES + 3 * 16_384 + 2 * 256 + 17;
         let whole = tracer.run(LineMethod::Bundle, 8, n).unwrap();
         assert_eq!(whole.lines(), n);
-        // 4 sheaves per whole chunk; in the last, 3 sheaves and 3 single bundles.
-        assert_eq!(whole.continuous.groups, 4 + 4 + 3 + 3);
+        // One sheaf per whole chunk; in the last, a sheaf of 194 bundles and a single
+        // bundle of 17 lines.
+        assert_eq!(whole.continuous.groups, 1 + 1 + 2);
         assert_eq!(whole, merged_in_reverse(&tracer, LineMethod::Bundle, 8, n));
     }
 
-    #[test]
-    fn bundle_lines_tally_like_the_same_global_lines() {
-        // Every line of a bundle, cast through the BVH and tallied as a global line, gives
-        // the counts and information of the bundle's sweep.
-        let scene = crate::scene::catalogue_scene("64-squares-a", 10).unwrap();
-        let tracer = FlatTracer::new(&scene).unwrap();
-        let mut rng = chunk_rng(3, 0);
-        for m in [1, 7, 256] {
-            let bundle = GlobalBundle2::new(&tracer.circle, canonical_2d(&mut rng), m);
-            let mut by_sweep = tracer.new_tally(LineMethod::Global);
-            let (sum, n) =
-                tracer.tally_bundle(&bundle, &mut (BundleHits::new(), Vec::new()), &mut by_sweep);
-            by_sweep.end_group(sum, n, u64::from(m));
-            let mut by_bvh = tracer.new_tally(LineMethod::Global);
-            let (mut hits, mut crossings) = (Vec::new(), Vec::new());
-            let (mut sum_bvh, mut n_bvh) = (0.0, 0);
-            for k in 0..m {
+    /// The tally of `bundles` by the sweep and the aggregated tally (their pairs gathered
+    /// together and added at once), and the tally of their lines cast one by one through
+    /// the BVH and tallied as lone global lines, each closed as one group.
+    fn bundle_and_lone_lines(
+        tracer: &FlatTracer,
+        bundles: &[GlobalBundle2],
+    ) -> (LineTally, LineTally) {
+        let lines: u64 = bundles.iter().map(|b| u64::from(b.len())).sum();
+        let mut by_sweep = tracer.new_tally(LineMethod::Global);
+        let mut scratch = BundleScratch::default();
+        let (mut sum, mut n) = (0.0, 0);
+        for bundle in bundles {
+            let (s, c) = tracer.cast_bundle(bundle, &mut scratch, &mut by_sweep);
+            sum += s;
+            n += c;
+        }
+        sum += FlatTracer::drain_blocks(&mut scratch.blocks, &mut by_sweep);
+        by_sweep.end_group(sum, n, lines);
+        let mut by_bvh = tracer.new_tally(LineMethod::Global);
+        let (mut hits, mut crossings) = (Vec::new(), Vec::new());
+        let (mut sum_bvh, mut n_bvh) = (0.0, 0);
+        for bundle in bundles {
+            for k in 0..bundle.len() {
                 let line = bundle.line(k);
                 tracer.bvh.all_hits(&line, &mut hits);
                 let terms = tracer.global_line_terms(line.dir, &hits, &mut crossings, &mut by_bvh);
@@ -539,12 +665,127 @@ mod tests {
                     n_bvh += c;
                 }
             }
-            by_bvh.end_group(sum_bvh, n_bvh, u64::from(m));
-            by_sweep.counts.settle();
-            by_bvh.counts.settle();
-            assert!(n > 0);
-            assert_eq!(by_sweep, by_bvh, "bundle of {m}");
         }
+        by_bvh.end_group(sum_bvh, n_bvh, lines);
+        by_sweep.counts.settle();
+        by_bvh.counts.settle();
+        (by_sweep, by_bvh)
+    }
+
+    /// Rounding bound of a pair's aggregated information against the sum of its terms
+    /// tallied one by one, per segment. Both compute the same `f_k` (the same formula on
+    /// the same cosines and `r`); one by one, each term is `log2_fast(f_k)`, within
+    /// `2·10⁻¹⁵·max(1, |log₂ f_k|)`, quantised with an error below `2⁻⁶⁴`; aggregated,
+    /// `Σ log₂ f_k` comes from their product, within `1.46u` per factor plus
+    /// `2·10⁻¹⁵ + u·|Σ|` per pair ([`crate::math::Log2Product`]), quantised once. With
+    /// every `|log₂ f_k|` below 64 (the pair's mean term is asserted below 32), the
+    /// difference is below `2·10⁻¹⁵·(64 + 1) + 64u + 2⁻⁶⁴ < 1.4·10⁻¹³` per segment; the
+    /// bound allows twice that.
+    const INFO_BOUND_PER_SEGMENT: f64 = 2.7e-13;
+
+    /// Asserts that the aggregated tally has exactly the lone lines' counts, and their
+    /// information within [`INFO_BOUND_PER_SEGMENT`].
+    fn assert_tallies_agree(agg: &LineTally, lone: &LineTally, what: &str) {
+        assert_eq!(agg.lines, lone.lines, "{what}");
+        assert_eq!(agg.leaves, lone.leaves, "{what}");
+        let (ca, cl) = (&agg.continuous, &lone.continuous);
+        assert_eq!(
+            (ca.sum_n, ca.sum_nn, ca.groups),
+            (cl.sum_n, cl.sum_nn, cl.groups)
+        );
+        let scale = 18_446_744_073_709_551_616.0;
+        let collect = |t: &LineTally| {
+            let mut v = Vec::new();
+            t.counts
+                .for_each_raw(|i, j, c, info| v.push((i, j, c, info as f64 / scale)));
+            v
+        };
+        let (pa, pl) = (collect(agg), collect(lone));
+        assert_eq!(pa.len(), pl.len(), "{what}");
+        let mut segments_of = vec![0u64; agg.leaves.len()];
+        let mut segments = 0;
+        for (a, l) in pa.iter().zip(&pl) {
+            assert_eq!((a.0, a.1, a.2), (l.0, l.1, l.2), "{what}: pair counts");
+            let c = a.2 as f64;
+            assert!(
+                a.3.abs() < 32.0 * c.max(1.0),
+                "{what}: a term beyond the bound's range"
+            );
+            let bound = INFO_BOUND_PER_SEGMENT * c;
+            assert!((a.3 - l.3).abs() <= bound, "{what}: I_ij {a:?} vs {l:?}");
+            segments_of[a.0] += a.2;
+            segments += a.2;
+        }
+        for (i, (a, l)) in agg.patch_info.iter().zip(&lone.patch_info).enumerate() {
+            let bound = INFO_BOUND_PER_SEGMENT * segments_of[i] as f64;
+            assert!((a.value() - l.value()).abs() <= bound, "{what}: I_{i}");
+        }
+        // The group sum counts each segment's term twice; each ordered pair appears twice
+        // in `segments` (`C_ij` and `C_ji`)
+        let bound = INFO_BOUND_PER_SEGMENT * segments as f64;
+        assert!(
+            (ca.sum_s.value() - cl.sum_s.value()).abs() <= bound,
+            "{what}: Σ s"
+        );
+    }
+
+    #[test]
+    fn aggregated_bundle_tally_equals_the_lone_lines_tally() {
+        // Every line of a bundle, cast through the BVH and tallied as a lone global line,
+        // gives the bundle's counts exactly and its information within rounding.
+        let scene = crate::scene::catalogue_scene("64-squares-a", 10).unwrap();
+        let tracer = FlatTracer::new(&scene).unwrap();
+        let mut rng = chunk_rng(3, 0);
+        for m in [1, 7, 256, 1024] {
+            let bundle = GlobalBundle2::new(&tracer.circle, canonical_2d(&mut rng), m);
+            let (by_sweep, by_bvh) = bundle_and_lone_lines(&tracer, &[bundle]);
+            assert!(by_sweep.continuous.sum_n > 0);
+            assert_tallies_agree(&by_sweep, &by_bvh, &format!("bundle of {m}"));
+        }
+        // Several directions gathered together, as a sheaf's bundles are between drains
+        let u0 = canonical(&mut rng);
+        let sheaf: Vec<GlobalBundle2> = (0..12)
+            .map(|j| {
+                let u = [(f64::from(j) + u0) / 12.0, canonical(&mut rng)];
+                GlobalBundle2::new(&tracer.circle, u, 200)
+            })
+            .collect();
+        let (by_sweep, by_bvh) = bundle_and_lone_lines(&tracer, &sheaf);
+        assert_tallies_agree(&by_sweep, &by_bvh, "12 directions");
+    }
+
+    #[test]
+    fn bundle_through_shared_endpoints_tallies_like_lone_lines() {
+        // A 4 × 4 room of 16 patches around a box of 4 patches, and bundles along the axes
+        // whose lines run exactly through the cut points, the corners and along the walls:
+        // those lines take the normalisation of lines cast alone.
+        let mut b = FlatScene::builder();
+        let p = |x: f64, y: f64| DVec2::new(x, y);
+        b.polygon(&[p(0.0, 0.0), p(4.0, 0.0), p(4.0, 4.0), p(0.0, 4.0)], 4)
+            .unwrap();
+        b.polygon(&[p(1.0, 1.0), p(1.0, 3.0), p(3.0, 3.0), p(3.0, 1.0)], 1)
+            .unwrap();
+        let scene = b.build().unwrap();
+        let mut tracer = FlatTracer::new(&scene).unwrap();
+        // Offsets p_k = k − 4 from the centre (2, 2): lines x = −2 … 5 (or y), through
+        // every cut point and corner
+        tracer.circle = crate::lines::BoundingCircle {
+            center: DVec2::splat(2.0),
+            radius: 4.0,
+        };
+        for u in [[0.0, 0.0], [0.5, 0.0], [0.25, 0.0], [0.3, 0.25]] {
+            let bundle = GlobalBundle2::new(&tracer.circle, u, 8);
+            let (by_sweep, by_bvh) = bundle_and_lone_lines(&tracer, &[bundle]);
+            assert_tallies_agree(&by_sweep, &by_bvh, &format!("{u:?}"));
+        }
+        // The axis bundles do meet coincident hits (else this test would not test them)
+        let bundle = GlobalBundle2::new(&tracer.circle, [0.0, 0.0], 8);
+        let mut hits = BundleHits::new();
+        tracer.sweep.cast(&bundle, &mut hits);
+        let eps = 1e-12 * tracer.circle.radius;
+        let close =
+            (0..8).filter(|&k| hits.line_hits(k).windows(2).any(|w| w[1].t - w[0].t <= eps));
+        assert!(close.count() >= 3);
     }
 
     #[test]

@@ -213,6 +213,36 @@ impl LineTally {
         }
     }
 
+    /// `count` global-line segments between mutually facing patches `i` and `j` whose
+    /// continuous terms add up to `info` (`None`: terms that were degenerate, which count
+    /// as samples without information): the same counts as `count` calls of
+    /// [`LineTally::global_pair`], and the same information up to rounding — the sum is
+    /// quantised once ([`FixedSum::quantise`], error below `2⁻⁶⁴`) instead of each term.
+    /// Returns the line-sum contribution (`2·info`). What a tracer calls once per pair and
+    /// bundle of parallel lines (module [`super::pair_blocks`]), so the fixed-point work
+    /// is per pair instead of per segment.
+    ///
+    /// For tallies without radiosity terms only ([`LineTally::radiosity`] is `None`):
+    /// those need every segment's term, and are left unchanged here.
+    #[inline]
+    pub(crate) fn add_pair_block(
+        &mut self,
+        i: usize,
+        j: usize,
+        count: u32,
+        info: Option<f64>,
+    ) -> f64 {
+        debug_assert!(self.radiosity.is_none(), "pair blocks in a radiosity tally");
+        self.counts.add_pair_block(i, j, count);
+        match info {
+            Some(s) => {
+                self.add_info(i, j, s);
+                2.0 * s
+            }
+            None => 0.0,
+        }
+    }
+
     /// A local line from `i` that reached the front of `j`, with continuous term `s`.
     /// Returns the line-sum contribution (`s`).
     #[inline]
