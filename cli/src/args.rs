@@ -195,9 +195,11 @@ pub struct SamplingArgs {
     #[arg(long, value_name = "N", value_parser = parse_count)]
     pub lines: Option<u64>,
     /// Which lines: uniform global lines (2.37), cosine local lines (2.36), or global lines
-    /// cast as bundles of 256 parallel lines in sheaves of 256 directions (flatland only, not
-    /// for radiosity; each sheaf, a chunk of 65,536 lines, is one observation of the
-    /// standard error).
+    /// cast as bundles of parallel lines (not for radiosity): in flatland 256 lines a bundle
+    /// in sheaves of 256 directions, each sheaf (a chunk of 65,536 lines) one observation of
+    /// the standard error; in 3D square lattices of 1024 to 4096 lines (a quarter of the
+    /// polygons outside gridded faces) in sheaves of up to 16 directions, and the lines
+    /// cast differ from --lines by a few.
     #[arg(long, value_enum, default_value_t = Method::Global)]
     pub method: Method,
     /// Seed of the line streams: the result depends on (seed, lines) only.
@@ -259,7 +261,7 @@ pub enum Method {
     Global,
     /// Cosine-distributed local lines.
     Local,
-    /// Global lines cast in bundles of parallel lines (flatland only).
+    /// Global lines cast in bundles of parallel lines.
     Bundle,
 }
 

@@ -236,9 +236,11 @@ fn four_partials_merged_equal_one_run_bit_for_bit() {
         (&flat, "bundle"),
         (&obj, "local"),
         (&obj, "global"),
+        (&obj, "bundle"),
     ] {
         let common = ["--lines", &lines, "--seed", "5", "--method", method];
-        let whole_csv = temp(&format!("whole-{method}.csv"));
+        let kind = scene.extension().unwrap().to_str().unwrap();
+        let whole_csv = temp(&format!("whole-{method}-{kind}.csv"));
         let whole = bin()
             .arg("measure")
             .arg(scene)
@@ -250,7 +252,7 @@ fn four_partials_merged_equal_one_run_bit_for_bit() {
         assert!(whole.status.success());
         let mut parts = Vec::new();
         for (k, range) in ["4..7", "0..1", "1..3", "3..4"].iter().enumerate() {
-            let part = temp(&format!("part{k}-{method}.sip"));
+            let part = temp(&format!("part{k}-{method}-{kind}.sip"));
             let st = bin()
                 .arg("measure")
                 .arg(scene)
@@ -262,7 +264,7 @@ fn four_partials_merged_equal_one_run_bit_for_bit() {
             assert!(st.success());
             parts.push(part);
         }
-        let merged_csv = temp(&format!("merged-{method}.csv"));
+        let merged_csv = temp(&format!("merged-{method}-{kind}.csv"));
         let merged = bin()
             .arg("merge")
             .args(&parts)
@@ -295,7 +297,7 @@ fn four_partials_merged_equal_one_run_bit_for_bit() {
             .unwrap()
             .success()
     );
-    let part = |k: usize| temp(&format!("part{k}-global.sip"));
+    let part = |k: usize| temp(&format!("part{k}-global-obj.sip"));
     let fail = |files: Vec<PathBuf>, expect: &str| {
         let out = bin().arg("merge").args(&files).output().unwrap();
         assert_eq!(out.status.code(), Some(2));

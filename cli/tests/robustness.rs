@@ -44,27 +44,13 @@ fn run(args: &[&str], file: &Path) -> Output {
 
 /// Same input, seed and line budget: the same JSON text (timing keys aside) and the same
 /// matrix file, byte for byte, on repeated runs and on 1 and 2 threads, for flatland and
-/// 3D scenes and for global and local lines (and bundles, flatland only); exact measures
-/// are repeatable too. Bundles of parallel lines are refused on a 3D scene with exit 2.
+/// 3D scenes and for global and local lines and bundles of parallel lines; exact measures
+/// are repeatable too. Bundles are refused by `radiosity` with exit 2.
 #[test]
 fn results_are_bit_identical_across_runs_and_threads() {
     let dir = temp_dir("determinism");
     for scene in scenes(&dir) {
-        let flat = scene.extension().is_some_and(|e| e == "flat");
         for method in ["global", "local", "bundle"] {
-            if method == "bundle" && !flat {
-                let out = run(&["--lines", "1000", "--method", method], &scene);
-                assert_eq!(out.status.code(), Some(2));
-                let err = String::from_utf8_lossy(&out.stderr);
-                assert!(
-                    err.contains(
-                        "bundles of parallel lines cannot be used here: they are implemented \
-                         for flatland scenes only"
-                    ),
-                    "{err}"
-                );
-                continue;
-            }
             if method == "bundle" {
                 // The radiosity I_S^c's pair moments cannot group a sheaf's lines.
                 let out = bin()

@@ -33,6 +33,8 @@ use crate::geom::{DVec2, Segment, cross};
 mod bvh2;
 mod bvh3;
 #[cfg(feature = "alloc")]
+mod raster3;
+#[cfg(feature = "alloc")]
 mod sah;
 #[cfg(feature = "alloc")]
 mod sweep2;
@@ -44,6 +46,8 @@ pub use bvh2::{Bvh2, MAX_PRIMITIVES};
 #[cfg(feature = "alloc")]
 pub use bvh3::{Bvh3, all_hits_naive3};
 pub use bvh3::{Hit3, first_hit_naive3};
+#[cfg(feature = "alloc")]
+pub use raster3::{BundleHits3, ParallelRaster3};
 #[cfg(feature = "alloc")]
 pub use sweep2::{BundleHits, ParallelSweep};
 

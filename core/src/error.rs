@@ -310,12 +310,12 @@ pub enum ErrorKind {
         limit: u64,
     },
 
-    /// Lines of this method cannot serve the job (bundles of parallel lines are flatland
-    /// only, and not for radiosity).
+    /// Lines of this method cannot serve the job (bundles of parallel lines are not for
+    /// radiosity).
     UnsupportedMethod {
         /// The method's description, e.g. `"bundles of parallel lines"`.
         method: &'static str,
-        /// Why, e.g. `"they are implemented for flatland scenes only"`.
+        /// Why, e.g. `"this kind of scene cannot cast them"`.
         reason: &'static str,
     },
 

@@ -32,12 +32,14 @@
 //! intersects patch i is proportional to A_i" (thesis §2.1.6, Santaló 1976).
 
 mod budget;
+mod bundle3;
 mod global;
 mod lines3;
 mod local;
 mod stream;
 
 pub use budget::{MAX_LINES, check_line_budget};
+pub use bundle3::{BundleRow, GlobalBundle3, sheaf_direction_sample};
 pub use global::{
     BoundingCircle, GlobalBundle2, Line2, global_line_2d_pdf, invert_global_line_2d,
     sample_global_line_2d,

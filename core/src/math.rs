@@ -90,6 +90,20 @@ pub fn round(x: f64) -> f64 {
     libm::round(x)
 }
 
+/// The largest integer not above `x`.
+#[inline]
+#[must_use]
+pub fn floor(x: f64) -> f64 {
+    libm::floor(x)
+}
+
+/// The smallest integer not below `x`.
+#[inline]
+#[must_use]
+pub fn ceil(x: f64) -> f64 {
+    libm::ceil(x)
+}
+
 /// Neumaier's compensated (Kahan–Babuška) summation.
 ///
 /// Adding `n` terms loses at most a few ulps of the result instead of `O(n)` ulps, which

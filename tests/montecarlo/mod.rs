@@ -2,4 +2,5 @@
 
 mod agreement;
 mod bundles;
+mod bundles3d;
 mod proposition_2;

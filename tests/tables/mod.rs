@@ -8,4 +8,4 @@ mod pictured3d;
 mod refinement_cuts;
 mod refinement_flat;
 mod regular_polygons;
-mod solids;
+pub(crate) mod solids;

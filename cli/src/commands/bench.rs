@@ -56,7 +56,7 @@ struct McRow {
     pairs: u64,
 }
 
-/// Global lines and bundles of parallel lines on one flatland scene, in the same run.
+/// Global lines and bundles of parallel lines on one scene, in the same run.
 struct BundleRow {
     name: &'static str,
     /// Global lines: 1 thread, lines per CPU second of the whole job; the figure of merit
@@ -153,20 +153,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         let naive = FlatTracer::new(&scene)?.naive_baseline();
         let (row, global_merit) = bench_scene(name, &tracer, &naive, budget, threads);
         note(&format!("{name}: bundles"));
-        let (one, tally, job) = rate(&tracer, LineMethod::Bundle, budget, 1);
-        // The 1-thread rates of this table are whole-job rates (lines per CPU second of
-        // the 2L-line job), like the efficiency: for these scenes a job's fixed costs are
-        // small, and unlike the marginal rates they stay sane under heavy load.
-        let (many, _, _) = rate(&tracer, LineMethod::Bundle, budget, threads);
-        bundles.push(BundleRow {
-            name,
-            global: global_merit.rate(),
-            global_merit,
-            bundle: Merit::of(&tally, &job).rate(),
-            bundle_wall: one.wall,
-            bundle_many: many.wall,
-            bundle_merit: Merit::of(&tally, &job),
-        });
+        bundles.push(bench_bundles(name, &tracer, global_merit, budget, threads));
         mc.push(row);
     }
     let solid: [Named<Scene>; 5] = [
@@ -182,7 +169,10 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         reset_peak();
         let tracer = SceneTracer::new(&scene)?;
         let naive = SceneTracer::new(&scene)?.naive_baseline();
-        mc.push(bench_scene(name, &tracer, &naive, budget, threads).0);
+        let (row, global_merit) = bench_scene(name, &tracer, &naive, budget, threads);
+        note(&format!("{name}: bundles"));
+        bundles.push(bench_bundles(name, &tracer, global_merit, budget, threads));
+        mc.push(row);
     }
 
     // Exact form factors
@@ -429,6 +419,31 @@ fn bench_scene<T: LineTracer + Sync>(
     (row, Merit::of(&one_tally, &one_job))
 }
 
+/// Bundles of parallel lines on the scene of `tracer`, beside its global lines' figure of
+/// merit from the same run.
+fn bench_bundles<T: LineTracer + Sync>(
+    name: &'static str,
+    tracer: &T,
+    global_merit: Merit,
+    budget: f64,
+    threads: usize,
+) -> BundleRow {
+    let (one, tally, job) = rate(tracer, LineMethod::Bundle, budget, 1);
+    // The 1-thread rates of this table are whole-job rates (lines per CPU second of the
+    // 2L-line job), like the efficiency: for these scenes a job's fixed costs are small,
+    // and unlike the marginal rates they stay sane under heavy load.
+    let (many, _, _) = rate(tracer, LineMethod::Bundle, budget, threads);
+    BundleRow {
+        name,
+        global: global_merit.rate(),
+        global_merit,
+        bundle: Merit::of(&tally, &job).rate(),
+        bundle_wall: one.wall,
+        bundle_many: many.wall,
+        bundle_merit: Merit::of(&tally, &job),
+    }
+}
+
 fn curve_point(mesh: String, scene: &Scene, budget: f64) -> Result<CurvePoint> {
     let tracer = SceneTracer::new(scene)?;
     let (r, tally, _) = rate(&tracer, LineMethod::Global, budget, 1);
@@ -557,7 +572,7 @@ fn table(r: &Report, budget: f64) -> String {
     if !r.bundles.is_empty() {
         let _ = writeln!(
             s,
-            "\nFlatland: global lines vs bundles of parallel lines, M lines/s (1t: per CPU \
+            "\nGlobal lines vs bundles of parallel lines, M lines/s (1t: per CPU \
              second of a whole job; 1t wall and {threads}t: marginal, per wall second) and \
              the efficiency of I_S^c, 1/(stderr^2 * CPU s), of the same 1-thread jobs (their \
              stderr from one job: ±10-20 %)"

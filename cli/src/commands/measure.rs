@@ -30,10 +30,13 @@ const FEW_STDERR_GROUPS: u64 = 10;
 pub struct MonteCarlo {
     /// The sampling method.
     pub method: LineMethod,
-    /// Lines cast: fewer than `requested` after Ctrl-C (a partial run).
+    /// Lines cast: fewer than `requested` after Ctrl-C (a partial run). Bundles of
+    /// parallel lines in 3D cast about the lines asked for, a few more or fewer.
     pub lines: u64,
     /// Lines asked for.
     pub requested: u64,
+    /// Whether Ctrl-C stopped the run before its last chunk.
+    pub interrupted: bool,
     /// Seed of the chunk streams.
     pub seed: u64,
     /// `I_S^c` and its standard error.
@@ -43,7 +46,7 @@ pub struct MonteCarlo {
 impl MonteCarlo {
     /// Whether Ctrl-C stopped the run early.
     fn partial(&self) -> bool {
-        self.lines < self.requested
+        self.interrupted
     }
 }
 
@@ -62,10 +65,22 @@ pub fn form_factors_of(path: &Path, sampling: &SamplingArgs) -> Result<FormFacto
     Ok(ff)
 }
 
-/// The result of a line job's `finish`: after Ctrl-C (`done < asked`) a job that cast no
-/// line, or too few to estimate every patch, is [`Interrupted`] rather than its error.
-fn finished<T>(result: sceneinfo::Result<T>, done: u64, asked: u64, path: &Path) -> Result<T> {
-    if done < asked && (done == 0 || result.is_err()) {
+/// Whether Ctrl-C cut a job of `asked` lines short, given the `done` lines it cast. Global
+/// and local lines cast exactly the lines asked for; 3D bundles about as many, so for them
+/// any Ctrl-C during the run counts.
+fn cut_short(method: LineMethod, done: u64, asked: u64) -> bool {
+    crate::interrupt::requested() && (done < asked || method == LineMethod::Bundle)
+}
+
+/// The result of a line job's `finish`: after Ctrl-C a job that cast no line, or too few
+/// to estimate every patch, is [`Interrupted`] rather than its error.
+fn finished<T>(
+    result: sceneinfo::Result<T>,
+    done: u64,
+    interrupted: bool,
+    path: &Path,
+) -> Result<T> {
+    if interrupted && (done == 0 || result.is_err()) {
         return Err(Interrupted { partial: None }.into());
     }
     result.map_err(|e| located(path, &e))
@@ -130,26 +145,28 @@ fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<
         (None, Loaded::Flat(s)) => (exact_2d::form_factors(s).map_err(at)?, None),
         (None, Loaded::Solid(s)) => (crate::output::exact_3d_form_factors(path, s)?, None),
         (Some(lines), scene) => {
-            let (est, done) = match scene {
+            // A run is cut short only by Ctrl-C (no new chunk starts after it)
+            let (est, done, interrupted) = match scene {
                 Loaded::Flat(s) => {
                     let tracer = FlatTracer::new(s).map_err(at)?;
                     check_supported(&tracer, method, path)?;
                     let tally = crate::lines::run(&tracer, method, sampling.seed, lines, threads);
-                    let done = tally.lines();
-                    (finished(tally.finish(&tracer), done, lines, path)?, done)
+                    let (done, cut) = (tally.lines(), cut_short(method, tally.lines(), lines));
+                    (finished(tally.finish(&tracer), done, cut, path)?, done, cut)
                 }
                 Loaded::Solid(s) => {
                     let tracer = SceneTracer::new(s).map_err(at)?;
                     check_supported(&tracer, method, path)?;
                     let tally = crate::lines::run(&tracer, method, sampling.seed, lines, threads);
-                    let done = tally.lines();
-                    (finished(tally.finish(&tracer), done, lines, path)?, done)
+                    let (done, cut) = (tally.lines(), cut_short(method, tally.lines(), lines));
+                    (finished(tally.finish(&tracer), done, cut, path)?, done, cut)
                 }
             };
             let mc = MonteCarlo {
                 method,
                 lines: done,
                 requested: lines,
+                interrupted,
                 seed: sampling.seed,
                 continuous: est.continuous,
             };

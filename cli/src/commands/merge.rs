@@ -43,8 +43,10 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         .map_err(|e| anyhow::anyhow!("merge: {}", e.kind()))?;
     let mc = MonteCarlo {
         method: job.method,
-        lines: job.lines,
+        // The lines cast (bundles of parallel lines in 3D cast about the lines asked for)
+        lines: est.lines,
         requested: job.lines,
+        interrupted: false,
         seed: job.seed,
         continuous: est.continuous,
     };

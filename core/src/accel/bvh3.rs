@@ -120,13 +120,14 @@ use crate::error::{Error, ErrorKind, Result};
 mod build;
 mod prim;
 #[cfg(feature = "alloc")]
-mod sheet;
+pub(super) mod sheet;
 #[cfg(all(test, feature = "std"))]
-mod tests;
+pub(super) mod tests;
 
 #[cfg(feature = "alloc")]
 use prim::Slab;
-use prim::{Frame, Query, prepare, vertices};
+use prim::{Frame, Query, vertices};
+pub(super) use prim::{origin_in_closed_polygon, prepare};
 
 /// Entries of a polygon's record before its vertices: `n, p0, lo, hi` ([`Bvh3`]'s
 /// `records`).

@@ -24,11 +24,12 @@ pub enum LineMethod {
     Global,
     /// Cosine-distributed local lines from patches picked by size (2.36).
     Local,
-    /// Bundles of parallel global lines (flatland only): each bundle shares one uniform
-    /// direction and covers the bounding circle with evenly spaced lines under one uniform
-    /// shift ([`crate::lines::GlobalBundle2`]); every line is tallied as a global line, and
-    /// each bundle is one observation of the standard error. Cast by a sweep
-    /// ([`crate::accel::ParallelSweep`]) instead of one tree query per line.
+    /// Bundles of parallel global lines: each bundle shares one uniform direction and
+    /// covers the bounding circle (sphere) with evenly spaced lines under one uniform shift
+    /// ([`crate::lines::GlobalBundle2`], [`crate::lines::GlobalBundle3`]); every line is
+    /// tallied as a global line, and each sheaf of bundles is one observation of the
+    /// standard error. Cast by a sweep ([`crate::accel::ParallelSweep`]) or a raster
+    /// ([`crate::accel::ParallelRaster3`]) instead of one tree query per line.
     Bundle,
 }
 
@@ -68,7 +69,7 @@ impl LineMethod {
 
 /// The reason of [`ErrorKind::UnsupportedMethod`] for a method a tracer does not
 /// [`LineTracer::supports`].
-pub const UNSUPPORTED_BY_TRACER: &str = "they are implemented for flatland scenes only";
+pub const UNSUPPORTED_BY_TRACER: &str = "this kind of scene cannot cast them";
 
 /// A scene prepared for line casting.
 pub trait LineTracer {
@@ -85,7 +86,7 @@ pub trait LineTracer {
     fn trace_chunk(&self, seed: u64, n_lines: u64, chunk: u64, tally: &mut LineTally);
 
     /// Whether this tracer casts lines of `method` (every tracer casts global and local
-    /// lines; bundles of parallel lines are flatland only).
+    /// lines; the flatland and 3D scene tracers also cast bundles of parallel lines).
     fn supports(&self, method: LineMethod) -> bool {
         method != LineMethod::Bundle
     }

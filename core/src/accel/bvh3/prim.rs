@@ -54,17 +54,17 @@ impl Frame {
 /// relative to the frame's centre `c`, a point `p0` of its plane (the vertex mean) and its
 /// bounds.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Prepared {
-    pub(super) n: DVec3,
-    pub(super) p0: DVec3,
+pub(in crate::accel) struct Prepared {
+    pub(in crate::accel) n: DVec3,
+    pub(in crate::accel) p0: DVec3,
     /// `[lo, hi]`.
-    pub(super) bounds: [DVec3; 2],
+    pub(in crate::accel) bounds: [DVec3; 2],
 }
 
 /// The prepared data of a polygon, or `None` for one that can never be hit: fewer than
 /// three vertices, a non-finite vertex (or vertex relative to `c`), or a zero (or
 /// non-finite) normal.
-pub(super) fn prepare(c: DVec3, verts: &[DVec3]) -> Option<Prepared> {
+pub(in crate::accel) fn prepare(c: DVec3, verts: &[DVec3]) -> Option<Prepared> {
     if verts.len() < 3 {
         return None;
     }
@@ -197,19 +197,10 @@ impl Query {
     /// `b → a` is exactly its negation.
     #[inline(always)]
     pub(super) fn crosses<I: IntoIterator<Item = DVec3>>(&self, last: DVec3, verts: I) -> bool {
-        let (mut pos, mut neg) = (false, false);
-        let mut a = self.project(last);
-        for v in verts {
-            let b = self.project(v);
-            let s = a.0 * b.1 - a.1 * b.0;
-            pos |= s > 0.0;
-            neg |= s < 0.0;
-            if pos && neg {
-                return false;
-            }
-            a = b;
-        }
-        pos != neg
+        origin_in_closed_polygon(
+            self.project(last),
+            verts.into_iter().map(|v| self.project(v)),
+        )
     }
 
     /// The line parameter of the hit of a polygon the line [`crosses`](Self::crosses)
@@ -231,6 +222,30 @@ impl Query {
         let t = t.max(enter).min(exit) + 0.0;
         t.is_finite().then_some(t)
     }
+}
+
+/// Whether the origin of the plane lies in the closed polygon of the 2D points `points`
+/// (`last` = the last of them, where the walk starts): no two edge functions `a × b` of
+/// opposite signs, and not all of them zero. The edge function of `b → a` is exactly the
+/// negation of that of `a → b`, which makes the test watertight across shared edges (the
+/// module docs of [`super`]). Shared by [`Query::crosses`] and the bundle raster.
+#[inline(always)]
+pub(in crate::accel) fn origin_in_closed_polygon(
+    last: (f64, f64),
+    points: impl Iterator<Item = (f64, f64)>,
+) -> bool {
+    let (mut pos, mut neg) = (false, false);
+    let mut a = last;
+    for b in points {
+        let s = a.0 * b.1 - a.1 * b.0;
+        pos |= s > 0.0;
+        neg |= s < 0.0;
+        if pos && neg {
+            return false;
+        }
+        a = b;
+    }
+    pos != neg
 }
 
 /// The per-query constants of the box tests: the origins of the near and far planes (the

@@ -22,7 +22,7 @@ const WINDOW_SLACK: f64 = 1e-9;
 /// A sheet: the `m × k` quads `q(i, j)`, `i < m`, `j < k`, stored row by row, of the
 /// lattice `P(i, j) ≈ A + i u + j v` (relative to the frame's centre).
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Sheet {
+pub(in crate::accel) struct Sheet {
     a: DVec3,
     u: DVec3,
     v: DVec3,
@@ -37,7 +37,7 @@ pub(super) struct Sheet {
 /// What the tree holds: a polygon (by input index) or a sheet over the `m·k` polygons
 /// `start..` of the input.
 #[derive(Clone, Copy, Debug)]
-pub(super) enum Unit {
+pub(in crate::accel) enum Unit {
     Polygon(usize),
     Sheet(usize, Sheet),
 }
@@ -72,7 +72,7 @@ fn quad(
 /// by row, `q(i, j) = [P(i, j), P(i + 1, j), P(i + 1, j + 1), P(i, j + 1)]` with shared
 /// vertices bit-identical (as scenes cut faces into patches) and every vertex on the
 /// lattice the first quad spans, and single polygons elsewhere. `O(n)`.
-pub(super) fn find_units(
+pub(in crate::accel) fn find_units(
     points: &[DVec3],
     polygons: &[(usize, usize)],
     prepared: &[Option<Prepared>],
@@ -203,13 +203,28 @@ fn make_sheet<Q: Fn(usize) -> Option<[DVec3; 4]>>(
 
 impl Sheet {
     /// Number of quads, `m·k`.
-    pub(super) fn len(&self) -> usize {
+    pub(in crate::accel) fn len(&self) -> usize {
         self.m as usize * self.k as usize
     }
 
     /// Number of quads a row, `m`.
-    pub(super) fn cols(&self) -> u32 {
+    pub(in crate::accel) fn cols(&self) -> u32 {
         self.m
+    }
+
+    /// Number of rows, `k`.
+    pub(in crate::accel) fn rows(&self) -> u32 {
+        self.k
+    }
+
+    /// The ideal lattice `(A, u, v)` (relative to the centre it was found in).
+    pub(in crate::accel) fn lattice(&self) -> [DVec3; 3] {
+        [self.a, self.u, self.v]
+    }
+
+    /// The largest distance of a lattice point from the ideal lattice (with its guard).
+    pub(in crate::accel) fn deviation(&self) -> f64 {
+        self.tau
     }
 
     /// The quads the line may hit, as ranges of columns `i` and rows `j`.
@@ -240,20 +255,79 @@ impl Sheet {
     /// or NaN gives the whole sheet.
     #[inline(always)]
     pub(super) fn window(&self, q: &Query) -> (Range<u32>, Range<u32>) {
-        let a = q.project(self.a);
-        let pu = q.project_dir(self.u);
-        let pv = q.project_dir(self.v);
+        self.window_projected(
+            q.project(self.a),
+            q.project_dir(self.u),
+            q.project_dir(self.v),
+            self.tau,
+        )
+    }
+
+    /// [`Sheet::window`] from the projections on `d^⊥`, relative to the line, of `A`
+    /// (`a`), `u` and `v`, for a lattice deviation `tau` (at least [`Sheet::deviation`];
+    /// more if the projections carry more rounding than the query's).
+    #[inline(always)]
+    pub(in crate::accel) fn window_projected(
+        &self,
+        a: (f64, f64),
+        pu: (f64, f64),
+        pv: (f64, f64),
+        tau: f64,
+    ) -> (Range<u32>, Range<u32>) {
+        self.projected(pu, pv, tau).window(a)
+    }
+
+    /// What [`Sheet::window_projected`] computes from `u`'s and `v`'s projections alone,
+    /// for many lines of one direction.
+    #[inline(always)]
+    pub(in crate::accel) fn projected(
+        &self,
+        pu: (f64, f64),
+        pv: (f64, f64),
+        tau: f64,
+    ) -> ProjectedSheet {
         let det = pu.0 * pv.1 - pu.1 * pv.0;
-        // One division per sheet visit (it was four, and three square roots)
-        let inv_det = 1.0 / det;
+        let norm = |p: (f64, f64)| p.0.abs() + p.1.abs();
+        ProjectedSheet {
+            pu,
+            pv,
+            // One division per sheet visit (it was four, and three square roots)
+            inv_det: 1.0 / det,
+            nu: norm(pu),
+            nv: norm(pv),
+            tau,
+            m: self.m,
+            k: self.k,
+        }
+    }
+}
+
+/// A sheet projected on the plane `d^⊥` of one direction: [`Sheet::window`] for any
+/// line of that direction from the projection of `A` relative to the line.
+#[derive(Clone, Copy, Debug)]
+pub(in crate::accel) struct ProjectedSheet {
+    pu: (f64, f64),
+    pv: (f64, f64),
+    inv_det: f64,
+    nu: f64,
+    nv: f64,
+    tau: f64,
+    m: u32,
+    k: u32,
+}
+
+impl ProjectedSheet {
+    /// The window of [`Sheet::window`] for the line to which `A` projects at `a`.
+    #[inline(always)]
+    pub(in crate::accel) fn window(&self, a: (f64, f64)) -> (Range<u32>, Range<u32>) {
+        let (pu, pv, inv_det, tau) = (self.pu, self.pv, self.inv_det, self.tau);
         let s = (pv.0 * a.1 - pv.1 * a.0) * inv_det;
         let t = (a.0 * pu.1 - a.1 * pu.0) * inv_det;
-        let norm = |p: (f64, f64)| p.0.abs() + p.1.abs();
-        let (na, nu, nv) = (norm(a), norm(pu), norm(pv));
-        let r = na + f64::from(self.m) * nu + f64::from(self.k) * nv + self.tau;
+        let na = a.0.abs() + a.1.abs();
+        let r = na + f64::from(self.m) * self.nu + f64::from(self.k) * self.nv + tau;
         let de = WINDOW_SLACK * r * r;
-        let ws = (de + self.tau * (nv + 2.0 * r)) * inv_det.abs() + WINDOW_SLACK;
-        let wt = (de + self.tau * (nu + 2.0 * r)) * inv_det.abs() + WINDOW_SLACK;
+        let ws = (de + tau * (self.nv + 2.0 * r)) * inv_det.abs() + WINDOW_SLACK;
+        let wt = (de + tau * (self.nu + 2.0 * r)) * inv_det.abs() + WINDOW_SLACK;
         (cells(s, ws, self.m), cells(t, wt, self.k))
     }
 }

@@ -13,13 +13,13 @@ use crate::lines::{
 
 /// Polygons as the BVH takes them.
 #[derive(Clone, Debug, Default)]
-struct Soup {
-    points: Vec<DVec3>,
-    polys: Vec<(usize, usize)>,
+pub(in crate::accel) struct Soup {
+    pub(in crate::accel) points: Vec<DVec3>,
+    pub(in crate::accel) polys: Vec<(usize, usize)>,
 }
 
 impl Soup {
-    fn push(&mut self, verts: &[DVec3]) {
+    pub(in crate::accel) fn push(&mut self, verts: &[DVec3]) {
         self.polys.push((self.points.len(), verts.len()));
         self.points.extend_from_slice(verts);
     }
@@ -29,7 +29,7 @@ impl Soup {
         &self.points[f..f + c]
     }
 
-    fn bvh(&self) -> Bvh3 {
+    pub(in crate::accel) fn bvh(&self) -> Bvh3 {
         Bvh3::build(&self.points, &self.polys).unwrap()
     }
 }
@@ -61,7 +61,7 @@ fn ellipse_polygon<R: rand_core::Rng>(
 
 /// A random soup of `n` polygons in `[-10, 10]³`: tilted triangles to hexagons of sizes
 /// from tiny to large, axis-aligned rectangles, and lattice triangles sharing vertices.
-fn soup(seed: u64, n: usize) -> Soup {
+pub(in crate::accel) fn soup(seed: u64, n: usize) -> Soup {
     let mut rng = chunk_rng(seed, 0);
     let mut s = Soup::default();
     for k in 0..n {
@@ -199,7 +199,13 @@ fn lines_through_vertices_edges_and_axis_aligned_lines_agree() {
 /// into two triangles along alternating diagonals (vertices with 4 to 8 spokes). With
 /// `face_major`, face by face, each row by row as scenes cut faces (the tree makes sheets
 /// of them); else the six faces' patches interleaved (no sheets).
-fn cube_mesh(m: usize, scale: f64, offset: DVec3, triangles: bool, face_major: bool) -> Soup {
+pub(in crate::accel) fn cube_mesh(
+    m: usize,
+    scale: f64,
+    offset: DVec3,
+    triangles: bool,
+    face_major: bool,
+) -> Soup {
     let mut s = Soup::default();
     let p = |(x, y, z): (usize, usize, usize)| {
         offset + DVec3::new(x as f64, y as f64, z as f64) * (scale / m as f64)
@@ -670,7 +676,7 @@ fn line() -> impl Strategy<Value = Line3> {
 }
 
 /// A grid of 1–12 × 1–12 quads with random frame and jitter, among a few loose polygons.
-fn sheet_soup() -> impl Strategy<Value = (Soup, Vec<DVec3>)> {
+pub(in crate::accel) fn sheet_soup() -> impl Strategy<Value = (Soup, Vec<DVec3>)> {
     let vec3 = |r: f64| (-r..r, -r..r, -r..r).prop_map(|(x, y, z)| DVec3::new(x, y, z));
     (
         vec3(20.0),

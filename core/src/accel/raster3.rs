@@ -1,0 +1,549 @@
+//! Every hit of every line of a bundle of parallel lines in 3D, without a tree: the scene's
+//! vertices are projected once per bundle on the plane `d^⊥`, and each polygon is tested
+//! only against the lattice points inside its projected bounds (a rasteriser whose pixels
+//! are the bundle's lines).
+//!
+//! # Method
+//!
+//! A [`GlobalBundle3`] has the direction `d`, the frame `(e₁, e₂)` of `d^⊥` and lattice
+//! points `x = (a, b)` in rows; its line through `x` is `c + a e₁ + b e₂ + t d` (`c` the
+//! sphere's centre). Per bundle:
+//!
+//! ```text
+//! 1. project   P_v = (e₁·(v − c), e₂·(v − c)),  D_v = d·(v − c)    each distinct vertex once
+//! 2. cover     per polygon, the lattice points in its projected bounds grown by δ
+//! 3. cross     E_k = (P_k − x) × (P_{k+1} − x)                     (2D cross product)
+//!              hit ⇔ no two E_k of opposite signs, and not all E_k = 0
+//! 4. depth     t = (n·(p₀ − c) − a n·e₁ − b n·e₂) / n·d,  clamped into [min D_v − δ, max D_v + δ]
+//! ```
+//!
+//! Step 3 is the closed test of [`super::Bvh3`] (module docs there) with the line at `x`:
+//! the polygon is closed, a line in its plane (all `E_k = 0`, or `n·d = 0`) is ignored.
+//! It is **watertight** for the same reason: vertices with the same coordinates are one
+//! vertex here (found once, by their bits, when the scene is prepared), projected once, so
+//! the edge `b → a` of a neighbour gets `(P_b − x) × (P_a − x)`, exactly the negation of
+//! `(P_a − x) × (P_b − x)` (IEEE rounding is symmetric under negation): a line near a
+//! shared edge is caught by at least one of its two polygons. The differences `P − x` are
+//! taken first, so near a shared vertex the rounding of each `E_k` is relative to the
+//! distances of the vertices from the line, and the signs around the vertex keep turning:
+//! no line slips through the seams of a closed mesh (tested on a closed cube mesh far from
+//! the origin). The margin `δ = 10⁻⁹ (‖c‖∞ + r + scale)` (scale: the largest vertex
+//! coordinate) is many orders of magnitude above the rounding of the projections, so the
+//! covered points always contain every point step 3 accepts.
+//!
+//! The arithmetic differs from [`super::Bvh3::all_hits`]' (which projects relative to the
+//! foot of each line), so the two agree on which polygons a line meets except for lines
+//! within rounding (~10⁻¹⁶ of the scene's size) of a polygon's edge, where each is
+//! watertight on its own; `t` agrees to rounding for lines that are not grazing, and both
+//! clamp it into the polygon's extent, so it is always finite (tests compare them on
+//! random scenes and bundles).
+//!
+//! # Sheets
+//!
+//! A face cut into a grid of quads is held as one item, a *sheet* (found as
+//! [`super::Bvh3`] finds them: consecutive quads sharing bit-identical vertices, near a
+//! lattice `A + i u + j v`). Per bundle a sheet costs `O(1)`: the lattice points inside
+//! its projected parallelogram (grown by its deviation from the ideal lattice and the
+//! margin) are its candidates, and each candidate tests only the quads of the window about
+//! its crossing of the lattice, by the same error bound as the BVH's sheets
+//! (`Sheet::window_projected`, with the rounding of these projections, `10⁻¹² (|A − c|₁ +
+//! m|u|₁ + k|v|₁ + r)`, added to the deviation). A quad's vertices are projected when it is
+//! tested, by the same arithmetic as every other vertex, so the seams stay watertight.
+//!
+//! Hits are bucketed per line by a counting sort and each line's hits sorted by `(t,
+//! prim)` like [`super::Bvh3::all_hits`]. A bundle of `m` lines over `n` loose polygons
+//! (not in a sheet) and `s` sheets costs `O(V + n + s + m + candidates)` (`V` distinct
+//! vertices of the loose polygons): no per-line tree walk, so `m` is chosen large enough
+//! that the per-item setup is amortised.
+
+use alloc::vec::Vec;
+
+use crate::geom::DVec3;
+use crate::lines::GlobalBundle3;
+
+use super::bvh3::sheet::{Sheet, Unit, find_units};
+use super::bvh3::{origin_in_closed_polygon, prepare};
+use super::{Hit3, sort_hits};
+
+/// Relative size of the covering margin `δ` (module docs).
+const MARGIN: f64 = 1e-9;
+
+/// Relative size of the rounding of a sheet's projected lattice (module docs, "Sheets").
+const SHEET_ROUNDING: f64 = 1e-12;
+
+/// A polygon list prepared for bundles of parallel lines: sheets of quads, and the other
+/// polygons by their distinct vertices, unit normal and a point of their plane.
+#[derive(Clone, Debug)]
+pub struct ParallelRaster3 {
+    /// The distinct vertices of the polygons outside sheets (by their bits).
+    vertices: Vec<DVec3>,
+    /// Polygon `k`'s vertices are `vertices[corner[k]]` for the entries
+    /// `corners[first[k]..first[k + 1]]`.
+    first: Vec<u32>,
+    corners: Vec<u32>,
+    /// Per polygon outside sheets: its index in the input, unit normal and mean vertex.
+    prim: Vec<u32>,
+    normal: Vec<DVec3>,
+    p0: Vec<DVec3>,
+    /// The sheets, and their quads' vertices row by row (and apart, what only a hit reads:
+    /// their unit normals and mean vertices).
+    sheets: Vec<RasterSheet>,
+    quads: Vec<[DVec3; 4]>,
+    quad_planes: Vec<(DVec3, DVec3)>,
+    /// The largest coordinate magnitude of the vertices (the margin's scale).
+    scale: f64,
+}
+
+/// A sheet: its lattice, its first quad in `quads`, and the input index of its first quad
+/// (quad `o = j·m + i` is input polygon `prim + o`).
+#[derive(Clone, Copy, Debug)]
+struct RasterSheet {
+    sheet: Sheet,
+    first_quad: u32,
+    prim: u32,
+}
+
+/// The hits of the lines of one bundle, bucketed per line (the caller's scratch space,
+/// reused from bundle to bundle without allocating once it has grown).
+#[derive(Clone, Debug, Default)]
+pub struct BundleHits3 {
+    /// Projected vertices `P_v` and depths `D_v` of the current bundle.
+    projected: Vec<[f64; 3]>,
+    rows: Rows,
+    /// The hits as found: `(line, hit)`.
+    found: Vec<(u32, Hit3)>,
+    /// Line `k`'s hits are `hits[start[k]..start[k + 1]]`.
+    start: Vec<u32>,
+    hits: Vec<Hit3>,
+}
+
+/// The rows of a bundle's lattice points: per row, `b`, `first` (in units of `h`), the
+/// number of points and the index of its first line (one more entry: the line count).
+#[derive(Clone, Debug, Default)]
+struct Rows {
+    b: Vec<f64>,
+    first: Vec<f64>,
+    count: Vec<u32>,
+    line: Vec<u32>,
+}
+
+/// What every test of one bundle shares: the frame, the lattice and the margin.
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    c: DVec3,
+    e1: DVec3,
+    e2: DVec3,
+    d: DVec3,
+    h: f64,
+    inv_h: f64,
+    delta: f64,
+    /// `b` of the first row, and the number of rows.
+    first_row_b: f64,
+    rows: i64,
+}
+
+impl Frame {
+    /// `(e₁·(v − c), e₂·(v − c), d·(v − c))`: the projection and depth of a vertex, by the
+    /// one arithmetic every test uses (watertightness needs equal bits for equal vertices).
+    #[inline(always)]
+    fn project(&self, v: DVec3) -> [f64; 3] {
+        let w = v - self.c;
+        [self.e1.dot(w), self.e2.dot(w), self.d.dot(w)]
+    }
+
+    /// The parameter of the hit of the line through `(a, b)` with the plane of unit normal
+    /// `n` through `p0`, clamped into the depths `[near − δ, far + δ]` of the polygon;
+    /// `None` if the line is parallel to the plane or `t` is not finite.
+    #[inline(always)]
+    fn plane_t(&self, n: DVec3, p0: DVec3, a: f64, b: f64, near: f64, far: f64) -> Option<f64> {
+        let nd = n.dot(self.d);
+        if nd == 0.0 {
+            return None;
+        }
+        let t = (n.dot(p0 - self.c) - a * n.dot(self.e1) - b * n.dot(self.e2)) / nd;
+        if t.is_nan() {
+            return None;
+        }
+        // `+ 0.0` turns −0 into +0.
+        let t = t.max(near - self.delta).min(far + self.delta) + 0.0;
+        t.is_finite().then_some(t)
+    }
+}
+
+impl ParallelRaster3 {
+    /// Prepares the polygons `points[first..first + count]`, one per entry of `polygons`
+    /// (hits report indices into `polygons`). Polygons that can never be hit (as for
+    /// [`super::Bvh3::build`]: fewer than three vertices, non-finite ones, zero area) and
+    /// ranges that leave `points` are left out; only the first `2³²` polygons and vertices
+    /// are considered.
+    #[must_use]
+    pub fn new(points: &[DVec3], polygons: &[(usize, usize)]) -> Self {
+        let points = &points[..points.len().min(u32::MAX as usize)];
+        let polygons = &polygons[..polygons.len().min(u32::MAX as usize)];
+        let range = |&(first, count): &(usize, usize)| {
+            first
+                .checked_add(count)
+                .and_then(|end| points.get(first..end))
+        };
+        let prepared: Vec<_> = polygons
+            .iter()
+            .map(|p| range(p).and_then(|v| prepare(DVec3::ZERO, v)))
+            .collect();
+        let mut raster = Self {
+            vertices: Vec::new(),
+            first: alloc::vec![0],
+            corners: Vec::new(),
+            prim: Vec::new(),
+            normal: Vec::new(),
+            p0: Vec::new(),
+            sheets: Vec::new(),
+            quads: Vec::new(),
+            quad_planes: Vec::new(),
+            scale: 0.0,
+        };
+        for p in prepared.iter().flatten() {
+            let size = p.bounds[0].abs().max(p.bounds[1].abs()).max_element();
+            raster.scale = raster.scale.max(size);
+        }
+        // Sheets where the polygons form grids (ranges that leave `points` are not hit)
+        let valid: Vec<_> = polygons
+            .iter()
+            .map(|p| if range(p).is_some() { *p } else { (0, 0) })
+            .collect();
+        let mut loose = Vec::new();
+        for unit in find_units(points, &valid, &prepared, DVec3::ZERO) {
+            match unit {
+                Unit::Polygon(id) => loose.push(id),
+                Unit::Sheet(start, sheet) => {
+                    // Every quad of a sheet is a hittable quad (`find_units` makes sheets of
+                    // nothing else); should one not be, the sheet's polygons go loose
+                    let ids = start..start + sheet.len();
+                    let quads: Option<Vec<_>> = ids
+                        .clone()
+                        .map(|id| match (range(&valid[id]), prepared[id]) {
+                            (Some(&[a, b, c, d]), Some(p)) => Some(([a, b, c, d], (p.n, p.p0))),
+                            _ => None,
+                        })
+                        .collect();
+                    let Some(quads) = quads else {
+                        loose.extend(ids);
+                        continue;
+                    };
+                    raster.sheets.push(RasterSheet {
+                        sheet,
+                        first_quad: raster.quads.len() as u32,
+                        prim: start as u32,
+                    });
+                    for (quad, plane) in quads {
+                        raster.quads.push(quad);
+                        raster.quad_planes.push(plane);
+                    }
+                }
+            }
+        }
+        // The other polygons by their distinct vertices (sorted by their bits)
+        let key = |p: &DVec3| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+        let mut used: Vec<u32> = loose
+            .iter()
+            .flat_map(|&id| {
+                let (first, count) = valid[id];
+                first as u32..(first + count) as u32
+            })
+            .collect();
+        used.sort_unstable_by_key(|&i| key(&points[i as usize]));
+        let mut id = alloc::vec![0u32; points.len()];
+        for (k, &i) in used.iter().enumerate() {
+            let p = points[i as usize];
+            if k == 0 || key(&points[used[k - 1] as usize]) != key(&p) {
+                raster.vertices.push(p);
+            }
+            id[i as usize] = raster.vertices.len() as u32 - 1;
+        }
+        for index in loose {
+            let (first, count) = valid[index];
+            let Some(p) = prepared[index] else { continue };
+            raster.corners.extend(&id[first..first + count]);
+            raster.first.push(raster.corners.len() as u32);
+            raster.prim.push(index as u32);
+            raster.normal.push(p.n);
+            raster.p0.push(p.p0);
+        }
+        raster
+    }
+
+    /// Number of distinct vertices of the polygons outside sheets.
+    #[must_use]
+    pub fn vertex_count(&self) -> usize {
+        self.vertices.len()
+    }
+
+    /// Number of sheets.
+    #[must_use]
+    pub fn sheet_count(&self) -> usize {
+        self.sheets.len()
+    }
+
+    /// Number of items a bundle sets up: sheets and polygons outside them (the `O(n)`
+    /// part of a bundle's cost).
+    #[must_use]
+    pub fn items(&self) -> usize {
+        self.sheets.len() + self.prim.len()
+    }
+
+    /// Finds every hit of every line of `bundle` into `out`: afterwards
+    /// [`BundleHits3::line_hits`]`(k)` holds the hits of line `k` (rows in order, points
+    /// in order within a row; [`BundleHits3::line_point`]), sorted by `t` then `prim`.
+    pub fn cast(&self, bundle: &GlobalBundle3, out: &mut BundleHits3) {
+        let c = bundle.sphere().center;
+        let r = bundle.sphere().radius;
+        let (e1, e2) = bundle.frame();
+        // The rows of lattice points and the index of each row's first line
+        let rows = &mut out.rows;
+        rows.b.clear();
+        rows.first.clear();
+        rows.count.clear();
+        rows.line.clear();
+        let mut lines = 0u32;
+        for k in 0..bundle.rows() {
+            let row = bundle.row(k);
+            rows.b.push(row.b);
+            rows.first.push(row.first);
+            rows.count.push(row.count);
+            rows.line.push(lines);
+            lines = lines.saturating_add(row.count);
+        }
+        rows.line.push(lines);
+        let frame = Frame {
+            c,
+            e1,
+            e2,
+            d: bundle.dir(),
+            h: bundle.spacing(),
+            inv_h: 1.0 / bundle.spacing(),
+            delta: MARGIN * (c.abs().max_element() + r + self.scale),
+            first_row_b: out.rows.b.first().copied().unwrap_or(0.0),
+            rows: i64::from(bundle.rows()),
+        };
+        // Every distinct vertex of the loose polygons projected once
+        out.projected.clear();
+        out.projected
+            .extend(self.vertices.iter().map(|&v| frame.project(v)));
+        out.found.clear();
+        self.cast_polygons(&frame, out);
+        self.cast_sheets(&frame, r, out);
+        // Bucket the hits per line (a counting sort), then sort each line's
+        out.start.clear();
+        out.start.resize(lines as usize + 2, 0);
+        for &(line, _) in &out.found {
+            out.start[line as usize + 2] += 1;
+        }
+        for k in 2..out.start.len() {
+            out.start[k] += out.start[k - 1];
+        }
+        out.hits.clear();
+        out.hits.resize(out.found.len(), Hit3 { t: 0.0, prim: 0 });
+        for &(line, hit) in &out.found {
+            let slot = &mut out.start[line as usize + 1];
+            out.hits[*slot as usize] = hit;
+            *slot += 1;
+        }
+        out.start.pop();
+        for k in 0..lines as usize {
+            let (s, e) = (out.start[k] as usize, out.start[k + 1] as usize);
+            sort_hits(&mut out.hits[s..e]);
+        }
+    }
+
+    /// Each loose polygon against the lattice points of its projected bounds.
+    fn cast_polygons(&self, frame: &Frame, out: &mut BundleHits3) {
+        let BundleHits3 {
+            projected,
+            rows,
+            found,
+            ..
+        } = out;
+        for (k, ((&index, &n), &p0)) in self.prim.iter().zip(&self.normal).zip(&self.p0).enumerate()
+        {
+            let corners = &self.corners[self.first[k] as usize..self.first[k + 1] as usize];
+            let Some(&last) = corners.last() else {
+                continue;
+            };
+            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            for &v in corners {
+                let p = projected[v as usize];
+                lo = [lo[0].min(p[0]), lo[1].min(p[1]), lo[2].min(p[2])];
+                hi = [hi[0].max(p[0]), hi[1].max(p[1]), hi[2].max(p[2])];
+            }
+            let vertex = |v: &u32| projected[*v as usize];
+            let last = projected[last as usize];
+            for_each_candidate(frame, rows, lo, hi, frame.delta, |line, a, b| {
+                if crosses(corners.iter().map(vertex), last, a, b)
+                    && let Some(t) = frame.plane_t(n, p0, a, b, lo[2], hi[2])
+                {
+                    found.push((line, Hit3 { t, prim: index }));
+                }
+            });
+        }
+    }
+}
+
+impl ParallelRaster3 {
+    /// Each sheet against the lattice points of its projected parallelogram, each point
+    /// against the quads of its window (module docs, "Sheets").
+    fn cast_sheets(&self, frame: &Frame, r: f64, out: &mut BundleHits3) {
+        let BundleHits3 { rows, found, .. } = out;
+        for rs in &self.sheets {
+            let sheet = &rs.sheet;
+            let [a0, u, v] = sheet.lattice();
+            let (m, k) = (sheet.cols(), sheet.rows());
+            let pa = frame.project(a0);
+            let pu = [frame.e1.dot(u), frame.e2.dot(u)];
+            let pv = [frame.e1.dot(v), frame.e2.dot(v)];
+            let norm1 = |w: DVec3| w.x.abs() + w.y.abs() + w.z.abs();
+            let size = norm1(a0 - frame.c) + f64::from(m) * norm1(u) + f64::from(k) * norm1(v) + r;
+            let tau = sheet.deviation() + SHEET_ROUNDING * size;
+            // The projected parallelogram's bounds
+            let (mf, kf) = (f64::from(m), f64::from(k));
+            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            for (i, j) in [(0.0, 0.0), (mf, 0.0), (0.0, kf), (mf, kf)] {
+                let x = pa[0] + i * pu[0] + j * pv[0];
+                let y = pa[1] + i * pu[1] + j * pv[1];
+                lo = [lo[0].min(x), lo[1].min(y), 0.0];
+                hi = [hi[0].max(x), hi[1].max(y), 0.0];
+            }
+            let quads = &self.quads[rs.first_quad as usize..][..sheet.len()];
+            let planes = &self.quad_planes[rs.first_quad as usize..][..sheet.len()];
+            for_each_candidate(frame, rows, lo, hi, frame.delta + tau, |line, a, b| {
+                let rel = (pa[0] - a, pa[1] - b);
+                let (cols, rws) = sheet.window_projected(rel, (pu[0], pu[1]), (pv[0], pv[1]), tau);
+                for j in rws {
+                    for i in cols.clone() {
+                        let o = (j * m + i) as usize;
+                        let Some(q) = quads.get(o) else { continue };
+                        // Written out: `q.map(…)` was not inlined (7 % of a cube job)
+                        let p = [
+                            frame.project(q[0]),
+                            frame.project(q[1]),
+                            frame.project(q[2]),
+                            frame.project(q[3]),
+                        ];
+                        if !crosses(p.iter().copied(), p[3], a, b) {
+                            continue;
+                        }
+                        let near = p[0][2].min(p[1][2]).min(p[2][2]).min(p[3][2]);
+                        let far = p[0][2].max(p[1][2]).max(p[2][2]).max(p[3][2]);
+                        let Some(&(n, p0)) = planes.get(o) else {
+                            continue;
+                        };
+                        if let Some(t) = frame.plane_t(n, p0, a, b, near, far) {
+                            found.push((
+                                line,
+                                Hit3 {
+                                    t,
+                                    prim: rs.prim + o as u32,
+                                },
+                            ));
+                        }
+                    }
+                }
+            });
+        }
+    }
+}
+
+/// Calls `f(line, a, b)` for every lattice point `(a, b)` of the bundle inside the box
+/// `[lo, hi]` of the plane (first two coordinates) grown by `grow`.
+#[inline(always)]
+fn for_each_candidate(
+    frame: &Frame,
+    rows: &Rows,
+    lo: [f64; 3],
+    hi: [f64; 3],
+    grow: f64,
+    mut f: impl FnMut(u32, f64, f64),
+) {
+    // Rows whose b lies in [lo₁ − grow, hi₁ + grow] (rows are h apart from the first)
+    let row_lo = ceil_index((lo[1] - grow - frame.first_row_b) * frame.inv_h).max(0);
+    let row_hi = floor_index((hi[1] + grow - frame.first_row_b) * frame.inv_h).min(frame.rows - 1);
+    if row_hi < row_lo {
+        return;
+    }
+    let (x_lo, x_hi) = ((lo[0] - grow) * frame.inv_h, (hi[0] + grow) * frame.inv_h);
+    for row in row_lo as usize..=row_hi as usize {
+        let (b, first, count) = (rows.b[row], rows.first[row], rows.count[row]);
+        let q_lo = ceil_index(x_lo - first).max(0);
+        let q_hi = floor_index(x_hi - first).min(i64::from(count) - 1);
+        for q in q_lo..=q_hi {
+            let a = (first + q as f64) * frame.h;
+            f(rows.line[row] + q as u32, a, b);
+        }
+    }
+}
+
+/// `⌊x⌋` as an integer, for the lattice indices of a bundle (`|x|` far below `2⁶³`; `as`
+/// saturates, and NaN gives 0, which the callers' range checks absorb).
+#[inline(always)]
+fn floor_index(x: f64) -> i64 {
+    // Branch-free: the sign of `x` decides the correction, and it is unpredictable
+    let i = x as i64;
+    i - i64::from((i as f64) > x)
+}
+
+/// `⌈x⌉` as an integer (see [`floor_index`]).
+#[inline(always)]
+fn ceil_index(x: f64) -> i64 {
+    let i = x as i64;
+    i + i64::from((i as f64) < x)
+}
+
+/// Whether the line through `x = (a, b)` crosses the closed polygon of the projected
+/// vertices `corners` (`last` = the last of them): the origin in the polygon of the
+/// differences `P − x` (the closed edge test of [`super::Bvh3`]).
+#[inline(always)]
+fn crosses(corners: impl Iterator<Item = [f64; 3]>, last: [f64; 3], a: f64, b: f64) -> bool {
+    origin_in_closed_polygon(
+        (last[0] - a, last[1] - b),
+        corners.map(|p| (p[0] - a, p[1] - b)),
+    )
+}
+
+impl BundleHits3 {
+    /// Empty scratch space.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Number of lines of the last bundle cast.
+    #[must_use]
+    pub fn lines(&self) -> usize {
+        self.start.len().saturating_sub(1)
+    }
+
+    /// The hits of line `k` of the last bundle cast, sorted by `t` then `prim` (empty for
+    /// `k` beyond the bundle).
+    #[must_use]
+    pub fn line_hits(&self, k: usize) -> &[Hit3] {
+        match (self.start.get(k), self.start.get(k + 1)) {
+            (Some(&s), Some(&e)) => &self.hits[s as usize..e as usize],
+            _ => &[],
+        }
+    }
+
+    /// The lattice point `(a, b)` of line `k` of the last bundle cast (of `bundle`, the
+    /// one cast), or `None` beyond the bundle: pass it to [`GlobalBundle3::line_at`].
+    #[must_use]
+    pub fn line_point(&self, bundle: &GlobalBundle3, k: usize) -> Option<(f64, f64)> {
+        let k = u32::try_from(k).ok()?;
+        let rows = &self.rows;
+        let row = rows.line.partition_point(|&s| s <= k).checked_sub(1)?;
+        let q = k - rows.line[row];
+        (q < *rows.count.get(row)?).then(|| {
+            let a = (rows.first[row] + f64::from(q)) * bundle.spacing();
+            (a, rows.b[row])
+        })
+    }
+}
+
+#[cfg(all(test, feature = "std"))]
+mod tests;

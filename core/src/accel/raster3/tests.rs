@@ -1,0 +1,213 @@
+//! Agreement of [`ParallelRaster3`] with [`Bvh3::all_hits`] and [`all_hits_naive3`] line by
+//! line on random soups, cube meshes and the presets, and watertightness on a closed mesh
+//! far from the origin.
+
+use proptest::prelude::*;
+use std::vec::Vec;
+
+use super::*;
+use crate::accel::bvh3::tests::{Soup, cube_mesh, sheet_soup, soup};
+use crate::accel::{Bvh3, all_hits_naive3};
+use crate::lines::{BoundingSphere, canonical, canonical_2d, chunk_rng};
+
+/// The sphere the tracer would use: circumscribing the soup's bounds.
+fn sphere_of(s: &Soup) -> BoundingSphere {
+    let lo = s.points.iter().fold(DVec3::INFINITY, |a, &p| a.min(p));
+    let hi = s.points.iter().fold(DVec3::NEG_INFINITY, |a, &p| a.max(p));
+    BoundingSphere::of_bounds(lo, hi)
+}
+
+/// Casts one bundle over `s` and compares every line's hits with the BVH's and the naive
+/// loop's for the same `Line3` (built from the line's lattice point by
+/// [`GlobalBundle3::line_at`]). Primitives must agree exactly; `t` within
+/// `10⁻⁶ (r + ‖c‖∞ + scale)`: both compute the plane crossing to rounding (relative
+/// `10⁻¹⁶` of those sizes over the cosine of incidence) and clamp it into the polygon's
+/// extent, so they differ more only for lines within 10⁻⁹ of grazing a polygon, which
+/// random bundles do not produce. Returns the number of hits.
+fn check_bundle(s: &Soup, bvh: &Bvh3, sphere: &BoundingSphere, bundle: &GlobalBundle3) -> usize {
+    let raster = ParallelRaster3::new(&s.points, &s.polys);
+    let mut out = BundleHits3::new();
+    raster.cast(bundle, &mut out);
+    assert_eq!(out.lines() as u64, bundle.len());
+    let scale = s
+        .points
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.abs().max_element()));
+    let bound = 1e-6 * (sphere.radius + sphere.center.abs().max_element() + scale);
+    let (mut tree, mut naive) = (Vec::new(), Vec::new());
+    let mut total = 0;
+    for k in 0..out.lines() {
+        let (a, b) = out.line_point(bundle, k).unwrap();
+        let line = bundle.line_at(a, b);
+        bvh.all_hits(&line, &mut tree);
+        all_hits_naive3(&s.points, &s.polys, &line, &mut naive);
+        assert_eq!(tree, naive);
+        let got = out.line_hits(k);
+        let prims = |h: &[Hit3]| h.iter().map(|h| h.prim).collect::<Vec<_>>();
+        let mut sorted_got = prims(got);
+        let mut sorted_tree = prims(&tree);
+        sorted_got.sort_unstable();
+        sorted_tree.sort_unstable();
+        assert_eq!(sorted_got, sorted_tree, "line {k} ({a}, {b}) of {bundle:?}");
+        for h in got {
+            let t = tree.iter().find(|x| x.prim == h.prim).unwrap().t;
+            assert!((h.t - t).abs() <= bound, "line {k}: t {} vs {t}", h.t);
+        }
+        assert!(got.windows(2).all(|w| w[0].cmp_t_prim(&w[1]).is_lt()));
+        total += got.len();
+    }
+    assert!(out.line_hits(out.lines()).is_empty());
+    assert!(out.line_point(bundle, out.lines()).is_none());
+    total
+}
+
+fn bundle<R: rand_core::Rng>(rng: &mut R, sphere: &BoundingSphere, m: f64) -> GlobalBundle3 {
+    GlobalBundle3::new(sphere, canonical_2d(rng), canonical_2d(rng), m)
+}
+
+proptest! {
+    /// Random soups (tilted polygons of all sizes, axis-aligned rectangles, lattice
+    /// triangles sharing vertices) and random bundles: the same hits as the BVH.
+    #[test]
+    fn bundle_hits_equal_bvh_and_naive(
+        seed in 0u64..1_000_000,
+        n in 1usize..60,
+        m in 1.0f64..400.0,
+    ) {
+        let s = soup(seed, n);
+        let bvh = s.bvh();
+        let sphere = sphere_of(&s);
+        let mut rng = chunk_rng(seed, 1);
+        for _ in 0..3 {
+            check_bundle(&s, &bvh, &sphere, &bundle(&mut rng, &sphere, m));
+        }
+    }
+
+    /// Sheets: tilted, sheared, jittered grids (up to 0.4 of a cell, beyond which no sheet
+    /// is made) among loose polygons.
+    #[test]
+    fn sheet_hits_equal_bvh((s, _) in sheet_soup(), seed in 0u64..1_000_000, m in 1.0f64..600.0) {
+        let bvh = s.bvh();
+        let sphere = sphere_of(&s);
+        let mut rng = chunk_rng(seed, 3);
+        for _ in 0..3 {
+            check_bundle(&s, &bvh, &sphere, &bundle(&mut rng, &sphere, m));
+        }
+    }
+
+    /// Cube meshes of quads or triangles (shared vertices and edges, sheets in the BVH),
+    /// near and far from the origin.
+    #[test]
+    fn cube_mesh_hits_equal_bvh(
+        seed in 0u64..1_000_000,
+        grid in 1usize..7,
+        triangles in any::<bool>(),
+        far in any::<bool>(),
+    ) {
+        let offset = if far { DVec3::new(1e4, -3e3, 7e2) } else { DVec3::splat(-0.5) };
+        let s = cube_mesh(grid, 1.0, offset, triangles, true);
+        let bvh = s.bvh();
+        let sphere = sphere_of(&s);
+        let mut rng = chunk_rng(seed, 2);
+        check_bundle(&s, &bvh, &sphere, &bundle(&mut rng, &sphere, 300.0));
+    }
+}
+
+#[test]
+fn preset_scenes_hits_equal_bvh() {
+    let mut rng = chunk_rng(4, 0);
+    for (name, grid) in [("cornell", 3), ("cubes-512-random", 1), ("octahedron", 2)] {
+        let scene = crate::scene::preset_3d(name, grid).unwrap();
+        let s = Soup {
+            points: scene.points().to_vec(),
+            polys: scene.patches().iter().map(|p| (p.first, p.count)).collect(),
+        };
+        let bvh = s.bvh();
+        let sphere = sphere_of(&s);
+        let hits = check_bundle(&s, &bvh, &sphere, &bundle(&mut rng, &sphere, 2000.0));
+        assert!(hits > 500, "{name}: {hits}");
+    }
+}
+
+#[test]
+fn closed_mesh_far_from_the_origin_is_watertight() {
+    // Every line of many bundles that meets a closed cube mesh crosses it an even number
+    // of times, once crossings at one point of one face (a shared edge) are merged: no
+    // line slips through a seam, none is caught twice.
+    for (triangles, grid) in [(false, 7), (true, 5)] {
+        let s = cube_mesh(grid, 2.0, DVec3::new(3e5, -1e5, 4e4), triangles, true);
+        let raster = ParallelRaster3::new(&s.points, &s.polys);
+        let normals: Vec<DVec3> = s
+            .polys
+            .iter()
+            .map(|&(f, c)| crate::geom::polygon_normal(&s.points[f..f + c]).normalize())
+            .collect();
+        let sphere = sphere_of(&s);
+        let eps = 1e-9 * sphere.radius;
+        let mut rng = chunk_rng(5, 0);
+        let mut out = BundleHits3::new();
+        let mut crossed = 0;
+        for _ in 0..40 {
+            let m = 4000.0 * canonical(&mut rng) + 100.0;
+            let b = bundle(&mut rng, &sphere, m);
+            raster.cast(&b, &mut out);
+            for k in 0..out.lines() {
+                let hits = out.line_hits(k);
+                let mut merged: Vec<(f64, DVec3)> = Vec::new();
+                for h in hits {
+                    let n = normals[h.prim as usize];
+                    let same = merged
+                        .iter()
+                        .any(|&(t, m)| (h.t - t).abs() <= eps && (m - n).length() < 1e-9);
+                    if !same {
+                        merged.push((h.t, n));
+                    }
+                }
+                assert!(
+                    merged.len().is_multiple_of(2),
+                    "line {k} of {b:?}: {} crossings {hits:?}",
+                    merged.len()
+                );
+                crossed += usize::from(!merged.is_empty());
+            }
+        }
+        assert!(crossed > 10_000, "{crossed}");
+    }
+}
+
+#[test]
+fn shared_vertices_are_one_vertex_and_grids_are_sheets() {
+    // A cube mesh of 4 × 4 quads a face, its faces' quads interleaved (no grid in input
+    // order), has 6·16 quads of 4 corners but 98 distinct vertices (6·25 − 12·5 + 8).
+    let s = cube_mesh(4, 1.0, DVec3::ZERO, false, false);
+    let raster = ParallelRaster3::new(&s.points, &s.polys);
+    assert_eq!(s.points.len(), 6 * 16 * 4);
+    assert_eq!((raster.vertex_count(), raster.sheet_count()), (98, 0));
+    // Face by face, row by row: six sheets and no loose polygon.
+    let s = cube_mesh(4, 1.0, DVec3::ZERO, false, true);
+    let raster = ParallelRaster3::new(&s.points, &s.polys);
+    assert_eq!((raster.vertex_count(), raster.sheet_count()), (0, 6));
+}
+
+#[test]
+fn degenerate_polygons_never_hit() {
+    let mut s = Soup::default();
+    s.push(&[DVec3::ZERO, DVec3::X]);
+    s.push(&[DVec3::ZERO, DVec3::X, DVec3::X * 2.0]);
+    s.push(&[DVec3::ZERO, DVec3::NAN, DVec3::Y]);
+    s.push(&[DVec3::ZERO, DVec3::X, DVec3::Y]);
+    let raster = ParallelRaster3::new(&s.points, &s.polys);
+    let sphere = BoundingSphere::of_bounds(DVec3::splat(-1.0), DVec3::splat(1.0));
+    let mut rng = chunk_rng(6, 0);
+    let mut out = BundleHits3::new();
+    for _ in 0..50 {
+        raster.cast(&bundle(&mut rng, &sphere, 500.0), &mut out);
+        for k in 0..out.lines() {
+            assert!(
+                out.line_hits(k)
+                    .iter()
+                    .all(|h| h.prim == 3 && h.t.is_finite())
+            );
+        }
+    }
+}
