@@ -31,9 +31,9 @@ pub fn requested() -> bool {
 /// with [`EXIT_INTERRUPTED`].
 #[derive(Debug)]
 pub struct Interrupted {
-    /// `(lines cast, lines asked for)` when a partial report was printed; `None` when
-    /// nothing was written.
-    pub partial: Option<(u64, u64)>,
+    /// `(lines cast, lines asked for, line budget of the chunks cast)` when a partial
+    /// report was printed; `None` when nothing was written.
+    pub partial: Option<(u64, u64, u64)>,
 }
 
 /// Stops a command whose line job Ctrl-C cut short, before it writes anything.
@@ -51,10 +51,10 @@ pub fn stop_if_requested() -> Result<(), Interrupted> {
 impl std::fmt::Display for Interrupted {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self.partial {
-            Some((done, asked)) => write!(
+            Some((done, asked, budget)) => write!(
                 f,
                 "interrupted: the report covers {done} of the {asked} lines asked for \
-                 (marked partial; --lines {done} gives the same numbers)"
+                 (marked partial; --lines {budget} gives the same numbers)"
             ),
             None => write!(
                 f,

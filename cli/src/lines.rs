@@ -53,6 +53,10 @@ pub struct JobTimes {
     pub wall: f64,
     /// CPU time of the workers from their first chunk to their last, summed, seconds.
     pub worker_cpu: Option<f64>,
+    /// The line budget of the chunks cast (all of the range's unless Ctrl-C stopped the
+    /// job): the lines cast, except for 3D bundles, which cast about their budget. A job of
+    /// `--lines budget_done` casts the same chunks, so it gives the same numbers.
+    pub budget_done: u64,
 }
 
 /// CPU time this thread has run, in seconds (the first field of
@@ -126,6 +130,7 @@ pub fn run_chunks_timed<T: LineTracer + Sync + ?Sized>(
     let times = JobTimes {
         wall: start.elapsed().as_secs_f64(),
         worker_cpu,
+        budget_done: done.load(Ordering::Relaxed),
     };
     (total, times)
 }

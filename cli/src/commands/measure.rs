@@ -35,6 +35,9 @@ pub struct MonteCarlo {
     pub lines: u64,
     /// Lines asked for.
     pub requested: u64,
+    /// The line budget of the chunks cast ([`crate::lines::JobTimes::budget_done`]): after
+    /// Ctrl-C, `--lines budget_done` gives the same numbers.
+    pub budget_done: u64,
     /// Whether Ctrl-C stopped the run before its last chunk.
     pub interrupted: bool,
     /// Seed of the chunk streams.
@@ -63,6 +66,24 @@ pub fn form_factors_of(path: &Path, sampling: &SamplingArgs) -> Result<FormFacto
         return Err(Interrupted { partial: None }.into());
     }
     Ok(ff)
+}
+
+/// Every chunk of an `n_lines` job ([`crate::lines::run_chunks_timed`]).
+fn run_all<T: LineTracer + Sync + ?Sized>(
+    tracer: &T,
+    method: LineMethod,
+    seed: u64,
+    n_lines: u64,
+    threads: usize,
+) -> (LineTally, crate::lines::JobTimes) {
+    crate::lines::run_chunks_timed(
+        tracer,
+        method,
+        seed,
+        n_lines,
+        0..chunk_count(n_lines),
+        threads,
+    )
 }
 
 /// Whether Ctrl-C cut a job of `asked` lines short, given the `done` lines it cast. Global
@@ -146,26 +167,29 @@ fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<
         (None, Loaded::Solid(s)) => (crate::output::exact_3d_form_factors(path, s)?, None),
         (Some(lines), scene) => {
             // A run is cut short only by Ctrl-C (no new chunk starts after it)
-            let (est, done, interrupted) = match scene {
+            let (est, done, budget_done, interrupted) = match scene {
                 Loaded::Flat(s) => {
                     let tracer = FlatTracer::new(s).map_err(at)?;
                     check_supported(&tracer, method, path)?;
-                    let tally = crate::lines::run(&tracer, method, sampling.seed, lines, threads);
+                    let (tally, job) = run_all(&tracer, method, sampling.seed, lines, threads);
                     let (done, cut) = (tally.lines(), cut_short(method, tally.lines(), lines));
-                    (finished(tally.finish(&tracer), done, cut, path)?, done, cut)
+                    let est = finished(tally.finish(&tracer), done, cut, path)?;
+                    (est, done, job.budget_done, cut)
                 }
                 Loaded::Solid(s) => {
                     let tracer = SceneTracer::new(s).map_err(at)?;
                     check_supported(&tracer, method, path)?;
-                    let tally = crate::lines::run(&tracer, method, sampling.seed, lines, threads);
+                    let (tally, job) = run_all(&tracer, method, sampling.seed, lines, threads);
                     let (done, cut) = (tally.lines(), cut_short(method, tally.lines(), lines));
-                    (finished(tally.finish(&tracer), done, cut, path)?, done, cut)
+                    let est = finished(tally.finish(&tracer), done, cut, path)?;
+                    (est, done, job.budget_done, cut)
                 }
             };
             let mc = MonteCarlo {
                 method,
                 lines: done,
                 requested: lines,
+                budget_done,
                 interrupted,
                 seed: sampling.seed,
                 continuous: est.continuous,
@@ -255,7 +279,7 @@ pub fn print_report(
     out.flush()?;
     match mc {
         Some(mc) if mc.partial() => Err(Interrupted {
-            partial: Some((mc.lines, mc.requested)),
+            partial: Some((mc.lines, mc.requested, mc.budget_done)),
         }
         .into()),
         _ => Ok(()),

@@ -46,6 +46,8 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         // The lines cast (bundles of parallel lines in 3D cast about the lines asked for)
         lines: est.lines,
         requested: job.lines,
+        // Merged partials cover the whole job (merge_partials refuses gaps)
+        budget_done: job.lines,
         interrupted: false,
         seed: job.seed,
         continuous: est.continuous,
