@@ -211,3 +211,38 @@ fn degenerate_polygons_never_hit() {
         }
     }
 }
+
+#[test]
+fn the_rooms_cubes_are_one_group_each() {
+    // The 512-cube room: 6 gridded walls are sheets, and each cube's 6 faces (consecutive,
+    // 8 distinct vertices) one group, so a bundle sets up 512 groups, not 3,072 polygons.
+    let scene = crate::scene::preset_3d("cubes-512-random", 1).unwrap();
+    let polys: Vec<_> = scene.patches().iter().map(|p| (p.first, p.count)).collect();
+    let raster = ParallelRaster3::new(scene.points(), &polys);
+    assert_eq!((raster.sheet_count(), raster.prim.len()), (6, 3072));
+    assert_eq!(raster.groups.len(), 512);
+    assert!(raster.groups.iter().all(|g| g.end - g.first == 6));
+    assert!(
+        raster
+            .groups
+            .iter()
+            .all(|g| g.vertices.1 - g.vertices.0 == 8)
+    );
+    // In random soups no group of several polygons breaks the limits
+    for seed in 0..20 {
+        let s = soup(seed, 50);
+        let raster = ParallelRaster3::new(&s.points, &s.polys);
+        for g in &raster.groups {
+            assert!((1..=GROUP_POLYGONS as u32).contains(&(g.end - g.first)));
+            let corners = raster.polygon_corners(g.first as usize).len() as u32;
+            let vertices = g.vertices.1 - g.vertices.0;
+            assert!(
+                vertices <= GROUP_VERTICES as u32 || (g.end - g.first == 1 && vertices <= corners)
+            );
+        }
+        assert_eq!(
+            raster.groups.iter().map(|g| g.end - g.first).sum::<u32>() as usize,
+            raster.prim.len()
+        );
+    }
+}
