@@ -44,10 +44,17 @@
 //! most 8 polygons and 8 distinct vertices whose bounding ball is at most 1.5 times the
 //! largest of their own (a cube's 6 faces: 8 vertices, a ball 1.22 times a face's). A
 //! group's bounds are those of its distinct projected vertices, and every lattice point in
-//! them is tested against every polygon of the group by the exact test of step 3 (without
-//! the early exit, which is a coin toss there; the answer is the same): the hits are the
-//! same as polygon by polygon, and the bounds, row range and branch mispredictions are
-//! paid once per group (the 512-cube room: 512 groups instead of 3,072 polygons).
+//! them is tested against every polygon of the group by the exact test of step 3: the
+//! hits are the same as polygon by polygon, and the bounds and row range are paid once per
+//! group (the 512-cube room: 512 groups instead of 3,072 polygons).
+//!
+//! A group of at most 8 vertices is *compact* (unless a polygon walks an edge twice): at
+//! each candidate its distinct edges' functions are computed once (a cube: 12, not 24),
+//! a polygon's `E_k` being its edge's, negated where it walks the edge backwards, which is
+//! exact (`(P_b − x) × (P_a − x)` has the same two rounded products as `(P_a − x) × (P_b −
+//! x)`, subtracted the other way). The signs go into bit masks and each polygon's test is
+//! a few integer operations, without a branch per polygon (which polygons a candidate
+//! crosses is a coin toss).
 //!
 //! # Sheets
 //!
@@ -101,6 +108,14 @@ pub struct ParallelRaster3 {
     /// "Groups").
     groups: Vec<Group>,
     group_vertices: Vec<u32>,
+    /// The distinct edges `[u, v]` (`u < v`) of compact groups, by the indices of their
+    /// ends among the group's vertices.
+    group_edges: Vec<[u8; 2]>,
+    /// Per loose polygon of a compact group: bit `e` of `edge_mask` is set when edge `e`
+    /// of its group is one of the polygon's, and bit `e` of `reversed_mask` when the
+    /// polygon walks it from `v` to `u`.
+    edge_mask: Vec<u32>,
+    reversed_mask: Vec<u32>,
     /// The sheets, and their quads' vertices row by row (and apart, what only a hit reads:
     /// their unit normals and mean vertices).
     sheets: Vec<RasterSheet>,
@@ -118,6 +133,11 @@ struct Group {
     end: u32,
     /// Its distinct vertices are `group_vertices[vertices.0..vertices.1]`.
     vertices: (u32, u32),
+    /// Whether it is *compact*: at most [`GROUP_VERTICES`] distinct vertices and no edge
+    /// twice in a polygon; then its distinct edges are `group_edges[edges.0..edges.1]`
+    /// and its polygons' edges the masks `edge_mask`, `reversed_mask`.
+    compact: bool,
+    edges: (u32, u32),
 }
 
 /// A group holds at most this many polygons and this many distinct vertices (a cube: 6
@@ -234,6 +254,9 @@ impl ParallelRaster3 {
             p0: Vec::new(),
             groups: Vec::new(),
             group_vertices: Vec::new(),
+            group_edges: Vec::new(),
+            edge_mask: Vec::new(),
+            reversed_mask: Vec::new(),
             sheets: Vec::new(),
             quads: Vec::new(),
             quad_planes: Vec::new(),
@@ -306,6 +329,8 @@ impl ParallelRaster3 {
             raster.normal.push(p.n);
             raster.p0.push(p.p0);
         }
+        raster.edge_mask = alloc::vec![0; raster.prim.len()];
+        raster.reversed_mask = alloc::vec![0; raster.prim.len()];
         raster.group_polygons();
         raster
     }
@@ -375,14 +400,55 @@ impl ParallelRaster3 {
         }
     }
 
-    /// Adds the group of loose polygons `first..end` with the distinct vertices `ids`.
+    /// Adds the group of loose polygons `first..end` with the distinct vertices `ids`,
+    /// and if it is compact its distinct edges and its polygons' edge masks.
     fn push_group(&mut self, first: usize, end: usize, ids: &[u32]) {
         let start = self.group_vertices.len() as u32;
         self.group_vertices.extend(ids);
+        let edge_start = self.group_edges.len();
+        let mut compact = ids.len() <= GROUP_VERTICES;
+        for k in first..end {
+            if !compact {
+                break;
+            }
+            let corners = &self.corners[self.first[k] as usize..self.first[k + 1] as usize];
+            let local = |v: u32| ids.iter().position(|&w| w == v).unwrap_or(0) as u8;
+            let (mut mask, mut reversed) = (0u32, 0u32);
+            let mut a = corners.last().map_or(0, |&v| local(v));
+            for &v in corners {
+                let b = local(v);
+                // A repeated vertex gives `E = 0` exactly: no edge
+                if a != b {
+                    let edge = [a.min(b), a.max(b)];
+                    let e = match self.group_edges[edge_start..]
+                        .iter()
+                        .position(|&x| x == edge)
+                    {
+                        Some(e) => e,
+                        None => {
+                            self.group_edges.push(edge);
+                            self.group_edges.len() - 1 - edge_start
+                        }
+                    };
+                    // At most 28 edges join 8 vertices; an edge walked twice is not compact
+                    compact &= mask & (1 << e) == 0;
+                    mask |= 1 << e;
+                    reversed |= u32::from(a > b) << e;
+                }
+                a = b;
+            }
+            self.edge_mask[k] = mask;
+            self.reversed_mask[k] = reversed;
+        }
+        if !compact {
+            self.group_edges.truncate(edge_start);
+        }
         self.groups.push(Group {
             first: first as u32,
             end: end as u32,
             vertices: (start, self.group_vertices.len() as u32),
+            compact,
+            edges: (edge_start as u32, self.group_edges.len() as u32),
         });
     }
 
@@ -469,56 +535,129 @@ impl ParallelRaster3 {
         }
     }
 
-    /// Each group of loose polygons against the lattice points of the square about its
-    /// projected ball, each point against every polygon of the group.
+    /// Each group of loose polygons against the lattice points of its projected bounds,
+    /// each point against every polygon of the group.
     fn cast_polygons(&self, frame: &Frame, out: &mut BundleHits3) {
+        for group in &self.groups {
+            if group.compact {
+                self.cast_compact_group(frame, group, out);
+            } else {
+                self.cast_group(frame, group, out);
+            }
+        }
+    }
+
+    /// A compact group (module docs, "Groups"): its vertices gathered once, and at each
+    /// candidate each distinct edge function computed once; a polygon's edge functions
+    /// are those of its edges, negated where it walks them backwards (exactly: the
+    /// products commute and the difference changes sign), so the signs are the same as
+    /// [`crosses`]' polygon by polygon.
+    #[inline(always)]
+    fn cast_compact_group(&self, frame: &Frame, group: &Group, out: &mut BundleHits3) {
         let BundleHits3 {
             projected,
             rows,
             found,
             ..
         } = out;
-        for group in &self.groups {
-            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-            for &v in &self.group_vertices[group.vertices.0 as usize..group.vertices.1 as usize] {
-                let p = projected[v as usize];
-                lo = [lo[0].min(p[0]), lo[1].min(p[1]), 0.0];
-                hi = [hi[0].max(p[0]), hi[1].max(p[1]), 0.0];
-            }
-            let polygons = group.first as usize..group.end as usize;
-            for_each_candidate(frame, rows, lo, hi, frame.delta, |line, a, b| {
-                for k in polygons.clone() {
-                    let corners = self.polygon_corners(k);
-                    let Some(&last) = corners.last() else {
-                        continue;
-                    };
-                    let vertex = |v: &u32| projected[*v as usize];
-                    if !crosses_without_exit(
-                        corners.iter().map(vertex),
-                        projected[last as usize],
-                        a,
-                        b,
-                    ) {
-                        continue;
-                    }
-                    let (mut near, mut far) = (f64::INFINITY, f64::NEG_INFINITY);
-                    for &v in corners {
-                        let depth = projected[v as usize][2];
-                        near = near.min(depth);
-                        far = far.max(depth);
-                    }
-                    if let Some(t) = frame.plane_t(self.normal[k], self.p0[k], a, b, near, far) {
-                        found.push((
-                            line,
-                            Hit3 {
-                                t,
-                                prim: self.prim[k],
-                            },
-                        ));
-                    }
-                }
-            });
+        let ids = &self.group_vertices[group.vertices.0 as usize..group.vertices.1 as usize];
+        let mut local = [[0.0f64; 3]; GROUP_VERTICES];
+        for (slot, &v) in local.iter_mut().zip(ids) {
+            *slot = projected[v as usize];
         }
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for p in &local[..ids.len()] {
+            lo = [lo[0].min(p[0]), lo[1].min(p[1]), 0.0];
+            hi = [hi[0].max(p[0]), hi[1].max(p[1]), 0.0];
+        }
+        let edges = &self.group_edges[group.edges.0 as usize..group.edges.1 as usize];
+        let polygons = group.first as usize..group.end as usize;
+        let masks = &self.edge_mask[polygons.clone()];
+        let reversed = &self.reversed_mask[polygons];
+        for_each_candidate(frame, rows, lo, hi, frame.delta, |line, a, b| {
+            let rel = local.map(|p| (p[0] - a, p[1] - b));
+            // Bit e of `gt` (`lt`): edge function e is > 0 (< 0)
+            let (mut gt, mut lt) = (0u32, 0u32);
+            for (e, &[u, v]) in edges.iter().enumerate() {
+                let (p, q) = (
+                    rel[usize::from(u) % GROUP_VERTICES],
+                    rel[usize::from(v) % GROUP_VERTICES],
+                );
+                let s = p.0 * q.1 - p.1 * q.0;
+                gt |= u32::from(s > 0.0) << e;
+                lt |= u32::from(s < 0.0) << e;
+            }
+            // Bit j of `crossed`: the line crosses polygon j of the group (no branch per
+            // polygon: which polygons a candidate crosses is a coin toss)
+            let mut crossed = 0u32;
+            for (j, (&mask, &rev)) in masks.iter().zip(reversed).enumerate() {
+                let pos = ((gt & !rev) | (lt & rev)) & mask;
+                let neg = ((lt & !rev) | (gt & rev)) & mask;
+                crossed |= u32::from((pos != 0) != (neg != 0)) << j;
+            }
+            while crossed != 0 {
+                let k = group.first as usize + crossed.trailing_zeros() as usize;
+                crossed &= crossed - 1;
+                if let Some(hit) = self.polygon_hit(frame, projected, k, a, b) {
+                    found.push((line, hit));
+                }
+            }
+        });
+    }
+
+    /// A group that is not compact: each polygon by [`crosses`].
+    #[inline(always)]
+    fn cast_group(&self, frame: &Frame, group: &Group, out: &mut BundleHits3) {
+        let BundleHits3 {
+            projected,
+            rows,
+            found,
+            ..
+        } = out;
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for &v in &self.group_vertices[group.vertices.0 as usize..group.vertices.1 as usize] {
+            let p = projected[v as usize];
+            lo = [lo[0].min(p[0]), lo[1].min(p[1]), 0.0];
+            hi = [hi[0].max(p[0]), hi[1].max(p[1]), 0.0];
+        }
+        for_each_candidate(frame, rows, lo, hi, frame.delta, |line, a, b| {
+            for k in group.first as usize..group.end as usize {
+                let corners = self.polygon_corners(k);
+                let Some(&last) = corners.last() else {
+                    continue;
+                };
+                let vertex = |v: &u32| projected[*v as usize];
+                if crosses(corners.iter().map(vertex), projected[last as usize], a, b)
+                    && let Some(hit) = self.polygon_hit(frame, projected, k, a, b)
+                {
+                    found.push((line, hit));
+                }
+            }
+        });
+    }
+
+    /// The hit of the line through `(a, b)` with loose polygon `k`, which it crosses: `t`
+    /// from the polygon's plane, clamped into its projected depths.
+    #[inline(always)]
+    fn polygon_hit(
+        &self,
+        frame: &Frame,
+        projected: &[[f64; 3]],
+        k: usize,
+        a: f64,
+        b: f64,
+    ) -> Option<Hit3> {
+        let (mut near, mut far) = (f64::INFINITY, f64::NEG_INFINITY);
+        for &v in self.polygon_corners(k) {
+            let depth = projected[v as usize][2];
+            near = near.min(depth);
+            far = far.max(depth);
+        }
+        let t = frame.plane_t(self.normal[k], self.p0[k], a, b, near, far)?;
+        Some(Hit3 {
+            t,
+            prim: self.prim[k],
+        })
     }
 }
 
@@ -640,29 +779,6 @@ fn crosses(corners: impl Iterator<Item = [f64; 3]>, last: [f64; 3], a: f64, b: f
         (last[0] - a, last[1] - b),
         corners.map(|p| (p[0] - a, p[1] - b)),
     )
-}
-
-/// [`crosses`] without its early exit: every edge function is evaluated, by the same
-/// arithmetic, so the answer is the same (two of opposite signs found early stay found),
-/// but the loop has no data-dependent branch (the polygons of a group are tested at every
-/// candidate, where an early exit is a coin toss).
-#[inline(always)]
-fn crosses_without_exit(
-    corners: impl Iterator<Item = [f64; 3]>,
-    last: [f64; 3],
-    a: f64,
-    b: f64,
-) -> bool {
-    let (mut pos, mut neg) = (false, false);
-    let mut p = (last[0] - a, last[1] - b);
-    for c in corners {
-        let q = (c[0] - a, c[1] - b);
-        let s = p.0 * q.1 - p.1 * q.0;
-        pos |= s > 0.0;
-        neg |= s < 0.0;
-        p = q;
-    }
-    pos != neg
 }
 
 impl BundleHits3 {
