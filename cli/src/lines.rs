@@ -20,14 +20,19 @@ pub fn run<T: LineTracer + Sync + ?Sized>(
     n_lines: u64,
     threads: usize,
 ) -> LineTally {
-    run_chunks(
-        tracer,
-        method,
-        seed,
-        n_lines,
-        0..chunk_count(n_lines),
-        threads,
-    )
+    run_timed(tracer, method, seed, n_lines, threads).0
+}
+
+/// [`run`], also returning what the job cost and the budget of the chunks it cast.
+pub fn run_timed<T: LineTracer + Sync + ?Sized>(
+    tracer: &T,
+    method: LineMethod,
+    seed: u64,
+    n_lines: u64,
+    threads: usize,
+) -> (LineTally, JobTimes) {
+    let all = 0..chunk_count(n_lines);
+    run_chunks_timed(tracer, method, seed, n_lines, all, threads)
 }
 
 /// Casts only the seeded chunks `range` of a job of `n_lines` lines (a partial result;

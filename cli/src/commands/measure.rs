@@ -68,24 +68,6 @@ pub fn form_factors_of(path: &Path, sampling: &SamplingArgs) -> Result<FormFacto
     Ok(ff)
 }
 
-/// Every chunk of an `n_lines` job ([`crate::lines::run_chunks_timed`]).
-fn run_all<T: LineTracer + Sync + ?Sized>(
-    tracer: &T,
-    method: LineMethod,
-    seed: u64,
-    n_lines: u64,
-    threads: usize,
-) -> (LineTally, crate::lines::JobTimes) {
-    crate::lines::run_chunks_timed(
-        tracer,
-        method,
-        seed,
-        n_lines,
-        0..chunk_count(n_lines),
-        threads,
-    )
-}
-
 /// Whether Ctrl-C cut a job of `asked` lines short, given the `done` lines it cast. Global
 /// and local lines cast exactly the lines asked for; 3D bundles about as many, so for them
 /// any Ctrl-C during the run counts.
@@ -171,7 +153,8 @@ fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<
                 Loaded::Flat(s) => {
                     let tracer = FlatTracer::new(s).map_err(at)?;
                     check_supported(&tracer, method, path)?;
-                    let (tally, job) = run_all(&tracer, method, sampling.seed, lines, threads);
+                    let (tally, job) =
+                        crate::lines::run_timed(&tracer, method, sampling.seed, lines, threads);
                     let (done, cut) = (tally.lines(), cut_short(method, tally.lines(), lines));
                     let est = finished(tally.finish(&tracer), done, cut, path)?;
                     (est, done, job.budget_done, cut)
@@ -179,7 +162,8 @@ fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<
                 Loaded::Solid(s) => {
                     let tracer = SceneTracer::new(s).map_err(at)?;
                     check_supported(&tracer, method, path)?;
-                    let (tally, job) = run_all(&tracer, method, sampling.seed, lines, threads);
+                    let (tally, job) =
+                        crate::lines::run_timed(&tracer, method, sampling.seed, lines, threads);
                     let (done, cut) = (tally.lines(), cut_short(method, tally.lines(), lines));
                     let est = finished(tally.finish(&tracer), done, cut, path)?;
                     (est, done, job.budget_done, cut)
