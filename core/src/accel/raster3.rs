@@ -65,8 +65,11 @@
 //! margin) are its candidates, and each candidate tests only the quads of the window about
 //! its crossing of the lattice, by the same error bound as the BVH's sheets
 //! (`Sheet::window_projected`, with the rounding of these projections, `10⁻¹² (|A − c|₁ +
-//! m|u|₁ + k|v|₁ + r)`, added to the deviation). A quad's vertices are projected when it is
-//! tested, by the same arithmetic as every other vertex, so the seams stay watertight.
+//! m|u|₁ + k|v|₁ + r)`, added to the deviation). A quad's vertices are projected by the
+//! same arithmetic as every other vertex, so the seams stay watertight: all the sheets'
+//! distinct vertices once per bundle when they are at most 4 per line of the bundle
+//! (the room's walls: 726 for 1,024 lines), otherwise a tested quad's four at each
+//! candidate (the 99,846-patch cube: about 100,000 vertices).
 //!
 //! Hits are bucketed per line by a counting sort and each line's hits sorted by `(t,
 //! prim)` like [`super::Bvh3::all_hits`]. A bundle of `m` lines over `n` loose polygons
@@ -121,6 +124,12 @@ pub struct ParallelRaster3 {
     sheets: Vec<RasterSheet>,
     quads: Vec<[DVec3; 4]>,
     quad_planes: Vec<(DVec3, DVec3)>,
+    /// The distinct vertices of all sheets' quads (by their bits), and each quad's
+    /// corners among them: a bundle of at least a quarter as many lines projects them all
+    /// once instead of a tested quad's four at each candidate (the same arithmetic, so
+    /// the same bits).
+    sheet_vertices: Vec<DVec3>,
+    quad_corners: Vec<[u32; 4]>,
     /// The largest coordinate magnitude of the vertices (the margin's scale).
     scale: f64,
 }
@@ -165,6 +174,8 @@ struct RasterSheet {
 pub struct BundleHits3 {
     /// Projected vertices `P_v` and depths `D_v` of the current bundle.
     projected: Vec<[f64; 3]>,
+    /// The sheets' vertices projected, when the bundle projects them all.
+    sheet_projected: Vec<[f64; 3]>,
     rows: Rows,
     /// The hits as found: `(line, hit)`.
     found: Vec<(u32, Hit3)>,
@@ -260,6 +271,8 @@ impl ParallelRaster3 {
             sheets: Vec::new(),
             quads: Vec::new(),
             quad_planes: Vec::new(),
+            sheet_vertices: Vec::new(),
+            quad_corners: Vec::new(),
             scale: 0.0,
         };
         for p in prepared.iter().flatten() {
@@ -302,24 +315,25 @@ impl ParallelRaster3 {
                 }
             }
         }
+        // The sheets' quads by their distinct vertices (sorted by their bits)
+        let corners: Vec<DVec3> = raster.quads.iter().flatten().copied().collect();
+        let mut corner_id = alloc::vec![0u32; corners.len()];
+        let all = (0..corners.len() as u32).collect();
+        distinct_by_bits(&corners, all, &mut raster.sheet_vertices, &mut corner_id);
+        raster.quad_corners = corner_id
+            .chunks_exact(4)
+            .map(|c| [c[0], c[1], c[2], c[3]])
+            .collect();
         // The other polygons by their distinct vertices (sorted by their bits)
-        let key = |p: &DVec3| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
-        let mut used: Vec<u32> = loose
+        let used: Vec<u32> = loose
             .iter()
             .flat_map(|&id| {
                 let (first, count) = valid[id];
                 first as u32..(first + count) as u32
             })
             .collect();
-        used.sort_unstable_by_key(|&i| key(&points[i as usize]));
         let mut id = alloc::vec![0u32; points.len()];
-        for (k, &i) in used.iter().enumerate() {
-            let p = points[i as usize];
-            if k == 0 || key(&points[used[k - 1] as usize]) != key(&p) {
-                raster.vertices.push(p);
-            }
-            id[i as usize] = raster.vertices.len() as u32 - 1;
-        }
+        distinct_by_bits(points, used, &mut raster.vertices, &mut id);
         for index in loose {
             let (first, count) = valid[index];
             let Some(p) = prepared[index] else { continue };
@@ -509,6 +523,11 @@ impl ParallelRaster3 {
         out.projected.clear();
         out.projected
             .extend(self.vertices.iter().map(|&v| frame.project(v)));
+        out.sheet_projected.clear();
+        if self.sheet_vertices.len() <= 4 * lines as usize {
+            out.sheet_projected
+                .extend(self.sheet_vertices.iter().map(|&v| frame.project(v)));
+        }
         out.found.clear();
         self.cast_polygons(&frame, out);
         self.cast_sheets(&frame, r, out);
@@ -665,7 +684,13 @@ impl ParallelRaster3 {
     /// Each sheet against the lattice points of its projected parallelogram, each point
     /// against the quads of its window (module docs, "Sheets").
     fn cast_sheets(&self, frame: &Frame, r: f64, out: &mut BundleHits3) {
-        let BundleHits3 { rows, found, .. } = out;
+        let BundleHits3 {
+            rows,
+            found,
+            sheet_projected,
+            ..
+        } = out;
+        let all_projected = !sheet_projected.is_empty();
         for rs in &self.sheets {
             let sheet = &rs.sheet;
             let [a0, u, v] = sheet.lattice();
@@ -687,20 +712,27 @@ impl ParallelRaster3 {
             }
             let quads = &self.quads[rs.first_quad as usize..][..sheet.len()];
             let planes = &self.quad_planes[rs.first_quad as usize..][..sheet.len()];
+            let quad_corners = &self.quad_corners[rs.first_quad as usize..][..sheet.len()];
             for_each_candidate(frame, rows, lo, hi, frame.delta + tau, |line, a, b| {
                 let rel = (pa[0] - a, pa[1] - b);
                 let (cols, rws) = sheet.window_projected(rel, (pu[0], pu[1]), (pv[0], pv[1]), tau);
                 for j in rws {
                     for i in cols.clone() {
                         let o = (j * m + i) as usize;
-                        let Some(q) = quads.get(o) else { continue };
+                        let (Some(q), Some(c)) = (quads.get(o), quad_corners.get(o)) else {
+                            continue;
+                        };
+                        let vertex = |k: usize| sheet_projected.get(c[k] as usize).copied();
                         // Written out: `q.map(…)` was not inlined (7 % of a cube job)
-                        let p = [
-                            frame.project(q[0]),
-                            frame.project(q[1]),
-                            frame.project(q[2]),
-                            frame.project(q[3]),
-                        ];
+                        let p = match (all_projected, vertex(0), vertex(1), vertex(2), vertex(3)) {
+                            (true, Some(p0), Some(p1), Some(p2), Some(p3)) => [p0, p1, p2, p3],
+                            _ => [
+                                frame.project(q[0]),
+                                frame.project(q[1]),
+                                frame.project(q[2]),
+                                frame.project(q[3]),
+                            ],
+                        };
                         if !crosses(p.iter().copied(), p[3], a, b) {
                             continue;
                         }
@@ -722,6 +754,25 @@ impl ParallelRaster3 {
                 }
             });
         }
+    }
+}
+
+/// Appends the distinct points (by their bits) among `points[i]`, `i` in `used`, to
+/// `distinct` (sorted by their bits), and sets `id[i]` to each one's index there.
+fn distinct_by_bits(
+    points: &[DVec3],
+    mut used: Vec<u32>,
+    distinct: &mut Vec<DVec3>,
+    id: &mut [u32],
+) {
+    let key = |p: &DVec3| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+    used.sort_unstable_by_key(|&i| key(&points[i as usize]));
+    for (k, &i) in used.iter().enumerate() {
+        let p = points[i as usize];
+        if k == 0 || key(&points[used[k - 1] as usize]) != key(&p) {
+            distinct.push(p);
+        }
+        id[i as usize] = distinct.len() as u32 - 1;
     }
 }
 

@@ -187,6 +187,11 @@ fn shared_vertices_are_one_vertex_and_grids_are_sheets() {
     let s = cube_mesh(4, 1.0, DVec3::ZERO, false, true);
     let raster = ParallelRaster3::new(&s.points, &s.polys);
     assert_eq!((raster.vertex_count(), raster.sheet_count()), (0, 6));
+    // The sheets' quads by their 98 distinct vertices, the same points as the quads'
+    assert_eq!(raster.sheet_vertices.len(), 98);
+    for (q, c) in raster.quads.iter().zip(&raster.quad_corners) {
+        assert!((0..4).all(|k| raster.sheet_vertices[c[k] as usize] == q[k]));
+    }
 }
 
 #[test]
