@@ -32,6 +32,12 @@
 //! turn by small steps), so each line's bucket fills nearly sorted and its sort moves few
 //! hits: 8 % less time on the 64-squares room, none measurable on the triangle (session
 //! 4, repaired every bundle); repairing it only every ~32 bundles saved another 12 %.
+//!
+//! [`ParallelSweep::cast_unsorted`] skips the sort: a caller that checks the gaps between
+//! consecutive hits anyway (the tally's `eps` test) knows that a line whose gaps are all
+//! positive is strictly increasing in `t`, hence already in the order `(t, prim)`, and
+//! sorts only the other lines ([`BundleHits::sort_line`]): 9–12 % less time on the
+//! 64-squares room (session 5), the same hits and the same results bit for bit.
 
 use alloc::vec::Vec;
 
@@ -118,6 +124,20 @@ impl ParallelSweep {
     /// [`BundleHits::line_hits`]`(k)` is exactly [`super::all_hits_naive`] of
     /// `bundle.line(k)`.
     pub fn cast(&self, bundle: &GlobalBundle2, out: &mut BundleHits) {
+        self.cast_unsorted(bundle, out);
+        for k in 0..out.lines() {
+            out.sort_line(k);
+        }
+    }
+
+    /// [`ParallelSweep::cast`] without the per-line sort: afterwards
+    /// [`BundleHits::line_hits`]`(k)` holds the hits of [`super::all_hits_naive`] of
+    /// `bundle.line(k)` in the order they were found (the segments' depth order, nearly
+    /// the order of `t`), and [`BundleHits::sort_line`]`(k)` puts them in the order of
+    /// `all_hits`. A line whose hits found are strictly increasing in `t` already is in
+    /// that order (`(t, prim)` is then decided by `t` alone), which is what a caller
+    /// checking the gaps between consecutive hits learns for free.
+    pub(crate) fn cast_unsorted(&self, bundle: &GlobalBundle2, out: &mut BundleHits) {
         let m = bundle.len();
         let mu = m as usize;
         let circle = bundle.circle();
@@ -200,10 +220,6 @@ impl ParallelSweep {
                 }
             }
         }
-        // Each line's hits in the order of all_hits
-        for (&s, &e) in out.start.iter().zip(&out.end) {
-            sort_nearly_sorted(&mut out.hits[s..e]);
-        }
     }
 }
 
@@ -214,12 +230,32 @@ impl BundleHits {
         Self::default()
     }
 
-    /// The hits of line `k` of the last bundle cast, sorted by `t` then `prim` (empty for
-    /// `k` beyond the bundle).
+    /// The hits of line `k` of the last bundle cast, sorted by `t` then `prim` after
+    /// [`ParallelSweep::cast`] or [`BundleHits::sort_line`] (empty for `k` beyond the
+    /// bundle).
     #[must_use]
     pub fn line_hits(&self, k: usize) -> &[Hit2] {
         match (self.start.get(k), self.end.get(k)) {
             (Some(&s), Some(&e)) => &self.hits[s..e],
+            _ => &[],
+        }
+    }
+
+    /// Number of lines of the last bundle cast.
+    #[must_use]
+    pub fn lines(&self) -> usize {
+        self.end.len()
+    }
+
+    /// Sorts the hits of line `k` by `t` then `prim` (the order of
+    /// [`super::Bvh2::all_hits`]) and returns them (empty for `k` beyond the bundle).
+    pub fn sort_line(&mut self, k: usize) -> &[Hit2] {
+        match (self.start.get(k), self.end.get(k)) {
+            (Some(&s), Some(&e)) => {
+                let line = &mut self.hits[s..e];
+                sort_nearly_sorted(line);
+                line
+            }
             _ => &[],
         }
     }
@@ -369,6 +405,19 @@ mod tests {
             assert_eq!(naive, tree);
         }
         assert!(out.line_hits(m as usize).is_empty());
+        // The unsorted cast: the same hits, already in order wherever `t` strictly
+        // increases, and in order once sorted
+        let mut unsorted = out.clone();
+        sweep.cast_unsorted(&bundle, &mut unsorted);
+        assert_eq!(unsorted.lines(), m as usize);
+        for k in 0..m as usize {
+            let found = unsorted.line_hits(k).to_vec();
+            if found.windows(2).all(|w| w[0].t < w[1].t) {
+                assert_eq!(found, out.line_hits(k), "line {k}");
+            }
+            assert_eq!(unsorted.sort_line(k), out.line_hits(k), "line {k}");
+        }
+        assert!(unsorted.sort_line(m as usize).is_empty());
     }
 
     proptest! {

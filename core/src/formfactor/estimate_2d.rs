@@ -304,7 +304,9 @@ impl FlatTracer {
             blocks,
             cos,
         } = scratch;
-        self.sweep.cast(bundle, hits);
+        // Each line's hits in the order found; a line is sorted below only if its hits
+        // are not strictly increasing in `t` (then they are in the order of all_hits)
+        self.sweep.cast_unsorted(bundle, hits);
         let dir = bundle.dir();
         let (mut sum, mut samples) = (0.0, 0u64);
         let mut line_by_line = |line: &[Hit2], tally: &mut LineTally| {
@@ -315,7 +317,7 @@ impl FlatTracer {
         };
         if tally.radiosity().is_some() {
             for k in 0..bundle.len() as usize {
-                line_by_line(hits.line_hits(k), tally);
+                line_by_line(hits.sort_line(k), tally);
             }
             return (sum, samples);
         }
@@ -323,12 +325,22 @@ impl FlatTracer {
         cos.clear();
         cos.extend(self.normals.iter().map(|n| dir.dot(*n)));
         let eps = 1e-12 * self.circle.radius;
+        let gap_floor = eps.max(0.0);
+        let separated =
+            |line: &[Hit2], floor: f64| line.windows(2).all(|w| !(w[1].t - w[0].t <= floor));
         let mut fast_samples = 0u64;
         for k in 0..bundle.len() as usize {
-            let line = hits.line_hits(k);
-            if !line.windows(2).all(|w| !(w[1].t - w[0].t <= eps)) {
-                line_by_line(line, tally);
-                continue;
+            let mut line = hits.line_hits(k);
+            // Gaps all above eps (≥ 0; finite `t`): strictly increasing, so already in
+            // the order of all_hits. Else sorted first, and tallied line by line if two
+            // hits lie within eps (the decision all_hits' order gives)
+            if !separated(line, gap_floor) {
+                let sorted = hits.sort_line(k);
+                if !separated(sorted, eps) {
+                    line_by_line(sorted, tally);
+                    continue;
+                }
+                line = sorted;
             }
             // Every hit a sample; a hit facing along the line followed by one facing back
             // is a segment between them (as `global_hit_terms` counts a line)
