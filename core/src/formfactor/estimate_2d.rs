@@ -576,6 +576,7 @@ pub fn estimate(
 mod tests {
     use super::*;
     use crate::formfactor::exact_2d;
+    use crate::formfactor::tally::test_support::{lone_lines_as_one_group, merged_in_reverse};
     use alloc::{format, vec};
 
     #[test]
@@ -621,17 +622,6 @@ mod tests {
         );
     }
 
-    /// The chunks of a job tallied separately and merged in reverse order.
-    fn merged_in_reverse(tracer: &FlatTracer, method: LineMethod, seed: u64, n: u64) -> LineTally {
-        let mut merged = tracer.new_tally(method);
-        for chunk in (0..crate::lines::chunk_count(n)).rev() {
-            let mut t = tracer.new_tally(method);
-            tracer.trace_chunk(seed, n, chunk, &mut t);
-            merged.merge(&t);
-        }
-        merged
-    }
-
     #[test]
     fn bundles_same_bits_any_chunking() {
         // Two whole chunks and a ragged last one (a smaller sheaf, then a single bundle).
@@ -664,23 +654,17 @@ mod tests {
         }
         sum += FlatTracer::drain_blocks(&mut scratch.blocks, &mut by_sweep);
         by_sweep.end_group(sum, n, lines);
-        let mut by_bvh = tracer.new_tally(LineMethod::Global);
         let (mut hits, mut crossings) = (Vec::new(), Vec::new());
-        let (mut sum_bvh, mut n_bvh) = (0.0, 0);
-        for bundle in bundles {
-            for k in 0..bundle.len() {
-                let line = bundle.line(k);
+        let (by_bvh, _) = lone_lines_as_one_group(
+            tracer.new_tally(LineMethod::Global),
+            bundles.iter().flat_map(|b| (0..b.len()).map(|k| b.line(k))),
+            lines,
+            |line, tally| {
                 tracer.bvh.all_hits(&line, &mut hits);
-                let terms = tracer.global_line_terms(line.dir, &hits, &mut crossings, &mut by_bvh);
-                if let Some((s, c)) = terms {
-                    sum_bvh += s;
-                    n_bvh += c;
-                }
-            }
-        }
-        by_bvh.end_group(sum_bvh, n_bvh, lines);
+                tracer.global_line_terms(line.dir, &hits, &mut crossings, tally)
+            },
+        );
         by_sweep.counts.settle();
-        by_bvh.counts.settle();
         (by_sweep, by_bvh)
     }
 

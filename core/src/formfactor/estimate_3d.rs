@@ -358,17 +358,8 @@ pub fn estimate(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lines::{CHUNK_LINES, chunk_count};
-
-    fn merged_in_reverse(tracer: &SceneTracer, method: LineMethod, seed: u64, n: u64) -> LineTally {
-        let mut merged = tracer.new_tally(method);
-        for chunk in (0..chunk_count(n)).rev() {
-            let mut t = tracer.new_tally(method);
-            tracer.trace_chunk(seed, n, chunk, &mut t);
-            merged.merge(&t);
-        }
-        merged
-    }
+    use crate::formfactor::tally::test_support::{lone_lines_as_one_group, merged_in_reverse};
+    use crate::lines::CHUNK_LINES;
 
     #[test]
     fn bundles_same_bits_any_chunking_and_about_the_lines_asked_for() {
@@ -407,22 +398,19 @@ mod tests {
             let mut scratch = (BundleHits3::new(), Vec::new());
             let (sum, n, lines) = tracer.tally_bundle(&bundle, &mut scratch, &mut by_raster);
             by_raster.end_group(sum, n, lines);
-            let mut by_bvh = tracer.new_tally(LineMethod::Global);
             let (mut hits, mut crossings) = (Vec::new(), Vec::new());
-            let (mut sum_bvh, mut n_bvh) = (0.0, 0);
-            for k in 0..scratch.0.lines() {
-                let (a, b) = scratch.0.line_point(&bundle, k).unwrap();
-                let line = bundle.line_at(a, b);
-                tracer.bvh.all_hits(&line, &mut hits);
-                let terms = tracer.global_line_terms(line.dir, &hits, &mut crossings, &mut by_bvh);
-                if let Some((s, c)) = terms {
-                    sum_bvh += s;
-                    n_bvh += c;
-                }
-            }
-            by_bvh.end_group(sum_bvh, n_bvh, lines);
+            let (mut by_bvh, (sum_bvh, n_bvh)) = lone_lines_as_one_group(
+                tracer.new_tally(LineMethod::Global),
+                0..scratch.0.lines(),
+                lines,
+                |k, tally| {
+                    let (a, b) = scratch.0.line_point(&bundle, k).unwrap();
+                    let line = bundle.line_at(a, b);
+                    tracer.bvh.all_hits(&line, &mut hits);
+                    tracer.global_line_terms(line.dir, &hits, &mut crossings, tally)
+                },
+            );
             by_raster.counts.settle();
-            by_bvh.counts.settle();
             assert_eq!(lines, bundle.len());
             assert_eq!(by_raster.leaves, by_bvh.leaves, "bundle of {m}");
             assert_eq!(n, n_bvh);

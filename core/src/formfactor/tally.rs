@@ -599,3 +599,47 @@ pub(crate) fn trace_chunk_lines<H>(
     // Counts are observed only between chunks: apply the increments held back
     tally.counts.settle();
 }
+
+/// Test support shared by the flatland and 3D tracers' tests.
+#[cfg(test)]
+pub(crate) mod test_support {
+    use super::{LineMethod, LineTally, LineTracer};
+
+    /// The chunks of a job tallied separately and merged in reverse order.
+    pub(crate) fn merged_in_reverse<T: LineTracer + ?Sized>(
+        tracer: &T,
+        method: LineMethod,
+        seed: u64,
+        n: u64,
+    ) -> LineTally {
+        let mut merged = tracer.new_tally(method);
+        for chunk in (0..crate::lines::chunk_count(n)).rev() {
+            let mut t = tracer.new_tally(method);
+            tracer.trace_chunk(seed, n, chunk, &mut t);
+            merged.merge(&t);
+        }
+        merged
+    }
+
+    /// `lines` cast one by one, each tallied into `tally` by `terms` as a lone global line
+    /// (`Some((Σ terms, samples))`, or `None` for a degenerate line), all closed as one
+    /// group of `group_lines` lines; the counts settled. Returns the tally and the group's
+    /// `(Σ terms, samples)`: what a bundle's tally is compared against.
+    pub(crate) fn lone_lines_as_one_group<L>(
+        mut tally: LineTally,
+        lines: impl IntoIterator<Item = L>,
+        group_lines: u64,
+        mut terms: impl FnMut(L, &mut LineTally) -> Option<(f64, u64)>,
+    ) -> (LineTally, (f64, u64)) {
+        let (mut sum, mut n) = (0.0, 0);
+        for line in lines {
+            if let Some((s, c)) = terms(line, &mut tally) {
+                sum += s;
+                n += c;
+            }
+        }
+        tally.end_group(sum, n, group_lines);
+        tally.counts.settle();
+        (tally, (sum, n))
+    }
+}
