@@ -393,7 +393,9 @@ fn visible_intervals(
         // j's full segment gives its line accurately even when the clipped piece is a sliver.
         let r_j = ray_line_distance(x, d, ja, jb);
         let r_k = ray_line_distance(x, d, q0, q1);
-        if r_k < r_j {
+        // A ray (nearly) parallel to the occluder meets its line nowhere or behind x: no
+        // shadow, whatever rounding made of the overlap.
+        if r_k.is_finite() && r_k > 0.0 && r_k < r_j {
             shadows.push((s_lo, s_hi));
         }
     }
@@ -548,6 +550,21 @@ fn occluded_flux<'a>(
             if inside {
                 scratch.events.push(t);
             }
+        }
+    }
+    // Where an occluder is seen edge-on (its own line crosses the patch): its angular span
+    // shrinks to nothing and flips, and the depth test of `visible_intervals` along that
+    // span's middle direction would run parallel to the occluder. One of its ends may lie
+    // outside the sight region (so no pair of candidate points gives this event): without
+    // it, a sub-interval's midpoint could fall on the edge-on position and a shadow of zero
+    // width but with far-apart bounding points would be integrated over the whole
+    // sub-interval (fuzz_refine, tests/data/fuzz/fuzz_refine/ci_session5_split_crash.bin).
+    for &(q0, q1) in &scratch.occluders {
+        if let Some(t) = line_crossing_axis(q0, q1)
+            && t > 0.0
+            && t < len_i
+        {
+            scratch.events.push(t);
         }
     }
     scratch.events.sort_unstable_by(f64::total_cmp);
@@ -912,6 +929,28 @@ mod tests {
         let last = scene.n_patches() - 1;
         assert_eq!(pair_flux(&scene, 0, last).unwrap(), 0.0);
         assert_eq!(pair_flux(&scene, last, 0).unwrap(), 0.0);
+    }
+
+    /// An occluder touching the target from behind (its end on the target, the rest beyond
+    /// it) hides nothing, even where the source sees it edge-on at the midpoint between two
+    /// visibility events. Found by `fuzz_refine`: integrated over `i`, the flux came out
+    /// 1.681009 instead of 1.767767, so `L_i F_ij ≠ L_j F_ji` and a split changed the
+    /// background's size. Both directions must equal the unoccluded crossed strings.
+    #[cfg(feature = "alloc")]
+    #[test]
+    fn occluder_touching_the_target_from_behind_hides_nothing() {
+        let open = crate::io::parse_flat("seg 2 4.5 0 5\nseg 0 5 2.5 2.5\n").unwrap();
+        let touched =
+            crate::io::parse_flat("seg 2 4.5 0 5\nseg 0 5 2.5 2.5\nseg 1 2 1 4\n").unwrap();
+        let free = pair_flux(&open, 0, 1).unwrap();
+        assert!(
+            (free - 1.25 * core::f64::consts::SQRT_2).abs() < 1e-12,
+            "{free}"
+        );
+        for (i, j) in [(0, 1), (1, 0)] {
+            let flux = pair_flux(&touched, i, j).unwrap();
+            assert!((flux - free).abs() < 1e-12, "{i} → {j}: {flux} vs {free}");
+        }
     }
 
     /// A 10⁴ × 10⁻³ quadrilateral (aspect 10⁷) in 4 patches per side: every row of the
