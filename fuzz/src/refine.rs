@@ -34,21 +34,16 @@ pub const MAX_SPLITS: usize = 6;
 /// leaves a wide margin while catching any real disagreement.
 pub const GAIN_TOLERANCE: f64 = 1e-8;
 
-/// Shortest patch, relative to the scene's bounding-box diagonal, below which the exact
-/// flatland form factors lose digits to cancellation (distances of order 1 differenced
-/// over a piece 10⁻⁶ as long: rows drift by ~10⁻¹⁰ and worse, see `tests/extremes.rs`), so
-/// that Proposition 3's 1e-9 check on the split may fail on their rounding. For such
-/// scenes a refused split is accepted; an accepted one must still satisfy everything.
-pub const RESOLVED_PATCH: f64 = 1.0 / exact_2d::RESOLVED_RANGE;
-
-/// Whether every patch of `scene` is at least [`RESOLVED_PATCH`] of its extent.
+/// Whether the exact flatland form factors of `scene` are within their guarantee: its
+/// extent is at most [`exact_2d::RESOLVED_RANGE`] times its smallest feature — the
+/// shortest patch or the closest approach of a surface's end to another surface
+/// ([`exact_2d::feature_range`]). Beyond it, distances of the scene's size are differenced
+/// over a feature 10⁶ times smaller and rows drift by ~10⁻¹⁰ and worse (see
+/// `tests/extremes.rs`; a triangle 4·10¹¹ long and 0.14 wide lost 0.08 of a row), so
+/// Proposition 3's 1e-9 check on the split may fail on their rounding. For such scenes a
+/// refused split is accepted; an accepted one must still satisfy everything.
 fn resolved(scene: &FlatScene) -> bool {
-    let (lo, hi) = scene.bounds();
-    let extent = (hi - lo).length();
-    scene
-        .patches()
-        .iter()
-        .all(|p| p.length >= RESOLVED_PATCH * extent)
+    exact_2d::feature_range(scene) <= exact_2d::RESOLVED_RANGE
 }
 
 /// One fuzz case: the scene text and the splits `(patch selector, t)`. Its `Debug`

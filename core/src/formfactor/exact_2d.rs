@@ -725,7 +725,7 @@ fn check_closure(scene: &FlatScene, lengths: &[f64], f: &[f64]) -> Result<()> {
             return Err(ErrorKind::PrecisionLoss {
                 patch,
                 sum,
-                range: feature_range(scene, lengths),
+                range: feature_range(scene),
             }
             .into());
         }
@@ -737,12 +737,18 @@ fn check_closure(scene: &FlatScene, lengths: &[f64], f: &[f64]) -> Result<()> {
 /// or the closest approach of a surface's end to another surface it does not end on (a
 /// vertex a hair's breadth from a long wall is a feature as small as that gap, whatever the
 /// patch lengths). Ends that touch another surface exactly are joints, not features.
-/// [`RESOLVED_RANGE`] bounds this ratio. Costs `O(surfaces²)`: computed only to explain a
-/// [`ErrorKind::PrecisionLoss`].
+/// Up to [`RESOLVED_RANGE`], [`form_factors`] guarantees rows that close within 1e-9 and
+/// reciprocal fluxes; beyond it, rounding may move a row by more (rows that sum above one are
+/// refused with [`ErrorKind::PrecisionLoss`], rows that fall short read as an open scene).
+/// Costs `O(surfaces²)`.
 #[cfg(feature = "alloc")]
-fn feature_range(scene: &FlatScene, lengths: &[f64]) -> f64 {
+#[must_use]
+pub fn feature_range(scene: &FlatScene) -> f64 {
     let (lo, hi) = scene.bounds();
-    let mut smallest = lengths.iter().fold(f64::INFINITY, |m, &l| m.min(l));
+    let mut smallest = scene
+        .patches()
+        .iter()
+        .fold(f64::INFINITY, |m, p| m.min(p.length));
     let surfaces = scene.surfaces();
     for (k, s) in surfaces.iter().enumerate() {
         for end in [s.segment.a, s.segment.b] {
