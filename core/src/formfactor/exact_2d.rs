@@ -305,6 +305,8 @@ struct Bound {
 struct Scratch {
     occluders: Vec<(DVec2, DVec2)>,
     points: Vec<DVec2>,
+    /// Occluders with an end outside the sight region (see `occluded_flux`, step 2).
+    edge_on: Vec<(DVec2, DVec2)>,
     events: Vec<f64>,
     shadows: Vec<(Bound, Bound)>,
     visible: Vec<(DVec2, DVec2)>,
@@ -453,6 +455,28 @@ fn in_sight_region(p: DVec2, len: f64, j0: DVec2, j1: DVec2) -> bool {
         || tri(pts[1], pts[2], pts[3])
 }
 
+/// The visibility event of local points `p`, `q`: where the line through them crosses the
+/// open source axis `(0, len)`, kept only if their common direction from there lies within
+/// the target `(j0, j1)`'s angular range (elsewhere it bounds nothing that is integrated).
+#[cfg(feature = "alloc")]
+fn event_in_target_range(p: DVec2, q: DVec2, len: f64, j0: DVec2, j1: DVec2) -> Option<f64> {
+    let t = line_crossing_axis(p, q)?;
+    if !(t > 0.0 && t < len) {
+        return None;
+    }
+    let x = DVec2::new(t, 0.0);
+    let v = if p.y > 0.0 { p - x } else { q - x };
+    let (v0, v1) = (j0 - x, j1 - x);
+    let s = cross(v0, v1);
+    let tol = ON_LINE * math::length(v) * math::length(v0).max(math::length(v1));
+    let inside = if s >= 0.0 {
+        cross(v0, v) >= -tol && cross(v, v1) >= -tol
+    } else {
+        cross(v0, v) <= tol && cross(v, v1) <= tol
+    };
+    inside.then_some(t)
+}
+
 /// Flux `L_i F_ij` between patch segments `i` and `j` with the given candidate occluders
 /// (world coordinates; those not meeting the sight region are ignored).
 #[cfg(feature = "alloc")]
@@ -513,15 +537,23 @@ fn occluded_flux<'a>(
         return unoccluded_flux(i, j);
     }
 
-    // 2. Events: lines through two candidate points crossing the open patch.
+    // 2. Events: lines through two candidate points crossing the open patch, and lines of
+    //    occluders with an end outside the sight region (their edge-on positions).
     scratch.points.clear();
     scratch.points.push(j0);
     scratch.points.push(j1);
+    scratch.edge_on.clear();
     for &(q0, q1) in &scratch.occluders {
+        let mut both = true;
         for q in [q0, q1] {
             if in_sight_region(q, len_i, j0, j1) {
                 scratch.points.push(q);
+            } else {
+                both = false;
             }
+        }
+        if !both {
+            scratch.edge_on.push((q0, q1));
         }
     }
     scratch.events.clear();
@@ -530,40 +562,20 @@ fn occluded_flux<'a>(
     let pts = &scratch.points;
     for (a, &p) in pts.iter().enumerate() {
         for &q in &pts[a + 1..] {
-            let Some(t) = line_crossing_axis(p, q) else {
-                continue;
-            };
-            if !(t > 0.0 && t < len_i) {
-                continue;
-            }
-            // Keep it only if the common direction lies within j's range seen from t.
-            let x = DVec2::new(t, 0.0);
-            let v = if p.y > 0.0 { p - x } else { q - x };
-            let (v0, v1) = (j0 - x, j1 - x);
-            let s = cross(v0, v1);
-            let tol = ON_LINE * math::length(v) * math::length(v0).max(math::length(v1));
-            let inside = if s >= 0.0 {
-                cross(v0, v) >= -tol && cross(v, v1) >= -tol
-            } else {
-                cross(v0, v) <= tol && cross(v, v1) <= tol
-            };
-            if inside {
+            if let Some(t) = event_in_target_range(p, q, len_i, j0, j1) {
                 scratch.events.push(t);
             }
         }
     }
-    // Where an occluder is seen edge-on (its own line crosses the patch): its angular span
+    // Where an occluder is seen edge-on (its own line crosses the patch), its angular span
     // shrinks to nothing and flips, and the depth test of `visible_intervals` along that
-    // span's middle direction would run parallel to the occluder. One of its ends may lie
-    // outside the sight region (so no pair of candidate points gives this event): without
-    // it, a sub-interval's midpoint could fall on the edge-on position and a shadow of zero
-    // width but with far-apart bounding points would be integrated over the whole
-    // sub-interval (fuzz_refine, tests/data/fuzz/fuzz_refine/ci_session5_split_crash.bin).
-    for &(q0, q1) in &scratch.occluders {
-        if let Some(t) = line_crossing_axis(q0, q1)
-            && t > 0.0
-            && t < len_i
-        {
+    // span's middle direction runs parallel to the occluder. With both ends candidates the
+    // pair above gives this event; with an end outside the sight region nothing did, and a
+    // sub-interval's midpoint could fall on the edge-on position, where a shadow of zero
+    // width but with far-apart bounding points was integrated over the whole sub-interval
+    // (fuzz_refine, tests/data/fuzz/fuzz_refine/ci_session5_split_crash.bin).
+    for &(q0, q1) in &scratch.edge_on {
+        if let Some(t) = event_in_target_range(q0, q1, len_i, j0, j1) {
             scratch.events.push(t);
         }
     }
