@@ -58,7 +58,7 @@ mod proptests;
 
 pub use checks::Checks;
 #[cfg(feature = "alloc")]
-pub use csr_buf::CsrMatrixBuf;
+pub use csr_buf::{CsrMatrixBuf, RowMajorCsr};
 pub use markov::{MAX_BLOCK_LEN, MAX_BLOCK_PATHS, entropy_rate, stationary_distribution};
 pub use matrix::{CsrMatrix, DenseMatrix, Transitions};
 pub use measures::Measures;

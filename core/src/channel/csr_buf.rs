@@ -125,6 +125,90 @@ impl CsrMatrixBuf {
         Ok(out)
     }
 
+    /// Starts an `n × n` matrix received entry by entry in row-major order, with room for
+    /// `capacity` entries. Building from such a stream holds every entry once: no triplets,
+    /// no sorted copy (a sparse form-factor matrix of 10⁸ entries is 1.2 GB as CSR, 2.4 GB
+    /// more as `(usize, usize, f64)` triplets and as much again for their sorted copy).
+    ///
+    /// # Errors
+    ///
+    /// [`ErrorKind::TooLarge`] if `n > 2³²`.
+    pub fn row_major(n: usize, capacity: usize) -> Result<RowMajorCsr> {
+        check_size(n)?;
+        let mut row_ptr = Vec::with_capacity(n + 1);
+        row_ptr.push(0);
+        Ok(RowMajorCsr {
+            n,
+            row_ptr,
+            col_idx: Vec::with_capacity(capacity),
+            values: Vec::with_capacity(capacity),
+            last: None,
+        })
+    }
+
+    /// Borders the `n × n` matrix with a last column and a last row, giving an
+    /// `(n + 1) × (n + 1)` matrix: entry `(i, n)` is `column[i]` and `(n, j)` is `row[j]`
+    /// (`row` has `n + 1` entries, the corner last); zeros are dropped. The entries move once,
+    /// in place, from the last row to the first, so the only allocation is the room for the
+    /// new entries.
+    ///
+    /// # Errors
+    ///
+    /// [`ErrorKind::DimensionMismatch`] unless `column` has `n` and `row` `n + 1` entries;
+    /// [`ErrorKind::NonFiniteEntry`] / [`ErrorKind::NegativeEntry`] for a bad new entry;
+    /// [`ErrorKind::TooLarge`] if `n + 1 > 2³²`.
+    pub fn bordered(mut self, column: &[f64], row: &[f64]) -> Result<Self> {
+        let n = self.n;
+        for (len, expected) in [(column.len(), n), (row.len(), n + 1)] {
+            if len != expected {
+                return Err(Error::new(ErrorKind::DimensionMismatch {
+                    expected,
+                    found: len,
+                }));
+            }
+        }
+        check_size(n + 1)?;
+        for (i, &v) in column.iter().enumerate() {
+            check_entry(i, n, v)?;
+        }
+        for (j, &v) in row.iter().enumerate() {
+            check_entry(n, j, v)?;
+        }
+        if self.row_ptr.is_empty() {
+            self.row_ptr.push(0); // `Default` value: the empty 0 × 0 matrix
+        }
+        let added_to_rows = column.iter().filter(|&&v| v != 0.0).count();
+        let last_row = row.iter().filter(|&&v| v != 0.0).count();
+        let old_len = self.values.len();
+        let len = old_len + added_to_rows;
+        self.col_idx.reserve_exact(added_to_rows + last_row);
+        self.values.reserve_exact(added_to_rows + last_row);
+        self.col_idx.resize(len, 0);
+        self.values.resize(len, 0.0);
+        // From the last row back: row i moves right by the column entries of rows < i
+        let mut shift = added_to_rows;
+        for i in (0..n).rev() {
+            let (start, end) = (self.row_ptr[i], self.row_ptr[i + 1]);
+            if column[i] != 0.0 {
+                self.col_idx[end + shift - 1] = n as u32;
+                self.values[end + shift - 1] = column[i];
+                shift -= 1;
+            }
+            self.col_idx.copy_within(start..end, start + shift);
+            self.values.copy_within(start..end, start + shift);
+            self.row_ptr[i + 1] = end + shift + usize::from(column[i] != 0.0);
+        }
+        for (j, &v) in row.iter().enumerate() {
+            if v != 0.0 {
+                self.col_idx.push(j as u32);
+                self.values.push(v);
+            }
+        }
+        self.row_ptr.push(self.values.len());
+        self.n = n + 1;
+        Ok(self)
+    }
+
     /// Number of states `n`.
     #[must_use]
     pub fn n(&self) -> usize {
@@ -145,6 +229,64 @@ impl CsrMatrixBuf {
             return CsrMatrix::from_validated(0, &[0], &[], &[]);
         }
         CsrMatrix::from_validated(self.n, &self.row_ptr, &self.col_idx, &self.values)
+    }
+}
+
+/// An `n × n` CSR matrix being received in row-major order (from
+/// [`CsrMatrixBuf::row_major`]): [`push`](Self::push) the entries, then
+/// [`finish`](Self::finish).
+#[derive(Clone, Debug)]
+pub struct RowMajorCsr {
+    n: usize,
+    /// One entry per row closed so far, plus the leading 0.
+    row_ptr: Vec<usize>,
+    col_idx: Vec<u32>,
+    values: Vec<f64>,
+    /// The last position pushed.
+    last: Option<(usize, usize)>,
+}
+
+impl RowMajorCsr {
+    /// Appends entry `(i, j) = v`, after every entry pushed before in row-major order;
+    /// a zero is skipped.
+    ///
+    /// # Errors
+    ///
+    /// [`ErrorKind::MalformedSparse`] if `(i, j)` is out of range or not after the last
+    /// position pushed; [`ErrorKind::NonFiniteEntry`] / [`ErrorKind::NegativeEntry`] for a
+    /// bad `v`.
+    pub fn push(&mut self, i: usize, j: usize, v: f64) -> Result<()> {
+        if i >= self.n || j >= self.n || self.last.is_some_and(|last| (i, j) <= last) {
+            return Err(Error::new(ErrorKind::MalformedSparse));
+        }
+        check_entry(i, j, v)?;
+        self.last = Some((i, j));
+        if v == 0.0 {
+            return Ok(());
+        }
+        self.close_rows_before(i);
+        self.col_idx.push(j as u32);
+        self.values.push(v);
+        Ok(())
+    }
+
+    /// Closes every row before row `i`.
+    fn close_rows_before(&mut self, i: usize) {
+        while self.row_ptr.len() <= i {
+            self.row_ptr.push(self.values.len());
+        }
+    }
+
+    /// The matrix, the rows after the last entry empty.
+    #[must_use]
+    pub fn finish(mut self) -> CsrMatrixBuf {
+        self.close_rows_before(self.n);
+        CsrMatrixBuf {
+            n: self.n,
+            row_ptr: self.row_ptr,
+            col_idx: self.col_idx,
+            values: self.values,
+        }
     }
 }
 
@@ -206,5 +348,93 @@ mod tests {
                 .row_ptr(),
             &[0]
         );
+    }
+
+    #[test]
+    fn row_major_refuses_what_is_out_of_order_or_range() {
+        let mut rows = CsrMatrixBuf::row_major(3, 4).unwrap();
+        rows.push(0, 2, 0.5).unwrap();
+        assert_eq!(err_kind(rows.push(0, 2, 0.5)), ErrorKind::MalformedSparse);
+        assert_eq!(err_kind(rows.push(0, 1, 0.5)), ErrorKind::MalformedSparse);
+        assert_eq!(err_kind(rows.push(3, 0, 0.5)), ErrorKind::MalformedSparse);
+        assert_eq!(err_kind(rows.push(1, 3, 0.5)), ErrorKind::MalformedSparse);
+        assert_eq!(
+            err_kind(rows.push(1, 0, f64::NAN)),
+            ErrorKind::NonFiniteEntry { row: 1, col: 0 }
+        );
+        assert_eq!(
+            err_kind(rows.push(1, 1, -1.0)),
+            ErrorKind::NegativeEntry { row: 1, col: 1 }
+        );
+        rows.push(2, 0, 0.0).unwrap();
+        rows.push(2, 1, 1.0).unwrap();
+        let m = rows.finish();
+        assert_eq!(
+            m,
+            CsrMatrixBuf::from_triplets(3, &[(0, 2, 0.5), (2, 1, 1.0)]).unwrap()
+        );
+        assert_eq!(m.as_matrix().row_ptr(), &[0, 1, 1, 2]);
+        assert_eq!(
+            err_kind(m.clone().bordered(&[0.0; 2], &[0.0; 4])),
+            ErrorKind::DimensionMismatch {
+                expected: 3,
+                found: 2
+            }
+        );
+        assert_eq!(
+            err_kind(m.bordered(&[0.0, -1.0, 0.0], &[0.0; 4])),
+            ErrorKind::NegativeEntry { row: 1, col: 3 }
+        );
+        let empty = CsrMatrixBuf::default().bordered(&[], &[0.5]).unwrap();
+        assert_eq!(
+            empty,
+            CsrMatrixBuf::from_triplets(1, &[(0, 0, 0.5)]).unwrap()
+        );
+    }
+
+    /// A random `n × n` matrix with about a third of its entries zero, row-major.
+    fn sparse_dense(max_n: usize) -> impl proptest::strategy::Strategy<Value = (usize, Vec<f64>)> {
+        use proptest::prelude::*;
+        (0..=max_n).prop_flat_map(|n| {
+            let entry = prop_oneof![Just(0.0), 0.0f64..2.0, 1e-300f64..1e-290];
+            (Just(n), proptest::collection::vec(entry, n * n))
+        })
+    }
+
+    proptest::proptest! {
+        /// Entries pushed in row-major order give the matrix the triplets give.
+        #[test]
+        fn row_major_equals_triplets((n, dense) in sparse_dense(7)) {
+            let triplets: Vec<(usize, usize, f64)> = (0..n * n)
+                .map(|k| (k / n.max(1), k % n.max(1), dense[k]))
+                .collect();
+            let mut rows = CsrMatrixBuf::row_major(n, 0).unwrap();
+            for &(i, j, v) in &triplets {
+                rows.push(i, j, v).unwrap();
+            }
+            let built = rows.finish();
+            proptest::prop_assert_eq!(&built, &CsrMatrixBuf::from_triplets(n, &triplets).unwrap());
+            proptest::prop_assert_eq!(&built, &CsrMatrixBuf::from_dense(n, &dense).unwrap());
+        }
+
+        /// Bordering in place gives the matrix the triplets give with the border's entries.
+        #[test]
+        fn bordered_equals_triplets_with_the_border(
+            (n, dense) in sparse_dense(7),
+            border in proptest::collection::vec(
+                proptest::prop_oneof![proptest::strategy::Just(0.0), 0.0f64..1.0], 15),
+        ) {
+            let (column, row) = (&border[..n], &border[n..=2 * n]);
+            let mut triplets: Vec<(usize, usize, f64)> = (0..n * n)
+                .map(|k| (k / n.max(1), k % n.max(1), dense[k]))
+                .collect();
+            triplets.extend(column.iter().enumerate().map(|(i, &v)| (i, n, v)));
+            triplets.extend(row.iter().enumerate().map(|(j, &v)| (n, j, v)));
+            let bordered = CsrMatrixBuf::from_dense(n, &dense)
+                .unwrap()
+                .bordered(column, row)
+                .unwrap();
+            proptest::prop_assert_eq!(bordered, CsrMatrixBuf::from_triplets(n + 1, &triplets).unwrap());
+        }
     }
 }

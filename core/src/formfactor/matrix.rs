@@ -165,31 +165,52 @@ impl FormFactors {
     /// # Errors
     /// As [`FormFactors::from_patch_matrix`]; [`ErrorKind::MalformedSparse`] for an index
     /// out of range.
-    pub fn from_patch_triplets(
-        sizes: &[f64],
-        mut triplets: Vec<(usize, usize, f64)>,
-    ) -> Result<Self> {
+    pub fn from_patch_triplets(sizes: &[f64], triplets: Vec<(usize, usize, f64)>) -> Result<Self> {
+        let n = sizes.len();
+        check_sizes(sizes)?;
+        check_entries(n, triplets.iter().copied())?;
+        let csr = CsrMatrixBuf::from_triplets(n, &triplets)?;
+        drop(triplets);
+        Self::from_patch_csr(sizes, csr)
+    }
+
+    /// Builds a sparse matrix from patch sizes and the `n × n` patch form factors as CSR
+    /// (for example received row by row through [`CsrMatrixBuf::row_major`], which holds
+    /// each entry once), adding a background state as [`FormFactors::from_patch_matrix`]
+    /// does: its column and row border the matrix in place
+    /// ([`CsrMatrixBuf::bordered`]).
+    ///
+    /// # Errors
+    /// As [`FormFactors::from_patch_matrix`]; [`ErrorKind::DimensionMismatch`] when `f` is
+    /// not `sizes.len()` square.
+    pub fn from_patch_csr(sizes: &[f64], f: CsrMatrixBuf) -> Result<Self> {
         let n = sizes.len();
         let total = check_sizes(sizes)?;
-        check_entries(n, triplets.iter().copied())?;
-        let mut row_sums = vec![KahanSum::new(); n];
-        for &(i, _, v) in &triplets {
-            row_sums[i].add(v);
-        }
-        let deficits: Vec<f64> = row_sums.iter().map(|s| 1.0 - s.total()).collect();
-        let max_row_deficit = deficits.iter().fold(0.0f64, |m, &d| m.max(d));
-        let bg = background(sizes, &deficits);
-        let (n_states, background_size) = match &bg {
-            Some((l_b, to_b, from_b)) => {
-                for i in 0..n {
-                    triplets.push((i, n, to_b[i]));
-                    triplets.push((n, i, from_b[i]));
-                }
-                (n + 1, Some(*l_b))
+        if f.n() != n {
+            return Err(ErrorKind::DimensionMismatch {
+                expected: n,
+                found: f.n(),
             }
-            None => (n, None),
+            .into());
+        }
+        let deficits: Vec<f64> = {
+            let m = f.as_matrix();
+            (0..n)
+                .map(|i| {
+                    let mut row = KahanSum::new();
+                    m.for_each_in_row(i, |_, v| row.add(v));
+                    1.0 - row.total()
+                })
+                .collect()
         };
-        let csr = CsrMatrixBuf::from_triplets(n_states, &triplets)?;
+        let max_row_deficit = deficits.iter().fold(0.0f64, |m, &d| m.max(d));
+        let (csr, n_states, background_size) = match background(sizes, &deficits) {
+            Some((l_b, to_b, mut from_b)) => {
+                from_b.push(0.0); // F_bb
+                (f.bordered(&to_b, &from_b)?, n + 1, Some(l_b))
+            }
+            None => (f, n, None),
+        };
         Ok(Self {
             n_patches: n,
             n_states,
@@ -391,5 +412,61 @@ mod tests {
         }
         // L_b = 1·0.75 + 2·0.875 = 2.5
         assert!((ff.background_size().unwrap() - 2.5).abs() < 1e-15);
+    }
+
+    proptest::proptest! {
+        /// A patch matrix received row by row as CSR (what a sparse line tally gives) is
+        /// the matrix its triplets give, bit for bit, background included, and the dense
+        /// matrix to rounding (the dense row sums add the zeros to a compensated sum).
+        #[test]
+        fn csr_triplets_and_dense_give_the_same_form_factors(
+            n in 1usize..7,
+            sizes in proptest::collection::vec(0.1f64..10.0, 7),
+            raw in proptest::collection::vec(
+                proptest::prop_oneof![proptest::strategy::Just(0.0), 0.0f64..1.0], 49),
+            closed in proptest::bool::ANY,
+        ) {
+            let sizes = &sizes[..n];
+            // Rows scaled to sum to one (closed) or to at most one (open, with a background)
+            let mut f = raw[..n * n].to_vec();
+            for row in f.chunks_mut(n) {
+                let sum: f64 = row.iter().sum();
+                let scale = if closed || sum > 1.0 { sum } else { 1.0 };
+                for x in row.iter_mut() {
+                    *x = if scale > 0.0 { *x / scale } else { 0.0 };
+                }
+            }
+            let triplets: Vec<(usize, usize, f64)> =
+                (0..n * n).map(|k| (k / n, k % n, f[k])).collect();
+            let mut rows = CsrMatrixBuf::row_major(n, n * n).unwrap();
+            for &(i, j, v) in &triplets {
+                rows.push(i, j, v).unwrap();
+            }
+            let csr = FormFactors::from_patch_csr(sizes, rows.finish()).unwrap();
+            let from_triplets = FormFactors::from_patch_triplets(sizes, triplets).unwrap();
+            proptest::prop_assert_eq!(&csr, &from_triplets);
+            let dense = FormFactors::from_patch_matrix(sizes, f).unwrap();
+            proptest::prop_assert_eq!(csr.n_states(), dense.n_states());
+            for i in 0..csr.n_states() {
+                proptest::prop_assert!((csr.weights()[i] - dense.weights()[i]).abs() < 1e-15);
+                for j in 0..csr.n_states() {
+                    proptest::prop_assert!((csr.get(i, j) - dense.get(i, j)).abs() < 1e-12);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn csr_of_the_wrong_size_is_refused() {
+        let f = CsrMatrixBuf::from_triplets(3, &[(0, 1, 0.5)]).unwrap();
+        assert_eq!(
+            FormFactors::from_patch_csr(&[1.0, 1.0], f)
+                .unwrap_err()
+                .kind(),
+            &ErrorKind::DimensionMismatch {
+                expected: 2,
+                found: 3
+            }
+        );
     }
 }
