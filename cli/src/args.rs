@@ -195,7 +195,7 @@ pub struct SamplingArgs {
     #[arg(long, value_name = "N", value_parser = parse_count)]
     pub lines: Option<u64>,
     /// Which lines: uniform global lines (2.37), cosine local lines (2.36), or global lines
-    /// cast as bundles of parallel lines (not for radiosity): in flatland 256 lines a bundle
+    /// cast as bundles of parallel lines: in flatland 256 lines a bundle
     /// in sheaves of 256 directions, each sheaf (a chunk of 65,536 lines) one observation of
     /// the standard error; in 3D square lattices of 1024 to 4096 lines (a quarter of the
     /// polygons outside gridded faces) in sheaves of up to 16 directions, and the lines

@@ -45,24 +45,12 @@ fn run(args: &[&str], file: &Path) -> Output {
 /// Same input, seed and line budget: the same JSON text (timing keys aside) and the same
 /// matrix file, byte for byte, on repeated runs and on 1 and 2 threads, for flatland and
 /// 3D scenes and for global and local lines and bundles of parallel lines; exact measures
-/// are repeatable too. Bundles are refused by `radiosity` with exit 2.
+/// are repeatable too (`radiosity` by bundles: `tests/radiosity.rs`).
 #[test]
 fn results_are_bit_identical_across_runs_and_threads() {
     let dir = temp_dir("determinism");
     for scene in scenes(&dir) {
         for method in ["global", "local", "bundle"] {
-            if method == "bundle" {
-                // The radiosity I_S^c's pair moments cannot group a sheaf's lines.
-                let out = bin()
-                    .args(["radiosity"])
-                    .arg(&scene)
-                    .args(["--lines", "1000", "--method", method])
-                    .output()
-                    .unwrap();
-                assert_eq!(out.status.code(), Some(2));
-                let err = String::from_utf8_lossy(&out.stderr);
-                assert!(err.contains("does not group the lines of a sheaf"), "{err}");
-            }
             let mut results = Vec::new();
             for (k, threads) in ["1", "2", "2"].into_iter().enumerate() {
                 let matrix = dir.join(format!("F{k}.csv"));

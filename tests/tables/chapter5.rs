@@ -51,9 +51,15 @@ fn lit<T: LineTracer + Sync>(
     seed: u64,
     lines: u64,
 ) -> LitEstimate {
-    estimate_lit(tracer, materials, Solver::GaussSeidel, &opts(), |t| {
-        t.run(LineMethod::Global, seed, lines)
-    })
+    let method = LineMethod::Global;
+    estimate_lit(
+        tracer,
+        materials,
+        Solver::GaussSeidel,
+        &opts(),
+        method,
+        |t| t.run(method, seed, lines),
+    )
     .unwrap()
 }
 

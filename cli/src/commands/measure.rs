@@ -24,7 +24,7 @@ use crate::output::{Loaded, located, write_atomic};
 
 /// Below this many independent groups the text report warns that the standard error of
 /// `I_S^c` is itself unreliable (its relative error is about `1/√(2(G − 1))`: 24 % at 10).
-const FEW_STDERR_GROUPS: u64 = 10;
+pub(crate) const FEW_STDERR_GROUPS: u64 = 10;
 
 /// What the Monte Carlo run adds to a report.
 pub struct MonteCarlo {

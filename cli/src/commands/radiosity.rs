@@ -6,8 +6,9 @@
 //! Monte Carlo: [`estimate_lit`] casts the lines once for `F`, the visibility `I_S^c` and
 //! the per-pair moments from which the continuous radiosity mutual information (5.20)
 //! follows once `B` is solved (scenes of more than
-//! [`sceneinfo::radiosity::continuous::PAIR_MOMENT_LIMIT`] patches cast the same lines a
-//! second time instead).
+//! [`sceneinfo::radiosity::continuous::PAIR_MOMENT_LIMIT`] patches, and bundles of parallel
+//! lines, whose sheaves are the standard error's groups, cast the same lines a second time
+//! instead).
 
 use std::fmt::Write as _;
 use std::io::Write;
@@ -20,7 +21,7 @@ use sceneinfo::formfactor::estimate_2d::FlatTracer;
 use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::formfactor::tally::{LineMethod, LineTracer};
-use sceneinfo::radiosity::continuous::{PAIR_MOMENT_LIMIT, estimate_lit};
+use sceneinfo::radiosity::continuous::estimate_lit;
 use sceneinfo::radiosity::display::{ToneMap, gouraud_mesh};
 use sceneinfo::radiosity::rgb::{
     self, CHANNEL_NAMES, RgbSolution, flat_patch_materials, patch_materials,
@@ -41,6 +42,8 @@ struct Lines {
     seed: u64,
     visibility: ContinuousEstimate,
     radiosity: [ContinuousEstimate; 3],
+    /// Cast once (pair moments) or twice (see [`estimate_lit`]).
+    one_pass: bool,
 }
 
 /// Everything a run computed.
@@ -93,6 +96,8 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
                 .map_err(at)?,
                 Some(_) => {
                     let tracer = FlatTracer::new(s).map_err(at)?;
+                    let method = args.sampling.method.line_method();
+                    super::measure::check_supported(&tracer, method, path)?;
                     with_lines(&tracer, materials, solver, &opts, &args.sampling).map_err(at)?
                 }
             }
@@ -109,6 +114,8 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
                 .map_err(at)?,
                 Some(_) => {
                     let tracer = SceneTracer::new(s).map_err(at)?;
+                    let method = args.sampling.method.line_method();
+                    super::measure::check_supported(&tracer, method, path)?;
                     with_lines(&tracer, materials, solver, &opts, &args.sampling).map_err(at)?
                 }
             }
@@ -168,19 +175,10 @@ fn with_lines<T: LineTracer + Sync>(
         return Err(sceneinfo::ErrorKind::NoLines.into());
     }
     let method = sampling.method.line_method();
-    if method == LineMethod::Bundle {
-        // The pair moments of (5.20) treat every segment as one observation, which the
-        // correlated lines of a sheaf are not: the standard error would not be honest.
-        return Err(sceneinfo::ErrorKind::UnsupportedMethod {
-            method: method.description(),
-            reason: "the radiosity I_S^c's standard error does not group the lines of a sheaf",
-        }
-        .into());
-    }
     let threads = sampling
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get));
-    let est = estimate_lit(tracer, &materials, solver, opts, |t| {
+    let est = estimate_lit(tracer, &materials, solver, opts, method, |t| {
         Ok(crate::lines::run(t, method, sampling.seed, lines, threads))
     })?;
     let visibility = SceneReport::of(&est.form_factors)?;
@@ -195,6 +193,7 @@ fn with_lines<T: LineTracer + Sync>(
             seed: sampling.seed,
             visibility: est.visibility,
             radiosity: est.radiosity,
+            one_pass: est.one_pass,
         }),
         ff: est.form_factors,
         seconds: 0.0,
@@ -250,6 +249,8 @@ fn json(r: &Run, solver: SolverArg) -> Result<String> {
             o.number("i_s_continuous_stderr", l.visibility.stderr)?;
             o.numbers("i_s_continuous_rgb", &l.radiosity.map(|e| e.value))?;
             o.numbers("i_s_continuous_stderr_rgb", &l.radiosity.map(|e| e.stderr))?;
+            o.integer("stderr_groups", l.visibility.groups)?;
+            o.integer("line_casts", if l.one_pass { 1 } else { 2 })?;
             let delta: Vec<f64> = (0..3)
                 .map(|c| l.radiosity[c].value - r.radiosity[c].i_s)
                 .collect();
@@ -284,7 +285,7 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
                 l.method.line_method().description(),
                 l.lines,
                 l.seed,
-                if r.ff.n_patches() <= PAIR_MOMENT_LIMIT {
+                if l.one_pass {
                     "cast once for F, I_S^c and radiosity I_S^c"
                 } else {
                     "cast twice: F, then radiosity I_S^c"
@@ -330,6 +331,31 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
             "  ± 1 standard error",
             [l.visibility.stderr, lr.stderr, lg.stderr, lb.stderr],
         );
+        // The one-pass pair moments count each segment as its own group (module
+        // `moments` of the core); otherwise every estimate has the visibility's groups.
+        let (visibility_groups, radiosity_groups) = (l.visibility.groups, lr.groups);
+        let sheaves = if l.method.line_method() == LineMethod::Bundle {
+            " (one per sheaf of parallel lines)"
+        } else {
+            ""
+        };
+        if visibility_groups == radiosity_groups {
+            let _ = writeln!(s, "  from {visibility_groups} independent groups{sheaves}");
+        } else {
+            let _ = writeln!(
+                s,
+                "  from {visibility_groups} (visibility) and {radiosity_groups} (radiosity) \
+                 independent groups"
+            );
+        }
+        let groups = visibility_groups.min(radiosity_groups);
+        if groups < super::measure::FEW_STDERR_GROUPS {
+            let _ = writeln!(
+                s,
+                "WARNING               the standard errors rest on {groups} observations only: \
+                 ask for more lines to trust them"
+            );
+        }
         line(
             &mut s,
             "I_S^c - I_S (5.21)",

@@ -415,18 +415,26 @@ pub struct LitEstimate {
     pub visibility: ContinuousEstimate,
     /// Radiosity `I_S^c` (5.20) per colour channel.
     pub radiosity: [ContinuousEstimate; 3],
+    /// Whether the lines were cast once (pair moments) rather than twice (see
+    /// [`estimate_lit`]).
+    pub one_pass: bool,
 }
 
 /// Runs the radiosity pipeline on `tracer`: `cast` the lines for `F`
 /// ([`LineTally::finish`]), solve (2.6) per channel with `materials` (per patch), measure
 /// (5.5–5.7) and estimate `I_S^c` (5.20) from the same lines. `cast` runs a tracer's whole
-/// job — on one thread (`|t| t.run(method, seed, n)`) or on many (the CLI).
+/// job of lines of `method` — on one thread (`|t| t.run(method, seed, n)`) or on many (the
+/// CLI).
 ///
 /// Up to [`PAIR_MOMENT_LIMIT`] patches the lines are cast once, through a
 /// [`RadiosityTracer::pair_moments`], and (5.20) is evaluated from the pair moments after the solve
 /// (the private `moments` module explains its standard error). Beyond, the pair moments would take too much
 /// memory: the job is cast a second time with the same seed (the same lines) through a
-/// [`RadiosityTracer::new`] that sums the terms of the solution line by line.
+/// [`RadiosityTracer::new`] that sums the terms of the solution line by line. Bundles of
+/// parallel lines ([`LineMethod::Bundle`]) always take the second way: the pair moments
+/// treat every segment as its own observation of the standard error, while the lines of a
+/// sheaf are correlated and must count as one, as the line by line terms count them (one
+/// group of the standard error per sheaf).
 ///
 /// # Errors
 /// The errors of `cast`, [`LineTally::finish`], [`solve_rgb`], [`rgb_measures`] and
@@ -436,9 +444,14 @@ pub fn estimate_lit<T: LineTracer + Sync>(
     materials: &[Material],
     solver: Solver,
     opts: &SolveOptions,
+    method: LineMethod,
     mut cast: impl FnMut(&(dyn LineTracer + Sync)) -> Result<LineTally>,
 ) -> Result<LitEstimate> {
-    let one_pass = RadiosityTracer::pair_moments(tracer).ok();
+    let one_pass = if method == LineMethod::Bundle {
+        None
+    } else {
+        RadiosityTracer::pair_moments(tracer).ok()
+    };
     let mut tally = match &one_pass {
         Some(t) => cast(t)?,
         None => cast(tracer)?,
@@ -468,6 +481,7 @@ pub fn estimate_lit<T: LineTracer + Sync>(
         measures,
         visibility,
         radiosity,
+        one_pass: one_pass.is_some(),
     })
 }
 

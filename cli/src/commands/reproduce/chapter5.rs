@@ -41,15 +41,15 @@ impl Runner {
         materials: &[Material],
         lines: u64,
     ) -> Result<LitEstimate> {
-        estimate_lit(tracer, materials, Solver::GaussSeidel, &opts(), |t| {
-            Ok(crate::lines::run(
-                t,
-                LineMethod::Global,
-                self.seed,
-                lines,
-                self.threads,
-            ))
-        })
+        let method = LineMethod::Global;
+        estimate_lit(
+            tracer,
+            materials,
+            Solver::GaussSeidel,
+            &opts(),
+            method,
+            |t| Ok(crate::lines::run(t, method, self.seed, lines, self.threads)),
+        )
         .map_err(err)
     }
 }
