@@ -143,14 +143,6 @@ fn clip_front(frame: &Frame, p: DVec2, q: DVec2) -> Option<(DVec2, DVec2)> {
     }
 }
 
-/// Whether local point `q` lies on the supporting line of local segment `j0 j1` (pass the
-/// whole, unclipped segment: a clipped sliver would give its line's direction poorly).
-#[cfg(feature = "alloc")]
-fn on_line_of(frame: &Frame, j0: DVec2, j1: DVec2, q: DVec2) -> bool {
-    let j_len = math::length(j1 - j0);
-    cross(j1 - j0, q - j0).abs() <= j_len * (frame.eps + ON_LINE * math::length(q - j0).max(j_len))
-}
-
 /// Whether two segments lie on one line, to within rounding: the shorter one's endpoints
 /// are tested against the longer one's supporting line, whose direction its rounded
 /// endpoints give far better (a segment 1e-4 long has a direction good to ~1e-12 only,
@@ -514,17 +506,21 @@ fn occluded_flux<'a>(
         if ohi.x < hlo.x || ohi.y < hlo.y || olo.x > hhi.x || olo.y > hhi.y {
             continue;
         }
-        if !crate::geom::segment_may_meet_hull(occ.a, occ.b, &hull_world, 0.0) || collinear(i, *occ)
+        // Collinear with i or with j: it hides nothing (on j's line it is at j's own
+        // depth). Judged in world coordinates, the shorter segment against the longer one's
+        // line: in i's frame a short i tilts every far point by its direction's rounding,
+        // and snapping onto i's axis moves the occluder's ends (`fuzz_refine` found a wall
+        // coincident with a 0.016-long j, seen from a 0.0006-long i, taken off j's line by
+        // 2.5e-15 and hiding all of j: `L_i F_ij` 0 against 1.85e-9 the other way).
+        if !crate::geom::segment_may_meet_hull(occ.a, occ.b, &hull_world, 0.0)
+            || collinear(i, *occ)
+            || collinear(j, *occ)
         {
             continue;
         }
         let Some((q0, q1)) = clip_front(&frame, frame.local(occ.a), frame.local(occ.b)) else {
             continue;
         };
-        // Collinear with j: at j's own depth, it cannot hide j.
-        if on_line_of(&frame, ja, jb, q0) && on_line_of(&frame, ja, jb, q1) {
-            continue;
-        }
         match crate::geom::proper_crossing(q0, q1, j0, j1) {
             Some((_, c)) => {
                 scratch.occluders.push((q0, c));
@@ -668,16 +664,14 @@ pub fn point_to_patch(scene: &FlatScene, x: DVec2, normal: DVec2, j: usize) -> R
     };
     let mut occluders = Vec::new();
     for (k, s) in scene.surfaces().iter().enumerate() {
-        if k == patch.surface {
+        // On j's line, at j's own depth: it cannot hide j (judged as in `occluded_flux`)
+        if k == patch.surface || collinear(patch.segment, s.segment) {
             continue;
         }
         let Some((q0, q1)) = clip_front(&frame, frame.local(s.segment.a), frame.local(s.segment.b))
         else {
             continue;
         };
-        if on_line_of(&frame, ja, jb, q0) && on_line_of(&frame, ja, jb, q1) {
-            continue;
-        }
         match crate::geom::proper_crossing(q0, q1, j0, j1) {
             Some((_, c)) => {
                 occluders.push((q0, c));
@@ -947,6 +941,27 @@ mod tests {
         let last = scene.n_patches() - 1;
         assert_eq!(pair_flux(&scene, 0, last).unwrap(), 0.0);
         assert_eq!(pair_flux(&scene, last, 0).unwrap(), 0.0);
+    }
+
+    /// A wall coincident with the target (back to back) hides nothing from a source so short
+    /// that its own frame tilts the wall off the target's line (found by `fuzz_refine`: from
+    /// the 0.0006-long piece the flux was 0, from the target 1.85e-9).
+    #[cfg(feature = "alloc")]
+    #[test]
+    fn wall_back_to_back_with_a_short_target_hides_nothing() {
+        let pair = "seg 0.0 1.0 0.0006056109857832822 0.9998485972535541\n\
+                    seg 4.0 0.0 3.9961089494163424 0.01556420233463035\n";
+        let open = crate::io::parse_flat(pair).unwrap();
+        let walled = crate::io::parse_flat(&alloc::format!("{pair}seg 3 4 4 0\n")).unwrap();
+        let free = pair_flux(&open, 0, 1).unwrap();
+        assert!(free > 1e-9, "{free}");
+        for (i, j) in [(0, 1), (1, 0)] {
+            let flux = pair_flux(&walled, i, j).unwrap();
+            assert!(
+                (flux - free).abs() < 1e-6 * free,
+                "{i} → {j}: {flux} vs {free}"
+            );
+        }
     }
 
     /// An occluder touching the target from behind (its end on the target, the rest beyond
