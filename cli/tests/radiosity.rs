@@ -21,17 +21,28 @@ fn run_json(args: &[&str], file: &PathBuf) -> String {
     String::from_utf8(out.stdout).unwrap()
 }
 
+/// A flatland room lit by one white lamp, with a red wall.
+const LIT_ROOM: &str = "mat rho 0.7 0.7 0.7\nseg 0 0 2 0 4\nseg 2 0 2 1 2\nseg 0 1 0 0 2\n\
+                        mat rho 0.8 0.1 0.1\nseg 2 1 1 1 2\nmat emit 5 5 5\nseg 1 1 0 1 2\n";
+
+/// The Cornell box, 2 × 2 patches a face, written to the temporary file `name`.
+fn cornell_box(name: &str) -> PathBuf {
+    let obj = temp(name);
+    let st = bin()
+        .args(["scene", "solid", "cornell", "--grid", "2", "-o"])
+        .arg(&obj)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    obj
+}
+
 /// A flatland room lit by one white lamp, with a red wall: every key, constant-radiosity
 /// free, exact form factors; all three solvers give the same radiosities.
 #[test]
 fn flat_room_keys_and_solver_agreement() {
     let path = temp("room.flat");
-    std::fs::write(
-        &path,
-        "mat rho 0.7 0.7 0.7\nseg 0 0 2 0 4\nseg 2 0 2 1 2\nseg 0 1 0 0 2\n\
-         mat rho 0.8 0.1 0.1\nseg 2 1 1 1 2\nmat emit 5 5 5\nseg 1 1 0 1 2\n",
-    )
-    .unwrap();
+    std::fs::write(&path, LIT_ROOM).unwrap();
     let gs = run_json(&["--json"], &path);
     for key in [
         "n_patches",
@@ -80,13 +91,7 @@ fn flat_room_keys_and_solver_agreement() {
 /// with per-vertex and per-face colours for a 3D scene.
 #[test]
 fn cornell_box_with_lines_and_ply() {
-    let obj = temp("cornell.obj");
-    let st = bin()
-        .args(["scene", "solid", "cornell", "--grid", "2", "-o"])
-        .arg(&obj)
-        .status()
-        .unwrap();
-    assert!(st.success());
+    let obj = cornell_box("cornell.obj");
     // Occluded: exact form factors are refused, naming --lines.
     let out = bin().arg("radiosity").arg(&obj).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
@@ -186,13 +191,8 @@ fn bad_arguments_are_errors() {
 #[test]
 fn bundles_are_cast_twice_and_agree_with_global_lines() {
     let path = temp("bundle_room.flat");
-    std::fs::write(
-        &path,
-        "mat rho 0.7 0.7 0.7\nseg 0 0 2 0 4\nseg 2 0 2 1 2\nseg 0 1 0 0 2\n\
-         mat rho 0.8 0.1 0.1\nseg 2 1 1 1 2\nmat emit 5 5 5\nseg 1 1 0 1 2\n\
-         mat rho 0.5 0.5 0.5\npoly 4 0.8 0.4 1.2 0.4 1.2 0.6 0.8 0.6 per_side 2\n",
-    )
-    .unwrap();
+    let block = "mat rho 0.5 0.5 0.5\npoly 4 0.8 0.4 1.2 0.4 1.2 0.6 0.8 0.6 per_side 2\n";
+    std::fs::write(&path, format!("{LIT_ROOM}{block}")).unwrap();
     let lines = ["--json", "--lines", "700000"];
     let one = run_json(
         &[&lines[..], &["--method", "bundle", "--threads", "1"]].concat(),
@@ -248,13 +248,7 @@ fn bundles_are_cast_twice_and_agree_with_global_lines() {
     assert!(text.contains("one per sheaf of parallel lines"), "{text}");
     assert!(text.contains("WARNING"), "{text}");
 
-    let obj = temp("bundle_cornell.obj");
-    let st = bin()
-        .args(["scene", "solid", "cornell", "--grid", "2", "-o"])
-        .arg(&obj)
-        .status()
-        .unwrap();
-    assert!(st.success());
+    let obj = cornell_box("bundle_cornell.obj");
     let args = ["--json", "--lines", "100000", "--method", "bundle"];
     let one = run_json(&[&args[..], &["--threads", "1"]].concat(), &obj);
     let two = run_json(&[&args[..], &["--threads", "2"]].concat(), &obj);
