@@ -352,10 +352,11 @@ fn tables_5_2_and_5_5_cornell_box() {
 /// All three meshes of Tables 5.2/5.5 with the thesis' lines: 10⁷, 10⁷ and 10⁸. The
 /// 1924-patch mesh needs its 10⁸: at 10⁷ lines its blue `I_S` (1.1353) is only 2.9σ below
 /// `I_S^c` (1.1521 ± 0.0057), as the thesis says of its own meshes with too few lines.
-/// About 12 minutes (one thread; it passed at 714 s); run with
-/// `cargo test -p sceneinfo-tests -- --ignored tables_5_2_and_5_5_cornell_box_all`.
+/// 74 s in release (one thread, measured 2026-11-22; it once passed at 714 s unoptimised);
+/// run with `cargo test --release -p sceneinfo-tests --test integration -- --ignored
+/// tables_5_2_and_5_5_cornell_box_all`.
 #[test]
-#[ignore = "about 12 minutes: the 1924-patch mesh at 10^8 lines on one thread"]
+#[ignore = "74 s in release, far longer in debug: the 1924-patch mesh at 10^8 lines; run with --release -- --ignored"]
 fn tables_5_2_and_5_5_cornell_box_all_meshes() {
     check_cornell_meshes(&[(1, 10_000_000), (2, 10_000_000), (3, 100_000_000)]);
 }
