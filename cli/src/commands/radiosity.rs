@@ -83,6 +83,7 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
         SolverArg::GaussSeidel => Solver::GaussSeidel,
         SolverArg::Southwell => Solver::Southwell,
     };
+    let method = args.sampling.method.line_method();
     let mut result = match &scene {
         Loaded::Flat(s) => {
             let materials = flat_patch_materials(s);
@@ -96,7 +97,6 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
                 .map_err(at)?,
                 Some(_) => {
                     let tracer = FlatTracer::new(s).map_err(at)?;
-                    let method = args.sampling.method.line_method();
                     super::measure::check_supported(&tracer, method, path)?;
                     with_lines(&tracer, materials, solver, &opts, &args.sampling).map_err(at)?
                 }
@@ -114,7 +114,6 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
                 .map_err(at)?,
                 Some(_) => {
                     let tracer = SceneTracer::new(s).map_err(at)?;
-                    let method = args.sampling.method.line_method();
                     super::measure::check_supported(&tracer, method, path)?;
                     with_lines(&tracer, materials, solver, &opts, &args.sampling).map_err(at)?
                 }

@@ -91,38 +91,22 @@ impl CsrMatrixBuf {
         // A stable sort keeps duplicates in input order, so their sum is reproducible.
         let mut sorted: Vec<(usize, usize, f64)> = triplets.to_vec();
         sorted.sort_by_key(|&(i, j, _)| (i, j));
-
-        let mut out = Self {
-            n,
-            row_ptr: Vec::with_capacity(n + 1),
-            ..Self::default()
-        };
+        let mut out = Self::row_major(n, sorted.len())?;
         let mut k = 0;
-        out.row_ptr.push(0);
-        for i in 0..n {
-            while let Some(&(ti, tj, v)) = sorted.get(k) {
-                if ti != i {
+        while let Some(&(i, j, v)) = sorted.get(k) {
+            // Sum every duplicate of (i, j); a zero sum is dropped.
+            let mut total = v;
+            k += 1;
+            while let Some(&(ui, uj, u)) = sorted.get(k) {
+                if (ui, uj) != (i, j) {
                     break;
                 }
-                // Sum every duplicate of (i, j).
-                let mut total = v;
+                total += u;
                 k += 1;
-                while let Some(&(ui, uj, u)) = sorted.get(k) {
-                    if ui != ti || uj != tj {
-                        break;
-                    }
-                    total += u;
-                    k += 1;
-                }
-                check_entry(i, tj, total)?;
-                if total != 0.0 {
-                    out.col_idx.push(tj as u32);
-                    out.values.push(total);
-                }
             }
-            out.row_ptr.push(out.values.len());
+            out.push(i, j, total)?;
         }
-        Ok(out)
+        Ok(out.finish())
     }
 
     /// Starts an `n × n` matrix received entry by entry in row-major order, with room for

@@ -226,17 +226,16 @@ impl<M: Transitions> Channel<'_, M> {
             e_mse.add(m.total());
         }
         let (h_p, h_s, h_j, i_s) = (self.h_p(), h_s.total(), h_j.total(), i_s.total());
-        let ratio = normalized;
         Measures {
             n_states: self.n_states(),
             h_p,
             h_s,
             h_j,
             i_s,
-            h_s_norm: ratio(h_s, h_p),
-            i_s_norm: ratio(i_s, h_p),
-            h_s_joint_norm: ratio(h_s, h_j),
-            i_s_joint_norm: ratio(i_s, h_j),
+            h_s_norm: normalized(h_s, h_p),
+            i_s_norm: normalized(i_s, h_p),
+            h_s_joint_norm: normalized(h_s, h_j),
+            i_s_joint_norm: normalized(i_s, h_j),
             e_mse: e_mse.total(),
             fano: fano(h_s, self.n_states()),
         }

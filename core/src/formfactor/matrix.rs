@@ -166,10 +166,9 @@ impl FormFactors {
     /// As [`FormFactors::from_patch_matrix`]; [`ErrorKind::MalformedSparse`] for an index
     /// out of range.
     pub fn from_patch_triplets(sizes: &[f64], triplets: Vec<(usize, usize, f64)>) -> Result<Self> {
-        let n = sizes.len();
         check_sizes(sizes)?;
-        check_entries(n, triplets.iter().copied())?;
-        let csr = CsrMatrixBuf::from_triplets(n, &triplets)?;
+        // Indices and entries are checked as the CSR is built
+        let csr = CsrMatrixBuf::from_triplets(sizes.len(), &triplets)?;
         drop(triplets);
         Self::from_patch_csr(sizes, csr)
     }
