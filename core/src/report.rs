@@ -101,6 +101,28 @@ impl<'w, W: Write> JsonObject<'w, W> {
         self.out.write_char(']')
     }
 
+    /// Writes `"key":["…", "…"]`: each item's `Display` form as an escaped string.
+    ///
+    /// # Errors
+    /// Whatever the underlying writer returns.
+    pub fn displays<T: fmt::Display>(
+        &mut self,
+        key: &str,
+        items: impl IntoIterator<Item = T>,
+    ) -> fmt::Result {
+        self.key(key)?;
+        self.out.write_char('[')?;
+        for (k, item) in items.into_iter().enumerate() {
+            if k > 0 {
+                self.out.write_char(',')?;
+            }
+            self.out.write_char('"')?;
+            write!(JsonEscaped(&mut *self.out), "{item}")?;
+            self.out.write_char('"')?;
+        }
+        self.out.write_char(']')
+    }
+
     /// Writes `"key":` followed by a nested object filled by `fill`.
     ///
     /// # Errors

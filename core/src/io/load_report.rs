@@ -1,0 +1,138 @@
+//! What a loader did to a file to make a scene of it: counts and located warnings.
+//!
+//! Real files (OBJ as exporters write it, glTF, PLY) hold things a [`Scene`](crate::scene::Scene)
+//! cannot: concave or slightly non-planar polygons, duplicated faces, statements and material
+//! parameters sceneinfo does not use. The loaders repair or skip what a renderer would draw
+//! anyway and say so here, instead of refusing the file. Warnings of one kind are gathered
+//! into one entry with the first line where it happened and how many times.
+
+use alloc::string::String;
+use alloc::vec::Vec;
+use core::fmt::{self, Write};
+
+use crate::error::Token;
+use crate::report::JsonObject;
+
+/// One kind of repair or skip, with the data that identifies its class (two warnings that
+/// compare equal are counted in one entry).
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum LoadWarningKind {
+    /// An OBJ statement of the specification that carries nothing sceneinfo uses (free-form
+    /// curves and surfaces, `t`, `lod`, `bevel`, …), or an unknown one: skipped.
+    SkippedStatement {
+        /// The statement's keyword.
+        keyword: Token,
+    },
+}
+
+impl LoadWarningKind {
+    /// Whether this warning concerns materials only (reflectance, emittance): commands that
+    /// measure visibility ignore materials and do not print these.
+    #[must_use]
+    pub fn is_material(&self) -> bool {
+        match self {
+            Self::SkippedStatement { .. } => false,
+        }
+    }
+}
+
+impl fmt::Display for LoadWarningKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::SkippedStatement { keyword } => write!(
+                f,
+                "skipped '{}' statements (nothing sceneinfo uses)",
+                keyword.escape_debug()
+            ),
+        }
+    }
+}
+
+/// A gathered warning: its kind, the first 1-based line where it happened (if the format
+/// has lines) and how many times.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadWarning {
+    /// What happened.
+    pub kind: LoadWarningKind,
+    /// The first line where it happened.
+    pub first_line: Option<u32>,
+    /// How many times it happened.
+    pub count: u64,
+}
+
+impl fmt::Display for LoadWarning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some(line) = self.first_line {
+            write!(f, "line {line}: ")?;
+        }
+        write!(f, "{}", self.kind)?;
+        if self.count > 1 {
+            write!(f, " ({} times)", self.count)?;
+        }
+        Ok(())
+    }
+}
+
+/// What a loader did: face counts and the warnings, in the order first met.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LoadReport {
+    /// Polygons read from the file, as written.
+    pub faces_read: u64,
+    /// Warnings, one entry per class, in the order first met.
+    pub warnings: Vec<LoadWarning>,
+}
+
+impl LoadReport {
+    /// Records one occurrence of `kind` at `line`: a new entry, or one more of an equal
+    /// kind already recorded.
+    pub fn warn(&mut self, line: Option<u32>, kind: LoadWarningKind) {
+        if let Some(w) = self.warnings.iter_mut().find(|w| w.kind == kind) {
+            w.count = w.count.saturating_add(1);
+        } else {
+            self.warnings.push(LoadWarning {
+                kind,
+                first_line: line,
+                count: 1,
+            });
+        }
+    }
+
+    /// The warnings a command prints: all of them, or without the material ones when
+    /// `materials_used` is false (visibility commands).
+    pub fn warnings_for(&self, materials_used: bool) -> impl Iterator<Item = &LoadWarning> {
+        self.warnings
+            .iter()
+            .filter(move |w| materials_used || !w.kind.is_material())
+    }
+
+    /// The warnings as messages (see [`Self::warnings_for`]).
+    #[must_use]
+    pub fn messages(&self, materials_used: bool) -> Vec<String> {
+        self.warnings_for(materials_used)
+            .map(|w| {
+                let mut s = String::new();
+                let _ = write!(s, "{w}");
+                s
+            })
+            .collect()
+    }
+
+    /// Writes the report's fields (`faces_read`, …) into a JSON object;
+    /// `materials_used` as in [`Self::warnings_for`]; `load_warnings` is written only when
+    /// there is one.
+    ///
+    /// # Errors
+    /// Whatever the underlying writer returns.
+    pub fn write_fields<W: Write>(
+        &self,
+        o: &mut JsonObject<'_, W>,
+        materials_used: bool,
+    ) -> fmt::Result {
+        o.integer("faces_read", self.faces_read)?;
+        if self.warnings_for(materials_used).next().is_some() {
+            o.displays("load_warnings", self.warnings_for(materials_used))?;
+        }
+        Ok(())
+    }
+}
