@@ -250,3 +250,66 @@ fn formfactors_and_radiosity_refuse_unknown_rows_and_run_with_auto() {
     assert!(out.status.success(), "{}", text(&out.stderr));
     assert_eq!(std::fs::read_to_string(&csv).unwrap().lines().count(), 8);
 }
+
+/// Ctrl-C (SIGINT) during `--lines auto` on a 1e-10-area tile no budget reaches: exit 130,
+/// the report marked partial with `null` discrete measures, and the numbers of one
+/// complete run of the lines cast (a whole number of chunks).
+#[cfg(unix)]
+#[test]
+fn ctrl_c_during_lines_auto_reports_the_lines_cast() {
+    let room = room_with_tile("few-lines-ctrl-c.obj", 1e-5);
+    // Interrupt after a wait; lengthen it if no chunk was done yet (a busy machine)
+    let mut waited = None;
+    for secs in [2u64, 5, 12] {
+        let child = bin()
+            .arg("measure")
+            .arg(&room)
+            .args(["--lines", "auto", "--threads", "2", "--json"])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_secs(secs));
+        let st = std::process::Command::new("kill")
+            .args(["-INT", &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(st.success());
+        let out = child.wait_with_output().unwrap();
+        assert_eq!(out.status.code(), Some(130), "{}", text(&out.stderr));
+        if !out.stdout.is_empty() {
+            waited = Some(out);
+            break;
+        }
+    }
+    let out = waited.expect("no chunk finished in 12 s");
+    let json = text(&out.stdout);
+    assert!(json.contains("\"partial\":true"), "{json}");
+    assert!(json.contains("\"i_s\":null"), "{json}");
+    let lines = number(&json, "lines");
+    assert!(lines > 0.0 && lines % 65536.0 == 0.0, "{json}");
+    assert!(number(&json, "lines_requested") > lines, "{json}");
+    let drop_partial = |j: &str| {
+        j.split(',')
+            .filter(|kv| !kv.contains("\"partial\"") && !kv.contains("\"lines_requested\""))
+            .collect::<Vec<_>>()
+            .join(",")
+    };
+    let full = run(
+        &[
+            "measure",
+            "--lines",
+            &lines.to_string(),
+            "--threads",
+            "1",
+            "--json",
+        ],
+        &room,
+    );
+    let partial = Output {
+        status: full.status,
+        stdout: out.stdout.clone(),
+        stderr: Vec::new(),
+    };
+    assert_eq!(drop_partial(&comparable(&partial)), comparable(&full));
+}

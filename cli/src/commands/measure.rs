@@ -256,7 +256,20 @@ fn line_job<T: LineTracer + Sync>(
     check_supported(tracer, method, path)?;
     let run = crate::lines::run_budget(tracer, method, sampling.seed, budget, threads);
     let done = run.tally.lines();
-    let cut = cut_short(method, done, run.lines);
+    // Ctrl-C between two steps of `--lines auto` leaves a whole job that has not reached
+    // every patch: it was cut short of the next count
+    let requested = match budget {
+        LineBudget::UntilSampled { max, .. }
+            if crate::interrupt::requested()
+                && done == run.lines
+                && run.lines < max
+                && !run.tally.all_sampled() =>
+        {
+            run.lines.saturating_mul(2).min(max)
+        }
+        _ => run.lines,
+    };
+    let cut = cut_short(method, done, requested);
     let continuous = run.tally.continuous();
     let (ff, unsampled) = if run.tally.all_sampled() || done == 0 {
         let est = finished(run.tally.finish(tracer), done, cut, path)?;
@@ -267,7 +280,7 @@ fn line_job<T: LineTracer + Sync>(
     let mc = MonteCarlo {
         method,
         lines: done,
-        requested: run.lines,
+        requested,
         budget_done: run.times.budget_done,
         interrupted: cut,
         seed: sampling.seed,
