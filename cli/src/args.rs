@@ -195,9 +195,10 @@ pub struct SamplingArgs {
     /// and double until every patch has received a line or --max-lines is reached (the lines
     /// already cast are kept, so the result is that of one run of the final count, which is
     /// reported). Without it, form factors are exact. When some patch receives no line, its
-    /// row of F is unknown: I_S^c and its standard error are still reported, the discrete
-    /// measures are undefined (null in JSON), and a warning says how many patches were
-    /// missed and about how many lines would reach them all.
+    /// row of F is unknown: `measure` still reports I_S^c and its standard error, the
+    /// discrete measures undefined (null in JSON), with a warning that says how many patches
+    /// were missed and about how many lines would reach them all; `formfactors` and
+    /// `radiosity`, which need every row, refuse with the same numbers.
     #[arg(long, value_name = "N|auto", value_parser = parse_lines)]
     pub lines: Option<LinesArg>,
     /// With --lines auto: the most lines it may double to (default 2^30 = 1073741824).

@@ -241,6 +241,7 @@ fn formfactors_and_radiosity_refuse_unknown_rows_and_run_with_auto() {
     let json = text(&out.stdout);
     assert!(out.status.success(), "{}", text(&out.stderr));
     assert_eq!(number(&json, "lines"), 131_072.0, "{json}");
+    assert!(json.contains("\"lines_auto\":true"), "{json}");
     let out = bin()
         .args(["formfactors", "--lines", "auto", "--out"])
         .arg(&csv)
@@ -312,4 +313,42 @@ fn ctrl_c_during_lines_auto_reports_the_lines_cast() {
         stderr: Vec::new(),
     };
     assert_eq!(drop_partial(&comparable(&partial)), comparable(&full));
+}
+
+/// A whole job's partials merged: when the job missed a patch, `merge` reports like
+/// `measure` (exit 0, `null` measures, the warning), the same bytes as the one run.
+#[test]
+fn merge_of_a_job_that_missed_a_patch_reports_like_measure() {
+    let room = room_with_tile("few-lines-merge.obj", 0.01);
+    let lines = "131072";
+    let mut parts = Vec::new();
+    for (k, chunks) in ["0..1", "1..2"].iter().enumerate() {
+        let part = temp(&format!("few-lines-part{k}.sip"));
+        let out = bin()
+            .args([
+                "measure", "--lines", lines, "--seed", "5", "--chunks", chunks,
+            ])
+            .arg("--partial")
+            .arg(&part)
+            .arg(&room)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        parts.push(part);
+    }
+    let merged = bin()
+        .arg("merge")
+        .args(&parts)
+        .arg("--json")
+        .output()
+        .unwrap();
+    let one = run(
+        &["measure", "--lines", lines, "--seed", "5", "--json"],
+        &room,
+    );
+    let json = text(&one.stdout);
+    // Seed 5 misses the tile with 131072 lines (expected hits 2.8: seeds 5 and 8 of 1 to 12)
+    assert!(json.contains("\"i_s\":null"), "{json}");
+    assert!(text(&merged.stderr).contains("1 of the 7 patches"));
+    assert_eq!(comparable(&merged), comparable(&one));
 }

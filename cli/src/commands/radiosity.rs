@@ -46,6 +46,9 @@ struct Lines {
     radiosity: [ContinuousEstimate; 3],
     /// Cast once (pair moments) or twice (see [`estimate_lit`]).
     one_pass: bool,
+    /// With `--lines auto`: the largest count it could double to (`lines` is the count it
+    /// stopped at).
+    auto_max: Option<u64>,
 }
 
 /// Everything a run computed.
@@ -224,6 +227,10 @@ fn with_lines<T: LineTracer + Sync>(
             visibility: est.visibility,
             radiosity: est.radiosity,
             one_pass: est.one_pass,
+            auto_max: match budget {
+                LineBudget::UntilSampled { max, .. } => Some(max),
+                LineBudget::Fixed(_) => None,
+            },
         }),
         ff: est.form_factors,
         seconds: 0.0,
@@ -288,6 +295,11 @@ fn json(r: &Run, solver: SolverArg) -> Result<String> {
             o.integer("lines", l.lines)?;
             o.integer("seed", l.seed)?;
             o.integer("samples", l.visibility.samples)?;
+            if let Some(max) = l.auto_max {
+                // Only with --lines auto: `lines` is the count it stopped at
+                o.boolean("lines_auto", true)?;
+                o.integer("max_lines", max)?;
+            }
         }
     }
     o.number("seconds", r.seconds)?;
@@ -321,6 +333,14 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
                     "cast twice: F, then radiosity I_S^c"
                 }
             );
+            if l.auto_max.is_some() {
+                let _ = writeln!(
+                    s,
+                    "--lines auto          doubled from {} to {} lines (every patch reached)",
+                    crate::lines::AUTO_START_LINES,
+                    l.lines
+                );
+            }
         }
     }
     let reports = &r.solution.reports;
