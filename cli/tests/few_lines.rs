@@ -42,7 +42,11 @@ fn comparable(out: &Output) -> String {
     assert!(out.status.success(), "{}", text(&out.stderr));
     without_timing(&text(&out.stdout))
         .split(',')
-        .filter(|kv| !kv.contains("\"lines_auto\"") && !kv.contains("\"max_lines\""))
+        .filter(|kv| {
+            !kv.contains("\"lines_auto\"")
+                && !kv.contains("\"lines_budget\"")
+                && !kv.contains("\"max_lines\"")
+        })
         .collect::<Vec<_>>()
         .join(",")
 }
@@ -144,7 +148,7 @@ fn lines_auto_doubles_until_every_patch_is_reached() {
     assert_eq!(number(&json, "lines"), 262_144.0, "{json}");
     assert!(number(&json, "i_s").is_finite(), "{json}");
     assert!(
-        json.contains("\"lines_auto\":true,\"max_lines\":1073741824"),
+        json.contains("\"lines_auto\":true,\"lines_budget\":262144,\"max_lines\":1073741824"),
         "{json}"
     );
     assert!(!json.contains("unsampled_patches"), "{json}");
@@ -163,6 +167,17 @@ fn lines_auto_doubles_until_every_patch_is_reached() {
     );
     assert_eq!(comparable(&one), comparable(&fixed));
     assert_eq!(comparable(&one), comparable(&auto("2")));
+    // 3D bundles cast about their budget: `lines_budget` is the `--lines` of the same run
+    let bundles = |lines: &str| {
+        let args = [
+            "measure", "--lines", lines, "--method", "bundle", "--seed", "3", "--json",
+        ];
+        run(&args, &room)
+    };
+    let auto = bundles("auto");
+    let budget = number(&text(&auto.stdout), "lines_budget");
+    assert_eq!(budget, 262_144.0, "{}", text(&auto.stdout));
+    assert_eq!(comparable(&auto), comparable(&bundles("262144")));
     // The table says how the count was reached
     let table = text(&run(&["measure", "--lines", "auto", "--seed", "2"], &room).stdout);
     assert!(

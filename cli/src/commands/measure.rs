@@ -390,8 +390,10 @@ pub fn print_report(
                     o.integer("lines_requested", mc.requested)?;
                 }
                 if let Some(max) = mc.auto_max {
-                    // Only with --lines auto: `lines` is the count it stopped at
+                    // Only with --lines auto: the count it stopped at (`--lines` of it gives
+                    // the same numbers; 3D bundles cast about as many lines) and its cap
                     o.boolean("lines_auto", true)?;
+                    o.integer("lines_budget", mc.requested)?;
                     o.integer("max_lines", max)?;
                 }
             }

@@ -298,6 +298,7 @@ fn json(r: &Run, solver: SolverArg) -> Result<String> {
             if let Some(max) = l.auto_max {
                 // Only with --lines auto: `lines` is the count it stopped at
                 o.boolean("lines_auto", true)?;
+                o.integer("lines_budget", l.lines)?;
                 o.integer("max_lines", max)?;
             }
         }
