@@ -191,9 +191,19 @@ pub fn parse_chunks(s: &str) -> Result<std::ops::Range<u64>, String> {
 #[derive(Debug, clap::Args)]
 pub struct SamplingArgs {
     /// Estimate the form factors and the continuous mutual information I_S^c by Monte Carlo
-    /// with this many lines (e.g. 10000000 or 1e7). Without it, form factors are exact.
+    /// with this many lines (e.g. 10000000 or 1e7), or `auto`: start at 2^17 = 131072 lines
+    /// and double until every patch has received a line or --max-lines is reached (the lines
+    /// already cast are kept, so the result is that of one run of the final count, which is
+    /// reported). Without it, form factors are exact. When some patch receives no line, its
+    /// row of F is unknown: `measure` still reports I_S^c and its standard error, the
+    /// discrete measures undefined (null in JSON), with a warning that says how many patches
+    /// were missed and about how many lines would reach them all; `formfactors` and
+    /// `radiosity`, which need every row, refuse with the same numbers.
+    #[arg(long, value_name = "N|auto", value_parser = parse_lines)]
+    pub lines: Option<LinesArg>,
+    /// With --lines auto: the most lines it may double to (default 2^30 = 1073741824).
     #[arg(long, value_name = "N", value_parser = parse_count)]
-    pub lines: Option<u64>,
+    pub max_lines: Option<u64>,
     /// Which lines: uniform global lines (2.37), cosine local lines (2.36), or global lines
     /// cast as bundles of parallel lines: in flatland 256 lines a bundle
     /// in sheaves of 256 directions, each sheaf (a chunk of 65,536 lines) one observation of
@@ -276,6 +286,26 @@ impl Method {
             Method::Bundle => LineMethod::Bundle,
         }
     }
+}
+
+/// A line budget given on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LinesArg {
+    /// Exactly this many lines.
+    Count(u64),
+    /// `auto`: doubled until every patch has received a line
+    /// ([`crate::lines::LineBudget::UntilSampled`]).
+    Auto,
+}
+
+/// Parses `--lines`: a count ([`parse_count`]) or `auto`.
+pub fn parse_lines(s: &str) -> Result<LinesArg, String> {
+    if s.trim().eq_ignore_ascii_case("auto") {
+        return Ok(LinesArg::Auto);
+    }
+    parse_count(s)
+        .map(LinesArg::Count)
+        .map_err(|e| format!("{e} (or auto)"))
 }
 
 /// Parses a count written as an integer (`10000000`) or in scientific notation (`1e7`).

@@ -10,7 +10,90 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use sceneinfo::formfactor::tally::{LineMethod, LineTally, LineTracer};
-use sceneinfo::lines::{chunk_count, chunk_range};
+use sceneinfo::lines::{CHUNK_LINES, chunk_count, chunk_range};
+
+/// Where `--lines auto` starts: 2¹⁷ lines, two seeded chunks (one per core of a small
+/// machine), a whole number of chunks so that every doubling reuses the lines cast.
+pub const AUTO_START_LINES: u64 = 2 * CHUNK_LINES;
+
+/// The most lines `--lines auto` doubles to without `--max-lines`: 2³⁰ (about 10⁹).
+pub const AUTO_MAX_LINES: u64 = 1 << 30;
+
+/// A job's line budget.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LineBudget {
+    /// Exactly this many lines.
+    Fixed(u64),
+    /// `start` lines, doubled until every patch has received a sample or the count reaches
+    /// `max` (the last step clamped to `max`).
+    UntilSampled {
+        /// The first count.
+        start: u64,
+        /// The largest count.
+        max: u64,
+    },
+}
+
+/// What [`run_budget`] cast.
+#[derive(Debug)]
+pub struct BudgetRun {
+    /// The tally: that of one run of `lines` lines (or of its first chunks after Ctrl-C).
+    pub tally: LineTally,
+    /// The job's line count: the fixed budget, or the last count doubled to.
+    pub lines: u64,
+    /// What all the steps cost; `budget_done` counts the chunks of the final job cast.
+    pub times: JobTimes,
+}
+
+/// Casts the lines of `budget` on `threads` threads.
+///
+/// A fixed budget is one [`run_timed`]. `UntilSampled` casts `start` lines and, while some
+/// patch has no sample ([`LineTally::all_sampled`]), no Ctrl-C came and the count is below
+/// `max`, doubles it. A job of `N` lines is the seeded chunks `0..⌈N / 2¹⁶⌉`, and a whole
+/// chunk does not depend on the job it belongs to ([`sceneinfo::lines::chunk_range`]), so
+/// when `N` is a whole number of chunks the job of `2N` lines is the job of `N` plus the
+/// chunks `N/2¹⁶ .. 2N/2¹⁶`: each step casts only those and merges them (exactly), and the
+/// tally equals one run of the final count, bit for bit, on any number of threads. A count
+/// off the chunk grid (a `start` that is not a multiple of 2¹⁶) is recast whole instead.
+pub fn run_budget<T: LineTracer + Sync + ?Sized>(
+    tracer: &T,
+    method: LineMethod,
+    seed: u64,
+    budget: LineBudget,
+    threads: usize,
+) -> BudgetRun {
+    let (start, max) = match budget {
+        LineBudget::Fixed(n) => (n, n),
+        LineBudget::UntilSampled { start, max } => (start.min(max), max),
+    };
+    let mut lines = start;
+    let (mut tally, mut times) = run_timed(tracer, method, seed, lines, threads);
+    // Bounded: the count at least doubles each step up to `max` (≤ 64 steps)
+    while lines < max && !tally.all_sampled() && !crate::interrupt::requested() {
+        let more = lines.saturating_mul(2).min(max);
+        let (extra, t) = if lines % CHUNK_LINES == 0 {
+            let added = chunk_count(lines)..chunk_count(more);
+            run_chunks_timed(tracer, method, seed, more, added, threads)
+        } else {
+            let (whole, t) = run_timed(tracer, method, seed, more, threads);
+            tally = tracer.new_tally(method);
+            times.budget_done = 0;
+            (whole, t)
+        };
+        tally.merge_owned(extra);
+        times = JobTimes {
+            wall: times.wall + t.wall,
+            worker_cpu: times.worker_cpu.zip(t.worker_cpu).map(|(a, b)| a + b),
+            budget_done: times.budget_done + t.budget_done,
+        };
+        lines = more;
+    }
+    BudgetRun {
+        tally,
+        lines,
+        times,
+    }
+}
 
 /// Casts `n_lines` lines of `method` with `seed` on `threads` threads.
 pub fn run<T: LineTracer + Sync + ?Sized>(

@@ -17,6 +17,8 @@
 //!   `F_ij = 1/A_i ∫∫ cos θ_x cos θ_y / (π r²) V(x, y) dA_y dA_x`.
 //! - [`estimate_3d`] (feature `alloc`): the same Monte Carlo estimators over 3D scenes.
 //! - [`tally`] (feature `alloc`): what a Monte Carlo run counts, shared by 2D and 3D.
+//! - [`coverage`] (feature `alloc`): which patches a line job reached, and about how many
+//!   lines would reach them all (Crofton's formula).
 //! - [`memory`] (feature `alloc`): lower bounds on what a job will allocate, checked by front
 //!   ends before it starts.
 //!
@@ -25,6 +27,8 @@
 
 #[cfg(feature = "alloc")]
 mod counts;
+#[cfg(feature = "alloc")]
+pub mod coverage;
 #[cfg(feature = "alloc")]
 pub mod estimate_2d;
 #[cfg(feature = "alloc")]

@@ -195,6 +195,13 @@ pub fn ln(x: f64) -> f64 {
     libm::log(x)
 }
 
+/// Natural exponential, `eˣ`.
+#[inline]
+#[must_use]
+pub fn exp(x: f64) -> f64 {
+    libm::exp(x)
+}
+
 /// Arctangent, `atan x ∈ (−π/2, π/2)`.
 #[inline]
 #[must_use]

@@ -63,6 +63,15 @@ impl<'w, W: Write> JsonObject<'w, W> {
         write!(self.out, "{v}")
     }
 
+    /// Writes `"key":null` (a value that is undefined, not zero).
+    ///
+    /// # Errors
+    /// Whatever the underlying writer returns.
+    pub fn null(&mut self, key: &str) -> fmt::Result {
+        self.key(key)?;
+        self.out.write_str("null")
+    }
+
     /// Writes `"key":true|false`.
     ///
     /// # Errors
@@ -192,6 +201,19 @@ pub enum Warning {
         /// `‖wF − w‖_∞`.
         error: f64,
     },
+    /// Some patches received none of a Monte Carlo run's lines: their rows of `F` are
+    /// unknown, so the discrete measures are undefined ([`UnsampledReport`]).
+    UnsampledPatches {
+        /// Patches without a sample.
+        unsampled: usize,
+        /// Patches of the scene.
+        n_patches: usize,
+        /// Lines cast.
+        lines: u64,
+        /// About how many lines would reach every patch
+        /// ([`crate::formfactor::coverage::lines_to_sample_all`]), if it could be estimated.
+        suggested: Option<u64>,
+    },
 }
 
 impl fmt::Display for Warning {
@@ -212,6 +234,24 @@ impl fmt::Display for Warning {
                 "the weights are stationary only within {error:e}: H_J = 2H_S + I_S holds \
                  only approximately"
             ),
+            Self::UnsampledPatches {
+                unsampled,
+                n_patches,
+                lines,
+                suggested,
+            } => {
+                write!(
+                    f,
+                    "{unsampled} of the {n_patches} patches received none of the {lines} \
+                     lines, so their rows of F are unknown and the discrete measures (H_P, \
+                     H_S, H_J, I_S, their ratios, E(MSE), Fano, the checks) are undefined; \
+                     I_S^c and its standard error stand"
+                )?;
+                match suggested {
+                    Some(m) => write!(f, "; about {m} lines would reach every patch"),
+                    None => Ok(()),
+                }
+            }
         }
     }
 }
@@ -362,6 +402,69 @@ impl SceneReport {
     }
 }
 
+/// The report of a Monte Carlo run that left some patches without a sample
+/// ([`crate::formfactor::coverage`]): the keys of [`SceneReport::write_fields`] in the same
+/// order, `n_patches` given and every other one `null` — the rows of `F` of the unsampled
+/// patches are unknown, and with them every discrete measure, the background (a scene is
+/// open if some row loses energy) and the checks — then `unsampled_patches`,
+/// `lines_to_sample_all` (`null` if it could not be estimated) and `warnings` (one
+/// [`Warning::UnsampledPatches`]). [`LineRunReport`] follows with `I_S^c`, which is
+/// defined (its `i_s` NaN, so `rel_discretisation_error` is `null`).
+#[cfg(feature = "alloc")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct UnsampledReport {
+    /// Which patches the lines reached.
+    pub coverage: crate::formfactor::coverage::Coverage,
+}
+
+#[cfg(feature = "alloc")]
+impl UnsampledReport {
+    /// The warning this report carries.
+    #[must_use]
+    pub fn warning(&self) -> Warning {
+        let c = &self.coverage;
+        Warning::UnsampledPatches {
+            unsampled: c.unsampled,
+            n_patches: c.n_patches,
+            lines: c.lines,
+            suggested: c.lines_to_sample_all,
+        }
+    }
+
+    /// Writes the report's fields into an open JSON object (keys in the type's docs).
+    ///
+    /// # Errors
+    /// Whatever the writer returns.
+    pub fn write_fields<W: Write>(&self, o: &mut JsonObject<'_, W>) -> fmt::Result {
+        let c = &self.coverage;
+        o.integer("n_patches", c.n_patches as u64)?;
+        for key in [
+            "h_p",
+            "h_s",
+            "h_j",
+            "i_s",
+            "h_s_norm",
+            "i_s_norm",
+            "e_mse",
+            "fano",
+            "h_s_joint_norm",
+            "i_s_joint_norm",
+            "n_states",
+            "background",
+            "max_row_deficit",
+            "checks",
+        ] {
+            o.null(key)?;
+        }
+        o.integer("unsampled_patches", c.unsampled as u64)?;
+        match c.lines_to_sample_all {
+            Some(m) => o.integer("lines_to_sample_all", m)?,
+            None => o.null("lines_to_sample_all")?,
+        }
+        o.displays("warnings", [self.warning()])
+    }
+}
+
 /// What a Monte Carlo run adds to a report: its lines, seed and the continuous mutual
 /// information `I_S^c` (4.8, 4.13) with its standard error.
 #[cfg(feature = "alloc")]
@@ -478,6 +581,47 @@ mod tests {
         let inner = "v 0.4 0.4 0.4\nv 0.6 0.4 0.4\nv 0.6 0.6 0.4\nv 0.4 0.6 0.4\nf 12 11 10 9\n";
         let err = measure_obj_json(&alloc::format!("{cube}{inner}"), |_| None).unwrap_err();
         assert_eq!(err.kind(), &crate::ErrorKind::MayBeOccluded);
+    }
+
+    /// An unsampled run's report: the scene report's keys in their order, `null`, then
+    /// the coverage and the warning.
+    #[test]
+    fn unsampled_report_keeps_the_keys_with_nulls() {
+        let report = UnsampledReport {
+            coverage: crate::formfactor::coverage::Coverage {
+                n_patches: 7,
+                lines: 100,
+                unsampled: 2,
+                first_unsampled: Some(3),
+                lines_to_sample_all: Some(65536),
+            },
+        };
+        let mut s = String::new();
+        let mut o = JsonObject::new(&mut s).unwrap();
+        report.write_fields(&mut o).unwrap();
+        o.finish().unwrap();
+        let keys = "\"n_patches\":7,\"h_p\":null,\"h_s\":null,\"h_j\":null,\"i_s\":null,\
+                    \"h_s_norm\":null,\"i_s_norm\":null,\"e_mse\":null,\"fano\":null,\
+                    \"h_s_joint_norm\":null,\"i_s_joint_norm\":null,\"n_states\":null,\
+                    \"background\":null,\"max_row_deficit\":null,\"checks\":null,\
+                    \"unsampled_patches\":2,\"lines_to_sample_all\":65536,\"warnings\":[\"2 of \
+                    the 7 patches received none of the 100 lines";
+        assert!(s.starts_with(&alloc::format!("{{{keys}")), "{s}");
+        assert!(
+            s.ends_with("about 65536 lines would reach every patch\"]}"),
+            "{s}"
+        );
+        // The scene report's keys come in the same order
+        let cube = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+                    f 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\nf 4 8 5 1\n";
+        let full = measure_obj_json(cube, |_| None).unwrap();
+        let names = |j: &str| -> alloc::vec::Vec<alloc::string::String> {
+            j.split(['{', ','])
+                .filter_map(|f| f.strip_prefix('"')?.split_once("\":").map(|k| k.0.into()))
+                .collect()
+        };
+        let (ours, theirs) = (names(&s), names(&full));
+        assert_eq!(ours[..15], theirs[..15]);
     }
 
     #[test]

@@ -6,10 +6,10 @@
 //! bits as `sceneinfo measure --lines N --seed S` on any number of threads; a job stopped
 //! after `k` whole chunks equals the job of `k · 2^16` lines.
 
-use sceneinfo::formfactor::estimate_2d::{FlatEstimate, FlatTracer};
+use sceneinfo::formfactor::estimate_2d::FlatTracer;
 use sceneinfo::formfactor::tally::{LineMethod, LineTally, LineTracer};
 use sceneinfo::lines::{CHUNK_LINES, chunk_count};
-use sceneinfo::report::{JsonObject, LineRunReport, SceneReport};
+use sceneinfo::report::{JsonObject, LineRunReport, SceneReport, UnsampledReport};
 use wasm_bindgen::prelude::*;
 
 use crate::into_error;
@@ -107,31 +107,57 @@ impl LineJob {
     /// The result of the lines cast so far: Monte Carlo form factors (2.36, 2.37), their
     /// channel measures and `I_S^c` with its per-patch split.
     ///
+    /// When some patch has no sample yet its row of `F` is unknown: the result then has
+    /// `I_S^c` and its per-patch split, and JSON whose discrete measures are `null`, with
+    /// `unsampled_patches`, `lines_to_sample_all` and the warning
+    /// ([`sceneinfo::report::UnsampledReport`]), as `sceneinfo measure` prints.
+    ///
     /// # Errors
-    /// `NoLines` before the first chunk; `UnsampledPatch` when some patch has no sample yet
-    /// (cast more lines); the channel's errors.
+    /// `NoLines` before the first chunk; the channel's errors.
     pub fn finish(&self) -> Result<LineResult, JsError> {
+        let json_error = |e: std::fmt::Error| JsError::new(&e.to_string());
+        let mut json = String::new();
+        let mut o = JsonObject::new(&mut json).map_err(json_error)?;
+        let run = |i_s: f64, continuous| LineRunReport {
+            method: self.method,
+            lines: self.tally.lines(),
+            seed: self.seed,
+            continuous,
+            i_s,
+        };
+        if self.tally.lines() > 0 && !self.tally.all_sampled() {
+            let report = UnsampledReport {
+                coverage: self.tally.coverage(self.tracer.patch_sizes()),
+            };
+            let run = run(f64::NAN, self.tally.continuous());
+            let written = report
+                .write_fields(&mut o)
+                .and_then(|()| run.write_fields(&mut o))
+                .and_then(|()| o.finish());
+            written.map_err(json_error)?;
+            return Ok(LineResult {
+                patch_continuous: self.tally.patch_continuous(),
+                pair_continuous: None,
+                json,
+            });
+        }
         let estimate = self
             .tally
             .clone()
             .finish(&self.tracer)
             .map_err(into_error)?;
         let report = SceneReport::of(&estimate.form_factors).map_err(into_error)?;
-        let run = LineRunReport {
-            method: self.method,
-            lines: self.tally.lines(),
-            seed: self.seed,
-            continuous: estimate.continuous,
-            i_s: report.measures.i_s,
-        };
-        let mut json = String::new();
-        let mut o = JsonObject::new(&mut json).map_err(|e| JsError::new(&e.to_string()))?;
+        let run = run(report.measures.i_s, estimate.continuous);
         let written = report
             .write_fields(&mut o)
             .and_then(|()| run.write_fields(&mut o))
             .and_then(|()| o.finish());
-        written.map_err(|e| JsError::new(&e.to_string()))?;
-        Ok(LineResult { estimate, json })
+        written.map_err(json_error)?;
+        Ok(LineResult {
+            patch_continuous: estimate.patch_continuous,
+            pair_continuous: estimate.pair_continuous,
+            json,
+        })
     }
 }
 
@@ -139,7 +165,10 @@ impl LineJob {
 #[wasm_bindgen]
 #[derive(Debug)]
 pub struct LineResult {
-    estimate: FlatEstimate,
+    /// `I_i^c` per patch (6.37).
+    patch_continuous: Vec<f64>,
+    /// `I_ij^c` (6.35, 6.36), when kept.
+    pair_continuous: Option<Vec<f64>>,
     json: String,
 }
 
@@ -158,14 +187,15 @@ impl LineResult {
     #[wasm_bindgen(js_name = patchContinuous)]
     #[must_use]
     pub fn patch_continuous(&self) -> Vec<f64> {
-        self.estimate.patch_continuous.clone()
+        self.patch_continuous.clone()
     }
 
     /// `I_ij^c` (6.35, 6.36), `n × n` row-major, for scenes of at most
-    /// [`sceneinfo::formfactor::DENSE_PAIR_LIMIT`] patches (`undefined` beyond).
+    /// [`sceneinfo::formfactor::DENSE_PAIR_LIMIT`] patches whose every patch was sampled
+    /// (`undefined` otherwise).
     #[wasm_bindgen(js_name = pairContinuous)]
     #[must_use]
     pub fn pair_continuous(&self) -> Option<Vec<f64>> {
-        self.estimate.pair_continuous.clone()
+        self.pair_continuous.clone()
     }
 }

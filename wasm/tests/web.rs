@@ -176,6 +176,27 @@ fn chunked_job_gives_the_core_estimate_bit_for_bit() {
 }
 
 #[wasm_bindgen_test]
+fn job_that_misses_patches_reports_i_s_c_and_null_measures() {
+    // 3000 patches, 100 lines: most patches get no line, so the discrete measures are
+    // undefined (`null`), while I_S^c and its per-patch split stand, as `sceneinfo measure`
+    // reports them.
+    let lab = FlatLab::preset("koch-0", 1000.0).expect("catalogue scene");
+    let mut job = lab.global_lines(1.0, 100.0).expect("job");
+    job.run(1);
+    let result = job.finish().expect("an answer, not an error");
+    let json = result.json();
+    assert!(
+        json.contains("\"i_s\":null") && json.contains("\"checks\":null"),
+        "{json}"
+    );
+    assert!(number(&json, "unsampled_patches") > 0.0, "{json}");
+    assert_eq!(number(&json, "i_s_continuous"), job.value());
+    let n = number(&json, "n_patches") as usize;
+    assert_eq!(result.patch_continuous().len(), n);
+    assert_eq!(result.pair_continuous(), None);
+}
+
+#[wasm_bindgen_test]
 fn stopped_job_equals_the_job_of_its_whole_chunks() {
     let lab = FlatLab::new(TRIANGLE).expect("valid");
     let mut long = lab.global_lines(3.0, 1e7).expect("job");

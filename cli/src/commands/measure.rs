@@ -10,16 +10,18 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use sceneinfo::continuous::{ContinuousEstimate, relative_discretisation_error};
 use sceneinfo::formfactor::FormFactors;
+use sceneinfo::formfactor::coverage::Coverage;
 use sceneinfo::formfactor::estimate_2d::{FlatTracer, LineMethod};
 use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::formfactor::partial::{JobId, Partial, fingerprint};
 use sceneinfo::formfactor::tally::{LineTally, LineTracer};
 use sceneinfo::lines::{CHUNK_LINES, chunk_count};
-use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport};
+use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport, UnsampledReport};
 
-use crate::args::{MeasureArgs, SamplingArgs};
+use crate::args::{LinesArg, MeasureArgs, SamplingArgs};
 use crate::interrupt::Interrupted;
+use crate::lines::{AUTO_MAX_LINES, AUTO_START_LINES, LineBudget};
 use crate::output::{Loaded, located, write_atomic};
 
 /// Below this many independent groups the text report warns that the standard error of
@@ -44,6 +46,12 @@ pub struct MonteCarlo {
     pub seed: u64,
     /// `I_S^c` and its standard error.
     pub continuous: ContinuousEstimate,
+    /// With `--lines auto`: the largest count it could double to (`requested` is the one
+    /// it stopped at).
+    pub auto_max: Option<u64>,
+    /// When some patch received no line: which ones the lines reached. Their rows of `F`
+    /// are then unknown, so the report has `I_S^c` and no discrete measures.
+    pub unsampled: Option<Coverage>,
 }
 
 impl MonteCarlo {
@@ -62,10 +70,82 @@ impl MonteCarlo {
 /// that no partial matrix is written as if it were the one asked for).
 pub fn form_factors_of(path: &Path, sampling: &SamplingArgs) -> Result<FormFactors> {
     let (ff, mc) = compute(path, sampling)?;
-    if mc.is_some_and(|mc| mc.partial()) {
+    if mc.as_ref().is_some_and(MonteCarlo::partial) {
         return Err(Interrupted { partial: None }.into());
     }
-    Ok(ff)
+    match (ff, mc.and_then(|mc| mc.unsampled)) {
+        (Some(ff), _) => Ok(ff),
+        (None, coverage) => Err(unsampled_error(
+            path,
+            coverage.as_ref(),
+            "no matrix written",
+        )),
+    }
+}
+
+/// The error of a command that needs every row of `F` when some patch received none of
+/// the lines: how many, and about how many lines would reach them all.
+pub fn unsampled_error(path: &Path, coverage: Option<&Coverage>, what: &str) -> anyhow::Error {
+    match coverage {
+        Some(c) => anyhow::anyhow!(
+            "{}: {} of the {} patches received none of the {} lines, so their rows of F are \
+             unknown: {what}; {}",
+            path.display(),
+            c.unsampled,
+            c.n_patches,
+            c.lines,
+            cast_more(c)
+        ),
+        None => anyhow::anyhow!("{}: some patch received no line: {what}", path.display()),
+    }
+}
+
+/// The flags to cast enough lines: `--lines M` with the suggested count, or `--lines auto`.
+fn flags_hint(c: &Coverage) -> String {
+    match c.lines_to_sample_all {
+        Some(m) => format!("ask for --lines {m}, or --lines auto"),
+        None => "ask for more lines, or --lines auto".to_owned(),
+    }
+}
+
+/// What to ask for instead: `--lines M` with the suggested count, or `--lines auto`.
+pub fn cast_more(c: &Coverage) -> String {
+    match c.lines_to_sample_all {
+        Some(m) => {
+            format!("about {m} lines would reach every patch (--lines {m}, or --lines auto)")
+        }
+        None => {
+            "cast more lines (--lines auto doubles them until every patch is reached)".to_owned()
+        }
+    }
+}
+
+/// The line budget of `--lines` (and `--max-lines`), checked against the core's cap.
+///
+/// # Errors
+/// A budget of zero or beyond [`sceneinfo::lines::MAX_LINES`]; `--max-lines` without
+/// `--lines auto`.
+pub fn budget_of(sampling: &SamplingArgs, path: &Path) -> Result<Option<LineBudget>> {
+    let at = |e: sceneinfo::Error| located(path, &e);
+    let budget = match sampling.lines {
+        None => None,
+        Some(LinesArg::Count(n)) => {
+            sceneinfo::lines::check_line_budget(n).map_err(at)?;
+            Some(LineBudget::Fixed(n))
+        }
+        Some(LinesArg::Auto) => {
+            let max = sampling.max_lines.unwrap_or(AUTO_MAX_LINES);
+            sceneinfo::lines::check_line_budget(max).map_err(at)?;
+            Some(LineBudget::UntilSampled {
+                start: AUTO_START_LINES,
+                max,
+            })
+        }
+    };
+    if sampling.max_lines.is_some() && !matches!(budget, Some(LineBudget::UntilSampled { .. })) {
+        anyhow::bail!("{}: --max-lines bounds --lines auto only", path.display());
+    }
+    Ok(budget)
 }
 
 /// Whether Ctrl-C cut a job of `asked` lines short, given the `done` lines it cast. Global
@@ -75,8 +155,8 @@ fn cut_short(method: LineMethod, done: u64, asked: u64) -> bool {
     crate::interrupt::requested() && (done < asked || method == LineMethod::Bundle)
 }
 
-/// The result of a line job's `finish`: after Ctrl-C a job that cast no line, or too few
-/// to estimate every patch, is [`Interrupted`] rather than its error.
+/// The result of a line job's `finish`: after Ctrl-C a job that cast no line is
+/// [`Interrupted`] rather than its error.
 fn finished<T>(
     result: sceneinfo::Result<T>,
     done: u64,
@@ -112,14 +192,16 @@ fn threads_of(sampling: &SamplingArgs) -> usize {
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get))
 }
 
-fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<MonteCarlo>)> {
+/// The form factors of a scene (`None` when some patch received no line: then the Monte
+/// Carlo part says which, and carries `I_S^c`) and the Monte Carlo run, if any.
+fn compute(
+    path: &Path,
+    sampling: &SamplingArgs,
+) -> Result<(Option<FormFactors>, Option<MonteCarlo>)> {
     let at = |e: sceneinfo::Error| located(path, &e);
     let scene = crate::output::load_scene(path)?;
-    let method = sampling.method.line_method();
     let threads = threads_of(sampling);
-    if let Some(n) = sampling.lines {
-        sceneinfo::lines::check_line_budget(n).map_err(at)?;
-    }
+    let budget = budget_of(sampling, path)?;
     // The large tables, before anything is allocated for them
     if let Some(limit) = sampling.max_memory {
         use sceneinfo::formfactor::memory;
@@ -127,7 +209,7 @@ fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<
             Loaded::Flat(s) => s.n_patches(),
             Loaded::Solid(s) => s.n_patches(),
         };
-        let (what, needed) = match sampling.lines {
+        let (what, needed) = match budget {
             // One tally per thread and the merged total
             Some(_) => (
                 "Monte Carlo pair tallies and form factors",
@@ -144,43 +226,72 @@ fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<
             return Err(at(kind.into()));
         }
     }
-    Ok(match (sampling.lines, &scene) {
-        (None, Loaded::Flat(s)) => (exact_2d::form_factors(s).map_err(at)?, None),
-        (None, Loaded::Solid(s)) => (crate::output::exact_3d_form_factors(path, s)?, None),
-        (Some(lines), scene) => {
-            // A run is cut short only by Ctrl-C (no new chunk starts after it)
-            let (est, done, budget_done, interrupted) = match scene {
-                Loaded::Flat(s) => {
-                    let tracer = FlatTracer::new(s).map_err(at)?;
-                    check_supported(&tracer, method, path)?;
-                    let (tally, job) =
-                        crate::lines::run_timed(&tracer, method, sampling.seed, lines, threads);
-                    let (done, cut) = (tally.lines(), cut_short(method, tally.lines(), lines));
-                    let est = finished(tally.finish(&tracer), done, cut, path)?;
-                    (est, done, job.budget_done, cut)
-                }
-                Loaded::Solid(s) => {
-                    let tracer = SceneTracer::new(s).map_err(at)?;
-                    check_supported(&tracer, method, path)?;
-                    let (tally, job) =
-                        crate::lines::run_timed(&tracer, method, sampling.seed, lines, threads);
-                    let (done, cut) = (tally.lines(), cut_short(method, tally.lines(), lines));
-                    let est = finished(tally.finish(&tracer), done, cut, path)?;
-                    (est, done, job.budget_done, cut)
-                }
-            };
-            let mc = MonteCarlo {
-                method,
-                lines: done,
-                requested: lines,
-                budget_done,
-                interrupted,
-                seed: sampling.seed,
-                continuous: est.continuous,
-            };
-            (est.form_factors, Some(mc))
+    Ok(match (budget, &scene) {
+        (None, Loaded::Flat(s)) => (Some(exact_2d::form_factors(s).map_err(at)?), None),
+        (None, Loaded::Solid(s)) => (Some(crate::output::exact_3d_form_factors(path, s)?), None),
+        (Some(budget), Loaded::Flat(s)) => {
+            let tracer = FlatTracer::new(s).map_err(at)?;
+            let (ff, mc) = line_job(&tracer, sampling, budget, threads, path)?;
+            (ff, Some(mc))
+        }
+        (Some(budget), Loaded::Solid(s)) => {
+            let tracer = SceneTracer::new(s).map_err(at)?;
+            let (ff, mc) = line_job(&tracer, sampling, budget, threads, path)?;
+            (ff, Some(mc))
         }
     })
+}
+
+/// Casts the lines of `budget` and finishes them: the form factors when every patch
+/// received a line, otherwise `None` and the coverage in the Monte Carlo part. A run is
+/// cut short only by Ctrl-C (no new chunk starts after it).
+fn line_job<T: LineTracer + Sync>(
+    tracer: &T,
+    sampling: &SamplingArgs,
+    budget: LineBudget,
+    threads: usize,
+    path: &Path,
+) -> Result<(Option<FormFactors>, MonteCarlo)> {
+    let method = sampling.method.line_method();
+    check_supported(tracer, method, path)?;
+    let run = crate::lines::run_budget(tracer, method, sampling.seed, budget, threads);
+    let done = run.tally.lines();
+    // Ctrl-C between two steps of `--lines auto` leaves a whole job that has not reached
+    // every patch: it was cut short of the next count
+    let requested = match budget {
+        LineBudget::UntilSampled { max, .. }
+            if crate::interrupt::requested()
+                && done == run.lines
+                && run.lines < max
+                && !run.tally.all_sampled() =>
+        {
+            run.lines.saturating_mul(2).min(max)
+        }
+        _ => run.lines,
+    };
+    let cut = cut_short(method, done, requested);
+    let continuous = run.tally.continuous();
+    let (ff, unsampled) = if run.tally.all_sampled() || done == 0 {
+        let est = finished(run.tally.finish(tracer), done, cut, path)?;
+        (Some(est.form_factors), None)
+    } else {
+        (None, Some(run.tally.coverage(tracer.patch_sizes())))
+    };
+    let mc = MonteCarlo {
+        method,
+        lines: done,
+        requested,
+        budget_done: run.times.budget_done,
+        interrupted: cut,
+        seed: sampling.seed,
+        continuous,
+        auto_max: match budget {
+            LineBudget::UntilSampled { max, .. } => Some(max),
+            LineBudget::Fixed(_) => None,
+        },
+        unsampled,
+    };
+    Ok((ff, mc))
 }
 
 pub fn run(args: &MeasureArgs) -> Result<()> {
@@ -191,7 +302,7 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
     let (ff, mc) = compute(&args.file, &args.sampling)?;
     print_report(
         &args.file,
-        &ff,
+        ff.as_ref(),
         mc.as_ref(),
         Timing {
             start,
@@ -211,26 +322,56 @@ pub struct Timing {
     pub earlier: f64,
 }
 
-/// Prints the report of `ff` (a table, or JSON), and writes the matrix CSV if asked.
+/// Prints the report of `ff` (a table, or JSON), and writes the matrix CSV if asked. With
+/// `ff` `None` (some patch received none of the lines, `mc.unsampled`), the discrete
+/// measures are undefined: `null` in JSON, "undefined" in the table, a warning on stderr,
+/// and no matrix.
 pub fn print_report(
     file: &Path,
-    ff: &FormFactors,
+    ff: Option<&FormFactors>,
     mc: Option<&MonteCarlo>,
     timing: Timing,
     json: bool,
     matrix: Option<&Path>,
 ) -> Result<()> {
     let at = |e: sceneinfo::Error| located(file, &e);
-    let report = SceneReport::of(ff).map_err(at)?;
+    let report = match ff {
+        Some(ff) => Report::Complete(SceneReport::of(ff).map_err(at)?),
+        None => {
+            let Some(coverage) = mc.and_then(|mc| mc.unsampled) else {
+                anyhow::bail!("{}: no form factors to report", file.display());
+            };
+            Report::Unsampled(UnsampledReport { coverage })
+        }
+    };
     let seconds = timing.earlier + timing.start.elapsed().as_secs_f64();
-    if let Some(path) = matrix {
-        write_atomic(path, crate::commands::formfactors::csv(ff)?.as_bytes())?;
+    match (matrix, ff) {
+        (Some(path), Some(ff)) => {
+            write_atomic(path, crate::commands::formfactors::csv(ff)?.as_bytes())?;
+        }
+        (Some(path), None) => eprintln!(
+            "sceneinfo: warning: {}: not written: the rows of F of the patches without a \
+             line are unknown",
+            path.display()
+        ),
+        (None, _) => {}
+    }
+    if let Report::Unsampled(u) = &report {
+        eprintln!(
+            "sceneinfo: warning: {}: {}; {}",
+            file.display(),
+            u.warning(),
+            flags_hint(&u.coverage)
+        );
     }
     let mut out = std::io::stdout().lock();
     if json {
         let mut s = String::new();
         let mut o = JsonObject::new(&mut s)?;
-        report.write_fields(&mut o)?;
+        match &report {
+            Report::Complete(r) => r.write_fields(&mut o)?,
+            Report::Unsampled(u) => u.write_fields(&mut o)?,
+        }
         match mc {
             None => o.string("form_factors", "exact")?,
             Some(mc) => {
@@ -239,7 +380,7 @@ pub fn print_report(
                     lines: mc.lines,
                     seed: mc.seed,
                     continuous: mc.continuous,
-                    i_s: report.measures.i_s,
+                    i_s: report.i_s(),
                 };
                 run.write_fields(&mut o)?;
                 o.number("lines_per_second", mc.lines as f64 / seconds.max(1e-9))?;
@@ -247,6 +388,13 @@ pub fn print_report(
                     // Only after Ctrl-C: a complete run's keys match the wasm API's
                     o.boolean("partial", true)?;
                     o.integer("lines_requested", mc.requested)?;
+                }
+                if let Some(max) = mc.auto_max {
+                    // Only with --lines auto: the count it stopped at (`--lines` of it gives
+                    // the same numbers; 3D bundles cast about as many lines) and its cap
+                    o.boolean("lines_auto", true)?;
+                    o.integer("lines_budget", mc.requested)?;
+                    o.integer("max_lines", max)?;
                 }
             }
         }
@@ -270,6 +418,22 @@ pub fn print_report(
     }
 }
 
+/// The discrete part of a report: the channel's measures, or none (some row unknown).
+enum Report {
+    Complete(SceneReport),
+    Unsampled(UnsampledReport),
+}
+
+impl Report {
+    /// `I_S`, NaN when undefined.
+    fn i_s(&self) -> f64 {
+        match self {
+            Report::Complete(r) => r.measures.i_s,
+            Report::Unsampled(_) => f64::NAN,
+        }
+    }
+}
+
 /// `measure … --lines N [--chunks A..B] --partial OUT.sip`: tallies the chunks into a
 /// partial-result file and prints what it wrote.
 fn write_partial(args: &MeasureArgs, out: &Path) -> Result<()> {
@@ -278,9 +442,16 @@ fn write_partial(args: &MeasureArgs, out: &Path) -> Result<()> {
     let at = |e: sceneinfo::Error| located(path, &e);
     let sampling = &args.sampling;
     let lines = match sampling.lines {
-        Some(0) | None => return Err(at(sceneinfo::ErrorKind::NoLines.into())),
-        Some(n) => n,
+        Some(LinesArg::Count(0)) | None => return Err(at(sceneinfo::ErrorKind::NoLines.into())),
+        Some(LinesArg::Count(n)) => n,
+        Some(LinesArg::Auto) => anyhow::bail!(
+            "{}: a partial result is a range of chunks of a fixed job: give --lines N, not auto",
+            path.display()
+        ),
     };
+    if sampling.max_lines.is_some() {
+        anyhow::bail!("{}: --max-lines bounds --lines auto only", path.display());
+    }
     let total = chunk_count(lines);
     let chunks = args.chunks.clone().unwrap_or(0..total);
     if chunks.end > total {
@@ -367,7 +538,11 @@ fn tally_chunks<T: LineTracer + Sync>(
     Ok((tally, tracer.patch_sizes().to_vec()))
 }
 
-fn table(name: &str, r: &SceneReport, mc: Option<&MonteCarlo>, seconds: f64) -> String {
+fn table(name: &str, report: &Report, mc: Option<&MonteCarlo>, seconds: f64) -> String {
+    let r = match report {
+        Report::Complete(r) => r,
+        Report::Unsampled(u) => return unsampled_table(name, u, mc, seconds),
+    };
     let m = &r.measures;
     let c = &r.checks;
     let yes = |b: bool| if b { "yes" } else { "NO" };
@@ -385,42 +560,14 @@ fn table(name: &str, r: &SceneReport, mc: Option<&MonteCarlo>, seconds: f64) -> 
         None => {
             let _ = writeln!(s, "form factors          exact, {seconds:.3} s");
         }
-        Some(mc) => {
-            let _ = writeln!(
-                s,
-                "form factors          {} : {} lines, seed {}, {seconds:.3} s ({:.2} M lines/s)",
-                mc.method.description(),
-                mc.lines,
-                mc.seed,
-                mc.lines as f64 / seconds.max(1e-9) / 1e6
-            );
-            if mc.partial() {
-                let _ = writeln!(
-                    s,
-                    "PARTIAL               interrupted after {} of the {} lines asked for",
-                    mc.lines, mc.requested
-                );
-            }
-        }
+        Some(mc) => run_lines(&mut s, mc, seconds),
     }
     let _ = writeln!(s, "H_P   (3.5)           {:.6} bits", m.h_p);
     let _ = writeln!(s, "H_S   (3.1)           {:.6} bits", m.h_s);
     let _ = writeln!(s, "H_J   (3.6)           {:.6} bits", m.h_j);
     let _ = writeln!(s, "I_S   (3.8)           {:.6} bits", m.i_s);
     if let Some(mc) = mc {
-        let _ = writeln!(
-            s,
-            "I_S^c (4.8, 4.13)     {:.6} ± {:.6} bits (1 standard error, from {} independent groups)",
-            mc.continuous.value, mc.continuous.stderr, mc.continuous.groups
-        );
-        if mc.continuous.groups < FEW_STDERR_GROUPS {
-            let _ = writeln!(
-                s,
-                "WARNING               the standard error rests on {} observations only: \
-                 ask for more lines to trust it",
-                mc.continuous.groups
-            );
-        }
+        continuous_lines(&mut s, mc);
         let _ = writeln!(
             s,
             "(I_S^c - I_S)/I_S^c   {:.4}",
@@ -460,5 +607,98 @@ fn table(name: &str, r: &SceneReport, mc: Option<&MonteCarlo>, seconds: f64) -> 
     for w in r.warnings() {
         let _ = writeln!(s, "WARNING: {w}");
     }
+    s
+}
+
+/// The table's lines about the Monte Carlo run: method, lines, seed, speed; after Ctrl-C
+/// the lines asked for; with `--lines auto` how the count was reached.
+fn run_lines(s: &mut String, mc: &MonteCarlo, seconds: f64) {
+    let _ = writeln!(
+        s,
+        "form factors          {} : {} lines, seed {}, {seconds:.3} s ({:.2} M lines/s)",
+        mc.method.description(),
+        mc.lines,
+        mc.seed,
+        mc.lines as f64 / seconds.max(1e-9) / 1e6
+    );
+    if let Some(max) = mc.auto_max {
+        let why = if mc.unsampled.is_some() && mc.requested >= max {
+            format!("stopped at --max-lines {max}")
+        } else if mc.unsampled.is_some() {
+            "stopped early".to_owned()
+        } else {
+            "every patch reached".to_owned()
+        };
+        let _ = writeln!(
+            s,
+            "--lines auto          doubled from {AUTO_START_LINES} to {} lines ({why})",
+            mc.requested
+        );
+    }
+    if mc.partial() {
+        let _ = writeln!(
+            s,
+            "PARTIAL               interrupted after {} of the {} lines asked for",
+            mc.lines, mc.requested
+        );
+    }
+}
+
+/// The table's `I_S^c` line, and a warning when its standard error rests on few groups.
+fn continuous_lines(s: &mut String, mc: &MonteCarlo) {
+    let _ = writeln!(
+        s,
+        "I_S^c (4.8, 4.13)     {:.6} ± {:.6} bits (1 standard error, from {} independent groups)",
+        mc.continuous.value, mc.continuous.stderr, mc.continuous.groups
+    );
+    if mc.continuous.groups < FEW_STDERR_GROUPS {
+        let _ = writeln!(
+            s,
+            "WARNING               the standard error rests on {} observations only: \
+             ask for more lines to trust it",
+            mc.continuous.groups
+        );
+    }
+}
+
+/// The table of a run that left some patches without a line: `I_S^c` and its standard
+/// error, the discrete measures "undefined", and the warning with the lines to ask for.
+fn unsampled_table(
+    name: &str,
+    u: &UnsampledReport,
+    mc: Option<&MonteCarlo>,
+    seconds: f64,
+) -> String {
+    let c = &u.coverage;
+    let mut s = String::new();
+    let _ = writeln!(s, "scene                 {name}");
+    let _ = writeln!(s, "patches               {}", c.n_patches);
+    if let Some(mc) = mc {
+        run_lines(&mut s, mc, seconds);
+    }
+    let _ = writeln!(
+        s,
+        "unsampled patches     {} of {} received no line (rows of F unknown)",
+        c.unsampled, c.n_patches
+    );
+    for label in ["H_P   (3.5)", "H_S   (3.1)", "H_J   (3.6)", "I_S   (3.8)"] {
+        let _ = writeln!(s, "{label:<22}undefined");
+    }
+    if let Some(mc) = mc {
+        continuous_lines(&mut s, mc);
+    }
+    for label in [
+        "(I_S^c - I_S)/I_S^c",
+        "H_S / H_P  (3.12)",
+        "I_S / H_P  (3.13)",
+        "H_S / H_J",
+        "I_S / H_J",
+        "E(MSE) (3.20, N=1)",
+        "Fano bound (3.21)",
+        "checks",
+    ] {
+        let _ = writeln!(s, "{label:<22}undefined");
+    }
+    let _ = writeln!(s, "WARNING: {}; {}", u.warning(), flags_hint(c));
     s
 }

@@ -38,6 +38,30 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         return Ok(());
     }
     let (job, earlier) = (merged.job, merged.seconds);
+    // A whole job that left some patch without a line: I_S^c, no discrete measures
+    if merged.is_complete() && !merged.tally.all_sampled() {
+        let coverage = merged.tally.coverage(&merged.sizes);
+        let mc = MonteCarlo {
+            method: job.method,
+            lines: merged.tally.lines(),
+            requested: job.lines,
+            budget_done: job.lines,
+            interrupted: false,
+            seed: job.seed,
+            continuous: merged.tally.continuous(),
+            auto_max: None,
+            unsampled: Some(coverage),
+        };
+        let timing = Timing { start, earlier };
+        return print_report(
+            first,
+            None,
+            Some(&mc),
+            timing,
+            args.json,
+            args.matrix.as_deref(),
+        );
+    }
     let est = merged
         .finish()
         .map_err(|e| anyhow::anyhow!("merge: {}", e.kind()))?;
@@ -51,10 +75,12 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         interrupted: false,
         seed: job.seed,
         continuous: est.continuous,
+        auto_max: None,
+        unsampled: None,
     };
     print_report(
         Path::new(first),
-        &est.form_factors,
+        Some(&est.form_factors),
         Some(&mc),
         Timing { start, earlier },
         args.json,

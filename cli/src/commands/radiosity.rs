@@ -12,6 +12,7 @@
 
 use std::fmt::Write as _;
 use std::io::Write;
+use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{Result, bail};
@@ -31,6 +32,7 @@ use sceneinfo::report::{JsonObject, SceneReport};
 use sceneinfo::scene::{Material, Scene};
 
 use crate::args::{Method, RadiosityArgs, SamplingArgs, SolverArg};
+use crate::lines::LineBudget;
 use crate::output::{Loaded, located, write_atomic};
 use crate::ply::Ply;
 use crate::svg::Rgb;
@@ -44,6 +46,9 @@ struct Lines {
     radiosity: [ContinuousEstimate; 3],
     /// Cast once (pair moments) or twice (see [`estimate_lit`]).
     one_pass: bool,
+    /// With `--lines auto`: the largest count it could double to (`lines` is the count it
+    /// stopped at).
+    auto_max: Option<u64>,
 }
 
 /// Everything a run computed.
@@ -84,10 +89,11 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
         SolverArg::Southwell => Solver::Southwell,
     };
     let method = args.sampling.method.line_method();
+    let budget = super::measure::budget_of(&args.sampling, path)?;
     let mut result = match &scene {
         Loaded::Flat(s) => {
             let materials = flat_patch_materials(s);
-            match args.sampling.lines {
+            match budget {
                 None => solve(
                     exact_2d::form_factors(s).map_err(at)?,
                     materials,
@@ -95,16 +101,17 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
                     &opts,
                 )
                 .map_err(at)?,
-                Some(_) => {
+                Some(budget) => {
                     let tracer = FlatTracer::new(s).map_err(at)?;
                     super::measure::check_supported(&tracer, method, path)?;
-                    with_lines(&tracer, materials, solver, &opts, &args.sampling).map_err(at)?
+                    let job = (budget, &args.sampling);
+                    with_lines(&tracer, materials, solver, &opts, job, path)?
                 }
             }
         }
         Loaded::Solid(s) => {
             let materials = patch_materials(s);
-            match args.sampling.lines {
+            match budget {
                 None => solve(
                     crate::output::exact_3d_form_factors(path, s)?,
                     materials,
@@ -112,10 +119,11 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
                     &opts,
                 )
                 .map_err(at)?,
-                Some(_) => {
+                Some(budget) => {
                     let tracer = SceneTracer::new(s).map_err(at)?;
                     super::measure::check_supported(&tracer, method, path)?;
-                    with_lines(&tracer, materials, solver, &opts, &args.sampling).map_err(at)?
+                    let job = (budget, &args.sampling);
+                    with_lines(&tracer, materials, solver, &opts, job, path)?
                 }
             }
         }
@@ -162,25 +170,51 @@ fn solve(
 
 /// Monte Carlo form factors, the solve and `I_S^c` from the same lines ([`estimate_lit`] on
 /// this process' threads).
+///
+/// With `--lines auto` the first cast doubles its lines until every patch has received one
+/// ([`crate::lines::run_budget`]) and a second cast, if [`estimate_lit`] needs one, uses
+/// the count it stopped at. The solve needs every row of `F`: when some patch received no
+/// line (too few lines, or `auto` stopped at `--max-lines`), the run is refused with how
+/// many patches were missed and about how many lines would reach them all — a radiosity
+/// `B` on the reached patches alone would treat the missed ones as black holes and bias
+/// every other value.
 fn with_lines<T: LineTracer + Sync>(
     tracer: &T,
     materials: Vec<Material>,
     solver: Solver,
     opts: &SolveOptions,
-    sampling: &SamplingArgs,
-) -> sceneinfo::Result<Run> {
-    let lines = sampling.lines.unwrap_or(0);
-    if lines == 0 {
-        return Err(sceneinfo::ErrorKind::NoLines.into());
-    }
+    (budget, sampling): (LineBudget, &SamplingArgs),
+    path: &Path,
+) -> Result<Run> {
     let method = sampling.method.line_method();
     let threads = sampling
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get));
-    let est = estimate_lit(tracer, &materials, solver, opts, method, |t| {
-        Ok(crate::lines::run(t, method, sampling.seed, lines, threads))
-    })?;
-    let visibility = SceneReport::of(&est.form_factors)?;
+    // The count the first cast settled on, and which patches it reached
+    let mut settled: Option<u64> = None;
+    let mut coverage = None;
+    let cast = |t: &(dyn LineTracer + Sync)| {
+        let budget = settled.map_or(budget, LineBudget::Fixed);
+        let run = crate::lines::run_budget(t, method, sampling.seed, budget, threads);
+        if settled.is_none() {
+            settled = Some(run.lines);
+            coverage = Some(run.tally.coverage(t.patch_sizes()));
+        }
+        Ok(run.tally)
+    };
+    let est = match estimate_lit(tracer, &materials, solver, opts, method, cast) {
+        Ok(est) => est,
+        Err(e) if matches!(e.kind(), sceneinfo::ErrorKind::UnsampledPatch { .. }) => {
+            let what = "B = E + ρFB cannot be solved";
+            return Err(super::measure::unsampled_error(
+                path,
+                coverage.as_ref(),
+                what,
+            ));
+        }
+        Err(e) => return Err(located(path, &e)),
+    };
+    let visibility = SceneReport::of(&est.form_factors).map_err(|e| located(path, &e))?;
     Ok(Run {
         visibility,
         materials,
@@ -188,11 +222,15 @@ fn with_lines<T: LineTracer + Sync>(
         radiosity: est.measures,
         lines: Some(Lines {
             method: sampling.method,
-            lines,
+            lines: settled.unwrap_or(0),
             seed: sampling.seed,
             visibility: est.visibility,
             radiosity: est.radiosity,
             one_pass: est.one_pass,
+            auto_max: match budget {
+                LineBudget::UntilSampled { max, .. } => Some(max),
+                LineBudget::Fixed(_) => None,
+            },
         }),
         ff: est.form_factors,
         seconds: 0.0,
@@ -257,6 +295,12 @@ fn json(r: &Run, solver: SolverArg) -> Result<String> {
             o.integer("lines", l.lines)?;
             o.integer("seed", l.seed)?;
             o.integer("samples", l.visibility.samples)?;
+            if let Some(max) = l.auto_max {
+                // Only with --lines auto: `lines` is the count it stopped at
+                o.boolean("lines_auto", true)?;
+                o.integer("lines_budget", l.lines)?;
+                o.integer("max_lines", max)?;
+            }
         }
     }
     o.number("seconds", r.seconds)?;
@@ -290,6 +334,14 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
                     "cast twice: F, then radiosity I_S^c"
                 }
             );
+            if l.auto_max.is_some() {
+                let _ = writeln!(
+                    s,
+                    "--lines auto          doubled from {} to {} lines (every patch reached)",
+                    crate::lines::AUTO_START_LINES,
+                    l.lines
+                );
+            }
         }
     }
     let reports = &r.solution.reports;

@@ -11,17 +11,18 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use sceneinfo::ErrorKind;
 use sceneinfo::continuous::relative_discretisation_error;
 use sceneinfo::formfactor::estimate_2d::LineMethod;
 use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::formfactor::tally::LineTracer;
 use sceneinfo::geom::DVec3;
 use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, MAX_PAIRS, OracleChoice};
-use sceneinfo::lines::{CHUNK_LINES, chunk_count};
+use sceneinfo::lines::CHUNK_LINES;
 use sceneinfo::report::JsonObject;
 use sceneinfo::scene::Scene;
 
 use crate::args::{Oracle, RefineArgs};
+use crate::lines::LineBudget;
 use crate::output::{Loaded, located, read_text, write_atomic};
 use crate::ply::Ply;
 use crate::raster::{Camera, Raster};
@@ -193,69 +194,65 @@ pub fn run(args: &RefineArgs) -> Result<()> {
 ///
 /// A global line meets a leaf with a probability proportional to its area, so the smallest
 /// leaves of a fine mesh may receive none of `config.lines`. Without `--lines` the budget
-/// then doubles — the tally grows by the seeded chunks of the larger job, so the result
-/// equals one run of the final budget — up to [`MAX_AUTO_LINES`]. A leaf still unsampled
-/// after that (or with `--lines` given) leaves the measures NaN, with a warning that says
-/// how many lines to ask for.
+/// then doubles ([`crate::lines::run_budget`]: the tally grows by the seeded chunks of the
+/// larger job, so the result equals one run of the final budget) up to
+/// [`MAX_AUTO_LINES`]. A leaf still unsampled after that (or with `--lines` given) leaves
+/// the measures NaN, with a warning that says how many lines to ask for
+/// ([`sceneinfo::formfactor::coverage`]).
 fn measure(h: &Hierarchy, config: &Config, seed: u64, file: &Path) -> Result<MeshMeasures> {
     let at = |e: sceneinfo::Error| located(file, &e);
     let leaves = h.leaf_scene().map_err(at)?;
     let tracer = SceneTracer::new(&leaves).map_err(at)?;
-    let mut lines = config.lines;
-    let mut tally = crate::lines::run(&tracer, LineMethod::Global, seed, lines, config.threads);
-    loop {
-        let unsampled = match tally.clone().finish(&tracer) {
-            Ok(est) => {
-                let m = est.form_factors.channel().map_err(at)?.measures();
-                return Ok(MeshMeasures {
-                    n_patches: leaves.n_patches(),
-                    i_s: m.i_s,
-                    h_s: m.h_s,
-                    h_j: m.h_j,
-                    i_s_continuous: est.continuous.value,
-                    i_s_continuous_stderr: est.continuous.stderr,
-                    background: est.form_factors.has_background(),
-                    lines,
-                    warning: None,
-                });
-            }
-            Err(e) => match e.kind() {
-                ErrorKind::UnsampledPatch { patch, .. } => *patch,
-                _ => return Err(at(e)),
-            },
-        };
-        crate::interrupt::stop_if_requested()?;
-        if !config.auto_lines || lines >= MAX_AUTO_LINES {
-            let area = leaves.patches()[unsampled].area / leaves.total_area();
-            return Ok(MeshMeasures {
-                n_patches: leaves.n_patches(),
-                i_s: f64::NAN,
-                h_s: f64::NAN,
-                h_j: f64::NAN,
-                i_s_continuous: f64::NAN,
-                i_s_continuous_stderr: f64::NAN,
-                background: false,
-                lines,
-                warning: Some(format!(
-                    "the mesh's channel is not measured: leaf {unsampled} ({area:.1e} of the \
-                     scene's area) received none of the {lines} global lines; cast more with \
-                     --lines (about {:.0e}), or bound the leaves with --min-area",
-                    (20.0 / area).max(2.0 * lines as f64)
-                )),
-            });
+    let budget = if config.auto_lines {
+        LineBudget::UntilSampled {
+            start: config.lines,
+            max: MAX_AUTO_LINES,
         }
-        let more = 2 * lines;
-        let extra = crate::lines::run_chunks(
-            &tracer,
-            LineMethod::Global,
-            seed,
-            more,
-            chunk_count(lines)..chunk_count(more),
-            config.threads,
-        );
-        tally.merge(&extra);
-        lines = more;
+    } else {
+        LineBudget::Fixed(config.lines)
+    };
+    let run = crate::lines::run_budget(&tracer, LineMethod::Global, seed, budget, config.threads);
+    // A job cut short by Ctrl-C is not the one asked for: nothing is reported
+    crate::interrupt::stop_if_requested()?;
+    let lines = run.lines;
+    if !run.tally.all_sampled() {
+        let c = run.tally.coverage(tracer.patch_sizes());
+        let first = c.first_unsampled.unwrap_or(0);
+        let area = leaves.patches().get(first).map_or(0.0, |p| p.area) / leaves.total_area();
+        let more = match c.lines_to_sample_all {
+            Some(m) => format!("about {m}"),
+            None => format!("more than {lines}"),
+        };
+        return Ok(MeshMeasures {
+            n_patches: leaves.n_patches(),
+            i_s: f64::NAN,
+            h_s: f64::NAN,
+            h_j: f64::NAN,
+            i_s_continuous: f64::NAN,
+            i_s_continuous_stderr: f64::NAN,
+            background: false,
+            lines,
+            warning: Some(format!(
+                "the mesh's channel is not measured: {} of the {} leaves (the first, leaf \
+                 {first}, {area:.1e} of the scene's area) received none of the {lines} global \
+                 lines; cast more with --lines ({more}), or bound the leaves with --min-area",
+                c.unsampled, c.n_patches
+            )),
+        });
     }
+    let est = run.tally.finish(&tracer).map_err(at)?;
+    let m = est.form_factors.channel().map_err(at)?.measures();
+    Ok(MeshMeasures {
+        n_patches: leaves.n_patches(),
+        i_s: m.i_s,
+        h_s: m.h_s,
+        h_j: m.h_j,
+        i_s_continuous: est.continuous.value,
+        i_s_continuous_stderr: est.continuous.stderr,
+        background: est.form_factors.has_background(),
+        lines,
+        warning: None,
+    })
 }
 
 /// Reads a reference solution: a PLY written by `refine --ply` (faces with float
