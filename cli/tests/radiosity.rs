@@ -349,14 +349,22 @@ fn no_emitter_is_said_plainly() {
     assert!(array(&json, "red").iter().all(|x| *x == 0.0), "{json}");
 
     // Visibility commands: the skipped statements, no material warning.
-    let out = bin().arg("measure").arg(&obj).output().unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stderr}");
-    assert!(stderr.contains("skipped 'cstype' statements"), "{stderr}");
-    assert!(stderr.contains("skipped 'lod' statements"), "{stderr}");
-    assert!(!stderr.contains("clamped"), "{stderr}");
-    assert!(!stderr.contains("Ka"), "{stderr}");
-    assert!(!stderr.contains("emits"), "{stderr}");
+    let ff = temp("ka-lamp-f.csv");
+    let ply = temp("ka-lamp-i.ply");
+    for args in [
+        vec!["measure"],
+        vec!["formfactors", "--out", ff.to_str().unwrap()],
+        vec!["draw", "--ply", ply.to_str().unwrap()],
+    ] {
+        let out = bin().args(&args).arg(&obj).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{args:?}: {stderr}");
+        assert!(stderr.contains("skipped 'cstype' statements"), "{stderr}");
+        assert!(stderr.contains("skipped 'lod' statements"), "{stderr}");
+        assert!(!stderr.contains("clamped"), "{args:?}: {stderr}");
+        assert!(!stderr.contains("Ka"), "{args:?}: {stderr}");
+        assert!(!stderr.contains("emits"), "{args:?}: {stderr}");
+    }
 
     // A flatland scene without `mat emit`: the note, no Ka hint.
     let flat = temp("dark.flat");
