@@ -134,12 +134,14 @@ impl fmt::Display for LoadWarningKind {
                     material.escape_debug()
                 )?;
                 if *materials > 1 {
-                    write!(f, "and {} more ", materials - 1)?;
+                    write!(f, "and {} more have", materials - 1)?;
+                } else {
+                    write!(f, "has")?;
                 }
                 write!(
                     f,
-                    "has an ambient Ka > 0 and no Ke: old-style lamps emit only when Ka is \
-                     read as the emittance (emit_from_ka)"
+                    " an ambient Ka > 0 and no Ke: old-style lamps emit only when Ka is read \
+                     as the emittance (emit_from_ka)"
                 )
             }
         }

@@ -629,7 +629,7 @@ fn ka_is_kept_and_emitted_only_with_emit_from_ka() {
     assert_eq!(
         warnings(&report),
         [
-            "line 10: no material emits (no Ke > 0), but material 'wall' and 1 more has an \
+            "line 10: no material emits (no Ke > 0), but material 'wall' and 1 more have an \
           ambient Ka > 0 and no Ke: old-style lamps emit only when Ka is read as the \
           emittance (emit_from_ka)"
         ]
