@@ -360,8 +360,14 @@ pub struct ReproduceArgs {
 #[derive(Debug, clap::Args)]
 pub struct RadiosityArgs {
     /// The scene file: `.flat` (flatland) or `.obj` (3D, with its `.mtl`: `Kd` is the
-    /// reflectance, `Ke` the emittance).
+    /// reflectance, above 0.99 clamped with a warning, `Ke` the emittance). When nothing
+    /// emits, every radiosity is 0: a note on stderr says so, and the run goes on.
     pub file: PathBuf,
+    /// For a .obj scene: a material without `Ke` emits its ambient colour `Ka` (old-style
+    /// lamps, written as `Ka 20 20 20`). Off by default, as most exporters write `Ka` for
+    /// every material (often `Ka 1 1 1`), which would then all glow.
+    #[arg(long)]
+    pub emit_from_ka: bool,
     /// The iterative solver of (2.6).
     #[arg(long, value_enum, default_value_t = SolverArg::GaussSeidel)]
     pub solver: SolverArg,

@@ -72,19 +72,49 @@ pub fn is_obj(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("obj"))
 }
 
-/// Loads a `.flat` or `.obj` scene; `mtllib` names resolve relative to the OBJ's folder.
-/// Errors read `file:line: what`.
+/// Loads a `.flat` or `.obj` scene for a command that measures visibility only: OBJ read
+/// with the default options, and the loader's warnings printed on stderr except those about
+/// materials ([`print_load_warnings`]). Errors read `file:line: what`.
 pub fn load_scene(path: &Path) -> Result<Loaded> {
+    let (scene, report) = load_scene_with(path, &sceneinfo::io::ObjOptions::default())?;
+    print_load_warnings(path, &report, false);
+    Ok(scene)
+}
+
+/// Loads a `.flat` or `.obj` scene (the OBJ read with `options`; `mtllib` names resolve
+/// relative to the OBJ's folder) with what the loader skipped or repaired (empty for
+/// `.flat`), printing nothing. Errors read `file:line: what`.
+pub fn load_scene_with(
+    path: &Path,
+    options: &sceneinfo::io::ObjOptions,
+) -> Result<(Loaded, sceneinfo::io::LoadReport)> {
     let text = read_text(path)?;
     if is_obj(path) {
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let mtl = |name: &str| std::fs::read_to_string(dir.join(name)).ok();
-        let scene = sceneinfo::io::parse_obj(&text, sceneinfo::scene::Subdivision::None, mtl)
-            .map_err(|e| located(path, &e))?;
-        Ok(Loaded::Solid(scene))
+        let (scene, report) =
+            sceneinfo::io::parse_obj(&text, options, mtl).map_err(|e| located(path, &e))?;
+        Ok((Loaded::Solid(scene), report))
     } else {
         let scene = sceneinfo::io::parse_flat(&text).map_err(|e| located(path, &e))?;
-        Ok(Loaded::Flat(scene))
+        Ok((Loaded::Flat(scene), sceneinfo::io::LoadReport::default()))
+    }
+}
+
+/// Prints a loader's warnings on stderr as `warning: file:line: what (n times)`; those
+/// about materials only when `materials_used` (commands that solve radiosity).
+pub fn print_load_warnings(path: &Path, report: &sceneinfo::io::LoadReport, materials_used: bool) {
+    for w in report.warnings_for(materials_used) {
+        let at = match w.first_line {
+            Some(line) => format!("{}:{line}", path.display()),
+            None => path.display().to_string(),
+        };
+        let times = if w.count > 1 {
+            format!(" ({} times)", w.count)
+        } else {
+            String::new()
+        };
+        eprintln!("warning: {at}: {}{times}", w.kind);
     }
 }
 

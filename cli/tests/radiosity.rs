@@ -258,3 +258,123 @@ fn bundles_are_cast_twice_and_agree_with_global_lines() {
         assert!(*se > 0.0 && se.is_finite(), "channel {c}: {one}");
     }
 }
+
+/// A unit box lit by an old-style lamp (`Ka 20 20 20`, no `Ke`) on the ceiling, its walls
+/// white as exporters write it (`Kd 1 1 1`), its library named with a space, and two
+/// statements sceneinfo skips. Written as `lamp.obj` + `lamp box.mtl` in a folder of its own.
+fn ka_lamp_box() -> PathBuf {
+    let dir = temp("ka-lamp");
+    std::fs::create_dir_all(&dir).unwrap();
+    let obj = dir.join("lamp.obj");
+    std::fs::write(
+        &obj,
+        "# a unit box lit by an old-style lamp\nmtllib lamp box.mtl\n\
+         v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+         usemtl wall\nf 1 2 3 4\nf 1 5 6 2\nf 4 3 7 8\nf 1 4 8 5\nf 2 6 7 3\n\
+         usemtl lamp\nf 5 8 7 6\ncstype bspline\nlod 1\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("lamp box.mtl"),
+        "newmtl wall\nKa 0 0 0\nKd 1 1 1\nKs 0.5 0.5 0.5\nNs 20\nillum 2\n\
+         newmtl lamp\nKa 20 20 20\nKd 0.5 0.5 0.5\n",
+    )
+    .unwrap();
+    obj
+}
+
+/// `--emit-from-ka` lights an old-style lamp: finite, non-zero radiosities everywhere, the
+/// lamp's own the brightest; the loader's warnings (white clamped, skipped statements) on
+/// stderr.
+#[test]
+fn emit_from_ka_lights_an_old_style_lamp() {
+    let obj = ka_lamp_box();
+    let out = bin()
+        .arg("radiosity")
+        .arg(&obj)
+        .args(["--emit-from-ka", "--json"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains(
+            "lamp.obj:2: material library 'lamp box.mtl' line 3: reflectance 1 clamped to 0.99"
+        ),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("lamp.obj:19: skipped 'cstype' statements"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("nothing emits"), "{stderr}");
+    let json = String::from_utf8(out.stdout).unwrap();
+    for channel in ["red", "green", "blue"] {
+        let b = array(&json, channel);
+        assert_eq!(b.len(), 6, "{json}");
+        assert!(b.iter().all(|x| x.is_finite() && *x > 1.0), "{json}");
+        // The lamp (the last face) shines brightest: E = 20 plus what it reflects.
+        assert!(b[5] > 20.0 && b[..5].iter().all(|x| *x < b[5]), "{json}");
+    }
+}
+
+/// Without an emitter the run goes on (every radiosity 0, exit 0) and says so plainly on
+/// stderr, offering `--emit-from-ka` when materials look like old-style lamps; visibility
+/// commands print no material warnings.
+#[test]
+fn no_emitter_is_said_plainly() {
+    let obj = ka_lamp_box();
+    let out = bin()
+        .arg("radiosity")
+        .arg(&obj)
+        .arg("--json")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains(
+            "lamp.obj: nothing emits light (no material with Ke > 0 in its .mtl libraries), \
+             so every radiosity is 0"
+        ),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("--emit-from-ka makes Ka their emittance"),
+        "{stderr}"
+    );
+    // Said once, by the note (not again by the loader's warning).
+    assert_eq!(stderr.matches("Ka > 0").count(), 1, "{stderr}");
+    let json = String::from_utf8(out.stdout).unwrap();
+    assert!(array(&json, "red").iter().all(|x| *x == 0.0), "{json}");
+
+    // Visibility commands: the skipped statements, no material warning.
+    let ff = temp("ka-lamp-f.csv");
+    let ply = temp("ka-lamp-i.ply");
+    for args in [
+        vec!["measure"],
+        vec!["formfactors", "--out", ff.to_str().unwrap()],
+        vec!["draw", "--ply", ply.to_str().unwrap()],
+    ] {
+        let out = bin().args(&args).arg(&obj).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{args:?}: {stderr}");
+        assert!(stderr.contains("skipped 'cstype' statements"), "{stderr}");
+        assert!(stderr.contains("skipped 'lod' statements"), "{stderr}");
+        assert!(!stderr.contains("clamped"), "{args:?}: {stderr}");
+        assert!(!stderr.contains("Ka"), "{args:?}: {stderr}");
+        assert!(!stderr.contains("emits"), "{args:?}: {stderr}");
+    }
+
+    // A flatland scene without `mat emit`: the note, no Ka hint.
+    let flat = temp("dark.flat");
+    std::fs::write(&flat, "mat rho 0.5 0.5 0.5\npoly 3 0 0 1 0 0 1\n").unwrap();
+    let out = bin().arg("radiosity").arg(&flat).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("nothing emits light (no 'mat emit' with a value > 0)"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("--emit-from-ka"), "{stderr}");
+}

@@ -1,7 +1,8 @@
 //! Scene file formats (feature `alloc`).
 //!
 //! - [`parse_flat`] / [`write_flat`]: the flatland text format (`.flat`).
-//! - [`parse_obj`] / [`write_obj`]: a Wavefront OBJ/MTL subset for 3D scenes.
+//! - [`parse_obj`] / [`write_obj`]: Wavefront OBJ/MTL for 3D scenes ([`ObjOptions`]; what was
+//!   skipped or repaired in a [`LoadReport`]).
 //!
 //! Parsers validate everything and report the 1-based line of the first error
 //! ([`crate::Error::line`]); front ends prefix the file name, giving `file:line: what`.
@@ -11,4 +12,4 @@ pub use flat::{MAX_POLYGON_VERTICES, parse_flat, write_flat};
 mod load_report;
 pub use load_report::{LoadReport, LoadWarning, LoadWarningKind};
 mod obj;
-pub use obj::{parse_obj, write_obj};
+pub use obj::{ObjOptions, parse_obj, write_obj};

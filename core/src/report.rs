@@ -543,7 +543,8 @@ pub fn measure_solid(scene: &crate::scene::Scene) -> crate::Result<SceneReport> 
 
 /// Parses OBJ text (its `mtllib` libraries looked up by `mtl`, as [`crate::io::parse_obj`]
 /// does; faces not subdivided), measures it with [`measure_solid`] and returns the JSON
-/// report (the function behind the wasm `measureObj`).
+/// report (the function behind the wasm `measureObj`). What the loader skipped or repaired
+/// (its [`crate::io::LoadReport`]) is not part of this visibility report.
 ///
 /// # Errors
 /// Parse errors (with their line) and the errors of [`measure_solid`].
@@ -552,7 +553,7 @@ pub fn measure_obj_json(
     obj: &str,
     mtl: impl Fn(&str) -> Option<alloc::string::String>,
 ) -> crate::Result<alloc::string::String> {
-    let scene = crate::io::parse_obj(obj, crate::scene::Subdivision::None, mtl)?;
+    let (scene, _) = crate::io::parse_obj(obj, &crate::io::ObjOptions::default(), mtl)?;
     Ok(measure_solid(&scene)?.to_json())
 }
 
@@ -570,7 +571,9 @@ mod tests {
         let json = measure_obj_json(cube, |_| None).unwrap();
         assert!(json.starts_with("{\"n_patches\":6,"), "{json}");
         let report = measure_solid(
-            &crate::io::parse_obj(cube, crate::scene::Subdivision::None, |_| None).unwrap(),
+            &crate::io::parse_obj(cube, &crate::io::ObjOptions::default(), |_| None)
+                .unwrap()
+                .0,
         )
         .unwrap();
         // Uniform cube: H_P = log2 6; F_facing = 0.19982, F_adjacent = 0.20004 (×4)

@@ -50,7 +50,8 @@ impl<'a> ObjCase<'a> {
     /// Those of [`sceneinfo::io::parse_obj`].
     pub fn parse(&self, subdivision: Subdivision) -> sceneinfo::Result<Scene> {
         let mtl = self.mtl;
-        sceneinfo::io::parse_obj(self.obj, subdivision, |_| mtl.map(String::from))
+        let options = sceneinfo::io::ObjOptions::new(subdivision);
+        sceneinfo::io::parse_obj(self.obj, &options, |_| mtl.map(String::from)).map(|(s, _)| s)
     }
 }
 
@@ -61,8 +62,8 @@ impl fmt::Debug for ObjCase<'_> {
         writeln!(f, "    let mtl: Option<&str> = {:?};", self.mtl)?;
         write!(
             f,
-            "    let scene = sceneinfo::io::parse_obj(obj, Subdivision::None, \
-             |_| mtl.map(String::from));"
+            "    let (scene, report) = sceneinfo::io::parse_obj(obj, \
+             &sceneinfo::io::ObjOptions::default(), |_| mtl.map(String::from))?;"
         )
     }
 }
@@ -134,9 +135,15 @@ pub fn check(data: &[u8]) -> Outcome {
 
     // write_obj then parse_obj gives back the same scene, bit for bit
     let (obj, mtl) = sceneinfo::io::write_obj(&scene, "round-trip.mtl");
-    match sceneinfo::io::parse_obj(&obj, Subdivision::None, |_| Some(mtl.clone())) {
-        Ok(again) if again == scene => {}
-        Ok(again) => fail(format!(
+    // (and nothing skipped or repaired on the way)
+    let options = sceneinfo::io::ObjOptions::default();
+    match sceneinfo::io::parse_obj(&obj, &options, |_| Some(mtl.clone())) {
+        Ok((again, report)) if again == scene && report.warnings.is_empty() => {}
+        Ok((again, report)) if again == scene => fail(format!(
+            "round trip warned: {:?}\nwritten:\n{obj}\n{mtl}",
+            report.warnings
+        )),
+        Ok((again, _)) => fail(format!(
             "round trip changed the scene:\n{scene:?}\n→\n{again:?}\nwritten:\n{obj}\n{mtl}"
         )),
         Err(err) => fail(format!(

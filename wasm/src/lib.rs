@@ -66,7 +66,9 @@ pub fn measure_flat(text: &str) -> Result<String, JsError> {
 /// `mtlNames[k]` is the name an `mtllib` statement uses for the library text `mtlTexts[k]`
 /// (a browser has no file system to look it up in). Faces are not subdivided. Returns the
 /// JSON object of [`sceneinfo::report::measure_obj_json`], with the keys of
-/// [`measure_flat`].
+/// [`measure_flat`]. The OBJ is read as [`sceneinfo::io::parse_obj`] reads it: statements it
+/// skips, a library not given and an unknown `usemtl` name are not errors, and the loader's
+/// warnings are not returned.
 ///
 /// # Errors
 ///

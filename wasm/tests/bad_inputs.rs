@@ -241,10 +241,6 @@ const FILES: &[(&str, &[u8])] = &[
         include_bytes!("../../tests/data/bad/obj_invalid_utf8.obj"),
     ),
     (
-        "obj_missing_library.obj",
-        include_bytes!("../../tests/data/bad/obj_missing_library.obj"),
-    ),
-    (
         "obj_nan_vertex.obj",
         include_bytes!("../../tests/data/bad/obj_nan_vertex.obj"),
     ),
@@ -269,8 +265,8 @@ const FILES: &[(&str, &[u8])] = &[
         include_bytes!("../../tests/data/bad/obj_overlapping_coplanar_faces.obj"),
     ),
     (
-        "obj_reflectance_one.obj",
-        include_bytes!("../../tests/data/bad/obj_reflectance_one.obj"),
+        "obj_reflectance_negative.obj",
+        include_bytes!("../../tests/data/bad/obj_reflectance_negative.obj"),
     ),
     (
         "obj_repeated_vertex.obj",
@@ -279,14 +275,6 @@ const FILES: &[(&str, &[u8])] = &[
     (
         "obj_self_intersecting_face.obj",
         include_bytes!("../../tests/data/bad/obj_self_intersecting_face.obj"),
-    ),
-    (
-        "obj_unknown_keyword.obj",
-        include_bytes!("../../tests/data/bad/obj_unknown_keyword.obj"),
-    ),
-    (
-        "obj_unknown_material.obj",
-        include_bytes!("../../tests/data/bad/obj_unknown_material.obj"),
     ),
     (
         "obj_vertex_missing_z.obj",
@@ -305,12 +293,8 @@ const LIBRARIES: &[(&str, &str)] = &[
         include_str!("../../tests/data/bad/emittance_negative.mtl"),
     ),
     (
-        "materials.mtl",
-        include_str!("../../tests/data/bad/materials.mtl"),
-    ),
-    (
-        "reflectance_one.mtl",
-        include_str!("../../tests/data/bad/reflectance_one.mtl"),
+        "reflectance_negative.mtl",
+        include_str!("../../tests/data/bad/reflectance_negative.mtl"),
     ),
 ];
 

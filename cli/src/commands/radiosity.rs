@@ -9,6 +9,11 @@
 //! [`sceneinfo::radiosity::continuous::PAIR_MOMENT_LIMIT`] patches, and bundles of parallel
 //! lines, whose sheaves are the standard error's groups, cast the same lines a second time
 //! instead).
+//!
+//! A scene in which nothing emits is solved as any other (every radiosity 0, exit 0), with
+//! a note on stderr saying so and, when the OBJ's materials have `Ka` > 0 and no `Ke`
+//! (old-style lamps), offering `--emit-from-ka`. The loader's warnings are printed, those
+//! about materials included.
 
 use std::fmt::Write as _;
 use std::io::Write;
@@ -71,12 +76,23 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
             args.tolerance
         );
     }
-    let scene = crate::output::load_scene(path)?;
+    let options = sceneinfo::io::ObjOptions::default().with_emit_from_ka(args.emit_from_ka);
+    let (scene, report) = crate::output::load_scene_with(path, &options)?;
     if args.ply.is_some() && matches!(scene, Loaded::Flat(_)) {
         bail!(
             "{}: --ply writes 3D scenes; a .flat scene has no surfaces to mesh",
             path.display()
         );
+    }
+    match no_emitter_note(path, &scene, &report) {
+        Some(note) => {
+            // The note says what the loader's old-style lamp warning says, with the flag
+            let mut shown = report.clone();
+            shown.warnings.retain(|w| !is_ambient_lamps(w));
+            crate::output::print_load_warnings(path, &shown, true);
+            eprintln!("{note}");
+        }
+        None => crate::output::print_load_warnings(path, &report, true),
     }
     let start = Instant::now();
     let opts = SolveOptions {
@@ -428,6 +444,50 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
         }
     }
     s
+}
+
+/// The note printed when no patch emits: every radiosity is then 0 (the run goes on and
+/// exits 0 as any other: a dark scene is a valid, if empty, answer, and scripts that sweep
+/// scenes keep working), with the way out when the OBJ's materials look like old-style
+/// lamps (`Ka` > 0 and no `Ke`: `--emit-from-ka`). `None` when some patch emits.
+fn no_emitter_note(
+    path: &std::path::Path,
+    scene: &Loaded,
+    report: &sceneinfo::io::LoadReport,
+) -> Option<String> {
+    let (emits, how) = match scene {
+        Loaded::Flat(s) => (
+            flat_patch_materials(s).iter().any(Material::is_emitter),
+            "no 'mat emit' with a value > 0",
+        ),
+        Loaded::Solid(s) => (
+            patch_materials(s).iter().any(Material::is_emitter),
+            "no material with Ke > 0 in its .mtl libraries",
+        ),
+    };
+    if emits {
+        return None;
+    }
+    let mut note = format!(
+        "note: {}: nothing emits light ({how}), so every radiosity is 0 and so are the \
+         radiosity measures",
+        path.display()
+    );
+    if report.warnings.iter().any(is_ambient_lamps) {
+        note.push_str(
+            "\nnote: some of its materials have an ambient colour Ka > 0 and no Ke, as \
+             old-style lamps were written: --emit-from-ka makes Ka their emittance",
+        );
+    }
+    Some(note)
+}
+
+/// Whether `w` says that no material emits but some have `Ka` > 0 and no `Ke`.
+fn is_ambient_lamps(w: &sceneinfo::io::LoadWarning) -> bool {
+    matches!(
+        w.kind,
+        sceneinfo::io::LoadWarningKind::AmbientOnlyLamps { .. }
+    )
 }
 
 /// The lit scene as a PLY mesh with Gouraud vertex colours and flat face colours.

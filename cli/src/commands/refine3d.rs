@@ -136,7 +136,11 @@ struct MeshMeasures {
 /// Runs `refine` on a `.obj` scene.
 pub fn run(args: &RefineArgs) -> Result<()> {
     let config = Config::new(args)?;
-    let Loaded::Solid(scene) = crate::output::load_scene(&args.file)? else {
+    // Hierarchical radiosity uses the materials: their warnings are printed too
+    let (loaded, report) =
+        crate::output::load_scene_with(&args.file, &sceneinfo::io::ObjOptions::default())?;
+    crate::output::print_load_warnings(&args.file, &report, true);
+    let Loaded::Solid(scene) = loaded else {
         bail!("{}: not a 3D scene", args.file.display());
     };
     let at = |e: sceneinfo::Error| located(&args.file, &e);

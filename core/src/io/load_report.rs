@@ -18,21 +18,64 @@ use crate::report::JsonObject;
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum LoadWarningKind {
-    /// An OBJ statement of the specification that carries nothing sceneinfo uses (free-form
-    /// curves and surfaces, `t`, `lod`, `bevel`, …), or an unknown one: skipped.
+    /// An OBJ statement of the specification (or a common extension of it, like `t`) that
+    /// carries nothing sceneinfo uses (free-form curves and surfaces, `lod`, `bevel`, …):
+    /// skipped.
     SkippedStatement {
         /// The statement's keyword.
         keyword: Token,
     },
+    /// An OBJ statement sceneinfo does not know (neither in the specification nor a common
+    /// extension): skipped, as renderers' loaders do.
+    UnknownStatement {
+        /// The statement's keyword.
+        keyword: Token,
+    },
+    /// An `mtllib` library the caller could not provide (empty: an `mtllib` without a
+    /// name); faces using its materials get the default material.
+    MissingMaterialLibrary {
+        /// The library's name as written.
+        library: Token,
+    },
+    /// A `usemtl` name no library defines (empty: a `usemtl` without a name); its faces get
+    /// the default material.
+    UnknownMaterial {
+        /// The material's name.
+        name: Token,
+    },
+    /// A reflectance above [`Material::MAX_REFLECTANCE`](crate::scene::Material::MAX_REFLECTANCE) (`Kd 1`,
+    /// common in real files; ρ must be below 1 for B = E + ρFB to converge) clamped to it.
+    /// The value and line are the first met in the library; the entry counts them all.
+    ReflectanceClamped {
+        /// The material library.
+        library: Token,
+        /// Its 1-based line with the first clamped value.
+        line: u32,
+        /// The first clamped value.
+        value: f64,
+    },
+    /// No material used emits (no `Ke`), but some have an ambient colour `Ka` > 0 and no
+    /// `Ke`: old-style lamps, which emit only when `Ka` is read as the emittance (option
+    /// `emit_from_ka`).
+    AmbientOnlyLamps {
+        /// The first such material.
+        material: Token,
+        /// How many such materials are used.
+        materials: u64,
+    },
 }
 
 impl LoadWarningKind {
-    /// Whether this warning concerns materials only (reflectance, emittance): commands that
-    /// measure visibility ignore materials and do not print these.
+    /// Whether this warning concerns materials only (reflectance, emittance, libraries):
+    /// commands that measure visibility ignore materials and do not print these.
     #[must_use]
     pub fn is_material(&self) -> bool {
         match self {
-            Self::SkippedStatement { .. } => false,
+            Self::SkippedStatement { .. } | Self::UnknownStatement { .. } => false,
+            Self::MissingMaterialLibrary { .. }
+            | Self::UnknownMaterial { .. }
+            | Self::ReflectanceClamped { .. }
+            | Self::AmbientOnlyLamps { .. } => true,
         }
     }
 }
@@ -45,6 +88,62 @@ impl fmt::Display for LoadWarningKind {
                 "skipped '{}' statements (nothing sceneinfo uses)",
                 keyword.escape_debug()
             ),
+            Self::UnknownStatement { keyword } => write!(
+                f,
+                "skipped unknown '{}' statements (not an OBJ statement sceneinfo knows)",
+                keyword.escape_debug()
+            ),
+            Self::MissingMaterialLibrary { library } if library.is_empty() => {
+                write!(f, "'mtllib' without a file name: skipped")
+            }
+            Self::MissingMaterialLibrary { library } => write!(
+                f,
+                "material library '{}' not found: its materials get the default \
+                 (reflectance 0, emittance 0)",
+                library.escape_debug()
+            ),
+            Self::UnknownMaterial { name } if name.is_empty() => write!(
+                f,
+                "'usemtl' without a name: the faces that follow get the default material \
+                 (reflectance 0, emittance 0)"
+            ),
+            Self::UnknownMaterial { name } => write!(
+                f,
+                "material '{}' is not defined by any mtllib: its faces get the default \
+                 (reflectance 0, emittance 0)",
+                name.escape_debug()
+            ),
+            Self::ReflectanceClamped {
+                library,
+                line,
+                value,
+            } => write!(
+                f,
+                "material library '{}' line {line}: reflectance {value} clamped to {} \
+                 (it must be below 1)",
+                library.escape_debug(),
+                crate::scene::Material::MAX_REFLECTANCE
+            ),
+            Self::AmbientOnlyLamps {
+                material,
+                materials,
+            } => {
+                write!(
+                    f,
+                    "no material emits (no Ke > 0), but material '{}' ",
+                    material.escape_debug()
+                )?;
+                if *materials > 1 {
+                    write!(f, "and {} more have", materials - 1)?;
+                } else {
+                    write!(f, "has")?;
+                }
+                write!(
+                    f,
+                    " an ambient Ka > 0 and no Ke: old-style lamps emit only when Ka is read \
+                     as the emittance (emit_from_ka)"
+                )
+            }
         }
     }
 }

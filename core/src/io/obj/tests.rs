@@ -22,25 +22,43 @@ f 1 4 8 5
 f 2 6 7 3
 ";
 
+/// The scene alone, faces cut by `subdivision`.
+fn parse(
+    obj: &str,
+    subdivision: Subdivision,
+    mtl: impl Fn(&str) -> Option<String>,
+) -> Result<Scene> {
+    parse_obj(obj, &ObjOptions::new(subdivision), mtl).map(|(s, _)| s)
+}
+
+/// The scene and its report, with `options`.
+fn load(
+    obj: &str,
+    options: ObjOptions,
+    mtl: impl Fn(&str) -> Option<String>,
+) -> (Scene, LoadReport) {
+    parse_obj(obj, &options, mtl).unwrap()
+}
+
 fn no_mtl(_: &str) -> Option<String> {
     None
 }
 
 fn err(obj: &str) -> String {
-    parse_obj(obj, Subdivision::None, no_mtl)
+    parse(obj, Subdivision::None, no_mtl)
         .unwrap_err()
         .to_string()
 }
 
 fn err_with(obj: &str, mtl: &str) -> String {
-    parse_obj(obj, Subdivision::None, |_| Some(mtl.into()))
+    parse(obj, Subdivision::None, |_| Some(mtl.into()))
         .unwrap_err()
         .to_string()
 }
 
 #[test]
 fn parses_the_unit_cube_facing_in() {
-    let s = parse_obj(ROOM, Subdivision::None, no_mtl).unwrap();
+    let s = parse(ROOM, Subdivision::None, no_mtl).unwrap();
     assert_eq!(s.n_patches(), 6);
     assert_eq!(s.total_area(), 6.0);
     assert_eq!(s.objects(), ["room"]);
@@ -53,13 +71,13 @@ fn parses_the_unit_cube_facing_in() {
 
 #[test]
 fn subdivisions_of_the_cube() {
-    let s = parse_obj(ROOM, Subdivision::Grid(10), no_mtl).unwrap();
+    let s = parse(ROOM, Subdivision::Grid(10), no_mtl).unwrap();
     assert_eq!(s.n_patches(), 600);
     assert!(s.patches().iter().all(|p| (p.area - 0.01).abs() < 1e-15));
-    let s = parse_obj(ROOM, Subdivision::Triangles(2), no_mtl).unwrap();
+    let s = parse(ROOM, Subdivision::Triangles(2), no_mtl).unwrap();
     assert_eq!(s.n_patches(), 6 * 2 * 16);
     assert_eq!(
-        parse_obj(ROOM, Subdivision::Triangles(11), no_mtl)
+        parse(ROOM, Subdivision::Triangles(11), no_mtl)
             .unwrap_err()
             .to_string(),
         "subdivision parameter 11 is out of range (at most 10; a grid needs at least 1)"
@@ -72,7 +90,7 @@ fn face_vertex_forms_and_negative_indices() {
                  s off\nf 1/1 2/2/1 3//1 4\nf -1 -2//-1 -3 -4/-2/-1\nl 1 2\np 3\n";
     // (The second face is the first one reversed: the same face twice would be two
     // coincident surfaces.)
-    let s = parse_obj(forms, Subdivision::None, no_mtl).unwrap();
+    let s = parse(forms, Subdivision::None, no_mtl).unwrap();
     assert_eq!(s.n_patches(), 2);
     let mut reversed = s.face_vertices(1).to_vec();
     reversed.reverse();
@@ -80,7 +98,7 @@ fn face_vertex_forms_and_negative_indices() {
     assert_eq!(s.face_vertices(0)[2], DVec3::new(1.0, 1.0, 0.0));
     // A negative index counts back from the vertices defined so far.
     let rel = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 5 0 1\nv 5 1 1\nf -5 -2 -1\n";
-    let s = parse_obj(rel, Subdivision::None, no_mtl).unwrap();
+    let s = parse(rel, Subdivision::None, no_mtl).unwrap();
     assert_eq!(
         s.face_vertices(1),
         [
@@ -155,17 +173,9 @@ fn errors_name_line_and_problem() {
         "line 1: unexpected extra field '4'"
     );
     assert_eq!(err("vt 0 q\n"), "line 1: vt: 'q' is not a number");
-    assert_eq!(err("\n\nbevel on\n"), "line 3: unknown keyword 'bevel'");
-    assert_eq!(e("usemtl\n"), "line 4: missing field material name");
-    assert_eq!(
-        e("usemtl white\n"),
-        "line 4: material 'white' is not defined by any mtllib"
-    );
-    assert_eq!(e("mtllib\n"), "line 4: missing field library name");
-    assert_eq!(
-        e("mtllib a.mtl\n"),
-        "line 4: material library 'a.mtl' was not provided"
-    );
+    // Skipped statements, unknown materials and missing libraries are warnings now (below);
+    // a file of nothing else still has no patches.
+    assert_eq!(err("\n\nbevel on\n"), "line 3: scene has no patches");
     assert_eq!(err("# nothing\nv 0 0 0\n"), "line 2: scene has no patches");
     assert_eq!(err(""), "line 1: scene has no patches");
 }
@@ -175,8 +185,12 @@ fn material_library_errors_name_both_lines() {
     let obj = "v 0 0 0\nmtllib box.mtl\n";
     let e = |mtl: &str| err_with(obj, mtl);
     assert_eq!(
-        e("newmtl a\nKd 1 0.5 0.5\n"),
-        "line 2: material library 'box.mtl' line 2: reflectance 1 is outside [0, 1)"
+        e("newmtl a\nKd -0.5 0.5 0.5\n"),
+        "line 2: material library 'box.mtl' line 2: reflectance -0.5 is outside [0, 1)"
+    );
+    assert_eq!(
+        e("newmtl a\nKa 1 1 x\n"),
+        "line 2: material library 'box.mtl' line 2: Ka: not a number"
     );
     assert_eq!(
         e("# x\nnewmtl a\nKe 0 -1 0\n"),
@@ -214,13 +228,16 @@ fn material_library_errors_name_both_lines() {
         e("newmtl\n"),
         "line 2: material library 'box.mtl' line 1: missing field material name"
     );
-    let err = parse_obj(obj, Subdivision::None, |_| Some("newmtl a\nKd 2\n".into())).unwrap_err();
+    let err = parse(obj, Subdivision::None, |_| {
+        Some("newmtl a\n\nKd 0.5\nKd -2\n".into())
+    })
+    .unwrap_err();
     assert_eq!(err.line(), Some(2));
     assert!(matches!(
         err.kind(),
         ErrorKind::InMaterialLibrary {
-            line: 2,
-            problem: MaterialProblem::Reflectance { value: 2.0 },
+            line: 4,
+            problem: MaterialProblem::Reflectance { value: -2.0 },
             ..
         }
     ));
@@ -283,7 +300,7 @@ fn cornell_mtl(name: &str) -> Option<String> {
 
 #[test]
 fn cornell_box_with_materials_through_the_callback() {
-    let s = parse_obj(CORNELL_OBJ, Subdivision::Grid(4), cornell_mtl).unwrap();
+    let s = parse(CORNELL_OBJ, Subdivision::Grid(4), cornell_mtl).unwrap();
     assert_eq!(s.n_patches(), 6 * 16);
     assert_eq!(
         s.objects(),
@@ -312,9 +329,9 @@ fn cornell_box_with_materials_through_the_callback() {
 
 #[test]
 fn round_trips_exactly() {
-    let s = parse_obj(CORNELL_OBJ, Subdivision::None, cornell_mtl).unwrap();
+    let s = parse(CORNELL_OBJ, Subdivision::None, cornell_mtl).unwrap();
     let (obj, mtl) = write_obj(&s, "out.mtl");
-    let again = parse_obj(&obj, Subdivision::None, |name| {
+    let again = parse(&obj, Subdivision::None, |name| {
         (name == "out.mtl").then(|| mtl.clone())
     })
     .unwrap();
@@ -332,14 +349,14 @@ fn round_trips_exactly() {
     let s = b.build().unwrap();
     let (obj, mtl) = write_obj(&s, "m.mtl");
     assert_eq!(
-        parse_obj(&obj, Subdivision::None, |_| Some(mtl.clone())).unwrap(),
+        parse(&obj, Subdivision::None, |_| Some(mtl.clone())).unwrap(),
         s
     );
 }
 
 #[test]
 fn round_trip_keeps_the_patches_of_a_subdivided_scene() {
-    let s = parse_obj(CORNELL_OBJ, Subdivision::Triangles(1), cornell_mtl).unwrap();
+    let s = parse(CORNELL_OBJ, Subdivision::Triangles(1), cornell_mtl).unwrap();
     let (obj, mtl) = write_obj(&s, "out.mtl");
     assert!(obj.starts_with("# sceneinfo scene: 48 patches\nmtllib out.mtl\nv "));
     // Shared vertices are written once: 12 corners, the midpoints of the box's 12 edges,
@@ -348,7 +365,7 @@ fn round_trip_keeps_the_patches_of_a_subdivided_scene() {
         obj.lines().filter(|l| l.starts_with("v ")).count(),
         12 + 12 + 4 + 6
     );
-    let again = parse_obj(&obj, Subdivision::None, |_| Some(mtl.clone())).unwrap();
+    let again = parse(&obj, Subdivision::None, |_| Some(mtl.clone())).unwrap();
     assert_eq!(again.n_patches(), s.n_patches());
     assert_eq!(again.objects(), s.objects());
     assert_eq!(again.materials(), s.materials());
@@ -364,7 +381,7 @@ fn round_trip_keeps_the_patches_of_a_subdivided_scene() {
 
 #[test]
 fn default_material_is_black_and_objects_default() {
-    let s = parse_obj(
+    let s = parse(
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\ng\nf 3 2 1\n",
         Subdivision::None,
         no_mtl,
@@ -374,7 +391,7 @@ fn default_material_is_black_and_objects_default() {
     assert_eq!(s.objects(), ["default"]);
     assert_eq!(s.faces()[1].normal, -DVec3::Z);
     // Kd with one value is grey; a library named twice is read once.
-    let s = parse_obj(
+    let s = parse(
         "mtllib a\nmtllib a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl g\nf 1 2 3\n",
         Subdivision::None,
         |_| Some("newmtl g\nKd 0.25\n".into()),
@@ -387,9 +404,281 @@ fn default_material_is_black_and_objects_default() {
 fn absurd_subdivisions_are_capped_before_allocating() {
     let quads = ROOM.to_string() + "f 1 2 3 4\n";
     assert_eq!(
-        parse_obj(&quads, Subdivision::Grid(1000), no_mtl)
+        parse(&quads, Subdivision::Grid(1000), no_mtl)
             .unwrap_err()
             .to_string(),
         "line 15: scene has more than 4000000 patches"
     );
+}
+
+/// Three triangles of one plane's two sides and a third plane: a scene to hang statements on.
+const TRIS: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+
+fn warnings(report: &LoadReport) -> Vec<String> {
+    report.warnings.iter().map(ToString::to_string).collect()
+}
+
+#[test]
+fn skipped_statements_are_counted_once_per_keyword_with_their_first_line() {
+    let obj = [
+        TRIS,
+        "cstype bspline\ndeg 3\ncurv 0 1 1 2 3\nparm u 0 0 0 1 1 1\nend\n",
+        "cstype bspline\nlod 2\nbevel on\nt 1 2\nmy_exporter_hint 42\nf 1 2 3\n",
+        "my_exporter_hint 7\nc_interp off\nshadow_obj a.obj\nf 1 3 4\n",
+    ]
+    .concat();
+    let (s, report) = load(&obj, ObjOptions::default(), no_mtl);
+    assert_eq!(s.n_patches(), 2);
+    assert_eq!(report.faces_read, 2);
+    assert_eq!(
+        warnings(&report),
+        [
+            "line 5: skipped 'cstype' statements (nothing sceneinfo uses) (2 times)",
+            "line 6: skipped 'deg' statements (nothing sceneinfo uses)",
+            "line 7: skipped 'curv' statements (nothing sceneinfo uses)",
+            "line 8: skipped 'parm' statements (nothing sceneinfo uses)",
+            "line 9: skipped 'end' statements (nothing sceneinfo uses)",
+            "line 11: skipped 'lod' statements (nothing sceneinfo uses)",
+            "line 12: skipped 'bevel' statements (nothing sceneinfo uses)",
+            "line 13: skipped 't' statements (nothing sceneinfo uses)",
+            "line 14: skipped unknown 'my_exporter_hint' statements (not an OBJ statement \
+             sceneinfo knows) (2 times)",
+            "line 17: skipped 'c_interp' statements (nothing sceneinfo uses)",
+            "line 18: skipped 'shadow_obj' statements (nothing sceneinfo uses)",
+        ]
+    );
+    // None of them is about materials: visibility commands print them all.
+    assert_eq!(report.messages(false).len(), 11);
+    // Every statement of the specification without geometry sceneinfo uses is skipped.
+    for k in SKIPPED_STATEMENTS {
+        let (_, r) = load(
+            &[TRIS, *k, " 1\nf 1 2 3\n"].concat(),
+            ObjOptions::default(),
+            no_mtl,
+        );
+        assert!(
+            matches!(&r.warnings[0].kind, LoadWarningKind::SkippedStatement { keyword } if keyword == k),
+            "{k}"
+        );
+    }
+    // Malformed data of the statements that are read stays an error.
+    assert_eq!(
+        err(&[TRIS, "lod 1\nv 1 x 0\n"].concat()),
+        "line 6: y: 'x' is not a number"
+    );
+}
+
+#[test]
+fn line_continuations_are_joined_and_lines_stay_right() {
+    let obj = "v 0 0 \\\n  0\nv 1 0 0\nv 0 1 0 # a comment \\ is no continuation\n\
+               f 1 \\\n 2 \\\n3\nf 1 3 \\\n2\nbevel off\nf 1 2 9\n";
+    // The face after the joined ones is on line 11; 'bevel' on line 10.
+    assert_eq!(
+        err(obj),
+        "line 11: vertex index 9 out of range (3 vertices defined so far; 0 is never valid)"
+    );
+    let good = obj.replace("f 1 2 9\n", "");
+    let (s, report) = load(&good, ObjOptions::default(), no_mtl);
+    assert_eq!(s.n_patches(), 2);
+    assert_eq!(s.face_vertices(0)[0], DVec3::ZERO);
+    assert_eq!(
+        warnings(&report),
+        ["line 10: skipped 'bevel' statements (nothing sceneinfo uses)"]
+    );
+    // An empty line ends a statement: this face has two vertices, an error at its first line.
+    assert_eq!(
+        err("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 \\\n\n3\n"),
+        "line 4: face needs 3 to 256 vertices, got 2"
+    );
+    // MTL lines continue too.
+    let (s, _) = load(
+        "mtllib m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n",
+        ObjOptions::default(),
+        |_| Some("newmtl a\nKd 0.5 \\\n 0.25 0.125\nKe 1\n".into()),
+    );
+    assert_eq!(s.materials()[0].reflectance, [0.5, 0.25, 0.125]);
+}
+
+#[test]
+fn mtllib_takes_the_whole_line_first_then_each_word() {
+    let obj = |line: &str| {
+        [
+            line,
+            "\n",
+            TRIS,
+            "usemtl red\nf 1 2 3\nusemtl blue\nf 1 3 4\n",
+        ]
+        .concat()
+    };
+    let libs = |name: &str| match name {
+        "my walls.mtl" => Some("newmtl red\nKd 0.5 0 0\nnewmtl blue\nKd 0 0 0.5\n".into()),
+        "a.mtl" => Some("newmtl red\nKd 0.5 0 0\n".into()),
+        "b.mtl" => Some("newmtl blue\nKd 0 0 0.5\n".into()),
+        _ => None,
+    };
+    for line in [
+        "mtllib my walls.mtl",
+        "mtllib \"my walls.mtl\"",
+        "mtllib   my walls.mtl  ",
+        "mtllib a.mtl b.mtl",
+        "mtllib a.mtl \\\n b.mtl",
+    ] {
+        let (s, report) = load(&obj(line), ObjOptions::default(), libs);
+        assert!(report.warnings.is_empty(), "{line}: {report:?}");
+        assert_eq!(
+            s.patch_material(0).unwrap().reflectance,
+            [0.5, 0.0, 0.0],
+            "{line}"
+        );
+        assert_eq!(
+            s.patch_material(1).unwrap().reflectance,
+            [0.0, 0.0, 0.5],
+            "{line}"
+        );
+    }
+    // A word that is no library: a warning for it, the others still read.
+    let (s, report) = load(
+        &obj("mtllib a.mtl gone.mtl b.mtl"),
+        ObjOptions::default(),
+        libs,
+    );
+    assert_eq!(s.patch_material(1).unwrap().reflectance, [0.0, 0.0, 0.5]);
+    assert_eq!(
+        warnings(&report),
+        [
+            "line 1: material library 'gone.mtl' not found: its materials get the default \
+          (reflectance 0, emittance 0)"
+        ]
+    );
+}
+
+#[test]
+fn missing_library_and_unknown_material_are_warnings_with_the_default_material() {
+    let obj = [
+        "mtllib gone.mtl\nmtllib\n",
+        TRIS,
+        "usemtl white\nf 1 2 3\nusemtl\nf 1 3 4\nusemtl white\nf 4 2 1\n",
+    ]
+    .concat();
+    let (s, report) = load(&obj, ObjOptions::default(), no_mtl);
+    assert_eq!(s.n_patches(), 3);
+    assert_eq!(s.materials(), [Material::BLACK]);
+    assert_eq!(
+        warnings(&report),
+        [
+            "line 1: material library 'gone.mtl' not found: its materials get the default \
+             (reflectance 0, emittance 0)",
+            "line 2: 'mtllib' without a file name: skipped",
+            "line 7: material 'white' is not defined by any mtllib: its faces get the default \
+             (reflectance 0, emittance 0) (2 times)",
+            "line 9: 'usemtl' without a name: the faces that follow get the default material \
+             (reflectance 0, emittance 0)",
+        ]
+    );
+    // All about materials: visibility commands print none of them.
+    assert!(report.warnings.iter().all(|w| w.kind.is_material()));
+    assert!(report.messages(false).is_empty());
+}
+
+#[test]
+fn reflectance_one_is_clamped_with_a_warning_naming_value_library_and_line() {
+    let obj = [
+        "v 9 9 9\nmtllib white.mtl\n",
+        TRIS,
+        "usemtl a\nf 2 3 4\nusemtl c\nf 2 4 5\n",
+    ]
+    .concat();
+    let mtl =
+        |_: &str| Some("newmtl a\nKd 1 1 1\nnewmtl b\nKd 0.5\nnewmtl c\nKd 0.2 1.5 0.3\n".into());
+    let (s, report) = load(&obj, ObjOptions::default(), mtl);
+    let max = Material::MAX_REFLECTANCE;
+    assert_eq!(s.patch_material(0).unwrap().reflectance, [max; 3]);
+    assert_eq!(s.patch_material(1).unwrap().reflectance, [0.2, max, 0.3]);
+    assert_eq!(
+        warnings(&report),
+        [
+            "line 2: material library 'white.mtl' line 2: reflectance 1 clamped to 0.99 \
+          (it must be below 1) (2 times)"
+        ]
+    );
+    assert!(matches!(
+        report.warnings[0].kind,
+        LoadWarningKind::ReflectanceClamped {
+            line: 2,
+            value: 1.0,
+            ..
+        }
+    ));
+    assert!(report.warnings[0].kind.is_material());
+}
+
+/// A closed unit box lit only by an old-style lamp: `Ka 20 20 20` and no `Ke` on the ceiling.
+const KA_LAMP_OBJ: &str = "mtllib lamp.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\
+                           v 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\nusemtl wall\nf 1 2 3 4\n\
+                           f 1 5 6 2\nf 4 3 7 8\nf 1 4 8 5\nf 2 6 7 3\nusemtl lamp\nf 5 8 7 6\n";
+const KA_LAMP_MTL: &str = "newmtl wall\nKa 1 1 1\nKd 0.5 0.5 0.5\nKs 0.1 0.1 0.1\nNs 10\n\
+                           illum 2\nmap_Kd -s 1 1 1 wall.png\nPr 0.5\nnewmtl lamp\n\
+                           Ka 20 20 20\nKd 0.7\nd 1\nTr 0\nTf 1 1 1\nNi 1.5\n";
+
+#[test]
+fn ka_is_kept_and_emitted_only_with_emit_from_ka() {
+    let mtl = |_: &str| Some(KA_LAMP_MTL.into());
+    let (s, report) = load(KA_LAMP_OBJ, ObjOptions::default(), mtl);
+    assert!(s.materials().iter().all(|m| !m.is_emitter()));
+    // Nothing emits, and two materials have Ka > 0 without Ke.
+    assert_eq!(
+        warnings(&report),
+        [
+            "line 10: no material emits (no Ke > 0), but material 'wall' and 1 more have an \
+          ambient Ka > 0 and no Ke: old-style lamps emit only when Ka is read as the \
+          emittance (emit_from_ka)"
+        ]
+    );
+    assert!(report.warnings[0].kind.is_material());
+    let options = ObjOptions::new(Subdivision::Grid(2)).with_emit_from_ka(true);
+    let (s, report) = load(KA_LAMP_OBJ, options, mtl);
+    assert!(report.warnings.is_empty());
+    assert_eq!(s.n_patches(), 24);
+    let lamp = s.patch_material(20).unwrap();
+    assert_eq!((lamp.reflectance, lamp.emittance), ([0.7; 3], [20.0; 3]));
+    let wall = s.patch_material(0).unwrap();
+    assert_eq!((wall.reflectance, wall.emittance), ([0.5; 3], [1.0; 3]));
+    // Ke wins over Ka; with Ke anywhere, Ka-only materials are not reported.
+    let with_ke = KA_LAMP_MTL.replace("Ka 20 20 20", "Ka 20 20 20\nKe 5 5 5");
+    let (s, report) = load(KA_LAMP_OBJ, ObjOptions::default(), |_| {
+        Some(with_ke.clone())
+    });
+    assert!(report.warnings.is_empty());
+    assert_eq!(s.patch_material(5).unwrap().emittance, [5.0; 3]);
+    let (s, _) = load(
+        KA_LAMP_OBJ,
+        ObjOptions::default().with_emit_from_ka(true),
+        |_| Some(with_ke.clone()),
+    );
+    assert_eq!(s.patch_material(5).unwrap().emittance, [5.0; 3]);
+    // A negative Ka is an error only where it is read as emittance.
+    let negative = KA_LAMP_MTL.replace("Ka 20 20 20", "Ka 20 -1 20");
+    assert!(
+        parse_obj(KA_LAMP_OBJ, &ObjOptions::default(), |_| Some(
+            negative.clone()
+        ))
+        .is_ok()
+    );
+    assert_eq!(
+        parse_obj(
+            KA_LAMP_OBJ,
+            &ObjOptions::default().with_emit_from_ka(true),
+            |_| { Some(negative.clone()) }
+        )
+        .unwrap_err()
+        .to_string(),
+        "line 1: material library 'lamp.mtl' line 10: emittance -1 is negative"
+    );
+}
+
+#[test]
+fn faces_read_counts_the_faces_as_written() {
+    let (s, report) = load(ROOM, ObjOptions::new(Subdivision::Grid(3)), no_mtl);
+    assert_eq!((report.faces_read, s.n_patches()), (6, 54));
+    assert!(report.warnings.is_empty());
 }
