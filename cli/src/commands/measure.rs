@@ -15,6 +15,7 @@ use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::formfactor::partial::{JobId, Partial, fingerprint};
 use sceneinfo::formfactor::tally::{LineTally, LineTracer};
+use sceneinfo::io::LoadReport;
 use sceneinfo::lines::{CHUNK_LINES, chunk_count};
 use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport};
 
@@ -61,7 +62,7 @@ impl MonteCarlo {
 /// Besides the scene's errors, [`Interrupted`] when Ctrl-C stopped the lines early (so
 /// that no partial matrix is written as if it were the one asked for).
 pub fn form_factors_of(path: &Path, sampling: &SamplingArgs) -> Result<FormFactors> {
-    let (ff, mc) = compute(path, sampling)?;
+    let (ff, mc, _) = compute(path, sampling)?;
     if mc.is_some_and(|mc| mc.partial()) {
         return Err(Interrupted { partial: None }.into());
     }
@@ -112,9 +113,16 @@ fn threads_of(sampling: &SamplingArgs) -> usize {
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get))
 }
 
-fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<MonteCarlo>)> {
+/// The form factors of the scene in `path`, the Monte Carlo run if any, and the loader's
+/// report of a 3D scene (`None` for flatland).
+fn compute(
+    path: &Path,
+    sampling: &SamplingArgs,
+) -> Result<(FormFactors, Option<MonteCarlo>, Option<LoadReport>)> {
     let at = |e: sceneinfo::Error| located(path, &e);
-    let scene = crate::output::load_scene(path)?;
+    let loaded = crate::output::load_scene(path)?;
+    let report = matches!(loaded.scene, Loaded::Solid(_)).then(|| loaded.report.clone());
+    let scene = loaded.scene;
     let method = sampling.method.line_method();
     let threads = threads_of(sampling);
     if let Some(n) = sampling.lines {
@@ -144,7 +152,7 @@ fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<
             return Err(at(kind.into()));
         }
     }
-    Ok(match (sampling.lines, &scene) {
+    let (ff, mc) = match (sampling.lines, &scene) {
         (None, Loaded::Flat(s)) => (exact_2d::form_factors(s).map_err(at)?, None),
         (None, Loaded::Solid(s)) => (crate::output::exact_3d_form_factors(path, s)?, None),
         (Some(lines), scene) => {
@@ -180,7 +188,8 @@ fn compute(path: &Path, sampling: &SamplingArgs) -> Result<(FormFactors, Option<
             };
             (est.form_factors, Some(mc))
         }
-    })
+    };
+    Ok((ff, mc, report))
 }
 
 pub fn run(args: &MeasureArgs) -> Result<()> {
@@ -188,11 +197,18 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
         return write_partial(args, out);
     }
     let start = Instant::now();
-    let (ff, mc) = compute(&args.file, &args.sampling)?;
+    let (ff, mc, load) = compute(&args.file, &args.sampling)?;
+    // The loader's warnings: on stderr beside the table, in the JSON otherwise
+    if let Some(load) = load.as_ref().filter(|_| !args.json) {
+        for w in load.warnings_for(false) {
+            eprintln!("{}: warning: {w}", args.file.display());
+        }
+    }
     print_report(
         &args.file,
         &ff,
         mc.as_ref(),
+        load.as_ref(),
         Timing {
             start,
             earlier: 0.0,
@@ -211,11 +227,13 @@ pub struct Timing {
     pub earlier: f64,
 }
 
-/// Prints the report of `ff` (a table, or JSON), and writes the matrix CSV if asked.
+/// Prints the report of `ff` (a table, or JSON with the `load` report's fields when
+/// given), and writes the matrix CSV if asked.
 pub fn print_report(
     file: &Path,
     ff: &FormFactors,
     mc: Option<&MonteCarlo>,
+    load: Option<&LoadReport>,
     timing: Timing,
     json: bool,
     matrix: Option<&Path>,
@@ -231,6 +249,10 @@ pub fn print_report(
         let mut s = String::new();
         let mut o = JsonObject::new(&mut s)?;
         report.write_fields(&mut o)?;
+        if let Some(load) = load {
+            // Visibility measures: material warnings are not theirs
+            load.write_fields(&mut o, false)?;
+        }
         match mc {
             None => o.string("form_factors", "exact")?,
             Some(mc) => {
@@ -295,7 +317,7 @@ fn write_partial(args: &MeasureArgs, out: &Path) -> Result<()> {
     let method = sampling.method.line_method();
     let threads = threads_of(sampling);
     let job = |c: Range<u64>| (method, sampling.seed, lines, c, threads);
-    let (tally, sizes) = match crate::output::load_scene(path)? {
+    let (tally, sizes) = match crate::output::load_scene(path)?.scene {
         Loaded::Flat(s) => {
             tally_chunks(&FlatTracer::new(&s).map_err(at)?, job(chunks.clone()), path)?
         }

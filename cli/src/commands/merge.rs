@@ -56,6 +56,7 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         Path::new(first),
         &est.form_factors,
         Some(&mc),
+        None,
         Timing { start, earlier },
         args.json,
         args.matrix.as_deref(),

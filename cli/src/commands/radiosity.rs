@@ -66,7 +66,10 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
             args.tolerance
         );
     }
-    let scene = crate::output::load_scene(path)?;
+    let loaded = crate::output::load_scene(path)?;
+    // Radiosity reads the materials: their warnings too
+    loaded.print_warnings(path, true);
+    let scene = loaded.scene;
     if args.ply.is_some() && matches!(scene, Loaded::Flat(_)) {
         bail!(
             "{}: --ply writes 3D scenes; a .flat scene has no surfaces to mesh",

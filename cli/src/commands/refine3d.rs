@@ -135,7 +135,9 @@ struct MeshMeasures {
 /// Runs `refine` on a `.obj` scene.
 pub fn run(args: &RefineArgs) -> Result<()> {
     let config = Config::new(args)?;
-    let Loaded::Solid(scene) = crate::output::load_scene(&args.file)? else {
+    let loaded = crate::output::load_scene(&args.file)?;
+    loaded.print_warnings(&args.file, true);
+    let Loaded::Solid(scene) = loaded.scene else {
         bail!("{}: not a 3D scene", args.file.display());
     };
     let at = |e: sceneinfo::Error| located(&args.file, &e);

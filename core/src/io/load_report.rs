@@ -24,6 +24,30 @@ pub enum LoadWarningKind {
         /// The statement's keyword.
         keyword: Token,
     },
+    /// The file's content is of another format than its extension says; it was read as
+    /// its content says.
+    FormatByContent {
+        /// The file's extension.
+        extension: Token,
+        /// The format read (`"PLY"`, `"glTF"`, `"GLB"`, `"OBJ"`, `"flat"`).
+        format: &'static str,
+    },
+    /// A face with fewer than three vertices or no area: skipped.
+    DegenerateFace,
+    /// glTF primitives that draw no surface (points, lines): skipped.
+    NonSurfacePrimitive {
+        /// The primitive's mode (`"POINTS"`, `"LINES"`, …).
+        mode: &'static str,
+    },
+    /// A reflectance of 1 or more (white) clamped to
+    /// [`Material::MAX_REFLECTANCE`](crate::scene::Material::MAX_REFLECTANCE).
+    ReflectanceClamped,
+    /// Material data sceneinfo does not read (textures, vertex or face colours): skipped,
+    /// the constant factors used instead.
+    IgnoredMaterialData {
+        /// What was ignored, e.g. `"base colour texture"`.
+        what: &'static str,
+    },
 }
 
 impl LoadWarningKind {
@@ -32,7 +56,11 @@ impl LoadWarningKind {
     #[must_use]
     pub fn is_material(&self) -> bool {
         match self {
-            Self::SkippedStatement { .. } => false,
+            Self::SkippedStatement { .. }
+            | Self::FormatByContent { .. }
+            | Self::DegenerateFace
+            | Self::NonSurfacePrimitive { .. } => false,
+            Self::ReflectanceClamped | Self::IgnoredMaterialData { .. } => true,
         }
     }
 }
@@ -45,6 +73,23 @@ impl fmt::Display for LoadWarningKind {
                 "skipped '{}' statements (nothing sceneinfo uses)",
                 keyword.escape_debug()
             ),
+            Self::FormatByContent { extension, format } => write!(
+                f,
+                "the extension says '.{}' but the content is {format}: read as {format}",
+                extension.escape_debug()
+            ),
+            Self::DegenerateFace => {
+                write!(f, "skipped faces with fewer than 3 vertices or no area")
+            }
+            Self::NonSurfacePrimitive { mode } => {
+                write!(f, "skipped {mode} primitives (they draw no surface)")
+            }
+            Self::ReflectanceClamped => write!(
+                f,
+                "reflectance of 1 or more (white) clamped to {}",
+                crate::scene::Material::MAX_REFLECTANCE
+            ),
+            Self::IgnoredMaterialData { what } => write!(f, "ignored {what}"),
         }
     }
 }
