@@ -24,7 +24,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 use base64::Engine as _;
-use glam::{DMat4, DVec3};
+use glam::{DMat4, DQuat, DVec3};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::{Mode, Semantic};
 use sceneinfo::io::{LoadReport, LoadWarningKind};
@@ -278,8 +278,7 @@ impl Reader<'_> {
                     node.index()
                 );
             }
-            let local = node.transform().matrix().map(|c| c.map(f64::from));
-            let world = parent * DMat4::from_cols_array_2d(&local);
+            let world = parent * local_transform(&node);
             if let Some(mesh) = node.mesh() {
                 self.add_instance(&node, &mesh, world, report)?;
             }
@@ -396,9 +395,9 @@ impl Reader<'_> {
             return Ok(*m);
         }
         let pbr = material.pbr_metallic_roughness();
-        let [r, g, b, _] = pbr.base_color_factor().map(f64::from);
-        let strength = f64::from(material.emissive_strength().unwrap_or(1.0));
-        let emit = material.emissive_factor().map(|e| f64::from(e) * strength);
+        let [r, g, b, _] = pbr.base_color_factor().map(as_written);
+        let strength = material.emissive_strength().map_or(1.0, as_written);
+        let emit = material.emissive_factor().map(|e| as_written(e) * strength);
         let (m, clamped) = Material::clamped([r, g, b], emit).map_err(|e| {
             let which = material.index().map_or_else(
                 || "the default material".to_owned(),
@@ -545,6 +544,44 @@ impl Reader<'_> {
             bail!("accessor {k}: a value that is not a finite number");
         }
         Ok(out)
+    }
+}
+
+/// A number of the JSON document, which the `gltf` crate holds as f32, as the decimal the
+/// file most likely wrote: the shortest decimal that rounds to that f32, read as f64 (so a
+/// reflectance written `0.2` is 0.2, as in an OBJ file, not 0.2000000029…).
+fn as_written(v: f32) -> f64 {
+    // Rust prints the shortest representation that reads back to the same f32
+    v.to_string().parse().unwrap_or(f64::from(v))
+}
+
+/// A node's transform (parent from node) in f64: its matrix, or its translation × rotation
+/// × scale with the rotation quaternion normalised in f64 (the file's, to 7 digits, is
+/// not quite unit length).
+fn local_transform(node: &gltf::Node<'_>) -> DMat4 {
+    match node.transform() {
+        gltf::scene::Transform::Matrix { matrix } => {
+            DMat4::from_cols_array_2d(&matrix.map(|c| c.map(as_written)))
+        }
+        gltf::scene::Transform::Decomposed {
+            translation,
+            rotation,
+            scale,
+        } => {
+            let [x, y, z, w] = rotation.map(as_written);
+            let q = DQuat::from_xyzw(x, y, z, w);
+            // A zero quaternion (invalid) is left as no rotation rather than NaN
+            let q = if q.length_squared() > 0.0 {
+                q.normalize()
+            } else {
+                DQuat::IDENTITY
+            };
+            DMat4::from_scale_rotation_translation(
+                DVec3::from_array(scale.map(as_written)),
+                q,
+                DVec3::from_array(translation.map(as_written)),
+            )
+        }
     }
 }
 
