@@ -11,7 +11,7 @@ use anyhow::Result;
 use sceneinfo::ErrorKind;
 use sceneinfo::geom::DVec3;
 use sceneinfo::io::{LoadReport, LoadWarningKind};
-use sceneinfo::scene::{SceneBuilder, Subdivision};
+use sceneinfo::scene::{Scene, SceneBuilder, Subdivision};
 
 /// Most faces a reader reads from one file (skipped ones included) before it gives up: it
 /// bounds the work on files whose faces are all skipped (a glTF mesh instanced many times,
@@ -56,4 +56,23 @@ pub fn add_face(
             e.kind()
         )),
     }
+}
+
+/// The scene `builder` holds; when no face was kept, the error says what was skipped.
+///
+/// # Errors
+/// `file: what` from [`SceneBuilder::build`] (no face, coincident faces, …).
+pub fn build(builder: &SceneBuilder, report: &LoadReport, path: &Path) -> Result<Scene> {
+    builder.build().map_err(|e| {
+        if matches!(e.kind(), ErrorKind::EmptyScene) && !report.warnings.is_empty() {
+            anyhow::anyhow!(
+                "{}: {} ({})",
+                path.display(),
+                e.kind(),
+                report.messages(true).join("; ")
+            )
+        } else {
+            crate::output::located(path, &e)
+        }
+    })
 }

@@ -5,6 +5,7 @@
 mod common;
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use common::{bin, number, stdout_of, temp, without_timing};
 
@@ -239,9 +240,11 @@ fn assert_close(a: &str, b: &str, tol: f64) {
     }
 }
 
-/// The room's measures from OBJ, exact.
+/// The room's measures from OBJ (a file of its own per call: the tests run in parallel).
 fn obj_measures(extra: &[&str]) -> String {
-    measure(&write("room.obj", room_obj()), extra)
+    static CALLS: AtomicUsize = AtomicUsize::new(0);
+    let k = CALLS.fetch_add(1, Ordering::Relaxed);
+    measure(&write(&format!("room{k}.obj"), room_obj()), extra)
 }
 
 #[test]
@@ -439,6 +442,19 @@ fn broken_files_give_located_errors() {
         &write("bad_accessor.glb", glb(&json, &buf)),
         "mesh 0 primitive 0: POSITION: accessor 0: 9 elements of 12 bytes (stride 12) from byte 0 \
          run past the end of buffer view 0 (96 bytes)",
+    );
+    // A POSITION accessor that does not exist (the gltf crate's validation would index it)
+    let json = json.replace(r#""POSITION":0"#, r#""POSITION":7"#);
+    fails(
+        &write("no_position.glb", glb(&json, &buf)),
+        "glTF: meshes[0].primitives[0].attributes[\"POSITION\"]: accessor 7 does not exist \
+         (2 accessors)",
+    );
+    // Nothing but lines: the error says what was skipped
+    let (json, buf) = gltf(&[(1, vec![0, 1, 2, 3])], r#"[{"mesh":0}]"#, None);
+    fails(
+        &write("lines.glb", glb(&json, &buf)),
+        "scene has no patches (skipped LINES primitives",
     );
     // A PLY cut short, one whose header promises more than the file holds, a bad index
     let ply = room_ply("binary_little_endian");

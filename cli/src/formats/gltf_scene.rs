@@ -52,8 +52,8 @@ pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene>
     } else {
         (bytes, None)
     };
-    let gltf = gltf::Gltf::from_slice(json).map_err(|e| anyhow::anyhow!("{file}: glTF: {e}"))?;
-    let document = &gltf.document;
+    let document = parse_document(json).with_context(|| format!("{file}: glTF"))?;
+    let document = &document;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let buffers = load_buffers(document, blob, &dir).with_context(|| format!("{file}"))?;
     let mut reader = Reader {
@@ -65,10 +65,35 @@ pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene>
         builder: SceneBuilder::default(),
     };
     reader.walk(document, report)?;
-    reader
-        .builder
-        .build()
-        .map_err(|e| crate::output::located(path, &e))
+    crate::mesh::build(&reader.builder, report, path)
+}
+
+/// The validated document of a glTF JSON text.
+///
+/// The `gltf` crate's validation indexes the accessor a primitive's POSITION names before
+/// checking it exists (gltf-json 1.4.1, `primitive_validate_hook`), so that reference is
+/// checked here first.
+fn parse_document(json: &[u8]) -> Result<gltf::Document> {
+    let unchecked = gltf::Gltf::from_slice_without_validation(json)
+        .map_err(|e| anyhow::anyhow!("{e}"))?
+        .document
+        .into_json();
+    let accessors = unchecked.accessors.len();
+    for (m, mesh) in unchecked.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let position = gltf::json::validation::Checked::Valid(Semantic::Positions);
+            if let Some(k) = primitive.attributes.get(&position)
+                && k.value() >= accessors
+            {
+                bail!(
+                    "meshes[{m}].primitives[{p}].attributes[\"POSITION\"]: accessor {} \
+                     does not exist ({accessors} accessors)",
+                    k.value()
+                );
+            }
+        }
+    }
+    gltf::Document::from_json(unchecked).map_err(|e| anyhow::anyhow!("{e}"))
 }
 
 /// The JSON chunk and the binary chunk (if any) of a GLB file, sizes checked.

@@ -128,19 +128,19 @@ pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene>
                     short(&e.to_string())
                 )
             })?;
-        if has_colours(element) {
-            report.warn(
-                None,
-                LoadWarningKind::IgnoredMaterialData {
-                    what: "PLY colours (PLY scenes have no materials: faces are black)",
-                },
-            );
-        }
         match element.name.as_str() {
             "vertex" => vertices = items,
             "face" => faces = items,
             _ => {}
         }
+    }
+    if header.elements.values().any(has_colours) {
+        report.warn(
+            None,
+            LoadWarningKind::IgnoredMaterialData {
+                what: "PLY colours (PLY scenes have no materials: faces are black)",
+            },
+        );
     }
     // Vertices: x, y and z, each present
     let mut points = Vec::with_capacity(vertices.len());
@@ -178,9 +178,7 @@ pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene>
             format_args!("PLY face {k}"),
         )?;
     }
-    builder
-        .build()
-        .map_err(|e| crate::output::located(path, &e))
+    crate::mesh::build(&builder, report, path)
 }
 
 /// How many bytes follow the header's `end_header` line (all of them if there is none:
