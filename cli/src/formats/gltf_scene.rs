@@ -18,6 +18,8 @@
 //! - object names: the node's name, else the mesh's, else `node K`.
 //!
 //! Not read: sparse accessors (refused), skins, morph targets, cameras, lights, images.
+//! Files that require an extension the `gltf` crate does not know (Draco or meshopt
+//! compression, `KHR_mesh_quantization`, …) are refused by its validation.
 
 use std::collections::HashMap;
 use std::path::Path;
