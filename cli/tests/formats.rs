@@ -341,6 +341,33 @@ fn strips_fans_and_skipped_primitives() {
 }
 
 #[test]
+fn sparse_positions_over_zeros_give_the_room() {
+    let obj = obj_measures(&[]);
+    // POSITION without a buffer view (zeros), every corner given by sparse values
+    let indices = triangles().into_iter().flatten().collect();
+    let (json, mut buf) = gltf(&[(4, indices)], r#"[{"mesh":0}]"#, None);
+    let at = buf.len();
+    buf.extend(0u8..8);
+    let json = json
+        .replace(
+            r#"{"bufferView":0,"componentType":5126,"count":8,"type":"VEC3","#,
+            r#"{"componentType":5126,"count":8,"type":"VEC3","sparse":{"count":8,"indices":{"bufferView":2,"componentType":5121},"values":{"bufferView":0}},"#,
+        )
+        .replace(
+            r#"],"buffers""#,
+            &format!(r#",{{"buffer":0,"byteOffset":{at},"byteLength":8}}],"buffers""#),
+        )
+        .replace(
+            &format!(r#""byteLength":{at}}}]"#),
+            &format!(r#""byteLength":{}}}]"#, buf.len()),
+        );
+    assert!(json.contains(r#""count":8,"type":"VEC3","sparse""#), "{json}");
+    assert!(json.contains(&format!(r#""byteLength":{}}}]"#, buf.len())), "{json}");
+    let out = measure(&write("room_sparse.glb", glb(&json, &buf)), &[]);
+    assert_eq!(out, obj);
+}
+
+#[test]
 fn gltf_materials_match_the_obj_and_mtl() {
     // One emissive face (emissive factor × KHR_materials_emissive_strength), white walls
     // (base colour 1: clamped to 0.99 with a warning)

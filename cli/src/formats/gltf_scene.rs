@@ -17,7 +17,7 @@
 //!   the emittance E; textures and vertex colours are ignored with a warning;
 //! - object names: the node's name, else the mesh's, else `node K`.
 //!
-//! Not read: sparse accessors (refused), skins, morph targets, cameras, lights, images.
+//! Not read: skins, morph targets, cameras, lights, images.
 //! Files that require an extension the `gltf` crate does not know (Draco or meshopt
 //! compression, `KHR_mesh_quantization`, …) are refused by its validation.
 
@@ -33,6 +33,9 @@ use sceneinfo::io::{LoadReport, LoadWarningKind};
 use sceneinfo::scene::{Material, Scene, SceneBuilder};
 
 use crate::mesh::add_face;
+
+/// Most elements of an accessor without a buffer view (zeros under sparse values).
+const MAX_ZERO_ELEMENTS: usize = 1 << 26;
 
 /// Most node visits in one walk of the scene graph (instances of instances multiply).
 const MAX_NODE_VISITS: u64 = 1 << 24;
@@ -60,6 +63,7 @@ pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene>
     let buffers = load_buffers(document, blob, &dir).with_context(|| format!("{file}"))?;
     let mut reader = Reader {
         path,
+        document,
         buffers,
         positions: HashMap::new(),
         indices: HashMap::new(),
@@ -169,7 +173,13 @@ fn load_buffers(
                 .into_iter()
                 .chain(primitive.indices());
             for accessor in accessors {
-                if let Some(view) = accessor.view() {
+                let json = &document.as_json().accessors[accessor.index()];
+                let sparse = json
+                    .sparse
+                    .iter()
+                    .flat_map(|s| [s.indices.buffer_view.value(), s.values.buffer_view.value()]);
+                let views = json.buffer_view.iter().map(|v| v.value()).chain(sparse);
+                for view in views.filter_map(|v| document.views().nth(v)) {
                     used[view.buffer().index()] = true;
                 }
             }
@@ -257,6 +267,7 @@ fn percent_decode(uri: &str) -> Result<String> {
 /// materials made so far and the scene being built.
 struct Reader<'p> {
     path: &'p Path,
+    document: &'p gltf::Document,
     buffers: Vec<Option<Vec<u8>>>,
     positions: HashMap<usize, Vec<DVec3>>,
     indices: HashMap<usize, Vec<u32>>,
@@ -502,28 +513,132 @@ impl Reader<'_> {
     }
 
     /// The components of every element of `accessor`, in order, as f64 (normalised
-    /// integers mapped to [0, 1] or [−1, 1]); its byte range checked against its buffer
-    /// view and the view's against its buffer.
+    /// integers mapped to [0, 1] or [−1, 1]), sparse substitutions applied; every byte range
+    /// checked against its buffer view and each view's against its buffer.
     fn components(&self, accessor: &gltf::Accessor<'_>) -> Result<Vec<f64>> {
         let k = accessor.index();
-        if accessor.sparse().is_some() {
-            bail!("accessor {k}: sparse accessors are not read");
-        }
         let comps = accessor.dimensions().multiplicity();
         let size = accessor.data_type().size();
+        let (data_type, normalized) = (accessor.data_type(), accessor.normalized());
         let count = accessor.count();
         if count == 0 {
             return Ok(Vec::new());
         }
-        let Some(view) = accessor.view() else {
-            bail!("accessor {k}: no buffer view (all zeros): nothing to draw");
+        let element = comps * size;
+        let sparse = self.document.as_json().accessors[k].sparse.as_ref();
+        // The dense elements: from the buffer view, or zeros under a sparse accessor
+        let mut out = match accessor.view() {
+            Some(view) => {
+                let stride = view.stride().unwrap_or(element);
+                if stride < element {
+                    bail!(
+                        "buffer view {}: stride {stride} is shorter than accessor {k}'s \
+                         {element}-byte elements",
+                        view.index()
+                    );
+                }
+                let bytes = self
+                    .elements(&view, accessor.offset(), count, element, stride)
+                    .with_context(|| format!("accessor {k}"))?;
+                let mut out = Vec::with_capacity(count * comps);
+                for e in 0..count {
+                    for c in 0..comps {
+                        let at = e * stride + c * size;
+                        out.push(component(&bytes[at..at + size], data_type, normalized));
+                    }
+                }
+                out
+            }
+            None if sparse.is_some() => {
+                if count > MAX_ZERO_ELEMENTS {
+                    bail!(
+                        "accessor {k}: {count} elements without a buffer view: more than \
+                         {MAX_ZERO_ELEMENTS}"
+                    );
+                }
+                vec![0.0; count * comps]
+            }
+            None => bail!("accessor {k}: no buffer view (all zeros): nothing to draw"),
         };
-        let buffer = view.buffer().index();
+        // Sparse substitutions: tightly packed indices and values
+        if let Some(sparse) = sparse {
+            let n = sparse.count.0 as usize;
+            if n > count {
+                bail!("accessor {k}: {n} sparse values for {count} elements");
+            }
+            let index_size = match sparse.indices.component_type {
+                gltf::json::validation::Checked::Valid(t) => match t.0 {
+                    gltf::json::accessor::ComponentType::U8 => 1,
+                    gltf::json::accessor::ComponentType::U16 => 2,
+                    gltf::json::accessor::ComponentType::U32 => 4,
+                    other => bail!("accessor {k}: sparse indices of type {other:?}"),
+                },
+                gltf::json::validation::Checked::Invalid => {
+                    bail!("accessor {k}: sparse indices of an invalid type")
+                }
+            };
+            let view_of = |index: &gltf::json::Index<gltf::json::buffer::View>| {
+                self.document.views().nth(index.value())
+            };
+            let (Some(index_view), Some(value_view)) = (
+                view_of(&sparse.indices.buffer_view),
+                view_of(&sparse.values.buffer_view),
+            ) else {
+                bail!("accessor {k}: sparse buffer view does not exist");
+            };
+            let indices = self
+                .elements(
+                    &index_view,
+                    sparse.indices.byte_offset.0 as usize,
+                    n,
+                    index_size,
+                    index_size,
+                )
+                .with_context(|| format!("accessor {k}: sparse indices"))?;
+            let values = self
+                .elements(
+                    &value_view,
+                    sparse.values.byte_offset.0 as usize,
+                    n,
+                    element,
+                    element,
+                )
+                .with_context(|| format!("accessor {k}: sparse values"))?;
+            for j in 0..n {
+                let b = &indices[j * index_size..(j + 1) * index_size];
+                let mut w = [0u8; 4];
+                w[..index_size].copy_from_slice(b);
+                let i = u32::from_le_bytes(w) as usize;
+                if i >= count {
+                    bail!("accessor {k}: sparse index {i} out of range ({count} elements)");
+                }
+                for c in 0..comps {
+                    let at = j * element + c * size;
+                    out[i * comps + c] = component(&values[at..at + size], data_type, normalized);
+                }
+            }
+        }
+        if out.iter().any(|x| !x.is_finite()) {
+            bail!("accessor {k}: a value that is not a finite number");
+        }
+        Ok(out)
+    }
+
+    /// The bytes of `count` elements of `element` bytes, `stride` apart, from byte `offset`
+    /// of `view`: from the first element's start to the last one's end, checked to lie in
+    /// the view and the view in its buffer's data.
+    fn elements(
+        &self,
+        view: &gltf::buffer::View<'_>,
+        offset: usize,
+        count: usize,
+        element: usize,
+        stride: usize,
+    ) -> Result<&[u8]> {
+        let (v, buffer) = (view.index(), view.buffer().index());
         let data = self.buffers[buffer]
             .as_deref()
-            .with_context(|| format!("accessor {k}: buffer {buffer} not loaded"))?;
-        // The view within the buffer's data
-        let v = view.index();
+            .with_context(|| format!("buffer {buffer} not loaded"))?;
         let view_bytes = view
             .offset()
             .checked_add(view.length())
@@ -536,41 +651,20 @@ impl Reader<'_> {
                     data.len()
                 )
             })?;
-        // The accessor within the view
-        let element = comps * size;
-        let stride = view.stride().unwrap_or(element);
-        if stride < element {
-            bail!(
-                "buffer view {v}: stride {stride} is shorter than accessor {k}'s {element}-byte elements"
-            );
-        }
-        let needed = (count - 1)
-            .checked_mul(stride)
+        let end = count
+            .checked_sub(1)
+            .and_then(|last| last.checked_mul(stride))
             .and_then(|b| b.checked_add(element))
-            .and_then(|b| b.checked_add(accessor.offset()))
+            .and_then(|b| b.checked_add(offset))
             .filter(|&n| n <= view_bytes.len())
             .with_context(|| {
                 format!(
-                    "accessor {k}: {count} elements of {element} bytes (stride {stride}) from \
-                     byte {} run past the end of buffer view {v} ({} bytes)",
-                    accessor.offset(),
+                    "{count} elements of {element} bytes (stride {stride}) from byte {offset} \
+                     run past the end of buffer view {v} ({} bytes)",
                     view_bytes.len()
                 )
             })?;
-        let bytes = &view_bytes[accessor.offset()..needed];
-        let normalized = accessor.normalized();
-        let data_type = accessor.data_type();
-        let mut out = Vec::with_capacity(count * comps);
-        for e in 0..count {
-            for c in 0..comps {
-                let at = e * stride + c * size;
-                out.push(component(&bytes[at..at + size], data_type, normalized));
-            }
-        }
-        if out.iter().any(|x| !x.is_finite()) {
-            bail!("accessor {k}: a value that is not a finite number");
-        }
-        Ok(out)
+        Ok(&view_bytes[offset..end])
     }
 }
 
