@@ -300,6 +300,26 @@ fn node_transforms_and_mirrors_keep_the_measures() {
 }
 
 #[test]
+fn the_default_scene_else_every_scene_else_the_root_nodes() {
+    let nodes = r#"[{"mesh":0},{"mesh":0,"translation":[10,0,0]}]"#;
+    let two_scenes = r#""scenes":[{"nodes":[0]},{"nodes":[1]}]"#;
+    let base = room_gltf(nodes).replace(r#""scene":0,"scenes":[{"nodes":[0]}]"#, two_scenes);
+    assert!(base.contains(two_scenes));
+    let lines = ["--lines", "200000"];
+    let patches =
+        |name: &str, json: String| number(&measure(&write(name, json), &lines), "n_patches");
+    // No default scene: both scenes' rooms
+    assert_eq!(patches("two_scenes.gltf", base.clone()), 24.0);
+    // The default scene only
+    let default = base.replace(two_scenes, &format!(r#""scene":1,{two_scenes}"#));
+    assert_eq!(patches("default_scene.gltf", default), 12.0);
+    // No scene at all: the nodes that are nobody's child
+    let none = base.replace(&format!("{two_scenes},"), "");
+    assert!(!none.contains("scenes"));
+    assert_eq!(patches("no_scene.gltf", none), 24.0);
+}
+
+#[test]
 fn strips_fans_and_skipped_primitives() {
     let obj = obj_measures(&[]);
     // One triangle strip over all six faces, joined by degenerate triangles (skipped)
@@ -361,8 +381,14 @@ fn sparse_positions_over_zeros_give_the_room() {
             &format!(r#""byteLength":{at}}}]"#),
             &format!(r#""byteLength":{}}}]"#, buf.len()),
         );
-    assert!(json.contains(r#""count":8,"type":"VEC3","sparse""#), "{json}");
-    assert!(json.contains(&format!(r#""byteLength":{}}}]"#, buf.len())), "{json}");
+    assert!(
+        json.contains(r#""count":8,"type":"VEC3","sparse""#),
+        "{json}"
+    );
+    assert!(
+        json.contains(&format!(r#""byteLength":{}}}]"#, buf.len())),
+        "{json}"
+    );
     let out = measure(&write("room_sparse.glb", glb(&json, &buf)), &[]);
     assert_eq!(out, obj);
 }
