@@ -527,6 +527,17 @@ fn broken_files_give_located_errors() {
         &write("bad_index.ply", text.replace("3 0 1 2 ", "3 0 1 8 ")),
         "PLY face 0: vertex index 8 out of range (8 vertices)",
     );
+    // Over the 2 GiB cap (a sparse file: nothing is written), refused before reading
+    let huge = temp("huge.glb");
+    std::fs::File::create(&huge)
+        .unwrap()
+        .set_len((2 << 30) + 1)
+        .unwrap();
+    fails(
+        &huge,
+        "2147483649 bytes: larger than the 2147483648-byte cap (2 GiB) on scene files",
+    );
+    std::fs::remove_file(&huge).unwrap();
     // Not glTF at all
     fails(&write("not.glb", b"glTF\x01\0\0\0"), "GLB container: ");
 }

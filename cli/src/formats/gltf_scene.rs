@@ -740,3 +740,58 @@ fn component(b: &[u8], data_type: DataType, normalized: bool) -> f64 {
         DataType::F32 => f64::from(f32::from_le_bytes(raw(4))),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percent_escapes() {
+        assert_eq!(percent_decode("a%20b.bin").unwrap(), "a b.bin");
+        assert_eq!(percent_decode("%C3%A9.bin").unwrap(), "é.bin");
+        assert!(percent_decode("a%2").is_err());
+        assert!(percent_decode("a%zz").is_err());
+        assert!(percent_decode("%FF").is_err());
+    }
+
+    #[test]
+    fn components_normalised_and_not() {
+        assert_eq!(component(&[255], DataType::U8, true), 1.0);
+        assert_eq!(component(&[0x80], DataType::I8, true), -1.0);
+        assert_eq!(component(&[0x81], DataType::I8, true), -1.0);
+        assert_eq!(component(&[0xff, 0x7f], DataType::I16, true), 1.0);
+        assert_eq!(component(&[0x34, 0x12], DataType::U16, false), 4660.0);
+        assert_eq!(component(&[1, 0, 0, 0], DataType::U32, false), 1.0);
+        assert_eq!(component(&1.5f32.to_le_bytes(), DataType::F32, false), 1.5);
+    }
+
+    #[test]
+    fn glb_chunks_checked() {
+        let mut glb = b"glTF".to_vec();
+        glb.extend(2u32.to_le_bytes());
+        glb.extend(28u32.to_le_bytes());
+        glb.extend(8u32.to_le_bytes());
+        glb.extend(CHUNK_JSON.to_le_bytes());
+        glb.extend(b"{}      ");
+        let (json, bin) = split_glb(&glb).unwrap();
+        assert_eq!(json, b"{}      ");
+        assert!(bin.is_none());
+        // A chunk longer than the file
+        let mut long = glb.clone();
+        long[12..16].copy_from_slice(&9u32.to_le_bytes());
+        assert!(split_glb(&long).is_err());
+        // Shorter than a header, another version
+        assert!(split_glb(b"glTF\x02\0").is_err());
+        let mut v1 = glb.clone();
+        v1[4] = 1;
+        assert!(split_glb(&v1).is_err());
+    }
+
+    #[test]
+    fn numbers_as_written() {
+        assert_eq!(as_written(0.2), 0.2);
+        assert_eq!(as_written(1.0), 1.0);
+        // The shortest decimal of f32::MAX, not its exact value
+        assert_eq!(as_written(f32::MAX), 3.402_823_5e38);
+    }
+}
