@@ -125,7 +125,8 @@ const OBJ_KEYWORDS: &[&str] = &[
 const FLAT_KEYWORDS: &[&str] = &["seg", "poly", "mat"];
 
 /// The format of `bytes`, by content; `None` when the content does not say (then the
-/// extension decides).
+/// extension decides). Text formats are told by their first 64 KiB, glTF JSON by an
+/// `"asset"` key anywhere.
 #[must_use]
 pub fn sniff(bytes: &[u8]) -> Option<Format> {
     if bytes.starts_with(b"glTF") {
@@ -144,7 +145,7 @@ pub fn sniff(bytes: &[u8]) -> Option<Format> {
     };
     let text = text.trim_start_matches('\u{feff}');
     if text.trim_start().starts_with('{') {
-        return looks_like_gltf_json(text).then_some(Format::Gltf);
+        return looks_like_gltf_json(bytes).then_some(Format::Gltf);
     }
     // The first statement of the file
     let first = text
@@ -161,10 +162,11 @@ pub fn sniff(bytes: &[u8]) -> Option<Format> {
     }
 }
 
-/// Whether the JSON text starting a file names an `"asset"` key (every glTF has one; the
-/// document is parsed for real later).
-fn looks_like_gltf_json(text: &str) -> bool {
-    text.contains("\"asset\"")
+/// Whether a JSON file names an `"asset"` key anywhere (every glTF has one, not always
+/// first: after a long `data:` URI it may be megabytes in; the document is parsed for real
+/// later).
+fn looks_like_gltf_json(bytes: &[u8]) -> bool {
+    bytes.windows(7).any(|w| w == b"\"asset\"")
 }
 
 /// A scene file's bytes and format: files over [`MAX_FILE_BYTES`] are refused before
