@@ -562,6 +562,10 @@ fn the_format_comes_from_the_content() {
     assert_close(&measure(&plain, &[]), &obj, 0.0);
     let out = measure(&write("room_obj.flat", room_obj()), &[]);
     assert!(out.contains("content is OBJ"), "{out}");
+    // A flatland scene named .obj: read as flat, the note in its JSON too
+    let out = measure(&write("flat_named.obj", "seg 0 0 1 0\nseg 1 1 0 1\n"), &[]);
+    assert!(out.contains("\"n_patches\":2"), "{out}");
+    assert!(out.contains("the content is flat: read as flat"), "{out}");
     // `draw` sends a PLY to the 3D drawer by its content too
     let out_ply = temp("room_drawn.ply");
     let status = bin()

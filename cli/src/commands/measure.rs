@@ -114,14 +114,16 @@ fn threads_of(sampling: &SamplingArgs) -> usize {
 }
 
 /// The form factors of the scene in `path`, the Monte Carlo run if any, and the loader's
-/// report of a 3D scene (`None` for flatland).
+/// report of a 3D scene (`None` for flatland unless it has a warning).
 fn compute(
     path: &Path,
     sampling: &SamplingArgs,
 ) -> Result<(FormFactors, Option<MonteCarlo>, Option<LoadReport>)> {
     let at = |e: sceneinfo::Error| located(path, &e);
     let loaded = crate::output::load_scene(path)?;
-    let report = matches!(loaded.scene, Loaded::Solid(_)).then(|| loaded.report.clone());
+    // A flatland scene's report is empty but for a note on its extension
+    let report = (matches!(loaded.scene, Loaded::Solid(_)) || !loaded.report.warnings.is_empty())
+        .then(|| loaded.report.clone());
     let scene = loaded.scene;
     let method = sampling.method.line_method();
     let threads = threads_of(sampling);
