@@ -6,8 +6,10 @@
 
 mod args;
 mod commands;
+mod formats;
 mod interrupt;
 mod lines;
+mod mesh;
 mod output;
 mod ply;
 mod png;

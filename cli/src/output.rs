@@ -5,6 +5,9 @@ use std::io::Write;
 use std::path::Path;
 
 use anyhow::{Context, Result};
+use sceneinfo::io::LoadReport;
+
+use crate::formats::Format;
 
 /// Writes `bytes` to `path` through a temporary file in the same directory and a rename,
 /// so an interrupted run never leaves a half-written file behind.
@@ -34,9 +37,15 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     result
 }
 
-/// Reads a text file; invalid UTF-8 is reported as `file: input is not valid UTF-8`.
+/// Reads a text file; invalid UTF-8 is reported as `file:line: input is not valid UTF-8`.
 pub fn read_text(path: &Path) -> Result<String> {
     let bytes = fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    text_of(path, bytes)
+}
+
+/// The text of `bytes`, read from `path`; invalid UTF-8 is reported as
+/// `file:line: input is not valid UTF-8`.
+pub fn text_of(path: &Path, bytes: Vec<u8>) -> Result<String> {
     String::from_utf8(bytes).map_err(|e| {
         let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]
             .iter()
@@ -62,48 +71,31 @@ pub fn located(path: &Path, err: &sceneinfo::Error) -> anyhow::Error {
 pub enum Loaded {
     /// A `.flat` scene.
     Flat(sceneinfo::scene::FlatScene),
-    /// A Wavefront `.obj` scene (with its `.mtl` libraries).
+    /// A 3D scene: Wavefront OBJ (with its `.mtl` libraries), glTF 2.0 or PLY.
     Solid(sceneinfo::scene::Scene),
 }
 
-/// Whether `path` names a Wavefront OBJ file (by extension, case-insensitive).
-pub fn is_obj(path: &Path) -> bool {
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("obj"))
+/// A loaded scene and what the loader did to make it ([`LoadReport`]: faces read,
+/// warnings of what was skipped or repaired, a note when the content's format disagrees
+/// with the extension).
+pub struct LoadedScene {
+    /// The scene.
+    pub scene: Loaded,
+    /// What the loader did.
+    pub report: LoadReport,
 }
 
-/// Loads a `.flat` or `.obj` scene for a command that measures visibility only: OBJ read
-/// with the default options, and the loader's warnings printed on stderr except those about
-/// materials ([`print_load_warnings`]). Errors read `file:line: what`.
-pub fn load_scene(path: &Path) -> Result<Loaded> {
-    let (scene, report) = load_scene_with(path, &sceneinfo::io::ObjOptions::default())?;
-    print_load_warnings(path, &report, false);
-    Ok(scene)
-}
-
-/// Loads a `.flat` or `.obj` scene (the OBJ read with `options`; `mtllib` names resolve
-/// relative to the OBJ's folder) with what the loader skipped or repaired (empty for
-/// `.flat`), printing nothing. Errors read `file:line: what`.
-pub fn load_scene_with(
-    path: &Path,
-    options: &sceneinfo::io::ObjOptions,
-) -> Result<(Loaded, sceneinfo::io::LoadReport)> {
-    let text = read_text(path)?;
-    if is_obj(path) {
-        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-        let mtl = |name: &str| std::fs::read_to_string(dir.join(name)).ok();
-        let (scene, report) =
-            sceneinfo::io::parse_obj(&text, options, mtl).map_err(|e| located(path, &e))?;
-        Ok((Loaded::Solid(scene), report))
-    } else {
-        let scene = sceneinfo::io::parse_flat(&text).map_err(|e| located(path, &e))?;
-        Ok((Loaded::Flat(scene), sceneinfo::io::LoadReport::default()))
+impl LoadedScene {
+    /// Prints the loader's warnings on stderr ([`print_load_warnings`]).
+    pub fn print_warnings(&self, path: &Path, materials_used: bool) {
+        print_load_warnings(path, &self.report, materials_used);
     }
 }
 
 /// Prints a loader's warnings on stderr as `warning: file:line: what (n times)`; those
-/// about materials only when `materials_used` (commands that solve radiosity).
-pub fn print_load_warnings(path: &Path, report: &sceneinfo::io::LoadReport, materials_used: bool) {
+/// about materials only when `materials_used` (commands that solve radiosity), as in
+/// [`LoadReport::warnings_for`].
+pub fn print_load_warnings(path: &Path, report: &LoadReport, materials_used: bool) {
     for w in report.warnings_for(materials_used) {
         let at = match w.first_line {
             Some(line) => format!("{}:{line}", path.display()),
@@ -116,6 +108,64 @@ pub fn print_load_warnings(path: &Path, report: &sceneinfo::io::LoadReport, mate
         };
         eprintln!("warning: {at}: {}{times}", w.kind);
     }
+}
+
+/// Whether `path` holds a 3D scene (OBJ, glTF, PLY) rather than a flatland one: by its
+/// first bytes, else by its extension (an unreadable file answers by extension and its
+/// error comes when it is loaded).
+pub fn is_3d(path: &Path) -> bool {
+    let mut head = Vec::new();
+    if let Ok(f) = fs::File::open(path) {
+        use std::io::Read;
+        let _ = f.take(64 * 1024).read_to_end(&mut head);
+    }
+    let format = crate::formats::sniff(&head).or_else(|| Format::of_extension(path));
+    !matches!(format, None | Some(Format::Flat))
+}
+
+/// Loads a scene file of any format ([`crate::formats`]: by content, then extension):
+/// `.flat`, OBJ (`mtllib` names resolve relative to the OBJ's folder), glTF / GLB, PLY.
+/// Files over [`crate::formats::MAX_FILE_BYTES`] are refused before reading.
+///
+/// # Errors
+/// `file:line: what` for text formats, `file: where: what` for the others.
+pub fn load_scene(path: &Path) -> Result<LoadedScene> {
+    load_scene_with(path, &sceneinfo::io::ObjOptions::default())
+}
+
+/// [`load_scene`] with the OBJ read with `options` (e.g. `emit_from_ka`).
+///
+/// # Errors
+/// As [`load_scene`].
+pub fn load_scene_with(path: &Path, options: &sceneinfo::io::ObjOptions) -> Result<LoadedScene> {
+    let (bytes, format, note) = crate::formats::read_scene_file(path)?;
+    let mut report = LoadReport::default();
+    if let Some(note) = note {
+        report.warn(None, note);
+    }
+    let scene = match format {
+        Format::Obj => {
+            let text = text_of(path, bytes)?;
+            let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+            let mtl = |name: &str| std::fs::read_to_string(dir.join(name)).ok();
+            let (scene, mut obj_report) =
+                sceneinfo::io::parse_obj(&text, options, mtl).map_err(|e| located(path, &e))?;
+            // The format note (if any) first, then what the OBJ reader found
+            obj_report.warnings.splice(0..0, report.warnings.drain(..));
+            report = obj_report;
+            Loaded::Solid(scene)
+        }
+        Format::Flat => {
+            let text = text_of(path, bytes)?;
+            let scene = sceneinfo::io::parse_flat(&text).map_err(|e| located(path, &e))?;
+            Loaded::Flat(scene)
+        }
+        Format::Gltf | Format::Glb => {
+            Loaded::Solid(crate::formats::gltf_scene::read(path, &bytes, &mut report)?)
+        }
+        Format::Ply => Loaded::Solid(crate::formats::ply_scene::read(path, &bytes, &mut report)?),
+    };
+    Ok(LoadedScene { scene, report })
 }
 
 /// Exact form factors of a 3D scene when no pair can be occluded; otherwise an error that

@@ -89,7 +89,7 @@ struct Computed {
 }
 
 pub fn run(args: &DrawArgs) -> Result<()> {
-    if crate::output::is_obj(&args.file) {
+    if crate::output::is_3d(&args.file) {
         return super::draw3d::run(args);
     }
     let Some(svg_path) = &args.svg else {

@@ -118,7 +118,9 @@ pub fn run(args: &DrawArgs) -> Result<()> {
             args.file.display()
         );
     }
-    let Loaded::Solid(scene) = crate::output::load_scene(&args.file)? else {
+    let loaded = crate::output::load_scene(&args.file)?;
+    loaded.print_warnings(&args.file, true);
+    let Loaded::Solid(scene) = loaded.scene else {
         bail!("{}: not a 3D scene", args.file.display());
     };
     let config = Config::new(args, || exact_possible(&scene))?;

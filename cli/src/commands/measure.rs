@@ -16,6 +16,7 @@ use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::formfactor::partial::{JobId, Partial, fingerprint};
 use sceneinfo::formfactor::tally::{LineTally, LineTracer};
+use sceneinfo::io::LoadReport;
 use sceneinfo::lines::{CHUNK_LINES, chunk_count};
 use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport, UnsampledReport};
 
@@ -69,7 +70,7 @@ impl MonteCarlo {
 /// Besides the scene's errors, [`Interrupted`] when Ctrl-C stopped the lines early (so
 /// that no partial matrix is written as if it were the one asked for).
 pub fn form_factors_of(path: &Path, sampling: &SamplingArgs) -> Result<FormFactors> {
-    let (ff, mc) = compute(path, sampling)?;
+    let (ff, mc, _) = compute(path, sampling)?;
     if mc.as_ref().is_some_and(MonteCarlo::partial) {
         return Err(Interrupted { partial: None }.into());
     }
@@ -193,13 +194,18 @@ fn threads_of(sampling: &SamplingArgs) -> usize {
 }
 
 /// The form factors of a scene (`None` when some patch received no line: then the Monte
-/// Carlo part says which, and carries `I_S^c`) and the Monte Carlo run, if any.
+/// Carlo part says which, and carries `I_S^c`), the Monte Carlo run, if any, and the
+/// loader's report of a 3D scene (`None` for flatland unless it has a warning).
 fn compute(
     path: &Path,
     sampling: &SamplingArgs,
-) -> Result<(Option<FormFactors>, Option<MonteCarlo>)> {
+) -> Result<(Option<FormFactors>, Option<MonteCarlo>, Option<LoadReport>)> {
     let at = |e: sceneinfo::Error| located(path, &e);
-    let scene = crate::output::load_scene(path)?;
+    let loaded = crate::output::load_scene(path)?;
+    // A flatland scene's report is empty but for a note on its extension
+    let report = (matches!(loaded.scene, Loaded::Solid(_)) || !loaded.report.warnings.is_empty())
+        .then(|| loaded.report.clone());
+    let scene = loaded.scene;
     let threads = threads_of(sampling);
     let budget = budget_of(sampling, path)?;
     // The large tables, before anything is allocated for them
@@ -226,7 +232,7 @@ fn compute(
             return Err(at(kind.into()));
         }
     }
-    Ok(match (budget, &scene) {
+    let (ff, mc) = match (budget, &scene) {
         (None, Loaded::Flat(s)) => (Some(exact_2d::form_factors(s).map_err(at)?), None),
         (None, Loaded::Solid(s)) => (Some(crate::output::exact_3d_form_factors(path, s)?), None),
         (Some(budget), Loaded::Flat(s)) => {
@@ -239,7 +245,8 @@ fn compute(
             let (ff, mc) = line_job(&tracer, sampling, budget, threads, path)?;
             (ff, Some(mc))
         }
-    })
+    };
+    Ok((ff, mc, report))
 }
 
 /// Casts the lines of `budget` and finishes them: the form factors when every patch
@@ -299,11 +306,16 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
         return write_partial(args, out);
     }
     let start = Instant::now();
-    let (ff, mc) = compute(&args.file, &args.sampling)?;
+    let (ff, mc, load) = compute(&args.file, &args.sampling)?;
+    // The loader's warnings (visibility: not the material ones) on stderr; in the JSON too
+    if let Some(load) = &load {
+        crate::output::print_load_warnings(&args.file, load, false);
+    }
     print_report(
         &args.file,
         ff.as_ref(),
         mc.as_ref(),
+        load.as_ref(),
         Timing {
             start,
             earlier: 0.0,
@@ -330,6 +342,7 @@ pub fn print_report(
     file: &Path,
     ff: Option<&FormFactors>,
     mc: Option<&MonteCarlo>,
+    load: Option<&LoadReport>,
     timing: Timing,
     json: bool,
     matrix: Option<&Path>,
@@ -371,6 +384,10 @@ pub fn print_report(
         match &report {
             Report::Complete(r) => r.write_fields(&mut o)?,
             Report::Unsampled(u) => u.write_fields(&mut o)?,
+        }
+        if let Some(load) = load {
+            // Visibility measures: material warnings are not theirs
+            load.write_fields(&mut o, false)?;
         }
         match mc {
             None => o.string("form_factors", "exact")?,
@@ -466,7 +483,7 @@ fn write_partial(args: &MeasureArgs, out: &Path) -> Result<()> {
     let method = sampling.method.line_method();
     let threads = threads_of(sampling);
     let job = |c: Range<u64>| (method, sampling.seed, lines, c, threads);
-    let (tally, sizes) = match crate::output::load_scene(path)? {
+    let (tally, sizes) = match crate::output::load_scene(path)?.scene {
         Loaded::Flat(s) => {
             tally_chunks(&FlatTracer::new(&s).map_err(at)?, job(chunks.clone()), path)?
         }

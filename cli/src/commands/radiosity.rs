@@ -77,7 +77,8 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
         );
     }
     let options = sceneinfo::io::ObjOptions::default().with_emit_from_ka(args.emit_from_ka);
-    let (scene, report) = crate::output::load_scene_with(path, &options)?;
+    let loaded = crate::output::load_scene_with(path, &options)?;
+    let (scene, report) = (loaded.scene, loaded.report);
     if args.ply.is_some() && matches!(scene, Loaded::Flat(_)) {
         bail!(
             "{}: --ply writes 3D scenes; a .flat scene has no surfaces to mesh",

@@ -16,7 +16,7 @@ use sceneinfo::report::JsonObject;
 use sceneinfo::scene::FlatScene;
 
 use crate::args::{Colour, Oracle, RefineArgs};
-use crate::output::{is_obj, located, read_text, write_atomic};
+use crate::output::{is_3d, located, read_text, write_atomic};
 
 /// Global lines that tally `I^c` along the surfaces when `--lines` is not given.
 pub const DEFAULT_FLAT_LINES: u64 = 1_000_000;
@@ -27,7 +27,7 @@ pub const DEFAULT_GROWTH: usize = 8;
 
 /// Runs `refine`.
 pub fn run(args: &RefineArgs) -> Result<()> {
-    if is_obj(&args.file) {
+    if is_3d(&args.file) {
         return crate::commands::refine3d::run(args);
     }
     run_flat(args)

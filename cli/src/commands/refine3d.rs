@@ -137,10 +137,9 @@ struct MeshMeasures {
 pub fn run(args: &RefineArgs) -> Result<()> {
     let config = Config::new(args)?;
     // Hierarchical radiosity uses the materials: their warnings are printed too
-    let (loaded, report) =
-        crate::output::load_scene_with(&args.file, &sceneinfo::io::ObjOptions::default())?;
-    crate::output::print_load_warnings(&args.file, &report, true);
-    let Loaded::Solid(scene) = loaded else {
+    let loaded = crate::output::load_scene(&args.file)?;
+    loaded.print_warnings(&args.file, true);
+    let Loaded::Solid(scene) = loaded.scene else {
         bail!("{}: not a 3D scene", args.file.display());
     };
     let at = |e: sceneinfo::Error| located(&args.file, &e);

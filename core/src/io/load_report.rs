@@ -63,6 +63,31 @@ pub enum LoadWarningKind {
         /// How many such materials are used.
         materials: u64,
     },
+    /// The file's content is of another format than its extension says; it was read as
+    /// its content says.
+    FormatByContent {
+        /// The file's extension.
+        extension: Token,
+        /// The format read (`"PLY"`, `"glTF"`, `"GLB"`, `"OBJ"`, `"flat"`).
+        format: &'static str,
+    },
+    /// A face with fewer than three vertices or no area: skipped.
+    DegenerateFace,
+    /// glTF primitives that draw no surface (points, lines): skipped.
+    NonSurfacePrimitive {
+        /// The primitive's mode (`"POINTS"`, `"LINES"`, …).
+        mode: &'static str,
+    },
+    /// A glTF base colour factor above
+    /// [`Material::MAX_REFLECTANCE`](crate::scene::Material::MAX_REFLECTANCE) (white, 1)
+    /// clamped to it.
+    BaseColorClamped,
+    /// Material data sceneinfo does not read (textures, vertex or face colours): skipped,
+    /// the constant factors used instead.
+    IgnoredMaterialData {
+        /// What was ignored, e.g. `"base colour texture"`.
+        what: &'static str,
+    },
 }
 
 impl LoadWarningKind {
@@ -71,11 +96,17 @@ impl LoadWarningKind {
     #[must_use]
     pub fn is_material(&self) -> bool {
         match self {
-            Self::SkippedStatement { .. } | Self::UnknownStatement { .. } => false,
+            Self::SkippedStatement { .. }
+            | Self::UnknownStatement { .. }
+            | Self::FormatByContent { .. }
+            | Self::DegenerateFace
+            | Self::NonSurfacePrimitive { .. } => false,
             Self::MissingMaterialLibrary { .. }
             | Self::UnknownMaterial { .. }
             | Self::ReflectanceClamped { .. }
-            | Self::AmbientOnlyLamps { .. } => true,
+            | Self::AmbientOnlyLamps { .. }
+            | Self::BaseColorClamped
+            | Self::IgnoredMaterialData { .. } => true,
         }
     }
 }
@@ -144,6 +175,23 @@ impl fmt::Display for LoadWarningKind {
                      as the emittance (emit_from_ka)"
                 )
             }
+            Self::FormatByContent { extension, format } => write!(
+                f,
+                "the extension says '.{}' but the content is {format}: read as {format}",
+                extension.escape_debug()
+            ),
+            Self::DegenerateFace => {
+                write!(f, "skipped faces with fewer than 3 vertices or no area")
+            }
+            Self::NonSurfacePrimitive { mode } => {
+                write!(f, "skipped {mode} primitives (they draw no surface)")
+            }
+            Self::BaseColorClamped => write!(
+                f,
+                "base colour of 1 or more (white) clamped to reflectance {}",
+                crate::scene::Material::MAX_REFLECTANCE
+            ),
+            Self::IgnoredMaterialData { what } => write!(f, "ignored {what}"),
         }
     }
 }

@@ -1,0 +1,251 @@
+//! Scene file formats: which one a file is (by its content, the extension only breaking
+//! ties) and the readers of the mesh formats, glTF 2.0 and PLY.
+//!
+//! | format | recognised by | read by |
+//! |---|---|---|
+//! | PLY | first line `ply` | [`ply_scene`] (ASCII, binary of either byte order) |
+//! | GLB | first four bytes `glTF` | [`gltf_scene`] |
+//! | glTF | a JSON object with an `"asset"` key | [`gltf_scene`] |
+//! | OBJ | first statement an OBJ keyword (`v`, `f`, `o`, `mtllib`, …) | `sceneinfo::io::parse_obj` |
+//! | flat | first statement `seg`, `poly` or `mat`; any other file | `sceneinfo::io::parse_flat` |
+//!
+//! A file whose content is clearly of a format other than its extension says is read as
+//! its content says, with a [`LoadWarningKind::FormatByContent`] note.
+
+pub mod gltf_scene;
+pub mod ply_scene;
+
+use std::fs;
+use std::io::Read;
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use sceneinfo::io::LoadWarningKind;
+
+/// Largest scene file read, in bytes (2 GiB); larger files are refused before reading.
+/// glTF buffers in separate files are held to the same cap each.
+pub const MAX_FILE_BYTES: u64 = 2 << 30;
+
+/// A scene file's format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// sceneinfo's flatland text format.
+    Flat,
+    /// Wavefront OBJ (with MTL libraries).
+    Obj,
+    /// Stanford PLY.
+    Ply,
+    /// glTF 2.0, JSON.
+    Gltf,
+    /// glTF 2.0, binary container.
+    Glb,
+}
+
+impl Format {
+    /// The format's name in messages.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Flat => "flat",
+            Self::Obj => "OBJ",
+            Self::Ply => "PLY",
+            Self::Gltf => "glTF",
+            Self::Glb => "GLB",
+        }
+    }
+
+    /// The format an extension names, if any (case-insensitive).
+    #[must_use]
+    pub fn of_extension(path: &Path) -> Option<Self> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        Some(match ext.as_str() {
+            "flat" => Self::Flat,
+            "obj" => Self::Obj,
+            "ply" => Self::Ply,
+            "gltf" => Self::Gltf,
+            "glb" => Self::Glb,
+            _ => return None,
+        })
+    }
+
+    /// Whether `self` and `other` are one format as far as a mismatch note goes (a `.gltf`
+    /// holding a GLB container is read the same way).
+    fn agrees(self, other: Self) -> bool {
+        self == other
+            || matches!(
+                (self, other),
+                (Self::Gltf | Self::Glb, Self::Gltf | Self::Glb)
+            )
+    }
+}
+
+/// OBJ statements that can open a file (geometry, grouping, materials).
+const OBJ_KEYWORDS: &[&str] = &[
+    "v",
+    "vt",
+    "vn",
+    "vp",
+    "f",
+    "fo",
+    "l",
+    "p",
+    "o",
+    "g",
+    "s",
+    "mg",
+    "usemtl",
+    "mtllib",
+    "cstype",
+    "deg",
+    "curv",
+    "curv2",
+    "surf",
+    "bmat",
+    "step",
+    "parm",
+    "trim",
+    "hole",
+    "scrv",
+    "sp",
+    "end",
+    "con",
+    "lod",
+    "usemap",
+    "maplib",
+    "shadow_obj",
+    "trace_obj",
+    "ctech",
+    "stech",
+    "bevel",
+    "c_interp",
+    "d_interp",
+];
+
+/// Flatland statements.
+const FLAT_KEYWORDS: &[&str] = &["seg", "poly", "mat"];
+
+/// The format of `bytes`, by content; `None` when the content does not say (then the
+/// extension decides). Text formats are told by their first 64 KiB, glTF JSON by an
+/// `"asset"` key anywhere.
+#[must_use]
+pub fn sniff(bytes: &[u8]) -> Option<Format> {
+    if bytes.starts_with(b"glTF") {
+        return Some(Format::Glb);
+    }
+    if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n") {
+        return Some(Format::Ply);
+    }
+    // Text formats: look at the start only (a text scene says what it is early)
+    let head = &bytes[..bytes.len().min(64 * 1024)];
+    let text = match std::str::from_utf8(head) {
+        Ok(t) => t,
+        // A multi-byte character cut by the window
+        Err(e) if e.error_len().is_none() => std::str::from_utf8(&head[..e.valid_up_to()]).ok()?,
+        Err(_) => return None,
+    };
+    let text = text.trim_start_matches('\u{feff}');
+    if text.trim_start().starts_with('{') {
+        return looks_like_gltf_json(bytes).then_some(Format::Gltf);
+    }
+    // The first statement of the file
+    let first = text
+        .lines()
+        .map(|l| l.split('#').next().unwrap_or("").trim())
+        .find(|l| !l.is_empty())?;
+    let keyword = first.split_whitespace().next()?;
+    if FLAT_KEYWORDS.contains(&keyword) {
+        Some(Format::Flat)
+    } else if OBJ_KEYWORDS.contains(&keyword) {
+        Some(Format::Obj)
+    } else {
+        None
+    }
+}
+
+/// Whether a JSON file names an `"asset"` key anywhere (every glTF has one, not always
+/// first: after a long `data:` URI it may be megabytes in; the document is parsed for real
+/// later).
+fn looks_like_gltf_json(bytes: &[u8]) -> bool {
+    bytes.windows(7).any(|w| w == b"\"asset\"")
+}
+
+/// A scene file's bytes and format: files over [`MAX_FILE_BYTES`] are refused before
+/// reading; the format comes from the content, else the extension, else flat. A content
+/// that disagrees with a known extension adds a [`LoadWarningKind::FormatByContent`] note.
+///
+/// # Errors
+/// `file: cannot read`, or `file: N bytes, more than the cap`.
+pub fn read_scene_file(path: &Path) -> Result<(Vec<u8>, Format, Option<LoadWarningKind>)> {
+    let bytes = read_capped(path)?;
+    let by_extension = Format::of_extension(path);
+    let format = sniff(&bytes).or(by_extension).unwrap_or(Format::Flat);
+    let note = match by_extension {
+        Some(ext) if !ext.agrees(format) => Some(LoadWarningKind::FormatByContent {
+            extension: sceneinfo::error::token(
+                path.extension().and_then(|e| e.to_str()).unwrap_or(""),
+            ),
+            format: format.name(),
+        }),
+        _ => None,
+    };
+    Ok((bytes, format, note))
+}
+
+/// The bytes of `path`, refused before reading past [`MAX_FILE_BYTES`] (and, should the
+/// file grow while read, after reading one byte more).
+///
+/// # Errors
+/// `file: cannot read`, or the size refusal.
+pub fn read_capped(path: &Path) -> Result<Vec<u8>> {
+    let file = fs::File::open(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let size = file
+        .metadata()
+        .with_context(|| format!("{}: cannot read", path.display()))?
+        .len();
+    let too_large = |size: u64| {
+        anyhow::anyhow!(
+            "{}: {size} bytes: larger than the {MAX_FILE_BYTES}-byte cap (2 GiB) on scene files",
+            path.display()
+        )
+    };
+    if size > MAX_FILE_BYTES {
+        return Err(too_large(size));
+    }
+    let mut bytes = Vec::with_capacity(usize::try_from(size).unwrap_or(0));
+    file.take(MAX_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .with_context(|| format!("{}: cannot read", path.display()))?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(too_large(bytes.len() as u64));
+    }
+    Ok(bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sniffs_by_content() {
+        assert_eq!(sniff(b"glTF\x02\0\0\0"), Some(Format::Glb));
+        assert_eq!(sniff(b"ply\nformat ascii 1.0\n"), Some(Format::Ply));
+        assert_eq!(sniff(b"ply\r\nformat ascii 1.0\r\n"), Some(Format::Ply));
+        assert_eq!(
+            sniff(b"  {\"asset\": {\"version\": \"2.0\"}}"),
+            Some(Format::Gltf)
+        );
+        assert_eq!(sniff(b"{\"a\": 1}"), None);
+        assert_eq!(sniff(b"# a cube\n\nv 0 0 0\n"), Some(Format::Obj));
+        assert_eq!(sniff(b"mtllib a.mtl\n"), Some(Format::Obj));
+        assert_eq!(sniff(b"# room\nseg 0 0 1 0\n"), Some(Format::Flat));
+        assert_eq!(
+            sniff(b"\xef\xbb\xbfpoly 3 0 0 1 0 0 1\n"),
+            Some(Format::Flat)
+        );
+        assert_eq!(sniff(b"hello\n"), None);
+        assert_eq!(sniff(b""), None);
+        assert_eq!(sniff(b"\xff\xfe"), None);
+        // "plyx" is not the PLY magic line
+        assert_eq!(sniff(b"plyx\n"), None);
+    }
+}
