@@ -355,7 +355,7 @@ fn strips_fans_and_skipped_primitives() {
     assert!(run.status.success());
     let err = String::from_utf8_lossy(&run.stderr);
     assert!(
-        err.contains(&format!("{}: warning: skipped POINTS", fan_path.display())),
+        err.contains(&format!("warning: {}: skipped POINTS", fan_path.display())),
         "{err}"
     );
 }

@@ -188,7 +188,7 @@ impl fmt::Display for LoadWarningKind {
             }
             Self::BaseColorClamped => write!(
                 f,
-                "base colour of 1 or more (white) clamped to reflectance {}",
+                "base colour factor above the largest reflectance (white, 1) clamped to {}",
                 crate::scene::Material::MAX_REFLECTANCE
             ),
             Self::IgnoredMaterialData { what } => write!(f, "ignored {what}"),
