@@ -26,6 +26,8 @@ mod presets3d;
 #[cfg(feature = "alloc")]
 mod scene3;
 #[cfg(feature = "alloc")]
+pub mod triangulate;
+#[cfg(feature = "alloc")]
 pub use catalogue::{
     CORNER_GAP, CatalogueEntry, L_ROOM_CUTS, MAX_ASPECT, NEAR_TOUCH_GAP, SINGULARITY_STEPS,
     SIXTEEN_SQUARES_SIDE, STAR_INNER_RADII, THREE_OBJECTS_SCALES, TRIANGLE_LAST_APEX, catalogue,
