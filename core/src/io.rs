@@ -11,4 +11,4 @@ pub use flat::{MAX_POLYGON_VERTICES, parse_flat, write_flat};
 mod load_report;
 pub use load_report::{LoadReport, LoadWarning, LoadWarningKind};
 mod obj;
-pub use obj::{parse_obj, write_obj};
+pub use obj::{parse_obj, parse_obj_report, write_obj};

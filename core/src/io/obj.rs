@@ -38,6 +38,7 @@ use alloc::string::String;
 use alloc::vec::Vec;
 use core::fmt::Write;
 
+use super::LoadReport;
 use crate::error::{Error, ErrorKind, MaterialProblem, Result, token};
 use crate::geom::DVec3;
 use crate::scene::{MAX_FACE_VERTICES, Material, Scene, Subdivision};
@@ -99,6 +100,23 @@ pub fn parse_obj(
     subdivision: Subdivision,
     mtl: impl Fn(&str) -> Option<String>,
 ) -> Result<Scene> {
+    parse_obj_report(obj, subdivision, mtl).map(|(scene, _)| scene)
+}
+
+/// [`parse_obj`], with what was repaired on the way: faces are added by
+/// [`SceneBuilder::face_as_drawn`](crate::scene::SceneBuilder::face_as_drawn) (repeated
+/// vertices removed, nearly planar faces flattened, concave or bent ones triangulated,
+/// zero-area ones dropped) and the scene finished by
+/// [`SceneBuilder::build_as_drawn`](crate::scene::SceneBuilder::build_as_drawn) (duplicate
+/// faces dropped, overlapping coincident ones cut), all recorded in the [`LoadReport`].
+///
+/// # Errors
+/// As [`parse_obj`], less the face errors those repair.
+pub fn parse_obj_report(
+    obj: &str,
+    subdivision: Subdivision,
+    mtl: impl Fn(&str) -> Option<String>,
+) -> Result<(Scene, LoadReport)> {
     subdivision.validate()?;
     let mut state = ObjState {
         builder: Scene::builder(),
@@ -107,6 +125,8 @@ pub fn parse_obj(
         materials: BTreeMap::new(),
         libraries: Vec::new(),
         subdivision,
+        report: LoadReport::default(),
+        line: None,
     };
     let mut last_line = 1;
     // The line of each face, to locate coincident faces found at the end
@@ -114,18 +134,24 @@ pub fn parse_obj(
     for (k, raw) in obj.lines().enumerate() {
         let line_no = line_number(k);
         last_line = line_no;
+        state.line = Some(line_no);
         state
             .statement(content(raw), &mtl)
             .map_err(|e| e.with_line(line_no))?;
         face_lines.resize(state.builder.face_count(), line_no);
     }
-    state.builder.build().map_err(|e| match *e.kind() {
-        ErrorKind::EmptyScene => e.with_line(last_line),
-        ErrorKind::CoincidentSurfaces { first, second } => {
-            super::flat::locate_coincident(&face_lines, first, second)
-        }
-        _ => e,
-    })
+    let mut report = state.report;
+    let scene = state
+        .builder
+        .build_as_drawn(&mut report, &face_lines)
+        .map_err(|e| match *e.kind() {
+            ErrorKind::EmptyScene => e.with_line(last_line),
+            ErrorKind::CoincidentSurfaces { first, second } => {
+                super::flat::locate_coincident(&face_lines, first, second)
+            }
+            _ => e,
+        })?;
+    Ok((scene, report))
 }
 
 /// What the OBJ parser keeps between lines.
@@ -136,6 +162,10 @@ struct ObjState {
     materials: BTreeMap<String, Material>,
     libraries: Vec<String>,
     subdivision: Subdivision,
+    /// What the lenient face entry repaired.
+    report: LoadReport,
+    /// The line being read, for the report's warnings.
+    line: Option<u32>,
 }
 
 impl ObjState {
@@ -182,7 +212,12 @@ impl ObjState {
                     let v = self.face_vertex(s)?;
                     self.face.push(v);
                 }
-                self.builder.polygon(&self.face, self.subdivision)?;
+                self.builder.face_as_drawn(
+                    &self.face,
+                    self.subdivision,
+                    &mut self.report,
+                    self.line,
+                )?;
             }
             "o" | "g" => {
                 // The rest of the line is the name; none means the default object.
