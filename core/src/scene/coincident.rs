@@ -405,6 +405,7 @@ fn visit_face_pairs(
             }
         }
         for o in &offsets {
+            let own = *o == [0; 4];
             let mut cell = e.cell;
             for d in 0..4 {
                 cell[d] = cell[d].saturating_add(o[d]);
@@ -426,7 +427,12 @@ fn visit_face_pairs(
                     continue;
                 }
                 for x in &entries[node.start..node.end] {
-                    if x.index == e.index || x.lo.cmpgt(e.hi).any() || x.hi.cmplt(e.lo).any() {
+                    // In its own cell a pair is met from both faces: tested from the later
+                    if x.index == e.index
+                        || (own && x.index > e.index)
+                        || x.lo.cmpgt(e.hi).any()
+                        || x.hi.cmplt(e.lo).any()
+                    {
                         continue;
                     }
                     let pair = (x.index.min(e.index), x.index.max(e.index));

@@ -458,7 +458,14 @@ impl SceneBuilder {
     /// # Errors
     /// As [`Self::build`].
     pub fn finish(self) -> Result<Scene> {
-        let total_area = self.validate()?;
+        self.validate()?;
+        self.into_scene()
+    }
+
+    /// The scene of the faces as they are, checking only the total area (the coincidence
+    /// check left to the caller).
+    fn into_scene(self) -> Result<Scene> {
+        let total_area = self.total_area()?;
         Ok(Scene {
             points: self.points,
             patches: self.patches,
@@ -475,6 +482,11 @@ impl SceneBuilder {
             return Err(ErrorKind::EmptyScene.into());
         }
         super::coincident::refuse(super::coincident::coincident_faces(&self.face_list()))?;
+        self.total_area()
+    }
+
+    /// `A_T`, compensated; refused unless finite and positive.
+    fn total_area(&self) -> Result<f64> {
         let mut total = KahanSum::new();
         for p in &self.patches {
             total.add(p.area);

@@ -72,7 +72,8 @@ impl SceneBuilder {
             (coincident_face_pairs(&list)?, face_tolerance(&list))
         };
         if pairs.is_empty() {
-            return self.finish();
+            // The search just made is the strict build's
+            return self.into_scene();
         }
         let line = |k: usize| face_lines.get(k).copied();
         // The fate of each later face of a pair, in input order
