@@ -266,3 +266,48 @@ fn a_cube_of_concave_halves_is_closed_and_has_the_cube_s_information() {
         cut.value
     );
 }
+
+mod props {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Faces of random vertices on a coarse lattice (repeats, collinear runs, bends,
+        /// self-intersections, duplicates and overlaps all likely): every face is taken or
+        /// dropped without error, and the build gives a valid scene or a typed error,
+        /// never a panic.
+        #[test]
+        fn random_faces_as_drawn_never_panic(
+            faces in proptest::collection::vec(
+                proptest::collection::vec((0i8..4, 0i8..4, 0i8..2), 3..9),
+                1..8,
+            ),
+            s in prop_oneof![Just(Subdivision::None), Just(Subdivision::Grid(2))],
+        ) {
+            let mut b = Scene::builder();
+            let mut report = LoadReport::default();
+            let mut lines = Vec::new();
+            for (k, f) in faces.iter().enumerate() {
+                let v: Vec<DVec3> = f
+                    .iter()
+                    .map(|&(x, y, z)| p(f64::from(x), f64::from(y), f64::from(z)))
+                    .collect();
+                b.face_as_drawn(&v, s, &mut report, Some(k as u32 + 1)).unwrap();
+                lines.resize(b.face_count(), k as u32 + 1);
+            }
+            prop_assert_eq!(report.faces_read, faces.len() as u64);
+            match b.build_as_drawn(&mut report, &lines) {
+                Ok(scene) => {
+                    prop_assert!(scene.total_area() > 0.0 && scene.total_area().is_finite());
+                }
+                Err(e) => prop_assert!(matches!(
+                    e.kind(),
+                    ErrorKind::EmptyScene
+                        | ErrorKind::CoincidentSurfaces { .. }
+                        | ErrorKind::TooLarge { .. }
+                        | ErrorKind::FaceVertexCount { .. }
+                ), "{e}"),
+            }
+        }
+    }
+}
