@@ -19,13 +19,16 @@ use sceneinfo::scene::{Scene, SceneBuilder, Subdivision};
 pub const MAX_FACES_READ: u64 = 1 << 28;
 
 /// Adds the face through `vertices` (front side counter-clockwise, as in OBJ) to `builder`
-/// and counts it in `report`. A face with fewer than three vertices or no area is skipped
-/// with a [`LoadWarningKind::DegenerateFace`] warning (glTF triangle strips hold such
-/// triangles on purpose).
+/// as a file draws it ([`SceneBuilder::face_as_drawn`]: repeated vertices removed, nearly
+/// planar faces flattened, concave or bent ones triangulated, zero-area ones dropped, all
+/// counted in `report`), as the OBJ reader does. A face with fewer than three vertices is
+/// skipped with a [`LoadWarningKind::DegenerateFace`] warning (glTF triangle strips hold
+/// such triangles on purpose).
 ///
 /// # Errors
-/// `file: where: what` for a face the scene cannot take (not planar, not convex, too many
-/// patches, …) and past [`MAX_FACES_READ`] faces; `location` says where in the file.
+/// `file: where: what` for a face the scene cannot take (non-finite or out-of-range
+/// coordinates, too many vertices or patches) and past [`MAX_FACES_READ`] faces;
+/// `location` says where in the file.
 pub fn add_face(
     builder: &mut SceneBuilder,
     vertices: &[DVec3],
@@ -33,46 +36,36 @@ pub fn add_face(
     path: &Path,
     location: impl Display,
 ) -> Result<()> {
-    report.faces_read = report.faces_read.saturating_add(1);
-    if report.faces_read > MAX_FACES_READ {
+    if report.faces_read >= MAX_FACES_READ {
         anyhow::bail!(
             "{}: {location}: more than {MAX_FACES_READ} faces: refused",
             path.display()
         );
     }
     if vertices.len() < 3 {
+        report.faces_read += 1;
         report.warn(None, LoadWarningKind::DegenerateFace);
         return Ok(());
     }
-    match builder.polygon(vertices, Subdivision::None) {
-        Ok(_) => Ok(()),
-        Err(e) if matches!(e.kind(), ErrorKind::DegenerateFace) => {
-            report.warn(None, LoadWarningKind::DegenerateFace);
-            Ok(())
-        }
-        Err(e) => Err(anyhow::anyhow!(
-            "{}: {location}: {}",
-            path.display(),
-            e.kind()
-        )),
-    }
+    builder
+        .face_as_drawn(vertices, Subdivision::None, report, None)
+        .map_err(|e| anyhow::anyhow!("{}: {location}: {}", path.display(), e.kind()))
 }
 
-/// The scene `builder` holds; when no face was kept, the error says what was skipped.
+/// The scene `builder` holds, coincident faces resolved as the OBJ reader resolves them
+/// ([`SceneBuilder::build_as_drawn`]); when no face was kept, the error says what was
+/// skipped.
 ///
 /// # Errors
-/// `file: what` from [`SceneBuilder::build`] (no face, coincident faces, …).
-pub fn build(builder: &SceneBuilder, report: &LoadReport, path: &Path) -> Result<Scene> {
-    builder.build().map_err(|e| {
-        if matches!(e.kind(), ErrorKind::EmptyScene) && !report.warnings.is_empty() {
-            anyhow::anyhow!(
-                "{}: {} ({})",
-                path.display(),
-                e.kind(),
-                report.messages(true).join("; ")
-            )
-        } else {
-            crate::output::located(path, &e)
-        }
-    })
+/// `file: what` from [`SceneBuilder::build_as_drawn`] (no face, …).
+pub fn build(builder: SceneBuilder, report: &mut LoadReport, path: &Path) -> Result<Scene> {
+    let skipped = (!report.warnings.is_empty()).then(|| report.messages(true).join("; "));
+    builder
+        .build_as_drawn(report, &[])
+        .map_err(|e| match (e.kind(), &skipped) {
+            (ErrorKind::EmptyScene, Some(skipped)) => {
+                anyhow::anyhow!("{}: {} ({skipped})", path.display(), e.kind())
+            }
+            _ => crate::output::located(path, &e),
+        })
 }

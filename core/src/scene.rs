@@ -26,6 +26,8 @@ mod presets3d;
 #[cfg(feature = "alloc")]
 mod scene3;
 #[cfg(feature = "alloc")]
+pub mod triangulate;
+#[cfg(feature = "alloc")]
 pub use catalogue::{
     CORNER_GAP, CatalogueEntry, L_ROOM_CUTS, MAX_ASPECT, NEAR_TOUCH_GAP, SINGULARITY_STEPS,
     SIXTEEN_SQUARES_SIDE, STAR_INNER_RADII, THREE_OBJECTS_SCALES, TRIANGLE_LAST_APEX, catalogue,
@@ -46,6 +48,7 @@ pub use presets3d::{
 };
 #[cfg(feature = "alloc")]
 pub use scene3::{
-    CONVEXITY_TOLERANCE, Face3, MAX_FACE_VERTICES, MAX_GRID, MAX_PATCHES_3D, MAX_TRIANGLE_LEVEL,
-    PLANARITY_TOLERANCE, Patch3, Scene, SceneBuilder, Subdivision,
+    CONVEXITY_TOLERANCE, DRAWN_PLANARITY_TOLERANCE, Face3, MAX_CLIP_PIECES, MAX_FACE_VERTICES,
+    MAX_GRID, MAX_PATCHES_3D, MAX_TRIANGLE_LEVEL, PLANARITY_TOLERANCE, Patch3,
+    REPEATED_VERTEX_TOLERANCE, Scene, SceneBuilder, Subdivision,
 };

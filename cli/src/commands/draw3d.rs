@@ -119,7 +119,8 @@ pub fn run(args: &DrawArgs) -> Result<()> {
         );
     }
     let loaded = crate::output::load_scene(&args.file)?;
-    loaded.print_warnings(&args.file, true);
+    // Pictures of visibility: the material warnings are not theirs
+    loaded.print_warnings(&args.file, false);
     let Loaded::Solid(scene) = loaded.scene else {
         bail!("{}: not a 3D scene", args.file.display());
     };

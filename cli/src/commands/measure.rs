@@ -202,6 +202,8 @@ fn compute(
 ) -> Result<(Option<FormFactors>, Option<MonteCarlo>, Option<LoadReport>)> {
     let at = |e: sceneinfo::Error| located(path, &e);
     let loaded = crate::output::load_scene(path)?;
+    // The loader's warnings on stderr (visibility: not the material ones); in the JSON too
+    loaded.print_warnings(path, false);
     // A flatland scene's report is empty but for a note on its extension
     let report = (matches!(loaded.scene, Loaded::Solid(_)) || !loaded.report.warnings.is_empty())
         .then(|| loaded.report.clone());
@@ -307,10 +309,6 @@ pub fn run(args: &MeasureArgs) -> Result<()> {
     }
     let start = Instant::now();
     let (ff, mc, load) = compute(&args.file, &args.sampling)?;
-    // The loader's warnings (visibility: not the material ones) on stderr; in the JSON too
-    if let Some(load) = &load {
-        crate::output::print_load_warnings(&args.file, load, false);
-    }
     print_report(
         &args.file,
         ff.as_ref(),

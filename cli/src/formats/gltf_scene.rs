@@ -71,7 +71,7 @@ pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene>
         builder: SceneBuilder::default(),
     };
     reader.walk(document, report)?;
-    crate::mesh::build(&reader.builder, report, path)
+    crate::mesh::build(reader.builder, report, path)
 }
 
 /// The validated document of a glTF JSON text.

@@ -178,7 +178,7 @@ pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene>
             format_args!("PLY face {k}"),
         )?;
     }
-    crate::mesh::build(&builder, report, path)
+    crate::mesh::build(builder, report, path)
 }
 
 /// How many bytes follow the header's `end_header` line (all of them if there is none:

@@ -88,6 +88,33 @@ pub enum LoadWarningKind {
         /// What was ignored, e.g. `"base colour texture"`.
         what: &'static str,
     },
+    /// Consecutive repeated vertices of a face (an edge at most `10⁻¹²` of the face's size)
+    /// removed.
+    RepeatedVertices,
+    /// A convex face off its plane by more than the strict tolerance but within the drawn
+    /// one, projected onto its Newell plane
+    /// ([`SceneBuilder::face_as_drawn`](crate::scene::SceneBuilder::face_as_drawn)).
+    FaceFlattened,
+    /// A concave, non-planar or partly degenerate face cut into triangles, each its own face.
+    FaceTriangulated,
+    /// A zero-area piece of a face, or a wholly degenerate face, dropped.
+    PieceDropped,
+    /// A face repeating an earlier one (same vertices up to rotation, same facing): dropped.
+    DuplicateFace {
+        /// The earlier face's line (of the first such pair).
+        other_line: Option<u32>,
+    },
+    /// A face wholly covered by earlier coincident faces facing the same way: dropped.
+    CoveredFace {
+        /// The line of an earlier face covering it (of the first such face).
+        other_line: Option<u32>,
+    },
+    /// A face partly covered by earlier coincident faces facing the same way: the covered
+    /// part cut away, the rest kept as convex pieces.
+    OverlapClipped {
+        /// The line of an earlier face overlapping it (of the first such face).
+        other_line: Option<u32>,
+    },
 }
 
 impl LoadWarningKind {
@@ -100,7 +127,14 @@ impl LoadWarningKind {
             | Self::UnknownStatement { .. }
             | Self::FormatByContent { .. }
             | Self::DegenerateFace
-            | Self::NonSurfacePrimitive { .. } => false,
+            | Self::NonSurfacePrimitive { .. }
+            | Self::RepeatedVertices
+            | Self::FaceFlattened
+            | Self::FaceTriangulated
+            | Self::PieceDropped
+            | Self::DuplicateFace { .. }
+            | Self::CoveredFace { .. }
+            | Self::OverlapClipped { .. } => false,
             Self::MissingMaterialLibrary { .. }
             | Self::UnknownMaterial { .. }
             | Self::ReflectanceClamped { .. }
@@ -192,7 +226,31 @@ impl fmt::Display for LoadWarningKind {
                 crate::scene::Material::MAX_REFLECTANCE
             ),
             Self::IgnoredMaterialData { what } => write!(f, "ignored {what}"),
+            Self::RepeatedVertices => write!(f, "removed repeated vertices of a face"),
+            Self::FaceFlattened => write!(f, "flattened a slightly non-planar face onto its plane"),
+            Self::FaceTriangulated => write!(f, "cut a concave or non-planar face into triangles"),
+            Self::PieceDropped => write!(f, "dropped a face or piece of zero area"),
+            Self::DuplicateFace { other_line } => {
+                write!(f, "dropped a duplicate face")?;
+                of_line(f, *other_line)
+            }
+            Self::CoveredFace { other_line } => {
+                write!(f, "dropped a face covered by coincident faces")?;
+                of_line(f, *other_line)
+            }
+            Self::OverlapClipped { other_line } => {
+                write!(f, "cut away the part of a face covered by coincident faces")?;
+                of_line(f, *other_line)
+            }
         }
+    }
+}
+
+/// ` (line N)` naming the other face of a pair, when known.
+fn of_line(f: &mut fmt::Formatter<'_>, line: Option<u32>) -> fmt::Result {
+    match line {
+        Some(l) => write!(f, " (of line {l})"),
+        None => Ok(()),
     }
 }
 
@@ -226,6 +284,27 @@ impl fmt::Display for LoadWarning {
 pub struct LoadReport {
     /// Polygons read from the file, as written.
     pub faces_read: u64,
+    /// Consecutive repeated vertices removed from faces.
+    pub repeated_vertices: u64,
+    /// Convex faces flattened onto their Newell plane.
+    pub faces_flattened: u64,
+    /// Largest distance of a vertex from its face's Newell plane, relative to the face's
+    /// size, over the faces flattened or triangulated (0 if none).
+    pub max_off_plane: f64,
+    /// Faces cut into triangles.
+    pub faces_triangulated: u64,
+    /// Triangles those faces gave (kept ones).
+    pub triangles_added: u64,
+    /// Zero-area pieces and wholly degenerate faces dropped.
+    pub pieces_dropped: u64,
+    /// Faces dropped as duplicates of earlier ones.
+    pub duplicates_dropped: u64,
+    /// Faces dropped as wholly covered by earlier coincident ones.
+    pub covered_dropped: u64,
+    /// Faces partly covered by earlier coincident ones, cut down to their uncovered part.
+    pub overlaps_clipped: u64,
+    /// Convex pieces the uncovered parts of those faces gave.
+    pub clip_pieces: u64,
     /// Warnings, one entry per class, in the order first met.
     pub warnings: Vec<LoadWarning>,
 }
@@ -235,6 +314,26 @@ impl LoadReport {
     /// kind already recorded.
     pub fn warn(&mut self, line: Option<u32>, kind: LoadWarningKind) {
         if let Some(w) = self.warnings.iter_mut().find(|w| w.kind == kind) {
+            w.count = w.count.saturating_add(1);
+        } else {
+            self.warnings.push(LoadWarning {
+                kind,
+                first_line: line,
+                count: 1,
+            });
+        }
+    }
+
+    /// Records one occurrence of `kind` at `line`, gathered with any earlier warning of the
+    /// same variant whatever its data: the entry keeps the first occurrence's data and line
+    /// (for pairs of faces, where one entry per pair would flood the report).
+    pub fn warn_class(&mut self, line: Option<u32>, kind: LoadWarningKind) {
+        let class = core::mem::discriminant(&kind);
+        if let Some(w) = self
+            .warnings
+            .iter_mut()
+            .find(|w| core::mem::discriminant(&w.kind) == class)
+        {
             w.count = w.count.saturating_add(1);
         } else {
             self.warnings.push(LoadWarning {
@@ -266,8 +365,9 @@ impl LoadReport {
     }
 
     /// Writes the report's fields (`faces_read`, …) into a JSON object;
-    /// `materials_used` as in [`Self::warnings_for`]; `load_warnings` is written only when
-    /// there is one.
+    /// `materials_used` as in [`Self::warnings_for`]; the repair counts (`faces_flattened`,
+    /// `max_off_plane`, `faces_triangulated`, …) only when not zero, and `load_warnings` only
+    /// when there is one, so a file that needed nothing prints what it always did.
     ///
     /// # Errors
     /// Whatever the underlying writer returns.
@@ -277,6 +377,25 @@ impl LoadReport {
         materials_used: bool,
     ) -> fmt::Result {
         o.integer("faces_read", self.faces_read)?;
+        let counts = [
+            ("repeated_vertices", self.repeated_vertices),
+            ("faces_flattened", self.faces_flattened),
+            ("faces_triangulated", self.faces_triangulated),
+            ("triangles_added", self.triangles_added),
+            ("pieces_dropped", self.pieces_dropped),
+            ("duplicates_dropped", self.duplicates_dropped),
+            ("covered_dropped", self.covered_dropped),
+            ("overlaps_clipped", self.overlaps_clipped),
+            ("clip_pieces", self.clip_pieces),
+        ];
+        for (key, v) in counts {
+            if v > 0 {
+                o.integer(key, v)?;
+            }
+        }
+        if self.max_off_plane > 0.0 {
+            o.number("max_off_plane", self.max_off_plane)?;
+        }
         if self.warnings_for(materials_used).next().is_some() {
             o.displays("load_warnings", self.warnings_for(materials_used))?;
         }

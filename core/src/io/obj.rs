@@ -273,14 +273,18 @@ pub fn parse_obj(
         face_lines.resize(state.builder.face_count(), line_no);
     }
     state.finish_report();
-    let scene = state.builder.build().map_err(|e| match *e.kind() {
-        ErrorKind::EmptyScene => e.with_line(last_line),
-        ErrorKind::CoincidentSurfaces { first, second } => {
-            super::flat::locate_coincident(&face_lines, first, second)
-        }
-        _ => e,
-    })?;
-    Ok((scene, state.report))
+    let mut report = state.report;
+    let scene = state
+        .builder
+        .build_as_drawn(&mut report, &face_lines)
+        .map_err(|e| match *e.kind() {
+            ErrorKind::EmptyScene => e.with_line(last_line),
+            ErrorKind::CoincidentSurfaces { first, second } => {
+                super::flat::locate_coincident(&face_lines, first, second)
+            }
+            _ => e,
+        })?;
+    Ok((scene, report))
 }
 
 /// One material of a library as sceneinfo uses it.
@@ -346,7 +350,6 @@ impl ObjState {
                 }
             }
             "f" => {
-                self.report.faces_read = self.report.faces_read.saturating_add(1);
                 self.face.clear();
                 for s in fields {
                     if self.face.len() >= MAX_FACE_VERTICES {
@@ -359,7 +362,12 @@ impl ObjState {
                     let v = self.face_vertex(s)?;
                     self.face.push(v);
                 }
-                self.builder.polygon(&self.face, self.subdivision)?;
+                self.builder.face_as_drawn(
+                    &self.face,
+                    self.subdivision,
+                    &mut self.report,
+                    Some(line_no),
+                )?;
             }
             "o" | "g" => {
                 // The rest of the line is the name; none means the default object.

@@ -186,12 +186,153 @@ pub fn coincident_segments(segments: &[(DVec2, DVec2)]) -> Option<(usize, usize)
 /// normals, as indices `(i, j)` with `i < j` and `j` as small as possible.
 #[must_use]
 pub fn coincident_faces(faces: &[(&[DVec3], DVec3)]) -> Option<(usize, usize)> {
-    let r = faces
+    let best: core::cell::Cell<Option<(usize, usize)>> = core::cell::Cell::new(None);
+    visit_face_pairs(
+        faces,
+        |pair| best.get().is_none_or(|b| (pair.1, pair.0) < (b.1, b.0)),
+        |pair| {
+            best.set(Some(pair));
+            true
+        },
+    );
+    best.get()
+}
+
+/// The distance tolerance of coincidence for these faces: `1e-12 R`, with `R` their
+/// largest coordinate magnitude (module docs).
+#[must_use]
+pub fn face_tolerance(faces: &[(&[DVec3], DVec3)]) -> f64 {
+    DISTANCE_TOLERANCE * largest_magnitude(faces)
+}
+
+/// The largest coordinate magnitude `R` of the faces (at least the smallest normal).
+fn largest_magnitude(faces: &[(&[DVec3], DVec3)]) -> f64 {
+    faces
         .iter()
         .flat_map(|(v, _)| v.iter().flat_map(|p| p.to_array()))
-        .fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+        .fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()))
+}
+
+/// Most coincident pairs [`coincident_face_pairs`] gathers.
+pub const MAX_COINCIDENT_PAIRS: usize = 1_000_000;
+
+/// Every pair of coincident faces, as `(i, j)` with `i < j`, sorted by `j` then `i`.
+///
+/// # Errors
+/// [`ErrorKind::TooLarge`] beyond [`MAX_COINCIDENT_PAIRS`] pairs (`k` copies of one face
+/// make `k (k − 1) / 2`).
+pub fn coincident_face_pairs(faces: &[(&[DVec3], DVec3)]) -> Result<Vec<(usize, usize)>> {
+    let mut pairs: Vec<(usize, usize)> = Vec::new();
+    let mut overflow = false;
+    visit_face_pairs(
+        faces,
+        |_| true,
+        |pair| {
+            // A pair may be met from both of its faces: room for each twice
+            if pairs.len() >= 2 * MAX_COINCIDENT_PAIRS {
+                overflow = true;
+                return false;
+            }
+            pairs.push(pair);
+            true
+        },
+    );
+    pairs.sort_unstable_by_key(|&(i, j)| (j, i));
+    pairs.dedup();
+    if overflow || pairs.len() > MAX_COINCIDENT_PAIRS {
+        return Err(ErrorKind::TooLarge {
+            what: "pairs of coincident faces",
+            max: MAX_COINCIDENT_PAIRS as u64,
+        }
+        .into());
+    }
+    Ok(pairs)
+}
+
+/// One face in the search: its cell (normal and plane offset), its position inside the
+/// cell, its bounding box widened by the tolerance, its index.
+#[derive(Clone, Copy)]
+struct FaceEntry {
+    cell: [i64; 4],
+    frac: [f64; 4],
+    lo: DVec3,
+    hi: DVec3,
+    index: usize,
+}
+
+/// A node of a bounding-box tree over one cell's faces: its box and either its two
+/// children or its range of entries.
+#[derive(Clone, Copy)]
+struct Node {
+    lo: DVec3,
+    hi: DVec3,
+    /// Entries `start..end` of the cell (a leaf) when `children` is `None`.
+    start: usize,
+    end: usize,
+    children: Option<(usize, usize)>,
+}
+
+/// Most entries of a leaf.
+const LEAF: usize = 4;
+
+/// Builds the tree over `entries` (reordering them), appending its nodes to `nodes` with
+/// entry ranges offset by `base`; returns the root's index. Median splits along the widest
+/// axis of the boxes' centres: depth `⌈log₂(n / LEAF)⌉ + 1`, `O(n log n)`.
+fn build_tree(entries: &mut [FaceEntry], base: usize, nodes: &mut Vec<Node>) -> usize {
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    let (mut clo, mut chi) = (lo, hi);
+    for e in entries.iter() {
+        lo = lo.min(e.lo);
+        hi = hi.max(e.hi);
+        let c = (e.lo + e.hi) * 0.5;
+        clo = clo.min(c);
+        chi = chi.max(c);
+    }
+    let me = nodes.len();
+    nodes.push(Node {
+        lo,
+        hi,
+        start: base,
+        end: base + entries.len(),
+        children: None,
+    });
+    if entries.len() <= LEAF {
+        return me;
+    }
+    let extent = chi - clo;
+    let axis = if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    };
+    let mid = entries.len() / 2;
+    let centre = |e: &FaceEntry| (e.lo[axis] + e.hi[axis]) * 0.5;
+    entries.select_nth_unstable_by(mid, |a, b| centre(a).total_cmp(&centre(b)));
+    let (left, right) = entries.split_at_mut(mid);
+    let l = build_tree(left, base, nodes);
+    let r = build_tree(right, base + mid, nodes);
+    nodes[me].children = Some((l, r));
+    me
+}
+
+/// Calls `found((i, j))`, `i < j`, for pairs of coincident faces, stopping when it returns
+/// false; a pair is tested only when `wanted` accepts it, and may be met twice.
+///
+/// Faces are grouped by cell (quantised normal and plane offset, as the module docs say);
+/// each group gets a bounding-box tree, and each face queries its own group's tree (and a
+/// neighbour group's when it lies within the tolerance of a cell boundary) with its box:
+/// `O(n log n)` for faces whose boxes overlap a bounded number of others — a floor of 10⁶
+/// triangles in one plane included, where a sweep along one axis is quadratic along a row.
+fn visit_face_pairs(
+    faces: &[(&[DVec3], DVec3)],
+    mut wanted: impl FnMut((usize, usize)) -> bool,
+    mut found: impl FnMut((usize, usize)) -> bool,
+) {
+    let r = largest_magnitude(faces);
     let tol = DISTANCE_TOLERANCE * r;
-    let mut entries: Vec<Entry<4>> = Vec::with_capacity(faces.len());
+    let mut entries: Vec<FaceEntry> = Vec::with_capacity(faces.len());
     for (k, &(vertices, n)) in faces.iter().enumerate() {
         let Some(&p0) = vertices.first() else {
             continue;
@@ -202,21 +343,26 @@ pub fn coincident_faces(faces: &[(&[DVec3], DVec3)]) -> Option<(usize, usize)> {
             quantise(n.z, DIRECTION_CELL),
             quantise(n.dot(p0), OFFSET_CELL * r),
         ];
-        let (lo, hi) = vertices
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(p.x), hi.max(p.x))
-            });
-        entries.push(Entry {
+        let (lo, hi) = vertices.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        entries.push(FaceEntry {
             cell: cells.map(|c| c.0),
             frac: cells.map(|c| c.1),
-            lo,
-            hi,
+            lo: lo - DVec3::splat(tol),
+            hi: hi + DVec3::splat(tol),
             index: k,
         });
     }
     let direction_slack = DIRECTION_TOLERANCE / DIRECTION_CELL;
     let offset_slack = (tol + 2.0 * DIRECTION_TOLERANCE * r) / (OFFSET_CELL * r);
+    let slack = [
+        direction_slack,
+        direction_slack,
+        direction_slack,
+        offset_slack,
+    ];
     let precise = |i: usize, j: usize| {
         let ((vi, ni), (vj, nj)) = (faces[i], faces[j]);
         let on_plane =
@@ -227,17 +373,76 @@ pub fn coincident_faces(faces: &[(&[DVec3], DVec3)]) -> Option<(usize, usize)> {
             && on_plane(vi, nj, vj[0])
             && convex_overlap(vi, vj, ni, tol)
     };
-    sweep(
-        &mut entries,
-        [
-            direction_slack,
-            direction_slack,
-            direction_slack,
-            offset_slack,
-        ],
-        tol,
-        precise,
-    )
+    // Groups of one cell, each with its tree
+    entries.sort_unstable_by_key(|e| e.cell);
+    let mut groups: Vec<([i64; 4], usize)> = Vec::new();
+    let mut nodes: Vec<Node> = Vec::new();
+    let mut start = 0;
+    while start < entries.len() {
+        let cell = entries[start].cell;
+        let end = start + entries[start..].partition_point(|e| e.cell == cell);
+        let root = build_tree(&mut entries[start..end], start, &mut nodes);
+        groups.push((cell, root));
+        start = end;
+    }
+    let mut stack: Vec<usize> = Vec::new();
+    for e in &entries {
+        // This cell, and a neighbour per dimension where e lies near the boundary
+        let mut offsets: heapless::Vec<[i64; 4], 81> = heapless::Vec::new();
+        let _ = offsets.push([0; 4]);
+        for d in 0..4 {
+            let steps = [
+                (e.frac[d] < slack[d]).then_some(-1),
+                (e.frac[d] > 1.0 - slack[d]).then_some(1),
+            ];
+            let current = offsets.clone();
+            for step in steps.into_iter().flatten() {
+                for o in &current {
+                    let mut o = *o;
+                    o[d] = step;
+                    let _ = offsets.push(o);
+                }
+            }
+        }
+        for o in &offsets {
+            let own = *o == [0; 4];
+            let mut cell = e.cell;
+            for d in 0..4 {
+                cell[d] = cell[d].saturating_add(o[d]);
+            }
+            let Ok(g) = groups.binary_search_by(|x| x.0.cmp(&cell)) else {
+                continue;
+            };
+            // The tree walk: every node is pushed at most once
+            stack.clear();
+            stack.push(groups[g].1);
+            while let Some(k) = stack.pop() {
+                let node = nodes[k];
+                if node.lo.cmpgt(e.hi).any() || node.hi.cmplt(e.lo).any() {
+                    continue;
+                }
+                if let Some((l, r)) = node.children {
+                    stack.push(l);
+                    stack.push(r);
+                    continue;
+                }
+                for x in &entries[node.start..node.end] {
+                    // In its own cell a pair is met from both faces: tested from the later
+                    if x.index == e.index
+                        || (own && x.index > e.index)
+                        || x.lo.cmpgt(e.hi).any()
+                        || x.hi.cmplt(e.lo).any()
+                    {
+                        continue;
+                    }
+                    let pair = (x.index.min(e.index), x.index.max(e.index));
+                    if wanted(pair) && precise(pair.0, pair.1) && !found(pair) {
+                        return;
+                    }
+                }
+            }
+        }
+    }
 }
 
 /// Whether two coplanar convex polygons (plane normal `n`) overlap deeper than `tol` along

@@ -285,6 +285,9 @@ pub struct SceneBuilder {
     object_index: BTreeMap<String, usize>,
     current_material: Option<Material>,
     current_object: Option<String>,
+    /// The subdivision each face was cut by (to cut its pieces alike in
+    /// [`SceneBuilder::build_as_drawn`]).
+    subdivisions: Vec<Subdivision>,
 }
 
 impl SceneBuilder {
@@ -338,20 +341,7 @@ impl SceneBuilder {
             }
             .into());
         }
-        // Coordinates: finite and within range
-        for v in vertices {
-            for c in v.to_array() {
-                if !c.is_finite() {
-                    return Err(ErrorKind::NonFiniteNumber {
-                        field: "coordinate",
-                    }
-                    .into());
-                }
-                if c.abs() > MAX_COORDINATE {
-                    return Err(ErrorKind::CoordinateRange.into());
-                }
-            }
-        }
+        check_coordinates(vertices)?;
         // Degeneracy: area and edges against the face's size
         let size = geom::bounds_diagonal(vertices);
         let vector_area = geom::polygon_normal(vertices);
@@ -440,6 +430,7 @@ impl SceneBuilder {
             patches: patches_len..self.patches.len(),
             object,
         });
+        self.subdivisions.push(s);
         Ok(self)
     }
 
@@ -450,23 +441,7 @@ impl SceneBuilder {
     /// (face indices) if two faces lie in one plane, face the same way and overlap
     /// ([`super::coincident`]).
     pub fn build(&self) -> Result<Scene> {
-        if self.faces.is_empty() {
-            return Err(ErrorKind::EmptyScene.into());
-        }
-        let faces: Vec<(&[DVec3], DVec3)> = self
-            .faces
-            .iter()
-            .map(|f| (&self.points[f.first..f.first + f.count], f.normal))
-            .collect();
-        super::coincident::refuse(super::coincident::coincident_faces(&faces))?;
-        let mut total = KahanSum::new();
-        for p in &self.patches {
-            total.add(p.area);
-        }
-        let total_area = total.total();
-        if !(total_area.is_finite() && total_area > 0.0) {
-            return Err(ErrorKind::CoordinateRange.into());
-        }
+        let total_area = self.validate()?;
         Ok(Scene {
             points: self.points.clone(),
             patches: self.patches.clone(),
@@ -476,6 +451,78 @@ impl SceneBuilder {
             total_area,
         })
     }
+
+    /// [`Self::build`] without copying: the builder's vectors become the scene's (half the
+    /// peak memory of a large scene).
+    ///
+    /// # Errors
+    /// As [`Self::build`].
+    pub fn finish(self) -> Result<Scene> {
+        self.validate()?;
+        self.into_scene()
+    }
+
+    /// The scene of the faces as they are, checking only the total area (the coincidence
+    /// check left to the caller).
+    fn into_scene(self) -> Result<Scene> {
+        let total_area = self.total_area()?;
+        Ok(Scene {
+            points: self.points,
+            patches: self.patches,
+            faces: self.faces,
+            materials: self.materials,
+            objects: self.objects,
+            total_area,
+        })
+    }
+
+    /// The checks of [`Self::build`]; the total area.
+    fn validate(&self) -> Result<f64> {
+        if self.faces.is_empty() {
+            return Err(ErrorKind::EmptyScene.into());
+        }
+        super::coincident::refuse(super::coincident::coincident_faces(&self.face_list()))?;
+        self.total_area()
+    }
+
+    /// `A_T`, compensated; refused unless finite and positive.
+    fn total_area(&self) -> Result<f64> {
+        let mut total = KahanSum::new();
+        for p in &self.patches {
+            total.add(p.area);
+        }
+        let total_area = total.total();
+        if !(total_area.is_finite() && total_area > 0.0) {
+            return Err(ErrorKind::CoordinateRange.into());
+        }
+        Ok(total_area)
+    }
+
+    /// Each face's vertices and unit normal, as [`super::coincident`] takes them.
+    fn face_list(&self) -> Vec<(&[DVec3], DVec3)> {
+        self.faces
+            .iter()
+            .map(|f| (&self.points[f.first..f.first + f.count], f.normal))
+            .collect()
+    }
+}
+
+/// Checks that every coordinate is finite and within [`MAX_COORDINATE`].
+fn check_coordinates(vertices: &[DVec3]) -> Result<()> {
+    for v in vertices {
+        for c in v.to_array() {
+            if !c.is_finite() {
+                return Err(ErrorKind::NonFiniteNumber {
+                    field: "coordinate",
+                }
+                .into());
+            }
+            if c.abs() > MAX_COORDINATE {
+                return Err(ErrorKind::CoordinateRange.into());
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The bit patterns of a material, a total-order key for de-duplication.
@@ -594,6 +641,11 @@ impl Cutter<'_> {
         Ok(())
     }
 }
+
+mod lenient;
+mod overlap;
+pub use lenient::{DRAWN_PLANARITY_TOLERANCE, REPEATED_VERTEX_TOLERANCE};
+pub use overlap::MAX_CLIP_PIECES;
 
 #[cfg(test)]
 mod tests;

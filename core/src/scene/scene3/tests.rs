@@ -359,6 +359,32 @@ mod props {
     }
 
     proptest! {
+        /// The lenient entry adds a face the strict one accepts bit for bit as it does,
+        /// and reports nothing repaired.
+        #[test]
+        fn convex_planar_polygons_as_drawn_are_the_strict_scene(
+            n in 3usize..40,
+            angles in (0.0..core::f64::consts::PI, 0.0..core::f64::consts::TAU, 0.0..1.0f64),
+            stretch in (0.2..5.0f64, 0.2..5.0f64),
+            log_scale in -3.0..4.0f64,
+            centre in proptest::array::uniform3(-10.0..10.0f64),
+            s in subdivision(),
+        ) {
+            let scale = libm::pow(10.0, log_scale);
+            let (vertices, _) = polygon(n, angles, stretch, scale, centre);
+            let mut b = Scene::builder();
+            b.polygon(&vertices, s).unwrap();
+            let strict = b.build().unwrap();
+            let mut l = Scene::builder();
+            let mut report = crate::io::LoadReport::default();
+            l.face_as_drawn(&vertices, s, &mut report, Some(1)).unwrap();
+            prop_assert_eq!(l.build_as_drawn(&mut report, &[1]).unwrap(), strict);
+            prop_assert_eq!(
+                report,
+                crate::io::LoadReport { faces_read: 1, ..Default::default() }
+            );
+        }
+
         #[test]
         fn convex_planar_polygons_build_and_patches_tile_them(
             n in 3usize..40,
