@@ -402,3 +402,55 @@ impl LoadReport {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn json(r: &LoadReport) -> String {
+        let mut s = String::new();
+        let mut o = JsonObject::new(&mut s).unwrap();
+        r.write_fields(&mut o, true).unwrap();
+        o.finish().unwrap();
+        s
+    }
+
+    #[test]
+    fn repair_counts_are_written_only_when_something_was_repaired() {
+        let mut r = LoadReport {
+            faces_read: 3,
+            ..LoadReport::default()
+        };
+        assert_eq!(json(&r), r#"{"faces_read":3}"#);
+        r.faces_triangulated = 1;
+        r.triangles_added = 4;
+        r.max_off_plane = 0.5;
+        r.warn(Some(7), LoadWarningKind::FaceTriangulated);
+        assert_eq!(
+            json(&r),
+            r#"{"faces_read":3,"faces_triangulated":1,"triangles_added":4,"max_off_plane":0.5,"load_warnings":["line 7: cut a concave or non-planar face into triangles"]}"#
+        );
+    }
+
+    #[test]
+    fn pair_warnings_gather_by_class_keeping_the_first_pair() {
+        let mut r = LoadReport::default();
+        for (line, other) in [(5, 1), (9, 2), (12, 3)] {
+            r.warn_class(
+                Some(line),
+                LoadWarningKind::DuplicateFace {
+                    other_line: Some(other),
+                },
+            );
+        }
+        r.warn_class(Some(20), LoadWarningKind::CoveredFace { other_line: None });
+        assert_eq!(
+            r.messages(false),
+            [
+                "line 5: dropped a duplicate face (of line 1) (3 times)",
+                "line 20: dropped a face covered by coincident faces",
+            ]
+        );
+        assert!(r.warnings.iter().all(|w| !w.kind.is_material()));
+    }
+}

@@ -24,7 +24,8 @@
 //! - when neither remains, the projection is not simple (it crosses itself, or winds
 //!   clockwise somewhere): as a documented fallback the vertex with the largest turn sine,
 //!   the best available ear, is cut anyway. The caller checks each triangle against the
-//!   polygon's normal and drops flipped or zero-area ones.
+//!   polygon's normal and drops flipped or zero-area ones. (A self-intersecting quad, a
+//!   bow tie, is better cut at its crossing into its two lobes: [`bow_tie_lobes`].)
 //!
 //! Each step removes one vertex, so a polygon of `n` vertices gives at most `n − 2`
 //! triangles after at most `n − 3` steps of `O(n²)` work: bounded for any input, never a
@@ -55,6 +56,32 @@ pub fn triangulate(vertices: &[DVec3], out: &mut Vec<[usize; 3]>) -> Option<DVec
         _ => ear_clip(vertices, normal, out),
     }
     Some(normal)
+}
+
+/// The two lobes of a self-intersecting quad (a bow tie): when, projected onto the
+/// plane of [`triangulate`], the edge `v_0 v_1` crosses `v_2 v_3` properly at `x`, the
+/// triangles `x v_1 v_2` and `x v_3 v_0`; likewise for `v_1 v_2` crossing `v_3 v_0`
+/// (`x v_2 v_3`, `x v_0 v_1`). Each lobe keeps the winding the quad gives it, so the two
+/// face opposite ways; `x` is taken on the first edge of the pair in 3D. `None` for a quad
+/// whose projection is simple, or anything else.
+#[must_use]
+pub fn bow_tie_lobes(q: &[DVec3]) -> Option<[[DVec3; 3]; 2]> {
+    if q.len() != 4 || !q.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let normal = projection_normal(q)?;
+    let u = normal.any_orthonormal_vector();
+    let w = normal.cross(u);
+    let p: [DVec2; 4] =
+        core::array::from_fn(|k| DVec2::new((q[k] - q[0]).dot(u), (q[k] - q[0]).dot(w)));
+    for k in 0..2 {
+        let [a, b, c, d] = [k, k + 1, k + 2, (k + 3) % 4];
+        if let Some((t, _)) = geom::proper_crossing(p[a], p[b], p[c], p[d]) {
+            let x = q[a] + (q[b] - q[a]) * t;
+            return Some([[x, q[b], q[c]], [x, q[d], q[a]]]);
+        }
+    }
+    None
 }
 
 /// The unit Newell normal, or the largest fan triangle's when Newell's vanishes (a

@@ -19,6 +19,9 @@
 //!    ([`crate::scene::triangulate`]: the flattest diagonal of a quad, ear clipping in the
 //!    Newell plane otherwise) and each triangle added as its own face, cut by the same
 //!    subdivision (`faces_triangulated`, `triangles_added`);
+//!    A self-intersecting quad (a bow tie) is cut at its crossing into its two lobes
+//!    instead ([`crate::scene::triangulate::bow_tie_lobes`]), each a triangle facing the
+//!    way its winding says (a renderer draws both);
 //! 5. triangles of zero area (at most `10⁻¹² d²`, or an edge at most `10⁻¹² d`, as the
 //!    strict builder's degeneracy test), flipped against the face's normal (only from a
 //!    self-intersecting polygon), and faces left with fewer than three vertices are dropped
@@ -43,7 +46,7 @@ use super::{
 use crate::error::{ErrorKind, Result};
 use crate::geom::{self, DVec3};
 use crate::io::{LoadReport, LoadWarningKind};
-use crate::scene::triangulate::triangulate;
+use crate::scene::triangulate::{bow_tie_lobes, triangulate};
 
 /// Largest distance of a vertex from a face's Newell plane, relative to its size, for the
 /// face to be flattened rather than triangulated (module docs).
@@ -145,6 +148,10 @@ impl SceneBuilder {
                 }
             }
         }
+        // 4. A bow tie: its two lobes, each facing the way its winding says
+        if let Some(lobes) = bow_tie_lobes(v) {
+            return self.lobes(&lobes, s, size, off_plane, report, line);
+        }
         // 4. Triangles, checked against the cap before any is added
         let mut triangles: Vec<[usize; 3]> = Vec::with_capacity(v.len());
         let Some(normal) = triangulate(v, &mut triangles) else {
@@ -188,6 +195,53 @@ impl SceneBuilder {
             report.warn(line, LoadWarningKind::FaceTriangulated);
         } else {
             // Nothing drawable: the face as a whole is the dropped piece
+            dropped = 1;
+        }
+        self.drop_pieces(report, line, dropped);
+        Ok(())
+    }
+
+    /// Adds the lobes of a bow tie ([`bow_tie_lobes`]) as triangles, each with its own
+    /// normal; zero-area ones dropped.
+    fn lobes(
+        &mut self,
+        lobes: &[[DVec3; 3]; 2],
+        s: Subdivision,
+        size: f64,
+        off_plane: f64,
+        report: &mut LoadReport,
+        line: Option<u32>,
+    ) -> Result<()> {
+        let total =
+            (self.patches.len() as u64).saturating_add(s.patch_count(3, 3).saturating_mul(2));
+        if total > MAX_PATCHES_3D as u64 {
+            return Err(ErrorKind::TooManyPatches {
+                max: MAX_PATCHES_3D as u64,
+            }
+            .into());
+        }
+        let (mut added, mut dropped) = (0u64, 0u64);
+        for t in lobes {
+            let [a, b, c] = *t;
+            let short = [b - a, c - b, a - c]
+                .iter()
+                .any(|e| e.length() <= DEGENERACY_TOLERANCE * size);
+            if short || !((b - a).cross(c - a).length() > DEGENERACY_TOLERANCE * size * size) {
+                dropped += 1;
+                continue;
+            }
+            match self.polygon(t, s) {
+                Ok(_) => added += 1,
+                Err(e) if !repairable(e.kind()) => return Err(e),
+                Err(_) => dropped += 1,
+            }
+        }
+        if added > 0 {
+            report.faces_triangulated = report.faces_triangulated.saturating_add(1);
+            report.triangles_added = report.triangles_added.saturating_add(added);
+            report.max_off_plane = report.max_off_plane.max(off_plane);
+            report.warn(line, LoadWarningKind::FaceTriangulated);
+        } else {
             dropped = 1;
         }
         self.drop_pieces(report, line, dropped);

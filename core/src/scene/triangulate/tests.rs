@@ -227,3 +227,31 @@ proptest! {
         prop_assert!(tris.iter().flatten().all(|&k| k < v.len()));
     }
 }
+
+#[test]
+fn bow_ties_are_cut_at_their_crossing() {
+    let q = [
+        DVec3::new(0., 0., 0.),
+        DVec3::new(1., 1., 0.),
+        DVec3::new(1., 0., 0.),
+        DVec3::new(0., 1., 0.),
+    ];
+    let x = DVec3::new(0.5, 0.5, 0.);
+    assert_eq!(bow_tie_lobes(&q), Some([[x, q[1], q[2]], [x, q[3], q[0]]]));
+    // The other pair of edges crossing
+    let mut r = q;
+    r.rotate_left(1);
+    let lobes = bow_tie_lobes(&r).unwrap();
+    assert!(lobes.iter().all(|t| t[0] == x));
+    // Simple quads, convex or not, and other counts have none
+    let square = [DVec3::ZERO, DVec3::X, DVec3::new(1., 1., 0.), DVec3::Y];
+    let dart = [
+        DVec3::ZERO,
+        DVec3::new(2., 1., 0.),
+        DVec3::new(0.5, 0.5, 0.),
+        DVec3::new(1., 2., 0.),
+    ];
+    assert_eq!(bow_tie_lobes(&square), None);
+    assert_eq!(bow_tie_lobes(&dart), None);
+    assert_eq!(bow_tie_lobes(&square[..3]), None);
+}

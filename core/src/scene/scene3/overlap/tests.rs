@@ -237,9 +237,12 @@ fn formerly_bad_obj_faces_load_as_drawn() {
         r.messages(true),
         ["line 4: removed repeated vertices of a face"]
     );
-    // Self-intersecting faces: the fallback's triangles that face the polygon's normal
+    // A bow tie: its two lobes, facing opposite ways
     let (s, r) = load(drawn!("bow_tie_face"));
-    assert_eq!((s.faces().len(), r.pieces_dropped), (1, 1));
+    assert_eq!((s.faces().len(), r.triangles_added), (2, 2));
+    assert!((s.total_area() - 0.5).abs() < 1e-15);
+    assert_eq!(s.faces()[0].normal, -s.faces()[1].normal);
+    // Other self-intersecting faces: the fallback's triangles that face the normal
     let (s, r) = load(drawn!("self_intersecting_face"));
     assert!(s.total_area() > 0.0 && r.faces_triangulated == 1);
 }
