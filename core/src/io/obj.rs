@@ -5,7 +5,7 @@
 //!
 //! ```text
 //! v x y z [w]            # a vertex (w, or three r g b colour values, accepted and ignored)
-//! f v1 v2 v3 …           # a planar convex face, counter-clockwise seen from its front;
+//! f v1 v2 v3 …           # a face (any polygon), counter-clockwise seen from its front;
 //!                        # each vertex as v, v/vt, v//vn or v/vt/vn; 1-based, or negative
 //!                        # to count back from the last vertex defined (−1 = the last)
 //! o name | g name …      # the object of the faces that follow (the rest of the line)
@@ -72,10 +72,15 @@
 //!   ([`LoadWarningKind::AmbientOnlyLamps`]). A material defined twice, a property before
 //!   any `newmtl`, a negative emittance and malformed `Kd`/`Ke`/`Ka` numbers are errors.
 //!
-//! Every face is validated by [`SceneBuilder::polygon`](crate::scene::SceneBuilder::polygon)
-//! (planar, convex, non-degenerate, at most [`MAX_FACE_VERTICES`] vertices) and cut by the
-//! [`Subdivision`] given; the patch cap [`crate::scene::MAX_PATCHES_3D`] is checked before
-//! each face's patches are allocated.
+//! Every face is added as drawn by
+//! [`SceneBuilder::face_as_drawn`](crate::scene::SceneBuilder::face_as_drawn) (a valid planar
+//! convex face unchanged; repeated vertices removed, nearly planar faces flattened, concave or
+//! bent ones triangulated, zero-area ones dropped) and cut by the [`Subdivision`] given; the
+//! patch cap [`crate::scene::MAX_PATCHES_3D`] is checked before each face's patches are
+//! allocated. The scene is finished by
+//! [`SceneBuilder::build_as_drawn`](crate::scene::SceneBuilder::build_as_drawn): duplicate
+//! faces dropped, partly covered coincident ones cut to what earlier faces leave. All of it
+//! is counted in the [`LoadReport`].
 
 use alloc::borrow::Cow;
 use alloc::collections::BTreeMap;
@@ -215,7 +220,9 @@ fn parse_number(s: &str, field: &'static str) -> Result<f64> {
 /// [`ErrorKind::NonFiniteNumber`], [`ErrorKind::MissingField`],
 /// [`ErrorKind::TrailingField`], [`ErrorKind::FaceIndex`], [`ErrorKind::InMaterialLibrary`]
 /// (at the `mtllib` line, naming the library's own line), and the face errors of
-/// [`SceneBuilder::polygon`](crate::scene::SceneBuilder::polygon);
+/// [`SceneBuilder::face_as_drawn`](crate::scene::SceneBuilder::face_as_drawn) (vertex count,
+/// non-finite or out-of-range coordinates, too many patches) and
+/// [`SceneBuilder::build_as_drawn`](crate::scene::SceneBuilder::build_as_drawn);
 /// [`ErrorKind::BadSubdivision`] (no line) for a bad subdivision;
 /// [`ErrorKind::EmptyScene`] (line of the end of input) if there is no face.
 ///
