@@ -55,6 +55,17 @@ pub const DRAWN_PLANARITY_TOLERANCE: f64 = 1e-3;
 /// Longest edge, relative to a face's size, whose end repeats its start (module docs).
 pub const REPEATED_VERTEX_TOLERANCE: f64 = 1e-12;
 
+/// What [`SceneBuilder::add_triangles`] needs of the face its triangles come from.
+#[derive(Clone, Copy)]
+struct Pieces {
+    /// The face's size (bounding-box diagonal), for the degeneracy tolerance.
+    size: f64,
+    /// The face's largest vertex distance from its plane, relative to its size.
+    off_plane: f64,
+    /// The face's normal, when every triangle must face its way.
+    facing: Option<DVec3>,
+}
+
 impl SceneBuilder {
     /// Adds the polygon through `vertices` as drawn in a file: repaired, flattened or
     /// triangulated by the rule of the module docs, what was done recorded in `report`
@@ -150,14 +161,40 @@ impl SceneBuilder {
         }
         // 4. A bow tie: its two lobes, each facing the way its winding says
         if let Some(lobes) = bow_tie_lobes(v) {
-            return self.lobes(&lobes, s, size, off_plane, report, line);
+            let pieces = Pieces {
+                size,
+                off_plane,
+                facing: None,
+            };
+            return self.add_triangles(&lobes, pieces, s, report, line);
         }
-        // 4. Triangles, checked against the cap before any is added
+        // 4. Triangles, each facing the way the face does
         let mut triangles: Vec<[usize; 3]> = Vec::with_capacity(v.len());
         let Some(normal) = triangulate(v, &mut triangles) else {
             self.drop_pieces(report, line, 1);
             return Ok(());
         };
+        let triangles: Vec<[DVec3; 3]> = triangles.iter().map(|t| t.map(|k| v[k])).collect();
+        let pieces = Pieces {
+            size,
+            off_plane,
+            facing: Some(normal),
+        };
+        self.add_triangles(&triangles, pieces, s, report, line)
+    }
+
+    /// Adds the triangles a face was cut into, checked against the patch cap before any is
+    /// added; (5.) zero-area ones, and those turned against `pieces.facing` when given (only
+    /// from a self-intersecting polygon), are dropped. Counts a triangulated face if any
+    /// triangle was added, else the face as one dropped piece.
+    fn add_triangles(
+        &mut self,
+        triangles: &[[DVec3; 3]],
+        pieces: Pieces,
+        s: Subdivision,
+        report: &mut LoadReport,
+        line: Option<u32>,
+    ) -> Result<()> {
         let per_triangle = s.patch_count(3, 3);
         let total = (self.patches.len() as u64)
             .saturating_add(per_triangle.saturating_mul(triangles.len() as u64));
@@ -167,66 +204,16 @@ impl SceneBuilder {
             }
             .into());
         }
+        let size = pieces.size;
         let (mut added, mut dropped) = (0u64, 0u64);
-        for t in &triangles {
-            let [a, b, c] = t.map(|k| v[k]);
-            let vector_area = (b - a).cross(c - a);
-            // 5. Zero-area or flipped triangles are dropped
-            let short = [b - a, c - b, a - c]
-                .iter()
-                .any(|e| e.length() <= DEGENERACY_TOLERANCE * size);
-            if short
-                || !(vector_area.length() > DEGENERACY_TOLERANCE * size * size)
-                || !(vector_area.dot(normal) > 0.0)
-            {
-                dropped += 1;
-                continue;
-            }
-            match self.polygon(&[a, b, c], s) {
-                Ok(_) => added += 1,
-                Err(e) if !repairable(e.kind()) => return Err(e),
-                Err(_) => dropped += 1,
-            }
-        }
-        if added > 0 {
-            report.faces_triangulated = report.faces_triangulated.saturating_add(1);
-            report.triangles_added = report.triangles_added.saturating_add(added);
-            report.max_off_plane = report.max_off_plane.max(off_plane);
-            report.warn(line, LoadWarningKind::FaceTriangulated);
-        } else {
-            // Nothing drawable: the face as a whole is the dropped piece
-            dropped = 1;
-        }
-        self.drop_pieces(report, line, dropped);
-        Ok(())
-    }
-
-    /// Adds the lobes of a bow tie ([`bow_tie_lobes`]) as triangles, each with its own
-    /// normal; zero-area ones dropped.
-    fn lobes(
-        &mut self,
-        lobes: &[[DVec3; 3]; 2],
-        s: Subdivision,
-        size: f64,
-        off_plane: f64,
-        report: &mut LoadReport,
-        line: Option<u32>,
-    ) -> Result<()> {
-        let total =
-            (self.patches.len() as u64).saturating_add(s.patch_count(3, 3).saturating_mul(2));
-        if total > MAX_PATCHES_3D as u64 {
-            return Err(ErrorKind::TooManyPatches {
-                max: MAX_PATCHES_3D as u64,
-            }
-            .into());
-        }
-        let (mut added, mut dropped) = (0u64, 0u64);
-        for t in lobes {
+        for t in triangles {
             let [a, b, c] = *t;
+            let vector_area = (b - a).cross(c - a);
             let short = [b - a, c - b, a - c]
                 .iter()
                 .any(|e| e.length() <= DEGENERACY_TOLERANCE * size);
-            if short || !((b - a).cross(c - a).length() > DEGENERACY_TOLERANCE * size * size) {
+            let flipped = pieces.facing.is_some_and(|n| !(vector_area.dot(n) > 0.0));
+            if short || !(vector_area.length() > DEGENERACY_TOLERANCE * size * size) || flipped {
                 dropped += 1;
                 continue;
             }
@@ -239,9 +226,10 @@ impl SceneBuilder {
         if added > 0 {
             report.faces_triangulated = report.faces_triangulated.saturating_add(1);
             report.triangles_added = report.triangles_added.saturating_add(added);
-            report.max_off_plane = report.max_off_plane.max(off_plane);
+            report.max_off_plane = report.max_off_plane.max(pieces.off_plane);
             report.warn(line, LoadWarningKind::FaceTriangulated);
         } else {
+            // Nothing drawable: the face as a whole is the dropped piece
             dropped = 1;
         }
         self.drop_pieces(report, line, dropped);
