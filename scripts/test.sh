@@ -140,21 +140,24 @@ install_chromium() {
 }
 
 install_node_and_playwright() {
-    say "install: node and playwright-core (from $E2E_DIR/package-lock.json)"
+    say "install: node, playwright-core and binaryen (from $E2E_DIR/package-lock.json)"
     if command -v node >/dev/null && command -v npm >/dev/null; then
         ok "node $(node --version)"
     else
         echo "    installing nodejs and npm with apt-get"
         apt_install nodejs npm
     fi
+    # playwright-core drives Chromium; binaryen's wasm-opt shrinks the page's module
     local want have
-    want=$(node -p "require('./$E2E_DIR/package-lock.json').packages['node_modules/playwright-core'].version") \
-        || die "cannot read the playwright-core version from $E2E_DIR/package-lock.json"
-    have=$(node -p "try { require('./$E2E_DIR/node_modules/playwright-core/package.json').version } catch { '' }")
+    want=$(node -p "const l = require('./$E2E_DIR/package-lock.json').packages; \
+        ['playwright-core', 'binaryen'].map(p => p + ' ' + l['node_modules/' + p].version).join(', ')") \
+        || die "cannot read the package versions from $E2E_DIR/package-lock.json"
+    have=$(node -p "['playwright-core', 'binaryen'].map(p => { try { return p + ' ' + \
+        require('./$E2E_DIR/node_modules/' + p + '/package.json').version } catch { return p + ' none' } }).join(', ')")
     if [[ $have == "$want" ]]; then
-        ok "playwright-core $have"
+        ok "$have"
     else
-        echo "    found '${have:-nothing}'; npm ci in $E2E_DIR (playwright-core $want)"
+        echo "    found '$have'; npm ci in $E2E_DIR ($want)"
         # Only the library: it drives the system Chromium, never a downloaded browser.
         PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --prefix "$E2E_DIR" --no-audit --no-fund \
             || die "npm ci in $E2E_DIR"

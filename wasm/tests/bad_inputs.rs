@@ -329,7 +329,20 @@ fn bad_obj_inputs_throw_the_core_message() {
             failures.push(format!("{file}: want {want:?}, got {got:?}"));
         }
     }
-    assert!(checked >= 15, "only {checked} OBJ catalogue files checked");
+    // Every OBJ entry but the one that is not UTF-8 (the catalogue lost the files the
+    // lenient loader now reads to tests/data/drawn/)
+    let utf8 = entries(".obj")
+        .iter()
+        .filter(|(f, _)| {
+            FILES
+                .iter()
+                .any(|(name, b)| name == f && core::str::from_utf8(b).is_ok())
+        })
+        .count();
+    assert!(
+        checked == utf8 && checked >= 10,
+        "{checked} of {utf8} OBJ catalogue files checked"
+    );
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 

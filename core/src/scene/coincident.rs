@@ -189,8 +189,8 @@ pub fn coincident_faces(faces: &[(&[DVec3], DVec3)]) -> Option<(usize, usize)> {
     let best: core::cell::Cell<Option<(usize, usize)>> = core::cell::Cell::new(None);
     visit_face_pairs(
         faces,
-        |pair| best.get().is_none_or(|b| (pair.1, pair.0) < (b.1, b.0)),
-        |pair| {
+        &mut |pair| best.get().is_none_or(|b| (pair.1, pair.0) < (b.1, b.0)),
+        &mut |pair| {
             best.set(Some(pair));
             true
         },
@@ -224,19 +224,15 @@ pub const MAX_COINCIDENT_PAIRS: usize = 1_000_000;
 pub fn coincident_face_pairs(faces: &[(&[DVec3], DVec3)]) -> Result<Vec<(usize, usize)>> {
     let mut pairs: Vec<(usize, usize)> = Vec::new();
     let mut overflow = false;
-    visit_face_pairs(
-        faces,
-        |_| true,
-        |pair| {
-            // A pair may be met from both of its faces: room for each twice
-            if pairs.len() >= 2 * MAX_COINCIDENT_PAIRS {
-                overflow = true;
-                return false;
-            }
-            pairs.push(pair);
-            true
-        },
-    );
+    visit_face_pairs(faces, &mut |_| true, &mut |pair| {
+        // A pair may be met from both of its faces: room for each twice
+        if pairs.len() >= 2 * MAX_COINCIDENT_PAIRS {
+            overflow = true;
+            return false;
+        }
+        pairs.push(pair);
+        true
+    });
     pairs.sort_unstable_by_key(|&(i, j)| (j, i));
     pairs.dedup();
     if overflow || pairs.len() > MAX_COINCIDENT_PAIRS {
@@ -327,9 +323,11 @@ fn build_tree(entries: &mut [FaceEntry], base: usize, nodes: &mut Vec<Node>) -> 
 /// triangles in one plane included, where a sweep along one axis is quadratic along a row.
 fn visit_face_pairs(
     faces: &[(&[DVec3], DVec3)],
-    mut wanted: impl FnMut((usize, usize)) -> bool,
-    mut found: impl FnMut((usize, usize)) -> bool,
+    wanted: &mut dyn FnMut((usize, usize)) -> bool,
+    found: &mut dyn FnMut((usize, usize)) -> bool,
 ) {
+    // `dyn`: one copy of this search serves both callers (it is the larger part of the
+    // loaders' code in the browser's module)
     let r = largest_magnitude(faces);
     let tol = DISTANCE_TOLERANCE * r;
     let mut entries: Vec<FaceEntry> = Vec::with_capacity(faces.len());
