@@ -91,3 +91,37 @@ fn errors_after_cr_only_lines_name_the_right_line() {
         format!("sceneinfo: {}:4: segment has zero length\n", path.display())
     );
 }
+
+#[test]
+fn control_characters_in_names_are_escaped_in_messages() {
+    // An error: the terminal sees `\u{1b}`, not an escape sequence.
+    let path = write(
+        "esc_error",
+        "room.flat",
+        "seg 0 0 1 0\n\u{1b}[2Jseg\0 0 1 1 1\n",
+    );
+    let stderr = failure(&path);
+    assert_eq!(
+        stderr,
+        format!(
+            "sceneinfo: {}:2: unknown keyword '\\u{{1b}}[2Jseg\\0'\n",
+            path.display()
+        )
+    );
+    assert!(!stderr.contains(['\u{1b}', '\0']));
+    // A warning: a statement with ESC and a letter outside ASCII in its keyword.
+    let dir = "esc_warning";
+    write(dir, "room.mtl", ROOM_MTL);
+    let obj = ROOM_OBJ.replace("usemtl lamp", "lampé\u{1b}[31m 1\nusemtl lamp");
+    let out = bin()
+        .arg("measure")
+        .arg(write(dir, "room.obj", obj))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        stderr.contains("skipped unknown 'lampé\\u{1b}[31m' statements"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains('\u{1b}'), "{stderr}");
+}

@@ -384,10 +384,10 @@ mod tests {
         }
         // Before, the mark made the first keyword unknown.
         assert!(parse_flat("\u{feff}mat rho 0.5 0.5 0.5\nseg 0 0 1 0\n").is_ok());
-        // Elsewhere it is still text.
+        // Elsewhere it is still text (and escaped in messages).
         assert_eq!(
             err("seg 0 0 1 0\n\u{feff}seg 0 1 1 1\n"),
-            "line 2: unknown keyword '\u{feff}seg'"
+            "line 2: unknown keyword '\\u{feff}seg'"
         );
     }
 
