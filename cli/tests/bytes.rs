@@ -125,3 +125,54 @@ fn control_characters_in_names_are_escaped_in_messages() {
     );
     assert!(!stderr.contains('\u{1b}'), "{stderr}");
 }
+
+#[test]
+fn text_that_is_not_utf8_names_line_and_byte_offset() {
+    // A Latin-1 `é` (0xE9) on line 3 after CR-only lines, at byte offset 21.
+    let mut flat = b"# a\rseg 0 0 1 0\r# caf".to_vec();
+    flat.extend_from_slice(b"\xe9\rseg 0 1 1 1\r");
+    let path = write("latin1_flat", "room.flat", flat);
+    assert_eq!(
+        failure(&path),
+        format!(
+            "sceneinfo: {}:3: input is not valid UTF-8 at byte offset 21\n",
+            path.display()
+        )
+    );
+}
+
+#[test]
+fn a_latin1_material_library_is_an_error_naming_it_not_a_missing_one() {
+    let dir = "latin1_mtl";
+    // `newmtl lampé` in Latin-1: line 3, byte offset 38.
+    let mut mtl = ROOM_MTL.replace("lamp", "lamp\u{e9}").into_bytes();
+    let at = mtl.iter().position(|&b| b == 0xc3).unwrap();
+    mtl.splice(at..at + 2, [0xe9]);
+    assert_eq!(at, 38);
+    let library = write(dir, "room.mtl", mtl);
+    let obj = write(
+        dir,
+        "room.obj",
+        ROOM_OBJ.replace("usemtl lamp", "usemtl lampé"),
+    );
+    assert_eq!(
+        failure(&obj),
+        format!(
+            "sceneinfo: {}: material library: {}:3: input is not valid UTF-8 at byte \
+             offset 38\n",
+            obj.display(),
+            library.display()
+        )
+    );
+    // A library that cannot be read stays a warning: the room is measured, and
+    // `radiosity` (which uses materials) says what is missing.
+    let dir = "missing_mtl";
+    let obj = write(dir, "room.obj", ROOM_OBJ);
+    measure(&obj);
+    let out = bin().arg("radiosity").arg(&obj).output().unwrap();
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        stderr.contains("material library 'room.mtl' not found"),
+        "{stderr}"
+    );
+}
