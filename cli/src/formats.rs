@@ -149,7 +149,7 @@ pub fn sniff(bytes: &[u8]) -> Option<Format> {
     }
     // The first statement of the file
     let first = text
-        .lines()
+        .split(['\n', '\r'])
         .map(|l| l.split('#').next().unwrap_or("").trim())
         .find(|l| !l.is_empty())?;
     let keyword = first.split_whitespace().next()?;
@@ -242,6 +242,8 @@ mod tests {
             sniff(b"\xef\xbb\xbfpoly 3 0 0 1 0 0 1\n"),
             Some(Format::Flat)
         );
+        // Lines may end in a lone CR
+        assert_eq!(sniff(b"# a cube\rv 0 0 0\r"), Some(Format::Obj));
         assert_eq!(sniff(b"hello\n"), None);
         assert_eq!(sniff(b""), None);
         assert_eq!(sniff(b"\xff\xfe"), None);

@@ -1,5 +1,6 @@
 //! Writing files safely and reading scene files with located errors.
 
+use std::cell::RefCell;
 use std::fs;
 use std::io::Write;
 use std::path::Path;
@@ -37,26 +38,61 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     result
 }
 
-/// Reads a text file; invalid UTF-8 is reported as `file:line: input is not valid UTF-8`.
+/// Reads a text file; invalid UTF-8 is reported as in [`text_of`].
 pub fn read_text(path: &Path) -> Result<String> {
     let bytes = fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?;
     text_of(path, bytes)
 }
 
-/// The text of `bytes`, read from `path`; invalid UTF-8 is reported as
-/// `file:line: input is not valid UTF-8`.
+/// The text of `bytes`, read from `path`. Invalid UTF-8 is reported as
+/// `file:line: input is not valid UTF-8 at byte offset N`, `N` counted from 0 at the start
+/// of the file (as `xxd` and `od` count) and the line as the parsers count lines (ended by
+/// LF, CRLF or a lone CR).
 pub fn text_of(path: &Path, bytes: Vec<u8>) -> Result<String> {
     String::from_utf8(bytes).map_err(|e| {
-        let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count();
-        anyhow::anyhow!(
-            "{}:{line}: {}",
-            path.display(),
-            sceneinfo::ErrorKind::InvalidUtf8
-        )
+        let offset = e.utf8_error().valid_up_to();
+        not_utf8(path, e.as_bytes(), offset)
     })
+}
+
+/// The error for text in `path` that stops being UTF-8 at byte `offset` of `bytes`.
+fn not_utf8(path: &Path, bytes: &[u8], offset: usize) -> anyhow::Error {
+    let before = &bytes[..offset.min(bytes.len())];
+    // Line breaks before the offset: every LF, and every CR not followed by an LF
+    let breaks = before
+        .iter()
+        .enumerate()
+        .filter(|&(k, &b)| b == b'\n' || (b == b'\r' && bytes.get(k + 1) != Some(&b'\n')))
+        .count();
+    anyhow::anyhow!(
+        "{}:{}: {} at byte offset {offset}",
+        path.display(),
+        breaks + 1,
+        sceneinfo::ErrorKind::InvalidUtf8
+    )
+}
+
+/// Reads the material library `dir/name` for the OBJ reader: `Some(text)`, or `None`
+/// when it cannot be read (missing, a folder, no permission: the reader warns that it
+/// was not found and uses the default material). A library that can be read but is not
+/// UTF-8 (e.g. Latin-1 material names) is neither: decoding it lossily would silently
+/// rename materials, and calling it missing would hide why. Its located error
+/// ([`text_of`]) is kept in `failure` (the first one only), `None` returned, and the
+/// caller reports the error once the OBJ is read.
+fn read_library(
+    dir: &Path,
+    name: &str,
+    failure: &RefCell<Option<anyhow::Error>>,
+) -> Option<String> {
+    let path = dir.join(name);
+    let bytes = fs::read(&path).ok()?;
+    match text_of(&path, bytes) {
+        Ok(text) => Some(text),
+        Err(e) => {
+            failure.borrow_mut().get_or_insert(e);
+            None
+        }
+    }
 }
 
 /// Formats a core error found in `path` as `file:line: what` (or `file: what`).
@@ -147,9 +183,14 @@ pub fn load_scene_with(path: &Path, options: &sceneinfo::io::ObjOptions) -> Resu
         Format::Obj => {
             let text = text_of(path, bytes)?;
             let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-            let mtl = |name: &str| std::fs::read_to_string(dir.join(name)).ok();
-            let (scene, mut obj_report) =
-                sceneinfo::io::parse_obj(&text, options, mtl).map_err(|e| located(path, &e))?;
+            let library_failure = RefCell::new(None);
+            let mtl = |name: &str| read_library(&dir, name, &library_failure);
+            let parsed = sceneinfo::io::parse_obj(&text, options, mtl);
+            // A library that is not UTF-8 first: it may be why the OBJ failed
+            if let Some(e) = library_failure.into_inner() {
+                return Err(e.context(format!("{}: material library", path.display())));
+            }
+            let (scene, mut obj_report) = parsed.map_err(|e| located(path, &e))?;
             // The format note (if any) first, then what the OBJ reader found
             obj_report.warnings.splice(0..0, report.warnings.drain(..));
             report = obj_report;

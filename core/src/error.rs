@@ -9,29 +9,74 @@ use core::fmt;
 /// Capacity, in bytes, of a [`Token`] quoted in an error message.
 pub const TOKEN_CAPACITY: usize = 32;
 
-/// A short excerpt of the input quoted in an error message (truncated to
-/// [`TOKEN_CAPACITY`] bytes at a character boundary, with `…` appended when cut).
+/// A short excerpt of the input quoted in an error message: control and invisible
+/// characters escaped (see [`token`]), truncated to [`TOKEN_CAPACITY`] bytes between two
+/// characters, with `…` appended when cut.
 pub type Token = heapless::String<TOKEN_CAPACITY>;
 
-/// Builds a [`Token`] from arbitrary text, truncating it at a character boundary.
+/// Builds a [`Token`] from arbitrary text, safe to print on a terminal.
+///
+/// Control characters (ESC, NUL, CR, …) and the invisible format characters that hide or
+/// reorder text (byte-order mark, zero-width spaces and joiners, bidirectional overrides)
+/// are written as Rust's `char::escape_debug` writes them (`\u{1b}`, `\0`, `\r`,
+/// `\u{feff}`); every other character, `é` included, is kept. Text longer than
+/// [`TOKEN_CAPACITY`] bytes (escapes counted) is cut between two characters, never inside
+/// one or inside an escape, and ends with `…`.
+///
+/// # Examples
+/// ```
+/// use sceneinfo::error::token;
+/// assert_eq!(token("caf\u{e9}\u{1b}[31m").as_str(), "café\\u{1b}[31m");
+/// assert_eq!(token("\u{feff}mat").as_str(), "\\u{feff}mat");
+/// ```
 #[must_use]
 pub fn token(text: &str) -> Token {
+    /// Appends one character of `text`, escaped when it must be; `false` (and nothing
+    /// appended) when it would pass `limit` bytes.
+    fn push(t: &mut Token, c: char, limit: usize) -> bool {
+        let mut piece = heapless::String::<16>::new();
+        if must_escape(c) {
+            for e in c.escape_debug() {
+                let _ = piece.push(e);
+            }
+        } else {
+            let _ = piece.push(c);
+        }
+        if t.len() + piece.len() > limit {
+            return false;
+        }
+        t.push_str(&piece).is_ok()
+    }
     let mut t = Token::new();
-    let ellipsis = '…';
-    let room = TOKEN_CAPACITY - ellipsis.len_utf8();
-    if text.len() <= TOKEN_CAPACITY {
-        // Fits whole.
-        let _ = t.push_str(text);
+    // Whole, when it fits
+    if text.chars().all(|c| push(&mut t, c, TOKEN_CAPACITY)) {
         return t;
     }
+    // Else as much as leaves room for the ellipsis
+    let ellipsis = '…';
+    let room = TOKEN_CAPACITY - ellipsis.len_utf8();
+    t.clear();
     for c in text.chars() {
-        if t.len() + c.len_utf8() > room {
+        if !push(&mut t, c, room) {
             break;
         }
-        let _ = t.push(c);
     }
     let _ = t.push(ellipsis);
     t
+}
+
+/// Whether [`token`] escapes `c`: a control character, or a format character that is
+/// invisible or reorders the text around it.
+fn must_escape(c: char) -> bool {
+    c.is_control()
+        || matches!(
+            c,
+            '\u{ad}'
+                | '\u{200b}'..='\u{200f}'
+                | '\u{2028}'..='\u{202e}'
+                | '\u{2060}'..='\u{2069}'
+                | '\u{feff}'
+        )
 }
 
 /// What went wrong. Marked `#[non_exhaustive]`: later versions add variants.
@@ -678,6 +723,43 @@ mod tests {
         assert!(t.len() <= TOKEN_CAPACITY);
         assert!(t.ends_with('…'));
         assert_eq!(token("abc").as_str(), "abc");
+    }
+
+    #[test]
+    fn token_escapes_control_and_invisible_characters_only() {
+        assert_eq!(token("a\u{1b}[2Jb").as_str(), "a\\u{1b}[2Jb");
+        assert_eq!(token("n\0ul\r\t").as_str(), "n\\0ul\\r\\t");
+        assert_eq!(token("\u{7f}\u{9b}").as_str(), "\\u{7f}\\u{9b}");
+        assert_eq!(token("\u{feff}mat").as_str(), "\\u{feff}mat");
+        assert_eq!(token("x\u{202e}y\u{200b}").as_str(), "x\\u{202e}y\\u{200b}");
+        // Letters, quotes and backslashes stay as they are.
+        assert_eq!(token("béton 'a' \\ 漢").as_str(), "béton 'a' \\ 漢");
+    }
+
+    #[test]
+    fn token_escapes_count_toward_the_capacity_and_are_never_cut() {
+        // 31 bytes whole: fits.
+        let t = token("\u{1b}\u{1b}\u{1b}\u{1b}\u{1b}ab");
+        assert_eq!(t.as_str(), "\\u{1b}\\u{1b}\\u{1b}\\u{1b}\\u{1b}ab");
+        // Six escapes are 36 bytes: four and the ellipsis (24 + 3 bytes; a fifth would
+        // pass the 29 bytes left for the text).
+        let t = token("\u{1b}\u{1b}\u{1b}\u{1b}\u{1b}\u{1b}");
+        assert_eq!(t.as_str(), "\\u{1b}\\u{1b}\\u{1b}\\u{1b}…");
+        for text in ["\0".repeat(40), "é\u{1b}".repeat(9), "\u{feff}".repeat(5)] {
+            let t = token(&text);
+            assert!(t.len() <= TOKEN_CAPACITY, "{t}");
+            assert!(t.ends_with('…'), "{t}");
+            assert!(!t.contains('\u{1b}') && !t.contains('\0') && !t.contains('\u{feff}'));
+        }
+    }
+
+    #[test]
+    fn messages_quote_escaped_tokens() {
+        let e = Error::at_line(ErrorKind::UnknownKeyword(token("\u{1b}]0;x\u{7}seg")), 3);
+        assert_eq!(
+            alloc_free_display(&e),
+            "line 3: unknown keyword '\\u{1b}]0;x\\u{7}seg'"
+        );
     }
 
     #[test]

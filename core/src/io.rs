@@ -6,6 +6,8 @@
 //!
 //! Parsers validate everything and report the 1-based line of the first error
 //! ([`crate::Error::line`]); front ends prefix the file name, giving `file:line: what`.
+//! Lines end at `\n`, `\r\n` or a lone `\r`, and a UTF-8 byte-order mark at the start
+//! of a file or material library is skipped (`io/text.rs`).
 
 mod flat;
 pub use flat::{MAX_POLYGON_VERTICES, parse_flat, write_flat};
@@ -13,3 +15,4 @@ mod load_report;
 pub use load_report::{LoadReport, LoadWarning, LoadWarningKind};
 mod obj;
 pub use obj::{ObjOptions, parse_obj, write_obj};
+mod text;

@@ -121,8 +121,7 @@ pub fn parse_flat(text: &str) -> Result<FlatScene> {
     let mut last_line = 1u32;
     // The line of each surface, to locate coincident surfaces found at the end
     let mut surface_lines: Vec<u32> = Vec::new();
-    for (k, raw) in text.lines().enumerate() {
-        let line_no = u32::try_from(k + 1).unwrap_or(u32::MAX);
+    for (line_no, raw) in super::text::lines(text) {
         last_line = line_no;
         let content = raw.split('#').next().unwrap_or("");
         let mut fields = Fields {
@@ -369,5 +368,36 @@ mod tests {
         // 5 surfaces × 1,000,000 patches exceeds MAX_PATCHES (4,000,000).
         let text = "seg 0 0 1 0 1000000\n".repeat(5);
         assert_eq!(err(&text), "line 5: scene has more than 4000000 patches");
+    }
+
+    #[test]
+    fn byte_order_mark_and_every_line_end_read_alike() {
+        let text = "mat rho 0.5 0.5 0.5\npoly 4 0 0 2 0 2 2 0 2 per_side 3\n\
+                    mat emit 1 1 1\nseg 0.5 1 1.5 1 cuts 0.25 0.5\n";
+        let plain = parse_flat(text).unwrap();
+        for end in ["\n", "\r\n", "\r"] {
+            for bom in ["", "\u{feff}"] {
+                let s = parse_flat(&alloc::format!("{bom}{}", text.replace('\n', end))).unwrap();
+                assert_eq!(s.n_patches(), plain.n_patches(), "{end:?} {bom:?}");
+                assert_eq!(s.materials(), plain.materials(), "{end:?} {bom:?}");
+            }
+        }
+        // Before, the mark made the first keyword unknown.
+        assert!(parse_flat("\u{feff}mat rho 0.5 0.5 0.5\nseg 0 0 1 0\n").is_ok());
+        // Elsewhere it is still text (and escaped in messages).
+        assert_eq!(
+            err("seg 0 0 1 0\n\u{feff}seg 0 1 1 1\n"),
+            "line 2: unknown keyword '\\u{feff}seg'"
+        );
+    }
+
+    #[test]
+    fn line_numbers_count_cr_only_and_mixed_line_ends() {
+        assert_eq!(
+            err("\u{feff}seg 0 0 1 0\rseg 0 1 1 1\r\n\n\rseg 0 0 0 0\r"),
+            "line 5: segment has zero length"
+        );
+        // A scene without surfaces: the error is on the last line.
+        assert_eq!(err("# a\r# b\r# c\r"), "line 3: scene has no patches");
     }
 }

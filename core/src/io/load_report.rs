@@ -151,12 +151,12 @@ impl fmt::Display for LoadWarningKind {
             Self::SkippedStatement { keyword } => write!(
                 f,
                 "skipped '{}' statements (nothing sceneinfo uses)",
-                keyword.escape_debug()
+                keyword
             ),
             Self::UnknownStatement { keyword } => write!(
                 f,
                 "skipped unknown '{}' statements (not an OBJ statement sceneinfo knows)",
-                keyword.escape_debug()
+                keyword
             ),
             Self::MissingMaterialLibrary { library } if library.is_empty() => {
                 write!(f, "'mtllib' without a file name: skipped")
@@ -165,7 +165,7 @@ impl fmt::Display for LoadWarningKind {
                 f,
                 "material library '{}' not found: its materials get the default \
                  (reflectance 0, emittance 0)",
-                library.escape_debug()
+                library
             ),
             Self::UnknownMaterial { name } if name.is_empty() => write!(
                 f,
@@ -176,7 +176,7 @@ impl fmt::Display for LoadWarningKind {
                 f,
                 "material '{}' is not defined by any mtllib: its faces get the default \
                  (reflectance 0, emittance 0)",
-                name.escape_debug()
+                name
             ),
             Self::ReflectanceClamped {
                 library,
@@ -186,7 +186,7 @@ impl fmt::Display for LoadWarningKind {
                 f,
                 "material library '{}' line {line}: reflectance {value} clamped to {} \
                  (it must be below 1)",
-                library.escape_debug(),
+                library,
                 crate::scene::Material::MAX_REFLECTANCE
             ),
             Self::AmbientOnlyLamps {
@@ -196,7 +196,7 @@ impl fmt::Display for LoadWarningKind {
                 write!(
                     f,
                     "no material emits (no Ke > 0), but material '{}' ",
-                    material.escape_debug()
+                    material
                 )?;
                 if *materials > 1 {
                     write!(f, "and {} more have", materials - 1)?;
@@ -212,7 +212,7 @@ impl fmt::Display for LoadWarningKind {
             Self::FormatByContent { extension, format } => write!(
                 f,
                 "the extension says '.{}' but the content is {format}: read as {format}",
-                extension.escape_debug()
+                extension
             ),
             Self::DegenerateFace => {
                 write!(f, "skipped faces with fewer than 3 vertices or no area")

@@ -130,11 +130,6 @@ impl ObjOptions {
     }
 }
 
-/// 1-based line numbers, saturating.
-fn line_number(k: usize) -> u32 {
-    u32::try_from(k + 1).unwrap_or(u32::MAX)
-}
-
 /// The statement part of a line: everything before `#`.
 fn content(raw: &str) -> &str {
     raw.split('#').next().unwrap_or("")
@@ -144,13 +139,13 @@ fn content(raw: &str) -> &str {
 /// removed, and lines whose statement ends with `\` joined to the next (the backslash and
 /// the line break read as one space).
 struct Statements<'a> {
-    lines: core::iter::Enumerate<core::str::Lines<'a>>,
+    lines: super::text::Lines<'a>,
 }
 
 impl<'a> Statements<'a> {
     fn new(text: &'a str) -> Self {
         Self {
-            lines: text.lines().enumerate(),
+            lines: super::text::lines(text),
         }
     }
 }
@@ -159,10 +154,10 @@ impl<'a> Iterator for Statements<'a> {
     type Item = (u32, Cow<'a, str>);
 
     fn next(&mut self) -> Option<Self::Item> {
-        let (k, raw) = self.lines.next()?;
+        let (line_no, raw) = self.lines.next()?;
         let first = content(raw);
         let Some(head) = first.trim_end().strip_suffix('\\') else {
-            return Some((line_number(k), Cow::Borrowed(first)));
+            return Some((line_no, Cow::Borrowed(first)));
         };
         // Join continued lines (bounded by the lines left)
         let mut joined = String::from(head);
@@ -177,7 +172,7 @@ impl<'a> Iterator for Statements<'a> {
                 break;
             }
         }
-        Some((line_number(k), Cow::Owned(joined)))
+        Some((line_no, Cow::Owned(joined)))
     }
 }
 
@@ -270,7 +265,7 @@ pub fn parse_obj(
         ambient_lamps: BTreeMap::new(),
     };
     // The line after the last one, for a scene without faces
-    let last_line = line_number(obj.lines().count().saturating_sub(1));
+    let last_line = super::text::lines(obj).last().map_or(1, |(n, _)| n);
     // The line of each face, to locate coincident faces found at the end
     let mut face_lines: Vec<u32> = Vec::new();
     for (line_no, statement) in Statements::new(obj) {

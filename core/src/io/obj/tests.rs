@@ -683,3 +683,52 @@ fn faces_read_counts_the_faces_as_written() {
     assert_eq!((report.faces_read, s.n_patches()), (6, 54));
     assert!(report.warnings.is_empty());
 }
+
+/// `text` with every `\n` made `end`.
+fn with_line_ends(text: &str, end: &str) -> String {
+    text.replace('\n', end)
+}
+
+#[test]
+fn byte_order_mark_and_every_line_end_read_alike() {
+    let plain = parse(CORNELL_OBJ, Subdivision::Grid(2), cornell_mtl).unwrap();
+    for end in ["\r\n", "\r"] {
+        for bom in ["", "\u{feff}"] {
+            let obj = format!("{bom}{}", with_line_ends(CORNELL_OBJ, end));
+            let mtl =
+                |name: &str| cornell_mtl(name).map(|m| format!("{bom}{}", with_line_ends(&m, end)));
+            let s = parse(&obj, Subdivision::Grid(2), mtl).unwrap();
+            assert_eq!(s.n_patches(), plain.n_patches(), "{end:?} {bom:?}");
+            assert_eq!(s.materials(), plain.materials(), "{end:?} {bom:?}");
+            assert_eq!(s.objects(), plain.objects(), "{end:?} {bom:?}");
+            assert_eq!(s.bounds(), plain.bounds(), "{end:?} {bom:?}");
+        }
+    }
+    // A byte-order mark before a `newmtl` no longer hides it.
+    let (s, _) = load(
+        "mtllib m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n",
+        ObjOptions::default(),
+        |_| Some("\u{feff}newmtl a\r\rKd 0.5 0.25 0.125\r".into()),
+    );
+    assert_eq!(s.materials()[0].reflectance, [0.5, 0.25, 0.125]);
+}
+
+#[test]
+fn line_numbers_count_cr_only_and_mixed_line_ends() {
+    // Lines 1-3 end in CR, CRLF and LF; the bad face is on line 5.
+    let obj = "\u{feff}v 0 0 0\rv 1 0 0\r\nv 0 1 0\n\rf 1 2 9\r";
+    assert_eq!(
+        err(obj),
+        "line 5: vertex index 9 out of range (3 vertices defined so far; 0 is never valid)"
+    );
+    // Continuations join across a CR-only break.
+    assert_eq!(
+        err("v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 \\\r2 \\\r\r3\r"),
+        "line 4: face needs 3 to 256 vertices, got 2"
+    );
+    // Errors inside a CR-only library name its line too.
+    assert_eq!(
+        err_with("v 0 0 0\rmtllib box.mtl\r", "# x\rnewmtl a\rKe 0 -1 0\r"),
+        "line 2: material library 'box.mtl' line 3: emittance -1 is negative"
+    );
+}
