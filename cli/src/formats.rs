@@ -197,25 +197,43 @@ pub fn read_scene_file(path: &Path) -> Result<(Vec<u8>, Format, Option<LoadWarni
 /// # Errors
 /// `file: cannot read`, or the size refusal.
 pub fn read_capped(path: &Path) -> Result<Vec<u8>> {
-    let file = fs::File::open(path).with_context(|| format!("{}: cannot read", path.display()))?;
-    let size = file
-        .metadata()
-        .with_context(|| format!("{}: cannot read", path.display()))?
-        .len();
+    read_capped_to(path, MAX_FILE_BYTES, "scene files")
+}
+
+/// Most bytes of a material library an OBJ names (MTL files are text of a few KB; the cap
+/// only stops a `mtllib` that names something huge).
+pub const MAX_LIBRARY_BYTES: u64 = 64 << 20;
+
+/// The bytes of `path`, a regular file (not a device, FIFO or folder, which may never end:
+/// `/dev/zero`), refused before reading past `cap` bytes (and, should the file grow while
+/// read, after reading one byte more); `what` names the files the cap is for.
+///
+/// # Errors
+/// `file: cannot read`, `file: not a regular file`, or the size refusal.
+pub fn read_capped_to(path: &Path, cap: u64, what: &str) -> Result<Vec<u8>> {
+    // Asked before opening: opening a FIFO waits for a writer
+    let meta = fs::metadata(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    if !meta.is_file() {
+        anyhow::bail!(
+            "{}: not a regular file (a device, pipe or folder): refused",
+            path.display()
+        );
+    }
     let too_large = |size: u64| {
         anyhow::anyhow!(
-            "{}: {size} bytes: larger than the {MAX_FILE_BYTES}-byte cap (2 GiB) on scene files",
+            "{}: {size} bytes: larger than the {cap}-byte cap on {what}",
             path.display()
         )
     };
-    if size > MAX_FILE_BYTES {
-        return Err(too_large(size));
+    if meta.len() > cap {
+        return Err(too_large(meta.len()));
     }
-    let mut bytes = Vec::with_capacity(usize::try_from(size).unwrap_or(0));
-    file.take(MAX_FILE_BYTES + 1)
+    let file = fs::File::open(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let mut bytes = Vec::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
+    file.take(cap + 1)
         .read_to_end(&mut bytes)
         .with_context(|| format!("{}: cannot read", path.display()))?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
+    if bytes.len() as u64 > cap {
         return Err(too_large(bytes.len() as u64));
     }
     Ok(bytes)

@@ -38,9 +38,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     result
 }
 
-/// Reads a text file; invalid UTF-8 is reported as in [`text_of`].
+/// Reads a text file (a regular file within [`crate::formats::MAX_FILE_BYTES`]); invalid
+/// UTF-8 is reported as in [`text_of`].
 pub fn read_text(path: &Path) -> Result<String> {
-    let bytes = fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let bytes = crate::formats::read_capped(path)?;
     text_of(path, bytes)
 }
 
@@ -73,8 +74,10 @@ fn not_utf8(path: &Path, bytes: &[u8], offset: usize) -> anyhow::Error {
 }
 
 /// Reads the material library `dir/name` for the OBJ reader: `Some(text)`, or `None`
-/// when it cannot be read (missing, a folder, no permission: the reader warns that it
-/// was not found and uses the default material). A library that can be read but is not
+/// when it is missing or a folder (the reader warns that it was not found and uses the
+/// default material). A device or pipe (`mtllib /dev/zero`), a file over
+/// [`crate::formats::MAX_LIBRARY_BYTES`] or one that cannot be read is an error, kept in
+/// `failure` like the one below. A library that can be read but is not
 /// UTF-8 (e.g. Latin-1 material names) is neither: decoding it lossily would silently
 /// rename materials, and calling it missing would hide why. Its located error
 /// ([`text_of`]) is kept in `failure` (the first one only), `None` returned, and the
@@ -85,7 +88,24 @@ fn read_library(
     failure: &RefCell<Option<anyhow::Error>>,
 ) -> Option<String> {
     let path = dir.join(name);
-    let bytes = fs::read(&path).ok()?;
+    // Missing or unreadable: "not found"; a device, pipe or huge file: an error
+    let meta = fs::metadata(&path).ok()?;
+    let read = if meta.is_dir() {
+        return None;
+    } else {
+        crate::formats::read_capped_to(
+            &path,
+            crate::formats::MAX_LIBRARY_BYTES,
+            "material libraries",
+        )
+    };
+    let bytes = match read {
+        Ok(bytes) => bytes,
+        Err(e) => {
+            failure.borrow_mut().get_or_insert(e);
+            return None;
+        }
+    };
     match text_of(&path, bytes) {
         Ok(text) => Some(text),
         Err(e) => {
@@ -151,7 +171,10 @@ pub fn print_load_warnings(path: &Path, report: &LoadReport, materials_used: boo
 /// error comes when it is loaded).
 pub fn is_3d(path: &Path) -> bool {
     let mut head = Vec::new();
-    if let Ok(f) = fs::File::open(path) {
+    // Only a regular file is opened (opening a FIFO waits for a writer); others are refused
+    // when loaded
+    let regular = fs::metadata(path).is_ok_and(|m| m.is_file());
+    if let Some(f) = regular.then(|| fs::File::open(path).ok()).flatten() {
         use std::io::Read;
         let _ = f.take(64 * 1024).read_to_end(&mut head);
     }

@@ -176,3 +176,40 @@ fn a_latin1_material_library_is_an_error_naming_it_not_a_missing_one() {
         "{stderr}"
     );
 }
+
+/// Only regular files are read: a device (`/dev/zero`, which never ends) or a FIFO (whose
+/// opening waits for a writer) named as the scene or as a material library is refused at
+/// once with its path — never read until memory runs out, never waited on.
+#[test]
+fn devices_and_pipes_are_refused_not_read() {
+    let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let zero_lib = write("devices", "zero.obj", format!("mtllib /dev/zero\n{tri}"));
+    let err = failure(&zero_lib);
+    assert!(
+        err.contains("material library: /dev/zero: not a regular file"),
+        "{err}"
+    );
+    let err = failure(Path::new("/dev/zero"));
+    assert!(err.contains("/dev/zero: not a regular file"), "{err}");
+    // A FIFO (mkfifo is POSIX; skipped where the command is missing)
+    let fifo = temp("devices-fifo.obj");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success());
+    if made {
+        for command in [&["measure"][..], &["draw", "--ply", "/dev/null"]] {
+            let out = bin().args(command).arg(&fifo).output().unwrap();
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(2), "{command:?}: {err}");
+            assert!(err.contains("not a regular file"), "{command:?}: {err}");
+        }
+        let lib = write(
+            "devices",
+            "fifo-lib.obj",
+            format!("mtllib {}\n{tri}", fifo.display()),
+        );
+        let err = failure(&lib);
+        assert!(err.contains("not a regular file"), "{err}");
+    }
+}

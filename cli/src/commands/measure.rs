@@ -7,7 +7,7 @@ use std::ops::Range;
 use std::path::Path;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use sceneinfo::continuous::{ContinuousEstimate, relative_discretisation_error};
 use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::coverage::Coverage;
@@ -477,7 +477,7 @@ fn write_partial(args: &MeasureArgs, out: &Path) -> Result<()> {
             CHUNK_LINES
         );
     }
-    let bytes = std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let bytes = crate::formats::read_capped(path)?;
     let method = sampling.method.line_method();
     let threads = threads_of(sampling);
     let job = |c: Range<u64>| (method, sampling.seed, lines, c, threads);
