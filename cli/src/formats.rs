@@ -219,9 +219,15 @@ pub fn read_capped_to(path: &Path, cap: u64, what: &str) -> Result<Vec<u8>> {
             path.display()
         );
     }
+    // The cap in the unit it was written in (2 GiB, 64 MiB)
+    let unit = if cap.is_multiple_of(1 << 30) {
+        format!("{} GiB", cap >> 30)
+    } else {
+        format!("{} MiB", cap >> 20)
+    };
     let too_large = |size: u64| {
         anyhow::anyhow!(
-            "{}: {size} bytes: larger than the {cap}-byte cap on {what}",
+            "{}: {size} bytes: larger than the {cap}-byte cap ({unit}) on {what}",
             path.display()
         )
     };
