@@ -334,14 +334,7 @@ impl SceneBuilder {
     /// patch is allocated). On error the builder is unchanged.
     pub fn polygon(&mut self, vertices: &[DVec3], s: Subdivision) -> Result<&mut Self> {
         let n = vertices.len();
-        if !(3..=MAX_FACE_VERTICES).contains(&n) {
-            return Err(ErrorKind::FaceVertexCount {
-                given: n as u64,
-                max: MAX_FACE_VERTICES as u64,
-            }
-            .into());
-        }
-        check_coordinates(vertices)?;
+        check_face_input(vertices)?;
         // Degeneracy: area and edges against the face's size
         let size = geom::bounds_diagonal(vertices);
         let vector_area = geom::polygon_normal(vertices);
@@ -505,6 +498,21 @@ impl SceneBuilder {
             .map(|f| (&self.points[f.first..f.first + f.count], f.normal))
             .collect()
     }
+}
+
+/// The checks every face passes before anything else, strict or as drawn: 3 to
+/// [`MAX_FACE_VERTICES`] vertices ([`ErrorKind::FaceVertexCount`]), then
+/// [`check_coordinates`].
+fn check_face_input(vertices: &[DVec3]) -> Result<()> {
+    let n = vertices.len();
+    if !(3..=MAX_FACE_VERTICES).contains(&n) {
+        return Err(ErrorKind::FaceVertexCount {
+            given: n as u64,
+            max: MAX_FACE_VERTICES as u64,
+        }
+        .into());
+    }
+    check_coordinates(vertices)
 }
 
 /// Checks that every coordinate is finite and within [`MAX_COORDINATE`].

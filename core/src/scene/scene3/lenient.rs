@@ -28,7 +28,7 @@
 //!    with a warning (`pieces_dropped`).
 //!
 //! Errors stay errors where nothing sensible can be drawn: a vertex count outside
-//! `3..=`[`MAX_FACE_VERTICES`], non-finite or out-of-range coordinates, a bad subdivision,
+//! `3..=`[`MAX_FACE_VERTICES`](super::MAX_FACE_VERTICES), non-finite or out-of-range coordinates, a bad subdivision,
 //! too many patches.
 //!
 //! `10⁻³` for the drawn tolerance: exporters' round-off and hand-made boxes stay within it
@@ -40,8 +40,8 @@
 use alloc::vec::Vec;
 
 use super::{
-    CONVEXITY_TOLERANCE, DEGENERACY_TOLERANCE, MAX_FACE_VERTICES, MAX_PATCHES_3D,
-    PLANARITY_TOLERANCE, SceneBuilder, Subdivision, check_coordinates,
+    CONVEXITY_TOLERANCE, DEGENERACY_TOLERANCE, MAX_PATCHES_3D, PLANARITY_TOLERANCE, SceneBuilder,
+    Subdivision, check_face_input,
 };
 use crate::error::{ErrorKind, Result};
 use crate::geom::{self, DVec3};
@@ -85,16 +85,9 @@ impl SceneBuilder {
         report: &mut LoadReport,
         line: Option<u32>,
     ) -> Result<()> {
-        let n = vertices.len();
-        if !(3..=MAX_FACE_VERTICES).contains(&n) {
-            return Err(ErrorKind::FaceVertexCount {
-                given: n as u64,
-                max: MAX_FACE_VERTICES as u64,
-            }
-            .into());
-        }
-        check_coordinates(vertices)?;
+        check_face_input(vertices)?;
         s.validate()?;
+        let n = vertices.len();
         report.faces_read = report.faces_read.saturating_add(1);
         let size = geom::bounds_diagonal(vertices);
         // 1. Consecutive repeated vertices (a copy only when there are some)
