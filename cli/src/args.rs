@@ -8,6 +8,11 @@ use clap::{Parser, Subcommand};
 #[derive(Debug, Parser)]
 #[command(name = "sceneinfo", version, about, long_about = None)]
 pub struct Cli {
+    /// Largest input file read, in bytes or with a suffix K, M, G, T (`64M`, `2G`): scene
+    /// files, material libraries, glTF buffers, partial results, reference PLYs. Larger files
+    /// are refused before reading. Default: 2 GiB, and 64 MiB for material libraries.
+    #[arg(long, global = true, value_name = "SIZE", value_parser = parse_bytes)]
+    pub max_input: Option<u64>,
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
@@ -524,17 +529,17 @@ pub struct RefineArgs {
     pub reference: Option<PathBuf>,
     /// With --png: the camera's eye, `x,y,z` (default: in front of the scene, on its −z
     /// side, far enough to frame it).
-    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
-    pub eye: Option<String>,
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_point)]
+    pub eye: Option<[f64; 3]>,
     /// With --png: the point the camera looks at, `x,y,z` (default: the scene's centre).
-    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
-    pub look: Option<String>,
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_point)]
+    pub look: Option<[f64; 3]>,
     /// With --png: vertical field of view in degrees.
-    #[arg(long, value_name = "DEG", default_value_t = 40.0)]
+    #[arg(long, value_name = "DEG", default_value = "40", value_parser = parse_fov)]
     pub fov: f64,
-    /// With --png: image size in pixels, `WxH`.
-    #[arg(long, value_name = "WxH", default_value = "800x800")]
-    pub size: String,
+    /// With --png: image size in pixels, `WxH`, each 16 to 8192.
+    #[arg(long, value_name = "WxH", default_value = "800x800", value_parser = parse_picture_size)]
+    pub size: (u32, u32),
     /// Write the refined flatland mesh as a .flat file (it reads back bit for bit).
     #[arg(short, long, value_name = "OUT.flat")]
     pub output: Option<PathBuf>,
@@ -546,6 +551,55 @@ pub struct RefineArgs {
         value_parser = clap::value_parser!(u32).range(200..=20000)
     )]
     pub width: u32,
+}
+
+/// Picture sides accepted by `--size` (a 16-pixel picture shows nothing useful; 8192² RGB
+/// pixels with their depths are about 1 GB).
+pub const PICTURE_SIDES: std::ops::RangeInclusive<u32> = 16..=8192;
+
+/// Parses a picture size `WxH` (`800x600`), each side in [`PICTURE_SIDES`]: refused while
+/// the arguments are read, before any work, so `--size 0x0` never reaches the renderer.
+pub fn parse_picture_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("'{s}' is not a picture size WxH (e.g. 800x600)"))?;
+    let side = |t: &str| {
+        t.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|v| PICTURE_SIDES.contains(v))
+    };
+    match (side(w), side(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => Err(format!(
+            "'{s}': width and height must be whole numbers of pixels, {} to {}",
+            PICTURE_SIDES.start(),
+            PICTURE_SIDES.end()
+        )),
+    }
+}
+
+/// Parses a point `x,y,z` of three finite numbers (`--eye`, `--look`).
+pub fn parse_point(s: &str) -> Result<[f64; 3], String> {
+    let bad = || format!("'{s}' is not a point x,y,z of three finite numbers");
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>().map_err(|_| bad()))
+        .collect::<Result<_, _>>()?;
+    match v[..] {
+        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok([x, y, z]),
+        _ => Err(bad()),
+    }
+}
+
+/// Parses a field of view in degrees, strictly between 0 and 180 (`--fov`).
+pub fn parse_fov(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v > 0.0 && v < 180.0 => Ok(v),
+        _ => Err(format!(
+            "'{s}' is not a field of view: degrees strictly between 0 and 180"
+        )),
+    }
 }
 
 /// Refinement oracles (thesis chapter 6).
@@ -570,7 +624,24 @@ pub enum Oracle {
 
 #[cfg(test)]
 mod memory_size_tests {
-    use super::parse_bytes;
+    use super::{parse_bytes, parse_fov, parse_picture_size, parse_point};
+
+    #[test]
+    fn camera_arguments_are_checked_when_read() {
+        assert_eq!(parse_picture_size("800x600"), Ok((800, 600)));
+        assert_eq!(parse_picture_size("16X8192"), Ok((16, 8192)));
+        for bad in ["0x0", "800", "x", "15x100", "100x8193", "-1x100", "axb", ""] {
+            assert!(parse_picture_size(bad).is_err(), "{bad}");
+        }
+        assert_eq!(parse_point("1,-2, 3.5"), Ok([1.0, -2.0, 3.5]));
+        for bad in ["1,2", "1,2,3,4", "1,nan,3", "1,inf,3", "a,b,c", ""] {
+            assert!(parse_point(bad).is_err(), "{bad}");
+        }
+        assert_eq!(parse_fov("40"), Ok(40.0));
+        for bad in ["0", "180", "-5", "nan", "inf", "wide"] {
+            assert!(parse_fov(bad).is_err(), "{bad}");
+        }
+    }
 
     #[test]
     fn memory_sizes_take_binary_suffixes() {

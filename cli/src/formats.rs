@@ -18,6 +18,7 @@ pub mod ply_scene;
 use std::fs;
 use std::io::Read;
 use std::path::Path;
+use std::sync::OnceLock;
 
 use anyhow::{Context, Result};
 use sceneinfo::io::LoadWarningKind;
@@ -191,25 +192,55 @@ pub fn read_scene_file(path: &Path) -> Result<(Vec<u8>, Format, Option<LoadWarni
     Ok((bytes, format, note))
 }
 
-/// The bytes of `path`, refused before reading past [`MAX_FILE_BYTES`] (and, should the
-/// file grow while read, after reading one byte more).
+/// The input cap set by `--max-input`, if given ([`set_max_input`]).
+static MAX_INPUT: OnceLock<u64> = OnceLock::new();
+
+/// Sets the cap of every input file read from now on (`--max-input`), replacing both
+/// [`MAX_FILE_BYTES`] and [`MAX_LIBRARY_BYTES`]. Called once, at start-up, before any file
+/// is read; a second call is ignored.
+pub fn set_max_input(cap: u64) {
+    let _ = MAX_INPUT.set(cap);
+}
+
+/// The cap on an input whose default cap is `default`: `--max-input` if given.
+#[must_use]
+pub fn input_cap(default: u64) -> u64 {
+    MAX_INPUT.get().copied().unwrap_or(default)
+}
+
+/// The bytes of `path`, refused before reading past [`MAX_FILE_BYTES`] or `--max-input`
+/// (and, should the file grow while read, after reading one byte more).
 ///
 /// # Errors
 /// `file: cannot read`, or the size refusal.
 pub fn read_capped(path: &Path) -> Result<Vec<u8>> {
-    read_capped_to(path, MAX_FILE_BYTES, "scene files")
+    read_capped_to(path, input_cap(MAX_FILE_BYTES), "scene files")
 }
 
 /// Most bytes of a material library an OBJ names (MTL files are text of a few KB; the cap
 /// only stops a `mtllib` that names something huge).
 pub const MAX_LIBRARY_BYTES: u64 = 64 << 20;
 
+/// A byte count in the binary unit it is a whole number of (`2 GiB`, `64 MiB`, `4 KiB`),
+/// else to one decimal in the largest unit below it (`1.5 KiB`); `None` under 1 KiB.
+fn binary_size(bytes: u64) -> Option<String> {
+    const UNITS: [(u32, &str); 4] = [(40, "TiB"), (30, "GiB"), (20, "MiB"), (10, "KiB")];
+    let (shift, unit) = UNITS.into_iter().find(|&(shift, _)| bytes >> shift > 0)?;
+    Some(if bytes.is_multiple_of(1 << shift) {
+        format!("{} {unit}", bytes >> shift)
+    } else {
+        format!("{:.1} {unit}", bytes as f64 / (1u64 << shift) as f64)
+    })
+}
+
 /// The bytes of `path`, a regular file (not a device, FIFO or folder, which may never end:
 /// `/dev/zero`), refused before reading past `cap` bytes (and, should the file grow while
-/// read, after reading one byte more); `what` names the files the cap is for.
+/// read, after reading one byte more); `what` names the files the cap is for. Every input
+/// file the CLI reads comes through here.
 ///
 /// # Errors
-/// `file: cannot read`, `file: not a regular file`, or the size refusal.
+/// `file: cannot read`, `file: not a regular file`, or the size refusal
+/// `file: N bytes, larger than CAP bytes (2 GiB), the cap on WHAT; raise --max-input`.
 pub fn read_capped_to(path: &Path, cap: u64, what: &str) -> Result<Vec<u8>> {
     // Asked before opening: opening a FIFO waits for a writer
     let meta = fs::metadata(path).with_context(|| format!("{}: cannot read", path.display()))?;
@@ -219,15 +250,12 @@ pub fn read_capped_to(path: &Path, cap: u64, what: &str) -> Result<Vec<u8>> {
             path.display()
         );
     }
-    // The cap in the unit it was written in (2 GiB, 64 MiB)
-    let unit = if cap.is_multiple_of(1 << 30) {
-        format!("{} GiB", cap >> 30)
-    } else {
-        format!("{} MiB", cap >> 20)
-    };
+    // The cap in bytes and in the unit it was written in (2 GiB, 64 MiB)
+    let unit = binary_size(cap).map_or(String::new(), |u| format!(" ({u})"));
     let too_large = |size: u64| {
         anyhow::anyhow!(
-            "{}: {size} bytes: larger than the {cap}-byte cap ({unit}) on {what}",
+            "{}: {size} bytes, larger than {cap} bytes{unit}, the cap on {what}; \
+             raise --max-input",
             path.display()
         )
     };
@@ -236,7 +264,7 @@ pub fn read_capped_to(path: &Path, cap: u64, what: &str) -> Result<Vec<u8>> {
     }
     let file = fs::File::open(path).with_context(|| format!("{}: cannot read", path.display()))?;
     let mut bytes = Vec::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
-    file.take(cap + 1)
+    file.take(cap.saturating_add(1))
         .read_to_end(&mut bytes)
         .with_context(|| format!("{}: cannot read", path.display()))?;
     if bytes.len() as u64 > cap {
@@ -273,5 +301,14 @@ mod tests {
         assert_eq!(sniff(b"\xff\xfe"), None);
         // "plyx" is not the PLY magic line
         assert_eq!(sniff(b"plyx\n"), None);
+    }
+
+    #[test]
+    fn caps_are_written_in_their_unit() {
+        assert_eq!(binary_size(2 << 30).as_deref(), Some("2 GiB"));
+        assert_eq!(binary_size(64 << 20).as_deref(), Some("64 MiB"));
+        assert_eq!(binary_size(1536).as_deref(), Some("1.5 KiB"));
+        assert_eq!(binary_size(1000), None);
+        assert_eq!(binary_size(0), None);
     }
 }

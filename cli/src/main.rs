@@ -22,6 +22,9 @@ use clap::Parser;
 
 fn main() -> ExitCode {
     let cli = args::Cli::parse();
+    if let Some(cap) = cli.max_input {
+        formats::set_max_input(cap);
+    }
     interrupt::install();
     match commands::run(cli) {
         Ok(()) => ExitCode::SUCCESS,

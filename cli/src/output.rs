@@ -3,33 +3,49 @@
 use std::cell::RefCell;
 use std::fs;
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use sceneinfo::io::LoadReport;
 
 use crate::formats::Format;
 
-/// Writes `bytes` to `path` through a temporary file in the same directory and a rename,
-/// so an interrupted run never leaves a half-written file behind.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+/// The hidden temporary file [`write_atomic`] writes `path` through: `.NAME.tmpPID` in
+/// the same folder (a rename is atomic only within one file system), and that folder.
+///
+/// # Errors
+/// `path: no file name` for a path such as `/` or `dir/..`.
+fn temporary_for(path: &Path) -> Result<(PathBuf, PathBuf)> {
     let dir = path
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path.file_name().context("output path has no file name")?;
+        .unwrap_or(Path::new("."))
+        .to_path_buf();
+    let name = path
+        .file_name()
+        .with_context(|| format!("{}: cannot write: the path has no file name", path.display()))?;
     let tmp = dir.join(format!(
         ".{}.tmp{}",
         name.to_string_lossy(),
         std::process::id()
     ));
+    Ok((dir, tmp))
+}
+
+/// Writes `bytes` to `path` through a temporary file in the same directory and a rename,
+/// so an interrupted run never leaves a half-written file behind. Errors name `path`, the
+/// user's file, never the hidden temporary one, which is removed on any failure.
+///
+/// # Errors
+/// `path: cannot write: why`.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let (_, tmp) = temporary_for(path)?;
+    let cannot = |e: std::io::Error| anyhow::anyhow!("{}: cannot write: {e}", path.display());
     let result = (|| -> Result<()> {
-        let mut f =
-            fs::File::create(&tmp).with_context(|| format!("{}: cannot create", tmp.display()))?;
-        f.write_all(bytes)
-            .with_context(|| format!("{}: cannot write", tmp.display()))?;
+        let mut f = fs::File::create(&tmp).map_err(cannot)?;
+        f.write_all(bytes).map_err(cannot)?;
         f.sync_all().ok();
-        fs::rename(&tmp, path).with_context(|| format!("{}: cannot write", path.display()))?;
+        fs::rename(&tmp, path).map_err(cannot)?;
         Ok(())
     })();
     if result.is_err() {
@@ -38,7 +54,73 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     result
 }
 
-/// Reads a text file (a regular file within [`crate::formats::MAX_FILE_BYTES`]); invalid
+/// Checks, before any work, that [`write_atomic`] will be able to write `path`: its folder
+/// exists and is a folder, `path` is not a folder, device or pipe (the rename would replace
+/// it, or fail at the end of the job), and the temporary file can be created there — it is
+/// created and removed at once, so nothing is left behind. A job that would run for an hour
+/// and then fail to save its result is refused in a millisecond instead.
+///
+/// # Errors
+/// `path: cannot write: why` (the user's path, never the temporary file's).
+pub fn check_writable(path: &Path) -> Result<()> {
+    let (dir, tmp) = temporary_for(path)?;
+    let refuse = |why: String| Err(anyhow::anyhow!("{}: cannot write: {why}", path.display()));
+    // `out/` names a folder, even one that does not exist yet (the rename would make a file)
+    if path.as_os_str().to_string_lossy().ends_with(std::path::is_separator) {
+        return refuse("it names a folder; give a file name".to_owned());
+    }
+    match fs::metadata(&dir) {
+        Ok(m) if m.is_dir() => {}
+        Ok(_) => return refuse(format!("{} is not a folder", dir.display())),
+        Err(_) => return refuse(format!("the folder {} does not exist", dir.display())),
+    }
+    // An existing output is replaced whole: only a regular file may be
+    if let Ok(m) = fs::metadata(path) {
+        if m.is_dir() {
+            return refuse("it is a folder; give a file name".to_owned());
+        }
+        if !m.is_file() {
+            return refuse("it is a device or pipe, not a regular file".to_owned());
+        }
+    }
+    // The probe: the very temporary file the write will use, created and removed
+    match fs::OpenOptions::new().write(true).create_new(true).open(&tmp) {
+        Ok(f) => {
+            drop(f);
+            let _ = fs::remove_file(&tmp);
+            Ok(())
+        }
+        // Left by a run of an earlier process with our id, or a folder of that name
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+            match fs::OpenOptions::new().write(true).open(&tmp) {
+                Ok(_) => Ok(()),
+                Err(e) => refuse(e.to_string()),
+            }
+        }
+        Err(e) => refuse(e.to_string()),
+    }
+}
+
+/// [`check_writable`] for every output of a command, and no path given twice (the second
+/// write would replace the first).
+///
+/// # Errors
+/// The first [`check_writable`] error, or `path: given twice (FLAG and FLAG)`.
+pub fn check_outputs(outputs: &[(&str, &Path)]) -> Result<()> {
+    for (k, (flag, path)) in outputs.iter().enumerate() {
+        if let Some((other, _)) = outputs[..k].iter().find(|(_, p)| p == path) {
+            anyhow::bail!(
+                "{}: given as two outputs ({other} and {flag}); the second would replace the first",
+                path.display()
+            );
+        }
+        check_writable(path)?;
+    }
+    Ok(())
+}
+
+/// Reads a text file (a regular file within [`crate::formats::MAX_FILE_BYTES`] or
+/// `--max-input`); invalid
 /// UTF-8 is reported as in [`text_of`].
 pub fn read_text(path: &Path) -> Result<String> {
     let bytes = crate::formats::read_capped(path)?;
@@ -76,7 +158,7 @@ fn not_utf8(path: &Path, bytes: &[u8], offset: usize) -> anyhow::Error {
 /// Reads the material library `dir/name` for the OBJ reader: `Some(text)`, or `None`
 /// when it is missing or a folder (the reader warns that it was not found and uses the
 /// default material). A device or pipe (`mtllib /dev/zero`), a file over
-/// [`crate::formats::MAX_LIBRARY_BYTES`] or one that cannot be read is an error, kept in
+/// [`crate::formats::MAX_LIBRARY_BYTES`] (or `--max-input`) or one that cannot be read is an error, kept in
 /// `failure` like the one below. A library that can be read but is not
 /// UTF-8 (e.g. Latin-1 material names) is neither: decoding it lossily would silently
 /// rename materials, and calling it missing would hide why. Its located error
@@ -95,7 +177,7 @@ fn read_library(
     } else {
         crate::formats::read_capped_to(
             &path,
-            crate::formats::MAX_LIBRARY_BYTES,
+            crate::formats::input_cap(crate::formats::MAX_LIBRARY_BYTES),
             "material libraries",
         )
     };
@@ -184,7 +266,8 @@ pub fn is_3d(path: &Path) -> bool {
 
 /// Loads a scene file of any format ([`crate::formats`]: by content, then extension):
 /// `.flat`, OBJ (`mtllib` names resolve relative to the OBJ's folder), glTF / GLB, PLY.
-/// Files over [`crate::formats::MAX_FILE_BYTES`] are refused before reading.
+/// Files over [`crate::formats::MAX_FILE_BYTES`] (or `--max-input`) are refused before
+/// reading.
 ///
 /// # Errors
 /// `file:line: what` for text formats, `file: where: what` for the others.

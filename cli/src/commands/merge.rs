@@ -6,7 +6,7 @@ use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use sceneinfo::formfactor::partial::{Partial, merge_partials};
 
 use crate::args::MergeArgs;
@@ -17,8 +17,12 @@ pub fn run(args: &MergeArgs) -> Result<()> {
     let start = Instant::now();
     let mut parts = Vec::with_capacity(args.files.len());
     for path in &args.files {
-        let bytes =
-            std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?;
+        // A regular file within the input cap, like every file the CLI reads
+        let bytes = crate::formats::read_capped_to(
+            path,
+            crate::formats::input_cap(crate::formats::MAX_FILE_BYTES),
+            "partial results",
+        )?;
         parts.push(Partial::from_bytes(&bytes).map_err(|e| located(path, &e))?);
     }
     let first = &args.files[0];

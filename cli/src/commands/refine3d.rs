@@ -75,6 +75,11 @@ impl Config {
         if args.output.is_some() {
             bail!("{file}: -o writes refined .flat scenes; for a .obj scene use --ply or --png");
         }
+        // The camera's flags were read by clap (sizes, points, field of view); the pair here
+        // is checked before the job rather than at the picture
+        if args.eye.is_some() && args.eye == args.look {
+            bail!("{file}: --eye and --look must differ (the camera looks from one to the other)");
+        }
         let pairs = args.pairs.unwrap_or(10) as usize;
         if !(1..=MAX_PAIRS).contains(&pairs) {
             bail!("{file}: --pairs {pairs} must be 1 to {MAX_PAIRS}");
@@ -414,48 +419,18 @@ fn mesh_ply(h: &Hierarchy, file: &Path, config: &Config, eps: f64) -> Result<Str
     ply.finish()
 }
 
-/// Parses `x,y,z`.
-fn triple(flag: &str, s: &str) -> Result<DVec3> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|t| t.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .with_context(|| format!("{flag} {s}: expected x,y,z"))?;
-    match v[..] {
-        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(DVec3::new(x, y, z)),
-        _ => bail!("{flag} {s}: expected three finite numbers x,y,z"),
-    }
-}
-
-/// Parses `WxH`.
-fn size(s: &str) -> Result<(u32, u32)> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .with_context(|| format!("--size {s}: expected WxH, e.g. 800x600"))?;
-    let parse = |t: &str| {
-        t.trim()
-            .parse::<u32>()
-            .ok()
-            .filter(|v| (16..=8192).contains(v))
-    };
-    match (parse(w), parse(h)) {
-        (Some(w), Some(h)) => Ok((w, h)),
-        _ => bail!("--size {s}: width and height must be 16 to 8192"),
-    }
-}
-
 /// Renders the leaves: Gouraud-shaded radiosity, element edges, z-buffer; PNG bytes.
 fn render(h: &Hierarchy, scene: &Scene, args: &RefineArgs) -> Result<Vec<u8>> {
-    let (width, height) = size(&args.size)?;
+    let (width, height) = args.size;
     let (lo, hi) = scene.bounds();
     let framing = Camera::framing(lo, hi, args.fov, width, height);
     let camera = Camera {
         eye: match &args.eye {
-            Some(s) => triple("--eye", s)?,
+            Some(p) => DVec3::from_array(*p),
             None => framing.eye,
         },
         look: match &args.look {
-            Some(s) => triple("--look", s)?,
+            Some(p) => DVec3::from_array(*p),
             None => framing.look,
         },
         ..framing

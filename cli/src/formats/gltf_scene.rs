@@ -215,7 +215,7 @@ fn load_buffers(
 }
 
 /// The bytes a buffer URI names: a base64 `data:` URI, or a file relative to `dir`
-/// (percent-escapes decoded), held to [`super::MAX_FILE_BYTES`].
+/// (percent-escapes decoded), held to [`super::MAX_FILE_BYTES`] (or `--max-input`).
 fn read_uri(uri: &str, dir: &Path) -> Result<Vec<u8>> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let (_, data) = rest
