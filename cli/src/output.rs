@@ -21,9 +21,12 @@ fn temporary_for(path: &Path) -> Result<(PathBuf, PathBuf)> {
         .filter(|d| !d.as_os_str().is_empty())
         .unwrap_or(Path::new("."))
         .to_path_buf();
-    let name = path
-        .file_name()
-        .with_context(|| format!("{}: cannot write: the path has no file name", path.display()))?;
+    let name = path.file_name().with_context(|| {
+        format!(
+            "{}: cannot write: the path has no file name",
+            path.display()
+        )
+    })?;
     let tmp = dir.join(format!(
         ".{}.tmp{}",
         name.to_string_lossy(),
@@ -66,7 +69,11 @@ pub fn check_writable(path: &Path) -> Result<()> {
     let (dir, tmp) = temporary_for(path)?;
     let refuse = |why: String| Err(anyhow::anyhow!("{}: cannot write: {why}", path.display()));
     // `out/` names a folder, even one that does not exist yet (the rename would make a file)
-    if path.as_os_str().to_string_lossy().ends_with(std::path::is_separator) {
+    if path
+        .as_os_str()
+        .to_string_lossy()
+        .ends_with(std::path::is_separator)
+    {
         return refuse("it names a folder; give a file name".to_owned());
     }
     match fs::metadata(&dir) {
@@ -84,7 +91,11 @@ pub fn check_writable(path: &Path) -> Result<()> {
         }
     }
     // The probe: the very temporary file the write will use, created and removed
-    match fs::OpenOptions::new().write(true).create_new(true).open(&tmp) {
+    match fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&tmp)
+    {
         Ok(f) => {
             drop(f);
             let _ = fs::remove_file(&tmp);
@@ -119,11 +130,15 @@ pub fn check_outputs(outputs: &[(&str, &Path)]) -> Result<()> {
     Ok(())
 }
 
-/// Reads a text file (a regular file within [`crate::formats::MAX_FILE_BYTES`] or
-/// `--max-input`); invalid
-/// UTF-8 is reported as in [`text_of`].
-pub fn read_text(path: &Path) -> Result<String> {
-    let bytes = crate::formats::read_capped(path)?;
+/// Reads a text file: a regular file within `--max-input` (default
+/// [`crate::formats::MAX_FILE_BYTES`]), `what` naming such files in the size refusal;
+/// invalid UTF-8 is reported as in [`text_of`].
+///
+/// # Errors
+/// Those of [`crate::formats::read_capped_to`] and [`text_of`].
+pub fn read_text(path: &Path, what: &str) -> Result<String> {
+    let cap = crate::formats::input_cap(crate::formats::MAX_FILE_BYTES);
+    let bytes = crate::formats::read_capped_to(path, cap, what)?;
     text_of(path, bytes)
 }
 
@@ -315,18 +330,50 @@ pub fn load_scene_with(path: &Path, options: &sceneinfo::io::ObjOptions) -> Resu
     Ok(LoadedScene { scene, report })
 }
 
-/// Exact form factors of a 3D scene when no pair can be occluded; otherwise an error that
-/// asks for `--lines` (exact 3D form factors with occlusion are not implemented).
+/// Loads a scene that [`is_3d`] called flatland through [`load_scene`], the one loading
+/// path of every command (so `draw` and `refine` accept and refuse exactly the files
+/// `measure` does, with the same messages), and prints its warnings.
+///
+/// # Errors
+/// [`load_scene`]'s; `file: not a flatland scene` should the whole file turn out to be 3D
+/// (a glTF whose `"asset"` key lies beyond the first 64 KiB [`is_3d`] looks at).
+pub fn load_flat(path: &Path) -> Result<sceneinfo::scene::FlatScene> {
+    let loaded = load_scene(path)?;
+    loaded.print_warnings(path, false);
+    match loaded.scene {
+        Loaded::Flat(scene) => Ok(scene),
+        Loaded::Solid(_) => anyhow::bail!(
+            "{}: not a flatland scene (read as 3D by its whole content)",
+            path.display()
+        ),
+    }
+}
+
+/// A job refusal: the scene loaded (every command accepts it alike), but this command, with
+/// these flags, cannot do what was asked of it — exact form factors of an occluded 3D scene,
+/// a refined mesh too fine to measure. Worded apart from a load refusal (`file:line: what`)
+/// so that a user knows the file is fine and the flags are what to change.
+#[must_use]
+pub fn job_refused(path: &Path, what: impl std::fmt::Display) -> anyhow::Error {
+    anyhow::anyhow!(
+        "{}: the scene is valid, but this job cannot run on it: {what}",
+        path.display()
+    )
+}
+
+/// Exact form factors of a 3D scene when no pair can be occluded; otherwise a
+/// [`job_refused`] that asks for `--lines` (exact 3D form factors with occlusion are not
+/// implemented).
 pub fn exact_3d_form_factors(
     path: &Path,
     scene: &sceneinfo::scene::Scene,
 ) -> Result<sceneinfo::formfactor::FormFactors> {
     sceneinfo::formfactor::exact_3d::scene_form_factors(scene).map_err(|e| {
         if matches!(e.kind(), sceneinfo::ErrorKind::MayBeOccluded) {
-            anyhow::anyhow!(
-                "{}: some patches may hide others; exact 3D form factors are computed only for \
+            job_refused(
+                path,
+                "some patches may hide others; exact 3D form factors are computed only for \
                  unoccluded scenes: use --lines N for a Monte Carlo estimate",
-                path.display()
             )
         } else {
             located(path, &e)

@@ -198,11 +198,16 @@ fn devices_and_pipes_are_refused_not_read() {
         .status()
         .is_ok_and(|s| s.success());
     if made {
-        for command in [&["measure"][..], &["draw", "--ply", "/dev/null"]] {
+        // (An output must be a regular file too: draw writes a temporary PLY that is
+        // never created, as the scene is refused first)
+        let ply = temp("devices-fifo-out.ply");
+        let ply = ply.to_str().unwrap();
+        for command in [&["measure"][..], &["draw", "--ply", ply]] {
             let out = bin().args(command).arg(&fifo).output().unwrap();
             let err = String::from_utf8_lossy(&out.stderr);
             assert_eq!(out.status.code(), Some(2), "{command:?}: {err}");
-            assert!(err.contains("not a regular file"), "{command:?}: {err}");
+            let want = format!("{}: not a regular file", fifo.display());
+            assert!(err.contains(&want), "{command:?}: {err}");
         }
         let lib = write(
             "devices",

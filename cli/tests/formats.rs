@@ -535,7 +535,8 @@ fn broken_files_give_located_errors() {
         .unwrap();
     fails(
         &huge,
-        "2147483649 bytes: larger than the 2147483648-byte cap (2 GiB) on scene files",
+        "2147483649 bytes, larger than 2147483648 bytes (2 GiB), the cap on scene files; \
+         raise --max-input",
     );
     std::fs::remove_file(&huge).unwrap();
     // Not glTF at all

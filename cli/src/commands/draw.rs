@@ -11,7 +11,7 @@ use sceneinfo::formfactor::exact_2d;
 use sceneinfo::scene::FlatScene;
 
 use crate::args::{Colour, DrawArgs};
-use crate::output::{located, read_text, write_atomic};
+use crate::output::{located, write_atomic};
 use crate::svg::{Anchor, ColourMap, Rgb, Scale, Svg, number};
 
 /// Lines cast for `ic` and `delta` when `--lines` is not given.
@@ -104,9 +104,8 @@ pub fn run(args: &DrawArgs) -> Result<()> {
             args.file.display()
         );
     }
-    let text = read_text(&args.file)?;
     let at = |e: sceneinfo::Error| located(&args.file, &e);
-    let scene = sceneinfo::io::parse_flat(&text).map_err(at)?;
+    let scene = crate::output::load_flat(&args.file)?;
     let config = Config::new(args, scene.n_patches()).map_err(at)?;
     let computed = compute(&scene, &config);
     // After Ctrl-C the line job stopped early: draw nothing

@@ -16,7 +16,7 @@ use sceneinfo::report::JsonObject;
 use sceneinfo::scene::FlatScene;
 
 use crate::args::{Colour, Oracle, RefineArgs};
-use crate::output::{is_3d, located, read_text, write_atomic};
+use crate::output::{is_3d, located, write_atomic};
 
 /// Global lines that tally `I^c` along the surfaces when `--lines` is not given.
 pub const DEFAULT_FLAT_LINES: u64 = 1_000_000;
@@ -129,7 +129,7 @@ pub fn flat_profile(
 /// Refines a flatland scene and reports every step's measures.
 fn run_flat(args: &RefineArgs) -> Result<()> {
     let at = |e: sceneinfo::Error| located(&args.file, &e);
-    let scene = sceneinfo::io::parse_flat(&read_text(&args.file)?).map_err(at)?;
+    let scene = crate::output::load_flat(&args.file)?;
     let config = FlatConfig::new(args, scene.n_patches())?;
     let start = Instant::now();
     let profile = flat_profile(&scene, config.lines, args.seed, config.threads).map_err(at)?;

@@ -23,7 +23,7 @@ use sceneinfo::scene::Scene;
 
 use crate::args::{Oracle, RefineArgs};
 use crate::lines::LineBudget;
-use crate::output::{Loaded, located, read_text, write_atomic};
+use crate::output::{Loaded, job_refused, located, read_text, write_atomic};
 use crate::ply::Ply;
 use crate::raster::{Camera, Raster};
 use crate::svg::Rgb;
@@ -148,17 +148,25 @@ pub fn run(args: &RefineArgs) -> Result<()> {
         bail!("{}: not a 3D scene", args.file.display());
     };
     let at = |e: sceneinfo::Error| located(&args.file, &e);
+    // The scene loaded as for every command: what hierarchical radiosity refuses is a job
+    // refusal, not a verdict on the file
+    let refused = |e: sceneinfo::Error| {
+        job_refused(
+            &args.file,
+            format_args!("hierarchical radiosity: {}", e.kind()),
+        )
+    };
     let start = Instant::now();
     let (eps, h) = match config.eps {
         Some(eps) => {
             let oracle = OracleChoice::new(config.oracle, eps).map_err(at)?;
             (
                 eps,
-                Hierarchy::build(&scene, &oracle, &config.options).map_err(at)?,
+                Hierarchy::build(&scene, &oracle, &config.options).map_err(refused)?,
             )
         }
         None => Hierarchy::build_to_target(&scene, config.oracle, config.target, &config.options)
-            .map_err(at)?,
+            .map_err(refused)?,
     };
     let hr_seconds = start.elapsed().as_secs_f64();
     // The pictures and the RMS error need only the hierarchy: they come first, so a mesh
@@ -209,8 +217,19 @@ pub fn run(args: &RefineArgs) -> Result<()> {
 /// ([`sceneinfo::formfactor::coverage`]).
 fn measure(h: &Hierarchy, config: &Config, seed: u64, file: &Path) -> Result<MeshMeasures> {
     let at = |e: sceneinfo::Error| located(file, &e);
-    let leaves = h.leaf_scene().map_err(at)?;
-    let tracer = SceneTracer::new(&leaves).map_err(at)?;
+    // Leaves too small to validate as patches: the file was fine, the mesh went too fine
+    let too_fine = |e: sceneinfo::Error| {
+        job_refused(
+            file,
+            format_args!(
+                "the refined mesh cannot be measured: a leaf: {}; a larger --min-area or a \
+                 smaller --target keeps the elements larger",
+                e.kind()
+            ),
+        )
+    };
+    let leaves = h.leaf_scene().map_err(too_fine)?;
+    let tracer = SceneTracer::new(&leaves).map_err(too_fine)?;
     let budget = if config.auto_lines {
         LineBudget::UntilSampled {
             start: config.lines,
@@ -266,7 +285,7 @@ fn measure(h: &Hierarchy, config: &Config, seed: u64, file: &Path) -> Result<Mes
 /// Reads a reference solution: a PLY written by `refine --ply` (faces with float
 /// `radiosity_red/green/blue` properties), as polygons with their radiosities.
 fn read_reference(path: &Path) -> Result<Vec<(Vec<DVec3>, [f64; 3])>> {
-    let text = read_text(path)?;
+    let text = read_text(path, "reference solutions")?;
     let bad = |what: &str| anyhow::anyhow!("{}: {what}", path.display());
     let mut lines = text.lines().enumerate();
     if lines.next().map(|l| l.1) != Some("ply")
@@ -556,23 +575,5 @@ impl Report<'_> {
         }
         let _ = writeln!(s, "time                  {:.2} s", self.seconds);
         s
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn camera_flags_parse() {
-        assert_eq!(
-            triple("--eye", "1, 2,3").unwrap(),
-            DVec3::new(1.0, 2.0, 3.0)
-        );
-        assert!(triple("--eye", "1,2").is_err());
-        assert!(triple("--eye", "1,2,nan").is_err());
-        assert_eq!(size("640x480").unwrap(), (640, 480));
-        assert!(size("640").is_err());
-        assert!(size("0x10").is_err());
     }
 }
