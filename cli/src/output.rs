@@ -380,3 +380,57 @@ pub fn exact_3d_form_factors(
         }
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fresh folder of this test process.
+    fn folder(name: &str) -> PathBuf {
+        let dir =
+            std::env::temp_dir().join(format!("sceneinfo-output-{}-{name}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    #[test]
+    fn write_errors_name_the_users_path_not_the_temporary_file() {
+        let dir = folder("late");
+        let target = dir.join("gone").join("out.csv");
+        let err = format!("{:#}", write_atomic(&target, b"1\n").unwrap_err());
+        assert!(
+            err.starts_with(&format!("{}: cannot write: ", target.display())),
+            "{err}"
+        );
+        assert!(!err.contains(".tmp"), "{err}");
+        // A folder in the way of the rename: the temporary file is removed again
+        fs::create_dir(dir.join("taken")).unwrap();
+        fs::write(dir.join("taken").join("x"), "x").unwrap();
+        let err = format!(
+            "{:#}",
+            write_atomic(&dir.join("taken"), b"1\n").unwrap_err()
+        );
+        assert!(err.starts_with(&format!("{}: cannot write: ", dir.join("taken").display())));
+        let left: Vec<_> = fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(left, ["taken"]);
+    }
+
+    #[test]
+    fn the_check_leaves_nothing_and_a_good_write_replaces_whole() {
+        let dir = folder("check");
+        let target = dir.join("out.csv");
+        check_writable(&target).unwrap();
+        assert_eq!(fs::read_dir(&dir).unwrap().count(), 0);
+        write_atomic(&target, b"old").unwrap();
+        check_writable(&target).unwrap();
+        write_atomic(&target, b"new").unwrap();
+        assert_eq!(fs::read(&target).unwrap(), b"new");
+        assert_eq!(fs::read_dir(&dir).unwrap().count(), 1);
+        assert!(check_writable(&dir).is_err());
+        assert!(check_outputs(&[("--a", &target), ("--b", &target)]).is_err());
+    }
+}
