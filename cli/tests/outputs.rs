@@ -421,15 +421,17 @@ fn max_input_caps_every_file_read() {
     let obj = common::preset(&["cube", "--grid", "1"], "outputs-reference.obj");
     let reference = work.join("ref.ply");
     std::fs::write(&reference, "ply\nformat ascii 1.0\n".repeat(20)).unwrap(); // 420 bytes
-    let out = bin()
-        .arg("refine")
-        .arg(&obj)
-        .args(["--oracle", "power", "--target", "8", "--lines", "70000"])
-        .arg("--reference")
-        .arg(&reference)
-        .args(["--max-input", "300"])
-        .output()
-        .unwrap();
+    // (read before the job: a million-element refinement would not end in time)
+    let out = run_within(
+        bin()
+            .arg("refine")
+            .arg(&obj)
+            .args(["--oracle", "power", "--target", "1000000"])
+            .arg("--reference")
+            .arg(&reference)
+            .args(["--max-input", "300"]),
+        Duration::from_secs(60),
+    );
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(

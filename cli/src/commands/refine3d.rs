@@ -156,6 +156,8 @@ pub fn run(args: &RefineArgs) -> Result<()> {
             format_args!("hierarchical radiosity: {}", e.kind()),
         )
     };
+    // The reference is read (and refused if it must be) before the job, not after it
+    let reference = args.reference.as_deref().map(read_reference).transpose()?;
     let start = Instant::now();
     let (eps, h) = match config.eps {
         Some(eps) => {
@@ -178,9 +180,9 @@ pub fn run(args: &RefineArgs) -> Result<()> {
         let png = render(&h, &scene, args)?;
         write_atomic(path, &png)?;
     }
-    let rms = match &args.reference {
-        Some(path) => Some(rms_error(&h, path)?),
-        None => None,
+    let rms = match (&args.reference, &reference) {
+        (Some(path), Some(reference)) => Some(rms_error(&h, path, reference)?),
+        _ => None,
     };
     let measures = measure(&h, &config, args.seed, &args.file)?;
     if let Some(w) = &measures.warning {
@@ -282,9 +284,12 @@ fn measure(h: &Hierarchy, config: &Config, seed: u64, file: &Path) -> Result<Mes
     })
 }
 
+/// A reference solution: polygons with their radiosities.
+type Reference = Vec<(Vec<DVec3>, [f64; 3])>;
+
 /// Reads a reference solution: a PLY written by `refine --ply` (faces with float
 /// `radiosity_red/green/blue` properties), as polygons with their radiosities.
-fn read_reference(path: &Path) -> Result<Vec<(Vec<DVec3>, [f64; 3])>> {
+fn read_reference(path: &Path) -> Result<Reference> {
     let text = read_text(path, "reference solutions")?;
     let bad = |what: &str| anyhow::anyhow!("{}: {what}", path.display());
     let mut lines = text.lines().enumerate();
@@ -385,9 +390,8 @@ fn read_reference(path: &Path) -> Result<Vec<(Vec<DVec3>, [f64; 3])>> {
     Ok(faces)
 }
 
-/// The RMS difference from the reference PLY at `path`.
-fn rms_error(h: &Hierarchy, path: &Path) -> Result<f64> {
-    let reference = read_reference(path)?;
+/// The RMS difference from `reference`, the reference PLY read from `path` (named in errors).
+fn rms_error(h: &Hierarchy, path: &Path, reference: &Reference) -> Result<f64> {
     h.rms_difference(reference.iter().map(|(p, b)| (p.as_slice(), *b)))
         .map_err(|e| located(path, &e))
         .with_context(|| "comparing with the reference solution")
