@@ -449,7 +449,7 @@ impl fmt::Display for ErrorKind {
             }
             K::CoordinateRange => write!(
                 f,
-                "coordinate too large: every coordinate must lie within ±{}",
+                "coordinate too large: every coordinate must lie within ±{:e}",
                 crate::geom::MAX_COORDINATE
             ),
             K::CoincidentSurfaces { first, second } => write!(
