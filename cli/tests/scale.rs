@@ -5,7 +5,7 @@
 
 mod common;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use common::{bin, number, stdout_of, temp};
 
@@ -67,7 +67,7 @@ fn close(a: f64, b: f64) -> bool {
 }
 
 /// `sceneinfo ARGS --json` on `file`.
-fn json(args: &[&str], file: &PathBuf) -> String {
+fn json(args: &[&str], file: &Path) -> String {
     let mut all: Vec<&str> = args.to_vec();
     let f = file.to_str().unwrap();
     all.insert(1, f);
