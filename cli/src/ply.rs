@@ -12,6 +12,7 @@ use std::fmt::Write as _;
 
 use anyhow::{Result, bail};
 use sceneinfo::geom::DVec3;
+use sceneinfo::scene::Frame;
 
 use crate::svg::Rgb;
 
@@ -29,12 +30,43 @@ pub struct Ply {
     /// Per face, the RGB radiosity written as three float properties
     /// (`radiosity_red`, `radiosity_green`, `radiosity_blue`) when every face has one.
     radiosity: Vec<[f32; 3]>,
+    /// The scene's frame, undone for every vertex added (the identity when the scene's
+    /// units do not fit in `f32`: see [`Ply::in_frame`]).
+    frame: Frame,
 }
 
 impl Ply {
-    /// An empty mesh.
+    /// An empty mesh in the identity frame.
+    #[cfg(test)]
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// An empty mesh whose vertices are given in `frame`'s stored coordinates and written in
+    /// the scene's own units — unless those do not fit in `f32` (a scene 10⁻²⁰⁰ or 10⁵⁰
+    /// wide, or 10⁴⁰ from the origin): then the stored coordinates are written, and a header
+    /// comment says how to get back (`world = origin + 2^exponent · xyz`).
+    pub fn in_frame(frame: Frame) -> Self {
+        let mut ply = Self::default();
+        let e = frame.exponent();
+        let fits = e.abs() <= 90 && frame.origin().abs().max_element() <= 1e30;
+        if fits {
+            ply.frame = frame;
+        } else {
+            let o = frame.origin();
+            ply.comment(&format!(
+                "coordinates in the scene's normalised frame (f32 cannot hold its units): \
+                 world = ({:e}, {:e}, {:e}) + 2^{e} * (x, y, z)",
+                o.x, o.y, o.z
+            ));
+        }
+        ply
+    }
+
+    /// A vertex in the written coordinates.
+    fn point(&self, v: DVec3) -> [f32; 3] {
+        let w = self.frame.to_world(v);
+        [w.x as f32, w.y as f32, w.z as f32]
     }
 
     /// Adds a `comment` line to the header; anything but printable ASCII becomes `?`.
@@ -55,11 +87,10 @@ impl Ply {
     /// Adds a polygon with its own copies of `vertices` (in order) and one colour.
     pub fn polygon(&mut self, vertices: &[DVec3], colour: Rgb) {
         let first = self.vertices.len();
-        self.vertices.extend(
-            vertices
-                .iter()
-                .map(|v| [v.x as f32, v.y as f32, v.z as f32]),
-        );
+        for &v in vertices {
+            let p = self.point(v);
+            self.vertices.push(p);
+        }
         self.faces
             .push((self.indices.len(), vertices.len(), colour));
         self.indices.extend(first..first + vertices.len());
@@ -67,7 +98,8 @@ impl Ply {
 
     /// Adds a shared vertex with its colour and returns its index (for [`Ply::face`]).
     pub fn vertex(&mut self, v: DVec3, colour: Rgb) -> usize {
-        self.vertices.push([v.x as f32, v.y as f32, v.z as f32]);
+        let p = self.point(v);
+        self.vertices.push(p);
         self.vertex_colours.push(colour);
         self.vertices.len() - 1
     }

@@ -258,8 +258,8 @@ pub enum ErrorKind {
         sum: f64,
     },
     /// Exact form factors whose rows sum above one beyond rounding: the scene's extent is
-    /// too large beside its shortest patch for `f64` (see
-    /// [`crate::formfactor::exact_2d::RESOLVED_RANGE`]).
+    /// too large beside its smallest feature for `f64` (the units do not matter: scenes
+    /// are stored at a moderate scale, [`crate::scene::Frame`]).
     PrecisionLoss {
         /// The patch whose row overflows.
         patch: usize,
@@ -268,6 +268,9 @@ pub enum ErrorKind {
         /// The scene's extent (bounding-box diagonal) over its smallest feature: its shortest
         /// patch, or the closest approach of a surface's end to another surface.
         range: f64,
+        /// The range up to which exact results are guaranteed (carried here so the error
+        /// module depends on nothing above it).
+        guaranteed: f64,
     },
     /// `P_ij > 0` towards a state of zero probability, so `p log(p/0)` is undefined.
     TransitionToNullState {
@@ -449,7 +452,7 @@ impl fmt::Display for ErrorKind {
             }
             K::CoordinateRange => write!(
                 f,
-                "coordinate too large: every coordinate must lie within ±{}",
+                "coordinate too large: every coordinate must lie within ±{:e}",
                 crate::geom::MAX_COORDINATE
             ),
             K::CoincidentSurfaces { first, second } => write!(
@@ -489,14 +492,18 @@ impl fmt::Display for ErrorKind {
             K::NegativeEntry { row, col } => write!(f, "entry ({row}, {col}) is negative"),
             K::NotNormalized { sum } => write!(f, "distribution sums to {sum}, not 1"),
             K::RowSumAboveOne { row, sum } => write!(f, "row {row} sums to {sum} > 1"),
-            K::PrecisionLoss { patch, sum, range } => write!(
+            K::PrecisionLoss {
+                patch,
+                sum,
+                range,
+                guaranteed,
+            } => write!(
                 f,
                 "exact form factors of patch {patch} sum to {sum} > 1: rounding in this scene's \
                  geometry exceeds double precision (it spans {range:.2e} times its smallest \
                  feature, a patch or the gap between a surface's end and another surface; \
-                 exact results are guaranteed up to {:.0e}); rescale or split the scene, or \
-                 estimate with --lines",
-                crate::formfactor::exact_2d::RESOLVED_RANGE
+                 exact results are guaranteed up to {guaranteed:.0e}); split the scene, or \
+                 estimate with --lines"
             ),
             K::TransitionToNullState { row, col } => write!(
                 f,

@@ -8,9 +8,10 @@ pub use glam::{DVec2, DVec3};
 
 use crate::math;
 
-/// Largest coordinate magnitude a scene accepts. Beyond it, squared lengths could overflow
-/// and the geometric predicates would lose every significant digit.
-pub const MAX_COORDINATE: f64 = 1e12;
+/// Largest coordinate magnitude a scene accepts: a box's sides (up to `2 · 10³⁰⁰`) and
+/// centre stay finite. Scenes are stored in a [`crate::scene::Frame`] of moderate size, so
+/// no computation squares a given coordinate.
+pub const MAX_COORDINATE: f64 = 1e300;
 
 /// 2D cross product (the `z` of the 3D cross product): `u.x v.y − u.y v.x`.
 ///

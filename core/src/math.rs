@@ -97,6 +97,25 @@ pub fn floor(x: f64) -> f64 {
     libm::floor(x)
 }
 
+/// `x · 2^n`, exact unless the result leaves the normal range (C's `scalbn`).
+#[inline]
+#[must_use]
+pub fn scale_by_power_of_two(x: f64, n: i32) -> f64 {
+    libm::scalbn(x, n)
+}
+
+/// `⌊log₂ |x|⌋` for a finite non-zero `x` (subnormals included), from its binary exponent
+/// (C's `frexp` gives `|x| = m · 2^e` with `m ∈ [½, 1)`, so `⌊log₂ |x|⌋ = e − 1`); 0 for 0,
+/// infinities and NaN.
+#[inline]
+#[must_use]
+pub fn exponent_of(x: f64) -> i32 {
+    if x == 0.0 || !x.is_finite() {
+        return 0;
+    }
+    libm::frexp(x).1 - 1
+}
+
 /// The smallest integer not below `x`.
 #[inline]
 #[must_use]

@@ -12,6 +12,8 @@
 
 mod material;
 pub use material::Material;
+mod frame;
+pub use frame::{FAR_EXPONENT, Frame, SAFE_EXTENT_EXPONENT};
 
 #[cfg(feature = "alloc")]
 mod catalogue;

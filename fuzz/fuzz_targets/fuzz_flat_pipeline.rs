@@ -9,6 +9,9 @@
 //! - exact form factors: closed (with the background state) and reciprocal within 1e-9;
 //!   every measure finite, `H_J = H_P + H_S` and `H_J = 2H_S + I_S` to 1e-12 relative
 //!   plus the bounds the channel checks give (`invariants::check_channel`);
+//! - the same scene scaled by `2^k` (`k = ±1..=±300` from the input's seed; skipped when a
+//!   scaled coordinate would leave the accepted range or underflow) is accepted and has the
+//!   same exact measures to 1e-12 relative (`invariants::same_measures`);
 //! - the Monte Carlo estimate: `I_S^c`, its standard error and every `I_i^c` finite, the
 //!   `I_i^c` summing to `I_S^c`, and its channel satisfying the same invariants.
 //!

@@ -111,8 +111,30 @@ pub fn check(data: &[u8]) -> Outcome {
             "exact form factors not closed and reciprocal: {checks:?}"
         ));
     }
-    if let Err(problem) = invariants::check_channel(&channel) {
-        fail(format!("exact channel: {problem}"));
+    let measures = match invariants::check_channel(&channel) {
+        Ok(m) => m,
+        Err(problem) => fail(format!("exact channel: {problem}")),
+    };
+
+    // Scale invariance: the scene scaled by 2^k (an exact change of units) has the same
+    // exact measures, to rounding
+    let k = invariants::scale_exponent(invariants::seed_of(data));
+    if let Some(scaled) = scaled_copy(&scene, k) {
+        let again = exact_2d::form_factors(&scaled)
+            .map_err(|e| e.to_string())
+            .and_then(|ff| {
+                ff.channel()
+                    .map(|c| c.measures())
+                    .map_err(|e| e.to_string())
+            });
+        match again {
+            Ok(m) => {
+                if let Err(problem) = invariants::same_measures(&measures, &m) {
+                    fail(format!("the copy scaled by 2^{k}: {problem}"));
+                }
+            }
+            Err(e) => fail(format!("the copy scaled by 2^{k} was refused: {e}")),
+        }
     }
 
     // A short seeded Monte Carlo run: finite estimates, consistent I_S^c split
@@ -153,4 +175,39 @@ pub fn check(data: &[u8]) -> Outcome {
         Err(err) => return invariants::refused(&err, &case),
     }
     Outcome::Checked
+}
+
+/// The scene with every coordinate multiplied by `2^k`, or `None` when the scaled
+/// coordinates leave what the builder accepts (beyond the cap, or underflowing: then the
+/// copy is not the same scene in other units).
+fn scaled_copy(scene: &sceneinfo::scene::FlatScene, k: i32) -> Option<sceneinfo::scene::FlatScene> {
+    let frame = scene.frame();
+    let scale = |p: sceneinfo::geom::DVec2| {
+        let w = frame.to_world_2d(p);
+        sceneinfo::geom::DVec2::new(
+            sceneinfo::math::scale_by_power_of_two(w.x, k),
+            sceneinfo::math::scale_by_power_of_two(w.y, k),
+        )
+    };
+    let mut b = sceneinfo::scene::FlatScene::builder();
+    for s in scene.surfaces() {
+        let (a, e) = (
+            frame.to_world_2d(s.segment.a),
+            frame.to_world_2d(s.segment.b),
+        );
+        let (sa, se) = (scale(s.segment.a), scale(s.segment.b));
+        // Exact only if scaling back gives the same points (no underflow)
+        let back = |q: sceneinfo::geom::DVec2| {
+            sceneinfo::geom::DVec2::new(
+                sceneinfo::math::scale_by_power_of_two(q.x, -k),
+                sceneinfo::math::scale_by_power_of_two(q.y, -k),
+            )
+        };
+        if back(sa) != a || back(se) != e {
+            return None;
+        }
+        b.material(scene.materials()[s.material]);
+        b.segment_with_cuts(sa, se, &s.cuts).ok()?;
+    }
+    b.build().ok()
 }

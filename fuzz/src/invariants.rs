@@ -162,3 +162,38 @@ pub fn seed_of(data: &[u8]) -> u64 {
         (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
     })
 }
+
+/// The power of two a case's scaled copy is multiplied by: `±1` to `±300` from its seed.
+#[must_use]
+pub fn scale_exponent(seed: u64) -> i32 {
+    let magnitude = 1 + (seed % 300) as i32;
+    if seed & (1 << 40) == 0 {
+        magnitude
+    } else {
+        -magnitude
+    }
+}
+
+/// Whether the measures of a scene and of its copy in other units agree to 1e-12 relative
+/// (the bound; the copies' stored geometry differs by a power of two, which every
+/// step scales exactly, so in practice they agree bit for bit).
+///
+/// # Errors
+///
+/// Names the first measure that differs.
+pub fn same_measures(a: &Measures, b: &Measures) -> Result<(), String> {
+    let pairs = [
+        ("h_p", a.h_p, b.h_p),
+        ("h_s", a.h_s, b.h_s),
+        ("h_j", a.h_j, b.h_j),
+        ("i_s", a.i_s, b.i_s),
+        ("e_mse", a.e_mse, b.e_mse),
+        ("fano", a.fano, b.fano),
+    ];
+    for (name, x, y) in pairs {
+        if !((x - y).abs() <= 1e-12 * x.abs().max(y.abs()) + 1e-15) {
+            return Err(format!("{name} {y} vs {x}"));
+        }
+    }
+    Ok(())
+}

@@ -12,8 +12,13 @@
 //! facing inwards (convex enclosures, exact form factors), and Monte Carlo form factors on
 //! random boxes within their binomial errors (with a fixed proptest seed: it is a
 //! statistical property).
+//!
+//! Similarity ([`frames`]): measures invariant under scale `10^±150`, rotation and
+//! translation; power-of-two scales stored with the same bits, so Monte Carlo agrees bit for
+//! bit.
 
 mod flat_channel;
+mod frames;
 mod refinement;
 mod scenes;
 mod solid_channel;

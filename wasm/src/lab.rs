@@ -134,20 +134,27 @@ impl FlatLab {
         self.scene.surfaces().len()
     }
 
-    /// Total length `L_T`.
+    /// Total length `L_T`, in the scene's units.
     #[wasm_bindgen(getter, js_name = totalLength)]
     #[must_use]
     pub fn total_length(&self) -> f64 {
-        self.scene.total_length()
+        self.scene
+            .frame()
+            .length_to_world(self.scene.total_length())
     }
 
-    /// The patches' endpoints, `x0 y0 x1 y1` per patch (each facing its left side).
+    /// The patches' endpoints, `x0 y0 x1 y1` per patch (each facing its left side), in the
+    /// scene's coordinates (its stored frame undone).
     #[wasm_bindgen(js_name = patchSegments)]
     #[must_use]
     pub fn patch_segments(&self) -> Vec<f64> {
+        let f = self.scene.frame();
         let p = self.scene.patches();
         p.iter()
-            .flat_map(|p| [p.segment.a.x, p.segment.a.y, p.segment.b.x, p.segment.b.y])
+            .flat_map(|p| {
+                let (a, b) = (f.to_world_2d(p.segment.a), f.to_world_2d(p.segment.b));
+                [a.x, a.y, b.x, b.y]
+            })
             .collect()
     }
 
@@ -159,13 +166,17 @@ impl FlatLab {
         p.iter().map(|p| p.surface as u32).collect()
     }
 
-    /// The surfaces' endpoints, `x0 y0 x1 y1` per surface.
+    /// The surfaces' endpoints, `x0 y0 x1 y1` per surface, in the scene's coordinates.
     #[wasm_bindgen(js_name = surfaceSegments)]
     #[must_use]
     pub fn surface_segments(&self) -> Vec<f64> {
+        let f = self.scene.frame();
         let s = self.scene.surfaces();
         s.iter()
-            .flat_map(|s| [s.segment.a.x, s.segment.a.y, s.segment.b.x, s.segment.b.y])
+            .flat_map(|s| {
+                let (a, b) = (f.to_world_2d(s.segment.a), f.to_world_2d(s.segment.b));
+                [a.x, a.y, b.x, b.y]
+            })
             .collect()
     }
 

@@ -363,3 +363,29 @@ fn refiner_errors_are_js_errors() {
         "parameter lines = 0.5 is out of range"
     );
 }
+
+#[wasm_bindgen_test]
+fn a_room_1e_minus_200_wide_is_measured_as_at_unit_size() {
+    // Issue 16: scenes are stored in a frame of moderate size; the lab hands coordinates
+    // back in the scene's own units.
+    let room = |s: f64| {
+        let p = |x: f64| format!("{:?}", x * s);
+        format!(
+            "mat rho 0.5 0.5 0.5\npoly 4 0 0 {one} 0 {one} {one} 0 {one} per_side 4\n\
+             poly 4 {a} {a} {a} {b} {b} {b} {b} {a} per_side 2\n",
+            one = p(1.0),
+            a = p(0.25),
+            b = p(0.5)
+        )
+    };
+    let unit = measure_flat(&room(1.0)).expect("valid");
+    let tiny = measure_flat(&room(1e-200)).expect("valid");
+    for key in ["h_p", "h_s", "i_s"] {
+        let (a, b) = (number(&unit, key), number(&tiny, key));
+        assert!((a - b).abs() <= 1e-12 * a.abs(), "{key}: {b} vs {a}");
+    }
+    let lab = FlatLab::new(&room(1e-200)).expect("valid");
+    let segments = lab.surface_segments();
+    assert_eq!(segments[2], 1e-200, "{segments:?}");
+    assert!((lab.total_length() - 5e-200).abs() <= 1e-212);
+}

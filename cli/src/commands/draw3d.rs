@@ -269,7 +269,7 @@ fn mesh(scene: &Scene, computed: &Computed, config: &Config, name: &str) -> (Ply
     let values = &computed.values;
     let (map, scale) = patch_colours(config.colour, values);
     let (lo, hi) = range(values.iter().copied());
-    let mut ply = Ply::new();
+    let mut ply = Ply::in_frame(scene.frame());
     ply.comment(&format!("sceneinfo draw {name}"));
     ply.comment(&format!(
         "quantity: {}, {}",

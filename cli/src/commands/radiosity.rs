@@ -499,7 +499,7 @@ fn lit_mesh(scene: &Scene, r: &Run, name: &str) -> Ply {
         let [x, y, z] = tone.rgb(b);
         Rgb(x, y, z)
     };
-    let mut ply = Ply::new();
+    let mut ply = Ply::in_frame(scene.frame());
     ply.comment(&format!("sceneinfo radiosity {name}"));
     ply.comment("colours: radiosity B (2.6) per channel, tone-mapped: c = min(B / white, 1), then the sRGB curve");
     ply.comment(&format!(

@@ -419,7 +419,7 @@ fn display(b: [f64; 3], exposure: f64) -> Rgb {
 
 /// The leaves as a PLY mesh: display colours and the radiosities themselves.
 fn mesh_ply(h: &Hierarchy, file: &Path, config: &Config, eps: f64) -> Result<String> {
-    let mut ply = Ply::new();
+    let mut ply = Ply::in_frame(h.frame());
     ply.comment(&format!("sceneinfo refine {}", file.display()));
     ply.comment(&format!(
         "hierarchical radiosity, oracle {} eps {eps}, {} pairs per evaluation, seed {}",
@@ -449,11 +449,12 @@ fn render(h: &Hierarchy, scene: &Scene, args: &RefineArgs) -> Result<Vec<u8>> {
     let framing = Camera::framing(lo, hi, args.fov, width, height);
     let camera = Camera {
         eye: match &args.eye {
-            Some(p) => DVec3::from_array(*p),
+            // Given in the scene's units; the leaves are in its stored frame
+            Some(p) => scene.frame().to_stored(DVec3::from_array(*p)),
             None => framing.eye,
         },
         look: match &args.look {
-            Some(p) => DVec3::from_array(*p),
+            Some(p) => scene.frame().to_stored(DVec3::from_array(*p)),
             None => framing.look,
         },
         ..framing

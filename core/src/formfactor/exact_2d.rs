@@ -732,6 +732,7 @@ fn check_closure(scene: &FlatScene, lengths: &[f64], f: &[f64]) -> Result<()> {
                 patch,
                 sum,
                 range: feature_range(scene),
+                guaranteed: RESOLVED_RANGE,
             }
             .into());
         }

@@ -134,6 +134,6 @@ impl Hierarchy {
             });
             b.polygon(e.polygon.vertices(), Subdivision::None)?;
         }
-        b.build()
+        Ok(b.build()?.placed_in(self.frame()))
     }
 }

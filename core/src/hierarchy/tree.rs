@@ -180,6 +180,8 @@ pub struct Hierarchy {
     /// than four vertices).
     roots: Vec<u32>,
     total_area: f64,
+    /// The scene's frame: leaves are in its stored coordinates.
+    frame: crate::scene::Frame,
     rays: u64,
     budget: Option<Budget>,
     iterations: u64,
@@ -312,6 +314,7 @@ impl Hierarchy {
             links: Vec::new(),
             roots,
             total_area: scene.total_area(),
+            frame: scene.frame(),
             rays: 0,
             budget: None,
             iterations: 0,
@@ -432,7 +435,14 @@ impl Hierarchy {
         self.leaves().count()
     }
 
-    /// Total area of the scene `A_T`.
+    /// The scene's frame ([`crate::scene::Frame`]): element vertices are stored
+    /// coordinates, [`crate::scene::Frame::to_world`] gives the scene's units.
+    #[must_use]
+    pub fn frame(&self) -> crate::scene::Frame {
+        self.frame
+    }
+
+    /// Total area of the scene `A_T` (stored units).
     #[must_use]
     pub fn total_area(&self) -> f64 {
         self.total_area

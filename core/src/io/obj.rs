@@ -755,6 +755,7 @@ pub fn write_obj(scene: &Scene, mtl_name: &str) -> (String, String) {
             let key = v.to_array().map(f64::to_bits);
             let next = index.len() + 1;
             let k = *index.entry(key).or_insert_with(|| {
+                let v = scene.frame().to_world(*v);
                 let _ = writeln!(obj, "v {:?} {:?} {:?}", v.x, v.y, v.z);
                 next
             });

@@ -6,7 +6,7 @@ use core::ops::Range;
 use crate::error::{Error, ErrorKind, Result};
 use crate::geom::{DVec2, MAX_COORDINATE, Segment};
 use crate::math::KahanSum;
-use crate::scene::Material;
+use crate::scene::{Frame, Material};
 
 /// Most patches one surface may be cut into.
 pub const MAX_PATCHES_PER_SURFACE: u64 = 1_000_000;
@@ -60,12 +60,19 @@ pub struct FlatPatch {
 /// `.flat` parser ([`crate::io::parse_flat`]); every constructor validates, so a
 /// `FlatScene` always has at least one patch, finite coordinates within
 /// [`MAX_COORDINATE`], and patches of positive length.
+///
+/// Coordinates, lengths and bounds are **stored** ones: the given ones moved and scaled
+/// exactly into the scene's [`Frame`] ([`FlatScene::frame`]; the identity for a scene of
+/// ordinary size near the origin), so that no computation depends on the units or the
+/// position it was given in. [`Frame::to_world_2d`] gives back the given coordinates bit
+/// for bit.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FlatScene {
     surfaces: Vec<FlatSurface>,
     patches: Vec<FlatPatch>,
     materials: Vec<Material>,
     total_length: f64,
+    frame: Frame,
 }
 
 impl FlatScene {
@@ -99,7 +106,15 @@ impl FlatScene {
         self.patches.len()
     }
 
-    /// Total length `L_T = Σ L_i`.
+    /// Where the stored coordinates sit in the given ones:
+    /// `world = origin + 2^exponent · stored` ([`Frame`]).
+    #[must_use]
+    pub fn frame(&self) -> Frame {
+        self.frame
+    }
+
+    /// Total length `L_T = Σ L_i` (stored units: [`Frame::length_to_world`] for the given
+    /// ones).
     #[must_use]
     pub fn total_length(&self) -> f64 {
         self.total_length
@@ -174,7 +189,7 @@ impl FlatScene {
             .map(|s| (s.segment, s.material, s.cuts.clone()))
             .collect();
         surfaces[patch.surface].2.insert(local, cut);
-        assemble(surfaces, self.materials.clone())
+        assemble(surfaces, self.materials.clone(), self.frame)
     }
 }
 
@@ -322,7 +337,8 @@ impl FlatSceneBuilder {
         self.patch_count
     }
 
-    /// The finished scene.
+    /// The finished scene, stored in the [`Frame`] of its bounding box (exactly moved and
+    /// scaled when it is tiny, huge or far from the origin; as given otherwise).
     ///
     /// # Errors
     /// [`ErrorKind::EmptyScene`] if nothing was added; [`ErrorKind::ZeroLengthSegment`] if a
@@ -334,7 +350,30 @@ impl FlatSceneBuilder {
         if materials.is_empty() {
             materials.push(Material::BLACK);
         }
-        let scene = assemble(self.surfaces.clone(), materials)?;
+        if self.surfaces.is_empty() {
+            return Err(ErrorKind::EmptyScene.into());
+        }
+        let mut lo = DVec2::splat(f64::INFINITY);
+        let mut hi = DVec2::splat(f64::NEG_INFINITY);
+        for (s, _, _) in &self.surfaces {
+            let (a, b) = s.bounds();
+            lo = lo.min(a);
+            hi = hi.max(b);
+        }
+        let frame = Frame::for_bounds(lo.extend(0.0), hi.extend(0.0))?;
+        let surfaces = self
+            .surfaces
+            .iter()
+            .map(|(s, m, cuts)| {
+                let seg = if frame.is_identity() {
+                    *s
+                } else {
+                    Segment::new(frame.to_stored_2d(s.a), frame.to_stored_2d(s.b))
+                };
+                (seg, *m, cuts.clone())
+            })
+            .collect();
+        let scene = assemble(surfaces, materials, frame)?;
         let segments: Vec<(DVec2, DVec2)> = scene
             .surfaces
             .iter()
@@ -349,6 +388,7 @@ impl FlatSceneBuilder {
 fn assemble(
     surfaces_in: Vec<(Segment, usize, Vec<f64>)>,
     materials: Vec<Material>,
+    frame: Frame,
 ) -> Result<FlatScene> {
     if surfaces_in.is_empty() {
         return Err(ErrorKind::EmptyScene.into());
@@ -397,6 +437,7 @@ fn assemble(
         patches,
         materials,
         total_length,
+        frame,
     })
 }
 
@@ -445,7 +486,7 @@ mod tests {
             ErrorKind::NonFiniteNumber { .. }
         ));
         assert_eq!(
-            e(b.segment(DVec2::splat(1e13), DVec2::X, 1)),
+            e(b.segment(DVec2::splat(1e301), DVec2::X, 1)),
             ErrorKind::CoordinateRange
         );
         assert_eq!(

@@ -15,7 +15,7 @@ use core::ops::Range;
 use crate::error::{ErrorKind, Result};
 use crate::geom::{self, DVec3, MAX_COORDINATE};
 use crate::math::KahanSum;
-use crate::scene::Material;
+use crate::scene::{Frame, Material};
 
 /// Most patches a 3D scene may hold (a cap checked before allocating).
 pub const MAX_PATCHES_3D: usize = 4_000_000;
@@ -139,6 +139,12 @@ pub struct Face3 {
 /// constructor validates, so a `Scene` always has at least one patch, finite coordinates
 /// within [`MAX_COORDINATE`], planar convex faces of positive area and patches of positive
 /// area. Materials and objects are listed in order of first use, each once.
+///
+/// Points, normals' positions, areas and bounds are **stored** ones: the given coordinates
+/// moved and scaled exactly into the scene's [`Frame`] ([`Scene::frame`]; the identity for a
+/// scene of ordinary size near the origin), so no computation depends on the units or the
+/// position the scene was given in. [`Frame::to_world`] gives back the given coordinates
+/// bit for bit.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
     points: Vec<DVec3>,
@@ -147,6 +153,7 @@ pub struct Scene {
     materials: Vec<Material>,
     objects: Vec<String>,
     total_area: f64,
+    frame: Frame,
 }
 
 impl Scene {
@@ -193,7 +200,23 @@ impl Scene {
         self.patches.len()
     }
 
-    /// Total area `A_T = Σ A_i`.
+    /// Where the stored coordinates sit in the given ones:
+    /// `world = origin + 2^exponent · stored` ([`Frame`]).
+    #[must_use]
+    pub fn frame(&self) -> Frame {
+        self.frame
+    }
+
+    /// The scene built from this one's stored coordinates (a subdivision, a mesh of
+    /// leaves), placed in this one's frame.
+    #[must_use]
+    pub(crate) fn placed_in(mut self, outer: Frame) -> Scene {
+        self.frame = outer.then(self.frame);
+        self
+    }
+
+    /// Total area `A_T = Σ A_i` (stored units: [`Frame::area_to_world`] for the given
+    /// ones).
     #[must_use]
     pub fn total_area(&self) -> f64 {
         self.total_area
@@ -269,7 +292,7 @@ impl Scene {
             b.object(&self.objects[f.object]);
             b.polygon(self.face_vertices(k), s)?;
         }
-        b.build()
+        Ok(b.build()?.placed_in(self.frame))
     }
 }
 
@@ -288,6 +311,10 @@ pub struct SceneBuilder {
     /// The subdivision each face was cut by (to cut its pieces alike in
     /// [`SceneBuilder::build_as_drawn`]).
     subdivisions: Vec<Subdivision>,
+    /// Faces are kept scaled by `2^−working_exponent` from the first one on, so a scene
+    /// 10⁻²⁰⁰ wide is validated and cut without underflow ([`working_exponent`]); `None`
+    /// before the first face.
+    working_exponent: Option<i32>,
 }
 
 impl SceneBuilder {
@@ -333,6 +360,22 @@ impl SceneBuilder {
     /// [`ErrorKind::BadSubdivision`], [`ErrorKind::TooManyPatches`] (checked before any
     /// patch is allocated). On error the builder is unchanged.
     pub fn polygon(&mut self, vertices: &[DVec3], s: Subdivision) -> Result<&mut Self> {
+        check_face_input(vertices)?;
+        let exponent = self.exponent_for(vertices);
+        let scaled = scale_face(vertices, exponent)?;
+        self.add_polygon(&scaled, s)?;
+        self.working_exponent = Some(exponent);
+        Ok(self)
+    }
+
+    /// The working exponent: the builder's, or the one the first face sets.
+    fn exponent_for(&self, vertices: &[DVec3]) -> i32 {
+        self.working_exponent
+            .unwrap_or_else(|| working_exponent(vertices))
+    }
+
+    /// [`Self::polygon`] for vertices already in working coordinates.
+    fn add_polygon(&mut self, vertices: &[DVec3], s: Subdivision) -> Result<&mut Self> {
         let n = vertices.len();
         check_face_input(vertices)?;
         // Degeneracy: area and edges against the face's size
@@ -435,14 +478,16 @@ impl SceneBuilder {
     /// ([`super::coincident`]).
     pub fn build(&self) -> Result<Scene> {
         let total_area = self.validate()?;
-        Ok(Scene {
+        Scene {
             points: self.points.clone(),
             patches: self.patches.clone(),
             faces: self.faces.clone(),
             materials: self.materials.clone(),
             objects: self.objects.clone(),
             total_area,
-        })
+            frame: Frame::IDENTITY,
+        }
+        .stored_in_frame(self.working_exponent.unwrap_or(0))
     }
 
     /// [`Self::build`] without copying: the builder's vectors become the scene's (half the
@@ -459,14 +504,17 @@ impl SceneBuilder {
     /// check left to the caller).
     fn into_scene(self) -> Result<Scene> {
         let total_area = self.total_area()?;
-        Ok(Scene {
+        let working = self.working_exponent.unwrap_or(0);
+        Scene {
             points: self.points,
             patches: self.patches,
             faces: self.faces,
             materials: self.materials,
             objects: self.objects,
             total_area,
-        })
+            frame: Frame::IDENTITY,
+        }
+        .stored_in_frame(working)
     }
 
     /// The checks of [`Self::build`]; the total area.
@@ -513,6 +561,75 @@ fn check_face_input(vertices: &[DVec3]) -> Result<()> {
         .into());
     }
     check_coordinates(vertices)
+}
+
+impl Scene {
+    /// The scene of working coordinates `2^working` given units, moved and scaled exactly
+    /// into the [`Frame`] of its bounding box (module docs of [`crate::scene::frame`]).
+    fn stored_in_frame(mut self, working: i32) -> Result<Scene> {
+        let (lo, hi) = self.bounds();
+        let frame = Frame::for_bounds(lo, hi)?;
+        if !frame.is_identity() {
+            let area_exponent = -2 * frame.exponent();
+            let area = |a: f64| crate::math::scale_by_power_of_two(a, area_exponent);
+            for p in &mut self.points {
+                *p = frame.to_stored(*p);
+            }
+            for p in &mut self.patches {
+                p.centroid = frame.to_stored(p.centroid);
+                p.area = area(p.area);
+                if !(p.area > 0.0) {
+                    return Err(ErrorKind::DegenerateFace.into());
+                }
+            }
+            for f in &mut self.faces {
+                f.area = area(f.area);
+            }
+            self.total_area = area(self.total_area);
+        }
+        self.frame = Frame::scaled(working).then(frame);
+        Ok(self)
+    }
+}
+
+/// The working exponent a first face sets: 0 while its extent (largest side of its
+/// bounding box) lies within `2^±`[`SAFE_EXTENT_EXPONENT`](crate::scene::SAFE_EXTENT_EXPONENT),
+/// else `⌊log₂ extent⌋`, so its working extent lies in `[1, 2)`.
+fn working_exponent(vertices: &[DVec3]) -> i32 {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for &p in vertices {
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    let e = crate::math::exponent_of((hi - lo).max_element());
+    if e.abs() <= crate::scene::SAFE_EXTENT_EXPONENT {
+        0
+    } else {
+        e
+    }
+}
+
+/// A face's vertices in working coordinates, `v · 2^−exponent` (exact while they stay in
+/// the normal range; borrowed when `exponent` is 0).
+///
+/// # Errors
+/// [`ErrorKind::CoordinateRange`] if a coordinate overflows: the face is more than `2¹⁰²³`
+/// times larger than the scene's first face.
+fn scale_face(vertices: &[DVec3], exponent: i32) -> Result<alloc::borrow::Cow<'_, [DVec3]>> {
+    use alloc::borrow::Cow;
+    if exponent == 0 {
+        return Ok(Cow::Borrowed(vertices));
+    }
+    let scale = |x: f64| crate::math::scale_by_power_of_two(x, -exponent);
+    let scaled: Vec<DVec3> = vertices
+        .iter()
+        .map(|v| DVec3::new(scale(v.x), scale(v.y), scale(v.z)))
+        .collect();
+    if scaled.iter().any(|v| !v.is_finite()) {
+        return Err(ErrorKind::CoordinateRange.into());
+    }
+    Ok(Cow::Owned(scaled))
 }
 
 /// Checks that every coordinate is finite and within [`MAX_COORDINATE`].

@@ -166,8 +166,8 @@ fn errors_name_line_and_problem() {
         "line 1: z: number is NaN, infinite or beyond the range of f64"
     );
     assert_eq!(
-        err("v 0 0 1e13\nv 1 0 0\nv 0 1 0\nf 1 2 3"),
-        "line 4: coordinate too large: every coordinate must lie within ±1000000000000"
+        err("v 0 0 1e301\nv 1 0 0\nv 0 1 0\nf 1 2 3"),
+        "line 4: coordinate too large: every coordinate must lie within ±1e300"
     );
     assert_eq!(
         err("v 0 0 0 1 2 3 4\n"),

@@ -41,7 +41,7 @@ use alloc::vec::Vec;
 
 use super::{
     CONVEXITY_TOLERANCE, DEGENERACY_TOLERANCE, MAX_PATCHES_3D, PLANARITY_TOLERANCE, SceneBuilder,
-    Subdivision, check_face_input,
+    Subdivision, check_face_input, scale_face,
 };
 use crate::error::{ErrorKind, Result};
 use crate::geom::{self, DVec3};
@@ -79,6 +79,22 @@ impl SceneBuilder {
     /// [`ErrorKind::TooManyPatches`] (checked before any piece of the face is added). On
     /// error the builder is unchanged.
     pub fn face_as_drawn(
+        &mut self,
+        vertices: &[DVec3],
+        s: Subdivision,
+        report: &mut LoadReport,
+        line: Option<u32>,
+    ) -> Result<()> {
+        check_face_input(vertices)?;
+        let exponent = self.exponent_for(vertices);
+        let scaled = scale_face(vertices, exponent)?;
+        self.add_as_drawn(&scaled, s, report, line)?;
+        self.working_exponent = Some(exponent);
+        Ok(())
+    }
+
+    /// [`Self::face_as_drawn`] for vertices already in working coordinates.
+    pub(super) fn add_as_drawn(
         &mut self,
         vertices: &[DVec3],
         s: Subdivision,
@@ -128,7 +144,7 @@ impl SceneBuilder {
             off_plane = deviation / size;
             if geom::is_convex(v, normal, CONVEXITY_TOLERANCE) {
                 if deviation <= PLANARITY_TOLERANCE * size {
-                    match self.polygon(v, s) {
+                    match self.add_polygon(v, s) {
                         Ok(_) => return Ok(()),
                         Err(e) if !repairable(e.kind()) => return Err(e),
                         Err(_) => {}
@@ -139,7 +155,7 @@ impl SceneBuilder {
                         .iter()
                         .map(|&p| p - normal * (p - mean).dot(normal))
                         .collect();
-                    match self.polygon(&flat, s) {
+                    match self.add_polygon(&flat, s) {
                         Ok(_) => {
                             report.faces_flattened = report.faces_flattened.saturating_add(1);
                             report.max_off_plane = report.max_off_plane.max(off_plane);
@@ -210,7 +226,7 @@ impl SceneBuilder {
                 dropped += 1;
                 continue;
             }
-            match self.polygon(t, s) {
+            match self.add_polygon(t, s) {
                 Ok(_) => added += 1,
                 Err(e) if !repairable(e.kind()) => return Err(e),
                 Err(_) => dropped += 1,

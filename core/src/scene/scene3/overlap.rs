@@ -119,7 +119,10 @@ impl SceneBuilder {
             ));
         }
         // The faces again, in order, as their fates say
-        let mut b = SceneBuilder::default();
+        let mut b = SceneBuilder {
+            working_exponent: self.working_exponent,
+            ..SceneBuilder::default()
+        };
         let mut origin: Vec<usize> = Vec::with_capacity(self.faces.len());
         let mut scratch = LoadReport::default();
         let mut fates = fates.into_iter().peekable();
@@ -131,7 +134,7 @@ impl SceneBuilder {
             let before = b.faces.len();
             match fate {
                 None => {
-                    b.polygon(self.face_vertices(k), s)?;
+                    b.add_polygon(self.face_vertices(k), s)?;
                 }
                 Some(Fate::Duplicate(i)) => {
                     report.duplicates_dropped = report.duplicates_dropped.saturating_add(1);
@@ -155,7 +158,7 @@ impl SceneBuilder {
                     for p in &pieces {
                         // Pieces are convex and in the face's plane; what rounding made
                         // degenerate is dropped, and slivers are triangulated.
-                        b.face_as_drawn(p, s, &mut scratch, line(k))?;
+                        b.add_as_drawn(p, s, &mut scratch, line(k))?;
                     }
                     report.overlaps_clipped = report.overlaps_clipped.saturating_add(1);
                     report.clip_pieces = report
