@@ -7,6 +7,7 @@
 //! under "Changed" that says which numbers move and why.
 
 use rand_core::Rng;
+use sceneinfo::formfactor::tally::{LineEstimate, LineMethod};
 use sceneinfo::formfactor::{estimate_2d, estimate_3d};
 use sceneinfo::lines::chunk_rng;
 use sceneinfo::scene::{FlatScene, Scene, preset_3d};
@@ -45,48 +46,52 @@ fn chunk_streams_are_pinned() {
     assert!(moved.is_empty(), "{MOVED}:\n{}", moved.join("\n"));
 }
 
-#[test]
-fn flatland_estimates_are_pinned() {
-    let scene = FlatScene::regular_polygon(4, 3).unwrap();
+/// Each method's estimate with seed 11 and 100,000 lines against its pin: `I_S^c` as `f64`
+/// bits and the form factors' [`fingerprint`]; every moved one listed with its new value.
+fn check_estimates(
+    what: &str,
+    pins: [(LineMethod, (u64, u64)); 3],
+    estimate: impl Fn(LineMethod) -> LineEstimate,
+) {
     let mut moved = Vec::new();
-    for (method, want) in [
-        (estimate_2d::LineMethod::Global, PIN_FLAT_GLOBAL),
-        (estimate_2d::LineMethod::Local, PIN_FLAT_LOCAL),
-        (estimate_2d::LineMethod::Bundle, PIN_FLAT_BUNDLE),
-    ] {
-        let e = estimate_2d::estimate(&scene, method, 11, 100_000).unwrap();
+    for (method, want) in pins {
+        let e = estimate(method);
         let ff = &e.form_factors;
         let got = (
             e.continuous.value.to_bits(),
             fingerprint(ff.n_states(), |i, j| ff.get(i, j)),
         );
         if got != want {
-            moved.push(format!("{method:?}: {got:?}"));
+            moved.push(format!("{what} {method:?}: {got:?}"));
         }
     }
     assert!(moved.is_empty(), "{MOVED}:\n{}", moved.join("\n"));
 }
 
 #[test]
+fn flatland_estimates_are_pinned() {
+    let scene = FlatScene::regular_polygon(4, 3).unwrap();
+    let pins = [
+        (LineMethod::Global, PIN_FLAT_GLOBAL),
+        (LineMethod::Local, PIN_FLAT_LOCAL),
+        (LineMethod::Bundle, PIN_FLAT_BUNDLE),
+    ];
+    check_estimates("flatland", pins, |m| {
+        estimate_2d::estimate(&scene, m, 11, 100_000).unwrap()
+    });
+}
+
+#[test]
 fn solid_estimates_are_pinned() {
     let scene: Scene = preset_3d("cube", 2).unwrap();
-    let mut moved = Vec::new();
-    for (method, want) in [
-        (estimate_3d::LineMethod::Global, PIN_SOLID_GLOBAL),
-        (estimate_3d::LineMethod::Local, PIN_SOLID_LOCAL),
-        (estimate_3d::LineMethod::Bundle, PIN_SOLID_BUNDLE),
-    ] {
-        let e = estimate_3d::estimate(&scene, method, 11, 100_000).unwrap();
-        let ff = &e.form_factors;
-        let got = (
-            e.continuous.value.to_bits(),
-            fingerprint(ff.n_states(), |i, j| ff.get(i, j)),
-        );
-        if got != want {
-            moved.push(format!("{method:?}: {got:?}"));
-        }
-    }
-    assert!(moved.is_empty(), "{MOVED}:\n{}", moved.join("\n"));
+    let pins = [
+        (LineMethod::Global, PIN_SOLID_GLOBAL),
+        (LineMethod::Local, PIN_SOLID_LOCAL),
+        (LineMethod::Bundle, PIN_SOLID_BUNDLE),
+    ];
+    check_estimates("3D", pins, |m| {
+        estimate_3d::estimate(&scene, m, 11, 100_000).unwrap()
+    });
 }
 
 // The pins, recorded from the code of 2026-11-27 (after bf72e30). I_S^c as `f64` bits, then
