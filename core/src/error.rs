@@ -301,6 +301,12 @@ pub enum ErrorKind {
     /// Some polygon of a 3D scene may hide part of another, so a computation that assumes
     /// full visibility (exact form factors, the `I_S^c` quadrature) does not apply.
     MayBeOccluded,
+    /// A computation produced a NaN or an infinity (its values overflowed `f64`); names the
+    /// computation, never a bare "sums to NaN".
+    NotFinite {
+        /// The computation.
+        what: &'static str,
+    },
     /// An iteration did not converge within its cap.
     NoConvergence {
         /// What was iterated.
@@ -518,6 +524,9 @@ impl fmt::Display for ErrorKind {
                 f,
                 "some polygon may hide part of another: this needs an unoccluded scene (use line estimates, e.g. --lines N)"
             ),
+            K::NotFinite { what } => {
+                write!(f, "{what}: not finite (the scene's values overflow f64)")
+            }
             K::NoConvergence { what, iterations } => {
                 write!(f, "{what} did not converge in {iterations} iterations")
             }
