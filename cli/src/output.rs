@@ -23,6 +23,8 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         name.to_string_lossy(),
         std::process::id()
     ));
+    // Ctrl-C waits for the file to be whole (or removed) before ending the process
+    let _held = crate::interrupt::hold_exit();
     let result = (|| -> Result<()> {
         let mut f =
             fs::File::create(&tmp).with_context(|| format!("{}: cannot create", tmp.display()))?;
