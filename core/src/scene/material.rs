@@ -35,7 +35,7 @@ impl Material {
     /// radiosity      B ≤ E_max / (1 − ρ_max) = 100 E_max        (2.6, ρ ≤ 0.99)
     /// patch power    Φ_i = B_i A_i ≤ 100 E_max · 10²⁵            (|x| ≤ 10¹² ⇒ A ≤ 10²⁵)
     /// total power    Σ_i Φ_i ≤ 4·10⁶ · 10²⁷ E_max = 4·10³³ E_max (≤ 4·10⁶ patches)
-    /// second moments (Σ Φ)², B_i B_j A_i F_ij, Σ s² ≤ 1.6·10⁶⁷ E_max²
+    /// second moments (Σ Φ)², Σ A_i B_i^in B_i (5.2), B_i B_j A_i F_ij, Σ s² ≤ 1.6·10⁶⁷ E_max²
     /// ```
     ///
     /// The last must stay below `f64::MAX ≈ 1.8·10³⁰⁸`, so `E_max < 3·10¹²⁰`; `10¹⁰⁰` keeps a
