@@ -62,6 +62,8 @@ pub fn run_budget<T: LineTracer + Sync + ?Sized>(
     budget: LineBudget,
     threads: usize,
 ) -> BudgetRun {
+    // Ctrl-C between two steps asks to stop too (the command reports the job so far)
+    let _polling = crate::interrupt::Polling::start();
     let (start, max) = match budget {
         LineBudget::Fixed(n) => (n, n),
         LineBudget::UntilSampled { start, max } => (start.min(max), max),
@@ -164,6 +166,8 @@ pub fn run_chunks_timed<T: LineTracer + Sync + ?Sized>(
     range: Range<u64>,
     threads: usize,
 ) -> (LineTally, JobTimes) {
+    // The workers check for Ctrl-C between chunks
+    let _polling = crate::interrupt::Polling::start();
     let chunks = range.end.min(chunk_count(n_lines));
     let next = AtomicU64::new(range.start);
     let done = AtomicU64::new(0);

@@ -44,6 +44,8 @@ fn temporary_for(path: &Path) -> Result<(PathBuf, PathBuf)> {
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let (_, tmp) = temporary_for(path)?;
     let cannot = |e: std::io::Error| anyhow::anyhow!("{}: cannot write: {e}", path.display());
+    // Ctrl-C waits for the file to be whole (or removed) before ending the process
+    let _held = crate::interrupt::hold_exit();
     let result = (|| -> Result<()> {
         let mut f = fs::File::create(&tmp).map_err(cannot)?;
         f.write_all(bytes).map_err(cannot)?;
@@ -91,6 +93,8 @@ pub fn check_writable(path: &Path) -> Result<()> {
         }
     }
     // The probe: the very temporary file the write will use, created and removed
+    // Ctrl-C waits until the probe is removed
+    let _held = crate::interrupt::hold_exit();
     match fs::OpenOptions::new()
         .write(true)
         .create_new(true)

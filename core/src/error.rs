@@ -166,6 +166,12 @@ pub enum ErrorKind {
         /// The offending value.
         value: f64,
     },
+    /// An emittance exceeds [`crate::scene::Material::MAX_EMITTANCE`]: radiosities, powers
+    /// and their squares would overflow.
+    EmittanceTooLarge {
+        /// The offending value.
+        value: f64,
+    },
     /// A scene has no patches.
     EmptyScene,
     /// Explicit cut positions along a segment are not strictly increasing inside (0, 1).
@@ -298,6 +304,12 @@ pub enum ErrorKind {
     /// Some polygon of a 3D scene may hide part of another, so a computation that assumes
     /// full visibility (exact form factors, the `I_S^c` quadrature) does not apply.
     MayBeOccluded,
+    /// A computation produced a NaN or an infinity (its values overflowed `f64`); names the
+    /// computation, never a bare "sums to NaN".
+    NotFinite {
+        /// The computation.
+        what: &'static str,
+    },
     /// An iteration did not converge within its cap.
     NoConvergence {
         /// What was iterated.
@@ -442,6 +454,7 @@ impl fmt::Display for ErrorKind {
             K::TooManyPatches { max } => write!(f, "scene has more than {max} patches"),
             K::Reflectance { value } => write!(f, "reflectance {value} is outside [0, 1)"),
             K::Emittance { value } => write!(f, "emittance {value} is negative"),
+            K::EmittanceTooLarge { value } => write_emittance_too_large(f, *value),
             K::EmptyScene => write!(f, "scene has no patches"),
             K::BadCuts => write!(f, "cut positions must increase strictly inside (0, 1)"),
             K::PatchIndex { index, len } => {
@@ -518,6 +531,9 @@ impl fmt::Display for ErrorKind {
                 f,
                 "some polygon may hide part of another: this needs an unoccluded scene (use line estimates, e.g. --lines N)"
             ),
+            K::NotFinite { what } => {
+                write!(f, "{what}: not finite (the scene's values overflow f64)")
+            }
             K::NoConvergence { what, iterations } => {
                 write!(f, "{what} did not converge in {iterations} iterations")
             }
@@ -658,6 +674,17 @@ impl fmt::Display for Error {
 
 impl core::error::Error for Error {}
 
+/// The message of [`ErrorKind::EmittanceTooLarge`] and [`MaterialProblem::EmittanceTooLarge`]:
+/// the value in exponent form (`1e308`, not 309 digits).
+fn write_emittance_too_large(f: &mut fmt::Formatter<'_>, value: f64) -> fmt::Result {
+    write!(
+        f,
+        "emittance {value:e} is too large: at most {:e}, so that radiosities, powers and \
+         their squares stay finite",
+        crate::scene::Material::MAX_EMITTANCE
+    )
+}
+
 /// Shorthand for `core::result::Result<T, Error>`.
 pub type Result<T> = core::result::Result<T, Error>;
 
@@ -692,6 +719,11 @@ pub enum MaterialProblem {
         /// The offending value.
         value: f64,
     },
+    /// An emittance (`Ke`) exceeds [`crate::scene::Material::MAX_EMITTANCE`].
+    EmittanceTooLarge {
+        /// The offending value.
+        value: f64,
+    },
     /// A property (`Kd`, `Ke`) comes before any `newmtl`.
     NoCurrentMaterial,
     /// A `newmtl` name is defined twice.
@@ -713,6 +745,7 @@ impl fmt::Display for MaterialProblem {
             P::TrailingField => write!(f, "unexpected extra field"),
             P::Reflectance { value } => write!(f, "reflectance {value} is outside [0, 1)"),
             P::Emittance { value } => write!(f, "emittance {value} is negative"),
+            P::EmittanceTooLarge { value } => write_emittance_too_large(f, *value),
             P::NoCurrentMaterial => write!(f, "property before any newmtl"),
             P::DuplicateMaterial => write!(f, "material defined twice"),
         }

@@ -61,7 +61,7 @@ pub use oracle::{
     MutualInformationOracle, Oracle, Pair, PowerOracle, RegularOracle, Side,
 };
 #[cfg(feature = "alloc")]
-pub use target::MAX_TARGET_BUILDS;
+pub use target::{MAX_TARGET_BUILDS, first_threshold};
 #[cfg(feature = "alloc")]
 pub use tree::{Budget, Element, Hierarchy, HrOptions, Link, MAX_DEPTH, NONE};
 #[cfg(feature = "alloc")]

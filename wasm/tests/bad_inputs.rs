@@ -49,6 +49,10 @@ const FILES: &[(&str, &[u8])] = &[
         include_bytes!("../../tests/data/bad/emittance_negative.flat"),
     ),
     (
+        "emittance_too_large.flat",
+        include_bytes!("../../tests/data/bad/emittance_too_large.flat"),
+    ),
+    (
         "empty.flat",
         include_bytes!("../../tests/data/bad/empty.flat"),
     ),
@@ -201,6 +205,10 @@ const FILES: &[(&str, &[u8])] = &[
         include_bytes!("../../tests/data/bad/obj_emittance_negative.obj"),
     ),
     (
+        "obj_emittance_too_large.obj",
+        include_bytes!("../../tests/data/bad/obj_emittance_too_large.obj"),
+    ),
+    (
         "obj_empty.obj",
         include_bytes!("../../tests/data/bad/obj_empty.obj"),
     ),
@@ -263,6 +271,10 @@ const LIBRARIES: &[(&str, &str)] = &[
     (
         "emittance_negative.mtl",
         include_str!("../../tests/data/bad/emittance_negative.mtl"),
+    ),
+    (
+        "emittance_too_large.mtl",
+        include_str!("../../tests/data/bad/emittance_too_large.mtl"),
     ),
     (
         "reflectance_negative.mtl",

@@ -70,3 +70,47 @@ pub fn array(json: &str, key: &str) -> Vec<f64> {
     let end = rest.find(']').unwrap();
     rest[..end].split(',').map(|x| x.parse().unwrap()).collect()
 }
+
+/// Runs `cmd` to its end, or kills it and fails the test after `limit`: a hang is a test
+/// failure, not a stuck test run. Standard output and error go to files (a child that
+/// writes much never blocks on a full pipe) and come back in the [`std::process::Output`].
+pub fn output_within(cmd: &mut Command, limit: std::time::Duration) -> std::process::Output {
+    let (out_path, err_path) = (temp_unique("stdout"), temp_unique("stderr"));
+    let mut child = cmd
+        .stdout(std::fs::File::create(&out_path).unwrap())
+        .stderr(std::fs::File::create(&err_path).unwrap())
+        .spawn()
+        .unwrap();
+    let status = wait_within(&mut child, limit);
+    std::process::Output {
+        status,
+        stdout: std::fs::read(&out_path).unwrap(),
+        stderr: std::fs::read(&err_path).unwrap(),
+    }
+}
+
+/// Waits for `child`, polling every 20 ms; kills it and fails the test after `limit`.
+pub fn wait_within(
+    child: &mut std::process::Child,
+    limit: std::time::Duration,
+) -> std::process::ExitStatus {
+    let deadline = std::time::Instant::now() + limit;
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return status;
+        }
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("sceneinfo still running after {limit:?}: killed");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+/// A fresh path in the temporary folder (a counter keeps parallel tests apart).
+pub fn temp_unique(stem: &str) -> PathBuf {
+    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let k = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    temp(&format!("{stem}-{k}"))
+}

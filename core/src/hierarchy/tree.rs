@@ -210,7 +210,7 @@ impl Hierarchy {
     /// [`ErrorKind::BadParameter`] for options out of range; [`ErrorKind::TooLarge`] when
     /// the roots alone exceed `max_elements` or their links `max_links`; the errors of
     /// [`crate::accel::Bvh3::build`]; [`ErrorKind::NoConvergence`] when a solve reaches
-    /// `max_iterations`.
+    /// `max_iterations`; [`ErrorKind::NotFinite`] when a radiosity overflows.
     pub fn build(scene: &Scene, oracle: &dyn Oracle, opts: &HrOptions) -> Result<Self> {
         opts.validate()?;
         let occluders = SceneVisibility::new(scene)?;
@@ -352,6 +352,15 @@ impl Hierarchy {
                 self.push_pull(root, [0.0; 3], &gathered, &mut change);
             }
             self.iterations += 1;
+            // A NaN or infinite radiosity passes no tolerance test below: it is an error,
+            // never a converged answer (it cannot arise from validated materials,
+            // `Material::MAX_EMITTANCE`, but a caller may build elements otherwise)
+            if !change.is_finite() {
+                return Err(ErrorKind::NotFinite {
+                    what: "hierarchical radiosity (gather, push-pull)",
+                }
+                .into());
+            }
             if !(change > opts.tolerance * scale) {
                 return Ok(());
             }

@@ -142,7 +142,7 @@ pub fn incoming_radiosity_into<M: Transitions>(f: &M, b: &[f64], out: &mut [f64]
 /// [`ErrorKind::DimensionMismatch`] unless all slices have the same length;
 /// [`ErrorKind::NonFiniteEntry`] / [`ErrorKind::NegativeEntry`] for a size that is not
 /// positive and finite or a negative or non-finite `B_i`, `B_i^in`;
-/// [`ErrorKind::NotNormalized`] when the total overflows.
+/// [`ErrorKind::NotFinite`] when the total overflows.
 pub fn radiosity_weights_into(
     sizes: &[f64],
     b: &[f64],
@@ -185,7 +185,10 @@ pub(super) fn generalised_areas_in_place(
     }
     let total = total.total();
     if !total.is_finite() {
-        return Err(ErrorKind::NotNormalized { sum: total }.into());
+        return Err(ErrorKind::NotFinite {
+            what: "radiosity channel weights Σ A_i B_i^in B_i (5.2)",
+        }
+        .into());
     }
     if total > 0.0 {
         for o in weights.iter_mut() {

@@ -22,10 +22,19 @@
 //!
 //! # Cost
 //!
-//! `O(n log n)`: surfaces are sorted by their quantised direction and line offset (cells
-//! of `1e-6`, `1e-6 R`), then each is compared with those of its cell (and of a neighbour
-//! cell when it lies within the tolerance of a cell boundary) whose extent along the
-//! direction overlaps its own.
+//! `O(n log n)` to accept a scene: surfaces are sorted by their quantised direction and line
+//! offset (cells of `1e-6`, `1e-6 R`), then each is compared with those of its cell (and of
+//! a neighbour cell when it lies within the tolerance of a cell boundary) whose extent
+//! along the direction overlaps its own (3D: whose box overlaps, through a box tree per
+//! cell). Refusing a scene needs the *first* coincident pair in input order, and a search
+//! that looked at every candidate pair would be quadratic in `k` copies of one surface
+//! (`k (k − 1) / 2` pairs: 200,000 copies of a segment took minutes). So the search stops
+//! at the first pair it meets, and the first pair is found by bisection on the input
+//! prefix ([`first_in_order`]): `O(n log² n)`, whatever the duplicates.
+//!
+//! What stays quadratic: many surfaces of one cell (directions within `1e-6`, offsets
+//! within `1e-6 R`) whose extents overlap yet none of which coincide, a flood of nearly
+//! coincident surfaces; no scene of the catalogue or the corpus comes near one.
 
 use alloc::vec::Vec;
 
@@ -64,18 +73,45 @@ fn quantise(x: f64, w: f64) -> (i64, f64) {
     (q, x - q as f64)
 }
 
-/// Sweeps the entries for a pair `precise` accepts, returning the pair `(i, j)`, `i < j`,
-/// with the smallest `j` (the first surface, in input order, that coincides with an
-/// earlier one).
+/// The first coincident pair in input order, `(i, j)` with `i < j`, `j` as small as
+/// possible and then `i`, from `any_among(m)`, which finds some coincident pair among the
+/// surfaces `0..m` (or none), and `coincide(i, j)`.
+///
+/// The surfaces `0..m` contain a pair exactly when `m > j*`, the second index of the first
+/// pair, so `j*` is found by bisection on `m`, a pair found for a prefix tightening the upper
+/// end; then `i*` is the smallest `i` that coincides with `j*`. `⌈log₂ n⌉ + 1` searches
+/// and `j*` tests.
+fn first_in_order(
+    n: usize,
+    any_among: impl Fn(usize) -> Option<(usize, usize)>,
+    coincide: impl Fn(usize, usize) -> bool,
+) -> Option<(usize, usize)> {
+    // `hi` always contains a pair, `lo` is the smallest prefix that may
+    let (_, first) = any_among(n)?;
+    let (mut lo, mut hi) = (2, first + 1);
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        match any_among(mid) {
+            Some((_, j)) => hi = j + 1,
+            None => lo = mid + 1,
+        }
+    }
+    let j = hi - 1;
+    (0..j).find(|&i| coincide(i, j)).map(|i| (i, j))
+}
+
+/// Sweeps the entries (sorted by cell, then `lo`) of the surfaces `0..limit` and returns the
+/// first pair `precise` accepts, `(i, j)` with `i < j`.
 fn sweep<const K: usize>(
-    entries: &mut [Entry<K>],
+    entries: &[Entry<K>],
+    limit: usize,
     slack: [f64; K],
     window: f64,
     precise: impl Fn(usize, usize) -> bool,
 ) -> Option<(usize, usize)> {
-    entries.sort_by(|a, b| a.cell.cmp(&b.cell).then(a.lo.total_cmp(&b.lo)));
-    let mut best: Option<(usize, usize)> = None;
-    for e in entries.iter() {
+    // The prefix, still sorted
+    let kept: Vec<&Entry<K>> = entries.iter().filter(|e| e.index < limit).collect();
+    for e in &kept {
         // The cells to search: this one, and a neighbour per dimension where e lies
         // within the tolerance of the boundary.
         let mut offsets: heapless::Vec<[i64; K], 81> = heapless::Vec::new();
@@ -104,25 +140,22 @@ fn sweep<const K: usize>(
             }
             // Entries of that cell starting before e ends (those starting before e's start
             // are found from their own side, unless they start within the window)
-            let from = entries
-                .partition_point(|x| x.cell < cell || (x.cell == cell && x.lo < e.lo - window));
-            let to = entries
-                .partition_point(|x| x.cell < cell || (x.cell == cell && x.lo < e.hi - window));
-            for x in &entries[from..to.max(from)] {
+            let from =
+                kept.partition_point(|x| x.cell < cell || (x.cell == cell && x.lo < e.lo - window));
+            let to =
+                kept.partition_point(|x| x.cell < cell || (x.cell == cell && x.lo < e.hi - window));
+            for x in &kept[from..to.max(from)] {
                 if x.index == e.index {
                     continue;
                 }
                 let pair = (x.index.min(e.index), x.index.max(e.index));
-                if best.is_some_and(|b| (b.1, b.0) <= (pair.1, pair.0)) {
-                    continue;
-                }
                 if precise(pair.0, pair.1) {
-                    best = Some(pair);
+                    return Some(pair);
                 }
             }
         }
     }
-    best
+    None
 }
 
 /// The first pair of coincident flatland segments `(a, b)` (each facing its left), as
@@ -174,10 +207,12 @@ pub fn coincident_segments(segments: &[(DVec2, DVec2)]) -> Option<(usize, usize)
             && cross(dj, bi - aj).abs() <= tol
             && s1.min(length) - s0.max(0.0) > tol
     };
-    sweep(
-        &mut entries,
-        [direction_slack, direction_slack, offset_slack],
-        2.0 * DIRECTION_TOLERANCE * r + tol,
+    entries.sort_by(|a, b| a.cell.cmp(&b.cell).then(a.lo.total_cmp(&b.lo)));
+    let slack = [direction_slack, direction_slack, offset_slack];
+    let window = 2.0 * DIRECTION_TOLERANCE * r + tol;
+    first_in_order(
+        segments.len(),
+        |m| sweep(&entries, m, slack, window, precise),
         precise,
     )
 }
@@ -186,16 +221,32 @@ pub fn coincident_segments(segments: &[(DVec2, DVec2)]) -> Option<(usize, usize)
 /// normals, as indices `(i, j)` with `i < j` and `j` as small as possible.
 #[must_use]
 pub fn coincident_faces(faces: &[(&[DVec3], DVec3)]) -> Option<(usize, usize)> {
-    let best: core::cell::Cell<Option<(usize, usize)>> = core::cell::Cell::new(None);
-    visit_face_pairs(
-        faces,
-        &mut |pair| best.get().is_none_or(|b| (pair.1, pair.0) < (b.1, b.0)),
-        &mut |pair| {
-            best.set(Some(pair));
-            true
-        },
-    );
-    best.get()
+    let any_among = |m: usize| {
+        let mut pair = None;
+        visit_face_pairs(faces, m, &mut |p| {
+            pair = Some(p);
+            false
+        });
+        pair
+    };
+    let tol = face_tolerance(faces);
+    first_in_order(faces.len(), any_among, |i, j| {
+        faces_coincide(faces[i], faces[j], tol)
+    })
+}
+
+/// Whether two faces (vertices, unit normal) coincide with distance tolerance `tol`: same
+/// facing, each one's vertices on the other's plane, overlapping (module docs).
+fn faces_coincide((vi, ni): (&[DVec3], DVec3), (vj, nj): (&[DVec3], DVec3), tol: f64) -> bool {
+    let on_plane = |vs: &[DVec3], n: DVec3, p: DVec3| vs.iter().all(|v| n.dot(*v - p).abs() <= tol);
+    let (Some(&pi), Some(&pj)) = (vi.first(), vj.first()) else {
+        return false;
+    };
+    (ni - nj).abs().max_element() <= DIRECTION_TOLERANCE
+        && ni.dot(nj) > 0.0
+        && on_plane(vj, ni, pi)
+        && on_plane(vi, nj, pj)
+        && convex_overlap(vi, vj, ni, tol)
 }
 
 /// The distance tolerance of coincidence for these faces: `1e-12 R`, with `R` their
@@ -216,21 +267,36 @@ fn largest_magnitude(faces: &[(&[DVec3], DVec3)]) -> f64 {
 /// Most coincident pairs [`coincident_face_pairs`] gathers.
 pub const MAX_COINCIDENT_PAIRS: usize = 1_000_000;
 
-/// Every pair of coincident faces, as `(i, j)` with `i < j`, sorted by `j` then `i`.
+/// The pairs of coincident faces, as `(i, j)` with `i < j`, sorted by `j` then `i`: every
+/// pair, except that a later exact copy of a face (the same vertices in the same cyclic
+/// order, bit for bit, and the same normal) is paired with the face's first copy only.
+///
+/// A copy coincides with whatever its original coincides with, so the pairs left out say
+/// nothing new; without them `k` copies of one face make `k − 1` pairs instead of
+/// `k (k − 1) / 2`, and 200,000 copies load in a fraction of a second instead of running
+/// into the cap after half a minute. Copies are found by sorting a canonical key (the
+/// vertex list rotated to start at its smallest vertex): `O(n log n)`.
 ///
 /// # Errors
-/// [`ErrorKind::TooLarge`] beyond [`MAX_COINCIDENT_PAIRS`] pairs (`k` copies of one face
-/// make `k (k − 1) / 2`).
+/// [`ErrorKind::TooLarge`] beyond [`MAX_COINCIDENT_PAIRS`] pairs.
 pub fn coincident_face_pairs(faces: &[(&[DVec3], DVec3)]) -> Result<Vec<(usize, usize)>> {
-    let mut pairs: Vec<(usize, usize)> = Vec::new();
-    let mut overflow = false;
-    visit_face_pairs(faces, &mut |_| true, &mut |pair| {
+    // The first copy of each face, and the distinct faces alone
+    let first = first_copies(faces);
+    let distinct: Vec<usize> = (0..faces.len()).filter(|&k| first[k] == k).collect();
+    let list: Vec<(&[DVec3], DVec3)> = distinct.iter().map(|&k| faces[k]).collect();
+    let mut pairs: Vec<(usize, usize)> = (0..faces.len())
+        .filter(|&k| first[k] != k)
+        .map(|k| (first[k], k))
+        .collect();
+    let mut overflow = pairs.len() > MAX_COINCIDENT_PAIRS;
+    // (The distinct faces span the same coordinates, so the tolerance is the scene's.)
+    visit_face_pairs(&list, list.len(), &mut |(i, j)| {
         // A pair may be met from both of its faces: room for each twice
-        if pairs.len() >= 2 * MAX_COINCIDENT_PAIRS {
+        if overflow || pairs.len() >= 3 * MAX_COINCIDENT_PAIRS {
             overflow = true;
             return false;
         }
-        pairs.push(pair);
+        pairs.push((distinct[i], distinct[j]));
         true
     });
     pairs.sort_unstable_by_key(|&(i, j)| (j, i));
@@ -243,6 +309,35 @@ pub fn coincident_face_pairs(faces: &[(&[DVec3], DVec3)]) -> Result<Vec<(usize, 
         .into());
     }
     Ok(pairs)
+}
+
+/// For each face, the index of its first exact copy (itself when it is the first).
+fn first_copies(faces: &[(&[DVec3], DVec3)]) -> Vec<usize> {
+    // The canonical rotation of a face: the start of its smallest vertex (by bits)
+    let bits = |p: &DVec3| p.to_array().map(f64::to_bits);
+    let start = |v: &[DVec3]| (0..v.len()).min_by_key(|&k| bits(&v[k])).unwrap_or(0);
+    let key = |k: usize| {
+        let (v, n) = faces[k];
+        let s = start(v);
+        (v.len(), bits(&n), v[s..].iter().chain(&v[..s]).map(bits))
+    };
+    let mut order: Vec<usize> = (0..faces.len()).collect();
+    order.sort_by(|&a, &b| {
+        let ((la, na, va), (lb, nb, vb)) = (key(a), key(b));
+        la.cmp(&lb)
+            .then(na.cmp(&nb))
+            .then_with(|| va.cmp(vb))
+            .then(a.cmp(&b))
+    });
+    let mut first: Vec<usize> = (0..faces.len()).collect();
+    for w in 1..order.len() {
+        let (a, b) = (order[w - 1], order[w]);
+        let ((la, na, va), (lb, nb, vb)) = (key(a), key(b));
+        if la == lb && na == nb && va.eq(vb) {
+            first[b] = first[a];
+        }
+    }
+    first
 }
 
 /// One face in the search: its cell (normal and plane offset), its position inside the
@@ -313,8 +408,8 @@ fn build_tree(entries: &mut [FaceEntry], base: usize, nodes: &mut Vec<Node>) -> 
     me
 }
 
-/// Calls `found((i, j))`, `i < j`, for pairs of coincident faces, stopping when it returns
-/// false; a pair is tested only when `wanted` accepts it, and may be met twice.
+/// Calls `found((i, j))`, `i < j`, for pairs of coincident faces among the faces
+/// `0..limit`, stopping when it returns false; a pair may be met twice.
 ///
 /// Faces are grouped by cell (quantised normal and plane offset, as the module docs say);
 /// each group gets a bounding-box tree, and each face queries its own group's tree (and a
@@ -323,15 +418,16 @@ fn build_tree(entries: &mut [FaceEntry], base: usize, nodes: &mut Vec<Node>) -> 
 /// triangles in one plane included, where a sweep along one axis is quadratic along a row.
 fn visit_face_pairs(
     faces: &[(&[DVec3], DVec3)],
-    wanted: &mut dyn FnMut((usize, usize)) -> bool,
+    limit: usize,
     found: &mut dyn FnMut((usize, usize)) -> bool,
 ) {
     // `dyn`: one copy of this search serves both callers (it is the larger part of the
     // loaders' code in the browser's module)
+    // The whole scene's tolerance, whatever the prefix
     let r = largest_magnitude(faces);
     let tol = DISTANCE_TOLERANCE * r;
-    let mut entries: Vec<FaceEntry> = Vec::with_capacity(faces.len());
-    for (k, &(vertices, n)) in faces.iter().enumerate() {
+    let mut entries: Vec<FaceEntry> = Vec::with_capacity(faces.len().min(limit));
+    for (k, &(vertices, n)) in faces.iter().enumerate().take(limit) {
         let Some(&p0) = vertices.first() else {
             continue;
         };
@@ -361,16 +457,7 @@ fn visit_face_pairs(
         direction_slack,
         offset_slack,
     ];
-    let precise = |i: usize, j: usize| {
-        let ((vi, ni), (vj, nj)) = (faces[i], faces[j]);
-        let on_plane =
-            |vs: &[DVec3], n: DVec3, p: DVec3| vs.iter().all(|v| n.dot(*v - p).abs() <= tol);
-        (ni - nj).abs().max_element() <= DIRECTION_TOLERANCE
-            && ni.dot(nj) > 0.0
-            && on_plane(vj, ni, vi[0])
-            && on_plane(vi, nj, vj[0])
-            && convex_overlap(vi, vj, ni, tol)
-    };
+    let precise = |i: usize, j: usize| faces_coincide(faces[i], faces[j], tol);
     // Groups of one cell, each with its tree
     entries.sort_unstable_by_key(|e| e.cell);
     let mut groups: Vec<([i64; 4], usize)> = Vec::new();
@@ -434,7 +521,7 @@ fn visit_face_pairs(
                         continue;
                     }
                     let pair = (x.index.min(e.index), x.index.max(e.index));
-                    if wanted(pair) && precise(pair.0, pair.1) && !found(pair) {
+                    if precise(pair.0, pair.1) && !found(pair) {
                         return;
                     }
                 }
@@ -542,6 +629,40 @@ mod tests {
         for (other, n) in [(&reversed, down), (&c, up), (&d, up)] {
             assert_eq!(coincident_faces(&[(&a, up), (other, n)]), None, "{other:?}");
         }
+    }
+
+    #[test]
+    fn many_copies_are_refused_by_their_first_pair() {
+        // 200,000 copies of one segment or one square: k (k − 1) / 2 pairs, found in
+        // O(n log² n); the first pair in input order is named.
+        let floor = (v2(0.0, 0.0), v2(1.0, 0.0));
+        let far = (v2(5.0, 5.0), v2(6.0, 5.0));
+        let mut segments = alloc::vec![floor; 200_000];
+        segments[0] = far;
+        assert_eq!(coincident_segments(&segments), Some((1, 2)));
+        let square = [
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+        ];
+        let faces = alloc::vec![(&square[..], DVec3::Z); 200_000];
+        assert_eq!(coincident_faces(&faces), Some((0, 1)));
+        // Loaded as drawn: each copy paired with the first only
+        let mut rotated = square;
+        rotated.rotate_left(1);
+        let mut faces = faces;
+        faces[7] = (&rotated[..], DVec3::Z);
+        let pairs = coincident_face_pairs(&faces).unwrap();
+        assert_eq!(pairs.len(), 199_999, "a rotated copy is a copy");
+        assert_eq!(&pairs[..3], &[(0, 1), (0, 2), (0, 3)]);
+        assert!(pairs.contains(&(0, 7)));
+        // Distinct surfaces before the copies: the first pair lies deep in the input
+        let mut segments: Vec<_> = (0..100_000)
+            .map(|k| (v2(k as f64, 0.0), v2(k as f64 + 1.0, 0.0)))
+            .collect();
+        segments.extend(core::iter::repeat_n((v2(7.5, 0.0), v2(8.5, 0.0)), 1000));
+        assert_eq!(coincident_segments(&segments), Some((7, 100_000)));
     }
 
     #[test]

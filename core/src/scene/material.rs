@@ -26,12 +26,34 @@ impl Material {
         emittance: [0.0; 3],
     };
 
+    /// Largest emittance accepted: `E ≤ 10¹⁰⁰` per channel.
+    ///
+    /// Every computation on a scene must stay finite, and the largest quantities it forms
+    /// from `E` are bounded by:
+    ///
+    /// ```text
+    /// radiosity      B ≤ E_max / (1 − ρ_max) = 100 E_max        (2.6, ρ ≤ 0.99)
+    /// patch power    Φ_i = B_i A_i ≤ 100 E_max · 1.3·10³⁶        (stored extent ≤ 2⁶⁰, Frame)
+    /// total power    Σ_i Φ_i ≤ 4·10⁶ · 1.3·10³⁸ E_max ≈ 5·10⁴⁴ E_max (≤ 4·10⁶ patches)
+    /// second moments (Σ Φ)², Σ A_i B_i^in B_i (5.2), B_i B_j A_i F_ij, Σ s² ≤ 2.7·10⁸⁹ E_max²
+    /// ```
+    ///
+    /// Areas are the stored ones ([`crate::scene::Frame`]: a scene's extent is kept within
+    /// `2⁻⁶⁰ … 2⁶⁰` whatever its units, so `A ≤ 2¹²⁰ ≈ 1.3·10³⁶`). The last line must stay
+    /// below `f64::MAX ≈ 1.8·10³⁰⁸`, so `E_max < 2.6·10¹⁰⁹`; `10¹⁰⁰` keeps a margin of `10¹⁸`
+    /// in the squares for the kernels and weights multiplied in on the way.
+    /// An emittance of `10³⁰⁸` (accepted before) made `B` infinite, every oracle value NaN
+    /// or infinite, and hierarchical refinement split every pair down to its smallest
+    /// element.
+    pub const MAX_EMITTANCE: f64 = 1e100;
+
     /// A validated material.
     ///
     /// # Errors
     /// [`ErrorKind::NonFiniteNumber`] for NaN or infinite values, [`ErrorKind::Reflectance`]
     /// when some ρ is outside `[0, 1)` (ρ = 1 would make the radiosity system singular in a
-    /// closed scene), [`ErrorKind::Emittance`] when some E is negative.
+    /// closed scene), [`ErrorKind::Emittance`] when some E is negative,
+    /// [`ErrorKind::EmittanceTooLarge`] when some E exceeds [`Self::MAX_EMITTANCE`].
     pub fn new(reflectance: [f64; 3], emittance: [f64; 3]) -> Result<Self> {
         for &r in &reflectance {
             if !r.is_finite() {
@@ -47,6 +69,9 @@ impl Material {
             }
             if e < 0.0 {
                 return Err(ErrorKind::Emittance { value: e }.into());
+            }
+            if e > Self::MAX_EMITTANCE {
+                return Err(ErrorKind::EmittanceTooLarge { value: e }.into());
             }
         }
         Ok(Self {
@@ -109,5 +134,9 @@ mod tests {
             Material::new([f64::NAN; 3], [0.0; 3]).unwrap_err().kind(),
             ErrorKind::NonFiniteNumber { .. }
         ));
+        assert!(Material::new([0.99; 3], [Material::MAX_EMITTANCE; 3]).is_ok());
+        let e = Material::new([0.5; 3], [1.0, 1e308, 1.0]).unwrap_err();
+        assert!(matches!(e.kind(), ErrorKind::EmittanceTooLarge { .. }));
+        assert!(alloc::format!("{e}").starts_with("emittance 1e308 is too large"));
     }
 }
