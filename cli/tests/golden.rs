@@ -135,6 +135,33 @@ const CASES: &[(&str, &[&str])] = &[
         &["radiosity", "scenes/room620.flat", "--json"],
     ),
     (
+        "radiosity_room620_global.json",
+        &[
+            "radiosity",
+            "scenes/room620.flat",
+            "--json",
+            "--lines",
+            "70000",
+            "--seed",
+            "5",
+        ],
+    ),
+    (
+        "radiosity_cornell_bundle.json",
+        &[
+            "radiosity",
+            "tests/data/corpus/obj/cornell_box/cornell_box.obj",
+            "--json",
+            "--emit-from-ka",
+            "--lines",
+            "70000",
+            "--seed",
+            "5",
+            "--method",
+            "bundle",
+        ],
+    ),
+    (
         "refine_room620_de.json",
         &[
             "refine",

@@ -315,7 +315,7 @@ impl FlatTracer {
                 samples += n;
             }
         };
-        if tally.radiosity().is_some() {
+        if tally.terms().is_some() {
             for k in 0..bundle.len() as usize {
                 line_by_line(hits.sort_line(k), tally);
             }

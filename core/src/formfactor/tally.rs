@@ -5,8 +5,10 @@
 //! becomes a [`LineEstimate`]: form factors `F_ij ≈ C_ij / N_i` (2.36, 2.37) and the
 //! continuous mutual information with its per-patch and per-pair split.
 
+use alloc::boxed::Box;
 use alloc::vec;
 use alloc::vec::Vec;
+use core::any::Any;
 
 use crate::accel::HitKey;
 use crate::channel::{CsrMatrixBuf, RowMajorCsr};
@@ -16,7 +18,6 @@ use crate::formfactor::FormFactors;
 use crate::formfactor::counts::PairCounts;
 use crate::lines::{chunk_count, chunk_range, chunk_rng};
 use crate::math::FixedSum;
-use crate::radiosity::continuous::RadiosityLineTally;
 
 /// Which lines sample the scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -132,9 +133,54 @@ pub struct LineTally {
     pub(crate) counts: PairCounts,
     pub(crate) patch_info: Vec<FixedSum>,
     pub(crate) continuous: ContinuousTally,
-    /// The radiosity terms of (5.20), when a [`crate::radiosity::continuous::RadiosityTracer`]
-    /// made the tally.
-    pub(crate) radiosity: Option<RadiosityLineTally>,
+    /// What the tracer that made the tally also counts from the same samples (the radiosity
+    /// terms of (5.20) when a [`crate::radiosity::continuous::RadiosityTracer`] made it).
+    terms: Terms,
+}
+
+/// Something tallied alongside a line job's form factors from the same samples, which the
+/// tally carries without knowing what it is (the radiosity terms of (5.20),
+/// [`crate::radiosity::continuous::RadiosityLineTally`], are one): told of every pair
+/// sample and every closed line or group, merged exactly as the tally is.
+pub trait SampleTerms: core::fmt::Debug + Send + Sync + Any {
+    /// `weight` copies of the terms of a sample with continuous term `s` between patches
+    /// `i` and `j` (2 for a global-line segment, which serves both ends; 1 for a local
+    /// line).
+    fn pair(&mut self, i: usize, j: usize, s: f64, weight: f64);
+    /// Closes the current line (or group of correlated lines) of `samples` samples.
+    fn end_line(&mut self, samples: u64);
+    /// Adds the terms of another tally of the same job (an `other` of another type is
+    /// ignored).
+    fn merge(&mut self, other: &dyn SampleTerms);
+    /// A copy, boxed.
+    fn clone_box(&self) -> Box<dyn SampleTerms>;
+    /// Whether `other` holds the same terms.
+    fn same_as(&self, other: &dyn SampleTerms) -> bool;
+    /// For the owner to get its type back (`downcast_ref`).
+    fn as_any(&self) -> &dyn Any;
+    /// For the owner to take its type back (`downcast`).
+    fn into_any(self: Box<Self>) -> Box<dyn Any>;
+}
+
+/// The optional [`SampleTerms`] of a tally, with the value semantics of the tally's other
+/// fields (clone, compare).
+#[derive(Debug, Default)]
+struct Terms(Option<Box<dyn SampleTerms>>);
+
+impl Clone for Terms {
+    fn clone(&self) -> Self {
+        Self(self.0.as_ref().map(|t| t.clone_box()))
+    }
+}
+
+impl PartialEq for Terms {
+    fn eq(&self, other: &Self) -> bool {
+        match (&self.0, &other.0) {
+            (None, None) => true,
+            (Some(a), Some(b)) => a.same_as(b.as_ref()),
+            _ => false,
+        }
+    }
 }
 
 /// The result of a Monte Carlo run.
@@ -166,20 +212,24 @@ impl LineTally {
             counts: PairCounts::new(n, method.is_global()),
             patch_info: vec![FixedSum::new(); n],
             continuous: ContinuousTally::new(),
-            radiosity: None,
+            terms: Terms(None),
         }
     }
 
-    /// Also accumulates the radiosity terms of (5.20) (see
-    /// [`crate::radiosity::continuous`]).
-    pub fn set_radiosity(&mut self, terms: RadiosityLineTally) {
-        self.radiosity = Some(terms);
+    /// Also accumulates `terms` from the same samples ([`SampleTerms`]).
+    pub fn set_terms(&mut self, terms: Box<dyn SampleTerms>) {
+        self.terms = Terms(Some(terms));
     }
 
-    /// The radiosity terms, if any.
+    /// The terms accumulated alongside, if any.
     #[must_use]
-    pub fn radiosity(&self) -> Option<&RadiosityLineTally> {
-        self.radiosity.as_ref()
+    pub fn terms(&self) -> Option<&dyn SampleTerms> {
+        self.terms.0.as_deref()
+    }
+
+    /// Takes the terms accumulated alongside out of the tally.
+    pub fn take_terms(&mut self) -> Option<Box<dyn SampleTerms>> {
+        self.terms.0.take()
     }
 
     /// The sampling method.
@@ -205,7 +255,7 @@ impl LineTally {
         match s {
             Some(s) => {
                 self.add_info(i, j, s);
-                if let Some(r) = &mut self.radiosity {
+                if let Some(r) = &mut self.terms.0 {
                     r.pair(i, j, s, 2.0);
                 }
                 2.0 * s
@@ -223,7 +273,7 @@ impl LineTally {
     /// bundle of parallel lines (module [`super::pair_blocks`]), so the fixed-point work
     /// is per pair instead of per segment.
     ///
-    /// For tallies without radiosity terms only ([`LineTally::radiosity`] is `None`):
+    /// For tallies without terms alongside only ([`LineTally::terms`] is `None`):
     /// those need every segment's term, and are left unchanged here.
     #[inline]
     pub(crate) fn add_pair_block(
@@ -233,7 +283,7 @@ impl LineTally {
         count: u32,
         info: Option<f64>,
     ) -> f64 {
-        debug_assert!(self.radiosity.is_none(), "pair blocks in a radiosity tally");
+        debug_assert!(self.terms.0.is_none(), "pair blocks in a tally with terms");
         self.counts.add_pair_block(i, j, count);
         match info {
             Some(s) => {
@@ -252,7 +302,7 @@ impl LineTally {
         match s {
             Some(s) => {
                 self.add_info(i, j, 0.5 * s);
-                if let Some(r) = &mut self.radiosity {
+                if let Some(r) = &mut self.terms.0 {
                     r.pair(i, j, s, 1.0);
                 }
                 s
@@ -286,7 +336,7 @@ impl LineTally {
     #[inline]
     pub(crate) fn end_line(&mut self, sum: f64, n: u64) {
         self.continuous.add_group(sum, n);
-        if let Some(r) = &mut self.radiosity {
+        if let Some(r) = &mut self.terms.0 {
             r.end_line(n);
         }
         self.lines += 1;
@@ -298,7 +348,7 @@ impl LineTally {
     #[inline]
     pub(crate) fn end_group(&mut self, sum: f64, n: u64, lines: u64) {
         self.continuous.add_group(sum, n);
-        if let Some(r) = &mut self.radiosity {
+        if let Some(r) = &mut self.terms.0 {
             r.end_line(n);
         }
         self.lines += lines;
@@ -332,8 +382,8 @@ impl LineTally {
             a.merge(b);
         }
         self.continuous.merge(&other.continuous);
-        if let (Some(a), Some(b)) = (&mut self.radiosity, &other.radiosity) {
-            a.merge(b);
+        if let (Some(a), Some(b)) = (&mut self.terms.0, &other.terms.0) {
+            a.merge(b.as_ref());
         }
     }
 

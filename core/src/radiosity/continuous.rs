@@ -35,6 +35,7 @@
 
 use alloc::boxed::Box;
 use alloc::vec::Vec;
+use core::any::Any;
 
 use super::measures::RadiosityMeasures;
 use super::rgb::{RgbSolution, rgb_measures, solve_rgb};
@@ -42,7 +43,7 @@ use super::{SolveOptions, Solver};
 use crate::continuous::{ContinuousEstimate, ContinuousTally};
 use crate::error::{ErrorKind, Result};
 use crate::formfactor::FormFactors;
-use crate::formfactor::tally::{LineMethod, LineTally, LineTracer};
+use crate::formfactor::tally::{LineMethod, LineTally, LineTracer, SampleTerms};
 use crate::math::{self, KahanSum};
 use crate::scene::Material;
 
@@ -207,7 +208,7 @@ impl RadiosityLineTally {
     /// Adds `weight` copies of the terms `t_ij(s)` of a sample between patches `i` and `j`
     /// to the current line (`weight` 2 for a global-line segment, which serves both ends).
     #[inline]
-    pub(crate) fn pair(&mut self, i: usize, j: usize, s: f64, weight: f64) {
+    fn add_pair(&mut self, i: usize, j: usize, s: f64, weight: f64) {
         match &mut self.0 {
             Mode::Terms(t) => {
                 let TermSums {
@@ -225,7 +226,7 @@ impl RadiosityLineTally {
 
     /// Closes a line of `n` samples.
     #[inline]
-    pub(crate) fn end_line(&mut self, n: u64) {
+    fn close_line(&mut self, n: u64) {
         match &mut self.0 {
             Mode::Terms(sums) => {
                 let TermSums {
@@ -242,7 +243,7 @@ impl RadiosityLineTally {
 
     /// Adds another tally of the same kind (exact, order-independent); a tally of the
     /// other kind is ignored.
-    pub(crate) fn merge(&mut self, other: &Self) {
+    fn merge_same(&mut self, other: &Self) {
         match (&mut self.0, &other.0) {
             (Mode::Terms(a), Mode::Terms(b)) => {
                 for (x, y) in a.tallies.iter_mut().zip(&b.tallies) {
@@ -351,11 +352,11 @@ impl<T: LineTracer + ?Sized> LineTracer for RadiosityTracer<'_, T> {
     fn new_tally(&self, method: LineMethod) -> LineTally {
         let mut tally = self.inner.new_tally(method);
         match &self.template {
-            Some(t) => tally.set_radiosity(t.clone()),
+            Some(t) => tally.set_terms(Box::new(t.clone())),
             // The patch count was checked by `pair_moments`.
             None => {
                 if let Ok(m) = RadiosityLineTally::pair_moments(self.inner.n_patches(), method) {
-                    tally.set_radiosity(m);
+                    tally.set_terms(Box::new(m));
                 }
             }
         }
@@ -363,11 +364,53 @@ impl<T: LineTracer + ?Sized> LineTracer for RadiosityTracer<'_, T> {
     }
 }
 
+/// The radiosity terms ride in a [`LineTally`] as its [`SampleTerms`]: the tally calls
+/// them for every sample and line without depending on this module.
+impl SampleTerms for RadiosityLineTally {
+    fn pair(&mut self, i: usize, j: usize, s: f64, weight: f64) {
+        self.add_pair(i, j, s, weight);
+    }
+
+    fn end_line(&mut self, samples: u64) {
+        self.close_line(samples);
+    }
+
+    fn merge(&mut self, other: &dyn SampleTerms) {
+        if let Some(other) = other.as_any().downcast_ref::<Self>() {
+            self.merge_same(other);
+        }
+    }
+
+    fn clone_box(&self) -> Box<dyn SampleTerms> {
+        Box::new(self.clone())
+    }
+
+    fn same_as(&self, other: &dyn SampleTerms) -> bool {
+        other.as_any().downcast_ref::<Self>() == Some(self)
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+
+    fn into_any(self: Box<Self>) -> Box<dyn Any> {
+        self
+    }
+}
+
+/// The radiosity terms a [`RadiosityTracer`] put in `tally` (`None` for another tally).
+#[must_use]
+pub fn radiosity_terms(tally: &LineTally) -> Option<&RadiosityLineTally> {
+    tally
+        .terms()
+        .and_then(|t| t.as_any().downcast_ref::<RadiosityLineTally>())
+}
+
 /// The radiosity `I_S^c` per colour channel of a tally from a [`RadiosityTracer`]
 /// (`None` for a tally without radiosity terms).
 #[must_use]
 pub fn radiosity_continuous(tally: &LineTally) -> Option<[ContinuousEstimate; 3]> {
-    tally.radiosity().and_then(RadiosityLineTally::estimates)
+    radiosity_terms(tally).and_then(RadiosityLineTally::estimates)
 }
 
 /// Incoming radiosities `B_i^in = Σ_j F_ij B_j` of every state and colour channel.
@@ -456,7 +499,9 @@ pub fn estimate_lit<T: LineTracer + Sync>(
         Some(t) => cast(t)?,
         None => cast(tracer)?,
     };
-    let moments = tally.radiosity.take();
+    let moments = tally
+        .take_terms()
+        .and_then(|t| t.into_any().downcast::<RadiosityLineTally>().ok());
     let estimate = tally.finish(tracer)?;
     let form_factors = estimate.form_factors;
     let f = form_factors.matrix();

@@ -271,8 +271,7 @@ mod tests {
             let want = radiosity_continuous(&terms.run(method, 11, 300_000).unwrap()).unwrap();
             let moments = RadiosityTracer::pair_moments(&tracer).unwrap();
             let tally = moments.run(method, 11, 300_000).unwrap();
-            let got = tally
-                .radiosity()
+            let got = super::super::radiosity_terms(&tally)
                 .unwrap()
                 .estimates_for(tracer.patch_sizes(), &b, &b_in)
                 .unwrap();
@@ -310,7 +309,7 @@ mod tests {
             merged.merge(&t);
         }
         assert_eq!(merged, whole);
-        let m = whole.radiosity().unwrap();
+        let m = super::super::radiosity_terms(&whole).unwrap();
         assert!(
             m.estimates_for(&tracer.patch_sizes()[1..], &b, &b_in)
                 .is_err()
