@@ -98,6 +98,24 @@ impl Frame {
         }
     }
 
+    /// [`Self::for_bounds`] for a box whose coordinates are in units of `2^unit` world
+    /// units (a builder's working coordinates): the frame, relative to those units, that
+    /// stores the scene exactly as [`Self::for_bounds`] of its world box would — so the
+    /// stored scene depends on its geometry alone, not on the units it was built in.
+    pub(crate) fn for_bounds_in_units(lo: DVec3, hi: DVec3, unit: i32) -> Result<Frame> {
+        let frame = Self::for_bounds(lo, hi)?;
+        let world = math::exponent_of((hi - lo).max_element()).saturating_add(unit);
+        let total = if world.abs() <= SAFE_EXTENT_EXPONENT {
+            0
+        } else {
+            world
+        };
+        Ok(Frame {
+            origin: frame.origin,
+            exponent: total - unit,
+        })
+    }
+
     /// The world point `origin`: stored `0` is there.
     #[must_use]
     pub fn origin(&self) -> DVec3 {

@@ -568,7 +568,7 @@ impl Scene {
     /// into the [`Frame`] of its bounding box (module docs of [`crate::scene::frame`]).
     fn stored_in_frame(mut self, working: i32) -> Result<Scene> {
         let (lo, hi) = self.bounds();
-        let frame = Frame::for_bounds(lo, hi)?;
+        let frame = Frame::for_bounds_in_units(lo, hi, working)?;
         if !frame.is_identity() {
             let area_exponent = -2 * frame.exponent();
             let area = |a: f64| crate::math::scale_by_power_of_two(a, area_exponent);

@@ -88,8 +88,12 @@ impl SceneBuilder {
         check_face_input(vertices)?;
         let exponent = self.exponent_for(vertices);
         let scaled = scale_face(vertices, exponent)?;
+        let before = self.faces.len();
         self.add_as_drawn(&scaled, s, report, line)?;
-        self.working_exponent = Some(exponent);
+        // Only a face that was kept sets the units (a dropped 10³⁰⁰ sliver must not)
+        if self.faces.len() > before {
+            self.working_exponent = Some(exponent);
+        }
         Ok(())
     }
 

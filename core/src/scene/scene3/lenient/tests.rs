@@ -311,3 +311,39 @@ mod props {
         }
     }
 }
+
+#[test]
+fn the_stored_frame_depends_on_the_scene_not_on_dropped_faces() {
+    // A fuzz find: a huge first face that was dropped set the builder's units, and the
+    // scene written back and read again was stored differently (same world coordinates)
+    let unit = [p(0., 0., 0.), p(1., 0., 0.), p(0., 1., 0.)];
+    let mut r = LoadReport::default();
+    let mut plain = Scene::builder();
+    plain
+        .face_as_drawn(&unit, Subdivision::None, &mut r, None)
+        .unwrap();
+    let plain = plain.build().unwrap();
+    let mut b = Scene::builder();
+    let sliver = [p(0., 0., 0.), p(1e70, 0., 0.), p(2e70, 0., 0.)];
+    b.face_as_drawn(&sliver, Subdivision::None, &mut r, None)
+        .unwrap();
+    b.face_as_drawn(&unit, Subdivision::None, &mut r, None)
+        .unwrap();
+    let scene = b.build().unwrap();
+    assert!(scene.frame().is_identity());
+    assert_eq!(scene, plain);
+    // Built in other units (a first face 2⁷⁰ wide), a scene 2⁷⁵ wide is stored as if read
+    // at once in its own units: extent in [1, 2), exponent 75
+    let big = |v: &[DVec3]| v.iter().map(|&q| q * 2f64.powi(70)).collect::<Vec<_>>();
+    let mut b = Scene::builder();
+    b.polygon(&big(&unit), Subdivision::None).unwrap();
+    b.polygon(
+        &big(&[p(0., 0., 1.), p(0., 32., 1.), p(32., 0., 1.)]),
+        Subdivision::None,
+    )
+    .unwrap();
+    let scene = b.build().unwrap();
+    assert_eq!(scene.frame().exponent(), 75);
+    let (lo, hi) = scene.bounds();
+    assert_eq!((hi - lo).max_element(), 1.0);
+}
