@@ -5,10 +5,12 @@
 //! - `montecarlo`: Monte Carlo estimators against exact results and Proposition 2.
 //! - `fuzz_replay`: every fuzz seed and saved crash input, through the fuzz targets' code.
 //! - `extremes`: finite measures and the identities on extreme but valid scenes.
+//! - `layers`: core modules use only the layers below them; CLI commands not each other.
 //! - `value_stability`: the chunk streams and one small estimate per line method, pinned.
 
 mod extremes;
 mod fuzz_replay;
+mod layers;
 mod montecarlo;
 mod props;
 mod tables;

@@ -166,11 +166,13 @@ pub enum ErrorKind {
         /// The offending value.
         value: f64,
     },
-    /// An emittance exceeds [`crate::scene::Material::MAX_EMITTANCE`]: radiosities, powers
+    /// An emittance exceeds the cap (`scene::Material::MAX_EMITTANCE`): radiosities, powers
     /// and their squares would overflow.
     EmittanceTooLarge {
         /// The offending value.
         value: f64,
+        /// The cap (carried, so this module depends on nothing above it).
+        max: f64,
     },
     /// A scene has no patches.
     EmptyScene,
@@ -265,7 +267,7 @@ pub enum ErrorKind {
     },
     /// Exact form factors whose rows sum above one beyond rounding: the scene's extent is
     /// too large beside its smallest feature for `f64` (the units do not matter: scenes
-    /// are stored at a moderate scale, [`crate::scene::Frame`]).
+    /// are stored at a moderate scale, `scene::Frame`).
     PrecisionLoss {
         /// The patch whose row overflows.
         patch: usize,
@@ -454,7 +456,7 @@ impl fmt::Display for ErrorKind {
             K::TooManyPatches { max } => write!(f, "scene has more than {max} patches"),
             K::Reflectance { value } => write!(f, "reflectance {value} is outside [0, 1)"),
             K::Emittance { value } => write!(f, "emittance {value} is negative"),
-            K::EmittanceTooLarge { value } => write_emittance_too_large(f, *value),
+            K::EmittanceTooLarge { value, max } => write_emittance_too_large(f, *value, *max),
             K::EmptyScene => write!(f, "scene has no patches"),
             K::BadCuts => write!(f, "cut positions must increase strictly inside (0, 1)"),
             K::PatchIndex { index, len } => {
@@ -676,12 +678,11 @@ impl core::error::Error for Error {}
 
 /// The message of [`ErrorKind::EmittanceTooLarge`] and [`MaterialProblem::EmittanceTooLarge`]:
 /// the value in exponent form (`1e308`, not 309 digits).
-fn write_emittance_too_large(f: &mut fmt::Formatter<'_>, value: f64) -> fmt::Result {
+fn write_emittance_too_large(f: &mut fmt::Formatter<'_>, value: f64, max: f64) -> fmt::Result {
     write!(
         f,
-        "emittance {value:e} is too large: at most {:e}, so that radiosities, powers and \
-         their squares stay finite",
-        crate::scene::Material::MAX_EMITTANCE
+        "emittance {value:e} is too large: at most {max:e}, so that radiosities, powers and \
+         their squares stay finite"
     )
 }
 
@@ -719,10 +720,12 @@ pub enum MaterialProblem {
         /// The offending value.
         value: f64,
     },
-    /// An emittance (`Ke`) exceeds [`crate::scene::Material::MAX_EMITTANCE`].
+    /// An emittance (`Ke`) exceeds the cap (`scene::Material::MAX_EMITTANCE`).
     EmittanceTooLarge {
         /// The offending value.
         value: f64,
+        /// The cap.
+        max: f64,
     },
     /// A property (`Kd`, `Ke`) comes before any `newmtl`.
     NoCurrentMaterial,
@@ -745,7 +748,7 @@ impl fmt::Display for MaterialProblem {
             P::TrailingField => write!(f, "unexpected extra field"),
             P::Reflectance { value } => write!(f, "reflectance {value} is outside [0, 1)"),
             P::Emittance { value } => write!(f, "emittance {value} is negative"),
-            P::EmittanceTooLarge { value } => write_emittance_too_large(f, *value),
+            P::EmittanceTooLarge { value, max } => write_emittance_too_large(f, *value, *max),
             P::NoCurrentMaterial => write!(f, "property before any newmtl"),
             P::DuplicateMaterial => write!(f, "material defined twice"),
         }

@@ -661,8 +661,8 @@ impl MtlLibrary<'_> {
         let (material, clamped) = Material::clamped(rho, emit).map_err(|e| match *e.kind() {
             ErrorKind::Reflectance { value } => (kd_line, MaterialProblem::Reflectance { value }),
             ErrorKind::Emittance { value } => (emit_line, MaterialProblem::Emittance { value }),
-            ErrorKind::EmittanceTooLarge { value } => {
-                (emit_line, MaterialProblem::EmittanceTooLarge { value })
+            ErrorKind::EmittanceTooLarge { value, max } => {
+                (emit_line, MaterialProblem::EmittanceTooLarge { value, max })
             }
             _ => (kd_line, MaterialProblem::NonFiniteNumber { field: "Kd" }),
         })?;

@@ -71,7 +71,11 @@ impl Material {
                 return Err(ErrorKind::Emittance { value: e }.into());
             }
             if e > Self::MAX_EMITTANCE {
-                return Err(ErrorKind::EmittanceTooLarge { value: e }.into());
+                return Err(ErrorKind::EmittanceTooLarge {
+                    value: e,
+                    max: Self::MAX_EMITTANCE,
+                }
+                .into());
             }
         }
         Ok(Self {
