@@ -11,6 +11,7 @@ pub mod refine;
 mod refine3d;
 mod reproduce;
 mod scene;
+mod viewpoints;
 
 use anyhow::Result;
 
@@ -28,5 +29,6 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Bench(args) => bench::run(&args),
         Command::Refine(args) => refine::run(&args),
         Command::Radiosity(args) => radiosity::run(&args),
+        Command::Viewpoints(args) => viewpoints::run(&args),
     }
 }

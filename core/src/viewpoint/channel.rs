@@ -592,6 +592,60 @@ impl ViewpointChannel {
         }
         chosen
     }
+
+    /// Representative views by mixing (our reading of Feixas et al. 2009's best-view
+    /// selection, which we could not check against the paper's text here): start from the
+    /// best view (least VMI); then add the viewpoint whose mixture with the views chosen
+    /// so far, `v̂ = v₁ ∪ … ∪ v_k`,
+    ///
+    /// ```text
+    /// p(v̂) = Σ_j p(v_j),   p(O|v̂) = Σ_j p(v_j) p(O|v_j) / p(v̂),
+    /// I(v̂; O) = Σ_o p(o|v̂) log₂(p(o|v̂) / p(o))
+    /// ```
+    ///
+    /// has the least VMI: the set that together sees the object most like the whole
+    /// sphere does. `I(v̂;O) → 0` as `v̂` grows to `V`. Returns `(viewpoint, I(v̂;O) after
+    /// adding it)` for up to `max_views` views. Cost `O(k · N_v · N_o)`.
+    #[must_use]
+    pub fn representative_views(&self, max_views: usize) -> Vec<(usize, f64)> {
+        let mut selected = vec![false; self.n_v];
+        let mut chosen = Vec::new();
+        let mut mix = vec![0.0; self.n_o];
+        let mut mix_p = 0.0;
+        let mut trial = vec![0.0; self.n_o];
+        let limit = max_views.min(self.n_v);
+        while chosen.len() < limit {
+            let mut best: Option<(usize, f64)> = None;
+            for v in 0..self.n_v {
+                if selected[v] {
+                    continue;
+                }
+                let pv = self.p_v[v];
+                let p = mix_p + pv;
+                if p <= 0.0 {
+                    continue;
+                }
+                for ((t, &m), &q) in trial.iter_mut().zip(&mix).zip(self.p_o_given(v)) {
+                    *t = (m + pv * q) / p;
+                }
+                let info = kl(&trial, &self.p_o);
+                if best.is_none_or(|(_, b)| info < b) {
+                    best = Some((v, info));
+                }
+            }
+            let Some((v, info)) = best else {
+                break;
+            };
+            selected[v] = true;
+            let pv = self.p_v[v];
+            for (m, &q) in mix.iter_mut().zip(self.p_o_given(v)) {
+                *m += pv * q;
+            }
+            mix_p += pv;
+            chosen.push((v, info));
+        }
+        chosen
+    }
 }
 
 /// `D(p ‖ q) = Σ p log₂(p/q)` over the terms with `p > 0` (`q > 0` there for the channel's

@@ -43,6 +43,8 @@ pub struct ViewpointReport {
     pub best: Vec<usize>,
     /// Greedy selection: `(viewpoint, I(V̂;O))` in order (up to `best` views).
     pub selection: Vec<(usize, f64)>,
+    /// Representative views by mixing: `(viewpoint, I(v̂;O))` in order (up to `best`).
+    pub representative: Vec<(usize, f64)>,
     /// Mesh saliency `S(o)` per polygon.
     pub saliency: Vec<f64>,
     /// Polygonal mutual information `I(o;V)` per polygon.
@@ -77,6 +79,7 @@ impl ViewpointReport {
             viewpoint_saliency: channel.viewpoint_saliency(&saliency),
             best: channel.views_by_vmi().into_iter().take(best).collect(),
             selection: channel.greedy_selection(1.0, best),
+            representative: channel.representative_views(best),
             saliency,
             polygonal_mi,
         }
@@ -116,6 +119,10 @@ impl ViewpointReport {
         let sel_i: Vec<f64> = self.selection.iter().map(|&(_, i)| i).collect();
         o.numbers("selection", &sel)?;
         o.numbers("selection_i", &sel_i)?;
+        let rep: Vec<f64> = self.representative.iter().map(|&(v, _)| v as f64).collect();
+        let rep_i: Vec<f64> = self.representative.iter().map(|&(_, i)| i).collect();
+        o.numbers("representative", &rep)?;
+        o.numbers("representative_i", &rep_i)?;
         let dirs: Vec<f64> = (0..self.directions.len()).flat_map(view).collect();
         o.numbers("directions", &dirs)?;
         o.numbers("vmi", &self.vmi)?;

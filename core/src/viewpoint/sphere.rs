@@ -20,6 +20,7 @@ pub const MAX_VIEW_LEVEL: u32 = 5;
 pub struct ViewSphere {
     directions: Vec<DVec3>,
     neighbours: Vec<Vec<u32>>,
+    triangles: Vec<[u32; 3]>,
 }
 
 impl ViewSphere {
@@ -82,6 +83,13 @@ impl ViewSphere {
             }
             triangles = next;
         }
+        // Counter-clockwise seen from outside
+        for t in &mut triangles {
+            let [a, b, c] = t.map(|k| directions[k as usize]);
+            if (b - a).cross(c - a).dot(a + b + c) < 0.0 {
+                t.swap(1, 2);
+            }
+        }
         let mut neighbours: Vec<Vec<u32>> = alloc::vec![Vec::new(); directions.len()];
         for &[a, b, c] in &triangles {
             for (u, v) in [(a, b), (b, c), (c, a)] {
@@ -99,6 +107,7 @@ impl ViewSphere {
         Ok(Self {
             directions,
             neighbours,
+            triangles,
         })
     }
 
@@ -129,6 +138,13 @@ impl ViewSphere {
     #[must_use]
     pub fn neighbours(&self) -> &[Vec<u32>] {
         &self.neighbours
+    }
+
+    /// The icosphere's triangles (indices into [`ViewSphere::directions`]), for drawing a
+    /// quantity over the sphere, counter-clockwise seen from outside.
+    #[must_use]
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
     }
 
     /// Number of viewpoints.

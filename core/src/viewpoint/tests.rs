@@ -362,6 +362,11 @@ fn channel_inequalities_greedy_selection_and_determinism() {
     }
     let last = sel.last().unwrap().1;
     assert!((last - i).abs() < 1e-9, "{last} vs {i}");
+    // Mixing: starts at the best view; the mixture of all views is the whole sphere (0)
+    let rep = c.representative_views(c.n_views());
+    assert_eq!(rep[0].0, c.best_view());
+    assert!((rep[0].1 - c.vmi(c.best_view())).abs() < 1e-15);
+    assert!(rep.last().unwrap().1 < 1e-12, "{:?}", rep.last());
     let partial = c.greedy_selection(0.5, c.n_views());
     assert!(partial.last().unwrap().1 >= 0.5 * i && partial.len() < sel.len());
     // Rows in reverse order (as another thread schedule would) give the same bits
