@@ -616,8 +616,8 @@ impl ViewpointChannel {
         let limit = max_views.min(self.n_v);
         while chosen.len() < limit {
             let mut best: Option<(usize, f64)> = None;
-            for v in 0..self.n_v {
-                if selected[v] {
+            for (v, &taken) in selected.iter().enumerate() {
+                if taken {
                     continue;
                 }
                 let pv = self.p_v[v];

@@ -109,7 +109,7 @@ impl Projection {
             value: direction.length(),
         })?;
         let (centre, radius) = bounding_sphere(scene);
-        let half_fov = libm::asin(1.0 / distance);
+        let half_fov = math::asin(1.0 / distance);
         Ok(Self::Perspective {
             eye: centre + d * (distance * radius),
             half_fov,
@@ -297,13 +297,13 @@ impl IdRaster {
                 if !eye.is_finite() {
                     return Err(bad.into());
                 }
-                let tan_half = libm::tan(half_fov);
+                let tan_half = math::tan(half_fov);
                 let cam = Camera::looking(eye, centre - eye, true, tan_half).ok_or(bad)?;
                 self.ensure_weights(tan_half);
                 self.draw(scene, &cam, radius);
                 let mut background = 0.0;
                 self.accumulate(areas, &mut background);
-                let window = 4.0 * libm::asin(tan_half * tan_half / (1.0 + tan_half * tan_half));
+                let window = 4.0 * math::asin(tan_half * tan_half / (1.0 + tan_half * tan_half));
                 Ok(ViewTotals { background, window })
             }
             Projection::Sphere { eye } => {
@@ -358,7 +358,7 @@ impl IdRaster {
         // Ω of the rectangle [x0,x1]×[y0,y1] on the plane z = 1, from the corner function F
         let n = self.n as usize;
         let edge = |k: usize| (2.0 * k as f64 / n as f64 - 1.0) * tan_half;
-        let f = |x: f64, y: f64| libm::atan(x * y / math::sqrt(1.0 + x * x + y * y));
+        let f = |x: f64, y: f64| math::atan(x * y / math::sqrt(1.0 + x * x + y * y));
         self.weights.clear();
         self.weights.reserve(n * n);
         for row in 0..n {
