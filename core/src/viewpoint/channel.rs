@@ -15,7 +15,7 @@ use crate::{ErrorKind, Result};
 /// Default number of viewpoints (the icosphere of level 3, as in Feixas et al. 2009).
 pub const DEFAULT_VIEWS: usize = 642;
 /// Default image side in pixels.
-pub const DEFAULT_RESOLUTION: u32 = 256;
+pub const DEFAULT_RESOLUTION: u32 = 512;
 /// Default viewpoint distance from the scene's centre, in bounding radii.
 pub const DEFAULT_DISTANCE: f64 = 3.0;
 /// Largest `views × patches` of a channel (its dense matrix of `f64`: 512 MiB).
