@@ -190,6 +190,8 @@ pub struct IdRaster {
     clipped: Vec<DVec3>,
     /// Scratch: projected vertices in pixel coordinates.
     projected: Vec<(f64, f64)>,
+    /// Scratch: their edges.
+    edges: Vec<Edge>,
 }
 
 impl IdRaster {
@@ -215,6 +217,7 @@ impl IdRaster {
             poly: Vec::new(),
             clipped: Vec::new(),
             projected: Vec::new(),
+            edges: Vec::new(),
         })
     }
 
@@ -444,16 +447,67 @@ impl IdRaster {
         let (Some((c0, c1)), Some((r0, r1))) = (span(lo_x, hi_x), span(lo_y, hi_y)) else {
             return;
         };
+        // Each edge with its endpoints in lexicographic order (p, q) and the sign s of that
+        // reordering: inside ⇔ st·(dx·(y − py) − dy·(x − px)) ≥ 0 for every edge, st = ±1
+        // the polygon's orientation times s. The neighbour across a shared edge orders it
+        // the same way, so computes exactly the opposite value: watertight
+        self.edges.clear();
+        for k in 0..m {
+            let (a, b) = (self.projected[k], self.projected[(k + 1) % m]);
+            let (p, q, s) = if a <= b { (a, b, 1.0) } else { (b, a, -1.0) };
+            self.edges.push(Edge {
+                px: p.0,
+                py: p.1,
+                dx: q.0 - p.0,
+                dy: q.1 - p.1,
+                st: sign * s,
+                row: 0.0,
+            });
+        }
+        // Narrowing each row to the columns between the edges' crossings (widened by two
+        // pixels against rounding) is safe while coordinates are far below 2⁵² pixels
+        let narrow = lo_x.abs().max(hi_x.abs()).max(lo_y.abs()).max(hi_y.abs()) < 1e12;
         let side = self.n as usize;
         for row in r0..=r1 {
             let py = row as f64 + 0.5;
             let iy = (1.0 - py / half_n) * cam.half;
-            for col in c0..=c1 {
+            // This row's part of each edge function, and the columns it allows
+            let (mut xl, mut xr) = (f64::NEG_INFINITY, f64::INFINITY);
+            for e in &mut self.edges {
+                e.row = e.dx * (py - e.py);
+                let c = e.st * e.dy;
+                let w = e.st * e.row;
+                if c > 0.0 {
+                    xr = xr.min(e.px + w / c);
+                } else if c < 0.0 {
+                    xl = xl.max(e.px + w / c);
+                } else if w < 0.0 {
+                    xr = f64::NEG_INFINITY;
+                }
+            }
+            let (mut first, mut last) = (c0, c1);
+            if narrow {
+                if !(xl <= xr) {
+                    continue;
+                }
+                let a = math::ceil(xl - 0.5) - 2.0;
+                let b = math::floor(xr - 0.5) + 2.0;
+                if a > c0 as f64 {
+                    first = a.min(c1 as f64 + 1.0) as usize;
+                }
+                if b < c1 as f64 {
+                    if b < c0 as f64 {
+                        continue;
+                    }
+                    last = b as usize;
+                }
+            }
+            for col in first..=last {
                 let px = col as f64 + 0.5;
-                let inside = (0..m).all(|k| {
-                    sign * edge_function(self.projected[k], self.projected[(k + 1) % m], px, py)
-                        >= 0.0
-                });
+                let inside = self
+                    .edges
+                    .iter()
+                    .all(|e| e.st * (e.row - e.dy * (px - e.px)) >= 0.0);
                 if !inside {
                     continue;
                 }
@@ -479,13 +533,17 @@ impl IdRaster {
     }
 }
 
-/// The edge function of `a → b` at `(x, y)` (positive on the left in a y-up frame),
-/// computed with the endpoints in lexicographic order and negated back, so the edge
-/// `b → a` of a neighbouring polygon gives exactly the opposite value.
-#[inline]
-fn edge_function(a: (f64, f64), b: (f64, f64), x: f64, y: f64) -> f64 {
-    let (p, q, s) = if a <= b { (a, b, 1.0) } else { (b, a, -1.0) };
-    s * ((q.0 - p.0) * (y - p.1) - (q.1 - p.1) * (x - p.0))
+/// One edge of a projected polygon, endpoints in lexicographic order.
+#[derive(Clone, Copy, Debug, Default)]
+struct Edge {
+    px: f64,
+    py: f64,
+    dx: f64,
+    dy: f64,
+    /// The polygon's orientation times the canonical order's sign: ±1.
+    st: f64,
+    /// `dx · (y − py)` of the row being filled.
+    row: f64,
 }
 
 /// Sutherland–Hodgman clip of the polygon `input` to `z ≥ near`, into `out`.
