@@ -78,11 +78,15 @@ pub struct ViewpointsArgs {
     /// Write the mesh coloured by saliency (viridis, per polygon) as an ASCII PLY.
     #[arg(long, value_name = "OUT.ply")]
     pub ply: Option<PathBuf>,
-    /// Write the viewpoint sphere coloured by VMI (viridis per viewpoint vertex) as a PLY,
-    /// placed around the scene at 1.5 bounding radii.
+    /// Write the viewpoint sphere coloured by `--sphere-color` (viridis per viewpoint
+    /// vertex) as a PLY, placed around the scene at 1.5 bounding radii.
     #[arg(long, value_name = "OUT.ply")]
     pub sphere_ply: Option<PathBuf>,
-    /// Write a picture of the mesh coloured by saliency, seen from the best view (PNG).
+    /// What colours the --sphere-ply viewpoints.
+    #[arg(long, value_enum, default_value_t = SphereColour::Vmi)]
+    pub sphere_color: SphereColour,
+    /// Write pictures of the mesh coloured by saliency seen from the --best views (PNG):
+    /// the best to OUT.png, the k-th best to OUT-k.png.
     #[arg(long, value_name = "OUT.png")]
     pub png: Option<PathBuf>,
     /// Side of the --png picture in pixels.
@@ -92,6 +96,19 @@ pub struct ViewpointsArgs {
     /// Worker threads (default: all cores). Never changes the result.
     #[arg(long)]
     pub threads: Option<usize>,
+}
+
+/// `--sphere-color` of `viewpoints`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SphereColour {
+    /// Viewpoint mutual information I(v;O) (the best view has the least).
+    Vmi,
+    /// Viewpoint entropy H(v), the background a term.
+    Ve,
+    /// Mean Jensen–Shannon divergence to the neighbouring viewpoints.
+    Instability,
+    /// Viewpoint saliency Σ_o p(o|v) S(o).
+    Saliency,
 }
 
 /// `--weighting` of `viewpoints`.

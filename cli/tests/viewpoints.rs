@@ -83,6 +83,13 @@ fn any_thread_count_prints_the_same_bytes_and_pictures_are_written() {
     let png = std::fs::read(&png).unwrap();
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
     assert_eq!(png, std::fs::read(temp("vp2.png")).unwrap());
+    // One picture per best view (--best defaults to 5): OUT.png, OUT-2.png … OUT-5.png
+    for k in 2..=5 {
+        let other = std::fs::read(temp(&format!("vp-{k}.png"))).unwrap();
+        assert_eq!(&other[..8], b"\x89PNG\r\n\x1a\n");
+        assert_ne!(other, png);
+    }
+    assert!(!temp("vp-6.png").exists());
     // The table mentions the best views and the measures
     let table = stdout_of(&[
         "viewpoints",
@@ -93,6 +100,22 @@ fn any_thread_count_prints_the_same_bytes_and_pictures_are_written() {
         "32",
     ]);
     assert!(table.contains("best views (least VMI)") && table.contains("I(V;O) = "));
+    // The sphere coloured by VE
+    let ve = temp("vp-ve.ply");
+    stdout_of(&[
+        "viewpoints",
+        teapot.to_str().unwrap(),
+        "--views",
+        "12",
+        "--resolution",
+        "32",
+        "--sphere-ply",
+        ve.to_str().unwrap(),
+        "--sphere-color",
+        "ve",
+    ]);
+    let ve = std::fs::read_to_string(&ve).unwrap();
+    assert!(ve.contains("viewpoint entropy") && ve.contains("element vertex 12"));
 }
 
 #[test]

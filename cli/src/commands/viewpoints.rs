@@ -17,7 +17,7 @@ use sceneinfo::viewpoint::{
     ViewpointReport, bounding_sphere,
 };
 
-use crate::args::{ViewWeightingArg, ViewpointsArgs};
+use crate::args::{SphereColour, ViewWeightingArg, ViewpointsArgs};
 use crate::output::{Loaded, located, write_atomic};
 use crate::ply::Ply;
 use crate::svg::{ColourMap, Rgb, Scale};
@@ -63,12 +63,14 @@ pub fn run(args: &ViewpointsArgs) -> Result<()> {
         )?;
     }
     if let Some(path) = &args.sphere_ply {
-        write_atomic(path, sphere_ply(&scene, &job, &report).finish()?.as_bytes())?;
+        let ply = sphere_ply(&scene, &job, &report, args.sphere_color);
+        write_atomic(path, ply.finish()?.as_bytes())?;
     }
     if let Some(path) = &args.png {
-        let best = report.best.first().copied().unwrap_or(0);
-        let png = saliency_png(&job, best, &report.saliency, args.png_size).map_err(at)?;
-        write_atomic(path, &png)?;
+        for (k, &v) in report.best.iter().enumerate() {
+            let png = saliency_png(&job, v, &report.saliency, args.png_size).map_err(at)?;
+            write_atomic(&numbered(path, k + 1), &png)?;
+        }
     }
     let mut out = std::io::stdout().lock();
     if args.json {
@@ -248,21 +250,56 @@ fn saliency_ply(scene: &Scene, r: &ViewpointReport, file: &Path) -> Ply {
     ply
 }
 
-/// The viewpoint sphere at 1.5 bounding radii around the scene, vertices coloured by VMI.
-fn sphere_ply(scene: &Scene, job: &ViewpointJob<'_>, r: &ViewpointReport) -> Ply {
-    let (lo, hi) = range(&r.vmi);
+/// `path` for the best view; `stem-k.ext` for the k-th best.
+fn numbered(path: &Path, k: usize) -> std::path::PathBuf {
+    if k == 1 {
+        return path.to_path_buf();
+    }
+    let stem = path
+        .file_stem()
+        .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+    let name = match path.extension() {
+        Some(e) => format!("{stem}-{k}.{}", e.to_string_lossy()),
+        None => format!("{stem}-{k}"),
+    };
+    path.with_file_name(name)
+}
+
+/// The viewpoint sphere at 1.5 bounding radii around the scene, vertices coloured by the
+/// chosen per-view quantity.
+fn sphere_ply(
+    scene: &Scene,
+    job: &ViewpointJob<'_>,
+    r: &ViewpointReport,
+    colour: SphereColour,
+) -> Ply {
+    let (values, name) = match colour {
+        SphereColour::Vmi => (&r.vmi, "VMI I(v;O), bits (least: best view)"),
+        SphereColour::Ve => (
+            &r.ve,
+            "viewpoint entropy H(v), bits (most: best view by VE)",
+        ),
+        SphereColour::Instability => (
+            &r.instability,
+            "instability: mean JS divergence to the neighbouring viewpoints, bits",
+        ),
+        SphereColour::Saliency => (&r.viewpoint_saliency, "viewpoint saliency, bits"),
+    };
+    let (lo, hi) = range(values);
     let scale = Scale::Linear { lo, hi };
     let (centre, radius) = bounding_sphere(scene);
     let mut ply = Ply::in_frame(scene.frame());
-    ply.comment("sceneinfo viewpoints: the viewpoint sphere coloured by VMI I(v;O)");
-    ply.comment(&format!("min: {lo} (best view)"));
+    ply.comment(&format!(
+        "sceneinfo viewpoints: the viewpoint sphere coloured by {name}"
+    ));
+    ply.comment(&format!("min: {lo}"));
     ply.comment(&format!("max: {hi}"));
     ply.comment("colour map: viridis, linear from min to max");
     let sphere = job.sphere();
     let ids: Vec<usize> = sphere
         .directions()
         .iter()
-        .zip(&r.vmi)
+        .zip(values)
         .map(|(&d, &v)| {
             ply.vertex(
                 centre + d * (1.5 * radius),
@@ -272,7 +309,7 @@ fn sphere_ply(scene: &Scene, job: &ViewpointJob<'_>, r: &ViewpointReport) -> Ply
         .collect();
     for t in sphere.triangles() {
         let idx = t.map(|k| ids.get(k as usize).copied().unwrap_or(0));
-        let c = t.map(|k| r.vmi.get(k as usize).copied().unwrap_or(lo));
+        let c = t.map(|k| values.get(k as usize).copied().unwrap_or(lo));
         let mean = (c[0] + c[1] + c[2]) / 3.0;
         ply.face(&idx, ColourMap::Viridis.at(scale.fraction(mean)));
     }
