@@ -225,9 +225,10 @@ impl ViewpointChannel {
         totals: Vec<ViewTotals>,
         weighting: ViewWeighting,
     ) -> Result<Self> {
-        if areas.len() != n_v * n_o || totals.len() != n_v || n_v == 0 || n_o == 0 {
+        let expected = n_v.checked_mul(n_o).unwrap_or(usize::MAX);
+        if areas.len() != expected || totals.len() != n_v || n_v == 0 || n_o == 0 {
             return Err(ErrorKind::DimensionMismatch {
-                expected: n_v * n_o,
+                expected,
                 found: areas.len(),
             }
             .into());
