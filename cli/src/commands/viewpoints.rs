@@ -54,6 +54,15 @@ pub fn run(args: &ViewpointsArgs) -> Result<()> {
     })?;
     let seconds = start.elapsed().as_secs_f64();
     let report = ViewpointReport::new(&job, &channel, args.best);
+    if report.blind > 0 {
+        eprintln!(
+            "warning: {}: {} of {} viewpoints see no polygon (seen edge-on, or polygons \
+             too small for --resolution); they get p(v) = 0",
+            args.file.display(),
+            report.blind,
+            job.n_views()
+        );
+    }
     if let Some(path) = &args.ply {
         write_atomic(
             path,

@@ -197,8 +197,9 @@ impl ViewpointChannel {
     /// # Errors
     /// [`ErrorKind::DimensionMismatch`] for rows of another shape than `job`'s;
     /// [`ErrorKind::NonFiniteEntry`] / [`ErrorKind::NegativeEntry`] for a bad entry;
-    /// [`ErrorKind::EmptyScene`] if some viewpoint sees no patch (`p(o|v)` undefined: raise
-    /// the resolution).
+    /// [`ErrorKind::EmptyScene`] if no viewpoint sees any patch. A viewpoint that sees
+    /// none (a flat scene edge-on, or polygons too small for the resolution) is *blind*:
+    /// `p(v) = 0`, `p(O|v) = 0` (see [`ViewpointChannel::is_blind`]).
     pub fn from_rows(
         job: &ViewpointJob<'_>,
         areas: Vec<f64>,
@@ -225,7 +226,7 @@ impl ViewpointChannel {
         totals: Vec<ViewTotals>,
         weighting: ViewWeighting,
     ) -> Result<Self> {
-        let expected = n_v.checked_mul(n_o).unwrap_or(usize::MAX);
+        let expected = n_v.saturating_mul(n_o);
         if areas.len() != expected || totals.len() != n_v || n_v == 0 || n_o == 0 {
             return Err(ErrorKind::DimensionMismatch {
                 expected,
@@ -247,16 +248,23 @@ impl ViewpointChannel {
         let mut p_o_v = vec![0.0; n_v * n_o];
         for (row, out) in areas.chunks_exact(n_o).zip(p_o_v.chunks_exact_mut(n_o)) {
             let total = math::sum(row.iter().copied());
-            if total <= 0.0 {
-                return Err(ErrorKind::EmptyScene.into());
+            if total > 0.0 {
+                for (p, &a) in out.iter_mut().zip(row) {
+                    *p = a / total;
+                }
             }
-            for (p, &a) in out.iter_mut().zip(row) {
-                *p = a / total;
-            }
-            a_t.push(total);
+            a_t.push(total.max(0.0));
+        }
+        // Blind viewpoints (a_t(v) = 0: e.g. a flat scene seen edge-on) get p(v) = 0
+        let seeing = a_t.iter().filter(|&&a| a > 0.0).count();
+        if seeing == 0 {
+            return Err(ErrorKind::EmptyScene.into());
         }
         let p_v: Vec<f64> = match weighting {
-            ViewWeighting::Uniform => vec![1.0 / n_v as f64; n_v],
+            ViewWeighting::Uniform => a_t
+                .iter()
+                .map(|&a| if a > 0.0 { 1.0 / seeing as f64 } else { 0.0 })
+                .collect(),
             ViewWeighting::ProjectedArea => {
                 let all = math::sum(a_t.iter().copied());
                 a_t.iter().map(|a| a / all).collect()
@@ -279,6 +287,19 @@ impl ViewpointChannel {
             p_o_v,
             p_o,
         })
+    }
+
+    /// Whether viewpoint `v` sees no patch (`a_t(v) = 0`; then `p(v) = 0`, its VMI is
+    /// reported as 0 and it is never a best view). True out of range.
+    #[must_use]
+    pub fn is_blind(&self, v: usize) -> bool {
+        self.p_o_given(v).iter().all(|&p| p <= 0.0)
+    }
+
+    /// Number of blind viewpoints ([`ViewpointChannel::is_blind`]).
+    #[must_use]
+    pub fn n_blind(&self) -> usize {
+        (0..self.n_v).filter(|&v| self.is_blind(v)).count()
     }
 
     /// Number of viewpoints `N_v`.
@@ -509,25 +530,31 @@ impl ViewpointChannel {
             .collect()
     }
 
-    /// The viewpoint with the least VMI (the best view; the lowest index on a tie).
+    /// The viewpoint with the least VMI (the best view; the lowest index on a tie), blind
+    /// viewpoints left out.
     #[must_use]
     pub fn best_view(&self) -> usize {
         let mut best = (0, f64::INFINITY);
         for v in 0..self.n_v {
             let i = self.vmi(v);
-            if i < best.1 {
+            if i < best.1 && !self.is_blind(v) {
                 best = (v, i);
             }
         }
         best.0
     }
 
-    /// Viewpoints in order of increasing VMI (ties by index).
+    /// Viewpoints in order of increasing VMI (ties by index), blind viewpoints last.
     #[must_use]
     pub fn views_by_vmi(&self) -> Vec<usize> {
         let vmi: Vec<f64> = (0..self.n_v).map(|v| self.vmi(v)).collect();
         let mut order: Vec<usize> = (0..self.n_v).collect();
-        order.sort_by(|&a, &b| vmi[a].total_cmp(&vmi[b]).then(a.cmp(&b)));
+        order.sort_by(|&a, &b| {
+            (self.is_blind(a), vmi[a])
+                .partial_cmp(&(self.is_blind(b), vmi[b]))
+                .unwrap_or(core::cmp::Ordering::Equal)
+                .then(a.cmp(&b))
+        });
         order
     }
 

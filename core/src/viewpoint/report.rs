@@ -15,6 +15,8 @@ use crate::report::JsonObject;
 pub struct ViewpointReport {
     /// Number of polygons (patches) `N_o`.
     pub n_polygons: usize,
+    /// Viewpoints that see no polygon (`p(v) = 0`).
+    pub blind: usize,
     /// Unit directions of the viewpoints from the scene's centre.
     pub directions: Vec<DVec3>,
     /// Image side in pixels.
@@ -65,6 +67,7 @@ impl ViewpointReport {
         let options = job.options();
         Self {
             n_polygons: channel.n_polygons(),
+            blind: channel.n_blind(),
             directions: job.sphere().directions().to_vec(),
             resolution: options.resolution,
             distance: options.distance,
@@ -93,6 +96,7 @@ impl ViewpointReport {
         let mut o = JsonObject::new(out)?;
         o.integer("n_polygons", self.n_polygons as u64)?;
         o.integer("n_views", self.directions.len() as u64)?;
+        o.integer("blind", self.blind as u64)?;
         o.integer("resolution", u64::from(self.resolution))?;
         o.number("distance", self.distance)?;
         o.string(

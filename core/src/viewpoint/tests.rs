@@ -326,6 +326,21 @@ fn a_fine_sphere_looks_the_same_from_everywhere() {
 fn symmetric_views_of_platonic_solids_agree() {
     // The first 12 viewpoints are the icosahedron's vertices: the icosahedron's vertex views
     // and the dodecahedron's face views (its dual) are all alike
+    // The axes are viewpoints too (midpoints of the icosahedron's edges (0, ±1, φ)): the
+    // cube's face views and the octahedron's vertex views
+    for name in ["cube", "octahedron"] {
+        let scene = Scene::platonic(name, Subdivision::None).unwrap();
+        let (job, c) = channel(&scene, 42, 256);
+        let axes: Vec<usize> = (0..42)
+            .filter(|&v| job.sphere().directions()[v].abs().max_element() == 1.0)
+            .collect();
+        assert_eq!(axes.len(), 6);
+        for &v in &axes {
+            assert!((c.vmi(v) - c.vmi(axes[0])).abs() < 5e-3, "{name} {v}");
+            let ve = c.viewpoint_entropy(axes[0]);
+            assert!((c.viewpoint_entropy(v) - ve).abs() < 5e-3, "{name} {v}");
+        }
+    }
     for name in ["icosahedron", "dodecahedron"] {
         let scene = Scene::platonic(name, Subdivision::None).unwrap();
         let (_, c) = channel(&scene, 42, 256);
@@ -418,6 +433,37 @@ fn saliency_is_invariant_under_similarities() {
             .fold(0.0, f64::max);
         assert!(worst < 0.1 * scale, "case {k}: {worst} vs {scale}");
     }
+}
+
+#[test]
+fn a_flat_scene_seen_edge_on_has_blind_viewpoints() {
+    // One square in z = 0: the viewpoints on the equator see it edge-on
+    let square = [
+        DVec3::new(-1.0, -1.0, 0.0),
+        DVec3::new(1.0, -1.0, 0.0),
+        DVec3::new(1.0, 1.0, 0.0),
+        DVec3::new(-1.0, 1.0, 0.0),
+    ];
+    let scene = scene_of(&[square.to_vec()]);
+    let (job, c) = channel(&scene, 42, 32);
+    let blind: Vec<usize> = (0..42).filter(|&v| c.is_blind(v)).collect();
+    assert!(!blind.is_empty());
+    for &v in &blind {
+        assert_eq!(job.sphere().directions()[v].z, 0.0);
+        assert_eq!(c.p_v()[v], 0.0);
+        // Only background: VE = η(a_0/a_t) with a_0 = a_t up to the weights' rounding
+        assert!(c.viewpoint_entropy(v) < 1e-12);
+    }
+    let seeing = 42 - blind.len();
+    let p: f64 = c.p_v().iter().sum();
+    assert!((p - 1.0).abs() < 1e-12);
+    // One polygon: nothing to learn about O from V
+    assert!(c.mutual_information() < 1e-15);
+    let order = c.views_by_vmi();
+    assert!(order[seeing..].iter().all(|&v| c.is_blind(v)));
+    assert!(!c.is_blind(c.best_view()));
+    let report = ViewpointReport::new(&job, &c, 3);
+    assert_eq!(report.blind, blind.len());
 }
 
 #[test]
