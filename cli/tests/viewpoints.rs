@@ -149,6 +149,25 @@ fn bad_input_is_refused() {
     assert_eq!(out.status.code(), Some(2));
 }
 
+/// A single quad (the Cornell floor of `pbr-mat-ext.obj`) is seen edge-on from the
+/// viewpoints in its plane: they are blind (p(v) = 0), named in a warning, and the run
+/// succeeds.
+#[test]
+fn a_flat_scene_runs_with_blind_viewpoints() {
+    let quad = data("corpus/obj/tinyobjloader/pbr-mat-ext.obj");
+    let out = bin()
+        .args(["viewpoints", quad.to_str().unwrap(), "--views", "42"])
+        .args(["--resolution", "32", "--json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("8 of 42 viewpoints see no polygon"), "{err}");
+    let json = String::from_utf8(out.stdout).unwrap();
+    assert!(json.contains("\"blind\":8,"), "{json}");
+    assert!(common::number(&json, "i_vo").abs() < 1e-15);
+}
+
 /// Face centroids of `spot.ply` (binary little-endian: 2 930 `float x y z` vertices, then
 /// 5 856 faces of `uchar 3, int ×3`), read here so the regions are named by position.
 fn spot_centroids(path: &Path) -> Vec<[f64; 3]> {
