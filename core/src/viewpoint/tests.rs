@@ -45,6 +45,11 @@ fn scene_of(faces: &[Vec<DVec3>]) -> Scene {
 
 /// A random convex hull of `n` points on the unit sphere.
 fn random_hull(seed: u64, n: usize) -> Scene {
+    try_random_hull(seed, n).unwrap()
+}
+
+/// [`random_hull`], or `None` if the builder refuses a face (a sliver of the hull).
+fn try_random_hull(seed: u64, n: usize) -> Option<Scene> {
     let mut rng = rand_pcg::Pcg64::new(u128::from(seed), 0x0a02_bdbf_7bb3_c0a7);
     let mut u = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
     let points: Vec<DVec3> = (0..n)
@@ -55,7 +60,11 @@ fn random_hull(seed: u64, n: usize) -> Scene {
             DVec3::new(r * libm::cos(a), r * libm::sin(a), z)
         })
         .collect();
-    scene_of(&hull(&points))
+    let mut b = Scene::builder();
+    for f in hull(&points) {
+        b.polygon(&f, Subdivision::None).ok()?;
+    }
+    b.build().ok()
 }
 
 /// `(Σ|raster − exact|, Σ bound)` of an orthographic view of a convex polyhedron, and
@@ -475,6 +484,27 @@ fn patch_neighbours_share_vertices() {
     for (i, list) in nb.iter().enumerate() {
         assert!(!list.contains(&(i as u32)));
         assert!(list.len() >= 3 && list.len() <= 8, "{i}: {list:?}");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+
+    /// Any random convex hull seen along any direction: every patch's rasterised area is
+    /// within its documented bound of the exact one (asserted inside `ortho_error`).
+    #[test]
+    fn random_hulls_stay_within_the_raster_bound(
+        seed in any::<u64>(),
+        points in 5usize..24,
+        (x, y, z) in (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0),
+        n in 16u32..200,
+    ) {
+        let d = DVec3::new(x, y, z);
+        prop_assume!(d.length() > 1e-3);
+        let scene = try_random_hull(seed, points);
+        prop_assume!(scene.is_some());
+        let (err, bound) = ortho_error(scene.as_ref().unwrap(), d, n);
+        prop_assert!(err <= bound);
     }
 }
 
