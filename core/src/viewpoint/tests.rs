@@ -423,12 +423,18 @@ fn saliency_is_invariant_under_similarities() {
             .collect();
         scene_of(&faces)
     };
-    // Translation, scale (2.5, not a power of two) and the rotation x→y→z→x, which maps
-    // the viewpoint icosphere to itself
-    let cases: [&dyn Fn(DVec3) -> DVec3; 3] =
-        [&|p| p + DVec3::new(10.0, -3.0, 7.5), &|p| p * 2.5, &|p| {
-            DVec3::new(p.z, p.x, p.y)
-        }];
+    // Translation, scale (2.5, not a power of two), the rotation x→y→z→x, which maps the
+    // viewpoint icosphere to itself, and an arbitrary rotation
+    // An arbitrary rotation moves the object against the viewpoint sphere, so it is seen
+    // from other directions: equal within the sphere's sampling, not the raster's error
+    let q = glam::DQuat::from_axis_angle(DVec3::new(0.3, -0.8, 0.52).normalize(), 0.7);
+    let rotate = move |p: DVec3| q * p;
+    let cases: [&dyn Fn(DVec3) -> DVec3; 4] = [
+        &|p| p + DVec3::new(10.0, -3.0, 7.5),
+        &|p| p * 2.5,
+        &|p| DVec3::new(p.z, p.x, p.y),
+        &rotate,
+    ];
     let scale = s0.iter().copied().fold(0.0, f64::max);
     assert!(scale > 0.0);
     for (k, f) in cases.iter().enumerate() {
@@ -440,7 +446,10 @@ fn saliency_is_invariant_under_similarities() {
             .zip(&s0)
             .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max);
-        assert!(worst < 0.1 * scale, "case {k}: {worst} vs {scale}");
+        // Observed: 0 for the translation and the scale (no pixel changes its polygon),
+        // 2 % of the largest saliency for the symmetry, 4 % for the arbitrary rotation
+        let tolerance = if k < 2 { 1e-3 } else { 0.08 };
+        assert!(worst < tolerance * scale, "case {k}: {worst} vs {scale}");
     }
 }
 
