@@ -69,6 +69,10 @@ pub struct ViewpointsArgs {
     /// selection picks.
     #[arg(long, value_name = "K", default_value_t = 5)]
     pub best: usize,
+    /// Stop the greedy selection once it holds this fraction of I(V;O) (0 to 1), or at
+    /// --best views.
+    #[arg(long, value_name = "F", default_value_t = 1.0)]
+    pub fraction: f64,
     /// p(v): `uniform` or weighted by the projected area each viewpoint sees (`area`).
     #[arg(long, value_enum, default_value_t = ViewWeightingArg::Uniform)]
     pub weighting: ViewWeightingArg,

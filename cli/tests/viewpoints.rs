@@ -100,6 +100,19 @@ fn any_thread_count_prints_the_same_bytes_and_pictures_are_written() {
         "32",
     ]);
     assert!(table.contains("best views (least VMI)") && table.contains("I(V;O) = "));
+    // --fraction stops the greedy selection early: at 1 % of I(V;O), after one view of 12
+    let json = stdout_of(&[
+        "viewpoints",
+        teapot.to_str().unwrap(),
+        "--views",
+        "12",
+        "--resolution",
+        "32",
+        "--fraction",
+        "0.01",
+        "--json",
+    ]);
+    assert_eq!(array(&json, "selection").len(), 1, "{json}");
     // The sphere coloured by VE
     let ve = temp("vp-ve.ply");
     stdout_of(&[
@@ -127,6 +140,8 @@ fn bad_input_is_refused() {
         &["--resolution", "100000"],
         &["--distance", "0.5"],
         &["--distance", "NaN"],
+        &["--fraction", "1.5"],
+        &["--fraction", "NaN"],
     ] {
         let out = bin()
             .args(["viewpoints", obj.to_str().unwrap()])

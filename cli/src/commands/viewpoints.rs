@@ -53,7 +53,14 @@ pub fn run(args: &ViewpointsArgs) -> Result<()> {
         Err(e) => e,
     })?;
     let seconds = start.elapsed().as_secs_f64();
-    let report = ViewpointReport::new(&job, &channel, args.best);
+    if !(0.0..=1.0).contains(&args.fraction) {
+        return Err(at(sceneinfo::ErrorKind::BadParameter {
+            name: "fraction (0 to 1)",
+            value: args.fraction,
+        }
+        .into()));
+    }
+    let report = ViewpointReport::with_fraction(&job, &channel, args.best, args.fraction);
     if report.blind > 0 {
         eprintln!(
             "warning: {}: {} of {} viewpoints see no polygon (seen edge-on, or polygons \

@@ -58,6 +58,18 @@ impl ViewpointReport {
     /// selection of up to `best` views.
     #[must_use]
     pub fn new(job: &ViewpointJob<'_>, channel: &ViewpointChannel, best: usize) -> Self {
+        Self::with_fraction(job, channel, best, 1.0)
+    }
+
+    /// [`ViewpointReport::new`] with the greedy selection stopped as soon as it reaches
+    /// `fraction` of `I(V;O)` ([`ViewpointChannel::greedy_selection`]), or at `best` views.
+    #[must_use]
+    pub fn with_fraction(
+        job: &ViewpointJob<'_>,
+        channel: &ViewpointChannel,
+        best: usize,
+        fraction: f64,
+    ) -> Self {
         let n_v = channel.n_views();
         let neighbours = patch_neighbours(job.scene());
         let saliency = channel.saliency(&neighbours);
@@ -81,7 +93,7 @@ impl ViewpointReport {
             instability: channel.instability(job.sphere().neighbours()),
             viewpoint_saliency: channel.viewpoint_saliency(&saliency),
             best: channel.views_by_vmi().into_iter().take(best).collect(),
-            selection: channel.greedy_selection(1.0, best),
+            selection: channel.greedy_selection(fraction, best),
             representative: channel.representative_views(best),
             saliency,
             polygonal_mi,
