@@ -49,6 +49,84 @@ pub enum Command {
     /// regular; thesis §6.5.2), 3D (.obj) by hierarchical radiosity (power, ks, ks-av, mi,
     /// mi-increase; §6.4). Prints the mesh's measures; --svg/--ply/--png draw it.
     Refine(RefineArgs),
+    /// The viewpoint channel of a 3D scene (Feixas, Sbert, González 2009): viewpoint entropy
+    /// and mutual information from viewpoints on a sphere around it, the best views, a
+    /// greedy selection of representative views and mesh saliency.
+    Viewpoints(ViewpointsArgs),
+}
+
+/// Arguments of `viewpoints`.
+#[derive(Debug, clap::Args)]
+pub struct ViewpointsArgs {
+    /// The 3D scene file (OBJ, glTF/GLB, PLY).
+    pub file: PathBuf,
+    /// Number of viewpoints on the icosphere: 12, 42, 162, 642, 2562 or 10242.
+    #[arg(long, default_value_t = sceneinfo::viewpoint::DEFAULT_VIEWS)]
+    pub views: usize,
+    /// Side of each view's image in pixels (the raster error of a polygon's projected area
+    /// halves with each doubling).
+    #[arg(long, value_name = "N", default_value_t = sceneinfo::viewpoint::DEFAULT_RESOLUTION)]
+    pub resolution: u32,
+    /// Distance of the viewpoints from the scene's centre, in bounding-sphere radii (> 1).
+    #[arg(long, value_name = "R", default_value_t = sceneinfo::viewpoint::DEFAULT_DISTANCE)]
+    pub distance: f64,
+    /// How many best views to list (least VMI first) and the most views the greedy
+    /// selection picks.
+    #[arg(long, value_name = "K", default_value_t = 5)]
+    pub best: usize,
+    /// Stop the greedy selection once it holds this fraction of I(V;O) (0 to 1), or at
+    /// --best views.
+    #[arg(long, value_name = "F", default_value_t = 1.0)]
+    pub fraction: f64,
+    /// p(v): `uniform` or weighted by the projected area each viewpoint sees (`area`).
+    #[arg(long, value_enum, default_value_t = ViewWeightingArg::Uniform)]
+    pub weighting: ViewWeightingArg,
+    /// Print JSON instead of tables (the same bytes as the wasm `viewpoints`).
+    #[arg(long)]
+    pub json: bool,
+    /// Write the mesh coloured by saliency (viridis, per polygon) as an ASCII PLY.
+    #[arg(long, value_name = "OUT.ply")]
+    pub ply: Option<PathBuf>,
+    /// Write the viewpoint sphere coloured by `--sphere-color` (viridis per viewpoint
+    /// vertex) as a PLY, placed around the scene at 1.5 bounding radii.
+    #[arg(long, value_name = "OUT.ply")]
+    pub sphere_ply: Option<PathBuf>,
+    /// What colours the --sphere-ply viewpoints.
+    #[arg(long, value_enum, default_value_t = SphereColour::Vmi)]
+    pub sphere_color: SphereColour,
+    /// Write pictures of the mesh coloured by saliency seen from the --best views (PNG):
+    /// the best to OUT.png, the k-th best to OUT-k.png.
+    #[arg(long, value_name = "OUT.png")]
+    pub png: Option<PathBuf>,
+    /// Side of the --png picture in pixels.
+    #[arg(long, value_name = "PX", default_value_t = 512,
+          value_parser = clap::value_parser!(u32).range(16..=sceneinfo::viewpoint::MAX_RESOLUTION as i64))]
+    pub png_size: u32,
+    /// Worker threads (default: all cores). Never changes the result.
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// `--sphere-color` of `viewpoints`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SphereColour {
+    /// Viewpoint mutual information I(v;O) (the best view has the least).
+    Vmi,
+    /// Viewpoint entropy H(v), the background a term.
+    Ve,
+    /// Mean Jensen–Shannon divergence to the neighbouring viewpoints.
+    Instability,
+    /// Viewpoint saliency Σ_o p(o|v) S(o).
+    Saliency,
+}
+
+/// `--weighting` of `viewpoints`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ViewWeightingArg {
+    /// p(v) = 1/N_v.
+    Uniform,
+    /// p(v) proportional to the solid angle of the scene seen from v.
+    Area,
 }
 
 /// Arguments of `bench`.

@@ -11,6 +11,7 @@ pub mod refine;
 mod refine3d;
 mod reproduce;
 mod scene;
+mod viewpoints;
 
 use std::path::{Path, PathBuf};
 
@@ -41,6 +42,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Bench(args) => bench::run(&args),
         Command::Refine(args) => refine::run(&args),
         Command::Radiosity(args) => radiosity::run(&args),
+        Command::Viewpoints(args) => viewpoints::run(&args),
     }
 }
 
@@ -78,6 +80,11 @@ fn outputs(command: &Command) -> Vec<(&'static str, &Path)> {
             out.push(("--ply", a.ply.as_ref()));
             out.push(("--png", a.png.as_ref()));
             out.push(("--output", a.output.as_ref()));
+        }
+        Command::Viewpoints(a) => {
+            out.push(("--ply", a.ply.as_ref()));
+            out.push(("--sphere-ply", a.sphere_ply.as_ref()));
+            out.push(("--png", a.png.as_ref()));
         }
         Command::Reproduce(_) | Command::Bench(_) => {}
     }

@@ -76,6 +76,8 @@ pub mod refine;
 pub mod report;
 pub mod scene;
 pub mod thesis;
+#[cfg(feature = "alloc")]
+pub mod viewpoint;
 
 pub use error::{Error, ErrorKind, Result};
 

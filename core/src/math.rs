@@ -228,6 +228,20 @@ pub fn atan(x: f64) -> f64 {
     libm::atan(x)
 }
 
+/// Tangent, `tan x`.
+#[inline]
+#[must_use]
+pub fn tan(x: f64) -> f64 {
+    libm::tan(x)
+}
+
+/// Arcsine, `asin x ∈ [−π/2, π/2]` for `x ∈ [−1, 1]`.
+#[inline]
+#[must_use]
+pub fn asin(x: f64) -> f64 {
+    libm::asin(x)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -21,6 +21,7 @@
 //! run.patchContinuous();              // Float64Array of I_i^c (6.37)
 //! const refiner = lab.refiner('de', 1e6, 1);   // one refinement step at a time
 //! JSON.parse(measureObj(objText, ['room.mtl'], [mtlText])).i_s;  // exact, unoccluded 3D
+//! JSON.parse(viewpoints(objText, 642, 256, 5)).best;  // best views by least VMI
 //! ```
 //!
 //! # Crate features
@@ -30,10 +31,12 @@
 mod lab;
 mod lines;
 mod refine;
+mod viewpoints;
 
 pub use lab::{FlatLab, catalogue};
 pub use lines::{LineJob, LineResult};
 pub use refine::Refiner;
+pub use viewpoints::viewpoints;
 
 use wasm_bindgen::prelude::*;
 
