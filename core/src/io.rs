@@ -10,9 +10,8 @@
 //! of a file or material library is skipped (`io/text.rs`).
 
 mod flat;
+pub use crate::scene::{LoadReport, LoadWarning, LoadWarningKind};
 pub use flat::{MAX_POLYGON_VERTICES, parse_flat, write_flat};
-mod load_report;
-pub use load_report::{LoadReport, LoadWarning, LoadWarningKind};
 mod obj;
 pub use obj::{ObjOptions, parse_obj, write_obj};
 mod text;

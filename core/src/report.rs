@@ -8,6 +8,9 @@
 use core::fmt::{self, Write};
 
 #[cfg(feature = "alloc")]
+use crate::scene::LoadReport;
+
+#[cfg(feature = "alloc")]
 use alloc::string::String;
 
 use crate::channel::{Checks, Measures};
@@ -555,6 +558,45 @@ pub fn measure_obj_json(
 ) -> crate::Result<alloc::string::String> {
     let (scene, _) = crate::io::parse_obj(obj, &crate::io::ObjOptions::default(), mtl)?;
     Ok(measure_solid(&scene)?.to_json())
+}
+
+/// Writes the report's fields (`faces_read`, …) into a JSON object;
+/// `materials_used` as in [`LoadReport::warnings_for`]; the repair counts (`faces_flattened`,
+/// `max_off_plane`, `faces_triangulated`, …) only when not zero, and `load_warnings` only
+/// when there is one, so a file that needed nothing prints what it always did.
+///
+/// # Errors
+/// Whatever the underlying writer returns.
+#[cfg(feature = "alloc")]
+pub fn write_load_report<W: Write>(
+    o: &mut JsonObject<'_, W>,
+    report: &LoadReport,
+    materials_used: bool,
+) -> fmt::Result {
+    o.integer("faces_read", report.faces_read)?;
+    let counts = [
+        ("repeated_vertices", report.repeated_vertices),
+        ("faces_flattened", report.faces_flattened),
+        ("faces_triangulated", report.faces_triangulated),
+        ("triangles_added", report.triangles_added),
+        ("pieces_dropped", report.pieces_dropped),
+        ("duplicates_dropped", report.duplicates_dropped),
+        ("covered_dropped", report.covered_dropped),
+        ("overlaps_clipped", report.overlaps_clipped),
+        ("clip_pieces", report.clip_pieces),
+    ];
+    for (key, v) in counts {
+        if v > 0 {
+            o.integer(key, v)?;
+        }
+    }
+    if report.max_off_plane > 0.0 {
+        o.number("max_off_plane", report.max_off_plane)?;
+    }
+    if report.warnings_for(materials_used).next().is_some() {
+        o.displays("load_warnings", report.warnings_for(materials_used))?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -22,6 +22,10 @@ pub mod coincident;
 #[cfg(feature = "alloc")]
 mod flat;
 #[cfg(feature = "alloc")]
+mod load_report;
+#[cfg(feature = "alloc")]
+pub use load_report::{LoadReport, LoadWarning, LoadWarningKind};
+#[cfg(feature = "alloc")]
 mod presets;
 #[cfg(feature = "alloc")]
 mod presets3d;

@@ -385,7 +385,7 @@ pub fn print_report(
         }
         if let Some(load) = load {
             // Visibility measures: material warnings are not theirs
-            load.write_fields(&mut o, false)?;
+            sceneinfo::report::write_load_report(&mut o, load, false)?;
         }
         match mc {
             None => o.string("form_factors", "exact")?,

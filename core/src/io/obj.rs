@@ -88,9 +88,9 @@ use alloc::string::String;
 use alloc::vec::Vec;
 use core::fmt::Write;
 
-use super::load_report::{LoadReport, LoadWarning, LoadWarningKind};
 use crate::error::{Error, ErrorKind, MaterialProblem, Result, token};
 use crate::geom::DVec3;
+use crate::scene::{LoadReport, LoadWarning, LoadWarningKind};
 use crate::scene::{MAX_FACE_VERTICES, Material, Scene, Subdivision};
 
 /// How [`parse_obj`] reads a file.

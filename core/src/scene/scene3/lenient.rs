@@ -45,8 +45,8 @@ use super::{
 };
 use crate::error::{ErrorKind, Result};
 use crate::geom::{self, DVec3};
-use crate::io::{LoadReport, LoadWarningKind};
 use crate::scene::triangulate::{bow_tie_lobes, triangulate};
+use crate::scene::{LoadReport, LoadWarningKind};
 
 /// Largest distance of a vertex from a face's Newell plane, relative to its size, for the
 /// face to be flattened rather than triangulated (module docs).

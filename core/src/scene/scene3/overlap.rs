@@ -39,8 +39,8 @@ use alloc::vec::Vec;
 use super::{Scene, SceneBuilder};
 use crate::error::{ErrorKind, Result};
 use crate::geom::{self, DVec3};
-use crate::io::{LoadReport, LoadWarningKind};
 use crate::scene::coincident::{coincident_face_pairs, face_tolerance};
+use crate::scene::{LoadReport, LoadWarningKind};
 
 /// Most convex pieces one face may be cut into by the faces it overlaps.
 pub const MAX_CLIP_PIECES: usize = 4096;

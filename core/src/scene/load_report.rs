@@ -11,7 +11,6 @@ use alloc::vec::Vec;
 use core::fmt::{self, Write};
 
 use crate::error::Token;
-use crate::report::JsonObject;
 
 /// One kind of repair or skip, with the data that identifies its class (two warnings that
 /// compare equal are counted in one entry).
@@ -363,44 +362,6 @@ impl LoadReport {
             })
             .collect()
     }
-
-    /// Writes the report's fields (`faces_read`, …) into a JSON object;
-    /// `materials_used` as in [`Self::warnings_for`]; the repair counts (`faces_flattened`,
-    /// `max_off_plane`, `faces_triangulated`, …) only when not zero, and `load_warnings` only
-    /// when there is one, so a file that needed nothing prints what it always did.
-    ///
-    /// # Errors
-    /// Whatever the underlying writer returns.
-    pub fn write_fields<W: Write>(
-        &self,
-        o: &mut JsonObject<'_, W>,
-        materials_used: bool,
-    ) -> fmt::Result {
-        o.integer("faces_read", self.faces_read)?;
-        let counts = [
-            ("repeated_vertices", self.repeated_vertices),
-            ("faces_flattened", self.faces_flattened),
-            ("faces_triangulated", self.faces_triangulated),
-            ("triangles_added", self.triangles_added),
-            ("pieces_dropped", self.pieces_dropped),
-            ("duplicates_dropped", self.duplicates_dropped),
-            ("covered_dropped", self.covered_dropped),
-            ("overlaps_clipped", self.overlaps_clipped),
-            ("clip_pieces", self.clip_pieces),
-        ];
-        for (key, v) in counts {
-            if v > 0 {
-                o.integer(key, v)?;
-            }
-        }
-        if self.max_off_plane > 0.0 {
-            o.number("max_off_plane", self.max_off_plane)?;
-        }
-        if self.warnings_for(materials_used).next().is_some() {
-            o.displays("load_warnings", self.warnings_for(materials_used))?;
-        }
-        Ok(())
-    }
 }
 
 #[cfg(test)]
@@ -408,9 +369,10 @@ mod tests {
     use super::*;
 
     fn json(r: &LoadReport) -> String {
+        use crate::report::{JsonObject, write_load_report};
         let mut s = String::new();
         let mut o = JsonObject::new(&mut s).unwrap();
-        r.write_fields(&mut o, true).unwrap();
+        write_load_report(&mut o, r, true).unwrap();
         o.finish().unwrap();
         s
     }
