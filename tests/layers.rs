@@ -10,12 +10,7 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 /// Upward core edges that exist today, to be removed (issue 17).
-const KNOWN_CORE: &[(&str, &str, &str)] = &[(
-    "continuous",
-    "formfactor",
-    "continuous::quadrature uses exact_3d's planes and may_be_occluded: move them to geom",
-)];
-
+const KNOWN_CORE: &[(&str, &str, &str)] = &[];
 /// CLI commands that use another command today (issue 17: shared code to `output`/a report
 /// crate; a command's own helper files as its submodules).
 const KNOWN_CLI: &[(&str, &str)] = &[

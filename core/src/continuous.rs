@@ -31,8 +31,6 @@
 //! order in which partial results are merged.
 
 pub mod closed_form;
-#[cfg(feature = "alloc")]
-pub mod quadrature;
 
 use crate::math::{self, FixedSum};
 

@@ -42,6 +42,8 @@ mod pair_blocks;
 #[cfg(feature = "alloc")]
 pub mod partial;
 #[cfg(feature = "alloc")]
+pub mod quadrature;
+#[cfg(feature = "alloc")]
 pub mod tally;
 
 #[cfg(feature = "alloc")]

@@ -3,9 +3,9 @@
 //! of the platonic solids against the quadrature of Table 4.1 — with an honest standard
 //! error.
 
-use sceneinfo::continuous::quadrature::{QuadratureOptions, scene_i_s_continuous};
 use sceneinfo::formfactor::estimate_3d::{LineMethod, estimate};
 use sceneinfo::formfactor::exact_3d;
+use sceneinfo::formfactor::quadrature::{QuadratureOptions, scene_i_s_continuous};
 use sceneinfo::scene::Scene;
 
 /// The cube cut 3 × 3 a face (54 patches, no occlusion): the mean of 20 bundle estimates of

@@ -1,9 +1,9 @@
 //! 3D tables: the empty cube (Tables 3.2, 3.8), the platonic solids (Table 4.1), the
 //! tetrahedron (Table 4.5) and the sphere model (§3.2.1).
 
-use sceneinfo::continuous::quadrature::{QuadratureOptions, scene_i_s_continuous};
 use sceneinfo::formfactor::estimate_3d::{LineMethod, estimate};
 use sceneinfo::formfactor::exact_3d;
+use sceneinfo::formfactor::quadrature::{QuadratureOptions, scene_i_s_continuous};
 use sceneinfo::scene::{Scene, preset_3d};
 use sceneinfo::thesis::{PLATONIC_REFERENCE, TABLE_3_8, TABLE_ROUNDING};
 
@@ -102,7 +102,7 @@ fn e_mse_ratio_between_meshes_matches_table_3_8() {
 }
 
 /// Table 4.1: the global-line estimate of every platonic solid lies within 3 standard errors
-/// of our deterministic quadrature of (4.6) (`continuous::quadrature`, error ≤ 10⁻⁵ bits),
+/// of our deterministic quadrature of (4.6) (`formfactor::quadrature`, error ≤ 10⁻⁵ bits),
 /// and the quadrature within the stated uncertainty of the issue tracker's independent
 /// references (`thesis::PLATONIC_REFERENCE`) except for the tetrahedron, which it puts
 /// 0.0008 below 2.6203 (the quadrature's own tests show why we trust it).

@@ -13,9 +13,9 @@ use std::time::Instant;
 
 use anyhow::{Result, anyhow};
 use sceneinfo::continuous::closed_form;
-use sceneinfo::continuous::quadrature::{self, QuadratureOptions};
 use sceneinfo::formfactor::estimate_2d::{FlatEstimate, FlatTracer, LineMethod};
 use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::formfactor::quadrature::{self, QuadratureOptions};
 use sceneinfo::report::JsonObject;
 use sceneinfo::scene::{FlatScene, Scene, catalogue, catalogue_scene, preset_3d};
 use sceneinfo::thesis::{

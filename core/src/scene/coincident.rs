@@ -30,7 +30,7 @@
 //! that looked at every candidate pair would be quadratic in `k` copies of one surface
 //! (`k (k − 1) / 2` pairs: 200,000 copies of a segment took minutes). So the search stops
 //! at the first pair it meets, and the first pair is found by bisection on the input
-//! prefix ([`first_in_order`]): `O(n log² n)`, whatever the duplicates.
+//! prefix (`first_in_order`): `O(n log² n)`, whatever the duplicates.
 //!
 //! What stays quadratic: many surfaces of one cell (directions within `1e-6`, offsets
 //! within `1e-6 R`) whose extents overlap yet none of which coincide, a flood of nearly

@@ -231,7 +231,7 @@ fn staircase_cube() -> Vec<Vec<DVec3>> {
 
 #[test]
 fn a_cube_of_concave_halves_is_closed_and_has_the_cube_s_information() {
-    use crate::continuous::quadrature::{QuadratureOptions, scene_i_s_continuous};
+    use crate::formfactor::quadrature::{QuadratureOptions, scene_i_s_continuous};
     let halves = staircase_cube();
     let (scene, report) = lenient(&halves, Subdivision::None);
     let scene = scene.unwrap();
