@@ -521,12 +521,29 @@ impl ViewpointChannel {
             .collect()
     }
 
-    /// Viewpoint saliency: the saliency a viewpoint sees, `S(v) = Σ_o p(o|v) S(o)`, from the
-    /// polygons' `saliency` ([`ViewpointChannel::saliency`]).
+    /// Viewpoint saliency, `S(v) = Σ_o p(v|o) S(o)`, `p(v|o) = p(v) p(o|v) / p(o)`, from the
+    /// polygons' `saliency` ([`ViewpointChannel::saliency`]); polygons no viewpoint sees
+    /// (`p(o) = 0`) contribute nothing.
+    ///
+    /// The weight is the *posterior* `p(v|o)`, as in the Girona group's reference
+    /// implementation of [FSG09] (`FeixasSaliency.cpp` in Bonaventura's `quoniam`, the
+    /// framework of the 2018 survey): `Σ_o a_o(v) / (Σ_u a_o(u)) · S(o)`. Until this was
+    /// checked we weighted by `p(o|v)`; see `docs/viewpoints.md` for what could and could
+    /// not be checked against the paper's own text.
     #[must_use]
     pub fn viewpoint_saliency(&self, saliency: &[f64]) -> Vec<f64> {
         (0..self.n_v)
-            .map(|v| math::sum(self.p_o_given(v).iter().zip(saliency).map(|(&p, &s)| p * s)))
+            .map(|v| {
+                let pv = self.p_v[v];
+                math::sum(
+                    self.p_o_given(v)
+                        .iter()
+                        .zip(&self.p_o)
+                        .zip(saliency)
+                        .filter(|&((&p, &po), _)| p > 0.0 && po > 0.0)
+                        .map(|((&p, &po), &s)| pv * p / po * s),
+                )
+            })
             .collect()
     }
 
