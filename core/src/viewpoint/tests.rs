@@ -402,7 +402,10 @@ fn channel_inequalities_greedy_selection_and_determinism() {
         .map(|o| s_o[o])
         .sum();
     let total: f64 = s_v.iter().sum();
-    assert!((total - seen).abs() < 1e-9 * seen.max(1.0), "{total} vs {seen}");
+    assert!(
+        (total - seen).abs() < 1e-9 * seen.max(1.0),
+        "{total} vs {seen}"
+    );
     assert!(s_v.iter().all(|&s| s >= 0.0));
     // Rows in reverse order (as another thread schedule would) give the same bits
     let mut raster = IdRaster::new(64).unwrap();
