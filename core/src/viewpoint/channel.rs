@@ -22,6 +22,10 @@ pub const DEFAULT_DISTANCE: f64 = 3.0;
 pub const MAX_CHANNEL_ENTRIES: u64 = 1 << 26;
 
 /// How the viewpoints are weighted, `p(v)`.
+///
+/// The Girona reference implementation of Feixas et al. 2009 (`quoniam`) weights by projected
+/// area ([`ViewWeighting::ProjectedArea`]); our default stays uniform because the paper's own
+/// text could not be read to confirm it (`docs/viewpoints.md`, "Checked against [FSG09]").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum ViewWeighting {
     /// `p(v) = 1 / N_v`.
@@ -456,7 +460,9 @@ impl ViewpointChannel {
     /// ```
     ///
     /// `neighbours[v]` lists the neighbours of `v` (a [`ViewSphere`]'s). Out-of-range
-    /// neighbours are skipped; a viewpoint without neighbours gets 0.
+    /// neighbours are skipped; a viewpoint without neighbours gets 0. A blind neighbour is
+    /// counted with divergence 0 (the reference implementation `quoniam` leaves it out of the
+    /// mean instead; the two differ only when some viewpoint is blind).
     #[must_use]
     pub fn instability(&self, neighbours: &[Vec<u32>]) -> Vec<f64> {
         (0..self.n_v)
@@ -491,7 +497,8 @@ impl ViewpointChannel {
     /// ```
     ///
     /// `neighbours[o]` lists the neighbours of `o` ([`patch_neighbours`]). A pair of which
-    /// one polygon is never seen contributes 0 (its weight is 0).
+    /// one polygon is never seen contributes 0 (its weight is 0) and is counted in the mean
+    /// (`quoniam` leaves such pairs out of the mean).
     #[must_use]
     pub fn saliency(&self, neighbours: &[Vec<u32>]) -> Vec<f64> {
         let mut a = vec![0.0; self.n_v];
