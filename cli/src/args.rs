@@ -116,7 +116,7 @@ pub enum SphereColour {
     Ve,
     /// Mean Jensen–Shannon divergence to the neighbouring viewpoints.
     Instability,
-    /// Viewpoint saliency Σ_o p(o|v) S(o).
+    /// Viewpoint saliency Σ_o p(v|o) S(o).
     Saliency,
 }
 

@@ -22,6 +22,10 @@ pub const DEFAULT_DISTANCE: f64 = 3.0;
 pub const MAX_CHANNEL_ENTRIES: u64 = 1 << 26;
 
 /// How the viewpoints are weighted, `p(v)`.
+///
+/// The Girona reference implementation of Feixas et al. 2009 (`quoniam`) weights by projected
+/// area ([`ViewWeighting::ProjectedArea`]); our default stays uniform because the paper's own
+/// text could not be read to confirm it (`docs/viewpoints.md`, "Checked against [FSG09]").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum ViewWeighting {
     /// `p(v) = 1 / N_v`.
@@ -456,7 +460,9 @@ impl ViewpointChannel {
     /// ```
     ///
     /// `neighbours[v]` lists the neighbours of `v` (a [`ViewSphere`]'s). Out-of-range
-    /// neighbours are skipped; a viewpoint without neighbours gets 0.
+    /// neighbours are skipped; a viewpoint without neighbours gets 0. A blind neighbour is
+    /// counted with divergence 0 (the reference implementation `quoniam` leaves it out of the
+    /// mean instead; the two differ only when some viewpoint is blind).
     #[must_use]
     pub fn instability(&self, neighbours: &[Vec<u32>]) -> Vec<f64> {
         (0..self.n_v)
@@ -491,7 +497,8 @@ impl ViewpointChannel {
     /// ```
     ///
     /// `neighbours[o]` lists the neighbours of `o` ([`patch_neighbours`]). A pair of which
-    /// one polygon is never seen contributes 0 (its weight is 0).
+    /// one polygon is never seen contributes 0 (its weight is 0) and is counted in the mean
+    /// (`quoniam` leaves such pairs out of the mean).
     #[must_use]
     pub fn saliency(&self, neighbours: &[Vec<u32>]) -> Vec<f64> {
         let mut a = vec![0.0; self.n_v];
@@ -521,12 +528,29 @@ impl ViewpointChannel {
             .collect()
     }
 
-    /// Viewpoint saliency: the saliency a viewpoint sees, `S(v) = Σ_o p(o|v) S(o)`, from the
-    /// polygons' `saliency` ([`ViewpointChannel::saliency`]).
+    /// Viewpoint saliency, `S(v) = Σ_o p(v|o) S(o)`, `p(v|o) = p(v) p(o|v) / p(o)`, from the
+    /// polygons' `saliency` ([`ViewpointChannel::saliency`]); polygons no viewpoint sees
+    /// (`p(o) = 0`) contribute nothing.
+    ///
+    /// The weight is the *posterior* `p(v|o)`, as in the Girona group's reference
+    /// implementation of [FSG09] (`FeixasSaliency.cpp` in Bonaventura's `quoniam`, the
+    /// framework of the 2018 survey): `Σ_o a_o(v) / (Σ_u a_o(u)) · S(o)`. Until this was
+    /// checked we weighted by `p(o|v)`; see `docs/viewpoints.md` for what could and could
+    /// not be checked against the paper's own text.
     #[must_use]
     pub fn viewpoint_saliency(&self, saliency: &[f64]) -> Vec<f64> {
         (0..self.n_v)
-            .map(|v| math::sum(self.p_o_given(v).iter().zip(saliency).map(|(&p, &s)| p * s)))
+            .map(|v| {
+                let pv = self.p_v[v];
+                math::sum(
+                    self.p_o_given(v)
+                        .iter()
+                        .zip(&self.p_o)
+                        .zip(saliency)
+                        .filter(|&((&p, &po), _)| p > 0.0 && po > 0.0)
+                        .map(|((&p, &po), &s)| pv * p / po * s),
+                )
+            })
             .collect()
     }
 

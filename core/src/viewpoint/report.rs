@@ -39,7 +39,7 @@ pub struct ViewpointReport {
     pub ve: Vec<f64>,
     /// Mean JS divergence to the neighbouring viewpoints.
     pub instability: Vec<f64>,
-    /// Viewpoint saliency `Σ_o p(o|v) S(o)`.
+    /// Viewpoint saliency `Σ_o p(v|o) S(o)`.
     pub viewpoint_saliency: Vec<f64>,
     /// The `best` viewpoints by increasing VMI.
     pub best: Vec<usize>,

@@ -393,6 +393,20 @@ fn channel_inequalities_greedy_selection_and_determinism() {
     assert!(rep.last().unwrap().1 < 1e-12, "{:?}", rep.last());
     let partial = c.greedy_selection(0.5, c.n_views());
     assert!(partial.last().unwrap().1 >= 0.5 * i && partial.len() < sel.len());
+    // Viewpoint saliency Σ_o p(v|o) S(o): Σ_v p(v|o) = 1 for a seen polygon, so the
+    // viewpoints' saliencies add up to the seen polygons' saliencies
+    let s_o = c.saliency(&patch_neighbours(&scene));
+    let s_v = c.viewpoint_saliency(&s_o);
+    let seen: f64 = (0..c.n_polygons())
+        .filter(|&o| c.p_o()[o] > 0.0)
+        .map(|o| s_o[o])
+        .sum();
+    let total: f64 = s_v.iter().sum();
+    assert!(
+        (total - seen).abs() < 1e-9 * seen.max(1.0),
+        "{total} vs {seen}"
+    );
+    assert!(s_v.iter().all(|&s| s >= 0.0));
     // Rows in reverse order (as another thread schedule would) give the same bits
     let mut raster = IdRaster::new(64).unwrap();
     let n_o = scene.n_patches();
