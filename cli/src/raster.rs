@@ -236,11 +236,12 @@ impl Raster {
         }
     }
 
-    /// The image as 8-bit sRGB-like bytes (gamma 1/2.2), row by row from the top.
+    /// The image as 8-bit sRGB bytes (the core's one encoding,
+    /// [`sceneinfo::radiosity::display::ToneMap::encode`]), row by row from the top.
     pub fn to_rgb8(&self) -> Vec<u8> {
         self.rgb
             .iter()
-            .flat_map(|c| c.map(|v| (v.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0).round() as u8))
+            .flat_map(|c| c.map(sceneinfo::radiosity::display::ToneMap::encode))
             .collect()
     }
 }

@@ -18,6 +18,7 @@ use sceneinfo::formfactor::tally::LineTracer;
 use sceneinfo::geom::DVec3;
 use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, MAX_PAIRS, OracleChoice};
 use sceneinfo::lines::CHUNK_LINES;
+use sceneinfo::radiosity::display::ToneMap;
 use sceneinfo::report::JsonObject;
 use sceneinfo::scene::Scene;
 
@@ -397,9 +398,11 @@ fn rms_error(h: &Hierarchy, path: &Path, reference: &Reference) -> Result<f64> {
         .with_context(|| "comparing with the reference solution")
 }
 
-/// Exposure of the pictures: the largest radiosity channel of a non-emitting leaf maps to
-/// white (emitters are brighter and saturate), or the largest of all if everything emits.
-fn exposure(h: &Hierarchy) -> f64 {
+/// The tone map of the pictures: the largest radiosity channel of a non-emitting leaf is
+/// white (emitters are brighter and saturate), or the largest of all if everything emits —
+/// [`ToneMap::for_scene`]'s rule over the leaves, so `refine` and `radiosity` colour a
+/// radiosity alike.
+fn tone_map(h: &Hierarchy) -> ToneMap {
     let max = |emitters: bool| {
         h.leaves()
             .filter(|e| emitters || e.emission.iter().all(|&x| x == 0.0))
@@ -408,13 +411,9 @@ fn exposure(h: &Hierarchy) -> f64 {
     };
     let m = max(false);
     let m = if m > 0.0 { m } else { max(true) };
-    if m > 0.0 { 1.0 / m } else { 1.0 }
-}
-
-/// Linear radiosity to an 8-bit display colour (gamma 1/2.2).
-fn display(b: [f64; 3], exposure: f64) -> Rgb {
-    let c = b.map(|x| ((x * exposure).clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0).round() as u8);
-    Rgb(c[0], c[1], c[2])
+    ToneMap {
+        white: if m > 0.0 { m } else { 1.0 },
+    }
 }
 
 /// The leaves as a PLY mesh: display colours and the radiosities themselves.
@@ -431,13 +430,15 @@ fn mesh_ply(h: &Hierarchy, file: &Path, config: &Config, eps: f64) -> Result<Str
         h.links().len(),
         h.rays()
     ));
-    let x = exposure(h);
+    let tone = tone_map(h);
     ply.comment(&format!(
-        "colour: radiosity x {x} (brightest non-emitter = white), gamma 1/2.2; \
-         radiosity_red/green/blue: the radiosity B"
+        "colour: radiosity / {} (brightest non-emitter = white), then the sRGB curve; \
+         radiosity_red/green/blue: the radiosity B",
+        tone.white
     ));
     for e in h.leaves() {
-        ply.polygon_with_radiosity(e.polygon.vertices(), display(e.radiosity, x), e.radiosity);
+        let [r, g, b] = tone.rgb(e.radiosity);
+        ply.polygon_with_radiosity(e.polygon.vertices(), Rgb(r, g, b), e.radiosity);
     }
     ply.finish()
 }
@@ -466,11 +467,11 @@ fn render(h: &Hierarchy, scene: &Scene, args: &RefineArgs) -> Result<Vec<u8>> {
             args.fov
         );
     };
-    let x = exposure(h);
+    let white = tone_map(h).white;
     let colours = h.vertex_radiosities();
     for (e, c) in h.leaves().zip(&colours) {
         let n = e.polygon.vertices().len();
-        let c: Vec<[f64; 3]> = c[..n].iter().map(|b| b.map(|v| v * x)).collect();
+        let c: Vec<[f64; 3]> = c[..n].iter().map(|b| b.map(|v| v / white)).collect();
         raster.polygon(e.polygon.vertices(), e.normal, &c);
     }
     for e in h.leaves() {

@@ -57,7 +57,16 @@ impl ToneMap {
         if !(self.white > 0.0 && self.white.is_finite() && b > 0.0) {
             return 0;
         }
-        let c = (b / self.white).min(1.0);
+        Self::encode(b / self.white)
+    }
+
+    /// A linear value (`1` = white; clamped to `[0, 1]`, NaN black) through the sRGB
+    /// transfer function to `0..=255`: `12.92 c` below `0.0031308`, else
+    /// `1.055 c^{1/2.4} − 0.055` (IEC 61966-2-1). The one colour encoding of every picture
+    /// and mesh the front ends write.
+    #[must_use]
+    pub fn encode(c: f64) -> u8 {
+        let c = if c > 0.0 { c.min(1.0) } else { 0.0 };
         let encoded = if c <= 0.003_130_8 {
             12.92 * c
         } else {
@@ -157,6 +166,21 @@ pub fn gouraud_mesh(scene: &Scene, radiosity: &[[f64; 3]]) -> GouraudMesh {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn encode_is_the_srgb_curve_clamped() {
+        // sRGB(0.5) = 1.055 · 0.5^(1/2.4) − 0.055 = 0.7354 → 187.5 → 188
+        assert_eq!(ToneMap::encode(0.5), 188);
+        assert_eq!(ToneMap::encode(0.0), 0);
+        assert_eq!(ToneMap::encode(1.0), 255);
+        assert_eq!(ToneMap::encode(2.0), 255);
+        assert_eq!(ToneMap::encode(-1.0), 0);
+        assert_eq!(ToneMap::encode(f64::NAN), 0);
+        // the linear toe: 12.92 · 0.001 = 0.01292 → 3.29 → 3
+        assert_eq!(ToneMap::encode(0.001), 3);
+        let tone = ToneMap { white: 4.0 };
+        assert_eq!(tone.channel(2.0), ToneMap::encode(0.5));
+    }
     use crate::scene::Scene;
 
     #[test]
