@@ -14,15 +14,11 @@ const KNOWN_CORE: &[(&str, &str, &str)] = &[];
 /// CLI commands that use another command today (issue 17: shared code to `output`/a report
 /// crate; a command's own helper files as its submodules).
 const KNOWN_CLI: &[(&str, &str)] = &[
-    ("draw", "draw3d"),
-    ("draw3d", "draw"),
     ("formfactors", "measure"),
     ("measure", "formfactors"),
     ("merge", "measure"),
     ("radiosity", "measure"),
     ("refine", "draw"),
-    ("refine", "refine3d"),
-    ("reproduce", "refine"),
 ];
 
 fn root() -> PathBuf {

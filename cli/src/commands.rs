@@ -2,13 +2,11 @@
 
 mod bench;
 mod draw;
-mod draw3d;
 pub mod formfactors;
 pub mod measure;
 mod merge;
 mod radiosity;
 pub mod refine;
-mod refine3d;
 mod reproduce;
 mod scene;
 mod viewpoints;

@@ -268,3 +268,41 @@ fn show_progress(done: &AtomicU64, total: u64, start: Instant, finished: impl Fn
         let _ = write!(std::io::stderr(), "\r{}\r", " ".repeat(100));
     }
 }
+/// `I^c` along the surfaces of `scene`, tallied on `threads` threads (bit-identical for any
+/// thread count).
+pub fn flat_profile(
+    scene: &sceneinfo::scene::FlatScene,
+    lines: u64,
+    seed: u64,
+    threads: usize,
+) -> sceneinfo::Result<sceneinfo::refine::profile::InformationProfile> {
+    let fine = sceneinfo::refine::profile::fine_scene(
+        scene,
+        sceneinfo::refine::profile::cells_per_patch(scene.n_patches()),
+    )?;
+    let tracer = sceneinfo::formfactor::estimate_2d::FlatTracer::new(&fine)?;
+    let tally = run(
+        &tracer,
+        sceneinfo::formfactor::tally::LineMethod::Global,
+        seed,
+        lines,
+        threads,
+    );
+    sceneinfo::refine::profile::InformationProfile::from_tally(&fine, &tally)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sceneinfo::refine::profile::InformationProfile;
+    use sceneinfo::scene::FlatScene;
+
+    #[test]
+    fn profile_is_the_same_on_any_number_of_threads() {
+        let scene = FlatScene::refinement_scene_one().unwrap();
+        let one = flat_profile(&scene, 70_000, 4, 1).unwrap();
+        let two = flat_profile(&scene, 70_000, 4, 2).unwrap();
+        assert_eq!(one, two);
+        assert_eq!(one, InformationProfile::trace(&scene, 70_000, 4).unwrap());
+    }
+}

@@ -4,6 +4,7 @@
 //!
 //! Every measure comes from the core; this module only picks values and maps them to colours.
 
+mod solid;
 use anyhow::Result;
 use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::estimate_2d::{FlatEstimate, FlatTracer, LineMethod};
@@ -90,7 +91,7 @@ struct Computed {
 
 pub fn run(args: &DrawArgs) -> Result<()> {
     if crate::output::is_3d(&args.file) {
-        return super::draw3d::run(args);
+        return solid::run(args);
     }
     let Some(svg_path) = &args.svg else {
         anyhow::bail!(

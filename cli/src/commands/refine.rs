@@ -4,16 +4,14 @@
 //! the `de`, `power` and `regular` oracles. A `.obj` scene goes to hierarchical radiosity
 //! (§6.4), whose oracles are `power`, `ks`, `ks-av`, `mi` and `mi-increase`.
 
+mod solid;
 use std::fmt::Write as _;
 use std::io::Write;
 use std::time::Instant;
 
 use anyhow::{Result, bail};
-use sceneinfo::formfactor::estimate_2d::{FlatTracer, LineMethod};
 use sceneinfo::refine::flat::{FlatOracle, FlatRefiner, StepReport};
-use sceneinfo::refine::profile::{InformationProfile, cells_per_patch, fine_scene};
 use sceneinfo::report::JsonObject;
-use sceneinfo::scene::FlatScene;
 
 use crate::args::{Colour, Oracle, RefineArgs};
 use crate::output::{is_3d, located, write_atomic};
@@ -28,7 +26,7 @@ pub const DEFAULT_GROWTH: usize = 8;
 /// Runs `refine`.
 pub fn run(args: &RefineArgs) -> Result<()> {
     if is_3d(&args.file) {
-        return crate::commands::refine3d::run(args);
+        return solid::run(args);
     }
     run_flat(args)
 }
@@ -112,27 +110,14 @@ fn oracle_name(o: Oracle) -> &'static str {
     }
 }
 
-/// `I^c` along the surfaces of `scene`, tallied on `threads` threads (bit-identical for any
-/// thread count).
-pub fn flat_profile(
-    scene: &FlatScene,
-    lines: u64,
-    seed: u64,
-    threads: usize,
-) -> sceneinfo::Result<InformationProfile> {
-    let fine = fine_scene(scene, cells_per_patch(scene.n_patches()))?;
-    let tracer = FlatTracer::new(&fine)?;
-    let tally = crate::lines::run(&tracer, LineMethod::Global, seed, lines, threads);
-    InformationProfile::from_tally(&fine, &tally)
-}
-
 /// Refines a flatland scene and reports every step's measures.
 fn run_flat(args: &RefineArgs) -> Result<()> {
     let at = |e: sceneinfo::Error| located(&args.file, &e);
     let scene = crate::output::load_flat(&args.file)?;
     let config = FlatConfig::new(args, scene.n_patches())?;
     let start = Instant::now();
-    let profile = flat_profile(&scene, config.lines, args.seed, config.threads).map_err(at)?;
+    let profile =
+        crate::lines::flat_profile(&scene, config.lines, args.seed, config.threads).map_err(at)?;
     let mut refiner = FlatRefiner::with_profile(scene, config.oracle, profile).map_err(at)?;
     let mut history = vec![refiner.report()];
     while refiner.scene().n_patches() < config.target
@@ -266,18 +251,4 @@ fn table(name: &str, config: &FlatConfig, history: &[StepReport], seconds: f64) 
         }
     }
     s
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn profile_is_the_same_on_any_number_of_threads() {
-        let scene = FlatScene::refinement_scene_one().unwrap();
-        let one = flat_profile(&scene, 70_000, 4, 1).unwrap();
-        let two = flat_profile(&scene, 70_000, 4, 2).unwrap();
-        assert_eq!(one, two);
-        assert_eq!(one, InformationProfile::trace(&scene, 70_000, 4).unwrap());
-    }
 }

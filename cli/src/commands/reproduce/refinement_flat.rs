@@ -140,9 +140,8 @@ pub(super) fn table_6_2(runner: &Runner) -> Result<Vec<Table>> {
     let mut evolution = Vec::new();
     for name in ["refinement-1", "refinement-2"] {
         let scene = catalogue_scene(name, 1).map_err(|e| anyhow!("{name}: {e}"))?;
-        let profile =
-            crate::commands::refine::flat_profile(&scene, lines, runner.seed, runner.threads)
-                .map_err(|e| anyhow!("{name}: {e}"))?;
+        let profile = crate::lines::flat_profile(&scene, lines, runner.seed, runner.threads)
+            .map_err(|e| anyhow!("{name}: {e}"))?;
         for t in TABLE_6_2.iter().filter(|r| r.scene == name) {
             let algorithm = t.algorithm;
             let oracle = match algorithm {

@@ -13,7 +13,7 @@ use sceneinfo::formfactor::estimate_3d::SceneTracer;
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::scene::Scene;
 
-use super::draw::{PatchMeasure, Source, patch_colours, patch_values, range};
+use super::{PatchMeasure, Source, patch_colours, patch_values, range};
 use crate::args::{Colour, DrawArgs};
 use crate::output::{Loaded, located, write_atomic};
 use crate::ply::Ply;
