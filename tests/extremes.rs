@@ -164,3 +164,38 @@ fn a_vertex_a_hair_from_a_long_edge_is_a_feature_of_the_range() {
         _ => panic!("{err}"),
     }
 }
+
+/// An open bug found by `fuzz_refine` on 2026-11-27 (the input is kept in
+/// `tests/data/fuzz-open/`, outside the replayed corpus): a polygon side `j` crossed by a
+/// one-sided wall (`x = 1`, `y` from 0.2 to 2.8) sees a target side split in two with a
+/// flux of 3.6705 (+ 0 for the far piece) but 3.6806 for the whole — one of the two is wrong
+/// by 0.27 % (in the fuzzed scene Proposition 3's cover condition fails by 1.9e-3). Without
+/// the long side `(22222, 1) → (0, 5)`, or without the wall, pieces and whole agree. Ignored
+/// until fixed, so that it is seen, not silently lost.
+#[test]
+#[ignore = "open bug: exact flatland flux with an occluder crossing the source patch"]
+fn split_target_fluxes_add_up_with_a_wall_crossing_the_source() {
+    use sceneinfo::geom::DVec2;
+    use sceneinfo::scene::FlatScene;
+    let v = DVec2::new;
+    let build = |target_cuts: &[f64]| {
+        let mut b = FlatScene::builder();
+        b.segment_with_cuts(v(0.0, 5.0), v(2.0, 0.0), &[0.023346303501945526])
+            .unwrap();
+        b.segment_with_cuts(v(2.0, 0.0), v(21.0, 222.0), target_cuts)
+            .unwrap();
+        b.segment(v(21.0, 222.0), v(22222.0, 1.0), 1).unwrap();
+        b.segment(v(22222.0, 1.0), v(0.0, 5.0), 1).unwrap();
+        b.segment(v(1.0, 0.2), v(1.0, 2.8), 1).unwrap();
+        b.build().unwrap()
+    };
+    let split = build(&[0.12840466926070038]);
+    let whole = build(&[]);
+    let pieces =
+        exact_2d::pair_flux(&split, 1, 2).unwrap() + exact_2d::pair_flux(&split, 1, 3).unwrap();
+    let one = exact_2d::pair_flux(&whole, 1, 2).unwrap();
+    assert!(
+        (pieces - one).abs() <= 1e-9 * one,
+        "pieces {pieces} vs whole {one}"
+    );
+}
