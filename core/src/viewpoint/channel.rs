@@ -25,7 +25,7 @@ pub const MAX_CHANNEL_ENTRIES: u64 = 1 << 26;
 ///
 /// The Girona reference implementation of Feixas et al. 2009 (`quoniam`) weights by projected
 /// area ([`ViewWeighting::ProjectedArea`]); our default stays uniform because the paper's own
-/// text could not be read to confirm it (`docs/viewpoints.md`, "Checked against [FSG09]").
+/// text could not be read to confirm it (`docs/viewpoints.md`, "Checked against \[FSG09\]").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum ViewWeighting {
     /// `p(v) = 1 / N_v`.
@@ -533,7 +533,7 @@ impl ViewpointChannel {
     /// (`p(o) = 0`) contribute nothing.
     ///
     /// The weight is the *posterior* `p(v|o)`, as in the Girona group's reference
-    /// implementation of [FSG09] (`FeixasSaliency.cpp` in Bonaventura's `quoniam`, the
+    /// implementation of \[FSG09\] (`FeixasSaliency.cpp` in Bonaventura's `quoniam`, the
     /// framework of the 2018 survey): `Σ_o a_o(v) / (Σ_u a_o(u)) · S(o)`. Until this was
     /// checked we weighted by `p(o|v)`; see `docs/viewpoints.md` for what could and could
     /// not be checked against the paper's own text.
