@@ -165,16 +165,15 @@ fn a_vertex_a_hair_from_a_long_edge_is_a_feature_of_the_range() {
     }
 }
 
-/// An open bug found by `fuzz_refine` on 2026-11-27 (the input is kept in
-/// `tests/data/fuzz-open/`, outside the replayed corpus): a polygon side `j` crossed by a
-/// one-sided wall (`x = 1`, `y` from 0.2 to 2.8) sees a target side split in two with a
-/// flux of 3.6705 (+ 0 for the far piece) but 3.6806 for the whole — one of the two is wrong
-/// by 0.27 % (in the fuzzed scene Proposition 3's cover condition fails by 1.9e-3). Without
-/// the long side `(22222, 1) → (0, 5)`, or without the wall, pieces and whole agree. Ignored
-/// until fixed, so that it is seen, not silently lost.
+/// A bug found by `fuzz_refine` on 2026-11-27 (`tests/data/fuzz/fuzz_refine/
+/// wall-and-long-side-crossing`): a target side split in two got a flux of 3.6705 (+ 0 for
+/// the far piece) but 3.6806 whole (Proposition 3's cover condition off by 1.9e-3 in the
+/// fuzzed scene). The crossing of the 22,222-long side with the target piece, computed from
+/// the side's far end, fell 2.8e-12 outside the sight region's tolerance, so the event
+/// where it lines up with the wall's end was missed; ray casting and `point_to_patch` gave
+/// the whole's value. Crossings with the target are now always candidate points.
 #[test]
-#[ignore = "open bug: exact flatland flux with an occluder crossing the source patch"]
-fn split_target_fluxes_add_up_with_a_wall_crossing_the_source() {
+fn split_target_fluxes_add_up_with_a_long_occluder_crossing_the_target() {
     use sceneinfo::geom::DVec2;
     use sceneinfo::scene::FlatScene;
     let v = DVec2::new;
