@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{bin, temp};
+use common::{bin, succeeded, temp};
 
 /// The repository's root.
 fn root() -> PathBuf {
@@ -116,21 +116,18 @@ fn unwritable_outputs_are_refused_before_the_job() {
     let obj = common::preset(&["cube", "--grid", "3"], "outputs-cube.obj");
     // A partial result for merge (one chunk of a small job)
     let partial = work.join("part.sip");
-    let out = bin()
-        .args([
-            "measure",
-            room().to_str().unwrap(),
-            "--lines",
-            "65536",
-            "--partial",
-        ])
-        .arg(&partial)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    succeeded(
+        bin()
+            .args([
+                "measure",
+                room().to_str().unwrap(),
+                "--lines",
+                "65536",
+                "--partial",
+            ])
+            .arg(&partial)
+            .output()
+            .unwrap(),
     );
     let existing_dir = work.join("a-folder");
     std::fs::create_dir(&existing_dir).unwrap();
@@ -235,15 +232,12 @@ fn an_output_under_a_file_is_refused_with_its_path() {
 #[test]
 fn good_outputs_are_written_and_nothing_else() {
     let work = folder("outputs-good");
-    let out = bin()
-        .current_dir(&work)
-        .args(["formfactors", room().to_str().unwrap(), "--out", "f.csv"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    succeeded(
+        bin()
+            .current_dir(&work)
+            .args(["formfactors", room().to_str().unwrap(), "--out", "f.csv"])
+            .output()
+            .unwrap(),
     );
     assert_eq!(files_in(&work), ["f.csv"]);
     assert_eq!(
@@ -344,14 +338,11 @@ fn max_input_caps_every_file_read() {
         ),
     );
     // The flag may come before the command, and takes K, M, G suffixes
-    let out = bin()
-        .args(["--max-input", "1K", "measure", room])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    succeeded(
+        bin()
+            .args(["--max-input", "1K", "measure", room])
+            .output()
+            .unwrap(),
     );
     refused(
         &["measure", room, "--max-input", "0.1K"],
@@ -368,16 +359,13 @@ fn max_input_caps_every_file_read() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("is not a memory size"));
     // A glTF's external buffer (48 bytes) under a cap its JSON (863 bytes) fits
     let gltf = root().join("tests/data/corpus/gltf/Mesh_PrimitiveMode/Mesh_PrimitiveMode_04.gltf");
-    let out = bin()
-        .arg("measure")
-        .arg(&gltf)
-        .args(["--max-input", "900"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    succeeded(
+        bin()
+            .arg("measure")
+            .arg(&gltf)
+            .args(["--max-input", "900"])
+            .output()
+            .unwrap(),
     );
     let out = bin()
         .arg("measure")
@@ -389,15 +377,12 @@ fn max_input_caps_every_file_read() {
     assert_eq!(out.status.code(), Some(2));
     assert!(err.contains("larger than 40 bytes"), "{err}");
     // A partial result for merge
-    let out = bin()
-        .args(["measure", room, "--lines", "65536", "--partial", "p.sip"])
-        .current_dir(&work)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    succeeded(
+        bin()
+            .args(["measure", room, "--lines", "65536", "--partial", "p.sip"])
+            .current_dir(&work)
+            .output()
+            .unwrap(),
     );
     let part = std::fs::metadata(work.join("p.sip")).unwrap().len();
     refused(

@@ -22,6 +22,16 @@ pub fn stdout_of(args: &[&str]) -> String {
     String::from_utf8(out.stdout).unwrap()
 }
 
+/// `out`, after checking the run succeeded (else its stderr is shown).
+pub fn succeeded(out: std::process::Output) -> std::process::Output {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
 /// A path in this test process' own temporary directory.
 pub fn temp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("sceneinfo-cli-test-{}", std::process::id()));
