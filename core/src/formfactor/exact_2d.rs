@@ -299,9 +299,9 @@ struct Scratch {
     points: Vec<DVec2>,
     /// Occluders with an end outside the sight region (see `occluded_flux`, step 2).
     edge_on: Vec<(DVec2, DVec2)>,
-    /// Where occluders cross the target (step 1): points of `j`, so of the sight region,
-    /// whatever rounding did to them.
-    on_target: Vec<DVec2>,
+    /// Per occluder, whether each end is where it crosses the target (step 1): a point of
+    /// `j`, so of the sight region, whatever rounding did to it.
+    on_target: Vec<[bool; 2]>,
     events: Vec<f64>,
     shadows: Vec<(Bound, Bound)>,
     visible: Vec<(DVec2, DVec2)>,
@@ -529,9 +529,13 @@ fn occluded_flux<'a>(
             Some((_, c)) => {
                 scratch.occluders.push((q0, c));
                 scratch.occluders.push((c, q1));
-                scratch.on_target.push(c);
+                scratch.on_target.push([false, true]);
+                scratch.on_target.push([true, false]);
             }
-            None => scratch.occluders.push((q0, q1)),
+            None => {
+                scratch.occluders.push((q0, q1));
+                scratch.on_target.push([false, false]);
+            }
         }
     }
     if scratch.occluders.is_empty() {
@@ -550,10 +554,10 @@ fn occluded_flux<'a>(
     // 22,222-long side 2.8e-12 off a 29-long target; without it the event where the
     // crossing and a wall's end line up was missed, and a sub-interval was integrated with
     // the wrong visible interval: a flux 0.27 % low).
-    for &(q0, q1) in &scratch.occluders {
+    for (&(q0, q1), on_target) in scratch.occluders.iter().zip(&scratch.on_target) {
         let mut both = true;
-        for q in [q0, q1] {
-            if scratch.on_target.contains(&q) || in_sight_region(q, len_i, j0, j1) {
+        for (q, on_j) in [(q0, on_target[0]), (q1, on_target[1])] {
+            if on_j || in_sight_region(q, len_i, j0, j1) {
                 scratch.points.push(q);
             } else {
                 both = false;
