@@ -5,7 +5,7 @@
 
 use sceneinfo::ErrorKind;
 use sceneinfo::channel::Measures;
-use sceneinfo::formfactor::estimate_2d::{FlatTracer, LineMethod};
+use sceneinfo::formfactor::estimate_2d::{LineMethod, Tracer2};
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::formfactor::tally::LineTracer;
 use sceneinfo::io::parse_flat;
@@ -111,7 +111,7 @@ fn a_hundred_thousand_patches_by_global_lines_stay_finite() {
     // 4 × 25,000 patches; 2·10⁶ global lines hit each patch ~40 times
     let scene = parse_flat("poly 4 0 0 1 0 1 1 0 1 per_side 25000\n").unwrap();
     assert_eq!(scene.n_patches(), 100_000);
-    let tracer = FlatTracer::new(&scene).unwrap();
+    let tracer = Tracer2::new(&scene).unwrap();
     let estimate = tracer
         .run(LineMethod::Global, 8, 2_000_000)
         .and_then(|t| t.finish(&tracer))
@@ -175,10 +175,10 @@ fn a_vertex_a_hair_from_a_long_edge_is_a_feature_of_the_range() {
 #[test]
 fn split_target_fluxes_add_up_with_a_long_occluder_crossing_the_target() {
     use sceneinfo::geom::DVec2;
-    use sceneinfo::scene::FlatScene;
+    use sceneinfo::scene::Scene2;
     let v = DVec2::new;
     let build = |target_cuts: &[f64]| {
-        let mut b = FlatScene::builder();
+        let mut b = Scene2::builder();
         b.segment_with_cuts(v(0.0, 5.0), v(2.0, 0.0), &[0.023346303501945526])
             .unwrap();
         b.segment_with_cuts(v(2.0, 0.0), v(21.0, 222.0), target_cuts)

@@ -30,7 +30,7 @@ pub fn convex_polygon(angles: &[f64], rx: f64, ry: f64) -> Vec<DVec2> {
 /// Global-line estimate of `I_S^c`: `(value, standard error, discrete I_S from the same F)`.
 #[must_use]
 pub fn continuous_estimate(
-    scene: &sceneinfo::scene::FlatScene,
+    scene: &sceneinfo::scene::Scene2,
     lines: u64,
     seed: u64,
 ) -> (f64, f64, f64) {

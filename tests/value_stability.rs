@@ -10,7 +10,7 @@ use rand_core::Rng;
 use sceneinfo::formfactor::tally::{LineEstimate, LineMethod};
 use sceneinfo::formfactor::{estimate_2d, estimate_3d};
 use sceneinfo::lines::chunk_rng;
-use sceneinfo::scene::{FlatScene, Scene, preset_3d};
+use sceneinfo::scene::{Scene2, Scene3, preset_3d};
 
 /// A fingerprint of a matrix's bits (FNV-1a over each entry's `to_bits`), to pin every
 /// entry at once.
@@ -70,7 +70,7 @@ fn check_estimates(
 
 #[test]
 fn flatland_estimates_are_pinned() {
-    let scene = FlatScene::regular_polygon(4, 3).unwrap();
+    let scene = Scene2::regular_polygon(4, 3).unwrap();
     let pins = [
         (LineMethod::Global, PIN_FLAT_GLOBAL),
         (LineMethod::Local, PIN_FLAT_LOCAL),
@@ -83,7 +83,7 @@ fn flatland_estimates_are_pinned() {
 
 #[test]
 fn solid_estimates_are_pinned() {
-    let scene: Scene = preset_3d("cube", 2).unwrap();
+    let scene: Scene3 = preset_3d("cube", 2).unwrap();
     let pins = [
         (LineMethod::Global, PIN_SOLID_GLOBAL),
         (LineMethod::Local, PIN_SOLID_LOCAL),

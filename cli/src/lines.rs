@@ -271,7 +271,7 @@ fn show_progress(done: &AtomicU64, total: u64, start: Instant, finished: impl Fn
 /// `I^c` along the surfaces of `scene`, tallied on `threads` threads (bit-identical for any
 /// thread count).
 pub fn flat_profile(
-    scene: &sceneinfo::scene::FlatScene,
+    scene: &sceneinfo::scene::Scene2,
     lines: u64,
     seed: u64,
     threads: usize,
@@ -280,7 +280,7 @@ pub fn flat_profile(
         scene,
         sceneinfo::refine::profile::cells_per_patch(scene.n_patches()),
     )?;
-    let tracer = sceneinfo::formfactor::estimate_2d::FlatTracer::new(&fine)?;
+    let tracer = sceneinfo::formfactor::estimate_2d::Tracer2::new(&fine)?;
     let tally = run(
         &tracer,
         sceneinfo::formfactor::tally::LineMethod::Global,
@@ -295,11 +295,11 @@ pub fn flat_profile(
 mod tests {
     use super::*;
     use sceneinfo::refine::profile::InformationProfile;
-    use sceneinfo::scene::FlatScene;
+    use sceneinfo::scene::Scene2;
 
     #[test]
     fn profile_is_the_same_on_any_number_of_threads() {
-        let scene = FlatScene::refinement_scene_one().unwrap();
+        let scene = Scene2::refinement_scene_one().unwrap();
         let one = flat_profile(&scene, 70_000, 4, 1).unwrap();
         let two = flat_profile(&scene, 70_000, 4, 2).unwrap();
         assert_eq!(one, two);

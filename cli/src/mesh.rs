@@ -11,7 +11,7 @@ use anyhow::Result;
 use sceneinfo::ErrorKind;
 use sceneinfo::geom::DVec3;
 use sceneinfo::io::{LoadReport, LoadWarningKind};
-use sceneinfo::scene::{Scene, SceneBuilder, Subdivision};
+use sceneinfo::scene::{Scene3, Scene3Builder, Subdivision};
 
 /// Most faces a reader reads from one file (skipped ones included) before it gives up: it
 /// bounds the work on files whose faces are all skipped (a glTF mesh instanced many times,
@@ -19,7 +19,7 @@ use sceneinfo::scene::{Scene, SceneBuilder, Subdivision};
 pub const MAX_FACES_READ: u64 = 1 << 28;
 
 /// Adds the face through `vertices` (front side counter-clockwise, as in OBJ) to `builder`
-/// as a file draws it ([`SceneBuilder::face_as_drawn`]: repeated vertices removed, nearly
+/// as a file draws it ([`Scene3Builder::face_as_drawn`]: repeated vertices removed, nearly
 /// planar faces flattened, concave or bent ones triangulated, zero-area ones dropped, all
 /// counted in `report`), as the OBJ reader does. A face with fewer than three vertices is
 /// skipped with a [`LoadWarningKind::DegenerateFace`] warning (glTF triangle strips hold
@@ -30,7 +30,7 @@ pub const MAX_FACES_READ: u64 = 1 << 28;
 /// coordinates, too many vertices or patches) and past [`MAX_FACES_READ`] faces;
 /// `location` says where in the file.
 pub fn add_face(
-    builder: &mut SceneBuilder,
+    builder: &mut Scene3Builder,
     vertices: &[DVec3],
     report: &mut LoadReport,
     path: &Path,
@@ -53,12 +53,12 @@ pub fn add_face(
 }
 
 /// The scene `builder` holds, coincident faces resolved as the OBJ reader resolves them
-/// ([`SceneBuilder::build_as_drawn`]); when no face was kept, the error says what was
+/// ([`Scene3Builder::build_as_drawn`]); when no face was kept, the error says what was
 /// skipped.
 ///
 /// # Errors
-/// `file: what` from [`SceneBuilder::build_as_drawn`] (no face, …).
-pub fn build(builder: SceneBuilder, report: &mut LoadReport, path: &Path) -> Result<Scene> {
+/// `file: what` from [`Scene3Builder::build_as_drawn`] (no face, …).
+pub fn build(builder: Scene3Builder, report: &mut LoadReport, path: &Path) -> Result<Scene3> {
     let skipped = (!report.warnings.is_empty()).then(|| report.messages(true).join("; "));
     builder
         .build_as_drawn(report, &[])

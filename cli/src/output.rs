@@ -227,9 +227,9 @@ pub fn located(path: &Path, err: &sceneinfo::Error) -> anyhow::Error {
 /// A scene file, flatland or 3D.
 pub enum Loaded {
     /// A `.flat` scene.
-    Flat(sceneinfo::scene::FlatScene),
+    Flat(sceneinfo::scene::Scene2),
     /// A 3D scene: Wavefront OBJ (with its `.mtl` libraries), glTF 2.0 or PLY.
-    Solid(sceneinfo::scene::Scene),
+    Solid(sceneinfo::scene::Scene3),
 }
 
 /// A loaded scene and what the loader did to make it ([`LoadReport`]: faces read,
@@ -341,7 +341,7 @@ pub fn load_scene_with(path: &Path, options: &sceneinfo::io::ObjOptions) -> Resu
 /// # Errors
 /// [`load_scene`]'s; `file: not a flatland scene` should the whole file turn out to be 3D
 /// (a glTF whose `"asset"` key lies beyond the first 64 KiB [`is_3d`] looks at).
-pub fn load_flat(path: &Path) -> Result<sceneinfo::scene::FlatScene> {
+pub fn load_flat(path: &Path) -> Result<sceneinfo::scene::Scene2> {
     let loaded = load_scene(path)?;
     loaded.print_warnings(path, false);
     match loaded.scene {
@@ -370,7 +370,7 @@ pub fn job_refused(path: &Path, what: impl std::fmt::Display) -> anyhow::Error {
 /// implemented).
 pub fn exact_3d_form_factors(
     path: &Path,
-    scene: &sceneinfo::scene::Scene,
+    scene: &sceneinfo::scene::Scene3,
 ) -> Result<sceneinfo::formfactor::FormFactors> {
     sceneinfo::formfactor::exact_3d::scene_form_factors(scene).map_err(|e| {
         if matches!(e.kind(), sceneinfo::ErrorKind::MayBeOccluded) {

@@ -7,8 +7,8 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use sceneinfo::accel::{Bvh2, Bvh3, all_hits_naive, all_hits_naive3};
-use sceneinfo::formfactor::estimate_2d::FlatTracer;
-use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::formfactor::estimate_2d::Tracer2;
+use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::formfactor::tally::{LineMethod, LineTracer};
 use sceneinfo::geom::{DVec2, DVec3, Segment};
@@ -16,12 +16,12 @@ use sceneinfo::lines::{
     BoundingCircle, BoundingSphere, Line2, Line3, canonical, canonical_2d, chunk_rng,
     sample_global_line_2d, sample_global_line_3d,
 };
-use sceneinfo::scene::{FlatScene, Scene, catalogue_scene};
+use sceneinfo::scene::{Scene2, Scene3, catalogue_scene};
 
 /// Lines per measured batch.
 const BATCH: usize = 4096;
 
-fn lines_2d(scene: &FlatScene) -> Vec<Line2> {
+fn lines_2d(scene: &Scene2) -> Vec<Line2> {
     let (lo, hi) = scene.bounds();
     let circle = BoundingCircle::of_bounds(lo, hi);
     let mut rng = chunk_rng(1, 0);
@@ -30,7 +30,7 @@ fn lines_2d(scene: &FlatScene) -> Vec<Line2> {
         .collect()
 }
 
-fn lines_3d(scene: &Scene) -> Vec<Line3> {
+fn lines_3d(scene: &Scene3) -> Vec<Line3> {
     let (lo, hi) = scene.bounds();
     let sphere = BoundingSphere::of_bounds(lo, hi);
     let mut rng = chunk_rng(1, 0);
@@ -88,7 +88,7 @@ fn queries_3d(c: &mut Criterion) {
     });
     g.finish();
 
-    let scene = Scene::cube(30).unwrap();
+    let scene = Scene3::cube(30).unwrap();
     let points = scene.points().to_vec();
     let polygons: Vec<(usize, usize)> =
         scene.patches().iter().map(|p| (p.first, p.count)).collect();
@@ -149,7 +149,7 @@ fn chunks(c: &mut Criterion) {
     g.throughput(Throughput::Elements(lines));
     let flat = catalogue_scene("64-squares-a", 10).unwrap();
     // One tally per tracer, reused: a long job allocates its tallies once.
-    let tracer = FlatTracer::new(&flat).unwrap();
+    let tracer = Tracer2::new(&flat).unwrap();
     let mut tally = tracer.new_tally(LineMethod::Global);
     g.bench_function("64 squares, bvh", |b| {
         b.iter(|| {
@@ -167,7 +167,7 @@ fn chunks(c: &mut Criterion) {
             black_box(tally.lines())
         });
     });
-    let naive = FlatTracer::new(&flat).unwrap().naive_baseline();
+    let naive = Tracer2::new(&flat).unwrap().naive_baseline();
     let mut tally = naive.new_tally(LineMethod::Global);
     g.bench_function("64 squares, naive", |b| {
         b.iter(|| {
@@ -175,8 +175,8 @@ fn chunks(c: &mut Criterion) {
             black_box(tally.lines())
         });
     });
-    let cube = Scene::cube(30).unwrap();
-    let tracer = SceneTracer::new(&cube).unwrap();
+    let cube = Scene3::cube(30).unwrap();
+    let tracer = Tracer3::new(&cube).unwrap();
     let mut tally = tracer.new_tally(LineMethod::Global);
     g.bench_function("cube 5400, bvh", |b| {
         b.iter(|| {
@@ -188,7 +188,7 @@ fn chunks(c: &mut Criterion) {
 }
 
 fn exact(c: &mut Criterion) {
-    let cube = Scene::cube(10).unwrap();
+    let cube = Scene3::cube(10).unwrap();
     let polygons: Vec<(usize, usize)> = cube.patches().iter().map(|p| (p.first, p.count)).collect();
     let mut g = c.benchmark_group("exact form factors");
     g.sample_size(10);

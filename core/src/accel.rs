@@ -49,7 +49,7 @@ pub use bvh3::{Hit3, first_hit_naive3};
 #[cfg(feature = "alloc")]
 pub use raster3::{BundleHits3, ParallelRaster3};
 #[cfg(feature = "alloc")]
-pub use sweep2::{BundleHits, ParallelSweep};
+pub use sweep2::{BundleHits2, ParallelSweep2};
 
 #[cfg(feature = "alloc")]
 use crate::lines::Line2;

@@ -11,9 +11,9 @@
 //!   (2.48) [`PowerOracle`], kernel smoothness (2.49) [`KernelSmoothnessOracle`] and about
 //!   the average (2.50) [`KernelAverageOracle`], MI-based (6.29)–(6.30)
 //!   [`MutualInformationOracle`], MI-increase (6.3)–(6.5) [`MiIncreaseOracle`], and the
-//!   regular mesh [`RegularOracle`]; [`OracleChoice`] picks one by name.
+//!   regular mesh [`RegularOracle`]; [`OracleChoice3`] picks one by name.
 //! - [`Hierarchy`] (`alloc`): Hanrahan–Salzman hierarchical radiosity over a
-//!   [`crate::scene::Scene`]'s patches — element quadtrees, links, gather and push–pull,
+//!   [`crate::scene::Scene3`]'s patches — element quadtrees, links, gather and push–pull,
 //!   refinement passes with the current radiosities, budgets ([`HrOptions`]) and counts of
 //!   elements, links and rays; the final mesh's radiosity at a point, its RMS difference
 //!   from a reference, Gouraud vertex colours and the leaves as a scene;
@@ -47,7 +47,7 @@ mod tree;
 #[cfg(feature = "alloc")]
 mod visibility;
 
-pub use choice::{MAX_REGULAR_LEVEL, ORACLE_NAMES, OracleChoice};
+pub use choice::{MAX_REGULAR_LEVEL, ORACLE_NAMES, OracleChoice3};
 #[cfg(feature = "alloc")]
 pub use compare::{
     COMPARISON_RUNS, OracleComparison, ReferenceOracle, compare_at_size, emitted_power,

@@ -14,10 +14,10 @@
 //!
 //! ```
 //! # #[cfg(feature = "alloc")] {
-//! use sceneinfo::{channel::Channel, formfactor::exact_2d, scene::FlatScene};
+//! use sceneinfo::{channel::Channel, formfactor::exact_2d, scene::Scene2};
 //!
 //! // An equilateral triangle, each side cut into 10 patches (Tables 3.4 and 3.5).
-//! let scene = FlatScene::regular_polygon(3, 10).unwrap();
+//! let scene = Scene2::regular_polygon(3, 10).unwrap();
 //! let ff = exact_2d::form_factors(&scene).unwrap();
 //! let channel = Channel::new(ff.weights(), ff.matrix()).unwrap();
 //! let m = channel.measures();

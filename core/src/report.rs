@@ -517,7 +517,7 @@ impl LineRunReport {
 /// The errors of [`crate::formfactor::exact_2d::form_factors`] and of the channel
 /// constructor.
 #[cfg(feature = "alloc")]
-pub fn measure_flat(scene: &crate::scene::FlatScene) -> crate::Result<SceneReport> {
+pub fn measure_flat(scene: &crate::scene::Scene2) -> crate::Result<SceneReport> {
     SceneReport::of(&crate::formfactor::exact_2d::form_factors(scene)?)
 }
 
@@ -540,7 +540,7 @@ pub fn measure_flat_json(text: &str) -> crate::Result<String> {
 /// form factors are computed only for unoccluded scenes: estimate with lines instead); the
 /// errors of the exact form factors and of the channel constructor.
 #[cfg(feature = "alloc")]
-pub fn measure_solid(scene: &crate::scene::Scene) -> crate::Result<SceneReport> {
+pub fn measure_solid(scene: &crate::scene::Scene3) -> crate::Result<SceneReport> {
     SceneReport::of(&crate::formfactor::exact_3d::scene_form_factors(scene)?)
 }
 

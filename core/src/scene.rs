@@ -1,9 +1,9 @@
 //! Scenes: what the channel is built from.
 //!
 //! - [`Material`]: reflectance ρ and emittance E per RGB channel.
-//! - [`FlatScene`] (feature `alloc`): a flatland scene of one-sided segments ("surfaces"),
+//! - [`Scene2`] (feature `alloc`): a flatland scene of one-sided segments ("surfaces"),
 //!   each cut into patches (thesis §2.1.3, §3.3).
-//! - [`Scene`] (feature `alloc`): a 3D scene of planar convex faces ("surfaces"), each cut
+//! - [`Scene3`] (feature `alloc`): a 3D scene of planar convex faces ("surfaces"), each cut
 //!   into patches by a [`Subdivision`] (thesis §2.1.3).
 //!
 //! A flatland surface is the unit of *occlusion* — it blocks light whole — and a patch is the
@@ -40,9 +40,7 @@ pub use catalogue::{
     catalogue_scene,
 };
 #[cfg(feature = "alloc")]
-pub use flat::{
-    FlatPatch, FlatScene, FlatSceneBuilder, FlatSurface, MAX_PATCHES, MAX_PATCHES_PER_SURFACE,
-};
+pub use flat::{MAX_PATCHES, MAX_PATCHES_PER_SURFACE, Patch2, Scene2, Scene2Builder, Surface2};
 #[cfg(feature = "alloc")]
 pub use presets3d::{
     CORNELL_BLOCK_LIFT, CORNELL_GREEN, CORNELL_LIGHT, CORNELL_RED, CORNELL_ROOM,
@@ -56,5 +54,5 @@ pub use presets3d::{
 pub use scene3::{
     CONVEXITY_TOLERANCE, DRAWN_PLANARITY_TOLERANCE, Face3, MAX_CLIP_PIECES, MAX_FACE_VERTICES,
     MAX_GRID, MAX_PATCHES_3D, MAX_TRIANGLE_LEVEL, PLANARITY_TOLERANCE, Patch3,
-    REPEATED_VERTEX_TOLERANCE, Scene, SceneBuilder, Subdivision,
+    REPEATED_VERTEX_TOLERANCE, Scene3, Scene3Builder, Subdivision,
 };

@@ -4,7 +4,7 @@
 //!
 //! # Projections
 //!
-//! [`IdRaster`] draws the patches of a [`Scene`](crate::scene::Scene) with a z-buffer that keeps polygon ids (no
+//! [`IdRaster`] draws the patches of a [`Scene3`](crate::scene::Scene3) with a z-buffer that keeps polygon ids (no
 //! colour) and sums pixel weights per id: the visible projected area of every patch and of
 //! the background. Three [`Projection`]s:
 //!
@@ -63,10 +63,10 @@
 //! # Examples
 //!
 //! ```
-//! use sceneinfo::scene::Scene;
+//! use sceneinfo::scene::Scene3;
 //! use sceneinfo::viewpoint::{ViewpointJob, ViewpointOptions};
 //!
-//! let cube = Scene::platonic("cube", sceneinfo::scene::Subdivision::None).unwrap();
+//! let cube = Scene3::platonic("cube", sceneinfo::scene::Subdivision::None).unwrap();
 //! let options = ViewpointOptions { views: 42, resolution: 64, ..Default::default() };
 //! let channel = ViewpointJob::new(&cube, options).unwrap().run().unwrap();
 //! let i = channel.mutual_information();

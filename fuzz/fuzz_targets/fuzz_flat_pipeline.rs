@@ -4,7 +4,7 @@
 //! most `MAX_INPUT_BYTES` (4096) bytes that is valid UTF-8 and parses to at most 48
 //! patches:
 //!
-//! - no stage panics (parse, exact form factors, channel, `FlatTracer`, 3000 global lines
+//! - no stage panics (parse, exact form factors, channel, `Tracer2`, 3000 global lines
 //!   seeded by the input, `finish`); a typed error has a non-empty message;
 //! - exact form factors: closed (with the background state) and reciprocal within 1e-9;
 //!   every measure finite, `H_J = H_P + H_S` and `H_J = 2H_S + I_S` to 1e-12 relative

@@ -5,7 +5,7 @@
 //! and parses to at most 32 patches:
 //!
 //! - no stage panics (parse, exact unoccluded 3D form factors for ≤ 6 patches,
-//!   `SceneTracer`, 3000 global lines seeded by the input, channel, `radiosity::solve`
+//!   `Tracer3`, 3000 global lines seeded by the input, channel, `radiosity::solve`
 //!   with Jacobi, Gauss–Seidel or Southwell per colour channel); typed errors (including
 //!   `NoConvergence`) have non-empty messages;
 //! - `I_S^c`, its standard error and every `I_i^c` finite; every channel measure finite

@@ -8,7 +8,7 @@
 use core::fmt;
 
 use sceneinfo::ErrorKind;
-use sceneinfo::formfactor::estimate_2d::{FlatTracer, LineMethod};
+use sceneinfo::formfactor::estimate_2d::{LineMethod, Tracer2};
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::formfactor::tally::LineTracer;
 
@@ -139,7 +139,7 @@ pub fn check(data: &[u8]) -> Outcome {
 
     // A short seeded Monte Carlo run: finite estimates, consistent I_S^c split
     let seed = invariants::seed_of(data);
-    let tracer = match FlatTracer::new(&scene) {
+    let tracer = match Tracer2::new(&scene) {
         Ok(tracer) => tracer,
         Err(err) => return invariants::refused(&err, &case),
     };
@@ -180,7 +180,7 @@ pub fn check(data: &[u8]) -> Outcome {
 /// The scene with every coordinate multiplied by `2^k`, or `None` when the scaled
 /// coordinates leave what the builder accepts (beyond the cap, or underflowing: then the
 /// copy is not the same scene in other units).
-fn scaled_copy(scene: &sceneinfo::scene::FlatScene, k: i32) -> Option<sceneinfo::scene::FlatScene> {
+fn scaled_copy(scene: &sceneinfo::scene::Scene2, k: i32) -> Option<sceneinfo::scene::Scene2> {
     let frame = scene.frame();
     let scale = |p: sceneinfo::geom::DVec2| {
         let w = frame.to_world_2d(p);
@@ -189,7 +189,7 @@ fn scaled_copy(scene: &sceneinfo::scene::FlatScene, k: i32) -> Option<sceneinfo:
             sceneinfo::math::scale_by_power_of_two(w.y, k),
         )
     };
-    let mut b = sceneinfo::scene::FlatScene::builder();
+    let mut b = sceneinfo::scene::Scene2::builder();
     for s in scene.surfaces() {
         let (a, e) = (
             frame.to_world_2d(s.segment.a),

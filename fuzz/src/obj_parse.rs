@@ -1,5 +1,5 @@
 //! The check behind the `fuzz_obj_parse` target: OBJ text (and an MTL library) →
-//! `parse_obj` → a validated `Scene` → `write_obj` → `parse_obj` again, asserting the
+//! `parse_obj` → a validated `Scene3` → `write_obj` → `parse_obj` again, asserting the
 //! invariant stated in `fuzz/fuzz_targets/fuzz_obj_parse.rs`.
 //!
 //! Input layout: the OBJ text, then optionally a NUL byte and the MTL text. Every
@@ -10,7 +10,7 @@
 
 use core::fmt;
 
-use sceneinfo::scene::{Scene, Subdivision};
+use sceneinfo::scene::{Scene3, Subdivision};
 
 use super::invariants::{self, MAX_INPUT_BYTES, Outcome};
 
@@ -48,7 +48,7 @@ impl<'a> ObjCase<'a> {
     /// # Errors
     ///
     /// Those of [`sceneinfo::io::parse_obj`].
-    pub fn parse(&self, subdivision: Subdivision) -> sceneinfo::Result<Scene> {
+    pub fn parse(&self, subdivision: Subdivision) -> sceneinfo::Result<Scene3> {
         let mtl = self.mtl;
         let options = sceneinfo::io::ObjOptions::new(subdivision);
         sceneinfo::io::parse_obj(self.obj, &options, |_| mtl.map(String::from)).map(|(s, _)| s)
@@ -68,13 +68,13 @@ impl fmt::Debug for ObjCase<'_> {
     }
 }
 
-/// Checks what a valid `Scene` promises: finite points, positive finite patch sizes
+/// Checks what a valid `Scene3` promises: finite points, positive finite patch sizes
 /// summing to one, materials with `ρ ∈ [0, 1)` and `E ≥ 0`.
 ///
 /// # Errors
 ///
 /// Describes the first broken promise.
-pub fn check_scene(scene: &Scene) -> Result<(), String> {
+pub fn check_scene(scene: &Scene3) -> Result<(), String> {
     let n = scene.n_patches();
     if n == 0 {
         return Err("a parsed scene has no patches".into());

@@ -7,11 +7,11 @@
 //! Compiled by the fuzz crate and, through `#[path]`, by `tests/fuzz_replay.rs`.
 
 use sceneinfo::formfactor::FormFactors;
-use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::formfactor::tally::{LineMethod, LineTracer};
 use sceneinfo::radiosity::{self, SolveOptions, Solver};
-use sceneinfo::scene::{Scene, Subdivision};
+use sceneinfo::scene::{Scene3, Subdivision};
 
 use super::invariants::{self, MAX_INPUT_BYTES, Outcome};
 use super::obj_parse::ObjCase;
@@ -76,7 +76,7 @@ pub fn check(data: &[u8]) -> Outcome {
     }
 
     // Global lines → channel → radiosity
-    let tracer = match SceneTracer::new(&scene) {
+    let tracer = match Tracer3::new(&scene) {
         Ok(tracer) => tracer,
         Err(err) => return invariants::refused(&err, &case),
     };
@@ -109,7 +109,7 @@ pub fn check(data: &[u8]) -> Outcome {
 ///
 /// Describes the first broken invariant (typed errors of the channel or of a
 /// non-converging solve are fine).
-fn check_form_factors(scene: &Scene, ff: &FormFactors, seed: u64) -> Result<(), String> {
+fn check_form_factors(scene: &Scene3, ff: &FormFactors, seed: u64) -> Result<(), String> {
     let Ok(channel) = ff.channel() else {
         return Ok(());
     };

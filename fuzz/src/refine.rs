@@ -18,7 +18,7 @@ use core::fmt;
 
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::refine::proposition::{StateSplit, split_gain};
-use sceneinfo::scene::FlatScene;
+use sceneinfo::scene::Scene2;
 
 use super::invariants::{self, MAX_INPUT_BYTES, Outcome};
 
@@ -42,7 +42,7 @@ pub const GAIN_TOLERANCE: f64 = 1e-8;
 /// `tests/extremes.rs`; a triangle 4·10¹¹ long and 0.14 wide lost 0.08 of a row), so
 /// Proposition 3's 1e-9 check on the split may fail on their rounding. For such scenes a
 /// refused split is accepted; an accepted one must still satisfy everything.
-fn resolved(scene: &FlatScene) -> bool {
+fn resolved(scene: &Scene2) -> bool {
     exact_2d::feature_range(scene) <= exact_2d::RESOLVED_RANGE
 }
 
@@ -85,7 +85,7 @@ pub fn decode(data: &[u8]) -> Option<RefineCase<'_>> {
 
 /// The states' weights, the dense matrix (row-major) and `I_S` (3.8) of a scene's exact
 /// channel.
-fn exact_channel(scene: &FlatScene) -> Result<(Vec<f64>, Vec<f64>, f64), sceneinfo::Error> {
+fn exact_channel(scene: &Scene2) -> Result<(Vec<f64>, Vec<f64>, f64), sceneinfo::Error> {
     let ff = exact_2d::form_factors(scene)?;
     let channel = ff.channel()?;
     let i_s = channel.measures().i_s;

@@ -4,10 +4,10 @@
 use sceneinfo::formfactor::estimate_2d::{LineMethod, estimate};
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::geom::DVec2;
-use sceneinfo::scene::FlatScene;
+use sceneinfo::scene::Scene2;
 
 /// A room with two boxes and a two-sided wall stub: plenty of partial occlusion.
-fn room() -> FlatScene {
+fn room() -> Scene2 {
     let room = [
         DVec2::ZERO,
         DVec2::new(6.0, 0.0),
@@ -26,7 +26,7 @@ fn room() -> FlatScene {
         DVec2::new(4.5, 3.0),
         DVec2::new(3.5, 3.0),
     ];
-    let mut s = FlatScene::builder();
+    let mut s = Scene2::builder();
     s.polygon(&room, 4).unwrap();
     for o in [a, b] {
         let mut v = o.to_vec();
@@ -104,7 +104,7 @@ fn local_line_form_factors_agree_with_exact() {
 /// exact one and approaches it as lines grow (thesis §3.4.2, Tables 3.7, 3.8, 4.3).
 #[test]
 fn discrete_i_s_from_few_lines_is_biased_upward_and_converges() {
-    let mut b = FlatScene::builder();
+    let mut b = Scene2::builder();
     let room = [
         DVec2::ZERO,
         DVec2::new(6.0, 0.0),

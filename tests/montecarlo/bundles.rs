@@ -3,7 +3,7 @@
 
 use sceneinfo::continuous::closed_form;
 use sceneinfo::formfactor::estimate_2d::{LineMethod, estimate};
-use sceneinfo::scene::FlatScene;
+use sceneinfo::scene::Scene2;
 
 /// `I_S^c` by bundles of the equilateral triangle (one patch per side) against Table
 /// 4.11's closed form 1.2845 (thesis 1.285). Bundles' standard error is about a sixth of
@@ -11,7 +11,7 @@ use sceneinfo::scene::FlatScene;
 /// within 3σ.
 #[test]
 fn table_4_11_triangle_by_bundles() {
-    let s = FlatScene::regular_polygon(3, 1).unwrap();
+    let s = Scene2::regular_polygon(3, 1).unwrap();
     let est = estimate(&s, LineMethod::Bundle, 2002, 1 << 21).unwrap();
     let (value, stderr) = (est.continuous.value, est.continuous.stderr);
     let exact = closed_form::equilateral_triangle();
@@ -32,7 +32,7 @@ fn table_4_11_triangle_by_bundles() {
 /// seeds must agree with the closed form within 3 standard errors of the mean.
 #[test]
 fn printed_standard_error_matches_the_spread_over_seeds() {
-    let s = FlatScene::regular_polygon(4, 2).unwrap();
+    let s = Scene2::regular_polygon(4, 2).unwrap();
     let lines = 1 << 20;
     let runs: Vec<(f64, f64)> = (0..40)
         .map(|seed| {

@@ -1,4 +1,4 @@
-//! Bundles of parallel global lines in 3D (`LineMethod::Bundle` on a `SceneTracer`):
+//! Bundles of parallel global lines in 3D (`LineMethod::Bundle` on a `Tracer3`):
 //! unbiased like independent global lines — form factors against the exact ones, `I_S^c`
 //! of the platonic solids against the quadrature of Table 4.1 — with an honest standard
 //! error.
@@ -6,7 +6,7 @@
 use sceneinfo::formfactor::estimate_3d::{LineMethod, estimate};
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::formfactor::quadrature::{QuadratureOptions, scene_i_s_continuous};
-use sceneinfo::scene::Scene;
+use sceneinfo::scene::Scene3;
 
 /// The cube cut 3 × 3 a face (54 patches, no occlusion): the mean of 20 bundle estimates of
 /// each `F_ij` (seeds 0–19, 250,000 lines each) lies within 6 standard errors of the mean
@@ -17,7 +17,7 @@ use sceneinfo::scene::Scene;
 /// 10⁻⁵ per pair, 0.03 over the 2,916 pairs.
 #[test]
 fn cube_form_factors_agree_with_exact() {
-    let scene = Scene::cube(3).unwrap();
+    let scene = Scene3::cube(3).unwrap();
     let exact = exact_3d::scene_form_factors(&scene).unwrap();
     let n = scene.n_patches();
     let (runs, lines) = (20u64, 250_000);
@@ -76,7 +76,7 @@ fn platonic_solids_by_bundles() {
 /// quadrature within 3 standard errors of the mean.
 #[test]
 fn printed_standard_error_matches_the_spread_over_seeds() {
-    let scene = Scene::cube(2).unwrap();
+    let scene = Scene3::cube(2).unwrap();
     let exact = scene_i_s_continuous(&scene, QuadratureOptions::STANDARD).unwrap();
     let lines = 1 << 20;
     let runs: Vec<(f64, f64)> = (0..30)

@@ -3,7 +3,7 @@
 
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::geom::DVec2;
-use sceneinfo::scene::FlatScene;
+use sceneinfo::scene::Scene2;
 use sceneinfo_tests::continuous_estimate;
 
 /// An irregular closed room (so `I'` is not special) translated to `offset`.
@@ -14,8 +14,8 @@ fn room(offset: DVec2) -> Vec<DVec2> {
         .collect()
 }
 
-fn copies(n: usize) -> FlatScene {
-    let mut b = FlatScene::builder();
+fn copies(n: usize) -> Scene2 {
+    let mut b = Scene2::builder();
     for k in 0..n {
         b.polygon(&room(DVec2::new(10.0 * k as f64, 0.0)), 3)
             .unwrap();

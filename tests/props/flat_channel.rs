@@ -2,13 +2,13 @@
 
 use proptest::prelude::*;
 use sceneinfo::formfactor::exact_2d;
-use sceneinfo::scene::FlatScene;
+use sceneinfo::scene::Scene2;
 
 use super::scenes::{convex_polygon_scene, room_with_segments};
 
 /// Checks every property on one scene. Tolerances: the exact form factors are accurate to
 /// ~1e-13 (rounding), so 1e-9 on row sums and 1e-12 on identities are wide margins.
-fn check_scene(scene: &FlatScene) -> Result<(), TestCaseError> {
+fn check_scene(scene: &Scene2) -> Result<(), TestCaseError> {
     let ff = exact_2d::form_factors(scene).unwrap();
     let n = ff.n_states();
     prop_assert!(
@@ -85,7 +85,7 @@ fn check_scene(scene: &FlatScene) -> Result<(), TestCaseError> {
 }
 
 /// Splitting a patch never decreases I_S (Proposition 3's corollary; log-sum inequality).
-fn check_refinement(scene: &FlatScene, pick: f64, t: f64) -> Result<(), TestCaseError> {
+fn check_refinement(scene: &Scene2, pick: f64, t: f64) -> Result<(), TestCaseError> {
     let before = exact_2d::form_factors(scene)
         .unwrap()
         .channel()

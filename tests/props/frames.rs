@@ -17,7 +17,7 @@ use sceneinfo::formfactor::{FormFactors, estimate_2d, estimate_3d, exact_2d};
 use sceneinfo::geom::{DVec2, DVec3};
 use sceneinfo::io::{parse_flat, write_flat};
 use sceneinfo::report::SceneReport;
-use sceneinfo::scene::{FlatScene, SAFE_EXTENT_EXPONENT, Scene};
+use sceneinfo::scene::{SAFE_EXTENT_EXPONENT, Scene2, Scene3};
 
 use super::scenes::room_with_segments;
 use super::solids::{Solid, convex_enclosure, random_box};
@@ -26,8 +26,8 @@ use super::solids::{Solid, convex_enclosure, random_box};
 const RELATIVE: f64 = 1e-12;
 
 /// The flatland scene with every point mapped by `map` (same surfaces, cuts, materials).
-fn mapped_flat(scene: &FlatScene, map: impl Fn(DVec2) -> DVec2) -> FlatScene {
-    let mut b = FlatScene::builder();
+fn mapped_flat(scene: &Scene2, map: impl Fn(DVec2) -> DVec2) -> Scene2 {
+    let mut b = Scene2::builder();
     for s in scene.surfaces() {
         b.material(scene.materials()[s.material]);
         let (a, e) = (
@@ -40,8 +40,8 @@ fn mapped_flat(scene: &FlatScene, map: impl Fn(DVec2) -> DVec2) -> FlatScene {
 }
 
 /// The 3D scene of `solid`'s faces mapped by `map`, cut alike.
-fn mapped_solid(solid: &Solid, map: impl Fn(DVec3) -> DVec3) -> Scene {
-    let mut b = Scene::builder();
+fn mapped_solid(solid: &Solid, map: impl Fn(DVec3) -> DVec3) -> Scene3 {
+    let mut b = Scene3::builder();
     for (f, &s) in solid.faces.iter().zip(&solid.cuts) {
         let v: Vec<DVec3> = f.iter().map(|&p| map(p)).collect();
         b.polygon(&v, s).unwrap();
@@ -55,7 +55,7 @@ fn measures(ff: &FormFactors) -> Measures {
 }
 
 /// Exact unoccluded 3D form factors.
-fn exact_3d_ff(scene: &Scene) -> FormFactors {
+fn exact_3d_ff(scene: &Scene3) -> FormFactors {
     let polygons: Vec<(usize, usize)> =
         scene.patches().iter().map(|p| (p.first, p.count)).collect();
     exact_3d::form_factors_unoccluded(scene.points(), &polygons).unwrap()

@@ -2,7 +2,7 @@
 
 use proptest::prelude::*;
 use sceneinfo::geom::DVec2;
-use sceneinfo::scene::FlatScene;
+use sceneinfo::scene::Scene2;
 use sceneinfo_tests::convex_polygon;
 
 /// Sorted, well-separated cut parameters in (0, 1): 0 to 3 cuts.
@@ -16,7 +16,7 @@ fn cuts() -> impl Strategy<Value = Vec<f64>> {
 
 /// A convex polygon (3–8 vertices on an ellipse, counter-clockwise, facing inwards), each
 /// side cut at random parameters.
-pub fn convex_polygon_scene() -> impl Strategy<Value = FlatScene> {
+pub fn convex_polygon_scene() -> impl Strategy<Value = Scene2> {
     (3usize..9, 0.3f64..3.0, 0.3f64..3.0)
         .prop_flat_map(|(n, rx, ry)| {
             (
@@ -36,7 +36,7 @@ pub fn convex_polygon_scene() -> impl Strategy<Value = FlatScene> {
                 .map(|(k, j)| (k as f64 + j) * sector)
                 .collect();
             let v = convex_polygon(&angles, rx, ry);
-            let mut b = FlatScene::builder();
+            let mut b = Scene2::builder();
             for k in 0..n {
                 b.segment_with_cuts(v[k], v[(k + 1) % n], &cuts[k]).unwrap();
             }
@@ -47,7 +47,7 @@ pub fn convex_polygon_scene() -> impl Strategy<Value = FlatScene> {
 /// A convex room with 1–4 random two-sided interior segments (each side cut into 1–3
 /// patches). Endpoints are convex combinations of the room's vertices pulled 10% towards
 /// its centroid, so they lie strictly inside whatever the room's shape.
-pub fn room_with_segments() -> impl Strategy<Value = FlatScene> {
+pub fn room_with_segments() -> impl Strategy<Value = Scene2> {
     let weights = || prop::collection::vec(0.01f64..1.0, 8);
     (
         convex_polygon_scene(),
@@ -61,7 +61,7 @@ pub fn room_with_segments() -> impl Strategy<Value = FlatScene> {
                 let p: DVec2 = vertices.iter().zip(w).map(|(&v, &x)| v * (x / total)).sum();
                 centroid + (p - centroid) * 0.9
             };
-            let mut b = FlatScene::builder();
+            let mut b = Scene2::builder();
             for s in room.surfaces() {
                 b.segment_with_cuts(s.segment.a, s.segment.b, &s.cuts)
                     .unwrap();

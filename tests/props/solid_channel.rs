@@ -5,12 +5,12 @@ use proptest::prelude::*;
 use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::estimate_3d::{LineMethod, estimate};
 use sceneinfo::formfactor::exact_3d;
-use sceneinfo::scene::Scene;
+use sceneinfo::scene::Scene3;
 
 use super::solids::{Solid, convex_enclosure, random_box, refine};
 
 /// The exact form factors of a convex enclosure, after checking it needs no visibility.
-fn exact(scene: &Scene) -> Result<FormFactors, TestCaseError> {
+fn exact(scene: &Scene3) -> Result<FormFactors, TestCaseError> {
     let polygons: Vec<(usize, usize)> =
         scene.patches().iter().map(|p| (p.first, p.count)).collect();
     prop_assert!(

@@ -3,7 +3,7 @@
 
 use proptest::prelude::*;
 use sceneinfo::geom::DVec3;
-use sceneinfo::scene::{Scene, Subdivision, preset_3d};
+use sceneinfo::scene::{Scene3, Subdivision, preset_3d};
 use sceneinfo_tests::convex_polygon;
 
 /// A convex enclosure as its faces (each counter-clockwise about its inward normal) and how
@@ -16,8 +16,8 @@ pub struct Solid {
     pub faces: Vec<Vec<DVec3>>,
     /// Each face's subdivision.
     pub cuts: Vec<Subdivision>,
-    /// The scene (built from `faces` and `cuts`, or by [`Scene::subdivided`] for a preset).
-    pub scene: Scene,
+    /// The scene (built from `faces` and `cuts`, or by [`Scene3::subdivided`] for a preset).
+    pub scene: Scene3,
 }
 
 impl Solid {
@@ -56,8 +56,8 @@ impl Solid {
     }
 }
 
-fn build(faces: &[Vec<DVec3>], cuts: &[Subdivision]) -> Scene {
-    let mut b = Scene::builder();
+fn build(faces: &[Vec<DVec3>], cuts: &[Subdivision]) -> Scene3 {
+    let mut b = Scene3::builder();
     for (f, &s) in faces.iter().zip(cuts) {
         b.polygon(f, s).unwrap();
     }
@@ -151,7 +151,7 @@ pub fn random_prism() -> impl Strategy<Value = Solid> {
 }
 
 /// A platonic solid of the presets, every face cut by `Triangles(0..2)` through
-/// [`Scene::subdivided`].
+/// [`Scene3::subdivided`].
 pub fn random_platonic() -> impl Strategy<Value = Solid> {
     (
         prop::sample::select(vec![

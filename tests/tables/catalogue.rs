@@ -4,20 +4,20 @@
 //! Monte Carlo claims use a fixed seed and compare differences against their combined
 //! standard errors (3σ); every difference asserted is many σ wide at the line counts used.
 
-use sceneinfo::scene::{FlatScene, catalogue_scene};
+use sceneinfo::scene::{Scene2, catalogue_scene};
 use sceneinfo_tests::continuous_estimate;
 
 const LINES: u64 = 150_000;
 
 /// `(I_S^c, σ)` of the named catalogue scenes, computed on two threads.
 fn continuous(names: &[String]) -> Vec<(f64, f64)> {
-    let scenes: Vec<FlatScene> = names
+    let scenes: Vec<Scene2> = names
         .iter()
         .map(|n| catalogue_scene(n, 4).unwrap())
         .collect();
     std::thread::scope(|s| {
         let (a, b) = scenes.split_at(scenes.len() / 2);
-        let run = |part: &[FlatScene], seed: u64| -> Vec<(f64, f64)> {
+        let run = |part: &[Scene2], seed: u64| -> Vec<(f64, f64)> {
             part.iter()
                 .map(|sc| {
                     let (v, e, _) = continuous_estimate(sc, LINES, seed);

@@ -8,15 +8,15 @@
 
 use sceneinfo::continuous::ContinuousEstimate;
 use sceneinfo::formfactor::FormFactors;
-use sceneinfo::formfactor::estimate_2d::FlatTracer;
-use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::formfactor::estimate_2d::Tracer2;
+use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::formfactor::tally::{LineMethod, LineTracer};
 use sceneinfo::radiosity::continuous::{LitEstimate, estimate_lit};
 use sceneinfo::radiosity::rgb::{patch_materials, rgb_measures, solve_rgb};
 use sceneinfo::radiosity::walk::{WalkTransitions, gather};
 use sceneinfo::radiosity::{RadiosityMeasures, SolveOptions, Solver};
-use sceneinfo::scene::{Material, Scene, catalogue_scene};
+use sceneinfo::scene::{Material, Scene3, catalogue_scene};
 use sceneinfo::thesis::{TABLE_5_3, TABLE_5_4};
 
 fn opts() -> SolveOptions {
@@ -26,7 +26,7 @@ fn opts() -> SolveOptions {
     }
 }
 
-fn exact(scene: &Scene) -> FormFactors {
+fn exact(scene: &Scene3) -> FormFactors {
     let polygons: Vec<(usize, usize)> =
         scene.patches().iter().map(|p| (p.first, p.count)).collect();
     assert!(!exact_3d::may_be_occluded(scene.points(), &polygons));
@@ -79,7 +79,7 @@ fn table_5_1_constant_radiosity_is_visibility() {
             Material::new(rho, [2.0 * (1.0 - rho[0]), 1.0, 2.0]).unwrap()
         })
         .collect();
-    let tracer = FlatTracer::new(&scene).unwrap();
+    let tracer = Tracer2::new(&scene).unwrap();
     let est = lit(&tracer, &materials, 51, 2_000_000);
     let vis = est.form_factors.channel().unwrap().measures();
     for (c, m) in est.measures.iter().enumerate() {
@@ -178,7 +178,7 @@ fn sphere_with_one_source() {
 /// blue face `(0, 0, 0.8)`: "only one surface in the tetrahedron with a blue component", and
 /// in red and green exactly two faces exchange light. (The `tetra-mesh` presets' own
 /// materials — a white light and a yellow face — give other numbers; see the report.)
-fn tetra_materials(scene: &Scene) -> Vec<Material> {
+fn tetra_materials(scene: &Scene3) -> Vec<Material> {
     let by_face = [
         Material::new([0.0; 3], [1.0, 1.0, 0.0]).unwrap(),
         Material::new([0.8, 0.0, 0.0], [0.0; 3]).unwrap(),
@@ -201,7 +201,7 @@ fn tetra_materials(scene: &Scene) -> Vec<Material> {
 fn table_5_3_tetrahedron_with_one_blue_face() {
     let mut previous = [0.0; 3];
     for level in 0..=2 {
-        let scene = Scene::tetrahedron_mesh(level).unwrap();
+        let scene = Scene3::tetrahedron_mesh(level).unwrap();
         let m = measures(&exact(&scene), &tetra_materials(&scene));
         assert_eq!(m[2].i_s, 0.0);
         assert!(!m[2].light_flows);
@@ -232,8 +232,8 @@ fn table_5_3_tetrahedron_with_one_blue_face() {
 /// — the thesis' own red and green values, equal by symmetry here, differ by 0.022.
 #[test]
 fn table_5_4_tetrahedron_continuous() {
-    let scene = Scene::tetrahedron_mesh(0).unwrap();
-    let tracer = SceneTracer::new(&scene).unwrap();
+    let scene = Scene3::tetrahedron_mesh(0).unwrap();
+    let tracer = Tracer3::new(&scene).unwrap();
     let est = lit(&tracer, &tetra_materials(&scene), 54, 4_000_000);
     let (_, _, _, thesis) = TABLE_5_4
         .iter()
@@ -254,7 +254,7 @@ fn table_5_4_tetrahedron_continuous() {
 }
 
 /// Tables 5.2 and 5.5 on the thesis' own meshes of the Cornell box
-/// ([`Scene::cornell_box_thesis`]: 121, 481 and 1924 patches, as printed). The thesis does
+/// ([`Scene3::cornell_box_thesis`]: 121, 481 and 1924 patches, as printed). The thesis does
 /// not publish its materials or its light, so its values are not a reference for ours (ours
 /// sit 0.09–0.26 bits from them, see `reproduce --chapter-5-only`); what is checked are its
 /// printed claims: radiosity `I_S` grows with refinement in every channel (red: 0.935 →
@@ -266,11 +266,11 @@ fn table_5_4_tetrahedron_continuous() {
 fn check_cornell_meshes(meshes: &[(u32, u64)]) {
     let mut previous: Option<([f64; 3], [f64; 3], [ContinuousEstimate; 3])> = None;
     for &(level, lines) in meshes {
-        let scene = Scene::cornell_box_thesis(level).unwrap();
+        let scene = Scene3::cornell_box_thesis(level).unwrap();
         let patches = [19, 121, 481, 1924][level as usize];
         assert_eq!(scene.n_patches(), patches);
         let materials = patch_materials(&scene);
-        let tracer = SceneTracer::new(&scene).unwrap();
+        let tracer = Tracer3::new(&scene).unwrap();
         let est = lit(&tracer, &materials, 55, lines);
         let i_s = [0, 1, 2].map(|c| est.measures[c].i_s);
         let h_s = [0, 1, 2].map(|c| est.measures[c].h_s);

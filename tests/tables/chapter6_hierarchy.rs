@@ -30,10 +30,10 @@
 use sceneinfo::hierarchy::{
     COMPARISON_RUNS, Hierarchy, HrOptions, MAX_PAIRS, OracleComparison, compare_at_size,
 };
-use sceneinfo::scene::Scene;
+use sceneinfo::scene::Scene3;
 
-fn cornell() -> Scene {
-    Scene::cornell_box(false, 1).unwrap()
+fn cornell() -> Scene3 {
+    Scene3::cornell_box(false, 1).unwrap()
 }
 
 fn reference(level: u32, pairs: usize) -> Hierarchy {

@@ -7,7 +7,7 @@
 //! under the 0.003.
 
 use sceneinfo::continuous::closed_form;
-use sceneinfo::scene::FlatScene;
+use sceneinfo::scene::Scene2;
 use sceneinfo::thesis::{
     POLYGON_SIDES, TABLE_3_5_I_S, TABLE_4_10_I_S_CONTINUOUS, TABLE_4_11, TABLE_ROUNDING,
 };
@@ -15,7 +15,7 @@ use sceneinfo_tests::continuous_estimate;
 
 const LINES: u64 = 3_000_000;
 
-fn check_against(scene: &FlatScene, lines: u64, reference: f64, slack: f64, what: &str) -> f64 {
+fn check_against(scene: &Scene2, lines: u64, reference: f64, slack: f64, what: &str) -> f64 {
     let (value, stderr, _) = continuous_estimate(scene, lines, 2002);
     assert!(
         stderr < 0.0009,
@@ -46,7 +46,7 @@ fn table_4_11_closed_forms_match_the_thesis() {
 
 #[test]
 fn table_4_11_triangle_by_global_lines() {
-    let s = FlatScene::regular_polygon(3, 1).unwrap();
+    let s = Scene2::regular_polygon(3, 1).unwrap();
     // The triangle's sharp corners make its samples the most variable: 1.2e7 lines for σ ≈ 5e-4.
     check_against(
         &s,
@@ -59,13 +59,13 @@ fn table_4_11_triangle_by_global_lines() {
 
 #[test]
 fn table_4_11_square_by_global_lines() {
-    let s = FlatScene::regular_polygon(4, 1).unwrap();
+    let s = Scene2::regular_polygon(4, 1).unwrap();
     check_against(&s, LINES, closed_form::square(), 0.0, "square");
 }
 
 #[test]
 fn table_4_11_hexagon_by_global_lines() {
-    let s = FlatScene::regular_polygon(6, 1).unwrap();
+    let s = Scene2::regular_polygon(6, 1).unwrap();
     check_against(&s, LINES, closed_form::regular_hexagon(), 0.0, "hexagon");
 }
 
@@ -74,7 +74,7 @@ fn table_4_11_hexagon_by_global_lines() {
 /// excess is ~1e-4, far below the Monte Carlo tolerance.
 #[test]
 fn table_4_11_circle_by_global_lines_on_a_512_gon() {
-    let s = FlatScene::regular_polygon(512, 1).unwrap();
+    let s = Scene2::regular_polygon(512, 1).unwrap();
     check_against(&s, LINES, closed_form::circle(), 2e-4, "512-gon vs circle");
 }
 
@@ -87,7 +87,7 @@ fn table_4_10_continuous_column() {
         .enumerate()
         .map(|(r, &sides)| {
             std::thread::spawn(move || {
-                let s = FlatScene::regular_polygon(sides, 1).unwrap();
+                let s = Scene2::regular_polygon(sides, 1).unwrap();
                 // Sharper corners, larger variance: more lines for fewer sides.
                 let lines = if sides <= 4 { 10_000_000 } else { 6_000_000 };
                 let (value, stderr, _) = continuous_estimate(&s, lines, 4010 + r as u64);
@@ -109,7 +109,7 @@ fn table_4_10_continuous_column() {
             "{sides}-gon: I_S^c = {value} ± {stderr}, thesis {thesis}"
         );
         // Exact I_S with 50 patches per side (Table 3.5's last column, unrounded).
-        let fine = FlatScene::regular_polygon(sides, 50).unwrap();
+        let fine = Scene2::regular_polygon(sides, 50).unwrap();
         let i_s_50 = sceneinfo::report::measure_flat(&fine).unwrap().measures.i_s;
         assert!((i_s_50 - TABLE_3_5_I_S[r][2]).abs() < 0.0006);
         assert!(
@@ -128,12 +128,12 @@ fn table_4_12_rotating_square_and_pentagonal_star() {
     let last = SINGULARITY_STEPS - 1;
     let cases = [
         (
-            FlatScene::rotating_square_subscene(4).unwrap(),
-            FlatScene::rotating_square(last, 4).unwrap(),
+            Scene2::rotating_square_subscene(4).unwrap(),
+            Scene2::rotating_square(last, 4).unwrap(),
         ),
         (
-            FlatScene::pentagonal_star_subscene(4).unwrap(),
-            FlatScene::pentagonal_star(last, 4).unwrap(),
+            Scene2::pentagonal_star_subscene(4).unwrap(),
+            Scene2::pentagonal_star(last, 4).unwrap(),
         ),
     ];
     for ((name, sub_thesis, n, whole_thesis), (sub, whole)) in TABLE_4_12.iter().zip(cases) {

@@ -13,22 +13,22 @@ use std::sync::OnceLock;
 
 use sceneinfo::continuous::{closed_form, relative_discretisation_error};
 use sceneinfo::formfactor::exact_2d;
-use sceneinfo::refine::flat::{FlatOracle, FlatRefiner, StepReport};
+use sceneinfo::refine::flat::{OracleChoice2, Refiner2, StepReport};
 use sceneinfo::refine::profile::InformationProfile;
 use sceneinfo::refine::symmetric::{best_mirrored_cuts, polygon_with_mirrored_cuts};
-use sceneinfo::scene::{FlatScene, catalogue_scene};
+use sceneinfo::scene::{Scene2, catalogue_scene};
 use sceneinfo::thesis::{FIGURE_6_12_BEST_CUT, TABLE_6_1, TABLE_6_2, TABLE_ROUNDING};
 
 const LINES: u64 = 1_000_000;
 const SEED: u64 = 2002;
 const TARGET: usize = 208;
-const ORACLES: [FlatOracle; 3] = [
-    FlatOracle::Regular,
-    FlatOracle::Power,
-    FlatOracle::DiscretisationError,
+const ORACLES: [OracleChoice2; 3] = [
+    OracleChoice2::Regular,
+    OracleChoice2::Power,
+    OracleChoice2::DiscretisationError,
 ];
 
-fn measures(scene: &FlatScene) -> sceneinfo::channel::Measures {
+fn measures(scene: &Scene2) -> sceneinfo::channel::Measures {
     exact_2d::form_factors(scene)
         .unwrap()
         .channel()
@@ -46,7 +46,7 @@ fn figure_6_12_information_peaks_with_the_cut_at_15_6_percent_of_the_side() {
         cuts[0]
     );
     // And it is a maximum: the regular split (cut at ¼) carries less.
-    let regular = measures(&FlatScene::regular_polygon(3, 4).unwrap()).i_s;
+    let regular = measures(&Scene2::regular_polygon(3, 4).unwrap()).i_s;
     assert!(i_s > regular, "{i_s} vs {regular}");
 }
 
@@ -61,7 +61,7 @@ fn table_6_1_regular_column_is_exact() {
         t.e_mse,
         t.delta_percent,
     );
-    let m = measures(&FlatScene::regular_polygon(3, 6).unwrap());
+    let m = measures(&Scene2::regular_polygon(3, 6).unwrap());
     let i_c = closed_form::equilateral_triangle();
     // Exact values: the thesis' rounding to 3 decimals (E(MSE) to a whole number, δ̄ to 0.01%).
     assert!((i_c - i_sc).abs() <= TABLE_ROUNDING, "I_S^c {i_c}");
@@ -97,7 +97,7 @@ fn table_6_1_optimal_split_beats_the_regular_one() {
     let d = 100.0 * relative_discretisation_error(i_c, m.i_s);
     assert!((d - delta).abs() <= 0.1, "δ̄ {d}%");
     // The thesis' claim: the optimal mesh has the lowest δ̄, entropies and E(MSE).
-    let regular = measures(&FlatScene::regular_polygon(3, 6).unwrap());
+    let regular = measures(&Scene2::regular_polygon(3, 6).unwrap());
     assert!(m.i_s > regular.i_s && m.h_s < regular.h_s && m.h_j < regular.h_j);
     assert!(m.e_mse < regular.e_mse);
     // A deviation, kept visible: at the true maximum H_S is 2.852, below the thesis' 2.896
@@ -116,7 +116,7 @@ fn refined(name: &str) -> &'static [Vec<StepReport>; 3] {
         let scene = catalogue_scene(name, 1).unwrap();
         let profile = InformationProfile::trace(&scene, LINES, SEED).unwrap();
         ORACLES.map(|oracle| {
-            let mut r = FlatRefiner::with_profile(scene.clone(), oracle, profile.clone()).unwrap();
+            let mut r = Refiner2::with_profile(scene.clone(), oracle, profile.clone()).unwrap();
             let mut history = vec![r.report()];
             while r.scene().n_patches() < TARGET {
                 history.push(r.step().unwrap());

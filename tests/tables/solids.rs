@@ -4,10 +4,10 @@
 use sceneinfo::formfactor::estimate_3d::{LineMethod, estimate};
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::formfactor::quadrature::{QuadratureOptions, scene_i_s_continuous};
-use sceneinfo::scene::{Scene, preset_3d};
+use sceneinfo::scene::{Scene3, preset_3d};
 use sceneinfo::thesis::{PLATONIC_REFERENCE, TABLE_3_8, TABLE_ROUNDING};
 
-fn exact_measures(scene: &Scene) -> sceneinfo::channel::Measures {
+fn exact_measures(scene: &Scene3) -> sceneinfo::channel::Measures {
     let polygons: Vec<(usize, usize)> =
         scene.patches().iter().map(|p| (p.first, p.count)).collect();
     assert!(!exact_3d::may_be_occluded(scene.points(), &polygons));
@@ -20,7 +20,7 @@ fn exact_measures(scene: &Scene) -> sceneinfo::channel::Measures {
 /// which had converged (3 printed decimals: half a unit of rounding).
 #[test]
 fn cube_600_exact_matches_the_converged_thesis_values() {
-    let m = exact_measures(&Scene::cube(10).unwrap());
+    let m = exact_measures(&Scene3::cube(10).unwrap());
     let (_, _, h_s, i_s, _) = TABLE_3_8[2];
     assert!(
         (m.h_s - h_s).abs() <= TABLE_ROUNDING + 1e-4,
@@ -41,7 +41,7 @@ fn cube_600_exact_matches_the_converged_thesis_values() {
 #[test]
 fn cube_600_with_ten_million_global_lines_lands_on_the_thesis_row() {
     let e = estimate(
-        &Scene::cube(10).unwrap(),
+        &Scene3::cube(10).unwrap(),
         LineMethod::Global,
         38,
         10_000_000,
@@ -57,9 +57,14 @@ fn cube_600_with_ten_million_global_lines_lands_on_the_thesis_row() {
 /// depend on the discretisation, so one patch per face and 2·10⁷ lines (σ ≈ 8e-4).
 #[test]
 fn cube_continuous_mutual_information() {
-    let c = estimate(&Scene::cube(1).unwrap(), LineMethod::Global, 39, 20_000_000)
-        .unwrap()
-        .continuous;
+    let c = estimate(
+        &Scene3::cube(1).unwrap(),
+        LineMethod::Global,
+        39,
+        20_000_000,
+    )
+    .unwrap()
+    .continuous;
     assert!(3.0 * c.stderr < 0.003, "σ {}", c.stderr);
     assert!(
         (c.value - 1.610).abs() < 0.003,
@@ -73,7 +78,7 @@ fn cube_continuous_mutual_information() {
 /// (Table 3.8's columns), here on the 2400-patch cube.
 #[test]
 fn cube_2400_estimates_converge_to_exact_from_above() {
-    let cube = Scene::cube(20).unwrap();
+    let cube = Scene3::cube(20).unwrap();
     let exact = exact_measures(&cube).i_s;
     let mut previous = f64::INFINITY;
     for lines in [500_000u64, 2_000_000, 8_000_000] {
@@ -91,8 +96,8 @@ fn cube_2400_estimates_converge_to_exact_from_above() {
 /// `N = 1, α = a`); the ratio between the 2400- and 600-patch cubes must match, 0.1%.
 #[test]
 fn e_mse_ratio_between_meshes_matches_table_3_8() {
-    let a = exact_measures(&Scene::cube(10).unwrap()).e_mse;
-    let b = exact_measures(&Scene::cube(20).unwrap()).e_mse;
+    let a = exact_measures(&Scene3::cube(10).unwrap()).e_mse;
+    let b = exact_measures(&Scene3::cube(20).unwrap()).e_mse;
     let thesis = TABLE_3_8[5].4 / TABLE_3_8[2].4;
     let ours = b / a;
     assert!(
@@ -158,17 +163,17 @@ pub(crate) fn platonic_estimates_match_quadrature(method: LineMethod, lines: u64
 /// (Tables 4.5, 4.6).
 #[test]
 fn tetrahedron_exact_and_refinement() {
-    let m = exact_measures(&Scene::tetrahedron().unwrap());
+    let m = exact_measures(&Scene3::tetrahedron().unwrap());
     assert!((m.i_s - (2.0 - 3f64.log2())).abs() < 1e-12, "I_S {}", m.i_s);
     assert!((m.i_s - 0.415).abs() < TABLE_ROUNDING);
     let mut previous = m.i_s;
     for level in 1..=2 {
-        let i_s = exact_measures(&Scene::tetrahedron_mesh(level).unwrap()).i_s;
+        let i_s = exact_measures(&Scene3::tetrahedron_mesh(level).unwrap()).i_s;
         assert!(i_s > previous, "level {level}: {i_s} <= {previous}");
         previous = i_s;
     }
     let c = estimate(
-        &Scene::tetrahedron().unwrap(),
+        &Scene3::tetrahedron().unwrap(),
         LineMethod::Global,
         45,
         2_000_000,

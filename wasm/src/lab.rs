@@ -2,13 +2,13 @@
 
 use sceneinfo::Error;
 use sceneinfo::formfactor::FormFactors;
-use sceneinfo::formfactor::estimate_2d::FlatTracer;
+use sceneinfo::formfactor::estimate_2d::Tracer2;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::formfactor::tally::LineMethod;
 use sceneinfo::geom::DVec2;
 use sceneinfo::io::{parse_flat, write_flat};
 use sceneinfo::report::{JsonObject, SceneReport};
-use sceneinfo::scene::{FlatScene, catalogue_scene};
+use sceneinfo::scene::{Scene2, catalogue_scene};
 use wasm_bindgen::prelude::*;
 
 use crate::lines::LineJob;
@@ -24,17 +24,17 @@ const MAX_MATRIX_PATCHES: usize = 4096;
 #[wasm_bindgen]
 #[derive(Debug)]
 pub struct FlatLab {
-    scene: FlatScene,
+    scene: Scene2,
     exact: Option<FormFactors>,
 }
 
 impl FlatLab {
-    pub(crate) fn from_scene(scene: FlatScene) -> Self {
+    pub(crate) fn from_scene(scene: Scene2) -> Self {
         Self { scene, exact: None }
     }
 
     /// The scene.
-    pub(crate) fn scene(&self) -> &FlatScene {
+    pub(crate) fn scene(&self) -> &Scene2 {
         &self.scene
     }
 
@@ -93,7 +93,7 @@ impl FlatLab {
                 .into(),
             ));
         }
-        let mut b = FlatScene::builder();
+        let mut b = Scene2::builder();
         for (k, (c, &n)) in coords.chunks_exact(4).zip(patches).enumerate() {
             b.segment(DVec2::new(c[0], c[1]), DVec2::new(c[2], c[3]), u64::from(n))
                 .map_err(|e| JsError::new(&format!("segment {}: {e}", k + 1)))?;
@@ -343,7 +343,7 @@ impl FlatLab {
             return Err(sceneinfo::ErrorKind::NoLines.into());
         }
         Ok(LineJob::new(
-            FlatTracer::new(&self.scene)?,
+            Tracer2::new(&self.scene)?,
             method,
             seed,
             lines,

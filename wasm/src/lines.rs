@@ -6,7 +6,7 @@
 //! bits as `sceneinfo measure --lines N --seed S` on any number of threads; a job stopped
 //! after `k` whole chunks equals the job of `k · 2^16` lines.
 
-use sceneinfo::formfactor::estimate_2d::FlatTracer;
+use sceneinfo::formfactor::estimate_2d::Tracer2;
 use sceneinfo::formfactor::tally::{LineMethod, LineTally, LineTracer};
 use sceneinfo::lines::{CHUNK_LINES, chunk_count};
 use sceneinfo::report::{JsonObject, LineRunReport, SceneReport, UnsampledReport};
@@ -18,7 +18,7 @@ use crate::into_error;
 #[wasm_bindgen]
 #[derive(Debug)]
 pub struct LineJob {
-    tracer: FlatTracer,
+    tracer: Tracer2,
     tally: LineTally,
     method: LineMethod,
     seed: u64,
@@ -27,7 +27,7 @@ pub struct LineJob {
 }
 
 impl LineJob {
-    pub(crate) fn new(tracer: FlatTracer, method: LineMethod, seed: u64, lines: u64) -> Self {
+    pub(crate) fn new(tracer: Tracer2, method: LineMethod, seed: u64, lines: u64) -> Self {
         let tally = tracer.new_tally(method);
         Self {
             tracer,

@@ -1,7 +1,7 @@
 //! `Refiner`: flatland refinement one split at a time (thesis §6.5.2), for the page's
-//! refinement player — a thin handle on [`sceneinfo::refine::flat::FlatRefiner`].
+//! refinement player — a thin handle on [`sceneinfo::refine::flat::Refiner2`].
 
-use sceneinfo::refine::flat::{FlatOracle, FlatRefiner, StepReport};
+use sceneinfo::refine::flat::{OracleChoice2, Refiner2, StepReport};
 use sceneinfo::report::JsonObject;
 use wasm_bindgen::prelude::*;
 
@@ -12,7 +12,7 @@ use crate::{count, into_error};
 #[wasm_bindgen]
 #[derive(Debug)]
 pub struct Refiner {
-    inner: FlatRefiner,
+    inner: Refiner2,
 }
 
 impl Refiner {
@@ -20,9 +20,9 @@ impl Refiner {
     /// `regular`), `I^c` tallied from `lines` global lines with `seed`.
     pub(crate) fn new(lab: &FlatLab, oracle: &str, lines: f64, seed: f64) -> Result<Self, JsError> {
         let oracle = [
-            FlatOracle::DiscretisationError,
-            FlatOracle::Power,
-            FlatOracle::Regular,
+            OracleChoice2::DiscretisationError,
+            OracleChoice2::Power,
+            OracleChoice2::Regular,
         ]
         .into_iter()
         .find(|o| o.name() == oracle)
@@ -33,8 +33,7 @@ impl Refiner {
         })?;
         let lines = count("lines", lines).map_err(into_error)?;
         let seed = count("seed", seed).map_err(into_error)?;
-        let inner =
-            FlatRefiner::new(lab.scene().clone(), oracle, lines, seed).map_err(into_error)?;
+        let inner = Refiner2::new(lab.scene().clone(), oracle, lines, seed).map_err(into_error)?;
         Ok(Self { inner })
     }
 }

@@ -20,14 +20,14 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use sceneinfo::accel::Bvh3;
-use sceneinfo::formfactor::estimate_2d::FlatTracer;
-use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::formfactor::estimate_2d::Tracer2;
+use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::tally::{LineMethod, LineTally, LineTracer};
 use sceneinfo::formfactor::{exact_2d, exact_3d};
 use sceneinfo::geom::DVec3;
 use sceneinfo::lines::{BoundingSphere, canonical, chunk_rng, sample_global_line_3d};
 use sceneinfo::report::JsonObject;
-use sceneinfo::scene::{FlatScene, Scene, Subdivision, catalogue_scene, preset_3d};
+use sceneinfo::scene::{Scene2, Scene3, Subdivision, catalogue_scene, preset_3d};
 
 use crate::args::BenchArgs;
 
@@ -141,34 +141,34 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let wanted = |name: &str| args.only.as_ref().is_none_or(|o| name.contains(o.as_str()));
 
     // Monte Carlo scenes: flatland, then 3D
-    let flat: [Named<FlatScene>; 2] = [
-        ("triangle (30)", || FlatScene::regular_polygon(3, 10)),
+    let flat: [Named<Scene2>; 2] = [
+        ("triangle (30)", || Scene2::regular_polygon(3, 10)),
         ("64-squares-a", || catalogue_scene("64-squares-a", 10)),
     ];
     for (name, make) in flat.into_iter().filter(|(n, _)| wanted(n)) {
         note(name);
         let scene = make()?;
         reset_peak();
-        let tracer = FlatTracer::new(&scene)?;
-        let naive = FlatTracer::new(&scene)?.naive_baseline();
+        let tracer = Tracer2::new(&scene)?;
+        let naive = Tracer2::new(&scene)?.naive_baseline();
         let (row, global_merit) = bench_scene(name, &tracer, &naive, budget, threads);
         note(&format!("{name}: bundles"));
         bundles.push(bench_bundles(name, &tracer, global_merit, budget, threads));
         mc.push(row);
     }
-    let solid: [Named<Scene>; 5] = [
-        ("cube 600", || Scene::cube(10)),
-        ("cube 5400", || Scene::cube(30)),
+    let solid: [Named<Scene3>; 5] = [
+        ("cube 600", || Scene3::cube(10)),
+        ("cube 5400", || Scene3::cube(30)),
         ("cornell (grid 10)", || preset_3d("cornell", 10)),
         ("room, 512 cubes", || preset_3d("cubes-512-random", 1)),
-        ("cube 99846", || Scene::cube(129)),
+        ("cube 99846", || Scene3::cube(129)),
     ];
     for (name, make) in solid.into_iter().filter(|(n, _)| wanted(n)) {
         note(name);
         let scene = make()?;
         reset_peak();
-        let tracer = SceneTracer::new(&scene)?;
-        let naive = SceneTracer::new(&scene)?.naive_baseline();
+        let tracer = Tracer3::new(&scene)?;
+        let naive = Tracer3::new(&scene)?.naive_baseline();
         let (row, global_merit) = bench_scene(name, &tracer, &naive, budget, threads);
         note(&format!("{name}: bundles"));
         bundles.push(bench_bundles(name, &tracer, global_merit, budget, threads));
@@ -187,7 +187,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             patches: ff.n_patches(),
             seconds: t.elapsed().as_secs_f64(),
         });
-        let cube = Scene::cube(10)?;
+        let cube = Scene3::cube(10)?;
         let polygons: Vec<(usize, usize)> =
             cube.patches().iter().map(|p| (p.first, p.count)).collect();
         let t = Instant::now();
@@ -211,7 +211,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             note(&format!("curve: cube grid {k}"));
             curve.push(curve_point(
                 format!("cube grid {k}"),
-                &Scene::cube(k)?,
+                &Scene3::cube(k)?,
                 budget,
             )?);
         }
@@ -283,10 +283,10 @@ struct MemoryCheck {
 /// Casts `lines` global lines on the 99,846-patch cube (sparse counts) and finishes the
 /// estimate, as `measure` would, recording the peak resident memory of the whole job.
 fn memory_check(lines: u64, threads: usize) -> Result<MemoryCheck> {
-    let scene = Scene::cube(129)?;
+    let scene = Scene3::cube(129)?;
     reset_peak();
     let t = Instant::now();
-    let tracer = SceneTracer::new(&scene)?;
+    let tracer = Tracer3::new(&scene)?;
     let tally = crate::lines::run(&tracer, LineMethod::Global, SEED, lines, threads);
     let (count_bytes, pairs) = tally.count_memory();
     let estimate = tally.finish(&tracer)?;
@@ -315,11 +315,11 @@ fn load_average() -> Option<f64> {
 }
 
 /// The unit cube with each face cut into triangles (`Subdivision::Triangles(level)`:
-/// `2 · 4^level` per face), the faces of [`Scene::cube`] — a mesh the BVH holds patch by
+/// `2 · 4^level` per face), the faces of [`Scene3::cube`] — a mesh the BVH holds patch by
 /// patch (no grid sheets), for the cost curve.
-fn triangulated_cube(level: u32) -> Result<Scene> {
-    let cube = Scene::cube(1)?;
-    let mut b = Scene::builder();
+fn triangulated_cube(level: u32) -> Result<Scene3> {
+    let cube = Scene3::cube(1)?;
+    let mut b = Scene3::builder();
     for f in 0..cube.faces().len() {
         let v: Vec<DVec3> = cube.face_vertices(f).to_vec();
         b.polygon(&v, Subdivision::Triangles(level))?;
@@ -444,8 +444,8 @@ fn bench_bundles<T: LineTracer + Sync>(
     }
 }
 
-fn curve_point(mesh: String, scene: &Scene, budget: f64) -> Result<CurvePoint> {
-    let tracer = SceneTracer::new(scene)?;
+fn curve_point(mesh: String, scene: &Scene3, budget: f64) -> Result<CurvePoint> {
+    let tracer = Tracer3::new(scene)?;
     let (r, tally, _) = rate(&tracer, LineMethod::Global, budget, 1);
     Ok(CurvePoint {
         mesh,
@@ -461,7 +461,7 @@ fn curve_point(mesh: String, scene: &Scene, budget: f64) -> Result<CurvePoint> {
 /// cost, the rest being the tally's. Lines as in the tracer's jobs (seed [`SEED`], chunk
 /// 0's stream); jobs of `L` and `2L` lines, `L` grown until a job takes half of `budget`,
 /// as in `rate`.
-fn query_ns_per_line(scene: &Scene, budget: f64) -> Result<f64> {
+fn query_ns_per_line(scene: &Scene3, budget: f64) -> Result<f64> {
     let polygons: Vec<(usize, usize)> =
         scene.patches().iter().map(|p| (p.first, p.count)).collect();
     let bvh = Bvh3::build(scene.points(), &polygons)?;

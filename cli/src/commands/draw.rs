@@ -7,9 +7,9 @@
 mod solid;
 use anyhow::Result;
 use sceneinfo::formfactor::FormFactors;
-use sceneinfo::formfactor::estimate_2d::{FlatEstimate, FlatTracer, LineMethod};
+use sceneinfo::formfactor::estimate_2d::{Estimate2, LineMethod, Tracer2};
 use sceneinfo::formfactor::exact_2d;
-use sceneinfo::scene::FlatScene;
+use sceneinfo::scene::Scene2;
 
 use crate::args::{Colour, DrawArgs};
 use crate::output::{located, write_atomic};
@@ -137,12 +137,12 @@ pub fn run(args: &DrawArgs) -> Result<()> {
 }
 
 /// Runs the Monte Carlo lines and the core measures the colouring needs.
-fn compute(scene: &FlatScene, config: &Config) -> sceneinfo::Result<Computed> {
+fn compute(scene: &Scene2, config: &Config) -> sceneinfo::Result<Computed> {
     let n = scene.n_patches();
-    let estimate: Option<FlatEstimate> = match config.lines {
+    let estimate: Option<Estimate2> = match config.lines {
         None => None,
         Some(lines) => {
-            let tracer = FlatTracer::new(scene)?;
+            let tracer = Tracer2::new(scene)?;
             let tally = crate::lines::run(
                 &tracer,
                 LineMethod::Global,
@@ -337,7 +337,7 @@ impl View {
 /// The scene picture: patches as coloured strokes over a dark casing, small ticks at patch
 /// boundaries, a one-sided tick at each surface's midpoint on its front side, and a legend.
 pub(crate) fn scene_picture(
-    scene: &FlatScene,
+    scene: &Scene2,
     values: &[f64],
     colour: Colour,
     name: &str,
@@ -502,7 +502,7 @@ const HIDDEN: Rgb = Rgb(0xff, 0xff, 0xff);
 /// The heat map of I_ij, rows i from top to bottom, with surface boundaries and a legend.
 fn matrix_picture(
     grid: &Grid,
-    scene: &FlatScene,
+    scene: &Scene2,
     log: bool,
     name: &str,
     notes: &[String],
@@ -642,7 +642,7 @@ mod tests {
     use super::*;
     use crate::svg::check::well_formed;
 
-    fn triangle() -> FlatScene {
+    fn triangle() -> Scene2 {
         sceneinfo::io::parse_flat("poly 3 0 0 1 0 0.5 0.866 per_side 4\n").unwrap()
     }
 

@@ -11,8 +11,8 @@ use anyhow::Result;
 use sceneinfo::continuous::{ContinuousEstimate, relative_discretisation_error};
 use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::coverage::Coverage;
-use sceneinfo::formfactor::estimate_2d::{FlatTracer, LineMethod};
-use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::formfactor::estimate_2d::{LineMethod, Tracer2};
+use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::formfactor::partial::{JobId, Partial, fingerprint};
 use sceneinfo::formfactor::tally::{LineTally, LineTracer};
@@ -238,12 +238,12 @@ fn compute(
         (None, Loaded::Flat(s)) => (Some(exact_2d::form_factors(s).map_err(at)?), None),
         (None, Loaded::Solid(s)) => (Some(crate::output::exact_3d_form_factors(path, s)?), None),
         (Some(budget), Loaded::Flat(s)) => {
-            let tracer = FlatTracer::new(s).map_err(at)?;
+            let tracer = Tracer2::new(s).map_err(at)?;
             let (ff, mc) = line_job(&tracer, sampling, budget, threads, path)?;
             (ff, Some(mc))
         }
         (Some(budget), Loaded::Solid(s)) => {
-            let tracer = SceneTracer::new(s).map_err(at)?;
+            let tracer = Tracer3::new(s).map_err(at)?;
             let (ff, mc) = line_job(&tracer, sampling, budget, threads, path)?;
             (ff, Some(mc))
         }
@@ -482,14 +482,10 @@ fn write_partial(args: &MeasureArgs, out: &Path) -> Result<()> {
     let threads = threads_of(sampling);
     let job = |c: Range<u64>| (method, sampling.seed, lines, c, threads);
     let (tally, sizes) = match crate::output::load_scene(path)?.scene {
-        Loaded::Flat(s) => {
-            tally_chunks(&FlatTracer::new(&s).map_err(at)?, job(chunks.clone()), path)?
+        Loaded::Flat(s) => tally_chunks(&Tracer2::new(&s).map_err(at)?, job(chunks.clone()), path)?,
+        Loaded::Solid(s) => {
+            tally_chunks(&Tracer3::new(&s).map_err(at)?, job(chunks.clone()), path)?
         }
-        Loaded::Solid(s) => tally_chunks(
-            &SceneTracer::new(&s).map_err(at)?,
-            job(chunks.clone()),
-            path,
-        )?,
     };
     let cast = tally.lines();
     let seconds = start.elapsed().as_secs_f64();

@@ -23,8 +23,8 @@ use std::time::Instant;
 use anyhow::{Result, bail};
 use sceneinfo::continuous::ContinuousEstimate;
 use sceneinfo::formfactor::FormFactors;
-use sceneinfo::formfactor::estimate_2d::FlatTracer;
-use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::formfactor::estimate_2d::Tracer2;
+use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::formfactor::tally::{LineMethod, LineTracer};
 use sceneinfo::radiosity::continuous::estimate_lit;
@@ -34,7 +34,7 @@ use sceneinfo::radiosity::rgb::{
 };
 use sceneinfo::radiosity::{RadiosityMeasures, SolveOptions, Solver};
 use sceneinfo::report::{JsonObject, SceneReport};
-use sceneinfo::scene::{Material, Scene};
+use sceneinfo::scene::{Material, Scene3};
 
 use crate::args::{Method, RadiosityArgs, SamplingArgs, SolverArg};
 use crate::lines::LineBudget;
@@ -119,7 +119,7 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
                 )
                 .map_err(at)?,
                 Some(budget) => {
-                    let tracer = FlatTracer::new(s).map_err(at)?;
+                    let tracer = Tracer2::new(s).map_err(at)?;
                     super::measure::check_supported(&tracer, method, path)?;
                     let job = (budget, &args.sampling);
                     with_lines(&tracer, materials, solver, &opts, job, path)?
@@ -137,7 +137,7 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
                 )
                 .map_err(at)?,
                 Some(budget) => {
-                    let tracer = SceneTracer::new(s).map_err(at)?;
+                    let tracer = Tracer3::new(s).map_err(at)?;
                     super::measure::check_supported(&tracer, method, path)?;
                     let job = (budget, &args.sampling);
                     with_lines(&tracer, materials, solver, &opts, job, path)?
@@ -492,7 +492,7 @@ fn is_ambient_lamps(w: &sceneinfo::io::LoadWarning) -> bool {
 }
 
 /// The lit scene as a PLY mesh with Gouraud vertex colours and flat face colours.
-fn lit_mesh(scene: &Scene, r: &Run, name: &str) -> Ply {
+fn lit_mesh(scene: &Scene3, r: &Run, name: &str) -> Ply {
     let tone = ToneMap::for_scene(&r.solution.radiosity, &r.materials);
     let mesh = gouraud_mesh(scene, &r.solution.radiosity);
     let rgb = |b: [f64; 3]| {

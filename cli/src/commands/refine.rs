@@ -1,6 +1,6 @@
 //! `sceneinfo refine`: oracle-driven mesh refinement (thesis chapter 6).
 //!
-//! A `.flat` scene is refined here by halving one patch a step ([`FlatRefiner`], §6.5.2):
+//! A `.flat` scene is refined here by halving one patch a step ([`Refiner2`], §6.5.2):
 //! the `de`, `power` and `regular` oracles. A `.obj` scene goes to hierarchical radiosity
 //! (§6.4), whose oracles are `power`, `ks`, `ks-av`, `mi` and `mi-increase`.
 
@@ -10,7 +10,7 @@ use std::io::Write;
 use std::time::Instant;
 
 use anyhow::{Result, bail};
-use sceneinfo::refine::flat::{FlatOracle, FlatRefiner, StepReport};
+use sceneinfo::refine::flat::{OracleChoice2, Refiner2, StepReport};
 use sceneinfo::report::JsonObject;
 
 use crate::args::{Colour, Oracle, RefineArgs};
@@ -34,7 +34,7 @@ pub fn run(args: &RefineArgs) -> Result<()> {
 /// The validated flatland settings.
 #[derive(Debug)]
 struct FlatConfig {
-    oracle: FlatOracle,
+    oracle: OracleChoice2,
     target: usize,
     eps: Option<f64>,
     lines: u64,
@@ -45,9 +45,9 @@ impl FlatConfig {
     fn new(args: &RefineArgs, n_patches: usize) -> Result<Self> {
         let file = args.file.display();
         let oracle = match args.oracle {
-            Oracle::De => FlatOracle::DiscretisationError,
-            Oracle::Power => FlatOracle::Power,
-            Oracle::Regular => FlatOracle::Regular,
+            Oracle::De => OracleChoice2::DiscretisationError,
+            Oracle::Power => OracleChoice2::Power,
+            Oracle::Regular => OracleChoice2::Regular,
             other => bail!(
                 "{file}: --oracle {} is a hierarchical-radiosity oracle for .obj scenes; \
                  a .flat scene takes de, power or regular",
@@ -118,7 +118,7 @@ fn run_flat(args: &RefineArgs) -> Result<()> {
     let start = Instant::now();
     let profile =
         crate::lines::flat_profile(&scene, config.lines, args.seed, config.threads).map_err(at)?;
-    let mut refiner = FlatRefiner::with_profile(scene, config.oracle, profile).map_err(at)?;
+    let mut refiner = Refiner2::with_profile(scene, config.oracle, profile).map_err(at)?;
     let mut history = vec![refiner.report()];
     while refiner.scene().n_patches() < config.target
         && config

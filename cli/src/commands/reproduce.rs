@@ -13,11 +13,11 @@ use std::time::Instant;
 
 use anyhow::{Result, anyhow};
 use sceneinfo::continuous::closed_form;
-use sceneinfo::formfactor::estimate_2d::{FlatEstimate, FlatTracer, LineMethod};
-use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::formfactor::estimate_2d::{Estimate2, LineMethod, Tracer2};
+use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::quadrature::{self, QuadratureOptions};
 use sceneinfo::report::JsonObject;
-use sceneinfo::scene::{FlatScene, Scene, catalogue, catalogue_scene, preset_3d};
+use sceneinfo::scene::{Scene2, Scene3, catalogue, catalogue_scene, preset_3d};
 use sceneinfo::thesis::{
     PLATONIC_REFERENCE, POLYGON_PER_SIDE, POLYGON_SIDES, TABLE_3_3, TABLE_3_4_H_S, TABLE_3_5_I_S,
     TABLE_3_8, TABLE_4_1, TABLE_4_2, TABLE_4_3_FEW_LINES, TABLE_4_10_I_S_CONTINUOUS, TABLE_4_11,
@@ -70,15 +70,15 @@ struct Runner {
 }
 
 impl Runner {
-    fn estimate(&self, scene: &FlatScene, lines: u64) -> Result<FlatEstimate> {
-        let tracer = FlatTracer::new(scene).map_err(|e| anyhow!("{e}"))?;
+    fn estimate(&self, scene: &Scene2, lines: u64) -> Result<Estimate2> {
+        let tracer = Tracer2::new(scene).map_err(|e| anyhow!("{e}"))?;
         let tally = crate::lines::run(&tracer, LineMethod::Global, self.seed, lines, self.threads);
         crate::interrupt::stop_if_requested()?;
         tally.finish(&tracer).map_err(|e| anyhow!("{e}"))
     }
 
     /// `(I_S^c, standard error)` of a scene.
-    fn continuous(&self, scene: &FlatScene) -> Result<(f64, f64)> {
+    fn continuous(&self, scene: &Scene2) -> Result<(f64, f64)> {
         let e = self.estimate(scene, self.lines)?;
         Ok((e.continuous.value, e.continuous.stderr))
     }
@@ -148,7 +148,7 @@ fn chapter_3() -> Result<Vec<Table>> {
         let mut i = Vec::new();
         for (c, &k) in POLYGON_PER_SIDE.iter().enumerate() {
             let m =
-                exact_measures(&FlatScene::regular_polygon(sides, k).map_err(|e| anyhow!("{e}"))?)?;
+                exact_measures(&Scene2::regular_polygon(sides, k).map_err(|e| anyhow!("{e}"))?)?;
             let col = ["10/side", "30/side", "50/side"][c];
             h.push(cell(col, m.h_s, 0.0, Some(TABLE_3_4_H_S[r][c])));
             i.push(cell(col, m.i_s, 0.0, Some(TABLE_3_5_I_S[r][c])));
@@ -176,7 +176,7 @@ fn chapter_3() -> Result<Vec<Table>> {
     ])
 }
 
-fn exact_measures(scene: &FlatScene) -> Result<sceneinfo::channel::Measures> {
+fn exact_measures(scene: &Scene2) -> Result<sceneinfo::channel::Measures> {
     Ok(sceneinfo::report::measure_flat(scene)
         .map_err(|e| anyhow!("{e}"))?
         .measures)
@@ -187,7 +187,7 @@ fn exact_measures(scene: &FlatScene) -> Result<sceneinfo::channel::Measures> {
 fn table_4_10(runner: &Runner) -> Result<Table> {
     let mut rows = Vec::new();
     for (r, &sides) in POLYGON_SIDES.iter().enumerate() {
-        let scene = FlatScene::regular_polygon(sides, 1).map_err(|e| anyhow!("{e}"))?;
+        let scene = Scene2::regular_polygon(sides, 1).map_err(|e| anyhow!("{e}"))?;
         let (v, e) = runner.continuous(&scene)?;
         rows.push(Row {
             label: format!("{sides} sides"),
@@ -211,7 +211,7 @@ fn table_4_11(runner: &Runner) -> Result<Table> {
     ];
     let mut rows = Vec::new();
     for ((name, exact, mc), (ours_exact, sides)) in TABLE_4_11.iter().zip(shapes) {
-        let scene = FlatScene::regular_polygon(sides, 1).map_err(|e| anyhow!("{e}"))?;
+        let scene = Scene2::regular_polygon(sides, 1).map_err(|e| anyhow!("{e}"))?;
         let (v, e) = runner.continuous(&scene)?;
         let label = if sides == 512 {
             format!("{name} (as a 512-gon)")
@@ -240,12 +240,12 @@ fn table_4_12(runner: &Runner) -> Result<Table> {
     let per_side = 10;
     let cases = [
         (
-            FlatScene::rotating_square_subscene(per_side),
-            FlatScene::rotating_square(last, per_side),
+            Scene2::rotating_square_subscene(per_side),
+            Scene2::rotating_square(last, per_side),
         ),
         (
-            FlatScene::pentagonal_star_subscene(per_side),
-            FlatScene::pentagonal_star(last, per_side),
+            Scene2::pentagonal_star_subscene(per_side),
+            Scene2::pentagonal_star(last, per_side),
         ),
     ];
     let mut rows = Vec::new();
@@ -314,8 +314,8 @@ fn catalogue_table(runner: &Runner) -> Result<Table> {
 
 impl Runner {
     /// `I_S^c` of a 3D scene (no form factors: small patches may stay unsampled).
-    fn continuous_3d(&self, scene: &Scene) -> Result<sceneinfo::continuous::ContinuousEstimate> {
-        let tracer = SceneTracer::new(scene).map_err(|e| anyhow!("{e}"))?;
+    fn continuous_3d(&self, scene: &Scene3) -> Result<sceneinfo::continuous::ContinuousEstimate> {
+        let tracer = Tracer3::new(scene).map_err(|e| anyhow!("{e}"))?;
         let tally = crate::lines::run(
             &tracer,
             LineMethod::Global,
@@ -327,8 +327,8 @@ impl Runner {
         Ok(tally.continuous())
     }
 
-    fn estimate_3d(&self, scene: &Scene, lines: u64) -> Result<FlatEstimate> {
-        let tracer = SceneTracer::new(scene).map_err(|e| anyhow!("{e}"))?;
+    fn estimate_3d(&self, scene: &Scene3, lines: u64) -> Result<Estimate2> {
+        let tracer = Tracer3::new(scene).map_err(|e| anyhow!("{e}"))?;
         let tally = crate::lines::run(&tracer, LineMethod::Global, self.seed, lines, self.threads);
         crate::interrupt::stop_if_requested()?;
         tally.finish(&tracer).map_err(|e| anyhow!("{e}"))
@@ -336,7 +336,7 @@ impl Runner {
 }
 
 /// Exact measures of an unoccluded 3D scene.
-fn exact_3d(scene: &Scene) -> Result<sceneinfo::channel::Measures> {
+fn exact_3d(scene: &Scene3) -> Result<sceneinfo::channel::Measures> {
     let ff = crate::output::exact_3d_form_factors(std::path::Path::new("<preset>"), scene)?;
     Ok(ff.channel().map_err(|e| anyhow!("{e}"))?.measures())
 }
@@ -353,7 +353,7 @@ fn table_3_8(runner: &Runner, full: bool) -> Result<Table> {
     let mut rows = Vec::new();
     let mut e_mse_600 = None;
     for &(grid, n) in grids {
-        let cube = Scene::cube(grid).map_err(|e| anyhow!("{e}"))?;
+        let cube = Scene3::cube(grid).map_err(|e| anyhow!("{e}"))?;
         let m = exact_3d(&cube)?;
         let row9 = TABLE_3_8.iter().find(|r| r.0 == n && r.1 == 1e9).copied();
         let row7 = TABLE_3_8.iter().find(|r| r.0 == n && r.1 == 1e7).copied();

@@ -4,7 +4,7 @@ use std::io::Write;
 use std::path::Path;
 
 use anyhow::{Result, anyhow};
-use sceneinfo::scene::{FlatScene, Scene, catalogue, catalogue_scene, preset_3d, presets_3d};
+use sceneinfo::scene::{Scene2, Scene3, catalogue, catalogue_scene, preset_3d, presets_3d};
 
 use crate::args::ScenePreset;
 use crate::output::write_atomic;
@@ -17,7 +17,7 @@ pub fn run(preset: ScenePreset) -> Result<()> {
             per_side,
             output,
         } => {
-            let s = FlatScene::regular_polygon(sides, per_side).map_err(invalid)?;
+            let s = Scene2::regular_polygon(sides, per_side).map_err(invalid)?;
             emit(&sceneinfo::io::write_flat(&s), output.as_deref())
         }
         ScenePreset::Rect {
@@ -26,7 +26,7 @@ pub fn run(preset: ScenePreset) -> Result<()> {
             per_side,
             output,
         } => {
-            let s = FlatScene::rectangle(width, height, per_side).map_err(invalid)?;
+            let s = Scene2::rectangle(width, height, per_side).map_err(invalid)?;
             emit(&sceneinfo::io::write_flat(&s), output.as_deref())
         }
         ScenePreset::Catalogue {
@@ -59,7 +59,7 @@ pub fn run(preset: ScenePreset) -> Result<()> {
 }
 
 /// Writes `scene` as `path` (OBJ) and its material library beside it (same stem, `.mtl`).
-fn write_obj(scene: &Scene, path: &Path) -> Result<()> {
+fn write_obj(scene: &Scene3, path: &Path) -> Result<()> {
     let mtl_path = path.with_extension("mtl");
     let mtl_name = mtl_path
         .file_name()

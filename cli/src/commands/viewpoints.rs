@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use anyhow::{Result, bail};
 use sceneinfo::geom::DVec3;
-use sceneinfo::scene::Scene;
+use sceneinfo::scene::Scene3;
 use sceneinfo::viewpoint::{
     IdRaster, ViewTotals, ViewWeighting, ViewpointChannel, ViewpointJob, ViewpointOptions,
     ViewpointReport, bounding_sphere,
@@ -143,7 +143,7 @@ fn run_rows(job: &ViewpointJob<'_>, threads: usize) -> Result<ViewpointChannel> 
 /// The tables of the best views, the selection and the channel's measures.
 fn table(
     args: &ViewpointsArgs,
-    scene: &Scene,
+    scene: &Scene3,
     r: &ViewpointReport,
     seconds: f64,
     threads: usize,
@@ -248,7 +248,7 @@ fn range(values: &[f64]) -> (f64, f64) {
 }
 
 /// The mesh, one polygon per patch coloured by saliency (viridis, min to max).
-fn saliency_ply(scene: &Scene, r: &ViewpointReport, file: &Path) -> Ply {
+fn saliency_ply(scene: &Scene3, r: &ViewpointReport, file: &Path) -> Ply {
     let (lo, hi) = range(&r.saliency);
     let scale = Scale::Linear { lo, hi };
     let mut ply = Ply::in_frame(scene.frame());
@@ -284,7 +284,7 @@ fn numbered(path: &Path, k: usize) -> std::path::PathBuf {
 /// The viewpoint sphere at 1.5 bounding radii around the scene, vertices coloured by the
 /// chosen per-view quantity.
 fn sphere_ply(
-    scene: &Scene,
+    scene: &Scene3,
     job: &ViewpointJob<'_>,
     r: &ViewpointReport,
     colour: SphereColour,

@@ -30,7 +30,7 @@ use glam::{DMat4, DQuat, DVec3};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::{Mode, Semantic};
 use sceneinfo::io::{LoadReport, LoadWarningKind};
-use sceneinfo::scene::{Material, Scene, SceneBuilder};
+use sceneinfo::scene::{Material, Scene3, Scene3Builder};
 
 use crate::mesh::add_face;
 
@@ -50,7 +50,7 @@ const CHUNK_BIN: u32 = 0x004E_4942;
 /// # Errors
 /// `file: where: what` for a broken container, a buffer shorter than it declares, an
 /// accessor outside its buffer view, an index out of range, a face the scene refuses, …
-pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene> {
+pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene3> {
     let file = path.display();
     let (json, blob) = if bytes.starts_with(b"glTF") {
         split_glb(bytes).with_context(|| format!("{file}: GLB container"))?
@@ -68,7 +68,7 @@ pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene>
         positions: HashMap::new(),
         indices: HashMap::new(),
         materials: HashMap::new(),
-        builder: SceneBuilder::default(),
+        builder: Scene3Builder::default(),
     };
     reader.walk(document, report)?;
     crate::mesh::build(reader.builder, report, path)
@@ -272,7 +272,7 @@ struct Reader<'p> {
     positions: HashMap<usize, Vec<DVec3>>,
     indices: HashMap<usize, Vec<u32>>,
     materials: HashMap<Option<usize>, Material>,
-    builder: SceneBuilder,
+    builder: Scene3Builder,
 }
 
 impl Reader<'_> {

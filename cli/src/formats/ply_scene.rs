@@ -19,7 +19,7 @@ use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{ElementDef, Property, PropertyAccess, PropertyAccessResult};
 use sceneinfo::geom::DVec3;
 use sceneinfo::io::{LoadReport, LoadWarningKind};
-use sceneinfo::scene::{Scene, SceneBuilder};
+use sceneinfo::scene::{Scene3, Scene3Builder};
 
 use crate::mesh::add_face;
 
@@ -97,7 +97,7 @@ fn number(property: &Property) -> Option<f64> {
 /// `file: where: what` for a broken header, an element count the file cannot hold, a
 /// payload cut short, a missing coordinate, a vertex index out of range, a face the scene
 /// refuses, …
-pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene> {
+pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene3> {
     let file = path.display();
     let mut reader = ply_rs_bw::parser::Reader::new(BufReader::new(Cursor::new(bytes)));
     let parser = Parser::<Item>::new();
@@ -151,7 +151,7 @@ pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene>
         points.push(DVec3::new(x, y, z));
     }
     // Faces through the one door
-    let mut builder = SceneBuilder::default();
+    let mut builder = Scene3Builder::default();
     let mut polygon = Vec::new();
     for (k, face) in faces.iter().enumerate() {
         let Some(indices) = &face.indices else {

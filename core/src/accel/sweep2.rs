@@ -33,10 +33,10 @@
 //! hits: 8 % less time on the 64-squares room, none measurable on the triangle (session
 //! 4, repaired every bundle); repairing it only every ~32 bundles saved another 12 %.
 //!
-//! [`ParallelSweep::cast_unsorted`] skips the sort: a caller that checks the gaps between
+//! [`ParallelSweep2::cast_unsorted`] skips the sort: a caller that checks the gaps between
 //! consecutive hits anyway (the tally's `eps` test) knows that a line whose gaps are all
 //! positive is strictly increasing in `t`, hence already in the order `(t, prim)`, and
-//! sorts only the other lines ([`BundleHits::sort_line`]): 9–12 % less time on the
+//! sorts only the other lines ([`BundleHits2::sort_line`]): 9–12 % less time on the
 //! 64-squares room (session 5), the same hits and the same results bit for bit.
 
 use alloc::vec::Vec;
@@ -62,7 +62,7 @@ const REORDER_TURN: f64 = 0.4;
 /// Segments prepared for bundles of parallel lines: start `a`, edge `e = b − a` (the same
 /// values the naive loop tests), and the coordinate scale of the margin.
 #[derive(Clone, Debug)]
-pub struct ParallelSweep {
+pub struct ParallelSweep2 {
     a: Vec<DVec2>,
     e: Vec<DVec2>,
     scale: f64,
@@ -71,7 +71,7 @@ pub struct ParallelSweep {
 /// The hits of the lines of one bundle, bucketed per line (the caller's scratch space,
 /// reused from bundle to bundle without allocating once it has grown).
 #[derive(Clone, Debug, Default)]
-pub struct BundleHits {
+pub struct BundleHits2 {
     /// Offsets `p_k` of the current bundle's lines.
     offsets: Vec<f64>,
     /// Origins `c + p_k n` of the current bundle's lines.
@@ -94,7 +94,7 @@ pub struct BundleHits {
     order_dir: DVec2,
 }
 
-impl ParallelSweep {
+impl ParallelSweep2 {
     /// Prepares `segments` (only the first `2³²` are considered: hit indices are `u32`).
     #[must_use]
     pub fn new(segments: &[Segment]) -> Self {
@@ -121,23 +121,23 @@ impl ParallelSweep {
     }
 
     /// Finds every hit of every line of `bundle` into `out`: afterwards
-    /// [`BundleHits::line_hits`]`(k)` is exactly [`super::all_hits_naive`] of
+    /// [`BundleHits2::line_hits`]`(k)` is exactly [`super::all_hits_naive`] of
     /// `bundle.line(k)`.
-    pub fn cast(&self, bundle: &GlobalBundle2, out: &mut BundleHits) {
+    pub fn cast(&self, bundle: &GlobalBundle2, out: &mut BundleHits2) {
         self.cast_unsorted(bundle, out);
         for k in 0..out.lines() {
             out.sort_line(k);
         }
     }
 
-    /// [`ParallelSweep::cast`] without the per-line sort: afterwards
-    /// [`BundleHits::line_hits`]`(k)` holds the hits of [`super::all_hits_naive`] of
+    /// [`ParallelSweep2::cast`] without the per-line sort: afterwards
+    /// [`BundleHits2::line_hits`]`(k)` holds the hits of [`super::all_hits_naive`] of
     /// `bundle.line(k)` in the order they were found (the segments' depth order, nearly
-    /// the order of `t`), and [`BundleHits::sort_line`]`(k)` puts them in the order of
+    /// the order of `t`), and [`BundleHits2::sort_line`]`(k)` puts them in the order of
     /// `all_hits`. A line whose hits found are strictly increasing in `t` already is in
     /// that order (`(t, prim)` is then decided by `t` alone), which is what a caller
     /// checking the gaps between consecutive hits learns for free.
-    pub(crate) fn cast_unsorted(&self, bundle: &GlobalBundle2, out: &mut BundleHits) {
+    pub(crate) fn cast_unsorted(&self, bundle: &GlobalBundle2, out: &mut BundleHits2) {
         let m = bundle.len();
         let mu = m as usize;
         let circle = bundle.circle();
@@ -198,7 +198,7 @@ impl ParallelSweep {
         // The lines' origins, as the lines compute them
         out.origins.clear();
         out.origins.extend(out.offsets.iter().map(|&p| c + n * p));
-        let BundleHits {
+        let BundleHits2 {
             origins,
             ranges,
             end,
@@ -223,7 +223,7 @@ impl ParallelSweep {
     }
 }
 
-impl BundleHits {
+impl BundleHits2 {
     /// Empty scratch space.
     #[must_use]
     pub fn new() -> Self {
@@ -231,7 +231,7 @@ impl BundleHits {
     }
 
     /// The hits of line `k` of the last bundle cast, sorted by `t` then `prim` after
-    /// [`ParallelSweep::cast`] or [`BundleHits::sort_line`] (empty for `k` beyond the
+    /// [`ParallelSweep2::cast`] or [`BundleHits2::sort_line`] (empty for `k` beyond the
     /// bundle).
     #[must_use]
     pub fn line_hits(&self, k: usize) -> &[Hit2] {
@@ -372,7 +372,7 @@ mod tests {
     }
 
     fn check(segs: &[Segment], circle: &BoundingCircle, u: [f64; 2], m: u32) {
-        check_with(segs, circle, u, m, &mut BundleHits::new());
+        check_with(segs, circle, u, m, &mut BundleHits2::new());
     }
 
     /// Casts one bundle into `out` (possibly holding the depth order of earlier bundles)
@@ -382,9 +382,9 @@ mod tests {
         circle: &BoundingCircle,
         u: [f64; 2],
         m: u32,
-        out: &mut BundleHits,
+        out: &mut BundleHits2,
     ) {
-        let sweep = ParallelSweep::new(segs);
+        let sweep = ParallelSweep2::new(segs);
         let bvh = Bvh2::build(segs).unwrap();
         let bundle = GlobalBundle2::new(circle, u, m);
         sweep.cast(&bundle, out);
@@ -446,7 +446,7 @@ mod tests {
         ) {
             let segs = soup(seed, n);
             let circle = BoundingCircle::of_bounds(DVec2::splat(-10.0), DVec2::splat(10.0));
-            let mut out = BundleHits::new();
+            let mut out = BundleHits2::new();
             for j in 0..8 {
                 let u = [(f64::from(j) + u0) / 8.0, (u0 * 7.0 + f64::from(j) * 0.3) % 1.0];
                 check_with(&segs, &circle, u, m, &mut out);
@@ -484,12 +484,12 @@ mod tests {
     #[test]
     fn empty_and_degenerate_inputs() {
         let circle = BoundingCircle::of_bounds(DVec2::ZERO, DVec2::ONE);
-        let sweep = ParallelSweep::new(&[]);
-        let mut out = BundleHits::new();
+        let sweep = ParallelSweep2::new(&[]);
+        let mut out = BundleHits2::new();
         sweep.cast(&GlobalBundle2::new(&circle, [0.3, 0.7], 8), &mut out);
         assert!((0..8).all(|k| out.line_hits(k).is_empty()));
         let bad = [Segment::new(DVec2::new(f64::NAN, 0.0), DVec2::ONE)];
-        ParallelSweep::new(&bad).cast(&GlobalBundle2::new(&circle, [f64::NAN, 2.0], 0), &mut out);
+        ParallelSweep2::new(&bad).cast(&GlobalBundle2::new(&circle, [f64::NAN, 2.0], 0), &mut out);
         assert!(out.line_hits(0).iter().all(|h| h.t.is_finite()));
     }
 }

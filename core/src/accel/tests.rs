@@ -319,7 +319,7 @@ fn runs_of_patches_agree_with_naive() {
         DVec2::new(1.0, 0.5),
     ));
     // A regular polygon scene as the scenes build it.
-    let poly = crate::scene::FlatScene::regular_polygon(7, 13).unwrap();
+    let poly = crate::scene::Scene2::regular_polygon(7, 13).unwrap();
     segs.extend(poly.patches().iter().map(|p| p.segment));
 
     let bvh = Bvh2::build(&segs).unwrap();

@@ -156,7 +156,7 @@ pub fn lines_to_sample_all(sizes: &[f64], rate: f64) -> Option<u64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formfactor::estimate_3d::SceneTracer;
+    use crate::formfactor::estimate_3d::Tracer3;
     use crate::formfactor::tally::{LineMethod, LineTracer};
     use alloc::vec;
 
@@ -190,7 +190,7 @@ mod tests {
     #[test]
     fn suggested_lines_reach_every_patch() {
         let scene = crate::scene::preset_3d("cube", 40).unwrap();
-        let tracer = SceneTracer::new(&scene).unwrap();
+        let tracer = Tracer3::new(&scene).unwrap();
         let tally = tracer.run(LineMethod::Global, 3, 2000).unwrap();
         let cov = tally.coverage(tracer.patch_sizes());
         assert_eq!(cov.n_patches, 9600);

@@ -29,7 +29,7 @@
 //! equally spaced directions under one uniform rotation, [`BUNDLE_LINES`] evenly spaced
 //! parallel lines per direction under one uniform shift ([`GlobalBundle2`]). Each line is
 //! tallied exactly as an independent global line and the sums keep their expectations;
-//! the hits come from a sweep ([`ParallelSweep`]) instead of a tree query per line, and each
+//! the hits come from a sweep ([`ParallelSweep2`]) instead of a tree query per line, and each
 //! sheaf is one observation of the standard error.
 //!
 //! # Determinism
@@ -40,7 +40,7 @@
 
 use alloc::vec::Vec;
 
-use crate::accel::{BundleHits, Bvh2, Hit2, ParallelSweep};
+use crate::accel::{BundleHits2, Bvh2, Hit2, ParallelSweep2};
 use crate::continuous;
 use crate::error::Result;
 use crate::geom::{DVec2, Segment};
@@ -48,7 +48,7 @@ use crate::lines::{
     BoundingCircle, GlobalBundle2, Line2, canonical, canonical_2d, chunk_range, chunk_rng,
     sample_global_line_2d, sample_local_line_2d,
 };
-use crate::scene::FlatScene;
+use crate::scene::Scene2;
 
 use crate::formfactor::pair_blocks::PairBlocks;
 use crate::formfactor::tally::{Crossing, global_hit_terms, trace_chunk_lines};
@@ -87,11 +87,11 @@ const DRAIN_BUNDLES: u32 = 32;
 // A whole chunk is one sheaf (the docs of `SHEAF_BUNDLES` say so).
 const _: () = assert!(BUNDLE_LINES as u64 * SHEAF_BUNDLES as u64 == crate::lines::CHUNK_LINES);
 
-/// Scratch space of [`FlatTracer::tally_bundle`], reused from bundle to bundle.
+/// Scratch space of [`Tracer2::tally_bundle`], reused from bundle to bundle.
 #[derive(Debug, Default)]
 struct BundleScratch {
     /// The hits of the bundle's lines.
-    hits: BundleHits,
+    hits: BundleHits2,
     /// One line's crossings, for the lines normalised one by one.
     crossings: Vec<Crossing>,
     /// The bundle's segments per patch pair.
@@ -101,11 +101,11 @@ struct BundleScratch {
 }
 
 /// The result of a flatland Monte Carlo run (an alias kept for readability).
-pub type FlatEstimate = LineEstimate;
+pub type Estimate2 = LineEstimate;
 
 /// A flatland scene prepared for line casting: patch geometry and a BVH over the patches.
 #[derive(Debug)]
-pub struct FlatTracer {
+pub struct Tracer2 {
     segments: Vec<Segment>,
     normals: Vec<DVec2>,
     surface: Vec<u32>,
@@ -113,18 +113,18 @@ pub struct FlatTracer {
     cumulative: Vec<f64>,
     total_length: f64,
     bvh: Bvh2,
-    sweep: ParallelSweep,
+    sweep: ParallelSweep2,
     circle: BoundingCircle,
     /// Answer queries with the `O(n)` loops instead of the BVH (benchmark baseline).
     naive: bool,
 }
 
-impl FlatTracer {
+impl Tracer2 {
     /// Prepares `scene` for line casting (builds the BVH in `O(n log n)`).
     ///
     /// # Errors
     /// The errors of [`Bvh2::build`].
-    pub fn new(scene: &FlatScene) -> Result<Self> {
+    pub fn new(scene: &Scene2) -> Result<Self> {
         let patches = scene.patches();
         let segments: Vec<Segment> = patches.iter().map(|p| p.segment).collect();
         let normals = segments.iter().map(Segment::normal).collect();
@@ -141,7 +141,7 @@ impl FlatTracer {
             .collect();
         let (lo, hi) = scene.bounds();
         let bvh = Bvh2::build(&segments)?;
-        let sweep = ParallelSweep::new(&segments);
+        let sweep = ParallelSweep2::new(&segments);
         Ok(Self {
             segments,
             normals,
@@ -211,7 +211,7 @@ impl FlatTracer {
     /// within a stratum, the strata covering `[0, π) × [−r, r)` evenly, every direction of
     /// a sheaf with the same number of lines), so the tallies keep their expectations, and
     /// every line is tallied as a global line (pairs gathered over [`DRAIN_BUNDLES`]
-    /// bundles at a time, [`FlatTracer::tally_bundle`]). A sheaf (or single bundle) is one
+    /// bundles at a time, [`Tracer2::tally_bundle`]). A sheaf (or single bundle) is one
     /// group of the standard error: its lines are correlated, different sheaves are
     /// independent.
     fn trace_chunk_bundles(&self, seed: u64, n_lines: u64, chunk: u64, tally: &mut LineTally) {
@@ -254,7 +254,7 @@ impl FlatTracer {
 
     /// Casts one bundle by the sweep and tallies each line as a global line, returning
     /// the bundle's `(Σ terms, samples)` (its group is closed by the caller): what
-    /// [`FlatTracer::cast_bundle`] gathers, added at once.
+    /// [`Tracer2::cast_bundle`] gathers, added at once.
     ///
     /// The lines share their direction, so each patch's cosine is computed once per
     /// bundle, and the segments are gathered per patch pair ([`PairBlocks`]: a count and
@@ -289,7 +289,7 @@ impl FlatTracer {
         sum
     }
 
-    /// [`FlatTracer::tally_bundle`] without adding the pairs gathered in
+    /// [`Tracer2::tally_bundle`] without adding the pairs gathered in
     /// `scratch.blocks` (they may gather the segments of several bundles): returns the
     /// `(Σ terms, samples)` of the lines tallied one by one, and the samples of all.
     fn cast_bundle(
@@ -418,7 +418,7 @@ pub struct PairEstimate {
     pub stderr: f64,
 }
 
-impl FlatTracer {
+impl Tracer2 {
     /// Whether the segment from `x` to `y` (a point on patch `j`) is free of other
     /// surfaces: the nearest surface along it is met at `y` itself.
     fn visible(&self, x: DVec2, y: DVec2) -> bool {
@@ -453,7 +453,7 @@ impl FlatTracer {
         }
     }
 
-    /// [`FlatTracer::point_pair_kernel`] for checked indices and their segments.
+    /// [`Tracer2::point_pair_kernel`] for checked indices and their segments.
     fn kernel(&self, i: usize, j: usize, si: &Segment, sj: &Segment, u: [f64; 2]) -> f64 {
         let (x, y) = crate::lines::sample_point_pair(si, sj, u);
         let d = y - x;
@@ -516,7 +516,7 @@ impl FlatTracer {
     }
 }
 
-impl LineTracer for FlatTracer {
+impl LineTracer for Tracer2 {
     fn n_patches(&self) -> usize {
         self.segments.len()
     }
@@ -562,13 +562,8 @@ impl LineTracer for FlatTracer {
 /// # Errors
 /// [`crate::ErrorKind::NoLines`], [`crate::ErrorKind::UnsampledPatch`], and BVH
 /// construction errors.
-pub fn estimate(
-    scene: &FlatScene,
-    method: LineMethod,
-    seed: u64,
-    n_lines: u64,
-) -> Result<FlatEstimate> {
-    let tracer = FlatTracer::new(scene)?;
+pub fn estimate(scene: &Scene2, method: LineMethod, seed: u64, n_lines: u64) -> Result<Estimate2> {
+    let tracer = Tracer2::new(scene)?;
     tracer.run(method, seed, n_lines)?.finish(&tracer)
 }
 
@@ -581,7 +576,7 @@ mod tests {
 
     #[test]
     fn global_lines_match_exact_form_factors() {
-        let scene = FlatScene::regular_polygon(4, 2).unwrap();
+        let scene = Scene2::regular_polygon(4, 2).unwrap();
         let exact = exact_2d::form_factors(&scene).unwrap();
         let est = estimate(&scene, LineMethod::Global, 7, 200_000).unwrap();
         let n = scene.n_patches();
@@ -602,7 +597,7 @@ mod tests {
 
     #[test]
     fn area_sampling_matches_exact_with_occlusion() {
-        let mut b = FlatScene::builder();
+        let mut b = Scene2::builder();
         b.segment(DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), 1)
             .unwrap();
         b.segment(DVec2::new(1.0, 2.0), DVec2::new(0.0, 2.0), 1)
@@ -613,7 +608,7 @@ mod tests {
             .unwrap();
         let scene = b.build().unwrap();
         let exact = exact_2d::form_factors(&scene).unwrap().get(0, 1);
-        let tracer = FlatTracer::new(&scene).unwrap();
+        let tracer = Tracer2::new(&scene).unwrap();
         let est = tracer.area_sampling(0, 1, 400_000, 3).unwrap();
         assert!(est.stderr > 0.0 && est.stderr < 2e-3, "{est:?}");
         assert!(
@@ -625,8 +620,8 @@ mod tests {
     #[test]
     fn bundles_same_bits_any_chunking() {
         // Two whole chunks and a ragged last one (a smaller sheaf, then a single bundle).
-        let scene = FlatScene::regular_polygon(5, 3).unwrap();
-        let tracer = FlatTracer::new(&scene).unwrap();
+        let scene = Scene2::regular_polygon(5, 3).unwrap();
+        let tracer = Tracer2::new(&scene).unwrap();
         let n = 2 * crate::lines::CHUNK_LINES + 3 * 16_384 + 2 * 256 + 17;
         let whole = tracer.run(LineMethod::Bundle, 8, n).unwrap();
         assert_eq!(whole.lines(), n);
@@ -640,7 +635,7 @@ mod tests {
     /// together and added at once), and the tally of their lines cast one by one through
     /// the BVH and tallied as lone global lines, each closed as one group.
     fn bundle_and_lone_lines(
-        tracer: &FlatTracer,
+        tracer: &Tracer2,
         bundles: &[GlobalBundle2],
     ) -> (LineTally, LineTally) {
         let lines: u64 = bundles.iter().map(|b| u64::from(b.len())).sum();
@@ -652,7 +647,7 @@ mod tests {
             sum += s;
             n += c;
         }
-        sum += FlatTracer::drain_blocks(&mut scratch.blocks, &mut by_sweep);
+        sum += Tracer2::drain_blocks(&mut scratch.blocks, &mut by_sweep);
         by_sweep.end_group(sum, n, lines);
         let (mut hits, mut crossings) = (Vec::new(), Vec::new());
         let (by_bvh, _) = lone_lines_as_one_group(
@@ -730,7 +725,7 @@ mod tests {
         // Every line of a bundle, cast through the BVH and tallied as a lone global line,
         // gives the bundle's counts exactly and its information within rounding.
         let scene = crate::scene::catalogue_scene("64-squares-a", 10).unwrap();
-        let tracer = FlatTracer::new(&scene).unwrap();
+        let tracer = Tracer2::new(&scene).unwrap();
         let mut rng = chunk_rng(3, 0);
         for m in [1, 7, 256, 1024] {
             let bundle = GlobalBundle2::new(&tracer.circle, canonical_2d(&mut rng), m);
@@ -755,14 +750,14 @@ mod tests {
         // A 4 × 4 room of 16 patches around a box of 4 patches, and bundles along the axes
         // whose lines run exactly through the cut points, the corners and along the walls:
         // those lines take the normalisation of lines cast alone.
-        let mut b = FlatScene::builder();
+        let mut b = Scene2::builder();
         let p = |x: f64, y: f64| DVec2::new(x, y);
         b.polygon(&[p(0.0, 0.0), p(4.0, 0.0), p(4.0, 4.0), p(0.0, 4.0)], 4)
             .unwrap();
         b.polygon(&[p(1.0, 1.0), p(1.0, 3.0), p(3.0, 3.0), p(3.0, 1.0)], 1)
             .unwrap();
         let scene = b.build().unwrap();
-        let mut tracer = FlatTracer::new(&scene).unwrap();
+        let mut tracer = Tracer2::new(&scene).unwrap();
         // Offsets p_k = k − 4 from the centre (2, 2): lines x = −2 … 5 (or y), through
         // every cut point and corner
         tracer.circle = crate::lines::BoundingCircle {
@@ -776,7 +771,7 @@ mod tests {
         }
         // The axis bundles do meet coincident hits (else this test would not test them)
         let bundle = GlobalBundle2::new(&tracer.circle, [0.0, 0.0], 8);
-        let mut hits = BundleHits::new();
+        let mut hits = BundleHits2::new();
         tracer.sweep.cast(&bundle, &mut hits);
         let eps = 1e-12 * tracer.circle.radius;
         let close =
@@ -786,8 +781,8 @@ mod tests {
 
     #[test]
     fn same_seed_same_bits_any_chunking() {
-        let scene = FlatScene::regular_polygon(3, 3).unwrap();
-        let tracer = FlatTracer::new(&scene).unwrap();
+        let scene = Scene2::regular_polygon(3, 3).unwrap();
+        let tracer = Tracer2::new(&scene).unwrap();
         let n = 3 * crate::lines::CHUNK_LINES + 17;
         let whole = tracer.run(LineMethod::Global, 42, n).unwrap();
         assert_eq!(whole, merged_in_reverse(&tracer, LineMethod::Global, 42, n));

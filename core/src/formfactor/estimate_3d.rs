@@ -46,7 +46,7 @@ use crate::lines::{
     BoundingSphere, GlobalBundle3, Line3, canonical, canonical_2d, chunk_range, chunk_rng,
     sample_global_line_3d, sample_local_line_3d, sheaf_direction_sample,
 };
-use crate::scene::Scene;
+use crate::scene::Scene3;
 
 use crate::formfactor::tally::{Crossing, global_hit_terms, trace_chunk_lines};
 pub use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
@@ -79,7 +79,7 @@ pub const fn bundle_lines_3d(n: usize) -> u64 {
 
 /// A 3D scene prepared for line casting: patch geometry and a BVH over the patches.
 #[derive(Debug)]
-pub struct SceneTracer {
+pub struct Tracer3 {
     points: Vec<DVec3>,
     polygons: Vec<(usize, usize)>,
     normals: Vec<DVec3>,
@@ -104,12 +104,12 @@ fn canonical_4d<R: rand_core::Rng + ?Sized>(rng: &mut R) -> [f64; 4] {
     ]
 }
 
-impl SceneTracer {
+impl Tracer3 {
     /// Prepares `scene` for line casting (builds the BVH in `O(n log n)`).
     ///
     /// # Errors
     /// The errors of [`Bvh3::build`].
-    pub fn new(scene: &Scene) -> Result<Self> {
+    pub fn new(scene: &Scene3) -> Result<Self> {
         let patches = scene.patches();
         let points = scene.points().to_vec();
         let polygons: Vec<(usize, usize)> = patches.iter().map(|p| (p.first, p.count)).collect();
@@ -299,7 +299,7 @@ impl SceneTracer {
     }
 }
 
-impl LineTracer for SceneTracer {
+impl LineTracer for Tracer3 {
     fn n_patches(&self) -> usize {
         self.polygons.len()
     }
@@ -346,12 +346,12 @@ impl LineTracer for SceneTracer {
 /// [`crate::ErrorKind::NoLines`], [`crate::ErrorKind::UnsampledPatch`], and BVH
 /// construction errors.
 pub fn estimate(
-    scene: &Scene,
+    scene: &Scene3,
     method: LineMethod,
     seed: u64,
     n_lines: u64,
 ) -> Result<LineEstimate> {
-    let tracer = SceneTracer::new(scene)?;
+    let tracer = Tracer3::new(scene)?;
     tracer.run(method, seed, n_lines)?.finish(&tracer)
 }
 
@@ -365,7 +365,7 @@ mod tests {
     fn bundles_same_bits_any_chunking_and_about_the_lines_asked_for() {
         // Two whole chunks and a short one: 64 bundles of 1024 lines a chunk (the cube's
         // six sheets ask the fewest), sheaves of at most 16; the last chunk 1 bundle.
-        let tracer = SceneTracer::new(&Scene::cube(10).unwrap()).unwrap();
+        let tracer = Tracer3::new(&Scene3::cube(10).unwrap()).unwrap();
         let n = 2 * CHUNK_LINES + 1000;
         let whole = tracer.run(LineMethod::Bundle, 8, n).unwrap();
         assert_eq!(whole, merged_in_reverse(&tracer, LineMethod::Bundle, 8, n));
@@ -385,7 +385,7 @@ mod tests {
         // the same counts as the raster; the information sums agree to rounding (the two
         // compute `t` with different arithmetic, so the terms differ in the last bits).
         let scene = crate::scene::preset_3d("cornell", 3).unwrap();
-        let tracer = SceneTracer::new(&scene).unwrap();
+        let tracer = Tracer3::new(&scene).unwrap();
         let mut rng = chunk_rng(3, 0);
         for m in [1.0, 37.0, 2000.0] {
             let bundle = GlobalBundle3::new(

@@ -50,7 +50,7 @@ use crate::error::{ErrorKind, Result};
 #[cfg(feature = "alloc")]
 use crate::formfactor::FormFactors;
 #[cfg(feature = "alloc")]
-use crate::scene::FlatScene;
+use crate::scene::Scene2;
 #[cfg(feature = "alloc")]
 use alloc::vec::Vec;
 
@@ -631,7 +631,7 @@ fn occluded_flux<'a>(
 /// # Errors
 /// [`ErrorKind::PatchIndex`] if `i` or `j` is out of range.
 #[cfg(feature = "alloc")]
-pub fn pair_flux(scene: &FlatScene, i: usize, j: usize) -> Result<f64> {
+pub fn pair_flux(scene: &Scene2, i: usize, j: usize) -> Result<f64> {
     let n = scene.n_patches();
     let (Some(pi), Some(pj)) = (scene.patches().get(i), scene.patches().get(j)) else {
         return Err(ErrorKind::PatchIndex {
@@ -663,7 +663,7 @@ pub fn pair_flux(scene: &FlatScene, i: usize, j: usize) -> Result<f64> {
 /// # Errors
 /// [`ErrorKind::PatchIndex`] if `j` is out of range.
 #[cfg(feature = "alloc")]
-pub fn point_to_patch(scene: &FlatScene, x: DVec2, normal: DVec2, j: usize) -> Result<f64> {
+pub fn point_to_patch(scene: &Scene2, x: DVec2, normal: DVec2, j: usize) -> Result<f64> {
     let patch = scene.patches().get(j).ok_or(ErrorKind::PatchIndex {
         index: j,
         len: scene.n_patches(),
@@ -718,7 +718,7 @@ pub fn point_to_patch(scene: &FlatScene, x: DVec2, normal: DVec2, j: usize) -> R
 /// when a row sums above one beyond rounding, which only a scene spanning more than
 /// [`RESOLVED_RANGE`] times its smallest feature can cause.
 #[cfg(feature = "alloc")]
-pub fn form_factors(scene: &FlatScene) -> Result<FormFactors> {
+pub fn form_factors(scene: &Scene2) -> Result<FormFactors> {
     let n = scene.n_patches();
     if n > MAX_DENSE_PATCHES {
         return Err(ErrorKind::TooLarge {
@@ -738,7 +738,7 @@ pub fn form_factors(scene: &FlatScene) -> Result<FormFactors> {
 /// ([`crate::channel::ROW_SUM_TOLERANCE`]) with [`ErrorKind::PrecisionLoss`], which says
 /// why, rather than leaving the channel to refuse them without a reason.
 #[cfg(feature = "alloc")]
-fn check_closure(scene: &FlatScene, lengths: &[f64], f: &[f64]) -> Result<()> {
+fn check_closure(scene: &Scene2, lengths: &[f64], f: &[f64]) -> Result<()> {
     let n = lengths.len();
     for (patch, row) in f.chunks_exact(n.max(1)).enumerate() {
         let sum = math::sum(row.iter().copied());
@@ -765,7 +765,7 @@ fn check_closure(scene: &FlatScene, lengths: &[f64], f: &[f64]) -> Result<()> {
 /// Costs `O(surfaces²)`.
 #[cfg(feature = "alloc")]
 #[must_use]
-pub fn feature_range(scene: &FlatScene) -> f64 {
+pub fn feature_range(scene: &Scene2) -> f64 {
     let (lo, hi) = scene.bounds();
     let mut smallest = scene
         .patches()
@@ -794,7 +794,7 @@ pub fn feature_range(scene: &FlatScene) -> f64 {
 /// # Errors
 /// [`ErrorKind::BufferTooSmall`] if `out.len() < n²`.
 #[cfg(feature = "alloc")]
-pub fn form_factors_into(scene: &FlatScene, out: &mut [f64]) -> Result<()> {
+pub fn form_factors_into(scene: &Scene2, out: &mut [f64]) -> Result<()> {
     let n = scene.n_patches();
     let needed = n.saturating_mul(n);
     if out.len() < needed {
@@ -887,7 +887,7 @@ mod tests {
     fn half_blocking_occluder() {
         // i = [0,1]×{0} facing up, j = [0,1]×{2} facing down, a two-sided blocker covering
         // x ∈ [−10, 0.5] at height 1. Compare with adaptive quadrature of F_{x→j}.
-        let mut b = FlatScene::builder();
+        let mut b = Scene2::builder();
         b.segment(DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), 1)
             .unwrap();
         b.segment(DVec2::new(1.0, 2.0), DVec2::new(0.0, 2.0), 1)
@@ -911,7 +911,7 @@ mod tests {
 
     /// Adaptive Simpson quadrature of `F_{x→j}` over patch `i` (an independent check).
     #[cfg(feature = "alloc")]
-    fn quadrature(scene: &FlatScene, i: usize, j: usize) -> f64 {
+    fn quadrature(scene: &Scene2, i: usize, j: usize) -> f64 {
         let p = scene.patches()[i].segment;
         let n = p.normal();
         let g = |t: f64| point_to_patch(scene, p.point_at(t), n, j).unwrap();
@@ -1032,7 +1032,7 @@ mod tests {
             DVec2::new(2.2, 1.7),
             DVec2::new(1.0, 1.7),
         ];
-        let scene = FlatScene::room_with_objects((&room, 5), &[(&boxv, 3)]).unwrap();
+        let scene = Scene2::room_with_objects((&room, 5), &[(&boxv, 3)]).unwrap();
         let ff = form_factors(&scene).unwrap();
         assert!(!ff.has_background(), "deficit {}", ff.max_row_deficit());
         for i in 0..ff.n_states() {

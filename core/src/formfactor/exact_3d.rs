@@ -271,7 +271,7 @@ pub(crate) fn planes<'a>(
 /// [`ErrorKind::MayBeOccluded`] when some patch may hide part of another; the errors of
 /// [`form_factors_unoccluded`].
 #[cfg(feature = "alloc")]
-pub fn scene_form_factors(scene: &crate::scene::Scene) -> Result<FormFactors> {
+pub fn scene_form_factors(scene: &crate::scene::Scene3) -> Result<FormFactors> {
     let polygons: alloc::vec::Vec<(usize, usize)> =
         scene.patches().iter().map(|p| (p.first, p.count)).collect();
     if may_be_occluded(scene.points(), &polygons) {

@@ -102,7 +102,7 @@ use crate::error::{ErrorKind, Result};
 use crate::formfactor::exact_3d::{self, HalfSpace, ON_PLANE, Plane};
 use crate::geom::DVec3;
 use crate::math::{self, KahanSum};
-use crate::scene::Scene;
+use crate::scene::Scene3;
 
 /// Sine of the angle between two planes under which they count as parallel.
 const PARALLEL_SINE: f64 = 1e-7;
@@ -247,13 +247,13 @@ pub fn i_s_continuous(
     })
 }
 
-/// [`i_s_continuous`] of a [`Scene`], over its faces (the discretisation into patches does
+/// [`i_s_continuous`] of a [`Scene3`], over its faces (the discretisation into patches does
 /// not change `I_S^c`, and coplanar patches contribute nothing).
 ///
 /// # Errors
 /// As [`i_s_continuous`].
 pub fn scene_i_s_continuous(
-    scene: &Scene,
+    scene: &Scene3,
     options: QuadratureOptions,
 ) -> Result<ContinuousQuadrature> {
     let faces: Vec<(usize, usize)> = scene.faces().iter().map(|f| (f.first, f.count)).collect();

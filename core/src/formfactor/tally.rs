@@ -30,7 +30,7 @@ pub enum LineMethod {
     /// covers the bounding circle (sphere) with evenly spaced lines under one uniform shift
     /// ([`crate::lines::GlobalBundle2`], [`crate::lines::GlobalBundle3`]); every line is
     /// tallied as a global line, and each sheaf of bundles is one observation of the
-    /// standard error. Cast by a sweep ([`crate::accel::ParallelSweep`]) or a raster
+    /// standard error. Cast by a sweep ([`crate::accel::ParallelSweep2`]) or a raster
     /// ([`crate::accel::ParallelRaster3`]) instead of one tree query per line.
     Bundle,
 }

@@ -7,7 +7,7 @@ use crate::hierarchy::oracle::{
     MutualInformationOracle, Oracle, Pair, PowerOracle, RegularOracle,
 };
 
-/// The names [`OracleChoice::new`] accepts.
+/// The names [`OracleChoice3::new`] accepts.
 pub const ORACLE_NAMES: [&str; 6] = ["power", "ks", "ks-av", "mi", "mi-increase", "regular"];
 
 /// Most splits per patch of the regular mesh (`4⁸ = 65 536` elements a patch).
@@ -15,7 +15,7 @@ pub const MAX_REGULAR_LEVEL: u32 = 8;
 
 /// Any of the oracles of the hierarchy (power, KS, KS-av, MI, MI increase).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum OracleChoice {
+pub enum OracleChoice3 {
     /// (2.48).
     Power(PowerOracle),
     /// (2.49).
@@ -30,7 +30,7 @@ pub enum OracleChoice {
     Regular(RegularOracle),
 }
 
-impl OracleChoice {
+impl OracleChoice3 {
     /// The oracle called `name` (one of [`ORACLE_NAMES`]) with threshold `epsilon`; for
     /// `regular`, `epsilon` is the number of splits per patch (an integer from 0 to
     /// [`MAX_REGULAR_LEVEL`]).
@@ -83,7 +83,7 @@ impl OracleChoice {
     }
 }
 
-impl Oracle for OracleChoice {
+impl Oracle for OracleChoice3 {
     fn name(&self) -> &'static str {
         self.inner().name()
     }
@@ -99,19 +99,19 @@ mod tests {
     #[test]
     fn names_round_trip_and_bad_input_is_typed() {
         for name in ORACLE_NAMES {
-            assert_eq!(OracleChoice::new(name, 2.0).unwrap().name(), name);
+            assert_eq!(OracleChoice3::new(name, 2.0).unwrap().name(), name);
         }
         assert!(matches!(
-            OracleChoice::new("gradient", 1.0).unwrap_err().kind(),
+            OracleChoice3::new("gradient", 1.0).unwrap_err().kind(),
             ErrorKind::UnknownOracle(_)
         ));
         for bad in [f64::NAN, -1.0, f64::INFINITY] {
             assert!(matches!(
-                OracleChoice::new("mi", bad).unwrap_err().kind(),
+                OracleChoice3::new("mi", bad).unwrap_err().kind(),
                 ErrorKind::BadParameter { .. }
             ));
         }
-        assert!(OracleChoice::new("regular", 1.5).is_err());
-        assert!(OracleChoice::new("regular", 9.0).is_err());
+        assert!(OracleChoice3::new("regular", 1.5).is_err());
+        assert!(OracleChoice3::new("regular", 9.0).is_err());
     }
 }

@@ -9,7 +9,7 @@ use crate::error::{ErrorKind, Result};
 use crate::hierarchy::kernel::{KernelSamples, Visibility};
 use crate::hierarchy::oracle::{Decision, Oracle, Pair, PowerOracle};
 use crate::hierarchy::tree::{Hierarchy, HrOptions};
-use crate::scene::Scene;
+use crate::scene::Scene3;
 
 /// The reference solution's oracle: every receiver is refined to `level` splits — a uniform
 /// mesh on every surface, so every shadow is resolved at that scale whichever oracle is
@@ -50,7 +50,7 @@ impl Oracle for ReferenceOracle {
 /// The largest power a channel of `scene` emits, `max_c Σ_i A_i E_i^c`: the scale of the
 /// power thresholds.
 #[must_use]
-pub fn emitted_power(scene: &Scene) -> f64 {
+pub fn emitted_power(scene: &Scene3) -> f64 {
     let mut power = [0.0; 3];
     for (k, p) in scene.patches().iter().enumerate() {
         let e = scene.patch_material(k).map_or([0.0; 3], |m| m.emittance);
@@ -71,7 +71,7 @@ impl Hierarchy {
     /// [`ErrorKind::BadParameter`] for a `relative_epsilon` that is not finite and
     /// positive; the errors of [`Hierarchy::build`].
     pub fn build_reference(
-        scene: &Scene,
+        scene: &Scene3,
         level: u32,
         relative_epsilon: f64,
         opts: &HrOptions,
@@ -141,7 +141,7 @@ pub struct OracleComparison {
 /// # Errors
 /// Those of [`Hierarchy::build_to_target`] and [`Hierarchy::rms_against`].
 pub fn compare_at_size(
-    scene: &Scene,
+    scene: &Scene3,
     reference: &Hierarchy,
     name: &'static str,
     target: usize,

@@ -8,7 +8,7 @@ use crate::error::{ErrorKind, Result};
 use crate::geom::{self, DVec3};
 use crate::hierarchy::tree::{Element, Hierarchy};
 use crate::math::KahanSum;
-use crate::scene::{Material, Scene, Subdivision};
+use crate::scene::{Material, Scene3, Subdivision};
 
 /// Largest distance of a point from an element's plane, relative to the larger of the
 /// element's size and the point's largest coordinate, for the point to count as on it (a
@@ -120,13 +120,13 @@ impl Hierarchy {
             .collect()
     }
 
-    /// The leaves as a [`Scene`] (one patch per leaf, in [`Hierarchy::leaves`] order, with
+    /// The leaves as a [`Scene3`] (one patch per leaf, in [`Hierarchy::leaves`] order, with
     /// its patch's material), for the channel measures of the final mesh.
     ///
     /// # Errors
-    /// The errors of [`crate::scene::SceneBuilder::polygon`] (a leaf too small to validate).
-    pub fn leaf_scene(&self) -> Result<Scene> {
-        let mut b = Scene::builder();
+    /// The errors of [`crate::scene::Scene3Builder::polygon`] (a leaf too small to validate).
+    pub fn leaf_scene(&self) -> Result<Scene3> {
+        let mut b = Scene3::builder();
         for e in self.leaves() {
             b.material(Material {
                 reflectance: e.rho,

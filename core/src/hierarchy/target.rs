@@ -2,9 +2,9 @@
 //! oracles side by side at matched element counts.
 
 use crate::error::{ErrorKind, Result};
-use crate::hierarchy::choice::{MAX_REGULAR_LEVEL, OracleChoice};
+use crate::hierarchy::choice::{MAX_REGULAR_LEVEL, OracleChoice3};
 use crate::hierarchy::tree::{Hierarchy, HrOptions};
-use crate::scene::Scene;
+use crate::scene::Scene3;
 
 /// Builds per threshold tried by [`Hierarchy::build_to_target`] at most.
 pub const MAX_TARGET_BUILDS: usize = 60;
@@ -21,7 +21,7 @@ pub const MAX_TARGET_BUILDS: usize = 60;
 /// thesis' Cornell box: `b ≈ 10¹⁰`, squared `10²⁰`) keep the start of `10²⁰` and so their
 /// results. Capped at `10²⁹⁰`, inside the search's range.
 #[must_use]
-pub fn first_threshold(scene: &Scene, name: &str) -> f64 {
+pub fn first_threshold(scene: &Scene3, name: &str) -> f64 {
     let e_max = scene
         .materials()
         .iter()
@@ -44,10 +44,10 @@ impl Hierarchy {
     /// builds; ties go to the earlier build.
     ///
     /// # Errors
-    /// [`ErrorKind::BadParameter`] for `target = 0`; the errors of [`OracleChoice::new`] and
+    /// [`ErrorKind::BadParameter`] for `target = 0`; the errors of [`OracleChoice3::new`] and
     /// [`Hierarchy::build`].
     pub fn build_to_target(
-        scene: &Scene,
+        scene: &Scene3,
         name: &str,
         target: usize,
         opts: &HrOptions,
@@ -60,7 +60,7 @@ impl Hierarchy {
             .into());
         }
         let build = |eps: f64| -> Result<Hierarchy> {
-            Hierarchy::build(scene, &OracleChoice::new(name, eps)?, opts)
+            Hierarchy::build(scene, &OracleChoice3::new(name, eps)?, opts)
         };
         let distance = |h: &Hierarchy| h.n_leaves().abs_diff(target);
         let mut best: Option<(f64, Hierarchy)> = None;

@@ -7,14 +7,14 @@ use super::*;
 use crate::error::ErrorKind;
 use crate::formfactor::exact_3d;
 use crate::radiosity::{SolveOptions, Solver, solve};
-use crate::scene::{Material, Scene, Subdivision};
+use crate::scene::{Material, Scene3, Subdivision};
 
 /// The unit cube room with an emitting ceiling (`E = 1`, ρ = 0.5), one red wall
 /// (ρ = 0.6, 0.1, 0.1) and grey walls (ρ = 0.6): nothing hides anything, so exact form
 /// factors are the truth. Each face cut by `s`.
-fn lit_box(s: Subdivision) -> Scene {
-    let cube = Scene::cube(1).unwrap();
-    let mut b = Scene::builder();
+fn lit_box(s: Subdivision) -> Scene3 {
+    let cube = Scene3::cube(1).unwrap();
+    let mut b = Scene3::builder();
     for (k, f) in cube.faces().iter().enumerate() {
         let m = if f.normal.z < -0.5 {
             Material::new([0.5; 3], [1.0; 3])
@@ -31,7 +31,7 @@ fn lit_box(s: Subdivision) -> Scene {
 
 /// The full-matrix solution of a scene: exact unoccluded form factors, Gauss–Seidel per
 /// channel; `(patch polygon, B)` pairs.
-fn full_matrix(scene: &Scene) -> Vec<(Vec<crate::geom::DVec3>, [f64; 3])> {
+fn full_matrix(scene: &Scene3) -> Vec<(Vec<crate::geom::DVec3>, [f64; 3])> {
     let polys: Vec<(usize, usize)> = scene.patches().iter().map(|p| (p.first, p.count)).collect();
     let ff = exact_3d::form_factors_unoccluded(scene.points(), &polys).unwrap();
     let n = scene.n_patches();
@@ -65,8 +65,8 @@ fn full_matrix(scene: &Scene) -> Vec<(Vec<crate::geom::DVec3>, [f64; 3])> {
         .collect()
 }
 
-fn build(scene: &Scene, oracle: &str, eps: f64, opts: &HrOptions) -> Hierarchy {
-    Hierarchy::build(scene, &OracleChoice::new(oracle, eps).unwrap(), opts).unwrap()
+fn build(scene: &Scene3, oracle: &str, eps: f64, opts: &HrOptions) -> Hierarchy {
+    Hierarchy::build(scene, &OracleChoice3::new(oracle, eps).unwrap(), opts).unwrap()
 }
 
 fn tight() -> HrOptions {
@@ -133,8 +133,8 @@ fn constant_radiosity_is_kept() {
     // links every leaf at one level, its exact form factors sum to 1, and it is exact. An
     // adaptive mesh links a leaf at several levels, each link's F being the average over its
     // receiver, so a leaf's form factors need not sum to 1: right on average only.
-    let cube = Scene::cube(1).unwrap();
-    let mut b = Scene::builder();
+    let cube = Scene3::cube(1).unwrap();
+    let mut b = Scene3::builder();
     b.material(Material::new([0.5; 3], [1.0; 3]).unwrap());
     for k in 0..6 {
         b.polygon(cube.face_vertices(k), Subdivision::None).unwrap();
@@ -189,23 +189,25 @@ fn tighter_epsilon_never_gives_fewer_elements_or_links() {
         passes: 1,
         ..HrOptions::default()
     };
-    let check =
-        |scene: &Scene, oracle: &str, epsilons: &mut dyn Iterator<Item = f64>, opts: &HrOptions| {
-            let mut last = (0, 0);
-            for eps in epsilons {
-                let h = build(scene, oracle, eps, opts);
-                let now = (h.elements().len(), h.links().len());
-                assert!(
-                    now.0 >= last.0 && now.1 >= last.1,
-                    "{oracle} eps {eps}: {now:?} after {last:?}"
-                );
-                last = now;
-                if now.0 > 600 {
-                    break;
-                }
+    let check = |scene: &Scene3,
+                 oracle: &str,
+                 epsilons: &mut dyn Iterator<Item = f64>,
+                 opts: &HrOptions| {
+        let mut last = (0, 0);
+        for eps in epsilons {
+            let h = build(scene, oracle, eps, opts);
+            let now = (h.elements().len(), h.links().len());
+            assert!(
+                now.0 >= last.0 && now.1 >= last.1,
+                "{oracle} eps {eps}: {now:?} after {last:?}"
+            );
+            last = now;
+            if now.0 > 600 {
+                break;
             }
-            assert!(last.0 > 6, "{oracle}: never refined");
-        };
+        }
+        assert!(last.0 > 6, "{oracle}: never refined");
+    };
     let lit = lit_box(Subdivision::None);
     for oracle in ["power", "ks", "ks-av", "mi"] {
         check(&lit, oracle, &mut (0..12).map(|k| 0.5f64.powi(k)), &opts);
@@ -220,14 +222,14 @@ fn tighter_epsilon_never_gives_fewer_elements_or_links() {
         &mut (0..12).map(|k| 0.5f64.powi(k)),
         &two_passes,
     );
-    let cornell = Scene::cornell_box(false, 1).unwrap();
+    let cornell = Scene3::cornell_box(false, 1).unwrap();
     check(&cornell, "mi", &mut [1e-2, 1e-3, 3e-4].into_iter(), &opts);
     check(&cornell, "ks-av", &mut [1.0, 0.3, 0.1].into_iter(), &opts);
 }
 
 #[test]
 fn the_cornell_box_casts_rays_and_respects_budgets() {
-    let scene = Scene::cornell_box(false, 1).unwrap();
+    let scene = Scene3::cornell_box(false, 1).unwrap();
     let h = build(&scene, "mi", 1e-3, &HrOptions::default());
     assert!(h.rays() > 0);
     assert!(h.n_leaves() > scene.n_patches());
@@ -251,7 +253,7 @@ fn the_cornell_box_casts_rays_and_respects_budgets() {
 #[test]
 fn bad_options_are_typed_errors() {
     let scene = lit_box(Subdivision::None);
-    let o = OracleChoice::new("mi", 1e-3).unwrap();
+    let o = OracleChoice3::new("mi", 1e-3).unwrap();
     for bad in [
         HrOptions {
             pairs: 0,
@@ -301,7 +303,7 @@ fn bad_options_are_typed_errors() {
 
 #[test]
 fn results_depend_on_the_seed_only() {
-    let scene = Scene::cornell_box(false, 1).unwrap();
+    let scene = Scene3::cornell_box(false, 1).unwrap();
     let a = build(&scene, "ks-av", 1e-2, &HrOptions::default());
     let b = build(&scene, "ks-av", 1e-2, &HrOptions::default());
     assert_eq!(a.elements(), b.elements());

@@ -15,7 +15,7 @@ use crate::hierarchy::kernel::{
 use crate::hierarchy::oracle::{Decision, Oracle, Pair, Side};
 use crate::hierarchy::visibility::SceneVisibility;
 use crate::lines::{chunk_rng, mix64 as mix};
-use crate::scene::Scene;
+use crate::scene::Scene3;
 
 /// No element: the parent of a root, the children of a leaf.
 pub const NONE: u32 = u32::MAX;
@@ -211,7 +211,7 @@ impl Hierarchy {
     /// the roots alone exceed `max_elements` or their links `max_links`; the errors of
     /// [`crate::accel::Bvh3::build`]; [`ErrorKind::NoConvergence`] when a solve reaches
     /// `max_iterations`; [`ErrorKind::NotFinite`] when a radiosity overflows.
-    pub fn build(scene: &Scene, oracle: &dyn Oracle, opts: &HrOptions) -> Result<Self> {
+    pub fn build(scene: &Scene3, oracle: &dyn Oracle, opts: &HrOptions) -> Result<Self> {
         opts.validate()?;
         let occluders = SceneVisibility::new(scene)?;
         let visibility: &dyn Visibility = match &occluders {
@@ -268,7 +268,7 @@ impl Hierarchy {
 
     /// One root per patch of at most four vertices, a fan of triangles for larger ones;
     /// `B = E` everywhere.
-    fn with_roots(scene: &Scene, opts: &HrOptions) -> Result<Self> {
+    fn with_roots(scene: &Scene3, opts: &HrOptions) -> Result<Self> {
         let mut elements = Vec::new();
         let mut roots = Vec::new();
         for (k, p) in scene.patches().iter().enumerate() {

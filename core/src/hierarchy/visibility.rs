@@ -5,7 +5,7 @@ use crate::error::Result;
 use crate::formfactor::exact_3d;
 use crate::geom::DVec3;
 use crate::hierarchy::kernel::Visibility;
-use crate::scene::Scene;
+use crate::scene::Scene3;
 
 /// Above this many patches the conservative occlusion test of
 /// [`exact_3d::may_be_occluded`] (`O(n³/64)`) is skipped and rays are always cast.
@@ -28,7 +28,7 @@ impl SceneVisibility {
     ///
     /// # Errors
     /// The errors of [`Bvh3::build`].
-    pub fn new(scene: &Scene) -> Result<Option<Self>> {
+    pub fn new(scene: &Scene3) -> Result<Option<Self>> {
         let polygons: alloc::vec::Vec<(usize, usize)> =
             scene.patches().iter().map(|p| (p.first, p.count)).collect();
         if polygons.len() <= OCCLUSION_TEST_LIMIT
@@ -62,11 +62,11 @@ mod tests {
     #[test]
     fn the_cornell_blocks_hide_and_the_empty_cube_does_not() {
         assert!(
-            SceneVisibility::new(&Scene::cube(2).unwrap())
+            SceneVisibility::new(&Scene3::cube(2).unwrap())
                 .unwrap()
                 .is_none()
         );
-        let cornell = Scene::cornell_box(false, 1).unwrap();
+        let cornell = Scene3::cornell_box(false, 1).unwrap();
         let vis = SceneVisibility::new(&cornell).unwrap().unwrap();
         // Straight down from the ceiling over the tall block: its top (y = 330) is seen,
         // the floor below it is not.

@@ -22,7 +22,7 @@ use core::fmt::Write;
 
 use crate::error::{Error, ErrorKind, Result, token};
 use crate::geom::DVec2;
-use crate::scene::{FlatScene, FlatSceneBuilder, MAX_PATCHES_PER_SURFACE, Material};
+use crate::scene::{MAX_PATCHES_PER_SURFACE, Material, Scene2, Scene2Builder};
 
 /// Most vertices a `poly` line may list.
 pub const MAX_POLYGON_VERTICES: u64 = 100_000;
@@ -116,8 +116,8 @@ fn parse_count(s: &str, field: &'static str, max: u64) -> Result<u64> {
 /// let err = sceneinfo::io::parse_flat("seg 0 0 0 0\n").unwrap_err();
 /// assert_eq!(err.to_string(), "line 1: segment has zero length");
 /// ```
-pub fn parse_flat(text: &str) -> Result<FlatScene> {
-    let mut builder = FlatScene::builder();
+pub fn parse_flat(text: &str) -> Result<Scene2> {
+    let mut builder = Scene2::builder();
     let mut last_line = 1u32;
     // The line of each surface, to locate coincident surfaces found at the end
     let mut surface_lines: Vec<u32> = Vec::new();
@@ -155,7 +155,7 @@ pub(super) fn locate_coincident(lines: &[u32], first: usize, second: usize) -> E
     )
 }
 
-fn parse_item(keyword: &str, f: &mut Fields<'_>, builder: &mut FlatSceneBuilder) -> Result<()> {
+fn parse_item(keyword: &str, f: &mut Fields<'_>, builder: &mut Scene2Builder) -> Result<()> {
     match keyword {
         "seg" => {
             let a = f.point("x0", "y0")?;
@@ -243,7 +243,7 @@ fn parse_item(keyword: &str, f: &mut Fields<'_>, builder: &mut FlatSceneBuilder)
 /// the given ones (the scene's [`crate::scene::Frame`] undone, exactly), written with Rust's
 /// shortest round-trip formatting, so [`parse_flat`] gives back the same scene bit for bit.
 #[must_use]
-pub fn write_flat(scene: &FlatScene) -> String {
+pub fn write_flat(scene: &Scene2) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,

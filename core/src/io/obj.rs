@@ -73,12 +73,12 @@
 //!   any `newmtl`, a negative emittance and malformed `Kd`/`Ke`/`Ka` numbers are errors.
 //!
 //! Every face is added as drawn by
-//! [`SceneBuilder::face_as_drawn`](crate::scene::SceneBuilder::face_as_drawn) (a valid planar
+//! [`Scene3Builder::face_as_drawn`](crate::scene::Scene3Builder::face_as_drawn) (a valid planar
 //! convex face unchanged; repeated vertices removed, nearly planar faces flattened, concave or
 //! bent ones triangulated, zero-area ones dropped) and cut by the [`Subdivision`] given; the
 //! patch cap [`crate::scene::MAX_PATCHES_3D`] is checked before each face's patches are
 //! allocated. The scene is finished by
-//! [`SceneBuilder::build_as_drawn`](crate::scene::SceneBuilder::build_as_drawn): duplicate
+//! [`Scene3Builder::build_as_drawn`](crate::scene::Scene3Builder::build_as_drawn): duplicate
 //! faces dropped, partly covered coincident ones cut to what earlier faces leave. All of it
 //! is counted in the [`LoadReport`].
 
@@ -91,7 +91,7 @@ use core::fmt::Write;
 use crate::error::{Error, ErrorKind, MaterialProblem, Result, token};
 use crate::geom::DVec3;
 use crate::scene::{LoadReport, LoadWarning, LoadWarningKind};
-use crate::scene::{MAX_FACE_VERTICES, Material, Scene, Subdivision};
+use crate::scene::{MAX_FACE_VERTICES, Material, Scene3, Subdivision};
 
 /// How [`parse_obj`] reads a file.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -215,9 +215,9 @@ fn parse_number(s: &str, field: &'static str) -> Result<f64> {
 /// [`ErrorKind::NonFiniteNumber`], [`ErrorKind::MissingField`],
 /// [`ErrorKind::TrailingField`], [`ErrorKind::FaceIndex`], [`ErrorKind::InMaterialLibrary`]
 /// (at the `mtllib` line, naming the library's own line), and the face errors of
-/// [`SceneBuilder::face_as_drawn`](crate::scene::SceneBuilder::face_as_drawn) (vertex count,
+/// [`Scene3Builder::face_as_drawn`](crate::scene::Scene3Builder::face_as_drawn) (vertex count,
 /// non-finite or out-of-range coordinates, too many patches) and
-/// [`SceneBuilder::build_as_drawn`](crate::scene::SceneBuilder::build_as_drawn);
+/// [`Scene3Builder::build_as_drawn`](crate::scene::Scene3Builder::build_as_drawn);
 /// [`ErrorKind::BadSubdivision`] (no line) for a bad subdivision;
 /// [`ErrorKind::EmptyScene`] (line of the end of input) if there is no face.
 ///
@@ -250,10 +250,10 @@ pub fn parse_obj(
     obj: &str,
     options: &ObjOptions,
     mtl: impl Fn(&str) -> Option<String>,
-) -> Result<(Scene, LoadReport)> {
+) -> Result<(Scene3, LoadReport)> {
     options.subdivision.validate()?;
     let mut state = ObjState {
-        builder: Scene::builder(),
+        builder: Scene3::builder(),
         vertices: Vec::new(),
         face: Vec::new(),
         materials: BTreeMap::new(),
@@ -300,7 +300,7 @@ struct MtlEntry {
 
 /// What the OBJ parser keeps between lines.
 struct ObjState {
-    builder: crate::scene::SceneBuilder,
+    builder: crate::scene::Scene3Builder,
     vertices: Vec<DVec3>,
     face: Vec<DVec3>,
     materials: BTreeMap<String, MtlEntry>,
@@ -746,7 +746,7 @@ fn mtl_rgb(
 /// ([`Subdivision::None`]) `parse_obj(obj, &ObjOptions::default(), …)` gives back the same scene
 /// bit for bit (object names as the parser makes them: trimmed, no `#`).
 #[must_use]
-pub fn write_obj(scene: &Scene, mtl_name: &str) -> (String, String) {
+pub fn write_obj(scene: &Scene3, mtl_name: &str) -> (String, String) {
     let mut obj = String::new();
     let _ = writeln!(obj, "# sceneinfo scene: {} patches", scene.n_patches());
     let _ = writeln!(obj, "mtllib {mtl_name}");

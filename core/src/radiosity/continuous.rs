@@ -533,11 +533,11 @@ pub fn estimate_lit<T: LineTracer + Sync>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formfactor::estimate_2d::FlatTracer;
+    use crate::formfactor::estimate_2d::Tracer2;
     use crate::formfactor::exact_3d;
     use crate::radiosity::rgb::solve_rgb;
     use crate::radiosity::{SolveOptions, Solver};
-    use crate::scene::{FlatScene, Material};
+    use crate::scene::{Material, Scene2};
 
     fn opts() -> SolveOptions {
         SolveOptions {
@@ -584,7 +584,7 @@ mod tests {
     /// estimate from any lines is the visibility one (to rounding).
     #[test]
     fn constant_radiosity_gives_the_visibility_estimate() {
-        let scene = FlatScene::regular_polygon(5, 4).unwrap();
+        let scene = Scene2::regular_polygon(5, 4).unwrap();
         let n = scene.n_patches();
         let ff = crate::formfactor::exact_2d::form_factors(&scene).unwrap();
         let materials: Vec<Material> = (0..n)
@@ -602,7 +602,7 @@ mod tests {
         )
         .unwrap();
         let b_in = incoming_rgb(&ff.matrix(), &sol.radiosity).unwrap();
-        let tracer = FlatTracer::new(&scene).unwrap();
+        let tracer = Tracer2::new(&scene).unwrap();
         let lit = RadiosityTracer::new(&tracer, &sol.radiosity, &b_in).unwrap();
         let tally = lit.run(LineMethod::Global, 4, 200_000).unwrap();
         let vis = tally.continuous();

@@ -20,7 +20,7 @@ use alloc::vec::Vec;
 
 use crate::geom::DVec3;
 use crate::math;
-use crate::scene::{Material, Scene};
+use crate::scene::{Material, Scene3};
 
 /// Linear exposure with white at `white`, then sRGB encoding (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -97,7 +97,7 @@ pub struct GouraudMesh {
 /// Welds the patches' vertices within each plane and averages the patch radiosities
 /// `radiosity` (per state; states past the patches are ignored) at the vertices.
 #[must_use]
-pub fn gouraud_mesh(scene: &Scene, radiosity: &[[f64; 3]]) -> GouraudMesh {
+pub fn gouraud_mesh(scene: &Scene3, radiosity: &[[f64; 3]]) -> GouraudMesh {
     let patches = scene.patches();
     let (lo, hi) = scene.bounds();
     let quantum = 1e-9 * (hi - lo).length().max(f64::MIN_POSITIVE);
@@ -181,7 +181,7 @@ mod tests {
         let tone = ToneMap { white: 4.0 };
         assert_eq!(tone.channel(2.0), ToneMap::encode(0.5));
     }
-    use crate::scene::Scene;
+    use crate::scene::Scene3;
 
     #[test]
     fn tone_map_is_srgb_of_a_linear_exposure() {
@@ -209,7 +209,7 @@ mod tests {
 
     #[test]
     fn vertices_are_welded_within_faces_and_averaged_by_area() {
-        let scene = Scene::cube(2).unwrap();
+        let scene = Scene3::cube(2).unwrap();
         let n = scene.n_patches();
         let b: Vec<[f64; 3]> = (0..n).map(|i| [i as f64, 1.0, 0.0]).collect();
         let mesh = gouraud_mesh(&scene, &b);

@@ -13,7 +13,7 @@ use super::{SolveOptions, Solver, solve};
 use crate::channel::{Channel, Transitions};
 use crate::formfactor::{FormFactors, exact_2d};
 use crate::geom::DVec2;
-use crate::scene::FlatScene;
+use crate::scene::Scene2;
 
 /// A random enclosure: a convex polygon (3–7 vertices on an ellipse, 1–3 patches a side),
 /// sometimes with a two-sided wall inside.
@@ -37,7 +37,7 @@ fn enclosures() -> impl Strategy<Value = FormFactors> {
                 .iter()
                 .map(|&t| DVec2::new(crate::math::cos(t), ry * crate::math::sin(t)))
                 .collect();
-            let mut b = FlatScene::builder();
+            let mut b = Scene2::builder();
             b.polygon(&pts, k).ok()?;
             if wall {
                 // A two-sided wall: two opposite segments on the same line.

@@ -13,9 +13,9 @@
 //! ```
 //! use sceneinfo::formfactor::exact_2d;
 //! use sceneinfo::radiosity::{Solver, SolveOptions, rgb};
-//! use sceneinfo::scene::{FlatScene, Material};
+//! use sceneinfo::scene::{Scene2, Material};
 //!
-//! let scene = FlatScene::rectangle(1.0, 1.0, 4).unwrap();
+//! let scene = Scene2::rectangle(1.0, 1.0, 4).unwrap();
 //! let ff = exact_2d::form_factors(&scene).unwrap();
 //! // A red-ish grey room with one white emitter.
 //! let mut materials = vec![Material::new([0.6, 0.3, 0.3], [0.0; 3]).unwrap(); 16];
@@ -36,7 +36,7 @@ use super::measures::{RadiosityMeasures, radiosity_measures};
 use super::{SolveOptions, SolveReport, Solver, solve};
 use crate::channel::Transitions;
 use crate::error::{ErrorKind, Result};
-use crate::scene::{FlatScene, Material, Scene};
+use crate::scene::{Material, Scene2, Scene3};
 
 /// The colour channels' names, in order.
 pub const CHANNEL_NAMES: [&str; 3] = ["red", "green", "blue"];
@@ -158,7 +158,7 @@ pub fn rgb_measures<M: Transitions>(
 
 /// The material of every patch of a flatland scene, in patch order.
 #[must_use]
-pub fn flat_patch_materials(scene: &FlatScene) -> Vec<Material> {
+pub fn flat_patch_materials(scene: &Scene2) -> Vec<Material> {
     (0..scene.n_patches())
         .map(|i| scene.patch_material(i).copied().unwrap_or_default())
         .collect()
@@ -166,7 +166,7 @@ pub fn flat_patch_materials(scene: &FlatScene) -> Vec<Material> {
 
 /// The material of every patch of a 3D scene, in patch order.
 #[must_use]
-pub fn patch_materials(scene: &Scene) -> Vec<Material> {
+pub fn patch_materials(scene: &Scene3) -> Vec<Material> {
     (0..scene.n_patches())
         .map(|i| scene.patch_material(i).copied().unwrap_or_default())
         .collect()
@@ -178,7 +178,7 @@ mod tests {
     use crate::channel::{Channel, CsrMatrixBuf, DenseMatrix};
     use crate::formfactor::{FormFactors, exact_2d};
     use crate::radiosity::radiosity_channel_into;
-    use crate::scene::FlatScene;
+    use crate::scene::Scene2;
 
     fn opts() -> SolveOptions {
         SolveOptions {
@@ -189,7 +189,7 @@ mod tests {
 
     /// A 2 × 1 room, 4 patches a side: grey walls, a white emitter, a red patch.
     fn lit_room() -> (FormFactors, Vec<Material>) {
-        let ff = exact_2d::form_factors(&FlatScene::rectangle(2.0, 1.0, 4).unwrap()).unwrap();
+        let ff = exact_2d::form_factors(&Scene2::rectangle(2.0, 1.0, 4).unwrap()).unwrap();
         let mut m = vec![Material::new([0.5, 0.4, 0.3], [0.0; 3]).unwrap(); ff.n_patches()];
         m[1] = Material::new([0.0; 3], [2.0, 2.0, 2.0]).unwrap();
         m[9] = Material::new([0.9, 0.1, 0.1], [0.0; 3]).unwrap();
@@ -250,7 +250,7 @@ mod tests {
     #[test]
     fn background_states_are_black() {
         // Two facing segments: an open scene with a background state.
-        let mut builder = FlatScene::builder();
+        let mut builder = Scene2::builder();
         builder.material(Material::new([0.5; 3], [1.0, 0.0, 0.0]).unwrap());
         builder
             .segment(
@@ -306,7 +306,7 @@ mod tests {
     #[test]
     fn constant_radiosity_gives_the_visibility_measures() {
         // E_i = k (1 − ρ_i): B ≡ k (5.8, 5.9).
-        let ff = exact_2d::form_factors(&FlatScene::regular_polygon(5, 6).unwrap()).unwrap();
+        let ff = exact_2d::form_factors(&Scene2::regular_polygon(5, 6).unwrap()).unwrap();
         let m: Vec<Material> = (0..ff.n_patches())
             .map(|i| {
                 let rho = 0.1 + 0.8 * (i % 7) as f64 / 7.0;

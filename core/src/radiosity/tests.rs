@@ -7,7 +7,7 @@ use super::*;
 use crate::channel::DenseMatrix;
 use crate::formfactor::{FormFactors, exact_2d, exact_3d};
 use crate::lines::chunk_rng;
-use crate::scene::{FlatScene, Scene};
+use crate::scene::{Scene2, Scene3};
 
 const SOLVERS: [Solver; 3] = [Solver::Jacobi, Solver::GaussSeidel, Solver::Southwell];
 
@@ -19,11 +19,11 @@ fn opts(tolerance: f64) -> SolveOptions {
 }
 
 fn flat_room() -> FormFactors {
-    exact_2d::form_factors(&FlatScene::rectangle(2.0, 1.0, 4).unwrap()).unwrap()
+    exact_2d::form_factors(&Scene2::rectangle(2.0, 1.0, 4).unwrap()).unwrap()
 }
 
 fn cube_room() -> FormFactors {
-    let scene = Scene::cube(3).unwrap();
+    let scene = Scene3::cube(3).unwrap();
     let polys: Vec<(usize, usize)> = scene.patches().iter().map(|p| (p.first, p.count)).collect();
     exact_3d::form_factors_unoccluded(scene.points(), &polys).unwrap()
 }

@@ -550,12 +550,12 @@ mod tests {
     use super::*;
     use crate::formfactor::{FormFactors, exact_2d};
     use crate::radiosity::{SolveOptions, Solver, solve, solve_importance};
-    use crate::scene::FlatScene;
+    use crate::scene::Scene2;
 
     /// A 2 × 1 flatland room, 4 patches a side, grey walls of varied reflectance, two
     /// emitters of different strength.
     fn room() -> (FormFactors, Vec<f64>, Vec<f64>) {
-        let ff = exact_2d::form_factors(&FlatScene::rectangle(2.0, 1.0, 4).unwrap()).unwrap();
+        let ff = exact_2d::form_factors(&Scene2::rectangle(2.0, 1.0, 4).unwrap()).unwrap();
         let n = ff.n_states();
         let rho: Vec<f64> = (0..n)
             .map(|i| 0.3 + 0.6 * ((i * 7) % 11) as f64 / 11.0)

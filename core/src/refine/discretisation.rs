@@ -93,7 +93,7 @@ pub fn visibility_error_point_pairs(a_i: f64, a_j: f64, a_t: f64, kernel: &[f64]
 pub const MAX_POINT_PAIRS: u64 = 1 << 24;
 
 /// `δ^v_ij` (6.19) between patches `i` and `j` of a flatland scene from `n` uniform point
-/// pairs drawn from stream `(seed, 0)` ([`crate::formfactor::estimate_2d::FlatTracer::point_pair_kernel`]:
+/// pairs drawn from stream `(seed, 0)` ([`crate::formfactor::estimate_2d::Tracer2::point_pair_kernel`]:
 /// the kernel with visibility), lengths for areas.
 ///
 /// # Errors
@@ -101,7 +101,7 @@ pub const MAX_POINT_PAIRS: u64 = 1 << 24;
 /// [`ErrorKind::TooLarge`] above [`MAX_POINT_PAIRS`].
 #[cfg(feature = "alloc")]
 pub fn flat_visibility_error_point_pairs(
-    tracer: &crate::formfactor::estimate_2d::FlatTracer,
+    tracer: &crate::formfactor::estimate_2d::Tracer2,
     i: usize,
     j: usize,
     n: u64,
@@ -340,16 +340,16 @@ mod tests {
     #[cfg(feature = "alloc")]
     #[test]
     fn point_pairs_estimate_the_quadrature_value() {
-        use crate::formfactor::estimate_2d::FlatTracer;
+        use crate::formfactor::estimate_2d::Tracer2;
         use crate::geom::DVec2;
-        use crate::scene::FlatScene;
-        let mut b = FlatScene::builder();
+        use crate::scene::Scene2;
+        let mut b = Scene2::builder();
         b.segment(DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), 1)
             .unwrap();
         b.segment(DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0), 1)
             .unwrap();
         let scene = b.build().unwrap();
-        let tracer = FlatTracer::new(&scene).unwrap();
+        let tracer = Tracer2::new(&scene).unwrap();
         // Expectation: (A_i A_j / A_T)(E[F log F] − E[F] log E[F]) over uniform pairs, by the
         // midpoint rule on 1000² points (F is smooth here: error ~1e-7).
         let k = 1000;
@@ -391,11 +391,11 @@ mod tests {
     #[cfg(feature = "alloc")]
     #[test]
     fn point_pairs_agree_with_global_lines() {
-        use crate::formfactor::estimate_2d::{FlatTracer, LineMethod, LineTracer};
+        use crate::formfactor::estimate_2d::{LineMethod, LineTracer, Tracer2};
         use crate::formfactor::exact_2d;
-        use crate::scene::FlatScene;
-        let scene = FlatScene::regular_polygon(4, 1).unwrap();
-        let tracer = FlatTracer::new(&scene).unwrap();
+        use crate::scene::Scene2;
+        let scene = Scene2::regular_polygon(4, 1).unwrap();
+        let tracer = Tracer2::new(&scene).unwrap();
         let ff = exact_2d::form_factors(&scene).unwrap();
         let mut i_ij = alloc::vec![0.0; 16];
         ff.channel()
@@ -445,10 +445,10 @@ mod tests {
     #[cfg(feature = "alloc")]
     #[test]
     fn radiosity_errors_from_lines_weight_the_visibility_ones() {
-        use crate::formfactor::estimate_2d::{FlatTracer, LineMethod, LineTracer};
-        use crate::scene::FlatScene;
-        let scene = FlatScene::regular_polygon(3, 2).unwrap();
-        let tracer = FlatTracer::new(&scene).unwrap();
+        use crate::formfactor::estimate_2d::{LineMethod, LineTracer, Tracer2};
+        use crate::scene::Scene2;
+        let scene = Scene2::regular_polygon(3, 2).unwrap();
+        let tracer = Tracer2::new(&scene).unwrap();
         let est = tracer
             .run(LineMethod::Global, 7, 100_000)
             .unwrap()

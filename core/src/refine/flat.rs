@@ -2,11 +2,11 @@
 //!
 //! Each step halves one patch, chosen by an oracle:
 //!
-//! - [`FlatOracle::DiscretisationError`] ("DE-based"): the patch with the largest
+//! - [`OracleChoice2::DiscretisationError`] ("DE-based"): the patch with the largest
 //!   discretisation error `I_i^c − I_i` — the largest potential gain of information transfer;
-//! - [`FlatOracle::Power`] ("power-based", the thesis' rival): the patch with the largest
+//! - [`OracleChoice2::Power`] ("power-based", the thesis' rival): the patch with the largest
 //!   information transfer `I_i` (6.32);
-//! - [`FlatOracle::Regular`]: the longest patch (the first of equals), which from a mesh of
+//! - [`OracleChoice2::Regular`]: the longest patch (the first of equals), which from a mesh of
 //!   equal patches `n₀` gives the regular mesh at every `n₀ · 2^k` patches.
 //!
 //! `I_i` comes from exact form factors with occlusion, updated incrementally: halving patch
@@ -17,11 +17,11 @@
 //! # Examples
 //!
 //! ```
-//! use sceneinfo::refine::flat::{FlatOracle, FlatRefiner};
-//! use sceneinfo::scene::FlatScene;
+//! use sceneinfo::refine::flat::{OracleChoice2, Refiner2};
+//! use sceneinfo::scene::Scene2;
 //!
-//! let scene = FlatScene::regular_polygon(3, 2)?;
-//! let mut refiner = FlatRefiner::new(scene, FlatOracle::DiscretisationError, 20_000, 1)?;
+//! let scene = Scene2::regular_polygon(3, 2)?;
+//! let mut refiner = Refiner2::new(scene, OracleChoice2::DiscretisationError, 20_000, 1)?;
 //! let before = refiner.report();
 //! let step = refiner.step()?;
 //! assert_eq!(step.n_patches, 7);
@@ -37,14 +37,14 @@ use super::profile::InformationProfile;
 use crate::error::{ErrorKind, Result};
 use crate::formfactor::{FormFactors, exact_2d};
 use crate::lines::BoundingCircle;
-use crate::scene::FlatScene;
+use crate::scene::Scene2;
 
-/// Most patches a [`FlatRefiner`] grows a mesh to (it keeps a dense `n × n` matrix).
+/// Most patches a [`Refiner2`] grows a mesh to (it keeps a dense `n × n` matrix).
 pub const MAX_REFINED_PATCHES: usize = 4096;
 
 /// Which patch a refinement step halves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum FlatOracle {
+pub enum OracleChoice2 {
     /// The largest discretisation error `I_i^c − I_i` (the thesis' DE-based oracle).
     DiscretisationError,
     /// The largest information transfer `I_i` (the thesis' "power-based" oracle).
@@ -53,7 +53,7 @@ pub enum FlatOracle {
     Regular,
 }
 
-impl FlatOracle {
+impl OracleChoice2 {
     /// The oracle's name as the CLI spells it: `de`, `power`, `regular`.
     #[must_use]
     pub fn name(self) -> &'static str {
@@ -101,9 +101,9 @@ pub struct StepReport {
 
 /// A flatland mesh being refined one split at a time (§6.5.2).
 #[derive(Clone, Debug)]
-pub struct FlatRefiner {
-    scene: FlatScene,
-    oracle: FlatOracle,
+pub struct Refiner2 {
+    scene: Scene2,
+    oracle: OracleChoice2,
     profile: InformationProfile,
     /// Exact patch form factors, row-major `n × n`, no background state.
     f: Vec<f64>,
@@ -114,15 +114,15 @@ pub struct FlatRefiner {
     report: StepReport,
 }
 
-impl FlatRefiner {
+impl Refiner2 {
     /// Starts refining `scene` with `oracle`; `I^c` is tallied from `lines` global lines
-    /// drawn with `seed` (on this thread; see [`FlatRefiner::with_profile`] to bring a
+    /// drawn with `seed` (on this thread; see [`Refiner2::with_profile`] to bring a
     /// tally made elsewhere).
     ///
     /// # Errors
     /// [`ErrorKind::NoLines`] for `lines == 0`; [`ErrorKind::TooLarge`] above
     /// [`MAX_REFINED_PATCHES`] patches; the errors of [`InformationProfile::trace`].
-    pub fn new(scene: FlatScene, oracle: FlatOracle, lines: u64, seed: u64) -> Result<Self> {
+    pub fn new(scene: Scene2, oracle: OracleChoice2, lines: u64, seed: u64) -> Result<Self> {
         check_size(scene.n_patches())?;
         let profile = InformationProfile::trace(&scene, lines, seed)?;
         Self::with_profile(scene, oracle, profile)
@@ -134,8 +134,8 @@ impl FlatRefiner {
     /// [`ErrorKind::DimensionMismatch`] if the profile is of other surfaces;
     /// [`ErrorKind::TooLarge`] above [`MAX_REFINED_PATCHES`] patches.
     pub fn with_profile(
-        scene: FlatScene,
-        oracle: FlatOracle,
+        scene: Scene2,
+        oracle: OracleChoice2,
         profile: InformationProfile,
     ) -> Result<Self> {
         check_size(scene.n_patches())?;
@@ -158,13 +158,13 @@ impl FlatRefiner {
 
     /// The current mesh.
     #[must_use]
-    pub fn scene(&self) -> &FlatScene {
+    pub fn scene(&self) -> &Scene2 {
         &self.scene
     }
 
     /// The oracle.
     #[must_use]
-    pub fn oracle(&self) -> FlatOracle {
+    pub fn oracle(&self) -> OracleChoice2 {
         self.oracle
     }
 
@@ -213,9 +213,9 @@ impl FlatRefiner {
     pub fn choose(&self) -> usize {
         let n = self.scene.n_patches();
         let key = |i: usize| match self.oracle {
-            FlatOracle::DiscretisationError => self.continuous[i] - self.discrete[i],
-            FlatOracle::Power => self.discrete[i],
-            FlatOracle::Regular => self.scene.patches()[i].length,
+            OracleChoice2::DiscretisationError => self.continuous[i] - self.discrete[i],
+            OracleChoice2::Power => self.discrete[i],
+            OracleChoice2::Regular => self.scene.patches()[i].length,
         };
         let mut best = 0;
         for i in 1..n {
@@ -258,7 +258,7 @@ impl FlatRefiner {
     ///
     /// # Errors
     /// [`ErrorKind::BadParameter`] for a negative or NaN `eps`; the errors of
-    /// [`FlatRefiner::step`] (for a `target` above [`MAX_REFINED_PATCHES`]: `TooLarge`).
+    /// [`Refiner2::step`] (for a `target` above [`MAX_REFINED_PATCHES`]: `TooLarge`).
     pub fn run_until(&mut self, target: usize, eps: Option<f64>) -> Result<StepReport> {
         if let Some(e) = eps
             && !(e >= 0.0)
@@ -330,7 +330,7 @@ impl FlatRefiner {
 /// (scene I, whose geometry is ours) to 5–7 % low (scene II): as if the thesis' lines came
 /// from a circle 7 % larger, the factor its Monte Carlo biases show in chapters 3 and 4.
 #[must_use]
-pub fn e_mse_per_global_line(scene: &FlatScene, e_mse: f64) -> f64 {
+pub fn e_mse_per_global_line(scene: &Scene2, e_mse: f64) -> f64 {
     let (lo, hi) = scene.bounds();
     let r = BoundingCircle::of_bounds(lo, hi).radius;
     let total = scene.total_length();
@@ -374,7 +374,7 @@ fn check_size(n: usize) -> Result<()> {
 /// `i + 1`) from the previous mesh's `old`: every other pair is unchanged; the halves' rows
 /// and columns are integrated anew (one flux per unordered pair, reciprocity for the other
 /// direction, as [`exact_2d::form_factors`] does).
-fn split_form_factors(scene: &FlatScene, old: &[f64], i: usize) -> Result<Vec<f64>> {
+fn split_form_factors(scene: &Scene2, old: &[f64], i: usize) -> Result<Vec<f64>> {
     let n = scene.n_patches();
     let old_n = n - 1;
     let old_index = |j: usize| if j < i { j } else { j - 1 };
@@ -400,13 +400,13 @@ fn split_form_factors(scene: &FlatScene, old: &[f64], i: usize) -> Result<Vec<f6
 mod tests {
     use super::*;
 
-    fn room() -> FlatScene {
-        FlatScene::refinement_scene_one().unwrap()
+    fn room() -> Scene2 {
+        Scene2::refinement_scene_one().unwrap()
     }
 
     #[test]
     fn incremental_form_factors_match_a_full_recomputation() {
-        let mut r = FlatRefiner::new(room(), FlatOracle::DiscretisationError, 20_000, 3).unwrap();
+        let mut r = Refiner2::new(room(), OracleChoice2::DiscretisationError, 20_000, 3).unwrap();
         for _ in 0..6 {
             r.step().unwrap();
         }
@@ -420,11 +420,11 @@ mod tests {
 
     #[test]
     fn regular_oracle_gives_the_regular_mesh_at_doublings() {
-        let start = FlatScene::regular_polygon(3, 2).unwrap();
-        let mut r = FlatRefiner::new(start, FlatOracle::Regular, 10_000, 1).unwrap();
+        let start = Scene2::regular_polygon(3, 2).unwrap();
+        let mut r = Refiner2::new(start, OracleChoice2::Regular, 10_000, 1).unwrap();
         let last = r.run_until(24, None).unwrap();
         assert_eq!(last.n_patches, 24);
-        let regular = FlatScene::regular_polygon(3, 8).unwrap();
+        let regular = Scene2::regular_polygon(3, 8).unwrap();
         let ff = exact_2d::form_factors(&regular).unwrap();
         let i_s = ff.channel().unwrap().i_s();
         assert!((last.i_s - i_s).abs() < 1e-12, "{} vs {i_s}", last.i_s);
@@ -432,9 +432,9 @@ mod tests {
 
     #[test]
     fn every_step_gains_information_and_is_deterministic() {
-        for oracle in [FlatOracle::DiscretisationError, FlatOracle::Power] {
-            let mut a = FlatRefiner::new(room(), oracle, 20_000, 9).unwrap();
-            let mut b = FlatRefiner::new(room(), oracle, 20_000, 9).unwrap();
+        for oracle in [OracleChoice2::DiscretisationError, OracleChoice2::Power] {
+            let mut a = Refiner2::new(room(), oracle, 20_000, 9).unwrap();
+            let mut b = Refiner2::new(room(), oracle, 20_000, 9).unwrap();
             let mut prev = a.report();
             for _ in 0..10 {
                 let ra = a.step().unwrap();
@@ -447,11 +447,11 @@ mod tests {
 
     #[test]
     fn the_oracles_pick_their_maxima() {
-        let r = FlatRefiner::new(room(), FlatOracle::DiscretisationError, 20_000, 2).unwrap();
+        let r = Refiner2::new(room(), OracleChoice2::DiscretisationError, 20_000, 2).unwrap();
         let errors = r.patch_errors();
         let best = errors.iter().cloned().fold(f64::MIN, f64::max);
         assert_eq!(errors[r.choose()], best);
-        let p = FlatRefiner::new(room(), FlatOracle::Power, 20_000, 2).unwrap();
+        let p = Refiner2::new(room(), OracleChoice2::Power, 20_000, 2).unwrap();
         let best = p
             .patch_information()
             .iter()
@@ -462,8 +462,8 @@ mod tests {
 
     #[test]
     fn bad_budgets_are_errors() {
-        assert!(FlatRefiner::new(room(), FlatOracle::Power, 0, 1).is_err());
-        let mut r = FlatRefiner::new(room(), FlatOracle::Power, 1000, 1).unwrap();
+        assert!(Refiner2::new(room(), OracleChoice2::Power, 0, 1).is_err());
+        let mut r = Refiner2::new(room(), OracleChoice2::Power, 1000, 1).unwrap();
         assert!(r.run_until(30, Some(f64::NAN)).is_err());
         assert!(r.run_until(MAX_REFINED_PATCHES + 1, Some(0.5)).is_ok());
     }

@@ -14,8 +14,8 @@ use alloc::vec::Vec;
 
 use crate::continuous::ContinuousEstimate;
 use crate::error::{ErrorKind, Result};
-use crate::formfactor::estimate_2d::{FlatTracer, LineMethod, LineTally, LineTracer};
-use crate::scene::FlatScene;
+use crate::formfactor::estimate_2d::{LineMethod, LineTally, LineTracer, Tracer2};
+use crate::scene::Scene2;
 
 /// Upper bound on the number of cells of a profile's fine scene (65,536).
 pub const MAX_PROFILE_CELLS: u64 = 1 << 16;
@@ -47,7 +47,7 @@ pub fn cells_per_patch(n_patches: usize) -> u64 {
 }
 
 /// The parameter range `[t0, t1]` of patch `i` along its surface, and the surface.
-fn patch_range(scene: &FlatScene, i: usize) -> Option<(usize, f64, f64)> {
+fn patch_range(scene: &Scene2, i: usize) -> Option<(usize, f64, f64)> {
     let patch = scene.patches().get(i)?;
     let surface = scene.surfaces().get(patch.surface)?;
     let local = i.checked_sub(surface.patches.start)?;
@@ -64,8 +64,8 @@ fn patch_range(scene: &FlatScene, i: usize) -> Option<(usize, f64, f64)> {
 /// # Errors
 /// The builder's errors, e.g. [`ErrorKind::TooManyPatches`] or
 /// [`ErrorKind::ZeroLengthSegment`] for cells too short to have a length.
-pub fn fine_scene(scene: &FlatScene, cells: u64) -> Result<FlatScene> {
-    let mut b = FlatScene::builder();
+pub fn fine_scene(scene: &Scene2, cells: u64) -> Result<Scene2> {
+    let mut b = Scene2::builder();
     let cells = cells.max(1);
     let mut cuts = Vec::new();
     for s in scene.surfaces() {
@@ -93,10 +93,10 @@ impl InformationProfile {
     ///
     /// # Errors
     /// [`ErrorKind::NoLines`] for `lines == 0`, and the errors of [`fine_scene`] and
-    /// [`FlatTracer::new`].
-    pub fn trace(scene: &FlatScene, lines: u64, seed: u64) -> Result<Self> {
+    /// [`Tracer2::new`].
+    pub fn trace(scene: &Scene2, lines: u64, seed: u64) -> Result<Self> {
         let fine = fine_scene(scene, cells_per_patch(scene.n_patches()))?;
-        let tracer = FlatTracer::new(&fine)?;
+        let tracer = Tracer2::new(&fine)?;
         let tally = tracer.run(LineMethod::Global, seed, lines)?;
         Self::from_tally(&fine, &tally)
     }
@@ -107,7 +107,7 @@ impl InformationProfile {
     /// # Errors
     /// [`ErrorKind::NoLines`] for an empty tally; [`ErrorKind::DimensionMismatch`] if the
     /// tally is not over `fine`'s patches.
-    pub fn from_tally(fine: &FlatScene, tally: &LineTally) -> Result<Self> {
+    pub fn from_tally(fine: &Scene2, tally: &LineTally) -> Result<Self> {
         if tally.lines() == 0 {
             return Err(ErrorKind::NoLines.into());
         }
@@ -175,7 +175,7 @@ impl InformationProfile {
     /// `I_i^c` of patch `i` of `scene`, a mesh of the profiled scene's surfaces (refined
     /// or not). 0 for a bad index.
     #[must_use]
-    pub fn patch_information(&self, scene: &FlatScene, i: usize) -> f64 {
+    pub fn patch_information(&self, scene: &Scene2, i: usize) -> f64 {
         match patch_range(scene, i) {
             Some((s, t0, t1)) => self.cumulative(s, t1) - self.cumulative(s, t0),
             None => 0.0,
@@ -187,7 +187,7 @@ impl InformationProfile {
     /// # Errors
     /// [`ErrorKind::DimensionMismatch`] if `scene` has a different number of surfaces;
     /// [`ErrorKind::BufferTooSmall`] if `out` is shorter than the patch count.
-    pub fn patch_information_into(&self, scene: &FlatScene, out: &mut [f64]) -> Result<()> {
+    pub fn patch_information_into(&self, scene: &Scene2, out: &mut [f64]) -> Result<()> {
         self.check_scene(scene)?;
         let n = scene.n_patches();
         let found = out.len();
@@ -204,7 +204,7 @@ impl InformationProfile {
     ///
     /// # Errors
     /// [`ErrorKind::DimensionMismatch`] if the surface counts differ.
-    pub fn check_scene(&self, scene: &FlatScene) -> Result<()> {
+    pub fn check_scene(&self, scene: &Scene2) -> Result<()> {
         if scene.surfaces().len() != self.n_surfaces() {
             return Err(ErrorKind::DimensionMismatch {
                 expected: self.n_surfaces(),
@@ -236,10 +236,10 @@ mod tests {
         // A square, 2 patches a side; profile over 4 cells a patch. Halve patch 0 twice:
         // the quarter patches lie on cell boundaries, so their I_i^c equals a tally of the
         // same lines over the refined mesh itself.
-        let scene = FlatScene::regular_polygon(4, 2).unwrap();
+        let scene = Scene2::regular_polygon(4, 2).unwrap();
         let fine = fine_scene(&scene, 4).unwrap();
         assert_eq!(fine.n_patches(), 32);
-        let tally = FlatTracer::new(&fine)
+        let tally = Tracer2::new(&fine)
             .unwrap()
             .run(LineMethod::Global, 5, 20_000)
             .unwrap();
@@ -249,7 +249,7 @@ mod tests {
             .unwrap()
             .split_patch(0, 0.5)
             .unwrap();
-        let own = FlatTracer::new(&refined)
+        let own = Tracer2::new(&refined)
             .unwrap()
             .run(LineMethod::Global, 5, 20_000)
             .unwrap()

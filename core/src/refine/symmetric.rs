@@ -13,7 +13,7 @@ use crate::error::{ErrorKind, Result};
 use crate::formfactor::exact_2d;
 use crate::geom::DVec2;
 use crate::math;
-use crate::scene::FlatScene;
+use crate::scene::Scene2;
 
 /// The cuts of one side from its half-side cuts: `c_1, …, c_k, ½, 1 − c_k, …, 1 − c_1`.
 #[must_use]
@@ -24,12 +24,12 @@ pub fn mirrored(half_cuts: &[f64]) -> Vec<f64> {
     cuts
 }
 
-/// The regular `sides`-gon of [`FlatScene::regular_polygon`] (inscribed in the unit circle,
+/// The regular `sides`-gon of [`Scene2::regular_polygon`] (inscribed in the unit circle,
 /// facing inwards) with every side cut at [`mirrored`]`(half_cuts)`.
 ///
 /// # Errors
 /// [`ErrorKind::BadCuts`] unless `0 < c_1 < … < c_k < ½`; the polygon's errors.
-pub fn polygon_with_mirrored_cuts(sides: usize, half_cuts: &[f64]) -> Result<FlatScene> {
+pub fn polygon_with_mirrored_cuts(sides: usize, half_cuts: &[f64]) -> Result<Scene2> {
     if !(3..=100_000).contains(&sides) {
         return Err(ErrorKind::PolygonVertexCount {
             given: sides as u64,
@@ -50,7 +50,7 @@ pub fn polygon_with_mirrored_cuts(sides: usize, half_cuts: &[f64]) -> Result<Fla
         let angle = start + step * (k % sides) as f64;
         DVec2::new(math::cos(angle), math::sin(angle))
     };
-    let mut b = FlatScene::builder();
+    let mut b = Scene2::builder();
     for k in 0..sides {
         b.segment_with_cuts(vertex(k), vertex(k + 1), &cuts)?;
     }
@@ -128,8 +128,8 @@ mod tests {
     #[test]
     fn regular_cuts_give_the_regular_polygon() {
         let cut = polygon_with_mirrored_cuts(3, &[1.0 / 6.0, 1.0 / 3.0]).unwrap();
-        let regular = FlatScene::regular_polygon(3, 6).unwrap();
-        let i = |s: &FlatScene| exact_2d::form_factors(s).unwrap().channel().unwrap().i_s();
+        let regular = Scene2::regular_polygon(3, 6).unwrap();
+        let i = |s: &Scene2| exact_2d::form_factors(s).unwrap().channel().unwrap().i_s();
         assert!((i(&cut) - i(&regular)).abs() < 1e-12);
         assert!(polygon_with_mirrored_cuts(3, &[0.3, 0.2]).is_err());
         assert!(polygon_with_mirrored_cuts(3, &[0.5]).is_err());

@@ -1,5 +1,5 @@
 //! The catalogue of the thesis' flatland scenes: every scene of §3.3, §4.5 and §6.5 that
-//! the thesis draws, as a preset constructor on [`FlatScene`], plus a by-name index.
+//! the thesis draws, as a preset constructor on [`Scene2`], plus a by-name index.
 //!
 //! The thesis' figures were drawings whose coordinates are lost. Each constructor documents
 //! the geometry chosen here to reproduce its figure faithfully — same topology, same trend,
@@ -23,7 +23,7 @@ pub use objects::{
 
 use crate::error::{ErrorKind, Result, token};
 use crate::geom::{DVec2, distance, signed_area};
-use crate::scene::{FlatScene, FlatSceneBuilder, MAX_PATCHES_PER_SURFACE};
+use crate::scene::{MAX_PATCHES_PER_SURFACE, Scene2, Scene2Builder};
 
 /// One named scene of the catalogue.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -389,25 +389,25 @@ static CATALOGUE: &[CatalogueEntry] = &[
 ];
 
 /// Every scene of the catalogue, by name, in thesis order. Names of the form `rect-<k>`
-/// other than those listed are accepted too (any `k` [`FlatScene::rectangle_aspect`]
+/// other than those listed are accepted too (any `k` [`Scene2::rectangle_aspect`]
 /// accepts).
 ///
 /// The families, each constructor documenting its geometry:
 ///
 /// | family | constructor | steps | thesis |
 /// |---|---|---|---|
-/// | 24-gon → 12-pointed stars | [`FlatScene::star_sequence`] | 0–3 | Fig. 4.11 |
-/// | Von Koch snowflake | [`FlatScene::von_koch`] | 0–4 | Fig. 4.12 |
-/// | equilateral → obtuse triangle | [`FlatScene::triangle_sequence`] | 0–3 | Fig. 4.13 |
-/// | square → L-shaped rooms | [`FlatScene::l_room_sequence`] | 0–3 | Fig. 4.14 |
-/// | three growing objects | [`FlatScene::three_objects`] | 0–5 | Fig. 4.15 |
-/// | 16 squares expanding | [`FlatScene::sixteen_squares`] | 0–8 | Figs. 4.16–4.17 |
-/// | growing pentagram | [`FlatScene::pentagonal_star`] (+ `_subscene`) | 0–8 | Fig. 4.18, Table 4.12 |
-/// | rotating square | [`FlatScene::rotating_square`] (+ `_subscene`) | 0–8 | Fig. 4.19, Table 4.12 |
-/// | square into a corner | [`FlatScene::square_to_corner`] | 0–8 | Fig. 4.20 |
-/// | rectangle `1 × k` | [`FlatScene::rectangle_aspect`] | `k > 0` | Fig. 4.22 |
-/// | 64 squares | [`FlatScene::sixty_four_squares`] | a–c | Fig. 3.12, Tables 3.6, 3.9 |
-/// | refinement scenes I, II | [`FlatScene::refinement_scene_one`], [`FlatScene::refinement_scene_two`] | — | Figs. 6.15–6.18, Table 6.2 |
+/// | 24-gon → 12-pointed stars | [`Scene2::star_sequence`] | 0–3 | Fig. 4.11 |
+/// | Von Koch snowflake | [`Scene2::von_koch`] | 0–4 | Fig. 4.12 |
+/// | equilateral → obtuse triangle | [`Scene2::triangle_sequence`] | 0–3 | Fig. 4.13 |
+/// | square → L-shaped rooms | [`Scene2::l_room_sequence`] | 0–3 | Fig. 4.14 |
+/// | three growing objects | [`Scene2::three_objects`] | 0–5 | Fig. 4.15 |
+/// | 16 squares expanding | [`Scene2::sixteen_squares`] | 0–8 | Figs. 4.16–4.17 |
+/// | growing pentagram | [`Scene2::pentagonal_star`] (+ `_subscene`) | 0–8 | Fig. 4.18, Table 4.12 |
+/// | rotating square | [`Scene2::rotating_square`] (+ `_subscene`) | 0–8 | Fig. 4.19, Table 4.12 |
+/// | square into a corner | [`Scene2::square_to_corner`] | 0–8 | Fig. 4.20 |
+/// | rectangle `1 × k` | [`Scene2::rectangle_aspect`] | `k > 0` | Fig. 4.22 |
+/// | 64 squares | [`Scene2::sixty_four_squares`] | a–c | Fig. 3.12, Tables 3.6, 3.9 |
+/// | refinement scenes I, II | [`Scene2::refinement_scene_one`], [`Scene2::refinement_scene_two`] | — | Figs. 6.15–6.18, Table 6.2 |
 ///
 /// `per_side` is the number of patches on one side of the enclosure; other sides get a
 /// proportional number (at least one) unless the constructor says otherwise.
@@ -424,34 +424,34 @@ pub fn catalogue() -> &'static [CatalogueEntry] {
 /// # Errors
 /// [`ErrorKind::UnknownPreset`] for a name not in [`catalogue`] (nor `rect-<k>`), and the
 /// errors of the constructor (e.g. for `per_side = 0`).
-pub fn catalogue_scene(name: &str, per_side: u64) -> Result<FlatScene> {
+pub fn catalogue_scene(name: &str, per_side: u64) -> Result<Scene2> {
     let unknown = || ErrorKind::UnknownPreset(token(name)).into();
     let step = |prefix: &str| -> Option<usize> { name.strip_prefix(prefix)?.parse().ok() };
     match name {
-        "pentagonal-star-subscene" => return FlatScene::pentagonal_star_subscene(per_side),
-        "rotating-square-subscene" => return FlatScene::rotating_square_subscene(per_side),
-        "64-squares-a" => return FlatScene::sixty_four_squares(0),
-        "64-squares-b" => return FlatScene::sixty_four_squares(1),
-        "64-squares-c" => return FlatScene::sixty_four_squares(2),
-        "refinement-1" => return FlatScene::refinement_scene_one(),
-        "refinement-2" => return FlatScene::refinement_scene_two(),
+        "pentagonal-star-subscene" => return Scene2::pentagonal_star_subscene(per_side),
+        "rotating-square-subscene" => return Scene2::rotating_square_subscene(per_side),
+        "64-squares-a" => return Scene2::sixty_four_squares(0),
+        "64-squares-b" => return Scene2::sixty_four_squares(1),
+        "64-squares-c" => return Scene2::sixty_four_squares(2),
+        "refinement-1" => return Scene2::refinement_scene_one(),
+        "refinement-2" => return Scene2::refinement_scene_two(),
         _ => {}
     }
     if let Some(k) = name.strip_prefix("rect-") {
         let k: f64 = k.parse().map_err(|_| unknown())?;
-        return FlatScene::rectangle_aspect(k, per_side);
+        return Scene2::rectangle_aspect(k, per_side);
     }
-    type Family = fn(usize, u64) -> Result<FlatScene>;
+    type Family = fn(usize, u64) -> Result<Scene2>;
     let families: [(&str, Family); 9] = [
-        ("star-", FlatScene::star_sequence),
-        ("koch-", FlatScene::von_koch),
-        ("triangle-", FlatScene::triangle_sequence),
-        ("l-room-", FlatScene::l_room_sequence),
-        ("three-objects-", FlatScene::three_objects),
-        ("16-squares-", FlatScene::sixteen_squares),
-        ("pentagonal-star-", FlatScene::pentagonal_star),
-        ("rotating-square-", FlatScene::rotating_square),
-        ("square-to-corner-", FlatScene::square_to_corner),
+        ("star-", Scene2::star_sequence),
+        ("koch-", Scene2::von_koch),
+        ("triangle-", Scene2::triangle_sequence),
+        ("l-room-", Scene2::l_room_sequence),
+        ("three-objects-", Scene2::three_objects),
+        ("16-squares-", Scene2::sixteen_squares),
+        ("pentagonal-star-", Scene2::pentagonal_star),
+        ("rotating-square-", Scene2::rotating_square),
+        ("square-to-corner-", Scene2::square_to_corner),
     ];
     for (prefix, build) in families {
         if let Some(k) = step(prefix) {
@@ -503,7 +503,7 @@ fn proportional(length: f64, reference: f64, per_side: u64) -> u64 {
 /// Adds the closed polygon through `vertices`, oriented to face inwards (counter-clockwise)
 /// if `inwards`, outwards (clockwise) otherwise, each side cut into `patches(length)`.
 fn add_polygon(
-    b: &mut FlatSceneBuilder,
+    b: &mut Scene2Builder,
     vertices: &[DVec2],
     inwards: bool,
     patches: impl Fn(f64) -> u64,

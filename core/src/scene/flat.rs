@@ -16,19 +16,19 @@ pub const MAX_PATCHES: usize = 4_000_000;
 
 /// A surface: one segment of the scene as drawn, the unit of occlusion.
 #[derive(Clone, Debug, PartialEq)]
-pub struct FlatSurface {
+pub struct Surface2 {
     /// The segment, facing its left side.
     pub segment: Segment,
-    /// Index into [`FlatScene::materials`].
+    /// Index into [`Scene2::materials`].
     pub material: usize,
     /// Interior cut positions, strictly increasing in `(0, 1)`, as parameters along the
     /// segment; `k` cuts make `k + 1` patches.
     pub cuts: Vec<f64>,
-    /// The indices of this surface's patches in [`FlatScene::patches`].
+    /// The indices of this surface's patches in [`Scene2::patches`].
     pub patches: Range<usize>,
 }
 
-impl FlatSurface {
+impl Surface2 {
     /// Whether the cuts are the `n − 1` equal cuts `k/n` (to rounding), so the surface is
     /// "cut into n equal patches".
     #[must_use]
@@ -43,12 +43,12 @@ impl FlatSurface {
 
 /// A patch: a piece of a surface, one state of the scene's Markov chain.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FlatPatch {
+pub struct Patch2 {
     /// The patch's segment (same direction and facing as its surface).
     pub segment: Segment,
     /// Index of the surface it was cut from.
     pub surface: usize,
-    /// Index into [`FlatScene::materials`].
+    /// Index into [`Scene2::materials`].
     pub material: usize,
     /// Length `L_i`.
     pub length: f64,
@@ -56,41 +56,41 @@ pub struct FlatPatch {
 
 /// A flatland scene (thesis §3.3): surfaces, their patches, and materials.
 ///
-/// Built with [`FlatScene::builder`], the presets ([`FlatScene::regular_polygon`], …) or the
+/// Built with [`Scene2::builder`], the presets ([`Scene2::regular_polygon`], …) or the
 /// `.flat` parser ([`crate::io::parse_flat`]); every constructor validates, so a
-/// `FlatScene` always has at least one patch, finite coordinates within
+/// `Scene2` always has at least one patch, finite coordinates within
 /// [`MAX_COORDINATE`], and patches of positive length.
 ///
 /// Coordinates, lengths and bounds are **stored** ones: the given ones moved and scaled
-/// exactly into the scene's [`Frame`] ([`FlatScene::frame`]; the identity for a scene of
+/// exactly into the scene's [`Frame`] ([`Scene2::frame`]; the identity for a scene of
 /// ordinary size near the origin), so that no computation depends on the units or the
 /// position it was given in. [`Frame::to_world_2d`] gives back the given coordinates bit
 /// for bit.
 #[derive(Clone, Debug, PartialEq)]
-pub struct FlatScene {
-    surfaces: Vec<FlatSurface>,
-    patches: Vec<FlatPatch>,
+pub struct Scene2 {
+    surfaces: Vec<Surface2>,
+    patches: Vec<Patch2>,
     materials: Vec<Material>,
     total_length: f64,
     frame: Frame,
 }
 
-impl FlatScene {
+impl Scene2 {
     /// A builder for a scene.
     #[must_use]
-    pub fn builder() -> FlatSceneBuilder {
-        FlatSceneBuilder::default()
+    pub fn builder() -> Scene2Builder {
+        Scene2Builder::default()
     }
 
     /// The surfaces (occluders).
     #[must_use]
-    pub fn surfaces(&self) -> &[FlatSurface] {
+    pub fn surfaces(&self) -> &[Surface2] {
         &self.surfaces
     }
 
     /// The patches (states).
     #[must_use]
-    pub fn patches(&self) -> &[FlatPatch] {
+    pub fn patches(&self) -> &[Patch2] {
         &self.patches
     }
 
@@ -164,8 +164,8 @@ impl FlatScene {
     /// # Errors
     /// [`ErrorKind::PatchIndex`] for a bad `i`, [`ErrorKind::BadCuts`] if `t` is not strictly
     /// inside `(0, 1)` or the new pieces would have zero length, and the cap errors of
-    /// [`FlatSceneBuilder::build`].
-    pub fn split_patch(&self, i: usize, t: f64) -> Result<FlatScene> {
+    /// [`Scene2Builder::build`].
+    pub fn split_patch(&self, i: usize, t: f64) -> Result<Scene2> {
         let patch = self.patches.get(i).ok_or(ErrorKind::PatchIndex {
             index: i,
             len: self.patches.len(),
@@ -193,16 +193,16 @@ impl FlatScene {
     }
 }
 
-/// Builds a [`FlatScene`] item by item, validating each.
+/// Builds a [`Scene2`] item by item, validating each.
 #[derive(Clone, Debug, Default)]
-pub struct FlatSceneBuilder {
+pub struct Scene2Builder {
     surfaces: Vec<(Segment, usize, Vec<f64>)>,
     materials: Vec<Material>,
     current: Option<usize>,
     patch_count: u64,
 }
 
-impl FlatSceneBuilder {
+impl Scene2Builder {
     /// Sets the material of the items added after this call (default: [`Material::BLACK`]).
     pub fn material(&mut self, m: Material) -> &mut Self {
         let idx = match self.materials.iter().position(|x| *x == m) {
@@ -255,7 +255,7 @@ impl FlatSceneBuilder {
     /// `(0, 1)`), making `cuts.len() + 1` patches.
     ///
     /// # Errors
-    /// As [`FlatSceneBuilder::segment`], plus [`ErrorKind::BadCuts`].
+    /// As [`Scene2Builder::segment`], plus [`ErrorKind::BadCuts`].
     pub fn segment_with_cuts(&mut self, a: DVec2, b: DVec2, cuts: &[f64]) -> Result<&mut Self> {
         let n = cuts.len() as u64 + 1;
         if n > MAX_PATCHES_PER_SURFACE {
@@ -280,7 +280,7 @@ impl FlatSceneBuilder {
     ///
     /// # Errors
     /// [`ErrorKind::PolygonVertexCount`] for fewer than 3 vertices, and the errors of
-    /// [`FlatSceneBuilder::segment`] for each side.
+    /// [`Scene2Builder::segment`] for each side.
     pub fn polygon(&mut self, vertices: &[DVec2], per_side: u64) -> Result<&mut Self> {
         if vertices.len() < 3 {
             return Err(ErrorKind::PolygonVertexCount {
@@ -345,7 +345,7 @@ impl FlatSceneBuilder {
     /// patch is too short to have a positive `f64` length; [`ErrorKind::CoincidentSurfaces`]
     /// if two segments lie on one line, face the same way and overlap
     /// ([`super::coincident`]).
-    pub fn build(&self) -> Result<FlatScene> {
+    pub fn build(&self) -> Result<Scene2> {
         let mut materials = self.materials.clone();
         if materials.is_empty() {
             materials.push(Material::BLACK);
@@ -389,7 +389,7 @@ fn assemble(
     surfaces_in: Vec<(Segment, usize, Vec<f64>)>,
     materials: Vec<Material>,
     frame: Frame,
-) -> Result<FlatScene> {
+) -> Result<Scene2> {
     if surfaces_in.is_empty() {
         return Err(ErrorKind::EmptyScene.into());
     }
@@ -413,7 +413,7 @@ fn assemble(
                 return Err(Error::new(ErrorKind::ZeroLengthSegment));
             }
             total.add(length);
-            patches.push(FlatPatch {
+            patches.push(Patch2 {
                 segment: piece,
                 surface: k,
                 material,
@@ -421,7 +421,7 @@ fn assemble(
             });
             t0 = t1;
         }
-        surfaces.push(FlatSurface {
+        surfaces.push(Surface2 {
             segment,
             material,
             cuts,
@@ -432,7 +432,7 @@ fn assemble(
     if !total_length.is_finite() {
         return Err(ErrorKind::CoordinateRange.into());
     }
-    Ok(FlatScene {
+    Ok(Scene2 {
         surfaces,
         patches,
         materials,
@@ -447,7 +447,7 @@ mod tests {
 
     #[test]
     fn segment_cut_into_equal_patches() {
-        let mut b = FlatScene::builder();
+        let mut b = Scene2::builder();
         b.segment(DVec2::ZERO, DVec2::new(3.0, 0.0), 3).unwrap();
         let s = b.build().unwrap();
         assert_eq!(s.n_patches(), 3);
@@ -460,7 +460,7 @@ mod tests {
 
     #[test]
     fn split_patch_inserts_a_cut() {
-        let mut b = FlatScene::builder();
+        let mut b = Scene2::builder();
         b.segment(DVec2::ZERO, DVec2::new(2.0, 0.0), 2).unwrap();
         let s = b.build().unwrap().split_patch(1, 0.25).unwrap();
         assert_eq!(s.n_patches(), 3);
@@ -471,8 +471,8 @@ mod tests {
 
     #[test]
     fn rejects_bad_items() {
-        let mut b = FlatScene::builder();
-        let e = |r: Result<&mut FlatSceneBuilder>| r.map(|_| ()).unwrap_err().kind().clone();
+        let mut b = Scene2::builder();
+        let e = |r: Result<&mut Scene2Builder>| r.map(|_| ()).unwrap_err().kind().clone();
         assert_eq!(
             e(b.segment(DVec2::ZERO, DVec2::ZERO, 1)),
             ErrorKind::ZeroLengthSegment

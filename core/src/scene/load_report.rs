@@ -1,6 +1,6 @@
 //! What a loader did to a file to make a scene of it: counts and located warnings.
 //!
-//! Real files (OBJ as exporters write it, glTF, PLY) hold things a [`Scene`](crate::scene::Scene)
+//! Real files (OBJ as exporters write it, glTF, PLY) hold things a [`Scene3`](crate::scene::Scene3)
 //! cannot: concave or slightly non-planar polygons, duplicated faces, statements and material
 //! parameters sceneinfo does not use. The loaders repair or skip what a renderer would draw
 //! anyway and say so here, instead of refusing the file. Warnings of one kind are gathered
@@ -92,7 +92,7 @@ pub enum LoadWarningKind {
     RepeatedVertices,
     /// A convex face off its plane by more than the strict tolerance but within the drawn
     /// one, projected onto its Newell plane
-    /// ([`SceneBuilder::face_as_drawn`](crate::scene::SceneBuilder::face_as_drawn)).
+    /// ([`Scene3Builder::face_as_drawn`](crate::scene::Scene3Builder::face_as_drawn)).
     FaceFlattened,
     /// A concave, non-planar or partly degenerate face cut into triangles, each its own face.
     FaceTriangulated,

@@ -5,9 +5,9 @@ use alloc::vec::Vec;
 use crate::error::{ErrorKind, Result};
 use crate::geom::{DVec2, signed_area};
 use crate::math;
-use crate::scene::FlatScene;
+use crate::scene::Scene2;
 
-impl FlatScene {
+impl Scene2 {
     /// The regular polygon with `sides` sides inscribed in the unit circle, counter-clockwise
     /// (facing inwards), one side horizontal at the bottom, each side cut into `per_side`
     /// equal patches: the scenes of Tables 3.4, 3.5 and 4.10.
@@ -37,7 +37,7 @@ impl FlatScene {
     /// inwards, each side cut into `per_side` equal patches.
     ///
     /// # Errors
-    /// As [`FlatScene::polygon`].
+    /// As [`Scene2::polygon`].
     pub fn rectangle(width: f64, height: f64, per_side: u64) -> Result<Self> {
         let v = [
             DVec2::ZERO,
@@ -53,7 +53,7 @@ impl FlatScene {
     ///
     /// # Errors
     /// [`ErrorKind::PolygonVertexCount`], and the per-side errors of
-    /// [`crate::scene::FlatSceneBuilder::segment`].
+    /// [`crate::scene::Scene2Builder::segment`].
     pub fn polygon(vertices: &[DVec2], per_side: u64) -> Result<Self> {
         let mut b = Self::builder();
         b.polygon(vertices, per_side)?;
@@ -65,7 +65,7 @@ impl FlatScene {
     /// order their vertices are given in. Each item is `(vertices, per_side)`.
     ///
     /// # Errors
-    /// As [`FlatScene::polygon`] for each polygon.
+    /// As [`Scene2::polygon`] for each polygon.
     pub fn room_with_objects(room: (&[DVec2], u64), objects: &[(&[DVec2], u64)]) -> Result<Self> {
         let mut b = Self::builder();
         let oriented = |v: &[DVec2], ccw: bool| -> Vec<DVec2> {
@@ -89,7 +89,7 @@ mod tests {
 
     #[test]
     fn regular_polygon_is_ccw_and_regular() {
-        let s = FlatScene::regular_polygon(5, 3).unwrap();
+        let s = Scene2::regular_polygon(5, 3).unwrap();
         assert_eq!(s.n_patches(), 15);
         let side = 2.0 * math::sin(core::f64::consts::PI / 5.0);
         for surf in s.surfaces() {
@@ -113,7 +113,7 @@ mod tests {
             DVec2::new(2.0, 2.0),
             DVec2::new(1.0, 2.0),
         ];
-        let s = FlatScene::room_with_objects((&room, 2), &[(&boxv, 1)]).unwrap();
+        let s = Scene2::room_with_objects((&room, 2), &[(&boxv, 1)]).unwrap();
         assert_eq!(s.n_patches(), 12);
         let centre = DVec2::new(1.5, 1.5);
         for surf in &s.surfaces()[4..] {

@@ -1,15 +1,15 @@
-//! The thesis' 3D scenes as preset constructors on [`Scene`], plus a by-name index.
+//! The thesis' 3D scenes as preset constructors on [`Scene3`], plus a by-name index.
 //!
 //! | family | constructor | thesis |
 //! |---|---|---|
-//! | unit cube enclosure, `k × k` patches a face | [`Scene::cube`] | Fig. 3.5, Tables 3.2, 3.8, 4.1, 4.3 |
-//! | platonic solids | [`Scene::platonic`], [`Scene::tetrahedron`], [`Scene::octahedron`], [`Scene::dodecahedron`], [`Scene::icosahedron`] | Table 4.1 |
-//! | tessellated sphere | [`Scene::sphere`] | Table 4.1 |
-//! | tetrahedron meshes | [`Scene::tetrahedron_mesh`] | Fig. 4.3, Tables 4.5, 5.3 |
-//! | Cornell box, blocks on or lifted from the floor | [`Scene::cornell_box`] | Fig. 2.1a, Tables 4.1, 4.6 |
-//! | cube room with `m³` small cubes, random or clustered | [`Scene::cube_room_with_cubes`] | Figs. 3.3, 3.7, 3.8, Tables 3.1, 3.3, 4.4 |
-//! | 64 cubes expanding from the centre to the walls | [`Scene::sixty_four_cubes`] | Figs. 4.5, 4.6, Tables 4.7, 4.8 |
-//! | room with tables and chairs | [`Scene::table_and_chairs_room`] | Fig. 4.2, Table 4.2 |
+//! | unit cube enclosure, `k × k` patches a face | [`Scene3::cube`] | Fig. 3.5, Tables 3.2, 3.8, 4.1, 4.3 |
+//! | platonic solids | [`Scene3::platonic`], [`Scene3::tetrahedron`], [`Scene3::octahedron`], [`Scene3::dodecahedron`], [`Scene3::icosahedron`] | Table 4.1 |
+//! | tessellated sphere | [`Scene3::sphere`] | Table 4.1 |
+//! | tetrahedron meshes | [`Scene3::tetrahedron_mesh`] | Fig. 4.3, Tables 4.5, 5.3 |
+//! | Cornell box, blocks on or lifted from the floor | [`Scene3::cornell_box`] | Fig. 2.1a, Tables 4.1, 4.6 |
+//! | cube room with `m³` small cubes, random or clustered | [`Scene3::cube_room_with_cubes`] | Figs. 3.3, 3.7, 3.8, Tables 3.1, 3.3, 4.4 |
+//! | 64 cubes expanding from the centre to the walls | [`Scene3::sixty_four_cubes`] | Figs. 4.5, 4.6, Tables 4.7, 4.8 |
+//! | room with tables and chairs | [`Scene3::table_and_chairs_room`] | Fig. 4.2, Table 4.2 |
 //!
 //! The thesis' 3D figures are renderings whose coordinates are lost (the Cornell box excepted:
 //! its geometry is published). Each constructor documents the geometry chosen here, and where
@@ -50,7 +50,7 @@ use alloc::vec::Vec;
 
 use crate::error::{ErrorKind, Result, token};
 use crate::geom::{self, DVec3};
-use crate::scene::{MAX_PATCHES_3D, Material, Scene, SceneBuilder, Subdivision};
+use crate::scene::{MAX_PATCHES_3D, Material, Scene3, Scene3Builder, Subdivision};
 
 /// Name of the object holding a preset's enclosure (the room, or the inside of a solid).
 pub const ENCLOSURE: &str = "enclosure";
@@ -324,7 +324,7 @@ static PRESETS_3D: &[Preset3Entry] = &[
 /// Every 3D preset, by name, in thesis order.
 ///
 /// Only `cube`, `cornell`, `cornell-lifted` and `cornell-thesis` (where it is the mesh level
-/// of [`Scene::cornell_box_thesis`]) take the `grid` of [`preset_3d`]; the others
+/// of [`Scene3::cornell_box_thesis`]) take the `grid` of [`preset_3d`]; the others
 /// have the fixed discretisation their constructor documents. The random cube rooms use the
 /// seed [`PRESET_SEED`].
 #[must_use]
@@ -339,17 +339,17 @@ pub fn presets_3d() -> &'static [Preset3Entry] {
 /// # Errors
 /// [`ErrorKind::UnknownPreset`] for a name not in [`presets_3d`], and the errors of the
 /// constructor (e.g. [`ErrorKind::BadSubdivision`] for `grid = 0`).
-pub fn preset_3d(name: &str, grid: u32) -> Result<Scene> {
+pub fn preset_3d(name: &str, grid: u32) -> Result<Scene3> {
     let unknown = || -> crate::Error { ErrorKind::UnknownPreset(token(name)).into() };
     match name {
-        "cube" => return Scene::cube(grid),
-        "tetrahedron" => return Scene::tetrahedron(),
-        "octahedron" => return Scene::octahedron(),
-        "dodecahedron" => return Scene::dodecahedron(),
-        "icosahedron" => return Scene::icosahedron(),
-        "cornell" => return Scene::cornell_box(false, grid),
-        "cornell-lifted" => return Scene::cornell_box(true, grid),
-        "cornell-thesis" => return Scene::cornell_box_thesis(grid),
+        "cube" => return Scene3::cube(grid),
+        "tetrahedron" => return Scene3::tetrahedron(),
+        "octahedron" => return Scene3::octahedron(),
+        "dodecahedron" => return Scene3::dodecahedron(),
+        "icosahedron" => return Scene3::icosahedron(),
+        "cornell" => return Scene3::cornell_box(false, grid),
+        "cornell-lifted" => return Scene3::cornell_box(true, grid),
+        "cornell-thesis" => return Scene3::cornell_box_thesis(grid),
         _ => {}
     }
     if !PRESETS_3D.iter().any(|e| e.name == name) {
@@ -363,7 +363,7 @@ pub fn preset_3d(name: &str, grid: u32) -> Result<Scene> {
             "64" => 4,
             _ => 8,
         };
-        return Scene::cube_room_with_cubes(m, how == "clustered", PRESET_SEED);
+        return Scene3::cube_room_with_cubes(m, how == "clustered", PRESET_SEED);
     }
     if let Some(rest) = name.strip_prefix("64-cubes-") {
         let (step, fine) = match rest.strip_suffix("-fine") {
@@ -371,17 +371,17 @@ pub fn preset_3d(name: &str, grid: u32) -> Result<Scene> {
             None => (rest, false),
         };
         let step: usize = step.parse().map_err(|_| unknown())?;
-        return Scene::sixty_four_cubes(step, fine);
+        return Scene3::sixty_four_cubes(step, fine);
     }
     if let Some(letter) = name.strip_prefix("table-chairs-") {
         let letter = letter.chars().next().ok_or_else(unknown)?;
-        return Scene::table_and_chairs_room(letter);
+        return Scene3::table_and_chairs_room(letter);
     }
     if let Some(level) = name.strip_prefix("sphere-") {
-        return Scene::sphere(level.parse().map_err(|_| unknown())?);
+        return Scene3::sphere(level.parse().map_err(|_| unknown())?);
     }
     if let Some(level) = name.strip_prefix("tetra-mesh-") {
-        return Scene::tetrahedron_mesh(level.parse().map_err(|_| unknown())?);
+        return Scene3::tetrahedron_mesh(level.parse().map_err(|_| unknown())?);
     }
     Err(unknown())
 }
@@ -391,7 +391,7 @@ pub fn preset_3d(name: &str, grid: u32) -> Result<Scene> {
 /// Adds the planar convex polygon through `vertices`, its vertex order reversed if needed so
 /// that its normal points along `facing` (the side its front must see).
 fn add_facing(
-    b: &mut SceneBuilder,
+    b: &mut Scene3Builder,
     vertices: &[DVec3],
     facing: DVec3,
     s: Subdivision,
@@ -456,7 +456,7 @@ fn box_faces(lo: DVec3, hi: DVec3) -> [[DVec3; 4]; 6] {
 }
 
 /// Adds the closed box `[lo, hi]` facing outwards (an object), every face cut by `s`.
-fn add_box_outwards(b: &mut SceneBuilder, lo: DVec3, hi: DVec3, s: Subdivision) -> Result<()> {
+fn add_box_outwards(b: &mut Scene3Builder, lo: DVec3, hi: DVec3, s: Subdivision) -> Result<()> {
     let centre = 0.5 * (lo + hi);
     for f in box_faces(lo, hi) {
         add_facing(b, &f, vertex_mean(&f) - centre, s)?;
@@ -465,7 +465,7 @@ fn add_box_outwards(b: &mut SceneBuilder, lo: DVec3, hi: DVec3, s: Subdivision) 
 }
 
 /// Adds the box `[lo, hi]` facing inwards (a room), every face cut by `s`.
-fn add_box_inwards(b: &mut SceneBuilder, lo: DVec3, hi: DVec3, s: Subdivision) -> Result<()> {
+fn add_box_inwards(b: &mut Scene3Builder, lo: DVec3, hi: DVec3, s: Subdivision) -> Result<()> {
     let centre = 0.5 * (lo + hi);
     for f in box_faces(lo, hi) {
         add_facing(b, &f, centre - vertex_mean(&f), s)?;

@@ -98,13 +98,13 @@ impl Subdivision {
 /// A patch: a planar convex piece of a face, one state of the scene's Markov chain.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Patch3 {
-    /// Index of the patch's first vertex in the scene's points ([`Scene::patch_vertices`]).
+    /// Index of the patch's first vertex in the scene's points ([`Scene3::patch_vertices`]).
     pub first: usize,
     /// Number of vertices (3 or 4 for a subdivided face).
     pub count: usize,
     /// Index of the face it was cut from.
     pub face: usize,
-    /// Index into [`Scene::materials`].
+    /// Index into [`Scene3::materials`].
     pub material: usize,
     /// Unit normal of the front side: the face's normal.
     pub normal: DVec3,
@@ -117,36 +117,36 @@ pub struct Patch3 {
 /// A face: a planar convex polygon as drawn, cut into patches.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Face3 {
-    /// Index of the face's first vertex in the scene's points ([`Scene::face_vertices`]).
+    /// Index of the face's first vertex in the scene's points ([`Scene3::face_vertices`]).
     pub first: usize,
     /// Number of vertices, 3 to [`MAX_FACE_VERTICES`].
     pub count: usize,
-    /// Index into [`Scene::materials`].
+    /// Index into [`Scene3::materials`].
     pub material: usize,
     /// Unit normal of the front side (right-hand rule), by Newell's method.
     pub normal: DVec3,
     /// Area.
     pub area: f64,
-    /// The indices of its patches in [`Scene::patches`].
+    /// The indices of its patches in [`Scene3::patches`].
     pub patches: Range<usize>,
-    /// Index into [`Scene::objects`].
+    /// Index into [`Scene3::objects`].
     pub object: usize,
 }
 
 /// A 3D scene: faces, their patches, materials and object names.
 ///
-/// Built with [`Scene::builder`] or the OBJ parser ([`crate::io::parse_obj`]); every
-/// constructor validates, so a `Scene` always has at least one patch, finite coordinates
+/// Built with [`Scene3::builder`] or the OBJ parser ([`crate::io::parse_obj`]); every
+/// constructor validates, so a `Scene3` always has at least one patch, finite coordinates
 /// within [`MAX_COORDINATE`], planar convex faces of positive area and patches of positive
 /// area. Materials and objects are listed in order of first use, each once.
 ///
 /// Points, normals' positions, areas and bounds are **stored** ones: the given coordinates
-/// moved and scaled exactly into the scene's [`Frame`] ([`Scene::frame`]; the identity for a
+/// moved and scaled exactly into the scene's [`Frame`] ([`Scene3::frame`]; the identity for a
 /// scene of ordinary size near the origin), so no computation depends on the units or the
 /// position the scene was given in. [`Frame::to_world`] gives back the given coordinates
 /// bit for bit.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Scene {
+pub struct Scene3 {
     points: Vec<DVec3>,
     patches: Vec<Patch3>,
     faces: Vec<Face3>,
@@ -156,11 +156,11 @@ pub struct Scene {
     frame: Frame,
 }
 
-impl Scene {
+impl Scene3 {
     /// A builder for a scene.
     #[must_use]
-    pub fn builder() -> SceneBuilder {
-        SceneBuilder::default()
+    pub fn builder() -> Scene3Builder {
+        Scene3Builder::default()
     }
 
     /// The patches (states).
@@ -210,7 +210,7 @@ impl Scene {
     /// The scene built from this one's stored coordinates (a subdivision, a mesh of
     /// leaves), placed in this one's frame.
     #[must_use]
-    pub(crate) fn placed_in(mut self, outer: Frame) -> Scene {
+    pub(crate) fn placed_in(mut self, outer: Frame) -> Scene3 {
         self.frame = outer.then(self.frame);
         self
     }
@@ -285,8 +285,8 @@ impl Scene {
     /// # Errors
     /// [`ErrorKind::BadSubdivision`], [`ErrorKind::TooManyPatches`], and
     /// [`ErrorKind::DegenerateFace`] if a new patch is too small to have a positive area.
-    pub fn subdivided(&self, s: Subdivision) -> Result<Scene> {
-        let mut b = Scene::builder();
+    pub fn subdivided(&self, s: Subdivision) -> Result<Scene3> {
+        let mut b = Scene3::builder();
         for (k, f) in self.faces.iter().enumerate() {
             b.material(self.materials[f.material]);
             b.object(&self.objects[f.object]);
@@ -296,9 +296,9 @@ impl Scene {
     }
 }
 
-/// Builds a [`Scene`] face by face, validating each and cutting it into patches at once.
+/// Builds a [`Scene3`] face by face, validating each and cutting it into patches at once.
 #[derive(Clone, Debug, Default)]
-pub struct SceneBuilder {
+pub struct Scene3Builder {
     points: Vec<DVec3>,
     patches: Vec<Patch3>,
     faces: Vec<Face3>,
@@ -309,7 +309,7 @@ pub struct SceneBuilder {
     current_material: Option<Material>,
     current_object: Option<String>,
     /// The subdivision each face was cut by (to cut its pieces alike in
-    /// [`SceneBuilder::build_as_drawn`]).
+    /// [`Scene3Builder::build_as_drawn`]).
     subdivisions: Vec<Subdivision>,
     /// Faces are kept scaled by `2^−working_exponent` from the first one on, so a scene
     /// 10⁻²⁰⁰ wide is validated and cut without underflow ([`working_exponent`]); `None`
@@ -317,7 +317,7 @@ pub struct SceneBuilder {
     working_exponent: Option<i32>,
 }
 
-impl SceneBuilder {
+impl Scene3Builder {
     /// Sets the material of the faces added after this call (default:
     /// [`Material::BLACK`]).
     pub fn material(&mut self, m: Material) -> &mut Self {
@@ -476,9 +476,9 @@ impl SceneBuilder {
     /// [`ErrorKind::EmptyScene`] if no face was added; [`ErrorKind::CoincidentSurfaces`]
     /// (face indices) if two faces lie in one plane, face the same way and overlap
     /// ([`super::coincident`]).
-    pub fn build(&self) -> Result<Scene> {
+    pub fn build(&self) -> Result<Scene3> {
         let total_area = self.validate()?;
-        Scene {
+        Scene3 {
             points: self.points.clone(),
             patches: self.patches.clone(),
             faces: self.faces.clone(),
@@ -495,17 +495,17 @@ impl SceneBuilder {
     ///
     /// # Errors
     /// As [`Self::build`].
-    pub fn finish(self) -> Result<Scene> {
+    pub fn finish(self) -> Result<Scene3> {
         self.validate()?;
         self.into_scene()
     }
 
     /// The scene of the faces as they are, checking only the total area (the coincidence
     /// check left to the caller).
-    fn into_scene(self) -> Result<Scene> {
+    fn into_scene(self) -> Result<Scene3> {
         let total_area = self.total_area()?;
         let working = self.working_exponent.unwrap_or(0);
-        Scene {
+        Scene3 {
             points: self.points,
             patches: self.patches,
             faces: self.faces,
@@ -563,10 +563,10 @@ fn check_face_input(vertices: &[DVec3]) -> Result<()> {
     check_coordinates(vertices)
 }
 
-impl Scene {
+impl Scene3 {
     /// The scene of working coordinates `2^working` given units, moved and scaled exactly
     /// into the [`Frame`] of its bounding box (module docs of [`crate::scene::frame`]).
-    fn stored_in_frame(mut self, working: i32) -> Result<Scene> {
+    fn stored_in_frame(mut self, working: i32) -> Result<Scene3> {
         let (lo, hi) = self.bounds();
         let frame = Frame::for_bounds_in_units(lo, hi, working)?;
         if !frame.is_identity() {

@@ -9,7 +9,7 @@ use alloc::vec::Vec;
 use super::raster::{IdRaster, Projection, ViewTotals};
 use super::sphere::ViewSphere;
 use crate::math;
-use crate::scene::Scene;
+use crate::scene::Scene3;
 use crate::{ErrorKind, Result};
 
 /// Default number of viewpoints (the icosphere of level 3, as in Feixas et al. 2009).
@@ -68,7 +68,7 @@ impl Default for ViewpointOptions {
 /// [`ViewpointJob::run`] does it on the calling thread.
 #[derive(Debug)]
 pub struct ViewpointJob<'s> {
-    scene: &'s Scene,
+    scene: &'s Scene3,
     sphere: ViewSphere,
     options: ViewpointOptions,
 }
@@ -80,7 +80,7 @@ impl<'s> ViewpointJob<'s> {
     /// The errors of [`ViewSphere::with_count`] and [`IdRaster::new`];
     /// [`ErrorKind::BadParameter`] for a distance not above 1; [`ErrorKind::TooLarge`] when
     /// `views × patches` exceeds [`MAX_CHANNEL_ENTRIES`].
-    pub fn new(scene: &'s Scene, options: ViewpointOptions) -> Result<Self> {
+    pub fn new(scene: &'s Scene3, options: ViewpointOptions) -> Result<Self> {
         let sphere = ViewSphere::with_count(options.views)?;
         IdRaster::new(options.resolution)?;
         if !(options.distance.is_finite() && options.distance > 1.0 && options.distance <= 1e6) {
@@ -124,7 +124,7 @@ impl<'s> ViewpointJob<'s> {
 
     /// The scene.
     #[must_use]
-    pub fn scene(&self) -> &'s Scene {
+    pub fn scene(&self) -> &'s Scene3 {
         self.scene
     }
 
@@ -743,7 +743,7 @@ pub const MAX_VALENCE: usize = 64;
 /// coordinates; the first [`MAX_VALENCE`] patches at each vertex), ascending, itself
 /// excluded.
 #[must_use]
-pub fn patch_neighbours(scene: &Scene) -> Vec<Vec<u32>> {
+pub fn patch_neighbours(scene: &Scene3) -> Vec<Vec<u32>> {
     let key = |p: crate::geom::DVec3| {
         [
             (p.x + 0.0).to_bits(),

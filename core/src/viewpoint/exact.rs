@@ -2,7 +2,7 @@
 //! projection: the reference the rasteriser is tested against.
 
 use crate::geom::DVec3;
-use crate::scene::Scene;
+use crate::scene::Scene3;
 use crate::{ErrorKind, Result};
 
 /// The visible projected area of every patch of a **closed convex polyhedron** seen along
@@ -13,7 +13,7 @@ use crate::{ErrorKind, Result};
 /// ```
 ///
 /// `n_i^out` is the patch's normal turned to point away from the mean of the scene's
-/// points (so inward-facing enclosures such as [`Scene::platonic`] and outward meshes
+/// points (so inward-facing enclosures such as [`Scene3::platonic`] and outward meshes
 /// give the same answer). From outside, a convex polyhedron's faces that face the viewer
 /// are seen whole and the others not at all; their projections tile the silhouette, so
 /// `Σ_i a_i` is the silhouette's area. For any other scene the formula ignores occlusion
@@ -22,7 +22,11 @@ use crate::{ErrorKind, Result};
 /// # Errors
 /// [`ErrorKind::BufferTooSmall`] if `areas` is shorter than the number of patches;
 /// [`ErrorKind::BadParameter`] for a zero or non-finite `direction`.
-pub fn convex_orthographic_areas(scene: &Scene, direction: DVec3, areas: &mut [f64]) -> Result<()> {
+pub fn convex_orthographic_areas(
+    scene: &Scene3,
+    direction: DVec3,
+    areas: &mut [f64],
+) -> Result<()> {
     let n_p = scene.n_patches();
     let found = areas.len();
     let areas = areas

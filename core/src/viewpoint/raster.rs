@@ -44,7 +44,7 @@ use alloc::vec::Vec;
 
 use crate::geom::DVec3;
 use crate::math;
-use crate::scene::Scene;
+use crate::scene::Scene3;
 use crate::{ErrorKind, Result};
 
 /// Largest image side in pixels (a square image; the sphere projection has six).
@@ -96,7 +96,7 @@ impl Projection {
     /// # Errors
     /// [`ErrorKind::BadParameter`] for a `distance` not finite or not above 1 (the eye
     /// must be outside the bounding sphere), or a zero or non-finite `direction`.
-    pub fn framing(scene: &Scene, direction: DVec3, distance: f64) -> Result<Self> {
+    pub fn framing(scene: &Scene3, direction: DVec3, distance: f64) -> Result<Self> {
         if !(distance.is_finite() && distance > 1.0 && distance <= 1e6) {
             return Err(ErrorKind::BadParameter {
                 name: "distance",
@@ -120,7 +120,7 @@ impl Projection {
 /// The scene's bounding sphere as the crate uses it for views: the centre of the
 /// axis-aligned bounding box and half its diagonal.
 #[must_use]
-pub fn bounding_sphere(scene: &Scene) -> (DVec3, f64) {
+pub fn bounding_sphere(scene: &Scene3) -> (DVec3, f64) {
     let (lo, hi) = scene.bounds();
     let centre = (lo + hi) * 0.5;
     let radius = (hi - lo).length() * 0.5;
@@ -243,7 +243,7 @@ impl IdRaster {
     /// finite or is the scene's centre, or a `half_fov` outside `(0, π/2)`.
     pub fn project(
         &mut self,
-        scene: &Scene,
+        scene: &Scene3,
         projection: &Projection,
         areas: &mut [f64],
     ) -> Result<ViewTotals> {
@@ -376,7 +376,7 @@ impl IdRaster {
     }
 
     /// Draws every patch of `scene` into the id buffer for `cam`.
-    fn draw(&mut self, scene: &Scene, cam: &Camera, radius: f64) {
+    fn draw(&mut self, scene: &Scene3, cam: &Camera, radius: f64) {
         self.depth.fill(f64::INFINITY);
         self.id.fill(NONE);
         let near = NEAR * radius;

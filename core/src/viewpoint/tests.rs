@@ -8,7 +8,7 @@ use proptest::prelude::*;
 
 use super::*;
 use crate::geom::DVec3;
-use crate::scene::{Scene, Subdivision};
+use crate::scene::{Scene3, Subdivision};
 
 /// The faces of the convex hull of `points` (general position), counter-clockwise from
 /// outside: brute force over triples (small point sets only).
@@ -35,8 +35,8 @@ fn hull(points: &[DVec3]) -> Vec<Vec<DVec3>> {
     faces
 }
 
-fn scene_of(faces: &[Vec<DVec3>]) -> Scene {
-    let mut b = Scene::builder();
+fn scene_of(faces: &[Vec<DVec3>]) -> Scene3 {
+    let mut b = Scene3::builder();
     for f in faces {
         b.polygon(f, Subdivision::None).unwrap();
     }
@@ -44,12 +44,12 @@ fn scene_of(faces: &[Vec<DVec3>]) -> Scene {
 }
 
 /// A random convex hull of `n` points on the unit sphere.
-fn random_hull(seed: u64, n: usize) -> Scene {
+fn random_hull(seed: u64, n: usize) -> Scene3 {
     try_random_hull(seed, n).unwrap()
 }
 
 /// [`random_hull`], or `None` if the builder refuses a face (a sliver of the hull).
-fn try_random_hull(seed: u64, n: usize) -> Option<Scene> {
+fn try_random_hull(seed: u64, n: usize) -> Option<Scene3> {
     let mut rng = rand_pcg::Pcg64::new(u128::from(seed), 0x0a02_bdbf_7bb3_c0a7);
     let mut u = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
     let points: Vec<DVec3> = (0..n)
@@ -60,7 +60,7 @@ fn try_random_hull(seed: u64, n: usize) -> Option<Scene> {
             DVec3::new(r * libm::cos(a), r * libm::sin(a), z)
         })
         .collect();
-    let mut b = Scene::builder();
+    let mut b = Scene3::builder();
     for f in hull(&points) {
         b.polygon(&f, Subdivision::None).ok()?;
     }
@@ -69,7 +69,7 @@ fn try_random_hull(seed: u64, n: usize) -> Option<Scene> {
 
 /// `(Σ|raster − exact|, Σ bound)` of an orthographic view of a convex polyhedron, and
 /// asserts each patch within its documented bound.
-fn ortho_error(scene: &Scene, d: DVec3, n: u32) -> (f64, f64) {
+fn ortho_error(scene: &Scene3, d: DVec3, n: u32) -> (f64, f64) {
     let mut raster = IdRaster::new(n).unwrap();
     let mut got = vec![0.0; scene.n_patches()];
     let mut want = vec![0.0; scene.n_patches()];
@@ -112,7 +112,7 @@ fn ortho_error(scene: &Scene, d: DVec3, n: u32) -> (f64, f64) {
 
 #[test]
 fn orthographic_raster_matches_exact_areas_of_convex_polyhedra_and_converges() {
-    let mut scenes: Vec<Scene> = [
+    let mut scenes: Vec<Scene3> = [
         "tetrahedron",
         "cube",
         "octahedron",
@@ -120,9 +120,9 @@ fn orthographic_raster_matches_exact_areas_of_convex_polyhedra_and_converges() {
         "icosahedron",
     ]
     .iter()
-    .map(|n| Scene::platonic(n, Subdivision::None).unwrap())
+    .map(|n| Scene3::platonic(n, Subdivision::None).unwrap())
     .collect();
-    scenes.push(Scene::cube(3).unwrap());
+    scenes.push(Scene3::cube(3).unwrap());
     for seed in 0..4 {
         scenes.push(random_hull(seed, 12 + 4 * seed as usize));
     }
@@ -153,7 +153,7 @@ fn orthographic_raster_matches_exact_areas_of_convex_polyhedra_and_converges() {
 
 #[test]
 fn perspective_and_sphere_windows_add_up() {
-    let scene = Scene::platonic("dodecahedron", Subdivision::None).unwrap();
+    let scene = Scene3::platonic("dodecahedron", Subdivision::None).unwrap();
     let mut raster = IdRaster::new(128).unwrap();
     let mut a = vec![0.0; scene.n_patches()];
     let p = Projection::framing(&scene, DVec3::new(0.2, 1.0, -0.4), 3.0).unwrap();
@@ -187,7 +187,7 @@ fn perspective_and_sphere_windows_add_up() {
 
 #[test]
 fn bad_parameters_are_errors() {
-    let scene = Scene::platonic("cube", Subdivision::None).unwrap();
+    let scene = Scene3::platonic("cube", Subdivision::None).unwrap();
     assert!(IdRaster::new(0).is_err());
     assert!(IdRaster::new(MAX_RESOLUTION + 1).is_err());
     let mut r = IdRaster::new(8).unwrap();
@@ -253,7 +253,7 @@ fn view_spheres_have_the_icosphere_counts_and_neighbours() {
     }
 }
 
-fn channel(scene: &Scene, views: usize, resolution: u32) -> (ViewpointJob<'_>, ViewpointChannel) {
+fn channel(scene: &Scene3, views: usize, resolution: u32) -> (ViewpointJob<'_>, ViewpointChannel) {
     let options = ViewpointOptions {
         views,
         resolution,
@@ -265,7 +265,7 @@ fn channel(scene: &Scene, views: usize, resolution: u32) -> (ViewpointJob<'_>, V
 }
 
 /// A cube of side 2 whose face normals are `d` and two perpendicular axes.
-fn cube_facing(d: DVec3) -> Scene {
+fn cube_facing(d: DVec3) -> Scene3 {
     let e3 = d.normalize();
     let e1 = e3.any_orthonormal_vector();
     let e2 = e3.cross(e1);
@@ -314,7 +314,7 @@ fn a_cube_seen_along_a_face_normal_has_one_visible_face() {
 
 #[test]
 fn a_fine_sphere_looks_the_same_from_everywhere() {
-    let scene = Scene::sphere(4).unwrap();
+    let scene = Scene3::sphere(4).unwrap();
     let (_, c) = channel(&scene, 42, 256);
     let vmi: Vec<f64> = (0..42).map(|v| c.vmi(v)).collect();
     let ve: Vec<f64> = (0..42).map(|v| c.viewpoint_entropy(v)).collect();
@@ -338,7 +338,7 @@ fn symmetric_views_of_platonic_solids_agree() {
     // The axes are viewpoints too (midpoints of the icosahedron's edges (0, ±1, φ)): the
     // cube's face views and the octahedron's vertex views
     for name in ["cube", "octahedron"] {
-        let scene = Scene::platonic(name, Subdivision::None).unwrap();
+        let scene = Scene3::platonic(name, Subdivision::None).unwrap();
         let (job, c) = channel(&scene, 42, 256);
         let axes: Vec<usize> = (0..42)
             .filter(|&v| job.sphere().directions()[v].abs().max_element() == 1.0)
@@ -351,7 +351,7 @@ fn symmetric_views_of_platonic_solids_agree() {
         }
     }
     for name in ["icosahedron", "dodecahedron"] {
-        let scene = Scene::platonic(name, Subdivision::None).unwrap();
+        let scene = Scene3::platonic(name, Subdivision::None).unwrap();
         let (_, c) = channel(&scene, 42, 256);
         let vmi: Vec<f64> = (0..12).map(|v| c.vmi(v)).collect();
         let ve: Vec<f64> = (0..12).map(|v| c.viewpoint_entropy(v)).collect();
@@ -428,7 +428,7 @@ fn channel_inequalities_greedy_selection_and_determinism() {
 
 #[test]
 fn saliency_is_invariant_under_similarities() {
-    let base = Scene::platonic("icosahedron", Subdivision::Triangles(2)).unwrap();
+    let base = Scene3::platonic("icosahedron", Subdivision::Triangles(2)).unwrap();
     let (job, c) = channel(&base, 162, 128);
     let s0 = c.saliency(&patch_neighbours(job.scene()));
     let transformed = |f: &dyn Fn(DVec3) -> DVec3| {
@@ -500,7 +500,7 @@ fn a_flat_scene_seen_edge_on_has_blind_viewpoints() {
 
 #[test]
 fn patch_neighbours_share_vertices() {
-    let scene = Scene::platonic("cube", Subdivision::Grid(2)).unwrap();
+    let scene = Scene3::platonic("cube", Subdivision::Grid(2)).unwrap();
     let nb = patch_neighbours(&scene);
     // A corner square of a 2×2 face meets 3 on its face, and patches of the two other faces
     // at the cube's corner and edges

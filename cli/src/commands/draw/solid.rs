@@ -9,9 +9,9 @@ use std::path::Path;
 use anyhow::{Result, bail};
 use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::estimate_2d::LineMethod;
-use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::exact_3d;
-use sceneinfo::scene::Scene;
+use sceneinfo::scene::Scene3;
 
 use super::{PatchMeasure, Source, patch_colours, patch_values, range};
 use crate::args::{Colour, DrawArgs};
@@ -87,7 +87,7 @@ impl Config {
 
 /// Whether exact form factors can be computed for `scene`: at most [`EXACT_LIMIT`] patches
 /// and no pair that may be occluded.
-fn exact_possible(scene: &Scene) -> bool {
+fn exact_possible(scene: &Scene3) -> bool {
     if scene.n_patches() > EXACT_LIMIT {
         return false;
     }
@@ -145,14 +145,14 @@ pub fn run(args: &DrawArgs) -> Result<()> {
 }
 
 /// Runs the Monte Carlo lines and the core measures the colouring needs.
-fn compute(path: &Path, scene: &Scene, config: &Config) -> Result<Computed> {
+fn compute(path: &Path, scene: &Scene3, config: &Config) -> Result<Computed> {
     let at = |e: sceneinfo::Error| located(path, &e);
     let n = scene.n_patches();
     let mut notes = Vec::new();
     let estimate = match config.lines {
         None => None,
         Some(lines) => {
-            let tracer = SceneTracer::new(scene).map_err(at)?;
+            let tracer = Tracer3::new(scene).map_err(at)?;
             let tally = crate::lines::run(
                 &tracer,
                 LineMethod::Global,
@@ -265,7 +265,7 @@ fn units(per_area: bool) -> &'static str {
 }
 
 /// The coloured mesh and the values' range.
-fn mesh(scene: &Scene, computed: &Computed, config: &Config, name: &str) -> (Ply, (f64, f64)) {
+fn mesh(scene: &Scene3, computed: &Computed, config: &Config, name: &str) -> (Ply, (f64, f64)) {
     let values = &computed.values;
     let (map, scale) = patch_colours(config.colour, values);
     let (lo, hi) = range(values.iter().copied());
@@ -354,7 +354,7 @@ mod tests {
 
     #[test]
     fn the_cube_is_exact_and_every_colouring_writes_a_valid_mesh() {
-        let scene = Scene::cube(2).unwrap();
+        let scene = Scene3::cube(2).unwrap();
         assert!(exact_possible(&scene));
         for colour in [Colour::I, Colour::H, Colour::Ic, Colour::Delta] {
             for per_area in [false, true] {
@@ -388,7 +388,7 @@ mod tests {
 
     #[test]
     fn per_area_values_are_the_shares_divided_by_relative_area() {
-        let scene = Scene::cube(2).unwrap();
+        let scene = Scene3::cube(2).unwrap();
         let run = |per_area| {
             let c = Config::new(&args(Colour::I, None, per_area), || true).unwrap();
             compute(Path::new("t.obj"), &scene, &c).unwrap().values
@@ -403,7 +403,7 @@ mod tests {
     #[test]
     fn an_open_scene_drops_the_background_row() {
         // Two facing unit squares: most lines leave to the background.
-        let mut b = Scene::builder();
+        let mut b = Scene3::builder();
         let sq = |z: f64, up: bool| {
             let mut v = vec![
                 DVec3::new(0.0, 0.0, z),

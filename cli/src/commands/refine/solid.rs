@@ -13,14 +13,14 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use sceneinfo::continuous::relative_discretisation_error;
 use sceneinfo::formfactor::estimate_2d::LineMethod;
-use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::tally::LineTracer;
 use sceneinfo::geom::DVec3;
-use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, MAX_PAIRS, OracleChoice};
+use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, MAX_PAIRS, OracleChoice3};
 use sceneinfo::lines::CHUNK_LINES;
 use sceneinfo::radiosity::display::ToneMap;
 use sceneinfo::report::JsonObject;
-use sceneinfo::scene::Scene;
+use sceneinfo::scene::Scene3;
 
 use crate::args::{Oracle, RefineArgs};
 use crate::lines::LineBudget;
@@ -87,7 +87,7 @@ impl Config {
         }
         if let Some(e) = args.eps {
             // Checked again by the core, with the oracle's own rule for `regular`.
-            OracleChoice::new(oracle, e).map_err(|e| located(&args.file, &e))?;
+            OracleChoice3::new(oracle, e).map_err(|e| located(&args.file, &e))?;
         }
         let target = match args.target {
             Some(0) => bail!("{file}: --target must be at least 1"),
@@ -162,7 +162,7 @@ pub fn run(args: &RefineArgs) -> Result<()> {
     let start = Instant::now();
     let (eps, h) = match config.eps {
         Some(eps) => {
-            let oracle = OracleChoice::new(config.oracle, eps).map_err(at)?;
+            let oracle = OracleChoice3::new(config.oracle, eps).map_err(at)?;
             (
                 eps,
                 Hierarchy::build(&scene, &oracle, &config.options).map_err(refused)?,
@@ -232,7 +232,7 @@ fn measure(h: &Hierarchy, config: &Config, seed: u64, file: &Path) -> Result<Mes
         )
     };
     let leaves = h.leaf_scene().map_err(too_fine)?;
-    let tracer = SceneTracer::new(&leaves).map_err(too_fine)?;
+    let tracer = Tracer3::new(&leaves).map_err(too_fine)?;
     let budget = if config.auto_lines {
         LineBudget::UntilSampled {
             start: config.lines,
@@ -444,7 +444,7 @@ fn mesh_ply(h: &Hierarchy, file: &Path, config: &Config, eps: f64) -> Result<Str
 }
 
 /// Renders the leaves: Gouraud-shaded radiosity, element edges, z-buffer; PNG bytes.
-fn render(h: &Hierarchy, scene: &Scene, args: &RefineArgs) -> Result<Vec<u8>> {
+fn render(h: &Hierarchy, scene: &Scene3, args: &RefineArgs) -> Result<Vec<u8>> {
     let (width, height) = args.size;
     let (lo, hi) = scene.bounds();
     let framing = Camera::framing(lo, hi, args.fov, width, height);

@@ -8,16 +8,16 @@
 //!   `tests/tables/chapter5.rs`): the 4-patch row against the thesis; our regular 16- and
 //!   64-patch meshes where the thesis used irregular 151- and 793-patch ones.
 //! - Tables 5.2/5.5: the Cornell box at the thesis' three regular meshes (121, 481, 1924
-//!   patches: [`Scene::cornell_box_thesis`]).
+//!   patches: [`Scene3::cornell_box_thesis`]).
 
 use anyhow::{Result, anyhow};
-use sceneinfo::formfactor::estimate_2d::FlatTracer;
-use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::formfactor::estimate_2d::Tracer2;
+use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::tally::{LineMethod, LineTracer};
 use sceneinfo::radiosity::continuous::{LitEstimate, estimate_lit};
 use sceneinfo::radiosity::rgb::{patch_materials, rgb_measures, solve_rgb};
 use sceneinfo::radiosity::{SolveOptions, Solver};
-use sceneinfo::scene::{Material, Scene, catalogue_scene};
+use sceneinfo::scene::{Material, Scene3, catalogue_scene};
 use sceneinfo::thesis::{TABLE_4_6, TABLE_5_1, TABLE_5_2, TABLE_5_3, TABLE_5_4, TABLE_5_5};
 
 use super::{Row, Runner, Table, cell};
@@ -76,7 +76,7 @@ fn constant_radiosity(n: usize) -> Result<Vec<Material>> {
 
 fn table_5_1(runner: &Runner) -> Result<Table> {
     let scene = catalogue_scene("64-squares-a", 4).map_err(err)?;
-    let tracer = FlatTracer::new(&scene).map_err(err)?;
+    let tracer = Tracer2::new(&scene).map_err(err)?;
     let est = runner.lit(
         &tracer,
         &constant_radiosity(scene.n_patches())?,
@@ -161,7 +161,7 @@ fn sphere() -> Result<Table> {
 
 /// The tetrahedron of Table 5.3 with our materials (see the tests): light `E = (1, 1, 0)`,
 /// red, green and blue faces.
-fn tetra_materials(scene: &Scene) -> Result<Vec<Material>> {
+fn tetra_materials(scene: &Scene3) -> Result<Vec<Material>> {
     let by_face = [
         Material::new([0.0; 3], [1.0, 1.0, 0.0]).map_err(err)?,
         Material::new([0.8, 0.0, 0.0], [0.0; 3]).map_err(err)?,
@@ -178,8 +178,8 @@ fn tetra_materials(scene: &Scene) -> Result<Vec<Material>> {
 fn tetrahedron(runner: &Runner) -> Result<Table> {
     let mut rows = Vec::new();
     for level in 0..=2 {
-        let scene = Scene::tetrahedron_mesh(level).map_err(err)?;
-        let tracer = SceneTracer::new(&scene).map_err(err)?;
+        let scene = Scene3::tetrahedron_mesh(level).map_err(err)?;
+        let tracer = Tracer3::new(&scene).map_err(err)?;
         // The thesis' 10⁷ lines (a few seconds on these small meshes).
         let est = runner.lit(
             &tracer,
@@ -251,8 +251,8 @@ fn cornell_lines(runner: &Runner, level: u32, full: bool) -> u64 {
 fn cornell(runner: &Runner, full: bool) -> Result<Table> {
     let mut rows = Vec::new();
     for (k, level) in [1, 2, 3].into_iter().enumerate() {
-        let scene = Scene::cornell_box_thesis(level).map_err(err)?;
-        let tracer = SceneTracer::new(&scene).map_err(err)?;
+        let scene = Scene3::cornell_box_thesis(level).map_err(err)?;
+        let tracer = Tracer3::new(&scene).map_err(err)?;
         let lines = cornell_lines(runner, level, full);
         let start = std::time::Instant::now();
         let est = runner.lit(&tracer, &patch_materials(&scene), lines)?;

@@ -13,7 +13,7 @@ use anyhow::{Result, anyhow};
 use sceneinfo::hierarchy::{
     COMPARISON_RUNS, Hierarchy, HrOptions, MAX_PAIRS, OracleComparison, compare_at_size,
 };
-use sceneinfo::scene::Scene;
+use sceneinfo::scene::Scene3;
 use sceneinfo::thesis::{FIGURE_6_6_PATCHES, FIGURE_6_9_PATCHES};
 
 use super::{Row, Runner, Table, cell};
@@ -46,7 +46,7 @@ fn thesis_leaves(oracle: &str, pairs: usize, target: usize) -> Option<f64> {
 
 /// Figures 6.6 and 6.9 on our Cornell box.
 pub(super) fn figures_6_6_and_6_9(runner: &Runner) -> Result<Table> {
-    let scene = Scene::cornell_box(false, 1).map_err(err)?;
+    let scene = Scene3::cornell_box(false, 1).map_err(err)?;
     let reference_opts = |seed| HrOptions {
         pairs: MAX_PAIRS,
         seed,

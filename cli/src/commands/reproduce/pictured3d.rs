@@ -11,9 +11,9 @@ use sceneinfo::ErrorKind;
 use sceneinfo::channel::Measures;
 use sceneinfo::continuous::ContinuousEstimate;
 use sceneinfo::formfactor::estimate_2d::LineMethod;
-use sceneinfo::formfactor::estimate_3d::SceneTracer;
+use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::quadrature::{QuadratureOptions, scene_i_s_continuous};
-use sceneinfo::scene::{SIXTY_FOUR_CUBES_STEPS, Scene, preset_3d};
+use sceneinfo::scene::{SIXTY_FOUR_CUBES_STEPS, Scene3, preset_3d};
 use sceneinfo::thesis::{TABLE_4_4, TABLE_4_5, TABLE_4_6, TABLE_4_7, TABLE_4_8};
 
 use super::{Row, Runner, Table, cell, exact_3d};
@@ -23,10 +23,10 @@ impl Runner {
     /// no sample, so its row of `F` is unknown) and `I_S^c`.
     fn measures_3d(
         &self,
-        scene: &Scene,
+        scene: &Scene3,
         lines: u64,
     ) -> Result<(Option<Measures>, ContinuousEstimate)> {
-        let tracer = SceneTracer::new(scene).map_err(|e| anyhow!("{e}"))?;
+        let tracer = Tracer3::new(scene).map_err(|e| anyhow!("{e}"))?;
         let tally = crate::lines::run(&tracer, LineMethod::Global, self.seed, lines, self.threads);
         let continuous = tally.continuous();
         match tally.finish(&tracer) {
@@ -42,7 +42,7 @@ impl Runner {
     }
 }
 
-fn preset(name: &str, grid: u32) -> Result<Scene> {
+fn preset(name: &str, grid: u32) -> Result<Scene3> {
     preset_3d(name, grid).map_err(|e| anyhow!("{name}: {e}"))
 }
 

@@ -9,9 +9,9 @@ use sceneinfo::formfactor::exact_2d;
 use sceneinfo::refine::cuts::{
     CutDirection, maximise, mse_optimal_cut, radiosity_gradient_gain, square_cut_gain,
 };
-use sceneinfo::refine::flat::{FlatOracle, FlatRefiner, StepReport};
+use sceneinfo::refine::flat::{OracleChoice2, Refiner2, StepReport};
 use sceneinfo::refine::symmetric::{best_mirrored_cuts, polygon_with_mirrored_cuts};
-use sceneinfo::scene::{FlatScene, catalogue_scene};
+use sceneinfo::scene::{Scene2, catalogue_scene};
 use sceneinfo::thesis::{
     FIGURE_6_12_BEST_CUT, REFINEMENT_PATCH_COUNTS, SECTION_6_1_BEST_PARALLEL_CUT,
     SECTION_6_1_GRADIENT_CUTS, TABLE_6_1, TABLE_6_2,
@@ -19,7 +19,7 @@ use sceneinfo::thesis::{
 
 use super::{Row, Runner, Table, cell};
 
-fn measures(scene: &FlatScene) -> Result<sceneinfo::channel::Measures> {
+fn measures(scene: &Scene2) -> Result<sceneinfo::channel::Measures> {
     let ff = exact_2d::form_factors(scene).map_err(|e| anyhow!("{e}"))?;
     Ok(ff.channel().map_err(|e| anyhow!("{e}"))?.measures())
 }
@@ -81,7 +81,7 @@ pub(super) fn table_6_1() -> Result<Table> {
         )],
     }];
     let optimal = polygon_with_mirrored_cuts(3, &three).map_err(|e| anyhow!("{e}"))?;
-    let regular = FlatScene::regular_polygon(3, 6).map_err(|e| anyhow!("{e}"))?;
+    let regular = Scene2::regular_polygon(3, 6).map_err(|e| anyhow!("{e}"))?;
     for (t, scene) in TABLE_6_1.iter().zip([optimal, regular]) {
         let m = measures(&scene)?;
         let label = if t.algorithm == "optimal" {
@@ -117,7 +117,7 @@ pub(super) fn table_6_1() -> Result<Table> {
 }
 
 /// The reports of one refinement at the patch counts of Figs. 6.15–6.19.
-fn refine_to_counts(refiner: &mut FlatRefiner) -> Result<Vec<StepReport>> {
+fn refine_to_counts(refiner: &mut Refiner2) -> Result<Vec<StepReport>> {
     let mut at = Vec::new();
     for &n in &REFINEMENT_PATCH_COUNTS {
         at.push(refiner.run_until(n, None).map_err(|e| anyhow!("{e}"))?);
@@ -145,11 +145,11 @@ pub(super) fn table_6_2(runner: &Runner) -> Result<Vec<Table>> {
         for t in TABLE_6_2.iter().filter(|r| r.scene == name) {
             let algorithm = t.algorithm;
             let oracle = match algorithm {
-                "de" => FlatOracle::DiscretisationError,
-                "power" => FlatOracle::Power,
-                _ => FlatOracle::Regular,
+                "de" => OracleChoice2::DiscretisationError,
+                "power" => OracleChoice2::Power,
+                _ => OracleChoice2::Regular,
             };
-            let mut refiner = FlatRefiner::with_profile(scene.clone(), oracle, profile.clone())
+            let mut refiner = Refiner2::with_profile(scene.clone(), oracle, profile.clone())
                 .map_err(|e| anyhow!("{name}: {e}"))?;
             let at = refine_to_counts(&mut refiner)?;
             let Some(last) = at.last() else { continue };

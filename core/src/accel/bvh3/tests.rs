@@ -456,9 +456,9 @@ fn scene_faces_become_sheets() {
     // bit-identically: each face is one sheet (not folded onto its neighbour), and the
     // tree still equals the naive loops.
     for (scene, sheets) in [
-        (crate::scene::Scene::cube(12).unwrap(), 6),
+        (crate::scene::Scene3::cube(12).unwrap(), 6),
         (
-            crate::scene::Scene::cube_room_with_cubes(2, false, 3).unwrap(),
+            crate::scene::Scene3::cube_room_with_cubes(2, false, 3).unwrap(),
             6,
         ),
     ] {

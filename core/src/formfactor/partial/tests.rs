@@ -1,8 +1,8 @@
 use super::*;
-use crate::formfactor::estimate_2d::FlatTracer;
+use crate::formfactor::estimate_2d::Tracer2;
 use crate::formfactor::tally::LineTracer;
 use crate::lines::CHUNK_LINES;
-use crate::scene::FlatScene;
+use crate::scene::Scene2;
 use alloc::string::ToString;
 
 /// The partial of chunks `chunks` of a job over `tracer`.
@@ -30,9 +30,9 @@ fn partial_of<T: LineTracer>(
     }
 }
 
-fn small() -> (FlatTracer, u64) {
-    let scene = FlatScene::regular_polygon(5, 3).unwrap();
-    (FlatTracer::new(&scene).unwrap(), 3 * CHUNK_LINES + 100)
+fn small() -> (Tracer2, u64) {
+    let scene = Scene2::regular_polygon(5, 3).unwrap();
+    (Tracer2::new(&scene).unwrap(), 3 * CHUNK_LINES + 100)
 }
 
 #[test]
@@ -60,8 +60,8 @@ fn four_partials_through_bytes_merge_into_the_whole_run_bit_for_bit() {
 #[test]
 fn sparse_counts_round_trip_and_merge() {
     // More patches than DENSE_COUNT_LIMIT: sparse counts, 16 bytes per pair in the file.
-    let scene = FlatScene::regular_polygon(4, 1500).unwrap();
-    let tracer = FlatTracer::new(&scene).unwrap();
+    let scene = Scene2::regular_polygon(4, 1500).unwrap();
+    let tracer = Tracer2::new(&scene).unwrap();
     let lines = 2 * CHUNK_LINES;
     let whole = partial_of(&tracer, LineMethod::Global, lines, 0..2);
     assert!(!whole.tally.counts.is_dense());

@@ -27,7 +27,7 @@ fn parse(
     obj: &str,
     subdivision: Subdivision,
     mtl: impl Fn(&str) -> Option<String>,
-) -> Result<Scene> {
+) -> Result<Scene3> {
     parse_obj(obj, &ObjOptions::new(subdivision), mtl).map(|(s, _)| s)
 }
 
@@ -36,7 +36,7 @@ fn load(
     obj: &str,
     options: ObjOptions,
     mtl: impl Fn(&str) -> Option<String>,
-) -> (Scene, LoadReport) {
+) -> (Scene3, LoadReport) {
     parse_obj(obj, &options, mtl).unwrap()
 }
 
@@ -146,7 +146,7 @@ fn errors_name_line_and_problem() {
         err(&format!("v 0 0 0\nf{}", " 1".repeat(300))),
         "line 2: face needs 3 to 256 vertices, got 300"
     );
-    // Faces as drawn are repaired (SceneBuilder::face_as_drawn): a degenerate face alone
+    // Faces as drawn are repaired (Scene3Builder::face_as_drawn): a degenerate face alone
     // leaves nothing, a bent or concave one is triangulated.
     assert_eq!(e("f 1 2 2"), "line 4: scene has no patches");
     let ok = |tail: &str| parse_obj(&[tri, tail].concat(), &ObjOptions::default(), no_mtl);
@@ -338,7 +338,7 @@ fn round_trips_exactly() {
     .unwrap();
     assert_eq!(again, s);
     // Awkward numbers survive the shortest round-trip formatting.
-    let mut b = Scene::builder();
+    let mut b = Scene3::builder();
     b.material(Material::new([0.1, 1.0 / 3.0, 0.7], [1e-300, 0.0, 2.5e10]).unwrap())
         .object("odd numbers");
     let tri = [

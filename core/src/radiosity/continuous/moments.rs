@@ -221,16 +221,16 @@ impl PairMoments {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formfactor::estimate_2d::FlatTracer;
+    use crate::formfactor::estimate_2d::Tracer2;
     use crate::formfactor::exact_2d;
     use crate::formfactor::tally::LineTracer;
     use crate::radiosity::continuous::{RadiosityTracer, incoming_rgb, radiosity_continuous};
     use crate::radiosity::rgb::solve_rgb;
     use crate::radiosity::{SolveOptions, Solver};
-    use crate::scene::{FlatScene, Material, catalogue_scene};
+    use crate::scene::{Material, Scene2, catalogue_scene};
 
     /// A solved scene: the tracer's patch sizes, `B` and `B^in` from exact form factors.
-    fn lit(scene: &FlatScene) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+    fn lit(scene: &Scene2) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
         let ff = exact_2d::form_factors(scene).unwrap();
         let n = scene.n_patches();
         let materials: Vec<Material> = (0..n)
@@ -265,7 +265,7 @@ mod tests {
     fn pair_moments_reproduce_the_line_by_line_estimate() {
         let scene = catalogue_scene("64-squares-a", 1).unwrap();
         let (b, b_in) = lit(&scene);
-        let tracer = FlatTracer::new(&scene).unwrap();
+        let tracer = Tracer2::new(&scene).unwrap();
         for (method, spread) in [(LineMethod::Local, 1e-9), (LineMethod::Global, 0.35)] {
             let terms = RadiosityTracer::new(&tracer, &b, &b_in).unwrap();
             let want = radiosity_continuous(&terms.run(method, 11, 300_000).unwrap()).unwrap();
@@ -296,9 +296,9 @@ mod tests {
 
     #[test]
     fn merging_is_exact_and_bad_inputs_are_errors() {
-        let scene = FlatScene::rectangle(2.0, 1.0, 3).unwrap();
+        let scene = Scene2::rectangle(2.0, 1.0, 3).unwrap();
         let (b, b_in) = lit(&scene);
-        let tracer = FlatTracer::new(&scene).unwrap();
+        let tracer = Tracer2::new(&scene).unwrap();
         let moments = RadiosityTracer::pair_moments(&tracer).unwrap();
         let whole = moments.run(LineMethod::Global, 5, 3 << 16).unwrap();
         // The same chunks, merged in reverse order.

@@ -7,23 +7,23 @@ use super::{add_polygon, check_per_side, check_step, proportional};
 use crate::error::{ErrorKind, Result};
 use crate::geom::DVec2;
 use crate::math;
-use crate::scene::FlatScene;
+use crate::scene::Scene2;
 
 /// Inner radii (relative to the outer radius 1) of the odd vertices of
-/// [`FlatScene::star_sequence`], by step.
+/// [`Scene2::star_sequence`], by step.
 pub const STAR_INNER_RADII: [f64; 4] = [1.0, 0.8, 0.6, 0.4];
 
-/// Apex of the last triangle of [`FlatScene::triangle_sequence`] over the base
+/// Apex of the last triangle of [`Scene2::triangle_sequence`] over the base
 /// `(0,0)–(1,0)`; the apex moves to it in a straight line from `(1/2, √3/2)`.
 pub const TRIANGLE_LAST_APEX: (f64, f64) = (1.26, 0.4);
 
-/// Side of the square cut out of the unit square by [`FlatScene::l_room_sequence`], by step.
+/// Side of the square cut out of the unit square by [`Scene2::l_room_sequence`], by step.
 pub const L_ROOM_CUTS: [f64; 4] = [0.0, 0.25, 0.5, 0.555];
 
-/// Largest accepted height of [`FlatScene::rectangle_aspect`] (base 1).
+/// Largest accepted height of [`Scene2::rectangle_aspect`] (base 1).
 pub const MAX_ASPECT: f64 = 1e6;
 
-impl FlatScene {
+impl Scene2 {
     /// Fig. 4.11: the regular 24-gon (step 0) closing into 12-pointed stars (steps 1–3).
     ///
     /// Geometry: 24 vertices at polar angles `2πk/24`; the even ones on the unit circle, the
@@ -110,7 +110,7 @@ impl FlatScene {
     /// Geometry: the unit square `[0,1]²` with the square `[1−c, 1]²` cut out of its top
     /// right corner, `c` = [`L_ROOM_CUTS`]`[step]` = 0, 0.25, 0.5, 0.555. Step 2, three
     /// quarters of the square, is the room the interior square of
-    /// [`FlatScene::square_to_corner`] fuses into; quadrature of (4.12) gives 1.217 for it
+    /// [`Scene2::square_to_corner`] fuses into; quadrature of (4.12) gives 1.217 for it
     /// (thesis 1.218), and the last cut was chosen to give the thesis' 1.319 (a 0.75 cut
     /// would give 1.926). Counter-clockwise; a side of length `ℓ` cut into
     /// `round(ℓ · per_side)` patches (at least 1).

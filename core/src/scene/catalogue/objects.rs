@@ -8,24 +8,24 @@ use super::{add_polygon, check_per_side, check_step, proportional};
 use crate::error::Result;
 use crate::geom::DVec2;
 use crate::math;
-use crate::scene::{FlatScene, FlatSceneBuilder};
+use crate::scene::{Scene2, Scene2Builder};
 
 /// Number of steps of the sequences of Figs. 4.16 and 4.18–4.20 (scenes a–i).
 pub const SINGULARITY_STEPS: usize = 9;
 
 /// Relative gap left at the last step of the point-contact sequences
-/// ([`FlatScene::pentagonal_star`], [`FlatScene::rotating_square`]): 0.01% of the enclosure's
+/// ([`Scene2::pentagonal_star`], [`Scene2::rotating_square`]): 0.01% of the enclosure's
 /// circumradius.
 pub const NEAR_TOUCH_GAP: f64 = 1e-4;
 
 /// Gap between the interior square and the corner walls at the last step of
-/// [`FlatScene::square_to_corner`], as a fraction of the room side.
+/// [`Scene2::square_to_corner`], as a fraction of the room side.
 pub const CORNER_GAP: f64 = 0.016;
 
-/// Scale factors of the three objects of [`FlatScene::three_objects`], by step.
+/// Scale factors of the three objects of [`Scene2::three_objects`], by step.
 pub const THREE_OBJECTS_SCALES: [f64; 6] = [0.25, 0.4, 0.55, 0.7, 0.85, 1.0];
 
-/// Side of the 16 squares of [`FlatScene::sixteen_squares`] (room side 1).
+/// Side of the 16 squares of [`Scene2::sixteen_squares`] (room side 1).
 pub const SIXTEEN_SQUARES_SIDE: f64 = 0.125;
 
 /// Ratio `r_inner / r_outer` of a regular pentagram's outline: `cos 72° / cos 36° = 1/φ²`.
@@ -57,7 +57,7 @@ fn polar(r: f64, deg: f64) -> DVec2 {
 }
 
 /// Adds the unit square room `[0,1]²` facing inwards, walls cut into `per_side` patches.
-fn unit_room(b: &mut FlatSceneBuilder, per_side: u64) -> Result<()> {
+fn unit_room(b: &mut Scene2Builder, per_side: u64) -> Result<()> {
     add_polygon(b, &square(0.0, 0.0, 1.0), true, |_| per_side)
 }
 
@@ -71,7 +71,7 @@ fn star_edge_patches(s: f64, per_side: u64) -> u64 {
     proportional(s * INV_PHI, 1.0, per_side)
 }
 
-impl FlatScene {
+impl Scene2 {
     /// Fig. 4.15: a square room with three objects — a square, an equilateral triangle and a
     /// flat rectangle — growing over 6 steps.
     ///
@@ -153,7 +153,7 @@ impl FlatScene {
 
     /// Fig. 4.18: a pentagonal enclosure (step 0) with a pentagram-shaped object growing
     /// until its points almost touch the pentagon's vertices (step 8). There the scene is
-    /// nearly 5 copies of [`FlatScene::pentagonal_star_subscene`]; Table 4.12 reports `I_S^c`
+    /// nearly 5 copies of [`Scene2::pentagonal_star_subscene`]; Table 4.12 reports `I_S^c`
     /// 4.067 for it against 1.750 + log₂ 5 = 4.072.
     ///
     /// Geometry: the pentagon of circumradius 1 with vertices at polar angles `90° + 72°k`;
@@ -185,7 +185,7 @@ impl FlatScene {
         b.build()
     }
 
-    /// The subscene of the last step of [`FlatScene::pentagonal_star`] (Table 4.12:
+    /// The subscene of the last step of [`Scene2::pentagonal_star`] (Table 4.12:
     /// `I_S^c` 1.750): the region between one pentagon side and the star, with the star's
     /// points exactly on the pentagon's vertices.
     ///
@@ -212,7 +212,7 @@ impl FlatScene {
     /// Fig. 4.19: a square room with an interior square rotating about the centre from
     /// parallel sides (step 0, 0°) to 45° (step 8), where its vertices almost touch the
     /// midpoints of the walls. There the scene is nearly 4 copies of
-    /// [`FlatScene::rotating_square_subscene`]; Table 4.12 reports `I_S^c` 3.477 for it
+    /// [`Scene2::rotating_square_subscene`]; Table 4.12 reports `I_S^c` 3.477 for it
     /// against 1.474 + log₂ 4 = 3.474.
     ///
     /// Geometry: room `[−1,1]²`; interior square centred at the origin with circumradius
@@ -237,7 +237,7 @@ impl FlatScene {
         b.build()
     }
 
-    /// The subscene of the last step of [`FlatScene::rotating_square`] (Table 4.12:
+    /// The subscene of the last step of [`Scene2::rotating_square`] (Table 4.12:
     /// `I_S^c` 1.474): one corner of the room cut off by a side of the interior square
     /// touching the wall midpoints.
     ///
@@ -260,7 +260,7 @@ impl FlatScene {
     /// Fig. 4.20: an interior square advancing from the centre of a square room into its top
     /// right corner (9 steps). At the last step it almost touches both corner walls; once it
     /// touched them the room would be the L-shaped room of
-    /// [`FlatScene::l_room_sequence`]`(2)`, and the thesis contrasts `I_S^c` ≈ 3.304 before the
+    /// [`Scene2::l_room_sequence`]`(2)`, and the thesis contrasts `I_S^c` ≈ 3.304 before the
     /// fusion with 1.218 after.
     ///
     /// Geometry: room `[0,1]²`; interior square of side 1/2 with its lower-left corner at

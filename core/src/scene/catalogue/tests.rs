@@ -45,7 +45,7 @@ fn quadrature_points(cells: usize, levels: u32) -> Vec<(f64, f64)> {
 /// surfaces, with visibility: an independent check of the geometries against the thesis'
 /// continuous values (exact for convex scenes up to quadrature error; visibility
 /// discontinuities cost a few 1e-4 elsewhere).
-fn i_c_quadrature(scene: &FlatScene, cells: usize, levels: u32) -> f64 {
+fn i_c_quadrature(scene: &Scene2, cells: usize, levels: u32) -> f64 {
     let segs: Vec<_> = scene.surfaces().iter().map(|s| s.segment).collect();
     let l_t = math::sum(segs.iter().map(|s| s.length()));
     let points = quadrature_points(cells, levels);
@@ -79,7 +79,7 @@ fn i_c_quadrature(scene: &FlatScene, cells: usize, levels: u32) -> f64 {
 }
 
 /// Discrete `I_S` with exact form factors.
-fn i_s(scene: &FlatScene) -> f64 {
+fn i_s(scene: &Scene2) -> f64 {
     measure_flat(scene).unwrap().measures.i_s
 }
 
@@ -90,7 +90,7 @@ fn i_s_of(name: &str, per_side: u64) -> f64 {
 
 /// Asserts the scene is closed — no background state, every row summing to 1 — and returns
 /// its measures.
-fn assert_closed(name: &str, scene: &FlatScene) -> Measures {
+fn assert_closed(name: &str, scene: &Scene2) -> Measures {
     let ff = exact_2d::form_factors(scene).unwrap();
     assert!(
         !ff.has_background(),
@@ -120,9 +120,9 @@ fn every_entry_is_closed() {
         }
         assert_closed(e.name, &catalogue_scene(e.name, 2).unwrap());
     }
-    let s = FlatScene::refinement_scene_one().unwrap();
+    let s = Scene2::refinement_scene_one().unwrap();
     assert_eq!(s.n_patches(), 26);
-    assert_eq!(FlatScene::refinement_scene_two().unwrap().n_patches(), 26);
+    assert_eq!(Scene2::refinement_scene_two().unwrap().n_patches(), 26);
 }
 
 #[test]
@@ -143,18 +143,18 @@ fn names_are_unique_and_build() {
 
 #[test]
 fn bad_input_is_an_error_not_a_panic() {
-    let kind = |r: Result<FlatScene>| r.unwrap_err().kind().clone();
-    type Family = fn(usize, u64) -> Result<FlatScene>;
+    let kind = |r: Result<Scene2>| r.unwrap_err().kind().clone();
+    type Family = fn(usize, u64) -> Result<Scene2>;
     let families: [(Family, usize); 9] = [
-        (FlatScene::star_sequence, 4),
-        (FlatScene::von_koch, 5),
-        (FlatScene::triangle_sequence, 4),
-        (FlatScene::l_room_sequence, 4),
-        (FlatScene::three_objects, 6),
-        (FlatScene::sixteen_squares, 9),
-        (FlatScene::pentagonal_star, 9),
-        (FlatScene::rotating_square, 9),
-        (FlatScene::square_to_corner, 9),
+        (Scene2::star_sequence, 4),
+        (Scene2::von_koch, 5),
+        (Scene2::triangle_sequence, 4),
+        (Scene2::l_room_sequence, 4),
+        (Scene2::three_objects, 6),
+        (Scene2::sixteen_squares, 9),
+        (Scene2::pentagonal_star, 9),
+        (Scene2::rotating_square, 9),
+        (Scene2::square_to_corner, 9),
     ];
     for (build, count) in families {
         assert!(build(count - 1, 1).is_ok());
@@ -173,35 +173,35 @@ fn bad_input_is_an_error_not_a_panic() {
         ));
     }
     assert!(matches!(
-        kind(FlatScene::sixty_four_squares(3)),
+        kind(Scene2::sixty_four_squares(3)),
         ErrorKind::TooLarge { max: 2, .. }
     ));
     assert!(matches!(
-        kind(FlatScene::rotating_square_subscene(0)),
+        kind(Scene2::rotating_square_subscene(0)),
         ErrorKind::PatchCount { .. }
     ));
     assert!(matches!(
-        kind(FlatScene::pentagonal_star_subscene(0)),
+        kind(Scene2::pentagonal_star_subscene(0)),
         ErrorKind::PatchCount { .. }
     ));
     assert!(matches!(
-        kind(FlatScene::rectangle_aspect(f64::NAN, 1)),
+        kind(Scene2::rectangle_aspect(f64::NAN, 1)),
         ErrorKind::NonFiniteNumber { .. }
     ));
     assert!(matches!(
-        kind(FlatScene::rectangle_aspect(f64::INFINITY, 1)),
+        kind(Scene2::rectangle_aspect(f64::INFINITY, 1)),
         ErrorKind::NonFiniteNumber { .. }
     ));
     assert_eq!(
-        kind(FlatScene::rectangle_aspect(0.0, 1)),
+        kind(Scene2::rectangle_aspect(0.0, 1)),
         ErrorKind::ZeroLengthSegment
     );
     assert_eq!(
-        kind(FlatScene::rectangle_aspect(-1.0, 1)),
+        kind(Scene2::rectangle_aspect(-1.0, 1)),
         ErrorKind::ZeroLengthSegment
     );
     assert!(matches!(
-        kind(FlatScene::rectangle_aspect(2e6, 1)),
+        kind(Scene2::rectangle_aspect(2e6, 1)),
         ErrorKind::TooLarge { .. }
     ));
     for name in [
@@ -262,7 +262,7 @@ fn sixty_four_squares_reproduce_table_3_6() {
         .iter()
         .enumerate()
     {
-        let scene = FlatScene::sixty_four_squares(a).unwrap();
+        let scene = Scene2::sixty_four_squares(a).unwrap();
         assert_eq!(scene.n_patches(), 336);
         let m = assert_closed(name, &scene);
         let want = catalogue()
@@ -385,7 +385,7 @@ fn von_koch_complexity_grows_with_level() {
     let mut values = Vec::new();
     for level in 0..=4usize {
         let per_side = 3u64.pow(4 - level as u32);
-        let scene = FlatScene::von_koch(level, per_side).unwrap();
+        let scene = Scene2::von_koch(level, per_side).unwrap();
         assert_eq!(
             scene.n_patches(),
             3 * 4usize.pow(level as u32) * per_side as usize

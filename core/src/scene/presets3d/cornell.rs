@@ -8,13 +8,13 @@ use super::{ENCLOSURE, add_facing};
 use crate::error::Result;
 use crate::geom::{DVec2, DVec3, signed_area};
 use crate::math;
-use crate::scene::{Material, Scene, SceneBuilder, Subdivision};
+use crate::scene::{Material, Scene3, Scene3Builder, Subdivision};
 
-/// The room of [`Scene::cornell_box`]: `[0, 556] × [0, 548.8] × [0, 559.2]` (x, y up, z
+/// The room of [`Scene3::cornell_box`]: `[0, 556] × [0, 548.8] × [0, 559.2]` (x, y up, z
 /// depth; millimetres).
 pub const CORNELL_ROOM: [f64; 3] = [556.0, 548.8, 559.2];
 
-/// Gap between the floor and the blocks of `Scene::cornell_box(true, _)`, as a fraction of
+/// Gap between the floor and the blocks of `Scene3::cornell_box(true, _)`, as a fraction of
 /// the room height: 0.2%, 1.0976 mm.
 ///
 /// Chosen so that the lifted box's `I_S^c` matches the thesis' 3.274 (Table 4.1; 3.273 in
@@ -69,7 +69,7 @@ const TALL_BLOCK: Block = (
     330.0,
 );
 
-impl Scene {
+impl Scene3 {
     /// Fig. 2.1a (Tables 4.1, 4.6, 4.9): the Cornell box, from the published Cornell data
     /// (Program of Computer Graphics, Cornell University, "Cornell box data"), closed.
     ///
@@ -116,14 +116,14 @@ impl Scene {
     /// [`crate::ErrorKind::BadSubdivision`] for `grid = 0` or above
     /// [`crate::scene::MAX_GRID`]; [`crate::ErrorKind::TooManyPatches`] when the patches
     /// exceed the cap.
-    pub fn cornell_box(lifted: bool, grid: u32) -> Result<Scene> {
+    pub fn cornell_box(lifted: bool, grid: u32) -> Result<Scene3> {
         Subdivision::Grid(grid).validate()?;
         super::check_patch_total(6 * u64::from(grid) * u64::from(grid))?;
         let [sx, sy, _] = CORNELL_ROOM;
         let lift = if lifted { CORNELL_BLOCK_LIFT * sy } else { 0.0 };
         let cells = |e: f64| Subdivision::Grid(proportional(grid, e, sx));
         let footprints = footprints();
-        let mut b = Scene::builder();
+        let mut b = Scene3::builder();
         b.object(ENCLOSURE);
         add_walls(&mut b, |_| Subdivision::Grid(grid))?;
         // Floor (cut around the footprints of standing blocks) and ceiling (around the light)
@@ -173,11 +173,11 @@ impl Scene {
     /// renditions. The part of the ceiling above the light then sees only the light's back:
     /// the lines it sends there are lost, so the scene has a (black) background state of
     /// that size. Blocks lifted by [`CORNELL_BLOCK_LIFT`] with bottoms, walls, materials and
-    /// objects as [`Scene::cornell_box`].
+    /// objects as [`Scene3::cornell_box`].
     ///
     /// # Errors
     /// [`crate::ErrorKind::BadSubdivision`] for a `level` past [`CORNELL_THESIS_EDGE`].
-    pub fn cornell_box_thesis(level: u32) -> Result<Scene> {
+    pub fn cornell_box_thesis(level: u32) -> Result<Scene3> {
         let max_edge = CORNELL_THESIS_EDGE.get(level as usize).copied().ok_or(
             crate::ErrorKind::BadSubdivision {
                 given: u64::from(level),
@@ -186,7 +186,7 @@ impl Scene {
         )?;
         let [sx, sy, sz] = CORNELL_ROOM;
         let cells = |e: f64| Subdivision::Grid(quadtree_cells(e, max_edge));
-        let mut b = Scene::builder();
+        let mut b = Scene3::builder();
         b.object(ENCLOSURE);
         add_walls(&mut b, cells)?;
         // Floor and ceiling, whole
@@ -207,13 +207,13 @@ impl Scene {
     }
 }
 
-/// The largest edge of [`Scene::cornell_box_thesis`] per level (millimetres): level 0 leaves
+/// The largest edge of [`Scene3::cornell_box_thesis`] per level (millimetres): level 0 leaves
 /// every polygon whole, levels 1–3 sit inside the windows that give the thesis' 121, 481
 /// and 1924 patches, level 4 halves level 3 (7696 patches; the thesis' 7744-patch Fig. 5.5a
 /// is not this rule).
 pub const CORNELL_THESIS_EDGE: [f64; 5] = [f64::INFINITY, 270.0, 135.0, 67.5, 33.75];
 
-/// How far the light of [`Scene::cornell_box_thesis`] hangs below the ceiling: 0.1 mm.
+/// How far the light of [`Scene3::cornell_box_thesis`] hangs below the ceiling: 0.1 mm.
 pub const CORNELL_THESIS_LIGHT_GAP: f64 = 0.1;
 
 /// The blocks of the Cornell box, by object name.
@@ -229,7 +229,7 @@ fn footprints() -> Vec<Vec<DVec2>> {
 
 /// The back, front (black), left (red) and right (green) walls, facing the room, each
 /// subdivided by `sub(longest edge)`.
-fn add_walls(b: &mut SceneBuilder, sub: impl Fn(f64) -> Subdivision) -> Result<()> {
+fn add_walls(b: &mut Scene3Builder, sub: impl Fn(f64) -> Subdivision) -> Result<()> {
     let [sx, sy, sz] = CORNELL_ROOM;
     let centre = DVec3::new(0.5 * sx, 0.5 * sy, 0.5 * sz);
     let p = DVec3::new;
@@ -262,7 +262,7 @@ fn add_walls(b: &mut SceneBuilder, sub: impl Fn(f64) -> Subdivision) -> Result<(
 /// The two white blocks standing at height `lift` on their `footprints`: four sides and a
 /// top, and a bottom when `lift > 0`; each face subdivided by `sub(longest edge)`.
 fn add_blocks(
-    b: &mut SceneBuilder,
+    b: &mut Scene3Builder,
     footprints: &[Vec<DVec2>],
     lift: f64,
     sub: impl Fn(f64) -> Subdivision,
@@ -329,7 +329,7 @@ fn counter_clockwise<const N: usize>(vertices: [DVec2; N]) -> Vec<DVec2> {
 /// counter-clockwise `holes` (disjoint): a cell meeting a hole is replaced by the convex
 /// pieces of its remainder.
 fn add_cells(
-    b: &mut SceneBuilder,
+    b: &mut Scene3Builder,
     grid: u32,
     y: f64,
     facing: DVec3,

@@ -10,9 +10,9 @@ use super::{
 use crate::error::{ErrorKind, Result};
 use crate::geom::DVec3;
 use crate::lines::{canonical, chunk_rng};
-use crate::scene::{Scene, Subdivision};
+use crate::scene::{Scene3, Subdivision};
 
-/// Side of the small cubes of [`Scene::cube_room_with_cubes`] (room side 1).
+/// Side of the small cubes of [`Scene3::cube_room_with_cubes`] (room side 1).
 ///
 /// With the room's faces cut into 10 × 10 patches and one patch per cube face, this side
 /// reproduces the positional entropy `H_P = H_S + I_S` of every scene of Tables 3.1 and 3.3:
@@ -20,40 +20,40 @@ use crate::scene::{Scene, Subdivision};
 /// for 512, where a side of 0.045 or 0.055 would miss by 0.02 to 0.11 bits.
 pub const CUBE_ROOM_SIDE: f64 = 0.05;
 
-/// Cells a side on each face of the room of [`Scene::cube_room_with_cubes`] (600 patches,
+/// Cells a side on each face of the room of [`Scene3::cube_room_with_cubes`] (600 patches,
 /// the empty room of Fig. 3.5a that Table 3.3 starts from).
 pub const CUBE_ROOM_GRID: u32 = 10;
 
-/// Gap between neighbouring cubes of a clustered block of [`Scene::cube_room_with_cubes`]
+/// Gap between neighbouring cubes of a clustered block of [`Scene3::cube_room_with_cubes`]
 /// (half a cube side).
 pub const CUBE_ROOM_SPACING: f64 = 0.025;
 
 /// Smallest gap between two cubes, or a cube and a wall, in a random placement of
-/// [`Scene::cube_room_with_cubes`] (a tenth of a cube side). With it the 512 random cubes
+/// [`Scene3::cube_room_with_cubes`] (a tenth of a cube side). With it the 512 random cubes
 /// of the preset seed give `I_S^c` = 5.61 ± 0.01 (global lines), the thesis 5.632 (Table
 /// 4.4); without a gap 5.71, with a gap of 0.025 5.36.
 pub const CUBE_ROOM_MIN_GAP: f64 = 0.005;
 
-/// Largest `m` of [`Scene::cube_room_with_cubes`] (`8³ = 512` cubes, the thesis' most).
+/// Largest `m` of [`Scene3::cube_room_with_cubes`] (`8³ = 512` cubes, the thesis' most).
 pub const MAX_CUBES_PER_SIDE: u32 = 8;
 
-/// The seed [`super::preset_3d`] passes to [`Scene::cube_room_with_cubes`].
+/// The seed [`super::preset_3d`] passes to [`Scene3::cube_room_with_cubes`].
 pub const PRESET_SEED: u64 = 2002;
 
-/// Side of the 64 cubes of [`Scene::sixty_four_cubes`] (room side 1).
+/// Side of the 64 cubes of [`Scene3::sixty_four_cubes`] (room side 1).
 pub const SIXTY_FOUR_CUBES_SIDE: f64 = 0.125;
 
-/// Gaps at the two ends of [`Scene::sixty_four_cubes`], as fractions of the cube side:
+/// Gaps at the two ends of [`Scene3::sixty_four_cubes`], as fractions of the cube side:
 /// between neighbours at step 0, between the outer cubes and the walls at step 8.
 pub const SIXTY_FOUR_CUBES_GAPS: [f64; 2] = [0.1, 0.125];
 
-/// Number of steps of [`Scene::sixty_four_cubes`] (0 = Figs. 4.5a/4.6a, 8 = Figs. 4.5f/4.6f).
+/// Number of steps of [`Scene3::sixty_four_cubes`] (0 = Figs. 4.5a/4.6a, 8 = Figs. 4.5f/4.6f).
 pub const SIXTY_FOUR_CUBES_STEPS: usize = 9;
 
 /// Attempts at placing one random cube before giving up.
 const MAX_ATTEMPTS: u64 = 100_000;
 
-impl Scene {
+impl Scene3 {
     /// Figs. 3.7, 3.8 and 3.3 (Tables 3.1, 3.3, 4.4): the unit cube room `[0,1]³` with `m³`
     /// small axis-aligned cubes (27, 64, 512 for `m` = 3, 4, 8), scattered at random or
     /// clustered in a block.
@@ -78,7 +78,7 @@ impl Scene {
     /// # Errors
     /// [`ErrorKind::TooLarge`] for `m >` [`MAX_CUBES_PER_SIDE`]; [`ErrorKind::NoConvergence`]
     /// if a random cube finds no free place in 100 000 draws (not seen for `m ≤ 8`).
-    pub fn cube_room_with_cubes(m: u32, clustered: bool, seed: u64) -> Result<Scene> {
+    pub fn cube_room_with_cubes(m: u32, clustered: bool, seed: u64) -> Result<Scene3> {
         check_step(
             "cube_room_with_cubes m",
             u64::from(m),
@@ -101,7 +101,7 @@ impl Scene {
         } else {
             random_centres(count, seed)?
         };
-        let mut b = Scene::builder();
+        let mut b = Scene3::builder();
         b.object(ENCLOSURE).material(ENCLOSURE_MATERIAL);
         add_box_inwards(
             &mut b,
@@ -126,7 +126,7 @@ impl Scene {
     /// `0.5 + (i − 1.5) p` (`i = 0..4` on each axis). The pitch `p` grows linearly with the
     /// step from `1.1 s` (neighbours `s/10` apart) to `(0.5 − 0.625 s)/1.5` (outer cubes
     /// `s/8` from the walls), as
-    /// [`FlatScene::sixteen_squares`](crate::scene::FlatScene::sixteen_squares) does in
+    /// [`Scene2::sixteen_squares`](crate::scene::Scene2::sixteen_squares) does in
     /// flatland. The end gaps ([`SIXTY_FOUR_CUBES_GAPS`]) were chosen to give the thesis'
     /// `I_S^c` at its extreme scenes a and f (Table 4.7), which steps 0 and 8 are; the steps
     /// between sample the same motion more finely than its b–e. Global lines (10⁵–2·10⁵)
@@ -149,7 +149,7 @@ impl Scene {
     ///
     /// # Errors
     /// [`ErrorKind::TooLarge`] for `step > 8`.
-    pub fn sixty_four_cubes(step: usize, fine: bool) -> Result<Scene> {
+    pub fn sixty_four_cubes(step: usize, fine: bool) -> Result<Scene3> {
         check_step(
             "sixty_four_cubes step",
             step as u64,
@@ -165,7 +165,7 @@ impl Scene {
         } else {
             (Subdivision::Grid(8), Subdivision::Grid(2))
         };
-        let mut b = Scene::builder();
+        let mut b = Scene3::builder();
         b.object(ENCLOSURE).material(ENCLOSURE_MATERIAL);
         add_box_inwards(&mut b, DVec3::ZERO, DVec3::ONE, walls)?;
         b.material(OBJECT_MATERIAL);

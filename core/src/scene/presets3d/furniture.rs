@@ -9,9 +9,9 @@ use super::{
 };
 use crate::error::{ErrorKind, Result, token};
 use crate::geom::{DVec2, DVec3};
-use crate::scene::{Scene, SceneBuilder, Subdivision};
+use crate::scene::{Scene3, Scene3Builder, Subdivision};
 
-/// The room of [`Scene::table_and_chairs_room`]: `[0, 10] × [0, 10] × [0, 3]` (metres, z up).
+/// The room of [`Scene3::table_and_chairs_room`]: `[0, 10] × [0, 10] × [0, 3]` (metres, z up).
 pub const TABLE_ROOM: [f64; 3] = [10.0, 10.0, 3.0];
 
 /// Gap left between furniture parts that would touch (legs and the floor, legs and the
@@ -117,7 +117,7 @@ fn arrangement(letter: char) -> Option<Vec<DVec2>> {
     })
 }
 
-impl Scene {
+impl Scene3 {
     /// Fig. 4.2 (Table 4.2): a room with sets of one table and four chairs, arranged as
     /// panel `arrangement` of the figure (`'a'` to `'f'`).
     ///
@@ -167,10 +167,10 @@ impl Scene {
     ///
     /// # Errors
     /// [`ErrorKind::UnknownPreset`] for a letter other than `'a'`–`'f'`.
-    pub fn table_and_chairs_room(arrangement: char) -> Result<Scene> {
+    pub fn table_and_chairs_room(arrangement: char) -> Result<Scene3> {
         let centres = arrangement_or_error(arrangement)?;
         let [sx, sy, sz] = TABLE_ROOM;
-        let mut b = Scene::builder();
+        let mut b = Scene3::builder();
         b.object(ENCLOSURE).material(ENCLOSURE_MATERIAL);
         add_room_cells(&mut b, DVec3::new(sx, sy, sz), ROOM_CELL)?;
         b.material(OBJECT_MATERIAL);
@@ -197,7 +197,7 @@ fn arrangement_or_error(letter: char) -> Result<Vec<DVec2>> {
 
 /// Adds the box room `[0, size]`, facing inwards, each face cut into square-ish cells of
 /// side about `cell`, each its own face.
-fn add_room_cells(b: &mut SceneBuilder, size: DVec3, cell: f64) -> Result<()> {
+fn add_room_cells(b: &mut Scene3Builder, size: DVec3, cell: f64) -> Result<()> {
     let centre = 0.5 * size;
     let x = DVec3::X * size.x;
     let y = DVec3::Y * size.y;

@@ -10,9 +10,9 @@ use super::{
 use crate::error::{ErrorKind, Result, token};
 use crate::geom::DVec3;
 use crate::math;
-use crate::scene::{Material, Scene, Subdivision};
+use crate::scene::{Material, Scene3, Subdivision};
 
-/// Largest level of [`Scene::sphere`] (`20 · 4⁶ = 81 920` triangles).
+/// Largest level of [`Scene3::sphere`] (`20 · 4⁶ = 81 920` triangles).
 pub const MAX_SPHERE_LEVEL: u32 = 6;
 
 /// The golden ratio φ = (1 + √5)/2.
@@ -127,7 +127,7 @@ fn hull_faces(points: &[DVec3]) -> Vec<Vec<DVec3>> {
 
 /// Adds every face of a solid centred at the origin, facing inwards, cut by `s`.
 fn add_inwards(
-    b: &mut crate::scene::SceneBuilder,
+    b: &mut crate::scene::Scene3Builder,
     faces: &[Vec<DVec3>],
     s: Subdivision,
 ) -> Result<()> {
@@ -160,7 +160,7 @@ const TETRAHEDRON_MATERIALS: [Material; 4] = [
     },
 ];
 
-impl Scene {
+impl Scene3 {
     /// Fig. 3.5 (Tables 3.2, 3.8, 4.1, 4.3): the empty unit cube `[0,1]³` as an enclosure,
     /// each face cut into `grid × grid` equal squares: `6 · grid²` patches (600, 2400, 5400
     /// at the thesis' grids 10, 20, 30), total area 6, all of one area so `H_P = log₂ n_p`.
@@ -170,11 +170,11 @@ impl Scene {
     /// # Errors
     /// [`ErrorKind::BadSubdivision`] for `grid = 0` or above [`crate::scene::MAX_GRID`];
     /// [`ErrorKind::TooManyPatches`] when `6 · grid²` exceeds the cap.
-    pub fn cube(grid: u32) -> Result<Scene> {
+    pub fn cube(grid: u32) -> Result<Scene3> {
         let s = Subdivision::Grid(grid);
         s.validate()?;
         check_patch_total(6 * u64::from(grid) * u64::from(grid))?;
-        let mut b = Scene::builder();
+        let mut b = Scene3::builder();
         b.object(ENCLOSURE).material(ENCLOSURE_MATERIAL);
         add_box_inwards(&mut b, DVec3::ZERO, DVec3::ONE, s)?;
         b.build()
@@ -189,60 +189,60 @@ impl Scene {
     /// cyclic permutations; dodecahedron `(±1,±1,±1)` and `(0, ±1/φ, ±φ)` with its cyclic
     /// permutations (φ the golden ratio), each scaled to unit length. Faces are the convex
     /// hull's. One object, [`ENCLOSURE`], material [`ENCLOSURE_MATERIAL`]. (The unit cube of
-    /// [`Scene::cube`] is the same scene up to scale, which no visibility measure sees.)
+    /// [`Scene3::cube`] is the same scene up to scale, which no visibility measure sees.)
     ///
     /// Global lines (10⁵) give `I_S^c` = 2.61, 1.62, 1.24, 0.81, 0.56 for the tetrahedron,
     /// cube, octahedron, dodecahedron and icosahedron (thesis: 2.626, 1.609, 1.258, 0.825,
-    /// 0.543), and 0.004 for [`Scene::sphere`]`(4)` (thesis: 0 for the sphere).
+    /// 0.543), and 0.004 for [`Scene3::sphere`]`(4)` (thesis: 0 for the sphere).
     ///
     /// # Errors
     /// [`ErrorKind::UnknownPreset`] for another name; the builder's errors for a bad `s`.
-    pub fn platonic(name: &str, s: Subdivision) -> Result<Scene> {
+    pub fn platonic(name: &str, s: Subdivision) -> Result<Scene3> {
         let points =
             platonic_vertices(name).ok_or_else(|| ErrorKind::UnknownPreset(token(name)))?;
         s.validate()?;
         let faces = hull_faces(&points);
-        let mut b = Scene::builder();
+        let mut b = Scene3::builder();
         b.object(ENCLOSURE).material(ENCLOSURE_MATERIAL);
         add_inwards(&mut b, &faces, s)?;
         b.build()
     }
 
-    /// Table 4.1: the regular tetrahedron of [`Scene::platonic`], one patch per face (4),
-    /// with the coloured materials of [`Scene::tetrahedron_mesh`].
+    /// Table 4.1: the regular tetrahedron of [`Scene3::platonic`], one patch per face (4),
+    /// with the coloured materials of [`Scene3::tetrahedron_mesh`].
     ///
     /// # Errors
     /// None in practice (the geometry is fixed); the signature matches the other presets.
-    pub fn tetrahedron() -> Result<Scene> {
+    pub fn tetrahedron() -> Result<Scene3> {
         Self::tetrahedron_mesh(0)
     }
 
-    /// Table 4.1: the regular octahedron of [`Scene::platonic`], one patch per face (8).
+    /// Table 4.1: the regular octahedron of [`Scene3::platonic`], one patch per face (8).
     ///
     /// # Errors
     /// None in practice (the geometry is fixed).
-    pub fn octahedron() -> Result<Scene> {
+    pub fn octahedron() -> Result<Scene3> {
         Self::platonic("octahedron", Subdivision::None)
     }
 
-    /// Table 4.1: the regular dodecahedron of [`Scene::platonic`], one pentagonal patch per
+    /// Table 4.1: the regular dodecahedron of [`Scene3::platonic`], one pentagonal patch per
     /// face (12).
     ///
     /// # Errors
     /// None in practice (the geometry is fixed).
-    pub fn dodecahedron() -> Result<Scene> {
+    pub fn dodecahedron() -> Result<Scene3> {
         Self::platonic("dodecahedron", Subdivision::None)
     }
 
-    /// Table 4.1: the regular icosahedron of [`Scene::platonic`], one patch per face (20).
+    /// Table 4.1: the regular icosahedron of [`Scene3::platonic`], one patch per face (20).
     ///
     /// # Errors
     /// None in practice (the geometry is fixed).
-    pub fn icosahedron() -> Result<Scene> {
+    pub fn icosahedron() -> Result<Scene3> {
         Self::platonic("icosahedron", Subdivision::None)
     }
 
-    /// Fig. 4.3 (Tables 4.5, 5.3): the regular tetrahedron of [`Scene::platonic`], each face
+    /// Fig. 4.3 (Tables 4.5, 5.3): the regular tetrahedron of [`Scene3::platonic`], each face
     /// cut into `4^level` triangles by `level` rounds of midpoint subdivision
     /// ([`Subdivision::Triangles`]): 4, 16, 64, 256 patches for levels 0–3.
     ///
@@ -255,13 +255,13 @@ impl Scene {
     /// [`ErrorKind::BadSubdivision`] for `level` above
     /// [`crate::scene::MAX_TRIANGLE_LEVEL`]; [`ErrorKind::TooManyPatches`] when `4^(level+1)`
     /// exceeds the cap.
-    pub fn tetrahedron_mesh(level: u32) -> Result<Scene> {
+    pub fn tetrahedron_mesh(level: u32) -> Result<Scene3> {
         let s = Subdivision::Triangles(level);
         s.validate()?;
         check_patch_total(4u64 << (2 * level))?;
         let points = platonic_vertices("tetrahedron").unwrap_or_default();
         let faces = hull_faces(&points);
-        let mut b = Scene::builder();
+        let mut b = Scene3::builder();
         b.object(ENCLOSURE);
         for (f, m) in faces.iter().zip(TETRAHEDRON_MATERIALS) {
             b.material(m);
@@ -281,7 +281,7 @@ impl Scene {
     ///
     /// # Errors
     /// [`ErrorKind::TooLarge`] for `level >` [`MAX_SPHERE_LEVEL`].
-    pub fn sphere(level: u32) -> Result<Scene> {
+    pub fn sphere(level: u32) -> Result<Scene3> {
         check_step(
             "sphere level",
             u64::from(level),
@@ -305,7 +305,7 @@ impl Scene {
                 })
                 .collect();
         }
-        let mut b = Scene::builder();
+        let mut b = Scene3::builder();
         b.object(ENCLOSURE).material(ENCLOSURE_MATERIAL);
         for t in &triangles {
             let mean = (t[0] + t[1] + t[2]) / 3.0;

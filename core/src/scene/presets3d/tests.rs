@@ -7,12 +7,12 @@ use std::vec;
 use std::vec::Vec;
 
 /// Whether object `o` of `scene` belongs to the enclosure (faces the room's interior).
-fn is_enclosure(scene: &Scene, o: usize) -> bool {
+fn is_enclosure(scene: &Scene3, o: usize) -> bool {
     matches!(scene.objects()[o].as_str(), ENCLOSURE | "light")
 }
 
 /// Mean of the vertices of every face of each object.
-fn object_centres(scene: &Scene) -> Vec<DVec3> {
+fn object_centres(scene: &Scene3) -> Vec<DVec3> {
     let mut sum = vec![(DVec3::ZERO, 0.0); scene.objects().len()];
     for (f, face) in scene.faces().iter().enumerate() {
         for &v in scene.face_vertices(f) {
@@ -25,7 +25,7 @@ fn object_centres(scene: &Scene) -> Vec<DVec3> {
 
 /// Enclosure faces see `centre` in front of them; every other face points away from its
 /// object's centre; patches share their face's normal.
-fn check_orientation(scene: &Scene, centre: DVec3) {
+fn check_orientation(scene: &Scene3, centre: DVec3) {
     let centres = object_centres(scene);
     for (f, face) in scene.faces().iter().enumerate() {
         let mean = vertex_mean(scene.face_vertices(f));
@@ -48,7 +48,7 @@ fn check_orientation(scene: &Scene, centre: DVec3) {
 /// Closed surfaces: every face edge, split at the vertices of other faces lying on it, is
 /// traversed exactly once in each direction (an oriented 2-manifold without boundary, with
 /// T-junctions allowed). Quadratic: small scenes only.
-fn check_closed(scene: &Scene) {
+fn check_closed(scene: &Scene3) {
     let (lo, hi) = scene.bounds();
     let scale = (hi - lo).length();
     let key = |p: DVec3| (p / (1e-7 * scale)).round().to_array().map(|c| c as i64);
@@ -93,7 +93,7 @@ fn check_closed(scene: &Scene) {
 }
 
 /// Σ of the faces' vector areas: zero over closed surfaces.
-fn vector_area(scene: &Scene, faces: impl Iterator<Item = usize>) -> DVec3 {
+fn vector_area(scene: &Scene3, faces: impl Iterator<Item = usize>) -> DVec3 {
     faces
         .map(|f| crate::geom::polygon_normal(scene.face_vertices(f)))
         .sum()
@@ -101,7 +101,7 @@ fn vector_area(scene: &Scene, faces: impl Iterator<Item = usize>) -> DVec3 {
 
 /// The whole scene's, and each non-enclosure object's, vector areas vanish (relative to the
 /// total area); `closed_objects = false` skips the per-object check (blocks on the floor).
-fn check_vector_areas(scene: &Scene, closed_objects: bool) {
+fn check_vector_areas(scene: &Scene3, closed_objects: bool) {
     let tol = 1e-9 * scene.total_area();
     let all = vector_area(scene, 0..scene.faces().len());
     assert!(all.length() < tol, "open scene: Σ vector area {all}");
@@ -115,7 +115,7 @@ fn check_vector_areas(scene: &Scene, closed_objects: bool) {
 }
 
 /// Vertices and face normals of each non-enclosure object.
-fn objects(scene: &Scene) -> Vec<(Vec<DVec3>, Vec<DVec3>)> {
+fn objects(scene: &Scene3) -> Vec<(Vec<DVec3>, Vec<DVec3>)> {
     let mut out = vec![(Vec::new(), Vec::new()); scene.objects().len()];
     for (f, face) in scene.faces().iter().enumerate() {
         out[face.object].0.extend_from_slice(scene.face_vertices(f));
@@ -149,7 +149,7 @@ fn gap(a: &(Vec<DVec3>, Vec<DVec3>), b: &(Vec<DVec3>, Vec<DVec3>)) -> f64 {
 
 /// Objects at least `min_gap` apart and from the walls of the box room `[lo, hi]`, except
 /// from the floor (the low side of axis `floor.0`), which they keep `floor.1` from.
-fn check_separated(scene: &Scene, lo: DVec3, hi: DVec3, min_gap: f64, floor: (usize, f64)) {
+fn check_separated(scene: &Scene3, lo: DVec3, hi: DVec3, min_gap: f64, floor: (usize, f64)) {
     let objs = objects(scene);
     for (i, a) in objs.iter().enumerate() {
         let (o_lo, o_hi) = a.0.iter().fold(
@@ -178,7 +178,7 @@ fn check_separated(scene: &Scene, lo: DVec3, hi: DVec3, min_gap: f64, floor: (us
 /// the faces met alternate between being crossed from behind (`d · n > 0`: leaving a solid,
 /// or entering the room through its back) and from the front, starting from behind and
 /// ending at a front, so every free segment joins two faces that face it.
-fn check_lines(scene: &Scene, lines: u64, seed: u64) {
+fn check_lines(scene: &Scene3, lines: u64, seed: u64) {
     let (lo, hi) = scene.bounds();
     let (centre, radius) = (0.5 * (lo + hi), (hi - lo).length());
     let mut rng = crate::lines::chunk_rng(seed, 0);
@@ -224,7 +224,7 @@ fn check_lines(scene: &Scene, lines: u64, seed: u64) {
 }
 
 /// Positional entropy `H_P = −Σ a_i log₂ a_i` (thesis (3.4)).
-fn positional_entropy(scene: &Scene) -> f64 {
+fn positional_entropy(scene: &Scene3) -> f64 {
     let a_t = scene.total_area();
     -math::sum(scene.patches().iter().map(|p| {
         let a = p.area / a_t;
@@ -232,14 +232,14 @@ fn positional_entropy(scene: &Scene) -> f64 {
     }))
 }
 
-fn kind(r: Result<Scene>) -> ErrorKind {
+fn kind(r: Result<Scene3>) -> ErrorKind {
     r.unwrap_err().kind().clone()
 }
 
 #[test]
 fn cube_grids_match_figure_3_5() {
     for (grid, n, h_p) in [(10, 600, 9.229), (20, 2400, 11.229), (30, 5400, 12.399)] {
-        let s = Scene::cube(grid).unwrap();
+        let s = Scene3::cube(grid).unwrap();
         assert_eq!(s.n_patches(), n);
         assert_eq!(s.faces().len(), 6);
         assert!((s.total_area() - 6.0).abs() < 1e-12);
@@ -248,7 +248,7 @@ fn cube_grids_match_figure_3_5() {
         check_orientation(&s, DVec3::splat(0.5));
         check_vector_areas(&s, true);
     }
-    check_closed(&Scene::cube(2).unwrap());
+    check_closed(&Scene3::cube(2).unwrap());
 }
 
 #[test]
@@ -269,7 +269,7 @@ fn platonic_solids_inscribed_in_the_unit_sphere() {
         ),
     ];
     for (name, n, corners, edge) in solids {
-        let s = Scene::platonic(name, Subdivision::None).unwrap();
+        let s = Scene3::platonic(name, Subdivision::None).unwrap();
         assert_eq!(s.n_patches(), n, "{name}");
         for f in 0..n {
             let v = s.face_vertices(f);
@@ -291,27 +291,27 @@ fn platonic_solids_inscribed_in_the_unit_sphere() {
         check_vector_areas(&s, true);
         check_closed(&s);
     }
-    assert_eq!(Scene::tetrahedron().unwrap().n_patches(), 4);
-    assert_eq!(Scene::octahedron().unwrap().n_patches(), 8);
-    assert_eq!(Scene::dodecahedron().unwrap().n_patches(), 12);
-    assert_eq!(Scene::icosahedron().unwrap().n_patches(), 20);
-    let fine = Scene::platonic("octahedron", Subdivision::Grid(3)).unwrap();
+    assert_eq!(Scene3::tetrahedron().unwrap().n_patches(), 4);
+    assert_eq!(Scene3::octahedron().unwrap().n_patches(), 8);
+    assert_eq!(Scene3::dodecahedron().unwrap().n_patches(), 12);
+    assert_eq!(Scene3::icosahedron().unwrap().n_patches(), 20);
+    let fine = Scene3::platonic("octahedron", Subdivision::Grid(3)).unwrap();
     assert_eq!(fine.n_patches(), 72);
     assert!(matches!(
-        kind(Scene::platonic("cuboid", Subdivision::None)),
+        kind(Scene3::platonic("cuboid", Subdivision::None)),
         ErrorKind::UnknownPreset(_)
     ));
     assert!(matches!(
-        kind(Scene::platonic("cube", Subdivision::Grid(0))),
+        kind(Scene3::platonic("cube", Subdivision::Grid(0))),
         ErrorKind::BadSubdivision { .. }
     ));
 }
 
 #[test]
 fn tetrahedron_meshes_and_spheres() {
-    let area = Scene::tetrahedron().unwrap().total_area();
+    let area = Scene3::tetrahedron().unwrap().total_area();
     for level in 0..4 {
-        let s = Scene::tetrahedron_mesh(level).unwrap();
+        let s = Scene3::tetrahedron_mesh(level).unwrap();
         assert_eq!(s.n_patches(), 4 << (2 * level));
         assert!((s.total_area() - area).abs() < 1e-12);
         assert_eq!(s.materials().iter().filter(|m| m.is_emitter()).count(), 1);
@@ -320,10 +320,10 @@ fn tetrahedron_meshes_and_spheres() {
         assert_eq!(blue.count(), 1);
         check_orientation(&s, DVec3::ZERO);
     }
-    check_closed(&Scene::tetrahedron_mesh(1).unwrap());
+    check_closed(&Scene3::tetrahedron_mesh(1).unwrap());
     let mut last = 0.0;
     for level in 0..=4 {
-        let s = Scene::sphere(level).unwrap();
+        let s = Scene3::sphere(level).unwrap();
         assert_eq!(s.n_patches(), 20 << (2 * level));
         for &p in s.points() {
             assert!((p.length() - 1.0).abs() < 1e-12);
@@ -335,17 +335,17 @@ fn tetrahedron_meshes_and_spheres() {
         check_vector_areas(&s, true);
     }
     assert!(4.0 * core::f64::consts::PI - last < 0.04);
-    check_closed(&Scene::sphere(2).unwrap());
+    check_closed(&Scene3::sphere(2).unwrap());
     assert!(matches!(
-        kind(Scene::sphere(MAX_SPHERE_LEVEL + 1)),
+        kind(Scene3::sphere(MAX_SPHERE_LEVEL + 1)),
         ErrorKind::TooLarge { .. }
     ));
     assert!(matches!(
-        kind(Scene::tetrahedron_mesh(MAX_TRIANGLE_LEVEL + 1)),
+        kind(Scene3::tetrahedron_mesh(MAX_TRIANGLE_LEVEL + 1)),
         ErrorKind::BadSubdivision { .. }
     ));
     assert!(matches!(
-        kind(Scene::tetrahedron_mesh(MAX_TRIANGLE_LEVEL)),
+        kind(Scene3::tetrahedron_mesh(MAX_TRIANGLE_LEVEL)),
         ErrorKind::TooManyPatches { .. }
     ));
 }
@@ -386,7 +386,7 @@ fn cornell_box_geometry() {
     let centre = DVec3::new(0.5 * sx, 0.5 * sy, 0.5 * sz);
     for lifted in [false, true] {
         for grid in [1, 2, 5] {
-            let s = Scene::cornell_box(lifted, grid).unwrap();
+            let s = Scene3::cornell_box(lifted, grid).unwrap();
             // Lifted: floor whole, blocks closed by bottoms; standing: floor minus footprints.
             let expected = if lifted {
                 room + blocks + 2.0 * (a_short + a_tall)
@@ -419,24 +419,24 @@ fn cornell_box_geometry() {
     }
     // The coarsest lifted box: 5 walls, 4 ceiling pieces around the light, the light and
     // 12 block faces.
-    let coarse = Scene::cornell_box(true, 1).unwrap();
+    let coarse = Scene3::cornell_box(true, 1).unwrap();
     assert_eq!(coarse.faces().len(), 22);
     assert_eq!(coarse.n_patches(), 22);
     // Grid 10: 400 wall, 100 floor and 104 ceiling patches around a 2 × 2 light, blocks of
     // 3 × 3 and 6 × 6 cells a side (54 + 162 lifted); standing, the floor gains pieces
     // around the footprints and the blocks lose their bottoms.
-    assert_eq!(Scene::cornell_box(true, 10).unwrap().n_patches(), 824);
-    assert_eq!(Scene::cornell_box(false, 10).unwrap().n_patches(), 810);
+    assert_eq!(Scene3::cornell_box(true, 10).unwrap().n_patches(), 824);
+    assert_eq!(Scene3::cornell_box(false, 10).unwrap().n_patches(), 810);
     assert!(matches!(
-        kind(Scene::cornell_box(true, 0)),
+        kind(Scene3::cornell_box(true, 0)),
         ErrorKind::BadSubdivision { .. }
     ));
     assert!(matches!(
-        kind(Scene::cornell_box(false, MAX_GRID + 1)),
+        kind(Scene3::cornell_box(false, MAX_GRID + 1)),
         ErrorKind::BadSubdivision { .. }
     ));
     assert!(matches!(
-        kind(Scene::cornell_box(false, 1000)),
+        kind(Scene3::cornell_box(false, 1000)),
         ErrorKind::TooManyPatches { .. }
     ));
 }
@@ -448,7 +448,7 @@ fn cornell_thesis_meshes_have_the_thesis_patch_counts() {
     let room = 2.0 * (sx * sy + sx * sz + sy * sz);
     let light = 130.0 * 105.0;
     for (level, patches) in [(0, 19), (1, 121), (2, 481), (3, 1924), (4, 7696)] {
-        let s = Scene::cornell_box_thesis(level).unwrap();
+        let s = Scene3::cornell_box_thesis(level).unwrap();
         assert_eq!(s.n_patches(), patches, "level {level}");
         assert_eq!(s.faces().len(), 19);
         assert_eq!(
@@ -464,7 +464,7 @@ fn cornell_thesis_meshes_have_the_thesis_patch_counts() {
             }
         }
         // The whole room (ceiling under the light included), the light, the closed blocks.
-        let lifted = Scene::cornell_box(true, 1).unwrap();
+        let lifted = Scene3::cornell_box(true, 1).unwrap();
         let blocks = lifted.total_area() - room;
         let expected = room + light + blocks;
         assert!((s.total_area() - expected).abs() < 1e-9 * expected);
@@ -479,7 +479,7 @@ fn cornell_thesis_meshes_have_the_thesis_patch_counts() {
     }
     // Level 2 leaves only the light whole; level 3 splits it in four.
     let light_patches = |level| {
-        let s = Scene::cornell_box_thesis(level).unwrap();
+        let s = Scene3::cornell_box_thesis(level).unwrap();
         s.patches()
             .iter()
             .filter(|p| s.materials()[p.material].is_emitter())
@@ -487,7 +487,7 @@ fn cornell_thesis_meshes_have_the_thesis_patch_counts() {
     };
     assert_eq!((light_patches(2), light_patches(3)), (1, 4));
     assert!(matches!(
-        kind(Scene::cornell_box_thesis(5)),
+        kind(Scene3::cornell_box_thesis(5)),
         ErrorKind::BadSubdivision { .. }
     ));
     assert_eq!(preset_3d("cornell-thesis", 1).unwrap().n_patches(), 121);
@@ -498,7 +498,7 @@ fn cube_rooms_reproduce_the_thesis_positional_entropy() {
     // H_P = H_S + I_S of Tables 3.1 and 3.3.
     for (m, h_p) in [(0, 9.229), (3, 9.4495), (4, 9.718), (8, 11.5405)] {
         for clustered in [false, true] {
-            let s = Scene::cube_room_with_cubes(m, clustered, 7).unwrap();
+            let s = Scene3::cube_room_with_cubes(m, clustered, 7).unwrap();
             let cubes = (m * m * m) as usize;
             assert_eq!(s.n_patches(), 600 + 6 * cubes);
             assert_eq!(s.objects().len(), 1 + cubes);
@@ -511,14 +511,14 @@ fn cube_rooms_reproduce_the_thesis_positional_entropy() {
             check_separated(&s, DVec3::ZERO, DVec3::ONE, gap, (2, gap));
         }
     }
-    check_closed(&Scene::cube_room_with_cubes(3, false, 1).unwrap());
-    check_closed(&Scene::cube_room_with_cubes(3, true, 1).unwrap());
+    check_closed(&Scene3::cube_room_with_cubes(3, false, 1).unwrap());
+    check_closed(&Scene3::cube_room_with_cubes(3, true, 1).unwrap());
     // Random placements depend on the seed only.
-    let a = Scene::cube_room_with_cubes(4, false, 11).unwrap();
-    assert_eq!(a, Scene::cube_room_with_cubes(4, false, 11).unwrap());
-    assert_ne!(a, Scene::cube_room_with_cubes(4, false, 12).unwrap());
+    let a = Scene3::cube_room_with_cubes(4, false, 11).unwrap();
+    assert_eq!(a, Scene3::cube_room_with_cubes(4, false, 11).unwrap());
+    assert_ne!(a, Scene3::cube_room_with_cubes(4, false, 12).unwrap());
     // The clustered block is centred and tight.
-    let block = Scene::cube_room_with_cubes(8, true, 0).unwrap();
+    let block = Scene3::cube_room_with_cubes(8, true, 0).unwrap();
     let objs = objects(&block);
     let extent = 8.0 * CUBE_ROOM_SIDE + 7.0 * CUBE_ROOM_SPACING;
     let (lo, hi) = objs.iter().flat_map(|o| &o.0).fold(
@@ -528,7 +528,11 @@ fn cube_rooms_reproduce_the_thesis_positional_entropy() {
     assert!((hi - lo - DVec3::splat(extent)).abs().max_element() < 1e-12);
     assert!((lo + hi - DVec3::ONE).abs().max_element() < 1e-12);
     assert!(matches!(
-        kind(Scene::cube_room_with_cubes(MAX_CUBES_PER_SIDE + 1, true, 0)),
+        kind(Scene3::cube_room_with_cubes(
+            MAX_CUBES_PER_SIDE + 1,
+            true,
+            0
+        )),
         ErrorKind::TooLarge { .. }
     ));
 }
@@ -538,7 +542,7 @@ fn sixty_four_cubes_expand_from_the_centre_to_the_walls() {
     let s = SIXTY_FOUR_CUBES_SIDE;
     for step in 0..SIXTY_FOUR_CUBES_STEPS {
         for fine in [false, true] {
-            let scene = Scene::sixty_four_cubes(step, fine).unwrap();
+            let scene = Scene3::sixty_four_cubes(step, fine).unwrap();
             assert_eq!(scene.n_patches(), 1920);
             let walls = scene
                 .patches()
@@ -559,18 +563,18 @@ fn sixty_four_cubes_expand_from_the_centre_to_the_walls() {
         }
     }
     // The ends: neighbours s/10 apart at step 0, outer cubes s/8 from the walls at step 8.
-    let first = objects(&Scene::sixty_four_cubes(0, false).unwrap());
+    let first = objects(&Scene3::sixty_four_cubes(0, false).unwrap());
     assert!((gap(&first[0], &first[1]) - 0.1 * s).abs() < 1e-12);
-    let last = Scene::sixty_four_cubes(8, true).unwrap();
+    let last = Scene3::sixty_four_cubes(8, true).unwrap();
     let (lo, hi) = objects(&last)
         .iter()
         .flat_map(|o| o.0.clone())
         .fold((DVec3::ONE, DVec3::ZERO), |(l, h), p| (l.min(p), h.max(p)));
     assert!((lo - DVec3::splat(0.125 * s)).abs().max_element() < 1e-12);
     assert!((hi - DVec3::splat(1.0 - 0.125 * s)).abs().max_element() < 1e-12);
-    check_closed(&Scene::sixty_four_cubes(0, false).unwrap());
+    check_closed(&Scene3::sixty_four_cubes(0, false).unwrap());
     assert!(matches!(
-        kind(Scene::sixty_four_cubes(SIXTY_FOUR_CUBES_STEPS, false)),
+        kind(Scene3::sixty_four_cubes(SIXTY_FOUR_CUBES_STEPS, false)),
         ErrorKind::TooLarge { .. }
     ));
 }
@@ -586,7 +590,7 @@ fn tables_and_chairs_in_six_arrangements() {
         ('e', 16),
         ('f', 16),
     ] {
-        let s = Scene::table_and_chairs_room(letter).unwrap();
+        let s = Scene3::table_and_chairs_room(letter).unwrap();
         assert_eq!(s.n_patches(), 1280 + 174 * sets, "{letter}");
         assert_eq!(s.objects().len(), 1 + 29 * sets);
         check_orientation(&s, 0.5 * room);
@@ -601,7 +605,7 @@ fn tables_and_chairs_in_six_arrangements() {
     }
     // Against the walls: some set 0.1 m from a wall; in the middle: none nearer than 1 m.
     let near = |letter| {
-        let s = Scene::table_and_chairs_room(letter).unwrap();
+        let s = Scene3::table_and_chairs_room(letter).unwrap();
         objects(&s)
             .iter()
             .flat_map(|o| o.0.clone())
@@ -612,9 +616,9 @@ fn tables_and_chairs_in_six_arrangements() {
         assert!((near(letter) - 0.1).abs() < 1e-9, "{letter}");
     }
     assert!(near('c') > 1.0);
-    check_closed(&Scene::table_and_chairs_room('a').unwrap());
+    check_closed(&Scene3::table_and_chairs_room('a').unwrap());
     assert!(matches!(
-        kind(Scene::table_and_chairs_room('g')),
+        kind(Scene3::table_and_chairs_room('g')),
         ErrorKind::UnknownPreset(_)
     ));
 }
@@ -637,11 +641,11 @@ fn every_listed_preset_builds_by_name() {
     assert_eq!(preset_3d("cubes-512-random", 0).unwrap().n_patches(), 3672);
     assert_eq!(
         preset_3d("cubes-64-random", 1).unwrap(),
-        Scene::cube_room_with_cubes(4, false, PRESET_SEED).unwrap()
+        Scene3::cube_room_with_cubes(4, false, PRESET_SEED).unwrap()
     );
     assert_eq!(
         preset_3d("64-cubes-3-fine", 1).unwrap(),
-        Scene::sixty_four_cubes(3, true).unwrap()
+        Scene3::sixty_four_cubes(3, true).unwrap()
     );
     assert_eq!(preset_3d("sphere-3", 1).unwrap().n_patches(), 1280);
     assert_eq!(preset_3d("tetra-mesh-2", 1).unwrap().n_patches(), 64);
@@ -670,8 +674,8 @@ fn every_listed_preset_builds_by_name() {
 }
 
 /// The unit cube room with face `skip` left out, or reversed if `flip`.
-fn broken_cube(skip: usize, flip: bool) -> Scene {
-    let mut b = Scene::builder();
+fn broken_cube(skip: usize, flip: bool) -> Scene3 {
+    let mut b = Scene3::builder();
     b.object(ENCLOSURE);
     for (k, f) in box_faces(DVec3::ZERO, DVec3::ONE).iter().enumerate() {
         let facing = DVec3::splat(0.5) - vertex_mean(f);

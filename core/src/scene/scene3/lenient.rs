@@ -1,15 +1,15 @@
 //! Faces as drawn: the lenient entry the loaders use, which repairs what real files hold
 //! (repeated vertices, slightly non-planar or concave polygons) instead of refusing it.
 //!
-//! # Rule ([`SceneBuilder::face_as_drawn`])
+//! # Rule ([`Scene3Builder::face_as_drawn`])
 //!
 //! With `d` the face's size (the diagonal of its bounding box, as in
-//! [`SceneBuilder::polygon`]):
+//! [`Scene3Builder::polygon`]):
 //!
 //! 1. consecutive repeated vertices (an edge at most [`REPEATED_VERTEX_TOLERANCE`]` · d`,
 //!    the last vertex against the first included) are removed;
 //! 2. a face planar within [`PLANARITY_TOLERANCE`]` · d` and convex is added by
-//!    [`SceneBuilder::polygon`] unchanged — the same scene, bit for bit, as the strict
+//!    [`Scene3Builder::polygon`] unchanged — the same scene, bit for bit, as the strict
 //!    builder gives;
 //! 3. a convex face planar within [`DRAWN_PLANARITY_TOLERANCE`]` · d` is projected onto its
 //!    Newell plane through its vertex mean (the plane [`geom::plane_deviation`] measures
@@ -40,7 +40,7 @@
 use alloc::vec::Vec;
 
 use super::{
-    CONVEXITY_TOLERANCE, DEGENERACY_TOLERANCE, MAX_PATCHES_3D, PLANARITY_TOLERANCE, SceneBuilder,
+    CONVEXITY_TOLERANCE, DEGENERACY_TOLERANCE, MAX_PATCHES_3D, PLANARITY_TOLERANCE, Scene3Builder,
     Subdivision, check_face_input, scale_face,
 };
 use crate::error::{ErrorKind, Result};
@@ -55,7 +55,7 @@ pub const DRAWN_PLANARITY_TOLERANCE: f64 = 1e-3;
 /// Longest edge, relative to a face's size, whose end repeats its start (module docs).
 pub const REPEATED_VERTEX_TOLERANCE: f64 = 1e-12;
 
-/// What [`SceneBuilder::add_triangles`] needs of the face its triangles come from.
+/// What [`Scene3Builder::add_triangles`] needs of the face its triangles come from.
 #[derive(Clone, Copy)]
 struct Pieces {
     /// The face's size (bounding-box diagonal), for the degeneracy tolerance.
@@ -66,7 +66,7 @@ struct Pieces {
     facing: Option<DVec3>,
 }
 
-impl SceneBuilder {
+impl Scene3Builder {
     /// Adds the polygon through `vertices` as drawn in a file: repaired, flattened or
     /// triangulated by the rule of the module docs, what was done recorded in `report`
     /// (counts, and warnings at `line`). Counts the face in `report.faces_read`.

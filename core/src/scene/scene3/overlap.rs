@@ -1,5 +1,5 @@
 //! Coincident faces as drawn: duplicates dropped, overlaps cut away, so that area drawn
-//! twice is counted once ([`SceneBuilder::build_as_drawn`]).
+//! twice is counted once ([`Scene3Builder::build_as_drawn`]).
 //!
 //! # Rule
 //!
@@ -36,7 +36,7 @@
 
 use alloc::vec::Vec;
 
-use super::{Scene, SceneBuilder};
+use super::{Scene3, Scene3Builder};
 use crate::error::{ErrorKind, Result};
 use crate::geom::{self, DVec3};
 use crate::scene::coincident::{coincident_face_pairs, face_tolerance};
@@ -55,7 +55,7 @@ enum Fate {
     Clipped(usize, Vec<Vec<DVec3>>),
 }
 
-impl SceneBuilder {
+impl Scene3Builder {
     /// The finished scene, with coincident faces resolved by the rule of the module docs
     /// and recorded in `report`; `face_lines[k]` is the line of face `k` (for the
     /// warnings). Without coincident faces, the scene [`Self::build`] gives. Consumes the
@@ -63,7 +63,7 @@ impl SceneBuilder {
     ///
     /// # Errors
     /// [`ErrorKind::EmptyScene`] if no face was added; those of the module docs.
-    pub fn build_as_drawn(self, report: &mut LoadReport, face_lines: &[u32]) -> Result<Scene> {
+    pub fn build_as_drawn(self, report: &mut LoadReport, face_lines: &[u32]) -> Result<Scene3> {
         if self.faces.is_empty() {
             return Err(ErrorKind::EmptyScene.into());
         }
@@ -119,9 +119,9 @@ impl SceneBuilder {
             ));
         }
         // The faces again, in order, as their fates say
-        let mut b = SceneBuilder {
+        let mut b = Scene3Builder {
             working_exponent: self.working_exponent,
-            ..SceneBuilder::default()
+            ..Scene3Builder::default()
         };
         let mut origin: Vec<usize> = Vec::with_capacity(self.faces.len());
         let mut scratch = LoadReport::default();

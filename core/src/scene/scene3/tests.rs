@@ -15,8 +15,8 @@ pub(crate) fn unit_cube_faces() -> [[DVec3; 4]; 6] {
     ]
 }
 
-fn cube(s: Subdivision, inward: bool) -> Scene {
-    let mut b = Scene::builder();
+fn cube(s: Subdivision, inward: bool) -> Scene3 {
+    let mut b = Scene3::builder();
     for mut f in unit_cube_faces() {
         if inward {
             f.reverse();
@@ -26,11 +26,11 @@ fn cube(s: Subdivision, inward: bool) -> Scene {
     b.build().unwrap()
 }
 
-fn kind(r: Result<&mut SceneBuilder>) -> ErrorKind {
+fn kind(r: Result<&mut Scene3Builder>) -> ErrorKind {
     r.map(|_| ()).unwrap_err().kind().clone()
 }
 
-fn message(r: Result<&mut SceneBuilder>) -> alloc::string::String {
+fn message(r: Result<&mut Scene3Builder>) -> alloc::string::String {
     r.map(|_| ()).unwrap_err().to_string()
 }
 
@@ -106,7 +106,7 @@ fn triangles_level_l_gives_two_times_four_to_the_l_per_quad() {
     }
     // A triangle is cut into 4^l, a pentagon fanned into 3 triangles first.
     let tri = [DVec3::ZERO, DVec3::X, DVec3::Y];
-    let mut b = Scene::builder();
+    let mut b = Scene3::builder();
     b.polygon(&tri, Subdivision::Triangles(2)).unwrap();
     assert_eq!(b.patch_count(), 16);
     b.polygon(&tri, Subdivision::Grid(3)).unwrap();
@@ -133,7 +133,7 @@ fn straight_vertices_are_skipped_when_triangulating() {
         DVec3::new(1.0, 1.0, 0.0),
         DVec3::Y,
     ];
-    let mut b = Scene::builder();
+    let mut b = Scene3::builder();
     b.polygon(&v, Subdivision::Triangles(0)).unwrap();
     let s = b.build().unwrap();
     assert_eq!(s.n_patches(), 2);
@@ -142,7 +142,7 @@ fn straight_vertices_are_skipped_when_triangulating() {
 
 #[test]
 fn subdivided_recuts_every_face() {
-    let mut b = Scene::builder();
+    let mut b = Scene3::builder();
     b.material(Material::new([0.5; 3], [0.0; 3]).unwrap())
         .object("walls");
     for f in &unit_cube_faces()[..5] {
@@ -171,7 +171,7 @@ fn subdivided_recuts_every_face() {
 }
 
 /// `s` with every face as its own patch.
-fn cube_like(s: &Scene) -> Scene {
+fn cube_like(s: &Scene3) -> Scene3 {
     s.subdivided(Subdivision::None).unwrap()
 }
 
@@ -186,7 +186,7 @@ fn materials_and_objects_are_listed_once_in_first_use_order() {
             DVec3::new(0.0, 1.0, z),
         ]
     };
-    let mut b = Scene::builder();
+    let mut b = Scene3::builder();
     b.material(Material::new([0.9; 3], [0.0; 3]).unwrap()); // never used
     b.material(red).object("a");
     b.polygon(&tri(0.0), Subdivision::None).unwrap();
@@ -203,7 +203,7 @@ fn materials_and_objects_are_listed_once_in_first_use_order() {
 
 #[test]
 fn rejects_bad_faces_with_clear_messages() {
-    let mut b = Scene::builder();
+    let mut b = Scene3::builder();
     let sq = unit_cube_faces()[1];
     assert_eq!(
         message(b.polygon(&sq[..2], Subdivision::None)),
@@ -279,14 +279,14 @@ fn rejects_bad_faces_with_clear_messages() {
     // Failed faces leave the builder as it was.
     assert_eq!((b.face_count(), b.patch_count()), (1, 1));
     assert_eq!(
-        Scene::builder().build().unwrap_err().kind(),
+        Scene3::builder().build().unwrap_err().kind(),
         &ErrorKind::EmptyScene
     );
 }
 
 #[test]
 fn patch_cap_is_checked_before_allocating() {
-    let mut b = Scene::builder();
+    let mut b = Scene3::builder();
     let sq = unit_cube_faces()[1];
     b.polygon(&sq, Subdivision::Grid(2000)).unwrap();
     assert_eq!(b.patch_count(), 4_000_000);
@@ -294,7 +294,7 @@ fn patch_cap_is_checked_before_allocating() {
         message(b.polygon(&sq, Subdivision::None)),
         "scene has more than 4000000 patches"
     );
-    let mut b = Scene::builder();
+    let mut b = Scene3::builder();
     let big: Vec<DVec3> = (0..256)
         .map(|k| {
             let t = k as f64 * core::f64::consts::TAU / 256.0;
@@ -312,7 +312,7 @@ fn patch_cap_is_checked_before_allocating() {
 fn faces_too_small_for_f64_are_degenerate() {
     // Areas near 1e-320 lose their precision (squared lengths underflow): rejected.
     let tri = [DVec3::ZERO, DVec3::X, DVec3::Y];
-    let mut b = Scene::builder();
+    let mut b = Scene3::builder();
     b.polygon(&tri.map(|v| v * 1e-70), Subdivision::Grid(2000))
         .unwrap();
     assert_eq!(
@@ -372,10 +372,10 @@ mod props {
         ) {
             let scale = libm::pow(10.0, log_scale);
             let (vertices, _) = polygon(n, angles, stretch, scale, centre);
-            let mut b = Scene::builder();
+            let mut b = Scene3::builder();
             b.polygon(&vertices, s).unwrap();
             let strict = b.build().unwrap();
-            let mut l = Scene::builder();
+            let mut l = Scene3::builder();
             let mut report = crate::io::LoadReport::default();
             l.face_as_drawn(&vertices, s, &mut report, Some(1)).unwrap();
             prop_assert_eq!(l.build_as_drawn(&mut report, &[1]).unwrap(), strict);
@@ -396,7 +396,7 @@ mod props {
         ) {
             let scale = libm::pow(10.0, log_scale);
             let (vertices, normal) = polygon(n, angles, stretch, scale, centre);
-            let mut b = Scene::builder();
+            let mut b = Scene3::builder();
             b.polygon(&vertices, s).unwrap();
             let scene = b.build().unwrap();
             let face = &scene.faces()[0];

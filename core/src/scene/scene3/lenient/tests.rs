@@ -1,5 +1,5 @@
 use super::*;
-use crate::scene::Scene;
+use crate::scene::Scene3;
 use crate::scene::scene3::tests::unit_cube_faces;
 use alloc::vec;
 
@@ -8,8 +8,8 @@ fn p(x: f64, y: f64, z: f64) -> DVec3 {
 }
 
 /// Adds every face leniently, line k + 1 for face k, and builds leniently.
-fn lenient(faces: &[Vec<DVec3>], s: Subdivision) -> (Result<Scene>, LoadReport) {
-    let mut b = Scene::builder();
+fn lenient(faces: &[Vec<DVec3>], s: Subdivision) -> (Result<Scene3>, LoadReport) {
+    let mut b = Scene3::builder();
     let mut report = LoadReport::default();
     let mut lines = Vec::new();
     for (k, f) in faces.iter().enumerate() {
@@ -20,8 +20,8 @@ fn lenient(faces: &[Vec<DVec3>], s: Subdivision) -> (Result<Scene>, LoadReport) 
     (b.build_as_drawn(&mut report, &lines), report)
 }
 
-fn strict(faces: &[Vec<DVec3>], s: Subdivision) -> Scene {
-    let mut b = Scene::builder();
+fn strict(faces: &[Vec<DVec3>], s: Subdivision) -> Scene3 {
+    let mut b = Scene3::builder();
     for f in faces {
         b.polygon(f, s).unwrap();
     }
@@ -165,7 +165,7 @@ fn degenerate_faces_and_pieces_are_dropped_with_a_warning() {
 
 #[test]
 fn bad_numbers_and_counts_stay_errors() {
-    let mut b = Scene::builder();
+    let mut b = Scene3::builder();
     let mut r = LoadReport::default();
     let tri = |z: f64| [p(0., 0., 0.), p(1., 0., 0.), p(0., 1., z)];
     let kind = |e: Result<()>| e.unwrap_err().kind().clone();
@@ -284,7 +284,7 @@ mod props {
             ),
             s in prop_oneof![Just(Subdivision::None), Just(Subdivision::Grid(2))],
         ) {
-            let mut b = Scene::builder();
+            let mut b = Scene3::builder();
             let mut report = LoadReport::default();
             let mut lines = Vec::new();
             for (k, f) in faces.iter().enumerate() {
@@ -318,12 +318,12 @@ fn the_stored_frame_depends_on_the_scene_not_on_dropped_faces() {
     // scene written back and read again was stored differently (same world coordinates)
     let unit = [p(0., 0., 0.), p(1., 0., 0.), p(0., 1., 0.)];
     let mut r = LoadReport::default();
-    let mut plain = Scene::builder();
+    let mut plain = Scene3::builder();
     plain
         .face_as_drawn(&unit, Subdivision::None, &mut r, None)
         .unwrap();
     let plain = plain.build().unwrap();
-    let mut b = Scene::builder();
+    let mut b = Scene3::builder();
     let sliver = [p(0., 0., 0.), p(1e70, 0., 0.), p(2e70, 0., 0.)];
     b.face_as_drawn(&sliver, Subdivision::None, &mut r, None)
         .unwrap();
@@ -335,7 +335,7 @@ fn the_stored_frame_depends_on_the_scene_not_on_dropped_faces() {
     // Built in other units (a first face 2⁷⁰ wide), a scene 2⁷⁵ wide is stored as if read
     // at once in its own units: extent in [1, 2), exponent 75
     let big = |v: &[DVec3]| v.iter().map(|&q| q * 2f64.powi(70)).collect::<Vec<_>>();
-    let mut b = Scene::builder();
+    let mut b = Scene3::builder();
     b.polygon(&big(&unit), Subdivision::None).unwrap();
     b.polygon(
         &big(&[p(0., 0., 1.), p(0., 32., 1.), p(32., 0., 1.)]),

@@ -16,8 +16,8 @@ fn rect(x0: f64, x1: f64, y0: f64, y1: f64, z: f64, down: bool) -> Vec<DVec3> {
     r
 }
 
-fn lenient(faces: &[Vec<DVec3>], s: Subdivision) -> (Result<Scene>, LoadReport) {
-    let mut b = Scene::builder();
+fn lenient(faces: &[Vec<DVec3>], s: Subdivision) -> (Result<Scene3>, LoadReport) {
+    let mut b = Scene3::builder();
     let mut report = LoadReport::default();
     let mut lines = Vec::new();
     for (k, f) in faces.iter().enumerate() {
@@ -48,7 +48,7 @@ fn duplicates_are_dropped_naming_both_lines() {
         ["line 30: dropped a duplicate face (of line 10) (3 times)"]
     );
     // The strict build still refuses them
-    let mut b = Scene::builder();
+    let mut b = Scene3::builder();
     b.polygon(&a, Subdivision::None).unwrap();
     b.polygon(&a, Subdivision::None).unwrap();
     assert_eq!(
@@ -139,10 +139,10 @@ fn obj_files_with_duplicates_and_overlaps_load() {
 
 /// A floor of `2 · n · m` triangles in `z = 0` (facing up) and four walls, as a loader
 /// would give it.
-fn floor_grid(b: &mut SceneBuilder, n: usize, m: usize, lenient: Option<&mut LoadReport>) {
+fn floor_grid(b: &mut Scene3Builder, n: usize, m: usize, lenient: Option<&mut LoadReport>) {
     let mut lenient = lenient;
     let (w, h) = (n as f64, m as f64);
-    let mut add = |b: &mut SceneBuilder, f: &[DVec3]| match lenient.as_deref_mut() {
+    let mut add = |b: &mut Scene3Builder, f: &[DVec3]| match lenient.as_deref_mut() {
         Some(r) => b.face_as_drawn(f, Subdivision::None, r, None).unwrap(),
         None => {
             b.polygon(f, Subdivision::None).unwrap();
@@ -167,10 +167,10 @@ fn floor_grid(b: &mut SceneBuilder, n: usize, m: usize, lenient: Option<&mut Loa
 
 #[test]
 fn floor_grid_has_no_coincident_faces() {
-    let mut b = Scene::builder();
+    let mut b = Scene3::builder();
     floor_grid(&mut b, 30, 20, None);
     let strict = b.build().unwrap();
-    let mut l = Scene::builder();
+    let mut l = Scene3::builder();
     let mut report = LoadReport::default();
     floor_grid(&mut l, 30, 20, Some(&mut report));
     assert_eq!(l.build_as_drawn(&mut report, &[]).unwrap(), strict);
@@ -190,7 +190,7 @@ fn floor_grid_has_no_coincident_faces() {
 fn floor_grid_of_a_million_triangles() {
     extern crate std;
     let clock = std::time::Instant::now();
-    let mut b = Scene::builder();
+    let mut b = Scene3::builder();
     floor_grid(&mut b, 1000, 500, None);
     let added = clock.elapsed();
     let strict = b.finish().unwrap();
@@ -198,7 +198,7 @@ fn floor_grid_of_a_million_triangles() {
     assert_eq!(strict.n_patches(), 1_000_004);
     drop(strict);
     let clock = std::time::Instant::now();
-    let mut l = Scene::builder();
+    let mut l = Scene3::builder();
     let mut report = LoadReport::default();
     floor_grid(&mut l, 1000, 500, Some(&mut report));
     let lenient_added = clock.elapsed();
