@@ -5,11 +5,11 @@
 
 use sceneinfo::ErrorKind;
 use sceneinfo::channel::Measures;
-use sceneinfo::formfactor::estimate_2d::{LineMethod, Tracer2};
 use sceneinfo::formfactor::exact_2d;
-use sceneinfo::formfactor::tally::LineTracer;
 use sceneinfo::io::parse_flat;
 use sceneinfo::report::SceneReport;
+use sceneinfo::tally::LineTracer;
+use sceneinfo::trace::estimate_2d::{LineMethod, Tracer2};
 
 /// The identities' relative tolerance asked for by the issue.
 const RELATIVE: f64 = 1e-12;

@@ -7,10 +7,10 @@
 //! under "Changed" that says which numbers move and why.
 
 use rand_core::Rng;
-use sceneinfo::formfactor::tally::{LineEstimate, LineMethod};
-use sceneinfo::formfactor::{estimate_2d, estimate_3d};
 use sceneinfo::lines::chunk_rng;
 use sceneinfo::scene::{Scene2, Scene3, preset_3d};
+use sceneinfo::tally::{LineEstimate, LineMethod};
+use sceneinfo::trace::{estimate_2d, estimate_3d};
 
 /// A fingerprint of a matrix's bits (FNV-1a over each entry's `to_bits`), to pin every
 /// entry at once.

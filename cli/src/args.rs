@@ -361,8 +361,8 @@ pub enum Method {
 impl Method {
     /// The core's sampling method.
     #[must_use]
-    pub fn line_method(self) -> sceneinfo::formfactor::tally::LineMethod {
-        use sceneinfo::formfactor::tally::LineMethod;
+    pub fn line_method(self) -> sceneinfo::tally::LineMethod {
+        use sceneinfo::tally::LineMethod;
         match self {
             Method::Global => LineMethod::Global,
             Method::Local => LineMethod::Local,

@@ -9,8 +9,8 @@ use std::ops::Range;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use sceneinfo::formfactor::tally::{LineMethod, LineTally, LineTracer};
 use sceneinfo::lines::{CHUNK_LINES, chunk_count, chunk_range};
+use sceneinfo::tally::{LineMethod, LineTally, LineTracer};
 
 /// Where `--lines auto` starts: 2¹⁷ lines, two seeded chunks (one per core of a small
 /// machine), a whole number of chunks so that every doubling reuses the lines cast.
@@ -280,10 +280,10 @@ pub fn flat_profile(
         scene,
         sceneinfo::refine::profile::cells_per_patch(scene.n_patches()),
     )?;
-    let tracer = sceneinfo::formfactor::estimate_2d::Tracer2::new(&fine)?;
+    let tracer = sceneinfo::trace::estimate_2d::Tracer2::new(&fine)?;
     let tally = run(
         &tracer,
-        sceneinfo::formfactor::tally::LineMethod::Global,
+        sceneinfo::tally::LineMethod::Global,
         seed,
         lines,
         threads,

@@ -7,16 +7,16 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use sceneinfo::accel::{Bvh2, Bvh3, all_hits_naive, all_hits_naive3};
-use sceneinfo::formfactor::estimate_2d::Tracer2;
-use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::exact_3d;
-use sceneinfo::formfactor::tally::{LineMethod, LineTracer};
 use sceneinfo::geom::{DVec2, DVec3, Segment};
 use sceneinfo::lines::{
     BoundingCircle, BoundingSphere, Line2, Line3, canonical, canonical_2d, chunk_rng,
     sample_global_line_2d, sample_global_line_3d,
 };
 use sceneinfo::scene::{Scene2, Scene3, catalogue_scene};
+use sceneinfo::tally::{LineMethod, LineTracer};
+use sceneinfo::trace::estimate_2d::Tracer2;
+use sceneinfo::trace::estimate_3d::Tracer3;
 
 /// Lines per measured batch.
 const BATCH: usize = 4096;

@@ -75,7 +75,11 @@ pub mod radiosity;
 pub mod refine;
 pub mod report;
 pub mod scene;
+#[cfg(feature = "alloc")]
+pub mod tally;
 pub mod thesis;
+#[cfg(feature = "alloc")]
+pub mod trace;
 #[cfg(feature = "alloc")]
 pub mod viewpoint;
 

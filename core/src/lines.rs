@@ -33,14 +33,14 @@
 
 mod budget;
 mod bundle3;
-mod global;
+mod global2;
 mod lines3;
-mod local;
+mod local2;
 mod stream;
 
 pub use budget::{MAX_LINES, check_line_budget};
 pub use bundle3::{BundleRow, GlobalBundle3, sheaf_direction_sample};
-pub use global::{
+pub use global2::{
     BoundingCircle, GlobalBundle2, Line2, global_line_2d_pdf, invert_global_line_2d,
     sample_global_line_2d,
 };
@@ -50,7 +50,7 @@ pub use lines3::{
     polygon_point_pdf, sample_cosine_hemisphere, sample_global_line_3d, sample_local_line_3d,
     sample_polygon_point, sample_uniform_sphere, uniform_sphere_pdf,
 };
-pub use local::{
+pub use local2::{
     cosine_direction_2d_pdf, invert_cosine_direction_2d, invert_local_line_2d,
     invert_segment_point, sample_cosine_direction_2d, sample_local_line_2d, sample_point_pair,
     sample_segment_point,

@@ -25,16 +25,16 @@ use crate::channel::Transitions;
 use crate::error::{Error, ErrorKind, Result};
 use crate::math::KahanSum;
 
-mod channel;
 #[cfg(feature = "alloc")]
 pub mod continuous;
 #[cfg(feature = "alloc")]
 pub mod display;
+mod lit_channel;
 pub mod measures;
 #[cfg(feature = "alloc")]
 pub mod rgb;
 pub mod walk;
-pub use channel::radiosity_channel_into;
+pub use lit_channel::radiosity_channel_into;
 pub use measures::{RadiosityMeasures, RadiosityTransitions, radiosity_measures};
 
 #[cfg(test)]

@@ -17,7 +17,7 @@
 //!   cumulative values.
 //! - [`symmetric`] (alloc): `I_S` maximised over mirrored cut positions of a regular polygon
 //!   (§6.5.1, Fig. 6.12, Table 6.1).
-//! - [`flat`] (alloc): flatland refinement one step at a time (§6.5.2): the
+//! - [`refiner2`] (alloc): flatland refinement one step at a time (§6.5.2): the
 //!   discretisation-error (DE) oracle, the "power-based" rival and regular halving.
 //!
 //! Every gain and error is in bits.
@@ -25,10 +25,10 @@
 pub mod cuts;
 pub mod discretisation;
 #[cfg(feature = "alloc")]
-pub mod flat;
-#[cfg(feature = "alloc")]
 pub mod profile;
 pub mod proposition;
+#[cfg(feature = "alloc")]
+pub mod refiner2;
 #[cfg(feature = "alloc")]
 pub mod symmetric;
 

@@ -214,7 +214,7 @@ pub enum Warning {
         /// Lines cast.
         lines: u64,
         /// About how many lines would reach every patch
-        /// ([`crate::formfactor::coverage::lines_to_sample_all`]), if it could be estimated.
+        /// ([`crate::tally::coverage::lines_to_sample_all`]), if it could be estimated.
         suggested: Option<u64>,
     },
 }
@@ -406,7 +406,7 @@ impl SceneReport {
 }
 
 /// The report of a Monte Carlo run that left some patches without a sample
-/// ([`crate::formfactor::coverage`]): the keys of [`SceneReport::write_fields`] in the same
+/// ([`crate::tally::coverage`]): the keys of [`SceneReport::write_fields`] in the same
 /// order, `n_patches` given and every other one `null` — the rows of `F` of the unsampled
 /// patches are unknown, and with them every discrete measure, the background (a scene is
 /// open if some row loses energy) and the checks — then `unsampled_patches`,
@@ -417,7 +417,7 @@ impl SceneReport {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct UnsampledReport {
     /// Which patches the lines reached.
-    pub coverage: crate::formfactor::coverage::Coverage,
+    pub coverage: crate::tally::coverage::Coverage,
 }
 
 #[cfg(feature = "alloc")]
@@ -474,7 +474,7 @@ impl UnsampledReport {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LineRunReport {
     /// Global (2.37) or local (2.36) lines.
-    pub method: crate::formfactor::tally::LineMethod,
+    pub method: crate::tally::LineMethod,
     /// Lines cast.
     pub lines: u64,
     /// Seed of the line streams.
@@ -633,7 +633,7 @@ mod tests {
     #[test]
     fn unsampled_report_keeps_the_keys_with_nulls() {
         let report = UnsampledReport {
-            coverage: crate::formfactor::coverage::Coverage {
+            coverage: crate::tally::coverage::Coverage {
                 n_patches: 7,
                 lines: 100,
                 unsampled: 2,

@@ -20,9 +20,9 @@ mod catalogue;
 #[cfg(feature = "alloc")]
 pub mod coincident;
 #[cfg(feature = "alloc")]
-mod flat;
-#[cfg(feature = "alloc")]
 mod load_report;
+#[cfg(feature = "alloc")]
+mod scene2;
 #[cfg(feature = "alloc")]
 pub use load_report::{LoadReport, LoadWarning, LoadWarningKind};
 #[cfg(feature = "alloc")]
@@ -40,8 +40,6 @@ pub use catalogue::{
     catalogue_scene,
 };
 #[cfg(feature = "alloc")]
-pub use flat::{MAX_PATCHES, MAX_PATCHES_PER_SURFACE, Patch2, Scene2, Scene2Builder, Surface2};
-#[cfg(feature = "alloc")]
 pub use presets3d::{
     CORNELL_BLOCK_LIFT, CORNELL_GREEN, CORNELL_LIGHT, CORNELL_RED, CORNELL_ROOM,
     CORNELL_THESIS_EDGE, CORNELL_THESIS_LIGHT_GAP, CORNELL_WHITE, CUBE_ROOM_GRID,
@@ -50,6 +48,8 @@ pub use presets3d::{
     Preset3Entry, SIXTY_FOUR_CUBES_GAPS, SIXTY_FOUR_CUBES_SIDE, SIXTY_FOUR_CUBES_STEPS, TABLE_ROOM,
     preset_3d, presets_3d,
 };
+#[cfg(feature = "alloc")]
+pub use scene2::{MAX_PATCHES, MAX_PATCHES_PER_SURFACE, Patch2, Scene2, Scene2Builder, Surface2};
 #[cfg(feature = "alloc")]
 pub use scene3::{
     CONVEXITY_TOLERANCE, DRAWN_PLANARITY_TOLERANCE, Face3, MAX_CLIP_PIECES, MAX_FACE_VERTICES,

@@ -8,9 +8,9 @@
 use core::fmt;
 
 use sceneinfo::ErrorKind;
-use sceneinfo::formfactor::estimate_2d::{LineMethod, Tracer2};
 use sceneinfo::formfactor::exact_2d;
-use sceneinfo::formfactor::tally::LineTracer;
+use sceneinfo::tally::LineTracer;
+use sceneinfo::trace::estimate_2d::{LineMethod, Tracer2};
 
 use super::invariants::{self, MAX_INPUT_BYTES, Outcome};
 
@@ -44,7 +44,7 @@ impl fmt::Debug for FlatPipelineCase<'_> {
         )?;
         write!(
             f,
-            "    let est = sceneinfo::formfactor::estimate_2d::estimate(&scene, \
+            "    let est = sceneinfo::trace::estimate_2d::estimate(&scene, \
              LineMethod::Global, {:#x}, {LINES});",
             invariants::seed_of(self.0.as_bytes())
         )

@@ -7,11 +7,11 @@
 //! Compiled by the fuzz crate and, through `#[path]`, by `tests/fuzz_replay.rs`.
 
 use sceneinfo::formfactor::FormFactors;
-use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::exact_3d;
-use sceneinfo::formfactor::tally::{LineMethod, LineTracer};
 use sceneinfo::radiosity::{self, SolveOptions, Solver};
 use sceneinfo::scene::{Scene3, Subdivision};
+use sceneinfo::tally::{LineMethod, LineTracer};
+use sceneinfo::trace::estimate_3d::Tracer3;
 
 use super::invariants::{self, MAX_INPUT_BYTES, Outcome};
 use super::obj_parse::ObjCase;

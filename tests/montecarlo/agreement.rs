@@ -1,10 +1,10 @@
 //! Monte Carlo form factors agree with the exact ones; discrete `I_S` from few lines is
 //! biased upward and converges (the behaviour of Tables 3.7, 3.8 and 4.3).
 
-use sceneinfo::formfactor::estimate_2d::{LineMethod, estimate};
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::geom::DVec2;
 use sceneinfo::scene::Scene2;
+use sceneinfo::trace::estimate_2d::{LineMethod, estimate};
 
 /// A room with two boxes and a two-sided wall stub: plenty of partial occlusion.
 fn room() -> Scene2 {

@@ -2,8 +2,8 @@
 //! global lines, with an honest standard error, on the thesis' closed forms (Table 4.11).
 
 use sceneinfo::continuous::closed_form;
-use sceneinfo::formfactor::estimate_2d::{LineMethod, estimate};
 use sceneinfo::scene::Scene2;
+use sceneinfo::trace::estimate_2d::{LineMethod, estimate};
 
 /// `I_S^c` by bundles of the equilateral triangle (one patch per side) against Table
 /// 4.11's closed form 1.2845 (thesis 1.285). Bundles' standard error is about a sixth of

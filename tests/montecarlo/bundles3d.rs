@@ -3,10 +3,10 @@
 //! of the platonic solids against the quadrature of Table 4.1 — with an honest standard
 //! error.
 
-use sceneinfo::formfactor::estimate_3d::{LineMethod, estimate};
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::formfactor::quadrature::{QuadratureOptions, scene_i_s_continuous};
 use sceneinfo::scene::Scene3;
+use sceneinfo::trace::estimate_3d::{LineMethod, estimate};
 
 /// The cube cut 3 × 3 a face (54 patches, no occlusion): the mean of 20 bundle estimates of
 /// each `F_ij` (seeds 0–19, 250,000 lines each) lies within 6 standard errors of the mean

@@ -3,9 +3,9 @@
 
 use proptest::prelude::*;
 use sceneinfo::formfactor::FormFactors;
-use sceneinfo::formfactor::estimate_3d::{LineMethod, estimate};
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::scene::Scene3;
+use sceneinfo::trace::estimate_3d::{LineMethod, estimate};
 
 use super::solids::{Solid, convex_enclosure, random_box, refine};
 

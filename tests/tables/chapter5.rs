@@ -8,16 +8,16 @@
 
 use sceneinfo::continuous::ContinuousEstimate;
 use sceneinfo::formfactor::FormFactors;
-use sceneinfo::formfactor::estimate_2d::Tracer2;
-use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::exact_3d;
-use sceneinfo::formfactor::tally::{LineMethod, LineTracer};
 use sceneinfo::radiosity::continuous::{LitEstimate, estimate_lit};
 use sceneinfo::radiosity::rgb::{patch_materials, rgb_measures, solve_rgb};
 use sceneinfo::radiosity::walk::{WalkTransitions, gather};
 use sceneinfo::radiosity::{RadiosityMeasures, SolveOptions, Solver};
 use sceneinfo::scene::{Material, Scene3, catalogue_scene};
+use sceneinfo::tally::{LineMethod, LineTracer};
 use sceneinfo::thesis::{TABLE_5_3, TABLE_5_4};
+use sceneinfo::trace::estimate_2d::Tracer2;
+use sceneinfo::trace::estimate_3d::Tracer3;
 
 fn opts() -> SolveOptions {
     SolveOptions {

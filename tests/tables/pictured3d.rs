@@ -1,7 +1,7 @@
 //! The thesis' claims on its pictured 3D scenes (our versions: `scene::presets3d`).
 
-use sceneinfo::formfactor::estimate_3d::{LineMethod, estimate};
 use sceneinfo::scene::preset_3d;
+use sceneinfo::trace::estimate_3d::{LineMethod, estimate};
 
 /// Tables 3.1 and 3.3: clustering the small cubes of a cube room makes the scene more
 /// correlated: higher `I_S`, lower `H_S` (same discretisation, so the same `H_P`). Both from

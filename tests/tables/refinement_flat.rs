@@ -13,8 +13,8 @@ use std::sync::OnceLock;
 
 use sceneinfo::continuous::{closed_form, relative_discretisation_error};
 use sceneinfo::formfactor::exact_2d;
-use sceneinfo::refine::flat::{OracleChoice2, Refiner2, StepReport};
 use sceneinfo::refine::profile::InformationProfile;
+use sceneinfo::refine::refiner2::{OracleChoice2, Refiner2, StepReport};
 use sceneinfo::refine::symmetric::{best_mirrored_cuts, polygon_with_mirrored_cuts};
 use sceneinfo::scene::{Scene2, catalogue_scene};
 use sceneinfo::thesis::{FIGURE_6_12_BEST_CUT, TABLE_6_1, TABLE_6_2, TABLE_ROUNDING};

@@ -1,11 +1,11 @@
 //! 3D tables: the empty cube (Tables 3.2, 3.8), the platonic solids (Table 4.1), the
 //! tetrahedron (Table 4.5) and the sphere model (§3.2.1).
 
-use sceneinfo::formfactor::estimate_3d::{LineMethod, estimate};
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::formfactor::quadrature::{QuadratureOptions, scene_i_s_continuous};
 use sceneinfo::scene::{Scene3, preset_3d};
 use sceneinfo::thesis::{PLATONIC_REFERENCE, TABLE_3_8, TABLE_ROUNDING};
+use sceneinfo::trace::estimate_3d::{LineMethod, estimate};
 
 fn exact_measures(scene: &Scene3) -> sceneinfo::channel::Measures {
     let polygons: Vec<(usize, usize)> =

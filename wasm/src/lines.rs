@@ -6,10 +6,10 @@
 //! bits as `sceneinfo measure --lines N --seed S` on any number of threads; a job stopped
 //! after `k` whole chunks equals the job of `k · 2^16` lines.
 
-use sceneinfo::formfactor::estimate_2d::Tracer2;
-use sceneinfo::formfactor::tally::{LineMethod, LineTally, LineTracer};
 use sceneinfo::lines::{CHUNK_LINES, chunk_count};
 use sceneinfo::report::{JsonObject, LineRunReport, SceneReport, UnsampledReport};
+use sceneinfo::tally::{LineMethod, LineTally, LineTracer};
+use sceneinfo::trace::estimate_2d::Tracer2;
 use wasm_bindgen::prelude::*;
 
 use crate::into_error;
@@ -191,7 +191,7 @@ impl LineResult {
     }
 
     /// `I_ij^c` (6.35, 6.36), `n × n` row-major, for scenes of at most
-    /// [`sceneinfo::formfactor::DENSE_PAIR_LIMIT`] patches whose every patch was sampled
+    /// [`sceneinfo::tally::DENSE_PAIR_LIMIT`] patches whose every patch was sampled
     /// (`undefined` otherwise).
     #[wasm_bindgen(js_name = pairContinuous)]
     #[must_use]

@@ -1,7 +1,7 @@
 //! `Refiner`: flatland refinement one split at a time (thesis §6.5.2), for the page's
-//! refinement player — a thin handle on [`sceneinfo::refine::flat::Refiner2`].
+//! refinement player — a thin handle on [`sceneinfo::refine::refiner2::Refiner2`].
 
-use sceneinfo::refine::flat::{OracleChoice2, Refiner2, StepReport};
+use sceneinfo::refine::refiner2::{OracleChoice2, Refiner2, StepReport};
 use sceneinfo::report::JsonObject;
 use wasm_bindgen::prelude::*;
 

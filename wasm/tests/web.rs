@@ -3,9 +3,9 @@
 
 #![cfg(target_arch = "wasm32")]
 
-use sceneinfo::formfactor::estimate_2d;
-use sceneinfo::formfactor::tally::LineMethod;
 use sceneinfo::lines::CHUNK_LINES;
+use sceneinfo::tally::LineMethod;
+use sceneinfo::trace::estimate_2d;
 use sceneinfo_wasm::{FlatLab, catalogue, measure_flat};
 use wasm_bindgen::{JsCast, JsError, JsValue};
 use wasm_bindgen_test::wasm_bindgen_test;

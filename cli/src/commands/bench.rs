@@ -20,14 +20,14 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use sceneinfo::accel::Bvh3;
-use sceneinfo::formfactor::estimate_2d::Tracer2;
-use sceneinfo::formfactor::estimate_3d::Tracer3;
-use sceneinfo::formfactor::tally::{LineMethod, LineTally, LineTracer};
 use sceneinfo::formfactor::{exact_2d, exact_3d};
 use sceneinfo::geom::DVec3;
 use sceneinfo::lines::{BoundingSphere, canonical, chunk_rng, sample_global_line_3d};
 use sceneinfo::report::JsonObject;
 use sceneinfo::scene::{Scene2, Scene3, Subdivision, catalogue_scene, preset_3d};
+use sceneinfo::tally::{LineMethod, LineTally, LineTracer};
+use sceneinfo::trace::estimate_2d::Tracer2;
+use sceneinfo::trace::estimate_3d::Tracer3;
 
 use crate::args::BenchArgs;
 
@@ -547,7 +547,7 @@ fn table(r: &Report, budget: f64) -> String {
         );
     }
     for m in r.mc {
-        let per_pair = if m.pairs > 0 && m.patches > sceneinfo::formfactor::DENSE_COUNT_LIMIT {
+        let per_pair = if m.pairs > 0 && m.patches > sceneinfo::tally::DENSE_COUNT_LIMIT {
             format!("{:.1}", m.count_bytes as f64 / m.pairs as f64)
         } else {
             "dense".to_string()

@@ -7,9 +7,9 @@
 mod solid;
 use anyhow::Result;
 use sceneinfo::formfactor::FormFactors;
-use sceneinfo::formfactor::estimate_2d::{Estimate2, LineMethod, Tracer2};
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::scene::Scene2;
+use sceneinfo::trace::estimate_2d::{Estimate2, LineMethod, Tracer2};
 
 use crate::args::{Colour, DrawArgs};
 use crate::output::{located, write_atomic};

@@ -10,15 +10,15 @@ use std::time::Instant;
 use anyhow::Result;
 use sceneinfo::continuous::{ContinuousEstimate, relative_discretisation_error};
 use sceneinfo::formfactor::FormFactors;
-use sceneinfo::formfactor::coverage::Coverage;
-use sceneinfo::formfactor::estimate_2d::{LineMethod, Tracer2};
-use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::exact_2d;
-use sceneinfo::formfactor::partial::{JobId, Partial, fingerprint};
-use sceneinfo::formfactor::tally::{LineTally, LineTracer};
 use sceneinfo::io::LoadReport;
+use sceneinfo::io::partial::{JobId, Partial, fingerprint};
 use sceneinfo::lines::{CHUNK_LINES, chunk_count};
 use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport, UnsampledReport};
+use sceneinfo::tally::coverage::Coverage;
+use sceneinfo::tally::{LineTally, LineTracer};
+use sceneinfo::trace::estimate_2d::{LineMethod, Tracer2};
+use sceneinfo::trace::estimate_3d::Tracer3;
 
 use crate::args::{LinesArg, MeasureArgs, SamplingArgs};
 use crate::interrupt::Interrupted;
@@ -182,7 +182,7 @@ pub fn check_supported<T: LineTracer + ?Sized>(
     }
     let kind = sceneinfo::ErrorKind::UnsupportedMethod {
         method: method.description(),
-        reason: sceneinfo::formfactor::tally::UNSUPPORTED_BY_TRACER,
+        reason: sceneinfo::tally::UNSUPPORTED_BY_TRACER,
     };
     Err(located(path, &kind.into()))
 }
@@ -212,7 +212,7 @@ fn compute(
     let budget = budget_of(sampling, path)?;
     // The large tables, before anything is allocated for them
     if let Some(limit) = sampling.max_memory {
-        use sceneinfo::formfactor::memory;
+        use sceneinfo::tally::memory;
         let n = match &scene {
             Loaded::Flat(s) => s.n_patches(),
             Loaded::Solid(s) => s.n_patches(),

@@ -7,7 +7,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Result;
-use sceneinfo::formfactor::partial::{Partial, merge_partials};
+use sceneinfo::io::partial::{Partial, merge_partials};
 
 use crate::args::MergeArgs;
 use crate::commands::measure::{MonteCarlo, Timing, print_report};

@@ -23,10 +23,7 @@ use std::time::Instant;
 use anyhow::{Result, bail};
 use sceneinfo::continuous::ContinuousEstimate;
 use sceneinfo::formfactor::FormFactors;
-use sceneinfo::formfactor::estimate_2d::Tracer2;
-use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::exact_2d;
-use sceneinfo::formfactor::tally::{LineMethod, LineTracer};
 use sceneinfo::radiosity::continuous::estimate_lit;
 use sceneinfo::radiosity::display::{ToneMap, gouraud_mesh};
 use sceneinfo::radiosity::rgb::{
@@ -35,6 +32,9 @@ use sceneinfo::radiosity::rgb::{
 use sceneinfo::radiosity::{RadiosityMeasures, SolveOptions, Solver};
 use sceneinfo::report::{JsonObject, SceneReport};
 use sceneinfo::scene::{Material, Scene3};
+use sceneinfo::tally::{LineMethod, LineTracer};
+use sceneinfo::trace::estimate_2d::Tracer2;
+use sceneinfo::trace::estimate_3d::Tracer3;
 
 use crate::args::{Method, RadiosityArgs, SamplingArgs, SolverArg};
 use crate::lines::LineBudget;

@@ -10,7 +10,7 @@ use std::io::Write;
 use std::time::Instant;
 
 use anyhow::{Result, bail};
-use sceneinfo::refine::flat::{OracleChoice2, Refiner2, StepReport};
+use sceneinfo::refine::refiner2::{OracleChoice2, Refiner2, StepReport};
 use sceneinfo::report::JsonObject;
 
 use crate::args::{Colour, Oracle, RefineArgs};

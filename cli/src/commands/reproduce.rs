@@ -13,8 +13,6 @@ use std::time::Instant;
 
 use anyhow::{Result, anyhow};
 use sceneinfo::continuous::closed_form;
-use sceneinfo::formfactor::estimate_2d::{Estimate2, LineMethod, Tracer2};
-use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::quadrature::{self, QuadratureOptions};
 use sceneinfo::report::JsonObject;
 use sceneinfo::scene::{Scene2, Scene3, catalogue, catalogue_scene, preset_3d};
@@ -23,6 +21,8 @@ use sceneinfo::thesis::{
     TABLE_3_8, TABLE_4_1, TABLE_4_2, TABLE_4_3_FEW_LINES, TABLE_4_10_I_S_CONTINUOUS, TABLE_4_11,
     TABLE_4_12,
 };
+use sceneinfo::trace::estimate_2d::{Estimate2, LineMethod, Tracer2};
+use sceneinfo::trace::estimate_3d::Tracer3;
 
 use crate::args::ReproduceArgs;
 

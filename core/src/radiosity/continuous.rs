@@ -43,9 +43,9 @@ use super::{SolveOptions, Solver};
 use crate::continuous::{ContinuousEstimate, ContinuousTally};
 use crate::error::{ErrorKind, Result};
 use crate::formfactor::FormFactors;
-use crate::formfactor::tally::{LineMethod, LineTally, LineTracer, SampleTerms};
 use crate::math::{self, KahanSum};
 use crate::scene::Material;
+use crate::tally::{LineMethod, LineTally, LineTracer, SampleTerms};
 
 mod moments;
 pub use moments::{PAIR_MOMENT_LIMIT, PairMoments};
@@ -533,11 +533,11 @@ pub fn estimate_lit<T: LineTracer + Sync>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formfactor::estimate_2d::Tracer2;
     use crate::formfactor::exact_3d;
     use crate::radiosity::rgb::solve_rgb;
     use crate::radiosity::{SolveOptions, Solver};
     use crate::scene::{Material, Scene2};
+    use crate::trace::estimate_2d::Tracer2;
 
     fn opts() -> SolveOptions {
         SolveOptions {

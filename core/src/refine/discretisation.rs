@@ -39,9 +39,9 @@
 
 use super::log_sum_gap;
 use crate::error::{ErrorKind, Result};
-#[cfg(feature = "alloc")]
-use crate::formfactor::tally::LineEstimate;
 use crate::math::{self, KahanSum};
+#[cfg(feature = "alloc")]
+use crate::tally::LineEstimate;
 
 /// Checks `value > 0` and finite.
 fn positive(name: &'static str, value: f64) -> Result<f64> {
@@ -93,7 +93,7 @@ pub fn visibility_error_point_pairs(a_i: f64, a_j: f64, a_t: f64, kernel: &[f64]
 pub const MAX_POINT_PAIRS: u64 = 1 << 24;
 
 /// `δ^v_ij` (6.19) between patches `i` and `j` of a flatland scene from `n` uniform point
-/// pairs drawn from stream `(seed, 0)` ([`crate::formfactor::estimate_2d::Tracer2::point_pair_kernel`]:
+/// pairs drawn from stream `(seed, 0)` ([`crate::trace::estimate_2d::Tracer2::point_pair_kernel`]:
 /// the kernel with visibility), lengths for areas.
 ///
 /// # Errors
@@ -101,13 +101,13 @@ pub const MAX_POINT_PAIRS: u64 = 1 << 24;
 /// [`ErrorKind::TooLarge`] above [`MAX_POINT_PAIRS`].
 #[cfg(feature = "alloc")]
 pub fn flat_visibility_error_point_pairs(
-    tracer: &crate::formfactor::estimate_2d::Tracer2,
+    tracer: &crate::trace::estimate_2d::Tracer2,
     i: usize,
     j: usize,
     n: u64,
     seed: u64,
 ) -> Result<f64> {
-    use crate::formfactor::tally::LineTracer;
+    use crate::tally::LineTracer;
     if n > MAX_POINT_PAIRS {
         return Err(ErrorKind::TooLarge {
             what: "point pairs",
@@ -220,7 +220,7 @@ pub fn radiosity_error_lines(
 ///
 /// # Errors
 /// [`ErrorKind::TooLarge`] when the estimate kept no per-pair tally (more than
-/// [`crate::formfactor::DENSE_PAIR_LIMIT`] patches); [`ErrorKind::BufferTooSmall`] when
+/// [`crate::tally::DENSE_PAIR_LIMIT`] patches); [`ErrorKind::BufferTooSmall`] when
 /// `out` is shorter than `n²`; the channel's errors.
 #[cfg(feature = "alloc")]
 pub fn visibility_errors_from_lines(estimate: &LineEstimate, out: &mut [f64]) -> Result<f64> {
@@ -228,7 +228,7 @@ pub fn visibility_errors_from_lines(estimate: &LineEstimate, out: &mut [f64]) ->
     let Some(continuous) = &estimate.pair_continuous else {
         return Err(ErrorKind::TooLarge {
             what: "patches for a per-pair tally (DENSE_PAIR_LIMIT)",
-            max: crate::formfactor::DENSE_PAIR_LIMIT as u64,
+            max: crate::tally::DENSE_PAIR_LIMIT as u64,
         }
         .into());
     };
@@ -340,9 +340,9 @@ mod tests {
     #[cfg(feature = "alloc")]
     #[test]
     fn point_pairs_estimate_the_quadrature_value() {
-        use crate::formfactor::estimate_2d::Tracer2;
         use crate::geom::DVec2;
         use crate::scene::Scene2;
+        use crate::trace::estimate_2d::Tracer2;
         let mut b = Scene2::builder();
         b.segment(DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), 1)
             .unwrap();
@@ -391,9 +391,9 @@ mod tests {
     #[cfg(feature = "alloc")]
     #[test]
     fn point_pairs_agree_with_global_lines() {
-        use crate::formfactor::estimate_2d::{LineMethod, LineTracer, Tracer2};
         use crate::formfactor::exact_2d;
         use crate::scene::Scene2;
+        use crate::trace::estimate_2d::{LineMethod, LineTracer, Tracer2};
         let scene = Scene2::regular_polygon(4, 1).unwrap();
         let tracer = Tracer2::new(&scene).unwrap();
         let ff = exact_2d::form_factors(&scene).unwrap();
@@ -445,8 +445,8 @@ mod tests {
     #[cfg(feature = "alloc")]
     #[test]
     fn radiosity_errors_from_lines_weight_the_visibility_ones() {
-        use crate::formfactor::estimate_2d::{LineMethod, LineTracer, Tracer2};
         use crate::scene::Scene2;
+        use crate::trace::estimate_2d::{LineMethod, LineTracer, Tracer2};
         let scene = Scene2::regular_polygon(3, 2).unwrap();
         let tracer = Tracer2::new(&scene).unwrap();
         let est = tracer

@@ -14,8 +14,8 @@ use alloc::vec::Vec;
 
 use crate::continuous::ContinuousEstimate;
 use crate::error::{ErrorKind, Result};
-use crate::formfactor::estimate_2d::{LineMethod, LineTally, LineTracer, Tracer2};
 use crate::scene::Scene2;
+use crate::trace::estimate_2d::{LineMethod, LineTally, LineTracer, Tracer2};
 
 /// Upper bound on the number of cells of a profile's fine scene (65,536).
 pub const MAX_PROFILE_CELLS: u64 = 1 << 16;

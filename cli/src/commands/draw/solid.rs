@@ -8,10 +8,10 @@ use std::path::Path;
 
 use anyhow::{Result, bail};
 use sceneinfo::formfactor::FormFactors;
-use sceneinfo::formfactor::estimate_2d::LineMethod;
-use sceneinfo::formfactor::estimate_3d::Tracer3;
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::scene::Scene3;
+use sceneinfo::trace::estimate_2d::LineMethod;
+use sceneinfo::trace::estimate_3d::Tracer3;
 
 use super::{PatchMeasure, Source, patch_colours, patch_values, range};
 use crate::args::{Colour, DrawArgs};

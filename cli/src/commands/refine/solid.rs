@@ -12,15 +12,15 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use sceneinfo::continuous::relative_discretisation_error;
-use sceneinfo::formfactor::estimate_2d::LineMethod;
-use sceneinfo::formfactor::estimate_3d::Tracer3;
-use sceneinfo::formfactor::tally::LineTracer;
 use sceneinfo::geom::DVec3;
 use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, MAX_PAIRS, OracleChoice3};
 use sceneinfo::lines::CHUNK_LINES;
 use sceneinfo::radiosity::display::ToneMap;
 use sceneinfo::report::JsonObject;
 use sceneinfo::scene::Scene3;
+use sceneinfo::tally::LineTracer;
+use sceneinfo::trace::estimate_2d::LineMethod;
+use sceneinfo::trace::estimate_3d::Tracer3;
 
 use crate::args::{Oracle, RefineArgs};
 use crate::lines::LineBudget;
@@ -217,7 +217,7 @@ pub fn run(args: &RefineArgs) -> Result<()> {
 /// larger job, so the result equals one run of the final budget) up to
 /// [`MAX_AUTO_LINES`]. A leaf still unsampled after that (or with `--lines` given) leaves
 /// the measures NaN, with a warning that says how many lines to ask for
-/// ([`sceneinfo::formfactor::coverage`]).
+/// ([`sceneinfo::tally::coverage`]).
 fn measure(h: &Hierarchy, config: &Config, seed: u64, file: &Path) -> Result<MeshMeasures> {
     let at = |e: sceneinfo::Error| located(file, &e);
     // Leaves too small to validate as patches: the file was fine, the mesh went too fine

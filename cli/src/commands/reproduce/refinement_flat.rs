@@ -9,7 +9,7 @@ use sceneinfo::formfactor::exact_2d;
 use sceneinfo::refine::cuts::{
     CutDirection, maximise, mse_optimal_cut, radiosity_gradient_gain, square_cut_gain,
 };
-use sceneinfo::refine::flat::{OracleChoice2, Refiner2, StepReport};
+use sceneinfo::refine::refiner2::{OracleChoice2, Refiner2, StepReport};
 use sceneinfo::refine::symmetric::{best_mirrored_cuts, polygon_with_mirrored_cuts};
 use sceneinfo::scene::{Scene2, catalogue_scene};
 use sceneinfo::thesis::{

@@ -34,8 +34,8 @@ use alloc::vec::Vec;
 use super::PatchTerms;
 use crate::continuous::ContinuousEstimate;
 use crate::error::{ErrorKind, Result};
-use crate::formfactor::tally::LineMethod;
 use crate::math::{self, FixedSum};
+use crate::tally::LineMethod;
 
 /// Largest patch count of a [`PairMoments`] tally (84 MB).
 pub const PAIR_MOMENT_LIMIT: usize = 2048;
@@ -221,13 +221,13 @@ impl PairMoments {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formfactor::estimate_2d::Tracer2;
     use crate::formfactor::exact_2d;
-    use crate::formfactor::tally::LineTracer;
     use crate::radiosity::continuous::{RadiosityTracer, incoming_rgb, radiosity_continuous};
     use crate::radiosity::rgb::solve_rgb;
     use crate::radiosity::{SolveOptions, Solver};
     use crate::scene::{Material, Scene2, catalogue_scene};
+    use crate::tally::LineTracer;
+    use crate::trace::estimate_2d::Tracer2;
 
     /// A solved scene: the tracer's patch sizes, `B` and `B^in` from exact form factors.
     fn lit(scene: &Scene2) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {

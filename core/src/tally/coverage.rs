@@ -48,9 +48,9 @@
 //! chunks of [`CHUNK_LINES`] and never below twice the lines cast, so that a run unlucky
 //! with one patch is told to cast more rather than the same.
 
-use crate::formfactor::tally::LineTally;
 use crate::lines::CHUNK_LINES;
 use crate::math;
+use crate::tally::LineTally;
 
 /// The expected number of unreached patches a suggested budget aims at (at most): every
 /// patch is then reached with probability at least 90 %.
@@ -156,8 +156,8 @@ pub fn lines_to_sample_all(sizes: &[f64], rate: f64) -> Option<u64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formfactor::estimate_3d::Tracer3;
-    use crate::formfactor::tally::{LineMethod, LineTracer};
+    use crate::tally::{LineMethod, LineTracer};
+    use crate::trace::estimate_3d::Tracer3;
     use alloc::vec;
 
     /// One patch of relative size `s` among equal ones: the suggestion is the closed form

@@ -33,16 +33,16 @@
 //!
 //! Counts are stored sparsely whatever the in-memory layout: 16 bytes per non-zero pair
 //! (32 with the per-pair information of scenes of at most
-//! [`crate::formfactor::DENSE_PAIR_LIMIT`] patches).
+//! [`crate::tally::DENSE_PAIR_LIMIT`] patches).
 
 use alloc::vec::Vec;
 use core::ops::Range;
 
 use crate::error::{ErrorKind, Result};
-use crate::formfactor::counts::PairCounts;
-use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally};
 use crate::lines::chunk_count;
 use crate::math::FixedSum;
+use crate::tally::counts::PairCounts;
+use crate::tally::{LineEstimate, LineMethod, LineTally};
 
 /// First bytes of every partial file.
 pub const PARTIAL_MAGIC: [u8; 8] = *b"SCNINFOP";

@@ -50,9 +50,9 @@ use crate::lines::{
 };
 use crate::scene::Scene2;
 
-use crate::formfactor::pair_blocks::PairBlocks;
-use crate::formfactor::tally::{Crossing, global_hit_terms, trace_chunk_lines};
-pub use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
+use crate::tally::pair_blocks::PairBlocks;
+use crate::tally::{Crossing, global_hit_terms, trace_chunk_lines};
+pub use crate::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
 
 /// Lines per bundle of [`LineMethod::Bundle`] (a chunk's last bundle may have fewer).
 ///
@@ -571,7 +571,7 @@ pub fn estimate(scene: &Scene2, method: LineMethod, seed: u64, n_lines: u64) -> 
 mod tests {
     use super::*;
     use crate::formfactor::exact_2d;
-    use crate::formfactor::tally::test_support::{lone_lines_as_one_group, merged_in_reverse};
+    use crate::tally::test_support::{lone_lines_as_one_group, merged_in_reverse};
     use alloc::{format, vec};
 
     #[test]

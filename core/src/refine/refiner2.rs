@@ -17,7 +17,7 @@
 //! # Examples
 //!
 //! ```
-//! use sceneinfo::refine::flat::{OracleChoice2, Refiner2};
+//! use sceneinfo::refine::refiner2::{OracleChoice2, Refiner2};
 //! use sceneinfo::scene::Scene2;
 //!
 //! let scene = Scene2::regular_polygon(3, 2)?;

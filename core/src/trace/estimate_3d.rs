@@ -1,7 +1,7 @@
 //! Monte Carlo form factors and continuous mutual information of 3D scenes, from uniformly
 //! distributed global lines or cosine-distributed local lines (thesis §2.1.6, §4.3).
 //!
-//! The same estimators as flatland ([`crate::formfactor::estimate_2d`]) with areas instead
+//! The same estimators as flatland ([`crate::trace::estimate_2d`]) with areas instead
 //! of lengths:
 //!
 //! - **Global lines** through two uniform points of the scene's circumscribed sphere (which
@@ -48,8 +48,8 @@ use crate::lines::{
 };
 use crate::scene::Scene3;
 
-use crate::formfactor::tally::{Crossing, global_hit_terms, trace_chunk_lines};
-pub use crate::formfactor::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
+use crate::tally::{Crossing, global_hit_terms, trace_chunk_lines};
+pub use crate::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
 
 /// Bundles per sheaf of 3D bundles of parallel lines ([`LineMethod::Bundle`]): at most
 /// this many bundles share one stratified set of directions and one standard-error
@@ -358,8 +358,8 @@ pub fn estimate(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formfactor::tally::test_support::{lone_lines_as_one_group, merged_in_reverse};
     use crate::lines::CHUNK_LINES;
+    use crate::tally::test_support::{lone_lines_as_one_group, merged_in_reverse};
 
     #[test]
     fn bundles_same_bits_any_chunking_and_about_the_lines_asked_for() {

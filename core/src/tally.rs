@@ -4,6 +4,21 @@
 //! seeded chunk into a [`LineTally`]; tallies merge exactly, in any order; a finished tally
 //! becomes a [`LineEstimate`]: form factors `F_ij ≈ C_ij / N_i` (2.36, 2.37) and the
 //! continuous mutual information with its per-patch and per-pair split.
+//!
+//! - [`coverage`]: which patches a line job reached, and about how many lines would reach
+//!   them all (Crofton's formula).
+//! - [`memory`]: lower bounds on what a job will allocate, checked by front ends before it
+//!   starts.
+//!
+//! The pair counts are sparse or dense by size (`counts`); bundles of parallel lines count
+//! row blocks (`pair_blocks`).
+
+pub(crate) mod counts;
+pub mod coverage;
+pub mod memory;
+pub(crate) mod pair_blocks;
+
+pub use counts::{DENSE_COUNT_LIMIT, DENSE_PAIR_LIMIT};
 
 use alloc::boxed::Box;
 use alloc::vec;
@@ -15,9 +30,9 @@ use crate::channel::{CsrMatrixBuf, RowMajorCsr};
 use crate::continuous::{ContinuousEstimate, ContinuousTally};
 use crate::error::{ErrorKind, Result};
 use crate::formfactor::FormFactors;
-use crate::formfactor::counts::PairCounts;
 use crate::lines::{chunk_count, chunk_range, chunk_rng};
 use crate::math::FixedSum;
+use crate::tally::counts::PairCounts;
 
 /// Which lines sample the scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -193,7 +208,7 @@ pub struct LineEstimate {
     /// Per-patch `I_i^c` (6.37); they sum to `I_S^c`.
     pub patch_continuous: Vec<f64>,
     /// Per-pair `I_ij^c` (6.35, 6.36), row-major `n × n`, kept for scenes of at most
-    /// [`crate::formfactor::DENSE_PAIR_LIMIT`] patches.
+    /// [`crate::tally::DENSE_PAIR_LIMIT`] patches.
     pub pair_continuous: Option<Vec<f64>>,
     /// Lines cast.
     pub lines: u64,
@@ -402,7 +417,7 @@ impl LineTally {
     }
 
     /// Memory of the pair counts `C_ij`: `(heap bytes, pairs with a count or
-    /// information)`. Sparse counts (more than [`crate::formfactor::DENSE_COUNT_LIMIT`]
+    /// information)`. Sparse counts (more than [`crate::tally::DENSE_COUNT_LIMIT`]
     /// patches) take 16 bytes per stored pair once merged, plus the pending buffer: 16 per
     /// non-zero pair for local lines, 8 for global lines (whose counts are symmetric and
     /// stored once per unordered pair).

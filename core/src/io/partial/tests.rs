@@ -1,8 +1,8 @@
 use super::*;
-use crate::formfactor::estimate_2d::Tracer2;
-use crate::formfactor::tally::LineTracer;
 use crate::lines::CHUNK_LINES;
 use crate::scene::Scene2;
+use crate::tally::LineTracer;
+use crate::trace::estimate_2d::Tracer2;
 use alloc::string::ToString;
 
 /// The partial of chunks `chunks` of a job over `tracer`.
