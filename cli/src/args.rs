@@ -22,7 +22,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Write a preset scene as a .flat file (stdout, or -o FILE).
-    Scene3 {
+    Scene {
         /// Which preset.
         #[command(subcommand)]
         preset: ScenePreset,

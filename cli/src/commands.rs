@@ -31,7 +31,7 @@ pub fn run(cli: Cli) -> Result<()> {
     }
     crate::output::check_outputs(&outputs)?;
     match cli.command {
-        Command::Scene3 { preset } => scene::run(preset),
+        Command::Scene { preset } => scene::run(preset),
         Command::Measure(args) => measure::run(&args),
         Command::Formfactors(args) => formfactors::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
@@ -49,7 +49,7 @@ pub fn run(cli: Cli) -> Result<()> {
 fn outputs(command: &Command) -> Vec<(&'static str, &Path)> {
     let mut out: Vec<(&'static str, Option<&PathBuf>)> = Vec::new();
     match command {
-        Command::Scene3 { preset } => match preset {
+        Command::Scene { preset } => match preset {
             ScenePreset::Polygon { output, .. }
             | ScenePreset::Rect { output, .. }
             | ScenePreset::Catalogue { output, .. } => out.push(("--output", output.as_ref())),
@@ -94,7 +94,7 @@ fn outputs(command: &Command) -> Vec<(&'static str, &Path)> {
 /// The material library `scene cube|solid -o FILE.obj` writes beside its OBJ.
 fn mtl_beside(command: &Command) -> Option<PathBuf> {
     match command {
-        Command::Scene3 {
+        Command::Scene {
             preset: ScenePreset::Cube { output, .. } | ScenePreset::Solid { output, .. },
         } => Some(output.with_extension("mtl")),
         _ => None,
