@@ -1,4 +1,5 @@
-//! Raw command-line arguments (clap derive). Validation happens in [`crate::commands`].
+//! Raw command-line arguments (clap derive; ripgrep's `lowargs.rs`). They become a validated
+//! run in [`crate::config`]; each command checks the combinations that need its scene.
 
 use std::path::PathBuf;
 
@@ -22,7 +23,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Write a preset scene as a .flat file (stdout, or -o FILE).
-    Scene3 {
+    Scene {
         /// Which preset.
         #[command(subcommand)]
         preset: ScenePreset,
@@ -169,7 +170,7 @@ pub struct MergeArgs {
 }
 
 /// Preset scenes.
-#[derive(Debug, Subcommand)]
+#[derive(Clone, Debug, Subcommand)]
 pub enum ScenePreset {
     /// A regular polygon inscribed in the unit circle, facing inwards.
     Polygon {

@@ -53,7 +53,7 @@ struct Config {
 }
 
 impl Config {
-    fn new(args: &RefineArgs) -> Result<Self> {
+    fn new(args: &RefineArgs, threads: usize) -> Result<Self> {
         let file = args.file.display();
         let oracle = match args.oracle {
             Oracle::Power => "power",
@@ -102,9 +102,6 @@ impl Config {
         if lines == 0 {
             return Err(located(&args.file, &sceneinfo::ErrorKind::NoLines.into()));
         }
-        let threads = args.threads.unwrap_or_else(|| {
-            std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
-        });
         Ok(Self {
             oracle,
             eps: args.eps,
@@ -140,8 +137,8 @@ struct MeshMeasures {
 }
 
 /// Runs `refine` on a `.obj` scene.
-pub fn run(args: &RefineArgs) -> Result<()> {
-    let config = Config::new(args)?;
+pub fn run(args: &RefineArgs, threads: usize) -> Result<()> {
+    let config = Config::new(args, threads)?;
     // Hierarchical radiosity uses the materials: their warnings are printed too
     let loaded = crate::output::load_scene(&args.file)?;
     loaded.print_warnings(&args.file, true);
