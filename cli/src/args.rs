@@ -466,7 +466,8 @@ pub struct RadiosityArgs {
     #[arg(long)]
     pub json: bool,
     /// Write a .obj scene lit as an ASCII PLY mesh: shared vertices with Gouraud colours
-    /// (area-weighted average of the patches of one face around the vertex) and per-face
+    /// (area-weighted average of the patches around the vertex that share its plane and
+    /// material) and per-face
     /// colours, both tone-mapped (linear exposure with white at the brightest non-emitting
     /// patch, then the sRGB curve).
     #[arg(long, value_name = "OUT.ply")]

@@ -17,7 +17,7 @@ use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, MAX_PAIRS, OracleChoice
 use sceneinfo::lines::CHUNK_LINES;
 use sceneinfo::radiosity::display::ToneMap;
 use sceneinfo::report::JsonObject;
-use sceneinfo::scene::Scene3;
+use sceneinfo::scene::{Material, Scene3};
 use sceneinfo::tally::LineTracer;
 use sceneinfo::trace::estimate_2d::LineMethod;
 use sceneinfo::trace::estimate_3d::Tracer3;
@@ -395,21 +395,26 @@ fn rms_error(h: &Hierarchy, path: &Path, reference: &Reference) -> Result<f64> {
         .with_context(|| "comparing with the reference solution")
 }
 
-/// The tone map of the pictures: the largest radiosity channel of a non-emitting leaf is
-/// white (emitters are brighter and saturate), or the largest of all if everything emits —
-/// [`ToneMap::for_scene`]'s rule over the leaves, so `refine` and `radiosity` colour a
-/// radiosity alike.
+/// The tone map of the pictures: [`ToneMap::for_scene`] over the leaves (white at the
+/// largest radiosity channel of a non-emitting leaf, or of any leaf if everything emits), so
+/// `refine` and `radiosity` colour a radiosity alike; white at 1 when nothing is lit, so
+/// the picture is black rather than divided by zero.
 fn tone_map(h: &Hierarchy) -> ToneMap {
-    let max = |emitters: bool| {
-        h.leaves()
-            .filter(|e| emitters || e.emission.iter().all(|&x| x == 0.0))
-            .flat_map(|e| e.radiosity)
-            .fold(0.0, f64::max)
-    };
-    let m = max(false);
-    let m = if m > 0.0 { m } else { max(true) };
-    ToneMap {
-        white: if m > 0.0 { m } else { 1.0 },
+    let (radiosity, materials): (Vec<[f64; 3]>, Vec<Material>) = h
+        .leaves()
+        .map(|e| {
+            let material = Material {
+                reflectance: e.rho,
+                emittance: e.emission,
+            };
+            (e.radiosity, material)
+        })
+        .unzip();
+    let tone = ToneMap::for_scene(&radiosity, &materials);
+    if tone.white > 0.0 {
+        tone
+    } else {
+        ToneMap { white: 1.0 }
     }
 }
 
