@@ -198,8 +198,8 @@ pub fn gouraud(polygons: &[ShadedPolygon<'_>], bounds: (DVec3, DVec3)) -> Gourau
         corner += count;
         for &v in &face {
             let (s, a) = &mut sums[v];
-            for c in 0..3 {
-                s[c] += p.area * p.radiosity[c];
+            for (s_c, b_c) in s.iter_mut().zip(p.radiosity) {
+                *s_c += p.area * b_c;
             }
             *a += p.area;
         }

@@ -293,7 +293,7 @@ fn read_reference(path: &Path) -> Result<Reference> {
     let bytes = crate::formats::read_capped_to(path, cap, "reference solutions")?;
     let mesh = crate::formats::ply_scene::read_mesh(path, &bytes)?;
     let bad = |what: String| anyhow::anyhow!("{}: {what}", path.display());
-    if mesh.faces.is_empty() || mesh.faces.iter().any(|f| f.radiosity.is_none()) {
+    if mesh.faces.iter().any(|f| f.radiosity.is_none()) {
         return Err(bad(
             "faces carry no radiosity_red/green/blue: write the reference with `sceneinfo \
              refine FILE.obj --ply REF.ply`"
