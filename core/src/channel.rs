@@ -47,6 +47,8 @@
 //! # Ok::<(), sceneinfo::Error>(())
 //! ```
 
+#[cfg(feature = "alloc")]
+mod bounces;
 mod checks;
 #[cfg(feature = "alloc")]
 mod csr_buf;
@@ -56,6 +58,8 @@ mod measures;
 #[cfg(test)]
 mod proptests;
 
+#[cfg(feature = "alloc")]
+pub use bounces::{LongRange, MAX_BOUNCE_WORK, MAX_BOUNCES, long_range_information};
 pub use checks::Checks;
 #[cfg(feature = "alloc")]
 pub use csr_buf::CsrMatrixBuf;

@@ -67,6 +67,8 @@ pub mod accel;
 pub mod channel;
 pub mod continuous;
 pub mod error;
+#[cfg(feature = "alloc")]
+pub mod field;
 pub mod formfactor;
 pub mod geom;
 pub mod hierarchy;
