@@ -54,6 +54,10 @@ pub enum Command {
     /// and mutual information from viewpoints on a sphere around it, the best views, a
     /// greedy selection of representative views and mesh saliency.
     Viewpoints(ViewpointsArgs),
+    /// Entropy and mutual-information fields at interior points of a flatland scene
+    /// (thesis §7.3): at a point (--at), over a grid (--grid, --png) and along a camera path
+    /// (--path: its animation complexity ∫ I(x) ds).
+    Field(crate::commands::field::FieldArgs),
 }
 
 /// Arguments of `viewpoints`.
@@ -258,6 +262,12 @@ pub struct MeasureArgs {
     /// instead of measuring; `sceneinfo merge` combines such files.
     #[arg(long, value_name = "OUT.sip", requires = "lines")]
     pub partial: Option<PathBuf>,
+    /// Instead of the usual report, the long-range mutual information I(X_0;X_n) of the
+    /// scene's chain for n = 1..N bounces (exact from F^n), its per-patch split and its
+    /// links with I_S and the excess entropy (thesis §7.3, Proposition 1).
+    #[arg(long, value_name = "N", conflicts_with = "partial",
+          value_parser = clap::value_parser!(u32).range(1..=sceneinfo::channel::MAX_BOUNCES as i64))]
+    pub bounces: Option<u32>,
 }
 
 /// Parses a half-open chunk range `A..B` with `A < B`.

@@ -5,6 +5,7 @@
 
 mod bench;
 mod draw;
+pub(crate) mod field;
 mod formfactors;
 mod measure;
 mod merge;
@@ -36,5 +37,6 @@ pub fn run(config: &Config) -> Result<()> {
         Command::Refine(args) => refine::run(args, threads),
         Command::Radiosity(args) => radiosity::run(args),
         Command::Viewpoints(args) => viewpoints::run(args, threads),
+        Command::Field(args) => field::run(args),
     }
 }

@@ -83,7 +83,7 @@ fn requested_threads(command: &Command) -> Option<usize> {
         Command::Bench(a) => a.threads,
         Command::Refine(a) => a.threads,
         Command::Viewpoints(a) => a.threads,
-        Command::Scene { .. } | Command::Merge(_) => None,
+        Command::Scene { .. } | Command::Merge(_) | Command::Field(_) => None,
     }
 }
 
@@ -127,6 +127,7 @@ fn outputs(command: &Command) -> Vec<(&'static str, &Path)> {
             out.push(("--sphere-ply", a.sphere_ply.as_ref()));
             out.push(("--png", a.png.as_ref()));
         }
+        Command::Field(a) => out.push(("--png", a.png.as_ref())),
         Command::Reproduce(_) | Command::Bench(_) => {}
     }
     out.into_iter()

@@ -25,6 +25,8 @@ use crate::interrupt::Interrupted;
 use crate::lines::{AUTO_MAX_LINES, AUTO_START_LINES, LineBudget};
 use crate::output::{Loaded, located, write_atomic};
 
+mod bounces;
+
 /// Below this many independent groups the text report warns that the standard error of
 /// `I_S^c` is itself unreliable (its relative error is about `1/√(2(G − 1))`: 24 % at 10).
 pub(crate) const FEW_STDERR_GROUPS: u64 = 10;
@@ -304,6 +306,9 @@ fn line_job<T: LineTracer + Sync>(
 pub fn run(args: &MeasureArgs) -> Result<()> {
     if let Some(out) = &args.partial {
         return write_partial(args, out);
+    }
+    if let Some(n) = args.bounces {
+        return bounces::run(args, n as usize);
     }
     let start = Instant::now();
     let (ff, mc, load) = compute(&args.file, &args.sampling)?;

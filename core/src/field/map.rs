@@ -134,10 +134,7 @@ impl Field2<'_> {
         }
         let scene = self.scene();
         let (lo, hi) = scene.bounds();
-        let (lo, hi) = (
-            scene.frame().to_world_2d(lo),
-            scene.frame().to_world_2d(hi),
-        );
+        let (lo, hi) = (scene.frame().to_world_2d(lo), scene.frame().to_world_2d(hi));
         let size = hi - lo;
         let long = size.max_element();
         let other = |l: f64| {
@@ -163,11 +160,14 @@ impl Field2<'_> {
     pub fn path(&self, vertices: &[DVec2], samples: usize) -> Result<FieldPath> {
         let legs = vertices.len().saturating_sub(1);
         let total = legs.saturating_mul(samples).saturating_add(1);
-        if legs == 0 || samples == 0 || samples > MAX_PATH_SAMPLES || total > MAX_PATH_SAMPLES
-        {
+        if legs == 0 || samples == 0 || samples > MAX_PATH_SAMPLES || total > MAX_PATH_SAMPLES {
             return Err(Error::new(ErrorKind::BadParameter {
                 name: "path samples (vertices ≥ 2, samples per leg ≥ 1)",
-                value: if legs == 0 { vertices.len() as f64 } else { samples as f64 },
+                value: if legs == 0 {
+                    vertices.len() as f64
+                } else {
+                    samples as f64
+                },
             }));
         }
         let mut scratch = FieldScratch::default();
@@ -236,7 +236,11 @@ mod tests {
         assert!(path.mean_i().unwrap() > 0.0);
         let two = field
             .path(
-                &[DVec2::new(0.5, 1.0), DVec2::new(1.0, 1.0), DVec2::new(1.5, 1.0)],
+                &[
+                    DVec2::new(0.5, 1.0),
+                    DVec2::new(1.0, 1.0),
+                    DVec2::new(1.5, 1.0),
+                ],
                 32,
             )
             .unwrap();

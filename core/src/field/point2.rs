@@ -13,6 +13,12 @@ use crate::scene::Scene2;
 /// [`Field2`]; each point costs `events · surfaces`.
 pub const MAX_FIELD_EVENTS: usize = 1 << 17;
 
+/// Sweep events closer than this (radians) are merged.
+const MERGE_ANGLE: f64 = 1e-12;
+
+/// Relative depth within which two surfaces met by one ray count as coincident.
+const COINCIDENT: f64 = 1e-12;
+
 /// The field of a flatland scene: the scene, its channel's stationary distribution, and the
 /// crossings of its surfaces (sweep events that do not depend on the point).
 #[derive(Clone, Debug)]
@@ -187,14 +193,25 @@ impl<'a> Field2<'a> {
             return 0.0;
         }
         events.sort_unstable_by(f64::total_cmp);
-        events.dedup();
+        // Directions to one corner computed from the two surfaces meeting there differ by
+        // rounding; the sliver between them would be probed exactly through the corner,
+        // where a ray may slip between the two. Merged, the corner costs at most
+        // `MERGE_ANGLE` of exactness.
+        events.dedup_by(|b, a| *b - *a <= MERGE_ANGLE);
+        while events.len() > 1 && events[0] + TAU - events[events.len() - 1] <= MERGE_ANGLE {
+            events.pop();
+        }
 
         // Each arc between consecutive events: one surface (or none), one patch
         let mut info = KahanSum::new();
         let m = events.len();
         for k in 0..m {
             let lo = events[k];
-            let hi = if k + 1 < m { events[k + 1] } else { events[0] + TAU };
+            let hi = if k + 1 < m {
+                events[k + 1]
+            } else {
+                events[0] + TAU
+            };
             let width = hi - lo;
             if !(width > 0.0) {
                 continue;
@@ -227,7 +244,8 @@ impl<'a> Field2<'a> {
     /// The front face the ray `x + t u` meets first: `(surface, parameter along it,
     /// distance from x to its line)`, or `None` if it escapes or meets a back face first.
     fn first_hit(&self, x: DVec2, u: DVec2) -> Option<(usize, f64, f64)> {
-        let mut best: Option<(usize, f64, f64)> = None; // (surface, s, t)
+        // (surface, s, t, distance to its line — positive on its front side)
+        let mut best: Option<(usize, f64, f64, f64)> = None;
         for (k, surf) in self.scene.surfaces().iter().enumerate() {
             let (a, b) = (surf.segment.a, surf.segment.b);
             let e = b - a;
@@ -238,15 +256,24 @@ impl<'a> Field2<'a> {
             let ax = a - x;
             let t = cross(ax, e) / denom;
             let s = cross(ax, u) / denom;
-            if t > 0.0 && (0.0..=1.0).contains(&s) && best.is_none_or(|(_, _, bt)| t < bt) {
-                best = Some((k, s, t));
+            if !(t > 0.0 && (0.0..=1.0).contains(&s)) {
+                continue;
+            }
+            let d = cross(e, x - a) / math::length(e);
+            let better = match best {
+                None => true,
+                // Coincident opposite surfaces (a two-sided wall) meet the ray at the same
+                // depth up to rounding: the one facing x is the one seen
+                Some((_, _, bt, bd)) if (t - bt).abs() <= COINCIDENT * t.max(bt) => {
+                    d > 0.0 && !(bd > 0.0)
+                }
+                Some((_, _, bt, _)) => t < bt,
+            };
+            if better {
+                best = Some((k, s, t, d));
             }
         }
-        let (k, s, _) = best?;
-        let seg = self.scene.surfaces()[k].segment;
-        let e = seg.b - seg.a;
-        // Distance to the line, positive on the front (left) side
-        let d = cross(e, x - seg.a) / math::length(e);
+        let (k, s, _, d) = best?;
         (d > 0.0).then_some((k, s, d))
     }
 
@@ -277,8 +304,10 @@ impl<'a> Field2<'a> {
         } else {
             0.0
         };
+        let h = h.total();
         PointField {
-            h: h.total(),
+            // A single term of η(1) may round to −0
+            h: if h > 0.0 { h } else { 0.0 },
             i: defined.then(|| i.total()),
             i_c: defined.then_some(continuous + background_term),
             background: p_b,
@@ -320,7 +349,11 @@ mod tests {
         for (sides, per_side) in [(3, 1), (4, 1), (6, 1), (5, 1)] {
             let scene = Scene2::regular_polygon(sides, per_side).unwrap();
             let (lo, hi) = scene.bounds();
-            let c: DVec2 = scene.patches().iter().map(|p| p.segment.midpoint()).sum::<DVec2>()
+            let c: DVec2 = scene
+                .patches()
+                .iter()
+                .map(|p| p.segment.midpoint())
+                .sum::<DVec2>()
                 / scene.n_patches() as f64;
             let c = scene.frame().to_world_2d(c);
             let _ = (lo, hi);

@@ -1,0 +1,128 @@
+//! `measure --bounces N`: the long-range mutual information `I(X_0; X_n)` of the scene's
+//! chain after `n = 1..N` bounces (thesis §7.3; `sceneinfo::channel::long_range_information`).
+
+use std::fmt::Write as _;
+use std::io::Write;
+
+use anyhow::Result;
+use sceneinfo::channel::{LongRange, long_range_information};
+use sceneinfo::report::JsonObject;
+
+use crate::args::MeasureArgs;
+use crate::output::located;
+
+/// How many patches the report names as keeping their correlation longest.
+const LONGEST: usize = 5;
+
+/// Runs `measure FILE --bounces N` (the same form factors as `measure FILE`, exact or with
+/// the same `--lines`).
+pub(super) fn run(args: &MeasureArgs, bounces: usize) -> Result<()> {
+    let file = &args.file;
+    let at = |e: sceneinfo::Error| located(file, &e);
+    let (ff, mc, _) = super::compute(file, &args.sampling)?;
+    let Some(ff) = ff else {
+        let coverage = mc.as_ref().and_then(|m| m.unsampled.as_ref());
+        return Err(super::unsampled_error(
+            file,
+            coverage,
+            "the long-range mutual information",
+        ));
+    };
+    let channel = ff.channel().map_err(at)?;
+    let lr = long_range_information(&channel, bounces).map_err(at)?;
+    let w = ff.weights();
+    // The patches whose memory of the start lasts longest: D_KL((Fⁿ)_i· ‖ w) = I_i(N)/w_i
+    let mut order: Vec<usize> = (0..ff.n_states()).filter(|&i| w[i] > 0.0).collect();
+    let memory = |i: usize| lr.per_state[i] / w[i];
+    order.sort_by(|&a, &b| memory(b).total_cmp(&memory(a)).then(a.cmp(&b)));
+    order.truncate(LONGEST);
+    let mut out = std::io::stdout().lock();
+    if args.json {
+        let mut s = String::new();
+        let mut o = JsonObject::new(&mut s)?;
+        o.string("file", &file.display().to_string())?;
+        o.integer("states", ff.n_states() as u64)?;
+        o.boolean("background", ff.has_background())?;
+        o.string(
+            "form_factors",
+            if mc.is_some() { "monte carlo" } else { "exact" },
+        )?;
+        o.number("h_p", lr.h_p)?;
+        o.number("h_s", lr.h_s)?;
+        o.number("i_s", lr.curve[0])?;
+        o.number("excess_entropy", lr.h_p - lr.h_s)?;
+        o.integer("bounces", bounces as u64)?;
+        o.numbers("i_n", &lr.curve)?;
+        o.numbers("h_n_given_0", &lr.conditional)?;
+        let bound: Vec<f64> = (1..=bounces).map(|n| lr.block_bound(n)).collect();
+        o.numbers("block_bound", &bound)?;
+        o.number("decay_ratio", lr.decay_ratio().unwrap_or(f64::NAN))?;
+        match lr.bounces_to(0.01) {
+            Some(n) => o.integer("bounces_to_1_percent", n as u64)?,
+            None => o.null("bounces_to_1_percent")?,
+        }
+        o.numbers("per_patch_first", &lr.per_state_first)?;
+        o.numbers("per_patch_last", &lr.per_state)?;
+        o.displays("longest", order.iter())?;
+        o.finish()?;
+        writeln!(out, "{s}")?;
+    } else {
+        write!(
+            out,
+            "{}",
+            table(&file.display().to_string(), &lr, &order, w)?
+        )?;
+    }
+    out.flush()?;
+    Ok(())
+}
+
+fn table(name: &str, lr: &LongRange, order: &[usize], w: &[f64]) -> Result<String> {
+    let mut s = String::new();
+    writeln!(s, "{name}: long-range mutual information I(X_0;X_n)")?;
+    writeln!(
+        s,
+        "  H_P {:.6}  H_S {:.6}  I_S = I(X_0;X_1) {:.6}  excess entropy E = H_P - H_S {:.6}",
+        lr.h_p,
+        lr.h_s,
+        lr.curve[0],
+        lr.h_p - lr.h_s
+    )?;
+    writeln!(
+        s,
+        "      n    I(X_0;X_n)   H(X_n|X_0)   H_P - n H_S (bound)"
+    )?;
+    let n = lr.curve.len();
+    for (k, (&i, &h)) in lr.curve.iter().zip(&lr.conditional).enumerate() {
+        // All of a short curve; of a long one the first 10, then every tenth, and the last
+        let step = k + 1;
+        if n <= 30 || step <= 10 || step % 10 == 0 || step == n {
+            writeln!(
+                s,
+                "  {step:>5}  {i:>12.6}  {h:>11.6}  {:>12.6}",
+                lr.block_bound(step)
+            )?;
+        }
+    }
+    match lr.decay_ratio() {
+        Some(r) => writeln!(s, "  decay ratio I_n / I_(n-1) at the last bounce: {r:.6}")?,
+        None => {}
+    }
+    match lr.bounces_to(0.01) {
+        Some(b) => writeln!(s, "  falls below 1% of I_S after {b} bounces")?,
+        None => writeln!(s, "  stays above 1% of I_S for all {n} bounces")?,
+    }
+    writeln!(
+        s,
+        "  patches keeping their correlation longest (I_i(n)/w_i at n = {n}):"
+    )?;
+    for &i in order {
+        writeln!(
+            s,
+            "    {i:>6}  {:.6} bits  (I_i(1)/w_i = {:.6})",
+            lr.per_state[i] / w[i],
+            lr.per_state_first[i] / w[i]
+        )?;
+    }
+    Ok(s)
+}
