@@ -13,10 +13,16 @@
 //! random boxes within their binomial errors (with a fixed proptest seed: it is a
 //! statistical property).
 //!
+//! Fields and bounces ([`fields`], [`bounces`], issue 20): point measures against closed
+//! forms, their bounds and invariances; the long-range mutual information's data-processing
+//! decay.
+//!
 //! Similarity ([`frames`]): measures invariant under scale `10^±150`, rotation and
 //! translation; power-of-two scales stored with the same bits, so Monte Carlo agrees bit for
 //! bit.
 
+mod bounces;
+mod fields;
 mod flat_channel;
 mod frames;
 mod refinement;

@@ -119,7 +119,7 @@ fn table(name: &str, lr: &LongRange, order: &[usize], w: &[f64]) -> Result<Strin
     for &i in order {
         writeln!(
             s,
-            "    {i:>6}  {:.6} bits  (I_i(1)/w_i = {:.6})",
+            "    {i:>6}  {:.3e} bits  (I_i(1)/w_i = {:.6})",
             lr.per_state[i] / w[i],
             lr.per_state_first[i] / w[i]
         )?;
