@@ -88,7 +88,13 @@ fn grid_png_and_path() {
 fn bounces_start_at_i_s_and_never_rise() {
     let room = write("bounce.flat", "poly 4 0 0 3 0 3 2 0 2 per_side 3\n");
     let measure = stdout_of(&["measure", room.to_str().unwrap(), "--json"]);
-    let json = stdout_of(&["measure", room.to_str().unwrap(), "--bounces", "30", "--json"]);
+    let json = stdout_of(&[
+        "measure",
+        room.to_str().unwrap(),
+        "--bounces",
+        "30",
+        "--json",
+    ]);
     let curve = values(&json, "i_n");
     assert_eq!(curve.len(), 30);
     assert!((curve[0] - number(&measure, "i_s")).abs() < 1e-12);

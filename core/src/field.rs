@@ -1,6 +1,6 @@
 //! Entropy and mutual-information **fields** at interior points of a flatland scene (thesis
 //! §7.3, first item: "the procedures presented in this thesis can be extended to the
-//! interior points of a scene … the entropy and mutual information fields"; refs. [66, 67],
+//! interior points of a scene … the entropy and mutual information fields"; refs. 66 and 67,
 //! Rigau, Feixas & Sbert 2000/2001), maps of them over a grid, and the **animation
 //! complexity** of a camera path as the integral of the point complexity along it.
 //!
@@ -60,7 +60,7 @@
 //! G(φ) = ∫₀^φ ln cos t dt = ½ Cl₂(π − 2φ) − φ ln 2                      (|φ| < π/2)
 //! ```
 //!
-//! with the Clausen function [`crate::math::clausen2`]. So the field is exact up to
+//! with the Clausen function `Cl₂` (the crate's `math::clausen2`). So the field is exact up to
 //! rounding. Cost per point: `O(E · S)` for `E` events (patch end points and crossings)
 //! and `S` surfaces.
 //!
@@ -68,7 +68,7 @@
 //!
 //! [`Field2::grid`] evaluates the field at the centres of a grid of cells over the scene's
 //! bounding box; [`Field2::path`] along a polyline, with the **animation complexity**
-//! (ref. [67]; §7.3: "the complexity of animation can be defined from the complexity at
+//! (ref. 67; §7.3: "the complexity of animation can be defined from the complexity at
 //! the interior points of a scene … the work done in a particular animation")
 //!
 //! ```text

@@ -59,7 +59,7 @@ pub struct FieldPath {
     pub length: f64,
     /// `∫ H(x(s)) ds` (bits × length).
     pub h_integral: f64,
-    /// The animation complexity `C = ∫ I(x(s)) ds` (ref. [67]); `None` if `I` is undefined
+    /// The animation complexity `C = ∫ I(x(s)) ds` (ref. 67); `None` if `I` is undefined
     /// at some sample.
     pub i_integral: Option<f64>,
     /// `∫ I^c(x(s)) ds`; `None` as for `i_integral`.

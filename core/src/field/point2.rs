@@ -152,7 +152,7 @@ impl<'a> Field2<'a> {
     ///
     /// # Errors
     /// [`ErrorKind::CoordinateRange`] for a coordinate that is not finite or beyond
-    /// [`MAX_COORDINATE`].
+    /// `1e300` (the scenes' coordinate bound).
     pub fn point(&self, x: DVec2, scratch: &mut FieldScratch) -> Result<PointField> {
         if !(x.is_finite() && x.abs().max_element() <= MAX_COORDINATE) {
             return Err(Error::new(ErrorKind::CoordinateRange));

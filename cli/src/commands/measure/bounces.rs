@@ -104,9 +104,8 @@ fn table(name: &str, lr: &LongRange, order: &[usize], w: &[f64]) -> Result<Strin
             )?;
         }
     }
-    match lr.decay_ratio() {
-        Some(r) => writeln!(s, "  decay ratio I_n / I_(n-1) at the last bounce: {r:.6}")?,
-        None => {}
+    if let Some(r) = lr.decay_ratio() {
+        writeln!(s, "  decay ratio I_n / I_(n-1) at the last bounce: {r:.6}")?;
     }
     match lr.bounces_to(0.01) {
         Some(b) => writeln!(s, "  falls below 1% of I_S after {b} bounces")?,
