@@ -416,6 +416,19 @@ mod tests {
     }
 
     #[test]
+    fn centre_of_a_square_has_the_closed_form_continuous_term() {
+        // Side 2, L_T = 8, each wall at d = 1 seen over φ ∈ [−π/4, π/4]:
+        // I^c = (2/π) [(π/2) log₂(8/2π) + (4/ln 2) G(π/4)], G(π/4) = ½ G_cat − (π/4) ln 2
+        let scene = Scene2::rectangle(2.0, 2.0, 1).unwrap();
+        let (f, _) = point(&scene, DVec2::new(1.0, 1.0));
+        let catalan = 0.915_965_594_177_219;
+        let g = 0.5 * catalan - 0.25 * PI * LN_2;
+        let want = 2.0 / PI * (0.5 * PI * (8.0 / TAU).log2() + 4.0 / LN_2 * g);
+        assert!((f.i_c.unwrap() - want).abs() < 1e-14, "{:?} {want}", f.i_c);
+        assert!((want - 0.031_038).abs() < 1e-6);
+    }
+
+    #[test]
     fn outside_a_closed_room_information_is_undefined() {
         let scene = Scene2::rectangle(1.0, 1.0, 2).unwrap();
         let (f, _) = point(&scene, DVec2::new(5.0, 5.0));
