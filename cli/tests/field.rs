@@ -1,6 +1,7 @@
 //! `sceneinfo field` and `measure --bounces` through the real binary (issue 20, items 1–2):
 //! JSON keys and values against closed forms, the PNG map, a path's animation complexity,
-//! and refusals (bad points, 3D scenes, unwritable outputs) with exit 2.
+//! the 3D field by rasterisation at the centre of a cube, and refusals (bad points, a grid
+//! of a 3D scene, unwritable outputs) with exit 2.
 
 mod common;
 
@@ -120,14 +121,29 @@ fn refusals_exit_2() {
         let out = bin().args(&args).output().unwrap();
         assert_eq!(out.status.code(), Some(2), "{args:?}");
     }
-    // A 3D scene: valid, but not a job for `field`
-    let cube = common::preset(&["cube"], "field-cube.obj");
-    let out = bin()
-        .args(["field", cube.to_str().unwrap(), "--at", "0.5,0.5"])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("flatland"));
+    // A 3D scene: rasterised --at and --path; --grid and 2D points refused
+    let cube = common::preset(&["cube", "--grid", "1"], "field-cube.obj");
+    let c = cube.to_str().unwrap();
+    let json = stdout_of(&[
+        "field",
+        c,
+        "--at",
+        "0.5,0.5,0.5",
+        "--json",
+        "--resolution",
+        "64",
+    ]);
+    // Six faces, each one cube-map face exactly: H = log₂ 6, I = 0
+    assert!((number(&json, "h") - 6f64.log2()).abs() < 1e-9, "{json}");
+    assert!(number(&json, "i").abs() < 1e-9);
+    for args in [
+        vec!["field", c, "--grid", "4"],
+        vec!["field", c, "--at", "0.5,0.5"],
+    ] {
+        let out = bin().args(&args).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("valid, but"));
+    }
     // An unwritable picture is refused before the job
     let out = bin()
         .args(["field", s, "--grid", "4", "--png", "/nonexistent-dir/x.png"])

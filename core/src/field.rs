@@ -64,6 +64,12 @@
 //! rounding. Cost per point: `O(E · S)` for `E` events (patch end points and crossings)
 //! and `S` surfaces.
 //!
+//! ## 3D, by rasterisation
+//!
+//! [`Field3`] gives `H(x)` and `I(x)` at a 3D point from the solid angles of the patches
+//! measured on a cube map by the viewpoint module's polygon-ID rasteriser (`p(j|x) =
+//! Ω_j / 4π`, reference `a_j = A_j / A_T`); `I^c(x)` is not computed in 3D.
+//!
 //! ## Maps and paths
 //!
 //! [`Field2::grid`] evaluates the field at the centres of a grid of cells over the scene's
@@ -79,6 +85,8 @@
 
 mod map;
 mod point2;
+mod point3;
 
 pub use map::{FieldGrid, FieldPath, MAX_GRID_SIDE, MAX_PATH_SAMPLES};
 pub use point2::{Field2, FieldScratch, MAX_FIELD_EVENTS, PointField};
+pub use point3::{Field3, Field3Scratch};

@@ -7,8 +7,12 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use anyhow::{Result, bail};
-use sceneinfo::field::{Field2, FieldGrid, FieldPath, FieldScratch, PointField};
-use sceneinfo::geom::DVec2;
+use std::f64::consts::TAU;
+
+use sceneinfo::field::{
+    Field2, Field3, Field3Scratch, FieldGrid, FieldPath, FieldScratch, PointField,
+};
+use sceneinfo::geom::{DVec2, DVec3};
 use sceneinfo::report::JsonObject;
 
 use crate::output::{Loaded, job_refused, located, write_atomic};
@@ -19,24 +23,31 @@ use crate::svg::{ColourMap, Rgb};
 #[command(group(clap::ArgGroup::new("where").required(true).multiple(true)
     .args(["grid", "path", "at"])))]
 pub struct FieldArgs {
-    /// The flatland scene (`.flat`).
+    /// The scene: flatland (`.flat`; exact fields) or 3D (OBJ, glTF, PLY; rasterised, --at
+    /// and --path only).
     pub file: PathBuf,
     /// Evaluate the field at the centres of a grid of N cells along the longer side of the
     /// scene's bounding box (square cells).
     #[arg(long, value_name = "N",
           value_parser = clap::value_parser!(u32).range(1..=sceneinfo::field::MAX_GRID_SIDE as i64))]
     pub grid: Option<u32>,
-    /// A camera path `x0,y0:x1,y1[:x2,y2…]` (world coordinates): the field along it and its
-    /// animation complexity ∫ I(x) ds.
+    /// A camera path `x0,y0:x1,y1[:x2,y2…]` (world coordinates; `x,y,z` points in 3D): the
+    /// field along it and its animation complexity ∫ I(x) ds.
     #[arg(long, value_name = "x0,y0:x1,y1", value_parser = parse_path)]
     pub path: Option<Polyline>,
     /// Samples per leg of --path (trapezoid rule).
     #[arg(long, value_name = "K", default_value_t = 256,
           value_parser = clap::value_parser!(u32).range(1..=65_536))]
     pub samples: u32,
-    /// One point `x,y`: its measures and the visible angle of every patch it sees.
-    #[arg(long, value_name = "x,y", value_parser = parse_point)]
-    pub at: Option<[f64; 2]>,
+    /// One point `x,y` (flatland) or `x,y,z` (3D): its measures and `p(j|x)` of the
+    /// patches it sees.
+    #[arg(long, value_name = "x,y[,z]", value_parser = parse_point)]
+    pub at: Option<Coords>,
+    /// 3D scenes: side of each cube-map face in pixels (the raster error of a patch's solid
+    /// angle halves with each doubling).
+    #[arg(long, value_name = "N", default_value_t = 256,
+          value_parser = clap::value_parser!(u32).range(1..=i64::from(sceneinfo::viewpoint::MAX_RESOLUTION)))]
+    pub resolution: u32,
     /// Which measure colours the --png map.
     #[arg(long, value_enum, default_value_t = FieldMeasure::I)]
     pub measure: FieldMeasure,
@@ -82,16 +93,19 @@ impl FieldMeasure {
     }
 }
 
-/// Parses `x,y` into a finite point.
-pub fn parse_point(s: &str) -> Result<[f64; 2], String> {
-    let bad = || format!("'{s}' is not a point x,y (two finite numbers)");
-    let (x, y) = s.split_once(',').ok_or_else(bad)?;
-    let (x, y) = (
-        x.trim().parse::<f64>().map_err(|_| bad())?,
-        y.trim().parse::<f64>().map_err(|_| bad())?,
-    );
-    if x.is_finite() && y.is_finite() {
-        Ok([x, y])
+/// A point's coordinates as given: 2 (flatland) or 3 (3D) finite numbers.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Coords(pub Vec<f64>);
+
+/// Parses `x,y` or `x,y,z` into finite coordinates.
+pub fn parse_point(s: &str) -> Result<Coords, String> {
+    let bad = || format!("'{s}' is not a point x,y or x,y,z (finite numbers)");
+    let c: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>().map_err(|_| bad()))
+        .collect::<Result<_, _>>()?;
+    if (2..=3).contains(&c.len()) && c.iter().all(|v| v.is_finite()) {
+        Ok(Coords(c))
     } else {
         Err(bad())
     }
@@ -99,11 +113,14 @@ pub fn parse_point(s: &str) -> Result<[f64; 2], String> {
 
 /// The vertices of `--path`.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Polyline(pub Vec<[f64; 2]>);
+pub struct Polyline(pub Vec<Vec<f64>>);
 
 /// Parses `x0,y0:x1,y1[:…]` (at least two points, at most 10,000).
 pub fn parse_path(s: &str) -> Result<Polyline, String> {
-    let points: Vec<[f64; 2]> = s.split(':').map(parse_point).collect::<Result<_, _>>()?;
+    let points: Vec<Vec<f64>> = s
+        .split(':')
+        .map(|p| parse_point(p).map(|c| c.0))
+        .collect::<Result<_, _>>()?;
     if !(2..=10_000).contains(&points.len()) {
         return Err(format!(
             "'{s}' is not a path x0,y0:x1,y1[:…] of 2 to 10000 points"
@@ -115,88 +132,154 @@ pub fn parse_path(s: &str) -> Result<Polyline, String> {
 pub fn run(args: &FieldArgs) -> Result<()> {
     let loaded = crate::output::load_scene(&args.file)?;
     loaded.print_warnings(&args.file, false);
-    let Loaded::Flat(scene) = loaded.scene else {
-        return Err(job_refused(
-            &args.file,
-            "fields are computed in flatland (.flat) only; 3D fields are not implemented",
-        ));
-    };
     let at = |e: sceneinfo::Error| located(&args.file, &e);
-    let field = Field2::new(&scene).map_err(at)?;
-    let point = match args.at {
-        Some([x, y]) => {
-            let mut scratch = FieldScratch::default();
-            let p = field.point(DVec2::new(x, y), &mut scratch).map_err(at)?;
-            Some((DVec2::new(x, y), p, scratch.angles().to_vec()))
+    let dims = |c: &[f64], want: usize, what: &str| -> Result<()> {
+        if c.len() == want {
+            Ok(())
+        } else {
+            Err(job_refused(
+                &args.file,
+                format!("{what} needs {want} coordinates in a {want}D scene"),
+            ))
         }
-        None => None,
     };
-    let grid = match args.grid {
-        Some(n) => Some(field.grid_over_scene(n as usize).map_err(at)?),
-        None => None,
-    };
-    let path = match &args.path {
-        Some(v) => {
-            let vertices: Vec<DVec2> = v.0.iter().map(|&[x, y]| DVec2::new(x, y)).collect();
-            Some(field.path(&vertices, args.samples as usize).map_err(at)?)
-        }
-        None => None,
-    };
-    if let (Some(out), Some(g)) = (&args.png, &grid) {
-        write_atomic(out, &picture(&field, g, args.measure)?)?;
-    }
-    let background = field.weights().last().is_some_and(|&w| w > 0.0);
-    let mut out = std::io::stdout().lock();
-    if args.json {
-        let mut s = String::new();
-        let mut o = JsonObject::new(&mut s)?;
-        o.string("file", &args.file.display().to_string())?;
-        o.integer("patches", scene.n_patches() as u64)?;
-        o.boolean("background", background)?;
-        if let Some((x, p, angles)) = &point {
-            o.object("at", |o| {
-                o.numbers("x", &[x.x, x.y])?;
-                point_fields(o, p)?;
-                let probs: Vec<f64> = angles.iter().map(|a| a / std::f64::consts::TAU).collect();
-                // p(j|x) per patch, then the background's
-                o.numbers("p", &probs)
-            })?;
-        }
-        if let Some(g) = &grid {
-            o.object("grid", |o| grid_fields(o, g))?;
-        }
-        if let Some(p) = &path {
-            o.object("path", |o| path_fields(o, p))?;
-        }
-        o.finish()?;
-        writeln!(out, "{s}")?;
-    } else {
-        let mut s = String::new();
-        writeln!(
-            s,
-            "{}: {} patches, {} surfaces{}",
-            args.file.display(),
-            scene.n_patches(),
-            scene.surfaces().len(),
-            if background {
-                ", open (background state)"
-            } else {
-                ""
+    let mut report = Report::default();
+    match &loaded.scene {
+        Loaded::Flat(scene) => {
+            let field = Field2::new(scene).map_err(at)?;
+            report.header = format!(
+                "{}: {} patches, {} surfaces{}",
+                args.file.display(),
+                scene.n_patches(),
+                scene.surfaces().len(),
+                if field.weights().last().is_some_and(|&w| w > 0.0) {
+                    ", open (background state)"
+                } else {
+                    ""
+                }
+            );
+            report.patches = scene.n_patches();
+            report.background = field.weights().last().is_some_and(|&w| w > 0.0);
+            if let Some(c) = &args.at {
+                dims(&c.0, 2, "--at")?;
+                let mut scratch = FieldScratch::default();
+                let p = field
+                    .point(DVec2::new(c.0[0], c.0[1]), &mut scratch)
+                    .map_err(at)?;
+                let probs = scratch.angles().iter().map(|a| a / TAU).collect();
+                report.point = Some((c.0.clone(), p, probs));
             }
-        )?;
-        if let Some((x, p, angles)) = &point {
-            point_table(&mut s, *x, p, angles)?;
+            if let Some(n) = args.grid {
+                let g = field.grid_over_scene(n as usize).map_err(at)?;
+                if let Some(out) = &args.png {
+                    write_atomic(out, &picture(&field, &g, args.measure)?)?;
+                }
+                report.grid = Some(g);
+            }
+            if let Some(v) = &args.path {
+                let mut vertices = Vec::new();
+                for c in &v.0 {
+                    dims(c, 2, "--path")?;
+                    vertices.push(DVec2::new(c[0], c[1]));
+                }
+                report.path = Some(field.path(&vertices, args.samples as usize).map_err(at)?);
+            }
         }
-        if let Some(g) = &grid {
-            grid_table(&mut s, g)?;
+        Loaded::Solid(scene) => {
+            if args.grid.is_some() {
+                return Err(job_refused(
+                    &args.file,
+                    "--grid is flatland only (a 3D plane slice is not implemented); use --at or --path",
+                ));
+            }
+            let field = Field3::new(scene);
+            let mut scratch = Field3Scratch::new(args.resolution).map_err(at)?;
+            report.header = format!(
+                "{}: {} patches (3D, rasterised: cube faces of {}² pixels; I^c not computed in 3D)",
+                args.file.display(),
+                scene.n_patches(),
+                args.resolution
+            );
+            report.patches = scene.n_patches();
+            if let Some(c) = &args.at {
+                dims(&c.0, 3, "--at")?;
+                let x = DVec3::new(c.0[0], c.0[1], c.0[2]);
+                let p = field.point(x, &mut scratch).map_err(at)?;
+                let probs = scratch
+                    .solid_angles()
+                    .iter()
+                    .map(|a| a / (2.0 * TAU))
+                    .collect();
+                report.point = Some((c.0.clone(), p, probs));
+            }
+            if let Some(v) = &args.path {
+                let mut vertices = Vec::new();
+                for c in &v.0 {
+                    dims(c, 3, "--path")?;
+                    vertices.push(DVec3::new(c[0], c[1], c[2]));
+                }
+                let path = field.path(&vertices, args.samples as usize, &mut scratch);
+                report.path = Some(path.map_err(at)?);
+            }
         }
-        if let Some(p) = &path {
-            path_table(&mut s, p)?;
-        }
-        write!(out, "{s}")?;
     }
-    out.flush()?;
-    Ok(())
+    report.print(&args.file, args.json)
+}
+
+/// What `field` prints.
+#[derive(Default)]
+struct Report {
+    header: String,
+    patches: usize,
+    background: bool,
+    /// The point, its measures, `p(j|x)` per patch then the background's.
+    point: Option<(Vec<f64>, PointField, Vec<f64>)>,
+    grid: Option<FieldGrid>,
+    path: Option<FieldPath>,
+}
+
+impl Report {
+    fn print(&self, file: &std::path::Path, json: bool) -> Result<()> {
+        let mut out = std::io::stdout().lock();
+        if json {
+            let mut s = String::new();
+            let mut o = JsonObject::new(&mut s)?;
+            o.string("file", &file.display().to_string())?;
+            o.integer("patches", self.patches as u64)?;
+            o.boolean("background", self.background)?;
+            if let Some((x, p, probs)) = &self.point {
+                o.object("at", |o| {
+                    o.numbers("x", x)?;
+                    point_fields(o, p)?;
+                    // p(j|x) per patch, then the background's
+                    o.numbers("p", probs)
+                })?;
+            }
+            if let Some(g) = &self.grid {
+                o.object("grid", |o| grid_fields(o, g))?;
+            }
+            if let Some(p) = &self.path {
+                o.object("path", |o| path_fields(o, p))?;
+            }
+            o.finish()?;
+            writeln!(out, "{s}")?;
+        } else {
+            let mut s = String::new();
+            writeln!(s, "{}", self.header)?;
+            if let Some((x, p, probs)) = &self.point {
+                point_table(&mut s, x, p, probs)?;
+            }
+            if let Some(g) = &self.grid {
+                grid_table(&mut s, g)?;
+            }
+            if let Some(p) = &self.path {
+                path_table(&mut s, p)?;
+            }
+            write!(out, "{s}")?;
+        }
+        out.flush()?;
+        Ok(())
+    }
 }
 
 fn point_fields<W: std::fmt::Write>(o: &mut JsonObject<'_, W>, p: &PointField) -> std::fmt::Result {
@@ -259,30 +342,33 @@ fn opt(v: Option<f64>) -> String {
     v.map_or_else(|| "undefined".to_string(), |v| format!("{v:.6}"))
 }
 
-fn point_table(s: &mut String, x: DVec2, p: &PointField, angles: &[f64]) -> std::fmt::Result {
-    writeln!(s, "\npoint ({}, {})", x.x, x.y)?;
+/// Rows of the patch list printed in full; beyond, the largest this many.
+const LISTED: usize = 40;
+
+fn point_table(s: &mut String, x: &[f64], p: &PointField, probs: &[f64]) -> std::fmt::Result {
+    let coords: Vec<String> = x.iter().map(ToString::to_string).collect();
+    writeln!(s, "\npoint ({})", coords.join(", "))?;
     writeln!(s, "  H(x)            {:.6} bits", p.h)?;
     writeln!(s, "  I(x)            {}", opt(p.i))?;
     writeln!(s, "  I^c(x)          {}", opt(p.i_c))?;
     writeln!(s, "  I^c(x) - I(x)   {}", opt(p.discretisation_error()))?;
     writeln!(s, "  p(background)   {:.6}", p.background)?;
     writeln!(s, "  patches seen    {}", p.seen)?;
-    writeln!(s, "  patch   angle (deg)   p(j|x)")?;
-    let last = angles.len().saturating_sub(1);
-    for (j, &a) in angles.iter().enumerate() {
-        if a > 0.0 {
-            let name = if j == last {
-                "bg".to_string()
-            } else {
-                j.to_string()
-            };
-            writeln!(
-                s,
-                "  {name:>5}   {:>11.6}   {:.6}",
-                a.to_degrees(),
-                a / std::f64::consts::TAU
-            )?;
-        }
+    let last = probs.len().saturating_sub(1);
+    let mut rows: Vec<usize> = (0..probs.len()).filter(|&j| probs[j] > 0.0).collect();
+    if rows.len() > LISTED {
+        writeln!(s, "  the {LISTED} largest:")?;
+        rows.sort_by(|&a, &b| probs[b].total_cmp(&probs[a]).then(a.cmp(&b)));
+        rows.truncate(LISTED);
+    }
+    writeln!(s, "  patch   p(j|x)")?;
+    for j in rows {
+        let name = if j == last {
+            "bg".to_string()
+        } else {
+            j.to_string()
+        };
+        writeln!(s, "  {name:>5}   {:.6}", probs[j])?;
     }
     Ok(())
 }

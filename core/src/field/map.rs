@@ -3,8 +3,9 @@
 use alloc::vec::Vec;
 
 use super::point2::{Field2, FieldScratch, PointField};
+use super::point3::{Field3, Field3Scratch};
 use crate::error::{Error, ErrorKind, Result};
-use crate::geom::DVec2;
+use crate::geom::{DVec2, DVec3};
 use crate::math::{self, KahanSum};
 
 /// Most cells along a side of [`Field2::grid`].
@@ -49,8 +50,8 @@ fn cell_centre(lo: DVec2, hi: DVec2, nx: usize, ny: usize, c: usize, r: usize) -
 /// The field sampled along a polyline, and its integrals.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FieldPath {
-    /// The sample points (world), the vertices included, in order.
-    pub points: Vec<DVec2>,
+    /// The sample points (world; `z = 0` in flatland), the vertices included, in order.
+    pub points: Vec<DVec3>,
     /// Arc length `s` of each sample from the start (world units).
     pub arc: Vec<f64>,
     /// The field at each sample.
@@ -158,60 +159,86 @@ impl Field2<'_> {
     /// [`MAX_PATH_SAMPLES`], or more than [`MAX_PATH_SAMPLES`] samples in all;
     /// [`Field2::point`]'s errors for a vertex.
     pub fn path(&self, vertices: &[DVec2], samples: usize) -> Result<FieldPath> {
-        let legs = vertices.len().saturating_sub(1);
-        let total = legs.saturating_mul(samples).saturating_add(1);
-        if legs == 0 || samples == 0 || samples > MAX_PATH_SAMPLES || total > MAX_PATH_SAMPLES {
-            return Err(Error::new(ErrorKind::BadParameter {
-                name: "path samples (vertices ≥ 2, samples per leg ≥ 1)",
-                value: if legs == 0 {
-                    vertices.len() as f64
-                } else {
-                    samples as f64
-                },
-            }));
-        }
         let mut scratch = FieldScratch::default();
-        let mut points = Vec::with_capacity(total);
-        let mut arc = Vec::with_capacity(total);
-        let mut out = Vec::with_capacity(total);
-        let mut s = 0.0;
-        for (k, leg) in vertices.windows(2).enumerate() {
-            let (a, b) = (leg[0], leg[1]);
-            let len = math::length(b - a);
-            let first = if k == 0 { 0 } else { 1 };
-            for m in first..=samples {
-                let t = m as f64 / samples as f64;
-                let p = a + (b - a) * t;
-                out.push(self.point(p, &mut scratch)?);
-                points.push(p);
-                arc.push(s + len * t);
-            }
-            s += len;
-        }
-        if !s.is_finite() {
-            return Err(Error::new(ErrorKind::CoordinateRange));
-        }
-        let trapezoid = |f: &dyn Fn(&PointField) -> Option<f64>| -> Option<f64> {
-            let mut sum = KahanSum::new();
-            for k in 1..out.len() {
-                let ds = arc[k] - arc[k - 1];
-                sum.add(0.5 * ds * (f(&out[k - 1])? + f(&out[k])?));
-            }
-            Some(sum.total())
-        };
-        let h_integral = trapezoid(&|p| Some(p.h)).unwrap_or(0.0);
-        let i_integral = trapezoid(&|p| p.i);
-        let i_c_integral = trapezoid(&|p| p.i_c);
-        Ok(FieldPath {
-            points,
-            arc,
-            samples: out,
-            length: s,
-            h_integral,
-            i_integral,
-            i_c_integral,
-        })
+        let v3: Vec<DVec3> = vertices.iter().map(|p| p.extend(0.0)).collect();
+        sample_path(&v3, samples, |p| self.point(p.truncate(), &mut scratch))
     }
+}
+
+impl Field3<'_> {
+    /// [`Field2::path`] in 3D: the rasterised field along the polyline through `vertices`
+    /// (world), with cube faces of `scratch`'s resolution.
+    ///
+    /// # Errors
+    /// As [`Field2::path`]; the rasteriser's.
+    pub fn path(
+        &self,
+        vertices: &[DVec3],
+        samples: usize,
+        scratch: &mut Field3Scratch,
+    ) -> Result<FieldPath> {
+        sample_path(vertices, samples, |p| self.point(p, scratch))
+    }
+}
+
+/// Samples `eval` along the polyline and integrates (the shared part of the `path`s).
+fn sample_path(
+    vertices: &[DVec3],
+    samples: usize,
+    mut eval: impl FnMut(DVec3) -> Result<PointField>,
+) -> Result<FieldPath> {
+    let legs = vertices.len().saturating_sub(1);
+    let total = legs.saturating_mul(samples).saturating_add(1);
+    if legs == 0 || samples == 0 || samples > MAX_PATH_SAMPLES || total > MAX_PATH_SAMPLES {
+        return Err(Error::new(ErrorKind::BadParameter {
+            name: "path samples (vertices ≥ 2, samples per leg ≥ 1)",
+            value: if legs == 0 {
+                vertices.len() as f64
+            } else {
+                samples as f64
+            },
+        }));
+    }
+    let mut points = Vec::with_capacity(total);
+    let mut arc = Vec::with_capacity(total);
+    let mut out = Vec::with_capacity(total);
+    let mut s = 0.0;
+    for (k, leg) in vertices.windows(2).enumerate() {
+        let (a, b) = (leg[0], leg[1]);
+        let len = math::sqrt((b - a).length_squared());
+        let first = if k == 0 { 0 } else { 1 };
+        for m in first..=samples {
+            let t = m as f64 / samples as f64;
+            let p = a + (b - a) * t;
+            out.push(eval(p)?);
+            points.push(p);
+            arc.push(s + len * t);
+        }
+        s += len;
+    }
+    if !s.is_finite() {
+        return Err(Error::new(ErrorKind::CoordinateRange));
+    }
+    let trapezoid = |f: &dyn Fn(&PointField) -> Option<f64>| -> Option<f64> {
+        let mut sum = KahanSum::new();
+        for k in 1..out.len() {
+            let ds = arc[k] - arc[k - 1];
+            sum.add(0.5 * ds * (f(&out[k - 1])? + f(&out[k])?));
+        }
+        Some(sum.total())
+    };
+    let h_integral = trapezoid(&|p| Some(p.h)).unwrap_or(0.0);
+    let i_integral = trapezoid(&|p| p.i);
+    let i_c_integral = trapezoid(&|p| p.i_c);
+    Ok(FieldPath {
+        points,
+        arc,
+        samples: out,
+        length: s,
+        h_integral,
+        i_integral,
+        i_c_integral,
+    })
 }
 
 #[cfg(test)]
