@@ -120,7 +120,7 @@ fn sixty_four_squares_correlation_orders_i_s_h_s_and_e_mse() {
         .map(|x| {
             let s = catalogue_scene(&format!("64-squares-{x}"), 1).unwrap();
             assert_eq!(s.n_patches(), 336);
-            sceneinfo::report::measure_flat(&s).unwrap().measures
+            sceneinfo_report::measure_flat(&s).unwrap().measures
         })
         .collect();
     // Table 3.6: I_S 6.148 > 5.391 > 4.990; H_S 2.244 < 3.001 < 3.443. Table 3.9: E(MSE)

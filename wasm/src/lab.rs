@@ -5,10 +5,10 @@ use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::geom::DVec2;
 use sceneinfo::io::{parse_flat, write_flat};
-use sceneinfo::report::{JsonObject, SceneReport};
 use sceneinfo::scene::{Scene2, catalogue_scene};
 use sceneinfo::tally::LineMethod;
 use sceneinfo::trace::estimate_2d::Tracer2;
+use sceneinfo_report::{JsonObject, SceneReport};
 use wasm_bindgen::prelude::*;
 
 use crate::lines::LineJob;

@@ -14,15 +14,15 @@ use std::time::Instant;
 use anyhow::{Result, anyhow};
 use sceneinfo::continuous::closed_form;
 use sceneinfo::formfactor::quadrature::{self, QuadratureOptions};
-use sceneinfo::report::JsonObject;
 use sceneinfo::scene::{Scene2, Scene3, catalogue, catalogue_scene, preset_3d};
-use sceneinfo::thesis::{
+use sceneinfo::trace::estimate_2d::{Estimate2, LineMethod, Tracer2};
+use sceneinfo::trace::estimate_3d::Tracer3;
+use sceneinfo_report::JsonObject;
+use sceneinfo_report::thesis::{
     PLATONIC_REFERENCE, POLYGON_PER_SIDE, POLYGON_SIDES, TABLE_3_3, TABLE_3_4_H_S, TABLE_3_5_I_S,
     TABLE_3_8, TABLE_4_1, TABLE_4_2, TABLE_4_3_FEW_LINES, TABLE_4_10_I_S_CONTINUOUS, TABLE_4_11,
     TABLE_4_12,
 };
-use sceneinfo::trace::estimate_2d::{Estimate2, LineMethod, Tracer2};
-use sceneinfo::trace::estimate_3d::Tracer3;
 
 use crate::args::ReproduceArgs;
 
@@ -177,7 +177,7 @@ fn chapter_3() -> Result<Vec<Table>> {
 }
 
 fn exact_measures(scene: &Scene2) -> Result<sceneinfo::channel::Measures> {
-    Ok(sceneinfo::report::measure_flat(scene)
+    Ok(sceneinfo_report::measure_flat(scene)
         .map_err(|e| anyhow!("{e}"))?
         .measures)
 }

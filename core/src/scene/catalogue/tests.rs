@@ -3,7 +3,6 @@ use crate::channel::{Measures, Transitions};
 use crate::formfactor::exact_2d;
 use crate::geom::proper_crossing;
 use crate::math;
-use crate::report::measure_flat;
 use std::eprintln;
 use std::vec::Vec;
 
@@ -80,7 +79,8 @@ fn i_c_quadrature(scene: &Scene2, cells: usize, levels: u32) -> f64 {
 
 /// Discrete `I_S` with exact form factors.
 fn i_s(scene: &Scene2) -> f64 {
-    measure_flat(scene).unwrap().measures.i_s
+    let ff = exact_2d::form_factors(scene).unwrap();
+    ff.channel().unwrap().measures().i_s
 }
 
 /// Discrete `I_S` of `name` at `per_side`.
