@@ -16,15 +16,22 @@
 //! | [`write_load_report`] | what a loader skipped or repaired |
 //! | [`ViewpointReport`] | the viewpoint channel's measures (`viewpoints --json`, wasm `viewpoints`) |
 //! | [`RefinementReport`], [`step_json`] | flatland refinement steps (`refine --json`, wasm `Refiner`) |
+//! | [`ToneMap`], [`gouraud_mesh`] | radiosity as display colours: sRGB tone map, Gouraud vertex radiosities |
 //! | [`thesis`] | the thesis' table values |
 //!
 //! ## Quick start
 //!
 //! ```
-//! // The equilateral triangle, one patch a side: exact form factors 1/2 everywhere off
-//! // the diagonal, so H_S = 1 bit and I_S = log₂ 3 − 1.
-//! let json = sceneinfo_report::measure_flat_json("poly 3 0 0 1 0 0.5 0.8660254037844386").unwrap();
-//! assert!(json.starts_with("{\"n_patches\":3,\"h_p\":"));
+//! use sceneinfo::scene::Scene2;
+//!
+//! // The equilateral triangle, one patch a side: F_ij = 1/2 off the diagonal (the string
+//! // rule), so H_S = 1 bit, H_P = log₂ 3 and I_S = H_P − H_S (3.8).
+//! let report = sceneinfo_report::measure_flat(&Scene2::regular_polygon(3, 1).unwrap()).unwrap();
+//! assert!((report.measures.h_s - 1.0).abs() < 1e-12);
+//! assert!((report.measures.i_s - (3f64.log2() - 1.0)).abs() < 1e-12);
+//! let json = report.to_json();
+//! assert!(json.starts_with("{\"n_patches\":3,\"h_p\":1.58496250072115"), "{json}");
+//! assert!(!json.contains("warnings"));
 //! ```
 //!
 //! ## Conventions
@@ -47,6 +54,7 @@
 mod json;
 mod line_run;
 mod load;
+mod picture;
 mod refine;
 mod scene;
 pub mod thesis;
@@ -56,6 +64,7 @@ mod warning;
 pub use json::JsonObject;
 pub use line_run::LineRunReport;
 pub use load::write_load_report;
+pub use picture::{GouraudMesh, ToneMap, gouraud_mesh};
 pub use refine::{RefinementReport, step_json, write_step_fields};
 pub use scene::{
     SceneReport, UnsampledReport, measure_flat, measure_flat_json, measure_obj_json, measure_solid,
