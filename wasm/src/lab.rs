@@ -365,7 +365,7 @@ pub fn catalogue() -> String {
             o.object(e.name, |o| {
                 o.string("figure", e.figure)?;
                 o.string("description", e.description)?;
-                match e.thesis {
+                match sceneinfo_report::thesis::catalogue_value(e.name) {
                     Some(v) => o.number("thesis", v),
                     None => Ok(()),
                 }
