@@ -17,7 +17,7 @@
 //! | [`ViewpointReport`] | the viewpoint channel's measures (`viewpoints --json`, wasm `viewpoints`) |
 //! | [`RefinementReport`], [`step_json`] | flatland refinement steps (`refine --json`, wasm `Refiner`) |
 //! | [`ToneMap`], [`gouraud_mesh`] | radiosity as display colours: sRGB tone map, Gouraud vertex radiosities |
-//! | [`thesis`] | the thesis' table values |
+//! | [`thesis`] | the thesis' table values, and the values it prints for the flatland catalogue's scenes |
 //!
 //! ## Quick start
 //!
