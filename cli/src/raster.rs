@@ -237,11 +237,11 @@ impl Raster {
     }
 
     /// The image as 8-bit sRGB bytes (the core's one encoding,
-    /// [`sceneinfo_report::ToneMap::encode`]), row by row from the top.
+    /// [`sceneinfo::radiosity::display::ToneMap::encode`]), row by row from the top.
     pub fn to_rgb8(&self) -> Vec<u8> {
         self.rgb
             .iter()
-            .flat_map(|c| c.map(sceneinfo_report::ToneMap::encode))
+            .flat_map(|c| c.map(sceneinfo::radiosity::display::ToneMap::encode))
             .collect()
     }
 }

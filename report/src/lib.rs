@@ -16,7 +16,6 @@
 //! | [`write_load_report`] | what a loader skipped or repaired |
 //! | [`ViewpointReport`] | the viewpoint channel's measures (`viewpoints --json`, wasm `viewpoints`) |
 //! | [`RefinementReport`], [`step_json`] | flatland refinement steps (`refine --json`, wasm `Refiner`) |
-//! | [`ToneMap`], [`gouraud_mesh`] | radiosity as display colours: sRGB tone map, Gouraud vertex radiosities |
 //! | [`thesis`] | the thesis' table values, and the values it prints for the flatland catalogue's scenes |
 //!
 //! ## Quick start
@@ -54,7 +53,6 @@
 mod json;
 mod line_run;
 mod load;
-mod picture;
 mod refine;
 mod scene;
 pub mod thesis;
@@ -64,7 +62,6 @@ mod warning;
 pub use json::JsonObject;
 pub use line_run::LineRunReport;
 pub use load::write_load_report;
-pub use picture::{GouraudMesh, ToneMap, gouraud_mesh};
 pub use refine::{RefinementReport, step_json, write_step_fields};
 pub use scene::{
     SceneReport, UnsampledReport, measure_flat, measure_flat_json, measure_obj_json, measure_solid,

@@ -25,6 +25,7 @@ use sceneinfo::continuous::ContinuousEstimate;
 use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::radiosity::continuous::estimate_lit;
+use sceneinfo::radiosity::display::{ToneMap, gouraud_mesh};
 use sceneinfo::radiosity::rgb::{
     self, CHANNEL_NAMES, RgbSolution, flat_patch_materials, patch_materials,
 };
@@ -34,7 +35,6 @@ use sceneinfo::tally::{LineMethod, LineTracer};
 use sceneinfo::trace::estimate_2d::Tracer2;
 use sceneinfo::trace::estimate_3d::Tracer3;
 use sceneinfo_report::{JsonObject, SceneReport};
-use sceneinfo_report::{ToneMap, gouraud_mesh};
 
 use crate::args::{Method, RadiosityArgs, SamplingArgs, SolverArg};
 use crate::lines::LineBudget;

@@ -15,12 +15,12 @@ use sceneinfo::continuous::relative_discretisation_error;
 use sceneinfo::geom::DVec3;
 use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, MAX_PAIRS, OracleChoice3};
 use sceneinfo::lines::CHUNK_LINES;
+use sceneinfo::radiosity::display::ToneMap;
 use sceneinfo::scene::Scene3;
 use sceneinfo::tally::LineTracer;
 use sceneinfo::trace::estimate_2d::LineMethod;
 use sceneinfo::trace::estimate_3d::Tracer3;
 use sceneinfo_report::JsonObject;
-use sceneinfo_report::ToneMap;
 
 use crate::args::{Oracle, RefineArgs};
 use crate::lines::LineBudget;

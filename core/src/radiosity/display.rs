@@ -1,8 +1,5 @@
 //! Turning a radiosity solution into display colours: Gouraud vertex radiosities and a
-//! stated tone-mapping operator, for mesh and picture writers (the CLI's PLY and PNG
-//! output). Moved out of the core (`sceneinfo::radiosity::display`): nothing in it computes
-//! a measure. It still takes its transcendentals from `sceneinfo::math` (libm), so a
-//! picture's bytes are the same on every target.
+//! stated tone-mapping operator, for mesh writers (the CLI's PLY output).
 //!
 //! **Vertex radiosity (Gouraud).** A vertex shared by patches of one plane gets the
 //! area-weighted average of their radiosities, `B_v = Σ_{i ∋ v} A_i B_i / Σ_{i ∋ v} A_i`.
@@ -19,9 +16,11 @@
 //! of the patches that do not emit, so reflected light uses the whole range and light
 //! sources clip to white.
 
-use sceneinfo::geom::DVec3;
-use sceneinfo::math;
-use sceneinfo::scene::{Material, Scene3};
+use alloc::vec::Vec;
+
+use crate::geom::DVec3;
+use crate::math;
+use crate::scene::{Material, Scene3};
 
 /// Linear exposure with white at `white`, then sRGB encoding (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -119,7 +118,7 @@ pub fn gouraud_mesh(scene: &Scene3, radiosity: &[[f64; 3]]) -> GouraudMesh {
         }
     }
     corners.sort_unstable();
-    let mut vertex_of_corner = vec![0usize; corner_of.len()];
+    let mut vertex_of_corner = alloc::vec![0usize; corner_of.len()];
     let mut positions = Vec::new();
     let mut previous: Option<(Plane, [i64; 3])> = None;
     for &(plane, key, id) in &corners {
@@ -130,7 +129,7 @@ pub fn gouraud_mesh(scene: &Scene3, radiosity: &[[f64; 3]]) -> GouraudMesh {
         vertex_of_corner[id] = positions.len() - 1;
     }
     // Area-weighted sums at the vertices.
-    let mut sums = vec![([0.0_f64; 3], 0.0_f64); positions.len()];
+    let mut sums = alloc::vec![([0.0_f64; 3], 0.0_f64); positions.len()];
     let mut faces = Vec::with_capacity(patches.len());
     let mut corner = 0;
     for (i, p) in patches.iter().enumerate() {
@@ -182,6 +181,7 @@ mod tests {
         let tone = ToneMap { white: 4.0 };
         assert_eq!(tone.channel(2.0), ToneMap::encode(0.5));
     }
+    use crate::scene::Scene3;
 
     #[test]
     fn tone_map_is_srgb_of_a_linear_exposure() {
