@@ -1,4 +1,5 @@
-//! Raw command-line arguments (clap derive). Validation happens in [`crate::commands`].
+//! Raw command-line arguments (clap derive; ripgrep's `lowargs.rs`). They become a validated
+//! run in [`crate::config`]; each command checks the combinations that need its scene.
 
 use std::path::PathBuf;
 
@@ -22,7 +23,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Write a preset scene as a .flat file (stdout, or -o FILE).
-    Scene3 {
+    Scene {
         /// Which preset.
         #[command(subcommand)]
         preset: ScenePreset,
@@ -169,7 +170,7 @@ pub struct MergeArgs {
 }
 
 /// Preset scenes.
-#[derive(Debug, Subcommand)]
+#[derive(Clone, Debug, Subcommand)]
 pub enum ScenePreset {
     /// A regular polygon inscribed in the unit circle, facing inwards.
     Polygon {
@@ -465,7 +466,8 @@ pub struct RadiosityArgs {
     #[arg(long)]
     pub json: bool,
     /// Write a .obj scene lit as an ASCII PLY mesh: shared vertices with Gouraud colours
-    /// (area-weighted average of the patches of one face around the vertex) and per-face
+    /// (area-weighted average of the patches around the vertex that share its plane and
+    /// material) and per-face
     /// colours, both tone-mapped (linear exposure with white at the brightest non-emitting
     /// patch, then the sRGB curve).
     #[arg(long, value_name = "OUT.ply")]

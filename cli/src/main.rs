@@ -1,16 +1,19 @@
 //! The `sceneinfo` command line: a thin front end over the `sceneinfo` crate.
 //!
-//! Two stages, as in ripgrep: [`args`] holds the raw clap arguments; each command in
-//! [`commands`] validates them into core objects and prints. Errors go to stderr as
+//! ripgrep's shape: `main` → [`args`] (the raw clap arguments) → [`config::Config`] (one
+//! validated run: `--max-input` applied, outputs checked, threads resolved) →
+//! [`commands::run`] (leaves that never use each other). Errors go to stderr as
 //! `file:line: what` with exit code 2; a closed pipe (e.g. `| head`) exits quietly with 0.
 
 mod args;
 mod commands;
+mod config;
 mod formats;
 mod interrupt;
 mod lines;
 mod mesh;
 mod output;
+mod picture;
 mod ply;
 mod png;
 mod raster;
@@ -22,11 +25,8 @@ use clap::Parser;
 
 fn main() -> ExitCode {
     let cli = args::Cli::parse();
-    if let Some(cap) = cli.max_input {
-        formats::set_max_input(cap);
-    }
     interrupt::install();
-    match commands::run(cli) {
+    match config::Config::new(cli).and_then(|config| commands::run(&config)) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
             if is_broken_pipe(&err) {

@@ -134,18 +134,6 @@ pub fn check_outputs(outputs: &[(&str, &Path)]) -> Result<()> {
     Ok(())
 }
 
-/// Reads a text file: a regular file within `--max-input` (default
-/// [`crate::formats::MAX_FILE_BYTES`]), `what` naming such files in the size refusal;
-/// invalid UTF-8 is reported as in [`text_of`].
-///
-/// # Errors
-/// Those of [`crate::formats::read_capped_to`] and [`text_of`].
-pub fn read_text(path: &Path, what: &str) -> Result<String> {
-    let cap = crate::formats::input_cap(crate::formats::MAX_FILE_BYTES);
-    let bytes = crate::formats::read_capped_to(path, cap, what)?;
-    text_of(path, bytes)
-}
-
 /// The text of `bytes`, read from `path`. Invalid UTF-8 is reported as
 /// `file:line: input is not valid UTF-8 at byte offset N`, `N` counted from 0 at the start
 /// of the file (as `xxd` and `od` count) and the line as the parsers count lines (ended by

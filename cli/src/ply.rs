@@ -7,6 +7,16 @@
 //! colours too (Gouraud shading in viewers that use vertex colours, e.g. MeshLab and
 //! Blender); the two styles cannot be mixed in one file.
 //! The header is plain ASCII: comments are cut to one line of printable ASCII.
+//!
+//! Why a hand writer and not `ply-rs-bw`'s (whose reader is the one reader,
+//! [`crate::formats::ply_scene`]): the crate's ASCII writer prints each value with `{}` as
+//! this one does, so it would write the same bytes, but only from a whole `Ply<E>` payload
+//! (`KeyMap<Vec<E>>`, one row type `E` for vertices and faces alike, read back through
+//! `PropertyAccess` getters per property): a second copy of every mesh in memory and an
+//! adapter longer than this writer. What the crate gives, a check that the files are
+//! well-formed PLY, the tests below get by reading every file written with the crate's
+//! reader. The format is the one MeshLab and Blender read (vertex colours as `uchar red
+//! green blue`, faces as a `vertex_indices` list).
 
 use std::fmt::Write as _;
 
@@ -193,7 +203,10 @@ impl Ply {
 
 #[cfg(test)]
 pub mod check {
-    //! A tiny reader of the PLY files [`super::Ply`] writes, for tests.
+    //! The files [`super::Ply`] writes, read back by the one PLY reader
+    //! ([`crate::formats::ply_scene::read_mesh`], the `ply-rs-bw` crate), for tests.
+
+    use std::path::Path;
 
     /// What a PLY file holds.
     #[derive(Debug)]
@@ -208,112 +221,38 @@ pub mod check {
         pub faces: Vec<(Vec<usize>, [u8; 3])>,
     }
 
-    /// Parses an ASCII PLY of one `vertex` element (x, y, z floats, optionally red, green,
-    /// blue) and one `face` element
-    /// (a vertex index list, then red, green, blue), checking the header against the body.
+    /// Reads `text` with the crate's reader and checks what our writer promises: an ASCII
+    /// header, every face coloured, every index a vertex.
     pub fn parse(text: &str) -> Result<Parsed, String> {
-        let mut lines = text.lines();
-        if lines.next() != Some("ply") || lines.next() != Some("format ascii 1.0") {
-            return Err("not an ASCII PLY 1.0 file".into());
+        let header = &text[..text.find("end_header").ok_or("no end_header")?];
+        if !header.starts_with("ply\nformat ascii 1.0\n") || !header.is_ascii() {
+            return Err("not an ASCII PLY 1.0 file with an ASCII header".into());
         }
-        let mut comments = Vec::new();
-        let mut elements: Vec<(String, usize, Vec<String>)> = Vec::new();
-        loop {
-            let line = lines.next().ok_or("no end_header")?;
-            if !line.is_ascii() {
-                return Err(format!("non-ASCII header line {line:?}"));
-            }
-            let words: Vec<&str> = line.split(' ').collect();
-            match words.as_slice() {
-                ["end_header"] => break,
-                ["comment", ..] => comments.push(line["comment ".len()..].to_owned()),
-                ["element", name, n] => elements.push((
-                    (*name).to_owned(),
-                    n.parse().map_err(|e| format!("{line}: {e}"))?,
-                    Vec::new(),
-                )),
-                ["property", ..] => elements
-                    .last_mut()
-                    .ok_or("property before element")?
-                    .2
-                    .push(words[1..].join(" ")),
-                _ => return Err(format!("unexpected header line {line:?}")),
-            }
-        }
-        let [(v, nv, vprops), (f, nf, fprops)] = elements.as_slice() else {
-            return Err(format!("expected two elements, found {}", elements.len()));
-        };
-        let xyz = ["float x", "float y", "float z"];
-        let rgb = ["uchar red", "uchar green", "uchar blue"];
-        let coloured = vprops.len() == 6 && vprops[3..] == rgb;
-        if v != "vertex"
-            || vprops.len() < 3
-            || vprops[..3] != xyz
-            || !(vprops.len() == 3 || coloured)
-        {
-            return Err(format!("bad vertex element {vprops:?}"));
-        }
-        let list_ok = matches!(
-            fprops.first().map(String::as_str),
-            Some("list uchar int vertex_indices" | "list ushort int vertex_indices")
-        );
-        if f != "face" || !list_ok || fprops[1..] != ["uchar red", "uchar green", "uchar blue"] {
-            return Err(format!("bad face element {fprops:?}"));
-        }
-        let mut vertices = Vec::with_capacity(*nv);
-        let mut vertex_colours = Vec::new();
-        for _ in 0..*nv {
-            let line = lines.next().ok_or("too few vertex lines")?;
-            let words: Vec<&str> = line.split(' ').collect();
-            if words.len() != if coloured { 6 } else { 3 } {
-                return Err(format!("vertex line {line:?}"));
-            }
-            let xyz: Vec<f32> = words[..3]
-                .iter()
-                .map(|w| w.parse())
-                .collect::<Result<_, _>>()
-                .map_err(|e| format!("{line}: {e}"))?;
-            vertices.push([xyz[0], xyz[1], xyz[2]]);
-            if coloured {
-                let c: Vec<u8> = words[3..]
+        let mesh = crate::formats::ply_scene::read_mesh(Path::new("t.ply"), text.as_bytes())
+            .map_err(|e| format!("{e:#}"))?;
+        let n = mesh.vertices.len();
+        let faces = mesh
+            .faces
+            .iter()
+            .map(|f| {
+                let colour = f.colour.ok_or("a face without red green blue")?;
+                let idx = f
+                    .indices
                     .iter()
-                    .map(|w| w.parse())
-                    .collect::<Result<_, _>>()
-                    .map_err(|e| format!("{line}: {e}"))?;
-                vertex_colours.push([c[0], c[1], c[2]]);
-            }
-        }
-        let mut faces = Vec::with_capacity(*nf);
-        for _ in 0..*nf {
-            let line = lines.next().ok_or("too few face lines")?;
-            let nums: Vec<usize> = line
-                .split(' ')
-                .map(str::parse)
-                .collect::<Result<_, _>>()
-                .map_err(|e| format!("{line}: {e}"))?;
-            let count = *nums.first().ok_or("empty face line")?;
-            if nums.len() != 1 + count + 3 {
-                return Err(format!(
-                    "face line {line:?} does not hold {count} indices + rgb"
-                ));
-            }
-            let idx = nums[1..=count].to_vec();
-            if let Some(&k) = idx.iter().find(|&&k| k >= *nv) {
-                return Err(format!("face index {k} ≥ vertex count {nv}"));
-            }
-            let rgb = nums[count + 1..]
-                .iter()
-                .map(|&c| u8::try_from(c).map_err(|e| format!("{line}: {e}")))
-                .collect::<Result<Vec<u8>, _>>()?;
-            faces.push((idx, [rgb[0], rgb[1], rgb[2]]));
-        }
-        if let Some(extra) = lines.next() {
-            return Err(format!("trailing line {extra:?}"));
-        }
+                    .map(|&k| usize::try_from(k).ok().filter(|&k| k < n))
+                    .collect::<Option<Vec<usize>>>()
+                    .ok_or("a face index that is not a vertex")?;
+                Ok((idx, colour))
+            })
+            .collect::<Result<_, String>>()?;
         Ok(Parsed {
-            comments,
-            vertices,
-            vertex_colours,
+            comments: mesh.comments,
+            vertices: mesh
+                .vertices
+                .iter()
+                .map(|v| [v.x as f32, v.y as f32, v.z as f32])
+                .collect(),
+            vertex_colours: mesh.vertex_colours,
             faces,
         })
     }

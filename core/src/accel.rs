@@ -6,7 +6,7 @@
 //!
 //! - [`Bvh2`] (`alloc`): a bounding volume hierarchy over segments answering
 //!   [`Bvh2::all_hits`] and [`Bvh2::first_hit`] without allocating.
-//! - [`all_hits_naive`] (`alloc`), [`first_hit_naive`]: the `O(n)` loops the BVH must
+//! - [`all_hits_naive`] (`alloc`), `first_hit_naive`: the `O(n)` loops the BVH must
 //!   agree with exactly, kept as the baseline of the benchmarks and of the tests.
 //!
 //! # The intersection test
@@ -42,12 +42,18 @@ mod sweep2;
 mod tests;
 
 #[cfg(feature = "alloc")]
-pub use bvh2::{Bvh2, MAX_PRIMITIVES};
+pub use bvh2::Bvh2;
+#[cfg(feature = "alloc")]
+pub(crate) use bvh2::MAX_PRIMITIVES;
 #[cfg(feature = "alloc")]
 pub use bvh3::{Bvh3, all_hits_naive3};
-pub use bvh3::{Hit3, first_hit_naive3};
+
+pub use bvh3::Hit3;
+pub(crate) use bvh3::first_hit_naive3;
 #[cfg(feature = "alloc")]
-pub use raster3::{BundleHits3, ParallelRaster3};
+pub use raster3::BundleHits3;
+#[cfg(feature = "alloc")]
+pub use raster3::ParallelRaster3;
 #[cfg(feature = "alloc")]
 pub use sweep2::{BundleHits2, ParallelSweep2};
 
@@ -190,7 +196,7 @@ pub fn all_hits_naive(segments: &[Segment], line: &Line2, out: &mut Vec<Hit2>) {
 ///
 /// Only the first `2³²` segments are considered (hit indices are `u32`).
 #[must_use]
-pub fn first_hit_naive(
+pub(crate) fn first_hit_naive(
     segments: &[Segment],
     origin: DVec2,
     dir: DVec2,

@@ -58,8 +58,10 @@ mod proptests;
 
 pub use checks::Checks;
 #[cfg(feature = "alloc")]
-pub use csr_buf::{CsrMatrixBuf, RowMajorCsr};
-pub use markov::{MAX_BLOCK_LEN, MAX_BLOCK_PATHS, entropy_rate, stationary_distribution};
+pub use csr_buf::CsrMatrixBuf;
+#[cfg(feature = "alloc")]
+pub use csr_buf::RowMajorCsr;
+pub use markov::{entropy_rate, stationary_distribution};
 pub use matrix::{CsrMatrix, DenseMatrix, Transitions};
 pub use measures::Measures;
 
@@ -67,10 +69,10 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::math::KahanSum;
 
 /// Tolerance on `|Σ_i w_i − 1|` accepted by [`Channel::new`].
-pub const NORMALIZATION_TOLERANCE: f64 = 1e-9;
+pub(crate) const NORMALIZATION_TOLERANCE: f64 = 1e-9;
 
 /// Tolerance on `Σ_j P_ij − 1` (from above) accepted by [`Channel::new`].
-pub const ROW_SUM_TOLERANCE: f64 = 1e-9;
+pub(crate) const ROW_SUM_TOLERANCE: f64 = 1e-9;
 
 /// A discrete channel: input distribution `w` and transition matrix `P` (thesis §3.1).
 ///

@@ -8,7 +8,7 @@
 //! ```
 //!
 //! and in 3D (4.6) the same with areas and `F(x, y) = cos θ_x cos θ_y / (π r²)`
-//! ([`solid_sample`]). Sampling
+//! (`solid_sample`). Sampling
 //! `x` uniformly on the surfaces and `y` along a cosine-distributed direction — what local
 //! lines do, and what each intersection of a uniform global line does — gives the Monte Carlo
 //! estimator (4.8, 4.13)
@@ -39,7 +39,7 @@ use crate::math::{self, FixedSum};
 /// cosine `≤ 0`), so callers can skip it rather than produce an infinity.
 #[inline]
 #[must_use]
-pub fn flat_sample(total_length: f64, cos_x: f64, cos_y: f64, r: f64) -> Option<f64> {
+pub(crate) fn flat_sample(total_length: f64, cos_x: f64, cos_y: f64, r: f64) -> Option<f64> {
     let f = flat_sample_ratio(total_length, cos_x, cos_y, r);
     (f > 0.0 && f.is_finite()).then(|| math::log2_fast(f))
 }
@@ -49,7 +49,7 @@ pub fn flat_sample(total_length: f64, cos_x: f64, cos_y: f64, r: f64) -> Option<
 /// the logarithm of their product ([`math::Log2Product`]) pushes per sample.
 #[inline]
 #[must_use]
-pub fn flat_sample_ratio(total_length: f64, cos_x: f64, cos_y: f64, r: f64) -> f64 {
+pub(crate) fn flat_sample_ratio(total_length: f64, cos_x: f64, cos_y: f64, r: f64) -> f64 {
     total_length * cos_x * cos_y / (2.0 * r)
 }
 
@@ -57,7 +57,7 @@ pub fn flat_sample_ratio(total_length: f64, cos_x: f64, cos_y: f64, r: f64) -> f
 /// `None` for a degenerate pair (`r ≤ 0` or a cosine `≤ 0`).
 #[inline]
 #[must_use]
-pub fn solid_sample(total_area: f64, cos_x: f64, cos_y: f64, r: f64) -> Option<f64> {
+pub(crate) fn solid_sample(total_area: f64, cos_x: f64, cos_y: f64, r: f64) -> Option<f64> {
     let f = total_area * cos_x * cos_y / (core::f64::consts::PI * r * r);
     (f > 0.0 && f.is_finite()).then(|| math::log2_fast(f))
 }
@@ -87,7 +87,7 @@ pub struct ContinuousEstimate {
 ///
 /// Allocation-free and exactly mergeable.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct ContinuousTally {
+pub(crate) struct ContinuousTally {
     pub(crate) sum_s: FixedSum,
     pub(crate) sum_ss: FixedSum,
     pub(crate) sum_sn: FixedSum,
@@ -135,12 +135,6 @@ impl ContinuousTally {
     #[must_use]
     pub fn samples(&self) -> u64 {
         self.sum_n
-    }
-
-    /// Whether some sum left the fixed-point range (the estimate is then unreliable).
-    #[must_use]
-    pub fn saturated(&self) -> bool {
-        self.sum_s.saturated() || self.sum_ss.saturated() || self.sum_sn.saturated()
     }
 
     /// The estimate and its standard error (0 and 0 with no samples).

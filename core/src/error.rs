@@ -2,25 +2,25 @@
 //!
 //! Every fallible constructor and parser returns [`Error`]: an [`ErrorKind`] saying what was
 //! wrong and, for text input, the 1-based line where it was found. The type needs no
-//! allocator: offending tokens are kept in a fixed-capacity [`Token`].
+//! allocator: offending tokens are kept in a fixed-capacity `Token`.
 
 use core::fmt;
 
 /// Capacity, in bytes, of a [`Token`] quoted in an error message.
-pub const TOKEN_CAPACITY: usize = 32;
+pub(crate) const TOKEN_CAPACITY: usize = 32;
 
 /// A short excerpt of the input quoted in an error message: control and invisible
 /// characters escaped (see [`token`]), truncated to [`TOKEN_CAPACITY`] bytes between two
 /// characters, with `…` appended when cut.
-pub type Token = heapless::String<TOKEN_CAPACITY>;
+pub(crate) type Token = heapless::String<TOKEN_CAPACITY>;
 
-/// Builds a [`Token`] from arbitrary text, safe to print on a terminal.
+/// Builds a `Token` from arbitrary text, safe to print on a terminal.
 ///
 /// Control characters (ESC, NUL, CR, …) and the invisible format characters that hide or
 /// reorder text (byte-order mark, zero-width spaces and joiners, bidirectional overrides)
 /// are written as Rust's `char::escape_debug` writes them (`\u{1b}`, `\0`, `\r`,
 /// `\u{feff}`); every other character, `é` included, is kept. Text longer than
-/// [`TOKEN_CAPACITY`] bytes (escapes counted) is cut between two characters, never inside
+/// `TOKEN_CAPACITY` bytes (escapes counted) is cut between two characters, never inside
 /// one or inside an escape, and ends with `…`.
 ///
 /// # Examples
@@ -185,7 +185,7 @@ pub enum ErrorKind {
         /// The number of patches.
         len: usize,
     },
-    /// A coordinate beyond [`crate::geom::MAX_COORDINATE`] (lengths, areas and the
+    /// A coordinate beyond `crate::geom::MAX_COORDINATE` (lengths, areas and the
     /// exact form factors' tolerances need room below `f64`'s range).
     CoordinateRange,
     /// Two surfaces (flatland segments, or 3D faces) lie on one line or plane, face the

@@ -29,4 +29,4 @@ pub mod quadrature;
 #[cfg(feature = "alloc")]
 mod matrix;
 #[cfg(feature = "alloc")]
-pub use matrix::{BACKGROUND_TOLERANCE, FormFactorView, FormFactors};
+pub use matrix::{FormFactorView, FormFactors};

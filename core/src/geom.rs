@@ -11,7 +11,7 @@ use crate::math;
 /// Largest coordinate magnitude a scene accepts: a box's sides (up to `2 · 10³⁰⁰`) and
 /// centre stay finite. Scenes are stored in a [`crate::scene::Frame`] of moderate size, so
 /// no computation squares a given coordinate.
-pub const MAX_COORDINATE: f64 = 1e300;
+pub(crate) const MAX_COORDINATE: f64 = 1e300;
 
 /// 2D cross product (the `z` of the 3D cross product): `u.x v.y − u.y v.x`.
 ///
@@ -25,7 +25,7 @@ pub fn cross(u: DVec2, v: DVec2) -> f64 {
 /// Left perpendicular `(−v.y, v.x)`: `v` rotated by +90°.
 #[inline]
 #[must_use]
-pub fn left_perp(v: DVec2) -> DVec2 {
+pub(crate) fn left_perp(v: DVec2) -> DVec2 {
     DVec2::new(-v.y, v.x)
 }
 
@@ -40,7 +40,7 @@ pub fn distance(p: DVec2, q: DVec2) -> f64 {
 /// Signed area of the polygon through `vertices` (shoelace formula): positive when they run
 /// counter-clockwise.
 #[must_use]
-pub fn signed_area(vertices: &[DVec2]) -> f64 {
+pub(crate) fn signed_area(vertices: &[DVec2]) -> f64 {
     let n = vertices.len();
     let mut s = math::KahanSum::new();
     for k in 0..n {
@@ -156,7 +156,7 @@ impl Segment {
 ///
 /// Touching at an endpoint, overlapping collinearly or missing returns `None`.
 #[must_use]
-pub fn proper_crossing(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> Option<(f64, DVec2)> {
+pub(crate) fn proper_crossing(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> Option<(f64, DVec2)> {
     let r = p1 - p0;
     let s = q1 - q0;
     let denom = cross(r, s);
@@ -179,7 +179,7 @@ pub fn proper_crossing(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> Option<(f6
 /// by the separating-axis test on the normals of every pair of hull points and of the
 /// segment. `margin` widens every projection: a conservative "may intersect".
 #[must_use]
-pub fn segment_may_meet_hull(p0: DVec2, p1: DVec2, hull: &[DVec2], margin: f64) -> bool {
+pub(crate) fn segment_may_meet_hull(p0: DVec2, p1: DVec2, hull: &[DVec2], margin: f64) -> bool {
     let separated = |axis: DVec2| -> bool {
         if axis == DVec2::ZERO {
             return false;
@@ -228,7 +228,7 @@ pub fn segment_may_meet_hull(p0: DVec2, p1: DVec2, hull: &[DVec2], margin: f64) 
 /// loses less to rounding when the polygon lies far from the origin. Zero for fewer than three
 /// vertices.
 #[must_use]
-pub fn polygon_normal(vertices: &[DVec3]) -> DVec3 {
+pub(crate) fn polygon_normal(vertices: &[DVec3]) -> DVec3 {
     let Some(&v0) = vertices.first() else {
         return DVec3::ZERO;
     };
@@ -241,14 +241,14 @@ pub fn polygon_normal(vertices: &[DVec3]) -> DVec3 {
 
 /// Area of a planar polygon: half the length of [`polygon_normal`].
 #[must_use]
-pub fn polygon_area(vertices: &[DVec3]) -> f64 {
+pub(crate) fn polygon_area(vertices: &[DVec3]) -> f64 {
     0.5 * polygon_normal(vertices).length()
 }
 
 /// Length of the diagonal of the axis-aligned bounds of `points`: a size within a factor √3
 /// of the diameter, in O(n). Zero for no points.
 #[must_use]
-pub fn bounds_diagonal(points: &[DVec3]) -> f64 {
+pub(crate) fn bounds_diagonal(points: &[DVec3]) -> f64 {
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
     for &p in points {
@@ -265,7 +265,7 @@ pub fn bounds_diagonal(points: &[DVec3]) -> f64 {
 /// Largest distance of a vertex from the plane with unit normal `unit_normal` through the
 /// vertices' mean (for Newell's normal, the least-squares-like plane of Newell's method).
 #[must_use]
-pub fn plane_deviation(vertices: &[DVec3], unit_normal: DVec3) -> f64 {
+pub(crate) fn plane_deviation(vertices: &[DVec3], unit_normal: DVec3) -> f64 {
     if vertices.is_empty() {
         return 0.0;
     }
@@ -280,7 +280,7 @@ pub fn plane_deviation(vertices: &[DVec3], unit_normal: DVec3) -> f64 {
 /// positive for a counter-clockwise (convex) turn, negative for a reflex one, zero for a
 /// straight vertex or a zero-length edge, near `±π` where the boundary doubles back.
 #[must_use]
-pub fn turn_angle(vertices: &[DVec3], k: usize, unit_normal: DVec3) -> f64 {
+pub(crate) fn turn_angle(vertices: &[DVec3], k: usize, unit_normal: DVec3) -> f64 {
     let n = vertices.len();
     if n < 3 || k >= n {
         return 0.0;
@@ -294,7 +294,7 @@ pub fn turn_angle(vertices: &[DVec3], k: usize, unit_normal: DVec3) -> f64 {
 /// turn counter-clockwise (sine ≥ −`tolerance`) and the turns adding up to one revolution,
 /// which rules out self-intersecting stars whose turns all share a sign.
 #[must_use]
-pub fn is_convex(vertices: &[DVec3], unit_normal: DVec3, tolerance: f64) -> bool {
+pub(crate) fn is_convex(vertices: &[DVec3], unit_normal: DVec3, tolerance: f64) -> bool {
     let n = vertices.len();
     if n < 3 {
         return false;
@@ -317,7 +317,7 @@ pub fn is_convex(vertices: &[DVec3], unit_normal: DVec3, tolerance: f64) -> bool
 /// Area centroid of a planar polygon (the fan triangles' centroids weighted by their areas
 /// along `vector_area`, e.g. [`polygon_normal`]); the vertex mean if that weight vanishes.
 #[must_use]
-pub fn polygon_centroid(vertices: &[DVec3], vector_area: DVec3) -> DVec3 {
+pub(crate) fn polygon_centroid(vertices: &[DVec3], vector_area: DVec3) -> DVec3 {
     let Some(&v0) = vertices.first() else {
         return DVec3::ZERO;
     };

@@ -3,7 +3,7 @@
 //! # Overview
 //!
 //! - [`Polygon4`]: the elements' shape, a triangle or convex quad split in four.
-//! - [`point_kernel`], [`KernelSamples`]: the point-to-point kernel
+//! - `point_kernel`, [`KernelSamples`]: the point-to-point kernel
 //!   `F(x, y) = cos θ_x cos θ_y / (π r²)` at `N` random point pairs of two elements, with
 //!   visibility through a [`Visibility`] (rays through the scene's BVH, or none in a scene
 //!   where nothing hides anything).
@@ -47,22 +47,19 @@ mod tree;
 #[cfg(feature = "alloc")]
 mod visibility;
 
-pub use choice::{MAX_REGULAR_LEVEL, ORACLE_NAMES, OracleChoice3};
+pub use choice::ORACLE_NAMES;
+pub use choice::OracleChoice3;
 #[cfg(feature = "alloc")]
-pub use compare::{
-    COMPARISON_RUNS, OracleComparison, ReferenceOracle, compare_at_size, emitted_power,
-};
+pub use compare::{COMPARISON_RUNS, OracleComparison, ReferenceOracle, compare_at_size};
 pub use element::Polygon4;
-pub use kernel::{
-    KernelSamples, MAX_PAIRS, NoOccluders, RayCounter, Surface, Visibility, point_kernel,
-};
+pub use kernel::KernelSamples;
+pub use kernel::{MAX_PAIRS, Surface, Visibility};
+pub use oracle::Pair;
 pub use oracle::{
     Decision, KernelAverageOracle, KernelSmoothnessOracle, MiIncreaseOracle,
-    MutualInformationOracle, Oracle, Pair, PowerOracle, RegularOracle, Side,
+    MutualInformationOracle, Oracle, PowerOracle, RegularOracle, Side,
 };
 #[cfg(feature = "alloc")]
-pub use target::{MAX_TARGET_BUILDS, first_threshold};
+pub use tree::Link;
 #[cfg(feature = "alloc")]
-pub use tree::{Budget, Element, Hierarchy, HrOptions, Link, MAX_DEPTH, NONE};
-#[cfg(feature = "alloc")]
-pub use visibility::{OCCLUSION_TEST_LIMIT, SceneVisibility};
+pub use tree::{Budget, Element, Hierarchy, HrOptions};

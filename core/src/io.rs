@@ -14,7 +14,7 @@
 mod flat;
 pub mod partial;
 pub use crate::scene::{LoadReport, LoadWarning, LoadWarningKind};
-pub use flat::{MAX_POLYGON_VERTICES, parse_flat, write_flat};
+pub use flat::{parse_flat, write_flat};
 mod obj;
 pub use obj::{ObjOptions, parse_obj, write_obj};
 mod text;

@@ -7,8 +7,8 @@
 //!   cut into chunks of [`CHUNK_LINES`] lines, chunk `k` drawing from its own PCG stream, so
 //!   a result depends on the seed and `N` only, never on the number of threads.
 //! - [`sample_global_line_2d`]: global lines, uniform for the invariant measure `dp dθ`
-//!   (Sbert's global lines, thesis (2.37)); [`invert_global_line_2d`] maps a line back.
-//! - [`sample_local_line_2d`]: local lines, origin uniform on a segment and direction
+//!   (Sbert's global lines, thesis (2.37)); `invert_global_line_2d` maps a line back.
+//! - `sample_local_line_2d`: local lines, origin uniform on a segment and direction
 //!   cosine-distributed about its normal (thesis (2.36)).
 //!
 //! Samplers follow pbrt's naming triple: `sample_x(u)` maps a canonical sample
@@ -40,27 +40,21 @@ mod stream;
 
 pub use budget::{MAX_LINES, check_line_budget};
 pub use bundle3::{BundleRow, GlobalBundle3, sheaf_direction_sample};
-pub use global2::{
-    BoundingCircle, GlobalBundle2, Line2, global_line_2d_pdf, invert_global_line_2d,
-    sample_global_line_2d,
-};
-pub use lines3::{
-    BoundingSphere, Line3, cosine_hemisphere_pdf, global_line_3d_pdf, invert_cosine_hemisphere,
-    invert_global_line_3d, invert_local_line_3d, invert_polygon_point, invert_uniform_sphere,
-    polygon_point_pdf, sample_cosine_hemisphere, sample_global_line_3d, sample_local_line_3d,
-    sample_polygon_point, sample_uniform_sphere, uniform_sphere_pdf,
-};
-pub use local2::{
-    cosine_direction_2d_pdf, invert_cosine_direction_2d, invert_local_line_2d,
-    invert_segment_point, sample_cosine_direction_2d, sample_local_line_2d, sample_point_pair,
-    sample_segment_point,
-};
-pub use stream::{
-    CHUNK_LINES, canonical, canonical_2d, chunk_count, chunk_range, chunk_rng, mix64,
-};
+pub use global2::BoundingCircle;
+pub use global2::{GlobalBundle2, Line2, sample_global_line_2d};
+pub(crate) use lines3::sample_local_line_3d;
+pub(crate) use lines3::sample_polygon_point;
+pub(crate) use lines3::sample_uniform_sphere;
+pub use lines3::{BoundingSphere, Line3, sample_global_line_3d};
+
+pub(crate) use local2::sample_local_line_2d;
+pub(crate) use local2::sample_point_pair;
+pub use stream::canonical_2d;
+pub(crate) use stream::mix64;
+pub use stream::{CHUNK_LINES, canonical, chunk_count, chunk_range, chunk_rng};
 
 /// The largest `f64` below one, `1 − 2⁻⁵³`: canonical samples live in `[0, ONE_MINUS_EPSILON]`.
-pub const ONE_MINUS_EPSILON: f64 = 1.0 - f64::EPSILON / 2.0;
+pub(crate) const ONE_MINUS_EPSILON: f64 = 1.0 - f64::EPSILON / 2.0;
 
 /// Clamps `u` into the canonical interval `[0, 1)`; NaN maps to 0.
 #[inline]

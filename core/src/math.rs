@@ -9,9 +9,8 @@ mod fast_log2;
 mod fixed;
 mod log_product;
 mod turns;
-pub use clausen::clausen2;
+pub(crate) use clausen::clausen2;
 pub use fast_log2::log2_fast;
-pub use fixed::FIXED_MAX_TERM;
 pub use fixed::FixedSum;
 pub use log_product::Log2Product;
 pub use turns::sin_cos_turns;
@@ -58,7 +57,7 @@ pub fn length(v: glam::DVec2) -> f64 {
 /// `atan2(y, x)`.
 #[inline]
 #[must_use]
-pub fn atan2(y: f64, x: f64) -> f64 {
+pub(crate) fn atan2(y: f64, x: f64) -> f64 {
     libm::atan2(y, x)
 }
 
@@ -109,7 +108,7 @@ pub fn scale_by_power_of_two(x: f64, n: i32) -> f64 {
 /// infinities and NaN.
 #[inline]
 #[must_use]
-pub fn exponent_of(x: f64) -> i32 {
+pub(crate) fn exponent_of(x: f64) -> i32 {
     if x == 0.0 || !x.is_finite() {
         return 0;
     }
@@ -187,7 +186,7 @@ pub fn sum<I: IntoIterator<Item = f64>>(values: I) -> f64 {
 /// inputs, including subnormals.
 #[inline]
 #[must_use]
-pub fn log2_ratio(p: f64, q: f64) -> f64 {
+pub(crate) fn log2_ratio(p: f64, q: f64) -> f64 {
     if p > 0.5 * q && p < 2.0 * q {
         libm::log1p((p - q) / q) * core::f64::consts::LOG2_E
     } else {
@@ -203,7 +202,7 @@ pub fn log2_ratio(p: f64, q: f64) -> f64 {
 /// `x^y`.
 #[inline]
 #[must_use]
-pub fn pow(x: f64, y: f64) -> f64 {
+pub(crate) fn pow(x: f64, y: f64) -> f64 {
     libm::pow(x, y)
 }
 

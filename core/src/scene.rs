@@ -13,7 +13,7 @@
 mod material;
 pub use material::Material;
 mod frame;
-pub use frame::{FAR_EXPONENT, Frame, SAFE_EXTENT_EXPONENT};
+pub use frame::{Frame, SAFE_EXTENT_EXPONENT};
 
 #[cfg(feature = "alloc")]
 mod catalogue;
@@ -34,25 +34,30 @@ mod scene3;
 #[cfg(feature = "alloc")]
 pub mod triangulate;
 #[cfg(feature = "alloc")]
-pub use catalogue::{
-    CORNER_GAP, CatalogueEntry, L_ROOM_CUTS, MAX_ASPECT, NEAR_TOUCH_GAP, SINGULARITY_STEPS,
-    SIXTEEN_SQUARES_SIDE, STAR_INNER_RADII, THREE_OBJECTS_SCALES, TRIANGLE_LAST_APEX, catalogue,
-    catalogue_scene,
-};
+pub use catalogue::CatalogueEntry;
 #[cfg(feature = "alloc")]
-pub use presets3d::{
-    CORNELL_BLOCK_LIFT, CORNELL_GREEN, CORNELL_LIGHT, CORNELL_RED, CORNELL_ROOM,
-    CORNELL_THESIS_EDGE, CORNELL_THESIS_LIGHT_GAP, CORNELL_WHITE, CUBE_ROOM_GRID,
-    CUBE_ROOM_MIN_GAP, CUBE_ROOM_SIDE, CUBE_ROOM_SPACING, ENCLOSURE, ENCLOSURE_MATERIAL,
-    FURNITURE_GAP, MAX_CUBES_PER_SIDE, MAX_SPHERE_LEVEL, OBJECT_MATERIAL, PRESET_SEED,
-    Preset3Entry, SIXTY_FOUR_CUBES_GAPS, SIXTY_FOUR_CUBES_SIDE, SIXTY_FOUR_CUBES_STEPS, TABLE_ROOM,
-    preset_3d, presets_3d,
-};
+pub use catalogue::{SINGULARITY_STEPS, catalogue, catalogue_scene};
 #[cfg(feature = "alloc")]
-pub use scene2::{MAX_PATCHES, MAX_PATCHES_PER_SURFACE, Patch2, Scene2, Scene2Builder, Surface2};
+pub use presets3d::Preset3Entry;
 #[cfg(feature = "alloc")]
-pub use scene3::{
-    CONVEXITY_TOLERANCE, DRAWN_PLANARITY_TOLERANCE, Face3, MAX_CLIP_PIECES, MAX_FACE_VERTICES,
-    MAX_GRID, MAX_PATCHES_3D, MAX_TRIANGLE_LEVEL, PLANARITY_TOLERANCE, Patch3,
-    REPEATED_VERTEX_TOLERANCE, Scene3, Scene3Builder, Subdivision,
-};
+pub use presets3d::{SIXTY_FOUR_CUBES_STEPS, preset_3d, presets_3d};
+#[cfg(feature = "alloc")]
+pub(crate) use scene2::MAX_PATCHES_PER_SURFACE;
+#[cfg(feature = "alloc")]
+pub use scene2::Patch2;
+#[cfg(feature = "alloc")]
+pub use scene2::Scene2Builder;
+#[cfg(feature = "alloc")]
+pub use scene2::Surface2;
+#[cfg(feature = "alloc")]
+pub use scene2::{MAX_PATCHES, Scene2};
+#[cfg(feature = "alloc")]
+pub use scene3::Face3;
+#[cfg(feature = "alloc")]
+pub(crate) use scene3::MAX_FACE_VERTICES;
+#[cfg(feature = "alloc")]
+pub(crate) use scene3::MAX_PATCHES_3D;
+#[cfg(feature = "alloc")]
+pub use scene3::Patch3;
+#[cfg(feature = "alloc")]
+pub use scene3::{Scene3, Scene3Builder, Subdivision};

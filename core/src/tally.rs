@@ -155,7 +155,7 @@ pub struct LineTally {
 
 /// Something tallied alongside a line job's form factors from the same samples, which the
 /// tally carries without knowing what it is (the radiosity terms of (5.20),
-/// [`crate::radiosity::continuous::RadiosityLineTally`], are one): told of every pair
+/// `crate::radiosity::continuous::RadiosityLineTally`, are one): told of every pair
 /// sample and every closed line or group, merged exactly as the tally is.
 pub trait SampleTerms: core::fmt::Debug + Send + Sync + Any {
     /// `weight` copies of the terms of a sample with continuous term `s` between patches

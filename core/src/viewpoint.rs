@@ -51,7 +51,7 @@
 //! plus viewpoint (in)stability, viewpoint saliency and the greedy selection of
 //! representative views: [`ViewpointChannel`]. The channel is rectangular (`N_v × N_o`), so
 //! its measures live here rather than in [`crate::channel`] (a square Markov chain), with the
-//! same helpers ([`crate::math::eta`], [`crate::math::log2_ratio`], compensated sums).
+//! same helpers ([`crate::math::eta`], `crate::math::log2_ratio`, compensated sums).
 //! `docs/viewpoints.md` lists which conventions are the papers' and which are ours.
 //!
 //! # Determinism

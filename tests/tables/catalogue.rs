@@ -4,7 +4,7 @@
 //! Monte Carlo claims use a fixed seed and compare differences against their combined
 //! standard errors (3σ); every difference asserted is many σ wide at the line counts used.
 
-use sceneinfo::geom::proper_crossing;
+use sceneinfo::geom::{DVec2, cross};
 use sceneinfo::scene::{Scene2, catalogue_scene};
 use sceneinfo_report::thesis::{FIGURE_4_14_B, TABLE_3_6_H_S, catalogue_value};
 use sceneinfo_tests::continuous_estimate;
@@ -170,6 +170,21 @@ fn quadrature_points(cells: usize, levels: u32) -> Vec<(f64, f64)> {
     points
 }
 
+/// Whether the segments `p0 p1` and `q0 q1` cross properly (each one's interior meets the
+/// other's at one point; touching at an end or overlapping collinearly does not count): the
+/// test of the core's `geom::proper_crossing`, which is internal to it.
+fn crosses_properly(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> bool {
+    let (r, s) = (p1 - p0, q1 - q0);
+    let denom = cross(r, s);
+    if denom == 0.0 {
+        return false;
+    }
+    let qp = q0 - p0;
+    let (t, u) = (cross(qp, s) / denom, cross(qp, r) / denom);
+    let eps = 1e-12;
+    t > eps && t < 1.0 - eps && u > eps && u < 1.0 - eps
+}
+
 /// `I_S^c` (4.12) of a scene by product Gauss–Legendre quadrature over ordered pairs of
 /// surfaces, with visibility: an independent check of the geometries against the thesis'
 /// continuous values (exact for convex scenes up to quadrature error; visibility
@@ -192,9 +207,10 @@ fn i_c_quadrature(scene: &Scene2, cells: usize, levels: u32) -> f64 {
                     if !(cx > 0.0 && cy > 0.0) {
                         continue;
                     }
-                    let blocked = segs.iter().enumerate().any(|(k, o)| {
-                        k != i && k != j && proper_crossing(x, y, o.a, o.b).is_some()
-                    });
+                    let blocked = segs
+                        .iter()
+                        .enumerate()
+                        .any(|(k, o)| k != i && k != j && crosses_properly(x, y, o.a, o.b));
                     if !blocked {
                         let r = d.length();
                         let f = cx * cy / (2.0 * r * r * r);

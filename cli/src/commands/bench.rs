@@ -123,11 +123,8 @@ struct CurvePoint {
     hits_per_line: f64,
 }
 
-pub fn run(args: &BenchArgs) -> Result<()> {
+pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
     let budget = if args.full { 3.0 } else { 0.25 };
-    let threads = args
-        .threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get));
     let start = Instant::now();
     let load_before = load_average();
     let mut mc = Vec::new();
@@ -520,7 +517,7 @@ fn table(r: &Report, budget: f64) -> String {
         "Load average (1 min) {} before, {} after, on {} cores",
         or_na(r.load[0]),
         or_na(r.load[1]),
-        std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
+        crate::config::cores()
     );
     if !r.mc.is_empty() {
         let _ = writeln!(

@@ -188,9 +188,7 @@ pub fn check_supported<T: LineTracer + ?Sized>(
 }
 
 fn threads_of(sampling: &SamplingArgs) -> usize {
-    sampling
-        .threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get))
+    crate::config::threads(sampling.threads)
 }
 
 /// The form factors of a scene (`None` when some patch received no line: then the Monte

@@ -204,9 +204,7 @@ fn with_lines<T: LineTracer + Sync>(
     path: &Path,
 ) -> Result<Run> {
     let method = sampling.method.line_method();
-    let threads = sampling
-        .threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get));
+    let threads = crate::config::threads(sampling.threads);
     // The count the first cast settled on, and which patches it reached
     let mut settled: Option<u64> = None;
     let mut coverage = None;

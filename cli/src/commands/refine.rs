@@ -24,11 +24,11 @@ pub const DEFAULT_FLAT_LINES: u64 = 1_000_000;
 pub const DEFAULT_GROWTH: usize = 8;
 
 /// Runs `refine`.
-pub fn run(args: &RefineArgs) -> Result<()> {
+pub fn run(args: &RefineArgs, threads: usize) -> Result<()> {
     if is_3d(&args.file) {
-        return solid::run(args);
+        return solid::run(args, threads);
     }
-    run_flat(args)
+    run_flat(args, threads)
 }
 
 /// The validated flatland settings.
@@ -42,7 +42,7 @@ struct FlatConfig {
 }
 
 impl FlatConfig {
-    fn new(args: &RefineArgs, n_patches: usize) -> Result<Self> {
+    fn new(args: &RefineArgs, n_patches: usize, threads: usize) -> Result<Self> {
         let file = args.file.display();
         let oracle = match args.oracle {
             Oracle::De => OracleChoice2::DiscretisationError,
@@ -84,9 +84,6 @@ impl FlatConfig {
                 located(&args.file, &sceneinfo::ErrorKind::NoLines.into())
             );
         }
-        let threads = args.threads.unwrap_or_else(|| {
-            std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
-        });
         Ok(Self {
             oracle,
             target,
@@ -111,10 +108,10 @@ fn oracle_name(o: Oracle) -> &'static str {
 }
 
 /// Refines a flatland scene and reports every step's measures.
-fn run_flat(args: &RefineArgs) -> Result<()> {
+fn run_flat(args: &RefineArgs, threads: usize) -> Result<()> {
     let at = |e: sceneinfo::Error| located(&args.file, &e);
     let scene = crate::output::load_flat(&args.file)?;
-    let config = FlatConfig::new(args, scene.n_patches())?;
+    let config = FlatConfig::new(args, scene.n_patches(), threads)?;
     let start = Instant::now();
     let profile =
         crate::lines::flat_profile(&scene, config.lines, args.seed, config.threads).map_err(at)?;
@@ -138,7 +135,7 @@ fn run_flat(args: &RefineArgs) -> Result<()> {
             args.seed
         )];
         let name = args.file.display().to_string();
-        let svg = crate::commands::draw::scene_picture(
+        let svg = crate::picture::scene_picture(
             refiner.scene(),
             &errors,
             Colour::Delta,

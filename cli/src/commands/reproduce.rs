@@ -84,14 +84,12 @@ impl Runner {
     }
 }
 
-pub fn run(args: &ReproduceArgs) -> Result<()> {
+pub fn run(args: &ReproduceArgs, threads: usize) -> Result<()> {
     let start = Instant::now();
     let runner = Runner {
         lines: args.lines,
         seed: args.seed,
-        threads: args.threads.unwrap_or_else(|| {
-            std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
-        }),
+        threads,
     };
     sceneinfo::lines::check_line_budget(runner.lines).map_err(|e| anyhow!("{e}"))?;
     let mut tables = if args.chapter_5_only {

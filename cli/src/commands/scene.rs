@@ -9,9 +9,10 @@ use sceneinfo::scene::{Scene2, Scene3, catalogue, catalogue_scene, preset_3d, pr
 use crate::args::ScenePreset;
 use crate::output::write_atomic;
 
-pub fn run(preset: ScenePreset) -> Result<()> {
+/// Writes the preset scene `preset` asks for.
+pub fn run(preset: &ScenePreset) -> Result<()> {
     let invalid = |e: sceneinfo::Error| anyhow!("invalid preset: {e}");
-    match preset {
+    match preset.clone() {
         ScenePreset::Polygon {
             sides,
             per_side,

@@ -23,7 +23,7 @@ use crate::output::{Loaded, located, write_atomic};
 use crate::ply::Ply;
 use crate::svg::{ColourMap, Rgb, Scale};
 
-pub fn run(args: &ViewpointsArgs) -> Result<()> {
+pub fn run(args: &ViewpointsArgs, threads: usize) -> Result<()> {
     let at = |e: sceneinfo::Error| located(&args.file, &e);
     let loaded = crate::output::load_scene(&args.file)?;
     // Visibility only: the material warnings are not ours
@@ -44,10 +44,7 @@ pub fn run(args: &ViewpointsArgs) -> Result<()> {
         },
     };
     let job = ViewpointJob::new(&scene, options).map_err(at)?;
-    let threads = args
-        .threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get))
-        .clamp(1, job.n_views());
+    let threads = threads.clamp(1, job.n_views());
     let start = Instant::now();
     let channel = run_rows(&job, threads).map_err(|e| match e.downcast::<sceneinfo::Error>() {
         Ok(e) => at(e),

@@ -1,8 +1,12 @@
-//! PLY scenes (ASCII, binary little- and big-endian), read with the `ply-rs-bw` crate.
+//! The one PLY reader (ASCII, binary little- and big-endian), on the `ply-rs-bw` crate:
+//! scenes ([`read`]), the reference solutions of `refine --reference` (faces with their
+//! radiosities, [`read_mesh`]) and, in tests, the files our own writer
+//! ([`crate::ply::Ply`]) makes.
 //!
-//! What is read: the `vertex` element's `x y z` (any numeric type) and the `face`
-//! element's `vertex_indices` (or `vertex_index`) lists (any integer types); each face is
-//! one polygon through [`crate::mesh::add_face`]. Every other element and property is read
+//! What is read: the header's comments, the `vertex` element's `x y z` (any numeric type)
+//! and `red green blue`, the `face` element's `vertex_indices` (or `vertex_index`) lists
+//! (any integer types), `red green blue` and `radiosity_red/green/blue`. A scene makes
+//! each face one polygon through [`crate::mesh::add_face`]. Every other element and property is read
 //! past and ignored. PLY carries no materials: every face is black (ρ = 0, E = 0); colours
 //! (`red`/`green`/`blue`, as sceneinfo's own `radiosity --ply` writes them) are ignored
 //! with a warning.
@@ -47,6 +51,10 @@ struct Item {
     z: Option<f64>,
     /// Vertex indices as the file gives them (negative ones are refused later).
     indices: Option<Vec<i64>>,
+    /// `red green blue` (numbers; kept when all three are bytes).
+    rgb: [Option<f64>; 3],
+    /// `radiosity_red radiosity_green radiosity_blue`.
+    radiosity: [Option<f64>; 3],
 }
 
 impl PropertyAccess for Item {
@@ -59,6 +67,12 @@ impl PropertyAccess for Item {
             "x" => self.x = number(&property),
             "y" => self.y = number(&property),
             "z" => self.z = number(&property),
+            "red" => self.rgb[0] = number(&property),
+            "green" => self.rgb[1] = number(&property),
+            "blue" => self.rgb[2] = number(&property),
+            "radiosity_red" => self.radiosity[0] = number(&property),
+            "radiosity_green" => self.radiosity[1] = number(&property),
+            "radiosity_blue" => self.radiosity[2] = number(&property),
             "vertex_indices" | "vertex_index" => {
                 self.indices = match property {
                     Property::ListChar(v) => Some(v.into_iter().map(i64::from).collect()),
@@ -91,6 +105,59 @@ fn number(property: &Property) -> Option<f64> {
     })
 }
 
+/// A PLY file's polygon mesh, as read by [`read_mesh`].
+#[derive(Debug)]
+pub struct PlyMesh {
+    /// The header's `comment` lines, without the keyword.
+    #[cfg_attr(not(test), allow(dead_code, reason = "read by the PLY writer's tests"))]
+    pub comments: Vec<String>,
+    /// Vertex positions (every vertex has `x y z`).
+    pub vertices: Vec<DVec3>,
+    /// Vertex colours, when every vertex has `red green blue` bytes (else empty).
+    #[cfg_attr(not(test), allow(dead_code, reason = "read by the PLY writer's tests"))]
+    pub vertex_colours: Vec<[u8; 3]>,
+    /// The faces, in the file's order.
+    pub faces: Vec<PlyFace>,
+    /// Whether some element carries colours (a scene ignores them with a warning).
+    pub coloured: bool,
+}
+
+/// One face of a [`PlyMesh`].
+#[derive(Debug)]
+pub struct PlyFace {
+    /// Vertex indices as the file gives them (checked by [`PlyMesh::polygon`]).
+    pub indices: Vec<i64>,
+    /// `red green blue`, when the face has them as bytes.
+    #[cfg_attr(not(test), allow(dead_code, reason = "read by the PLY writer's tests"))]
+    pub colour: Option<[u8; 3]>,
+    /// `radiosity_red/green/blue`, when the face has all three.
+    pub radiosity: Option<[f64; 3]>,
+}
+
+impl PlyMesh {
+    /// Face `k`'s corners into `polygon` (cleared first).
+    ///
+    /// # Errors
+    /// `file: PLY face k: vertex index i out of range (n vertices)`.
+    pub fn polygon(&self, path: &Path, k: usize, polygon: &mut Vec<DVec3>) -> Result<()> {
+        polygon.clear();
+        for &i in &self.faces[k].indices {
+            let p = usize::try_from(i)
+                .ok()
+                .and_then(|i| self.vertices.get(i))
+                .ok_or_else(|| {
+                    anyhow::anyhow!(
+                        "{}: PLY face {k}: vertex index {i} out of range ({} vertices)",
+                        path.display(),
+                        self.vertices.len()
+                    )
+                })?;
+            polygon.push(*p);
+        }
+        Ok(())
+    }
+}
+
 /// Reads the PLY file `path`, whose bytes are `bytes`, into a scene.
 ///
 /// # Errors
@@ -98,6 +165,38 @@ fn number(property: &Property) -> Option<f64> {
 /// payload cut short, a missing coordinate, a vertex index out of range, a face the scene
 /// refuses, …
 pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene3> {
+    let mesh = read_mesh(path, bytes)?;
+    if mesh.coloured {
+        report.warn(
+            None,
+            LoadWarningKind::IgnoredMaterialData {
+                what: "PLY colours (PLY scenes have no materials: faces are black)",
+            },
+        );
+    }
+    // Faces through the one door
+    let mut builder = Scene3Builder::default();
+    let mut polygon = Vec::new();
+    for k in 0..mesh.faces.len() {
+        mesh.polygon(path, k, &mut polygon)?;
+        add_face(
+            &mut builder,
+            &polygon,
+            report,
+            path,
+            format_args!("PLY face {k}"),
+        )?;
+    }
+    crate::mesh::build(builder, report, path)
+}
+
+/// Reads the PLY file `path`, whose bytes are `bytes`, as a polygon mesh.
+///
+/// # Errors
+/// `file: where: what` for a broken header, an element count the file cannot hold, a
+/// payload cut short, a vertex without a numeric `x y z`, a face without an integer
+/// `vertex_indices` list.
+pub fn read_mesh(path: &Path, bytes: &[u8]) -> Result<PlyMesh> {
     let file = path.display();
     let mut reader = ply_rs_bw::parser::Reader::new(BufReader::new(Cursor::new(bytes)));
     let parser = Parser::<Item>::new();
@@ -134,14 +233,7 @@ pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene3
             _ => {}
         }
     }
-    if header.elements.values().any(has_colours) {
-        report.warn(
-            None,
-            LoadWarningKind::IgnoredMaterialData {
-                what: "PLY colours (PLY scenes have no materials: faces are black)",
-            },
-        );
-    }
+    let coloured = header.elements.values().any(has_colours);
     // Vertices: x, y and z, each present
     let mut points = Vec::with_capacity(vertices.len());
     for (k, v) in vertices.iter().enumerate() {
@@ -150,35 +242,41 @@ pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene3
         };
         points.push(DVec3::new(x, y, z));
     }
-    // Faces through the one door
-    let mut builder = Scene3Builder::default();
-    let mut polygon = Vec::new();
-    for (k, face) in faces.iter().enumerate() {
-        let Some(indices) = &face.indices else {
-            bail!("{file}: PLY face {k}: no vertex_indices list of an integer type");
-        };
-        polygon.clear();
-        for &i in indices {
-            let p = usize::try_from(i)
-                .ok()
-                .and_then(|i| points.get(i))
-                .ok_or_else(|| {
-                    anyhow::anyhow!(
-                        "{file}: PLY face {k}: vertex index {i} out of range ({} vertices)",
-                        points.len()
-                    )
-                })?;
-            polygon.push(*p);
-        }
-        add_face(
-            &mut builder,
-            &polygon,
-            report,
-            path,
-            format_args!("PLY face {k}"),
-        )?;
-    }
-    crate::mesh::build(builder, report, path)
+    let vertex_colours: Option<Vec<[u8; 3]>> = vertices.iter().map(|v| bytes_of(v.rgb)).collect();
+    let faces = faces
+        .into_iter()
+        .enumerate()
+        .map(|(k, face)| {
+            let Some(indices) = face.indices else {
+                bail!("{file}: PLY face {k}: no vertex_indices list of an integer type");
+            };
+            let radiosity = match face.radiosity {
+                [Some(r), Some(g), Some(b)] => Some([r, g, b]),
+                _ => None,
+            };
+            Ok(PlyFace {
+                indices,
+                colour: bytes_of(face.rgb),
+                radiosity,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(PlyMesh {
+        comments: header.comments,
+        vertices: points,
+        vertex_colours: vertex_colours.unwrap_or_default(),
+        faces,
+        coloured,
+    })
+}
+
+/// Three colour components as bytes, when all are whole numbers 0 to 255.
+fn bytes_of(rgb: [Option<f64>; 3]) -> Option<[u8; 3]> {
+    let byte = |c: Option<f64>| {
+        c.filter(|c| c.fract() == 0.0 && (0.0..=255.0).contains(c))
+            .map(|c| c as u8)
+    };
+    Some([byte(rgb[0])?, byte(rgb[1])?, byte(rgb[2])?])
 }
 
 /// How many bytes follow the header's `end_header` line (all of them if there is none:

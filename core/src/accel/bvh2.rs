@@ -66,7 +66,7 @@ use super::sah::{BINS, SahBox, best_plane, bin_of};
 use super::{Hit2, LineQuery};
 
 /// Most primitives a [`Bvh2`] accepts: `u32::MAX / 2`, so node indices (< 2n) fit `u32`.
-pub const MAX_PRIMITIVES: usize = (u32::MAX / 2) as usize;
+pub(crate) const MAX_PRIMITIVES: usize = (u32::MAX / 2) as usize;
 
 /// Depth below which splits follow the SAH; median splits beyond.
 const SAH_DEPTH: u32 = 32;
@@ -133,7 +133,7 @@ struct Run {
 ///
 /// Queries allocate nothing (the caller's `Vec` is reused) and recurse nowhere (a
 /// fixed-size stack); for segments and lines with coordinates below `10¹⁵⁰` in magnitude
-/// they return exactly what [`super::all_hits_naive`] and [`super::first_hit_naive`]
+/// they return exactly what [`super::all_hits_naive`] and `super::first_hit_naive`
 /// return, in the same order — the naive loops run the same per-segment arithmetic, and
 /// the tree only ever culls with a wide margin.
 ///
@@ -342,7 +342,7 @@ impl Bvh2 {
     ///
     /// # Errors
     ///
-    /// [`ErrorKind::TooLarge`] for more than [`MAX_PRIMITIVES`] segments.
+    /// [`ErrorKind::TooLarge`] for more than `MAX_PRIMITIVES` segments.
     pub fn build(segments: &[Segment]) -> Result<Self> {
         let n = segments.len();
         if n > MAX_PRIMITIVES {

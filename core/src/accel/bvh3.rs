@@ -220,7 +220,7 @@ pub fn all_hits_naive3(
 ///
 /// Only the first `2³²` polygons are considered (hit indices are `u32`).
 #[must_use]
-pub fn first_hit_naive3(
+pub(crate) fn first_hit_naive3(
     points: &[DVec3],
     polygons: &[(usize, usize)],
     origin: DVec3,
@@ -387,7 +387,7 @@ macro_rules! by_octant {
 /// ([`Bvh3::first_hit`], the query of local lines).
 ///
 /// Queries allocate nothing (the caller's `Vec` is reused) and recurse nowhere (a
-/// fixed-size stack); they return exactly what [`all_hits_naive3`] and [`first_hit_naive3`]
+/// fixed-size stack); they return exactly what [`all_hits_naive3`] and `first_hit_naive3`
 /// return, in the same order (see the module docs for why: the tree's culling is exact by
 /// construction, the sheets' windows by an error bound with seven orders of magnitude to
 /// spare).
@@ -463,7 +463,7 @@ impl Bvh3 {
     ///
     /// # Errors
     ///
-    /// [`ErrorKind::TooLarge`] for more than [`super::MAX_PRIMITIVES`] polygons or more
+    /// [`ErrorKind::TooLarge`] for more than `super::MAX_PRIMITIVES` polygons or more
     /// than `u32::MAX` vertices in all (counting four more per polygon); [`ErrorKind::DimensionMismatch`] for a range that
     /// leaves `points` (`expected` = `points.len()`, `found` = the range's end).
     pub fn build(points: &[DVec3], polygons: &[(usize, usize)]) -> Result<Self> {

@@ -8,11 +8,11 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::math::{self, KahanSum};
 
 /// Longest block accepted by [`Channel::block_entropy`].
-pub const MAX_BLOCK_LEN: usize = 16;
+pub(crate) const MAX_BLOCK_LEN: usize = 16;
 
 /// Default cap on the path prefixes [`Channel::block_entropy`] enumerates (2²⁴ ≈ 1.7·10⁷,
 /// well under a second).
-pub const MAX_BLOCK_PATHS: u64 = 1 << 24;
+pub(crate) const MAX_BLOCK_PATHS: u64 = 1 << 24;
 
 /// Stationary distribution of the chain `P` by power iteration (2.41), written to `out[..n]`.
 ///
@@ -209,7 +209,7 @@ impl<M: Transitions> Channel<'_, M> {
     ///                = H_P + (L − 1) H_S   for a stationary Markov chain (Proposition 1)
     /// ```
     ///
-    /// Uses [`MAX_BLOCK_PATHS`] as the cap; see
+    /// Uses `MAX_BLOCK_PATHS` as the cap; see
     /// [`block_entropy_capped`](Self::block_entropy_capped). Allocation-free: the
     /// enumeration recurses at most `L ≤ 16` deep. `L = 0` gives 0. With rows summing to
     /// less than one, the path probabilities sum to less than one too.
@@ -217,7 +217,7 @@ impl<M: Transitions> Channel<'_, M> {
     /// # Errors
     ///
     /// [`ErrorKind::TooLarge`] if `L > 16` or the enumeration would visit more than
-    /// [`MAX_BLOCK_PATHS`] path prefixes.
+    /// `MAX_BLOCK_PATHS` path prefixes.
     pub fn block_entropy(&self, len: usize) -> Result<f64> {
         self.block_entropy_capped(len, MAX_BLOCK_PATHS)
     }

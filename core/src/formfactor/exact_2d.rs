@@ -56,7 +56,7 @@ use alloc::vec::Vec;
 
 /// Largest patch count for which [`form_factors`] builds the dense `n × n` matrix
 /// (10 000² doubles = 800 MB). Larger scenes need the Monte Carlo sparse estimators.
-pub const MAX_DENSE_PATCHES: usize = 10_000;
+pub(crate) const MAX_DENSE_PATCHES: usize = 10_000;
 
 /// Extent-to-smallest-feature ratio (the scene's extent over its shortest patch or the
 /// closest approach of a surface's end to another surface) up to which the exact flatland form
@@ -714,7 +714,7 @@ pub fn point_to_patch(scene: &Scene2, x: DVec2, normal: DVec2, j: usize) -> Resu
 /// plus a background state if the scene is open (see [`FormFactors`]).
 ///
 /// # Errors
-/// [`ErrorKind::TooLarge`] above [`MAX_DENSE_PATCHES`] patches; [`ErrorKind::PrecisionLoss`]
+/// [`ErrorKind::TooLarge`] above `MAX_DENSE_PATCHES` patches; [`ErrorKind::PrecisionLoss`]
 /// when a row sums above one beyond rounding, which only a scene spanning more than
 /// [`RESOLVED_RANGE`] times its smallest feature can cause.
 #[cfg(feature = "alloc")]
@@ -794,7 +794,7 @@ pub fn feature_range(scene: &Scene2) -> f64 {
 /// # Errors
 /// [`ErrorKind::BufferTooSmall`] if `out.len() < n²`.
 #[cfg(feature = "alloc")]
-pub fn form_factors_into(scene: &Scene2, out: &mut [f64]) -> Result<()> {
+pub(crate) fn form_factors_into(scene: &Scene2, out: &mut [f64]) -> Result<()> {
     let n = scene.n_patches();
     let needed = n.saturating_mul(n);
     if out.len() < needed {

@@ -90,10 +90,10 @@ use alloc::vec::Vec;
 
 /// Largest patch count for which [`form_factors_unoccluded`] builds the dense `n × n`
 /// matrix (10 000² doubles = 800 MB).
-pub const MAX_DENSE_PATCHES: usize = 10_000;
+pub(crate) const MAX_DENSE_PATCHES: usize = 10_000;
 
 /// Target absolute error of a form factor from the quadrature of skew edge pairs.
-pub const QUADRATURE_TOLERANCE: f64 = 1e-12;
+pub(crate) const QUADRATURE_TOLERANCE: f64 = 1e-12;
 
 /// Differential-area-to-polygon form factor `F_{dA→P}` (2.16 with `V = 1`) by Lambert's
 /// contour formula, for a point `x` with front normal `n` (any length) and a convex planar
@@ -294,7 +294,7 @@ pub fn scene_form_factors(scene: &crate::scene::Scene3) -> Result<FormFactors> {
 /// [`ErrorKind::DimensionMismatch`] for a range outside `points`;
 /// [`ErrorKind::CoordinateRange`] for non-finite or too large coordinates;
 /// [`ErrorKind::DegenerateFace`] for a polygon of zero area; [`ErrorKind::EmptyScene`] for
-/// no polygons; [`ErrorKind::TooLarge`] above [`MAX_DENSE_PATCHES`].
+/// no polygons; [`ErrorKind::TooLarge`] above `MAX_DENSE_PATCHES`.
 #[cfg(feature = "alloc")]
 pub fn form_factors_unoccluded(
     points: &[DVec3],
@@ -341,7 +341,7 @@ pub fn form_factors_unoccluded(
 ///
 /// # Errors
 /// [`ErrorKind::EmptyScene`] for no areas; [`ErrorKind::NonFiniteEntry`] for an area that is
-/// not finite and positive; [`ErrorKind::TooLarge`] above [`MAX_DENSE_PATCHES`].
+/// not finite and positive; [`ErrorKind::TooLarge`] above `MAX_DENSE_PATCHES`.
 #[cfg(feature = "alloc")]
 pub fn spherical_patches(areas: &[f64]) -> Result<FormFactors> {
     let n = areas.len();

@@ -12,7 +12,7 @@ use crate::math::KahanSum;
 /// Largest row deficit `1 − Σ_j F_ij` still read as a closed scene (rounding of exact form
 /// factors is ~1e-14; any larger loss is energy leaving the scene and gets a background
 /// state).
-pub const BACKGROUND_TOLERANCE: f64 = 1e-9;
+pub(crate) const BACKGROUND_TOLERANCE: f64 = 1e-9;
 
 /// Storage of a [`FormFactors`] matrix.
 #[derive(Clone, Debug, PartialEq)]
@@ -108,7 +108,7 @@ fn check_entries(n: usize, entries: impl Iterator<Item = (usize, usize, f64)>) -
 impl FormFactors {
     /// Builds a dense matrix from the patch sizes `sizes` (lengths or areas) and the
     /// row-major `n × n` form factors `f`, adding a background state if some row loses more
-    /// than [`BACKGROUND_TOLERANCE`].
+    /// than `BACKGROUND_TOLERANCE`.
     ///
     /// # Errors
     /// [`ErrorKind::DimensionMismatch`] if `f` is not `n × n`; [`ErrorKind::EmptyScene`] for

@@ -40,7 +40,7 @@
 //! with `h` a trapezoid (linear between `a − d`, `min(a − c, b − d)`, `max(…)`, `b − c`).
 //! Substituting `w = √D tan φ` gives `F dw = K cos²φ / D^{3/2} dφ` and
 //! `log₂ F = log₂(K/D²) + 4 log₂ cos φ`, and every resulting integral is elementary except
-//! `∫ ln cos φ dφ = −φ ln 2 + ½ Cl₂(π − 2φ)` ([`crate::math::clausen2`]):
+//! `∫ ln cos φ dφ = −φ ln 2 + ½ Cl₂(π − 2φ)` (`crate::math::clausen2`):
 //!
 //! ```text
 //! ∫ cos²φ dφ           = φ/2 + sin φ cos φ / 2
@@ -116,17 +116,17 @@ const GRADING_RATIO: f64 = 0.15;
 const RIDGE_WIDTH: f64 = 0.5;
 
 /// Largest accepted [`QuadratureOptions::order`].
-pub const MAX_ORDER: usize = 64;
+pub(crate) const MAX_ORDER: usize = 64;
 
 /// Largest accepted [`QuadratureOptions::levels`].
-pub const MAX_LEVELS: usize = 60;
+pub(crate) const MAX_LEVELS: usize = 60;
 
 /// Size of the outer quadrature rule.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct QuadratureOptions {
-    /// Gauss–Legendre points per piece and direction (2 to [`MAX_ORDER`]).
+    /// Gauss–Legendre points per piece and direction (2 to `MAX_ORDER`).
     pub order: usize,
-    /// Geometric grading levels towards singular sides and corners (1 to [`MAX_LEVELS`]).
+    /// Geometric grading levels towards singular sides and corners (1 to `MAX_LEVELS`).
     pub levels: usize,
 }
 

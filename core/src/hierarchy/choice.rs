@@ -11,7 +11,7 @@ use crate::hierarchy::oracle::{
 pub const ORACLE_NAMES: [&str; 6] = ["power", "ks", "ks-av", "mi", "mi-increase", "regular"];
 
 /// Most splits per patch of the regular mesh (`4⁸ = 65 536` elements a patch).
-pub const MAX_REGULAR_LEVEL: u32 = 8;
+pub(crate) const MAX_REGULAR_LEVEL: u32 = 8;
 
 /// Any of the oracles of the hierarchy (power, KS, KS-av, MI, MI increase).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -33,7 +33,7 @@ pub enum OracleChoice3 {
 impl OracleChoice3 {
     /// The oracle called `name` (one of [`ORACLE_NAMES`]) with threshold `epsilon`; for
     /// `regular`, `epsilon` is the number of splits per patch (an integer from 0 to
-    /// [`MAX_REGULAR_LEVEL`]).
+    /// `MAX_REGULAR_LEVEL`).
     ///
     /// # Errors
     /// [`ErrorKind::UnknownOracle`] for another name; [`ErrorKind::BadParameter`] for a

@@ -50,7 +50,7 @@ impl Oracle for ReferenceOracle {
 /// The largest power a channel of `scene` emits, `max_c Σ_i A_i E_i^c`: the scale of the
 /// power thresholds.
 #[must_use]
-pub fn emitted_power(scene: &Scene3) -> f64 {
+pub(crate) fn emitted_power(scene: &Scene3) -> f64 {
     let mut power = [0.0; 3];
     for (k, p) in scene.patches().iter().enumerate() {
         let e = scene.patch_material(k).map_or([0.0; 3], |m| m.emittance);
@@ -64,7 +64,7 @@ pub fn emitted_power(scene: &Scene3) -> f64 {
 impl Hierarchy {
     /// The reference solution of `scene` ([`ReferenceOracle`]): receivers split `level`
     /// times, links accepted when they carry less than `relative_epsilon` times the
-    /// emitted power ([`emitted_power`]). `opts.min_area` must let a patch be split
+    /// emitted power (`emitted_power`). `opts.min_area` must let a patch be split
     /// `level` times for the mesh to be uniform.
     ///
     /// # Errors

@@ -23,7 +23,7 @@ pub const MAX_PAIRS: usize = 64;
 /// the other's surface, when they coincide, or when the value is not finite (a pair closer
 /// than about 10⁻⁸⁰ — a null set for random points).
 #[must_use]
-pub fn point_kernel(x: DVec3, n_x: DVec3, y: DVec3, n_y: DVec3) -> f64 {
+pub(crate) fn point_kernel(x: DVec3, n_x: DVec3, y: DVec3, n_y: DVec3) -> f64 {
     let d = y - x;
     let r2 = d.length_squared();
     let (cos_x, cos_y) = (n_x.dot(d), -n_y.dot(d));
@@ -47,7 +47,7 @@ pub trait Visibility {
 /// A scene in which no surface can hide another (a convex enclosure): always visible, no
 /// ray cast.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct NoOccluders;
+pub(crate) struct NoOccluders;
 
 impl Visibility for NoOccluders {
     fn visible(&self, _x: DVec3, _y: DVec3) -> bool {
@@ -60,7 +60,7 @@ impl Visibility for NoOccluders {
 
 /// Counts the rays a [`Visibility`] casts.
 #[derive(Debug)]
-pub struct RayCounter<'a, V: ?Sized> {
+pub(crate) struct RayCounter<'a, V: ?Sized> {
     inner: &'a V,
     rays: Cell<u64>,
 }
@@ -114,7 +114,7 @@ pub struct KernelSamples {
 
 impl KernelSamples {
     /// Draws `n` pairs (clamped to `1..=`[`MAX_PAIRS`]) from `rng`: per pair, a uniform point
-    /// of the receiver then one of the source ([`sample_polygon_point`]), and, when the
+    /// of the receiver then one of the source (`sample_polygon_point`), and, when the
     /// unoccluded kernel is positive, one visibility test. Needs no allocator.
     pub fn draw<R: Rng + ?Sized, V: Visibility + ?Sized>(
         receiver: Surface<'_>,

@@ -1,13 +1,13 @@
 //! What a solved hierarchy gives back: radiosity at a point, the RMS difference from a
 //! reference solution, Gouraud vertex colours and the leaves as a scene.
 
-use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
 
 use crate::error::{ErrorKind, Result};
 use crate::geom::{self, DVec3};
 use crate::hierarchy::tree::{Element, Hierarchy};
 use crate::math::KahanSum;
+use crate::radiosity::display::{ShadedPolygon, gouraud};
 use crate::scene::{Material, Scene3, Subdivision};
 
 /// Largest distance of a point from an element's plane, relative to the larger of the
@@ -91,29 +91,37 @@ impl Hierarchy {
     }
 
     /// Gouraud colours: for each leaf (in [`Hierarchy::leaves`] order) and each of its
-    /// vertices, the area-weighted mean radiosity of the leaves of the same patch that have
-    /// a vertex at the same point (bit for bit; neighbours split shared edges at the same
-    /// midpoints, see [`super::Polygon4::split`]). Patches do not blend into each other:
-    /// their radiosities differ across creases and material boundaries.
+    /// vertices (unused entries black), the area-weighted mean radiosity of the leaves that
+    /// share the vertex — [`crate::radiosity::display::gouraud`], the one Gouraud shading,
+    /// whose weld rule (same plane and facing, same material, same point) it documents.
     #[must_use]
     pub fn vertex_radiosities(&self) -> Vec<[[f64; 3]; 4]> {
-        let key = |patch: u32, v: DVec3| (patch, v.to_array().map(f64::to_bits));
-        let mut acc: BTreeMap<(u32, [u64; 3]), ([f64; 3], f64)> = BTreeMap::new();
-        for e in self.leaves() {
-            for &v in e.polygon.vertices() {
-                let slot = acc.entry(key(e.patch, v)).or_insert(([0.0; 3], 0.0));
-                for c in 0..3 {
-                    slot.0[c] += e.area * e.radiosity[c];
-                }
-                slot.1 += e.area;
-            }
+        let polygons: Vec<ShadedPolygon<'_>> = self
+            .leaves()
+            .map(|e| ShadedPolygon {
+                vertices: e.polygon.vertices(),
+                normal: e.normal,
+                area: e.area,
+                radiosity: e.radiosity,
+                material: Material {
+                    reflectance: e.rho,
+                    emittance: e.emission,
+                },
+            })
+            .collect();
+        let mut lo = DVec3::splat(f64::INFINITY);
+        let mut hi = DVec3::splat(f64::NEG_INFINITY);
+        for v in polygons.iter().flat_map(|p| p.vertices) {
+            lo = lo.min(*v);
+            hi = hi.max(*v);
         }
-        self.leaves()
-            .map(|e| {
+        let mesh = gouraud(&polygons, (lo, hi));
+        mesh.faces
+            .iter()
+            .map(|face| {
                 let mut out = [[0.0; 3]; 4];
-                for (o, &v) in out.iter_mut().zip(e.polygon.vertices()) {
-                    let (s, w) = acc[&key(e.patch, v)];
-                    *o = s.map(|x| x / w);
+                for (o, &v) in out.iter_mut().zip(face) {
+                    *o = mesh.vertex_radiosity[v];
                 }
                 out
             })

@@ -7,7 +7,7 @@ use crate::hierarchy::tree::{Hierarchy, HrOptions};
 use crate::scene::Scene3;
 
 /// Builds per threshold tried by [`Hierarchy::build_to_target`] at most.
-pub const MAX_TARGET_BUILDS: usize = 60;
+pub(crate) const MAX_TARGET_BUILDS: usize = 60;
 
 /// The first threshold of the search: `ε₀ = 10²⁰`, or the bound `b = (100 E_max A_T)^p` on
 /// the oracles' values when `b > 10³⁰` (`p = 2` for `mi-increase`, 1 for the others).
@@ -21,7 +21,7 @@ pub const MAX_TARGET_BUILDS: usize = 60;
 /// thesis' Cornell box: `b ≈ 10¹⁰`, squared `10²⁰`) keep the start of `10²⁰` and so their
 /// results. Capped at `10²⁹⁰`, inside the search's range.
 #[must_use]
-pub fn first_threshold(scene: &Scene3, name: &str) -> f64 {
+pub(crate) fn first_threshold(scene: &Scene3, name: &str) -> f64 {
     let e_max = scene
         .materials()
         .iter()
@@ -37,10 +37,10 @@ impl Hierarchy {
     /// threshold that gave it.
     ///
     /// For an adaptive oracle the threshold is searched on a logarithmic scale, from the
-    /// coarse side (a fine mesh is what costs): from `ε = 10²⁰ s^p` ([`first_threshold`])
+    /// coarse side (a fine mesh is what costs): from `ε = 10²⁰ s^p` (`first_threshold`)
     /// down by factors of 100 while nothing is refined, then of 10 until the leaf count reaches `target`, then by
     /// bisection of `log ε` between the last two (leaf counts grow as `ε` falls). For
-    /// `regular`, the level whose leaf count is nearest. At most [`MAX_TARGET_BUILDS`]
+    /// `regular`, the level whose leaf count is nearest. At most `MAX_TARGET_BUILDS`
     /// builds; ties go to the earlier build.
     ///
     /// # Errors

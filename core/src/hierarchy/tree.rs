@@ -18,10 +18,10 @@ use crate::lines::{chunk_rng, mix64 as mix};
 use crate::scene::Scene3;
 
 /// No element: the parent of a root, the children of a leaf.
-pub const NONE: u32 = u32::MAX;
+pub(crate) const NONE: u32 = u32::MAX;
 
 /// Deepest split of a scene patch (`4^24 ≈ 3·10¹⁴` elements per patch, far beyond any cap).
-pub const MAX_DEPTH: u32 = 24;
+pub(crate) const MAX_DEPTH: u32 = 24;
 
 /// One element: a scene patch (a root) or a quarter of its parent.
 #[derive(Clone, Debug, PartialEq)]
@@ -30,9 +30,9 @@ pub struct Element {
     pub polygon: Polygon4,
     /// The scene patch it belongs to.
     pub patch: u32,
-    /// The parent element, [`NONE`] for a root.
+    /// The parent element, `NONE` for a root.
     pub parent: u32,
-    /// The first of its four consecutive children, [`NONE`] for a leaf.
+    /// The first of its four consecutive children, `NONE` for a leaf.
     pub children: u32,
     /// Splits from its root.
     pub depth: u32,
@@ -204,7 +204,7 @@ impl Hierarchy {
     /// then [`HrOptions::passes`] rounds of solve and re-refinement, and a final solve.
     ///
     /// Visibility is tested by rays through a BVH of the scene's patches, unless no patch
-    /// can hide another ([`SceneVisibility::new`]).
+    /// can hide another (`SceneVisibility::new`).
     ///
     /// # Errors
     /// [`ErrorKind::BadParameter`] for options out of range; [`ErrorKind::TooLarge`] when

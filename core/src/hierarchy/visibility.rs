@@ -9,7 +9,7 @@ use crate::scene::Scene3;
 
 /// Above this many patches the conservative occlusion test of
 /// [`exact_3d::may_be_occluded`] (`O(n³/64)`) is skipped and rays are always cast.
-pub const OCCLUSION_TEST_LIMIT: usize = 2000;
+pub(crate) const OCCLUSION_TEST_LIMIT: usize = 2000;
 
 /// Fraction of the segment `x → y` at each end where hits are ignored: the surfaces the
 /// two points lie on.
@@ -17,7 +17,7 @@ const END_MARGIN: f64 = 1e-9;
 
 /// Ray visibility over a scene's patches.
 #[derive(Clone, Debug)]
-pub struct SceneVisibility {
+pub(crate) struct SceneVisibility {
     bvh: Bvh3,
 }
 

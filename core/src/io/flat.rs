@@ -25,7 +25,7 @@ use crate::geom::DVec2;
 use crate::scene::{MAX_PATCHES_PER_SURFACE, Material, Scene2, Scene2Builder};
 
 /// Most vertices a `poly` line may list.
-pub const MAX_POLYGON_VERTICES: u64 = 100_000;
+pub(crate) const MAX_POLYGON_VERTICES: u64 = 100_000;
 
 /// The fields of one line, consumed left to right.
 struct Fields<'a> {

@@ -45,10 +45,10 @@ use crate::tally::counts::PairCounts;
 use crate::tally::{LineEstimate, LineMethod, LineTally};
 
 /// First bytes of every partial file.
-pub const PARTIAL_MAGIC: [u8; 8] = *b"SCNINFOP";
+pub(crate) const PARTIAL_MAGIC: [u8; 8] = *b"SCNINFOP";
 
 /// The layout version this code writes and reads.
-pub const PARTIAL_VERSION: u32 = 1;
+pub(crate) const PARTIAL_VERSION: u32 = 1;
 
 /// Most patches a partial file may declare (the largest scene any builder accepts).
 const MAX_PARTIAL_PATCHES: u64 = 1 << 26;

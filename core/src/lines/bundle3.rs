@@ -91,7 +91,7 @@ pub struct BundleRow {
 impl GlobalBundle3 {
     /// The bundle of expected size `m` (lattice spacing `h = r √(π/m)`) for the canonical
     /// direction sample `u_dir` (mapped to the upper hemisphere by
-    /// [`sample_uniform_sphere`]`(u₀/2, u₁)`) and the shift `u_shift`. Inputs outside
+    /// `sample_uniform_sphere``(u₀/2, u₁)`) and the shift `u_shift`. Inputs outside
     /// `[0, 1)` are clamped, NaN read as 0; an `m` that is not a positive finite number is
     /// read as 1.
     #[must_use]

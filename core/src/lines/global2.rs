@@ -253,7 +253,8 @@ impl GlobalBundle2 {
 /// ```
 #[inline]
 #[must_use]
-pub fn global_line_2d_pdf(circle: &BoundingCircle) -> f64 {
+#[cfg(test)]
+pub(crate) fn global_line_2d_pdf(circle: &BoundingCircle) -> f64 {
     let m = circle.perimeter();
     if m > 0.0 && m.is_finite() {
         1.0 / m
@@ -275,7 +276,8 @@ pub fn global_line_2d_pdf(circle: &BoundingCircle) -> f64 {
 /// Lines that miss the circle get `u₁` clamped into `[0, 1)`; a line with a zero or
 /// non-finite direction maps to `[0, ½]`.
 #[must_use]
-pub fn invert_global_line_2d(circle: &BoundingCircle, line: &Line2) -> [f64; 2] {
+#[cfg(test)]
+pub(crate) fn invert_global_line_2d(circle: &BoundingCircle, line: &Line2) -> [f64; 2] {
     let len = math::hypot(line.dir.x, line.dir.y);
     if !(len > 0.0 && len.is_finite()) {
         return [0.0, 0.5];

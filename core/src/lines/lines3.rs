@@ -36,7 +36,9 @@
 //! points is *not* uniform (Bertrand's paradox), which is why flatland samples `(p, θ)`
 //! directly ([`super::sample_global_line_2d`]).
 
-use core::f64::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI, TAU};
+#[cfg(test)]
+use core::f64::consts::{FRAC_1_PI, TAU};
+use core::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
 use crate::geom::DVec3;
 use crate::math;
@@ -137,7 +139,7 @@ impl BoundingSphere {
 /// Inputs outside `[0, 1)` are clamped; NaN reads as 0.
 #[inline]
 #[must_use]
-pub fn sample_uniform_sphere(u: [f64; 2]) -> DVec3 {
+pub(crate) fn sample_uniform_sphere(u: [f64; 2]) -> DVec3 {
     let u0 = clamp_canonical(u[0]);
     let z = 1.0 - 2.0 * u0;
     let rho = 2.0 * math::sqrt(u0 * (1.0 - u0));
@@ -149,7 +151,8 @@ pub fn sample_uniform_sphere(u: [f64; 2]) -> DVec3 {
 /// Density of [`sample_uniform_sphere`] with respect to solid angle: `1/4π`.
 #[inline]
 #[must_use]
-pub fn uniform_sphere_pdf() -> f64 {
+#[cfg(test)]
+pub(crate) fn uniform_sphere_pdf() -> f64 {
     0.25 * FRAC_1_PI
 }
 
@@ -163,7 +166,8 @@ pub fn uniform_sphere_pdf() -> f64 {
 /// (the second form of `u₀` avoids the cancellation of `1 − z` near the north pole). A
 /// zero or non-finite `d` maps to `[½, 0]`.
 #[must_use]
-pub fn invert_uniform_sphere(d: DVec3) -> [f64; 2] {
+#[cfg(test)]
+pub(crate) fn invert_uniform_sphere(d: DVec3) -> [f64; 2] {
     let Some(w) = unit(d) else {
         return [0.5, 0.0];
     };
@@ -235,7 +239,8 @@ pub fn sample_global_line_3d(sphere: &BoundingSphere, u: [f64; 4]) -> Line3 {
 /// ```
 #[inline]
 #[must_use]
-pub fn global_line_3d_pdf(sphere: &BoundingSphere) -> f64 {
+#[cfg(test)]
+pub(crate) fn global_line_3d_pdf(sphere: &BoundingSphere) -> f64 {
     let m = 2.0 * PI * PI * sphere.radius * sphere.radius;
     if m > 0.0 && m.is_finite() {
         1.0 / m
@@ -257,7 +262,8 @@ pub fn global_line_3d_pdf(sphere: &BoundingSphere) -> f64 {
 /// (`h = 0`, both points on the ray from the centre); a zero or non-finite direction maps
 /// to `[½, 0, ½, 0]`.
 #[must_use]
-pub fn invert_global_line_3d(sphere: &BoundingSphere, line: &Line3) -> [f64; 4] {
+#[cfg(test)]
+pub(crate) fn invert_global_line_3d(sphere: &BoundingSphere, line: &Line3) -> [f64; 4] {
     let Some(w) = unit(line.dir) else {
         return [0.5, 0.0, 0.5, 0.0];
     };
@@ -337,6 +343,7 @@ fn sample_disk_concentric(u: [f64; 2]) -> (f64, f64) {
 
 /// Inverse of [`sample_disk_concentric`] (pbrt's `InvertUniformDiskConcentricSample`).
 #[inline]
+#[cfg(test)]
 fn invert_disk_concentric(px: f64, py: f64) -> [f64; 2] {
     let r = math::hypot(px, py);
     let theta = math::atan2(py, px); // (−π, π]
@@ -380,7 +387,7 @@ fn invert_disk_concentric(px: f64, py: f64) -> [f64; 2] {
 /// one read as `+z`. Inputs outside `[0, 1)` are clamped; NaN reads as 0.
 #[inline]
 #[must_use]
-pub fn sample_cosine_hemisphere(n: DVec3, u: [f64; 2]) -> DVec3 {
+pub(crate) fn sample_cosine_hemisphere(n: DVec3, u: [f64; 2]) -> DVec3 {
     let n = unit_or_z(n);
     let (x, y) = sample_disk_concentric(u);
     let z = math::sqrt((1.0 - x * x - y * y).max(0.0));
@@ -392,7 +399,8 @@ pub fn sample_cosine_hemisphere(n: DVec3, u: [f64; 2]) -> DVec3 {
 /// behind the surface (`cos θ ≤ 0`) or for NaN.
 #[inline]
 #[must_use]
-pub fn cosine_hemisphere_pdf(cos_theta: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn cosine_hemisphere_pdf(cos_theta: f64) -> f64 {
     if cos_theta > 0.0 {
         cos_theta.min(1.0) * FRAC_1_PI
     } else {
@@ -405,7 +413,8 @@ pub fn cosine_hemisphere_pdf(cos_theta: f64) -> f64 {
 /// inverse concentric map. A direction behind the surface is read by its projection only;
 /// a zero or non-finite `d` maps to `[½, ½]` (the normal).
 #[must_use]
-pub fn invert_cosine_hemisphere(n: DVec3, d: DVec3) -> [f64; 2] {
+#[cfg(test)]
+pub(crate) fn invert_cosine_hemisphere(n: DVec3, d: DVec3) -> [f64; 2] {
     let Some(w) = unit(d) else {
         return [0.5, 0.5];
     };
@@ -445,7 +454,7 @@ fn polygon_area2(vertices: &[DVec3]) -> f64 {
 /// ones) gives `v₀`, and no vertex at all the origin. Inputs outside `[0, 1)` are clamped;
 /// NaN reads as 0.
 #[must_use]
-pub fn sample_polygon_point(vertices: &[DVec3], u: [f64; 2]) -> DVec3 {
+pub(crate) fn sample_polygon_point(vertices: &[DVec3], u: [f64; 2]) -> DVec3 {
     let Some(&v0) = vertices.first() else {
         return DVec3::ZERO;
     };
@@ -472,7 +481,8 @@ pub fn sample_polygon_point(vertices: &[DVec3], u: [f64; 2]) -> DVec3 {
 /// Density of [`sample_polygon_point`] with respect to area: `1/A`, 0 for a polygon of
 /// zero (or non-finite) area.
 #[must_use]
-pub fn polygon_point_pdf(vertices: &[DVec3]) -> f64 {
+#[cfg(test)]
+pub(crate) fn polygon_point_pdf(vertices: &[DVec3]) -> f64 {
     let a2 = polygon_area2(vertices);
     if a2 > 0.0 && a2.is_finite() {
         2.0 / a2
@@ -493,7 +503,8 @@ pub fn polygon_point_pdf(vertices: &[DVec3]) -> f64 {
 /// A point off the polygon is read through its barycentric coordinates clamped into the
 /// triangle; a polygon of zero area maps everything to `[0, 0]`.
 #[must_use]
-pub fn invert_polygon_point(vertices: &[DVec3], p: DVec3) -> [f64; 2] {
+#[cfg(test)]
+pub(crate) fn invert_polygon_point(vertices: &[DVec3], p: DVec3) -> [f64; 2] {
     let Some(&v0) = vertices.first() else {
         return [0.0, 0.0];
     };
@@ -550,7 +561,7 @@ pub fn invert_polygon_point(vertices: &[DVec3], p: DVec3) -> [f64; 2] {
 /// (2.36). The line is infinite; the local *ray* is its part `t > 0`.
 #[inline]
 #[must_use]
-pub fn sample_local_line_3d(vertices: &[DVec3], normal: DVec3, u: [f64; 4]) -> Line3 {
+pub(crate) fn sample_local_line_3d(vertices: &[DVec3], normal: DVec3, u: [f64; 4]) -> Line3 {
     Line3 {
         origin: sample_polygon_point(vertices, [u[0], u[1]]),
         dir: sample_cosine_hemisphere(normal, [u[2], u[3]]),
@@ -561,7 +572,8 @@ pub fn sample_local_line_3d(vertices: &[DVec3], normal: DVec3, u: [f64; 4]) -> L
 /// along `line.dir`: [`invert_polygon_point`] of the origin, then
 /// [`invert_cosine_hemisphere`] of the direction.
 #[must_use]
-pub fn invert_local_line_3d(vertices: &[DVec3], normal: DVec3, line: &Line3) -> [f64; 4] {
+#[cfg(test)]
+pub(crate) fn invert_local_line_3d(vertices: &[DVec3], normal: DVec3, line: &Line3) -> [f64; 4] {
     let a = invert_polygon_point(vertices, line.origin);
     let b = invert_cosine_hemisphere(normal, line.dir);
     [a[0], a[1], b[0], b[1]]

@@ -20,7 +20,7 @@ use super::{Line2, clamp_canonical};
 /// accuracy near grazing directions. Inputs outside `[0, 1)` are clamped; NaN reads as 0.
 #[inline]
 #[must_use]
-pub fn sample_cosine_direction_2d(u: f64) -> (f64, f64) {
+pub(crate) fn sample_cosine_direction_2d(u: f64) -> (f64, f64) {
     let sin_phi = 2.0 * clamp_canonical(u) - 1.0;
     let cos_phi = math::sqrt(((1.0 - sin_phi) * (1.0 + sin_phi)).max(0.0));
     (sin_phi, cos_phi)
@@ -30,7 +30,8 @@ pub fn sample_cosine_direction_2d(u: f64) -> (f64, f64) {
 /// `½ cos φ`, and 0 behind the surface (`cos φ ≤ 0`) or for NaN.
 #[inline]
 #[must_use]
-pub fn cosine_direction_2d_pdf(cos_phi: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn cosine_direction_2d_pdf(cos_phi: f64) -> f64 {
     if cos_phi > 0.0 {
         0.5 * cos_phi.min(1.0)
     } else {
@@ -42,7 +43,8 @@ pub fn cosine_direction_2d_pdf(cos_phi: f64) -> f64 {
 /// `sin φ`: `u = (1 + sin φ)/2`, clamped into `[0, 1)`.
 #[inline]
 #[must_use]
-pub fn invert_cosine_direction_2d(sin_phi: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn invert_cosine_direction_2d(sin_phi: f64) -> f64 {
     clamp_canonical(0.5 * (1.0 + sin_phi))
 }
 
@@ -50,7 +52,7 @@ pub fn invert_cosine_direction_2d(sin_phi: f64) -> f64 {
 /// Inputs outside `[0, 1)` are clamped; NaN reads as 0.
 #[inline]
 #[must_use]
-pub fn sample_segment_point(seg: &Segment, u: f64) -> DVec2 {
+pub(crate) fn sample_segment_point(seg: &Segment, u: f64) -> DVec2 {
     seg.point_at(clamp_canonical(u))
 }
 
@@ -59,7 +61,7 @@ pub fn sample_segment_point(seg: &Segment, u: f64) -> DVec2 {
 /// point on `i`, `u[1]` the point on `j`; joint density `1/(L_i L_j)`.
 #[inline]
 #[must_use]
-pub fn sample_point_pair(i: &Segment, j: &Segment, u: [f64; 2]) -> (DVec2, DVec2) {
+pub(crate) fn sample_point_pair(i: &Segment, j: &Segment, u: [f64; 2]) -> (DVec2, DVec2) {
     (sample_segment_point(i, u[0]), sample_segment_point(j, u[1]))
 }
 
@@ -68,7 +70,8 @@ pub fn sample_point_pair(i: &Segment, j: &Segment, u: [f64; 2]) -> (DVec2, DVec2
 /// segment (`a = b`) maps everything to 0.
 #[inline]
 #[must_use]
-pub fn invert_segment_point(seg: &Segment, p: DVec2) -> f64 {
+#[cfg(test)]
+pub(crate) fn invert_segment_point(seg: &Segment, p: DVec2) -> f64 {
     let e = seg.b - seg.a;
     let ll = e.length_squared();
     if ll > 0.0 {
@@ -94,7 +97,7 @@ pub fn invert_segment_point(seg: &Segment, p: DVec2) -> f64 {
 /// segment (`a = b`) gives `dir = 0`, a line that meets nothing.
 #[inline]
 #[must_use]
-pub fn sample_local_line_2d(seg: &Segment, u: [f64; 2]) -> Line2 {
+pub(crate) fn sample_local_line_2d(seg: &Segment, u: [f64; 2]) -> Line2 {
     let tangent = seg.tangent();
     let normal = seg.normal();
     let (sin_phi, cos_phi) = sample_cosine_direction_2d(u[1]);
@@ -109,7 +112,8 @@ pub fn sample_local_line_2d(seg: &Segment, u: [f64; 2]) -> Line2 {
 /// `sin φ = τ·dir/|dir|`. Directions behind the segment are read by their tangential
 /// component only; a zero or non-finite direction gives `u₁ = ½` (the normal).
 #[must_use]
-pub fn invert_local_line_2d(seg: &Segment, line: &Line2) -> [f64; 2] {
+#[cfg(test)]
+pub(crate) fn invert_local_line_2d(seg: &Segment, line: &Line2) -> [f64; 2] {
     let len = math::hypot(line.dir.x, line.dir.y);
     let sin_phi = if len > 0.0 && len.is_finite() {
         (seg.tangent().dot(line.dir) / len).clamp(-1.0, 1.0)

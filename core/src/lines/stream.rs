@@ -17,7 +17,7 @@ pub const CHUNK_LINES: u64 = 1 << 16;
 /// every input bit over every output bit.
 #[inline]
 #[must_use]
-pub const fn mix64(z: u64) -> u64 {
+pub(crate) const fn mix64(z: u64) -> u64 {
     let z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
     let z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     let z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);

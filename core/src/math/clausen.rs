@@ -56,7 +56,7 @@ const SERIES: [f64; 28] = [
 ///
 /// Used for `∫₀^θ ln cos φ dφ = −θ ln 2 + ½ Cl₂(π − 2θ)` on `|θ| < π/2`.
 #[must_use]
-pub fn clausen2(theta: f64) -> f64 {
+pub(crate) fn clausen2(theta: f64) -> f64 {
     if theta.is_nan() {
         return theta;
     }

@@ -4,7 +4,7 @@
 const SCALE: f64 = 18_446_744_073_709_551_616.0;
 
 /// Largest magnitude a single added value may have; larger values saturate.
-pub const FIXED_MAX_TERM: f64 = 1.0e18;
+pub(crate) const FIXED_MAX_TERM: f64 = 1.0e18;
 
 /// A sum of `f64` values kept in 64.64 fixed point (`i128`).
 ///
@@ -13,7 +13,7 @@ pub const FIXED_MAX_TERM: f64 = 1.0e18;
 /// Carlo tallies built from seeded chunks therefore give bit-identical totals whatever the
 /// number of threads or the order in which chunks or partial files are merged.
 ///
-/// Range: totals up to `2⁶³ ≈ 9.2e18` in magnitude; terms beyond [`FIXED_MAX_TERM`] and
+/// Range: totals up to `2⁶³ ≈ 9.2e18` in magnitude; terms beyond `FIXED_MAX_TERM` and
 /// totals beyond the range saturate instead of wrapping (so no panic, no NaN), and
 /// [`FixedSum::saturated`] reports it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -42,7 +42,7 @@ impl FixedSum {
     }
 
     /// `x` in raw 64.64 fixed point, rounded toward zero — exactly `(x·2⁶⁴) as i128` —
-    /// or `None` when `x` is not finite or beyond [`FIXED_MAX_TERM`].
+    /// or `None` when `x` is not finite or beyond `FIXED_MAX_TERM`.
     ///
     /// ```text
     /// |x| = m · 2^(e − 1075)       (m the 53-bit integer significand, e the biased exponent)

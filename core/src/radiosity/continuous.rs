@@ -22,16 +22,16 @@
 //! discrete solution, as in the discrete channel ([`super::measures`]); a sample with
 //! `B_i B_j = 0` carries no light and contributes 0. With constant radiosity every `t_ij(s)`
 //! equals `s` and the estimate is the visibility `I_S^c` (5.24). The standard error is the
-//! per-line ratio estimator's of [`ContinuousTally`].
+//! per-line ratio estimator's of `ContinuousTally`.
 //!
 //! The discretisation error for radiosity is `δ^r = I_S^c − I_S` (5.21).
 //!
-//! How it plugs into the line machinery: a [`RadiosityTracer`] wraps any [`LineTracer`] and hands out tallies that carry a [`RadiosityLineTally`]; the
+//! How it plugs into the line machinery: a `RadiosityTracer` wraps any [`LineTracer`] and hands out tallies that carry a `RadiosityLineTally`; the
 //! wrapped tracer's samples reach it through [`LineTally`]'s pair hooks. Run it like any
 //! tracer (one thread with [`LineTracer::run`], or the CLI's threads). The pair-moment
 //! tally needs no solution in advance, so one cast gives `F`, then `B`, then (5.20)
-//! ([`RadiosityLineTally::estimates_for`]; what [`estimate_lit`] does); the term tally of a
-//! known solution is read with [`radiosity_continuous`].
+//! (`RadiosityLineTally::estimates_for`; what [`estimate_lit`] does); the term tally of a
+//! known solution is read with `radiosity_continuous`.
 
 use alloc::boxed::Box;
 use alloc::vec::Vec;
@@ -48,7 +48,8 @@ use crate::scene::Material;
 use crate::tally::{LineMethod, LineTally, LineTracer, SampleTerms};
 
 mod moments;
-pub use moments::{PAIR_MOMENT_LIMIT, PairMoments};
+pub use moments::PAIR_MOMENT_LIMIT;
+pub(crate) use moments::PairMoments;
 
 /// Per-patch data of one colour channel's term `t_ij`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -177,7 +178,7 @@ struct TermSums {
 /// them — the radiosity `I_S^c` ([`RadiosityLineTally::estimates_for`]). Both live inside a
 /// [`LineTally`] (see [`RadiosityTracer`]) and merge exactly.
 #[derive(Clone, Debug, PartialEq)]
-pub struct RadiosityLineTally(Mode);
+pub(crate) struct RadiosityLineTally(Mode);
 
 impl RadiosityLineTally {
     /// Prepares the terms of (5.20) from the patch sizes `sizes` (the tracer's
@@ -291,7 +292,7 @@ impl RadiosityLineTally {
 /// A [`LineTracer`] whose tallies also carry a [`RadiosityLineTally`]: it traces exactly the
 /// lines of the tracer it wraps.
 #[derive(Debug)]
-pub struct RadiosityTracer<'a, T: ?Sized> {
+pub(crate) struct RadiosityTracer<'a, T: ?Sized> {
     inner: &'a T,
     /// The radiosity tally of a new line tally: the terms of a solution, or `None` for
     /// per-pair moments (which depend on the line method).
@@ -400,7 +401,7 @@ impl SampleTerms for RadiosityLineTally {
 
 /// The radiosity terms a [`RadiosityTracer`] put in `tally` (`None` for another tally).
 #[must_use]
-pub fn radiosity_terms(tally: &LineTally) -> Option<&RadiosityLineTally> {
+pub(crate) fn radiosity_terms(tally: &LineTally) -> Option<&RadiosityLineTally> {
     tally
         .terms()
         .and_then(|t| t.as_any().downcast_ref::<RadiosityLineTally>())
@@ -409,7 +410,7 @@ pub fn radiosity_terms(tally: &LineTally) -> Option<&RadiosityLineTally> {
 /// The radiosity `I_S^c` per colour channel of a tally from a [`RadiosityTracer`]
 /// (`None` for a tally without radiosity terms).
 #[must_use]
-pub fn radiosity_continuous(tally: &LineTally) -> Option<[ContinuousEstimate; 3]> {
+pub(crate) fn radiosity_continuous(tally: &LineTally) -> Option<[ContinuousEstimate; 3]> {
     radiosity_terms(tally).and_then(RadiosityLineTally::estimates)
 }
 
@@ -417,7 +418,7 @@ pub fn radiosity_continuous(tally: &LineTally) -> Option<[ContinuousEstimate; 3]
 ///
 /// # Errors
 /// As [`super::measures::incoming_radiosity_into`].
-pub fn incoming_rgb<M: crate::channel::Transitions>(
+pub(crate) fn incoming_rgb<M: crate::channel::Transitions>(
     f: &M,
     b: &[[f64; 3]],
 ) -> Result<Vec<[f64; 3]>> {
@@ -470,10 +471,10 @@ pub struct LitEstimate {
 /// CLI).
 ///
 /// Up to [`PAIR_MOMENT_LIMIT`] patches the lines are cast once, through a
-/// [`RadiosityTracer::pair_moments`], and (5.20) is evaluated from the pair moments after the solve
+/// `RadiosityTracer::pair_moments`, and (5.20) is evaluated from the pair moments after the solve
 /// (the private `moments` module explains its standard error). Beyond, the pair moments would take too much
 /// memory: the job is cast a second time with the same seed (the same lines) through a
-/// [`RadiosityTracer::new`] that sums the terms of the solution line by line. Bundles of
+/// `RadiosityTracer::new` that sums the terms of the solution line by line. Bundles of
 /// parallel lines ([`LineMethod::Bundle`]) always take the second way: the pair moments
 /// treat every segment as its own observation of the standard error, while the lines of a
 /// sheaf are correlated and must count as one, as the line by line terms count them (one
@@ -481,7 +482,7 @@ pub struct LitEstimate {
 ///
 /// # Errors
 /// The errors of `cast`, [`LineTally::finish`], [`solve_rgb`], [`rgb_measures`] and
-/// [`RadiosityLineTally::estimates_for`].
+/// `RadiosityLineTally::estimates_for`.
 pub fn estimate_lit<T: LineTracer + Sync>(
     tracer: &T,
     materials: &[Material],

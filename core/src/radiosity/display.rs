@@ -1,13 +1,36 @@
 //! Turning a radiosity solution into display colours: Gouraud vertex radiosities and a
 //! stated tone-mapping operator, for mesh writers (the CLI's PLY output).
 //!
-//! **Vertex radiosity (Gouraud).** A vertex shared by patches of one plane gets the
-//! area-weighted average of their radiosities, `B_v = Σ_{i ∋ v} A_i B_i / Σ_{i ∋ v} A_i`.
-//! Only patches in the *same plane, facing the same way* are averaged (a scene read from an
-//! OBJ file has one face per patch, so faces cannot tell which patches belong together): a
-//! corner where a wall meets the floor keeps one vertex per plane, so colours do not bleed
-//! across creases. Positions and plane offsets are matched after quantising to `1e-9` of the
-//! scene's bounding-box diagonal, normals to `1e-9`.
+//! **Vertex radiosity (Gouraud).** [`gouraud`] is the one Gouraud shading of the project:
+//! `radiosity --ply` shades the scene's patches with it ([`gouraud_mesh`]) and
+//! `refine --png` the leaves of a hierarchy (`Hierarchy::vertex_radiosities`). A vertex
+//! shared by polygons gets the area-weighted average of their radiosities,
+//!
+//! ```text
+//! B_v = Σ_{i ∋ v} A_i B_i / Σ_{i ∋ v} A_i
+//! ```
+//!
+//! (Cohen & Wallace 1993, *Radiosity and Realistic Image Synthesis*, §10.2: nodal values
+//! from element averages).
+//!
+//! **The weld rule.** Two polygon corners are one vertex when they lie in the *same plane,
+//! facing the same way*, at the *same point*, on polygons of the *same material*
+//! (reflectance and emittance equal): normals quantised to `1e-9`, plane offsets and
+//! positions to `1e-9` of the bounding-box diagonal. Gouraud interpolation assumes the
+//! radiosity is continuous across the vertex; the rule welds exactly where it is expected to
+//! be and keeps apart the two places where it jumps (Cohen & Wallace 1993, §8: value
+//! discontinuities at material boundaries, derivative ones at creases; Lischinski, Tampieri
+//! & Greenberg 1992, discontinuity meshing):
+//! - a crease (a wall meeting the floor) keeps one vertex per plane, so light does not
+//!   bleed around corners, and the two sides of a two-sided wall stay apart;
+//! - a material boundary keeps one vertex per material: a lamp flush with its ceiling stays
+//!   a sharp bright rectangle instead of smearing its emittance over the ceiling's corners;
+//! - coplanar polygons of one material weld whatever produced them: a mesh read from a file
+//!   (OBJ, PLY, glTF) has one face per patch and no "surface" to group them by, and a
+//!   hierarchy's leaves of neighbouring root patches meet at the same points;
+//! - positions are quantised, not compared bit for bit, so corners computed along
+//!   different paths (midpoints of two neighbouring roots, a file's rounded coordinates)
+//!   still meet.
 //!
 //! **Tone mapping.** [`ToneMap`] is a linear exposure followed by the sRGB transfer function
 //! (IEC 61966-2-1): `c = B / B_white`, clamped to `[0, 1]`, then
@@ -83,64 +106,100 @@ impl ToneMap {
     }
 }
 
-/// A mesh of the scene's patches with welded vertices per plane and Gouraud radiosities.
+/// A mesh of polygons with welded vertices (the module's weld rule) and Gouraud radiosities.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GouraudMesh {
     /// Vertex positions.
     pub positions: Vec<DVec3>,
     /// Vertex radiosity `[R, G, B]`: the area-weighted average of the patches around it.
     pub vertex_radiosity: Vec<[f64; 3]>,
-    /// Per patch, its vertex indices in order.
+    /// Per polygon, its vertex indices in order.
     pub faces: Vec<Vec<usize>>,
 }
 
-/// Welds the patches' vertices within each plane and averages the patch radiosities
-/// `radiosity` (per state; states past the patches are ignored) at the vertices.
+/// One polygon to shade: a scene's patch or a hierarchy's leaf element.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadedPolygon<'a> {
+    /// Its vertices, in order.
+    pub vertices: &'a [DVec3],
+    /// Its unit normal (the side it faces).
+    pub normal: DVec3,
+    /// Its area `A_i`.
+    pub area: f64,
+    /// Its radiosity `B_i`, `[R, G, B]`.
+    pub radiosity: [f64; 3],
+    /// Its material: corners weld only between polygons of equal materials.
+    pub material: Material,
+}
+
+/// The patches of `scene` with their radiosities `radiosity` (per state; states past the
+/// patches are ignored, missing ones are black), shaded by [`gouraud`].
 #[must_use]
 pub fn gouraud_mesh(scene: &Scene3, radiosity: &[[f64; 3]]) -> GouraudMesh {
-    let patches = scene.patches();
-    let (lo, hi) = scene.bounds();
+    let polygons: Vec<ShadedPolygon<'_>> = scene
+        .patches()
+        .iter()
+        .enumerate()
+        .map(|(i, p)| ShadedPolygon {
+            vertices: scene.patch_vertices(i),
+            normal: p.normal,
+            area: p.area,
+            radiosity: radiosity.get(i).copied().unwrap_or([0.0; 3]),
+            material: scene.patch_material(i).copied().unwrap_or_default(),
+        })
+        .collect();
+    gouraud(&polygons, scene.bounds())
+}
+
+/// Welds the corners of `polygons` by the module's weld rule (same plane and facing, same
+/// material, same point, quantised against the diagonal of `bounds`) and gives each vertex the
+/// area-weighted average radiosity of the polygons around it. `faces[k]` lists polygon
+/// `k`'s vertices in its order; vertices are numbered in the order of their sorted keys
+/// `(plane, position)`, so the mesh does not depend on the order of the polygons.
+#[must_use]
+pub fn gouraud(polygons: &[ShadedPolygon<'_>], bounds: (DVec3, DVec3)) -> GouraudMesh {
+    let (lo, hi) = bounds;
     let quantum = 1e-9 * (hi - lo).length().max(f64::MIN_POSITIVE);
     let quantise = |x: f64, q: f64| math::round(x / q) as i64;
     let at = |v: DVec3, q: f64| [quantise(v.x, q), quantise(v.y, q), quantise(v.z, q)];
-    // (plane, quantised position, corner id) for every patch corner, sorted to weld.
-    type Plane = ([i64; 3], i64);
+    // (plane and material, quantised position, corner id) for every polygon corner, sorted
+    // to weld; materials by their bits (validated values, no NaN; −0 cannot occur)
+    type Plane = ([i64; 3], i64, [u64; 6]);
     let mut corners: Vec<(Plane, [i64; 3], usize)> = Vec::new();
-    let mut corner_of: Vec<(usize, DVec3)> = Vec::new();
-    for (i, p) in patches.iter().enumerate() {
-        let vertices = scene.patch_vertices(i);
-        let offset = vertices.first().map_or(0.0, |&v| p.normal.dot(v));
-        let plane = (at(p.normal, 1e-9), quantise(offset, quantum));
-        for &v in vertices {
-            let id = corner_of.len();
-            corner_of.push((i, v));
-            corners.push((plane, at(v, quantum), id));
+    let mut corner_at: Vec<DVec3> = Vec::new();
+    for p in polygons {
+        let offset = p.vertices.first().map_or(0.0, |&v| p.normal.dot(v));
+        let (rho, emit) = (p.material.reflectance, p.material.emittance);
+        let material = [rho[0], rho[1], rho[2], emit[0], emit[1], emit[2]].map(f64::to_bits);
+        let plane = (at(p.normal, 1e-9), quantise(offset, quantum), material);
+        for &v in p.vertices {
+            corners.push((plane, at(v, quantum), corner_at.len()));
+            corner_at.push(v);
         }
     }
     corners.sort_unstable();
-    let mut vertex_of_corner = alloc::vec![0usize; corner_of.len()];
+    let mut vertex_of_corner = alloc::vec![0usize; corner_at.len()];
     let mut positions = Vec::new();
     let mut previous: Option<(Plane, [i64; 3])> = None;
     for &(plane, key, id) in &corners {
         if previous != Some((plane, key)) {
-            positions.push(corner_of[id].1);
+            positions.push(corner_at[id]);
             previous = Some((plane, key));
         }
         vertex_of_corner[id] = positions.len() - 1;
     }
-    // Area-weighted sums at the vertices.
+    // Area-weighted sums at the vertices
     let mut sums = alloc::vec![([0.0_f64; 3], 0.0_f64); positions.len()];
-    let mut faces = Vec::with_capacity(patches.len());
+    let mut faces = Vec::with_capacity(polygons.len());
     let mut corner = 0;
-    for (i, p) in patches.iter().enumerate() {
-        let b = radiosity.get(i).copied().unwrap_or([0.0; 3]);
-        let count = scene.patch_vertices(i).len();
+    for p in polygons {
+        let count = p.vertices.len();
         let face: Vec<usize> = vertex_of_corner[corner..corner + count].to_vec();
         corner += count;
         for &v in &face {
             let (s, a) = &mut sums[v];
-            for c in 0..3 {
-                s[c] += p.area * b[c];
+            for (s_c, b_c) in s.iter_mut().zip(p.radiosity) {
+                *s_c += p.area * b_c;
             }
             *a += p.area;
         }
@@ -205,6 +264,61 @@ mod tests {
         let t = ToneMap::for_scene(&b, &[lamp, wall, wall]);
         assert_eq!(t.white, 0.7);
         assert_eq!(ToneMap::for_scene(&b[..1], &[lamp]).white, 5.0);
+    }
+
+    #[test]
+    fn corners_weld_within_one_plane_and_material_only() {
+        // Two unit squares side by side in z = 0 (sharing the edge x = 1), a third one
+        // standing on that edge in the plane x = 1
+        let left = [
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+        ];
+        let right = left.map(|v| v + DVec3::X);
+        let wall = [
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 1.0),
+            DVec3::new(1.0, 1.0, 1.0),
+            DVec3::new(1.0, 1.0, 0.0),
+        ];
+        let grey = Material::new([0.5; 3], [0.0; 3]).unwrap();
+        let lamp = Material::new([0.0; 3], [1.0; 3]).unwrap();
+        fn shaded(vertices: &[DVec3], normal: DVec3, b: f64, m: Material) -> ShadedPolygon<'_> {
+            ShadedPolygon {
+                vertices,
+                normal,
+                area: 1.0,
+                radiosity: [b; 3],
+                material: m,
+            }
+        }
+        let bounds = (DVec3::ZERO, DVec3::new(2.0, 1.0, 1.0));
+        let (left, right, wall) = (&left[..], &right[..], &wall[..]);
+        // One material: the shared edge's two corners weld (8 − 2), the crease does not
+        let mesh = gouraud(
+            &[
+                shaded(left, DVec3::Z, 1.0, grey),
+                shaded(right, DVec3::Z, 3.0, grey),
+                shaded(wall, -DVec3::X, 5.0, grey),
+            ],
+            bounds,
+        );
+        assert_eq!(mesh.positions.len(), 6 + 4);
+        let shared = mesh.faces[0][1];
+        assert!(mesh.faces[1].contains(&shared));
+        assert_eq!(mesh.vertex_radiosity[shared], [2.0; 3]);
+        // A lamp beside the grey square: nothing welds, each keeps its own radiosity
+        let mesh = gouraud(
+            &[
+                shaded(left, DVec3::Z, 1.0, grey),
+                shaded(right, DVec3::Z, 3.0, lamp),
+            ],
+            bounds,
+        );
+        assert_eq!(mesh.positions.len(), 8);
+        assert!(mesh.vertex_radiosity[mesh.faces[0][1]] == [1.0; 3]);
     }
 
     #[test]

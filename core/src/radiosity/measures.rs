@@ -1,5 +1,5 @@
 //! Discrete radiosity entropies and mutual information (thesis §5.2, 5.5–5.7) without
-//! building the radiosity matrix: [`RadiosityTransitions`] computes each entry
+//! building the radiosity matrix: `RadiosityTransitions` computes each entry
 //! `𝐅_ij = F_ij B_j / B_i^in` (5.1) on the fly from `F` and `B`, dense or sparse, so a
 //! scene of any size needs only two extra vectors (`B^in` and the weights `𝐚`).
 //!
@@ -29,7 +29,7 @@ use crate::math::KahanSum;
 /// Build it with [`RadiosityTransitions::new`]; pass it to [`Channel::new`] with the weights
 /// of [`radiosity_weights_into`].
 #[derive(Clone, Copy, Debug)]
-pub struct RadiosityTransitions<'a, M> {
+pub(crate) struct RadiosityTransitions<'a, M> {
     f: &'a M,
     b: &'a [f64],
     b_in: &'a [f64],
@@ -107,7 +107,11 @@ impl<M: Transitions> Transitions for RadiosityTransitions<'_, M> {
 /// # Errors
 /// [`ErrorKind::DimensionMismatch`] unless `b` and `out` have `n_states` entries;
 /// [`ErrorKind::NonFiniteEntry`] / [`ErrorKind::NegativeEntry`] for a bad `B_i`.
-pub fn incoming_radiosity_into<M: Transitions>(f: &M, b: &[f64], out: &mut [f64]) -> Result<()> {
+pub(crate) fn incoming_radiosity_into<M: Transitions>(
+    f: &M,
+    b: &[f64],
+    out: &mut [f64],
+) -> Result<()> {
     let n = f.n_states();
     for len in [b.len(), out.len()] {
         if len != n {
@@ -143,7 +147,7 @@ pub fn incoming_radiosity_into<M: Transitions>(f: &M, b: &[f64], out: &mut [f64]
 /// [`ErrorKind::NonFiniteEntry`] / [`ErrorKind::NegativeEntry`] for a size that is not
 /// positive and finite or a negative or non-finite `B_i`, `B_i^in`;
 /// [`ErrorKind::NotFinite`] when the total overflows.
-pub fn radiosity_weights_into(
+pub(crate) fn radiosity_weights_into(
     sizes: &[f64],
     b: &[f64],
     b_in: &[f64],
@@ -234,7 +238,7 @@ impl RadiosityMeasures {
 /// each; they receive `B^in` and `𝐚`).
 ///
 /// # Errors
-/// The errors of [`incoming_radiosity_into`] and [`radiosity_weights_into`], and of
+/// The errors of `incoming_radiosity_into` and `radiosity_weights_into`, and of
 /// [`Channel::new`]: [`ErrorKind::TransitionToNullState`] when a state that sends light
 /// receives none while another state sends light to it (impossible for a reciprocal `F`).
 pub fn radiosity_measures<M: Transitions>(

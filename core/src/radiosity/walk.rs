@@ -51,7 +51,7 @@ use crate::lines::{canonical, chunk_count, chunk_range, chunk_rng};
 use crate::math::{self, KahanSum};
 
 /// Longest accepted walk, in steps (expected lengths are about `1 / (1 − ρ_max)`).
-pub const MAX_WALK_STEPS: u64 = 10_000_000;
+pub(crate) const MAX_WALK_STEPS: u64 = 10_000_000;
 
 /// The transition probabilities of a walk.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -293,7 +293,7 @@ fn too_long() -> crate::Error {
 /// [`ErrorKind::DimensionMismatch`], [`ErrorKind::NonFiniteEntry`],
 /// [`ErrorKind::NegativeEntry`], [`ErrorKind::Reflectance`] for bad vectors (or guess);
 /// [`ErrorKind::PatchIndex`] for `patch ≥ n`; [`ErrorKind::BadParameter`] for zero walks;
-/// [`ErrorKind::NoConvergence`] for a walk longer than [`MAX_WALK_STEPS`].
+/// [`ErrorKind::NoConvergence`] for a walk longer than `MAX_WALK_STEPS`.
 #[allow(clippy::too_many_arguments)]
 pub fn gather<M: Transitions>(
     f: &M,

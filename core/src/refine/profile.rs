@@ -18,10 +18,10 @@ use crate::scene::Scene2;
 use crate::trace::estimate_2d::{LineMethod, LineTally, LineTracer, Tracer2};
 
 /// Upper bound on the number of cells of a profile's fine scene (65,536).
-pub const MAX_PROFILE_CELLS: u64 = 1 << 16;
+pub(crate) const MAX_PROFILE_CELLS: u64 = 1 << 16;
 
 /// Largest number of halvings [`cells_per_patch`] resolves exactly (4,096 cells a patch).
-pub const MAX_PROFILE_DEPTH: u32 = 12;
+pub(crate) const MAX_PROFILE_DEPTH: u32 = 12;
 
 /// `I^c` per unit of parameter along every surface of a flatland scene.
 #[derive(Clone, Debug, PartialEq)]

@@ -33,7 +33,7 @@ use crate::math::{self, KahanSum};
 
 /// Tolerance on the conditions of Proposition 3, on joint probabilities `w_x P_xy` (which
 /// are at most 1): the same scale as [`crate::channel::ROW_SUM_TOLERANCE`].
-pub const SPLIT_TOLERANCE: f64 = 1e-9;
+pub(crate) const SPLIT_TOLERANCE: f64 = 1e-9;
 
 /// The split of state `state` of an `n`-state chain into `m = weights.len()` sub-states.
 ///
@@ -182,7 +182,7 @@ fn check_split<M: Transitions>(channel: &Channel<'_, M>, split: &StateSplit<'_>)
 /// [`ErrorKind::PatchIndex`] for a bad state, [`ErrorKind::DimensionMismatch`] for slices of
 /// the wrong length, [`ErrorKind::InvalidSplit`] when a weight or transition is negative or
 /// not finite, a sub-state has weight 0, the weights do not add up to `w_i`, or condition
-/// (a) or (b) fails by more than [`SPLIT_TOLERANCE`] — the gain is then not computed.
+/// (a) or (b) fails by more than `SPLIT_TOLERANCE` — the gain is then not computed.
 pub fn split_gain<M: Transitions>(channel: &Channel<'_, M>, split: &StateSplit<'_>) -> Result<f64> {
     check_split(channel, split)?;
     let w = channel.weights();
@@ -222,7 +222,7 @@ pub fn split_gain<M: Transitions>(channel: &Channel<'_, M>, split: &StateSplit<'
 /// # Errors
 /// [`ErrorKind::DimensionMismatch`] when the slices differ in length;
 /// [`ErrorKind::InvalidSplit`] for a negative or non-finite value, or when
-/// `|Σ_k w_{i_k} − w_i|` or `|Σ_k w_{i_k} P_{i_k j} − w_i P_ij|` exceeds [`SPLIT_TOLERANCE`].
+/// `|Σ_k w_{i_k} − w_i|` or `|Σ_k w_{i_k} P_{i_k j} − w_i P_ij|` exceeds `SPLIT_TOLERANCE`.
 pub fn pair_gain(w_i: f64, p_ij: f64, sub_weights: &[f64], sub_transitions: &[f64]) -> Result<f64> {
     if sub_weights.len() != sub_transitions.len() {
         return Err(ErrorKind::DimensionMismatch {
@@ -269,7 +269,7 @@ pub fn regular_patch_gain_max(w_i: f64, m: u32) -> f64 {
 }
 
 /// Most sub-patches the area-based instances accept (they normalise into a stack buffer).
-pub const MAX_SUB_STATES: usize = 64;
+pub(crate) const MAX_SUB_STATES: usize = 64;
 
 /// The patch-to-patch gain written with areas and form factors, scaled:
 /// `2 · scale · (Σ_k A_{i_k} F_{i_k j} log₂ F_{i_k j} − A_i F_ij log₂ F_ij)`.
@@ -313,7 +313,7 @@ fn area_gain(scale: f64, a_i: f64, f_ij: f64, sub_areas: &[f64], sub_f: &[f64]) 
 /// # Errors
 /// As [`pair_gain`], on the areas relative to `A_i` (the sub-areas must add up to `A_i` and
 /// their flux `Σ_k A_{i_k} F_{i_k j}` to `A_i F_ij`); [`ErrorKind::BadParameter`] for
-/// `A_T ≤ 0` or `A_i ≤ 0`; [`ErrorKind::TooLarge`] above [`MAX_SUB_STATES`] sub-patches.
+/// `A_T ≤ 0` or `A_i ≤ 0`; [`ErrorKind::TooLarge`] above `MAX_SUB_STATES` sub-patches.
 pub fn visibility_pair_gain(
     total_area: f64,
     a_i: f64,

@@ -40,7 +40,7 @@ use crate::lines::BoundingCircle;
 use crate::scene::Scene2;
 
 /// Most patches a [`Refiner2`] grows a mesh to (it keeps a dense `n × n` matrix).
-pub const MAX_REFINED_PATCHES: usize = 4096;
+pub(crate) const MAX_REFINED_PATCHES: usize = 4096;
 
 /// Which patch a refinement step halves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -86,7 +86,7 @@ pub struct StepReport {
     /// `E(MSE)` (3.20) with `N = 1`, `α_i = N_i / N = a_i`: `n_p − Σ_ij F_ij²` (the
     /// normalisation of Table 6.1).
     pub e_mse: f64,
-    /// `E(MSE)` (3.20) of global lines, normalised to one line ([`e_mse_per_global_line`]):
+    /// `E(MSE)` (3.20) of global lines, normalised to one line (`e_mse_per_global_line`):
     /// the normalisation of Tables 6.2 and 3.9.
     pub e_mse_per_line: f64,
     /// `I_S^c` (4.13) from the profile's lines (the same for every mesh).
@@ -121,7 +121,7 @@ impl Refiner2 {
     ///
     /// # Errors
     /// [`ErrorKind::NoLines`] for `lines == 0`; [`ErrorKind::TooLarge`] above
-    /// [`MAX_REFINED_PATCHES`] patches; the errors of [`InformationProfile::trace`].
+    /// `MAX_REFINED_PATCHES` patches; the errors of [`InformationProfile::trace`].
     pub fn new(scene: Scene2, oracle: OracleChoice2, lines: u64, seed: u64) -> Result<Self> {
         check_size(scene.n_patches())?;
         let profile = InformationProfile::trace(&scene, lines, seed)?;
@@ -132,7 +132,7 @@ impl Refiner2 {
     ///
     /// # Errors
     /// [`ErrorKind::DimensionMismatch`] if the profile is of other surfaces;
-    /// [`ErrorKind::TooLarge`] above [`MAX_REFINED_PATCHES`] patches.
+    /// [`ErrorKind::TooLarge`] above `MAX_REFINED_PATCHES` patches.
     pub fn with_profile(
         scene: Scene2,
         oracle: OracleChoice2,
@@ -231,7 +231,7 @@ impl Refiner2 {
     /// Halves the patch the oracle chooses and measures the new mesh.
     ///
     /// # Errors
-    /// [`ErrorKind::TooLarge`] when the mesh already has [`MAX_REFINED_PATCHES`] patches;
+    /// [`ErrorKind::TooLarge`] when the mesh already has `MAX_REFINED_PATCHES` patches;
     /// [`ErrorKind::ZeroLengthSegment`] when the chosen patch is too short to halve.
     pub fn step(&mut self) -> Result<StepReport> {
         let n = self.scene.n_patches();
@@ -258,7 +258,7 @@ impl Refiner2 {
     ///
     /// # Errors
     /// [`ErrorKind::BadParameter`] for a negative or NaN `eps`; the errors of
-    /// [`Refiner2::step`] (for a `target` above [`MAX_REFINED_PATCHES`]: `TooLarge`).
+    /// [`Refiner2::step`] (for a `target` above `MAX_REFINED_PATCHES`: `TooLarge`).
     pub fn run_until(&mut self, target: usize, eps: Option<f64>) -> Result<StepReport> {
         if let Some(e) = eps
             && !(e >= 0.0)
@@ -330,7 +330,7 @@ impl Refiner2 {
 /// (scene I, whose geometry is ours) to 5–7 % low (scene II): as if the thesis' lines came
 /// from a circle 7 % larger, the factor its Monte Carlo biases show in chapters 3 and 4.
 #[must_use]
-pub fn e_mse_per_global_line(scene: &Scene2, e_mse: f64) -> f64 {
+pub(crate) fn e_mse_per_global_line(scene: &Scene2, e_mse: f64) -> f64 {
     let (lo, hi) = scene.bounds();
     let r = BoundingCircle::of_bounds(lo, hi).radius;
     let total = scene.total_length();

@@ -61,13 +61,13 @@ pub fn polygon_with_mirrored_cuts(sides: usize, half_cuts: &[f64]) -> Result<Sce
 ///
 /// # Errors
 /// As [`polygon_with_mirrored_cuts`].
-pub fn mirrored_cuts_information(sides: usize, half_cuts: &[f64]) -> Result<f64> {
+pub(crate) fn mirrored_cuts_information(sides: usize, half_cuts: &[f64]) -> Result<f64> {
     let scene = polygon_with_mirrored_cuts(sides, half_cuts)?;
     Ok(exact_2d::form_factors(&scene)?.channel()?.i_s())
 }
 
 /// Most half-side cuts [`best_mirrored_cuts`] optimises.
-pub const MAX_HALF_CUTS: usize = 8;
+pub(crate) const MAX_HALF_CUTS: usize = 8;
 
 /// The half-side cuts that maximise `I_S`, from `start`, by a compass search: try each cut
 /// `± step`, keep any improvement, halve `step` (from 1/64) when none helps, stop below
@@ -78,7 +78,7 @@ pub const MAX_HALF_CUTS: usize = 8;
 ///
 /// # Errors
 /// [`ErrorKind::BadCuts`] for an invalid `start`; [`ErrorKind::TooLarge`] above
-/// [`MAX_HALF_CUTS`] cuts; [`ErrorKind::BadParameter`] for `tolerance` not in `(0, 1/64]`.
+/// `MAX_HALF_CUTS` cuts; [`ErrorKind::BadParameter`] for `tolerance` not in `(0, 1/64]`.
 pub fn best_mirrored_cuts(sides: usize, start: &[f64], tolerance: f64) -> Result<(Vec<f64>, f64)> {
     if start.len() > MAX_HALF_CUTS {
         return Err(ErrorKind::TooLarge {

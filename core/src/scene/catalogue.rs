@@ -18,10 +18,7 @@
 mod enclosures;
 mod objects;
 
-pub use enclosures::{L_ROOM_CUTS, MAX_ASPECT, STAR_INNER_RADII, TRIANGLE_LAST_APEX};
-pub use objects::{
-    CORNER_GAP, NEAR_TOUCH_GAP, SINGULARITY_STEPS, SIXTEEN_SQUARES_SIDE, THREE_OBJECTS_SCALES,
-};
+pub use objects::SINGULARITY_STEPS;
 
 use crate::error::{ErrorKind, Result, token};
 use crate::geom::{DVec2, distance, signed_area};

@@ -161,7 +161,7 @@ fn sweep<const K: usize>(
 /// The first pair of coincident flatland segments `(a, b)` (each facing its left), as
 /// indices `(i, j)` with `i < j` and `j` as small as possible.
 #[must_use]
-pub fn coincident_segments(segments: &[(DVec2, DVec2)]) -> Option<(usize, usize)> {
+pub(crate) fn coincident_segments(segments: &[(DVec2, DVec2)]) -> Option<(usize, usize)> {
     let r = segments
         .iter()
         .flat_map(|&(a, b)| [a.x, a.y, b.x, b.y])
@@ -220,7 +220,7 @@ pub fn coincident_segments(segments: &[(DVec2, DVec2)]) -> Option<(usize, usize)
 /// The first pair of coincident convex planar faces, given as vertex lists with unit
 /// normals, as indices `(i, j)` with `i < j` and `j` as small as possible.
 #[must_use]
-pub fn coincident_faces(faces: &[(&[DVec3], DVec3)]) -> Option<(usize, usize)> {
+pub(crate) fn coincident_faces(faces: &[(&[DVec3], DVec3)]) -> Option<(usize, usize)> {
     let any_among = |m: usize| {
         let mut pair = None;
         visit_face_pairs(faces, m, &mut |p| {
@@ -252,7 +252,7 @@ fn faces_coincide((vi, ni): (&[DVec3], DVec3), (vj, nj): (&[DVec3], DVec3), tol:
 /// The distance tolerance of coincidence for these faces: `1e-12 R`, with `R` their
 /// largest coordinate magnitude (module docs).
 #[must_use]
-pub fn face_tolerance(faces: &[(&[DVec3], DVec3)]) -> f64 {
+pub(crate) fn face_tolerance(faces: &[(&[DVec3], DVec3)]) -> f64 {
     DISTANCE_TOLERANCE * largest_magnitude(faces)
 }
 
@@ -265,7 +265,7 @@ fn largest_magnitude(faces: &[(&[DVec3], DVec3)]) -> f64 {
 }
 
 /// Most coincident pairs [`coincident_face_pairs`] gathers.
-pub const MAX_COINCIDENT_PAIRS: usize = 1_000_000;
+pub(crate) const MAX_COINCIDENT_PAIRS: usize = 1_000_000;
 
 /// The pairs of coincident faces, as `(i, j)` with `i < j`, sorted by `j` then `i`: every
 /// pair, except that a later exact copy of a face (the same vertices in the same cyclic
@@ -279,7 +279,7 @@ pub const MAX_COINCIDENT_PAIRS: usize = 1_000_000;
 ///
 /// # Errors
 /// [`ErrorKind::TooLarge`] beyond [`MAX_COINCIDENT_PAIRS`] pairs.
-pub fn coincident_face_pairs(faces: &[(&[DVec3], DVec3)]) -> Result<Vec<(usize, usize)>> {
+pub(crate) fn coincident_face_pairs(faces: &[(&[DVec3], DVec3)]) -> Result<Vec<(usize, usize)>> {
     // The first copy of each face, and the distinct faces alone
     let first = first_copies(faces);
     let distinct: Vec<usize> = (0..faces.len()).filter(|&k| first[k] == k).collect();

@@ -39,7 +39,7 @@ pub const SAFE_EXTENT_EXPONENT: i32 = 60;
 /// A box whose centre lies more than `2^FAR_EXPONENT` extents from the origin along an axis
 /// is moved to it along that axis (Monte Carlo lines through a far scene would otherwise
 /// keep only `52 − FAR_EXPONENT` bits of its size).
-pub const FAR_EXPONENT: i32 = 20;
+pub(crate) const FAR_EXPONENT: i32 = 20;
 
 /// `world = origin + 2^exponent · stored` (module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]

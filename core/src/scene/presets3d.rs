@@ -35,16 +35,8 @@ mod cubes;
 mod furniture;
 mod solids;
 
-pub use cornell::{
-    CORNELL_BLOCK_LIFT, CORNELL_GREEN, CORNELL_LIGHT, CORNELL_RED, CORNELL_ROOM,
-    CORNELL_THESIS_EDGE, CORNELL_THESIS_LIGHT_GAP, CORNELL_WHITE,
-};
-pub use cubes::{
-    CUBE_ROOM_GRID, CUBE_ROOM_MIN_GAP, CUBE_ROOM_SIDE, CUBE_ROOM_SPACING, MAX_CUBES_PER_SIDE,
-    PRESET_SEED, SIXTY_FOUR_CUBES_GAPS, SIXTY_FOUR_CUBES_SIDE, SIXTY_FOUR_CUBES_STEPS,
-};
-pub use furniture::{FURNITURE_GAP, TABLE_ROOM};
-pub use solids::MAX_SPHERE_LEVEL;
+pub(crate) use cubes::PRESET_SEED;
+pub use cubes::SIXTY_FOUR_CUBES_STEPS;
 
 use alloc::vec::Vec;
 
@@ -53,16 +45,16 @@ use crate::geom::{self, DVec3};
 use crate::scene::{MAX_PATCHES_3D, Material, Scene3, Scene3Builder, Subdivision};
 
 /// Name of the object holding a preset's enclosure (the room, or the inside of a solid).
-pub const ENCLOSURE: &str = "enclosure";
+pub(crate) const ENCLOSURE: &str = "enclosure";
 
 /// The enclosures' material: ρ = 0.73 in every channel, no emission.
-pub const ENCLOSURE_MATERIAL: Material = Material {
+pub(crate) const ENCLOSURE_MATERIAL: Material = Material {
     reflectance: [0.73; 3],
     emittance: [0.0; 3],
 };
 
 /// The objects' material: ρ = 0.5 in every channel, no emission.
-pub const OBJECT_MATERIAL: Material = Material {
+pub(crate) const OBJECT_MATERIAL: Material = Material {
     reflectance: [0.5; 3],
     emittance: [0.0; 3],
 };
@@ -326,7 +318,7 @@ static PRESETS_3D: &[Preset3Entry] = &[
 /// Only `cube`, `cornell`, `cornell-lifted` and `cornell-thesis` (where it is the mesh level
 /// of [`Scene3::cornell_box_thesis`]) take the `grid` of [`preset_3d`]; the others
 /// have the fixed discretisation their constructor documents. The random cube rooms use the
-/// seed [`PRESET_SEED`].
+/// seed `PRESET_SEED`.
 #[must_use]
 pub fn presets_3d() -> &'static [Preset3Entry] {
     PRESETS_3D

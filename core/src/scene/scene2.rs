@@ -9,7 +9,7 @@ use crate::math::KahanSum;
 use crate::scene::{Frame, Material};
 
 /// Most patches one surface may be cut into.
-pub const MAX_PATCHES_PER_SURFACE: u64 = 1_000_000;
+pub(crate) const MAX_PATCHES_PER_SURFACE: u64 = 1_000_000;
 
 /// Most patches a flatland scene may hold (a cap checked before allocating).
 pub const MAX_PATCHES: usize = 4_000_000;
@@ -59,7 +59,7 @@ pub struct Patch2 {
 /// Built with [`Scene2::builder`], the presets ([`Scene2::regular_polygon`], …) or the
 /// `.flat` parser ([`crate::io::parse_flat`]); every constructor validates, so a
 /// `Scene2` always has at least one patch, finite coordinates within
-/// [`MAX_COORDINATE`], and patches of positive length.
+/// `MAX_COORDINATE`, and patches of positive length.
 ///
 /// Coordinates, lengths and bounds are **stored** ones: the given ones moved and scaled
 /// exactly into the scene's [`Frame`] ([`Scene2::frame`]; the identity for a scene of
@@ -231,7 +231,7 @@ impl Scene2Builder {
     /// # Errors
     /// [`ErrorKind::NonFiniteNumber`], [`ErrorKind::CoordinateRange`],
     /// [`ErrorKind::ZeroLengthSegment`], [`ErrorKind::PatchCount`] (n = 0 or above
-    /// [`MAX_PATCHES_PER_SURFACE`]), [`ErrorKind::TooManyPatches`].
+    /// `MAX_PATCHES_PER_SURFACE`), [`ErrorKind::TooManyPatches`].
     pub fn segment(&mut self, a: DVec2, b: DVec2, n: u64) -> Result<&mut Self> {
         if n == 0 || n > MAX_PATCHES_PER_SURFACE {
             return Err(ErrorKind::PatchCount {

@@ -18,24 +18,24 @@ use crate::math::KahanSum;
 use crate::scene::{Frame, Material};
 
 /// Most patches a 3D scene may hold (a cap checked before allocating).
-pub const MAX_PATCHES_3D: usize = 4_000_000;
+pub(crate) const MAX_PATCHES_3D: usize = 4_000_000;
 
 /// Most vertices one face may have.
-pub const MAX_FACE_VERTICES: usize = 256;
+pub(crate) const MAX_FACE_VERTICES: usize = 256;
 
 /// Largest `k` of [`Subdivision::Grid`] (`k² = 4,000,000` patches, the scene cap).
-pub const MAX_GRID: u32 = 2_000;
+pub(crate) const MAX_GRID: u32 = 2_000;
 
 /// Largest level of [`Subdivision::Triangles`] (`4¹⁰ ≈ 10⁶` triangles per triangle).
-pub const MAX_TRIANGLE_LEVEL: u32 = 10;
+pub(crate) const MAX_TRIANGLE_LEVEL: u32 = 10;
 
 /// Largest distance of a vertex from a face's plane, relative to the face's size (the
 /// diagonal of its bounding box).
-pub const PLANARITY_TOLERANCE: f64 = 1e-6;
+pub(crate) const PLANARITY_TOLERANCE: f64 = 1e-6;
 
 /// Most negative sine of a turn still accepted as convex; turns smaller than it (in radians)
 /// count as straight, and such vertices are skipped when a face is triangulated.
-pub const CONVEXITY_TOLERANCE: f64 = 1e-6;
+pub(crate) const CONVEXITY_TOLERANCE: f64 = 1e-6;
 
 /// Smallest area accepted, relative to the square of a face's size; also the smallest edge
 /// relative to its size.
@@ -51,11 +51,11 @@ pub enum Subdivision {
     /// `Grid(k)`: a quad is cut into `k × k` quads along the lines of its bilinear
     /// parameterisation (straight lines for a planar convex quad, so every cell is a convex
     /// quad); a triangle into `k²` triangles on a regular barycentric grid; a larger polygon
-    /// is first fanned into triangles, each cut likewise. `1 ≤ k ≤` [`MAX_GRID`].
+    /// is first fanned into triangles, each cut likewise. `1 ≤ k ≤` `MAX_GRID`.
     Grid(u32),
     /// `Triangles(l)`: the face is fanned into triangles (a quad into 2) and each triangle is
     /// cut `l` times at its edge midpoints, giving `4^l` triangles per triangle.
-    /// `0 ≤ l ≤` [`MAX_TRIANGLE_LEVEL`].
+    /// `0 ≤ l ≤` `MAX_TRIANGLE_LEVEL`.
     Triangles(u32),
 }
 
@@ -119,7 +119,7 @@ pub struct Patch3 {
 pub struct Face3 {
     /// Index of the face's first vertex in the scene's points ([`Scene3::face_vertices`]).
     pub first: usize,
-    /// Number of vertices, 3 to [`MAX_FACE_VERTICES`].
+    /// Number of vertices, 3 to `MAX_FACE_VERTICES`.
     pub count: usize,
     /// Index into [`Scene3::materials`].
     pub material: usize,
@@ -137,7 +137,7 @@ pub struct Face3 {
 ///
 /// Built with [`Scene3::builder`] or the OBJ parser ([`crate::io::parse_obj`]); every
 /// constructor validates, so a `Scene3` always has at least one patch, finite coordinates
-/// within [`MAX_COORDINATE`], planar convex faces of positive area and patches of positive
+/// within `MAX_COORDINATE`, planar convex faces of positive area and patches of positive
 /// area. Materials and objects are listed in order of first use, each once.
 ///
 /// Points, normals' positions, areas and bounds are **stored** ones: the given coordinates
@@ -349,8 +349,8 @@ impl Scene3Builder {
     ///
     /// The tolerances are relative to the face's size `d` (its bounding-box diagonal): it is
     /// degenerate if its area is at most `10⁻¹² d²` or an edge at most `10⁻¹² d` long;
-    /// non-planar if a vertex lies more than [`PLANARITY_TOLERANCE`]` · d` from its Newell
-    /// plane; non-convex if the sine of a turn is below `−`[`CONVEXITY_TOLERANCE`] or the
+    /// non-planar if a vertex lies more than `PLANARITY_TOLERANCE`` · d` from its Newell
+    /// plane; non-convex if the sine of a turn is below `−``CONVEXITY_TOLERANCE` or the
     /// polygon winds more than once.
     ///
     /// # Errors
@@ -769,8 +769,6 @@ impl Cutter<'_> {
 
 mod lenient;
 mod overlap;
-pub use lenient::{DRAWN_PLANARITY_TOLERANCE, REPEATED_VERTEX_TOLERANCE};
-pub use overlap::MAX_CLIP_PIECES;
 
 #[cfg(test)]
 mod tests;

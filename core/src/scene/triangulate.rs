@@ -4,7 +4,7 @@
 //! # Rule
 //!
 //! The polygon `v_0 … v_{n−1}` is projected onto its Newell plane (normal `N = Σ (v_i − v_0)
-//! × (v_{i+1} − v_0)`, [`geom::polygon_normal`]; when `N` vanishes, the largest fan triangle's
+//! × (v_{i+1} − v_0)`, `geom::polygon_normal`; when `N` vanishes, the largest fan triangle's
 //! normal), so a simple polygon runs counter-clockwise in the projection. Then:
 //!
 //! - **a quad** is split along the diagonal whose two triangles are flattest: the larger
@@ -13,19 +13,19 @@
 //!   diagonal `v_0 v_2`, the split of the convex fan.
 //! - **any other polygon** is cut by ear clipping (D. Eberly, *Triangulation by Ear
 //!   Clipping*, Geometric Tools, 2002): a vertex `b` between `a` and `c` is an ear when the
-//!   turn `a b c` is counter-clockwise with sine above [`STRAIGHT_SINE`] and no other
+//!   turn `a b c` is counter-clockwise with sine above `STRAIGHT_SINE` and no other
 //!   remaining vertex lies inside or on the triangle `a b c` (copies of `a`, `b` or `c`
 //!   excepted); the ear is cut off and `b` removed. Among the ears, the best-shaped triangle
 //!   is cut first (quality `4√3 A / (|ab|² + |bc|² + |ca|²)`, 1 for an equilateral
 //!   triangle), which avoids the slivers of taking the first ear found.
-//! - when no ear remains, a **straight vertex** (turn sine within [`STRAIGHT_SINE`]: a
+//! - when no ear remains, a **straight vertex** (turn sine within `STRAIGHT_SINE`: a
 //!   collinear run, or a spike doubling back) is removed without a triangle (its area,
 //!   at most `STRAIGHT_SINE · |ab| |bc| / 2`, is negligible);
 //! - when neither remains, the projection is not simple (it crosses itself, or winds
 //!   clockwise somewhere): as a documented fallback the vertex with the largest turn sine,
 //!   the best available ear, is cut anyway. The caller checks each triangle against the
 //!   polygon's normal and drops flipped or zero-area ones. (A self-intersecting quad, a
-//!   bow tie, is better cut at its crossing into its two lobes: [`bow_tie_lobes`].)
+//!   bow tie, is better cut at its crossing into its two lobes: `bow_tie_lobes`.)
 //!
 //! Each step removes one vertex, so a polygon of `n` vertices gives at most `n − 2`
 //! triangles after at most `n − 3` steps of `O(n²)` work: bounded for any input, never a
@@ -37,14 +37,14 @@ use alloc::vec::Vec;
 use crate::geom::{self, DVec2, DVec3};
 
 /// Largest sine of a turn treated as straight: such a vertex is never an ear.
-pub const STRAIGHT_SINE: f64 = 1e-12;
+pub(crate) const STRAIGHT_SINE: f64 = 1e-12;
 
 /// The triangles of the polygon through `vertices` as index triples into it, appended to
 /// `out`, each counter-clockwise about the returned normal (module docs give the rule).
 ///
 /// Returns the unit normal of the projection plane, or `None` (and no triangle) for fewer
 /// than three vertices, non-finite coordinates, or vertices all on one line.
-pub fn triangulate(vertices: &[DVec3], out: &mut Vec<[usize; 3]>) -> Option<DVec3> {
+pub(crate) fn triangulate(vertices: &[DVec3], out: &mut Vec<[usize; 3]>) -> Option<DVec3> {
     let n = vertices.len();
     if n < 3 || !vertices.iter().all(|v| v.is_finite()) {
         return None;
@@ -65,7 +65,7 @@ pub fn triangulate(vertices: &[DVec3], out: &mut Vec<[usize; 3]>) -> Option<DVec
 /// face opposite ways; `x` is taken on the first edge of the pair in 3D. `None` for a quad
 /// whose projection is simple, or anything else.
 #[must_use]
-pub fn bow_tie_lobes(q: &[DVec3]) -> Option<[[DVec3; 3]; 2]> {
+pub(crate) fn bow_tie_lobes(q: &[DVec3]) -> Option<[[DVec3; 3]; 2]> {
     if q.len() != 4 || !q.iter().all(|v| v.is_finite()) {
         return None;
     }

@@ -54,7 +54,7 @@ use crate::tally::LineTally;
 
 /// The expected number of unreached patches a suggested budget aims at (at most): every
 /// patch is then reached with probability at least 90 %.
-pub const UNREACHED_TARGET: f64 = 0.1;
+pub(crate) const UNREACHED_TARGET: f64 = 0.1;
 
 /// Bisection steps of [`lines_to_sample_all`]: the bracket shrinks to `2⁻⁴⁰` of its width,
 /// far below one chunk.
@@ -121,7 +121,7 @@ impl LineTally {
 }
 
 /// The smallest line budget `M`, rounded up to whole chunks, with
-/// `U(M) = Σ_i exp(−M·rate·size_i) ≤ ` [`UNREACHED_TARGET`]: the expected number of patches
+/// `U(M) = Σ_i exp(−M·rate·size_i) ≤ ` `UNREACHED_TARGET`: the expected number of patches
 /// no line reaches when patch `i` is met by each line with probability `rate · size_i`
 /// (Crofton's formula, module docs). `None` when no patch has a positive finite hit
 /// probability; saturates at `u64::MAX`.

@@ -25,8 +25,8 @@
 //!
 //! # Bundles of parallel lines
 //!
-//! [`LineMethod::Bundle`] casts the same global lines in sheaves: [`SHEAF_BUNDLES`]
-//! equally spaced directions under one uniform rotation, [`BUNDLE_LINES`] evenly spaced
+//! [`LineMethod::Bundle`] casts the same global lines in sheaves: `SHEAF_BUNDLES`
+//! equally spaced directions under one uniform rotation, `BUNDLE_LINES` evenly spaced
 //! parallel lines per direction under one uniform shift ([`GlobalBundle2`]). Each line is
 //! tallied exactly as an independent global line and the sums keep their expectations;
 //! the hits come from a sweep ([`ParallelSweep2`]) instead of a tree query per line, and each
@@ -63,7 +63,7 @@ pub use crate::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
 /// per line (the sweep and the tally have per-bundle work), more cost precision (fewer
 /// directions): 256 gave the best `1/(σ² · CPU s)`, ×3.6 that of session 4's sheaves of
 /// 64 × 256 lines with the same code (`docs/performance.md`, session 5).
-pub const BUNDLE_LINES: u32 = 256;
+pub(crate) const BUNDLE_LINES: u32 = 256;
 
 /// Bundles per sheaf of [`LineMethod::Bundle`]: equally spaced directions under one random
 /// rotation, so that the lines of a sheaf cover the directions evenly. The lines of one
@@ -73,7 +73,7 @@ pub const BUNDLE_LINES: u32 = 256;
 /// 4 sheaves of 64 (see [`BUNDLE_LINES`]). `BUNDLE_LINES × SHEAF_BUNDLES` is
 /// [`crate::lines::CHUNK_LINES`]: a whole chunk is one sheaf, one observation of the
 /// standard error.
-pub const SHEAF_BUNDLES: u32 = 256;
+pub(crate) const SHEAF_BUNDLES: u32 = 256;
 
 /// Bundles of a sheaf whose segments are gathered per pair before the pairs are added
 /// to the tally. A pair block's product holds the terms' arguments, cosines included, so
@@ -437,7 +437,7 @@ impl Tracer2 {
 
     /// The point-to-point kernel `F(x, y) V(x, y)` (`F = cos θ_x cos θ_y / (2 r)`, `V` the
     /// visibility) for the point pair of patches `i`, `j` that canonical sample `u` maps to
-    /// ([`crate::lines::sample_point_pair`]); 0 for points that do not see each other and for
+    /// (`crate::lines::sample_point_pair`); 0 for points that do not see each other and for
     /// a degenerate pair. The samples of "patch-to-patch random lines" (thesis 2.34, 6.17).
     ///
     /// # Errors

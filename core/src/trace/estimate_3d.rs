@@ -31,7 +31,7 @@
 //! no stopping-time argument is needed), and the chunk's expected line count is exactly
 //! `L`. Its actual line count is random (a lattice's points in a disc), within a few tens
 //! of `L`; the tally's `lines` are the lines actually cast, all of them meeting the
-//! sphere. The `B` bundles form sheaves of at most [`SHEAF_BUNDLES_3D`] bundles whose
+//! sphere. The `B` bundles form sheaves of at most `SHEAF_BUNDLES_3D` bundles whose
 //! directions are stratified under one uniform shift ([`sheaf_direction_sample`]); a sheaf
 //! is one observation of the standard error, as its lines are correlated, and different
 //! sheaves are independent.
@@ -54,7 +54,7 @@ pub use crate::tally::{LineEstimate, LineMethod, LineTally, LineTracer};
 /// Bundles per sheaf of 3D bundles of parallel lines ([`LineMethod::Bundle`]): at most
 /// this many bundles share one stratified set of directions and one standard-error
 /// observation.
-pub const SHEAF_BUNDLES_3D: u64 = 16;
+pub(crate) const SHEAF_BUNDLES_3D: u64 = 16;
 
 /// The expected number of lines of a 3D bundle for a scene whose raster sets up `n`
 /// items a bundle (sheets, and polygons outside sheets: [`ParallelRaster3::items`]):

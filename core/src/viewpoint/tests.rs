@@ -336,14 +336,26 @@ fn symmetric_views_of_platonic_solids_agree() {
     // The first 12 viewpoints are the icosahedron's vertices: the icosahedron's vertex views
     // and the dodecahedron's face views (its dual) are all alike
     // The axes are viewpoints too (midpoints of the icosahedron's edges (0, ±1, φ)): the
-    // cube's face views and the octahedron's vertex views
-    for name in ["cube", "octahedron"] {
+    // cube's face views, the octahedron's vertex views and, for the tetrahedron with vertices
+    // (1, 1, 1), (1, −1, −1), (−1, 1, −1), (−1, −1, 1), its six edge-midpoint views (each
+    // sees two faces edge-on across the edge), all alike by the solids' symmetry groups
+    for name in ["cube", "octahedron", "tetrahedron"] {
         let scene = Scene3::platonic(name, Subdivision::None).unwrap();
         let (job, c) = channel(&scene, 42, 256);
         let axes: Vec<usize> = (0..42)
             .filter(|&v| job.sphere().directions()[v].abs().max_element() == 1.0)
             .collect();
         assert_eq!(axes.len(), 6);
+        if name == "tetrahedron" {
+            // Two faces seen, equally (to the raster error); the other two hidden
+            for &v in &axes {
+                let mut p = c.p_o_given(v).to_vec();
+                assert_eq!(p.len(), 4);
+                p.sort_by(f64::total_cmp);
+                assert!(p[0] == 0.0 && p[1] == 0.0, "{v}: {p:?}");
+                assert!((p[2] - p[3]).abs() < 1e-2 && p[2] > 0.0, "{v}: {p:?}");
+            }
+        }
         for &v in &axes {
             assert!((c.vmi(v) - c.vmi(axes[0])).abs() < 5e-3, "{name} {v}");
             let ve = c.viewpoint_entropy(axes[0]);

@@ -2,7 +2,7 @@
 //! polygon of one colour given by a per-patch measure (I_i, H_i, I_i^c or I_i^c − I_i).
 //!
 //! Every measure comes from the core; this module picks the form factors' source, the values
-//! and their colours (the same maps as the flatland SVG of [`super::draw`]).
+//! and their colours (the same maps as the flatland SVG, [`crate::picture`]).
 
 use std::path::Path;
 
@@ -13,9 +13,10 @@ use sceneinfo::scene::Scene3;
 use sceneinfo::trace::estimate_2d::LineMethod;
 use sceneinfo::trace::estimate_3d::Tracer3;
 
-use super::{PatchMeasure, Source, patch_colours, patch_values, range};
+use super::{PatchMeasure, Source, patch_values};
 use crate::args::{Colour, DrawArgs};
 use crate::output::{Loaded, located, write_atomic};
+use crate::picture::{patch_colours, range};
 use crate::ply::Ply;
 use crate::svg::{ColourMap, number};
 
@@ -42,7 +43,7 @@ struct Config {
 impl Config {
     /// `exact_possible` is asked only when exact form factors would be used: whether the
     /// scene is small enough and no patch may hide another.
-    fn new(args: &DrawArgs, exact_possible: impl FnOnce() -> bool) -> Result<Self> {
+    fn new(args: &DrawArgs, threads: usize, exact_possible: impl FnOnce() -> bool) -> Result<Self> {
         if let Some(n) = args.lines {
             sceneinfo::lines::check_line_budget(n)?;
         }
@@ -71,9 +72,6 @@ impl Config {
                 (Some(n.unwrap_or(DEFAULT_LINES)), Some(source))
             }
         };
-        let threads = args.threads.unwrap_or_else(|| {
-            std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
-        });
         Ok(Self {
             colour: args.color,
             per_area: args.per_area,
@@ -105,7 +103,7 @@ struct Computed {
     notes: Vec<String>,
 }
 
-pub fn run(args: &DrawArgs) -> Result<()> {
+pub fn run(args: &DrawArgs, threads: usize) -> Result<()> {
     let Some(ply_path) = &args.ply else {
         bail!(
             "{}: a .obj scene is written as a coloured PLY mesh: give --ply OUT.ply",
@@ -124,7 +122,7 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     let Loaded::Solid(scene) = loaded.scene else {
         bail!("{}: not a 3D scene", args.file.display());
     };
-    let config = Config::new(args, || exact_possible(&scene))?;
+    let config = Config::new(args, threads, || exact_possible(&scene))?;
     let computed = compute(&args.file, &scene, &config);
     // After Ctrl-C the line job stopped early: write nothing
     crate::interrupt::stop_if_requested()?;
@@ -323,7 +321,7 @@ mod tests {
     }
 
     fn config(colour: Colour, lines: Option<u64>, exact: bool) -> Config {
-        Config::new(&args(colour, lines, false), || exact).unwrap()
+        Config::new(&args(colour, lines, false), 2, || exact).unwrap()
     }
 
     #[test]
@@ -346,10 +344,10 @@ mod tests {
             (c.lines, c.discrete),
             (Some(DEFAULT_LINES), Some(Source::MonteCarlo))
         );
-        assert!(Config::new(&args(Colour::I, Some(0), false), || true).is_err());
-        assert!(Config::new(&args(Colour::H, None, true), || true).is_err());
+        assert!(Config::new(&args(Colour::I, Some(0), false), 2, || true).is_err());
+        assert!(Config::new(&args(Colour::H, None, true), 2, || true).is_err());
         // The occlusion test is not run when it is not needed.
-        Config::new(&args(Colour::Ic, None, false), || panic!("asked")).unwrap();
+        Config::new(&args(Colour::Ic, None, false), 2, || panic!("asked")).unwrap();
     }
 
     #[test]
@@ -366,7 +364,7 @@ mod tests {
                     lines: matches!(colour, Colour::Ic | Colour::Delta).then_some(20_000),
                     ..a
                 };
-                let c = Config::new(&a, || exact_possible(&scene)).unwrap();
+                let c = Config::new(&a, 2, || exact_possible(&scene)).unwrap();
                 let computed = compute(Path::new("t.obj"), &scene, &c).unwrap();
                 assert_eq!(computed.values.len(), 24);
                 assert!(computed.values.iter().all(|v| v.is_finite()));
@@ -390,7 +388,7 @@ mod tests {
     fn per_area_values_are_the_shares_divided_by_relative_area() {
         let scene = Scene3::cube(2).unwrap();
         let run = |per_area| {
-            let c = Config::new(&args(Colour::I, None, per_area), || true).unwrap();
+            let c = Config::new(&args(Colour::I, None, per_area), 2, || true).unwrap();
             compute(Path::new("t.obj"), &scene, &c).unwrap().values
         };
         let (shares, density) = (run(false), run(true));
@@ -420,7 +418,7 @@ mod tests {
         b.polygon(&sq(1.0, false), Subdivision::Grid(2)).unwrap();
         let scene = b.build().unwrap();
         for (colour, lines) in [(Colour::I, None), (Colour::Delta, Some(20_000))] {
-            let c = Config::new(&args(colour, lines, false), || exact_possible(&scene)).unwrap();
+            let c = Config::new(&args(colour, lines, false), 2, || exact_possible(&scene)).unwrap();
             let computed = compute(Path::new("t.obj"), &scene, &c).unwrap();
             assert_eq!(computed.values.len(), 8);
             assert!(computed.notes.iter().any(|n| n.contains("background")));

@@ -16,7 +16,7 @@ use sceneinfo::geom::DVec3;
 use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, MAX_PAIRS, OracleChoice3};
 use sceneinfo::lines::CHUNK_LINES;
 use sceneinfo::radiosity::display::ToneMap;
-use sceneinfo::scene::Scene3;
+use sceneinfo::scene::{Material, Scene3};
 use sceneinfo::tally::LineTracer;
 use sceneinfo::trace::estimate_2d::LineMethod;
 use sceneinfo::trace::estimate_3d::Tracer3;
@@ -24,7 +24,7 @@ use sceneinfo_report::JsonObject;
 
 use crate::args::{Oracle, RefineArgs};
 use crate::lines::LineBudget;
-use crate::output::{Loaded, job_refused, located, read_text, write_atomic};
+use crate::output::{Loaded, job_refused, located, write_atomic};
 use crate::ply::Ply;
 use crate::raster::{Camera, Raster};
 use crate::svg::Rgb;
@@ -53,7 +53,7 @@ struct Config {
 }
 
 impl Config {
-    fn new(args: &RefineArgs) -> Result<Self> {
+    fn new(args: &RefineArgs, threads: usize) -> Result<Self> {
         let file = args.file.display();
         let oracle = match args.oracle {
             Oracle::Power => "power",
@@ -102,9 +102,6 @@ impl Config {
         if lines == 0 {
             return Err(located(&args.file, &sceneinfo::ErrorKind::NoLines.into()));
         }
-        let threads = args.threads.unwrap_or_else(|| {
-            std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
-        });
         Ok(Self {
             oracle,
             eps: args.eps,
@@ -140,8 +137,8 @@ struct MeshMeasures {
 }
 
 /// Runs `refine` on a `.obj` scene.
-pub fn run(args: &RefineArgs) -> Result<()> {
-    let config = Config::new(args)?;
+pub fn run(args: &RefineArgs, threads: usize) -> Result<()> {
+    let config = Config::new(args, threads)?;
     // Hierarchical radiosity uses the materials: their warnings are printed too
     let loaded = crate::output::load_scene(&args.file)?;
     loaded.print_warnings(&args.file, true);
@@ -289,104 +286,29 @@ fn measure(h: &Hierarchy, config: &Config, seed: u64, file: &Path) -> Result<Mes
 type Reference = Vec<(Vec<DVec3>, [f64; 3])>;
 
 /// Reads a reference solution: a PLY written by `refine --ply` (faces with float
-/// `radiosity_red/green/blue` properties), as polygons with their radiosities.
+/// `radiosity_red/green/blue` properties), as polygons with their radiosities, through the
+/// one PLY reader ([`crate::formats::ply_scene::read_mesh`]: ASCII or binary).
 fn read_reference(path: &Path) -> Result<Reference> {
-    let text = read_text(path, "reference solutions")?;
-    let bad = |what: &str| anyhow::anyhow!("{}: {what}", path.display());
-    let mut lines = text.lines().enumerate();
-    if lines.next().map(|l| l.1) != Some("ply")
-        || lines.next().map(|l| l.1) != Some("format ascii 1.0")
-    {
-        return Err(bad("line 1: not an ASCII PLY file"));
-    }
-    let (mut n_vertices, mut n_faces, mut face_props) = (None, None, Vec::new());
-    let mut in_face = false;
-    for (k, line) in lines.by_ref() {
-        let words: Vec<&str> = line.split_whitespace().collect();
-        match words.as_slice() {
-            ["end_header"] => break,
-            ["comment", ..] => {}
-            ["element", "vertex", n] => {
-                n_vertices = Some(
-                    n.parse::<usize>()
-                        .map_err(|_| bad(&format!("line {}: bad count", k + 1)))?,
-                );
-            }
-            ["element", "face", n] => {
-                n_faces = Some(
-                    n.parse::<usize>()
-                        .map_err(|_| bad(&format!("line {}: bad count", k + 1)))?,
-                );
-                in_face = true;
-            }
-            ["property", ..] if in_face => face_props.push(words[words.len() - 1].to_owned()),
-            ["property", ..] => {}
-            _ => return Err(bad(&format!("line {}: unexpected header line", k + 1))),
-        }
-    }
-    let (Some(nv), Some(nf)) = (n_vertices, n_faces) else {
-        return Err(bad("no vertex or face element"));
-    };
-    let want = [
-        "vertex_indices",
-        "red",
-        "green",
-        "blue",
-        "radiosity_red",
-        "radiosity_green",
-        "radiosity_blue",
-    ];
-    if face_props != want {
+    let cap = crate::formats::input_cap(crate::formats::MAX_FILE_BYTES);
+    let bytes = crate::formats::read_capped_to(path, cap, "reference solutions")?;
+    let mesh = crate::formats::ply_scene::read_mesh(path, &bytes)?;
+    let bad = |what: String| anyhow::anyhow!("{}: {what}", path.display());
+    if mesh.faces.iter().any(|f| f.radiosity.is_none()) {
         return Err(bad(
             "faces carry no radiosity_red/green/blue: write the reference with `sceneinfo \
-             refine FILE.obj --ply REF.ply`",
+             refine FILE.obj --ply REF.ply`"
+                .to_owned(),
         ));
     }
-    let mut vertices = Vec::with_capacity(nv.min(1 << 24));
-    for _ in 0..nv {
-        let (k, line) = lines.next().ok_or_else(|| bad("too few vertex lines"))?;
-        let xyz: Vec<f64> = line
-            .split_whitespace()
-            .map(str::parse)
-            .collect::<Result<_, _>>()
-            .map_err(|_| bad(&format!("line {}: bad vertex", k + 1)))?;
-        let [x, y, z] = xyz[..] else {
-            return Err(bad(&format!("line {}: a vertex needs x y z", k + 1)));
-        };
-        vertices.push(DVec3::new(x, y, z));
-    }
-    let mut faces = Vec::with_capacity(nf.min(1 << 24));
-    for _ in 0..nf {
-        let (k, line) = lines.next().ok_or_else(|| bad("too few face lines"))?;
-        let fields: Vec<&str> = line.split_whitespace().collect();
-        let at_line = |what: &str| bad(&format!("line {}: {what}", k + 1));
-        let count: usize = fields
-            .first()
-            .and_then(|c| c.parse().ok())
-            .ok_or_else(|| at_line("bad vertex count"))?;
-        if fields.len() != 1 + count + 6 {
-            return Err(at_line(
-                "a face needs its indices, red green blue and 3 radiosities",
-            ));
-        }
-        let poly = fields[1..=count]
-            .iter()
-            .map(|i| {
-                i.parse::<usize>()
-                    .ok()
-                    .and_then(|i| vertices.get(i).copied())
-            })
-            .collect::<Option<Vec<DVec3>>>()
-            .ok_or_else(|| at_line("bad vertex index"))?;
-        let b: Vec<f64> = fields[count + 4..]
-            .iter()
-            .map(|x| x.parse::<f64>())
-            .collect::<Result<_, _>>()
-            .map_err(|_| at_line("bad radiosity"))?;
+    let mut faces = Vec::with_capacity(mesh.faces.len());
+    for (k, face) in mesh.faces.iter().enumerate() {
+        let mut poly = Vec::new();
+        mesh.polygon(path, k, &mut poly)?;
+        let b = face.radiosity.unwrap_or_default();
         if b.iter().any(|x| !x.is_finite()) {
-            return Err(at_line("radiosity is NaN or infinite"));
+            return Err(bad(format!("PLY face {k}: radiosity is NaN or infinite")));
         }
-        faces.push((poly, [b[0], b[1], b[2]]));
+        faces.push((poly, b));
     }
     Ok(faces)
 }
@@ -398,21 +320,26 @@ fn rms_error(h: &Hierarchy, path: &Path, reference: &Reference) -> Result<f64> {
         .with_context(|| "comparing with the reference solution")
 }
 
-/// The tone map of the pictures: the largest radiosity channel of a non-emitting leaf is
-/// white (emitters are brighter and saturate), or the largest of all if everything emits —
-/// [`ToneMap::for_scene`]'s rule over the leaves, so `refine` and `radiosity` colour a
-/// radiosity alike.
+/// The tone map of the pictures: [`ToneMap::for_scene`] over the leaves (white at the
+/// largest radiosity channel of a non-emitting leaf, or of any leaf if everything emits), so
+/// `refine` and `radiosity` colour a radiosity alike; white at 1 when nothing is lit, so
+/// the picture is black rather than divided by zero.
 fn tone_map(h: &Hierarchy) -> ToneMap {
-    let max = |emitters: bool| {
-        h.leaves()
-            .filter(|e| emitters || e.emission.iter().all(|&x| x == 0.0))
-            .flat_map(|e| e.radiosity)
-            .fold(0.0, f64::max)
-    };
-    let m = max(false);
-    let m = if m > 0.0 { m } else { max(true) };
-    ToneMap {
-        white: if m > 0.0 { m } else { 1.0 },
+    let (radiosity, materials): (Vec<[f64; 3]>, Vec<Material>) = h
+        .leaves()
+        .map(|e| {
+            let material = Material {
+                reflectance: e.rho,
+                emittance: e.emission,
+            };
+            (e.radiosity, material)
+        })
+        .unzip();
+    let tone = ToneMap::for_scene(&radiosity, &materials);
+    if tone.white > 0.0 {
+        tone
+    } else {
+        ToneMap { white: 1.0 }
     }
 }
 

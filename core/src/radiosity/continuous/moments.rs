@@ -37,12 +37,12 @@ use crate::error::{ErrorKind, Result};
 use crate::math::{self, FixedSum};
 use crate::tally::LineMethod;
 
-/// Largest patch count of a [`PairMoments`] tally (84 MB).
+/// Largest patch count of a `PairMoments` tally (84 MB).
 pub const PAIR_MOMENT_LIMIT: usize = 2048;
 
 /// Per-pair moments of the visibility terms of line samples (see the module docs).
 #[derive(Clone, Debug, PartialEq)]
-pub struct PairMoments {
+pub(crate) struct PairMoments {
     n: usize,
     /// Samples per unit: 2 for a global-line segment, 1 for a local line.
     weight: u64,
@@ -133,17 +133,6 @@ impl PairMoments {
         self.samples = self.samples.saturating_add(other.samples);
         self.lines = self.lines.saturating_add(other.lines);
         self.saturated |= other.saturated;
-    }
-
-    /// Whether a term or sum left the fixed-point range (estimates are then unreliable).
-    #[must_use]
-    pub fn saturated(&self) -> bool {
-        self.saturated
-            || self
-                .sum_s
-                .iter()
-                .chain(&self.sum_ss)
-                .any(|&v| v == i128::MAX || v == i128::MIN)
     }
 
     /// The estimates of (5.20) per colour channel for the patch terms `terms`.

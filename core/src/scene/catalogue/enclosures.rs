@@ -11,23 +11,23 @@ use crate::scene::Scene2;
 
 /// Inner radii (relative to the outer radius 1) of the odd vertices of
 /// [`Scene2::star_sequence`], by step.
-pub const STAR_INNER_RADII: [f64; 4] = [1.0, 0.8, 0.6, 0.4];
+pub(crate) const STAR_INNER_RADII: [f64; 4] = [1.0, 0.8, 0.6, 0.4];
 
 /// Apex of the last triangle of [`Scene2::triangle_sequence`] over the base
 /// `(0,0)–(1,0)`; the apex moves to it in a straight line from `(1/2, √3/2)`.
-pub const TRIANGLE_LAST_APEX: (f64, f64) = (1.26, 0.4);
+pub(crate) const TRIANGLE_LAST_APEX: (f64, f64) = (1.26, 0.4);
 
 /// Side of the square cut out of the unit square by [`Scene2::l_room_sequence`], by step.
-pub const L_ROOM_CUTS: [f64; 4] = [0.0, 0.25, 0.5, 0.555];
+pub(crate) const L_ROOM_CUTS: [f64; 4] = [0.0, 0.25, 0.5, 0.555];
 
 /// Largest accepted height of [`Scene2::rectangle_aspect`] (base 1).
-pub const MAX_ASPECT: f64 = 1e6;
+pub(crate) const MAX_ASPECT: f64 = 1e6;
 
 impl Scene2 {
     /// Fig. 4.11: the regular 24-gon (step 0) closing into 12-pointed stars (steps 1–3).
     ///
     /// Geometry: 24 vertices at polar angles `2πk/24`; the even ones on the unit circle, the
-    /// odd ones at radius [`STAR_INNER_RADII`]`[step]` = 1.0, 0.8, 0.6, 0.4. Counter-clockwise
+    /// odd ones at radius `STAR_INNER_RADII``[step]` = 1.0, 0.8, 0.6, 0.4. Counter-clockwise
     /// (facing inwards); every edge (all of equal length) cut into `per_side` patches.
     ///
     /// # Errors
@@ -84,7 +84,7 @@ impl Scene2 {
     /// for its last triangle.
     ///
     /// Geometry: base `(0,0)–(1,0)`, apex moving in a straight line from `(1/2, √3/2)` to
-    /// [`TRIANGLE_LAST_APEX`] = (1.26, 0.4): at step `k` it is `(1/2, √3/2) + (k/3)·(0.76,
+    /// `TRIANGLE_LAST_APEX` = (1.26, 0.4): at step `k` it is `(1/2, √3/2) + (k/3)·(0.76,
     /// 0.4 − √3/2)`, so the angle at `(1,0)` opens from 60° to 123°. The last apex was chosen
     /// so that quadrature of (4.12) gives the thesis' 2.311. Counter-clockwise; the base cut
     /// into `per_side` patches and the other sides proportionally to their length (at
@@ -108,7 +108,7 @@ impl Scene2 {
     /// `I_S^c` 0.788 for the square, 1.218 for (c) and 1.319 for (d).
     ///
     /// Geometry: the unit square `[0,1]²` with the square `[1−c, 1]²` cut out of its top
-    /// right corner, `c` = [`L_ROOM_CUTS`]`[step]` = 0, 0.25, 0.5, 0.555. Step 2, three
+    /// right corner, `c` = `L_ROOM_CUTS``[step]` = 0, 0.25, 0.5, 0.555. Step 2, three
     /// quarters of the square, is the room the interior square of
     /// [`Scene2::square_to_corner`] fuses into; quadrature of (4.12) gives 1.217 for it
     /// (thesis 1.218), and the last cut was chosen to give the thesis' 1.319 (a 0.75 cut
@@ -143,7 +143,7 @@ impl Scene2 {
     /// # Errors
     /// [`ErrorKind::NonFiniteNumber`] for a NaN or infinite `k`; [`ErrorKind::ZeroLengthSegment`]
     /// for `k ≤ 0` (a degenerate rectangle); [`ErrorKind::TooLarge`] for `k` above
-    /// [`MAX_ASPECT`]; [`ErrorKind::PatchCount`] / [`ErrorKind::TooManyPatches`] for a bad
+    /// `MAX_ASPECT`; [`ErrorKind::PatchCount`] / [`ErrorKind::TooManyPatches`] for a bad
     /// `per_side`.
     pub fn rectangle_aspect(k: f64, per_side: u64) -> Result<Self> {
         if !k.is_finite() {

@@ -16,17 +16,17 @@ pub const SINGULARITY_STEPS: usize = 9;
 /// Relative gap left at the last step of the point-contact sequences
 /// ([`Scene2::pentagonal_star`], [`Scene2::rotating_square`]): 0.01% of the enclosure's
 /// circumradius.
-pub const NEAR_TOUCH_GAP: f64 = 1e-4;
+pub(crate) const NEAR_TOUCH_GAP: f64 = 1e-4;
 
 /// Gap between the interior square and the corner walls at the last step of
 /// [`Scene2::square_to_corner`], as a fraction of the room side.
-pub const CORNER_GAP: f64 = 0.016;
+pub(crate) const CORNER_GAP: f64 = 0.016;
 
 /// Scale factors of the three objects of [`Scene2::three_objects`], by step.
-pub const THREE_OBJECTS_SCALES: [f64; 6] = [0.25, 0.4, 0.55, 0.7, 0.85, 1.0];
+pub(crate) const THREE_OBJECTS_SCALES: [f64; 6] = [0.25, 0.4, 0.55, 0.7, 0.85, 1.0];
 
 /// Side of the 16 squares of [`Scene2::sixteen_squares`] (room side 1).
-pub const SIXTEEN_SQUARES_SIDE: f64 = 0.125;
+pub(crate) const SIXTEEN_SQUARES_SIDE: f64 = 0.125;
 
 /// Ratio `r_inner / r_outer` of a regular pentagram's outline: `cos 72° / cos 36° = 1/φ²`.
 const PENTAGRAM_RATIO: f64 = 0.381_966_011_250_105_1;
@@ -79,7 +79,7 @@ impl Scene2 {
     /// [0.52,0.88]` (centre (0.28, 0.70)), the triangle has centroid (0.72, 0.68) and
     /// circumradius 0.2 (apex up), the rectangle is `[0.2,0.8] × [0.16,0.32]` (centre
     /// (0.5, 0.24)). At step `k` each object is scaled about its centre by
-    /// [`THREE_OBJECTS_SCALES`]`[k]` = 0.25, 0.4, 0.55, 0.7, 0.85, 1. Walls cut into
+    /// `THREE_OBJECTS_SCALES``[k]` = 0.25, 0.4, 0.55, 0.7, 0.85, 1. Walls cut into
     /// `per_side` patches, object sides proportionally to length (at least 1).
     ///
     /// # Errors
@@ -118,7 +118,7 @@ impl Scene2 {
     /// square room to its walls over 9 steps; the thesis finds `I_S^c` largest at the two
     /// ends and smallest in the middle.
     ///
-    /// Geometry: room `[0,1]²`; squares of side `s` = [`SIXTEEN_SQUARES_SIDE`] = 1/8 centred
+    /// Geometry: room `[0,1]²`; squares of side `s` = `SIXTEEN_SQUARES_SIDE` = 1/8 centred
     /// at `0.5 + (i − 1.5) p` (`i = 0..4` in x and y). The pitch `p` grows linearly with the
     /// step from `1.01 s` (neighbouring squares 1% of `s` apart, step 0) to
     /// `(0.5 − 0.51 s)/1.5` (outer squares 1% of `s` from the walls, step 8). Walls cut into
@@ -264,7 +264,7 @@ impl Scene2 {
     /// fusion with 1.218 after.
     ///
     /// Geometry: room `[0,1]²`; interior square of side 1/2 with its lower-left corner at
-    /// `(c, c)`, `c = 0.25 + (0.25 − g)·step/8` with `g` = [`CORNER_GAP`] = 0.016: centred at
+    /// `(c, c)`, `c = 0.25 + (0.25 − g)·step/8` with `g` = `CORNER_GAP` = 0.016: centred at
     /// step 0, 1.6% of the room side from the top and right walls at step 8. Unlike the
     /// point contacts of the star and the rotating square, this gap is a narrow channel whose
     /// `I_S^c` grows without bound as it closes; 0.016 makes quadrature of (4.12) give the

@@ -12,7 +12,7 @@ use crate::scene::{Material, Scene3, Scene3Builder, Subdivision};
 
 /// The room of [`Scene3::cornell_box`]: `[0, 556] × [0, 548.8] × [0, 559.2]` (x, y up, z
 /// depth; millimetres).
-pub const CORNELL_ROOM: [f64; 3] = [556.0, 548.8, 559.2];
+pub(crate) const CORNELL_ROOM: [f64; 3] = [556.0, 548.8, 559.2];
 
 /// Gap between the floor and the blocks of `Scene3::cornell_box(true, _)`, as a fraction of
 /// the room height: 0.2%, 1.0976 mm.
@@ -20,28 +20,28 @@ pub const CORNELL_ROOM: [f64; 3] = [556.0, 548.8, 559.2];
 /// Chosen so that the lifted box's `I_S^c` matches the thesis' 3.274 (Table 4.1; 3.273 in
 /// Table 4.6): 10⁶ global lines give 3.263 ± 0.005 here, against 3.30 for a 0.15% lift,
 /// 3.12 for 0.5% and 3.02 for 1%; the blocks standing on the floor give 2.55.
-pub const CORNELL_BLOCK_LIFT: f64 = 0.002;
+pub(crate) const CORNELL_BLOCK_LIFT: f64 = 0.002;
 
 /// The floor, ceiling, back wall and blocks: ρ = 0.73 in every channel.
-pub const CORNELL_WHITE: Material = Material {
+pub(crate) const CORNELL_WHITE: Material = Material {
     reflectance: [0.73; 3],
     emittance: [0.0; 3],
 };
 
 /// The left wall (x = 556): ρ = (0.65, 0.05, 0.05).
-pub const CORNELL_RED: Material = Material {
+pub(crate) const CORNELL_RED: Material = Material {
     reflectance: [0.65, 0.05, 0.05],
     emittance: [0.0; 3],
 };
 
 /// The right wall (x = 0): ρ = (0.12, 0.45, 0.15).
-pub const CORNELL_GREEN: Material = Material {
+pub(crate) const CORNELL_GREEN: Material = Material {
     reflectance: [0.12, 0.45, 0.15],
     emittance: [0.0; 3],
 };
 
 /// The light: E = 15 and ρ = 0.78 in every channel.
-pub const CORNELL_LIGHT: Material = Material {
+pub(crate) const CORNELL_LIGHT: Material = Material {
     reflectance: [0.78; 3],
     emittance: [15.0; 3],
 };
@@ -92,7 +92,7 @@ impl Scene3 {
     ///
     /// - `lifted = false`: the blocks stand on the floor, without bottoms; the floor is cut
     ///   around their footprints, so room and blocks form one closed surface.
-    /// - `lifted = true`: both blocks are raised by [`CORNELL_BLOCK_LIFT`] = 0.2% of the
+    /// - `lifted = true`: both blocks are raised by `CORNELL_BLOCK_LIFT` = 0.2% of the
     ///   room height (1.0976 mm, which gives the thesis' `I_S^c`) and closed by bottoms;
     ///   the floor is whole (the thesis' version: "prism and cube are slightly separated
     ///   from the floor", footnote of Table 4.1).
@@ -107,14 +107,14 @@ impl Scene3 {
     /// sides, plus their tops and bottoms when lifted (standing, the tops stand in for the
     /// floor under the blocks).
     ///
-    /// Materials: [`CORNELL_WHITE`] (floor, ceiling, back wall, blocks), [`CORNELL_RED`] (left,
-    /// x = 556), [`CORNELL_GREEN`] (right, x = 0), [`CORNELL_LIGHT`], black front wall. The
+    /// Materials: `CORNELL_WHITE` (floor, ceiling, back wall, blocks), `CORNELL_RED` (left,
+    /// x = 556), `CORNELL_GREEN` (right, x = 0), `CORNELL_LIGHT`, black front wall. The
     /// reflectances are the usual RGB stand-ins for the measured spectra. Objects:
-    /// [`ENCLOSURE`] (walls, floor, ceiling), `light`, `short-block`, `tall-block`.
+    /// `ENCLOSURE` (walls, floor, ceiling), `light`, `short-block`, `tall-block`.
     ///
     /// # Errors
     /// [`crate::ErrorKind::BadSubdivision`] for `grid = 0` or above
-    /// [`crate::scene::MAX_GRID`]; [`crate::ErrorKind::TooManyPatches`] when the patches
+    /// `MAX_GRID`; [`crate::ErrorKind::TooManyPatches`] when the patches
     /// exceed the cap.
     pub fn cornell_box(lifted: bool, grid: u32) -> Result<Scene3> {
         Subdivision::Grid(grid).validate()?;
@@ -159,7 +159,7 @@ impl Scene3 {
     ///   3    (65, 69.5]         1924      Fig. 5.2I.c, Fig. 4.4d
     /// ```
     ///
-    /// [`CORNELL_THESIS_EDGE`]`[level]` picks a value inside each window. The printed counts pin
+    /// `CORNELL_THESIS_EDGE``[level]` picks a value inside each window. The printed counts pin
     /// the rule down: 121 = 6 walls × 16 + 4 tall-block sides × 4 + 9 unsplit polygons; 481
     /// = 6 × 64 + 4 × 16 + 10 × 4 + the light unsplit (its 130 mm edge is the only one
     /// between 130 and 139); 1924 = 4 × 481, every polygon one level finer. No other
@@ -168,15 +168,15 @@ impl Scene3 {
     /// rule (196 splits the light but not the 330 mm block sides as this one would).
     ///
     /// The polygon count (19) means the thesis' ceiling is whole, the light a polygon of its
-    /// own over it: here the light hangs [`CORNELL_THESIS_LIGHT_GAP`] = 0.1 mm below the ceiling
+    /// own over it: here the light hangs `CORNELL_THESIS_LIGHT_GAP` = 0.1 mm below the ceiling
     /// (coincident surfaces are refused), like the published data's 548.7 mm light of some
     /// renditions. The part of the ceiling above the light then sees only the light's back:
     /// the lines it sends there are lost, so the scene has a (black) background state of
-    /// that size. Blocks lifted by [`CORNELL_BLOCK_LIFT`] with bottoms, walls, materials and
+    /// that size. Blocks lifted by `CORNELL_BLOCK_LIFT` with bottoms, walls, materials and
     /// objects as [`Scene3::cornell_box`].
     ///
     /// # Errors
-    /// [`crate::ErrorKind::BadSubdivision`] for a `level` past [`CORNELL_THESIS_EDGE`].
+    /// [`crate::ErrorKind::BadSubdivision`] for a `level` past `CORNELL_THESIS_EDGE`.
     pub fn cornell_box_thesis(level: u32) -> Result<Scene3> {
         let max_edge = CORNELL_THESIS_EDGE.get(level as usize).copied().ok_or(
             crate::ErrorKind::BadSubdivision {
@@ -211,10 +211,10 @@ impl Scene3 {
 /// every polygon whole, levels 1–3 sit inside the windows that give the thesis' 121, 481
 /// and 1924 patches, level 4 halves level 3 (7696 patches; the thesis' 7744-patch Fig. 5.5a
 /// is not this rule).
-pub const CORNELL_THESIS_EDGE: [f64; 5] = [f64::INFINITY, 270.0, 135.0, 67.5, 33.75];
+pub(crate) const CORNELL_THESIS_EDGE: [f64; 5] = [f64::INFINITY, 270.0, 135.0, 67.5, 33.75];
 
 /// How far the light of [`Scene3::cornell_box_thesis`] hangs below the ceiling: 0.1 mm.
-pub const CORNELL_THESIS_LIGHT_GAP: f64 = 0.1;
+pub(crate) const CORNELL_THESIS_LIGHT_GAP: f64 = 0.1;
 
 /// The blocks of the Cornell box, by object name.
 const BLOCKS: [(&str, Block); 2] = [("short-block", SHORT_BLOCK), ("tall-block", TALL_BLOCK)];

@@ -18,34 +18,34 @@ use crate::scene::{Scene3, Subdivision};
 /// reproduces the positional entropy `H_P = H_S + I_S` of every scene of Tables 3.1 and 3.3:
 /// 9.450 for 27 cubes (thesis 9.449–9.450), 9.719 (9.718) for 64 and 11.541 (11.540–11.541)
 /// for 512, where a side of 0.045 or 0.055 would miss by 0.02 to 0.11 bits.
-pub const CUBE_ROOM_SIDE: f64 = 0.05;
+pub(crate) const CUBE_ROOM_SIDE: f64 = 0.05;
 
 /// Cells a side on each face of the room of [`Scene3::cube_room_with_cubes`] (600 patches,
 /// the empty room of Fig. 3.5a that Table 3.3 starts from).
-pub const CUBE_ROOM_GRID: u32 = 10;
+pub(crate) const CUBE_ROOM_GRID: u32 = 10;
 
 /// Gap between neighbouring cubes of a clustered block of [`Scene3::cube_room_with_cubes`]
 /// (half a cube side).
-pub const CUBE_ROOM_SPACING: f64 = 0.025;
+pub(crate) const CUBE_ROOM_SPACING: f64 = 0.025;
 
 /// Smallest gap between two cubes, or a cube and a wall, in a random placement of
 /// [`Scene3::cube_room_with_cubes`] (a tenth of a cube side). With it the 512 random cubes
 /// of the preset seed give `I_S^c` = 5.61 ± 0.01 (global lines), the thesis 5.632 (Table
 /// 4.4); without a gap 5.71, with a gap of 0.025 5.36.
-pub const CUBE_ROOM_MIN_GAP: f64 = 0.005;
+pub(crate) const CUBE_ROOM_MIN_GAP: f64 = 0.005;
 
 /// Largest `m` of [`Scene3::cube_room_with_cubes`] (`8³ = 512` cubes, the thesis' most).
-pub const MAX_CUBES_PER_SIDE: u32 = 8;
+pub(crate) const MAX_CUBES_PER_SIDE: u32 = 8;
 
 /// The seed [`super::preset_3d`] passes to [`Scene3::cube_room_with_cubes`].
-pub const PRESET_SEED: u64 = 2002;
+pub(crate) const PRESET_SEED: u64 = 2002;
 
 /// Side of the 64 cubes of [`Scene3::sixty_four_cubes`] (room side 1).
-pub const SIXTY_FOUR_CUBES_SIDE: f64 = 0.125;
+pub(crate) const SIXTY_FOUR_CUBES_SIDE: f64 = 0.125;
 
 /// Gaps at the two ends of [`Scene3::sixty_four_cubes`], as fractions of the cube side:
 /// between neighbours at step 0, between the outer cubes and the walls at step 8.
-pub const SIXTY_FOUR_CUBES_GAPS: [f64; 2] = [0.1, 0.125];
+pub(crate) const SIXTY_FOUR_CUBES_GAPS: [f64; 2] = [0.1, 0.125];
 
 /// Number of steps of [`Scene3::sixty_four_cubes`] (0 = Figs. 4.5a/4.6a, 8 = Figs. 4.5f/4.6f).
 pub const SIXTY_FOUR_CUBES_STEPS: usize = 9;
@@ -58,25 +58,25 @@ impl Scene3 {
     /// small axis-aligned cubes (27, 64, 512 for `m` = 3, 4, 8), scattered at random or
     /// clustered in a block.
     ///
-    /// Geometry: room faces cut into [`CUBE_ROOM_GRID`]² = 10 × 10 patches (600), facing
-    /// inwards; cubes of side [`CUBE_ROOM_SIDE`] = 0.05, one patch per face, facing outwards:
+    /// Geometry: room faces cut into `CUBE_ROOM_GRID`² = 10 × 10 patches (600), facing
+    /// inwards; cubes of side `CUBE_ROOM_SIDE` = 0.05, one patch per face, facing outwards:
     /// `600 + 6m³` patches (762, 984, 3672), total area `6 + 0.015 m³`. The side is the one
     /// that gives the thesis' `H_P` (9.449, 9.718, 11.541: the patches are not all of one
     /// area, so `H_P < log₂ n_p`).
     ///
     /// - `clustered`: an `m × m × m` block centred in the room, neighbours
-    ///   [`CUBE_ROOM_SPACING`] = 0.025 apart (Figs. 3.7b, 3.8b, 3.3c).
+    ///   `CUBE_ROOM_SPACING` = 0.025 apart (Figs. 3.7b, 3.8b, 3.3c).
     /// - random: centres drawn one by one, uniform on `[0.03, 0.97]³` (so at least
-    ///   [`CUBE_ROOM_MIN_GAP`] = 0.005 from the walls) from `chunk_rng(seed, 0)`, a draw
+    ///   `CUBE_ROOM_MIN_GAP` = 0.005 from the walls) from `chunk_rng(seed, 0)`, a draw
     ///   rejected when its cube would come closer than 0.005 to one already placed (Figs.
     ///   3.7a, 3.8a, 3.3a). Deterministic in `seed`.
     ///
-    /// `m = 0` gives the empty room of Fig. 3.5a. Objects: [`ENCLOSURE`]
-    /// ([`super::ENCLOSURE_MATERIAL`]), then `cube-0`, `cube-1`, …
-    /// ([`super::OBJECT_MATERIAL`]).
+    /// `m = 0` gives the empty room of Fig. 3.5a. Objects: `ENCLOSURE`
+    /// (`super::ENCLOSURE_MATERIAL`), then `cube-0`, `cube-1`, …
+    /// (`super::OBJECT_MATERIAL`).
     ///
     /// # Errors
-    /// [`ErrorKind::TooLarge`] for `m >` [`MAX_CUBES_PER_SIDE`]; [`ErrorKind::NoConvergence`]
+    /// [`ErrorKind::TooLarge`] for `m >` `MAX_CUBES_PER_SIDE`; [`ErrorKind::NoConvergence`]
     /// if a random cube finds no free place in 100 000 draws (not seen for `m ≤ 8`).
     pub fn cube_room_with_cubes(m: u32, clustered: bool, seed: u64) -> Result<Scene3> {
         check_step(
@@ -122,12 +122,12 @@ impl Scene3 {
     /// room, grouped at the centre almost touching each other (step 0) and moving outwards
     /// until they almost touch the walls (step 8).
     ///
-    /// Geometry: cubes of side `s` = [`SIXTY_FOUR_CUBES_SIDE`] = 1/8 centred at
+    /// Geometry: cubes of side `s` = `SIXTY_FOUR_CUBES_SIDE` = 1/8 centred at
     /// `0.5 + (i − 1.5) p` (`i = 0..4` on each axis). The pitch `p` grows linearly with the
     /// step from `1.1 s` (neighbours `s/10` apart) to `(0.5 − 0.625 s)/1.5` (outer cubes
     /// `s/8` from the walls), as
     /// [`Scene2::sixteen_squares`](crate::scene::Scene2::sixteen_squares) does in
-    /// flatland. The end gaps ([`SIXTY_FOUR_CUBES_GAPS`]) were chosen to give the thesis'
+    /// flatland. The end gaps (`SIXTY_FOUR_CUBES_GAPS`) were chosen to give the thesis'
     /// `I_S^c` at its extreme scenes a and f (Table 4.7), which steps 0 and 8 are; the steps
     /// between sample the same motion more finely than its b–e. Global lines (10⁵–2·10⁵)
     /// give, for steps 0–8:
@@ -144,8 +144,8 @@ impl Scene3 {
     /// - `fine = true` (Fig. 4.6, walls finer): walls 16 × 16 (1536), one patch per cube
     ///   face (384).
     ///
-    /// Objects: [`ENCLOSURE`] ([`super::ENCLOSURE_MATERIAL`]), `cube-0` … `cube-63`
-    /// ([`super::OBJECT_MATERIAL`]).
+    /// Objects: `ENCLOSURE` (`super::ENCLOSURE_MATERIAL`), `cube-0` … `cube-63`
+    /// (`super::OBJECT_MATERIAL`).
     ///
     /// # Errors
     /// [`ErrorKind::TooLarge`] for `step > 8`.

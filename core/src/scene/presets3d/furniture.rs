@@ -12,11 +12,11 @@ use crate::geom::{DVec2, DVec3};
 use crate::scene::{Scene3, Scene3Builder, Subdivision};
 
 /// The room of [`Scene3::table_and_chairs_room`]: `[0, 10] × [0, 10] × [0, 3]` (metres, z up).
-pub const TABLE_ROOM: [f64; 3] = [10.0, 10.0, 3.0];
+pub(crate) const TABLE_ROOM: [f64; 3] = [10.0, 10.0, 3.0];
 
 /// Gap left between furniture parts that would touch (legs and the floor, legs and the
 /// table top or seat, a chair back and its seat): 5 mm.
-pub const FURNITURE_GAP: f64 = 0.005;
+pub(crate) const FURNITURE_GAP: f64 = 0.005;
 
 /// Side of the room's square cells (each cell a face and a patch).
 const ROOM_CELL: f64 = 0.5;
@@ -121,7 +121,7 @@ impl Scene3 {
     /// Fig. 4.2 (Table 4.2): a room with sets of one table and four chairs, arranged as
     /// panel `arrangement` of the figure (`'a'` to `'f'`).
     ///
-    /// Geometry (metres, z up): room [`TABLE_ROOM`] `= [0,10] × [0,10] × [0,3]`, facing
+    /// Geometry (metres, z up): room `TABLE_ROOM` `= [0,10] × [0,10] × [0,3]`, facing
     /// inwards, every wall cut into 0.5 m square cells (each its own face and patch: 400 on
     /// the floor, 400 on the ceiling, 120 on each wall, 1280 in all). A set, centred at
     /// `(x, y)`:
@@ -135,7 +135,7 @@ impl Scene3 {
     /// chairs        the +x chair turned by 0, 90, 180, 270° about the set's vertical axis
     /// ```
     ///
-    /// with `g` = [`FURNITURE_GAP`] = 5 mm: parts that would touch are kept apart so that
+    /// with `g` = `FURNITURE_GAP` = 5 mm: parts that would touch are kept apart so that
     /// each is a closed box of its own facing outwards (29 boxes, 174 patches, a footprint
     /// of 1.7 × 1.7 m per set). Arrangements of the set centres:
     ///
@@ -161,9 +161,9 @@ impl Scene3 {
     ///
     /// Complexity grows with the number of sets, and c–f are alike, those with sets near the
     /// walls a little above c. Patches: 1454 (a),
-    /// 1976 (b), 4064 (c–f). Objects: [`ENCLOSURE`] ([`super::ENCLOSURE_MATERIAL`]) and one
+    /// 1976 (b), 4064 (c–f). Objects: `ENCLOSURE` (`super::ENCLOSURE_MATERIAL`) and one
     /// per box, named `set-<n>/table/top`, `set-<n>/chair-<c>/leg-<k>`, …
-    /// ([`super::OBJECT_MATERIAL`]).
+    /// (`super::OBJECT_MATERIAL`).
     ///
     /// # Errors
     /// [`ErrorKind::UnknownPreset`] for a letter other than `'a'`–`'f'`.

@@ -13,7 +13,7 @@ use crate::math;
 use crate::scene::{Material, Scene3, Subdivision};
 
 /// Largest level of [`Scene3::sphere`] (`20 · 4⁶ = 81 920` triangles).
-pub const MAX_SPHERE_LEVEL: u32 = 6;
+pub(crate) const MAX_SPHERE_LEVEL: u32 = 6;
 
 /// The golden ratio φ = (1 + √5)/2.
 fn phi() -> f64 {
@@ -165,10 +165,10 @@ impl Scene3 {
     /// each face cut into `grid × grid` equal squares: `6 · grid²` patches (600, 2400, 5400
     /// at the thesis' grids 10, 20, 30), total area 6, all of one area so `H_P = log₂ n_p`.
     ///
-    /// One object, [`ENCLOSURE`], material [`ENCLOSURE_MATERIAL`], every face facing the centre.
+    /// One object, `ENCLOSURE`, material `ENCLOSURE_MATERIAL`, every face facing the centre.
     ///
     /// # Errors
-    /// [`ErrorKind::BadSubdivision`] for `grid = 0` or above [`crate::scene::MAX_GRID`];
+    /// [`ErrorKind::BadSubdivision`] for `grid = 0` or above `MAX_GRID`;
     /// [`ErrorKind::TooManyPatches`] when `6 · grid²` exceeds the cap.
     pub fn cube(grid: u32) -> Result<Scene3> {
         let s = Subdivision::Grid(grid);
@@ -188,7 +188,7 @@ impl Scene3 {
     /// `(±1,±1,±1)`; octahedron `±e_x, ±e_y, ±e_z`; icosahedron `(0, ±1, ±φ)` and its
     /// cyclic permutations; dodecahedron `(±1,±1,±1)` and `(0, ±1/φ, ±φ)` with its cyclic
     /// permutations (φ the golden ratio), each scaled to unit length. Faces are the convex
-    /// hull's. One object, [`ENCLOSURE`], material [`ENCLOSURE_MATERIAL`]. (The unit cube of
+    /// hull's. One object, `ENCLOSURE`, material `ENCLOSURE_MATERIAL`. (The unit cube of
     /// [`Scene3::cube`] is the same scene up to scale, which no visibility measure sees.)
     ///
     /// Global lines (10⁵) give `I_S^c` = 2.61, 1.62, 1.24, 0.81, 0.56 for the tetrahedron,
@@ -249,11 +249,11 @@ impl Scene3 {
     /// The thesis' meshes (4, 151, 793 patches) were irregular; these are the regular ones of
     /// comparable size. Materials, in face order: red ρ = (0.8, 0.1, 0), green (0.1, 0.8, 0),
     /// yellow (0.8, 0.8, 0) and a light with E = (1, 1, 1), ρ = (0.5, 0.5, 0.5): as in Table
-    /// 5.3, one face only has a blue component. One object, [`ENCLOSURE`].
+    /// 5.3, one face only has a blue component. One object, `ENCLOSURE`.
     ///
     /// # Errors
     /// [`ErrorKind::BadSubdivision`] for `level` above
-    /// [`crate::scene::MAX_TRIANGLE_LEVEL`]; [`ErrorKind::TooManyPatches`] when `4^(level+1)`
+    /// `MAX_TRIANGLE_LEVEL`; [`ErrorKind::TooManyPatches`] when `4^(level+1)`
     /// exceeds the cap.
     pub fn tetrahedron_mesh(level: u32) -> Result<Scene3> {
         let s = Subdivision::Triangles(level);
@@ -276,11 +276,11 @@ impl Scene3 {
     ///
     /// Each level splits every triangle into four at its edge midpoints, pushed out to the
     /// unit sphere (a midpoint is computed from the same two vertices by both triangles of an
-    /// edge, so the mesh stays watertight). One object, [`ENCLOSURE`], material
-    /// [`ENCLOSURE_MATERIAL`].
+    /// edge, so the mesh stays watertight). One object, `ENCLOSURE`, material
+    /// `ENCLOSURE_MATERIAL`.
     ///
     /// # Errors
-    /// [`ErrorKind::TooLarge`] for `level >` [`MAX_SPHERE_LEVEL`].
+    /// [`ErrorKind::TooLarge`] for `level >` `MAX_SPHERE_LEVEL`.
     pub fn sphere(level: u32) -> Result<Scene3> {
         check_step(
             "sphere level",

@@ -1,7 +1,8 @@
 use super::*;
+use super::{cornell::*, cubes::*, furniture::*, solids::*};
 use crate::geom::DVec3;
 use crate::math;
-use crate::scene::{MAX_GRID, MAX_TRIANGLE_LEVEL};
+use crate::scene::scene3::{MAX_GRID, MAX_TRIANGLE_LEVEL};
 use std::collections::BTreeMap;
 use std::vec;
 use std::vec::Vec;

@@ -50,10 +50,10 @@ use crate::scene::{LoadReport, LoadWarningKind};
 
 /// Largest distance of a vertex from a face's Newell plane, relative to its size, for the
 /// face to be flattened rather than triangulated (module docs).
-pub const DRAWN_PLANARITY_TOLERANCE: f64 = 1e-3;
+pub(crate) const DRAWN_PLANARITY_TOLERANCE: f64 = 1e-3;
 
 /// Longest edge, relative to a face's size, whose end repeats its start (module docs).
-pub const REPEATED_VERTEX_TOLERANCE: f64 = 1e-12;
+pub(crate) const REPEATED_VERTEX_TOLERANCE: f64 = 1e-12;
 
 /// What [`Scene3Builder::add_triangles`] needs of the face its triangles come from.
 #[derive(Clone, Copy)]

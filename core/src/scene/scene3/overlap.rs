@@ -43,7 +43,7 @@ use crate::scene::coincident::{coincident_face_pairs, face_tolerance};
 use crate::scene::{LoadReport, LoadWarningKind};
 
 /// Most convex pieces one face may be cut into by the faces it overlaps.
-pub const MAX_CLIP_PIECES: usize = 4096;
+pub(crate) const MAX_CLIP_PIECES: usize = 4096;
 
 /// What happens to a face coincident with earlier ones.
 enum Fate {

@@ -187,7 +187,7 @@ fn bad_numbers_and_counts_stay_errors() {
         kind(b.face_as_drawn(&tri(0.), Subdivision::Grid(0), &mut r, None)),
         ErrorKind::BadSubdivision {
             given: 0,
-            max: u64::from(crate::scene::MAX_GRID)
+            max: u64::from(crate::scene::scene3::MAX_GRID)
         }
     );
     assert_eq!(b.face_count(), 0);
