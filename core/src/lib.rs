@@ -53,6 +53,9 @@
 
 #![no_std]
 #![forbid(unsafe_code)]
+// Without `alloc` only the allocation-free part is built; the crate-private helpers it shares
+// with the allocating modules (samplers, naive tracers, tallies) are then unused.
+#![cfg_attr(not(feature = "alloc"), allow(dead_code, unused_imports))]
 #![cfg_attr(docsrs, feature(doc_cfg))]
 
 #[cfg(feature = "alloc")]
