@@ -7,9 +7,9 @@ use sceneinfo::ErrorKind;
 use sceneinfo::channel::Measures;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::io::parse_flat;
-use sceneinfo::report::SceneReport;
 use sceneinfo::tally::LineTracer;
 use sceneinfo::trace::estimate_2d::{LineMethod, Tracer2};
+use sceneinfo_report::SceneReport;
 
 /// The identities' relative tolerance asked for by the issue.
 const RELATIVE: f64 = 1e-12;
@@ -143,7 +143,7 @@ fn lost_precision_is_an_error_that_says_why() {
     match *err.kind() {
         ErrorKind::PrecisionLoss { range, sum, .. } => {
             assert!(range > exact_2d::RESOLVED_RANGE, "{err}");
-            assert!(sum > 1.0 + sceneinfo::report::CHECK_TOLERANCE, "{err}");
+            assert!(sum > 1.0 + sceneinfo_report::CHECK_TOLERANCE, "{err}");
         }
         _ => panic!("{err}"),
     }

@@ -78,11 +78,9 @@ pub mod lines;
 pub mod math;
 pub mod radiosity;
 pub mod refine;
-pub mod report;
 pub mod scene;
 #[cfg(feature = "alloc")]
 pub mod tally;
-pub mod thesis;
 #[cfg(feature = "alloc")]
 pub mod trace;
 #[cfg(feature = "alloc")]

@@ -76,7 +76,6 @@
 mod channel;
 mod exact;
 pub mod raster;
-mod report;
 mod sphere;
 #[cfg(test)]
 mod tests;
@@ -87,5 +86,4 @@ pub use channel::{
 };
 pub use exact::convex_orthographic_areas;
 pub use raster::{IdRaster, MAX_RESOLUTION, Projection, ViewTotals, bounding_sphere};
-pub use report::{ViewpointReport, viewpoints_obj_json};
 pub use sphere::{MAX_VIEW_LEVEL, ViewSphere};

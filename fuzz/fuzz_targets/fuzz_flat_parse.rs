@@ -6,7 +6,7 @@
 //! - `sceneinfo::io::parse_flat` returns (`Ok` or a typed error with a non-empty message);
 //!   it never panics;
 //! - if it returns a scene of at most `MAX_MEASURED_PATCHES` (64) patches,
-//!   `sceneinfo::report::measure_flat_json` returns as well, and on success its JSON is an
+//!   `sceneinfo_report::measure_flat_json` returns as well, and on success its JSON is an
 //!   object holding every key of `REQUIRED_KEYS` (`n_patches`, `h_p`, `h_s`, `h_j`, `i_s`,
 //!   `h_s_norm`, `i_s_norm`, `e_mse`, `fano`), `n_patches` equals the parsed scene's
 //!   patch count, and every number in it is finite: no `NaN`, `inf` or `null` leaves the

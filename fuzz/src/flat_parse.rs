@@ -53,7 +53,7 @@ impl fmt::Debug for FlatCase<'_> {
         writeln!(f, "    let scene = sceneinfo::io::parse_flat(text);")?;
         write!(
             f,
-            "    let json = sceneinfo::report::measure_flat_json(text);"
+            "    let json = sceneinfo_report::measure_flat_json(text);"
         )
     }
 }
@@ -89,7 +89,7 @@ pub fn check(data: &[u8]) -> Outcome {
     }
 
     // Measure the small scenes; the JSON must be complete and finite
-    let json = match sceneinfo::report::measure_flat_json(text) {
+    let json = match sceneinfo_report::measure_flat_json(text) {
         Ok(json) => json,
         Err(err) => {
             let message = err.to_string();

@@ -25,7 +25,7 @@ pub const LINES: u64 = 3000;
 /// `CHECK_TOLERANCE`. Exact flatland form factors are computed once per unordered pair
 /// and mirrored by reciprocity, and an open scene gets a background state, so both hold
 /// to rounding.
-pub const EXACT_TOLERANCE: f64 = sceneinfo::report::CHECK_TOLERANCE;
+pub const EXACT_TOLERANCE: f64 = sceneinfo_report::CHECK_TOLERANCE;
 
 /// One fuzz case; its `Debug` output is a Rust reproducer.
 pub struct FlatPipelineCase<'a>(pub &'a str);

@@ -39,7 +39,7 @@ pub fn refused(err: &sceneinfo::Error, case: &dyn core::fmt::Debug) -> Outcome {
 pub const IDENTITY_ROUNDING: f64 = 1e-12;
 
 /// Row-sum and stationarity tolerance under which the identities are asserted: the
-/// channel's own check tolerance (`sceneinfo::report::CHECK_TOLERANCE`).
+/// channel's own check tolerance (`sceneinfo_report::CHECK_TOLERANCE`).
 pub const CHECKED: f64 = 1e-9;
 
 /// Checks the measures of `channel`: finite, non-negative where they must be, and, when

@@ -16,9 +16,9 @@ use sceneinfo::formfactor::exact_3d;
 use sceneinfo::formfactor::{FormFactors, exact_2d};
 use sceneinfo::geom::{DVec2, DVec3};
 use sceneinfo::io::{parse_flat, write_flat};
-use sceneinfo::report::SceneReport;
 use sceneinfo::scene::{SAFE_EXTENT_EXPONENT, Scene2, Scene3};
 use sceneinfo::trace::{estimate_2d, estimate_3d};
+use sceneinfo_report::SceneReport;
 
 use super::scenes::room_with_segments;
 use super::solids::{Solid, convex_enclosure, random_box};

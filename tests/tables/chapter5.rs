@@ -15,9 +15,9 @@ use sceneinfo::radiosity::walk::{WalkTransitions, gather};
 use sceneinfo::radiosity::{RadiosityMeasures, SolveOptions, Solver};
 use sceneinfo::scene::{Material, Scene3, catalogue_scene};
 use sceneinfo::tally::{LineMethod, LineTracer};
-use sceneinfo::thesis::{TABLE_5_3, TABLE_5_4};
 use sceneinfo::trace::estimate_2d::Tracer2;
 use sceneinfo::trace::estimate_3d::Tracer3;
+use sceneinfo_report::thesis::{TABLE_5_3, TABLE_5_4};
 
 fn opts() -> SolveOptions {
     SolveOptions {

@@ -8,7 +8,7 @@
 
 use sceneinfo::continuous::closed_form;
 use sceneinfo::scene::Scene2;
-use sceneinfo::thesis::{
+use sceneinfo_report::thesis::{
     POLYGON_SIDES, TABLE_3_5_I_S, TABLE_4_10_I_S_CONTINUOUS, TABLE_4_11, TABLE_ROUNDING,
 };
 use sceneinfo_tests::continuous_estimate;
@@ -110,7 +110,7 @@ fn table_4_10_continuous_column() {
         );
         // Exact I_S with 50 patches per side (Table 3.5's last column, unrounded).
         let fine = Scene2::regular_polygon(sides, 50).unwrap();
-        let i_s_50 = sceneinfo::report::measure_flat(&fine).unwrap().measures.i_s;
+        let i_s_50 = sceneinfo_report::measure_flat(&fine).unwrap().measures.i_s;
         assert!((i_s_50 - TABLE_3_5_I_S[r][2]).abs() < 0.0006);
         assert!(
             i_s_50 < value - 3.0 * stderr,
@@ -124,7 +124,7 @@ fn table_4_10_continuous_column() {
 #[test]
 fn table_4_12_rotating_square_and_pentagonal_star() {
     use sceneinfo::scene::SINGULARITY_STEPS;
-    use sceneinfo::thesis::TABLE_4_12;
+    use sceneinfo_report::thesis::TABLE_4_12;
     let last = SINGULARITY_STEPS - 1;
     let cases = [
         (

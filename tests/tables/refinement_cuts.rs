@@ -6,7 +6,7 @@
 use sceneinfo::refine::cuts::{
     CutDirection, maximise, mse_optimal_cut, radiosity_gradient_gain, square_cut_gain,
 };
-use sceneinfo::thesis::{SECTION_6_1_BEST_PARALLEL_CUT, SECTION_6_1_GRADIENT_CUTS};
+use sceneinfo_report::thesis::{SECTION_6_1_BEST_PARALLEL_CUT, SECTION_6_1_GRADIENT_CUTS};
 
 const PRINTED: f64 = 0.005 + 1e-6;
 

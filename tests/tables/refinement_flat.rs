@@ -17,7 +17,7 @@ use sceneinfo::refine::profile::InformationProfile;
 use sceneinfo::refine::refiner2::{OracleChoice2, Refiner2, StepReport};
 use sceneinfo::refine::symmetric::{best_mirrored_cuts, polygon_with_mirrored_cuts};
 use sceneinfo::scene::{Scene2, catalogue_scene};
-use sceneinfo::thesis::{FIGURE_6_12_BEST_CUT, TABLE_6_1, TABLE_6_2, TABLE_ROUNDING};
+use sceneinfo_report::thesis::{FIGURE_6_12_BEST_CUT, TABLE_6_1, TABLE_6_2, TABLE_ROUNDING};
 
 const LINES: u64 = 1_000_000;
 const SEED: u64 = 2002;

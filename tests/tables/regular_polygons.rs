@@ -5,7 +5,7 @@
 //! rounding noise; the tolerance is 0.001, and we assert the tighter 0.0006.
 
 use sceneinfo::scene::Scene2;
-use sceneinfo::thesis::{POLYGON_PER_SIDE, POLYGON_SIDES, TABLE_3_4_H_S, TABLE_3_5_I_S};
+use sceneinfo_report::thesis::{POLYGON_PER_SIDE, POLYGON_SIDES, TABLE_3_4_H_S, TABLE_3_5_I_S};
 use sceneinfo_tests::max_deviation;
 
 /// Exact rounding of a 3-decimal table plus 1e-4 slack for the thesis' own arithmetic.
@@ -19,7 +19,7 @@ fn recompute() -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
         let mut ir = [0.0; 3];
         for (c, &k) in POLYGON_PER_SIDE.iter().enumerate() {
             let scene = Scene2::regular_polygon(sides, k).unwrap();
-            let report = sceneinfo::report::measure_flat(&scene).unwrap();
+            let report = sceneinfo_report::measure_flat(&scene).unwrap();
             assert!(!report.background, "{sides}-gon must be closed");
             hr[c] = report.measures.h_s;
             ir[c] = report.measures.i_s;

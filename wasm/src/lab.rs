@@ -5,10 +5,10 @@ use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::geom::DVec2;
 use sceneinfo::io::{parse_flat, write_flat};
-use sceneinfo::report::{JsonObject, SceneReport};
 use sceneinfo::scene::{Scene2, catalogue_scene};
 use sceneinfo::tally::LineMethod;
 use sceneinfo::trace::estimate_2d::Tracer2;
+use sceneinfo_report::{JsonObject, SceneReport};
 use wasm_bindgen::prelude::*;
 
 use crate::lines::LineJob;
@@ -365,7 +365,7 @@ pub fn catalogue() -> String {
             o.object(e.name, |o| {
                 o.string("figure", e.figure)?;
                 o.string("description", e.description)?;
-                match e.thesis {
+                match sceneinfo_report::thesis::catalogue_value(e.name) {
                     Some(v) => o.number("thesis", v),
                     None => Ok(()),
                 }

@@ -7,9 +7,9 @@
 //! after `k` whole chunks equals the job of `k · 2^16` lines.
 
 use sceneinfo::lines::{CHUNK_LINES, chunk_count};
-use sceneinfo::report::{JsonObject, LineRunReport, SceneReport, UnsampledReport};
 use sceneinfo::tally::{LineMethod, LineTally, LineTracer};
 use sceneinfo::trace::estimate_2d::Tracer2;
+use sceneinfo_report::{JsonObject, LineRunReport, SceneReport, UnsampledReport};
 use wasm_bindgen::prelude::*;
 
 use crate::into_error;
@@ -110,7 +110,7 @@ impl LineJob {
     /// When some patch has no sample yet its row of `F` is unknown: the result then has
     /// `I_S^c` and its per-patch split, and JSON whose discrete measures are `null`, with
     /// `unsampled_patches`, `lines_to_sample_all` and the warning
-    /// ([`sceneinfo::report::UnsampledReport`]), as `sceneinfo measure` prints.
+    /// ([`sceneinfo_report::UnsampledReport`]), as `sceneinfo measure` prints.
     ///
     /// # Errors
     /// `NoLines` before the first chunk; the channel's errors.

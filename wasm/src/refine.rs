@@ -1,8 +1,8 @@
 //! `Refiner`: flatland refinement one split at a time (thesis §6.5.2), for the page's
 //! refinement player — a thin handle on [`sceneinfo::refine::refiner2::Refiner2`].
 
-use sceneinfo::refine::refiner2::{OracleChoice2, Refiner2, StepReport};
-use sceneinfo::report::JsonObject;
+use sceneinfo::refine::refiner2::{OracleChoice2, Refiner2};
+use sceneinfo_report::step_json;
 use wasm_bindgen::prelude::*;
 
 use crate::lab::FlatLab;
@@ -46,19 +46,17 @@ impl Refiner {
     /// # Errors
     /// `TooLarge` at the refiner's patch cap; a patch too short to halve.
     pub fn step(&mut self) -> Result<String, JsError> {
-        self.inner
-            .step()
-            .map(|r| report_json(&r))
-            .map_err(into_error)
+        self.inner.step().map(|r| step_json(&r)).map_err(into_error)
     }
 
-    /// The current mesh's report as JSON: `step`, `split` (the patch halved last; absent
-    /// for the starting mesh), `split_error` (its `I_i^c − I_i`), `n_patches`, `i_s`,
-    /// `h_s`, `h_j`, `e_mse`, `i_s_continuous`, `i_s_continuous_stderr`,
-    /// `rel_discretisation_error`, `background`.
+    /// The current mesh's report as JSON ([`sceneinfo_report::step_json`], the keys of the
+    /// CLI's `refine --json`): `n_patches`, `steps`, `i_s`, `h_s`, `h_j`, `e_mse`,
+    /// `e_mse_per_line`, `i_s_continuous`, `i_s_continuous_stderr`,
+    /// `rel_discretisation_error`, `background`, then `split` (the patch halved last; absent
+    /// for the starting mesh) and `split_error` (its `I_i^c − I_i`).
     #[must_use]
     pub fn report(&self) -> String {
-        report_json(&self.inner.report())
+        step_json(&self.inner.report())
     }
 
     /// The current mesh as `.flat` text (same surfaces as the starting scene, more cuts).
@@ -74,30 +72,4 @@ impl Refiner {
     pub fn patch_errors(&self) -> Vec<f64> {
         self.inner.patch_errors()
     }
-}
-
-/// A [`StepReport`] as one JSON object.
-fn report_json(r: &StepReport) -> String {
-    let mut s = String::new();
-    let write = |s: &mut String| -> core::fmt::Result {
-        let mut o = JsonObject::new(s)?;
-        o.integer("step", r.step)?;
-        if let Some(split) = r.split {
-            o.integer("split", split as u64)?;
-        }
-        o.number("split_error", r.split_error)?;
-        o.integer("n_patches", r.n_patches as u64)?;
-        o.number("i_s", r.i_s)?;
-        o.number("h_s", r.h_s)?;
-        o.number("h_j", r.h_j)?;
-        o.number("e_mse", r.e_mse)?;
-        o.number("i_s_continuous", r.i_s_continuous)?;
-        o.number("i_s_continuous_stderr", r.i_s_continuous_stderr)?;
-        o.number("rel_discretisation_error", r.rel_discretisation_error)?;
-        o.boolean("background", r.background)?;
-        o.finish()
-    };
-    // Writing into a String cannot fail.
-    let _ = write(&mut s);
-    s
 }

@@ -10,7 +10,7 @@ use crate::{count, into_error};
 /// 10242), each rasterised at `resolution × resolution` pixels, `p(v)` uniform, and the
 /// `best` best views.
 ///
-/// Returns the JSON object of [`sceneinfo::viewpoint::viewpoints_obj_json`]: `i_vo`,
+/// Returns the JSON object of [`sceneinfo_report::viewpoints_obj_json`]: `i_vo`,
 /// `h_o`, `h_o_given_v`, `best`, `selection`, `representative`, per-view `vmi`, `ve`,
 /// `instability`, per-polygon `saliency`, `polygonal_mi`, … — byte for byte what
 /// `sceneinfo viewpoints FILE.obj --views V --resolution N --best K --json` prints for the
@@ -32,5 +32,5 @@ pub fn viewpoints(
     let resolution =
         u32::try_from(count("resolution", resolution).map_err(into_error)?).unwrap_or(u32::MAX);
     let best = usize::try_from(count("best", best).map_err(into_error)?).unwrap_or(usize::MAX);
-    sceneinfo::viewpoint::viewpoints_obj_json(obj_text, views, resolution, best).map_err(into_error)
+    sceneinfo_report::viewpoints_obj_json(obj_text, views, resolution, best).map_err(into_error)
 }

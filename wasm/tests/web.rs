@@ -330,7 +330,7 @@ fn refiner_steps_raise_patch_count_and_information() {
     let mut i_s = number(&start, "i_s");
     for step in 1..=3 {
         let report = refiner.step().expect("step");
-        assert_eq!(number(&report, "step"), f64::from(step));
+        assert_eq!(number(&report, "steps"), f64::from(step));
         assert_eq!(number(&report, "n_patches"), 12.0 + f64::from(step));
         let next = number(&report, "i_s");
         assert!(next >= i_s, "step {step}: {i_s} -> {next}");

@@ -100,7 +100,7 @@ export class Refinement {
     this.ceiling = { value: r.i_s_continuous, stderr: r.i_s_continuous_stderr };
     this.out.last.textContent = r.split === undefined
       ? `start: ${r.n_patches} patches`
-      : `step ${r.step}: halved patch ${r.split} (I_i^c − I_i = ${r.split_error.toExponential(2)} bits)`;
+      : `step ${r.steps}: halved patch ${r.split} (I_i^c − I_i = ${r.split_error.toExponential(2)} bits)`;
     if (data.final) {
       this.busy = false;
       document.body.dataset.refine = 'idle';

@@ -23,11 +23,11 @@ use sceneinfo::accel::Bvh3;
 use sceneinfo::formfactor::{exact_2d, exact_3d};
 use sceneinfo::geom::DVec3;
 use sceneinfo::lines::{BoundingSphere, canonical, chunk_rng, sample_global_line_3d};
-use sceneinfo::report::JsonObject;
 use sceneinfo::scene::{Scene2, Scene3, Subdivision, catalogue_scene, preset_3d};
 use sceneinfo::tally::{LineMethod, LineTally, LineTracer};
 use sceneinfo::trace::estimate_2d::Tracer2;
 use sceneinfo::trace::estimate_3d::Tracer3;
+use sceneinfo_report::JsonObject;
 
 use crate::args::BenchArgs;
 

@@ -13,7 +13,7 @@ use sceneinfo::field::{
     Field2, Field3, Field3Scratch, FieldGrid, FieldPath, FieldScratch, PointField,
 };
 use sceneinfo::geom::{DVec2, DVec3};
-use sceneinfo::report::JsonObject;
+use sceneinfo_report::JsonObject;
 
 use crate::output::{Loaded, job_refused, located, write_atomic};
 use crate::svg::{ColourMap, Rgb};

@@ -7,7 +7,7 @@ use std::io::Write;
 use anyhow::{Result, bail};
 use sceneinfo::channel::Transitions;
 use sceneinfo::formfactor::FormFactors;
-use sceneinfo::report::CHECK_TOLERANCE;
+use sceneinfo_report::CHECK_TOLERANCE;
 
 use crate::args::FormFactorsArgs;
 use crate::output::write_atomic;

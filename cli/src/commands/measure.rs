@@ -14,11 +14,11 @@ use sceneinfo::formfactor::exact_2d;
 use sceneinfo::io::LoadReport;
 use sceneinfo::io::partial::{JobId, Partial, fingerprint};
 use sceneinfo::lines::{CHUNK_LINES, chunk_count};
-use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport, UnsampledReport};
 use sceneinfo::tally::coverage::Coverage;
 use sceneinfo::tally::{LineTally, LineTracer};
 use sceneinfo::trace::estimate_2d::{LineMethod, Tracer2};
 use sceneinfo::trace::estimate_3d::Tracer3;
+use sceneinfo_report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport, UnsampledReport};
 
 use crate::args::{LinesArg, MeasureArgs, SamplingArgs};
 use crate::interrupt::Interrupted;
@@ -388,7 +388,7 @@ pub fn print_report(
         }
         if let Some(load) = load {
             // Visibility measures: material warnings are not theirs
-            sceneinfo::report::write_load_report(&mut o, load, false)?;
+            sceneinfo_report::write_load_report(&mut o, load, false)?;
         }
         match mc {
             None => o.string("form_factors", "exact")?,

@@ -30,11 +30,11 @@ use sceneinfo::radiosity::rgb::{
     self, CHANNEL_NAMES, RgbSolution, flat_patch_materials, patch_materials,
 };
 use sceneinfo::radiosity::{RadiosityMeasures, SolveOptions, Solver};
-use sceneinfo::report::{JsonObject, SceneReport};
 use sceneinfo::scene::{Material, Scene3};
 use sceneinfo::tally::{LineMethod, LineTracer};
 use sceneinfo::trace::estimate_2d::Tracer2;
 use sceneinfo::trace::estimate_3d::Tracer3;
+use sceneinfo_report::{JsonObject, SceneReport};
 
 use crate::args::{Method, RadiosityArgs, SamplingArgs, SolverArg};
 use crate::lines::LineBudget;

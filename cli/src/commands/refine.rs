@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use anyhow::{Result, bail};
 use sceneinfo::refine::refiner2::{OracleChoice2, Refiner2, StepReport};
-use sceneinfo::report::JsonObject;
+use sceneinfo_report::RefinementReport;
 
 use crate::args::{Colour, Oracle, RefineArgs};
 use crate::output::{is_3d, located, write_atomic};
@@ -150,11 +150,15 @@ fn run_flat(args: &RefineArgs, threads: usize) -> Result<()> {
     }
     let mut out = std::io::stdout().lock();
     if args.json {
-        writeln!(
-            out,
-            "{}",
-            json(&config, args.seed, &refiner.report(), &history, seconds)?
-        )?;
+        let report = RefinementReport {
+            oracle: config.oracle.name(),
+            lines: config.lines,
+            seed: args.seed,
+            last: &refiner.report(),
+            history: &history,
+            seconds,
+        };
+        writeln!(out, "{}", report.to_json())?;
     } else {
         write!(
             out,
@@ -164,44 +168,6 @@ fn run_flat(args: &RefineArgs, threads: usize) -> Result<()> {
     }
     out.flush()?;
     Ok(())
-}
-
-/// The JSON report: the final mesh's measures and the history of every step.
-fn json(
-    config: &FlatConfig,
-    seed: u64,
-    last: &StepReport,
-    history: &[StepReport],
-    seconds: f64,
-) -> Result<String, std::fmt::Error> {
-    let mut s = String::new();
-    let mut o = JsonObject::new(&mut s)?;
-    o.string("oracle", config.oracle.name())?;
-    o.integer("n_patches", last.n_patches as u64)?;
-    o.integer("steps", last.step)?;
-    o.number("i_s", last.i_s)?;
-    o.number("h_s", last.h_s)?;
-    o.number("h_j", last.h_j)?;
-    o.number("e_mse", last.e_mse)?;
-    o.number("e_mse_per_line", last.e_mse_per_line)?;
-    o.number("i_s_continuous", last.i_s_continuous)?;
-    o.number("i_s_continuous_stderr", last.i_s_continuous_stderr)?;
-    o.number("rel_discretisation_error", last.rel_discretisation_error)?;
-    o.boolean("background", last.background)?;
-    o.integer("lines", config.lines)?;
-    o.integer("seed", seed)?;
-    o.object("history", |h| {
-        let col = |f: fn(&StepReport) -> f64| history.iter().map(f).collect::<Vec<f64>>();
-        h.numbers("n_patches", &col(|r| r.n_patches as f64))?;
-        h.numbers("split", &col(|r| r.split.map_or(-1.0, |i| i as f64)))?;
-        h.numbers("split_error", &col(|r| r.split_error))?;
-        h.numbers("i_s", &col(|r| r.i_s))?;
-        h.numbers("h_s", &col(|r| r.h_s))?;
-        h.numbers("h_j", &col(|r| r.h_j))
-    })?;
-    o.number("seconds", seconds)?;
-    o.finish()?;
-    Ok(s)
 }
 
 /// The table: the first and last mesh, and a few rows of the history in between.

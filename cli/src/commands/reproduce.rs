@@ -14,15 +14,15 @@ use std::time::Instant;
 use anyhow::{Result, anyhow};
 use sceneinfo::continuous::closed_form;
 use sceneinfo::formfactor::quadrature::{self, QuadratureOptions};
-use sceneinfo::report::JsonObject;
 use sceneinfo::scene::{Scene2, Scene3, catalogue, catalogue_scene, preset_3d};
-use sceneinfo::thesis::{
+use sceneinfo::trace::estimate_2d::{Estimate2, LineMethod, Tracer2};
+use sceneinfo::trace::estimate_3d::Tracer3;
+use sceneinfo_report::JsonObject;
+use sceneinfo_report::thesis::{
     PLATONIC_REFERENCE, POLYGON_PER_SIDE, POLYGON_SIDES, TABLE_3_3, TABLE_3_4_H_S, TABLE_3_5_I_S,
     TABLE_3_8, TABLE_4_1, TABLE_4_2, TABLE_4_3_FEW_LINES, TABLE_4_10_I_S_CONTINUOUS, TABLE_4_11,
     TABLE_4_12,
 };
-use sceneinfo::trace::estimate_2d::{Estimate2, LineMethod, Tracer2};
-use sceneinfo::trace::estimate_3d::Tracer3;
 
 use crate::args::ReproduceArgs;
 
@@ -175,7 +175,7 @@ fn chapter_3() -> Result<Vec<Table>> {
 }
 
 fn exact_measures(scene: &Scene2) -> Result<sceneinfo::channel::Measures> {
-    Ok(sceneinfo::report::measure_flat(scene)
+    Ok(sceneinfo_report::measure_flat(scene)
         .map_err(|e| anyhow!("{e}"))?
         .measures)
 }
@@ -275,6 +275,7 @@ fn catalogue_table(runner: &Runner) -> Result<Table> {
     let mut rows = Vec::new();
     for entry in catalogue() {
         let scene = catalogue_scene(entry.name, 10).map_err(|e| anyhow!("{}: {e}", entry.name))?;
+        let thesis_value = sceneinfo_report::thesis::catalogue_value(entry.name);
         let mut cells = Vec::new();
         if entry.name.starts_with("64-squares") {
             // The thesis' value for these is the discrete I_S from 10⁶ global lines.
@@ -285,7 +286,7 @@ fn catalogue_table(runner: &Runner) -> Result<Table> {
                 .map_err(|e| anyhow!("{e}"))?
                 .i_s();
             let exact = exact_measures(&scene)?.i_s;
-            cells.push(cell("I_S (1e6 lines)", i_s, 0.0, entry.thesis));
+            cells.push(cell("I_S (1e6 lines)", i_s, 0.0, thesis_value));
             cells.push(cell("I_S exact", exact, 0.0, None));
             cells.push(cell(
                 "I_S^c",
@@ -295,7 +296,7 @@ fn catalogue_table(runner: &Runner) -> Result<Table> {
             ));
         } else {
             let (v, e) = runner.continuous(&scene)?;
-            cells.push(cell("I_S^c", v, e, entry.thesis));
+            cells.push(cell("I_S^c", v, e, thesis_value));
         }
         rows.push(Row {
             label: format!("{} ({}: {})", entry.name, entry.figure, entry.description),

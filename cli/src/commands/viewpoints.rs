@@ -14,8 +14,9 @@ use sceneinfo::geom::DVec3;
 use sceneinfo::scene::Scene3;
 use sceneinfo::viewpoint::{
     IdRaster, ViewTotals, ViewWeighting, ViewpointChannel, ViewpointJob, ViewpointOptions,
-    ViewpointReport, bounding_sphere,
+    bounding_sphere,
 };
+use sceneinfo_report::ViewpointReport;
 
 use crate::args::{SphereColour, ViewWeightingArg, ViewpointsArgs};
 use crate::output::{Loaded, located, write_atomic};

@@ -4,7 +4,9 @@
 //! The thesis' figures were drawings whose coordinates are lost. Each constructor documents
 //! the geometry chosen here to reproduce its figure faithfully — same topology, same trend,
 //! and, where the thesis prints a value, free parameters (an apex, a cut, a gap) set so that
-//! quadrature of (4.12) or exact form factors give that value — and the values themselves.
+//! quadrature of (4.12) or exact form factors give that value. The printed values are not
+//! here: they are the thesis' data, `sceneinfo_report::thesis::CATALOGUE` (where `reproduce`,
+//! the wasm lab and the tests of the geometries read them).
 //! All enclosures run counter-clockwise (facing inwards) and all objects clockwise (facing
 //! outwards), so every scene is closed: its form-factor rows sum to 1.
 //!
@@ -31,10 +33,6 @@ pub struct CatalogueEntry {
     pub figure: &'static str,
     /// One line describing the scene.
     pub description: &'static str,
-    /// The value the thesis prints for the scene, if any: `I_S^c` in bits, except for the
-    /// `64-squares-*` scenes, whose value is the discrete `I_S` of Table 3.6 (Monte Carlo,
-    /// 80 + 256 patches).
-    pub thesis: Option<f64>,
 }
 
 macro_rules! entry {
@@ -43,15 +41,6 @@ macro_rules! entry {
             name: $name,
             figure: $figure,
             description: $description,
-            thesis: None,
-        }
-    };
-    ($name:literal, $figure:literal, $description:literal, $value:literal) => {
-        CatalogueEntry {
-            name: $name,
-            figure: $figure,
-            description: $description,
-            thesis: Some($value),
         }
     };
 }
@@ -64,8 +53,7 @@ static CATALOGUE: &[CatalogueEntry] = &[
     entry!(
         "koch-0",
         "Fig. 4.12a",
-        "Von Koch snowflake, level 0 (equilateral triangle)",
-        1.285
+        "Von Koch snowflake, level 0 (equilateral triangle)"
     ),
     entry!(
         "koch-1",
@@ -87,7 +75,7 @@ static CATALOGUE: &[CatalogueEntry] = &[
         "Fig. 4.12e",
         "Von Koch snowflake, level 4 (768 edges)"
     ),
-    entry!("triangle-0", "Fig. 4.13a", "equilateral triangle", 1.284),
+    entry!("triangle-0", "Fig. 4.13a", "equilateral triangle"),
     entry!(
         "triangle-1",
         "Fig. 4.13b",
@@ -101,10 +89,9 @@ static CATALOGUE: &[CatalogueEntry] = &[
     entry!(
         "triangle-3",
         "Fig. 4.13d",
-        "obtuse triangle with apex (1.26, 0.4) over a unit base",
-        2.311
+        "obtuse triangle with apex (1.26, 0.4) over a unit base"
     ),
-    entry!("l-room-0", "Fig. 4.14a", "square room", 0.788),
+    entry!("l-room-0", "Fig. 4.14a", "square room"),
     entry!(
         "l-room-1",
         "Fig. 4.14b",
@@ -113,14 +100,12 @@ static CATALOGUE: &[CatalogueEntry] = &[
     entry!(
         "l-room-2",
         "Fig. 4.14c",
-        "L-shaped room: unit square minus a 0.5 corner square",
-        1.218
+        "L-shaped room: unit square minus a 0.5 corner square"
     ),
     entry!(
         "l-room-3",
         "Fig. 4.14d",
-        "L-shaped room: unit square minus a 0.555 corner square",
-        1.319
+        "L-shaped room: unit square minus a 0.555 corner square"
     ),
     entry!(
         "three-objects-0",
@@ -197,12 +182,7 @@ static CATALOGUE: &[CatalogueEntry] = &[
         "Fig. 4.16i",
         "16 squares almost touching the walls"
     ),
-    entry!(
-        "pentagonal-star-0",
-        "Fig. 4.18a",
-        "empty regular pentagon",
-        0.583
-    ),
+    entry!("pentagonal-star-0", "Fig. 4.18a", "empty regular pentagon"),
     entry!(
         "pentagonal-star-1",
         "Fig. 4.18b",
@@ -241,14 +221,12 @@ static CATALOGUE: &[CatalogueEntry] = &[
     entry!(
         "pentagonal-star-8",
         "Fig. 4.18i",
-        "pentagram points 0.01% from the pentagon's vertices",
-        4.067
+        "pentagram points 0.01% from the pentagon's vertices"
     ),
     entry!(
         "pentagonal-star-subscene",
         "Table 4.12",
-        "golden triangle between a pentagon side and the pentagram",
-        1.750
+        "golden triangle between a pentagon side and the pentagram"
     ),
     entry!(
         "rotating-square-0",
@@ -293,14 +271,12 @@ static CATALOGUE: &[CatalogueEntry] = &[
     entry!(
         "rotating-square-8",
         "Fig. 4.19i",
-        "interior square at 45°, vertices 0.01% from the wall midpoints",
-        3.477
+        "interior square at 45°, vertices 0.01% from the wall midpoints"
     ),
     entry!(
         "rotating-square-subscene",
         "Table 4.12",
-        "right isosceles triangle: a room corner cut by the rotated square",
-        1.474
+        "right isosceles triangle: a room corner cut by the rotated square"
     ),
     entry!(
         "square-to-corner-0",
@@ -345,10 +321,9 @@ static CATALOGUE: &[CatalogueEntry] = &[
     entry!(
         "square-to-corner-8",
         "Fig. 4.20i",
-        "interior square 1.6% of the room side from the corner walls",
-        3.304
+        "interior square 1.6% of the room side from the corner walls"
     ),
-    entry!("rect-1", "Fig. 4.22", "square (rectangle 1 × 1)", 0.789),
+    entry!("rect-1", "Fig. 4.22", "square (rectangle 1 × 1)"),
     entry!("rect-2", "Fig. 4.22", "rectangle 1 × 2"),
     entry!("rect-4", "Fig. 4.22", "rectangle 1 × 4"),
     entry!("rect-8", "Fig. 4.22", "rectangle 1 × 8"),
@@ -356,32 +331,27 @@ static CATALOGUE: &[CatalogueEntry] = &[
     entry!(
         "64-squares-a",
         "Fig. 3.12a",
-        "64 squares in an 8 × 8 block with gaps 0.15 (most correlated)",
-        6.148
+        "64 squares in an 8 × 8 block with gaps 0.15 (most correlated)"
     ),
     entry!(
         "64-squares-b",
         "Fig. 3.12b",
-        "64 squares in an 8 × 8 block with gaps 0.5",
-        5.391
+        "64 squares in an 8 × 8 block with gaps 0.5"
     ),
     entry!(
         "64-squares-c",
         "Fig. 3.12c",
-        "64 squares in an 8 × 8 block with gaps 0.85 (most random)",
-        4.990
+        "64 squares in an 8 × 8 block with gaps 0.85 (most random)"
     ),
     entry!(
         "refinement-1",
         "Fig. 6.15",
-        "scene I: rectangular room with two boxes, 26 patches",
-        2.519
+        "scene I: rectangular room with two boxes, 26 patches"
     ),
     entry!(
         "refinement-2",
         "Fig. 6.16",
-        "scene II: square room with boxes near the walls, 26 patches",
-        3.245
+        "scene II: square room with boxes near the walls, 26 patches"
     ),
 ];
 

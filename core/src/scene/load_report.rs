@@ -368,32 +368,6 @@ impl LoadReport {
 mod tests {
     use super::*;
 
-    fn json(r: &LoadReport) -> String {
-        use crate::report::{JsonObject, write_load_report};
-        let mut s = String::new();
-        let mut o = JsonObject::new(&mut s).unwrap();
-        write_load_report(&mut o, r, true).unwrap();
-        o.finish().unwrap();
-        s
-    }
-
-    #[test]
-    fn repair_counts_are_written_only_when_something_was_repaired() {
-        let mut r = LoadReport {
-            faces_read: 3,
-            ..LoadReport::default()
-        };
-        assert_eq!(json(&r), r#"{"faces_read":3}"#);
-        r.faces_triangulated = 1;
-        r.triangles_added = 4;
-        r.max_off_plane = 0.5;
-        r.warn(Some(7), LoadWarningKind::FaceTriangulated);
-        assert_eq!(
-            json(&r),
-            r#"{"faces_read":3,"faces_triangulated":1,"triangles_added":4,"max_off_plane":0.5,"load_warnings":["line 7: cut a concave or non-planar face into triangles"]}"#
-        );
-    }
-
     #[test]
     fn pair_warnings_gather_by_class_keeping_the_first_pair() {
         let mut r = LoadReport::default();

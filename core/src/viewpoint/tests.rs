@@ -433,9 +433,6 @@ fn channel_inequalities_greedy_selection_and_determinism() {
     let totals = totals.into_iter().map(Option::unwrap).collect();
     let again = ViewpointChannel::from_rows(&job, rows, totals).unwrap();
     assert_eq!(again, c);
-    let r1 = ViewpointReport::new(&job, &c, 5).to_json();
-    let r2 = ViewpointReport::new(&job, &again, 5).to_json();
-    assert_eq!(r1, r2);
 }
 
 #[test]
@@ -506,8 +503,7 @@ fn a_flat_scene_seen_edge_on_has_blind_viewpoints() {
     let order = c.views_by_vmi();
     assert!(order[seeing..].iter().all(|&v| c.is_blind(v)));
     assert!(!c.is_blind(c.best_view()));
-    let report = ViewpointReport::new(&job, &c, 3);
-    assert_eq!(report.blind, blind.len());
+    assert_eq!(c.n_blind(), blind.len());
 }
 
 #[test]

@@ -6,7 +6,7 @@ use std::io::Write;
 
 use anyhow::Result;
 use sceneinfo::channel::{LongRange, long_range_information};
-use sceneinfo::report::JsonObject;
+use sceneinfo_report::JsonObject;
 
 use crate::args::MeasureArgs;
 use crate::output::located;

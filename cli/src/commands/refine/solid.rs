@@ -16,11 +16,11 @@ use sceneinfo::geom::DVec3;
 use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, MAX_PAIRS, OracleChoice3};
 use sceneinfo::lines::CHUNK_LINES;
 use sceneinfo::radiosity::display::ToneMap;
-use sceneinfo::report::JsonObject;
 use sceneinfo::scene::{Material, Scene3};
 use sceneinfo::tally::LineTracer;
 use sceneinfo::trace::estimate_2d::LineMethod;
 use sceneinfo::trace::estimate_3d::Tracer3;
+use sceneinfo_report::JsonObject;
 
 use crate::args::{Oracle, RefineArgs};
 use crate::lines::LineBudget;

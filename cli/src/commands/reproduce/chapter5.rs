@@ -16,9 +16,9 @@ use sceneinfo::radiosity::rgb::{patch_materials, rgb_measures, solve_rgb};
 use sceneinfo::radiosity::{SolveOptions, Solver};
 use sceneinfo::scene::{Material, Scene3, catalogue_scene};
 use sceneinfo::tally::{LineMethod, LineTracer};
-use sceneinfo::thesis::{TABLE_4_6, TABLE_5_1, TABLE_5_2, TABLE_5_3, TABLE_5_4, TABLE_5_5};
 use sceneinfo::trace::estimate_2d::Tracer2;
 use sceneinfo::trace::estimate_3d::Tracer3;
+use sceneinfo_report::thesis::{TABLE_4_6, TABLE_5_1, TABLE_5_2, TABLE_5_3, TABLE_5_4, TABLE_5_5};
 
 use super::{Row, Runner, Table, cell};
 

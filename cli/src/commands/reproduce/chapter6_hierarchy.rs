@@ -14,7 +14,7 @@ use sceneinfo::hierarchy::{
     COMPARISON_RUNS, Hierarchy, HrOptions, MAX_PAIRS, OracleComparison, compare_at_size,
 };
 use sceneinfo::scene::Scene3;
-use sceneinfo::thesis::{FIGURE_6_6_PATCHES, FIGURE_6_9_PATCHES};
+use sceneinfo_report::thesis::{FIGURE_6_6_PATCHES, FIGURE_6_9_PATCHES};
 
 use super::{Row, Runner, Table, cell};
 

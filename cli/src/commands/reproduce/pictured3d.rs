@@ -12,9 +12,9 @@ use sceneinfo::channel::Measures;
 use sceneinfo::continuous::ContinuousEstimate;
 use sceneinfo::formfactor::quadrature::{QuadratureOptions, scene_i_s_continuous};
 use sceneinfo::scene::{SIXTY_FOUR_CUBES_STEPS, Scene3, preset_3d};
-use sceneinfo::thesis::{TABLE_4_4, TABLE_4_5, TABLE_4_6, TABLE_4_7, TABLE_4_8};
 use sceneinfo::trace::estimate_2d::LineMethod;
 use sceneinfo::trace::estimate_3d::Tracer3;
+use sceneinfo_report::thesis::{TABLE_4_4, TABLE_4_5, TABLE_4_6, TABLE_4_7, TABLE_4_8};
 
 use super::{Row, Runner, Table, cell, exact_3d};
 

@@ -12,7 +12,7 @@ use sceneinfo::refine::cuts::{
 use sceneinfo::refine::refiner2::{OracleChoice2, Refiner2, StepReport};
 use sceneinfo::refine::symmetric::{best_mirrored_cuts, polygon_with_mirrored_cuts};
 use sceneinfo::scene::{Scene2, catalogue_scene};
-use sceneinfo::thesis::{
+use sceneinfo_report::thesis::{
     FIGURE_6_12_BEST_CUT, REFINEMENT_PATCH_COUNTS, SECTION_6_1_BEST_PARALLEL_CUT,
     SECTION_6_1_GRADIENT_CUTS, TABLE_6_1, TABLE_6_2,
 };

@@ -1,14 +1,15 @@
 //! The viewpoint measures of a scene gathered in one value and its JSON form, shared by the
 //! CLI (`sceneinfo viewpoints --json`) and wasm (`viewpoints`), so both print the same bytes.
+//! The measures themselves are [`ViewpointChannel`]'s (`sceneinfo::viewpoint`).
 
-use alloc::string::String;
-use alloc::vec;
-use alloc::vec::Vec;
 use core::fmt::{self, Write};
 
-use super::channel::{ViewWeighting, ViewpointChannel, ViewpointJob, patch_neighbours};
-use crate::geom::DVec3;
-use crate::report::JsonObject;
+use sceneinfo::geom::DVec3;
+use sceneinfo::viewpoint::{
+    ViewWeighting, ViewpointChannel, ViewpointJob, ViewpointOptions, patch_neighbours,
+};
+
+use crate::json::JsonObject;
 
 /// Everything `sceneinfo viewpoints` reports.
 #[derive(Clone, Debug, PartialEq)]
@@ -122,7 +123,10 @@ impl ViewpointReport {
         o.number("h_o", self.h_o)?;
         o.number("h_o_given_v", self.h_o_given_v)?;
         o.number("h_v", self.h_v)?;
-        o.number("ve_max", crate::math::log2(self.n_polygons as f64 + 1.0))?;
+        o.number(
+            "ve_max",
+            sceneinfo::math::log2(self.n_polygons as f64 + 1.0),
+        )?;
         let view = |v: usize| {
             let d = self.directions.get(v).copied().unwrap_or_default();
             [d.x, d.y, d.z]
@@ -173,9 +177,10 @@ pub fn viewpoints_obj_json(
     views: usize,
     resolution: u32,
     best: usize,
-) -> crate::Result<String> {
-    let (scene, _) = crate::io::parse_obj(obj, &crate::io::ObjOptions::default(), |_| None)?;
-    let options = super::ViewpointOptions {
+) -> sceneinfo::Result<String> {
+    let (scene, _) =
+        sceneinfo::io::parse_obj(obj, &sceneinfo::io::ObjOptions::default(), |_| None)?;
+    let options = ViewpointOptions {
         views,
         resolution,
         ..Default::default()
@@ -183,4 +188,38 @@ pub fn viewpoints_obj_json(
     let job = ViewpointJob::new(&scene, options)?;
     let channel = job.run()?;
     Ok(ViewpointReport::new(&job, &channel, best).to_json())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One square in `z = 0` seen from 42 viewpoints: those on the equator see it edge-on
+    /// and are counted blind; the JSON starts with the counts and holds one VMI per view.
+    #[test]
+    fn a_square_seen_edge_on_reports_its_blind_viewpoints() {
+        let obj = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n";
+        let (scene, _) =
+            sceneinfo::io::parse_obj(obj, &sceneinfo::io::ObjOptions::default(), |_| None).unwrap();
+        let options = ViewpointOptions {
+            views: 42,
+            resolution: 32,
+            ..Default::default()
+        };
+        let job = ViewpointJob::new(&scene, options).unwrap();
+        let channel = job.run().unwrap();
+        let report = ViewpointReport::new(&job, &channel, 3);
+        let blind = (0..42).filter(|&v| channel.is_blind(v)).count();
+        assert!(blind > 0);
+        assert_eq!(report.blind, blind);
+        let json = viewpoints_obj_json(obj, 42, 32, 3).unwrap();
+        assert_eq!(json, report.to_json());
+        assert!(
+            json.starts_with(&format!(
+                "{{\"n_polygons\":1,\"n_views\":42,\"blind\":{blind},\"resolution\":32,"
+            )),
+            "{json}"
+        );
+        assert_eq!(report.vmi.len(), 42);
+    }
 }

@@ -1,0 +1,50 @@
+//! What a Monte Carlo run adds to a report: its lines, seed and `I_S^c` with its error.
+
+use core::fmt::{self, Write};
+
+use sceneinfo::continuous::{ContinuousEstimate, relative_discretisation_error};
+use sceneinfo::tally::LineMethod;
+
+use crate::json::JsonObject;
+
+/// What a Monte Carlo run adds to a report: its lines, seed and the continuous mutual
+/// information `I_S^c` (4.8, 4.13) with its standard error.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineRunReport {
+    /// Global (2.37) or local (2.36) lines, or bundles of parallel lines.
+    pub method: LineMethod,
+    /// Lines cast.
+    pub lines: u64,
+    /// Seed of the line streams.
+    pub seed: u64,
+    /// `I_S^c` and its standard error.
+    pub continuous: ContinuousEstimate,
+    /// The discrete `I_S` the relative discretisation error is measured against.
+    pub i_s: f64,
+}
+
+impl LineRunReport {
+    /// Writes the run's fields into an open JSON object: `form_factors` (`"global lines"` or
+    /// `"local lines"`), `i_s_continuous`, `i_s_continuous_stderr`,
+    /// `rel_discretisation_error` (`δ̄ = (I_S^c − I_S) / I_S^c`, §4.4.2), `lines`, `seed`,
+    /// `samples`, `stderr_groups` (the independent observations the standard error rests
+    /// on: one per line for global and local lines, one per sheaf for bundles). The CLI's
+    /// `measure --lines --json` and the wasm `LineJob` both write them with this function,
+    /// so their bytes agree.
+    ///
+    /// # Errors
+    /// Whatever the writer returns.
+    pub fn write_fields<W: Write>(&self, o: &mut JsonObject<'_, W>) -> fmt::Result {
+        o.string("form_factors", self.method.description())?;
+        o.number("i_s_continuous", self.continuous.value)?;
+        o.number("i_s_continuous_stderr", self.continuous.stderr)?;
+        o.number(
+            "rel_discretisation_error",
+            relative_discretisation_error(self.continuous.value, self.i_s),
+        )?;
+        o.integer("lines", self.lines)?;
+        o.integer("seed", self.seed)?;
+        o.integer("samples", self.continuous.samples)?;
+        o.integer("stderr_groups", self.continuous.groups)
+    }
+}
