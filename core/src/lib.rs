@@ -64,6 +64,7 @@ extern crate alloc;
 extern crate std;
 
 pub mod accel;
+mod api;
 pub mod channel;
 pub mod continuous;
 pub mod error;
@@ -86,6 +87,15 @@ pub mod trace;
 #[cfg(feature = "alloc")]
 pub mod viewpoint;
 
+#[cfg(feature = "alloc")]
+pub use api::{
+    AUTO_MAX_LINES, AUTO_START_LINES, ChunkWork, ChunksDone, Executor, Job, LineBudget, LineJob,
+    LineRun, LineRunInfo, Measurement, Scene, SceneFormat, SceneTracer, Serial, cast_chunks,
+    cast_lines, measure, measure_partial,
+};
+pub use api::{
+    CHECK_TOLERANCE, FEW_STDERR_GROUPS, NEARLY_CLOSED_DEFICIT, Warning, channel_warnings,
+};
 pub use error::{Error, ErrorKind, Result};
 
 /// The README's Rust examples, compiled and run as doctests.

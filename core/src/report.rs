@@ -15,8 +15,7 @@ use alloc::string::String;
 
 use crate::channel::{Checks, Measures};
 
-/// Tolerance used for the yes/no verdicts of [`Checks`] in reports.
-pub const CHECK_TOLERANCE: f64 = 1e-9;
+pub use crate::api::{CHECK_TOLERANCE, NEARLY_CLOSED_DEFICIT, Warning};
 
 /// A minimal streaming JSON object writer (no allocation).
 #[derive(Debug)]
@@ -175,90 +174,6 @@ fn write_json_string<W: Write>(out: &mut W, s: &str) -> fmt::Result {
     out.write_char('"')
 }
 
-/// Largest row deficit for which an added background state draws a
-/// [`Warning::NearlyClosed`]: a scene drawn closed whose form factors lose this little is
-/// losing it to rounding, not to the outside.
-pub const NEARLY_CLOSED_DEFICIT: f64 = 1e-6;
-
-/// Where a report's numbers cannot be trusted to full precision (issue 8: a warning, never a
-/// silently wrong number).
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[non_exhaustive]
-pub enum Warning {
-    /// A background state was added for a row deficit of at most [`NEARLY_CLOSED_DEFICIT`]:
-    /// the scene is probably closed and its form factors accurate only to about `deficit`.
-    NearlyClosed {
-        /// The largest row deficit.
-        deficit: f64,
-    },
-    /// Rows sum to one only within `error` (more than [`CHECK_TOLERANCE`]): the identities
-    /// `H_J = H_P + H_S` (3.7) hold only to about `error · H_P`.
-    RowSums {
-        /// `max_i |1 − Σ_j F_ij|`.
-        error: f64,
-    },
-    /// `w` is stationary only within `error` (more than [`CHECK_TOLERANCE`]), as Monte
-    /// Carlo form factors are: `H_J = 2H_S + I_S` holds only to about that times
-    /// `Σ_j |log₂ w_j|`.
-    Stationarity {
-        /// `‖wF − w‖_∞`.
-        error: f64,
-    },
-    /// Some patches received none of a Monte Carlo run's lines: their rows of `F` are
-    /// unknown, so the discrete measures are undefined ([`UnsampledReport`]).
-    UnsampledPatches {
-        /// Patches without a sample.
-        unsampled: usize,
-        /// Patches of the scene.
-        n_patches: usize,
-        /// Lines cast.
-        lines: u64,
-        /// About how many lines would reach every patch
-        /// ([`crate::tally::coverage::lines_to_sample_all`]), if it could be estimated.
-        suggested: Option<u64>,
-    },
-}
-
-impl fmt::Display for Warning {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::NearlyClosed { deficit } => write!(
-                f,
-                "a background state was added for a row deficit of only {deficit:e}: if the \
-                 scene is closed, its form factors are accurate only to about that"
-            ),
-            Self::RowSums { error } => write!(
-                f,
-                "rows of F sum to 1 only within {error:e}: H_J = H_P + H_S holds only to \
-                 about that times H_P"
-            ),
-            Self::Stationarity { error } => write!(
-                f,
-                "the weights are stationary only within {error:e}: H_J = 2H_S + I_S holds \
-                 only approximately"
-            ),
-            Self::UnsampledPatches {
-                unsampled,
-                n_patches,
-                lines,
-                suggested,
-            } => {
-                write!(
-                    f,
-                    "{unsampled} of the {n_patches} patches received none of the {lines} \
-                     lines, so their rows of F are unknown and the discrete measures (H_P, \
-                     H_S, H_J, I_S, their ratios, E(MSE), Fano, the checks) are undefined; \
-                     I_S^c and its standard error stand"
-                )?;
-                match suggested {
-                    Some(m) => write!(f, "; about {m} lines would reach every patch"),
-                    None => Ok(()),
-                }
-            }
-        }
-    }
-}
-
 /// A `fmt::Write` adapter that escapes what it writes as the inside of a JSON string.
 struct JsonEscaped<'a, W: Write>(&'a mut W);
 
@@ -356,24 +271,7 @@ impl SceneReport {
     /// form factors of a well-conditioned scene.
     #[must_use]
     pub fn warnings(&self) -> heapless::Vec<Warning, 3> {
-        let c = &self.checks;
-        let mut out = heapless::Vec::new();
-        if self.background && self.max_row_deficit <= NEARLY_CLOSED_DEFICIT {
-            let _ = out.push(Warning::NearlyClosed {
-                deficit: self.max_row_deficit,
-            });
-        }
-        if !c.is_row_stochastic(CHECK_TOLERANCE) {
-            let _ = out.push(Warning::RowSums {
-                error: c.max_row_sum_error,
-            });
-        }
-        if !c.is_stationary(CHECK_TOLERANCE) {
-            let _ = out.push(Warning::Stationarity {
-                error: c.stationarity_error,
-            });
-        }
-        out
+        crate::api::channel_warnings(self.background, self.max_row_deficit, &self.checks)
     }
 
     /// The report as a JSON string.
