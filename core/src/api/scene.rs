@@ -212,6 +212,21 @@ impl Scene {
         out
     }
 
+    /// The material of every patch, in patch order (the radiosity system's `ρ_i`, `E_i`,
+    /// 2.6).
+    #[must_use]
+    pub fn patch_materials(&self) -> Vec<Material> {
+        (0..self.n_patches())
+            .map(|i| {
+                let m = match self {
+                    Scene::Flat(s) => s.patch_material(i),
+                    Scene::Solid(s) => s.patch_material(i),
+                };
+                m.copied().unwrap_or_default()
+            })
+            .collect()
+    }
+
     /// The line tracer of this scene ([`Tracer2`] or [`Tracer3`]): what a line job casts
     /// through.
     ///
