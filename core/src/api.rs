@@ -12,6 +12,7 @@
 //! - [`Executor`]: how the caller runs the seeded chunks of a line job — on one thread
 //!   ([`Serial`]), or on its own threads. The chunks' tallies are integers and fixed-point
 //!   sums, so their merge is exact: the result is the same bits whatever the executor.
+//! - [`LineSession`]: a fixed line job cast a few chunks at a time (progress, stop).
 //! - [`Measurement`]: what [`measure`] returns — the channel measures (3.1–3.21), per-patch
 //!   arrays (`I_i` 6.8, `H_i` 3.2, sizes), the form factors, `I_S^c` (4.8, 4.13) with its
 //!   standard error, the coverage when some patch received no line, and [`Warning`]s.
@@ -35,6 +36,8 @@ mod job;
 mod measurement;
 #[cfg(feature = "alloc")]
 mod scene;
+#[cfg(feature = "alloc")]
+mod session;
 mod warning;
 
 #[cfg(feature = "alloc")]
@@ -45,6 +48,8 @@ pub use job::{AUTO_MAX_LINES, AUTO_START_LINES, Job, LineBudget, LineJob};
 pub use measurement::{LineRunInfo, Measurement, measure, measure_partial};
 #[cfg(feature = "alloc")]
 pub use scene::{Scene, SceneFormat, SceneTracer};
+#[cfg(feature = "alloc")]
+pub use session::LineSession;
 pub use warning::{
     CHECK_TOLERANCE, FEW_STDERR_GROUPS, NEARLY_CLOSED_DEFICIT, Warning, channel_warnings,
 };

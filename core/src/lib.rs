@@ -119,8 +119,8 @@ pub mod viewpoint;
 #[cfg(feature = "alloc")]
 pub use api::{
     AUTO_MAX_LINES, AUTO_START_LINES, ChunkWork, ChunksDone, Executor, Job, LineBudget, LineJob,
-    LineRun, LineRunInfo, Measurement, Scene, SceneFormat, SceneTracer, Serial, cast_chunks,
-    cast_lines, measure, measure_partial,
+    LineRun, LineRunInfo, LineSession, Measurement, Scene, SceneFormat, SceneTracer, Serial,
+    cast_chunks, cast_lines, measure, measure_partial,
 };
 pub use api::{
     CHECK_TOLERANCE, FEW_STDERR_GROUPS, NEARLY_CLOSED_DEFICIT, Warning, channel_warnings,

@@ -98,6 +98,23 @@ impl Measurement {
         }
     }
 
+    /// The measurement of a tally of `tracer`'s lines: the form factors' when every patch
+    /// has a sample (or no line was cast: then [`ErrorKind::NoLines`]), else the coverage.
+    pub(super) fn of_tally(
+        tally: LineTally,
+        tracer: &(dyn LineTracer + Sync),
+        info: LineRunInfo,
+    ) -> Result<Self> {
+        if tally.all_sampled() || tally.lines() == 0 {
+            let sizes = relative(tracer.patch_sizes());
+            let est = tally.finish(tracer)?;
+            let continuous = (est.patch_continuous, est.pair_continuous);
+            Self::of(est.form_factors, sizes, Some(info), Some(continuous))
+        } else {
+            Ok(Self::unsampled(&tally, tracer.patch_sizes(), info))
+        }
+    }
+
     /// The measurement of a merged partial result ([`crate::io::partial::merge_partials`])
     /// that covers its whole job: one run of the job, bit for bit.
     ///
@@ -376,18 +393,7 @@ fn measure_lines(
         },
         continuous: run.tally.continuous(),
     };
-    if run.tally.all_sampled() || done == 0 {
-        let sizes = relative(tracer.patch_sizes());
-        let est = run.tally.finish(tracer)?;
-        let continuous = (est.patch_continuous, est.pair_continuous);
-        Measurement::of(est.form_factors, sizes, Some(info), Some(continuous))
-    } else {
-        Ok(Measurement::unsampled(
-            &run.tally,
-            tracer.patch_sizes(),
-            info,
-        ))
-    }
+    Measurement::of_tally(run.tally, tracer, info)
 }
 
 /// Tallies the chunks of a fixed line job ([`LineJob::chunk_range`]: all of them, or
