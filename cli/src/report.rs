@@ -28,19 +28,6 @@ pub struct Timing {
     pub earlier: f64,
 }
 
-/// The report of a measurement's channel ([`SceneReport`]), when every row of `F` is known.
-#[must_use]
-pub fn scene_report(m: &Measurement) -> Option<SceneReport> {
-    let ff = m.form_factors()?;
-    Some(SceneReport {
-        n_patches: m.n_patches(),
-        background: ff.has_background(),
-        max_row_deficit: ff.max_row_deficit(),
-        measures: *m.measures()?,
-        checks: *m.checks()?,
-    })
-}
-
 /// Prints the report of `m` (a table, or JSON), and writes the matrix CSV if asked. When
 /// some patch received none of the lines (`m.coverage()`), the discrete measures are
 /// undefined: `null` in JSON, "undefined" in the table, a warning on stderr, and no matrix.
@@ -56,7 +43,7 @@ pub fn print_report(
     json: bool,
     matrix: Option<&Path>,
 ) -> Result<()> {
-    let report = match (scene_report(m), m.coverage()) {
+    let report = match (SceneReport::of_measurement(m), m.coverage()) {
         (Some(r), _) => Report::Complete(r),
         (None, Some(&coverage)) => Report::Unsampled(UnsampledReport { coverage }),
         (None, None) => anyhow::bail!("{}: no form factors to report", file.display()),

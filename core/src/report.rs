@@ -287,6 +287,20 @@ impl SceneReport {
 
 #[cfg(feature = "alloc")]
 impl SceneReport {
+    /// The report of a [`crate::Measurement`]'s channel (the same numbers as
+    /// [`SceneReport::of`] its form factors); `None` when some patch received no line.
+    #[must_use]
+    pub fn of_measurement(m: &crate::Measurement) -> Option<Self> {
+        let ff = m.form_factors()?;
+        Some(Self {
+            n_patches: m.n_patches(),
+            background: ff.has_background(),
+            max_row_deficit: ff.max_row_deficit(),
+            measures: *m.measures()?,
+            checks: *m.checks()?,
+        })
+    }
+
     /// The report of the channel of `ff` (exact or Monte Carlo form factors).
     ///
     /// # Errors

@@ -107,7 +107,7 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
     let mut result = match budget {
         None => {
             let m = crate::job::run_job(path, &scene, &Job::Exact, 1)?;
-            let visibility = crate::report::scene_report(&m);
+            let visibility = SceneReport::of_measurement(&m);
             let ff = m.into_form_factors();
             let (Some(ff), Some(visibility)) = (ff, visibility) else {
                 bail!("{}: no form factors to solve with", path.display());
