@@ -5,11 +5,11 @@
 use std::path::Path;
 
 use anyhow::Result;
-use sceneinfo::formfactor::FormFactors;
-use sceneinfo::io::LoadReport;
-use sceneinfo::tally::coverage::Coverage;
-use sceneinfo::tally::{LineMethod, LineTracer};
-use sceneinfo::{Job, LineBudget, LineJob, Measurement, Scene, Serial};
+use sceneinfo::tally::LineTracer;
+use sceneinfo::{
+    Coverage, FormFactors, Job, LineBudget, LineJob, LineMethod, LoadReport, Measurement, Scene,
+    Serial,
+};
 
 use crate::args::{LinesArg, SamplingArgs};
 use crate::interrupt::Interrupted;

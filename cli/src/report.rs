@@ -9,11 +9,8 @@ use std::time::Instant;
 
 use anyhow::Result;
 use sceneinfo::continuous::relative_discretisation_error;
-use sceneinfo::formfactor::FormFactors;
-use sceneinfo::io::LoadReport;
 use sceneinfo::report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport, UnsampledReport};
-use sceneinfo::tally::coverage::Coverage;
-use sceneinfo::{FEW_STDERR_GROUPS, LineRunInfo, Measurement};
+use sceneinfo::{Coverage, FEW_STDERR_GROUPS, FormFactors, LineRunInfo, LoadReport, Measurement};
 
 use crate::interrupt::Interrupted;
 use crate::lines::AUTO_START_LINES;

@@ -127,6 +127,19 @@ pub use api::{
 };
 pub use error::{Error, ErrorKind, Result};
 
+// The types of the façade's signatures, so that its callers need no expert module
+pub use channel::{Checks, Measures};
+pub use continuous::ContinuousEstimate;
+#[cfg(feature = "alloc")]
+pub use formfactor::FormFactors;
+#[cfg(feature = "alloc")]
+pub use io::ObjOptions;
+pub use scene::Material;
+#[cfg(feature = "alloc")]
+pub use scene::{LoadReport, Scene2, Scene3};
+#[cfg(feature = "alloc")]
+pub use tally::{LineMethod, coverage::Coverage};
+
 /// The README's Rust examples, compiled and run as doctests.
 #[cfg(all(doctest, feature = "std"))]
 #[doc = include_str!("../../README.md")]

@@ -6,8 +6,7 @@ use sceneinfo::geom::DVec2;
 use sceneinfo::io::{parse_flat, write_flat};
 use sceneinfo::report::{JsonObject, SceneReport};
 use sceneinfo::scene::{Scene2, catalogue_scene};
-use sceneinfo::tally::LineMethod;
-use sceneinfo::{Error, LineSession};
+use sceneinfo::{Error, LineMethod, LineSession};
 use wasm_bindgen::prelude::*;
 
 use crate::lines::LineJob;
