@@ -372,3 +372,26 @@ fn budgets_and_memory_are_checked_before_any_work() {
     assert!(matches!(e.kind(), ErrorKind::MemoryLimit { .. }));
     assert!(Job::Exact.check_memory(6, 1, 1 << 20).is_ok());
 }
+
+#[test]
+fn a_session_stepped_chunk_by_chunk_is_the_whole_job() {
+    let scene = room_with_a_speck();
+    let n = 4 * CHUNK_LINES + 77;
+    let job = LineJob::new(n).with_seed(7);
+    let mut session = LineSession::new(&scene, &job).unwrap();
+    assert!(session.measurement().is_err(), "no line cast yet");
+    assert_eq!(session.cast(2, &mut Serial), 2 * CHUNK_LINES);
+    assert!(!session.is_done());
+    // After two chunks: the job of two chunks, marked as stopped short of the budget
+    let early = session.measurement().unwrap();
+    let two = measure(&scene, &lines(2 * CHUNK_LINES), &mut Serial).unwrap();
+    assert_eq!(early.continuous(), two.continuous());
+    assert!(early.line_run().unwrap().interrupted);
+    // The rest, on workers, in steps that overshoot the end
+    while !session.is_done() {
+        session.cast(2, &mut Threads(2));
+    }
+    assert_eq!(session.lines_done(), n);
+    let whole = measure(&scene, &Job::Lines(job), &mut Serial).unwrap();
+    assert_same(&session.measurement().unwrap(), &whole);
+}
