@@ -11,16 +11,10 @@ use std::path::{Path, PathBuf};
 
 /// Upward core edges that exist today, to be removed (issue 17).
 const KNOWN_CORE: &[(&str, &str, &str)] = &[];
-/// CLI commands that use another command today (issue 17: the core façade takes what
-/// `measure` shares with `formfactors`, `merge` and `radiosity`; shared CLI code lives beside
-/// `commands/`, in `output`, `lines`, `picture`, …; a command's own helper files are its
-/// submodules).
-const KNOWN_CLI: &[(&str, &str)] = &[
-    ("formfactors", "measure"),
-    ("measure", "formfactors"),
-    ("merge", "measure"),
-    ("radiosity", "measure"),
-];
+/// CLI commands that use another command today (issue 17: none left — shared CLI code
+/// lives beside `commands/`, in `output`, `lines`, `job`, `report`, `picture`, …; a
+/// command's own helper files are its submodules).
+const KNOWN_CLI: &[(&str, &str)] = &[];
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")

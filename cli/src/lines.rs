@@ -4,102 +4,69 @@
 //! merged at the end. The core's tallies are exact integers and fixed-point sums, so the
 //! result is bit-identical whatever the number of threads.
 
+//! The CLI's [`Executor`]: seeded line chunks on threads, with a progress bar on stderr and
+//! Ctrl-C.
+//!
+//! Chunks are handed out dynamically, each thread keeps its own tally, and the tallies are
+//! merged at the end. The core's tallies are exact integers and fixed-point sums, so the
+//! result is bit-identical whatever the number of threads. The line-budget loop
+//! (`--lines auto`) is the core's ([`sceneinfo::cast_lines`]), driven through [`Threads`].
+
 use std::io::{IsTerminal, Write};
 use std::ops::Range;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use sceneinfo::lines::{CHUNK_LINES, chunk_count, chunk_range};
 use sceneinfo::tally::{LineMethod, LineTally, LineTracer};
+use sceneinfo::{ChunkWork, ChunksDone, Executor};
 
-/// Where `--lines auto` starts: 2¹⁷ lines, two seeded chunks (one per core of a small
-/// machine), a whole number of chunks so that every doubling reuses the lines cast.
-pub const AUTO_START_LINES: u64 = 2 * CHUNK_LINES;
+pub use sceneinfo::{AUTO_MAX_LINES, AUTO_START_LINES, LineBudget};
 
-/// The most lines `--lines auto` doubles to without `--max-lines`: 2³⁰ (about 10⁹).
-pub const AUTO_MAX_LINES: u64 = 1 << 30;
-
-/// A job's line budget.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LineBudget {
-    /// Exactly this many lines.
-    Fixed(u64),
-    /// `start` lines, doubled until every patch has received a sample or the count reaches
-    /// `max` (the last step clamped to `max`).
-    UntilSampled {
-        /// The first count.
-        start: u64,
-        /// The largest count.
-        max: u64,
-    },
-}
-
-/// What [`run_budget`] cast.
+/// The executor of the CLI's line jobs: `threads` worker threads, chunks handed out in
+/// increasing order, a progress bar on a terminal, and Ctrl-C (no new chunk starts after
+/// it: the chunks cast are then a prefix of the range, the job of that many chunks). It
+/// adds up what its jobs cost in [`Threads::times`].
 #[derive(Debug)]
-pub struct BudgetRun {
-    /// The tally: that of one run of `lines` lines (or of its first chunks after Ctrl-C).
-    pub tally: LineTally,
-    /// The job's line count: the fixed budget, or the last count doubled to.
-    pub lines: u64,
-    /// What all the steps cost; `budget_done` counts the chunks of the final job cast.
+pub struct Threads {
+    threads: usize,
+    /// What the chunks cast through this executor cost, summed over its jobs.
     pub times: JobTimes,
 }
 
-/// Casts the lines of `budget` on `threads` threads.
-///
-/// A fixed budget is one [`run_timed`]. `UntilSampled` casts `start` lines and, while some
-/// patch has no sample ([`LineTally::all_sampled`]), no Ctrl-C came and the count is below
-/// `max`, doubles it. A job of `N` lines is the seeded chunks `0..⌈N / 2¹⁶⌉`, and a whole
-/// chunk does not depend on the job it belongs to ([`sceneinfo::lines::chunk_range`]), so
-/// when `N` is a whole number of chunks the job of `2N` lines is the job of `N` plus the
-/// chunks `N/2¹⁶ .. 2N/2¹⁶`: each step casts only those and merges them (exactly), and the
-/// tally equals one run of the final count, bit for bit, on any number of threads. A count
-/// off the chunk grid (a `start` that is not a multiple of 2¹⁶) is recast whole instead.
-pub fn run_budget<T: LineTracer + Sync + ?Sized>(
-    tracer: &T,
-    method: LineMethod,
-    seed: u64,
-    budget: LineBudget,
-    threads: usize,
-) -> BudgetRun {
-    // Ctrl-C between two steps asks to stop too (the command reports the job so far)
-    let _polling = crate::interrupt::Polling::start();
-    let (start, max) = match budget {
-        LineBudget::Fixed(n) => (n, n),
-        LineBudget::UntilSampled { start, max } => (start.min(max), max),
-    };
-    let mut lines = start;
-    let (mut tally, mut times) = run_timed(tracer, method, seed, lines, threads);
-    // Bounded: the count at least doubles each step up to `max` (≤ 64 steps)
-    while lines < max && !tally.all_sampled() && !crate::interrupt::requested() {
-        let more = lines.saturating_mul(2).min(max);
-        let (extra, t) = if lines % CHUNK_LINES == 0 {
-            let added = chunk_count(lines)..chunk_count(more);
-            run_chunks_timed(tracer, method, seed, more, added, threads)
-        } else {
-            let (whole, t) = run_timed(tracer, method, seed, more, threads);
-            tally = tracer.new_tally(method);
-            times.budget_done = 0;
-            (whole, t)
-        };
-        tally.merge_owned(extra);
-        times = JobTimes {
-            wall: times.wall + t.wall,
-            worker_cpu: times.worker_cpu.zip(t.worker_cpu).map(|(a, b)| a + b),
-            budget_done: times.budget_done + t.budget_done,
-        };
-        lines = more;
+impl Threads {
+    /// An executor of `threads` workers (at least one).
+    #[must_use]
+    pub fn new(threads: usize) -> Self {
+        Self {
+            threads: threads.max(1),
+            times: JobTimes {
+                wall: 0.0,
+                worker_cpu: Some(0.0),
+                budget_done: 0,
+            },
+        }
     }
-    BudgetRun {
-        tally,
-        lines,
-        times,
+}
+
+impl Executor for Threads {
+    fn execute(&mut self, work: &ChunkWork<'_>) -> ChunksDone {
+        let (done, t) = execute_timed(work, self.threads);
+        self.times = JobTimes {
+            wall: self.times.wall + t.wall,
+            worker_cpu: self.times.worker_cpu.zip(t.worker_cpu).map(|(a, b)| a + b),
+            budget_done: self.times.budget_done + t.budget_done,
+        };
+        done
+    }
+
+    fn stopped(&self) -> bool {
+        crate::interrupt::requested()
     }
 }
 
 /// Casts `n_lines` lines of `method` with `seed` on `threads` threads.
-pub fn run<T: LineTracer + Sync + ?Sized>(
-    tracer: &T,
+pub fn run(
+    tracer: &(dyn LineTracer + Sync),
     method: LineMethod,
     seed: u64,
     n_lines: u64,
@@ -109,28 +76,30 @@ pub fn run<T: LineTracer + Sync + ?Sized>(
 }
 
 /// [`run`], also returning what the job cost and the budget of the chunks it cast.
-pub fn run_timed<T: LineTracer + Sync + ?Sized>(
-    tracer: &T,
+pub fn run_timed(
+    tracer: &(dyn LineTracer + Sync),
     method: LineMethod,
     seed: u64,
     n_lines: u64,
     threads: usize,
 ) -> (LineTally, JobTimes) {
-    let all = 0..chunk_count(n_lines);
+    let all = 0..sceneinfo::lines::chunk_count(n_lines);
     run_chunks_timed(tracer, method, seed, n_lines, all, threads)
 }
 
 /// Casts only the seeded chunks `range` of a job of `n_lines` lines (a partial result;
-/// `range` must lie within `0..chunk_count(n_lines)`).
-pub fn run_chunks<T: LineTracer + Sync + ?Sized>(
-    tracer: &T,
+/// `range` is clamped to `0..chunk_count(n_lines)`), also returning what the job cost.
+pub fn run_chunks_timed(
+    tracer: &(dyn LineTracer + Sync),
     method: LineMethod,
     seed: u64,
     n_lines: u64,
     range: Range<u64>,
     threads: usize,
-) -> LineTally {
-    run_chunks_timed(tracer, method, seed, n_lines, range, threads).0
+) -> (LineTally, JobTimes) {
+    let mut executor = Threads::new(threads);
+    let run = sceneinfo::cast_chunks(tracer, method, seed, n_lines, range, &mut executor);
+    (run.tally, executor.times)
 }
 
 /// What a line job cost: wall time, and the CPU time its worker threads spent casting
@@ -157,26 +126,18 @@ pub(crate) fn thread_cpu_seconds() -> Option<f64> {
     Some(ns as f64 * 1e-9)
 }
 
-/// [`run_chunks`], also returning what the job cost.
-pub fn run_chunks_timed<T: LineTracer + Sync + ?Sized>(
-    tracer: &T,
-    method: LineMethod,
-    seed: u64,
-    n_lines: u64,
-    range: Range<u64>,
-    threads: usize,
-) -> (LineTally, JobTimes) {
+/// Casts the chunks of `work` on `threads` threads (fewer when there are fewer chunks),
+/// merges the workers' tallies, and measures what it cost.
+fn execute_timed(work: &ChunkWork<'_>, threads: usize) -> (ChunksDone, JobTimes) {
     // The workers check for Ctrl-C between chunks
     let _polling = crate::interrupt::Polling::start();
-    let chunks = range.end.min(chunk_count(n_lines));
+    let range = work.chunks();
     let next = AtomicU64::new(range.start);
     let done = AtomicU64::new(0);
-    // Lines in the range: where its end chunk starts minus where its first one does (a
-    // chunk at or past the end starts at `n_lines`).
-    let range_lines =
-        chunk_range(n_lines, chunks).start - chunk_range(n_lines, range.start.min(chunks)).start;
+    let chunks_done = AtomicU64::new(0);
+    let range_lines = work.lines();
     let threads = threads.max(1).min(
-        usize::try_from(chunks.saturating_sub(range.start))
+        usize::try_from(range.end.saturating_sub(range.start))
             .unwrap_or(usize::MAX)
             .max(1),
     );
@@ -185,21 +146,21 @@ pub fn run_chunks_timed<T: LineTracer + Sync + ?Sized>(
         let workers: Vec<_> = (0..threads)
             .map(|_| {
                 scope.spawn(|| {
-                    let mut tally = tracer.new_tally(method);
+                    let mut tally = work.new_tally();
                     let cpu_start = thread_cpu_seconds();
                     loop {
                         // After Ctrl-C no new chunk starts: the chunks done are then
-                        // 0..k, the job of k whole chunks (same seed).
+                        // a prefix of the range (every chunk started is finished).
                         if crate::interrupt::requested() {
                             break;
                         }
                         let chunk = next.fetch_add(1, Ordering::Relaxed);
-                        if chunk >= chunks {
+                        if chunk >= range.end {
                             break;
                         }
-                        tracer.trace_chunk(seed, n_lines, chunk, &mut tally);
-                        let r = chunk_range(n_lines, chunk);
-                        done.fetch_add(r.end - r.start, Ordering::Relaxed);
+                        work.cast(chunk, &mut tally);
+                        done.fetch_add(work.chunk_lines(chunk), Ordering::Relaxed);
+                        chunks_done.fetch_add(1, Ordering::Relaxed);
                     }
                     let cpu = cpu_start.zip(thread_cpu_seconds()).map(|(a, b)| b - a);
                     (tally, cpu)
@@ -215,7 +176,7 @@ pub fn run_chunks_timed<T: LineTracer + Sync + ?Sized>(
     // Merged into the first worker's tally: exact, so the same bits as a fresh sum, without
     // one more pass over (and allocation of) the whole count matrix.
     let mut tallies = results.into_iter().map(|r| r.0);
-    let mut total = tallies.next().unwrap_or_else(|| tracer.new_tally(method));
+    let mut total = tallies.next().unwrap_or_else(|| work.new_tally());
     for t in tallies {
         total.merge_owned(t);
     }
@@ -224,7 +185,11 @@ pub fn run_chunks_timed<T: LineTracer + Sync + ?Sized>(
         worker_cpu,
         budget_done: done.load(Ordering::Relaxed),
     };
-    (total, times)
+    let done = ChunksDone {
+        tally: total,
+        chunks: chunks_done.load(Ordering::Relaxed),
+    };
+    (done, times)
 }
 
 /// Draws a progress bar on a terminal's stderr while the workers run, starting after one

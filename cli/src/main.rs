@@ -10,6 +10,7 @@ mod commands;
 mod config;
 mod formats;
 mod interrupt;
+mod job;
 mod lines;
 mod mesh;
 mod output;
@@ -17,6 +18,7 @@ mod picture;
 mod ply;
 mod png;
 mod raster;
+mod report;
 mod svg;
 
 use std::process::ExitCode;

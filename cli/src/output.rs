@@ -212,13 +212,9 @@ pub fn located(path: &Path, err: &sceneinfo::Error) -> anyhow::Error {
     }
 }
 
-/// A scene file, flatland or 3D.
-pub enum Loaded {
-    /// A `.flat` scene.
-    Flat(sceneinfo::scene::Scene2),
-    /// A 3D scene: Wavefront OBJ (with its `.mtl` libraries), glTF 2.0 or PLY.
-    Solid(sceneinfo::scene::Scene3),
-}
+/// A scene file, flatland (`.flat`) or 3D (Wavefront OBJ with its `.mtl` libraries, glTF
+/// 2.0 or PLY): the core's [`sceneinfo::Scene`].
+pub use sceneinfo::Scene as Loaded;
 
 /// A loaded scene and what the loader did to make it ([`LoadReport`]: faces read,
 /// warnings of what was skipped or repaired, a note when the content's format disagrees
@@ -360,17 +356,22 @@ pub fn exact_3d_form_factors(
     path: &Path,
     scene: &sceneinfo::scene::Scene3,
 ) -> Result<sceneinfo::formfactor::FormFactors> {
-    sceneinfo::formfactor::exact_3d::scene_form_factors(scene).map_err(|e| {
-        if matches!(e.kind(), sceneinfo::ErrorKind::MayBeOccluded) {
-            job_refused(
-                path,
-                "some patches may hide others; exact 3D form factors are computed only for \
-                 unoccluded scenes: use --lines N for a Monte Carlo estimate",
-            )
-        } else {
-            located(path, &e)
-        }
-    })
+    sceneinfo::formfactor::exact_3d::scene_form_factors(scene).map_err(|e| exact_error(path, &e))
+}
+
+/// The error of exact form factors of the scene in `path`: [`job_refused`] asking for
+/// `--lines` when some 3D patch may hide another (exact 3D form factors with occlusion are
+/// not implemented), else [`located`].
+pub fn exact_error(path: &Path, e: &sceneinfo::Error) -> anyhow::Error {
+    if matches!(e.kind(), sceneinfo::ErrorKind::MayBeOccluded) {
+        job_refused(
+            path,
+            "some patches may hide others; exact 3D form factors are computed only for \
+             unoccluded scenes: use --lines N for a Monte Carlo estimate",
+        )
+    } else {
+        located(path, e)
+    }
 }
 
 #[cfg(test)]

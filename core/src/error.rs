@@ -178,6 +178,14 @@ pub enum ErrorKind {
     EmptyScene,
     /// Explicit cut positions along a segment are not strictly increasing inside (0, 1).
     BadCuts,
+    /// A face given as arrays refers to a vertex past the end of the vertex array
+    /// ([`crate::Scene::from_polygons`]; indices count from 0).
+    VertexIndex {
+        /// The index given.
+        index: u64,
+        /// The number of vertices.
+        count: usize,
+    },
     /// A patch index is out of range.
     PatchIndex {
         /// The index given.
@@ -459,6 +467,10 @@ impl fmt::Display for ErrorKind {
             K::EmittanceTooLarge { value, max } => write_emittance_too_large(f, *value, *max),
             K::EmptyScene => write!(f, "scene has no patches"),
             K::BadCuts => write!(f, "cut positions must increase strictly inside (0, 1)"),
+            K::VertexIndex { index, count } => write!(
+                f,
+                "vertex index {index} out of range ({count} vertices, counted from 0)"
+            ),
             K::PatchIndex { index, len } => {
                 write!(
                     f,

@@ -57,7 +57,6 @@ mod refine;
 mod scene;
 pub mod thesis;
 mod viewpoint;
-mod warning;
 
 pub use json::JsonObject;
 pub use line_run::LineRunReport;
@@ -67,4 +66,6 @@ pub use scene::{
     SceneReport, UnsampledReport, measure_flat, measure_flat_json, measure_obj_json, measure_solid,
 };
 pub use viewpoint::{ViewpointReport, viewpoints_obj_json};
-pub use warning::{CHECK_TOLERANCE, NEARLY_CLOSED_DEFICIT, Warning};
+// The warnings are the façade's (`sceneinfo::Measurement::warnings` gives them too); the
+// reports write their `Display` text under `warnings`.
+pub use sceneinfo::{CHECK_TOLERANCE, NEARLY_CLOSED_DEFICIT, Warning};

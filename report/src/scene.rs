@@ -10,7 +10,7 @@ use sceneinfo::scene::{Scene2, Scene3};
 use sceneinfo::tally::coverage::Coverage;
 
 use crate::json::JsonObject;
-use crate::warning::{CHECK_TOLERANCE, NEARLY_CLOSED_DEFICIT, Warning};
+use sceneinfo::{CHECK_TOLERANCE, Warning};
 
 /// The discrete measures of a scene's channel, with the checks and the background flag.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -28,6 +28,20 @@ pub struct SceneReport {
 }
 
 impl SceneReport {
+    /// The report of a [`sceneinfo::Measurement`]'s channel (the same numbers as
+    /// [`SceneReport::of`] its form factors); `None` when some patch received no line.
+    #[must_use]
+    pub fn of_measurement(m: &sceneinfo::Measurement) -> Option<Self> {
+        let ff = m.form_factors()?;
+        Some(Self {
+            n_patches: m.n_patches(),
+            background: ff.has_background(),
+            max_row_deficit: ff.max_row_deficit(),
+            measures: *m.measures()?,
+            checks: *m.checks()?,
+        })
+    }
+
     /// The report of the channel of `ff` (exact or Monte Carlo form factors).
     ///
     /// # Errors
@@ -97,24 +111,7 @@ impl SceneReport {
     /// are written; empty for exact form factors of a well-conditioned scene.
     #[must_use]
     pub fn warnings(&self) -> Vec<Warning> {
-        let c = &self.checks;
-        let mut out = Vec::new();
-        if self.background && self.max_row_deficit <= NEARLY_CLOSED_DEFICIT {
-            out.push(Warning::NearlyClosed {
-                deficit: self.max_row_deficit,
-            });
-        }
-        if !c.is_row_stochastic(CHECK_TOLERANCE) {
-            out.push(Warning::RowSums {
-                error: c.max_row_sum_error,
-            });
-        }
-        if !c.is_stationary(CHECK_TOLERANCE) {
-            out.push(Warning::Stationarity {
-                error: c.stationarity_error,
-            });
-        }
-        out
+        sceneinfo::channel_warnings(self.background, self.max_row_deficit, &self.checks).to_vec()
     }
 
     /// The report as a JSON string.

@@ -1,13 +1,11 @@
 //! `FlatLab`: one flatland scene and its exact channel, as the page sees it.
 
-use sceneinfo::Error;
 use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::geom::DVec2;
 use sceneinfo::io::{parse_flat, write_flat};
 use sceneinfo::scene::{Scene2, catalogue_scene};
-use sceneinfo::tally::LineMethod;
-use sceneinfo::trace::estimate_2d::Tracer2;
+use sceneinfo::{Error, LineMethod, LineSession};
 use sceneinfo_report::{JsonObject, SceneReport};
 use wasm_bindgen::prelude::*;
 
@@ -342,12 +340,11 @@ impl FlatLab {
         if lines == 0 {
             return Err(sceneinfo::ErrorKind::NoLines.into());
         }
-        Ok(LineJob::new(
-            Tracer2::new(&self.scene)?,
-            method,
-            seed,
-            lines,
-        ))
+        let job = sceneinfo::LineJob::new(lines)
+            .with_method(method)
+            .with_seed(seed);
+        let scene = sceneinfo::Scene::Flat(self.scene.clone());
+        Ok(LineJob::new(LineSession::new(&scene, &job)?))
     }
 }
 

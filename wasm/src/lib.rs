@@ -38,6 +38,8 @@ pub use lines::{LineJob, LineResult};
 pub use refine::Refiner;
 pub use viewpoints::viewpoints;
 
+use sceneinfo::{Job, Scene, SceneFormat, Serial};
+use sceneinfo_report::SceneReport;
 use wasm_bindgen::prelude::*;
 
 /// Installs the panic hook when the module is instantiated (with the default
@@ -50,7 +52,7 @@ pub fn start() {
 
 /// Measures a flatland scene given as `.flat` text.
 ///
-/// Returns the JSON object of [`sceneinfo_report::measure_flat_json`]: `n_patches`,
+/// Returns the JSON object of `sceneinfo measure --json` for exact form factors: `n_patches`,
 /// `h_p`, `h_s`, `h_j`, `i_s`, `h_s_norm`, `i_s_norm`, `e_mse`, `fano`, … (entropies in
 /// bits).
 ///
@@ -60,7 +62,8 @@ pub fn start() {
 /// `"line 2: …"`, when the text does not parse or the scene is invalid.
 #[wasm_bindgen(js_name = measureFlat)]
 pub fn measure_flat(text: &str) -> Result<String, JsError> {
-    sceneinfo_report::measure_flat_json(text).map_err(into_error)
+    let (scene, _) = Scene::from_text(text, SceneFormat::Flat, |_| None).map_err(into_error)?;
+    exact_json(&scene)
 }
 
 /// Measures a 3D scene given as OBJ text with exact form factors, when no polygon can hide
@@ -68,7 +71,7 @@ pub fn measure_flat(text: &str) -> Result<String, JsError> {
 ///
 /// `mtlNames[k]` is the name an `mtllib` statement uses for the library text `mtlTexts[k]`
 /// (a browser has no file system to look it up in). Faces are not subdivided. Returns the
-/// JSON object of [`sceneinfo_report::measure_obj_json`], with the keys of
+/// JSON object of the scene's exact channel ([`sceneinfo::measure`]), with the keys of
 /// [`measure_flat`]. The OBJ is read as [`sceneinfo::io::parse_obj`] reads it: statements it
 /// skips, a library not given and an unknown `usemtl` name are not errors, and the loader's
 /// warnings are not returned.
@@ -100,7 +103,18 @@ pub fn measure_obj(
             .position(|n| n == name)
             .and_then(|k| mtl_texts.get(k).cloned())
     };
-    sceneinfo_report::measure_obj_json(obj, library).map_err(into_error)
+    let format = SceneFormat::Obj(sceneinfo::io::ObjOptions::default());
+    let (scene, _) = Scene::from_text(obj, format, library).map_err(into_error)?;
+    exact_json(&scene)
+}
+
+/// The JSON report of `scene`'s exact channel ([`sceneinfo::measure`] with
+/// [`Job::Exact`]): the keys and bytes of `sceneinfo measure --json` less its own.
+fn exact_json(scene: &Scene) -> Result<String, JsError> {
+    let m = sceneinfo::measure(scene, &Job::Exact, &mut Serial).map_err(into_error)?;
+    let report = SceneReport::of_measurement(&m)
+        .ok_or_else(|| JsError::new("exact form factors have every row"))?;
+    Ok(report.to_json())
 }
 
 /// The relative discretisation error `δ̄ = (I_S^c − I_S) / I_S^c` (thesis §4.4.2), 0 when

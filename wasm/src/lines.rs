@@ -1,42 +1,28 @@
 //! `LineJob`: a Monte Carlo run of global or local lines, cast chunk by chunk so that the
 //! page can show progress between chunks and stop whenever it likes.
 //!
-//! Chunk `k` of an `N`-line job draws from [`sceneinfo::lines::chunk_rng`]`(seed, k)` and
+//! Chunk `k` of an `N`-line job draws from its own seeded stream (`chunk_rng(seed, k)`) and
 //! tallies exactly (integers and 64.64 fixed-point sums), so a finished job gives the same
 //! bits as `sceneinfo measure --lines N --seed S` on any number of threads; a job stopped
 //! after `k` whole chunks equals the job of `k · 2^16` lines.
 
-use sceneinfo::lines::{CHUNK_LINES, chunk_count};
-use sceneinfo::tally::{LineMethod, LineTally, LineTracer};
-use sceneinfo::trace::estimate_2d::Tracer2;
+use sceneinfo::{LineSession, Serial};
 use sceneinfo_report::{JsonObject, LineRunReport, SceneReport, UnsampledReport};
 use wasm_bindgen::prelude::*;
 
 use crate::into_error;
 
-/// A Monte Carlo job over one scene (made by `FlatLab.globalLines` / `localLines`).
+/// A Monte Carlo job over one scene (made by `FlatLab.globalLines` / `localLines`): the
+/// core's [`LineSession`], stepped by the page.
 #[wasm_bindgen]
 #[derive(Debug)]
 pub struct LineJob {
-    tracer: Tracer2,
-    tally: LineTally,
-    method: LineMethod,
-    seed: u64,
-    lines: u64,
-    next_chunk: u64,
+    session: LineSession,
 }
 
 impl LineJob {
-    pub(crate) fn new(tracer: Tracer2, method: LineMethod, seed: u64, lines: u64) -> Self {
-        let tally = tracer.new_tally(method);
-        Self {
-            tracer,
-            tally,
-            method,
-            seed,
-            lines,
-            next_chunk: 0,
-        }
+    pub(crate) fn new(session: LineSession) -> Self {
+        Self { session }
     }
 }
 
@@ -45,48 +31,42 @@ impl LineJob {
     /// Casts the next `chunks` chunks of 2^16 lines (fewer if the job ends first) and
     /// returns the number of lines cast so far.
     pub fn run(&mut self, chunks: u32) -> f64 {
-        let end = chunk_count(self.lines).min(self.next_chunk + u64::from(chunks));
-        while self.next_chunk < end {
-            self.tracer
-                .trace_chunk(self.seed, self.lines, self.next_chunk, &mut self.tally);
-            self.next_chunk += 1;
-        }
-        self.tally.lines() as f64
+        self.session.cast(u64::from(chunks), &mut Serial) as f64
     }
 
     /// Lines cast so far.
     #[wasm_bindgen(getter, js_name = linesDone)]
     #[must_use]
     pub fn lines_done(&self) -> f64 {
-        self.tally.lines() as f64
+        self.session.lines_done() as f64
     }
 
     /// The job's line budget.
     #[wasm_bindgen(getter, js_name = linesTotal)]
     #[must_use]
     pub fn lines_total(&self) -> f64 {
-        self.lines as f64
+        self.session.lines_total() as f64
     }
 
     /// Lines per chunk (2^16).
     #[wasm_bindgen(getter, js_name = chunkLines)]
     #[must_use]
     pub fn chunk_lines(&self) -> f64 {
-        CHUNK_LINES as f64
+        LineSession::CHUNK_LINES as f64
     }
 
     /// Whether every chunk has been cast.
     #[wasm_bindgen(getter)]
     #[must_use]
     pub fn done(&self) -> bool {
-        self.next_chunk >= chunk_count(self.lines)
+        self.session.is_done()
     }
 
     /// `I_S^c` (4.8, 4.13) from the lines cast so far, in bits (0 before any sample).
     #[wasm_bindgen(getter)]
     #[must_use]
     pub fn value(&self) -> f64 {
-        self.tally.continuous().value
+        self.session.continuous().value
     }
 
     /// The standard error of [`LineJob::value`] (each line one observation of a ratio
@@ -94,18 +74,19 @@ impl LineJob {
     #[wasm_bindgen(getter)]
     #[must_use]
     pub fn stderr(&self) -> f64 {
-        self.tally.continuous().stderr
+        self.session.continuous().stderr
     }
 
     /// Samples (global lines: intersections) so far.
     #[wasm_bindgen(getter)]
     #[must_use]
     pub fn samples(&self) -> f64 {
-        self.tally.continuous().samples as f64
+        self.session.continuous().samples as f64
     }
 
     /// The result of the lines cast so far: Monte Carlo form factors (2.36, 2.37), their
-    /// channel measures and `I_S^c` with its per-patch split.
+    /// channel measures and `I_S^c` with its per-patch split
+    /// ([`LineSession::measurement`]).
     ///
     /// When some patch has no sample yet its row of `F` is unknown: the result then has
     /// `I_S^c` and its per-patch split, and JSON whose discrete measures are `null`, with
@@ -116,46 +97,33 @@ impl LineJob {
     /// `NoLines` before the first chunk; the channel's errors.
     pub fn finish(&self) -> Result<LineResult, JsError> {
         let json_error = |e: std::fmt::Error| JsError::new(&e.to_string());
+        let m = self.session.measurement().map_err(into_error)?;
         let mut json = String::new();
         let mut o = JsonObject::new(&mut json).map_err(json_error)?;
-        let run = |i_s: f64, continuous| LineRunReport {
-            method: self.method,
-            lines: self.tally.lines(),
-            seed: self.seed,
-            continuous,
-            i_s,
+        let report = SceneReport::of_measurement(&m);
+        let written = match (&report, m.coverage()) {
+            (Some(r), _) => r.write_fields(&mut o),
+            (None, Some(&coverage)) => UnsampledReport { coverage }.write_fields(&mut o),
+            (None, None) => Err(std::fmt::Error),
         };
-        if self.tally.lines() > 0 && !self.tally.all_sampled() {
-            let report = UnsampledReport {
-                coverage: self.tally.coverage(self.tracer.patch_sizes()),
-            };
-            let run = run(f64::NAN, self.tally.continuous());
-            let written = report
-                .write_fields(&mut o)
-                .and_then(|()| run.write_fields(&mut o))
-                .and_then(|()| o.finish());
-            written.map_err(json_error)?;
-            return Ok(LineResult {
-                patch_continuous: self.tally.patch_continuous(),
-                pair_continuous: None,
-                json,
-            });
-        }
-        let estimate = self
-            .tally
-            .clone()
-            .finish(&self.tracer)
-            .map_err(into_error)?;
-        let report = SceneReport::of(&estimate.form_factors).map_err(into_error)?;
-        let run = run(report.measures.i_s, estimate.continuous);
-        let written = report
-            .write_fields(&mut o)
-            .and_then(|()| run.write_fields(&mut o))
-            .and_then(|()| o.finish());
         written.map_err(json_error)?;
+        if let (Some(run), Some(continuous)) = (m.line_run(), m.continuous()) {
+            let run = LineRunReport {
+                method: run.method,
+                lines: run.lines,
+                seed: run.seed,
+                continuous,
+                i_s: report.map_or(f64::NAN, |r| r.measures.i_s),
+            };
+            run.write_fields(&mut o).map_err(json_error)?;
+        }
+        o.finish().map_err(json_error)?;
         Ok(LineResult {
-            patch_continuous: estimate.patch_continuous,
-            pair_continuous: estimate.pair_continuous,
+            patch_continuous: m
+                .patch_continuous()
+                .map(<[f64]>::to_vec)
+                .unwrap_or_default(),
+            pair_continuous: m.pair_continuous().map(<[f64]>::to_vec),
             json,
         })
     }
@@ -191,7 +159,7 @@ impl LineResult {
     }
 
     /// `I_ij^c` (6.35, 6.36), `n × n` row-major, for scenes of at most
-    /// [`sceneinfo::tally::DENSE_PAIR_LIMIT`] patches whose every patch was sampled
+    /// `sceneinfo::tally::DENSE_PAIR_LIMIT` patches whose every patch was sampled
     /// (`undefined` otherwise).
     #[wasm_bindgen(js_name = pairContinuous)]
     #[must_use]

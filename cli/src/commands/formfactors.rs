@@ -11,9 +11,10 @@ use sceneinfo_report::CHECK_TOLERANCE;
 
 use crate::args::FormFactorsArgs;
 use crate::output::write_atomic;
+use crate::report::{csv, rows};
 
 pub fn run(args: &FormFactorsArgs) -> Result<()> {
-    let ff = crate::commands::measure::form_factors_of(&args.file, &args.sampling)?;
+    let ff = crate::job::form_factors_of(&args.file, &args.sampling)?;
     let ext = args
         .out
         .extension()
@@ -76,33 +77,6 @@ pub fn run(args: &FormFactorsArgs) -> Result<()> {
     )?;
     out.flush()?;
     Ok(())
-}
-
-fn rows(ff: &FormFactors, mut each: impl FnMut(&[f64])) -> Result<()> {
-    let n = ff.n_states();
-    let mut row = vec![0.0; n];
-    for i in 0..n {
-        ff.dense_row_into(i, &mut row)
-            .map_err(|e| anyhow::anyhow!("{e}"))?;
-        each(&row);
-    }
-    Ok(())
-}
-
-/// One row of `F` per line, comma-separated, shortest round-trip decimals.
-pub fn csv(ff: &FormFactors) -> Result<String> {
-    let n = ff.n_states();
-    let mut s = String::with_capacity(n * n * 12);
-    rows(ff, |row| {
-        for (k, v) in row.iter().enumerate() {
-            if k > 0 {
-                s.push(',');
-            }
-            let _ = write!(s, "{v:?}");
-        }
-        s.push('\n');
-    })?;
-    Ok(s)
 }
 
 /// A View3D-style text matrix: a header line with the number of states, a line with the

@@ -7,11 +7,12 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Result;
+use sceneinfo::Measurement;
 use sceneinfo::io::partial::{Partial, merge_partials};
 
 use crate::args::MergeArgs;
-use crate::commands::measure::{MonteCarlo, Timing, print_report};
 use crate::output::{located, write_atomic};
+use crate::report::{Timing, print_report};
 
 pub fn run(args: &MergeArgs) -> Result<()> {
     let start = Instant::now();
@@ -41,52 +42,14 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         )?;
         return Ok(());
     }
-    let (job, earlier) = (merged.job, merged.seconds);
-    // A whole job that left some patch without a line: I_S^c, no discrete measures
-    if merged.is_complete() && !merged.tally.all_sampled() {
-        let coverage = merged.tally.coverage(&merged.sizes);
-        let mc = MonteCarlo {
-            method: job.method,
-            lines: merged.tally.lines(),
-            requested: job.lines,
-            budget_done: job.lines,
-            interrupted: false,
-            seed: job.seed,
-            continuous: merged.tally.continuous(),
-            auto_max: None,
-            unsampled: Some(coverage),
-        };
-        let timing = Timing { start, earlier };
-        return print_report(
-            first,
-            None,
-            Some(&mc),
-            None,
-            timing,
-            args.json,
-            args.matrix.as_deref(),
-        );
-    }
-    let est = merged
-        .finish()
-        .map_err(|e| anyhow::anyhow!("merge: {}", e.kind()))?;
-    let mc = MonteCarlo {
-        method: job.method,
-        // The lines cast (bundles of parallel lines in 3D cast about the lines asked for)
-        lines: est.lines,
-        requested: job.lines,
-        // Merged partials cover the whole job (merge_partials refuses gaps)
-        budget_done: job.lines,
-        interrupted: false,
-        seed: job.seed,
-        continuous: est.continuous,
-        auto_max: None,
-        unsampled: None,
-    };
+    let earlier = merged.seconds;
+    // One run of the whole job, bit for bit: its measures, or, when some patch received no
+    // line, I_S^c and no discrete measures
+    let m =
+        Measurement::from_partial(merged).map_err(|e| anyhow::anyhow!("merge: {}", e.kind()))?;
     print_report(
         Path::new(first),
-        Some(&est.form_factors),
-        Some(&mc),
+        &m,
         None,
         Timing { start, earlier },
         args.json,

@@ -21,19 +21,15 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{Result, bail};
+use sceneinfo::Job;
 use sceneinfo::continuous::ContinuousEstimate;
 use sceneinfo::formfactor::FormFactors;
-use sceneinfo::formfactor::exact_2d;
 use sceneinfo::radiosity::continuous::estimate_lit;
 use sceneinfo::radiosity::display::{ToneMap, gouraud_mesh};
-use sceneinfo::radiosity::rgb::{
-    self, CHANNEL_NAMES, RgbSolution, flat_patch_materials, patch_materials,
-};
+use sceneinfo::radiosity::rgb::{self, CHANNEL_NAMES, RgbSolution};
 use sceneinfo::radiosity::{RadiosityMeasures, SolveOptions, Solver};
 use sceneinfo::scene::{Material, Scene3};
 use sceneinfo::tally::{LineMethod, LineTracer};
-use sceneinfo::trace::estimate_2d::Tracer2;
-use sceneinfo::trace::estimate_3d::Tracer3;
 use sceneinfo_report::{JsonObject, SceneReport};
 
 use crate::args::{Method, RadiosityArgs, SamplingArgs, SolverArg};
@@ -106,43 +102,23 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
         SolverArg::Southwell => Solver::Southwell,
     };
     let method = args.sampling.method.line_method();
-    let budget = super::measure::budget_of(&args.sampling, path)?;
-    let mut result = match &scene {
-        Loaded::Flat(s) => {
-            let materials = flat_patch_materials(s);
-            match budget {
-                None => solve(
-                    exact_2d::form_factors(s).map_err(at)?,
-                    materials,
-                    solver,
-                    &opts,
-                )
-                .map_err(at)?,
-                Some(budget) => {
-                    let tracer = Tracer2::new(s).map_err(at)?;
-                    super::measure::check_supported(&tracer, method, path)?;
-                    let job = (budget, &args.sampling);
-                    with_lines(&tracer, materials, solver, &opts, job, path)?
-                }
-            }
+    let budget = crate::job::budget_of(&args.sampling, path)?;
+    let materials = scene.patch_materials();
+    let mut result = match budget {
+        None => {
+            let m = crate::job::run_job(path, &scene, &Job::Exact, 1)?;
+            let visibility = SceneReport::of_measurement(&m);
+            let ff = m.into_form_factors();
+            let (Some(ff), Some(visibility)) = (ff, visibility) else {
+                bail!("{}: no form factors to solve with", path.display());
+            };
+            solve(ff, visibility, materials, solver, &opts).map_err(at)?
         }
-        Loaded::Solid(s) => {
-            let materials = patch_materials(s);
-            match budget {
-                None => solve(
-                    crate::output::exact_3d_form_factors(path, s)?,
-                    materials,
-                    solver,
-                    &opts,
-                )
-                .map_err(at)?,
-                Some(budget) => {
-                    let tracer = Tracer3::new(s).map_err(at)?;
-                    super::measure::check_supported(&tracer, method, path)?;
-                    let job = (budget, &args.sampling);
-                    with_lines(&tracer, materials, solver, &opts, job, path)?
-                }
-            }
+        Some(budget) => {
+            let tracer = scene.tracer().map_err(at)?;
+            crate::job::check_supported(tracer.as_dyn(), method, path)?;
+            let job = (budget, &args.sampling);
+            with_lines(tracer.as_dyn(), materials, solver, &opts, job, path)?
         }
     };
     result.seconds = start.elapsed().as_secs_f64();
@@ -164,16 +140,16 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
     Ok(())
 }
 
-/// Solves and measures on given form factors.
+/// Solves and measures on given form factors, whose visibility report is `visibility`.
 fn solve(
     ff: FormFactors,
+    visibility: SceneReport,
     materials: Vec<Material>,
     solver: Solver,
     opts: &SolveOptions,
 ) -> sceneinfo::Result<Run> {
     let solution = rgb::solve_rgb(&ff.matrix(), ff.weights(), &materials, solver, opts)?;
     let radiosity = rgb::rgb_measures(&ff.matrix(), ff.weights(), &solution)?;
-    let visibility = SceneReport::of(&ff)?;
     Ok(Run {
         ff,
         materials,
@@ -189,14 +165,14 @@ fn solve(
 /// this process' threads).
 ///
 /// With `--lines auto` the first cast doubles its lines until every patch has received one
-/// ([`crate::lines::run_budget`]) and a second cast, if [`estimate_lit`] needs one, uses
+/// ([`sceneinfo::cast_lines`]) and a second cast, if [`estimate_lit`] needs one, uses
 /// the count it stopped at. The solve needs every row of `F`: when some patch received no
 /// line (too few lines, or `auto` stopped at `--max-lines`), the run is refused with how
 /// many patches were missed and about how many lines would reach them all — a radiosity
 /// `B` on the reached patches alone would treat the missed ones as black holes and bias
 /// every other value.
-fn with_lines<T: LineTracer + Sync>(
-    tracer: &T,
+fn with_lines(
+    tracer: &(dyn LineTracer + Sync),
     materials: Vec<Material>,
     solver: Solver,
     opts: &SolveOptions,
@@ -204,13 +180,14 @@ fn with_lines<T: LineTracer + Sync>(
     path: &Path,
 ) -> Result<Run> {
     let method = sampling.method.line_method();
-    let threads = crate::config::threads(sampling.threads);
+    let threads = crate::job::threads_of(sampling);
     // The count the first cast settled on, and which patches it reached
     let mut settled: Option<u64> = None;
     let mut coverage = None;
     let cast = |t: &(dyn LineTracer + Sync)| {
         let budget = settled.map_or(budget, LineBudget::Fixed);
-        let run = crate::lines::run_budget(t, method, sampling.seed, budget, threads);
+        let mut executor = crate::lines::Threads::new(threads);
+        let run = sceneinfo::cast_lines(t, method, sampling.seed, budget, &mut executor);
         if settled.is_none() {
             settled = Some(run.lines);
             coverage = Some(run.tally.coverage(t.patch_sizes()));
@@ -221,11 +198,7 @@ fn with_lines<T: LineTracer + Sync>(
         Ok(est) => est,
         Err(e) if matches!(e.kind(), sceneinfo::ErrorKind::UnsampledPatch { .. }) => {
             let what = "B = E + ρFB cannot be solved";
-            return Err(super::measure::unsampled_error(
-                path,
-                coverage.as_ref(),
-                what,
-            ));
+            return Err(crate::job::unsampled_error(path, coverage.as_ref(), what));
         }
         Err(e) => return Err(located(path, &e)),
     };
@@ -415,7 +388,7 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
             );
         }
         let groups = visibility_groups.min(radiosity_groups);
-        if groups < super::measure::FEW_STDERR_GROUPS {
+        if groups < sceneinfo::FEW_STDERR_GROUPS {
             let _ = writeln!(
                 s,
                 "WARNING               the standard errors rest on {groups} observations only: \
@@ -454,15 +427,11 @@ fn no_emitter_note(
     scene: &Loaded,
     report: &sceneinfo::io::LoadReport,
 ) -> Option<String> {
-    let (emits, how) = match scene {
-        Loaded::Flat(s) => (
-            flat_patch_materials(s).iter().any(Material::is_emitter),
-            "no 'mat emit' with a value > 0",
-        ),
-        Loaded::Solid(s) => (
-            patch_materials(s).iter().any(Material::is_emitter),
-            "no material with Ke > 0 in its .mtl libraries",
-        ),
+    let emits = scene.patch_materials().iter().any(Material::is_emitter);
+    let how = if scene.is_flat() {
+        "no 'mat emit' with a value > 0"
+    } else {
+        "no material with Ke > 0 in its .mtl libraries"
     };
     if emits {
         return None;

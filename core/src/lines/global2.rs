@@ -109,12 +109,13 @@ impl BoundingCircle {
 ///
 /// ```
 /// use sceneinfo::geom::DVec2;
-/// use sceneinfo::lines::{BoundingCircle, invert_global_line_2d, sample_global_line_2d};
+/// use sceneinfo::lines::{BoundingCircle, sample_global_line_2d};
 ///
 /// let circle = BoundingCircle::of_bounds(DVec2::ZERO, DVec2::ONE);
 /// let line = sample_global_line_2d(&circle, [0.25, 0.75]);
-/// let u = invert_global_line_2d(&circle, &line);
-/// assert!((u[0] - 0.25).abs() < 1e-12 && (u[1] - 0.75).abs() < 1e-12);
+/// // θ = π/4: the line's normal is (cos θ, sin θ), so it runs along (−sin θ, cos θ) or back
+/// assert!((line.dir.length() - 1.0).abs() < 1e-15);
+/// assert!((line.dir.x + line.dir.y).abs() < 1e-12);
 /// ```
 #[must_use]
 pub fn sample_global_line_2d(circle: &BoundingCircle, u: [f64; 2]) -> Line2 {

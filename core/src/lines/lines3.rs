@@ -205,14 +205,16 @@ pub(crate) fn invert_uniform_sphere(d: DVec3) -> [f64; 2] {
 ///
 /// ```
 /// use sceneinfo::geom::DVec3;
-/// use sceneinfo::lines::{BoundingSphere, invert_global_line_3d, sample_global_line_3d};
+/// use sceneinfo::lines::{BoundingSphere, sample_global_line_3d};
 ///
 /// let sphere = BoundingSphere::of_bounds(DVec3::ZERO, DVec3::ONE);
 /// let u = [0.1, 0.2, 0.7, 0.9];
 /// let line = sample_global_line_3d(&sphere, u);
 /// assert!((line.dir.length() - 1.0).abs() < 1e-15);
-/// let v = invert_global_line_3d(&sphere, &line);
-/// assert!(u.iter().zip(&v).all(|(a, b)| (a - b).abs() < 1e-12));
+/// // Through the sphere: the line's closest point to the centre lies inside it
+/// let to_centre = sphere.center - line.origin;
+/// let closest = line.origin + line.dir * to_centre.dot(line.dir);
+/// assert!((closest - sphere.center).length() < sphere.radius);
 /// ```
 #[must_use]
 pub fn sample_global_line_3d(sphere: &BoundingSphere, u: [f64; 4]) -> Line3 {

@@ -483,8 +483,8 @@ pub struct LitEstimate {
 /// # Errors
 /// The errors of `cast`, [`LineTally::finish`], [`solve_rgb`], [`rgb_measures`] and
 /// `RadiosityLineTally::estimates_for`.
-pub fn estimate_lit<T: LineTracer + Sync>(
-    tracer: &T,
+pub fn estimate_lit(
+    tracer: &(dyn LineTracer + Sync),
     materials: &[Material],
     solver: Solver,
     opts: &SolveOptions,

@@ -19,12 +19,16 @@ const LONGEST: usize = 5;
 pub(super) fn run(args: &MeasureArgs, bounces: usize) -> Result<()> {
     let file = &args.file;
     let at = |e: sceneinfo::Error| located(file, &e);
-    let (ff, mc, _) = super::compute(file, &args.sampling)?;
-    let Some(ff) = ff else {
-        let coverage = mc.as_ref().and_then(|m| m.unsampled.as_ref());
-        return Err(super::unsampled_error(
+    let (m, _) = crate::job::measure_file(file, &args.sampling)?;
+    if m.line_run().is_some_and(|r| r.interrupted) {
+        return Err(crate::interrupt::Interrupted { partial: None }.into());
+    }
+    let monte_carlo = m.line_run().is_some();
+    let coverage = m.coverage().copied();
+    let Some(ff) = m.into_form_factors() else {
+        return Err(crate::job::unsampled_error(
             file,
-            coverage,
+            coverage.as_ref(),
             "the long-range mutual information",
         ));
     };
@@ -45,7 +49,7 @@ pub(super) fn run(args: &MeasureArgs, bounces: usize) -> Result<()> {
         o.boolean("background", ff.has_background())?;
         o.string(
             "form_factors",
-            if mc.is_some() { "monte carlo" } else { "exact" },
+            if monte_carlo { "monte carlo" } else { "exact" },
         )?;
         o.number("h_p", lr.h_p)?;
         o.number("h_s", lr.h_s)?;

@@ -210,7 +210,7 @@ pub fn run(args: &RefineArgs, threads: usize) -> Result<()> {
 ///
 /// A global line meets a leaf with a probability proportional to its area, so the smallest
 /// leaves of a fine mesh may receive none of `config.lines`. Without `--lines` the budget
-/// then doubles ([`crate::lines::run_budget`]: the tally grows by the seeded chunks of the
+/// then doubles ([`sceneinfo::cast_lines`]: the tally grows by the seeded chunks of the
 /// larger job, so the result equals one run of the final budget) up to
 /// [`MAX_AUTO_LINES`]. A leaf still unsampled after that (or with `--lines` given) leaves
 /// the measures NaN, with a warning that says how many lines to ask for
@@ -238,7 +238,8 @@ fn measure(h: &Hierarchy, config: &Config, seed: u64, file: &Path) -> Result<Mes
     } else {
         LineBudget::Fixed(config.lines)
     };
-    let run = crate::lines::run_budget(&tracer, LineMethod::Global, seed, budget, config.threads);
+    let mut executor = crate::lines::Threads::new(config.threads);
+    let run = sceneinfo::cast_lines(&tracer, LineMethod::Global, seed, budget, &mut executor);
     // A job cut short by Ctrl-C is not the one asked for: nothing is reported
     crate::interrupt::stop_if_requested()?;
     let lines = run.lines;

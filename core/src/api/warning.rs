@@ -1,9 +1,12 @@
-//! What a report's numbers cannot promise (issue 8: a warning, never a silently wrong
-//! number), and the tolerances behind the verdicts.
+//! [`Warning`]: where a measurement's numbers cannot be trusted to full precision, and the
+//! tolerance of the checks' yes/no verdicts.
 
 use core::fmt;
 
-/// Tolerance used for the yes/no verdicts of [`sceneinfo::channel::Checks`] in reports.
+use crate::channel::Checks;
+
+/// Tolerance of the yes/no verdicts of [`Checks`] (row sums, reciprocity `a_i F_ij = a_j F_ji`
+/// (2.8), stationarity `aF = a` (2.40)) in measurements and reports.
 pub const CHECK_TOLERANCE: f64 = 1e-9;
 
 /// Largest row deficit for which an added background state draws a
@@ -11,8 +14,8 @@ pub const CHECK_TOLERANCE: f64 = 1e-9;
 /// losing it to rounding, not to the outside.
 pub const NEARLY_CLOSED_DEFICIT: f64 = 1e-6;
 
-/// Where a report's numbers cannot be trusted to full precision; its `Display` form is the
-/// text written under `warnings`.
+/// Where a report's numbers cannot be trusted to full precision (issue 8: a warning, never a
+/// silently wrong number).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Warning {
@@ -36,7 +39,7 @@ pub enum Warning {
         error: f64,
     },
     /// Some patches received none of a Monte Carlo run's lines: their rows of `F` are
-    /// unknown, so the discrete measures are undefined ([`crate::UnsampledReport`]).
+    /// unknown, so the discrete measures are undefined ([`crate::Measurement::coverage`]).
     UnsampledPatches {
         /// Patches without a sample.
         unsampled: usize,
@@ -45,10 +48,21 @@ pub enum Warning {
         /// Lines cast.
         lines: u64,
         /// About how many lines would reach every patch
-        /// ([`sceneinfo::tally::coverage::lines_to_sample_all`]), if it could be estimated.
+        /// ([`crate::tally::coverage::lines_to_sample_all`]), if it could be estimated.
         suggested: Option<u64>,
     },
+    /// The standard error of `I_S^c` rests on fewer than [`FEW_STDERR_GROUPS`] independent
+    /// observations (lines, or sheaves of bundles): its own relative error is about
+    /// `1/√(2(G − 1))`, 24 % at `G = 10`.
+    FewStderrGroups {
+        /// The independent observations `G`.
+        groups: u64,
+    },
 }
+
+/// Below this many independent groups the standard error of `I_S^c` is itself unreliable
+/// ([`Warning::FewStderrGroups`]).
+pub const FEW_STDERR_GROUPS: u64 = 10;
 
 impl fmt::Display for Warning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -86,6 +100,40 @@ impl fmt::Display for Warning {
                     None => Ok(()),
                 }
             }
+            Self::FewStderrGroups { groups } => write!(
+                f,
+                "the standard error of I_S^c rests on {groups} observations only: ask for \
+                 more lines to trust it"
+            ),
         }
     }
+}
+
+/// The warnings of a channel's measures: [`Warning::NearlyClosed`] when a background state
+/// was added for a row deficit of at most [`NEARLY_CLOSED_DEFICIT`], [`Warning::RowSums`]
+/// and [`Warning::Stationarity`] when the [`Checks`] fail at [`CHECK_TOLERANCE`]; empty for
+/// exact form factors of a well-conditioned scene.
+#[must_use]
+pub fn channel_warnings(
+    background: bool,
+    max_row_deficit: f64,
+    checks: &Checks,
+) -> heapless::Vec<Warning, 3> {
+    let mut out = heapless::Vec::new();
+    if background && max_row_deficit <= NEARLY_CLOSED_DEFICIT {
+        let _ = out.push(Warning::NearlyClosed {
+            deficit: max_row_deficit,
+        });
+    }
+    if !checks.is_row_stochastic(CHECK_TOLERANCE) {
+        let _ = out.push(Warning::RowSums {
+            error: checks.max_row_sum_error,
+        });
+    }
+    if !checks.is_stationary(CHECK_TOLERANCE) {
+        let _ = out.push(Warning::Stationarity {
+            error: checks.stationarity_error,
+        });
+    }
+    out
 }

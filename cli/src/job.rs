@@ -1,0 +1,176 @@
+//! The measure family's jobs (`measure`, `formfactors`, `merge`'s report, `radiosity`'s
+//! form factors) on the core's façade: the [`Job`] of the sampling flags, run with the
+//! CLI's executor ([`Threads`]), its errors worded with the file's name.
+
+use std::path::Path;
+
+use anyhow::Result;
+use sceneinfo::tally::LineTracer;
+use sceneinfo::{
+    Coverage, FormFactors, Job, LineBudget, LineJob, LineMethod, LoadReport, Measurement, Scene,
+    Serial,
+};
+
+use crate::args::{LinesArg, SamplingArgs};
+use crate::interrupt::Interrupted;
+use crate::lines::{AUTO_MAX_LINES, AUTO_START_LINES, Threads};
+use crate::output::located;
+
+/// The worker threads of `--threads`, or one per core ([`crate::config::threads`]).
+pub fn threads_of(sampling: &SamplingArgs) -> usize {
+    crate::config::threads(sampling.threads)
+}
+
+/// The line budget of `--lines` (and `--max-lines`), checked against the core's cap.
+///
+/// # Errors
+/// A budget of zero or beyond [`sceneinfo::lines::MAX_LINES`]; `--max-lines` without
+/// `--lines auto`.
+pub fn budget_of(sampling: &SamplingArgs, path: &Path) -> Result<Option<LineBudget>> {
+    let at = |e: sceneinfo::Error| located(path, &e);
+    let budget = match sampling.lines {
+        None => None,
+        Some(LinesArg::Count(n)) => Some(LineBudget::Fixed(n)),
+        Some(LinesArg::Auto) => Some(LineBudget::UntilSampled {
+            start: AUTO_START_LINES,
+            max: sampling.max_lines.unwrap_or(AUTO_MAX_LINES),
+        }),
+    };
+    if let Some(b) = budget {
+        b.check().map_err(at)?;
+    }
+    if sampling.max_lines.is_some() && !matches!(budget, Some(LineBudget::UntilSampled { .. })) {
+        anyhow::bail!("{}: --max-lines bounds --lines auto only", path.display());
+    }
+    Ok(budget)
+}
+
+/// The job of the sampling flags: exact without a budget, else lines of `--method` with
+/// `--seed`.
+pub fn job_of(sampling: &SamplingArgs, budget: Option<LineBudget>) -> Job {
+    match budget {
+        None => Job::Exact,
+        Some(budget) => Job::Lines(
+            LineJob::new(0)
+                .with_budget(budget)
+                .with_method(sampling.method.line_method())
+                .with_seed(sampling.seed),
+        ),
+    }
+}
+
+/// Refuses, with the file's name, a method `tracer` cannot cast.
+pub fn check_supported(
+    tracer: &(dyn LineTracer + Sync),
+    method: LineMethod,
+    path: &Path,
+) -> Result<()> {
+    if tracer.supports(method) {
+        return Ok(());
+    }
+    let kind = sceneinfo::ErrorKind::UnsupportedMethod {
+        method: method.description(),
+        reason: sceneinfo::tally::UNSUPPORTED_BY_TRACER,
+    };
+    Err(located(path, &kind.into()))
+}
+
+/// Runs `job` on `scene` (from `path`): exact on this thread, lines on `threads` threads
+/// ([`Threads`]: progress, Ctrl-C).
+///
+/// # Errors
+/// The façade's errors as `file:line: what` (exact 3D form factors of an occluded scene as
+/// a job refusal, [`crate::output::exact_error`]); [`Interrupted`] when Ctrl-C stopped
+/// the lines before any result could be formed.
+pub fn run_job(path: &Path, scene: &Scene, job: &Job, threads: usize) -> Result<Measurement> {
+    let result = match job {
+        // Exact form factors do not poll: Ctrl-C there ends the process at once
+        Job::Exact => sceneinfo::measure(scene, job, &mut Serial),
+        Job::Lines(_) => sceneinfo::measure(scene, job, &mut Threads::new(threads)),
+    };
+    result.map_err(|e| {
+        if crate::interrupt::requested() {
+            Interrupted { partial: None }.into()
+        } else {
+            crate::output::exact_error(path, &e)
+        }
+    })
+}
+
+/// Loads the scene in `path` and measures it as the sampling flags say: the measurement,
+/// and the loader's report of a 3D scene (`None` for flatland unless it has a warning).
+/// The loader's warnings go to stderr; `--max-memory` is checked before any large table
+/// is allocated.
+///
+/// # Errors
+/// The loader's, the flags', the memory limit's and [`run_job`]'s.
+pub fn measure_file(
+    path: &Path,
+    sampling: &SamplingArgs,
+) -> Result<(Measurement, Option<LoadReport>)> {
+    let at = |e: sceneinfo::Error| located(path, &e);
+    let loaded = crate::output::load_scene(path)?;
+    // The loader's warnings on stderr (visibility: not the material ones); in the JSON too
+    loaded.print_warnings(path, false);
+    // A flatland scene's report is empty but for a note on its extension
+    let report = (!loaded.scene.is_flat() || !loaded.report.warnings.is_empty())
+        .then(|| loaded.report.clone());
+    let scene = loaded.scene;
+    let threads = threads_of(sampling);
+    let job = job_of(sampling, budget_of(sampling, path)?);
+    // The large tables, before anything is allocated for them: one tally per thread and
+    // the merged total
+    if let Some(limit) = sampling.max_memory {
+        let tallies = threads.saturating_add(1);
+        job.check_memory(scene.n_patches(), tallies, limit)
+            .map_err(at)?;
+    }
+    let m = run_job(path, &scene, &job, threads)?;
+    Ok((m, report))
+}
+
+/// The form factors of the scene in `path`: exact (flatland with occlusion; 3D when no
+/// pair can be occluded) or, with `--lines`, Monte Carlo on the requested threads.
+///
+/// # Errors
+/// Besides [`measure_file`]'s, [`Interrupted`] when Ctrl-C stopped the lines early (so
+/// that no partial matrix is written as if it were the one asked for), and
+/// [`unsampled_error`] when some patch received no line.
+pub fn form_factors_of(path: &Path, sampling: &SamplingArgs) -> Result<FormFactors> {
+    let (m, _) = measure_file(path, sampling)?;
+    if m.line_run().is_some_and(|r| r.interrupted) {
+        return Err(Interrupted { partial: None }.into());
+    }
+    let coverage = m.coverage().copied();
+    m.into_form_factors()
+        .ok_or_else(|| unsampled_error(path, coverage.as_ref(), "no matrix written"))
+}
+
+/// The error of a command that needs every row of `F` when some patch received none of
+/// the lines: how many, and about how many lines would reach them all.
+pub fn unsampled_error(path: &Path, coverage: Option<&Coverage>, what: &str) -> anyhow::Error {
+    match coverage {
+        Some(c) => anyhow::anyhow!(
+            "{}: {} of the {} patches received none of the {} lines, so their rows of F are \
+             unknown: {what}; {}",
+            path.display(),
+            c.unsampled,
+            c.n_patches,
+            c.lines,
+            cast_more(c)
+        ),
+        None => anyhow::anyhow!("{}: some patch received no line: {what}", path.display()),
+    }
+}
+
+/// What to ask for instead: `--lines M` with the suggested count, or `--lines auto`.
+pub fn cast_more(c: &Coverage) -> String {
+    match c.lines_to_sample_all {
+        Some(m) => {
+            format!("about {m} lines would reach every patch (--lines {m}, or --lines auto)")
+        }
+        None => {
+            "cast more lines (--lines auto doubles them until every patch is reached)".to_owned()
+        }
+    }
+}

@@ -1,0 +1,397 @@
+//! Tests of the façade: exact and line measurements against the expert modules, the
+//! line-budget loop, executors and partial results bit for bit.
+
+extern crate std;
+
+use alloc::vec::Vec;
+use core::ops::Range;
+use std::sync::Mutex;
+
+use super::*;
+use crate::ErrorKind;
+use crate::io::partial::{fingerprint, merge_partials};
+use crate::lines::CHUNK_LINES;
+use crate::scene::{Material, Scene2};
+use crate::tally::{LineMethod, LineTally};
+
+/// The unit cube, faces facing inwards (an enclosure), as polygons.
+const CUBE_VERTICES: [[f64; 3]; 8] = [
+    [0.0, 0.0, 0.0],
+    [1.0, 0.0, 0.0],
+    [1.0, 1.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [0.0, 0.0, 1.0],
+    [1.0, 0.0, 1.0],
+    [1.0, 1.0, 1.0],
+    [0.0, 1.0, 1.0],
+];
+const CUBE_FACES: [u32; 24] = [
+    0, 1, 2, 3, 4, 7, 6, 5, 0, 4, 5, 1, 1, 5, 6, 2, 2, 6, 7, 3, 3, 7, 4, 0,
+];
+const CUBE_OFFSETS: [u32; 7] = [0, 4, 8, 12, 16, 20, 24];
+
+fn cube() -> Scene {
+    Scene::from_polygons(&CUBE_VERTICES, &CUBE_FACES, &CUBE_OFFSETS, None).unwrap()
+}
+
+/// A unit square room (inward-facing sides) with a patch of length 10⁻⁵ on its floor: a
+/// few 2¹⁶-line chunks miss it.
+fn room_with_a_speck() -> Scene {
+    let mut b = Scene2::builder();
+    let p = |x, y| crate::geom::DVec2::new(x, y);
+    b.segment_with_cuts(p(0.0, 0.0), p(1.0, 0.0), &[0.5, 0.50001])
+        .unwrap();
+    b.segment(p(1.0, 0.0), p(1.0, 1.0), 2).unwrap();
+    b.segment(p(1.0, 1.0), p(0.0, 1.0), 2).unwrap();
+    b.segment(p(0.0, 1.0), p(0.0, 0.0), 2).unwrap();
+    Scene::Flat(b.build().unwrap())
+}
+
+fn lines(n: u64) -> Job {
+    Job::Lines(LineJob::new(n).with_seed(7))
+}
+
+/// Two measurements are the same bits: form factors, measures, `I_S^c`, lines.
+fn assert_same(a: &Measurement, b: &Measurement) {
+    assert_eq!(a.form_factors(), b.form_factors());
+    assert_eq!(a.measures(), b.measures());
+    assert_eq!(a.checks(), b.checks());
+    assert_eq!(a.continuous(), b.continuous());
+    assert_eq!(a.patch_continuous(), b.patch_continuous());
+    assert_eq!(a.lines(), b.lines());
+    assert_eq!(a.coverage(), b.coverage());
+}
+
+/// An executor of `n` workers on threads: chunks handed out dynamically, each worker's
+/// tally merged in reverse order of the workers.
+struct Threads(usize);
+
+impl Executor for Threads {
+    fn execute(&mut self, work: &ChunkWork<'_>) -> ChunksDone {
+        let next = Mutex::new(work.chunks().start);
+        let end = work.chunks().end;
+        let mut tallies: Vec<LineTally> = std::thread::scope(|s| {
+            let workers: Vec<_> = (0..self.0)
+                .map(|_| {
+                    s.spawn(|| {
+                        let mut t = work.new_tally();
+                        loop {
+                            let chunk = {
+                                let mut n = next.lock().unwrap();
+                                let c = *n;
+                                *n += 1;
+                                c
+                            };
+                            if chunk >= end {
+                                break t;
+                            }
+                            work.cast(chunk, &mut t);
+                        }
+                    })
+                })
+                .collect();
+            workers.into_iter().map(|w| w.join().unwrap()).collect()
+        });
+        let mut total = tallies.pop().unwrap_or_else(|| work.new_tally());
+        while let Some(t) = tallies.pop() {
+            total.merge_owned(t);
+        }
+        ChunksDone {
+            tally: total,
+            chunks: end - work.chunks().start,
+        }
+    }
+}
+
+/// An executor that stops (as after Ctrl-C) once it has cast `limit` chunks.
+struct StopAfter {
+    limit: u64,
+    cast: u64,
+}
+
+impl Executor for StopAfter {
+    fn execute(&mut self, work: &ChunkWork<'_>) -> ChunksDone {
+        let mut tally = work.new_tally();
+        let mut done = 0;
+        for chunk in work.chunks() {
+            if self.cast >= self.limit {
+                break;
+            }
+            work.cast(chunk, &mut tally);
+            self.cast += 1;
+            done += 1;
+        }
+        ChunksDone {
+            tally,
+            chunks: done,
+        }
+    }
+
+    fn stopped(&self) -> bool {
+        self.cast >= self.limit
+    }
+}
+
+#[test]
+fn exact_flatland_from_text_is_the_expert_paths_bits() {
+    let text = "poly 3 0 0 1 0 0.5 0.8660254037844386 per_side 10\n";
+    let (scene, report) = Scene::from_text(text, SceneFormat::Flat, |_| None).unwrap();
+    assert!(report.warnings.is_empty());
+    assert!(scene.is_flat());
+    let m = measure(&scene, &Job::Exact, &mut Serial).unwrap();
+    let Scene::Flat(s) = &scene else {
+        unreachable!()
+    };
+    let ff = crate::formfactor::exact_2d::form_factors(s).unwrap();
+    assert_eq!(m.form_factors(), Some(&ff));
+    assert_eq!(m.measures(), Some(&ff.channel().unwrap().measures()));
+    assert_eq!(m.n_patches(), 30);
+    assert!(m.warnings().is_empty());
+    assert!(m.continuous().is_none() && m.coverage().is_none() && m.lines() == 0);
+    // Tables 3.4/3.5: the triangle of 10 patches a side
+    let measures = m.measures().unwrap();
+    assert!((measures.i_s - 1.168).abs() < 5e-4, "{measures:?}");
+    // Per patch: Σ I_i = I_S (6.9) and Σ a_i H_i = H_S (3.2)
+    let a = m.patch_sizes();
+    let i = m.patch_information().unwrap().unwrap();
+    let h = m.patch_entropies().unwrap().unwrap();
+    let dot = |x: &[f64]| a.iter().zip(x).map(|(a, x)| a * x).sum::<f64>();
+    assert!((i.iter().sum::<f64>() - measures.i_s).abs() < 1e-12);
+    assert!((dot(&h) - measures.h_s).abs() < 1e-12);
+}
+
+#[test]
+fn exact_unoccluded_cube_from_arrays() {
+    let m = measure(&cube(), &Job::Exact, &mut Serial).unwrap();
+    let measures = m.measures().unwrap();
+    assert!((measures.h_p - libm::log2(6.0)).abs() < 1e-12);
+    // F_facing = 0.19982, F_adjacent = 0.20004 (×4)
+    let (f, g) = (0.199_824_8, 0.200_043_8);
+    let h_s = -(f * libm::log2(f) + 4.0 * g * libm::log2(g));
+    assert!((measures.h_s - h_s).abs() < 1e-5, "{measures:?}");
+    assert_eq!(m.background(), Some(false));
+    // The same cube as triangles, and as OBJ text
+    let tris: Vec<[u32; 3]> = CUBE_FACES
+        .chunks(4)
+        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+        .collect();
+    let t = measure(
+        &Scene::from_triangles(&CUBE_VERTICES, &tris, None).unwrap(),
+        &Job::Exact,
+        &mut Serial,
+    )
+    .unwrap();
+    assert!((t.measures().unwrap().h_p - libm::log2(12.0)).abs() < 1e-12);
+    let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+               f 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\nf 4 8 5 1\n";
+    let format = SceneFormat::Obj(crate::io::ObjOptions::default());
+    let (scene, _) = Scene::from_bytes(obj.as_bytes(), format, |_| None).unwrap();
+    let o = measure(&scene, &Job::Exact, &mut Serial).unwrap();
+    assert_eq!(o.measures(), m.measures());
+}
+
+#[test]
+fn lines_in_2d_and_3d_are_the_expert_estimates_bits() {
+    let (flat, _) = Scene::from_text(
+        "poly 4 0 0 1 0 1 1 0 1 per_side 3\nseg 0.3 0.5 0.7 0.5\n",
+        SceneFormat::Flat,
+        |_| None,
+    )
+    .unwrap();
+    for method in LineMethod::ALL {
+        let job = Job::Lines(LineJob::new(150_000).with_method(method).with_seed(3));
+        let m = measure(&flat, &job, &mut Serial).unwrap();
+        let Scene::Flat(s) = &flat else {
+            unreachable!()
+        };
+        let est = crate::trace::estimate_2d::estimate(s, method, 3, 150_000).unwrap();
+        assert_eq!(m.form_factors(), Some(&est.form_factors), "{method:?}");
+        assert_eq!(m.continuous(), Some(est.continuous));
+        assert_eq!(m.patch_continuous(), Some(&est.patch_continuous[..]));
+        assert_eq!(m.lines(), est.lines);
+    }
+    let solid = cube();
+    let m = measure(&solid, &lines(100_000), &mut Serial).unwrap();
+    let Scene::Solid(s) = &solid else {
+        unreachable!()
+    };
+    let est = crate::trace::estimate_3d::estimate(s, LineMethod::Global, 7, 100_000).unwrap();
+    assert_eq!(m.form_factors(), Some(&est.form_factors));
+    assert_eq!(m.continuous(), Some(est.continuous));
+    let run = m.line_run().unwrap();
+    assert_eq!(
+        (run.lines, run.requested, run.budget_done),
+        (100_000, 100_000, 100_000)
+    );
+    assert!(!run.interrupted);
+    // The cube's measures from lines are near the exact ones
+    let exact = measure(&solid, &Job::Exact, &mut Serial).unwrap();
+    let (a, b) = (m.measures().unwrap(), exact.measures().unwrap());
+    assert!((a.i_s - b.i_s).abs() < 0.01, "{a:?} {b:?}");
+}
+
+#[test]
+fn several_workers_give_the_bits_of_one() {
+    let scene = room_with_a_speck();
+    let job = Job::Lines(LineJob::new(5 * CHUNK_LINES + 123).with_seed(11));
+    let one = measure(&scene, &job, &mut Serial).unwrap();
+    for workers in [1, 2, 3] {
+        let many = measure(&scene, &job, &mut Threads(workers)).unwrap();
+        assert_same(&one, &many);
+    }
+    let solid = cube();
+    let one = measure(&solid, &lines(3 * CHUNK_LINES), &mut Serial).unwrap();
+    let many = measure(&solid, &lines(3 * CHUNK_LINES), &mut Threads(3)).unwrap();
+    assert_same(&one, &many);
+}
+
+#[test]
+fn until_sampled_is_one_run_of_the_final_count() {
+    let scene = room_with_a_speck();
+    for start in [CHUNK_LINES, 50_000] {
+        let budget = LineBudget::UntilSampled {
+            start,
+            max: 1 << 24,
+        };
+        let job = Job::Lines(LineJob::new(0).with_seed(5).with_budget(budget));
+        let auto = measure(&scene, &job, &mut Threads(2)).unwrap();
+        let run = *auto.line_run().unwrap();
+        // Some doubling happened, and it stopped once the speck was reached
+        assert!(run.requested > start, "{run:?}");
+        assert!(auto.coverage().is_none() && auto.measures().is_some());
+        assert_eq!(run.auto_max, Some(1 << 24));
+        assert_eq!(run.budget_done, run.requested);
+        let fixed = Job::Lines(LineJob::new(run.requested).with_seed(5));
+        let once = measure(&scene, &fixed, &mut Serial).unwrap();
+        assert_same(&auto, &once);
+    }
+    // A cap below the count it needs: the coverage, I_S^c, no measures, a warning
+    let budget = LineBudget::UntilSampled {
+        start: 1000,
+        max: 2000,
+    };
+    let job = Job::Lines(LineJob::new(0).with_seed(5).with_budget(budget));
+    let m = measure(&scene, &job, &mut Serial).unwrap();
+    assert_eq!(m.lines(), 2000);
+    let c = m.coverage().unwrap();
+    assert_eq!((c.unsampled, c.first_unsampled), (1, Some(1)));
+    assert!(m.measures().is_none() && m.form_factors().is_none());
+    assert!(m.continuous().unwrap().value > 0.0);
+    assert!(matches!(
+        m.warnings()[0],
+        Warning::UnsampledPatches { unsampled: 1, .. }
+    ));
+}
+
+#[test]
+fn chunk_ranges_merged_are_the_whole_job() {
+    let scene = room_with_a_speck();
+    let n = 6 * CHUNK_LINES + 5;
+    let whole = measure(&scene, &lines(n), &mut Serial).unwrap();
+    let parts: Vec<_> = [0..2, 5..7, 2..5]
+        .into_iter()
+        .map(|c: Range<u64>| {
+            let job = LineJob::new(n).with_seed(7).with_chunks(c);
+            measure_partial(&scene, fingerprint(b"room"), &job, &mut Threads(2)).unwrap()
+        })
+        .collect();
+    let merged = merge_partials(parts).unwrap();
+    assert_same(&Measurement::from_partial(merged).unwrap(), &whole);
+    // A partial's chunks past the job, and chunks given to `measure`, are refused
+    let past = LineJob::new(n).with_chunks(6..8);
+    assert!(measure_partial(&scene, 0, &past, &mut Serial).is_err());
+    let some = Job::Lines(LineJob::new(n).with_chunks(0..1));
+    assert!(measure(&scene, &some, &mut Serial).is_err());
+}
+
+#[test]
+fn a_stopped_executor_gives_the_job_of_the_chunks_it_cast() {
+    let scene = room_with_a_speck();
+    let job = Job::Lines(LineJob::new(5 * CHUNK_LINES).with_seed(7));
+    let mut stop = StopAfter { limit: 2, cast: 0 };
+    let m = measure(&scene, &job, &mut stop);
+    let run = match &m {
+        Ok(m) => *m.line_run().unwrap(),
+        Err(e) => panic!("{e}"),
+    };
+    assert!(run.interrupted);
+    assert_eq!(
+        (run.lines, run.requested),
+        (2 * CHUNK_LINES, 5 * CHUNK_LINES)
+    );
+    let two = measure(&scene, &lines(2 * CHUNK_LINES), &mut Serial).unwrap();
+    assert_eq!(m.unwrap().continuous(), two.continuous());
+    // A partial result records the chunks cast
+    let mut stop = StopAfter { limit: 1, cast: 0 };
+    let job = LineJob::new(5 * CHUNK_LINES).with_chunks(2..4);
+    let p = measure_partial(&scene, 1, &job, &mut stop).unwrap();
+    assert_eq!(p.chunks, 2..3);
+}
+
+#[test]
+fn arrays_are_validated_with_their_row() {
+    let seg = [[0.0, 0.0, 1.0, 0.0], [1.0, 0.0, 1.0, 0.0]];
+    let e = Scene::from_segments(&seg, None).unwrap_err();
+    assert_eq!(
+        (e.kind(), e.line()),
+        (&ErrorKind::ZeroLengthSegment, Some(2))
+    );
+    let e = Scene::from_segments(&seg[..1], Some(&[])).unwrap_err();
+    assert!(matches!(e.kind(), ErrorKind::DimensionMismatch { .. }));
+    let lit = [Material::new([0.5; 3], [1.0; 3]).unwrap()];
+    let s = Scene::from_segments(&seg[..1], Some(&lit)).unwrap();
+    let Scene::Flat(flat) = &s else {
+        unreachable!()
+    };
+    assert_eq!(flat.patch_material(0), Some(&lit[0]));
+    let e = Scene::from_triangles(&CUBE_VERTICES, &[[0, 1, 8]], None).unwrap_err();
+    assert_eq!(e.line(), Some(1));
+    assert_eq!(e.kind(), &ErrorKind::VertexIndex { index: 8, count: 8 });
+    let e = Scene::from_polygons(&CUBE_VERTICES, &CUBE_FACES, &[0, 4, 30], None).unwrap_err();
+    assert_eq!(e.line(), Some(2));
+    assert!(Scene::from_polygons(&CUBE_VERTICES, &CUBE_FACES, &[1, 4], None).is_err());
+    assert!(Scene::from_polygons(&CUBE_VERTICES, &CUBE_FACES, &[4, 0], None).is_err());
+    // An empty scene, and bytes that are not UTF-8 (line 2)
+    assert!(Scene::from_polygons(&CUBE_VERTICES, &[], &[], None).is_err());
+    let e = Scene::from_bytes(b"seg 0 0 1 0\r\nseg \xff", SceneFormat::Flat, |_| None).unwrap_err();
+    assert_eq!((e.kind(), e.line()), (&ErrorKind::InvalidUtf8, Some(2)));
+}
+
+#[test]
+fn budgets_and_memory_are_checked_before_any_work() {
+    let scene = cube();
+    for bad in [
+        LineBudget::Fixed(0),
+        LineBudget::Fixed(u64::MAX),
+        LineBudget::UntilSampled { start: 0, max: 10 },
+    ] {
+        let job = Job::Lines(LineJob::new(1).with_budget(bad));
+        assert!(measure(&scene, &job, &mut Serial).is_err(), "{bad:?}");
+    }
+    let e = lines(1000).check_memory(2000, 3, 1 << 20).unwrap_err();
+    assert!(matches!(e.kind(), ErrorKind::MemoryLimit { .. }));
+    assert!(Job::Exact.check_memory(6, 1, 1 << 20).is_ok());
+}
+
+#[test]
+fn a_session_stepped_chunk_by_chunk_is_the_whole_job() {
+    let scene = room_with_a_speck();
+    let n = 4 * CHUNK_LINES + 77;
+    let job = LineJob::new(n).with_seed(7);
+    let mut session = LineSession::new(&scene, &job).unwrap();
+    assert!(session.measurement().is_err(), "no line cast yet");
+    assert_eq!(session.cast(2, &mut Serial), 2 * CHUNK_LINES);
+    assert!(!session.is_done());
+    // After two chunks: the job of two chunks, marked as stopped short of the budget
+    let early = session.measurement().unwrap();
+    let two = measure(&scene, &lines(2 * CHUNK_LINES), &mut Serial).unwrap();
+    assert_eq!(early.continuous(), two.continuous());
+    assert!(early.line_run().unwrap().interrupted);
+    // The rest, on workers, in steps that overshoot the end
+    while !session.is_done() {
+        session.cast(2, &mut Threads(2));
+    }
+    assert_eq!(session.lines_done(), n);
+    let whole = measure(&scene, &Job::Lines(job), &mut Serial).unwrap();
+    assert_same(&session.measurement().unwrap(), &whole);
+}
