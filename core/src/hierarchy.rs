@@ -38,6 +38,8 @@ mod kernel;
 #[cfg(feature = "alloc")]
 mod mesh;
 mod oracle;
+#[cfg(all(test, feature = "std"))]
+mod oracle_checks;
 #[cfg(feature = "alloc")]
 mod target;
 #[cfg(all(test, feature = "std"))]
