@@ -37,6 +37,8 @@ mod element;
 mod kernel;
 #[cfg(feature = "alloc")]
 mod mesh;
+#[cfg(feature = "alloc")]
+mod monte_carlo;
 mod oracle;
 #[cfg(all(test, feature = "std"))]
 mod oracle_checks;
@@ -56,6 +58,10 @@ pub use compare::{COMPARISON_RUNS, OracleComparison, ReferenceOracle, compare_at
 pub use element::Polygon4;
 pub use kernel::KernelSamples;
 pub use kernel::{MAX_PAIRS, Surface, Visibility};
+#[cfg(feature = "alloc")]
+pub use monte_carlo::{
+    MAX_MC_RAYS, MC_ORACLE_NAMES, McElement, McHierarchy, McOptions, McOracle, cheap_form_factor,
+};
 pub use oracle::Pair;
 pub use oracle::{
     Decision, KernelAverageOracle, KernelSmoothnessOracle, MiIncreaseOracle,
