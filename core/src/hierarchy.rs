@@ -36,6 +36,8 @@ mod compare;
 mod element;
 mod kernel;
 #[cfg(feature = "alloc")]
+mod mc_compare;
+#[cfg(feature = "alloc")]
 mod mesh;
 #[cfg(feature = "alloc")]
 mod monte_carlo;
@@ -58,6 +60,10 @@ pub use compare::{COMPARISON_RUNS, OracleComparison, ReferenceOracle, compare_at
 pub use element::Polygon4;
 pub use kernel::KernelSamples;
 pub use kernel::{MAX_PAIRS, Surface, Visibility};
+#[cfg(feature = "alloc")]
+pub use mc_compare::{
+    MAX_MC_TARGET_BUILDS, McComparison, mc_build_to_target, mc_compare_at_size, mean_spread,
+};
 #[cfg(feature = "alloc")]
 pub use monte_carlo::{
     MAX_MC_RAYS, MC_ORACLE_NAMES, McElement, McHierarchy, McOptions, McOracle, cheap_form_factor,
