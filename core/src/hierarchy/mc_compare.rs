@@ -115,25 +115,43 @@ pub struct McComparison {
     /// RMS radiosity error against the reference ([`McHierarchy::rms_difference`] at the
     /// reference's leaves).
     pub rms_error: f64,
+    /// The RMS error of the same mesh re-solved frozen with `frozen_rays` rays
+    /// ([`McHierarchy::resolve_frozen`]): the mesh's own error with the noise of the run
+    /// removed; `None` when not asked for.
+    pub mesh_rms_error: Option<f64>,
 }
 
-/// [`mc_build_to_target`] and the mesh's RMS error against `reference`.
+/// Seed of the frozen re-solves (any seed apart from the runs').
+const FROZEN_SEED: u64 = 0x6672_6f7a;
+
+/// [`mc_build_to_target`] and the mesh's RMS error against `reference`; with
+/// `frozen_rays > 0` also the error of the same mesh re-solved frozen with that many rays
+/// ([`McComparison::mesh_rms_error`]).
 ///
 /// # Errors
-/// Those of [`mc_build_to_target`] and [`McHierarchy::rms_difference`].
+/// Those of [`mc_build_to_target`], [`McHierarchy::resolve_frozen`] and
+/// [`McHierarchy::rms_difference`].
 pub fn mc_compare_at_size(
     scene: &Scene3,
     reference: &Hierarchy,
     name: &'static str,
     target: usize,
     opts: &McOptions,
+    frozen_rays: u64,
 ) -> Result<McComparison> {
     let (epsilon, h) = mc_build_to_target(scene, name, target, opts)?;
-    let rms_error = h.rms_difference(
+    let refs = || {
         reference
             .leaves()
-            .map(|e| (e.polygon.vertices(), e.radiosity)),
-    )?;
+            .map(|e| (e.polygon.vertices(), e.radiosity))
+    };
+    let rms_error = h.rms_difference(refs())?;
+    let mesh_rms_error = if frozen_rays > 0 {
+        let f = h.resolve_frozen(scene, frozen_rays, FROZEN_SEED ^ opts.seed)?;
+        Some(f.rms_difference(refs())?)
+    } else {
+        None
+    };
     Ok(McComparison {
         oracle: name,
         pairs: opts.pairs,
@@ -145,6 +163,7 @@ pub fn mc_compare_at_size(
         rays: h.rays(),
         oracle_rays: h.oracle_rays(),
         rms_error,
+        mesh_rms_error,
     })
 }
 
@@ -199,7 +218,7 @@ mod tests {
                         seed: seed + 10,
                         ..McOptions::default()
                     };
-                    let c = mc_compare_at_size(&scene, &reference, name, target, &o).unwrap();
+                    let c = mc_compare_at_size(&scene, &reference, name, target, &o, 0).unwrap();
                     e.push(c.rms_error);
                     orays.push(c.oracle_rays as f64);
                     leaves.push(c.leaves as f64);
@@ -244,7 +263,7 @@ mod tests {
                     seed,
                     ..McOptions::default()
                 };
-                let c = mc_compare_at_size(&scene, &reference, name, 300, &o).unwrap();
+                let c = mc_compare_at_size(&scene, &reference, name, 300, &o, 0).unwrap();
                 line += &alloc::format!(
                     " {name}/{pairs} {:.5} ({} leaves, {} orays)",
                     c.rms_error,
@@ -290,7 +309,7 @@ mod tests {
                     seed,
                     ..McOptions::default()
                 };
-                let c = mc_compare_at_size(&scene, &reference, name, 300, &o).unwrap();
+                let c = mc_compare_at_size(&scene, &reference, name, 300, &o, 0).unwrap();
                 assert!(c.leaves.abs_diff(300) <= 9, "{c:?}");
                 assert_eq!(c.rays, 6000);
                 c
@@ -312,5 +331,47 @@ mod tests {
         }
         let (p, m) = (mean_spread(&power).0, mean_spread(&mi).0);
         assert!(m < p, "MI {mi:?} power {power:?}");
+    }
+
+    /// Noise against discretisation: each oracle's mesh of Fig. 6.6 I re-solved frozen with
+    /// many rays (prints).
+    #[test]
+    #[ignore = "exploration"]
+    fn cornell_frozen_meshes() {
+        let scene = Scene3::cornell_box(false, 1).unwrap();
+        let reference = Hierarchy::build_reference(
+            &scene,
+            4,
+            1e-4,
+            &crate::hierarchy::HrOptions {
+                pairs: 64,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let refs: Vec<_> = reference
+            .leaves()
+            .map(|e| (e.polygon.vertices(), e.radiosity))
+            .collect();
+        for seed in 1..=2 {
+            for name in ["power", "ks-av", "mi"] {
+                let o = McOptions {
+                    rays: 19_472,
+                    seed,
+                    ..McOptions::default()
+                };
+                let (_, h) = mc_build_to_target(&scene, name, 1050, &o).unwrap();
+                let e0 = h.rms_difference(refs.iter().copied()).unwrap();
+                let t = std::time::Instant::now();
+                let mut line =
+                    alloc::format!("seed {seed} {name}: {} leaves, rms {e0:.5};", h.n_leaves());
+                for rays in [19_472u64, 200_000, 2_000_000] {
+                    let f = h.resolve_frozen(&scene, rays, 99).unwrap();
+                    let e = f.rms_difference(refs.iter().copied()).unwrap();
+                    line += &alloc::format!(" frozen {rays}: {e:.5} ({} leaves)", f.n_leaves());
+                }
+                std::println!("{line} {:?}", t.elapsed());
+            }
+        }
     }
 }

@@ -243,6 +243,8 @@ pub struct McHierarchy {
     links: u64,
     iterations: u32,
     escaped: u64,
+    /// The oracle's decision per (receiver, source) element pair met by a ray.
+    decisions: BTreeMap<(u32, u32), Decision>,
 }
 
 /// Tolerance of point location, relative to the element's size.
@@ -266,7 +268,49 @@ impl McHierarchy {
         if !(opts.min_area.is_finite() && opts.min_area >= 0.0) {
             return bad("min_area", opts.min_area);
         }
-        let mut h = Self::with_roots(scene, opts)?;
+        let h = Self::with_roots(scene, opts)?;
+        Self::run(h, scene, Some(oracle), opts)
+    }
+
+    /// The same mesh solved again from `B = E` with `rays` rays and `seed`, refinement
+    /// frozen: rays follow the decisions this solve made, and a pair of elements no ray met
+    /// before is linked where it is met. With many rays this is the mesh's own solution
+    /// without the Monte Carlo noise of the original run — its RMS error is the mesh's
+    /// discretisation error (plus what the reference and the fewer rays leave).
+    ///
+    /// # Errors
+    /// As [`McHierarchy::solve`].
+    pub fn resolve_frozen(&self, scene: &Scene3, rays: u64, seed: u64) -> Result<Self> {
+        if !(1..=MAX_MC_RAYS).contains(&rays) {
+            return Err(ErrorKind::BadParameter {
+                name: "rays (1 to 1e9)",
+                value: rays as f64,
+            }
+            .into());
+        }
+        let mut h = self.clone();
+        for e in &mut h.elements {
+            e.radiosity = e.emission;
+            e.unshot = e.emission;
+            e.received = [0.0; 3];
+        }
+        (h.rays, h.oracle_rays, h.evaluations, h.links) = (0, 0, 0, 0);
+        (h.iterations, h.escaped) = (0, 0);
+        let opts = McOptions {
+            rays,
+            seed,
+            ..McOptions::default()
+        };
+        Self::run(h, scene, None, &opts)
+    }
+
+    /// The iteration of [`McHierarchy::solve`] on `h`; `oracle = None` freezes refinement.
+    fn run(
+        mut h: Self,
+        scene: &Scene3,
+        oracle: Option<McOracle>,
+        opts: &McOptions,
+    ) -> Result<Self> {
         let polygons: Vec<(usize, usize)> =
             scene.patches().iter().map(|p| (p.first, p.count)).collect();
         let bvh = Bvh3::build(scene.points(), &polygons)?;
@@ -276,7 +320,7 @@ impl McHierarchy {
             None => &NoOccluders,
         };
         let counter = RayCounter::new(visibility);
-        let mut cache: BTreeMap<(u32, u32), Decision> = BTreeMap::new();
+        let mut cache = core::mem::take(&mut h.decisions);
         let size = geom::bounds_diagonal(scene.points());
         let t_min = 1e-9 * size;
         let min_child = opts.min_area * h.total_area;
@@ -357,6 +401,7 @@ impl McHierarchy {
                     let d = match cache.get(&(r, s)) {
                         Some(&d) => d,
                         None => {
+                            let Some(oracle) = oracle else { break };
                             let d = h.decide(r, s, oracle, opts, &counter, min_child);
                             h.evaluations += 1;
                             if d == Decision::Link {
@@ -399,6 +444,7 @@ impl McHierarchy {
             }
         }
         h.oracle_rays = counter.rays();
+        h.decisions = cache;
         Ok(h)
     }
 
@@ -451,6 +497,7 @@ impl McHierarchy {
             links: 0,
             iterations: 0,
             escaped: 0,
+            decisions: BTreeMap::new(),
         })
     }
 
