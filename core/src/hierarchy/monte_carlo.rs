@@ -424,8 +424,9 @@ impl McHierarchy {
                     }
                 }
                 let e = &mut h.elements[r as usize];
-                for c in 0..3 {
-                    e.received[c] += e.rho[c] * power[c] / e.area;
+                let area = e.area;
+                for ((got, rho), p) in e.received.iter_mut().zip(e.rho).zip(power) {
+                    *got += rho * p / area;
                 }
             }
             // Push the received radiosity to the leaves, pull the averages up
@@ -631,8 +632,8 @@ impl McHierarchy {
         let got = [0, 1, 2].map(|c| down[c] + el.received[c]);
         el.received = [0.0; 3];
         if el.is_leaf() {
-            for c in 0..3 {
-                el.radiosity[c] += got[c];
+            for (b, g) in el.radiosity.iter_mut().zip(got) {
+                *b += g;
             }
             el.unshot = got;
             return (el.radiosity, el.unshot);
