@@ -3,7 +3,10 @@
 //! leaves at once, as the captions of Figures 6.6 and 6.9 state them — and its RMS error
 //! against a reference that is fine everywhere ([`super::ReferenceOracle`]).
 
+use alloc::vec::Vec;
+
 use crate::error::{ErrorKind, Result};
+use crate::geom::DVec3;
 use crate::hierarchy::monte_carlo::{McHierarchy, McOptions, McOracle};
 use crate::hierarchy::target::first_threshold;
 use crate::hierarchy::tree::Hierarchy;
@@ -119,6 +122,51 @@ pub struct McComparison {
     /// ([`McHierarchy::resolve_frozen`]): the mesh's own error with the noise of the run
     /// removed; `None` when not asked for.
     pub mesh_rms_error: Option<f64>,
+    /// The RMS error over the reference's [`BOUNDARY_FRACTION`] leaves of largest radiosity
+    /// variation ([`boundary_leaves`]): shadow boundaries.
+    pub boundary_rms_error: f64,
+}
+
+/// Fraction of the reference's leaves counted as lying on shadow boundaries by
+/// [`boundary_leaves`].
+pub const BOUNDARY_FRACTION: f64 = 0.1;
+
+/// The reference's leaves where its radiosity varies most — shadow and penumbra
+/// boundaries, the light's rim, corners: the `fraction` of its leaves (at least one) with
+/// the largest
+///
+/// ```text
+/// v_e = max over the leaf's vertices and channels |B̂_vertex − B_e|
+/// ```
+///
+/// (`B̂` the Gouraud vertex radiosities, [`Hierarchy::vertex_radiosities`]), as
+/// `(vertices, B)` pairs. The thesis judges its meshes by their shadows ("the shadow of the
+/// small cube gets an accurate representation"), which an RMS over the whole area barely
+/// weighs; the RMS over these leaves does.
+#[must_use]
+pub fn boundary_leaves(reference: &Hierarchy, fraction: f64) -> Vec<(Vec<DVec3>, [f64; 3])> {
+    let vertex = reference.vertex_radiosities();
+    let mut scored: Vec<(f64, &crate::hierarchy::Element)> = reference
+        .leaves()
+        .zip(&vertex)
+        .map(|(e, vb)| {
+            let mut v = 0.0f64;
+            for b in &vb[..e.polygon.vertices().len()] {
+                for c in 0..3 {
+                    v = v.max((b[c] - e.radiosity[c]).abs());
+                }
+            }
+            (v, e)
+        })
+        .collect();
+    scored.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let keep =
+        ((scored.len() as f64 * fraction.clamp(0.0, 1.0)) as usize).clamp(1, scored.len().max(1));
+    scored
+        .into_iter()
+        .take(keep)
+        .map(|(_, e)| (e.polygon.vertices().to_vec(), e.radiosity))
+        .collect()
 }
 
 /// Seed of the frozen re-solves (any seed apart from the runs').
@@ -146,6 +194,8 @@ pub fn mc_compare_at_size(
             .map(|e| (e.polygon.vertices(), e.radiosity))
     };
     let rms_error = h.rms_difference(refs())?;
+    let boundary = boundary_leaves(reference, BOUNDARY_FRACTION);
+    let boundary_rms_error = h.rms_difference(boundary.iter().map(|(p, b)| (p.as_slice(), *b)))?;
     let mesh_rms_error = if frozen_rays > 0 {
         let f = h.resolve_frozen(scene, frozen_rays, FROZEN_SEED ^ opts.seed)?;
         Some(f.rms_difference(refs())?)
@@ -164,6 +214,7 @@ pub fn mc_compare_at_size(
         oracle_rays: h.oracle_rays(),
         rms_error,
         mesh_rms_error,
+        boundary_rms_error,
     })
 }
 
@@ -185,7 +236,6 @@ pub fn mean_spread(x: &[f64]) -> (f64, f64) {
 #[cfg(all(test, feature = "std"))]
 mod tests {
     use super::*;
-    use alloc::vec::Vec;
 
     /// The thesis' budgets, 5 seeds (prints; `--ignored --nocapture`, release).
     #[test]

@@ -222,6 +222,7 @@ pub(super) fn figures_6_6_and_6_9_monte_carlo(runner: &Runner) -> Result<Table> 
             let (leaves, _) = stats(&rs, |r| r.leaves as f64);
             let (orays, _) = stats(&rs, |r| r.oracle_rays as f64);
             let mesh = stats(&rs, |r| r.mesh_rms_error.unwrap_or(f64::NAN));
+            let edge = stats(&rs, |r| r.boundary_rms_error);
             rows.push(Row {
                 label: format!("Fig. {} ({} pairs): {o}", c.label, c.pairs),
                 cells: vec![
@@ -230,9 +231,10 @@ pub(super) fn figures_6_6_and_6_9_monte_carlo(runner: &Runner) -> Result<Table> 
                     cell("oracle rays", orays, 0.0, None),
                     cell("RMS", rms.0, rms.1, None),
                     cell("mesh RMS", mesh.0, mesh.1, None),
+                    cell("boundary RMS", edge.0, edge.1, None),
                 ],
             });
-            by.push((o, rms, mesh));
+            by.push((o, rms, mesh, edge));
         }
         let ts: Vec<&McComparison> = total_jobs
             .iter()
@@ -241,6 +243,7 @@ pub(super) fn figures_6_6_and_6_9_monte_carlo(runner: &Runner) -> Result<Table> 
             .map(|(_, r)| r)
             .collect();
         let t_rms = stats(&ts, |r| r.rms_error);
+        let t_edge = stats(&ts, |r| r.boundary_rms_error);
         let (t_rays, _) = stats(&ts, |r| r.rays as f64);
         let (t_leaves, _) = stats(&ts, |r| r.leaves as f64);
         rows.push(Row {
@@ -250,22 +253,30 @@ pub(super) fn figures_6_6_and_6_9_monte_carlo(runner: &Runner) -> Result<Table> 
                 cell("rays", t_rays, 0.0, None),
                 cell("oracle rays", 0.0, 0.0, None),
                 cell("RMS", t_rms.0, t_rms.1, None),
+                cell("boundary RMS", t_edge.0, t_edge.1, None),
             ],
         });
-        let get = |o: &str| by.iter().find(|(x, ..)| *x == o).map(|&(_, r, m)| (r, m));
+        let get = |o: &str| {
+            by.iter()
+                .find(|(x, ..)| *x == o)
+                .map(|&(_, r, m, e)| (r, m, e))
+        };
         if let (Some(p), Some(ks), Some(mi)) = (get("power"), get("ks-av"), get("mi")) {
-            verdicts.push((c.label, p, ks, mi, t_rms));
+            verdicts.push((c.label, p, ks, mi, t_rms, t_edge));
         }
     }
     // Per figure: MI against power and KS-av at equal radiosity rays and leaves (the
     // captions), against power at equal total rays, and the meshes alone (frozen)
-    for (label, p, ks, mi, total) in verdicts {
+    for (label, p, ks, mi, total, total_edge) in verdicts {
         let comparisons = [
             ("equal rays: MI vs power", mi.0, p.0),
             ("equal rays: MI vs KS-av", mi.0, ks.0),
             ("equal total rays: MI vs power", mi.0, total),
             ("mesh alone: MI vs power", mi.1, p.1),
             ("mesh alone: MI vs KS-av", mi.1, ks.1),
+            ("boundaries: MI vs power", mi.2, p.2),
+            ("boundaries: MI vs KS-av", mi.2, ks.2),
+            ("boundaries, total rays: MI vs power", mi.2, total_edge),
         ];
         for (what, a, b) in comparisons {
             rows.push(Row {
@@ -282,7 +293,9 @@ pub(super) fn figures_6_6_and_6_9_monte_carlo(runner: &Runner) -> Result<Table> 
              radiosity rays, {SEEDS} seeds (± = standard deviation over seeds); RMS radiosity \
              error against the reference (receivers split {REFERENCE_LEVEL}x, {MAX_PAIRS} \
              pairs); mesh RMS: the same mesh re-solved frozen with {FROZEN_RAYS} rays (its \
-             error without the run's noise); MI lower/higher/level: seed means apart by more \
+             error without the run's noise); boundary RMS: over the 10 % of the reference's leaves \
+             where its Gouraud vertex values differ most from the leaf's (shadow \
+             boundaries); MI lower/higher/level: seed means apart by more \
              than 2 standard errors"
         ),
         rows,
