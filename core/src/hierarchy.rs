@@ -18,6 +18,10 @@
 //!   elements, links and rays; the final mesh's radiosity at a point, its RMS difference
 //!   from a reference, Gouraud vertex colours and the leaves as a scene;
 //!   [`Hierarchy::build_to_target`] finds the threshold that gives a wanted mesh size.
+//! - [`McHierarchy`] (`alloc`): hierarchical *Monte Carlo* radiosity — incremental
+//!   stochastic Jacobi with per-ray refinement, the method of the thesis' experiments
+//!   (§6.4.2) — driven by [`McOracle`]; [`mc_compare_at_size`] puts its meshes side by side
+//!   at the captions' ray budgets and patch counts (docs/chapter6-protocol.md).
 //! - [`compare_at_size`] (`alloc`): an oracle's mesh at a wanted size and its RMS error
 //!   against a reference that is fine everywhere ([`ReferenceOracle`],
 //!   [`Hierarchy::build_reference`]) — the comparisons of Figures 6.6 and 6.9.
@@ -62,7 +66,8 @@ pub use kernel::KernelSamples;
 pub use kernel::{MAX_PAIRS, Surface, Visibility};
 #[cfg(feature = "alloc")]
 pub use mc_compare::{
-    MAX_MC_TARGET_BUILDS, McComparison, mc_build_to_target, mc_compare_at_size, mean_spread,
+    BOUNDARY_FRACTION, MAX_MC_TARGET_BUILDS, McComparison, boundary_leaves, mc_build_to_target,
+    mc_compare_at_size, mean_spread,
 };
 #[cfg(feature = "alloc")]
 pub use monte_carlo::{

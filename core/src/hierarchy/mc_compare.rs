@@ -152,8 +152,8 @@ pub fn boundary_leaves(reference: &Hierarchy, fraction: f64) -> Vec<(Vec<DVec3>,
         .map(|(e, vb)| {
             let mut v = 0.0f64;
             for b in &vb[..e.polygon.vertices().len()] {
-                for c in 0..3 {
-                    v = v.max((b[c] - e.radiosity[c]).abs());
+                for (bv, be) in b.iter().zip(e.radiosity) {
+                    v = v.max((bv - be).abs());
                 }
             }
             (v, e)
