@@ -444,6 +444,11 @@ pub struct ReproduceArgs {
     /// Only chapter 5, the radiosity channel (Tables 5.1–5.5; under a minute).
     #[arg(long, conflicts_with = "chapter_3_only")]
     pub chapter_5_only: bool,
+    /// Only Figs. 6.6 and 6.9 by the thesis' protocol: hierarchical Monte Carlo radiosity at
+    /// the captions' rays and patch counts, 5 seeds, with a verdict per figure (minutes in
+    /// release; docs/chapter6-protocol.md).
+    #[arg(long, conflicts_with_all = ["chapter_3_only", "chapter_5_only"])]
+    pub chapter_6_mc: bool,
     /// Also the slow 3D rows: the 5,400-patch cube exactly and the cubes with the thesis'
     /// 10⁷ lines (a few minutes).
     #[arg(long)]

@@ -18,6 +18,10 @@
 //!   elements, links and rays; the final mesh's radiosity at a point, its RMS difference
 //!   from a reference, Gouraud vertex colours and the leaves as a scene;
 //!   [`Hierarchy::build_to_target`] finds the threshold that gives a wanted mesh size.
+//! - [`McHierarchy`] (`alloc`): hierarchical *Monte Carlo* radiosity — incremental
+//!   stochastic Jacobi with per-ray refinement, the method of the thesis' experiments
+//!   (§6.4.2) — driven by [`McOracle`]; [`mc_compare_at_size`] puts its meshes side by side
+//!   at the captions' ray budgets and patch counts (docs/chapter6-protocol.md).
 //! - [`compare_at_size`] (`alloc`): an oracle's mesh at a wanted size and its RMS error
 //!   against a reference that is fine everywhere ([`ReferenceOracle`],
 //!   [`Hierarchy::build_reference`]) — the comparisons of Figures 6.6 and 6.9.
@@ -36,8 +40,14 @@ mod compare;
 mod element;
 mod kernel;
 #[cfg(feature = "alloc")]
+mod mc_compare;
+#[cfg(feature = "alloc")]
 mod mesh;
+#[cfg(feature = "alloc")]
+mod monte_carlo;
 mod oracle;
+#[cfg(all(test, feature = "std"))]
+mod oracle_checks;
 #[cfg(feature = "alloc")]
 mod target;
 #[cfg(all(test, feature = "std"))]
@@ -54,6 +64,15 @@ pub use compare::{COMPARISON_RUNS, OracleComparison, ReferenceOracle, compare_at
 pub use element::Polygon4;
 pub use kernel::KernelSamples;
 pub use kernel::{MAX_PAIRS, Surface, Visibility};
+#[cfg(feature = "alloc")]
+pub use mc_compare::{
+    BOUNDARY_FRACTION, MAX_MC_TARGET_BUILDS, McComparison, boundary_leaves, mc_build_to_target,
+    mc_compare_at_size, mean_spread,
+};
+#[cfg(feature = "alloc")]
+pub use monte_carlo::{
+    MAX_MC_RAYS, MC_ORACLE_NAMES, McElement, McHierarchy, McOptions, McOracle, cheap_form_factor,
+};
 pub use oracle::Pair;
 pub use oracle::{
     Decision, KernelAverageOracle, KernelSmoothnessOracle, MiIncreaseOracle,

@@ -42,6 +42,7 @@ pub use budget::{MAX_LINES, check_line_budget};
 pub use bundle3::{BundleRow, GlobalBundle3, sheaf_direction_sample};
 pub use global2::BoundingCircle;
 pub use global2::{GlobalBundle2, Line2, sample_global_line_2d};
+pub(crate) use lines3::sample_cosine_hemisphere;
 pub(crate) use lines3::sample_local_line_3d;
 pub(crate) use lines3::sample_polygon_point;
 pub(crate) use lines3::sample_uniform_sphere;

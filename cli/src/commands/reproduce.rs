@@ -5,7 +5,8 @@
 //! Chapter 5 (the radiosity channel) lives in [`chapter5`].
 //! Chapter 6 ([`refinement_flat`]): the single cuts of §6.1, and in flatland Fig. 6.12,
 //! Tables 6.1 and 6.2, Fig. 6.19; in 3D ([`chapter6_hierarchy`]) Figs. 6.6 and 6.9, the
-//! oracles of hierarchical radiosity compared on the Cornell box.
+//! oracles of hierarchical radiosity compared on the Cornell box; by the thesis' own protocol
+//! (hierarchical Monte Carlo radiosity, `--chapter-6-mc`) in [`chapter6_mc`].
 
 use std::fmt::Write as _;
 use std::io::Write;
@@ -28,6 +29,7 @@ use crate::args::ReproduceArgs;
 
 mod chapter5;
 mod chapter6_hierarchy;
+mod chapter6_mc;
 mod pictured3d;
 mod refinement_flat;
 
@@ -92,12 +94,14 @@ pub fn run(args: &ReproduceArgs, threads: usize) -> Result<()> {
         threads,
     };
     sceneinfo::lines::check_line_budget(runner.lines).map_err(|e| anyhow!("{e}"))?;
-    let mut tables = if args.chapter_5_only {
+    let mut tables = if args.chapter_6_mc {
+        vec![chapter6_mc::figures_6_6_and_6_9_monte_carlo(&runner)?]
+    } else if args.chapter_5_only {
         chapter5::tables(&runner, args.full)?
     } else {
         chapter_3()?
     };
-    if !args.chapter_3_only && !args.chapter_5_only {
+    if !args.chapter_3_only && !args.chapter_5_only && !args.chapter_6_mc {
         tables.push(table_4_10(&runner)?);
         tables.push(table_4_11(&runner)?);
         tables.push(table_4_12(&runner)?);
