@@ -5,10 +5,10 @@
 
 use alloc::vec::Vec;
 
-use crate::error::{ErrorKind, Result};
+use crate::error::Result;
 use crate::geom::DVec3;
 use crate::hierarchy::monte_carlo::{McHierarchy, McOptions, McOracle};
-use crate::hierarchy::target::first_threshold;
+use crate::hierarchy::target::{ThresholdSearch, bad_target, check_target, first_threshold};
 use crate::hierarchy::tree::Hierarchy;
 use crate::scene::Scene3;
 
@@ -26,21 +26,15 @@ pub const MAX_MC_TARGET_BUILDS: usize = 40;
 /// element pairs later rays meet); the nearest is kept, ties to the earlier.
 ///
 /// # Errors
-/// [`ErrorKind::BadParameter`] for `target = 0`; those of [`McOracle::new`] and
-/// [`McHierarchy::solve`].
+/// [`BadParameter`](crate::error::ErrorKind::BadParameter) for `target = 0`; those of
+/// [`McOracle::new`] and [`McHierarchy::solve`].
 pub fn mc_build_to_target(
     scene: &Scene3,
     name: &str,
     target: usize,
     opts: &McOptions,
 ) -> Result<(f64, McHierarchy)> {
-    if target == 0 {
-        return Err(ErrorKind::BadParameter {
-            name: "target",
-            value: 0.0,
-        }
-        .into());
-    }
+    check_target(target)?;
     let roots = McHierarchy::solve(
         scene,
         McOracle::new(name, f64::MAX)?,
@@ -49,9 +43,9 @@ pub fn mc_build_to_target(
     .n_leaves();
     let distance = |n: usize| n.abs_diff(target);
     let mut best: Option<(f64, McHierarchy)> = None;
-    let (mut lo, mut hi) = (None::<f64>, None::<f64>);
-    let mut eps = first_threshold(scene, name);
+    let mut search = ThresholdSearch::new(first_threshold(scene, name), 1.0 + 1e-4);
     for _ in 0..MAX_MC_TARGET_BUILDS {
+        let eps = search.eps();
         let h = McHierarchy::solve(scene, McOracle::new(name, eps)?, opts)?;
         let n = h.n_leaves();
         let unrefined = n == roots;
@@ -61,37 +55,11 @@ pub fn mc_build_to_target(
         {
             best = Some((eps, h));
         }
-        if distance(n) * 100 <= target {
-            break;
-        }
-        if n < target {
-            hi = Some(eps);
-        } else {
-            lo = Some(eps);
-        }
-        eps = match (lo, hi) {
-            (Some(l), Some(h)) => crate::math::sqrt(l * h),
-            (None, Some(h)) if unrefined => h / 100.0,
-            (None, Some(h)) => h / 10.0,
-            (Some(l), None) => l * 10.0,
-            (None, None) => break,
-        };
-        if let (Some(l), Some(h)) = (lo, hi)
-            && h / l < 1.0 + 1e-4
-        {
-            break;
-        }
-        if !(eps > 1e-300 && eps < 1e300) {
+        if distance(n) * 100 <= target || search.next(n, target, unrefined).is_none() {
             break;
         }
     }
-    best.ok_or_else(|| {
-        ErrorKind::BadParameter {
-            name: "target",
-            value: target as f64,
-        }
-        .into()
-    })
+    best.ok_or_else(|| bad_target(target))
 }
 
 /// One oracle's Monte Carlo mesh at a wanted size and ray budget, and its error.
@@ -237,21 +205,45 @@ pub fn mean_spread(x: &[f64]) -> (f64, f64) {
 mod tests {
     use super::*;
 
-    /// The thesis' budgets, 5 seeds (prints; `--ignored --nocapture`, release).
-    #[test]
-    #[ignore = "exploration: minutes"]
-    fn cornell_thesis_budgets() {
+    /// The Cornell box and its reference ([`Hierarchy::build_reference`] with receivers
+    /// split `level`×, relative threshold `10⁻⁴`, `pairs` point pairs).
+    fn cornell_and_reference(level: u32, pairs: usize) -> (Scene3, Hierarchy) {
         let scene = Scene3::cornell_box(false, 1).unwrap();
         let reference = Hierarchy::build_reference(
             &scene,
-            4,
+            level,
             1e-4,
             &crate::hierarchy::HrOptions {
-                pairs: 64,
+                pairs,
                 ..Default::default()
             },
         )
         .unwrap();
+        (scene, reference)
+    }
+
+    /// A run of the small budget (6,000 radiosity rays) at 300 leaves.
+    fn small_budget_run(
+        scene: &Scene3,
+        reference: &Hierarchy,
+        name: &'static str,
+        pairs: usize,
+        seed: u64,
+    ) -> McComparison {
+        let o = McOptions {
+            rays: 6000,
+            pairs,
+            seed,
+            ..McOptions::default()
+        };
+        mc_compare_at_size(scene, reference, name, 300, &o, 0).unwrap()
+    }
+
+    /// The thesis' budgets, 5 seeds (prints; `--ignored --nocapture`, release).
+    #[test]
+    #[ignore = "exploration: minutes"]
+    fn cornell_thesis_budgets() {
+        let (scene, reference) = cornell_and_reference(4, 64);
         for (target, rays, pairs, names) in [
             (1050, 19_472, 10, &["power", "ks-av", "mi"][..]),
             (880, 19_458, 4, &["ks-av", "mi"][..]),
@@ -287,17 +279,7 @@ mod tests {
     #[test]
     #[ignore = "exploration"]
     fn cornell_small_budget_per_seed() {
-        let scene = Scene3::cornell_box(false, 1).unwrap();
-        let reference = Hierarchy::build_reference(
-            &scene,
-            3,
-            1e-4,
-            &crate::hierarchy::HrOptions {
-                pairs: 16,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let (scene, reference) = cornell_and_reference(3, 16);
         for seed in 1..=8 {
             let mut line = alloc::format!("seed {seed}:");
             for (name, pairs) in [
@@ -307,13 +289,7 @@ mod tests {
                 ("ks-av", 4),
                 ("mi", 4),
             ] {
-                let o = McOptions {
-                    rays: 6000,
-                    pairs,
-                    seed,
-                    ..McOptions::default()
-                };
-                let c = mc_compare_at_size(&scene, &reference, name, 300, &o, 0).unwrap();
+                let c = small_budget_run(&scene, &reference, name, pairs, seed);
                 line += &alloc::format!(
                     " {name}/{pairs} {:.5} ({} leaves, {} orays)",
                     c.rms_error,
@@ -339,27 +315,11 @@ mod tests {
     ///   pairs against 10 (either way).
     #[test]
     fn thesis_protocol_at_a_small_budget() {
-        let scene = Scene3::cornell_box(false, 1).unwrap();
-        let reference = Hierarchy::build_reference(
-            &scene,
-            3,
-            1e-4,
-            &crate::hierarchy::HrOptions {
-                pairs: 16,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let (scene, reference) = cornell_and_reference(3, 16);
         let (mut power, mut mi) = (Vec::new(), Vec::new());
         for seed in 1..=4 {
             let run = |name: &'static str, pairs: usize| {
-                let o = McOptions {
-                    rays: 6000,
-                    pairs,
-                    seed,
-                    ..McOptions::default()
-                };
-                let c = mc_compare_at_size(&scene, &reference, name, 300, &o, 0).unwrap();
+                let c = small_budget_run(&scene, &reference, name, pairs, seed);
                 assert!(c.leaves.abs_diff(300) <= 9, "{c:?}");
                 assert_eq!(c.rays, 6000);
                 c
@@ -388,17 +348,7 @@ mod tests {
     #[test]
     #[ignore = "exploration"]
     fn cornell_frozen_meshes() {
-        let scene = Scene3::cornell_box(false, 1).unwrap();
-        let reference = Hierarchy::build_reference(
-            &scene,
-            4,
-            1e-4,
-            &crate::hierarchy::HrOptions {
-                pairs: 64,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let (scene, reference) = cornell_and_reference(4, 64);
         let refs: Vec<_> = reference
             .leaves()
             .map(|e| (e.polygon.vertices(), e.radiosity))

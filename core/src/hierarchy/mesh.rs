@@ -16,6 +16,39 @@ use crate::scene::{Material, Scene3, Subdivision};
 /// edge tolerance of the containment test, relative to the edge.
 const ON_ELEMENT: f64 = 1e-5;
 
+/// The RMS difference of [`Hierarchy::rms_difference`] for a solution whose radiosity at a
+/// point is `radiosity_at` (`None` off every element): the one metric of the hierarchical
+/// and the Monte Carlo meshes.
+pub(crate) fn rms_difference_at<'a, I>(
+    reference: I,
+    radiosity_at: impl Fn(DVec3) -> Option<[f64; 3]>,
+) -> Result<f64>
+where
+    I: IntoIterator<Item = (&'a [DVec3], [f64; 3])>,
+{
+    let mut sum = KahanSum::new();
+    let mut area = KahanSum::new();
+    for (k, (poly, b_ref)) in reference.into_iter().enumerate() {
+        let vector_area = geom::polygon_normal(poly);
+        let a = 0.5 * vector_area.length();
+        if !(a > 0.0 && a.is_finite()) {
+            continue;
+        }
+        let c = geom::polygon_centroid(poly, vector_area);
+        let b = radiosity_at(c).ok_or(ErrorKind::ReferenceOffScene { polygon: k })?;
+        let d2: f64 = (0..3)
+            .map(|ch| (b[ch] - b_ref[ch]) * (b[ch] - b_ref[ch]))
+            .sum();
+        sum.add(a * d2 / 3.0);
+        area.add(a);
+    }
+    let area = area.total();
+    if !(area > 0.0) {
+        return Err(ErrorKind::EmptyScene.into());
+    }
+    Ok(crate::math::sqrt(sum.total() / area))
+}
+
 impl Hierarchy {
     /// The leaf containing `p`, found from the roots down: the first root whose plane
     /// passes within `10⁻⁵` of its size (or of `p`'s largest coordinate) from `p` and whose
@@ -65,29 +98,7 @@ impl Hierarchy {
     where
         I: IntoIterator<Item = (&'a [DVec3], [f64; 3])>,
     {
-        let mut sum = KahanSum::new();
-        let mut area = KahanSum::new();
-        for (k, (poly, b_ref)) in reference.into_iter().enumerate() {
-            let vector_area = geom::polygon_normal(poly);
-            let a = 0.5 * vector_area.length();
-            if !(a > 0.0 && a.is_finite()) {
-                continue;
-            }
-            let c = geom::polygon_centroid(poly, vector_area);
-            let b = self
-                .radiosity_at(c)
-                .ok_or(ErrorKind::ReferenceOffScene { polygon: k })?;
-            let d2: f64 = (0..3)
-                .map(|ch| (b[ch] - b_ref[ch]) * (b[ch] - b_ref[ch]))
-                .sum();
-            sum.add(a * d2 / 3.0);
-            area.add(a);
-        }
-        let area = area.total();
-        if !(area > 0.0) {
-            return Err(ErrorKind::EmptyScene.into());
-        }
-        Ok(crate::math::sqrt(sum.total() / area))
+        rms_difference_at(reference, |c| self.radiosity_at(c))
     }
 
     /// Gouraud colours: for each leaf (in [`Hierarchy::leaves`] order) and each of its

@@ -62,7 +62,7 @@ use crate::hierarchy::kernel::{
 use crate::hierarchy::oracle::{
     Decision, KernelAverageOracle, KernelSmoothnessOracle, MutualInformationOracle, Pair, Side,
 };
-use crate::hierarchy::tree::{MAX_DEPTH, NONE};
+use crate::hierarchy::tree::{MAX_DEPTH, NONE, check_root_budget, root_polygons};
 use crate::hierarchy::visibility::SceneVisibility;
 use crate::lines::{
     canonical_2d, chunk_rng, mix64, sample_cosine_hemisphere, sample_polygon_point,
@@ -215,6 +215,7 @@ impl McElement {
         self.children == NONE
     }
 
+    // As `Element::side` but without irradiance (a Monte Carlo element keeps none).
     fn side(&self) -> Side<'_> {
         Side {
             polygon: &self.polygon,
@@ -449,27 +450,16 @@ impl McHierarchy {
         Ok(h)
     }
 
+    // The roots of `Hierarchy::with_roots`, but as `McElement`s (unshot power, no key)
+    // with each patch's first root recorded.
     fn with_roots(scene: &Scene3, opts: &McOptions) -> Result<Self> {
         let mut elements = Vec::new();
         let mut roots = Vec::new();
         let mut first_root = vec![0u32];
         for (k, p) in scene.patches().iter().enumerate() {
             let m = scene.patch_material(k).copied().unwrap_or_default();
-            let v = scene.patch_vertices(k);
-            let fan: Vec<Polygon4> = match Polygon4::new(v) {
-                Some(poly) => vec![poly],
-                None => (1..v.len().saturating_sub(1))
-                    .filter_map(|t| Polygon4::new(&[v[0], v[t], v[t + 1]]))
-                    .collect(),
-            };
-            for poly in fan {
-                if elements.len() >= opts.max_elements {
-                    return Err(ErrorKind::TooLarge {
-                        what: "root elements (max_elements)",
-                        max: opts.max_elements as u64,
-                    }
-                    .into());
-                }
+            for poly in root_polygons(scene, k) {
+                check_root_budget(elements.len(), opts.max_elements)?;
                 roots.push(elements.len() as u32);
                 elements.push(McElement {
                     area: poly.area(),
@@ -732,29 +722,9 @@ impl McHierarchy {
     where
         I: IntoIterator<Item = (&'a [DVec3], [f64; 3])>,
     {
-        let (mut sum, mut area) = (math::KahanSum::new(), math::KahanSum::new());
-        for (k, (poly, b_ref)) in reference.into_iter().enumerate() {
-            let va = geom::polygon_normal(poly);
-            let a = 0.5 * va.length();
-            if !(a > 0.0 && a.is_finite()) {
-                continue;
-            }
-            let c = geom::polygon_centroid(poly, va);
-            let b = self
-                .leaf_at(c)
-                .ok_or(ErrorKind::ReferenceOffScene { polygon: k })?
-                .radiosity;
-            let d2: f64 = (0..3)
-                .map(|ch| (b[ch] - b_ref[ch]) * (b[ch] - b_ref[ch]))
-                .sum();
-            sum.add(a * d2 / 3.0);
-            area.add(a);
-        }
-        let area = area.total();
-        if !(area > 0.0) {
-            return Err(ErrorKind::EmptyScene.into());
-        }
-        Ok(math::sqrt(sum.total() / area))
+        crate::hierarchy::mesh::rms_difference_at(reference, |c| {
+            self.leaf_at(c).map(|e| e.radiosity)
+        })
     }
 }
 
@@ -762,27 +732,9 @@ impl McHierarchy {
 mod tests {
     use super::*;
     use crate::hierarchy::oracle::RegularOracle;
+    use crate::hierarchy::tests::lit_box;
     use crate::hierarchy::tree::{Hierarchy, HrOptions};
     use crate::scene::{Material, Subdivision};
-
-    /// The unit cube room of `hierarchy::tests`: emitting ceiling (E = 1, ρ = 0.5), a red
-    /// wall, grey walls; each face cut by `s`. Nothing hides anything.
-    fn lit_box(s: Subdivision) -> Scene3 {
-        let cube = Scene3::cube(1).unwrap();
-        let mut b = Scene3::builder();
-        for (k, f) in cube.faces().iter().enumerate() {
-            let m = if f.normal.z < -0.5 {
-                Material::new([0.5; 3], [1.0; 3])
-            } else if f.normal.x > 0.5 {
-                Material::new([0.6, 0.1, 0.1], [0.0; 3])
-            } else {
-                Material::new([0.6; 3], [0.0; 3])
-            };
-            b.material(m.unwrap());
-            b.polygon(cube.face_vertices(k), s).unwrap();
-        }
-        b.build().unwrap()
-    }
 
     fn rms(mc: &McHierarchy, h: &Hierarchy) -> f64 {
         mc.rms_difference(h.leaves().map(|e| (e.polygon.vertices(), e.radiosity)))

@@ -1,13 +1,30 @@
 //! Choosing an oracle's threshold for a wanted mesh size: the comparisons of §6.4.2 put
 //! oracles side by side at matched element counts.
 
-use crate::error::{ErrorKind, Result};
+use crate::error::{Error, ErrorKind, Result};
 use crate::hierarchy::choice::{MAX_REGULAR_LEVEL, OracleChoice3};
 use crate::hierarchy::tree::{Hierarchy, HrOptions};
 use crate::scene::Scene3;
 
 /// Builds per threshold tried by [`Hierarchy::build_to_target`] at most.
 pub(crate) const MAX_TARGET_BUILDS: usize = 60;
+
+/// [`ErrorKind::BadParameter`] for a wanted leaf count of 0.
+pub(crate) fn check_target(target: usize) -> Result<()> {
+    if target == 0 {
+        return Err(bad_target(0));
+    }
+    Ok(())
+}
+
+/// [`ErrorKind::BadParameter`] for a wanted leaf count `target` no build reached.
+pub(crate) fn bad_target(target: usize) -> Error {
+    ErrorKind::BadParameter {
+        name: "target",
+        value: target as f64,
+    }
+    .into()
+}
 
 /// The first threshold of the search: `ε₀ = 10²⁰`, or the bound `b = (100 E_max A_T)^p` on
 /// the oracles' values when `b > 10³⁰` (`p = 2` for `mi-increase`, 1 for the others).
@@ -32,6 +49,64 @@ pub(crate) fn first_threshold(scene: &Scene3, name: &str) -> f64 {
     if bound > 1e30 { bound.min(1e290) } else { 1e20 }
 }
 
+/// One threshold search on a logarithmic scale, from the coarse side: from a first `ε` down
+/// by factors of 100 while nothing is refined, of 10 until the leaf count reaches the
+/// target, then by bisection of `log ε` between the last two (leaf counts grow as `ε`
+/// falls). The caller builds at [`ThresholdSearch::eps`], applies its own stopping rules
+/// and asks [`ThresholdSearch::next`] for the next threshold.
+pub(crate) struct ThresholdSearch {
+    /// The smallest ratio `hi / lo` of the bracket still worth bisecting.
+    min_ratio: f64,
+    /// The bracket: `lo` gave at least the target's leaves, `hi` fewer.
+    lo: Option<f64>,
+    hi: Option<f64>,
+    eps: f64,
+}
+
+impl ThresholdSearch {
+    /// A search from `first` that stops once the bracket's `hi / lo < min_ratio`.
+    pub(crate) fn new(first: f64, min_ratio: f64) -> Self {
+        Self {
+            min_ratio,
+            lo: None,
+            hi: None,
+            eps: first,
+        }
+    }
+
+    /// The threshold to build at now.
+    pub(crate) fn eps(&self) -> f64 {
+        self.eps
+    }
+
+    /// The next threshold after the build at [`ThresholdSearch::eps`] gave `n_leaves`
+    /// leaves (`unrefined`: nothing refined) against `target`; `None` when the search is
+    /// over (bracket narrower than `min_ratio`, or `ε` outside `(10⁻³⁰⁰, 10³⁰⁰)`).
+    pub(crate) fn next(&mut self, n_leaves: usize, target: usize, unrefined: bool) -> Option<f64> {
+        if n_leaves < target {
+            self.hi = Some(self.eps);
+        } else {
+            self.lo = Some(self.eps);
+        }
+        self.eps = match (self.lo, self.hi) {
+            (Some(l), Some(h)) => crate::math::sqrt(l * h),
+            (None, Some(h)) if unrefined => h / 100.0,
+            (None, Some(h)) => h / 10.0,
+            (Some(l), None) => l * 10.0,
+            (None, None) => return None,
+        };
+        if let (Some(l), Some(h)) = (self.lo, self.hi)
+            && h / l < self.min_ratio
+        {
+            return None;
+        }
+        if !(self.eps > 1e-300 && self.eps < 1e300) {
+            return None;
+        }
+        Some(self.eps)
+    }
+}
+
 impl Hierarchy {
     /// The hierarchy of oracle `name` whose leaf count is nearest `target`, with the
     /// threshold that gave it.
@@ -52,13 +127,7 @@ impl Hierarchy {
         target: usize,
         opts: &HrOptions,
     ) -> Result<(f64, Hierarchy)> {
-        if target == 0 {
-            return Err(ErrorKind::BadParameter {
-                name: "target",
-                value: 0.0,
-            }
-            .into());
-        }
+        check_target(target)?;
         let build = |eps: f64| -> Result<Hierarchy> {
             Hierarchy::build(scene, &OracleChoice3::new(name, eps)?, opts)
         };
@@ -82,47 +151,18 @@ impl Hierarchy {
                 }
             }
         } else {
-            // Bracket: `hi` gives at most `target` leaves, `lo` at least
-            let (mut lo, mut hi) = (None::<f64>, None::<f64>);
-            let mut eps = first_threshold(scene, name);
-            let mut builds = 0;
-            while builds < MAX_TARGET_BUILDS {
+            let mut search = ThresholdSearch::new(first_threshold(scene, name), 1.0 + 1e-3);
+            for _ in 0..MAX_TARGET_BUILDS {
+                let eps = search.eps();
                 let h = build(eps)?;
-                builds += 1;
                 let n = h.n_leaves();
                 let unrefined = h.elements().len() == h.roots().len();
                 keep(eps, h, &mut best);
-                if n == target {
-                    break;
-                }
-                if n < target {
-                    hi = Some(eps);
-                } else {
-                    lo = Some(eps);
-                }
-                eps = match (lo, hi) {
-                    (Some(l), Some(h)) => crate::math::sqrt(l * h),
-                    (None, Some(h)) if unrefined => h / 100.0,
-                    (None, Some(h)) => h / 10.0,
-                    (Some(l), None) => l * 10.0,
-                    (None, None) => break,
-                };
-                if let (Some(l), Some(h)) = (lo, hi)
-                    && h / l < 1.0 + 1e-3
-                {
-                    break;
-                }
-                if !(eps > 1e-300 && eps < 1e300) {
+                if n == target || search.next(n, target, unrefined).is_none() {
                     break;
                 }
             }
         }
-        best.ok_or_else(|| {
-            ErrorKind::BadParameter {
-                name: "target",
-                value: target as f64,
-            }
-            .into()
-        })
+        best.ok_or_else(|| bad_target(target))
     }
 }

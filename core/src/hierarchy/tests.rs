@@ -12,7 +12,7 @@ use crate::scene::{Material, Scene3, Subdivision};
 /// The unit cube room with an emitting ceiling (`E = 1`, ρ = 0.5), one red wall
 /// (ρ = 0.6, 0.1, 0.1) and grey walls (ρ = 0.6): nothing hides anything, so exact form
 /// factors are the truth. Each face cut by `s`.
-fn lit_box(s: Subdivision) -> Scene3 {
+pub(super) fn lit_box(s: Subdivision) -> Scene3 {
     let cube = Scene3::cube(1).unwrap();
     let mut b = Scene3::builder();
     for (k, f) in cube.faces().iter().enumerate() {

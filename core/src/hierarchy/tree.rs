@@ -20,6 +20,30 @@ use crate::scene::Scene3;
 /// No element: the parent of a root, the children of a leaf.
 pub(crate) const NONE: u32 = u32::MAX;
 
+/// Patch `k`'s root elements: the patch itself, or when it is no [`Polygon4`] the fan of
+/// triangles from its first vertex.
+pub(crate) fn root_polygons(scene: &Scene3, k: usize) -> Vec<Polygon4> {
+    let v = scene.patch_vertices(k);
+    match Polygon4::new(v) {
+        Some(poly) => vec![poly],
+        None => (1..v.len().saturating_sub(1))
+            .filter_map(|t| Polygon4::new(&[v[0], v[t], v[t + 1]]))
+            .collect(),
+    }
+}
+
+/// [`ErrorKind::TooLarge`] when `n` root elements already fill `max_elements`.
+pub(crate) fn check_root_budget(n: usize, max_elements: usize) -> Result<()> {
+    if n >= max_elements {
+        return Err(ErrorKind::TooLarge {
+            what: "root elements (max_elements)",
+            max: max_elements as u64,
+        }
+        .into());
+    }
+    Ok(())
+}
+
 /// Deepest split of a scene patch (`4^24 ≈ 3·10¹⁴` elements per patch, far beyond any cap).
 pub(crate) const MAX_DEPTH: u32 = 24;
 
@@ -272,26 +296,9 @@ impl Hierarchy {
         let mut elements = Vec::new();
         let mut roots = Vec::new();
         for (k, p) in scene.patches().iter().enumerate() {
-            let m = scene
-                .materials()
-                .get(p.material)
-                .copied()
-                .unwrap_or_default();
-            let v = scene.patch_vertices(k);
-            let fan: Vec<Polygon4> = match Polygon4::new(v) {
-                Some(poly) => vec![poly],
-                None => (1..v.len().saturating_sub(1))
-                    .filter_map(|t| Polygon4::new(&[v[0], v[t], v[t + 1]]))
-                    .collect(),
-            };
-            for poly in fan {
-                if elements.len() >= opts.max_elements {
-                    return Err(ErrorKind::TooLarge {
-                        what: "root elements (max_elements)",
-                        max: opts.max_elements as u64,
-                    }
-                    .into());
-                }
+            let m = scene.patch_material(k).copied().unwrap_or_default();
+            for poly in root_polygons(scene, k) {
+                check_root_budget(elements.len(), opts.max_elements)?;
                 roots.push(elements.len() as u32);
                 elements.push(Element {
                     area: poly.area(),
