@@ -45,7 +45,7 @@ pub use executor::{ChunkWork, ChunksDone, Executor, LineRun, Serial, cast_chunks
 #[cfg(feature = "alloc")]
 pub use job::{AUTO_MAX_LINES, AUTO_START_LINES, Job, LineBudget, LineJob};
 #[cfg(feature = "alloc")]
-pub use measurement::{LineRunInfo, Measurement, measure, measure_partial};
+pub use measurement::{LineRunInfo, Measurement, measure, measure_exact, measure_partial};
 #[cfg(feature = "alloc")]
 pub use scene::{Scene, SceneFormat, SceneTracer};
 #[cfg(feature = "alloc")]

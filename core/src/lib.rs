@@ -120,7 +120,7 @@ pub mod viewpoint;
 pub use api::{
     AUTO_MAX_LINES, AUTO_START_LINES, ChunkWork, ChunksDone, Executor, Job, LineBudget, LineJob,
     LineRun, LineRunInfo, LineSession, Measurement, Scene, SceneFormat, SceneTracer, Serial,
-    cast_chunks, cast_lines, measure, measure_partial,
+    cast_chunks, cast_lines, measure, measure_exact, measure_partial,
 };
 pub use api::{
     CHECK_TOLERANCE, FEW_STDERR_GROUPS, NEARLY_CLOSED_DEFICIT, Warning, channel_warnings,

@@ -343,8 +343,9 @@ impl FlatLab {
         let job = sceneinfo::LineJob::new(lines)
             .with_method(method)
             .with_seed(seed);
-        let scene = sceneinfo::Scene::Flat(self.scene.clone());
-        Ok(LineJob::new(LineSession::new(&scene, &job)?))
+        // The flatland tracer alone (Scene::tracer would link the 3D one into the page)
+        let tracer = sceneinfo::SceneTracer::flat(&self.scene)?;
+        Ok(LineJob::new(LineSession::with_tracer(tracer, &job)?))
     }
 }
 

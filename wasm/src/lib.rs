@@ -38,7 +38,7 @@ pub use lines::{LineJob, LineResult};
 pub use refine::Refiner;
 pub use viewpoints::viewpoints;
 
-use sceneinfo::{Job, Scene, SceneFormat, Serial};
+use sceneinfo::{Scene, SceneFormat};
 use sceneinfo_report::SceneReport;
 use wasm_bindgen::prelude::*;
 
@@ -111,7 +111,7 @@ pub fn measure_obj(
 /// The JSON report of `scene`'s exact channel ([`sceneinfo::measure`] with
 /// [`Job::Exact`]): the keys and bytes of `sceneinfo measure --json` less its own.
 fn exact_json(scene: &Scene) -> Result<String, JsError> {
-    let m = sceneinfo::measure(scene, &Job::Exact, &mut Serial).map_err(into_error)?;
+    let m = sceneinfo::measure_exact(scene).map_err(into_error)?;
     let report = SceneReport::of_measurement(&m)
         .ok_or_else(|| JsError::new("exact form factors have every row"))?;
     Ok(report.to_json())

@@ -324,13 +324,7 @@ fn relative(sizes: &[f64]) -> Vec<f64> {
 /// no line was cast; the form factors' and the channel's errors.
 pub fn measure(scene: &Scene, job: &Job, executor: &mut dyn Executor) -> Result<Measurement> {
     match job {
-        Job::Exact => {
-            let ff = match scene {
-                Scene::Flat(s) => exact_2d::form_factors(s)?,
-                Scene::Solid(s) => exact_3d::scene_form_factors(s)?,
-            };
-            Measurement::of(ff, scene.patch_sizes(), None, None)
-        }
+        Job::Exact => measure_exact(scene),
         Job::Lines(lines) => {
             lines.check()?;
             if let Some(c) = &lines.chunks {
@@ -344,6 +338,22 @@ pub fn measure(scene: &Scene, job: &Job, executor: &mut dyn Executor) -> Result<
             measure_lines(tracer.as_dyn(), lines, executor)
         }
     }
+}
+
+/// [`measure`] of [`Job::Exact`]: exact flatland form factors with occlusion
+/// ([`exact_2d::form_factors`]), or exact unoccluded 3D ones
+/// ([`exact_3d::scene_form_factors`], refused when a polygon may hide another). A caller
+/// that never casts lines (the browser lab's exact measures) calls this and does not link
+/// the tracers.
+///
+/// # Errors
+/// The exact form factors' and the channel's.
+pub fn measure_exact(scene: &Scene) -> Result<Measurement> {
+    let ff = match scene {
+        Scene::Flat(s) => exact_2d::form_factors(s)?,
+        Scene::Solid(s) => exact_3d::scene_form_factors(s)?,
+    };
+    Measurement::of(ff, scene.patch_sizes(), None, None)
 }
 
 /// Refuses a method `tracer` cannot cast.

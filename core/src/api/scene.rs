@@ -253,6 +253,16 @@ impl core::fmt::Debug for SceneTracer {
 }
 
 impl SceneTracer {
+    /// The tracer of a flatland scene alone. [`Scene::tracer`] can return either kind, so a
+    /// caller that uses it links the 3D tracer too; the browser lab, which only ever traces
+    /// flatland, starts from this one to keep its module small.
+    ///
+    /// # Errors
+    /// [`Tracer2::new`]'s.
+    pub fn flat(scene: &Scene2) -> Result<Self> {
+        Ok(Self(Box::new(Tracer2::new(scene)?)))
+    }
+
     /// The tracer as a [`LineTracer`] that can be shared between threads.
     #[must_use]
     pub fn as_dyn(&self) -> &(dyn LineTracer + Sync) {

@@ -38,6 +38,15 @@ impl LineSession {
     /// The budget's ([`LineJob::check`]); [`crate::ErrorKind::BadParameter`] (`"lines"`) for
     /// a doubling budget; the tracer's.
     pub fn new(scene: &Scene, job: &LineJob) -> Result<Self> {
+        Self::with_tracer(scene.tracer()?, job)
+    }
+
+    /// A session of `job` on the scene of `tracer` (e.g. [`SceneTracer::flat`]); nothing cast
+    /// yet.
+    ///
+    /// # Errors
+    /// As [`LineSession::new`].
+    pub fn with_tracer(tracer: SceneTracer, job: &LineJob) -> Result<Self> {
         job.budget.check()?;
         let LineBudget::Fixed(lines) = job.budget else {
             return Err(crate::ErrorKind::BadParameter {
@@ -46,7 +55,6 @@ impl LineSession {
             }
             .into());
         };
-        let tracer = scene.tracer()?;
         let tally = tracer.as_dyn().new_tally(job.method);
         Ok(Self {
             tracer,
