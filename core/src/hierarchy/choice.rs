@@ -39,13 +39,7 @@ impl OracleChoice3 {
     /// [`ErrorKind::UnknownOracle`] for another name; [`ErrorKind::BadParameter`] for a
     /// negative or non-finite `epsilon`, or a level that is not such an integer.
     pub fn new(name: &str, epsilon: f64) -> Result<Self> {
-        if !(epsilon.is_finite() && epsilon >= 0.0) {
-            return Err(ErrorKind::BadParameter {
-                name: "epsilon",
-                value: epsilon,
-            }
-            .into());
-        }
+        check_epsilon(epsilon)?;
         Ok(match name {
             "power" => Self::Power(PowerOracle { epsilon }),
             "ks" => Self::KernelSmoothness(KernelSmoothnessOracle { epsilon }),
@@ -89,6 +83,20 @@ impl Oracle for OracleChoice3 {
     }
     fn decide(&self, pair: &Pair<'_>, s: &KernelSamples, vis: &dyn Visibility) -> Decision {
         self.inner().decide(pair, s, vis)
+    }
+}
+
+/// Refuses an oracle threshold that is not finite and `≥ 0` (`BadParameter` `"epsilon"`),
+/// for the oracles of [`OracleChoice3`] and of the Monte Carlo hierarchy alike.
+pub(crate) fn check_epsilon(epsilon: f64) -> Result<()> {
+    if epsilon.is_finite() && epsilon >= 0.0 {
+        Ok(())
+    } else {
+        Err(ErrorKind::BadParameter {
+            name: "epsilon",
+            value: epsilon,
+        }
+        .into())
     }
 }
 

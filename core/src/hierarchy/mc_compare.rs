@@ -241,7 +241,7 @@ mod tests {
 
     /// The thesis' budgets, 5 seeds (prints; `--ignored --nocapture`, release).
     #[test]
-    #[ignore = "exploration: minutes"]
+    #[ignore = "prints Figs. 6.6/6.9 at the captions' rays, 5 seeds (the numbers of reproduce --chapter-6-mc, which the CLI runs); several minutes in release: run with --release -- --ignored --nocapture"]
     fn cornell_thesis_budgets() {
         let (scene, reference) = cornell_and_reference(4, 64);
         for (target, rays, pairs, names) in [
@@ -277,7 +277,7 @@ mod tests {
 
     /// A small budget, per seed (prints).
     #[test]
-    #[ignore = "exploration"]
+    #[ignore = "prints each of 8 seeds of the small-budget comparison (what thesis_protocol_at_a_small_budget asserts is robust across seeds); seconds in release, far longer in debug: run with --release -- --ignored --nocapture"]
     fn cornell_small_budget_per_seed() {
         let (scene, reference) = cornell_and_reference(3, 16);
         for seed in 1..=8 {
@@ -346,7 +346,7 @@ mod tests {
     /// Noise against discretisation: each oracle's mesh of Fig. 6.6 I re-solved frozen with
     /// many rays (prints).
     #[test]
-    #[ignore = "exploration"]
+    #[ignore = "prints each oracle's Fig. 6.6 I mesh re-solved frozen with 2,000,000 rays (noise against discretisation, as reproduce --chapter-6-mc reports); minutes in release: run with --release -- --ignored --nocapture"]
     fn cornell_frozen_meshes() {
         let (scene, reference) = cornell_and_reference(4, 64);
         let refs: Vec<_> = reference
