@@ -1,6 +1,6 @@
 //! The façade: one front door for every front end (CLI, wasm, the Python and C bindings).
 //!
-//! Four things, re-exported at the crate root:
+//! The façade's types and functions, re-exported at the crate root:
 //!
 //! - [`Scene`]: a flatland ([`Scene2`](crate::scene::Scene2)) or 3D
 //!   ([`Scene3`](crate::scene::Scene3)) scene, read from text or bytes with its
@@ -13,6 +13,9 @@
 //!   ([`Serial`]), or on its own threads. The chunks' tallies are integers and fixed-point
 //!   sums, so their merge is exact: the result is the same bits whatever the executor.
 //! - [`LineSession`]: a fixed line job cast a few chunks at a time (progress, stop).
+//! - [`solve_radiosity`]: the scene lit per colour channel (2.6) on exact or Monte Carlo
+//!   form factors ([`RadiosityJob`]), with its radiosity measures (5.5–5.7) and, from lines,
+//!   the continuous radiosity mutual information (5.20): a [`Lighting`].
 //! - [`Measurement`]: what [`measure`] returns — the channel measures (3.1–3.21), per-patch
 //!   arrays (`I_i` 6.8, `H_i` 3.2, sizes), the form factors, `I_S^c` (4.8, 4.13) with its
 //!   standard error, the coverage when some patch received no line, and [`Warning`]s.
@@ -35,6 +38,8 @@ mod job;
 #[cfg(feature = "alloc")]
 mod measurement;
 #[cfg(feature = "alloc")]
+mod radiosity;
+#[cfg(feature = "alloc")]
 mod scene;
 #[cfg(feature = "alloc")]
 mod session;
@@ -46,6 +51,8 @@ pub use executor::{ChunkWork, ChunksDone, Executor, LineRun, Serial, cast_chunks
 pub use job::{AUTO_MAX_LINES, AUTO_START_LINES, Job, LineBudget, LineJob};
 #[cfg(feature = "alloc")]
 pub use measurement::{LineRunInfo, Measurement, measure, measure_exact, measure_partial};
+#[cfg(feature = "alloc")]
+pub use radiosity::{Lighting, LitLines, RadiosityJob, solve_radiosity};
 #[cfg(feature = "alloc")]
 pub use scene::{Scene, SceneFormat, SceneTracer};
 #[cfg(feature = "alloc")]

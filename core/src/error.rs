@@ -338,6 +338,21 @@ pub enum ErrorKind {
         /// Lines cast.
         lines: u64,
     },
+    /// Some patches received no line, so their rows of `F` are unknown and a computation
+    /// that needs every row (the radiosity system) cannot run.
+    RowsUnknown {
+        /// Patches that received no line.
+        unsampled: usize,
+        /// Patches of the scene.
+        n_patches: usize,
+        /// Lines cast.
+        lines: u64,
+        /// About how many lines would reach every patch, when the lines gave a hit rate.
+        lines_to_sample_all: Option<u64>,
+    },
+    /// The caller's executor stopped a line job before it finished, and the computation
+    /// needs the whole job (the caller asked to stop: nothing is reported).
+    Stopped,
     /// A partial-result file is damaged or not one.
     BadPartial {
         /// What is wrong with it.
@@ -556,6 +571,23 @@ impl fmt::Display for ErrorKind {
                 f,
                 "patch {patch} received none of the {lines} lines: cast more lines"
             ),
+            K::RowsUnknown {
+                unsampled,
+                n_patches,
+                lines,
+                lines_to_sample_all,
+            } => {
+                write!(
+                    f,
+                    "{unsampled} of the {n_patches} patches received none of the {lines} lines, \
+                     so their rows of F are unknown; "
+                )?;
+                match lines_to_sample_all {
+                    Some(m) => write!(f, "about {m} lines would reach every patch"),
+                    None => write!(f, "cast more lines"),
+                }
+            }
+            K::Stopped => write!(f, "the line job was stopped before it finished"),
             K::MemoryLimit {
                 what,
                 needed,

@@ -118,9 +118,10 @@ pub mod viewpoint;
 
 #[cfg(feature = "alloc")]
 pub use api::{
-    AUTO_MAX_LINES, AUTO_START_LINES, ChunkWork, ChunksDone, Executor, Job, LineBudget, LineJob,
-    LineRun, LineRunInfo, LineSession, Measurement, Scene, SceneFormat, SceneTracer, Serial,
-    cast_chunks, cast_lines, measure, measure_exact, measure_partial,
+    AUTO_MAX_LINES, AUTO_START_LINES, ChunkWork, ChunksDone, Executor, Job, Lighting, LineBudget,
+    LineJob, LineRun, LineRunInfo, LineSession, LitLines, Measurement, RadiosityJob, Scene,
+    SceneFormat, SceneTracer, Serial, cast_chunks, cast_lines, measure, measure_exact,
+    measure_partial, solve_radiosity,
 };
 pub use api::{
     CHECK_TOLERANCE, FEW_STDERR_GROUPS, NEARLY_CLOSED_DEFICIT, Warning, channel_warnings,
@@ -134,6 +135,8 @@ pub use continuous::ContinuousEstimate;
 pub use formfactor::FormFactors;
 #[cfg(feature = "alloc")]
 pub use io::ObjOptions;
+pub use radiosity::rgb::RgbSolution;
+pub use radiosity::{RadiosityMeasures, SolveOptions, SolveReport, Solver};
 pub use scene::Material;
 #[cfg(feature = "alloc")]
 pub use scene::{LoadReport, Scene2, Scene3};

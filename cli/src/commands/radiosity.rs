@@ -3,7 +3,7 @@
 //! and optionally write the lit scene as a PLY mesh.
 //!
 //! Form factors are exact (flatland; 3D when nothing can be occluded) or, with `--lines`,
-//! Monte Carlo: [`estimate_lit`] casts the lines once for `F`, the visibility `I_S^c` and
+//! Monte Carlo: [`sceneinfo::solve_radiosity`] casts the lines once for `F`, the visibility `I_S^c` and
 //! the per-pair moments from which the continuous radiosity mutual information (5.20)
 //! follows once `B` is solved (scenes of more than
 //! [`sceneinfo::radiosity::continuous::PAIR_MOMENT_LIMIT`] patches, and bundles of parallel
@@ -21,45 +21,24 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{Result, bail};
-use sceneinfo::Job;
-use sceneinfo::continuous::ContinuousEstimate;
-use sceneinfo::formfactor::FormFactors;
-use sceneinfo::radiosity::continuous::estimate_lit;
 use sceneinfo::radiosity::display::{ToneMap, gouraud_mesh};
-use sceneinfo::radiosity::rgb::{self, CHANNEL_NAMES, RgbSolution};
-use sceneinfo::radiosity::{RadiosityMeasures, SolveOptions, Solver};
+use sceneinfo::radiosity::rgb::CHANNEL_NAMES;
 use sceneinfo::scene::{Material, Scene3};
-use sceneinfo::tally::{LineMethod, LineTracer};
+use sceneinfo::{
+    Coverage, ErrorKind, Job, Lighting, LineJob, LineMethod, RadiosityJob, RadiosityMeasures,
+    SolveOptions, Solver,
+};
 use sceneinfo_report::{JsonObject, SceneReport};
 
-use crate::args::{Method, RadiosityArgs, SamplingArgs, SolverArg};
-use crate::lines::LineBudget;
+use crate::args::{RadiosityArgs, SolverArg};
 use crate::output::{Loaded, located, write_atomic};
 use crate::ply::Ply;
 use crate::svg::Rgb;
 
-/// The Monte Carlo part of a run.
-struct Lines {
-    method: Method,
-    lines: u64,
-    seed: u64,
-    visibility: ContinuousEstimate,
-    radiosity: [ContinuousEstimate; 3],
-    /// Cast once (pair moments) or twice (see [`estimate_lit`]).
-    one_pass: bool,
-    /// With `--lines auto`: the largest count it could double to (`lines` is the count it
-    /// stopped at).
-    auto_max: Option<u64>,
-}
-
 /// Everything a run computed.
 struct Run {
-    ff: FormFactors,
-    materials: Vec<Material>,
-    solution: RgbSolution,
-    radiosity: [RadiosityMeasures; 3],
+    lit: Lighting,
     visibility: SceneReport,
-    lines: Option<Lines>,
     seconds: f64,
 }
 
@@ -101,25 +80,40 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
         SolverArg::GaussSeidel => Solver::GaussSeidel,
         SolverArg::Southwell => Solver::Southwell,
     };
-    let method = args.sampling.method.line_method();
     let budget = crate::job::budget_of(&args.sampling, path)?;
-    let materials = scene.patch_materials();
-    let mut result = match budget {
-        None => {
-            let m = crate::job::run_job(path, &scene, &Job::Exact, 1)?;
-            let visibility = SceneReport::of_measurement(&m);
-            let ff = m.into_form_factors();
-            let (Some(ff), Some(visibility)) = (ff, visibility) else {
-                bail!("{}: no form factors to solve with", path.display());
-            };
-            solve(ff, visibility, materials, solver, &opts).map_err(at)?
-        }
+    let form_factors = match budget {
+        None => Job::Exact,
         Some(budget) => {
             let tracer = scene.tracer().map_err(at)?;
+            let method = args.sampling.method.line_method();
             crate::job::check_supported(tracer.as_dyn(), method, path)?;
-            let job = (budget, &args.sampling);
-            with_lines(tracer.as_dyn(), materials, solver, &opts, job, path)?
+            Job::Lines(
+                LineJob::new(0)
+                    .with_method(method)
+                    .with_seed(args.sampling.seed)
+                    .with_budget(budget),
+            )
         }
+    };
+    let job = RadiosityJob::new(form_factors)
+        .with_solver(solver)
+        .with_options(opts);
+    let mut executor = crate::lines::Threads::new(crate::job::threads_of(&args.sampling));
+    let lit = match sceneinfo::solve_radiosity(&scene, &job, &mut executor) {
+        Ok(lit) => lit,
+        Err(e) if matches!(e.kind(), ErrorKind::Stopped) => {
+            crate::interrupt::stop_if_requested()?;
+            return Err(located(path, &e));
+        }
+        Err(e) => return Err(unsolvable(path, &e)),
+    };
+    let Some(visibility) = SceneReport::of_measurement(lit.visibility()) else {
+        bail!("{}: no form factors to solve with", path.display());
+    };
+    let mut result = Run {
+        lit,
+        visibility,
+        seconds: 0.0,
     };
     result.seconds = start.elapsed().as_secs_f64();
     if let (Some(out), Loaded::Solid(s)) = (&args.ply, &scene) {
@@ -140,89 +134,28 @@ pub fn run(args: &RadiosityArgs) -> Result<()> {
     Ok(())
 }
 
-/// Solves and measures on given form factors, whose visibility report is `visibility`.
-fn solve(
-    ff: FormFactors,
-    visibility: SceneReport,
-    materials: Vec<Material>,
-    solver: Solver,
-    opts: &SolveOptions,
-) -> sceneinfo::Result<Run> {
-    let solution = rgb::solve_rgb(&ff.matrix(), ff.weights(), &materials, solver, opts)?;
-    let radiosity = rgb::rgb_measures(&ff.matrix(), ff.weights(), &solution)?;
-    Ok(Run {
-        ff,
-        materials,
-        solution,
-        radiosity,
-        visibility,
-        lines: None,
-        seconds: 0.0,
-    })
-}
-
-/// Monte Carlo form factors, the solve and `I_S^c` from the same lines ([`estimate_lit`] on
-/// this process' threads).
-///
-/// With `--lines auto` the first cast doubles its lines until every patch has received one
-/// ([`sceneinfo::cast_lines`]) and a second cast, if [`estimate_lit`] needs one, uses
-/// the count it stopped at. The solve needs every row of `F`: when some patch received no
-/// line (too few lines, or `auto` stopped at `--max-lines`), the run is refused with how
-/// many patches were missed and about how many lines would reach them all — a radiosity
-/// `B` on the reached patches alone would treat the missed ones as black holes and bias
-/// every other value.
-fn with_lines(
-    tracer: &(dyn LineTracer + Sync),
-    materials: Vec<Material>,
-    solver: Solver,
-    opts: &SolveOptions,
-    (budget, sampling): (LineBudget, &SamplingArgs),
-    path: &Path,
-) -> Result<Run> {
-    let method = sampling.method.line_method();
-    let threads = crate::job::threads_of(sampling);
-    // The count the first cast settled on, and which patches it reached
-    let mut settled: Option<u64> = None;
-    let mut coverage = None;
-    let cast = |t: &(dyn LineTracer + Sync)| {
-        let budget = settled.map_or(budget, LineBudget::Fixed);
-        let mut executor = crate::lines::Threads::new(threads);
-        let run = sceneinfo::cast_lines(t, method, sampling.seed, budget, &mut executor);
-        if settled.is_none() {
-            settled = Some(run.lines);
-            coverage = Some(run.tally.coverage(t.patch_sizes()));
-        }
-        Ok(run.tally)
-    };
-    let est = match estimate_lit(tracer, &materials, solver, opts, method, cast) {
-        Ok(est) => est,
-        Err(e) if matches!(e.kind(), sceneinfo::ErrorKind::UnsampledPatch { .. }) => {
+/// The error of a run that could not be solved, with the file's name; for patches that
+/// received no line, the CLI's advice on how many lines to ask for.
+fn unsolvable(path: &Path, e: &sceneinfo::Error) -> anyhow::Error {
+    match *e.kind() {
+        ErrorKind::RowsUnknown {
+            unsampled,
+            n_patches,
+            lines,
+            lines_to_sample_all,
+        } => {
+            let coverage = Coverage {
+                n_patches,
+                lines,
+                unsampled,
+                first_unsampled: None,
+                lines_to_sample_all,
+            };
             let what = "B = E + ρFB cannot be solved";
-            return Err(crate::job::unsampled_error(path, coverage.as_ref(), what));
+            crate::job::unsampled_error(path, Some(&coverage), what)
         }
-        Err(e) => return Err(located(path, &e)),
-    };
-    let visibility = SceneReport::of(&est.form_factors).map_err(|e| located(path, &e))?;
-    Ok(Run {
-        visibility,
-        materials,
-        solution: est.solution,
-        radiosity: est.measures,
-        lines: Some(Lines {
-            method: sampling.method,
-            lines: settled.unwrap_or(0),
-            seed: sampling.seed,
-            visibility: est.visibility,
-            radiosity: est.radiosity,
-            one_pass: est.one_pass,
-            auto_max: match budget {
-                LineBudget::UntilSampled { max, .. } => Some(max),
-                LineBudget::Fixed(_) => None,
-            },
-        }),
-        ff: est.form_factors,
-        seconds: 0.0,
-    })
+        _ => located(path, e),
+    }
 }
 
 fn solver_name(s: SolverArg) -> &'static str {
@@ -242,34 +175,37 @@ fn json(r: &Run, solver: SolverArg) -> Result<String> {
     let mut o = JsonObject::new(&mut s)?;
     r.visibility.write_fields(&mut o)?;
     o.string("solver", solver_name(solver))?;
-    o.integer("iterations", r.solution.iterations())?;
-    o.number("residual", r.solution.residual())?;
-    let reports = &r.solution.reports;
+    o.integer("iterations", r.lit.solution().iterations())?;
+    o.number("residual", r.lit.solution().residual())?;
+    let reports = &r.lit.solution().reports;
     o.numbers("iterations_rgb", &reports.map(|x| x.iterations as f64))?;
     o.numbers("residual_rgb", &reports.map(|x| x.residual))?;
-    let n = r.ff.n_patches();
+    let n = r.lit.form_factors().n_patches();
     o.object("radiosity", |o| {
         for (c, name) in CHANNEL_NAMES.iter().enumerate() {
-            let column: Vec<f64> = r.solution.radiosity[..n].iter().map(|b| b[c]).collect();
+            let column: Vec<f64> = r.lit.solution().radiosity[..n]
+                .iter()
+                .map(|b| b[c])
+                .collect();
             o.numbers(name, &column)?;
         }
         Ok(())
     })?;
-    o.numbers("h_p_rgb", &rgb_of(&r.radiosity, |m| m.h_p))?;
-    o.numbers("h_s_rgb", &rgb_of(&r.radiosity, |m| m.h_s))?;
-    o.numbers("h_j_rgb", &rgb_of(&r.radiosity, |m| m.h_j))?;
-    o.numbers("i_s_rgb", &rgb_of(&r.radiosity, |m| m.i_s))?;
-    let flows = r.radiosity.map(|m| m.light_flows);
+    o.numbers("h_p_rgb", &rgb_of(r.lit.measures(), |m| m.h_p))?;
+    o.numbers("h_s_rgb", &rgb_of(r.lit.measures(), |m| m.h_s))?;
+    o.numbers("h_j_rgb", &rgb_of(r.lit.measures(), |m| m.h_j))?;
+    o.numbers("i_s_rgb", &rgb_of(r.lit.measures(), |m| m.i_s))?;
+    let flows = r.lit.measures().map(|m| m.light_flows);
     o.object("light_flows_rgb", |o| {
         for (c, name) in CHANNEL_NAMES.iter().enumerate() {
             o.boolean(name, flows[c])?;
         }
         Ok(())
     })?;
-    match &r.lines {
+    match r.lit.lines() {
         None => o.string("form_factors", "exact")?,
         Some(l) => {
-            o.string("form_factors", l.method.line_method().description())?;
+            o.string("form_factors", l.method.description())?;
             o.number("i_s_continuous", l.visibility.value)?;
             o.number("i_s_continuous_stderr", l.visibility.stderr)?;
             o.numbers("i_s_continuous_rgb", &l.radiosity.map(|e| e.value))?;
@@ -277,7 +213,7 @@ fn json(r: &Run, solver: SolverArg) -> Result<String> {
             o.integer("stderr_groups", l.visibility.groups)?;
             o.integer("line_casts", if l.one_pass { 1 } else { 2 })?;
             let delta: Vec<f64> = (0..3)
-                .map(|c| l.radiosity[c].value - r.radiosity[c].i_s)
+                .map(|c| l.radiosity[c].value - r.lit.measures()[c].i_s)
                 .collect();
             o.numbers("discretisation_error_rgb", &delta)?;
             o.integer("lines", l.lines)?;
@@ -298,14 +234,18 @@ fn json(r: &Run, solver: SolverArg) -> Result<String> {
 
 fn table(name: &str, r: &Run, solver: SolverArg) -> String {
     let v = &r.visibility.measures;
-    let rad = &r.radiosity;
+    let rad = r.lit.measures();
     let mut s = String::new();
     let _ = writeln!(s, "scene                 {name}");
-    let _ = writeln!(s, "patches               {}", r.ff.n_patches());
+    let _ = writeln!(
+        s,
+        "patches               {}",
+        r.lit.form_factors().n_patches()
+    );
     if r.visibility.background {
         let _ = writeln!(s, "background            included (open scene, black)");
     }
-    match &r.lines {
+    match r.lit.lines() {
         None => {
             let _ = writeln!(s, "form factors          exact");
         }
@@ -313,7 +253,7 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
             let _ = writeln!(
                 s,
                 "form factors          {} : {} lines, seed {} ({})",
-                l.method.line_method().description(),
+                l.method.description(),
                 l.lines,
                 l.seed,
                 if l.one_pass {
@@ -332,7 +272,7 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
             }
         }
     }
-    let reports = &r.solution.reports;
+    let reports = &r.lit.solution().reports;
     let _ = writeln!(
         s,
         "solver                {} : iterations (R, G, B) = ({}, {}, {}), max relative residual {:.2e}",
@@ -340,7 +280,7 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
         reports[0].iterations,
         reports[1].iterations,
         reports[2].iterations,
-        r.solution.residual()
+        r.lit.solution().residual()
     );
     let _ = writeln!(s, "time                  {:.3} s", r.seconds);
     let _ = writeln!(
@@ -358,7 +298,7 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
     row(&mut s, "H_S  (3.1, 5.5)", v.h_s, &|m| m.h_s);
     row(&mut s, "H_J", v.h_j, &|m| m.h_j);
     row(&mut s, "I_S  (3.8, 5.7)", v.i_s, &|m| m.i_s);
-    if let Some(l) = &r.lines {
+    if let Some(l) = r.lit.lines() {
         let [lr, lg, lb] = &l.radiosity;
         line(
             &mut s,
@@ -373,7 +313,7 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
         // The one-pass pair moments count each segment as its own group (module
         // `moments` of the core); otherwise every estimate has the visibility's groups.
         let (visibility_groups, radiosity_groups) = (l.visibility.groups, lr.groups);
-        let sheaves = if l.method.line_method() == LineMethod::Bundle {
+        let sheaves = if l.method == LineMethod::Bundle {
             " (one per sheaf of parallel lines)"
         } else {
             ""
@@ -460,8 +400,8 @@ fn is_ambient_lamps(w: &sceneinfo::io::LoadWarning) -> bool {
 
 /// The lit scene as a PLY mesh with Gouraud vertex colours and flat face colours.
 fn lit_mesh(scene: &Scene3, r: &Run, name: &str) -> Ply {
-    let tone = ToneMap::for_scene(&r.solution.radiosity, &r.materials);
-    let mesh = gouraud_mesh(scene, &r.solution.radiosity);
+    let tone = ToneMap::for_scene(&r.lit.solution().radiosity, r.lit.materials());
+    let mesh = gouraud_mesh(scene, &r.lit.solution().radiosity);
     let rgb = |b: [f64; 3]| {
         let [x, y, z] = tone.rgb(b);
         Rgb(x, y, z)
@@ -483,7 +423,7 @@ fn lit_mesh(scene: &Scene3, r: &Run, name: &str) -> Ply {
         .collect();
     for (i, face) in mesh.faces.iter().enumerate() {
         let idx: Vec<usize> = face.iter().map(|&v| ids[v]).collect();
-        ply.face(&idx, rgb(r.solution.radiosity[i]));
+        ply.face(&idx, rgb(r.lit.solution().radiosity[i]));
     }
     ply
 }

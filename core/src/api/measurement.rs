@@ -63,7 +63,7 @@ pub struct Measurement {
 
 impl Measurement {
     /// A measurement of complete form factors.
-    fn of(
+    pub(super) fn of(
         ff: FormFactors,
         sizes: Vec<f64>,
         run: Option<LineRunInfo>,
@@ -303,7 +303,7 @@ impl Measurement {
 }
 
 /// `sizes` over their sum.
-fn relative(sizes: &[f64]) -> Vec<f64> {
+pub(super) fn relative(sizes: &[f64]) -> Vec<f64> {
     let total = crate::math::sum(sizes.iter().copied());
     sizes.iter().map(|s| s / total).collect()
 }
@@ -357,7 +357,7 @@ pub fn measure_exact(scene: &Scene) -> Result<Measurement> {
 }
 
 /// Refuses a method `tracer` cannot cast.
-fn check_supported(tracer: &(dyn LineTracer + Sync), method: LineMethod) -> Result<()> {
+pub(super) fn check_supported(tracer: &(dyn LineTracer + Sync), method: LineMethod) -> Result<()> {
     if tracer.supports(method) {
         return Ok(());
     }

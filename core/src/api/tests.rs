@@ -395,3 +395,95 @@ fn a_session_stepped_chunk_by_chunk_is_the_whole_job() {
     let whole = measure(&scene, &Job::Lines(job), &mut Serial).unwrap();
     assert_same(&session.measurement().unwrap(), &whole);
 }
+
+/// The unit cube with a lamp for a ceiling and grey walls.
+fn lit_cube() -> Scene {
+    let grey = Material::new([0.5, 0.6, 0.7], [0.0; 3]).unwrap();
+    let lamp = Material::new([0.0; 3], [1.0, 2.0, 3.0]).unwrap();
+    let materials = [grey, lamp, grey, grey, grey, grey];
+    Scene::from_polygons(&CUBE_VERTICES, &CUBE_FACES, &CUBE_OFFSETS, Some(&materials)).unwrap()
+}
+
+#[test]
+fn radiosity_on_exact_form_factors_is_the_expert_solve() {
+    use crate::radiosity::rgb::{rgb_measures, solve_rgb};
+    let scene = lit_cube();
+    let job = RadiosityJob::new(Job::Exact);
+    let lit = solve_radiosity(&scene, &job, &mut Serial).unwrap();
+    let m = measure_exact(&scene).unwrap();
+    let ff = m.form_factors().unwrap();
+    let materials = scene.patch_materials();
+    let expert = solve_rgb(
+        &ff.matrix(),
+        ff.weights(),
+        &materials,
+        job.solver,
+        &job.options,
+    )
+    .unwrap();
+    let measures = rgb_measures(&ff.matrix(), ff.weights(), &expert).unwrap();
+    assert_eq!(lit.solution(), &expert);
+    assert_eq!(lit.measures(), &measures);
+    assert_eq!(lit.form_factors(), ff);
+    assert!(lit.lines().is_none());
+    // Light flows in every channel, and B = E + ρ F B holds at the solution
+    assert!(lit.measures().iter().all(|m| m.light_flows && m.i_s > 0.0));
+    let b = &lit.solution().radiosity;
+    for (i, row) in b.iter().enumerate() {
+        for c in 0..3 {
+            let mut gathered = 0.0;
+            for (j, bj) in b.iter().enumerate() {
+                gathered += ff.get(i, j) * bj[c];
+            }
+            let m = &materials[i];
+            let want = m.emittance[c] + m.reflectance[c] * gathered;
+            assert!((row[c] - want).abs() < 1e-8, "B_{i}[{c}]");
+        }
+    }
+}
+
+#[test]
+fn radiosity_from_lines_is_the_same_bits_on_any_executor() {
+    let scene = lit_cube();
+    let job = RadiosityJob::new(Job::Lines(LineJob::new(3 * CHUNK_LINES).with_seed(3)));
+    let one = solve_radiosity(&scene, &job, &mut Serial).unwrap();
+    let other = solve_radiosity(&scene, &job, &mut Threads(2)).unwrap();
+    assert_eq!(one.solution(), other.solution());
+    assert_eq!(one.lines(), other.lines());
+    let l = one.lines().unwrap();
+    assert_eq!(l.lines, 3 * CHUNK_LINES);
+    assert!(l.visibility.value > 0.0 && l.radiosity.iter().all(|e| e.value > 0.0));
+    // The lines' form factors are close to the exact ones (6 patches, 196 608 lines)
+    let exact = solve_radiosity(&scene, &RadiosityJob::new(Job::Exact), &mut Serial).unwrap();
+    let (a, b) = (one.form_factors(), exact.form_factors());
+    for i in 0..6 {
+        for j in 0..6 {
+            assert!((a.get(i, j) - b.get(i, j)).abs() < 0.01, "F_{i}{j}");
+        }
+    }
+}
+
+#[test]
+fn radiosity_refuses_unsampled_patches_and_stopped_jobs() {
+    let scene = room_with_a_speck();
+    let job = RadiosityJob::new(Job::Lines(LineJob::new(1000).with_seed(7)));
+    let e = solve_radiosity(&scene, &job, &mut Serial).unwrap_err();
+    assert!(
+        matches!(
+            e.kind(),
+            ErrorKind::RowsUnknown {
+                unsampled: 1,
+                n_patches: 9,
+                lines: 1000,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let job = RadiosityJob::new(Job::Lines(LineJob::new(5 * CHUNK_LINES).with_seed(7)));
+    let mut stop = StopAfter { limit: 2, cast: 0 };
+    let e = solve_radiosity(&scene, &job, &mut stop).unwrap_err();
+    assert_eq!(e.kind(), &ErrorKind::Stopped);
+    let chunks = Job::Lines(LineJob::new(5 * CHUNK_LINES).with_chunks(0..1));
+    assert!(solve_radiosity(&scene, &RadiosityJob::new(chunks), &mut Serial).is_err());
+}
