@@ -1,0 +1,599 @@
+//! `si_measure` and [`SiMeasurement`]: the core's [`sceneinfo::measure`] of a scene, exact
+//! or by Monte Carlo lines, and what it gives — the channel measures, per-patch arrays and
+//! form factors — copied out to C.
+
+use std::ffi::{CString, c_char};
+
+use sceneinfo::continuous::relative_discretisation_error;
+use sceneinfo::{
+    AUTO_MAX_LINES, Job, LineBudget, LineJob, LineMethod, Measurement, Serial, measure,
+};
+
+use crate::buffers::{clear_out, copy_out, free, handle, input, write_out};
+use crate::scene::{SiScene, text};
+use crate::status::{Failure, Outcome, SiStatus, guard, guard_value};
+use crate::threads::Threads;
+
+/// How a job gets its form factors.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[allow(non_camel_case_types)] // the C names
+pub enum SiMethod {
+    /// Exact form factors: flatland with occlusion; 3D only when no patch can hide another.
+    SI_METHOD_EXACT = 0,
+    /// Uniformly distributed global lines (thesis eq. 2.37).
+    SI_METHOD_GLOBAL = 1,
+    /// Cosine-distributed local lines (thesis eq. 2.36).
+    SI_METHOD_LOCAL = 2,
+    /// Bundles of parallel global lines.
+    SI_METHOD_BUNDLE = 3,
+}
+
+/// What to measure a scene with. A zero-initialised `SiJob` is the exact job.
+///
+/// A line job of `lines` lines with `seed` gives the same numbers, bit for bit, as
+/// `sceneinfo measure --lines LINES --seed SEED --method METHOD`, whatever `threads` is.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SiJob {
+    /// An `SiMethod` value.
+    pub method: u32,
+    /// Worker threads of a line job; 0: one per available core. The result does not depend
+    /// on it.
+    pub threads: u32,
+    /// Seed of the line streams (any value).
+    pub seed: u64,
+    /// Lines to cast (1 to 2^53); 0: start at 2^17 and double until every patch has a
+    /// line or `max_lines` is reached (the CLI's `--lines auto`).
+    pub lines: u64,
+    /// With `lines == 0`, the most lines to double to; 0: 2^30.
+    pub max_lines: u64,
+    /// Refuse the job (`SI_ERR_JOB`) before allocating when its large tables would need
+    /// more bytes than this; 0: no limit.
+    pub max_memory: u64,
+}
+
+impl SiJob {
+    /// The core's job, and the executor's thread count.
+    fn to_job(self) -> Outcome<Job> {
+        let method = match self.method {
+            0 => return Ok(Job::Exact),
+            1 => LineMethod::Global,
+            2 => LineMethod::Local,
+            3 => LineMethod::Bundle,
+            other => return Err(Failure::invalid(format!("unknown method code {other}"))),
+        };
+        let budget = match (self.lines, self.max_lines) {
+            (0, 0) => LineBudget::until_sampled(AUTO_MAX_LINES),
+            (0, max) => LineBudget::until_sampled(max),
+            (n, _) => LineBudget::Fixed(n),
+        };
+        Ok(Job::Lines(
+            LineJob::new(0)
+                .with_budget(budget)
+                .with_method(method)
+                .with_seed(self.seed),
+        ))
+    }
+}
+
+/// The result of `si_measure`. Opaque to C; freed by `si_measurement_free`. It owns all its
+/// data: freeing the scene it came from does not affect it.
+#[derive(Debug)]
+pub struct SiMeasurement {
+    m: Measurement,
+    /// Per-state `I_i` (6.8) and `H_i` (3.2), when every patch has a row of `F`.
+    information: Option<Vec<f64>>,
+    entropies: Option<Vec<f64>>,
+    warnings: Vec<CString>,
+}
+
+impl SiMeasurement {
+    fn new(m: Measurement) -> Outcome<Self> {
+        let job = |e: sceneinfo::Error| Failure::core(SiStatus::SI_ERR_JOB, "measure", &e);
+        let information = m.patch_information().map_err(job)?;
+        let entropies = m.patch_entropies().map_err(job)?;
+        let warnings = m.warnings().iter().map(|w| text(&w.to_string())).collect();
+        Ok(Self {
+            m,
+            information,
+            entropies,
+            warnings,
+        })
+    }
+
+    /// The form factors, or `SI_ERR_UNDEFINED`.
+    fn form_factors(&self) -> Outcome<&sceneinfo::FormFactors> {
+        self.m.form_factors().ok_or_else(unsampled)
+    }
+}
+
+/// The failure of a value a line job that missed patches cannot give.
+fn unsampled() -> Failure {
+    Failure::new(
+        SiStatus::SI_ERR_UNDEFINED,
+        "some patch received none of the lines: its row of F is unknown, so the form \
+         factors and the discrete measures are undefined (cast more lines)",
+    )
+}
+
+/// The channel measures of a measurement, its checks and its background state (thesis
+/// chapter 3; entropies in bits).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SiMeasures {
+    /// Patches of the scene (the background state not counted).
+    pub n_patches: usize,
+    /// States of the channel: the patches, plus one when `background` is 1.
+    pub n_states: usize,
+    /// 1 when the scene is open and a background state closes the channel, else 0.
+    pub background: i32,
+    /// Largest row deficit `1 − Σ_j F_ij` over the patches, before the background.
+    pub max_row_deficit: f64,
+    /// Positional entropy `H_P` (3.5).
+    pub h_p: f64,
+    /// Scene visibility entropy `H_S` (3.1).
+    pub h_s: f64,
+    /// Joint entropy `H_J` (3.6).
+    pub h_j: f64,
+    /// Mutual information `I_S` (3.8).
+    pub i_s: f64,
+    /// `H_S / H_P` (3.12).
+    pub h_s_norm: f64,
+    /// `I_S / H_P` (3.13).
+    pub i_s_norm: f64,
+    /// `H_S / H_J` (§3.2.2).
+    pub h_s_joint_norm: f64,
+    /// `I_S / H_J` (§3.2.2).
+    pub i_s_joint_norm: f64,
+    /// Expected mean square error of the form-factor estimates, one line (3.20).
+    pub e_mse: f64,
+    /// Fano's lower bound on the error of guessing the source patch (3.21).
+    pub fano: f64,
+    /// Smallest row sum of `F`.
+    pub min_row_sum: f64,
+    /// Largest row sum of `F`.
+    pub max_row_sum: f64,
+    /// `max_i |1 − Σ_j F_ij|`.
+    pub max_row_sum_error: f64,
+    /// Largest relative reciprocity error `a_i F_ij` vs `a_j F_ji` (2.8).
+    pub max_reciprocity_error: f64,
+    /// `max_j |Σ_i a_i F_ij − a_j|`.
+    pub stationarity_error: f64,
+}
+
+/// What a line job cast and the continuous mutual information from it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SiLineRun {
+    /// The `SiMethod` of the job.
+    pub method: u32,
+    /// Seed of the line streams.
+    pub seed: u64,
+    /// Lines cast (3D bundles cast about the lines asked for).
+    pub lines: u64,
+    /// The job's line count: the fixed one, or the count doubling stopped at.
+    pub requested: u64,
+    /// `I_S^c` (4.8, 4.13), in bits.
+    pub i_s_continuous: f64,
+    /// Its standard error.
+    pub i_s_continuous_stderr: f64,
+    /// `(I_S^c − I_S) / I_S^c` (§4.4.2); NaN when `I_S` is undefined (unsampled patches).
+    pub rel_discretisation_error: f64,
+    /// Samples behind `I_S^c`.
+    pub samples: u64,
+    /// Independent observations behind its standard error.
+    pub stderr_groups: u64,
+    /// Patches that received no line (then the form factors and measures are undefined).
+    pub unsampled_patches: usize,
+    /// When `unsampled_patches > 0`: about how many lines would reach every patch (0 when
+    /// it could not be estimated).
+    pub lines_to_sample_all: u64,
+}
+
+/// Measures `scene` with `job` (NULL: the exact job): the form factors, exact or from
+/// lines, then the channel measures and per-patch arrays. Lines are cast on `job->threads`
+/// threads; the numbers are the same bits whatever the count.
+///
+/// On success `*out` is a new measurement owned by the caller (`si_measurement_free`).
+/// A line job that left some patch without a line still succeeds: its `I_S^c` and coverage
+/// are there (`si_measurement_line_run`), its form factors and discrete measures are
+/// `SI_ERR_UNDEFINED`. On failure `*out` is NULL: `SI_ERR_JOB` (exact form factors of an
+/// occluded 3D scene, a method the scene cannot cast, a line budget out of range, the
+/// memory limit), `SI_ERR_INVALID_ARGUMENT` (an unknown method).
+///
+/// # Safety
+/// `scene` must be NULL or a live scene; `job` NULL or a valid `SiJob`; `out` NULL or valid
+/// for writing one pointer. The scene is only read, and may be measured from several
+/// threads at once.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measure(
+    scene: *const SiScene,
+    job: *const SiJob,
+    out: *mut *mut SiMeasurement,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: `out` is NULL or writable by the contract above
+        unsafe { clear_out(out, "out") }?;
+        // SAFETY: by the contract above
+        let scene = unsafe { handle(scene, "scene") }?;
+        // SAFETY: NULL or one valid SiJob by the contract above
+        let job = unsafe { input(job, usize::from(!job.is_null()), "job") }?
+            .first()
+            .copied()
+            .unwrap_or_default();
+        let core_job = job.to_job()?;
+        let refused = |e: sceneinfo::Error| Failure::core(SiStatus::SI_ERR_JOB, "measure", &e);
+        let mut executor = Threads::new(job.threads);
+        if job.max_memory > 0 {
+            let tallies = match core_job {
+                Job::Exact => 1,
+                Job::Lines(_) => executor.count().saturating_add(1),
+            };
+            core_job
+                .check_memory(scene.scene.n_patches(), tallies, job.max_memory)
+                .map_err(refused)?;
+        }
+        let m = match core_job {
+            Job::Exact => measure(&scene.scene, &core_job, &mut Serial),
+            Job::Lines(_) => measure(&scene.scene, &core_job, &mut executor),
+        }
+        .map_err(refused)?;
+        let m = SiMeasurement::new(m)?;
+        // SAFETY: accepted by clear_out
+        unsafe { crate::buffers::give(out, m) };
+        Ok(())
+    })
+}
+
+impl Default for SiJob {
+    fn default() -> Self {
+        Self {
+            method: SiMethod::SI_METHOD_EXACT as u32,
+            threads: 0,
+            seed: 0,
+            lines: 0,
+            max_lines: 0,
+            max_memory: 0,
+        }
+    }
+}
+
+/// Frees a measurement (NULL: nothing).
+///
+/// # Safety
+/// `m` must be NULL or a measurement of this library not freed before; it must not be used
+/// after this call.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_free(m: *mut SiMeasurement) {
+    // SAFETY: by the contract above
+    guard_value((), || unsafe { free(m) });
+}
+
+/// Writes the channel measures into `*out`. `SI_ERR_UNDEFINED` when some patch received
+/// no line (`*out` untouched).
+///
+/// # Safety
+/// `m` must be NULL or a live measurement; `out` NULL or valid for writing one
+/// `SiMeasures`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_measures(
+    m: *const SiMeasurement,
+    out: *mut SiMeasures,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: by the contract above
+        let m = unsafe { handle(m, "measurement") }?;
+        let ff = m.form_factors()?;
+        let (Some(s), Some(c)) = (m.m.measures(), m.m.checks()) else {
+            return Err(unsampled());
+        };
+        let value = SiMeasures {
+            n_patches: m.m.n_patches(),
+            n_states: s.n_states,
+            background: i32::from(ff.has_background()),
+            max_row_deficit: ff.max_row_deficit(),
+            h_p: s.h_p,
+            h_s: s.h_s,
+            h_j: s.h_j,
+            i_s: s.i_s,
+            h_s_norm: s.h_s_norm,
+            i_s_norm: s.i_s_norm,
+            h_s_joint_norm: s.h_s_joint_norm,
+            i_s_joint_norm: s.i_s_joint_norm,
+            e_mse: s.e_mse,
+            fano: s.fano,
+            min_row_sum: c.min_row_sum,
+            max_row_sum: c.max_row_sum,
+            max_row_sum_error: c.max_row_sum_error,
+            max_reciprocity_error: c.max_reciprocity_error,
+            stationarity_error: c.stationarity_error,
+        };
+        // SAFETY: by the contract above
+        unsafe { write_out(out, value, "out") }
+    })
+}
+
+/// Writes what the line job cast into `*out`. `SI_ERR_UNDEFINED` for an exact job (`*out`
+/// untouched).
+///
+/// # Safety
+/// `m` must be NULL or a live measurement; `out` NULL or valid for writing one
+/// `SiLineRun`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_line_run(
+    m: *const SiMeasurement,
+    out: *mut SiLineRun,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: by the contract above
+        let m = unsafe { handle(m, "measurement") }?;
+        let Some(run) = m.m.line_run() else {
+            return Err(Failure::new(
+                SiStatus::SI_ERR_UNDEFINED,
+                "an exact job casts no lines",
+            ));
+        };
+        let i_s = m.m.measures().map_or(f64::NAN, |s| s.i_s);
+        let coverage = m.m.coverage();
+        let value = SiLineRun {
+            method: match run.method {
+                LineMethod::Global => SiMethod::SI_METHOD_GLOBAL,
+                LineMethod::Local => SiMethod::SI_METHOD_LOCAL,
+                LineMethod::Bundle => SiMethod::SI_METHOD_BUNDLE,
+            } as u32,
+            seed: run.seed,
+            lines: run.lines,
+            requested: run.requested,
+            i_s_continuous: run.continuous.value,
+            i_s_continuous_stderr: run.continuous.stderr,
+            rel_discretisation_error: relative_discretisation_error(run.continuous.value, i_s),
+            samples: run.continuous.samples,
+            stderr_groups: run.continuous.groups,
+            unsampled_patches: coverage.map_or(0, |c| c.unsampled),
+            lines_to_sample_all: coverage.and_then(|c| c.lines_to_sample_all).unwrap_or(0),
+        };
+        // SAFETY: by the contract above
+        unsafe { write_out(out, value, "out") }
+    })
+}
+
+/// The number of patches (0 for NULL).
+///
+/// # Safety
+/// `m` must be NULL or a live measurement.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_n_patches(m: *const SiMeasurement) -> usize {
+    // SAFETY: by the contract above
+    guard_value(0, || unsafe { handle(m, "measurement") }.map_or(0, |m| m.m.n_patches()))
+}
+
+/// The number of states of the channel: the patches, plus the background state of an open
+/// scene; the length of the per-state arrays and of a form-factor row. 0 for NULL and when
+/// some patch received no line.
+///
+/// # Safety
+/// `m` must be NULL or a live measurement.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_n_states(m: *const SiMeasurement) -> usize {
+    guard_value(0, || {
+        // SAFETY: by the contract above
+        unsafe { handle(m, "measurement") }
+            .ok()
+            .and_then(|m| m.m.form_factors())
+            .map_or(0, sceneinfo::FormFactors::n_states)
+    })
+}
+
+/// Copies the relative patch sizes `a_i = A_i / A_T` (3.3), one per patch. Buffer rules
+/// as `si_scene_patch_sizes`: `*out_needed` (if not NULL) always receives the length,
+/// `SI_ERR_BUFFER_TOO_SMALL` when `out_len` is shorter.
+///
+/// # Safety
+/// `m` must be NULL or a live measurement; `out` NULL or valid for writing `out_len`
+/// doubles; `out_needed` NULL or valid for writing one `size_t`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_patch_sizes(
+    m: *const SiMeasurement,
+    out: *mut f64,
+    out_len: usize,
+    out_needed: *mut usize,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: by the contract above
+        let m = unsafe { handle(m, "measurement") }?;
+        // SAFETY: by the contract above
+        unsafe { copy_out(m.m.patch_sizes(), out, out_len, out_needed, "patch sizes") }
+    })
+}
+
+/// Copies the per-state information transfer `I_i = a_i Σ_j F_ij log₂(F_ij / a_j)` (6.8),
+/// one per state (`si_measurement_n_states`: the background state last when present;
+/// `Σ_i I_i = I_S`, 6.9). Buffer rules as `si_measurement_patch_sizes`;
+/// `SI_ERR_UNDEFINED` when some patch received no line.
+///
+/// # Safety
+/// As `si_measurement_patch_sizes`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_patch_information(
+    m: *const SiMeasurement,
+    out: *mut f64,
+    out_len: usize,
+    out_needed: *mut usize,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: by the contract above
+        let m = unsafe { handle(m, "measurement") }?;
+        let data = m.information.as_deref().ok_or_else(unsampled)?;
+        // SAFETY: by the contract above
+        unsafe { copy_out(data, out, out_len, out_needed, "I_i") }
+    })
+}
+
+/// Copies the per-state entropy `H_i = −Σ_j F_ij log₂ F_ij` (3.2), one per state
+/// (`Σ a_i H_i = H_S`). Buffer rules and errors as `si_measurement_patch_information`.
+///
+/// # Safety
+/// As `si_measurement_patch_sizes`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_patch_entropies(
+    m: *const SiMeasurement,
+    out: *mut f64,
+    out_len: usize,
+    out_needed: *mut usize,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: by the contract above
+        let m = unsafe { handle(m, "measurement") }?;
+        let data = m.entropies.as_deref().ok_or_else(unsampled)?;
+        // SAFETY: by the contract above
+        unsafe { copy_out(data, out, out_len, out_needed, "H_i") }
+    })
+}
+
+/// Copies the per-patch continuous information `I_i^c` (6.37), one per patch, summing to
+/// `I_S^c` (0 for a patch no line reached). Buffer rules as `si_measurement_patch_sizes`;
+/// `SI_ERR_UNDEFINED` for an exact job.
+///
+/// # Safety
+/// As `si_measurement_patch_sizes`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_patch_continuous(
+    m: *const SiMeasurement,
+    out: *mut f64,
+    out_len: usize,
+    out_needed: *mut usize,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: by the contract above
+        let m = unsafe { handle(m, "measurement") }?;
+        let data = m.m.patch_continuous().ok_or_else(|| {
+            Failure::new(SiStatus::SI_ERR_UNDEFINED, "an exact job casts no lines")
+        })?;
+        // SAFETY: by the contract above
+        unsafe { copy_out(data, out, out_len, out_needed, "I_i^c") }
+    })
+}
+
+/// Copies row `i` of the form factors `F_ij` (2.2), `si_measurement_n_states` values (the
+/// background state last when present). Buffer rules as `si_measurement_patch_sizes`;
+/// `SI_ERR_INVALID_ARGUMENT` when `i` is not a state; `SI_ERR_UNDEFINED` when some patch
+/// received no line.
+///
+/// # Safety
+/// As `si_measurement_patch_sizes`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_form_factor_row(
+    m: *const SiMeasurement,
+    i: usize,
+    out: *mut f64,
+    out_len: usize,
+    out_needed: *mut usize,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: by the contract above
+        let m = unsafe { handle(m, "measurement") }?;
+        let ff = m.form_factors()?;
+        let n = ff.n_states();
+        if i >= n {
+            return Err(Failure::invalid(format!(
+                "row {i} of F: the channel has {n} states"
+            )));
+        }
+        let mut row = vec![0.0; n];
+        ff.dense_row_into(i, &mut row)
+            .map_err(|e| Failure::core(SiStatus::SI_ERR_INTERNAL, "form factors", &e))?;
+        // SAFETY: by the contract above
+        unsafe { copy_out(&row, out, out_len, out_needed, "row of F") }
+    })
+}
+
+/// Copies the whole form-factor matrix, row-major, `n_states × n_states` values (check the
+/// size: a 10,000-patch scene needs 800 MB; rows one at a time need
+/// `si_measurement_form_factor_row`). Buffer rules as `si_measurement_patch_sizes`;
+/// `SI_ERR_UNDEFINED` when some patch received no line.
+///
+/// # Safety
+/// As `si_measurement_patch_sizes`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_form_factors_dense(
+    m: *const SiMeasurement,
+    out: *mut f64,
+    out_len: usize,
+    out_needed: *mut usize,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: by the contract above
+        let m = unsafe { handle(m, "measurement") }?;
+        let ff = m.form_factors()?;
+        let n = ff.n_states();
+        let needed = n
+            .checked_mul(n)
+            .ok_or_else(|| Failure::invalid("the dense matrix does not fit in memory"))?;
+        // The length and the pointer first, without building the matrix
+        // SAFETY: by the contract above
+        unsafe { write_needed(out_needed, needed) };
+        if out_len < needed {
+            return Err(too_small("F", out_len, needed));
+        }
+        if out.is_null() {
+            return Err(Failure::null("F"));
+        }
+        let mut all = vec![0.0; needed];
+        for (i, row) in all.chunks_exact_mut(n).enumerate() {
+            ff.dense_row_into(i, row)
+                .map_err(|e| Failure::core(SiStatus::SI_ERR_INTERNAL, "form factors", &e))?;
+        }
+        // SAFETY: by the contract above
+        unsafe { copy_out(&all, out, out_len, out_needed, "F") }
+    })
+}
+
+/// Writes `needed` into `*out_needed` when it is not NULL.
+///
+/// # Safety
+/// `out_needed` must be NULL or valid for writing one `usize`.
+unsafe fn write_needed(out_needed: *mut usize, needed: usize) {
+    if !out_needed.is_null() {
+        // SAFETY: non-NULL and writable by the contract above
+        unsafe { out_needed.write(needed) };
+    }
+}
+
+fn too_small(what: &str, have: usize, needed: usize) -> Failure {
+    Failure::new(
+        SiStatus::SI_ERR_BUFFER_TOO_SMALL,
+        format!("{what}: the buffer holds {have} values, {needed} are needed"),
+    )
+}
+
+/// The number of warnings: where the numbers cannot be trusted to full precision (a
+/// nearly closed scene, row sums or stationarity off, unsampled patches, few observations
+/// behind the standard error). 0 for NULL.
+///
+/// # Safety
+/// `m` must be NULL or a live measurement.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_warning_count(m: *const SiMeasurement) -> usize {
+    // SAFETY: by the contract above
+    guard_value(0, || unsafe { handle(m, "measurement") }.map_or(0, |m| m.warnings.len()))
+}
+
+/// Warning `k` as text, or NULL past the end. Ownership: the string belongs to the
+/// measurement and lives as long as it; do not free it.
+///
+/// # Safety
+/// `m` must be NULL or a live measurement.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_warning(
+    m: *const SiMeasurement,
+    k: usize,
+) -> *const c_char {
+    guard_value(std::ptr::null(), || {
+        // SAFETY: by the contract above
+        unsafe { handle(m, "measurement") }
+            .ok()
+            .and_then(|m| m.warnings.get(k))
+            .map_or(std::ptr::null(), |w| w.as_ptr())
+    })
+}

@@ -1,0 +1,422 @@
+//! [`SiScene`]: a scene read from a `.flat` or `.obj` file, or built from arrays, through
+//! the core's [`sceneinfo::Scene`].
+
+use std::ffi::{CStr, CString, c_char};
+use std::fs;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+use sceneinfo::{LoadReport, Material, ObjOptions, Scene, SceneFormat};
+
+use crate::buffers::{clear_out, copy_out, free, give, handle, input};
+use crate::status::{Failure, Outcome, SiStatus, guard, guard_value};
+
+/// A scene: flatland segments or 3D planar convex patches, with what its loader reported.
+/// Opaque to C; made by `si_scene_from_file`, `si_scene_from_arrays` or
+/// `si_scene_from_segments`, freed by `si_scene_free`.
+#[derive(Debug)]
+pub struct SiScene {
+    pub(crate) scene: Scene,
+    warnings: Vec<CString>,
+}
+
+impl SiScene {
+    fn new(scene: Scene, report: &LoadReport) -> Self {
+        let warnings = report
+            .warnings
+            .iter()
+            .map(|w| text(&w.to_string()))
+            .collect();
+        Self { scene, warnings }
+    }
+}
+
+/// `s` as C text (an interior NUL, which no message of ours holds, ends it).
+pub(crate) fn text(s: &str) -> CString {
+    let end = s.find('\0').unwrap_or(s.len());
+    CString::new(&s[..end]).unwrap_or_default()
+}
+
+/// How `si_scene_from_file` tells a file's format.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[allow(non_camel_case_types)] // the C names
+pub enum SiFormat {
+    /// By the extension: `.flat` (flatland) or `.obj` (Wavefront OBJ), any case.
+    SI_FORMAT_AUTO = 0,
+    /// sceneinfo's flatland text format.
+    SI_FORMAT_FLAT = 1,
+    /// Wavefront OBJ; `mtllib` files are read from the OBJ's folder.
+    SI_FORMAT_OBJ = 2,
+}
+
+/// A patch's material: reflectance ρ per RGB channel in `[0, 1)` and emittance E per RGB
+/// channel in `[0, 1e100]` (the radiosity system's `ρ_i`, `E_i`, thesis eq. 2.6).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SiMaterial {
+    /// ρ for red, green, blue.
+    pub reflectance: [f64; 3],
+    /// E for red, green, blue.
+    pub emittance: [f64; 3],
+}
+
+impl From<SiMaterial> for Material {
+    fn from(m: SiMaterial) -> Self {
+        Material {
+            reflectance: m.reflectance,
+            emittance: m.emittance,
+        }
+    }
+}
+
+/// Largest scene file read (2 GiB, as the CLI), and largest material library (64 MiB).
+const MAX_FILE_BYTES: u64 = 2 << 30;
+const MAX_LIBRARY_BYTES: u64 = 64 << 20;
+
+/// The path of a C string: its bytes as they are on Unix, UTF-8 elsewhere.
+fn path_of(path: &CStr) -> Outcome<PathBuf> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::ffi::OsStrExt;
+        Ok(PathBuf::from(std::ffi::OsStr::from_bytes(path.to_bytes())))
+    }
+    #[cfg(not(unix))]
+    {
+        path.to_str()
+            .map(PathBuf::from)
+            .map_err(|_| Failure::invalid("the path is not UTF-8"))
+    }
+}
+
+/// The bytes of a regular file of at most `cap` bytes (a device or FIFO, which may never
+/// end, is refused before it is opened).
+fn read_capped(path: &Path, cap: u64) -> Outcome<Vec<u8>> {
+    let io = |what: String| Failure::new(SiStatus::SI_ERR_IO, what);
+    let shown = path.display();
+    let meta = fs::metadata(path).map_err(|e| io(format!("{shown}: cannot read: {e}")))?;
+    if !meta.is_file() {
+        return Err(io(format!(
+            "{shown}: not a regular file (a device, pipe or folder): refused"
+        )));
+    }
+    if meta.len() > cap {
+        return Err(io(format!(
+            "{shown}: {} bytes, larger than the cap of {cap} bytes",
+            meta.len()
+        )));
+    }
+    let file = fs::File::open(path).map_err(|e| io(format!("{shown}: cannot read: {e}")))?;
+    let mut bytes = Vec::new();
+    file.take(cap.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(|e| io(format!("{shown}: cannot read: {e}")))?;
+    if bytes.len() as u64 > cap {
+        return Err(io(format!(
+            "{shown}: larger than the cap of {cap} bytes"
+        )));
+    }
+    Ok(bytes)
+}
+
+/// The format of `path` by its extension.
+fn format_of(path: &Path, format: u32) -> Outcome<SiFormat> {
+    match format {
+        1 => Ok(SiFormat::SI_FORMAT_FLAT),
+        2 => Ok(SiFormat::SI_FORMAT_OBJ),
+        0 => {
+            let ext = path
+                .extension()
+                .and_then(|e| e.to_str())
+                .map(str::to_ascii_lowercase);
+            match ext.as_deref() {
+                Some("flat") => Ok(SiFormat::SI_FORMAT_FLAT),
+                Some("obj") => Ok(SiFormat::SI_FORMAT_OBJ),
+                _ => Err(Failure::invalid(format!(
+                    "{}: the extension is neither .flat nor .obj; pass SI_FORMAT_FLAT or \
+                     SI_FORMAT_OBJ",
+                    path.display()
+                ))),
+            }
+        }
+        other => Err(Failure::invalid(format!("unknown format code {other}"))),
+    }
+}
+
+/// Reads the scene in `path`.
+fn read_scene(path: &Path, format: u32) -> Outcome<SiScene> {
+    let format = format_of(path, format)?;
+    let bytes = read_capped(path, MAX_FILE_BYTES)?;
+    let shown = path.display().to_string();
+    let loaded = match format {
+        SiFormat::SI_FORMAT_FLAT | SiFormat::SI_FORMAT_AUTO => {
+            Scene::from_bytes(&bytes, SceneFormat::Flat, |_| None)
+        }
+        SiFormat::SI_FORMAT_OBJ => {
+            // Material libraries from the OBJ's folder; an unreadable one is the first
+            // failure reported, as it may be why the OBJ failed
+            let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+            let library_failure = std::cell::RefCell::new(None);
+            let mtl = |name: &str| {
+                let lib = dir.join(name);
+                if !lib.is_file() {
+                    return None;
+                }
+                let read = read_capped(&lib, MAX_LIBRARY_BYTES).and_then(|b| {
+                    String::from_utf8(b).map_err(|_| {
+                        Failure::new(
+                            SiStatus::SI_ERR_SCENE,
+                            format!("{}: material library is not UTF-8", lib.display()),
+                        )
+                    })
+                });
+                match read {
+                    Ok(text) => Some(text),
+                    Err(f) => {
+                        library_failure.borrow_mut().get_or_insert(f);
+                        None
+                    }
+                }
+            };
+            let parsed = Scene::from_bytes(&bytes, SceneFormat::Obj(ObjOptions::default()), mtl);
+            if let Some(f) = library_failure.into_inner() {
+                return Err(f);
+            }
+            parsed
+        }
+    };
+    let (scene, report) =
+        loaded.map_err(|e| Failure::core(SiStatus::SI_ERR_SCENE, &shown, &e))?;
+    Ok(SiScene::new(scene, &report))
+}
+
+/// Reads a scene file: sceneinfo's flatland format (`.flat`) or Wavefront OBJ (`.obj`,
+/// with its `mtllib` material libraries read from the OBJ's folder; faces not subdivided,
+/// as the CLI reads them).
+///
+/// `format`: `SI_FORMAT_AUTO` (by the extension), `SI_FORMAT_FLAT` or `SI_FORMAT_OBJ`.
+///
+/// On success `*out` is a new scene, which the caller owns and frees with
+/// `si_scene_free`. On failure `*out` is NULL and the message says what was wrong:
+/// `SI_ERR_IO` (`file: cannot read: ...`), `SI_ERR_SCENE` (`file:line: what`, the line also
+/// from `si_error_line`), `SI_ERR_INVALID_ARGUMENT` (an unknown extension or format code).
+///
+/// # Safety
+/// `path` must be NULL or a NUL-terminated string; `out` NULL or valid for writing one
+/// pointer. The library keeps neither.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_scene_from_file(
+    path: *const c_char,
+    format: u32,
+    out: *mut *mut SiScene,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: `out` is NULL or writable by the contract above
+        unsafe { clear_out(out, "out") }?;
+        if path.is_null() {
+            return Err(Failure::null("path"));
+        }
+        // SAFETY: non-NULL and NUL-terminated by the contract above
+        let path = path_of(unsafe { CStr::from_ptr(path) })?;
+        let scene = read_scene(&path, format)?;
+        // SAFETY: accepted by clear_out
+        unsafe { give(out, scene) };
+        Ok(())
+    })
+}
+
+/// Builds a 3D scene of one patch per polygon.
+///
+/// - `vertices`: `n_vertices` points, `3 * n_vertices` doubles `x, y, z`.
+/// - `indices`, `offsets`: polygon `k` has the vertices `indices[offsets[k] ..
+///   offsets[k + 1]]` (so `n_offsets` is the number of polygons plus one, and
+///   `offsets[0] == 0`), planar and convex, front side counter-clockwise by the right-hand
+///   rule (as in OBJ). With `offsets == NULL` and `n_offsets == 0`, `indices` holds
+///   triangles, three indices each.
+/// - `materials`: NULL (every patch black: ρ = 0, E = 0) or one per polygon
+///   (`n_materials` must then equal the number of polygons).
+///
+/// On success `*out` is a new scene owned by the caller (`si_scene_free`). On failure
+/// `*out` is NULL: `SI_ERR_SCENE` with the 1-based polygon row in the message and
+/// `si_error_line` (a degenerate or non-planar polygon, an index past the vertices, bad
+/// offsets), `SI_ERR_INVALID_ARGUMENT` (lengths that do not fit together).
+///
+/// # Safety
+/// Each array pointer must be NULL or point to at least as many items as its count says
+/// (`3 * n_vertices` doubles for `vertices`), valid during the call; `out` NULL or valid
+/// for writing one pointer. The library copies what it needs and keeps no pointer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_scene_from_arrays(
+    vertices: *const f64,
+    n_vertices: usize,
+    indices: *const u32,
+    n_indices: usize,
+    offsets: *const u32,
+    n_offsets: usize,
+    materials: *const SiMaterial,
+    n_materials: usize,
+    out: *mut *mut SiScene,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: `out` is NULL or writable by the contract above
+        unsafe { clear_out(out, "out") }?;
+        // SAFETY: [f64; 3] has the alignment of f64, and `vertices` holds 3 * n_vertices
+        // doubles by the contract above
+        let vertices = unsafe { input(vertices.cast::<[f64; 3]>(), n_vertices, "vertices") }?;
+        // SAFETY: `indices` holds n_indices items by the contract above
+        let indices = unsafe { input(indices, n_indices, "indices") }?;
+        // SAFETY: `offsets` holds n_offsets items by the contract above
+        let offsets = unsafe { input(offsets, n_offsets, "offsets") }?;
+        let materials = if materials.is_null() {
+            None
+        } else {
+            // SAFETY: `materials` holds n_materials items by the contract above
+            let m = unsafe { input(materials, n_materials, "materials") }?;
+            Some(m.iter().map(|&m| m.into()).collect::<Vec<Material>>())
+        };
+        let scene = if offsets.is_empty() {
+            if indices.len() % 3 != 0 {
+                return Err(Failure::invalid(format!(
+                    "indices: {} indices are not whole triangles (no offsets given)",
+                    indices.len()
+                )));
+            }
+            let triangles: Vec<[u32; 3]> = indices
+                .chunks_exact(3)
+                .map(|t| [t[0], t[1], t[2]])
+                .collect();
+            Scene::from_triangles(vertices, &triangles, materials.as_deref())
+        } else {
+            Scene::from_polygons(vertices, indices, offsets, materials.as_deref())
+        }
+        .map_err(|e| Failure::core(SiStatus::SI_ERR_SCENE, "polygon row", &e))?;
+        // SAFETY: accepted by clear_out
+        unsafe { give(out, SiScene::new(scene, &LoadReport::default())) };
+        Ok(())
+    })
+}
+
+/// Builds a flatland scene of one patch per segment: `segments` holds `n_segments` rows of
+/// four doubles `x0, y0, x1, y1`; each segment is its own surface and faces its left side
+/// (normal = left perpendicular of `b − a`). `materials`: NULL (black) or one per segment.
+///
+/// Ownership and errors as `si_scene_from_arrays` (the row in the message is the
+/// segment's).
+///
+/// # Safety
+/// `segments` must be NULL or point to `4 * n_segments` doubles, `materials` NULL or to
+/// `n_materials` items, valid during the call; `out` NULL or valid for writing one pointer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_scene_from_segments(
+    segments: *const f64,
+    n_segments: usize,
+    materials: *const SiMaterial,
+    n_materials: usize,
+    out: *mut *mut SiScene,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: `out` is NULL or writable by the contract above
+        unsafe { clear_out(out, "out") }?;
+        // SAFETY: [f64; 4] has the alignment of f64, and `segments` holds 4 * n_segments
+        // doubles by the contract above
+        let segments = unsafe { input(segments.cast::<[f64; 4]>(), n_segments, "segments") }?;
+        let materials = if materials.is_null() {
+            None
+        } else {
+            // SAFETY: `materials` holds n_materials items by the contract above
+            let m = unsafe { input(materials, n_materials, "materials") }?;
+            Some(m.iter().map(|&m| m.into()).collect::<Vec<Material>>())
+        };
+        let scene = Scene::from_segments(segments, materials.as_deref())
+            .map_err(|e| Failure::core(SiStatus::SI_ERR_SCENE, "segment row", &e))?;
+        // SAFETY: accepted by clear_out
+        unsafe { give(out, SiScene::new(scene, &LoadReport::default())) };
+        Ok(())
+    })
+}
+
+/// Frees a scene (NULL: nothing). Measurements made from it stay valid: they own their
+/// data.
+///
+/// # Safety
+/// `scene` must be NULL or a scene from this library not freed before; it must not be used
+/// after this call.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_scene_free(scene: *mut SiScene) {
+    // SAFETY: by the contract above
+    guard_value((), || unsafe { free(scene) });
+}
+
+/// The number of patches of a scene (0 for NULL).
+///
+/// # Safety
+/// `scene` must be NULL or a live scene of this library.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_scene_n_patches(scene: *const SiScene) -> usize {
+    // SAFETY: by the contract above
+    guard_value(0, || unsafe { handle(scene, "scene") }.map_or(0, |s| s.scene.n_patches()))
+}
+
+/// 1 for a flatland scene, 0 for a 3D one (and for NULL).
+///
+/// # Safety
+/// `scene` must be NULL or a live scene of this library.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_scene_is_flat(scene: *const SiScene) -> i32 {
+    guard_value(0, || {
+        // SAFETY: by the contract above
+        unsafe { handle(scene, "scene") }.map_or(0, |s| i32::from(s.scene.is_flat()))
+    })
+}
+
+/// Copies the relative patch sizes `a_i = A_i / A_T` (lengths in flatland, areas in 3D; the
+/// channel's input distribution, thesis eq. 3.3) into `out` (`out_len` doubles), one per
+/// patch. `*out_needed` (if not NULL) receives the number of patches, whatever happens:
+/// call with `out = NULL, out_len = 0` to ask. `SI_ERR_BUFFER_TOO_SMALL` when
+/// `out_len` is shorter (nothing written).
+///
+/// # Safety
+/// `scene` must be NULL or a live scene; `out` NULL or valid for writing `out_len` doubles;
+/// `out_needed` NULL or valid for writing one `size_t`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_scene_patch_sizes(
+    scene: *const SiScene,
+    out: *mut f64,
+    out_len: usize,
+    out_needed: *mut usize,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: by the contract above
+        let s = unsafe { handle(scene, "scene") }?;
+        // SAFETY: by the contract above
+        unsafe { copy_out(&s.scene.patch_sizes(), out, out_len, out_needed, "patch sizes") }
+    })
+}
+
+/// The number of warnings the loader gave (what it skipped or repaired in an OBJ; 0 for
+/// NULL).
+///
+/// # Safety
+/// `scene` must be NULL or a live scene of this library.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_scene_warning_count(scene: *const SiScene) -> usize {
+    // SAFETY: by the contract above
+    guard_value(0, || unsafe { handle(scene, "scene") }.map_or(0, |s| s.warnings.len()))
+}
+
+/// The loader's warning `k` (`line N: what ...`), or NULL past the end.
+///
+/// Ownership: the string belongs to the scene and lives as long as it; do not free it.
+///
+/// # Safety
+/// `scene` must be NULL or a live scene of this library.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_scene_warning(scene: *const SiScene, k: usize) -> *const c_char {
+    guard_value(std::ptr::null(), || {
+        // SAFETY: by the contract above
+        unsafe { handle(scene, "scene") }
+            .ok()
+            .and_then(|s| s.warnings.get(k))
+            .map_or(std::ptr::null(), |w| w.as_ptr())
+    })
+}
