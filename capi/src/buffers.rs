@@ -119,7 +119,9 @@ pub(crate) unsafe fn copy_out<T: Copy>(
         return Err(Failure::null(what));
     }
     if !out.is_aligned() {
-        return Err(Failure::invalid(format!("{what}: the buffer is not aligned")));
+        return Err(Failure::invalid(format!(
+            "{what}: the buffer is not aligned"
+        )));
     }
     // SAFETY: `out` is non-NULL, aligned and holds at least `data.len()` values by the
     // caller's contract; a caller buffer cannot overlap the library's own `data`

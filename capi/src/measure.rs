@@ -89,8 +89,8 @@ pub struct SiMeasurement {
 }
 
 impl SiMeasurement {
-    fn new(m: Measurement) -> Outcome<Self> {
-        let job = |e: sceneinfo::Error| Failure::core(SiStatus::SI_ERR_JOB, "measure", &e);
+    fn new(m: Measurement, source: &str) -> Outcome<Self> {
+        let job = |e: sceneinfo::Error| Failure::core(SiStatus::SI_ERR_JOB, source, &e);
         let information = m.patch_information().map_err(job)?;
         let entropies = m.patch_entropies().map_err(job)?;
         let warnings = m.warnings().iter().map(|w| text(&w.to_string())).collect();
@@ -178,7 +178,8 @@ pub struct SiLineRun {
     pub i_s_continuous: f64,
     /// Its standard error.
     pub i_s_continuous_stderr: f64,
-    /// `(I_S^c − I_S) / I_S^c` (§4.4.2); NaN when `I_S` is undefined (unsampled patches).
+    /// `(I_S^c − I_S) / I_S^c` (§4.4.2); 0 when `I_S^c ≤ 0`, else NaN when `I_S` is
+    /// undefined (unsampled patches).
     pub rel_discretisation_error: f64,
     /// Samples behind `I_S^c`.
     pub samples: u64,
@@ -223,7 +224,7 @@ pub unsafe extern "C" fn si_measure(
             .copied()
             .unwrap_or_default();
         let core_job = job.to_job()?;
-        let refused = |e: sceneinfo::Error| Failure::core(SiStatus::SI_ERR_JOB, "measure", &e);
+        let refused = |e: sceneinfo::Error| Failure::core(SiStatus::SI_ERR_JOB, &scene.source, &e);
         let mut executor = Threads::new(job.threads);
         if job.max_memory > 0 {
             let tallies = match core_job {
@@ -239,7 +240,7 @@ pub unsafe extern "C" fn si_measure(
             Job::Lines(_) => measure(&scene.scene, &core_job, &mut executor),
         }
         .map_err(refused)?;
-        let m = SiMeasurement::new(m)?;
+        let m = SiMeasurement::new(m, &scene.source)?;
         // SAFETY: accepted by clear_out
         unsafe { crate::buffers::give(out, m) };
         Ok(())
@@ -365,7 +366,9 @@ pub unsafe extern "C" fn si_measurement_line_run(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn si_measurement_n_patches(m: *const SiMeasurement) -> usize {
     // SAFETY: by the contract above
-    guard_value(0, || unsafe { handle(m, "measurement") }.map_or(0, |m| m.m.n_patches()))
+    guard_value(0, || {
+        unsafe { handle(m, "measurement") }.map_or(0, |m| m.m.n_patches())
+    })
 }
 
 /// The number of states of the channel: the patches, plus the background state of an open
@@ -576,7 +579,9 @@ fn too_small(what: &str, have: usize, needed: usize) -> Failure {
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn si_measurement_warning_count(m: *const SiMeasurement) -> usize {
     // SAFETY: by the contract above
-    guard_value(0, || unsafe { handle(m, "measurement") }.map_or(0, |m| m.warnings.len()))
+    guard_value(0, || {
+        unsafe { handle(m, "measurement") }.map_or(0, |m| m.warnings.len())
+    })
 }
 
 /// Warning `k` as text, or NULL past the end. Ownership: the string belongs to the

@@ -6,9 +6,9 @@ use std::fs;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
-use sceneinfo::{LoadReport, Material, ObjOptions, Scene, SceneFormat};
+use sceneinfo::{ErrorKind, LoadReport, Material, ObjOptions, Scene, SceneFormat};
 
-use crate::buffers::{clear_out, copy_out, free, give, handle, input};
+use crate::buffers::{clear_out, copy_out, free, give, handle, input, write_out};
 use crate::status::{Failure, Outcome, SiStatus, guard, guard_value};
 
 /// A scene: flatland segments or 3D planar convex patches, with what its loader reported.
@@ -17,18 +17,70 @@ use crate::status::{Failure, Outcome, SiStatus, guard, guard_value};
 #[derive(Debug)]
 pub struct SiScene {
     pub(crate) scene: Scene,
+    report: SiLoadReport,
+    /// The file it was read from, or what built it: the start of a job's error messages.
+    pub(crate) source: String,
     warnings: Vec<CString>,
 }
 
 impl SiScene {
-    fn new(scene: Scene, report: &LoadReport) -> Self {
+    fn new(scene: Scene, source: String, report: &LoadReport) -> Self {
         let warnings = report
             .warnings
             .iter()
             .map(|w| text(&w.to_string()))
             .collect();
-        Self { scene, warnings }
+        let r = report;
+        let report = SiLoadReport {
+            faces_read: r.faces_read,
+            repeated_vertices: r.repeated_vertices,
+            faces_flattened: r.faces_flattened,
+            max_off_plane: r.max_off_plane,
+            faces_triangulated: r.faces_triangulated,
+            triangles_added: r.triangles_added,
+            pieces_dropped: r.pieces_dropped,
+            duplicates_dropped: r.duplicates_dropped,
+            covered_dropped: r.covered_dropped,
+            overlaps_clipped: r.overlaps_clipped,
+            clip_pieces: r.clip_pieces,
+        };
+        Self {
+            scene,
+            report,
+            source,
+            warnings,
+        }
     }
+}
+
+/// What the OBJ loader read, repaired and dropped (all 0 for flatland and arrays): the
+/// counts of the CLI's `measure --json` report.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SiLoadReport {
+    /// Polygons read from the file, as written.
+    pub faces_read: u64,
+    /// Consecutive repeated vertices removed from faces.
+    pub repeated_vertices: u64,
+    /// Convex faces flattened onto their Newell plane.
+    pub faces_flattened: u64,
+    /// Largest distance of a vertex from its face's plane, relative to the face's size,
+    /// over the faces flattened or triangulated (0 if none).
+    pub max_off_plane: f64,
+    /// Faces cut into triangles (concave or bent ones).
+    pub faces_triangulated: u64,
+    /// Triangles those faces gave.
+    pub triangles_added: u64,
+    /// Zero-area pieces and wholly degenerate faces dropped.
+    pub pieces_dropped: u64,
+    /// Faces dropped as duplicates of earlier ones.
+    pub duplicates_dropped: u64,
+    /// Faces dropped as wholly covered by earlier coincident ones.
+    pub covered_dropped: u64,
+    /// Faces partly covered by earlier coincident ones, cut to their uncovered part.
+    pub overlaps_clipped: u64,
+    /// Convex pieces those faces gave.
+    pub clip_pieces: u64,
 }
 
 /// `s` as C text (an interior NUL, which no message of ours holds, ends it).
@@ -112,9 +164,7 @@ fn read_capped(path: &Path, cap: u64) -> Outcome<Vec<u8>> {
         .read_to_end(&mut bytes)
         .map_err(|e| io(format!("{shown}: cannot read: {e}")))?;
     if bytes.len() as u64 > cap {
-        return Err(io(format!(
-            "{shown}: larger than the cap of {cap} bytes"
-        )));
+        return Err(io(format!("{shown}: larger than the cap of {cap} bytes")));
     }
     Ok(bytes)
 }
@@ -185,9 +235,15 @@ fn read_scene(path: &Path, format: u32) -> Outcome<SiScene> {
             parsed
         }
     };
-    let (scene, report) =
-        loaded.map_err(|e| Failure::core(SiStatus::SI_ERR_SCENE, &shown, &e))?;
-    Ok(SiScene::new(scene, &report))
+    let (scene, report) = loaded.map_err(|e| {
+        let mut f = Failure::core(SiStatus::SI_ERR_SCENE, &shown, &e);
+        // Where the text stops being UTF-8, as the CLI says it
+        if let (ErrorKind::InvalidUtf8, Err(u)) = (e.kind(), std::str::from_utf8(&bytes)) {
+            f.message += &format!(" at byte offset {}", u.valid_up_to());
+        }
+        f
+    })?;
+    Ok(SiScene::new(scene, shown, &report))
 }
 
 /// Reads a scene file: sceneinfo's flatland format (`.flat`) or Wavefront OBJ (`.obj`,
@@ -289,9 +345,10 @@ pub unsafe extern "C" fn si_scene_from_arrays(
         } else {
             Scene::from_polygons(vertices, indices, offsets, materials.as_deref())
         }
-        .map_err(|e| Failure::core(SiStatus::SI_ERR_SCENE, "polygon row", &e))?;
+        .map_err(|e| Failure::rows(SiStatus::SI_ERR_SCENE, "polygon", &e))?;
+        let source = "the scene of si_scene_from_arrays".to_owned();
         // SAFETY: accepted by clear_out
-        unsafe { give(out, SiScene::new(scene, &LoadReport::default())) };
+        unsafe { give(out, SiScene::new(scene, source, &LoadReport::default())) };
         Ok(())
     })
 }
@@ -328,9 +385,10 @@ pub unsafe extern "C" fn si_scene_from_segments(
             Some(m.iter().map(|&m| m.into()).collect::<Vec<Material>>())
         };
         let scene = Scene::from_segments(segments, materials.as_deref())
-            .map_err(|e| Failure::core(SiStatus::SI_ERR_SCENE, "segment row", &e))?;
+            .map_err(|e| Failure::rows(SiStatus::SI_ERR_SCENE, "segment", &e))?;
+        let source = "the scene of si_scene_from_segments".to_owned();
         // SAFETY: accepted by clear_out
-        unsafe { give(out, SiScene::new(scene, &LoadReport::default())) };
+        unsafe { give(out, SiScene::new(scene, source, &LoadReport::default())) };
         Ok(())
     })
 }
@@ -354,7 +412,9 @@ pub unsafe extern "C" fn si_scene_free(scene: *mut SiScene) {
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn si_scene_n_patches(scene: *const SiScene) -> usize {
     // SAFETY: by the contract above
-    guard_value(0, || unsafe { handle(scene, "scene") }.map_or(0, |s| s.scene.n_patches()))
+    guard_value(0, || {
+        unsafe { handle(scene, "scene") }.map_or(0, |s| s.scene.n_patches())
+    })
 }
 
 /// 1 for a flatland scene, 0 for a 3D one (and for NULL).
@@ -389,7 +449,33 @@ pub unsafe extern "C" fn si_scene_patch_sizes(
         // SAFETY: by the contract above
         let s = unsafe { handle(scene, "scene") }?;
         // SAFETY: by the contract above
-        unsafe { copy_out(&s.scene.patch_sizes(), out, out_len, out_needed, "patch sizes") }
+        unsafe {
+            copy_out(
+                &s.scene.patch_sizes(),
+                out,
+                out_len,
+                out_needed,
+                "patch sizes",
+            )
+        }
+    })
+}
+
+/// Writes what the loader read and repaired into `*out`.
+///
+/// # Safety
+/// `scene` must be NULL or a live scene; `out` NULL or valid for writing one
+/// `SiLoadReport`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_scene_load_report(
+    scene: *const SiScene,
+    out: *mut SiLoadReport,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: by the contract above
+        let s = unsafe { handle(scene, "scene") }?;
+        // SAFETY: by the contract above
+        unsafe { write_out(out, s.report, "out") }
     })
 }
 
@@ -401,7 +487,9 @@ pub unsafe extern "C" fn si_scene_patch_sizes(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn si_scene_warning_count(scene: *const SiScene) -> usize {
     // SAFETY: by the contract above
-    guard_value(0, || unsafe { handle(scene, "scene") }.map_or(0, |s| s.warnings.len()))
+    guard_value(0, || {
+        unsafe { handle(scene, "scene") }.map_or(0, |s| s.warnings.len())
+    })
 }
 
 /// The loader's warning `k` (`line N: what ...`), or NULL past the end.

@@ -13,7 +13,7 @@ use std::ffi::{CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 /// What a call did. `SI_OK` is 0; every other value is a failure, with a message on the
-/// calling thread ([`si_error_message`]).
+/// calling thread (`si_error_message`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[allow(non_camel_case_types)] // the C names
@@ -29,7 +29,7 @@ pub enum SiStatus {
     /// A file could not be read (missing, not a regular file, too large, unreadable).
     SI_ERR_IO = 3,
     /// The scene's text or arrays are invalid; the message names the file (or array), the
-    /// 1-based line (or row) and what was wrong, and [`si_error_line`] gives the line.
+    /// 1-based line (or row) and what was wrong, and `si_error_line` gives the line.
     SI_ERR_SCENE = 4,
     /// The scene is valid, but the job cannot run on it (exact form factors of a 3D scene in
     /// which a patch may hide another, a method the scene's tracer cannot cast, a line
@@ -80,6 +80,19 @@ impl Failure {
         let message = match e.line() {
             Some(line) => format!("{source}:{line}: {}", e.kind()),
             None => format!("{source}: {}", e.kind()),
+        };
+        Self {
+            status,
+            message,
+            line: e.line(),
+        }
+    }
+    /// A core error in caller arrays: `what row N: what was wrong` (the row 1-based), or
+    /// `what: what was wrong`.
+    pub(crate) fn rows(status: SiStatus, what: &str, e: &sceneinfo::Error) -> Self {
+        let message = match e.line() {
+            Some(row) => format!("{what} row {row}: {}", e.kind()),
+            None => format!("{what}: {}", e.kind()),
         };
         Self {
             status,

@@ -115,7 +115,11 @@ mod tests {
             let serial = measure(&scene, &job, &mut Serial).unwrap();
             for threads in [1, 2, 5] {
                 let threaded = measure(&scene, &job, &mut Threads::new(threads)).unwrap();
-                assert_eq!(bits(&serial), bits(&threaded), "{method:?}, {threads} threads");
+                assert_eq!(
+                    bits(&serial),
+                    bits(&threaded),
+                    "{method:?}, {threads} threads"
+                );
             }
         }
     }

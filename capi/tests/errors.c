@@ -1,0 +1,146 @@
+/*
+ * errors.c: the C API's failure paths, run by `scripts/capi.sh check` under
+ * AddressSanitizer: every failure is a status and a message, never a crash or a leak.
+ *
+ *   errors BAD.flat OCCLUDED.obj
+ *
+ * BAD.flat must fail to parse on line 1 (tests/data/bad/not_a_number.flat); OCCLUDED.obj
+ * must be a 3D scene whose exact form factors are refused (the Cornell box).
+ */
+#include <sceneinfo.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int failures = 0;
+
+#define CHECK(cond)                                                                  \
+    do {                                                                             \
+        if (!(cond)) {                                                               \
+            fprintf(stderr, "errors.c:%d: check failed: %s (last error: %s)\n",      \
+                    __LINE__, #cond, si_error_message());                            \
+            failures++;                                                              \
+        }                                                                            \
+    } while (0)
+
+/* The last message contains `part`. */
+static int says(const char *part) {
+    return strstr(si_error_message(), part) != NULL;
+}
+
+int main(int argc, char **argv) {
+    if (argc != 3) {
+        fprintf(stderr, "usage: %s BAD.flat OCCLUDED.obj\n", argv[0]);
+        return 2;
+    }
+    SiScene *scene = (SiScene *)1; /* must be overwritten with NULL on failure */
+    SiMeasurement *m = NULL;
+
+    /* A bad file: SI_ERR_SCENE, file:line: what, the line, and *out = NULL */
+    CHECK(si_scene_from_file(argv[1], SI_FORMAT_AUTO, &scene) == SI_ERR_SCENE);
+    CHECK(scene == NULL);
+    CHECK(si_error_code() == SI_ERR_SCENE);
+    CHECK(si_error_line() == 1);
+    CHECK(says(argv[1]) && says(":1: ") && says("not a number"));
+    printf("bad file: %s\n", si_error_message());
+
+    /* A missing file, a folder, an unknown extension, an unknown format code */
+    CHECK(si_scene_from_file("/nonexistent/scene.flat", SI_FORMAT_AUTO, &scene) == SI_ERR_IO);
+    CHECK(says("/nonexistent/scene.flat: cannot read"));
+    CHECK(si_scene_from_file("/", SI_FORMAT_FLAT, &scene) == SI_ERR_IO);
+    CHECK(says("not a regular file"));
+    CHECK(si_scene_from_file("scene.txt", SI_FORMAT_AUTO, &scene) == SI_ERR_INVALID_ARGUMENT);
+    CHECK(si_scene_from_file(argv[1], 99, &scene) == SI_ERR_INVALID_ARGUMENT);
+
+    /* NULL arguments */
+    CHECK(si_scene_from_file(NULL, SI_FORMAT_AUTO, &scene) == SI_ERR_NULL_ARGUMENT);
+    CHECK(si_scene_from_file(argv[2], SI_FORMAT_AUTO, NULL) == SI_ERR_NULL_ARGUMENT);
+    CHECK(si_measure(NULL, NULL, &m) == SI_ERR_NULL_ARGUMENT && m == NULL);
+    CHECK(si_scene_n_patches(NULL) == 0 && si_measurement_n_states(NULL) == 0);
+    si_scene_free(NULL);
+    si_measurement_free(NULL);
+
+    /* An occluded 3D scene: exact form factors refused (SI_ERR_JOB), lines work */
+    CHECK(si_scene_from_file(argv[2], SI_FORMAT_AUTO, &scene) == SI_OK);
+    CHECK(si_error_code() == SI_OK && strcmp(si_error_message(), "") == 0);
+    SiJob job = {0};
+    CHECK(si_measure(scene, &job, &m) == SI_ERR_JOB && m == NULL);
+    CHECK(says(argv[2]));
+    printf("occluded exact: %s\n", si_error_message());
+    job.method = 7;
+    CHECK(si_measure(scene, &job, &m) == SI_ERR_INVALID_ARGUMENT);
+    job.method = SI_METHOD_GLOBAL;
+    job.lines = (uint64_t)1 << 60; /* above the cap of 2^53 */
+    CHECK(si_measure(scene, &job, &m) == SI_ERR_JOB);
+    job.lines = 1000;
+    job.max_memory = 1000; /* bytes: far too few */
+    CHECK(si_measure(scene, &job, &m) == SI_ERR_JOB && says("allowed"));
+
+    /* Too few lines to reach every patch: the measures are undefined, I_S^c is not */
+    job.max_memory = 0;
+    job.lines = 3;
+    CHECK(si_measure(scene, &job, &m) == SI_OK);
+    SiMeasures ms;
+    SiLineRun run;
+    CHECK(si_measurement_measures(m, &ms) == SI_ERR_UNDEFINED);
+    CHECK(si_measurement_line_run(m, &run) == SI_OK && run.unsampled_patches > 0);
+    CHECK(isnan(run.rel_discretisation_error) || run.i_s_continuous <= 0);
+    size_t needed = 0;
+    CHECK(si_measurement_patch_information(m, NULL, 0, &needed) == SI_ERR_UNDEFINED);
+    CHECK(si_measurement_warning_count(m) >= 1 && si_measurement_warning(m, 99) == NULL);
+    si_measurement_free(m);
+    m = NULL;
+    si_scene_free(scene);
+
+    /* Arrays: a tetrahedron seen from inside (faces counter-clockwise from within) */
+    const double v[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+    const uint32_t tri[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
+    const uint32_t bad[] = {0, 1, 2, 0, 3, 9};
+    const uint32_t offsets[] = {0, 3, 6};
+    CHECK(si_scene_from_arrays(v, 4, tri, 12, NULL, 0, NULL, 0, &scene) == SI_OK);
+    CHECK(si_scene_n_patches(scene) == 4 && !si_scene_is_flat(scene));
+    CHECK(si_measure(scene, NULL, &m) == SI_OK);
+    /* Buffers: the length asked for, a short buffer refused, then the copy */
+    double row[8] = {0};
+    CHECK(si_measurement_form_factor_row(m, 0, NULL, 0, &needed) == SI_ERR_BUFFER_TOO_SMALL);
+    CHECK(needed == si_measurement_n_states(m) && needed >= 4);
+    CHECK(si_measurement_form_factor_row(m, 0, row, needed - 1, &needed) == SI_ERR_BUFFER_TOO_SMALL);
+    CHECK(row[0] == 0 && row[1] == 0); /* nothing written */
+    CHECK(si_measurement_form_factor_row(m, 0, row, 8, &needed) == SI_OK);
+    CHECK(si_measurement_form_factor_row(m, 99, row, 8, &needed) == SI_ERR_INVALID_ARGUMENT);
+    double dense[64];
+    CHECK(si_measurement_form_factors_dense(m, dense, 64, &needed) == SI_OK);
+    CHECK(needed == si_measurement_n_states(m) * si_measurement_n_states(m));
+    CHECK(memcmp(dense, row, si_measurement_n_states(m) * sizeof(double)) == 0);
+    CHECK(si_measurement_line_run(m, &run) == SI_ERR_UNDEFINED);
+    CHECK(si_measurement_patch_continuous(m, row, 8, &needed) == SI_ERR_UNDEFINED);
+    CHECK(si_measurement_measures(m, &ms) == SI_OK && ms.n_patches == 4);
+    CHECK(ms.i_s > 0 && fabs(ms.h_j - (ms.h_p + ms.h_s)) < 1e-9);
+    printf("tetrahedron from arrays: %zu patches, I_S = %.17g\n", ms.n_patches, ms.i_s);
+    si_measurement_free(m);
+    si_scene_free(scene);
+    /* An index past the vertices: the polygon's row */
+    CHECK(si_scene_from_arrays(v, 4, bad, 6, offsets, 3, NULL, 0, &scene) == SI_ERR_SCENE);
+    CHECK(scene == NULL && si_error_line() == 2 && says("polygon row 2"));
+    printf("bad arrays: %s\n", si_error_message());
+    CHECK(si_scene_from_arrays(v, 4, tri, 11, NULL, 0, NULL, 0, &scene) == SI_ERR_INVALID_ARGUMENT);
+    CHECK(si_scene_from_arrays(NULL, 4, tri, 12, NULL, 0, NULL, 0, &scene) == SI_ERR_NULL_ARGUMENT);
+    SiMaterial one = {{0.5, 0.5, 0.5}, {0, 0, 0}};
+    CHECK(si_scene_from_arrays(v, 4, tri, 12, NULL, 0, &one, 1, &scene) == SI_ERR_SCENE);
+
+    /* Flatland segments: a square room facing inwards */
+    const double square[] = {0, 0, 1, 0, 1, 0, 1, 1, 1, 1, 0, 1, 0, 1, 0, 0};
+    CHECK(si_scene_from_segments(square, 4, NULL, 0, &scene) == SI_OK);
+    CHECK(si_scene_is_flat(scene) && si_scene_n_patches(scene) == 4);
+    double sizes[4];
+    CHECK(si_scene_patch_sizes(scene, sizes, 4, &needed) == SI_OK && sizes[0] == 0.25);
+    si_scene_free(scene);
+    const double zero[] = {0, 0, 0, 0};
+    CHECK(si_scene_from_segments(zero, 1, NULL, 0, &scene) == SI_ERR_SCENE && si_error_line() == 1);
+    printf("bad segment: %s\n", si_error_message());
+
+    printf("%s: %s\n", si_version(), failures ? "FAILED" : "all checks passed");
+    return failures ? 1 : 0;
+}

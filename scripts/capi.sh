@@ -1,0 +1,190 @@
+#!/usr/bin/env bash
+# sceneinfo's C library (capi/): its header, its pkg-config file, and its check.
+#
+#   scripts/capi.sh header          rewrite capi/include/sceneinfo.h with cbindgen (pinned)
+#   scripts/capi.sh pc              write target/capi/pkgconfig/sceneinfo.pc for the build tree
+#   scripts/capi.sh install PREFIX  build (release) and install lib, header and .pc into PREFIX
+#   scripts/capi.sh check           the test stage (scripts/test.sh runs it): build, header up
+#                                   to date, C and C++ examples under AddressSanitizer, their
+#                                   numbers against the CLI's bit for bit, failures as errors
+#
+# The C compilers are the system's: CC (default cc) and CXX (default c++).
+set -euo pipefail
+
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+ROOT=$PWD
+export PATH="$HOME/.cargo/bin:$PATH"
+
+CBINDGEN_VERSION=0.29.4
+CC=${CC:-cc}
+CXX=${CXX:-c++}
+TARGET=${CARGO_TARGET_DIR:-$ROOT/target}
+OUT=$TARGET/capi
+HEADER=capi/include/sceneinfo.h
+VERSION=$(awk -F'"' '/^version = / { print $2; exit }' Cargo.toml)
+
+x() {
+    printf '+ %s\n' "$*"
+    "$@"
+}
+
+# Writes the header to $1 with the pinned cbindgen.
+write_header() {
+    local have
+    have=$(cbindgen --version 2>/dev/null || true)
+    if [[ $have != "cbindgen $CBINDGEN_VERSION" ]]; then
+        echo "found '${have:-no cbindgen}', need cbindgen $CBINDGEN_VERSION:" >&2
+        echo "    cargo install cbindgen --version =$CBINDGEN_VERSION --locked" >&2
+        return 1
+    fi
+    cbindgen --quiet --config capi/cbindgen.toml --crate sceneinfo-capi --output "$1" capi
+}
+
+# Writes sceneinfo.pc with these paths into folder $4.
+write_pc() {
+    local prefix=$1 libdir=$2 includedir=$3 dir=$4
+    mkdir -p "$dir"
+    sed -e "s|@PREFIX@|$prefix|" -e "s|@LIBDIR@|$libdir|" -e "s|@INCLUDEDIR@|$includedir|" \
+        -e "s|@VERSION@|$VERSION|" capi/sceneinfo.pc.in >"$dir/sceneinfo.pc"
+}
+
+cmd_header() {
+    write_header "$HEADER"
+    echo "wrote $HEADER"
+}
+
+cmd_pc() {
+    write_pc "$ROOT" "$TARGET/debug" "$ROOT/capi/include" "$OUT/pkgconfig"
+    echo "wrote $OUT/pkgconfig/sceneinfo.pc (build tree: PKG_CONFIG_PATH=$OUT/pkgconfig)"
+}
+
+cmd_install() {
+    local prefix=${1:?usage: scripts/capi.sh install PREFIX}
+    x cargo build --release -p sceneinfo-capi
+    install -d "$prefix/lib/pkgconfig" "$prefix/include"
+    install -m 644 "$TARGET/release/libsceneinfo_capi.a" "$prefix/lib/"
+    install -m 755 "$TARGET/release/libsceneinfo_capi.so" "$prefix/lib/"
+    install -m 644 "$HEADER" "$prefix/include/"
+    write_pc "$prefix" "$prefix/lib" "$prefix/include" "$prefix/lib/pkgconfig"
+    echo "installed into $prefix (PKG_CONFIG_PATH=$prefix/lib/pkgconfig)"
+}
+
+# Runs the C example and the CLI on one scene and job, and compares their numbers.
+# compare NAME SCENE [LINES SEED THREADS METHOD]
+compare() {
+    local name=$1 scene=$2 lines=${3:-0} seed=${4:-1} threads=${5:-1} method=${6:-global}
+    local flags=() args=()
+    if [[ $lines != 0 ]]; then
+        flags=(--lines "$lines" --seed "$seed" --method "$method" --threads 1)
+        args=("$lines" "$seed" "$threads" "$method")
+    fi
+    printf '  %s: C measure %s %s vs sceneinfo measure --json %s\n' \
+        "$name" "$(basename "$scene")" "${args[*]}" "${flags[*]}"
+    "$OUT/measure" "$scene" "${args[@]}" >"$OUT/$name.c.json" 2>"$OUT/$name.c.err"
+    "$TARGET/debug/sceneinfo" measure "$scene" --json "${flags[@]}" \
+        --matrix "$OUT/$name.F.csv" >"$OUT/$name.cli.json" 2>/dev/null
+    python3 capi/tests/compare_cli.py "$OUT/$name.c.json" "$OUT/$name.cli.json" "$OUT/$name.F.csv"
+}
+
+# Every bad file of the catalogue that `sceneinfo measure FILE` refuses without flags:
+# the C example must exit 2 with the CLI's `FILE:N: what` (or `FILE: what`).
+bad_files() {
+    local n=0 file args message want got
+    while IFS='|' read -r file args message; do
+        file=${file//[[:space:]]/}
+        message=${message# }
+        [[ -z $file || $file == \#* || $args =~ [^[:space:]] ]] && continue
+        [[ $file == *.flat || $file == *.obj ]] || continue
+        if [[ $message =~ ^line\ ([0-9]+):\ (.*)$ ]]; then
+            want="tests/data/bad/$file:${BASH_REMATCH[1]}: ${BASH_REMATCH[2]}"
+        else
+            want="tests/data/bad/$file: $message"
+        fi
+        if "$OUT/measure" "tests/data/bad/$file" >/dev/null 2>"$OUT/bad.err"; then
+            echo "tests/data/bad/$file: accepted, but the catalogue says: $message"
+            return 1
+        fi
+        got=$(grep -v '^measure: warning' "$OUT/bad.err" || true)
+        if [[ $got != *"$want" ]]; then
+            printf '%s:\n  want ...%s\n  got  %s\n' "$file" "$want" "$got"
+            return 1
+        fi
+        n=$((n + 1))
+    done <tests/data/bad/expected.txt
+    echo "  bad inputs: $n files of tests/data/bad refused with the CLI's file:line: message"
+}
+
+cmd_check() {
+    command -v "$CC" >/dev/null || { echo "no C compiler ($CC)"; return 1; }
+    command -v "$CXX" >/dev/null || { echo "no C++ compiler ($CXX)"; return 1; }
+    command -v pkg-config >/dev/null || { echo "no pkg-config"; return 1; }
+    x cargo build -p sceneinfo-capi -p sceneinfo-cli
+
+    echo "== the committed header is cbindgen's output"
+    mkdir -p "$OUT"
+    write_header "$OUT/sceneinfo.h"
+    if ! diff -u "$HEADER" "$OUT/sceneinfo.h"; then
+        echo "$HEADER is out of date: run scripts/capi.sh header and commit it"
+        return 1
+    fi
+
+    echo "== the examples, through pkg-config, under AddressSanitizer"
+    cmd_pc
+    export PKG_CONFIG_PATH="$OUT/pkgconfig"
+    local cflags libs san
+    cflags=$(pkg-config --cflags sceneinfo)
+    libs=$(pkg-config --libs sceneinfo)
+    san=(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all -g)
+    # shellcheck disable=SC2086 # the pkg-config flags are words
+    {
+        x "$CC" -std=c11 -Wall -Wextra -Wpedantic -Werror "${san[@]}" $cflags \
+            capi/examples/measure.c -o "$OUT/measure" $libs -Wl,-rpath,"$TARGET/debug" -lm
+        x "$CC" -std=c11 -Wall -Wextra -Werror "${san[@]}" $cflags \
+            capi/tests/errors.c -o "$OUT/errors" $libs -Wl,-rpath,"$TARGET/debug" -lm
+        # The C++ example links the static library
+        x "$CXX" -std=c++17 -Wall -Wextra -Werror "${san[@]}" $cflags \
+            capi/examples/measure.cpp -o "$OUT/measure_cpp" \
+            "$TARGET/debug/libsceneinfo_capi.a" $(pkg-config --static --libs-only-l sceneinfo |
+                sed 's/-lsceneinfo_capi//')
+    }
+    export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+    export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+
+    echo "== C and CLI, the same bits (report values and every form factor)"
+    local flat="$OUT/three-objects-2.flat"
+    local cornell=tests/data/corpus/obj/cornell_box/cornell_box.obj
+    "$TARGET/debug/sceneinfo" scene catalogue three-objects-2 >"$flat"
+    compare flat-exact "$flat"
+    compare flat-global "$flat" 200000 7 3 global
+    compare flat-local "$flat" 100000 11 2 local
+    compare cornell-global "$cornell" 100000 3 2 global
+    compare cornell-bundle "$cornell" 70000 5 2 bundle
+
+    echo "== the C++ example"
+    "$OUT/measure_cpp" "$flat" | tee "$OUT/cpp.txt"
+    python3 - "$OUT/cpp.txt" "$OUT/flat-exact.cli.json" <<'EOF'
+import json, re, struct, sys
+text = open(sys.argv[1]).read()
+cli = json.load(open(sys.argv[2]))
+i_s, h_s = (float(v) for v in re.findall(r"= (\S+) bits", text))
+same = lambda a, b: struct.pack("<d", a) == struct.pack("<d", b)
+if not (same(i_s, cli["i_s"]) and same(h_s, cli["h_s"])):
+    sys.exit(f"C++ I_S {i_s!r}, H_S {h_s!r}; CLI {cli['i_s']!r}, {cli['h_s']!r}")
+print("    bit-identical: I_S and H_S")
+EOF
+
+    echo "== failures are statuses and messages"
+    x "$OUT/errors" tests/data/bad/not_a_number.flat "$cornell"
+    bad_files
+}
+
+case ${1:-} in
+header) cmd_header ;;
+pc) cmd_pc ;;
+install) cmd_install "${2:-}" ;;
+check) cmd_check ;;
+*)
+    sed -n '2,11p' "$0"
+    exit 2
+    ;;
+esac
