@@ -365,8 +365,8 @@ pub unsafe extern "C" fn si_measurement_line_run(
 /// `m` must be NULL or a live measurement.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn si_measurement_n_patches(m: *const SiMeasurement) -> usize {
-    // SAFETY: by the contract above
     guard_value(0, || {
+        // SAFETY: by the contract above
         unsafe { handle(m, "measurement") }.map_or(0, |m| m.m.n_patches())
     })
 }
@@ -578,8 +578,8 @@ fn too_small(what: &str, have: usize, needed: usize) -> Failure {
 /// `m` must be NULL or a live measurement.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn si_measurement_warning_count(m: *const SiMeasurement) -> usize {
-    // SAFETY: by the contract above
     guard_value(0, || {
+        // SAFETY: by the contract above
         unsafe { handle(m, "measurement") }.map_or(0, |m| m.warnings.len())
     })
 }

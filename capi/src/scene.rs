@@ -411,8 +411,8 @@ pub unsafe extern "C" fn si_scene_free(scene: *mut SiScene) {
 /// `scene` must be NULL or a live scene of this library.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn si_scene_n_patches(scene: *const SiScene) -> usize {
-    // SAFETY: by the contract above
     guard_value(0, || {
+        // SAFETY: by the contract above
         unsafe { handle(scene, "scene") }.map_or(0, |s| s.scene.n_patches())
     })
 }
@@ -486,8 +486,8 @@ pub unsafe extern "C" fn si_scene_load_report(
 /// `scene` must be NULL or a live scene of this library.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn si_scene_warning_count(scene: *const SiScene) -> usize {
-    // SAFETY: by the contract above
     guard_value(0, || {
+        // SAFETY: by the contract above
         unsafe { handle(scene, "scene") }.map_or(0, |s| s.warnings.len())
     })
 }
