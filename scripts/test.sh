@@ -164,6 +164,27 @@ install_node_and_playwright() {
     fi
 }
 
+install_cbindgen() {
+    # The C header's generator (scripts/capi.sh pins the version it must be)
+    local want have
+    want=$(awk -F= '/^CBINDGEN_VERSION=/ { print $2; exit }' scripts/capi.sh)
+    say "install: cbindgen $want (the C header), a C and C++ compiler, pkg-config"
+    have=$(cbindgen --version 2>/dev/null || true)
+    if [[ $have == "cbindgen $want" ]]; then
+        ok "$have"
+    else
+        echo "    found '${have:-nothing}'; installing cbindgen =$want (takes ~2 min)"
+        cargo install cbindgen --version "=$want" --locked --force \
+            || die "cargo install cbindgen $want"
+    fi
+    if command -v cc >/dev/null && command -v c++ >/dev/null && command -v pkg-config >/dev/null; then
+        ok "$(cc --version | head -n 1), pkg-config $(pkg-config --version)"
+    else
+        echo "    installing gcc, g++ and pkg-config with apt-get"
+        apt_install gcc g++ pkg-config
+    fi
+}
+
 install_start=$(date +%s)
 install_rust_components
 install_targets
@@ -172,6 +193,7 @@ install_cargo_fuzz
 install_wasm_bindgen
 install_chromium
 install_node_and_playwright
+install_cbindgen
 printf '\n==> tools ready (%ss)\n' "$(($(date +%s) - install_start))"
 
 # ---------------------------------------------------------------------------------------
@@ -270,6 +292,11 @@ test_browser() {
     printf 'screenshot: target/e2e/index.png (%s bytes)\n' "$(stat -c %s target/e2e/index.png)"
 }
 
+check_capi() {
+    # The C library: build, header up to date, C/C++ examples under ASan against the CLI.
+    x ./scripts/capi.sh check
+}
+
 build_fuzz() {
     x cargo +nightly fuzz build --fuzz-dir fuzz
 }
@@ -301,6 +328,7 @@ run_step "no_std: sceneinfo --no-default-features, wasm32-unknown-unknown" \
 run_step "wasm: build sceneinfo-wasm (wasm-release) + wasm-bindgen --target web" build_wasm
 run_step "wasm: wasm-bindgen-test in node (wasm/tests)" test_wasm_node
 run_step "browser: headless Chromium on wasm/www" test_browser
+run_step "C library: header, examples under ASan, C vs CLI bit for bit" check_capi
 run_step "fuzz: cargo +nightly fuzz build" build_fuzz
 for src in fuzz/fuzz_targets/fuzz_*.rs; do
     target=$(basename "$src" .rs)
