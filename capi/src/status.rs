@@ -1,4 +1,4 @@
-//! Status codes, the thread-local last error, and [`guard`]: the one wrapper every entry
+//! Status codes, the thread-local last error, and `guard`: the one wrapper every entry
 //! point runs its body in, so that no panic crosses the C boundary.
 //!
 //! The error model (the header says the same): a function that can fail returns a
