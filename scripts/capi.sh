@@ -69,21 +69,26 @@ cmd_install() {
     echo "installed into $prefix (PKG_CONFIG_PATH=$prefix/lib/pkgconfig)"
 }
 
-# Runs the C example and the CLI on one scene and job, and compares their numbers.
-# compare NAME SCENE [LINES SEED THREADS METHOD]
+# Runs a C example and the CLI command of its name (measure or radiosity) on one scene
+# and job, and compares their numbers (for measure, every form factor too).
+# compare COMMAND NAME SCENE [LINES SEED THREADS METHOD]
 compare() {
-    local name=$1 scene=$2 lines=${3:-0} seed=${4:-1} threads=${5:-1} method=${6:-global}
-    local flags=() args=()
+    local command=$1 name=$2 scene=$3 lines=${4:-0} seed=${5:-1} threads=${6:-1}
+    local method=${7:-global} flags=() args=() matrix=()
     if [[ $lines != 0 ]]; then
         flags=(--lines "$lines" --seed "$seed" --method "$method" --threads 1)
         args=("$lines" "$seed" "$threads" "$method")
     fi
-    printf '  %s: C measure %s %s vs sceneinfo measure --json %s\n' \
-        "$name" "$(basename "$scene")" "${args[*]}" "${flags[*]}"
-    "$OUT/measure" "$scene" "${args[@]}" >"$OUT/$name.c.json" 2>"$OUT/$name.c.err"
-    "$TARGET/debug/sceneinfo" measure "$scene" --json "${flags[@]}" \
-        --matrix "$OUT/$name.F.csv" >"$OUT/$name.cli.json" 2>/dev/null
-    python3 capi/tests/compare_cli.py "$OUT/$name.c.json" "$OUT/$name.cli.json" "$OUT/$name.F.csv"
+    if [[ $command == measure ]]; then
+        matrix=("$OUT/$name.F.csv")
+        flags+=(--matrix "$OUT/$name.F.csv")
+    fi
+    printf '  %s: C %s %s %s vs sceneinfo %s --json %s\n' "$name" "$command" \
+        "$(basename "$scene")" "${args[*]}" "$command" "${flags[*]}"
+    "$OUT/$command" "$scene" "${args[@]}" >"$OUT/$name.c.json" 2>"$OUT/$name.c.err"
+    "$TARGET/debug/sceneinfo" "$command" "$scene" --json "${flags[@]}" \
+        >"$OUT/$name.cli.json" 2>/dev/null
+    python3 capi/tests/compare_cli.py "$OUT/$name.c.json" "$OUT/$name.cli.json" "${matrix[@]}"
 }
 
 # Every bad file of the catalogue that `sceneinfo measure FILE` refuses without flags:
@@ -139,6 +144,8 @@ cmd_check() {
     {
         x "$CC" -std=c11 -Wall -Wextra -Wpedantic -Werror "${san[@]}" $cflags \
             capi/examples/measure.c -o "$OUT/measure" $libs -Wl,-rpath,"$TARGET/debug" -lm
+        x "$CC" -std=c11 -Wall -Wextra -Wpedantic -Werror "${san[@]}" $cflags \
+            capi/examples/radiosity.c -o "$OUT/radiosity" $libs -Wl,-rpath,"$TARGET/debug"
         x "$CC" -std=c11 -Wall -Wextra -Werror "${san[@]}" $cflags \
             capi/tests/errors.c -o "$OUT/errors" $libs -Wl,-rpath,"$TARGET/debug" -lm
         # The C++ example links the static library
@@ -154,11 +161,18 @@ cmd_check() {
     local flat="$OUT/three-objects-2.flat"
     local cornell=tests/data/corpus/obj/cornell_box/cornell_box.obj
     "$TARGET/debug/sceneinfo" scene catalogue three-objects-2 >"$flat"
-    compare flat-exact "$flat"
-    compare flat-global "$flat" 200000 7 3 global
-    compare flat-local "$flat" 100000 11 2 local
-    compare cornell-global "$cornell" 100000 3 2 global
-    compare cornell-bundle "$cornell" 70000 5 2 bundle
+    compare measure flat-exact "$flat"
+    compare measure flat-global "$flat" 200000 7 3 global
+    compare measure flat-local "$flat" 100000 11 2 local
+    compare measure cornell-global "$cornell" 100000 3 2 global
+    compare measure cornell-bundle "$cornell" 70000 5 2 bundle
+
+    echo "== radiosity: C and CLI, the same bits (measures, B per channel, I_S^c)"
+    local lit=capi/tests/lit.flat lit3="$OUT/cornell-lit.obj"
+    "$TARGET/debug/sceneinfo" scene solid cornell -o "$lit3" >/dev/null
+    compare radiosity lit-exact "$lit"
+    compare radiosity lit-global "$lit" 100000 3 2 global
+    compare radiosity lit3-global "$lit3" 100000 9 3 global
 
     echo "== the C++ example"
     "$OUT/measure_cpp" "$flat" | tee "$OUT/cpp.txt"
@@ -174,7 +188,7 @@ print("    bit-identical: I_S and H_S")
 EOF
 
     echo "== failures are statuses and messages"
-    x "$OUT/errors" tests/data/bad/not_a_number.flat "$cornell"
+    x "$OUT/errors" tests/data/bad/not_a_number.flat "$cornell" capi/tests/lit.flat
     bad_files
 }
 

@@ -131,6 +131,41 @@ typedef uint32_t SiMethod;
 #endif // __cplusplus
 
 /**
+ * The iterative solver of the radiosity system (2.6).
+ */
+enum SiSolver
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  /**
+   * Gauss–Seidel relaxation (gathering), in place in patch order.
+   */
+  SI_SOLVER_GAUSS_SEIDEL = 0,
+  /**
+   * Jacobi relaxation (gathering), all patches at once.
+   */
+  SI_SOLVER_JACOBI = 1,
+  /**
+   * Southwell relaxation: progressive refinement (shooting).
+   */
+  SI_SOLVER_SOUTHWELL = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum SiSolver SiSolver;
+#else
+typedef uint32_t SiSolver;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
+ * A lit scene: `si_radiosity`'s result. Opaque to C; freed by `si_lighting_free`. It owns
+ * all its data.
+ */
+typedef struct SiLighting SiLighting;
+
+/**
  * The result of `si_measure`. Opaque to C; freed by `si_measurement_free`. It owns all its
  * data: freeing the scene it came from does not affect it.
  */
@@ -313,6 +348,118 @@ typedef struct SiLineRun {
    */
   uint64_t lines_to_sample_all;
 } SiLineRun;
+
+/**
+ * What `si_radiosity` does. A zero-initialised `SiRadiosityJob` is exact form factors
+ * solved by Gauss–Seidel to a relative residual of 1e-10 in at most 100,000 sweeps.
+ */
+typedef struct SiRadiosityJob {
+  /**
+   * How the form factors are found: exact, or lines (as for `si_measure`; the result is
+   * the same bits whatever `form_factors.threads`, and equals `sceneinfo radiosity
+   * --lines N --seed S`).
+   */
+  struct SiJob form_factors;
+  /**
+   * An `SiSolver` value.
+   */
+  uint32_t solver;
+  /**
+   * Largest accepted max-norm of the residual `E + ρFB − B`, relative to `max E`; 0:
+   * 1e-10.
+   */
+  double tolerance;
+  /**
+   * Iteration cap (sweeps, or shots for Southwell); 0: 100,000. Reaching it is
+   * `SI_ERR_JOB`, never a half answer.
+   */
+  uint64_t max_iterations;
+} SiRadiosityJob;
+
+/**
+ * The radiosity channel of one colour channel (thesis chapter 5; entropies in bits) and
+ * how its solve went.
+ */
+typedef struct SiRadiosityMeasures {
+  /**
+   * Positional entropy `H_P` of the radiosity weights (5.6).
+   */
+  double h_p;
+  /**
+   * Scene radiosity entropy `H_S` (5.5).
+   */
+  double h_s;
+  /**
+   * Joint entropy `H_J = H_P + H_S`.
+   */
+  double h_j;
+  /**
+   * Scene radiosity mutual information `I_S` (5.7): the complexity of the lit scene.
+   */
+  double i_s;
+  /**
+   * The unnormalised total `Σ_i A_i B_i^in B_i` (5.13); 0 when no light flows.
+   */
+  double total_weight;
+  /**
+   * 1 when light flows between states; 0: the empty channel, every measure 0.
+   */
+  int32_t light_flows;
+  /**
+   * Iterations the solve took (sweeps, or shots for Southwell).
+   */
+  uint64_t iterations;
+  /**
+   * Its final residual, relative to `max E` (at most the tolerance).
+   */
+  double residual;
+} SiRadiosityMeasures;
+
+/**
+ * What the lines of a line job gave beside the form factors.
+ */
+typedef struct SiLitLines {
+  /**
+   * The `SiMethod` of the job.
+   */
+  uint32_t method;
+  /**
+   * Seed of the line streams.
+   */
+  uint64_t seed;
+  /**
+   * The lines the job settled on (the fixed count, or where doubling stopped).
+   */
+  uint64_t lines;
+  /**
+   * Visibility `I_S^c` (4.8, 4.13), in bits.
+   */
+  double i_s_continuous;
+  /**
+   * Its standard error.
+   */
+  double i_s_continuous_stderr;
+  /**
+   * Samples behind the visibility `I_S^c`.
+   */
+  uint64_t samples;
+  /**
+   * Independent observations behind its standard error.
+   */
+  uint64_t stderr_groups;
+  /**
+   * Radiosity `I_S^c` (5.20) per colour channel (red, green, blue).
+   */
+  double radiosity_i_s_continuous[3];
+  /**
+   * Their standard errors.
+   */
+  double radiosity_i_s_continuous_stderr[3];
+  /**
+   * 1 when one cast gave everything, 0 when the lines were cast twice.
+   */
+  int32_t one_pass;
+} SiLitLines;
 
 /**
  * A patch's material: reflectance ρ per RGB channel in `[0, 1)` and emittance E per RGB
@@ -559,6 +706,85 @@ size_t si_measurement_warning_count(const struct SiMeasurement *m);
  * `m` must be NULL or a live measurement.
  */
 const char *si_measurement_warning(const struct SiMeasurement *m, size_t k);
+
+/**
+ * Lights `scene`: form factors by `job->form_factors` (exact, or lines on
+ * `job->form_factors.threads` threads), the radiosity system `B = E + ρFB` (2.6) solved per
+ * colour channel with the scene's materials, the radiosity measures (5.5–5.7) and, with
+ * lines, the continuous radiosity mutual information (5.20). `job` NULL: exact, the default
+ * solver.
+ *
+ * On success `*out` is a new lighting owned by the caller (`si_lighting_free`). On
+ * failure `*out` is NULL: `SI_ERR_JOB` (as `si_measure`'s, and also: some patch received
+ * no line — the solve needs every row of `F` —, or no convergence within the cap),
+ * `SI_ERR_INVALID_ARGUMENT` (an unknown method or solver, a bad tolerance).
+ *
+ * # Safety
+ * `scene` must be NULL or a live scene; `job` NULL or a valid `SiRadiosityJob`; `out`
+ * NULL or valid for writing one pointer.
+ */
+enum SiStatus si_radiosity(const struct SiScene *scene,
+                           const struct SiRadiosityJob *job,
+                           struct SiLighting **out);
+
+/**
+ * Frees a lighting (NULL: nothing).
+ *
+ * # Safety
+ * `lighting` must be NULL or a lighting of this library not freed before; it must not be
+ * used after this call.
+ */
+void si_lighting_free(struct SiLighting *lighting);
+
+/**
+ * Writes the radiosity measures of colour channel `channel` (0 red, 1 green, 2 blue) and
+ * its solve's iterations and residual into `*out`.
+ *
+ * # Safety
+ * `lighting` must be NULL or a live lighting; `out` NULL or valid for writing one
+ * `SiRadiosityMeasures`.
+ */
+enum SiStatus si_lighting_measures(const struct SiLighting *lighting,
+                                   uint32_t channel,
+                                   struct SiRadiosityMeasures *out);
+
+/**
+ * Copies the radiosities `B_i` of colour channel `channel` (0 red, 1 green, 2 blue), one
+ * per state (the patches, then the background state of an open scene;
+ * `si_measurement_n_states` of the visibility). Buffer rules as
+ * `si_measurement_patch_sizes`: `*out_needed` (if not NULL) always receives the length,
+ * `SI_ERR_BUFFER_TOO_SMALL` when `out_len` is shorter.
+ *
+ * # Safety
+ * `lighting` must be NULL or a live lighting; `out` NULL or valid for writing `out_len`
+ * doubles; `out_needed` NULL or valid for writing one `size_t`.
+ */
+enum SiStatus si_lighting_radiosity(const struct SiLighting *lighting,
+                                    uint32_t channel,
+                                    double *out,
+                                    size_t out_len,
+                                    size_t *out_needed);
+
+/**
+ * Writes what the lines gave (`I_S^c` of visibility and of radiosity per channel) into
+ * `*out`. `SI_ERR_UNDEFINED` for exact form factors (`*out` untouched).
+ *
+ * # Safety
+ * `lighting` must be NULL or a live lighting; `out` NULL or valid for writing one
+ * `SiLitLines`.
+ */
+enum SiStatus si_lighting_lines(const struct SiLighting *lighting, struct SiLitLines *out);
+
+/**
+ * The visibility channel the light was solved on, as a new measurement: its measures,
+ * per-patch arrays and form factors (`si_measurement_*`). Owned by the caller
+ * (`si_measurement_free`); `*out` is NULL on failure. It has no line run: the lines are
+ * `si_lighting_lines`'.
+ *
+ * # Safety
+ * `lighting` must be NULL or a live lighting; `out` NULL or valid for writing one pointer.
+ */
+enum SiStatus si_lighting_visibility(const struct SiLighting *lighting, struct SiMeasurement **out);
 
 /**
  * Reads a scene file: sceneinfo's flatland format (`.flat`) or Wavefront OBJ (`.obj`,

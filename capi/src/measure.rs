@@ -54,7 +54,7 @@ pub struct SiJob {
 }
 
 impl SiJob {
-    /// The core's job, and the executor's thread count.
+    /// The core's job.
     fn to_job(self) -> Outcome<Job> {
         let method = match self.method {
             0 => return Ok(Job::Exact),
@@ -89,7 +89,8 @@ pub struct SiMeasurement {
 }
 
 impl SiMeasurement {
-    fn new(m: Measurement, source: &str) -> Outcome<Self> {
+    /// The handle of a measurement of the scene from `source`.
+    pub(crate) fn new(m: Measurement, source: &str) -> Outcome<Self> {
         let job = |e: sceneinfo::Error| Failure::core(SiStatus::SI_ERR_JOB, source, &e);
         let information = m.patch_information().map_err(job)?;
         let entropies = m.patch_entropies().map_err(job)?;
@@ -223,18 +224,8 @@ pub unsafe extern "C" fn si_measure(
             .first()
             .copied()
             .unwrap_or_default();
-        let core_job = job.to_job()?;
+        let (core_job, mut executor) = job.prepare(scene)?;
         let refused = |e: sceneinfo::Error| Failure::core(SiStatus::SI_ERR_JOB, &scene.source, &e);
-        let mut executor = Threads::new(job.threads);
-        if job.max_memory > 0 {
-            let tallies = match core_job {
-                Job::Exact => 1,
-                Job::Lines(_) => executor.count().saturating_add(1),
-            };
-            core_job
-                .check_memory(scene.scene.n_patches(), tallies, job.max_memory)
-                .map_err(refused)?;
-        }
         let m = match core_job {
             Job::Exact => measure(&scene.scene, &core_job, &mut Serial),
             Job::Lines(_) => measure(&scene.scene, &core_job, &mut executor),
@@ -245,6 +236,35 @@ pub unsafe extern "C" fn si_measure(
         unsafe { crate::buffers::give(out, m) };
         Ok(())
     })
+}
+
+impl SiJob {
+    /// The core's job of `self` for `scene` and its executor, once the memory its large
+    /// tables need is within `max_memory`.
+    pub(crate) fn prepare(self, scene: &SiScene) -> Outcome<(Job, Threads)> {
+        let job = self.to_job()?;
+        let executor = Threads::new(self.threads);
+        if self.max_memory > 0 {
+            // One tally per worker thread and the merged total
+            let tallies = match job {
+                Job::Exact => 1,
+                Job::Lines(_) => executor.count().saturating_add(1),
+            };
+            job.check_memory(scene.scene.n_patches(), tallies, self.max_memory)
+                .map_err(|e| Failure::core(SiStatus::SI_ERR_JOB, &scene.source, &e))?;
+        }
+        Ok((job, executor))
+    }
+}
+
+/// The `SiMethod` code of a line method.
+pub(crate) fn method_code(method: LineMethod) -> u32 {
+    let code = match method {
+        LineMethod::Global => SiMethod::SI_METHOD_GLOBAL,
+        LineMethod::Local => SiMethod::SI_METHOD_LOCAL,
+        LineMethod::Bundle => SiMethod::SI_METHOD_BUNDLE,
+    };
+    code as u32
 }
 
 impl Default for SiJob {
@@ -338,11 +358,7 @@ pub unsafe extern "C" fn si_measurement_line_run(
         let i_s = m.m.measures().map_or(f64::NAN, |s| s.i_s);
         let coverage = m.m.coverage();
         let value = SiLineRun {
-            method: match run.method {
-                LineMethod::Global => SiMethod::SI_METHOD_GLOBAL,
-                LineMethod::Local => SiMethod::SI_METHOD_LOCAL,
-                LineMethod::Bundle => SiMethod::SI_METHOD_BUNDLE,
-            } as u32,
+            method: method_code(run.method),
             seed: run.seed,
             lines: run.lines,
             requested: run.requested,

@@ -2,10 +2,11 @@
  * errors.c: the C API's failure paths, run by `scripts/capi.sh check` under
  * AddressSanitizer: every failure is a status and a message, never a crash or a leak.
  *
- *   errors BAD.flat OCCLUDED.obj
+ *   errors BAD.flat OCCLUDED.obj LIT.flat
  *
  * BAD.flat must fail to parse on line 1 (tests/data/bad/not_a_number.flat); OCCLUDED.obj
- * must be a 3D scene whose exact form factors are refused (the Cornell box).
+ * must be a 3D scene whose exact form factors are refused (the Cornell box); LIT.flat a
+ * flatland scene with a lamp (capi/tests/lit.flat).
  */
 #include <sceneinfo.h>
 
@@ -31,8 +32,8 @@ static int says(const char *part) {
 }
 
 int main(int argc, char **argv) {
-    if (argc != 3) {
-        fprintf(stderr, "usage: %s BAD.flat OCCLUDED.obj\n", argv[0]);
+    if (argc != 4) {
+        fprintf(stderr, "usage: %s BAD.flat OCCLUDED.obj LIT.flat\n", argv[0]);
         return 2;
     }
     SiScene *scene = (SiScene *)1; /* must be overwritten with NULL on failure */
@@ -140,6 +141,44 @@ int main(int argc, char **argv) {
     const double zero[] = {0, 0, 0, 0};
     CHECK(si_scene_from_segments(zero, 1, NULL, 0, &scene) == SI_ERR_SCENE && si_error_line() == 1);
     printf("bad segment: %s\n", si_error_message());
+
+    /* Radiosity: refusals, the lit scene's channels, its visibility as a measurement */
+    SiLighting *lit = (SiLighting *)1;
+    SiRadiosityJob rjob = {0};
+    CHECK(si_scene_from_file(argv[2], SI_FORMAT_AUTO, &scene) == SI_OK);
+    rjob.form_factors.method = SI_METHOD_GLOBAL;
+    rjob.form_factors.lines = 3; /* too few: the solve needs every row of F */
+    CHECK(si_radiosity(scene, &rjob, &lit) == SI_ERR_JOB && lit == NULL);
+    printf("radiosity on unsampled patches: %s\n", si_error_message());
+    si_scene_free(scene);
+    CHECK(si_scene_from_file(argv[3], SI_FORMAT_AUTO, &scene) == SI_OK);
+    rjob = (SiRadiosityJob){0};
+    rjob.solver = 9;
+    CHECK(si_radiosity(scene, &rjob, &lit) == SI_ERR_INVALID_ARGUMENT);
+    rjob.solver = SI_SOLVER_JACOBI;
+    rjob.tolerance = -1;
+    CHECK(si_radiosity(scene, &rjob, &lit) == SI_ERR_INVALID_ARGUMENT);
+    rjob.tolerance = 1e-300;
+    rjob.max_iterations = 1;
+    CHECK(si_radiosity(scene, &rjob, &lit) == SI_ERR_JOB);
+    printf("no convergence: %s\n", si_error_message());
+    CHECK(si_radiosity(scene, NULL, &lit) == SI_OK);
+    SiRadiosityMeasures rm;
+    CHECK(si_lighting_measures(lit, 3, &rm) == SI_ERR_INVALID_ARGUMENT);
+    CHECK(si_lighting_measures(lit, 0, &rm) == SI_OK && rm.light_flows && rm.i_s > 0);
+    CHECK(rm.residual <= 1e-10 && fabs(rm.h_j - (rm.h_p + rm.h_s)) < 1e-9);
+    SiLitLines lit_lines;
+    CHECK(si_lighting_lines(lit, &lit_lines) == SI_ERR_UNDEFINED);
+    CHECK(si_lighting_radiosity(lit, 1, NULL, 0, &needed) == SI_ERR_BUFFER_TOO_SMALL);
+    CHECK(si_lighting_visibility(lit, &m) == SI_OK);
+    CHECK(needed == si_measurement_n_states(m));
+    CHECK(si_measurement_measures(m, &ms) == SI_OK && ms.n_patches == si_scene_n_patches(scene));
+    printf("lit scene: %zu patches, radiosity I_S (red) = %.17g, visibility I_S = %.17g\n",
+           ms.n_patches, rm.i_s, ms.i_s);
+    si_measurement_free(m);
+    si_lighting_free(lit);
+    si_lighting_free(NULL);
+    si_scene_free(scene);
 
     printf("%s: %s\n", si_version(), failures ? "FAILED" : "all checks passed");
     return failures ? 1 : 0;
