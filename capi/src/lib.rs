@@ -40,3 +40,6 @@ pub extern "C" fn si_version() -> *const std::ffi::c_char {
     };
     VERSION.as_ptr()
 }
+
+#[cfg(test)]
+mod tests;
