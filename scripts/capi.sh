@@ -123,6 +123,7 @@ cmd_check() {
     command -v "$CC" >/dev/null || { echo "no C compiler ($CC)"; return 1; }
     command -v "$CXX" >/dev/null || { echo "no C++ compiler ($CXX)"; return 1; }
     command -v pkg-config >/dev/null || { echo "no pkg-config"; return 1; }
+    command -v python3 >/dev/null || { echo "no python3 (it compares the JSON)"; return 1; }
     x cargo build -p sceneinfo-capi -p sceneinfo-cli
 
     echo "== the committed header is cbindgen's output"
