@@ -3,7 +3,10 @@
 //!
 //! The calls are unsafe as C's are; each block's contract is met by the values made just
 //! before it (handles from this library, buffers of the lengths passed).
-#![allow(clippy::undocumented_unsafe_blocks, clippy::multiple_unsafe_ops_per_block)]
+#![allow(
+    clippy::undocumented_unsafe_blocks,
+    clippy::multiple_unsafe_ops_per_block
+)]
 
 use std::ffi::CStr;
 use std::ptr::{null, null_mut};
