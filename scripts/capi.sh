@@ -71,13 +71,17 @@ cmd_install() {
 
 # Runs a C example and the CLI command of its name (measure or radiosity) on one scene
 # and job, and compares their numbers (for measure, every form factor too).
-# compare COMMAND NAME SCENE [LINES SEED THREADS METHOD]
+# compare COMMAND NAME SCENE [LINES SEED THREADS METHOD [ka]]  (ka: --emit-from-ka)
 compare() {
     local command=$1 name=$2 scene=$3 lines=${4:-0} seed=${5:-1} threads=${6:-1}
-    local method=${7:-global} flags=() args=() matrix=()
+    local method=${7:-global} ka=${8:-} flags=() args=() matrix=()
     if [[ $lines != 0 ]]; then
         flags=(--lines "$lines" --seed "$seed" --method "$method" --threads 1)
         args=("$lines" "$seed" "$threads" "$method")
+    fi
+    if [[ -n $ka ]]; then
+        flags+=(--emit-from-ka)
+        args+=(ka)
     fi
     if [[ $command == measure ]]; then
         matrix=("$OUT/$name.F.csv")
@@ -174,6 +178,7 @@ cmd_check() {
     compare radiosity lit-exact "$lit"
     compare radiosity lit-global "$lit" 100000 3 2 global
     compare radiosity lit3-global "$lit3" 100000 9 3 global
+    compare radiosity cornell-ka-local "$cornell" 100000 4 2 local ka
 
     echo "== the C++ example"
     "$OUT/measure_cpp" "$flat" | tee "$OUT/cpp.txt"

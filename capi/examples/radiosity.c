@@ -2,10 +2,11 @@
  * radiosity.c: light a scene through sceneinfo's C API (B = E + ρFB per colour channel)
  * and print its radiosity measures as JSON, every number with %.17g.
  *
- *   radiosity SCENE [LINES [SEED [THREADS [METHOD]]]]
+ *   radiosity SCENE [LINES [SEED [THREADS [METHOD [ka]]]]]
  *
  * LINES 0 or absent: exact form factors; else LINES lines of METHOD (global, local or
- * bundle) with SEED on THREADS threads. The keys are those of `sceneinfo radiosity
+ * bundle) with SEED on THREADS threads. `ka`: an OBJ's materials without Ke emit their
+ * ambient Ka (the CLI's --emit-from-ka). The keys are those of `sceneinfo radiosity
  * --json` (scripts/capi.sh compares the two, number for number).
  *
  * Build: cc radiosity.c $(pkg-config --cflags --libs sceneinfo) -o radiosity
@@ -29,8 +30,8 @@ static void print_triple(const char *key, const double v[3]) {
 }
 
 int main(int argc, char **argv) {
-    if (argc < 2 || argc > 6) {
-        fprintf(stderr, "usage: %s SCENE [LINES [SEED [THREADS [METHOD]]]]\n", argv[0]);
+    if (argc < 2 || argc > 7) {
+        fprintf(stderr, "usage: %s SCENE [LINES [SEED [THREADS [METHOD [ka]]]]]\n", argv[0]);
         return 2;
     }
     SiRadiosityJob job = {0}; /* exact form factors, Gauss-Seidel, default stopping rule */
@@ -46,8 +47,10 @@ int main(int argc, char **argv) {
         else if (strcmp(argv[5], "bundle") == 0) job.form_factors.method = SI_METHOD_BUNDLE;
     }
 
+    SiLoadOptions load = {0}; /* SI_FORMAT_AUTO: by the extension */
+    load.emit_from_ka = argc > 6 && strcmp(argv[6], "ka") == 0;
     SiScene *scene = NULL;
-    SiStatus s = si_scene_from_file(argv[1], SI_FORMAT_AUTO, &scene);
+    SiStatus s = si_scene_from_file_with(argv[1], &load, &scene);
     if (s != SI_OK) return fail("si_scene_from_file", s);
     SiLighting *lit = NULL;
     s = si_radiosity(scene, &job, &lit);

@@ -462,6 +462,23 @@ typedef struct SiLitLines {
 } SiLitLines;
 
 /**
+ * How `si_scene_from_file_with` reads a file. A zero-initialised `SiLoadOptions` is what
+ * `si_scene_from_file` does with `SI_FORMAT_AUTO`.
+ */
+typedef struct SiLoadOptions {
+  /**
+   * An `SiFormat` value.
+   */
+  uint32_t format;
+  /**
+   * For an OBJ: non-zero makes a material without `Ke` emit its ambient colour `Ka`
+   * (old-style lamps, `Ka 20 20 20`; the CLI's `--emit-from-ka`). 0 (the default): `Ka`
+   * is ignored, as most exporters write it for every material.
+   */
+  int32_t emit_from_ka;
+} SiLoadOptions;
+
+/**
  * A patch's material: reflectance ρ per RGB channel in `[0, 1)` and emittance E per RGB
  * channel in `[0, 1e100]` (the radiosity system's `ρ_i`, `E_i`, thesis eq. 2.6).
  */
@@ -803,6 +820,18 @@ enum SiStatus si_lighting_visibility(const struct SiLighting *lighting, struct S
  * pointer. The library keeps neither.
  */
 enum SiStatus si_scene_from_file(const char *path, uint32_t format, struct SiScene **out);
+
+/**
+ * `si_scene_from_file` with options (`options` NULL: the defaults, `SI_FORMAT_AUTO`).
+ * Ownership and errors as `si_scene_from_file`'s.
+ *
+ * # Safety
+ * `path` must be NULL or a NUL-terminated string; `options` NULL or a valid
+ * `SiLoadOptions`; `out` NULL or valid for writing one pointer.
+ */
+enum SiStatus si_scene_from_file_with(const char *path,
+                                      const struct SiLoadOptions *options,
+                                      struct SiScene **out);
 
 /**
  * Builds a 3D scene of one patch per polygon.

@@ -122,6 +122,19 @@ impl From<SiMaterial> for Material {
     }
 }
 
+/// How `si_scene_from_file_with` reads a file. A zero-initialised `SiLoadOptions` is what
+/// `si_scene_from_file` does with `SI_FORMAT_AUTO`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SiLoadOptions {
+    /// An `SiFormat` value.
+    pub format: u32,
+    /// For an OBJ: non-zero makes a material without `Ke` emit its ambient colour `Ka`
+    /// (old-style lamps, `Ka 20 20 20`; the CLI's `--emit-from-ka`). 0 (the default): `Ka`
+    /// is ignored, as most exporters write it for every material.
+    pub emit_from_ka: i32,
+}
+
 /// Largest scene file read (2 GiB, as the CLI), and largest material library (64 MiB).
 const MAX_FILE_BYTES: u64 = 2 << 30;
 const MAX_LIBRARY_BYTES: u64 = 64 << 20;
@@ -194,8 +207,8 @@ fn format_of(path: &Path, format: u32) -> Outcome<SiFormat> {
 }
 
 /// Reads the scene in `path`.
-fn read_scene(path: &Path, format: u32) -> Outcome<SiScene> {
-    let format = format_of(path, format)?;
+fn read_scene(path: &Path, options: SiLoadOptions) -> Outcome<SiScene> {
+    let format = format_of(path, options.format)?;
     let bytes = read_capped(path, MAX_FILE_BYTES)?;
     let shown = path.display().to_string();
     let loaded = match format {
@@ -228,7 +241,8 @@ fn read_scene(path: &Path, format: u32) -> Outcome<SiScene> {
                     }
                 }
             };
-            let parsed = Scene::from_bytes(&bytes, SceneFormat::Obj(ObjOptions::default()), mtl);
+            let obj = ObjOptions::default().with_emit_from_ka(options.emit_from_ka != 0);
+            let parsed = Scene::from_bytes(&bytes, SceneFormat::Obj(obj), mtl);
             if let Some(f) = library_failure.into_inner() {
                 return Err(f);
             }
@@ -274,7 +288,43 @@ pub unsafe extern "C" fn si_scene_from_file(
         }
         // SAFETY: non-NULL and NUL-terminated by the contract above
         let path = path_of(unsafe { CStr::from_ptr(path) })?;
-        let scene = read_scene(&path, format)?;
+        let options = SiLoadOptions {
+            format,
+            ..SiLoadOptions::default()
+        };
+        let scene = read_scene(&path, options)?;
+        // SAFETY: accepted by clear_out
+        unsafe { give(out, scene) };
+        Ok(())
+    })
+}
+
+/// `si_scene_from_file` with options (`options` NULL: the defaults, `SI_FORMAT_AUTO`).
+/// Ownership and errors as `si_scene_from_file`'s.
+///
+/// # Safety
+/// `path` must be NULL or a NUL-terminated string; `options` NULL or a valid
+/// `SiLoadOptions`; `out` NULL or valid for writing one pointer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_scene_from_file_with(
+    path: *const c_char,
+    options: *const SiLoadOptions,
+    out: *mut *mut SiScene,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: `out` is NULL or writable by the contract above
+        unsafe { clear_out(out, "out") }?;
+        if path.is_null() {
+            return Err(Failure::null("path"));
+        }
+        // SAFETY: NULL or one valid SiLoadOptions by the contract above
+        let options = unsafe { input(options, usize::from(!options.is_null()), "options") }?
+            .first()
+            .copied()
+            .unwrap_or_default();
+        // SAFETY: non-NULL and NUL-terminated by the contract above
+        let path = path_of(unsafe { CStr::from_ptr(path) })?;
+        let scene = read_scene(&path, options)?;
         // SAFETY: accepted by clear_out
         unsafe { give(out, scene) };
         Ok(())
