@@ -164,19 +164,9 @@ install_node_and_playwright() {
     fi
 }
 
-install_cbindgen() {
-    # The C header's generator (scripts/capi.sh pins the version it must be)
-    local want have
-    want=$(awk -F= '/^CBINDGEN_VERSION=/ { print $2; exit }' scripts/capi.sh)
-    say "install: cbindgen $want (the C header), a C and C++ compiler, pkg-config"
-    have=$(cbindgen --version 2>/dev/null || true)
-    if [[ $have == "cbindgen $want" ]]; then
-        ok "$have"
-    else
-        echo "    found '${have:-nothing}'; installing cbindgen =$want (takes ~2 min)"
-        cargo install cbindgen --version "=$want" --locked --force \
-            || die "cargo install cbindgen $want"
-    fi
+install_c_compiler() {
+    # The C library's examples are compiled with the system's C and C++ compilers
+    say "install: a C and C++ compiler, pkg-config (the C library's examples)"
     if command -v cc >/dev/null && command -v c++ >/dev/null && command -v pkg-config >/dev/null; then
         ok "$(cc --version | head -n 1), pkg-config $(pkg-config --version)"
     else
@@ -193,7 +183,7 @@ install_cargo_fuzz
 install_wasm_bindgen
 install_chromium
 install_node_and_playwright
-install_cbindgen
+install_c_compiler
 printf '\n==> tools ready (%ss)\n' "$(($(date +%s) - install_start))"
 
 # ---------------------------------------------------------------------------------------
