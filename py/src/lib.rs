@@ -12,6 +12,8 @@ mod error;
 mod executor;
 mod measure;
 mod measurement;
+mod radiosity;
+mod refine;
 mod scene;
 
 use pyo3::prelude::*;
@@ -25,10 +27,14 @@ fn _sceneinfo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<measurement::PyMeasurement>()?;
     m.add_class::<measure::PyPartial>()?;
     m.add_class::<channel::PyChannel>()?;
+    m.add_class::<radiosity::PyLighting>()?;
+    m.add_class::<refine::PyRefiner>()?;
     m.add_function(wrap_pyfunction!(measure::measure, m)?)?;
     m.add_function(wrap_pyfunction!(measure::measure_partial, m)?)?;
     m.add_function(wrap_pyfunction!(measure::merge, m)?)?;
     m.add_function(wrap_pyfunction!(channel::channel, m)?)?;
+    m.add_function(wrap_pyfunction!(radiosity::radiosity, m)?)?;
+    m.add_function(wrap_pyfunction!(refine::refine, m)?)?;
     m.add("SPARSE_ABOVE", measurement::SPARSE_ABOVE)?;
     m.add("CHUNK_LINES", sceneinfo::LineSession::CHUNK_LINES)?;
     Ok(())

@@ -58,8 +58,33 @@ pub fn method_of(py: Python<'_>, name: &str) -> PyResult<LineMethod> {
         })
 }
 
+/// The job of `measure`'s arguments: exact without `lines`, else lines of `method`.
+pub fn job_of(
+    py: Python<'_>,
+    lines: Option<LinesArg>,
+    method: &str,
+    seed: u64,
+    max_lines: Option<u64>,
+) -> PyResult<Job> {
+    let method = method_of(py, method)?;
+    let budget = match lines {
+        None => return Ok(Job::Exact),
+        Some(LinesArg::Count(n)) => LineBudget::Fixed(n),
+        Some(LinesArg::Auto) => LineBudget::UntilSampled {
+            start: AUTO_START_LINES,
+            max: max_lines.unwrap_or(AUTO_MAX_LINES),
+        },
+    };
+    Ok(Job::Lines(
+        LineJob::new(0)
+            .with_budget(budget)
+            .with_method(method)
+            .with_seed(seed),
+    ))
+}
+
 /// Issues a measurement's warnings as `SceneinfoWarning`s.
-fn issue(py: Python<'_>, m: &Measurement) -> PyResult<()> {
+pub fn issue(py: Python<'_>, m: &Measurement) -> PyResult<()> {
     for w in m.warnings() {
         warn(py, &w.to_string())?;
     }
@@ -91,24 +116,7 @@ pub fn measure(
 ) -> PyResult<PyMeasurement> {
     let scene = scene.resolve(py)?;
     let s = scene.get();
-    let method = method_of(py, method)?;
-    let budget = match lines {
-        None => None,
-        Some(LinesArg::Count(n)) => Some(LineBudget::Fixed(n)),
-        Some(LinesArg::Auto) => Some(LineBudget::UntilSampled {
-            start: AUTO_START_LINES,
-            max: max_lines.unwrap_or(AUTO_MAX_LINES),
-        }),
-    };
-    let job = match budget {
-        None => Job::Exact,
-        Some(b) => Job::Lines(
-            LineJob::new(0)
-                .with_budget(b)
-                .with_method(method)
-                .with_seed(seed),
-        ),
-    };
+    let job = job_of(py, lines, method, seed, max_lines)?;
     let mut executor = PyExecutor::new(threads_of(py, threads)?, progress);
     let result = py.detach(|| sceneinfo::measure(&s.scene, &job, &mut executor));
     // A KeyboardInterrupt (or the callback's error) wins over a partial result

@@ -67,6 +67,11 @@ fn warning_texts(report: &LoadReport) -> Vec<String> {
 
 impl PyScene {
     /// A scene built in memory: its fingerprint is that of its written form.
+    pub fn from_scene(scene: Scene) -> Self {
+        Self::built(scene)
+    }
+
+    /// A scene built in memory (see [`PyScene::from_scene`]).
     fn built(scene: Scene) -> Self {
         let fp = fingerprint(written(&scene, "scene.mtl").0.as_bytes());
         Self {

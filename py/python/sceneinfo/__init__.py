@@ -10,15 +10,19 @@ Visibility and Radiosity in a Scene* (2002); equation numbers refer to it.
 Scenes come from files (``.flat``, ``.obj``), numpy arrays (``Scene.from_segments``,
 ``Scene.from_triangles``, ``Scene.from_polygons``) or presets. ``measure`` gives exact or
 Monte Carlo form factors and the channel measures; ``channel`` measures any ``(w, P)``;
-``measure_partial`` and ``merge`` split a line job across processes or machines, exactly.
+``measure_partial`` and ``merge`` split a line job across processes or machines, exactly;
+``radiosity`` lights a scene (2.6) and measures its radiosity channel (5.5–5.7); ``refine``
+refines a flatland mesh by an oracle (§6.5.2).
 """
 
 from ._sceneinfo import (
     CHUNK_LINES,
     SPARSE_ABOVE,
     ChannelMeasures,
+    Lighting,
     Measurement,
     Partial,
+    Refiner,
     Scene,
     SceneinfoError,
     SceneinfoWarning,
@@ -26,14 +30,18 @@ from ._sceneinfo import (
     measure,
     measure_partial,
     merge,
+    radiosity,
+    refine,
 )
 
 __all__ = [
     "CHUNK_LINES",
     "SPARSE_ABOVE",
     "ChannelMeasures",
+    "Lighting",
     "Measurement",
     "Partial",
+    "Refiner",
     "Scene",
     "SceneinfoError",
     "SceneinfoWarning",
@@ -41,4 +49,6 @@ __all__ = [
     "measure",
     "measure_partial",
     "merge",
+    "radiosity",
+    "refine",
 ]

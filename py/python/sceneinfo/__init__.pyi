@@ -260,3 +260,88 @@ def measure_partial(
 def merge(parts: Sequence[Union[Partial, _Path]]) -> Partial: ...
 def channel(w: _Floats, p: Any) -> ChannelMeasures:
     """Measures of the channel (w, P): P dense (n, n) or scipy sparse."""
+
+class Lighting:
+    """A lit scene: B = E + ρFB (2.6) per colour channel and its radiosity measures."""
+
+    @property
+    def radiosity(self) -> npt.NDArray[np.float64]:
+        """B_i, (n_states, 3) (R, G, B)."""
+    @property
+    def visibility(self) -> Measurement: ...
+    @property
+    def h_p(self) -> npt.NDArray[np.float64]:
+        """H_P (5.6) per channel, (3,)."""
+    @property
+    def h_s(self) -> npt.NDArray[np.float64]:
+        """H_S (5.5) per channel, (3,)."""
+    @property
+    def h_j(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def i_s(self) -> npt.NDArray[np.float64]:
+        """I_S (5.7) per channel, (3,)."""
+    @property
+    def light_flows(self) -> list[bool]: ...
+    @property
+    def iterations(self) -> list[int]: ...
+    @property
+    def residuals(self) -> list[float]: ...
+    @property
+    def i_s_continuous(self) -> Optional[npt.NDArray[np.float64]]:
+        """Radiosity I_S^c (5.20) per channel, from lines."""
+    @property
+    def i_s_continuous_stderr(self) -> Optional[npt.NDArray[np.float64]]: ...
+    @property
+    def visibility_i_s_continuous(self) -> Optional[float]: ...
+    @property
+    def lines(self) -> int: ...
+    def measures(self) -> list[dict[str, Union[float, bool]]]: ...
+
+def radiosity(
+    scene: Union[Scene, _Path],
+    lines: Union[None, int, Literal["auto"]] = None,
+    method: _Method = "global",
+    seed: int = 1,
+    threads: Optional[int] = None,
+    progress: Optional[_Progress] = None,
+    max_lines: Optional[int] = None,
+    solver: Literal["gauss-seidel", "jacobi", "southwell"] = "gauss-seidel",
+    tolerance: float = 1e-10,
+    max_iterations: int = 100_000,
+) -> Lighting:
+    """Lights the scene (2.6) on exact or line form factors; radiosity measures (5.5–5.7)."""
+
+class Refiner:
+    """Flatland refinement one split at a time (§6.5.2)."""
+
+    def __init__(
+        self,
+        scene: Union[Scene, _Path],
+        oracle: Literal["de", "power", "regular"] = "de",
+        lines: int = 1_000_000,
+        seed: int = 1,
+    ) -> None: ...
+    def step(self) -> dict[str, Any]: ...
+    def run_until(self, patches: int, eps: Optional[float] = None) -> dict[str, Any]: ...
+    def report(self) -> dict[str, Any]: ...
+    @property
+    def scene(self) -> Scene: ...
+    @property
+    def patch_information(self) -> npt.NDArray[np.float64]:
+        """I_i (6.8)."""
+    @property
+    def patch_continuous(self) -> npt.NDArray[np.float64]:
+        """I_i^c (6.37)."""
+    @property
+    def patch_errors(self) -> npt.NDArray[np.float64]:
+        """I_i^c − I_i."""
+
+def refine(
+    scene: Union[Scene, _Path],
+    patches: int,
+    oracle: Literal["de", "power", "regular"] = "de",
+    lines: int = 1_000_000,
+    seed: int = 1,
+    eps: Optional[float] = None,
+) -> Refiner:
+    """Refines a flatland scene to `patches` patches or δ̄ ≤ eps."""
