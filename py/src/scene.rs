@@ -29,15 +29,15 @@ pub struct PyScene {
     pub load_warnings: Vec<String>,
 }
 
-/// The format of `path` by its extension.
-fn format_of(py: Python<'_>, path: &Path) -> PyResult<SceneFormat> {
+/// The format of `path` by its extension (an OBJ read with `obj`).
+fn format_of(py: Python<'_>, path: &Path, obj: ObjOptions) -> PyResult<SceneFormat> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("flat") => Ok(SceneFormat::Flat),
-        Some("obj") => Ok(SceneFormat::Obj(ObjOptions::default())),
+        Some("obj") => Ok(SceneFormat::Obj(obj)),
         _ => Err(bad_argument(
             py,
             "UnknownFormat",
@@ -82,9 +82,10 @@ impl PyScene {
         }
     }
 
-    /// Reads the scene in `path` (no warnings issued: see [`PyScene::issue_warnings`]).
-    pub fn read(py: Python<'_>, path: &Path) -> PyResult<Self> {
-        let format = format_of(py, path)?;
+    /// Reads the scene in `path` (no warnings issued: see [`PyScene::issue_warnings`]), an
+    /// OBJ with `obj`.
+    pub fn read(py: Python<'_>, path: &Path, obj: ObjOptions) -> PyResult<Self> {
+        let format = format_of(py, path, obj)?;
         let bytes = std::fs::read(path).map_err(|e| {
             pyo3::exceptions::PyOSError::new_err(format!("{}: cannot read: {e}", path.display()))
         })?;
@@ -145,7 +146,7 @@ impl<'py> SceneArg<'py> {
         match self {
             Self::Scene(s) => Ok(s),
             Self::Path(p) => {
-                let s = PyScene::read(py, &p)?;
+                let s = PyScene::read(py, &p, ObjOptions::default())?;
                 s.issue_warnings(py)?;
                 Bound::new(py, s)
             }
@@ -170,14 +171,17 @@ impl<'a, 'py> FromPyObject<'a, 'py> for SceneArg<'py> {
 #[pymethods]
 impl PyScene {
     /// Reads a scene file: `.flat` (flatland) or `.obj` (3D; `mtllib` names are read from
-    /// the OBJ's folder). What the loader skipped or repaired is issued as
+    /// the OBJ's folder; `emit_from_ka`: a material's `Ka` is its emittance, as the CLI's
+    /// `radiosity --emit-from-ka`). What the loader skipped or repaired is issued as
     /// `SceneinfoWarning`s and kept in `load_warnings`.
     ///
     /// Raises `SceneinfoError` (with `file`, `line`, `kind`) for a malformed file, `OSError`
     /// when it cannot be read.
     #[staticmethod]
-    fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
-        let s = Self::read(py, &path)?;
+    #[pyo3(signature = (path, emit_from_ka = false))]
+    fn load(py: Python<'_>, path: PathBuf, emit_from_ka: bool) -> PyResult<Self> {
+        let obj = ObjOptions::default().with_emit_from_ka(emit_from_ka);
+        let s = Self::read(py, &path, obj)?;
         s.issue_warnings(py)?;
         Ok(s)
     }

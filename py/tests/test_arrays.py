@@ -102,3 +102,15 @@ def test_per_patch_arrays_have_the_scene_shape():
 def test_lists_are_accepted_as_arrays():
     s = sceneinfo.Scene.from_segments([[0, 0, 1, 0], [1, 0, 1, 1], [1, 1, 0, 1], [0, 1, 0, 0]])
     assert s.n_patches == 4
+
+
+def test_obj_materials_and_emit_from_ka(tmp_path):
+    (tmp_path / "m.mtl").write_text("newmtl lamp\nKd 0.25 0.5 0.75\nKa 2 3 4\n")
+    (tmp_path / "t.obj").write_text(
+        "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl lamp\nf 1 2 3\n"
+    )
+    plain = sceneinfo.Scene.load(tmp_path / "t.obj")
+    lit = sceneinfo.Scene.load(tmp_path / "t.obj", emit_from_ka=True)
+    np.testing.assert_array_equal(plain.reflectance, [[0.25, 0.5, 0.75]])
+    np.testing.assert_array_equal(plain.emittance, [[0.0, 0.0, 0.0]])
+    np.testing.assert_array_equal(lit.emittance, [[2.0, 3.0, 4.0]])

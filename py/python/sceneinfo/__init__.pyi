@@ -39,8 +39,9 @@ class Scene:
     """A flatland (segments) or 3D (planar convex patches) scene."""
 
     @staticmethod
-    def load(path: _Path) -> Scene:
-        """Reads a .flat or .obj file (MTL libraries from the OBJ's folder)."""
+    def load(path: _Path, emit_from_ka: bool = False) -> Scene:
+        """Reads a .flat or .obj file (MTL libraries from the OBJ's folder; Ka as emittance
+        with emit_from_ka)."""
     @staticmethod
     def from_text(text: str, format: Literal["flat", "obj"] = "flat") -> Scene: ...
     @staticmethod
