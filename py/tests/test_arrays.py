@@ -21,13 +21,15 @@ def square_segments(per_side=3):
 def cube_mesh():
     """A unit cube as 12 triangles facing inwards (a closed room)."""
     v = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=float)
+    # Vertex k is (x, y, z) = bits of k (x = 4s, y = 2s, z = 1s); counter-clockwise seen
+    # from inside the cube, so by the right-hand rule every face's front looks inwards
     quads = [
-        [0, 2, 6, 4],  # z = 0 side seen from inside: normal +z ... orientation checked below
-        [1, 5, 7, 3],
-        [0, 4, 5, 1],
-        [2, 3, 7, 6],
-        [0, 1, 3, 2],
-        [4, 6, 7, 5],
+        [4, 6, 2, 0],
+        [3, 7, 5, 1],
+        [1, 5, 4, 0],
+        [6, 7, 3, 2],
+        [2, 3, 1, 0],
+        [5, 7, 6, 4],
     ]
     return v, quads
 
@@ -59,12 +61,8 @@ def test_triangles_and_polygons_give_the_same_scene(tmp_path):
     tris = np.array([[q[0], q[1], q[2]] for q in quads] + [[q[0], q[2], q[3]] for q in quads])
     offsets = np.arange(0, 4 * len(quads) + 1, 4)
     flat_idx = np.array(quads).ravel()
-    try:
-        by_tri = sceneinfo.Scene.from_triangles(v, tris)
-        by_poly = sceneinfo.Scene.from_polygons(v, flat_idx, offsets)
-    except sceneinfo.SceneinfoError:
-        # The quads' orientation must match the triangles' either way
-        raise
+    by_tri = sceneinfo.Scene.from_triangles(v, tris)
+    by_poly = sceneinfo.Scene.from_polygons(v, flat_idx, offsets)
     assert by_tri.n_patches == 12 and by_poly.n_patches == 6
     assert by_tri.patch_sizes.sum() == pytest.approx(1.0, abs=1e-15)
     # Each quad is two triangles of half its area
@@ -72,6 +70,11 @@ def test_triangles_and_polygons_give_the_same_scene(tmp_path):
         np.sort(by_tri.patch_sizes), np.full(12, 1 / 12), rtol=1e-14
     )
     np.testing.assert_allclose(by_poly.patch_sizes, np.full(6, 1 / 6), rtol=1e-14)
+    # Fronts inwards: a closed room (facing outwards every row of F would be lost)
+    m_tri, m_poly = sceneinfo.measure(by_tri), sceneinfo.measure(by_poly)
+    assert m_tri.background is False and m_poly.background is False
+    # Splitting every face into two triangles cannot decrease I_S (refinement, Prop. 3)
+    assert m_tri.i_s >= m_poly.i_s
     # OBJ round trip of the array scene
     path = tmp_path / "cube.obj"
     by_poly.save(path)
