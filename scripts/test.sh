@@ -189,7 +189,7 @@ install_cbindgen() {
 # py/requirements-test.txt); python3-venv from Debian if `python3 -m venv` cannot work.
 PY_TOOLS=target/py-tools
 install_python() {
-    say "install: python3 venv with maturin, pytest, hypothesis, numpy, scipy (py/requirements-test.txt)"
+    say "install: python3 venv with maturin, pytest, hypothesis, numpy, scipy, mypy (py/requirements-test.txt)"
     command -v python3 >/dev/null || apt_install python3
     if [[ ! -x $PY_TOOLS/bin/pip ]]; then
         rm -rf "$PY_TOOLS"
@@ -320,7 +320,8 @@ check_capi() {
 
 # The Python wheel (maturin, profile py-test: optimised as the tests are, no debug info),
 # installed into a fresh venv with numpy alone, where it must import and measure; then
-# pytest (py/tests) with the test tools, against the CLI binary for the parity tests.
+# pytest (py/tests) with the test tools, against the CLI binary for the parity tests, and
+# mypy's stubtest of the .pyi stub.
 test_python() {
     local wheels=target/py-wheels clean=target/py-clean wheel
     rm -rf "$wheels" "$clean"
@@ -337,6 +338,9 @@ print("clean venv: sceneinfo imports; cube 54 patches: I_S =", m.i_s, "F", type(
     x cargo build -p sceneinfo-cli
     SCENEINFO_BIN=${CARGO_TARGET_DIR:-target}/debug/sceneinfo \
         x "$PY_TOOLS/bin/python" -m pytest -q -p no:cacheprovider py/tests
+    # The .pyi stub against the module as built (names, signatures, classes); from target/
+    # so that mypy's cache lands there
+    (cd target && x "$ROOT/$PY_TOOLS/bin/python" -m mypy.stubtest sceneinfo)
 }
 
 build_fuzz() {

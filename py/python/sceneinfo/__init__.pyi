@@ -4,7 +4,7 @@ Equation numbers refer to Feixas (2002).
 """
 
 import os
-from typing import Any, Callable, Literal, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Literal, Optional, Sequence, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -14,6 +14,25 @@ _Floats = npt.ArrayLike
 _Ints = npt.ArrayLike
 _Method = Literal["global", "local", "bundle"]
 _Progress = Callable[[int, int], Any]
+
+__all__ = [
+    "CHUNK_LINES",
+    "SPARSE_ABOVE",
+    "ChannelMeasures",
+    "Lighting",
+    "Measurement",
+    "Partial",
+    "Refiner",
+    "Scene",
+    "SceneinfoError",
+    "SceneinfoWarning",
+    "channel",
+    "measure",
+    "measure_partial",
+    "merge",
+    "radiosity",
+    "refine",
+]
 
 CHUNK_LINES: int
 """Lines per seeded chunk (2¹⁶): partial results are ranges of chunks."""
@@ -35,6 +54,7 @@ class SceneinfoError(ValueError):
 class SceneinfoWarning(UserWarning):
     """Numbers that cannot be trusted to full precision; what a loader skipped or repaired."""
 
+@final
 class Scene:
     """A flatland (segments) or 3D (planar convex patches) scene."""
 
@@ -94,6 +114,7 @@ class Scene:
     def emittance(self) -> npt.NDArray[np.float64]:
         """(n, 3) emittance E per patch."""
 
+@final
 class Measurement:
     """What measure() returns. Discrete measures are None when some patch got no line."""
 
@@ -181,6 +202,7 @@ class Measurement:
     ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], npt.NDArray[np.int64]]:
         """(data, indices, indptr) of F without scipy."""
 
+@final
 class ChannelMeasures:
     """The measures of a channel (w, P) (§3.1)."""
 
@@ -214,6 +236,7 @@ class ChannelMeasures:
     @property
     def patch_information(self) -> npt.NDArray[np.float64]: ...
 
+@final
 class Partial:
     """The exact tally of chunks of a line job, to merge with others of the same job."""
 
@@ -262,6 +285,7 @@ def merge(parts: Sequence[Union[Partial, _Path]]) -> Partial: ...
 def channel(w: _Floats, p: Any) -> ChannelMeasures:
     """Measures of the channel (w, P): P dense (n, n) or scipy sparse."""
 
+@final
 class Lighting:
     """A lit scene: B = E + ρFB (2.6) per colour channel and its radiosity measures."""
 
@@ -312,16 +336,17 @@ def radiosity(
 ) -> Lighting:
     """Lights the scene (2.6) on exact or line form factors; radiosity measures (5.5–5.7)."""
 
+@final
 class Refiner:
     """Flatland refinement one split at a time (§6.5.2)."""
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         scene: Union[Scene, _Path],
         oracle: Literal["de", "power", "regular"] = "de",
         lines: int = 1_000_000,
         seed: int = 1,
-    ) -> None: ...
+    ) -> Refiner: ...
     def step(self) -> dict[str, Any]: ...
     def run_until(self, patches: int, eps: Optional[float] = None) -> dict[str, Any]: ...
     def report(self) -> dict[str, Any]: ...
