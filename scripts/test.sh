@@ -318,14 +318,16 @@ check_capi() {
     x ./scripts/capi.sh check
 }
 
-# The Python wheel (maturin, profile py-test: optimised as the tests are, no debug info),
-# installed into a fresh venv with numpy alone, where it must import and measure; then
+# The Python wheel (maturin, dev profile: it reuses the core that test_browser's CLI build
+# compiled, so only pyo3, numpy and the bindings compile, about a minute; a --release build
+# takes several), installed into a fresh venv with numpy alone, where it must import and
+# measure; then
 # pytest (py/tests) with the test tools, against the CLI binary for the parity tests, and
 # mypy's stubtest of the .pyi stub.
 test_python() {
     local wheels=target/py-wheels clean=target/py-clean wheel
     rm -rf "$wheels" "$clean"
-    x "$PY_TOOLS/bin/maturin" build -m py/Cargo.toml --profile py-test --out "$wheels"
+    x "$PY_TOOLS/bin/maturin" build -m py/Cargo.toml --profile dev --out "$wheels"
     wheel=$(ls "$wheels"/sceneinfo-*.whl)
     printf 'wheel: %s (%s bytes)\n' "$wheel" "$(stat -c %s "$wheel")"
     x python3 -m venv "$clean"
