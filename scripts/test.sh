@@ -321,9 +321,8 @@ check_capi() {
 # The Python wheel (maturin, dev profile: it reuses the core that test_browser's CLI build
 # compiled, so only pyo3, numpy and the bindings compile, about a minute; a --release build
 # takes several), installed into a fresh venv with numpy alone, where it must import and
-# measure; then
-# pytest (py/tests) with the test tools, against the CLI binary for the parity tests, and
-# mypy's stubtest of the .pyi stub.
+# measure; then pytest (py/tests) with the test tools, against the CLI binary for the parity
+# tests, and mypy's stubtest of the .pyi stub.
 test_python() {
     local wheels=target/py-wheels clean=target/py-clean wheel
     rm -rf "$wheels" "$clean"
