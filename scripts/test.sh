@@ -175,6 +175,26 @@ install_c_compiler() {
     fi
 }
 
+# The Python package's tools, in a venv under target/ (from PyPI, pinned in
+# py/requirements-test.txt); python3-venv from Debian if `python3 -m venv` cannot work.
+PY_TOOLS=target/py-tools
+install_python() {
+    say "install: python3 venv with maturin, pytest, hypothesis, numpy, scipy, mypy (py/requirements-test.txt)"
+    command -v python3 >/dev/null || apt_install python3
+    if [[ ! -x $PY_TOOLS/bin/pip ]]; then
+        rm -rf "$PY_TOOLS"
+        if ! python3 -m venv "$PY_TOOLS"; then
+            echo "    python3 -m venv failed: installing python3-venv with apt-get"
+            rm -rf "$PY_TOOLS"
+            apt_install python3-venv
+            python3 -m venv "$PY_TOOLS" || die "python3 -m venv $PY_TOOLS"
+        fi
+    fi
+    "$PY_TOOLS/bin/pip" install --quiet --disable-pip-version-check -r py/requirements-test.txt \
+        || die "pip install -r py/requirements-test.txt"
+    ok "$("$PY_TOOLS/bin/python" --version), $("$PY_TOOLS/bin/maturin" --version)"
+}
+
 install_start=$(date +%s)
 install_rust_components
 install_targets
@@ -184,6 +204,7 @@ install_wasm_bindgen
 install_chromium
 install_node_and_playwright
 install_c_compiler
+install_python
 printf '\n==> tools ready (%ss)\n' "$(($(date +%s) - install_start))"
 
 # ---------------------------------------------------------------------------------------
@@ -287,6 +308,32 @@ check_capi() {
     x ./scripts/capi.sh check
 }
 
+# The Python wheel (maturin, dev profile: it reuses the core that test_browser's CLI build
+# compiled, so only pyo3, numpy and the bindings compile, about a minute; a --release build
+# takes several), installed into a fresh venv with numpy alone, where it must import and
+# measure; then pytest (py/tests) with the test tools, against the CLI binary for the parity
+# tests, and mypy's stubtest of the .pyi stub.
+test_python() {
+    local wheels=target/py-wheels clean=target/py-clean wheel
+    rm -rf "$wheels" "$clean"
+    x "$PY_TOOLS/bin/maturin" build -m py/Cargo.toml --profile dev --out "$wheels"
+    wheel=$(ls "$wheels"/sceneinfo-*.whl)
+    printf 'wheel: %s (%s bytes)\n' "$wheel" "$(stat -c %s "$wheel")"
+    x python3 -m venv "$clean"
+    x "$clean/bin/pip" install --quiet --disable-pip-version-check "$wheel"
+    x "$clean/bin/python" -c 'import importlib.util as u, sceneinfo as s
+assert u.find_spec("scipy") is None, "the clean venv must hold numpy alone"
+m = s.measure(s.Scene.preset("cube", grid=3), lines=70000, threads=1)
+print("clean venv: sceneinfo imports; cube 54 patches: I_S =", m.i_s, "F", type(m.form_factors()).__name__)'
+    x "$PY_TOOLS/bin/pip" install --quiet --disable-pip-version-check --force-reinstall --no-deps "$wheel"
+    x cargo build -p sceneinfo-cli
+    SCENEINFO_BIN=${CARGO_TARGET_DIR:-target}/debug/sceneinfo \
+        x "$PY_TOOLS/bin/python" -m pytest -q -p no:cacheprovider py/tests
+    # The .pyi stub against the module as built (names, signatures, classes); from target/
+    # so that mypy's cache lands there
+    (cd target && x "$ROOT/$PY_TOOLS/bin/python" -m mypy.stubtest sceneinfo)
+}
+
 build_fuzz() {
     x cargo +nightly fuzz build --fuzz-dir fuzz
 }
@@ -319,6 +366,7 @@ run_step "wasm: build sceneinfo-wasm (wasm-release) + wasm-bindgen --target web"
 run_step "wasm: wasm-bindgen-test in node (wasm/tests)" test_wasm_node
 run_step "browser: headless Chromium on wasm/www" test_browser
 run_step "C library: header, examples under ASan, C vs CLI bit for bit" check_capi
+run_step "python: wheel (maturin), import with numpy alone, pytest (py/tests)" test_python
 run_step "fuzz: cargo +nightly fuzz build" build_fuzz
 for src in fuzz/fuzz_targets/fuzz_*.rs; do
     target=$(basename "$src" .rs)

@@ -1,0 +1,54 @@
+"""sceneinfo: information-theoretic measures of scene complexity for light transport.
+
+After M. Feixas, *An Information-Theory Framework for the Study of the Complexity of
+Visibility and Radiosity in a Scene* (2002); equation numbers refer to it.
+
+    >>> import sceneinfo
+    >>> m = sceneinfo.measure(sceneinfo.Scene.preset("cube", grid=4), lines=200_000)
+    >>> m.i_s, m.patch_information        # I_S (3.8) and I_i (6.8) as a numpy array
+
+Scenes come from files (``.flat``, ``.obj``), numpy arrays (``Scene.from_segments``,
+``Scene.from_triangles``, ``Scene.from_polygons``) or presets. ``measure`` gives exact or
+Monte Carlo form factors and the channel measures; ``channel`` measures any ``(w, P)``;
+``measure_partial`` and ``merge`` split a line job across processes or machines, exactly;
+``radiosity`` lights a scene (2.6) and measures its radiosity channel (5.5–5.7); ``refine``
+refines a flatland mesh by an oracle (§6.5.2).
+"""
+
+from ._sceneinfo import (
+    CHUNK_LINES,
+    SPARSE_ABOVE,
+    ChannelMeasures,
+    Lighting,
+    Measurement,
+    Partial,
+    Refiner,
+    Scene,
+    SceneinfoError,
+    SceneinfoWarning,
+    channel,
+    measure,
+    measure_partial,
+    merge,
+    radiosity,
+    refine,
+)
+
+__all__ = [
+    "CHUNK_LINES",
+    "SPARSE_ABOVE",
+    "ChannelMeasures",
+    "Lighting",
+    "Measurement",
+    "Partial",
+    "Refiner",
+    "Scene",
+    "SceneinfoError",
+    "SceneinfoWarning",
+    "channel",
+    "measure",
+    "measure_partial",
+    "merge",
+    "radiosity",
+    "refine",
+]
