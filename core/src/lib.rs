@@ -135,6 +135,7 @@ pub use continuous::ContinuousEstimate;
 pub use formfactor::FormFactors;
 #[cfg(feature = "alloc")]
 pub use io::ObjOptions;
+#[cfg(feature = "alloc")]
 pub use radiosity::rgb::RgbSolution;
 pub use radiosity::{RadiosityMeasures, SolveOptions, SolveReport, Solver};
 pub use scene::Material;
