@@ -86,7 +86,7 @@ pub fn run(args: &RenderArgs, threads: usize) -> Result<()> {
         &radiance,
         &camera,
         allocation,
-        &RenderOptions::new(args.spp, args.render_seed),
+        &options_of(args, args.render_seed),
     )
     .map_err(at)?;
     let render_seconds = start.elapsed().as_secs_f64();
@@ -140,17 +140,21 @@ pub fn run(args: &RenderArgs, threads: usize) -> Result<()> {
     Ok(())
 }
 
+/// The sampling options of the flags, with seed `seed`.
+fn options_of(args: &RenderArgs, seed: u64) -> RenderOptions {
+    let mut options = RenderOptions::new(args.spp, seed);
+    options.neighbours = args.neighbours;
+    options
+}
+
 /// The oracle of `--adaptive` and `--threshold`, `None` for uniform sampling.
-fn oracle_of(adaptive: AdaptiveArg, threshold: Option<f64>) -> sceneinfo::Result<Option<Oracle>> {
+fn oracle_of(adaptive: AdaptiveArg, threshold: f64) -> sceneinfo::Result<Option<Oracle>> {
     let oracle = match adaptive {
         AdaptiveArg::None => return Ok(None),
         AdaptiveArg::Entropy => Oracle::entropy(),
         AdaptiveArg::Mi => Oracle::mutual_information(),
     };
-    match threshold {
-        Some(t) => oracle.with_threshold(t).map(Some),
-        None => Ok(Some(oracle)),
-    }
+    oracle.with_threshold(threshold).map(Some)
 }
 
 fn allocation_of(oracle: Option<Oracle>) -> Allocation {
@@ -236,7 +240,7 @@ fn compare(
                 radiance,
                 camera,
                 *allocation,
-                &RenderOptions::new(args.spp, seed),
+                &options_of(args, seed),
             )
             .map_err(at)?;
             let e = rmse(&image.rgb, &reference.rgb).unwrap_or(f64::NAN);
