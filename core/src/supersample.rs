@@ -352,8 +352,8 @@ fn mi_contrast(
     for j in 0..n {
         let g = quadrant(position(j));
         count[g] += 1;
-        for c in 0..channels {
-            power[g][c] += weight(c) * clean(value(j, c)) / max;
+        for (c, cell) in power[g].iter_mut().enumerate().take(channels) {
+            *cell += weight(c) * clean(value(j, c)) / max;
         }
     }
     let total: f64 = power.iter().flatten().sum();
@@ -362,22 +362,22 @@ fn mi_contrast(
     }
     let mut p_c = [0.0_f64; 3];
     for row in &power {
-        for c in 0..channels {
-            p_c[c] += row[c] / total;
+        for (p, &x) in p_c.iter_mut().zip(row).take(channels) {
+            *p += x / total;
         }
     }
     // I_d = Σ p(g,c) log₂(p(g,c) / (a_g p(c))), normalised by log₂(1 / min a_g)
     let (mut i_d, mut min_a) = (0.0, 1.0_f64);
-    for g in 0..4 {
-        if count[g] == 0 {
+    for (row, &n_g) in power.iter().zip(&count) {
+        if n_g == 0 {
             continue;
         }
-        let a = count[g] as f64 / n as f64;
+        let a = n_g as f64 / n as f64;
         min_a = min_a.min(a);
-        for c in 0..channels {
-            let p = power[g][c] / total;
+        for (&x, &p_of_c) in row.iter().zip(&p_c).take(channels) {
+            let p = x / total;
             if p > 0.0 {
-                i_d += p * math::log2(p / (a * p_c[c]));
+                i_d += p * math::log2(p / (a * p_of_c));
             }
         }
     }
@@ -418,7 +418,13 @@ mod tests {
         let c = entropy_contrast(bad.len(), |j| bad[j]);
         assert!((0.0..=1.0).contains(&c));
         let rgb = bad.map(|x| [x, x, x]);
-        let pos = [[f64::NAN, 2.0], [-1.0, 0.5], [0.5, 0.5], [0.1, 0.9], [0.9, 0.1]];
+        let pos = [
+            [f64::NAN, 2.0],
+            [-1.0, 0.5],
+            [0.5, 0.5],
+            [0.1, 0.9],
+            [0.9, 0.1],
+        ];
         let c = mi_contrast_rgb(&rgb, &pos);
         assert!((0.0..=1.0).contains(&c), "{c}");
         assert_eq!(entropy_contrast_rgb(&[]), 0.0);

@@ -123,12 +123,12 @@ pub fn run(args: &RenderArgs, threads: usize) -> Result<()> {
     );
     let _ = writeln!(s, "radiosity solve       {solve_seconds:.2} s");
     let (w, h) = camera.size();
-    let _ = writeln!(s, "image                 {w}×{h}, {} spp on average", args.spp);
     let _ = writeln!(
         s,
-        "allocation            {}",
-        allocation_name(allocation)
+        "image                 {w}×{h}, {} spp on average",
+        args.spp
     );
+    let _ = writeln!(s, "allocation            {}", allocation_name(allocation));
     write_counts(&mut s, &image);
     let _ = writeln!(s, "render                {render_seconds:.2} s");
     if args.rmse {
@@ -236,13 +236,8 @@ fn compare(
     let mut spread = vec![0u64; methods.len()];
     for seed in 1..=args.seeds {
         for (k, (_, allocation)) in methods.iter().enumerate() {
-            let image = render(
-                radiance,
-                camera,
-                *allocation,
-                &options_of(args, seed),
-            )
-            .map_err(at)?;
+            let image =
+                render(radiance, camera, *allocation, &options_of(args, seed)).map_err(at)?;
             let e = rmse(&image.rgb, &reference.rgb).unwrap_or(f64::NAN);
             errors[k].push(e);
             spread[k] += image.spread;
