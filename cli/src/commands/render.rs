@@ -3,8 +3,8 @@
 //! (`sceneinfo::supersample`; docs/supersampling.md), and with `--rmse` the three compared
 //! at equal total samples against a converged reference, over several seeds.
 //!
-//! The radiosity is solved as `radiosity` solves it (form factors exact or by `--lines`,
-//! Gauss–Seidel, per colour channel); the renderer and the oracle are the core's
+//! The radiosity is solved as `radiosity` solves it (the façade's `solve_radiosity`: form
+//! factors exact or by `--lines`, Gauss–Seidel, per colour channel); the renderer and the oracle are the core's
 //! (`supersample::render3`); this command loads, wires, prints and writes pictures.
 
 use std::fmt::Write as _;
@@ -15,13 +15,12 @@ use std::time::Instant;
 use anyhow::{Result, bail};
 use sceneinfo::geom::DVec3;
 use sceneinfo::radiosity::display::ToneMap;
-use sceneinfo::radiosity::rgb;
-use sceneinfo::radiosity::{SolveOptions, Solver};
 use sceneinfo::scene::{Scene3, Subdivision};
 use sceneinfo::supersample::Oracle;
 use sceneinfo::supersample::render3::{
     Allocation, Image3, PinholeCamera3, RadianceScene3, RenderOptions, Spread, render, rmse,
 };
+use sceneinfo::{ErrorKind, RadiosityJob};
 
 use crate::args::{AdaptiveArg, RenderArgs};
 use crate::output::{Loaded, located, write_atomic};
@@ -47,35 +46,34 @@ pub fn run(args: &RenderArgs, threads: usize) -> Result<()> {
     };
     let oracle = oracle_of(args.adaptive, args.threshold).map_err(at)?;
 
-    // The radiosity solution, as `radiosity` computes it
+    // The radiosity solution: the façade's solve_radiosity, as `radiosity` uses it
     let start = Instant::now();
     let budget = crate::job::budget_of(&args.sampling, path)?;
-    let job = crate::job::job_of(&args.sampling, budget);
-    let measured = crate::job::run_job(path, &scene, &job, threads)?;
-    let Some(ff) = measured.into_form_factors() else {
-        bail!(
-            "{}: some patch received no line, so B = E + ρFB cannot be solved: cast more \
-             --lines (or --lines auto)",
-            path.display()
-        );
+    let form_factors = crate::job::job_of(&args.sampling, budget);
+    if budget.is_some() {
+        let tracer = scene.tracer().map_err(at)?;
+        let method = args.sampling.method.line_method();
+        crate::job::check_supported(tracer.as_dyn(), method, path)?;
+    }
+    let job = RadiosityJob::new(form_factors);
+    let mut executor = crate::lines::Threads::new(threads);
+    let lit = match sceneinfo::solve_radiosity(&scene, &job, &mut executor) {
+        Ok(lit) => lit,
+        Err(e) if matches!(e.kind(), ErrorKind::Stopped) => {
+            crate::interrupt::stop_if_requested()?;
+            return Err(located(path, &e));
+        }
+        Err(e) => return Err(crate::output::exact_error(path, &e)),
     };
-    let materials = scene.patch_materials();
-    let solution = rgb::solve_rgb(
-        &ff.matrix(),
-        ff.weights(),
-        &materials,
-        Solver::GaussSeidel,
-        &SolveOptions::default(),
-    )
-    .map_err(at)?;
+    let (materials, radiosity) = (lit.materials(), &lit.solution().radiosity);
     if !materials.iter().any(|m| m.is_emitter()) {
         eprintln!(
             "note: {}: nothing emits, so the picture is black (old-style lamps: --emit-from-ka)",
             path.display()
         );
     }
-    let tone = ToneMap::for_scene(&solution.radiosity, &materials);
-    let radiance = RadianceScene3::new(solid, &solution.radiosity, tone).map_err(at)?;
+    let tone = ToneMap::for_scene(radiosity, materials);
+    let radiance = RadianceScene3::new(solid, radiosity, tone).map_err(at)?;
     let solve_seconds = start.elapsed().as_secs_f64();
     let camera = camera_of(args, solid).map_err(at)?;
 
