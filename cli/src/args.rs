@@ -58,6 +58,95 @@ pub enum Command {
     /// (thesis §7.3): at a point (--at), over a grid (--grid, --png) and along a camera path
     /// (--path: its animation complexity ∫ I(x) ds).
     Field(crate::commands::field::FieldArgs),
+    /// Render a 3D scene's radiosity solution through a pinhole camera (ray-cast primary
+    /// visibility), with pixel samples spent uniformly or where an entropy or
+    /// mutual-information contrast asks for them (thesis §7.3; docs/supersampling.md);
+    /// --rmse compares the three at equal total samples against a converged reference.
+    Render(RenderArgs),
+}
+
+/// Arguments of `render`.
+#[derive(Debug, clap::Args)]
+pub struct RenderArgs {
+    /// The 3D scene file (OBJ with its .mtl, glTF/GLB, PLY); the Cornell box of
+    /// tests/data/corpus/obj/cornell_box needs --emit-from-ka.
+    pub file: PathBuf,
+    /// Where the samples go: uniformly (none), or adaptively by the entropy contrast
+    /// (entropy, ref. 68) or the mutual-information contrast (mi, ref. 69), at the same
+    /// total number of samples.
+    #[arg(long, value_enum, default_value_t = AdaptiveArg::Entropy)]
+    pub adaptive: AdaptiveArg,
+    /// Samples per pixel on average (the budget is spp × pixels; adaptive renders start at
+    /// min(spp, 4) per pixel and give one pixel at most 16 spp, capped at 4096).
+    #[arg(long, value_name = "N", default_value_t = 16,
+          value_parser = clap::value_parser!(u32).range(1..=65_536))]
+    pub spp: u32,
+    /// The oracle's threshold, in [0, 1]: a pixel whose contrast exceeds it may take more
+    /// samples, highest contrast first, until the budget is spent (the papers' defaults
+    /// could not be read; ours is 0.1 for both contrasts: docs/supersampling.md).
+    #[arg(long, value_name = "T", default_value_t = sceneinfo::supersample::DEFAULT_ENTROPY_THRESHOLD)]
+    pub threshold: f64,
+    /// Adaptive: a pixel's contrast is the larger of its own samples' and of its samples
+    /// with its four neighbours' (catches edges that fall between a pixel's first samples).
+    #[arg(long)]
+    pub neighbours: bool,
+    /// Write the rendered image as PNG (sRGB).
+    #[arg(long, value_name = "OUT.png")]
+    pub png: Option<PathBuf>,
+    /// Write where the samples went as PNG: samples per pixel on a log scale (viridis,
+    /// dark = fewest).
+    #[arg(long, value_name = "OUT.png")]
+    pub samples_png: Option<PathBuf>,
+    /// Also render uniform, entropy and mi at the same total samples over --seeds seeds,
+    /// and print each one's RMSE against a reference of --reference-spp samples per pixel.
+    #[arg(long)]
+    pub rmse: bool,
+    /// With --rmse: how many render seeds (1, 2, …) to repeat each comparison over.
+    #[arg(long, value_name = "K", default_value_t = 5,
+          value_parser = clap::value_parser!(u64).range(1..=1000))]
+    pub seeds: u64,
+    /// With --rmse: samples per pixel of the reference (uniform, its own seed).
+    #[arg(long, value_name = "N", default_value_t = 1024,
+          value_parser = clap::value_parser!(u32).range(1..=65_536))]
+    pub reference_spp: u32,
+    /// Seed of the image's sample positions (--rmse uses seeds 1 to --seeds instead).
+    #[arg(long, default_value_t = 1)]
+    pub render_seed: u64,
+    /// Cut every face into K × K patches (triangles into K²) before solving the radiosity.
+    #[arg(long, value_name = "K", default_value_t = 8,
+          value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub grid: u32,
+    /// A material without `Ke` emits its ambient colour `Ka` (old-style lamps).
+    #[arg(long)]
+    pub emit_from_ka: bool,
+    /// The camera's eye, `x,y,z` (default: in front of the scene, on its −z side, far
+    /// enough to frame it).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_point)]
+    pub eye: Option<[f64; 3]>,
+    /// The point the camera looks at, `x,y,z` (default: the scene's centre).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_point)]
+    pub look: Option<[f64; 3]>,
+    /// Vertical field of view in degrees.
+    #[arg(long, value_name = "DEG", default_value = "40", value_parser = parse_fov)]
+    pub fov: f64,
+    /// Image size in pixels, `WxH`, each 16 to 8192.
+    #[arg(long, value_name = "WxH", default_value = "256x256", value_parser = parse_picture_size)]
+    pub size: (u32, u32),
+    /// How the form factors of the radiosity solve are computed (occluded scenes need
+    /// --lines).
+    #[command(flatten)]
+    pub sampling: SamplingArgs,
+}
+
+/// `--adaptive` of `render`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum AdaptiveArg {
+    /// Uniform: spp samples in every pixel.
+    None,
+    /// The entropy contrast (Rigau, Feixas & Sbert, ref. 68).
+    Entropy,
+    /// The mutual-information contrast (ref. 69, as read in docs/supersampling.md).
+    Mi,
 }
 
 /// Arguments of `viewpoints`.

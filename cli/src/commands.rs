@@ -11,6 +11,7 @@ mod measure;
 mod merge;
 mod radiosity;
 mod refine;
+mod render;
 mod reproduce;
 mod scene;
 mod viewpoints;
@@ -38,5 +39,6 @@ pub fn run(config: &Config) -> Result<()> {
         Command::Radiosity(args) => radiosity::run(args),
         Command::Viewpoints(args) => viewpoints::run(args, threads),
         Command::Field(args) => field::run(args),
+        Command::Render(args) => render::run(args, threads),
     }
 }

@@ -78,6 +78,7 @@ fn requested_threads(command: &Command) -> Option<usize> {
         Command::Measure(a) => a.sampling.threads,
         Command::Formfactors(a) => a.sampling.threads,
         Command::Radiosity(a) => a.sampling.threads,
+        Command::Render(a) => a.sampling.threads,
         Command::Reproduce(a) => a.threads,
         Command::Draw(a) => a.threads,
         Command::Bench(a) => a.threads,
@@ -128,6 +129,10 @@ fn outputs(command: &Command) -> Vec<(&'static str, &Path)> {
             out.push(("--png", a.png.as_ref()));
         }
         Command::Field(a) => out.push(("--png", a.png.as_ref())),
+        Command::Render(a) => {
+            out.push(("--png", a.png.as_ref()));
+            out.push(("--samples-png", a.samples_png.as_ref()));
+        }
         Command::Reproduce(_) | Command::Bench(_) => {}
     }
     out.into_iter()

@@ -17,6 +17,9 @@
 //! forms, their bounds and invariances; the long-range mutual information's data-processing
 //! decay.
 //!
+//! Supersampling ([`supersampling`], issue 20): the pixel oracle on constant and split
+//! pixels; adaptive against uniform rendering of the Cornell box at equal samples.
+//!
 //! Similarity ([`frames`]): measures invariant under scale `10^±150`, rotation and
 //! translation; power-of-two scales stored with the same bits, so Monte Carlo agrees bit for
 //! bit.
@@ -29,3 +32,4 @@ mod refinement;
 mod scenes;
 mod solid_channel;
 mod solids;
+mod supersampling;

@@ -1,0 +1,530 @@
+//! A demonstration renderer for the supersampling oracle: a radiosity solution seen through
+//! a pinhole camera, primary visibility by ray casting ([`Bvh3::first_hit`]), each pixel
+//! the mean of its samples — sampled uniformly, or adaptively by an [`Oracle`] at the same
+//! total number of samples.
+//!
+//! **What a sample sees.** The ray from the eye through the sample's position in the pixel
+//! meets the nearest patch `i`; the sample's value is the patch's radiosity in display
+//! units, `clamp(B_i / B_white, 0, 1)` per channel (the linear part of
+//! [`ToneMap`]: exposure and clamp, before the sRGB curve). Patches are shaded flat (the
+//! radiosity solution is piecewise constant), so a pixel varies only where an edge — of an
+//! object, a patch or a shadow resolved by the mesh — crosses it. A ray that misses, or
+//! meets a patch's back, sees black. Errors are measured in these linear units.
+//!
+//! **Where the samples go.** Pixel `k` takes the points `0, 1, 2, …` of the scrambled
+//! Sobol' sequence ([`super::sequence`]), scrambled by [`pixel_scramble`]`(seed, k)`.
+//! Uniform: `spp` points each. Adaptive, for a budget of `spp · pixels` samples:
+//!
+//! 1. every pixel takes `initial` points;
+//! 2. a round asks the oracle about every pixel below `max_per_pixel` samples; those it
+//!    would refine, highest contrast first, double their count (so each stays a (0, m, 2)
+//!    net), until the budget is spent; rounds repeat while some pixel asks;
+//! 3. what is left when no pixel asks is spread one sample at a time over the pixels with
+//!    the fewest samples, so both renders spend exactly the same number of samples.
+//!
+//! Every loop is bounded: a round at least doubles some pixel's count or ends the phase,
+//! and counts stop at `max_per_pixel`.
+
+use alloc::vec;
+use alloc::vec::Vec;
+
+use crate::accel::Bvh3;
+use crate::error::{Error, ErrorKind, Result};
+use crate::geom::DVec3;
+use crate::math;
+use crate::radiosity::display::ToneMap;
+use crate::scene::Scene3;
+
+use super::sequence::{pixel_scramble, sobol_2d};
+use super::{Oracle, Verdict};
+
+/// The largest number of samples one render may take (`2³²`): 4 GB of colour samples
+/// for an adaptive render, which keeps them.
+pub const MAX_SAMPLES: u64 = 1 << 32;
+
+/// A pinhole camera: the eye, an orthonormal frame, and the image plane at distance 1
+/// spanning `2 tan(fov/2)` vertically.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PinholeCamera3 {
+    eye: DVec3,
+    right: DVec3,
+    up: DVec3,
+    forward: DVec3,
+    tan_half: f64,
+    width: u32,
+    height: u32,
+}
+
+impl PinholeCamera3 {
+    /// A camera at `eye` looking at `look`, vertical field of view `fov_degrees`, image
+    /// `width × height` pixels; up is `+y` (`+z` when looking along `y`).
+    ///
+    /// # Errors
+    /// [`ErrorKind::BadParameter`] for a field of view outside `(0, 180)` degrees, a zero
+    /// image side, non-finite points or `eye = look`.
+    pub fn new(eye: DVec3, look: DVec3, fov_degrees: f64, width: u32, height: u32) -> Result<Self> {
+        let bad = |name, value| Err(Error::new(ErrorKind::BadParameter { name, value }));
+        if !(fov_degrees > 0.0 && fov_degrees < 180.0) {
+            return bad("field of view (degrees)", fov_degrees);
+        }
+        if width == 0 || height == 0 {
+            return bad("image side", f64::from(width.min(height)));
+        }
+        if !(eye.is_finite() && look.is_finite()) {
+            return bad("camera position", f64::NAN);
+        }
+        let Some(forward) = (look - eye).try_normalize() else {
+            return bad("distance from eye to look", (look - eye).length());
+        };
+        let world_up = if forward.y.abs() > 0.99 {
+            DVec3::Z
+        } else {
+            DVec3::Y
+        };
+        let Some(right) = forward.cross(world_up).try_normalize() else {
+            return bad("camera direction", f64::NAN);
+        };
+        let up = right.cross(forward);
+        let half = fov_degrees.to_radians() * 0.5;
+        Ok(Self {
+            eye,
+            right,
+            up,
+            forward,
+            tan_half: math::tan(half),
+            width,
+            height,
+        })
+    }
+
+    /// A camera that frames the box `bounds`: looking at its centre along `+z` from where
+    /// its bounding sphere fills the field of view (the view into a room whose open side
+    /// faces `−z`, like the Cornell box's; the framing of `refine --png`).
+    ///
+    /// # Errors
+    /// As [`PinholeCamera3::new`].
+    pub fn framing(
+        bounds: (DVec3, DVec3),
+        fov_degrees: f64,
+        width: u32,
+        height: u32,
+    ) -> Result<Self> {
+        let (lo, hi) = bounds;
+        let centre = (lo + hi) * 0.5;
+        let radius = (hi - lo).length() * 0.5;
+        let half = (fov_degrees.to_radians() * 0.5).clamp(1e-6, 1.5);
+        let distance = (radius / math::sin(half) * 0.85).max(1e-9);
+        Self::new(
+            centre - DVec3::Z * distance,
+            centre,
+            fov_degrees,
+            width,
+            height,
+        )
+    }
+
+    /// The eye.
+    #[must_use]
+    pub fn eye(&self) -> DVec3 {
+        self.eye
+    }
+
+    /// Image width and height in pixels.
+    #[must_use]
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// The (unnormalised) direction through position `uv ∈ [0, 1)²` of pixel `(px, py)`,
+    /// rows from the top.
+    #[must_use]
+    pub fn direction(&self, px: u32, py: u32, uv: [f64; 2]) -> DVec3 {
+        let (w, h) = (f64::from(self.width), f64::from(self.height));
+        let sx = (2.0 * (f64::from(px) + uv[0]) / w - 1.0) * self.tan_half * w / h;
+        let sy = (1.0 - 2.0 * (f64::from(py) + uv[1]) / h) * self.tan_half;
+        self.forward + self.right * sx + self.up * sy
+    }
+}
+
+/// A scene's patches in a BVH with their display colours: what a primary ray sees.
+#[derive(Clone, Debug)]
+pub struct RadianceScene3 {
+    bvh: Bvh3,
+    colour: Vec<[f64; 3]>,
+    normal: Vec<DVec3>,
+}
+
+impl RadianceScene3 {
+    /// The patches of `scene` with radiosities `radiosity` (per state; states past the
+    /// patches are ignored, missing ones black), shown through `tone`'s exposure:
+    /// `clamp(B / white, 0, 1)` per channel.
+    ///
+    /// # Errors
+    /// The errors of [`Bvh3::build`].
+    pub fn new(scene: &Scene3, radiosity: &[[f64; 3]], tone: ToneMap) -> Result<Self> {
+        let polygons: Vec<(usize, usize)> =
+            scene.patches().iter().map(|p| (p.first, p.count)).collect();
+        let bvh = Bvh3::build(scene.points(), &polygons)?;
+        let white = tone.white;
+        let show = |b: f64| {
+            if white > 0.0 && white.is_finite() && b > 0.0 {
+                (b / white).min(1.0)
+            } else {
+                0.0
+            }
+        };
+        let colour = (0..scene.n_patches())
+            .map(|i| radiosity.get(i).map_or([0.0; 3], |b| b.map(show)))
+            .collect();
+        let normal = scene.patches().iter().map(|p| p.normal).collect();
+        Ok(Self {
+            bvh,
+            colour,
+            normal,
+        })
+    }
+
+    /// The colour seen along the ray `origin + t·dir`, `t > 0`: the nearest patch's, black
+    /// for a miss or a patch's back.
+    #[must_use]
+    pub fn sample(&self, origin: DVec3, dir: DVec3) -> [f64; 3] {
+        match self.bvh.first_hit(origin, dir, 0.0) {
+            Some(hit) => {
+                let i = hit.prim as usize;
+                match (self.colour.get(i), self.normal.get(i)) {
+                    (Some(&c), Some(n)) if n.dot(dir) < 0.0 => c,
+                    _ => [0.0; 3],
+                }
+            }
+            None => [0.0; 3],
+        }
+    }
+}
+
+/// How a render spends its samples.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Allocation {
+    /// `spp` samples in every pixel.
+    Uniform,
+    /// The same total, placed by the oracle (module docs).
+    Adaptive(Oracle),
+}
+
+/// The sampling settings of a render.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RenderOptions {
+    /// Samples per pixel on average: the budget is `spp · width · height`.
+    pub spp: u32,
+    /// Adaptive: the samples every pixel takes first (at most `spp`; the oracle needs at
+    /// least 2, the mutual-information contrast 4 to see all quadrants).
+    pub initial: u32,
+    /// Adaptive: no pixel takes more.
+    pub max_per_pixel: u32,
+    /// The seed of the pixels' scrambles.
+    pub seed: u64,
+    /// Adaptive: a pixel's contrast is the larger of its own samples' and of the samples of
+    /// it and its four neighbours (an edge that falls between a pixel's first samples is
+    /// seen by a neighbour's; Mitchell 1987, "Generating antialiased images at low
+    /// sampling densities", tests contrast over neighbouring samples likewise).
+    pub neighbours: bool,
+}
+
+impl RenderOptions {
+    /// `spp` samples per pixel on average, 4 first (or `spp` if fewer), at most `16 spp`
+    /// (and at most 4096) in one pixel, seed `seed`.
+    #[must_use]
+    pub fn new(spp: u32, seed: u64) -> Self {
+        Self {
+            spp,
+            initial: spp.min(4),
+            max_per_pixel: spp.saturating_mul(16).clamp(spp, 4096.max(spp)),
+            seed,
+            neighbours: false,
+        }
+    }
+}
+
+/// A rendered image: linear display colours row by row from the top, and how many samples
+/// each pixel took.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image3 {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Pixel colours, the mean of their samples, in `[0, 1]` per channel.
+    pub rgb: Vec<[f64; 3]>,
+    /// Samples per pixel.
+    pub counts: Vec<u32>,
+    /// Samples taken in all (the budget, for both allocations).
+    pub samples: u64,
+    /// Adaptive: samples spread evenly at the end because no pixel asked for them.
+    pub spread: u64,
+}
+
+/// Renders `scene` through `camera` with `allocation` (module docs).
+///
+/// # Errors
+/// [`ErrorKind::BadParameter`] for `spp = 0`, `initial` outside `1..=spp` or
+/// `max_per_pixel < spp` (adaptive); [`ErrorKind::TooLarge`] past [`MAX_SAMPLES`].
+pub fn render(
+    scene: &RadianceScene3,
+    camera: &PinholeCamera3,
+    allocation: Allocation,
+    options: &RenderOptions,
+) -> Result<Image3> {
+    let bad = |name, value: u32| {
+        Err(Error::new(ErrorKind::BadParameter {
+            name,
+            value: f64::from(value),
+        }))
+    };
+    if options.spp == 0 {
+        return bad("samples per pixel", options.spp);
+    }
+    let (width, height) = camera.size();
+    let pixels = u64::from(width) * u64::from(height);
+    let budget = pixels * u64::from(options.spp);
+    if budget > MAX_SAMPLES {
+        return Err(Error::new(ErrorKind::TooLarge {
+            what: "render samples (pixels × spp)",
+            max: MAX_SAMPLES,
+        }));
+    }
+    let mut film = Film::new(scene, camera, options.seed);
+    match allocation {
+        Allocation::Uniform => {
+            for k in 0..film.len() {
+                film.take(k, options.spp);
+            }
+            Ok(film.finish(0))
+        }
+        Allocation::Adaptive(oracle) => {
+            if !(1..=options.spp).contains(&options.initial) {
+                return bad("initial samples per pixel", options.initial);
+            }
+            if options.max_per_pixel < options.spp {
+                return bad("largest samples per pixel", options.max_per_pixel);
+            }
+            adaptive(film, &oracle, options, budget)
+        }
+    }
+}
+
+/// The adaptive allocation of the module docs, on a film with no samples yet.
+fn adaptive(
+    mut film: Film<'_>,
+    oracle: &Oracle,
+    options: &RenderOptions,
+    budget: u64,
+) -> Result<Image3> {
+    // 1. The first samples of every pixel
+    for k in 0..film.len() {
+        film.take(k, options.initial);
+    }
+    let mut used = film.len() as u64 * u64::from(options.initial);
+    // 2. Rounds: the pixels the oracle would refine, highest contrast first, double
+    let mut asking: Vec<(f64, usize)> = Vec::new();
+    let mut positions: Vec<[f64; 2]> = Vec::new();
+    let mut window: Vec<[f64; 3]> = Vec::new();
+    while used < budget {
+        asking.clear();
+        for k in 0..film.len() {
+            let n = film.count(k);
+            if n >= options.max_per_pixel {
+                continue;
+            }
+            positions.clear();
+            positions.extend((0..n).map(|i| sobol_2d(i, film.scramble[k])));
+            let mut contrast = oracle.contrast_rgb(&film.samples[k], &positions);
+            if options.neighbours {
+                film.window(k, &mut window, &mut positions);
+                contrast = contrast.max(oracle.contrast_rgb(&window, &positions));
+            }
+            if oracle.verdict(contrast) == Verdict::Refine {
+                asking.push((contrast, k));
+            }
+        }
+        if asking.is_empty() {
+            break;
+        }
+        asking.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        for &(_, k) in &asking {
+            let n = film.count(k);
+            let more = u64::from(n.min(options.max_per_pixel - n)).min(budget - used);
+            if more == 0 {
+                break;
+            }
+            film.take(k, more as u32);
+            used += more;
+        }
+    }
+    // 3. The rest, one sample at a time to the pixels with the fewest
+    let spread = budget - used;
+    let mut left = spread;
+    while left > 0 {
+        let fewest = (0..film.len()).map(|k| film.count(k)).min().unwrap_or(0);
+        for k in 0..film.len() {
+            if left == 0 {
+                break;
+            }
+            if film.count(k) == fewest {
+                film.take(k, 1);
+                left -= 1;
+            }
+        }
+    }
+    Ok(film.finish(spread))
+}
+
+/// The samples of every pixel while a render runs.
+struct Film<'a> {
+    scene: &'a RadianceScene3,
+    camera: &'a PinholeCamera3,
+    scramble: Vec<[u32; 2]>,
+    samples: Vec<Vec<[f64; 3]>>,
+}
+
+impl<'a> Film<'a> {
+    fn new(scene: &'a RadianceScene3, camera: &'a PinholeCamera3, seed: u64) -> Self {
+        let (w, h) = camera.size();
+        let n = w as usize * h as usize;
+        Self {
+            scene,
+            camera,
+            scramble: (0..n as u64).map(|k| pixel_scramble(seed, k)).collect(),
+            samples: vec![Vec::new(); n],
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.samples.len()
+    }
+
+    fn count(&self, k: usize) -> u32 {
+        self.samples[k].len() as u32
+    }
+
+    /// Takes the next `more` points of pixel `k`'s sequence.
+    fn take(&mut self, k: usize, more: u32) {
+        let w = self.camera.size().0 as usize;
+        let (px, py) = ((k % w) as u32, (k / w) as u32);
+        let eye = self.camera.eye();
+        let start = self.count(k);
+        let s = &mut self.samples[k];
+        s.reserve(more as usize);
+        for i in start..start.saturating_add(more) {
+            let uv = sobol_2d(i, self.scramble[k]);
+            s.push(self.scene.sample(eye, self.camera.direction(px, py, uv)));
+        }
+    }
+
+    /// The samples of pixel `k` and of its four neighbours (those inside the image), with
+    /// their positions in the 3 × 3-pixel window around `k` scaled to `[0, 1)²`.
+    fn window(&self, k: usize, samples: &mut Vec<[f64; 3]>, positions: &mut Vec<[f64; 2]>) {
+        samples.clear();
+        positions.clear();
+        let (w, h) = self.camera.size();
+        let (w, h) = (w as usize, h as usize);
+        let (x, y) = (k % w, k / w);
+        let mut add = |q: usize, dx: f64, dy: f64| {
+            for (i, &c) in self.samples[q].iter().enumerate() {
+                let [u, v] = sobol_2d(i as u32, self.scramble[q]);
+                samples.push(c);
+                positions.push([(u + 1.0 + dx) / 3.0, (v + 1.0 + dy) / 3.0]);
+            }
+        };
+        add(k, 0.0, 0.0);
+        if x > 0 {
+            add(k - 1, -1.0, 0.0);
+        }
+        if x + 1 < w {
+            add(k + 1, 1.0, 0.0);
+        }
+        if y > 0 {
+            add(k - w, 0.0, -1.0);
+        }
+        if y + 1 < h {
+            add(k + w, 0.0, 1.0);
+        }
+    }
+
+    fn finish(self, spread: u64) -> Image3 {
+        let (width, height) = self.camera.size();
+        let mut samples = 0;
+        let rgb = self
+            .samples
+            .iter()
+            .map(|s| {
+                samples += s.len() as u64;
+                let n = s.len().max(1) as f64;
+                let mut m = [0.0; 3];
+                for c in s {
+                    for k in 0..3 {
+                        m[k] += c[k];
+                    }
+                }
+                m.map(|x| x / n)
+            })
+            .collect();
+        let counts = self.samples.iter().map(|s| s.len() as u32).collect();
+        Image3 {
+            width,
+            height,
+            rgb,
+            counts,
+            samples,
+            spread,
+        }
+    }
+}
+
+/// Root-mean-square difference of two images over every pixel and channel, or `None` when
+/// their pixel counts differ or they are empty.
+#[must_use]
+pub fn rmse(a: &[[f64; 3]], b: &[[f64; 3]]) -> Option<f64> {
+    if a.len() != b.len() || a.is_empty() {
+        return None;
+    }
+    let sum = math::sum(
+        a.iter()
+            .zip(b)
+            .flat_map(|(x, y)| (0..3).map(move |c| (x[c] - y[c]) * (x[c] - y[c]))),
+    );
+    Some(math::sqrt(sum / (3 * a.len()) as f64))
+}
+
+/// Mean, sample standard deviation, least and greatest of repeated measurements (an
+/// RMSE over seeds): `s = √(Σ (x − x̄)² / (n − 1))`, `0` for one value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spread {
+    /// The mean `x̄`.
+    pub mean: f64,
+    /// The sample standard deviation `s`.
+    pub sd: f64,
+    /// The least value.
+    pub min: f64,
+    /// The greatest value.
+    pub max: f64,
+}
+
+impl Spread {
+    /// The spread of `values`, or `None` when there are none.
+    #[must_use]
+    pub fn of(values: &[f64]) -> Option<Self> {
+        if values.is_empty() {
+            return None;
+        }
+        let n = values.len() as f64;
+        let mean = math::sum(values.iter().copied()) / n;
+        let ss = math::sum(values.iter().map(|x| (x - mean) * (x - mean)));
+        let sd = if values.len() > 1 {
+            math::sqrt(ss / (n - 1.0))
+        } else {
+            0.0
+        };
+        let min = values.iter().copied().fold(f64::INFINITY, f64::min);
+        let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        Some(Self { mean, sd, min, max })
+    }
+}
