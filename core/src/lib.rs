@@ -110,6 +110,8 @@ pub mod radiosity;
 pub mod refine;
 pub mod scene;
 #[cfg(feature = "alloc")]
+pub mod simplify;
+#[cfg(feature = "alloc")]
 pub mod tally;
 #[cfg(feature = "alloc")]
 pub mod trace;
