@@ -13,6 +13,7 @@ mod radiosity;
 mod refine;
 mod reproduce;
 mod scene;
+mod simplify;
 mod viewpoints;
 
 use anyhow::Result;
@@ -38,5 +39,6 @@ pub fn run(config: &Config) -> Result<()> {
         Command::Radiosity(args) => radiosity::run(args),
         Command::Viewpoints(args) => viewpoints::run(args, threads),
         Command::Field(args) => field::run(args),
+        Command::Simplify(args) => simplify::run(args),
     }
 }

@@ -17,6 +17,9 @@
 //! forms, their bounds and invariances; the long-range mutual information's data-processing
 //! decay.
 //!
+//! Simplification ([`simplify`], issue 20): merge losses `≥ 0` and equal to the drop of the
+//! recomputed `I_S` under random and greedy merges.
+//!
 //! Similarity ([`frames`]): measures invariant under scale `10^±150`, rotation and
 //! translation; power-of-two scales stored with the same bits, so Monte Carlo agrees bit for
 //! bit.
@@ -27,5 +30,6 @@ mod flat_channel;
 mod frames;
 mod refinement;
 mod scenes;
+mod simplify;
 mod solid_channel;
 mod solids;

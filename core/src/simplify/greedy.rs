@@ -434,3 +434,29 @@ impl Simplifier {
         Ok((steps, StopReason::Target))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formfactor::exact_2d;
+    use crate::scene::catalogue_scene;
+    use crate::simplify::adjacency::adjacency_2d;
+
+    #[test]
+    fn updated_losses_stay_the_exact_losses() {
+        // A room with occluders: every merge changes the other candidates' losses.
+        let scene = catalogue_scene("three-objects-2", 6).unwrap();
+        let ff = exact_2d::form_factors(&scene).unwrap();
+        let chain = MergeChain::new(ff.weights(), &ff.matrix()).unwrap();
+        let n = scene.n_patches();
+        let pairs = adjacency_2d(&scene);
+        let mut s = Simplifier::new(chain, n, &pairs, MergeCriterion::Information, None).unwrap();
+        for _ in 0..n / 2 {
+            s.step().unwrap();
+            for c in &s.candidates {
+                let exact = s.chain.merge_loss(c.a, c.b);
+                assert!((c.key - exact).abs() < 1e-13, "{} vs {exact}", c.key);
+            }
+        }
+    }
+}
