@@ -19,7 +19,7 @@ use sceneinfo::simplify::{MergeChain, MergeCriterion, MergeStep, Simplifier, com
 use sceneinfo_report::SimplificationReport;
 
 use crate::args::SimplifyArgs;
-use crate::output::{Loaded, exact_error, job_refused, located, write_atomic};
+use crate::output::{Loaded, job_refused, located, write_atomic};
 
 pub fn run(args: &SimplifyArgs) -> Result<()> {
     let start = Instant::now();
@@ -54,7 +54,17 @@ pub fn run(args: &SimplifyArgs) -> Result<()> {
                 } else {
                     scene.clone()
                 };
-                let ff = exact_3d::scene_form_factors(&scene).map_err(|e| exact_error(path, &e))?;
+                let ff = exact_3d::scene_form_factors(&scene).map_err(|e| {
+                    if matches!(e.kind(), sceneinfo::ErrorKind::MayBeOccluded) {
+                        job_refused(
+                            path,
+                            "some patches may hide others; simplify needs exact form factors, \
+                             computed in 3D only for unoccluded scenes",
+                        )
+                    } else {
+                        located(path, &e)
+                    }
+                })?;
                 (
                     ff,
                     scene.n_patches(),
