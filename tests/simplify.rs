@@ -144,7 +144,10 @@ fn merging_then_splitting_back_restores_i_s() {
         };
         let gain = split_gain(&channel, &split).unwrap();
         assert!((gain - step.loss).abs() <= LOSS_TOLERANCE, "{name}");
-        assert!((channel.i_s() + gain - start).abs() <= LOSS_TOLERANCE, "{name}");
+        assert!(
+            (channel.i_s() + gain - start).abs() <= LOSS_TOLERANCE,
+            "{name}"
+        );
         // The geometry: the coarse scene with the merged patch cut back where it was.
         let coarse = coarse_scene_2d(&scene, s.chain().clusters()).unwrap();
         let patch = &scene.patches()[a];

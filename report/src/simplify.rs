@@ -61,7 +61,8 @@ impl SimplificationReport<'_> {
         o.number("lost", self.fine_i_s - i_s)?;
         o.string("stop", self.stop.name())?;
         o.object("steps", |c| {
-            let column = |f: fn(&MergeStep) -> f64| -> Vec<f64> { self.steps.iter().map(f).collect() };
+            let column =
+                |f: fn(&MergeStep) -> f64| -> Vec<f64> { self.steps.iter().map(f).collect() };
             c.numbers("kept", &column(|s| s.kept as f64))?;
             c.numbers("absorbed", &column(|s| s.absorbed as f64))?;
             c.numbers("loss", &column(|s| s.loss))?;

@@ -12,7 +12,10 @@ use super::scenes::{convex_polygon_scene, room_with_segments};
 /// `|ΔI_S − loss|` allowed: sums of `O(n²)` terms of at most a few bits, compensated.
 const TOLERANCE: f64 = 1e-12;
 
-fn check_random_merges(scene: &sceneinfo::scene::Scene2, picks: &[usize]) -> Result<(), TestCaseError> {
+fn check_random_merges(
+    scene: &sceneinfo::scene::Scene2,
+    picks: &[usize],
+) -> Result<(), TestCaseError> {
     let ff = exact_2d::form_factors(scene).unwrap();
     let mut chain = MergeChain::new(ff.weights(), &ff.matrix()).unwrap();
     let pairs = adjacency_2d(scene);
@@ -30,7 +33,10 @@ fn check_random_merges(scene: &sceneinfo::scene::Scene2, picks: &[usize]) -> Res
         let after = chain.i_s().unwrap();
         prop_assert!(loss >= 0.0);
         prop_assert!(after <= before + TOLERANCE, "I_S rose: {before} → {after}");
-        prop_assert!((before - after - loss).abs() <= TOLERANCE, "{before} − {after} ≠ {loss}");
+        prop_assert!(
+            (before - after - loss).abs() <= TOLERANCE,
+            "{before} − {after} ≠ {loss}"
+        );
         before = after;
     }
     Ok(())

@@ -75,14 +75,8 @@ pub fn run(args: &SimplifyArgs) -> Result<()> {
             }
         };
     let chain = MergeChain::new(ff.weights(), &ff.matrix()).map_err(at)?;
-    let mut s = Simplifier::new(
-        chain.clone(),
-        n,
-        &pairs,
-        MergeCriterion::Information,
-        None,
-    )
-    .map_err(at)?;
+    let mut s =
+        Simplifier::new(chain.clone(), n, &pairs, MergeCriterion::Information, None).map_err(at)?;
     let fine_i_s = s.start_i_s();
     let (steps, stop) = s.run(args.to.unwrap_or(1), args.max_loss).map_err(at)?;
     let comparison = compare_criteria(&chain, n, &pairs, &materials, s.n_patches()).map_err(at)?;
@@ -130,12 +124,21 @@ fn table(path: &Path, r: &SimplificationReport<'_>, n_pairs: usize, with_steps: 
         r.steps.len(),
         n,
         i_s,
-        100.0 * if r.fine_i_s > 0.0 { i_s / r.fine_i_s } else { 1.0 },
+        100.0
+            * if r.fine_i_s > 0.0 {
+                i_s / r.fine_i_s
+            } else {
+                1.0
+            },
         r.fine_i_s - i_s,
         r.stop.name()
     );
     if with_steps {
-        let _ = writeln!(t, "\n{:>6} {:>7} {:>9} {:>12} {:>9} {:>10}", "step", "kept", "absorbed", "loss", "patches", "I_S");
+        let _ = writeln!(
+            t,
+            "\n{:>6} {:>7} {:>9} {:>12} {:>9} {:>10}",
+            "step", "kept", "absorbed", "loss", "patches", "I_S"
+        );
         for s in r.steps {
             let _ = writeln!(
                 t,

@@ -502,12 +502,8 @@ mod tests {
         ]
         .map(|row| row.map(|v| v / 17.0));
         let w_fine: [f64; 4] = joint.map(|row| row.iter().sum());
-        let merged_joint = [
-            [3.0, 1.0, 2.0],
-            [1.0, 0.0, 4.0],
-            [2.0, 4.0, 0.0],
-        ]
-        .map(|row| row.map(|v| v / 17.0));
+        let merged_joint =
+            [[3.0, 1.0, 2.0], [1.0, 0.0, 4.0], [2.0, 4.0, 0.0]].map(|row| row.map(|v| v / 17.0));
         let w: [f64; 3] = merged_joint.map(|row| row.iter().sum());
         let mut p = [0.0; 9];
         for i in 0..3 {
@@ -518,7 +514,14 @@ mod tests {
         let channel = Channel::from_dense(&w, &p).unwrap();
         // Sub-states 0 (= a) and 1 (= b) of merged state 0; other states 1, 2 are fine 2, 3.
         let weights = [w_fine[0], w_fine[1]];
-        let rows = [0.0, 1.0 / 17.0 / w_fine[0], 0.0, 0.0, 0.0, 2.0 / 17.0 / w_fine[1]];
+        let rows = [
+            0.0,
+            1.0 / 17.0 / w_fine[0],
+            0.0,
+            0.0,
+            0.0,
+            2.0 / 17.0 / w_fine[1],
+        ];
         let columns = [0.0, 1.0 / 17.0 / w[1], 0.0, 0.0, 0.0, 2.0 / 17.0 / w[2]];
         let block = [
             joint[0][0] / w_fine[0],

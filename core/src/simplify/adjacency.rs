@@ -141,10 +141,7 @@ mod tests {
     fn flatland_neighbours_are_consecutive_patches_of_one_surface() {
         let scene = Scene2::regular_polygon(3, 3).unwrap();
         let pairs = adjacency_2d(&scene);
-        assert_eq!(
-            pairs,
-            vec![(0, 1), (1, 2), (3, 4), (4, 5), (6, 7), (7, 8)]
-        );
+        assert_eq!(pairs, vec![(0, 1), (1, 2), (3, 4), (4, 5), (6, 7), (7, 8)]);
     }
 
     #[test]

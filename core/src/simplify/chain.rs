@@ -227,7 +227,10 @@ mod tests {
         let loss = c.merge(2, 1).unwrap();
         let after = c.i_s().unwrap();
         assert!(loss > 0.0);
-        assert!((before - after - loss).abs() < 1e-15, "{before} {after} {loss}");
+        assert!(
+            (before - after - loss).abs() < 1e-15,
+            "{before} {after} {loss}"
+        );
         assert_eq!(c.clusters(), &[0, 1, 1, 3]);
         assert_eq!(c.live_states(), vec![0, 1, 3]);
         let loss = c.merge(0, 3).unwrap();

@@ -152,13 +152,7 @@ pub fn compare_criteria(
     let (_, fine_rms) = radiosity_rmse(&a, &fine_b, &fine_b);
     let mut outcomes = Vec::with_capacity(MergeCriterion::ALL.len());
     for criterion in MergeCriterion::ALL {
-        let mut s = Simplifier::new(
-            fine.clone(),
-            n_patches,
-            adjacency,
-            criterion,
-            Some(&fine_b),
-        )?;
+        let mut s = Simplifier::new(fine.clone(), n_patches, adjacency, criterion, Some(&fine_b))?;
         let (_, stop) = s.run(target, None)?;
         let coarse_b = radiosity_per_patch(s.chain(), n_patches, materials)?;
         let (rmse, _) = radiosity_rmse(&a, &fine_b, &coarse_b);
@@ -166,7 +160,11 @@ pub fn compare_criteria(
             criterion,
             n_patches: s.n_patches(),
             i_s: s.i_s(),
-            kept: if fine_i_s > 0.0 { s.i_s() / fine_i_s } else { 1.0 },
+            kept: if fine_i_s > 0.0 {
+                s.i_s() / fine_i_s
+            } else {
+                1.0
+            },
             rmse,
             relative_rmse: if fine_rms > 0.0 { rmse / fine_rms } else { 0.0 },
             stop,

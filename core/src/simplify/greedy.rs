@@ -399,7 +399,8 @@ impl Simplifier {
             }
             let (row_k, row_l) = (chain.joint_row(k), chain.joint_row(l));
             let (w_k, w_l) = (chain.weight(k), chain.weight(l));
-            let before = pair_gap(row_k[a], w_k, row_l[a], w_l) + pair_gap(row_k[b], w_k, row_l[b], w_l);
+            let before =
+                pair_gap(row_k[a], w_k, row_l[a], w_l) + pair_gap(row_k[b], w_k, row_l[b], w_l);
             let after = pair_gap(row_k[a] + row_k[b], w_k, row_l[a] + row_l[b], w_l);
             c.key = (c.key + 2.0 * (after - before)).max(0.0);
         }
