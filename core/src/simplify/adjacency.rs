@@ -78,6 +78,10 @@ pub fn coarse_scene_2d(scene: &Scene2, clusters: &[usize]) -> Result<Scene2> {
 /// Relative rounding of positions, normals and plane offsets in [`adjacency_3d`].
 const WELD: f64 = 1e-9;
 
+/// A patch edge: its quantised ends (smaller first), the quantised plane of its patch
+/// (normal and offset), the material, the patch.
+type Edge = ([i64; 3], [i64; 3], [i64; 4], usize, usize);
+
 /// Adjacent patch pairs of a 3D scene (module docs). `O(E log E)` for `E` patch edges.
 #[must_use]
 pub fn adjacency_3d(scene: &Scene3) -> Vec<(usize, usize)> {
@@ -89,7 +93,7 @@ pub fn adjacency_3d(scene: &Scene3) -> Vec<(usize, usize)> {
         [q.x, q.y, q.z].map(|v| math::round(v) as i64)
     };
     // Each edge keyed by its two quantised ends, smaller first, with its patch and plane.
-    let mut edges: Vec<([i64; 3], [i64; 3], [i64; 4], usize, usize)> = Vec::new();
+    let mut edges: Vec<Edge> = Vec::new();
     for (i, patch) in scene.patches().iter().enumerate() {
         let v = scene.patch_vertices(i);
         let n = patch.normal;

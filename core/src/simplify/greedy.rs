@@ -422,10 +422,10 @@ impl Simplifier {
             let Some((a, b)) = self.best() else {
                 return Ok((steps, StopReason::NoCandidates));
             };
-            if let Some(budget) = max_loss {
-                if self.lost + self.chain.merge_loss(a, b) > budget {
-                    return Ok((steps, StopReason::Budget));
-                }
+            if let Some(budget) = max_loss
+                && self.lost + self.chain.merge_loss(a, b) > budget
+            {
+                return Ok((steps, StopReason::Budget));
             }
             match self.step()? {
                 Some(step) => steps.push(step),
