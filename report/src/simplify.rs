@@ -61,13 +61,12 @@ impl SimplificationReport<'_> {
         o.number("lost", self.fine_i_s - i_s)?;
         o.string("stop", self.stop.name())?;
         o.object("steps", |c| {
-            let column =
-                |f: fn(&MergeStep) -> f64| -> Vec<f64> { self.steps.iter().map(f).collect() };
-            c.numbers("kept", &column(|s| s.kept as f64))?;
-            c.numbers("absorbed", &column(|s| s.absorbed as f64))?;
-            c.numbers("loss", &column(|s| s.loss))?;
-            c.numbers("n_patches", &column(|s| s.n_patches as f64))?;
-            c.numbers("i_s", &column(|s| s.i_s))
+            let steps = self.steps;
+            c.integers("kept", steps.iter().map(|s| s.kept as u64))?;
+            c.integers("absorbed", steps.iter().map(|s| s.absorbed as u64))?;
+            c.numbers("loss", &steps.iter().map(|s| s.loss).collect::<Vec<_>>())?;
+            c.integers("n_patches", steps.iter().map(|s| s.n_patches as u64))?;
+            c.numbers("i_s", &steps.iter().map(|s| s.i_s).collect::<Vec<_>>())
         })?;
         o.object("comparison", |c| {
             c.number("fine_rms", self.comparison.fine_rms)?;
