@@ -6,6 +6,7 @@
 //! - `fuzz_replay`: every fuzz seed and saved crash input, through the fuzz targets' code.
 //! - `extremes`: finite measures and the identities on extreme but valid scenes.
 //! - `layers`: core modules use only the layers below them; CLI commands not each other.
+//! - `simplify`: MI-based mesh simplification — exact losses, merge then split, MI vs regular.
 //! - `value_stability`: the chunk streams and one small estimate per line method, pinned.
 
 mod extremes;
@@ -13,5 +14,6 @@ mod fuzz_replay;
 mod layers;
 mod montecarlo;
 mod props;
+mod simplify;
 mod tables;
 mod value_stability;

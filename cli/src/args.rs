@@ -63,6 +63,11 @@ pub enum Command {
     /// mutual-information contrast asks for them (thesis §7.3; docs/supersampling.md);
     /// --rmse compares the three at equal total samples against a converged reference.
     Render(RenderArgs),
+    /// Simplify a mesh by merging adjacent patches with the least mutual information lost
+    /// (thesis §7.3), to --to N patches or a --max-loss budget in bits; compares the result
+    /// with regular and power-based coarsening at the same patch count (I_S kept, radiosity
+    /// RMSE against the fine solution).
+    Simplify(SimplifyArgs),
 }
 
 /// Arguments of `render`.
@@ -147,6 +152,42 @@ pub enum AdaptiveArg {
     Entropy,
     /// The mutual-information contrast (ref. 69, as read in docs/supersampling.md).
     Mi,
+}
+
+/// Arguments of `simplify`.
+#[derive(Debug, clap::Args)]
+#[command(group(clap::ArgGroup::new("stop").required(true).multiple(true).args(["to", "max_loss"])))]
+pub struct SimplifyArgs {
+    /// The scene: .flat (exact form factors), or 3D (OBJ, glTF/GLB, PLY) when no polygon can
+    /// hide another (exact unoccluded form factors).
+    pub file: PathBuf,
+    /// Merge down to N patches (at least 1).
+    #[arg(long, value_name = "N", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
+    pub to: Option<usize>,
+    /// Stop before the merge that would take the information lost past BITS (≥ 0).
+    #[arg(long, value_name = "BITS", value_parser = parse_bits)]
+    pub max_loss: Option<f64>,
+    /// 3D only: cut each face into a K × K grid first.
+    #[arg(long, value_name = "K", default_value_t = 1,
+          value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub grid: u32,
+    /// Print every merge (step, merged patches, loss, I_S) in the table.
+    #[arg(long)]
+    pub steps: bool,
+    /// Print JSON instead of tables.
+    #[arg(long)]
+    pub json: bool,
+    /// Write the simplified flatland scene (.flat).
+    #[arg(long, short = 'o', value_name = "OUT.flat")]
+    pub output: Option<PathBuf>,
+}
+
+/// A loss budget in bits: finite and `≥ 0`.
+fn parse_bits(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("'{s}' is not a number of bits ≥ 0")),
+    }
 }
 
 /// Arguments of `viewpoints`.

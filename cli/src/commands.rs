@@ -14,6 +14,7 @@ mod refine;
 mod render;
 mod reproduce;
 mod scene;
+mod simplify;
 mod viewpoints;
 
 use anyhow::Result;
@@ -40,5 +41,6 @@ pub fn run(config: &Config) -> Result<()> {
         Command::Viewpoints(args) => viewpoints::run(args, threads),
         Command::Field(args) => field::run(args),
         Command::Render(args) => render::run(args, threads),
+        Command::Simplify(args) => simplify::run(args),
     }
 }

@@ -84,7 +84,9 @@ fn requested_threads(command: &Command) -> Option<usize> {
         Command::Bench(a) => a.threads,
         Command::Refine(a) => a.threads,
         Command::Viewpoints(a) => a.threads,
-        Command::Scene { .. } | Command::Merge(_) | Command::Field(_) => None,
+        Command::Scene { .. } | Command::Merge(_) | Command::Field(_) | Command::Simplify(_) => {
+            None
+        }
     }
 }
 
@@ -133,6 +135,7 @@ fn outputs(command: &Command) -> Vec<(&'static str, &Path)> {
             out.push(("--png", a.png.as_ref()));
             out.push(("--samples-png", a.samples_png.as_ref()));
         }
+        Command::Simplify(a) => out.push(("--output", a.output.as_ref())),
         Command::Reproduce(_) | Command::Bench(_) => {}
     }
     out.into_iter()

@@ -97,6 +97,7 @@ fn output_commands(scene: &Path, obj: &Path, partial: &Path) -> Vec<(Vec<String>
             s(&["refine", obj, "--oracle", "power", "--png"]),
             s(&["--target", "1000000"]),
         ),
+        (s(&["simplify", flat, "--to", "2", "--output"]), vec![]),
         (s(&["merge", partial, "--matrix"]), vec![]),
         (s(&["merge", partial, "--partial"]), vec![]),
         (s(&["scene", "polygon", "--sides", "5", "--output"]), vec![]),

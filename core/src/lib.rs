@@ -111,6 +111,8 @@ pub mod refine;
 pub mod scene;
 pub mod supersample;
 #[cfg(feature = "alloc")]
+pub mod simplify;
+#[cfg(feature = "alloc")]
 pub mod tally;
 #[cfg(feature = "alloc")]
 pub mod trace;

@@ -94,6 +94,22 @@ impl<'w, W: Write> JsonObject<'w, W> {
         self.out.write_char(']')
     }
 
+    /// Writes `"key":[n, n, …]` of integers.
+    ///
+    /// # Errors
+    /// Whatever the underlying writer returns.
+    pub fn integers(&mut self, key: &str, values: impl IntoIterator<Item = u64>) -> fmt::Result {
+        self.key(key)?;
+        self.out.write_char('[')?;
+        for (k, v) in values.into_iter().enumerate() {
+            if k > 0 {
+                self.out.write_char(',')?;
+            }
+            write!(self.out, "{v}")?;
+        }
+        self.out.write_char(']')
+    }
+
     /// Writes `"key":["…", "…"]`: each item's `Display` form as an escaped string.
     ///
     /// # Errors

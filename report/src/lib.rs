@@ -16,6 +16,7 @@
 //! | [`write_load_report`] | what a loader skipped or repaired |
 //! | [`ViewpointReport`] | the viewpoint channel's measures (`viewpoints --json`, wasm `viewpoints`) |
 //! | [`RefinementReport`], [`step_json`] | flatland refinement steps (`refine --json`, wasm `Refiner`) |
+//! | [`SimplificationReport`] | MI-based mesh simplification: merges and the criteria compared (`simplify --json`) |
 //! | [`thesis`] | the thesis' table values, and the values it prints for the flatland catalogue's scenes |
 //!
 //! ## Quick start
@@ -55,6 +56,7 @@ mod line_run;
 mod load;
 mod refine;
 mod scene;
+mod simplify;
 pub mod thesis;
 mod viewpoint;
 
@@ -65,6 +67,7 @@ pub use refine::{RefinementReport, step_json, write_step_fields};
 pub use scene::{
     SceneReport, UnsampledReport, measure_flat, measure_flat_json, measure_obj_json, measure_solid,
 };
+pub use simplify::SimplificationReport;
 pub use viewpoint::{ViewpointReport, viewpoints_obj_json};
 // The warnings are the façade's (`sceneinfo::Measurement::warnings` gives them too); the
 // reports write their `Display` text under `warnings`.

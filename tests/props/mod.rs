@@ -19,6 +19,8 @@
 //!
 //! Supersampling ([`supersampling`], issue 20): the pixel oracle on constant and split
 //! pixels; adaptive against uniform rendering of the Cornell box at equal samples.
+//! Simplification ([`simplify`], issue 20): merge losses `≥ 0` and equal to the drop of the
+//! recomputed `I_S` under random and greedy merges.
 //!
 //! Similarity ([`frames`]): measures invariant under scale `10^±150`, rotation and
 //! translation; power-of-two scales stored with the same bits, so Monte Carlo agrees bit for
@@ -30,6 +32,7 @@ mod flat_channel;
 mod frames;
 mod refinement;
 mod scenes;
+mod simplify;
 mod solid_channel;
 mod solids;
 mod supersampling;

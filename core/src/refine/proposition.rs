@@ -251,6 +251,57 @@ pub fn pair_gain(w_i: f64, p_ij: f64, sub_weights: &[f64], sub_transitions: &[f6
     Ok(2.0 * log_sum_gap(terms))
 }
 
+/// The gain (5.29) of splitting one state of a reversible chain into two sub-states `a` and
+/// `b`, read from the joint probabilities `p_xy = w_x P_xy` of the two-state chain: the
+/// information a merge of `a` and `b` loses (thesis §7.3; [`crate::simplify`]).
+///
+/// `joint_a[k] = p_ak`, `joint_b[k] = p_bk` over every state `k` of the chain before the
+/// merge (reciprocity `p_ka = p_ak` is assumed, so the columns are the rows). With
+/// `G(·)` the log-sum gap `Σ_k p_k log₂(p_k / v_k) − P log₂(P / V) ≥ 0` (2.67, 5.30):
+///
+/// ```text
+/// ΔI = 2 Σ_{k ∉ {a, b}} G((p_ak, w_a), (p_bk, w_b))
+///        + G((p_aa, w_a²), (p_ab, w_a w_b), (p_ba, w_b w_a), (p_bb, w_b²))
+/// ```
+///
+/// which is [`split_gain`] for `m = 2` (the same brackets), needing rows `a` and `b` only:
+/// `O(n)` and no allocation. `≥ 0` by construction; 0 when `a == b` or a slice is shorter
+/// than the other (the caller's error, not a gain).
+#[must_use]
+pub fn two_state_split_gain(
+    a: usize,
+    b: usize,
+    w_a: f64,
+    w_b: f64,
+    joint_a: &[f64],
+    joint_b: &[f64],
+) -> f64 {
+    if a == b || joint_a.len() != joint_b.len() || a >= joint_a.len() || b >= joint_a.len() {
+        return 0.0;
+    }
+    let mut total = KahanSum::new();
+    for (k, (&p_ak, &p_bk)) in joint_a.iter().zip(joint_b).enumerate() {
+        if k != a && k != b {
+            total.add(2.0 * pair_gap(p_ak, w_a, p_bk, w_b));
+        }
+    }
+    let block = [
+        (joint_a[a], w_a * w_a),
+        (joint_a[b], w_a * w_b),
+        (joint_b[a], w_b * w_a),
+        (joint_b[b], w_b * w_b),
+    ];
+    total.add(log_sum_gap(block.into_iter()));
+    total.total()
+}
+
+/// `G((p_1, v_1), (p_2, v_2))`, the two-term log-sum gap of [`two_state_split_gain`]: the
+/// bracket of (5.29) for one other state `k` when a state splits in two.
+#[must_use]
+pub(crate) fn pair_gap(p_1: f64, v_1: f64, p_2: f64, v_2: f64) -> f64 {
+    log_sum_gap([(p_1, v_1), (p_2, v_2)].into_iter())
+}
+
 /// The largest patch-to-patch gain of a regular split into `m` (5.34): `2 w_i P_ij log₂ m`,
 /// reached when all of `i`'s view of `j` falls on one sub-patch. 0 for `m = 0`.
 #[must_use]
@@ -437,6 +488,67 @@ mod tests {
         // (5.34) is reached: the whole view of j falls on one sub-state.
         let pair = pair_gain(w[0], p[1], &weights, &[rows[1], rows[4]]).unwrap();
         assert!((pair - regular_pair_gain_max(w[0], p[1], 2)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn the_two_state_gain_is_split_gain_with_two_sub_states() {
+        // The refined 4-state chain: state 0 of `chain()` split into a (sees 1 and itself)
+        // and b (sees 2 and a), a symmetric joint matrix summing to 1.
+        let joint = [
+            [1.0, 1.0, 1.0, 0.0],
+            [1.0, 0.0, 0.0, 2.0],
+            [1.0, 0.0, 0.0, 4.0],
+            [0.0, 2.0, 4.0, 0.0],
+        ]
+        .map(|row| row.map(|v| v / 17.0));
+        let w_fine: [f64; 4] = joint.map(|row| row.iter().sum());
+        let merged_joint =
+            [[3.0, 1.0, 2.0], [1.0, 0.0, 4.0], [2.0, 4.0, 0.0]].map(|row| row.map(|v| v / 17.0));
+        let w: [f64; 3] = merged_joint.map(|row| row.iter().sum());
+        let mut p = [0.0; 9];
+        for i in 0..3 {
+            for j in 0..3 {
+                p[i * 3 + j] = merged_joint[i][j] / w[i];
+            }
+        }
+        let channel = Channel::from_dense(&w, &p).unwrap();
+        // Sub-states 0 (= a) and 1 (= b) of merged state 0; other states 1, 2 are fine 2, 3.
+        let weights = [w_fine[0], w_fine[1]];
+        let rows = [
+            0.0,
+            1.0 / 17.0 / w_fine[0],
+            0.0,
+            0.0,
+            0.0,
+            2.0 / 17.0 / w_fine[1],
+        ];
+        let columns = [0.0, 1.0 / 17.0 / w[1], 0.0, 0.0, 0.0, 2.0 / 17.0 / w[2]];
+        let block = [
+            joint[0][0] / w_fine[0],
+            joint[0][1] / w_fine[0],
+            joint[1][0] / w_fine[1],
+            joint[1][1] / w_fine[1],
+        ];
+        let split = StateSplit {
+            state: 0,
+            weights: &weights,
+            rows: &rows,
+            columns: &columns,
+            block: &block,
+        };
+        let general = split_gain(&channel, &split).unwrap();
+        let two = two_state_split_gain(0, 1, w_fine[0], w_fine[1], &joint[0], &joint[1]);
+        assert!(general > 0.0);
+        assert!((two - general).abs() < 1e-15, "{two} vs {general}");
+        // And it is the difference of the two chains' I_S.
+        let mut p_fine = [0.0; 16];
+        for i in 0..4 {
+            for j in 0..4 {
+                p_fine[i * 4 + j] = joint[i][j] / w_fine[i];
+            }
+        }
+        let fine = Channel::from_dense(&w_fine, &p_fine).unwrap().i_s();
+        assert!((fine - channel.i_s() - two).abs() < 1e-15);
     }
 
     #[test]

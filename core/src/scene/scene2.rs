@@ -193,6 +193,42 @@ impl Scene2 {
     }
 }
 
+impl Scene2 {
+    /// The scene with each surface `k` cut at `cuts[k]` instead (the same segments, materials
+    /// and frame): another mesh of the same surfaces, such as a coarsened one
+    /// (`simplify::adjacency::coarse_scene_2d`).
+    ///
+    /// # Errors
+    /// [`ErrorKind::DimensionMismatch`] unless there is one list per surface;
+    /// [`ErrorKind::BadCuts`] for a list not strictly increasing inside `(0, 1)`; the cap and
+    /// length errors of [`Scene2Builder::build`].
+    pub fn with_cuts(&self, cuts: Vec<Vec<f64>>) -> Result<Scene2> {
+        if cuts.len() != self.surfaces.len() {
+            return Err(ErrorKind::DimensionMismatch {
+                expected: self.surfaces.len(),
+                found: cuts.len(),
+            }
+            .into());
+        }
+        for list in &cuts {
+            let mut prev = 0.0;
+            for &t in list {
+                if !(t > prev && t < 1.0) {
+                    return Err(ErrorKind::BadCuts.into());
+                }
+                prev = t;
+            }
+        }
+        let surfaces = self
+            .surfaces
+            .iter()
+            .zip(cuts)
+            .map(|(s, c)| (s.segment, s.material, c))
+            .collect();
+        assemble(surfaces, self.materials.clone(), self.frame)
+    }
+}
+
 /// Builds a [`Scene2`] item by item, validating each.
 #[derive(Clone, Debug, Default)]
 pub struct Scene2Builder {
