@@ -109,9 +109,9 @@ pub mod math;
 pub mod radiosity;
 pub mod refine;
 pub mod scene;
-pub mod supersample;
 #[cfg(feature = "alloc")]
 pub mod simplify;
+pub mod supersample;
 #[cfg(feature = "alloc")]
 pub mod tally;
 #[cfg(feature = "alloc")]
