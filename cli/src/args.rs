@@ -538,10 +538,37 @@ pub struct ReproduceArgs {
     /// release; docs/chapter6-protocol.md).
     #[arg(long, conflicts_with_all = ["chapter_3_only", "chapter_5_only"])]
     pub chapter_6_mc: bool,
+    /// With --chapter-6-mc: which scenes — the Cornell box (Figs. 6.6, 6.9), the cube room
+    /// (Figs. 6.7/6.8, 6.10, 6.11), or both.
+    #[arg(long, value_enum, default_value_t = McScenes::Both, requires = "chapter_6_mc")]
+    pub mc_scenes: McScenes,
+    /// With --chapter-6-mc: the cube room's rays and patch counts as a fraction of the
+    /// thesis' (402,650 rays at ~13,900 patches; 2,684,260 at 18,338). 1 is the full run
+    /// (hours on two cores); the default 0.1 takes ~20 minutes in release.
+    #[arg(long, value_name = "F", default_value_t = 0.1, requires = "chapter_6_mc")]
+    pub cube_room_scale: f64,
+    /// With --chapter-6-mc: seeds per cube-room configuration.
+    #[arg(long, value_name = "N", default_value_t = 3, requires = "chapter_6_mc")]
+    pub cube_room_seeds: u64,
+    /// With --chapter-6-mc: write the figures' pictures (each oracle's mesh and its
+    /// Gouraud-shaded picture side by side, first seed) as PNG files into this directory.
+    #[arg(long, value_name = "DIR", requires = "chapter_6_mc")]
+    pub figures: Option<PathBuf>,
     /// Also the slow 3D rows: the 5,400-patch cube exactly and the cubes with the thesis'
     /// 10⁷ lines (a few minutes).
     #[arg(long)]
     pub full: bool,
+}
+
+/// The scenes of `reproduce --chapter-6-mc`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum McScenes {
+    /// The Cornell box (Figs. 6.6, 6.9).
+    Cornell,
+    /// The cube room (Figs. 6.7/6.8, 6.10, 6.11).
+    Room,
+    /// Both.
+    Both,
 }
 
 /// Arguments of `radiosity`.
