@@ -545,7 +545,12 @@ pub struct ReproduceArgs {
     /// With --chapter-6-mc: the cube room's rays and patch counts as a fraction of the
     /// thesis' (402,650 rays at ~13,900 patches; 2,684,260 at 18,338). 1 is the full run
     /// (hours on two cores); the default 0.1 takes ~20 minutes in release.
-    #[arg(long, value_name = "F", default_value_t = 0.1, requires = "chapter_6_mc")]
+    #[arg(
+        long,
+        value_name = "F",
+        default_value_t = 0.1,
+        requires = "chapter_6_mc"
+    )]
     pub cube_room_scale: f64,
     /// With --chapter-6-mc: seeds per cube-room configuration.
     #[arg(long, value_name = "N", default_value_t = 3, requires = "chapter_6_mc")]

@@ -310,7 +310,14 @@ pub fn render_gouraud(
             *px = by_patch
                 .get(q)
                 .and_then(|list| leaf_holding(leaves, list, p))
-                .map(|l| interpolate(leaves[l].polygon.vertices(), &vertex[l], p, leaves[l].normal));
+                .map(|l| {
+                    interpolate(
+                        leaves[l].polygon.vertices(),
+                        &vertex[l],
+                        p,
+                        leaves[l].normal,
+                    )
+                });
             break;
         }
     }
@@ -397,7 +404,11 @@ impl ImageReference {
         let (radiosity, materials): (Vec<[f64; 3]>, Vec<Material>) =
             leaves.iter().map(|l| (l.radiosity, l.material)).unzip();
         let tone = ToneMap::for_scene(&radiosity, &materials);
-        let levels: Vec<Option<[u8; 3]>> = image.pixels.iter().map(|p| p.map(|b| tone.rgb(b))).collect();
+        let levels: Vec<Option<[u8; 3]>> = image
+            .pixels
+            .iter()
+            .map(|p| p.map(|b| tone.rgb(b)))
+            .collect();
         let (w, h) = (view.width as usize, view.height as usize);
         let mut scored: Vec<(u32, usize)> = Vec::new();
         for (k, c) in levels.iter().enumerate() {
@@ -531,7 +542,12 @@ mod tests {
             [f(quad[2]); 3],
             [f(quad[3]); 3],
         ];
-        for p in [v(0.3, 0.2, 0.), v(1.7, 0.9, 0.), v(1.0, 0.5, 0.), v(2.0, 0.0, 0.)] {
+        for p in [
+            v(0.3, 0.2, 0.),
+            v(1.7, 0.9, 0.),
+            v(1.0, 0.5, 0.),
+            v(2.0, 0.0, 0.),
+        ] {
             let got = interpolate(&quad, &b, p, DVec3::Z);
             assert!((got[0] - f(p)).abs() < 1e-12, "{p} {got:?}");
         }

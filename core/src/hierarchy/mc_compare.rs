@@ -493,7 +493,10 @@ mod tests {
             assert_eq!(p.oracle_rays, 0);
             assert!(2 * m4.oracle_rays < m.oracle_rays, "{m4:?} {m:?}");
             assert!(p4.rms_error < p.rms_error, "{p4:?} {p:?}");
-            assert!(p4.image_errors[0].rmse < p.image_errors[0].rmse, "{p4:?} {p:?}");
+            assert!(
+                p4.image_errors[0].rmse < p.image_errors[0].rmse,
+                "{p4:?} {p:?}"
+            );
         }
     }
 

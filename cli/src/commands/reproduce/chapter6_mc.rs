@@ -15,8 +15,8 @@ use std::sync::Mutex;
 
 use anyhow::{Context, Result, anyhow};
 use sceneinfo::hierarchy::{
-    Hierarchy, HrOptions, ImageError, MAX_PAIRS, McComparison, McHierarchy, McOptions,
-    McReference, View3, mc_compare_against, mean_spread, render_gouraud,
+    Hierarchy, HrOptions, ImageError, MAX_PAIRS, McComparison, McHierarchy, McOptions, McReference,
+    View3, mc_compare_against, mean_spread, render_gouraud,
 };
 use sceneinfo::radiosity::display::ToneMap;
 use sceneinfo::scene::Scene3;
@@ -229,8 +229,14 @@ pub(super) fn run_configs(
     };
     let both = run_jobs(runner, &jobs, |&(k, o, s)| {
         let c = &configs[k];
-        let (r, h) =
-            mc_compare_against(scene, reference, o, c.leaves, &opts(c, c.rays, s), frozen(c))?;
+        let (r, h) = mc_compare_against(
+            scene,
+            reference,
+            o,
+            c.leaves,
+            &opts(c, c.rays, s),
+            frozen(c),
+        )?;
         Ok((r, (s == 1).then_some(h)))
     })?;
     let mut results = Vec::new();
@@ -289,7 +295,12 @@ pub(super) fn rows(configs: &[Config], out: &Outcome, views: usize) -> Vec<Row> 
             let mut cells = vec![
                 cell("leaves", stats(&rs, |r| r.leaves as f64).0, 0.0, None),
                 cell("rays", c.rays as f64, 0.0, None),
-                cell("oracle rays", stats(&rs, |r| r.oracle_rays as f64).0, 0.0, None),
+                cell(
+                    "oracle rays",
+                    stats(&rs, |r| r.oracle_rays as f64).0,
+                    0.0,
+                    None,
+                ),
                 cell("RMS", rms.0, rms.1, None),
             ];
             if rs.iter().any(|r| r.mesh_rms_error.is_some()) {
@@ -357,8 +368,28 @@ pub(super) fn rows(configs: &[Config], out: &Outcome, views: usize) -> Vec<Row> 
     for (label, by, total) in verdicts {
         let get = |o: &str| by.iter().find(|(x, _)| *x == o).map(|(_, m)| m);
         let Some(mi) = get("mi") else { continue };
+        // (rival, equal total rays?) → [lower, level, higher] counts over the measures
+        let mut tally: Vec<(&str, [f64; 3])> = Vec::new();
+        let mut count = |what: &'static str, v: Option<bool>| {
+            let k = match v {
+                Some(true) => 0,
+                None => 1,
+                Some(false) => 2,
+            };
+            match tally.iter_mut().find(|(w, _)| *w == what) {
+                Some((_, c)) => c[k] += 1.0,
+                None => {
+                    let mut c = [0.0; 3];
+                    c[k] = 1.0;
+                    tally.push((what, c));
+                }
+            }
+        };
         for (m, name) in names.iter().enumerate() {
-            for (rival, versus) in [("power", get("power")), ("KS-av", get("ks-av"))] {
+            for (rival, versus, what) in [
+                ("power", get("power"), "MI vs power, equal radiosity rays"),
+                ("KS-av", get("ks-av"), "MI vs KS-av, equal radiosity rays"),
+            ] {
                 let Some(b) = versus.and_then(|v| v.get(m)) else {
                     continue;
                 };
@@ -366,23 +397,32 @@ pub(super) fn rows(configs: &[Config], out: &Outcome, views: usize) -> Vec<Row> 
                 if !(a.0.is_finite() && b.0.is_finite()) {
                     continue;
                 }
+                let v = lower(a, *b, n);
+                count(what, v);
                 rows.push(Row {
-                    label: format!(
-                        "Fig. {label}, {name}, equal rays: MI vs {rival}: MI {}",
-                        word(lower(a, *b, n))
-                    ),
+                    label: format!("{label} {name}: MI vs {rival}, = rays: {}", word(v)),
                     cells: vec![cell("ratio", a.0 / b.0, 0.0, None)],
                 });
             }
             if let Some(t) = total.get(m).filter(|t| t.0.is_finite()) {
+                let v = lower(mi[m], *t, n);
+                count("MI vs power, equal total rays", v);
                 rows.push(Row {
-                    label: format!(
-                        "Fig. {label}, {name}, equal total rays: MI vs power: MI {}",
-                        word(lower(mi[m], *t, n))
-                    ),
+                    label: format!("{label} {name}: MI vs power, = total rays: {}", word(v)),
                     cells: vec![cell("ratio", mi[m].0 / t.0, 0.0, None)],
                 });
             }
+        }
+        // The verdict: over the measures, in how many MI is lower, level, higher
+        for (what, c) in tally {
+            rows.push(Row {
+                label: format!("VERDICT {label}: {what}"),
+                cells: vec![
+                    cell("lower", c[0], 0.0, None),
+                    cell("level", c[1], 0.0, None),
+                    cell("higher", c[2], 0.0, None),
+                ],
+            });
         }
     }
     rows
@@ -474,7 +514,11 @@ fn figures_6_6_and_6_9_monte_carlo(runner: &Runner, figures: Option<&Path>) -> R
     if let Some(dir) = figures {
         let panel = View3::framing(&scene, 40.0, CORNELL_PANEL);
         let tone = mc_reference.images[0].tone;
-        for (k, file) in [(0, "ch6mc_fig66_I.png"), (1, "ch6mc_fig66_II.png"), (2, "ch6mc_fig69.png")] {
+        for (k, file) in [
+            (0, "ch6mc_fig66_I.png"),
+            (1, "ch6mc_fig66_II.png"),
+            (2, "ch6mc_fig69.png"),
+        ] {
             let meshes: Vec<&McHierarchy> = CONFIGS[k]
                 .oracles
                 .iter()

@@ -82,7 +82,8 @@ pub(super) fn cube_room(runner: &Runner, args: &ReproduceArgs) -> Result<Table> 
     }
     let seeds = args.cube_room_seeds.clamp(1, 20);
     let scene = scene()?;
-    let at = |(leaves, rays): (f64, f64)| ((leaves * s).round() as usize, (rays * s).round() as u64);
+    let at =
+        |(leaves, rays): (f64, f64)| ((leaves * s).round() as usize, (rays * s).round() as u64);
     let configs = [
         Config {
             label: "6.7/6.8",
@@ -121,9 +122,10 @@ pub(super) fn cube_room(runner: &Runner, args: &ReproduceArgs) -> Result<Table> 
             seed,
         )
     };
-    let refs = super::chapter6_mc::run_jobs(runner, &[runner.seed, runner.seed ^ 0x5eed], |&seed| {
-        reference_of(seed)
-    })?;
+    let refs =
+        super::chapter6_mc::run_jobs(runner, &[runner.seed, runner.seed ^ 0x5eed], |&seed| {
+            reference_of(seed)
+        })?;
     let [reference, second] = <[McHierarchy; 2]>::try_from(refs)
         .map_err(|_| anyhow!("the two references did not run"))?;
     let reference_noise = second
@@ -148,7 +150,7 @@ pub(super) fn cube_room(runner: &Runner, args: &ReproduceArgs) -> Result<Table> 
     })?;
     let mut table_rows = vec![Row {
         label: format!(
-            "reference, {} leaves ({} rays): RMS and image RMSE vs a second seed's",
+            "reference, {} leaves, {} rays: vs another seed's",
             reference.n_leaves(),
             reference.rays()
         ),
@@ -165,7 +167,7 @@ pub(super) fn cube_room(runner: &Runner, args: &ReproduceArgs) -> Result<Table> 
         sceneinfo::hierarchy::mean_spread(&v).0
     };
     table_rows.push(Row {
-        label: "Fig. 6.11 vs 6.7, MI: RMS ratio (seed means)".into(),
+        label: "6.11 vs 6.7 RMS: MI at 6.11's budget over MI at 6.7's".into(),
         cells: vec![cell("ratio", mi_rms(2) / mi_rms(0), 0.0, None)],
     });
     if let Some(dir) = &args.figures {
