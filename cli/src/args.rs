@@ -574,15 +574,50 @@ pub struct ReproduceArgs {
     /// Only chapter 5, the radiosity channel (Tables 5.1–5.5; under a minute).
     #[arg(long, conflicts_with = "chapter_3_only")]
     pub chapter_5_only: bool,
-    /// Only Figs. 6.6 and 6.9 by the thesis' protocol: hierarchical Monte Carlo radiosity at
-    /// the captions' rays and patch counts, 5 seeds, with a verdict per figure (minutes in
-    /// release; docs/chapter6-protocol.md).
+    /// Only chapter 6 by the thesis' protocol: hierarchical Monte Carlo radiosity at the
+    /// captions' rays and patch counts — Figs. 6.6 and 6.9 on the Cornell box (5 seeds), Figs.
+    /// 6.7/6.8, 6.10, 6.11 on the cube room (scaled, below) — with the verdict per figure
+    /// (release: ~10 minutes for the Cornell box, a few more for the room at 0.1;
+    /// docs/chapter6-protocol.md).
     #[arg(long, conflicts_with_all = ["chapter_3_only", "chapter_5_only"])]
     pub chapter_6_mc: bool,
+    /// With --chapter-6-mc: which scenes — the Cornell box (Figs. 6.6, 6.9), the cube room
+    /// (Figs. 6.7/6.8, 6.10, 6.11), or both.
+    #[arg(long, value_enum, default_value_t = McScenes::Both, requires = "chapter_6_mc")]
+    pub mc_scenes: McScenes,
+    /// With --chapter-6-mc: the cube room's rays and patch counts as a fraction of the
+    /// thesis' (402,650 rays at ~13,900 patches; 2,684,260 at 18,338). 1 is the full run
+    /// (hours on two cores, not run yet); the default 0.1 took 2.7 minutes of CPU in release
+    /// (15 of wall time on a shared, overloaded machine).
+    #[arg(
+        long,
+        value_name = "F",
+        default_value_t = 0.1,
+        requires = "chapter_6_mc"
+    )]
+    pub cube_room_scale: f64,
+    /// With --chapter-6-mc: seeds per cube-room configuration.
+    #[arg(long, value_name = "N", default_value_t = 3, requires = "chapter_6_mc")]
+    pub cube_room_seeds: u64,
+    /// With --chapter-6-mc: write the figures' pictures (each oracle's mesh and its
+    /// Gouraud-shaded picture side by side, first seed) as PNG files into this directory.
+    #[arg(long, value_name = "DIR", requires = "chapter_6_mc")]
+    pub figures: Option<PathBuf>,
     /// Also the slow 3D rows: the 5,400-patch cube exactly and the cubes with the thesis'
     /// 10⁷ lines (a few minutes).
     #[arg(long)]
     pub full: bool,
+}
+
+/// The scenes of `reproduce --chapter-6-mc`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum McScenes {
+    /// The Cornell box (Figs. 6.6, 6.9).
+    Cornell,
+    /// The cube room (Figs. 6.7/6.8, 6.10, 6.11).
+    Room,
+    /// Both.
+    Both,
 }
 
 /// Arguments of `radiosity`.

@@ -21,7 +21,9 @@
 //! - [`McHierarchy`] (`alloc`): hierarchical *Monte Carlo* radiosity — incremental
 //!   stochastic Jacobi with per-ray refinement, the method of the thesis' experiments
 //!   (§6.4.2) — driven by [`McOracle`]; [`mc_compare_at_size`] puts its meshes side by side
-//!   at the captions' ray budgets and patch counts (docs/chapter6-protocol.md).
+//!   at the captions' ray budgets and patch counts (docs/chapter6-protocol.md);
+//!   [`render_gouraud`] draws a mesh's Gouraud-shaded picture from a [`View3`] and
+//!   [`ImageReference`] measures its image-space error against a reference's.
 //! - [`compare_at_size`] (`alloc`): an oracle's mesh at a wanted size and its RMS error
 //!   against a reference that is fine everywhere ([`ReferenceOracle`],
 //!   [`Hierarchy::build_reference`]) — the comparisons of Figures 6.6 and 6.9.
@@ -38,6 +40,8 @@ mod choice;
 #[cfg(feature = "alloc")]
 mod compare;
 mod element;
+#[cfg(feature = "alloc")]
+mod image;
 mod kernel;
 #[cfg(feature = "alloc")]
 mod mc_compare;
@@ -62,12 +66,17 @@ pub use choice::OracleChoice3;
 #[cfg(feature = "alloc")]
 pub use compare::{COMPARISON_RUNS, OracleComparison, ReferenceOracle, compare_at_size};
 pub use element::Polygon4;
+#[cfg(feature = "alloc")]
+pub use image::{
+    GouraudImage, ImageError, ImageReference, LeafShade, MAX_IMAGE_SIDE, View3,
+    leaf_vertex_radiosities, render_gouraud,
+};
 pub use kernel::KernelSamples;
 pub use kernel::{MAX_PAIRS, Surface, Visibility};
 #[cfg(feature = "alloc")]
 pub use mc_compare::{
-    BOUNDARY_FRACTION, MAX_MC_TARGET_BUILDS, McComparison, boundary_leaves, mc_build_to_target,
-    mc_compare_at_size, mean_spread,
+    BOUNDARY_FRACTION, MAX_MC_TARGET_BUILDS, McComparison, McReference, boundary_leaves,
+    mc_build_to_target, mc_compare_against, mc_compare_at_size, mc_reference, mean_spread,
 };
 #[cfg(feature = "alloc")]
 pub use monte_carlo::{

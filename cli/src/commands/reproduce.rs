@@ -30,6 +30,7 @@ use crate::args::ReproduceArgs;
 mod chapter5;
 mod chapter6_hierarchy;
 mod chapter6_mc;
+mod chapter6_room;
 mod pictured3d;
 mod refinement_flat;
 
@@ -95,7 +96,7 @@ pub fn run(args: &ReproduceArgs, threads: usize) -> Result<()> {
     };
     sceneinfo::lines::check_line_budget(runner.lines).map_err(|e| anyhow!("{e}"))?;
     let mut tables = if args.chapter_6_mc {
-        vec![chapter6_mc::figures_6_6_and_6_9_monte_carlo(&runner)?]
+        chapter6_mc::tables(&runner, args)?
     } else if args.chapter_5_only {
         chapter5::tables(&runner, args.full)?
     } else {
