@@ -51,11 +51,11 @@ pub use bvh3::{Bvh3, all_hits_naive3};
 pub use bvh3::Hit3;
 pub(crate) use bvh3::first_hit_naive3;
 #[cfg(feature = "alloc")]
-pub use raster3::BundleHits3;
+pub(crate) use raster3::BundleHits3;
 #[cfg(feature = "alloc")]
-pub use raster3::ParallelRaster3;
+pub(crate) use raster3::ParallelRaster3;
 #[cfg(feature = "alloc")]
-pub use sweep2::{BundleHits2, ParallelSweep2};
+pub(crate) use sweep2::{BundleHits2, ParallelSweep2};
 
 #[cfg(feature = "alloc")]
 use crate::lines::Line2;

@@ -26,7 +26,7 @@
 //! The per-pair split (6.35, 6.36) gives each visible pair's term half to `I_ij^c` and half to
 //! `I_ji^c`, so `I_i^c = Σ_j I_ij^c` (6.37) and `I_S^c = Σ_i I_i^c` (6.38).
 //!
-//! Tallies are kept in exact 64.64 fixed point ([`crate::math::FixedSum`]) so that results
+//! Tallies are kept in exact 64.64 fixed point (`crate::math::FixedSum`) so that results
 //! depend only on the seed and the number of lines, never on the number of threads or the
 //! order in which partial results are merged.
 

@@ -7,11 +7,10 @@
 //!   `F(x, y) = cos θ_x cos θ_y / (π r²)` at `N` random point pairs of two elements, with
 //!   visibility through a [`Visibility`] (rays through the scene's BVH, or none in a scene
 //!   where nothing hides anything).
-//! - [`Oracle`]: link a pair of elements or refine one of them. Implementations: power
-//!   (2.48) [`PowerOracle`], kernel smoothness (2.49) [`KernelSmoothnessOracle`] and about
-//!   the average (2.50) [`KernelAverageOracle`], MI-based (6.29)–(6.30)
-//!   [`MutualInformationOracle`], MI-increase (6.3)–(6.5) [`MiIncreaseOracle`], and the
-//!   regular mesh [`RegularOracle`]; [`OracleChoice3`] picks one by name.
+//! - [`Oracle`]: link a pair of elements or refine one of them. [`OracleChoice3`] picks one
+//!   by name: power (2.48) `power`, kernel smoothness (2.49) `ks` and about the average
+//!   (2.50) `ks-av`, MI-based (6.29)–(6.30) `mi`, MI-increase (6.3)–(6.5) `mi-increase`,
+//!   and the regular mesh `regular`.
 //! - [`Hierarchy`] (`alloc`): Hanrahan–Salzman hierarchical radiosity over a
 //!   [`crate::scene::Scene3`]'s patches — element quadtrees, links, gather and push–pull,
 //!   refinement passes with the current radiosities, budgets ([`HrOptions`]) and counts of
@@ -23,13 +22,13 @@
 //!   (§6.4.2) — driven by [`McOracle`]; [`mc_compare_at_size`] puts its meshes side by side
 //!   at the captions' ray budgets and patch counts (docs/chapter6-protocol.md).
 //! - [`compare_at_size`] (`alloc`): an oracle's mesh at a wanted size and its RMS error
-//!   against a reference that is fine everywhere ([`ReferenceOracle`],
-//!   [`Hierarchy::build_reference`]) — the comparisons of Figures 6.6 and 6.9.
+//!   against a reference that is fine everywhere
+//!   ([`Hierarchy::build_reference`]) — the comparisons of Figures 6.6 and 6.9.
 //!
 //! # Link form factors
 //!
 //! A link's `F_ij` is the exact unoccluded polygon-to-polygon form factor
-//! ([`crate::formfactor::exact_3d::polygon_to_polygon`]) times the fraction of the
+//! (`crate::formfactor::exact_3d::polygon_to_polygon`) times the fraction of the
 //! oracle's `N` point pairs that see each other, so a link in an empty enclosure is exact
 //! and the regular mesh reproduces the full-matrix solution of
 //! [`crate::radiosity::solve`].
@@ -57,28 +56,15 @@ mod tree;
 #[cfg(feature = "alloc")]
 mod visibility;
 
-pub use choice::ORACLE_NAMES;
 pub use choice::OracleChoice3;
 #[cfg(feature = "alloc")]
-pub use compare::{COMPARISON_RUNS, OracleComparison, ReferenceOracle, compare_at_size};
+pub use compare::{COMPARISON_RUNS, OracleComparison, compare_at_size};
 pub use element::Polygon4;
-pub use kernel::KernelSamples;
-pub use kernel::{MAX_PAIRS, Surface, Visibility};
+pub use kernel::{KernelSamples, MAX_PAIRS, Surface, Visibility};
 #[cfg(feature = "alloc")]
-pub use mc_compare::{
-    BOUNDARY_FRACTION, MAX_MC_TARGET_BUILDS, McComparison, boundary_leaves, mc_build_to_target,
-    mc_compare_at_size, mean_spread,
-};
+pub use mc_compare::{McComparison, mc_compare_at_size, mean_spread};
 #[cfg(feature = "alloc")]
-pub use monte_carlo::{
-    MAX_MC_RAYS, MC_ORACLE_NAMES, McElement, McHierarchy, McOptions, McOracle, cheap_form_factor,
-};
-pub use oracle::Pair;
-pub use oracle::{
-    Decision, KernelAverageOracle, KernelSmoothnessOracle, MiIncreaseOracle,
-    MutualInformationOracle, Oracle, PowerOracle, RegularOracle, Side,
-};
+pub use monte_carlo::{McElement, McHierarchy, McOptions, McOracle};
+pub use oracle::{Decision, Oracle, Pair, Side};
 #[cfg(feature = "alloc")]
-pub use tree::Link;
-#[cfg(feature = "alloc")]
-pub use tree::{Budget, Element, Hierarchy, HrOptions};
+pub use tree::{Budget, Element, Hierarchy, HrOptions, Link};

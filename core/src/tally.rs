@@ -43,10 +43,10 @@ pub enum LineMethod {
     Local,
     /// Bundles of parallel global lines: each bundle shares one uniform direction and
     /// covers the bounding circle (sphere) with evenly spaced lines under one uniform shift
-    /// ([`crate::lines::GlobalBundle2`], [`crate::lines::GlobalBundle3`]); every line is
+    /// (`crate::lines::GlobalBundle2`, `crate::lines::GlobalBundle3`); every line is
     /// tallied as a global line, and each sheaf of bundles is one observation of the
-    /// standard error. Cast by a sweep ([`crate::accel::ParallelSweep2`]) or a raster
-    /// ([`crate::accel::ParallelRaster3`]) instead of one tree query per line.
+    /// standard error. Cast by a sweep (`crate::accel::ParallelSweep2`) or a raster
+    /// (`crate::accel::ParallelRaster3`) instead of one tree query per line.
     Bundle,
 }
 
@@ -157,7 +157,7 @@ pub struct LineTally {
 /// tally carries without knowing what it is (the radiosity terms of (5.20),
 /// `crate::radiosity::continuous::RadiosityLineTally`, are one): told of every pair
 /// sample and every closed line or group, merged exactly as the tally is.
-pub trait SampleTerms: core::fmt::Debug + Send + Sync + Any {
+pub(crate) trait SampleTerms: core::fmt::Debug + Send + Sync + Any {
     /// `weight` copies of the terms of a sample with continuous term `s` between patches
     /// `i` and `j` (2 for a global-line segment, which serves both ends; 1 for a local
     /// line).
@@ -232,18 +232,18 @@ impl LineTally {
     }
 
     /// Also accumulates `terms` from the same samples ([`SampleTerms`]).
-    pub fn set_terms(&mut self, terms: Box<dyn SampleTerms>) {
+    pub(crate) fn set_terms(&mut self, terms: Box<dyn SampleTerms>) {
         self.terms = Terms(Some(terms));
     }
 
     /// The terms accumulated alongside, if any.
     #[must_use]
-    pub fn terms(&self) -> Option<&dyn SampleTerms> {
+    pub(crate) fn terms(&self) -> Option<&dyn SampleTerms> {
         self.terms.0.as_deref()
     }
 
     /// Takes the terms accumulated alongside out of the tally.
-    pub fn take_terms(&mut self) -> Option<Box<dyn SampleTerms>> {
+    pub(crate) fn take_terms(&mut self) -> Option<Box<dyn SampleTerms>> {
         self.terms.0.take()
     }
 

@@ -51,7 +51,7 @@
 //! plus viewpoint (in)stability, viewpoint saliency and the greedy selection of
 //! representative views: [`ViewpointChannel`]. The channel is rectangular (`N_v × N_o`), so
 //! its measures live here rather than in [`crate::channel`] (a square Markov chain), with the
-//! same helpers ([`crate::math::eta`], `crate::math::log2_ratio`, compensated sums).
+//! same helpers (`crate::math::eta`, `crate::math::log2_ratio`, compensated sums).
 //! `docs/viewpoints.md` lists which conventions are the papers' and which are ours.
 //!
 //! # Determinism
@@ -81,9 +81,9 @@ mod sphere;
 mod tests;
 
 pub use channel::{
-    DEFAULT_DISTANCE, DEFAULT_RESOLUTION, DEFAULT_VIEWS, MAX_CHANNEL_ENTRIES, MAX_VALENCE,
-    ViewWeighting, ViewpointChannel, ViewpointJob, ViewpointOptions, patch_neighbours,
+    DEFAULT_DISTANCE, DEFAULT_RESOLUTION, DEFAULT_VIEWS, ViewWeighting, ViewpointChannel,
+    ViewpointJob, ViewpointOptions, patch_neighbours,
 };
 pub use exact::convex_orthographic_areas;
 pub use raster::{IdRaster, MAX_RESOLUTION, Projection, ViewTotals, bounding_sphere};
-pub use sphere::{MAX_VIEW_LEVEL, ViewSphere};
+pub use sphere::ViewSphere;

@@ -12,7 +12,7 @@ use crate::math::{self, KahanSum};
 pub const MAX_GRID_SIDE: usize = 4096;
 
 /// Most samples per leg of [`Field2::path`].
-pub const MAX_PATH_SAMPLES: usize = 1 << 20;
+pub(crate) const MAX_PATH_SAMPLES: usize = 1 << 20;
 
 /// The field at the centres of a grid of cells (world coordinates).
 #[derive(Clone, Debug, PartialEq)]
@@ -156,7 +156,7 @@ impl Field2<'_> {
     ///
     /// # Errors
     /// [`ErrorKind::BadParameter`] for fewer than 2 vertices, `samples` of 0 or above
-    /// [`MAX_PATH_SAMPLES`], or more than [`MAX_PATH_SAMPLES`] samples in all;
+    /// `MAX_PATH_SAMPLES`, or more than `MAX_PATH_SAMPLES` samples in all;
     /// [`Field2::point`]'s errors for a vertex.
     pub fn path(&self, vertices: &[DVec2], samples: usize) -> Result<FieldPath> {
         let mut scratch = FieldScratch::default();

@@ -19,7 +19,7 @@
 //! for the part of the polygon above the tangent plane of `x`, so the polygon is first
 //! clipped to that half-space.
 //!
-//! **Polygon to polygon** ([`polygon_to_polygon`], [`unoccluded_flux`]). Each polygon is
+//! **Polygon to polygon** (`polygon_to_polygon`, [`unoccluded_flux`]). Each polygon is
 //! clipped to the other's front half-space: the points of `i` behind `j`'s plane see `j`'s
 //! back, and the points of `j` behind `i`'s plane are below `i`'s horizon. On the clipped
 //! pair both cosines are non-negative, and Stokes' theorem, applied twice, turns the
@@ -184,7 +184,7 @@ pub fn unoccluded_flux(source: &[DVec3], target: &[DVec3]) -> f64 {
 /// assert!((polygon_to_polygon(&lower, &upper) - 0.199_825).abs() < 1e-6);
 /// ```
 #[must_use]
-pub fn polygon_to_polygon(source: &[DVec3], target: &[DVec3]) -> f64 {
+pub(crate) fn polygon_to_polygon(source: &[DVec3], target: &[DVec3]) -> f64 {
     match (Plane::of(source), Plane::of(target)) {
         (Some(ps), Some(pt)) => (pair_flux(source, &ps, target, &pt).0 / ps.area).clamp(0.0, 1.0),
         _ => 0.0,

@@ -25,7 +25,7 @@ use crate::scene::Scene3;
 /// As `level → ∞` and `ε → 0` this converges to the exact solution like any oracle; its
 /// own error is checked by comparing two levels (the reproduction prints it).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ReferenceOracle {
+pub(crate) struct ReferenceOracle {
     /// Uniform splits of every receiver.
     pub level: u32,
     /// The power threshold ε of (2.48) (units of power).
@@ -62,7 +62,7 @@ pub(crate) fn emitted_power(scene: &Scene3) -> f64 {
 }
 
 impl Hierarchy {
-    /// The reference solution of `scene` ([`ReferenceOracle`]): receivers split `level`
+    /// The reference solution of `scene` (`ReferenceOracle`): receivers split `level`
     /// times, links accepted when they carry less than `relative_epsilon` times the
     /// emitted power (`emitted_power`). `opts.min_area` must let a patch be split
     /// `level` times for the mesh to be uniform.
@@ -119,7 +119,7 @@ pub const COMPARISON_RUNS: [(&str, usize); 5] = [
 /// One oracle's mesh at a wanted size, and its error against a reference.
 #[derive(Clone, Debug, PartialEq)]
 pub struct OracleComparison {
-    /// The oracle's name (see [`crate::hierarchy::ORACLE_NAMES`]).
+    /// The oracle's name (a name [`OracleChoice3::new`](crate::hierarchy::OracleChoice3::new) accepts).
     pub oracle: &'static str,
     /// Point pairs per evaluation.
     pub pairs: usize,

@@ -13,7 +13,7 @@ use crate::hierarchy::tree::Hierarchy;
 use crate::scene::Scene3;
 
 /// Most solves per threshold search of [`mc_build_to_target`].
-pub const MAX_MC_TARGET_BUILDS: usize = 40;
+pub(crate) const MAX_MC_TARGET_BUILDS: usize = 40;
 
 /// The Monte Carlo mesh of oracle `name` whose leaf count is nearest `target`, and the
 /// threshold that gave it.
@@ -28,7 +28,7 @@ pub const MAX_MC_TARGET_BUILDS: usize = 40;
 /// # Errors
 /// [`BadParameter`](crate::error::ErrorKind::BadParameter) for `target = 0`; those of
 /// [`McOracle::new`] and [`McHierarchy::solve`].
-pub fn mc_build_to_target(
+pub(crate) fn mc_build_to_target(
     scene: &Scene3,
     name: &str,
     target: usize,
@@ -65,7 +65,7 @@ pub fn mc_build_to_target(
 /// One oracle's Monte Carlo mesh at a wanted size and ray budget, and its error.
 #[derive(Clone, Debug, PartialEq)]
 pub struct McComparison {
-    /// The oracle's name ([`super::MC_ORACLE_NAMES`]).
+    /// The oracle's name (one [`McOracle::new`](super::McOracle::new) accepts).
     pub oracle: &'static str,
     /// Point pairs per oracle evaluation.
     pub pairs: usize,
@@ -90,14 +90,14 @@ pub struct McComparison {
     /// ([`McHierarchy::resolve_frozen`]): the mesh's own error with the noise of the run
     /// removed; `None` when not asked for.
     pub mesh_rms_error: Option<f64>,
-    /// The RMS error over the reference's [`BOUNDARY_FRACTION`] leaves of largest radiosity
-    /// variation ([`boundary_leaves`]): shadow boundaries.
+    /// The RMS error over the reference's `BOUNDARY_FRACTION` leaves of largest radiosity
+    /// variation (`boundary_leaves`): shadow boundaries.
     pub boundary_rms_error: f64,
 }
 
 /// Fraction of the reference's leaves counted as lying on shadow boundaries by
 /// [`boundary_leaves`].
-pub const BOUNDARY_FRACTION: f64 = 0.1;
+pub(crate) const BOUNDARY_FRACTION: f64 = 0.1;
 
 /// The reference's leaves where its radiosity varies most — shadow and penumbra
 /// boundaries, the light's rim, corners: the `fraction` of its leaves (at least one) with
@@ -112,7 +112,7 @@ pub const BOUNDARY_FRACTION: f64 = 0.1;
 /// small cube gets an accurate representation"), which an RMS over the whole area barely
 /// weighs; the RMS over these leaves does.
 #[must_use]
-pub fn boundary_leaves(reference: &Hierarchy, fraction: f64) -> Vec<(Vec<DVec3>, [f64; 3])> {
+pub(crate) fn boundary_leaves(reference: &Hierarchy, fraction: f64) -> Vec<(Vec<DVec3>, [f64; 3])> {
     let vertex = reference.vertex_radiosities();
     let mut scored: Vec<(f64, &crate::hierarchy::Element)> = reference
         .leaves()
@@ -140,12 +140,12 @@ pub fn boundary_leaves(reference: &Hierarchy, fraction: f64) -> Vec<(Vec<DVec3>,
 /// Seed of the frozen re-solves (any seed apart from the runs').
 const FROZEN_SEED: u64 = 0x6672_6f7a;
 
-/// [`mc_build_to_target`] and the mesh's RMS error against `reference`; with
+/// `mc_build_to_target` and the mesh's RMS error against `reference`; with
 /// `frozen_rays > 0` also the error of the same mesh re-solved frozen with that many rays
 /// ([`McComparison::mesh_rms_error`]).
 ///
 /// # Errors
-/// Those of [`mc_build_to_target`], [`McHierarchy::resolve_frozen`] and
+/// Those of `mc_build_to_target`, [`McHierarchy::resolve_frozen`] and
 /// [`McHierarchy::rms_difference`].
 pub fn mc_compare_at_size(
     scene: &Scene3,

@@ -83,11 +83,8 @@ pub enum McOracle {
     MutualInformation(f64),
 }
 
-/// Names [`McOracle::new`] accepts.
-pub const MC_ORACLE_NAMES: [&str; 4] = ["power", "ks", "ks-av", "mi"];
-
 impl McOracle {
-    /// The oracle called `name` (one of [`MC_ORACLE_NAMES`]) with threshold `epsilon`.
+    /// The oracle called `name` (`power`, `ks`, `ks-av` or `mi`) with threshold `epsilon`.
     ///
     /// # Errors
     /// [`ErrorKind::UnknownOracle`] for another name; [`ErrorKind::BadParameter`] for an
@@ -126,7 +123,7 @@ impl McOracle {
 ///
 /// (Hanrahan, Salzman and Aupperle 1991's disc estimate; 0 when either cosine is `≤ 0`).
 #[must_use]
-pub fn cheap_form_factor(c_i: DVec3, n_i: DVec3, c_j: DVec3, n_j: DVec3, a_j: f64) -> f64 {
+pub(crate) fn cheap_form_factor(c_i: DVec3, n_i: DVec3, c_j: DVec3, n_j: DVec3, a_j: f64) -> f64 {
     let d = c_j - c_i;
     let r2 = d.length_squared();
     let r = math::sqrt(r2);
@@ -175,7 +172,7 @@ impl Default for McOptions {
 }
 
 /// Most rays of one solve.
-pub const MAX_MC_RAYS: u64 = 1_000_000_000;
+pub(crate) const MAX_MC_RAYS: u64 = 1_000_000_000;
 
 /// One element of the Monte Carlo hierarchy.
 #[derive(Clone, Debug, PartialEq)]

@@ -108,7 +108,7 @@ fn threshold(pair: &Pair<'_>, value: f64, epsilon: f64) -> Decision {
 ///
 /// with the cheap form factor estimate that ignores visibility (§2.1.12).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PowerOracle {
+pub(crate) struct PowerOracle {
     /// The threshold ε (units of power).
     pub epsilon: f64,
 }
@@ -153,7 +153,7 @@ impl Oracle for PowerOracle {
 /// patches" (§2.1.11) — the `min_area` option. The MI oracle (6.30) weights by `A_i A_j`
 /// instead, which vanishes as the elements shrink.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct KernelSmoothnessOracle {
+pub(crate) struct KernelSmoothnessOracle {
     /// The threshold ε (units of radiosity).
     pub epsilon: f64,
 }
@@ -186,7 +186,7 @@ impl Oracle for KernelSmoothnessOracle {
 /// of the thesis' experiments (§6.4.2). Like (2.49) it does not shrink where elements
 /// touch (see [`KernelSmoothnessOracle`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct KernelAverageOracle {
+pub(crate) struct KernelAverageOracle {
     /// The threshold ε (units of radiosity).
     pub epsilon: f64,
 }
@@ -220,7 +220,7 @@ impl Oracle for KernelAverageOracle {
 /// F_k = F(x_k, y_k) V(x_k, y_k),   F̄ = (1/N) Σ F_k
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MutualInformationOracle {
+pub(crate) struct MutualInformationOracle {
     /// The threshold ε (bits times units of radiosity).
     pub epsilon: f64,
 }
@@ -256,7 +256,7 @@ impl Oracle for MutualInformationOracle {
 /// estimator": it casts up to four rays more. `H` is the element's gathered irradiance
 /// (equal to `(B − E)/ρ` where ρ > 0, and defined where ρ = 0).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MiIncreaseOracle {
+pub(crate) struct MiIncreaseOracle {
     /// ε₁ of step 1 (units of power times radiosity).
     pub epsilon: f64,
     /// ε₂ of step 3: the relative variation of the kernel that justifies a split.
@@ -323,7 +323,7 @@ impl Oracle for MiIncreaseOracle {
 /// leaves gets its own link — the full-matrix solution of the regular mesh, the reference
 /// the adaptive oracles are compared with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct RegularOracle {
+pub(crate) struct RegularOracle {
     /// Splits per patch.
     pub level: u32,
 }

@@ -155,7 +155,7 @@ fn global_line_at(circle: &BoundingCircle, n: DVec2, u1: f64) -> Line2 {
 /// lines of one bundle are correlated (they share `θ` and `u₁`), so a standard error must
 /// treat a bundle as one observation.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GlobalBundle2 {
+pub(crate) struct GlobalBundle2 {
     circle: BoundingCircle,
     /// `n(θ)`, the common normal.
     normal: DVec2,
@@ -181,13 +181,6 @@ impl GlobalBundle2 {
     #[must_use]
     pub fn len(&self) -> u32 {
         self.m
-    }
-
-    /// Always false: a bundle holds at least one line.
-    #[inline]
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        false
     }
 
     /// The common unit normal `n(θ)`; every line's direction is `n^⊥`.
@@ -229,6 +222,7 @@ impl GlobalBundle2 {
     /// [`sample_global_line_2d`]`(circle, [u₀, v_k])`.
     #[inline]
     #[must_use]
+    #[cfg(test)]
     pub fn line(&self, k: u32) -> Line2 {
         global_line_at(
             &self.circle,

@@ -68,7 +68,7 @@ pub const fn chunk_count(n_lines: u64) -> u64 {
 /// ```
 #[inline]
 #[must_use]
-pub const fn chunk_range(n_lines: u64, chunk: u64) -> Range<u64> {
+pub(crate) const fn chunk_range(n_lines: u64, chunk: u64) -> Range<u64> {
     let start = match chunk.checked_mul(CHUNK_LINES) {
         Some(s) if s < n_lines => s,
         _ => return n_lines..n_lines,

@@ -27,9 +27,9 @@
 //!
 //! [`LineMethod::Bundle`] casts the same global lines in sheaves: `SHEAF_BUNDLES`
 //! equally spaced directions under one uniform rotation, `BUNDLE_LINES` evenly spaced
-//! parallel lines per direction under one uniform shift ([`GlobalBundle2`]). Each line is
+//! parallel lines per direction under one uniform shift (`GlobalBundle2`). Each line is
 //! tallied exactly as an independent global line and the sums keep their expectations;
-//! the hits come from a sweep ([`ParallelSweep2`]) instead of a tree query per line, and each
+//! the hits come from a sweep (`ParallelSweep2`) instead of a tree query per line, and each
 //! sheaf is one observation of the standard error.
 //!
 //! # Determinism

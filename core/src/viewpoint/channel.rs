@@ -19,7 +19,7 @@ pub const DEFAULT_RESOLUTION: u32 = 512;
 /// Default viewpoint distance from the scene's centre, in bounding radii.
 pub const DEFAULT_DISTANCE: f64 = 3.0;
 /// Largest `views × patches` of a channel (its dense matrix of `f64`: 512 MiB).
-pub const MAX_CHANNEL_ENTRIES: u64 = 1 << 26;
+pub(crate) const MAX_CHANNEL_ENTRIES: u64 = 1 << 26;
 
 /// How the viewpoints are weighted, `p(v)`.
 ///
@@ -79,7 +79,7 @@ impl<'s> ViewpointJob<'s> {
     /// # Errors
     /// The errors of [`ViewSphere::with_count`] and [`IdRaster::new`];
     /// [`ErrorKind::BadParameter`] for a distance not above 1; [`ErrorKind::TooLarge`] when
-    /// `views × patches` exceeds [`MAX_CHANNEL_ENTRIES`].
+    /// `views × patches` exceeds `MAX_CHANNEL_ENTRIES`.
     pub fn new(scene: &'s Scene3, options: ViewpointOptions) -> Result<Self> {
         let sphere = ViewSphere::with_count(options.views)?;
         IdRaster::new(options.resolution)?;
@@ -737,10 +737,10 @@ fn weighted_js(w1: f64, p: &[f64], w2: f64, q: &[f64]) -> f64 {
 /// Most patches linked through one vertex position by [`patch_neighbours`]; the patches
 /// met after these at a vertex (a fan of thousands of triangles) are not its neighbours
 /// there, so the cost stays `O(MAX_VALENCE²)` per vertex.
-pub const MAX_VALENCE: usize = 64;
+pub(crate) const MAX_VALENCE: usize = 64;
 
 /// The neighbours of every patch: the patches sharing a vertex position with it (bit-equal
-/// coordinates; the first [`MAX_VALENCE`] patches at each vertex), ascending, itself
+/// coordinates; the first `MAX_VALENCE` patches at each vertex), ascending, itself
 /// excluded.
 #[must_use]
 pub fn patch_neighbours(scene: &Scene3) -> Vec<Vec<u32>> {

@@ -6,6 +6,7 @@ use alloc::vec::Vec;
 
 use proptest::prelude::*;
 
+use super::sphere::MAX_VIEW_LEVEL;
 use super::*;
 use crate::geom::DVec3;
 use crate::scene::{Scene3, Subdivision};
