@@ -20,7 +20,12 @@ use std::time::{Duration, Instant};
 use sceneinfo::tally::{LineMethod, LineTally, LineTracer};
 use sceneinfo::{ChunkWork, ChunksDone, Executor};
 
-pub use sceneinfo::{AUTO_MAX_LINES, AUTO_START_LINES, LineBudget};
+pub use sceneinfo::LineBudget;
+
+/// The most lines `--lines auto` doubles to by default.
+pub const AUTO_MAX_LINES: u64 = LineBudget::AUTO_MAX_LINES;
+/// Where `--lines auto` starts.
+pub const AUTO_START_LINES: u64 = LineBudget::AUTO_START_LINES;
 
 /// The executor of the CLI's line jobs: `threads` worker threads, chunks handed out in
 /// increasing order, a progress bar on a terminal, and Ctrl-C (no new chunk starts after

@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use anyhow::Result;
 use sceneinfo::continuous::relative_discretisation_error;
-use sceneinfo::{Coverage, FEW_STDERR_GROUPS, FormFactors, LineRunInfo, LoadReport, Measurement};
+use sceneinfo::{Coverage, FormFactors, LineRunInfo, LoadReport, Measurement};
 use sceneinfo_report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport, UnsampledReport};
 
 use crate::interrupt::Interrupted;
@@ -295,7 +295,7 @@ fn continuous_lines(s: &mut String, mc: &LineRunInfo) {
         "I_S^c (4.8, 4.13)     {:.6} ± {:.6} bits (1 standard error, from {} independent groups)",
         mc.continuous.value, mc.continuous.stderr, mc.continuous.groups
     );
-    if mc.continuous.groups < FEW_STDERR_GROUPS {
+    if mc.continuous.groups < sceneinfo::Warning::FEW_STDERR_GROUPS {
         let _ = writeln!(
             s,
             "WARNING               the standard error rests on {} observations only: \

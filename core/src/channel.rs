@@ -59,7 +59,7 @@ mod measures;
 mod proptests;
 
 #[cfg(feature = "alloc")]
-pub use bounces::{LongRange, MAX_BOUNCES, long_range_information};
+pub use bounces::{LongRange, long_range_information};
 pub use checks::Checks;
 #[cfg(feature = "alloc")]
 pub use csr_buf::CsrMatrixBuf;

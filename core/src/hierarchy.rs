@@ -58,9 +58,9 @@ mod visibility;
 
 pub use choice::OracleChoice3;
 #[cfg(feature = "alloc")]
-pub use compare::{COMPARISON_RUNS, OracleComparison, compare_at_size};
+pub use compare::{OracleComparison, compare_at_size};
 pub use element::Polygon4;
-pub use kernel::{KernelSamples, MAX_PAIRS, Surface, Visibility};
+pub use kernel::{KernelSamples, Surface, Visibility};
 #[cfg(feature = "alloc")]
 pub use mc_compare::{McComparison, mc_compare_at_size, mean_spread};
 #[cfg(feature = "alloc")]

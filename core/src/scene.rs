@@ -13,7 +13,8 @@
 mod material;
 pub use material::Material;
 mod frame;
-pub use frame::{Frame, SAFE_EXTENT_EXPONENT};
+pub use frame::Frame;
+pub(crate) use frame::SAFE_EXTENT_EXPONENT;
 
 #[cfg(feature = "alloc")]
 mod catalogue;
@@ -40,7 +41,7 @@ pub use presets3d::{Preset3Entry, SIXTY_FOUR_CUBES_STEPS, preset_3d, presets_3d}
 #[cfg(feature = "alloc")]
 pub(crate) use scene2::MAX_PATCHES_PER_SURFACE;
 #[cfg(feature = "alloc")]
-pub use scene2::{MAX_PATCHES, Scene2};
+pub use scene2::Scene2;
 #[cfg(feature = "alloc")]
 pub use scene2::{Patch2, Scene2Builder, Surface2};
 #[cfg(feature = "alloc")]

@@ -18,7 +18,8 @@ pub mod coverage;
 pub mod memory;
 pub(crate) mod pair_blocks;
 
-pub use counts::{DENSE_COUNT_LIMIT, DENSE_PAIR_LIMIT};
+pub(crate) use counts::DENSE_COUNT_LIMIT;
+pub(crate) use counts::DENSE_PAIR_LIMIT;
 
 use alloc::boxed::Box;
 use alloc::vec;
@@ -86,7 +87,7 @@ impl LineMethod {
 
 /// The reason of [`ErrorKind::UnsupportedMethod`] for a method a tracer does not
 /// [`LineTracer::supports`].
-pub const UNSUPPORTED_BY_TRACER: &str = "this kind of scene cannot cast them";
+pub(crate) const UNSUPPORTED_BY_TRACER: &str = "this kind of scene cannot cast them";
 
 /// A scene prepared for line casting.
 pub trait LineTracer {
@@ -208,7 +209,7 @@ pub struct LineEstimate {
     /// Per-patch `I_i^c` (6.37); they sum to `I_S^c`.
     pub patch_continuous: Vec<f64>,
     /// Per-pair `I_ij^c` (6.35, 6.36), row-major `n × n`, kept for scenes of at most
-    /// [`crate::tally::DENSE_PAIR_LIMIT`] patches.
+    /// `crate::tally::DENSE_PAIR_LIMIT` patches.
     pub pair_continuous: Option<Vec<f64>>,
     /// Lines cast.
     pub lines: u64,
@@ -217,6 +218,15 @@ pub struct LineEstimate {
 }
 
 impl LineTally {
+    /// The reason of [`ErrorKind::UnsupportedMethod`] for a method a tracer does not
+    /// [`LineTracer::supports`].
+    pub const UNSUPPORTED_BY_TRACER: &str = UNSUPPORTED_BY_TRACER;
+
+    /// Largest patch count for which the counts `C_ij` are kept dense (`u32`, `n(n+1)/2 × 4`
+    /// bytes ≤ 64 MiB per global-line tally, `n² × 4` ≤ 128 MiB for local lines): faster than
+    /// sparse and, for scenes where most pairs see each other (a subdivided cube), smaller too.
+    pub const DENSE_COUNT_LIMIT: usize = DENSE_COUNT_LIMIT;
+
     /// An empty tally over `n` patches.
     #[must_use]
     pub fn new(n: usize, method: LineMethod) -> Self {
@@ -417,7 +427,7 @@ impl LineTally {
     }
 
     /// Memory of the pair counts `C_ij`: `(heap bytes, pairs with a count or
-    /// information)`. Sparse counts (more than [`crate::tally::DENSE_COUNT_LIMIT`]
+    /// information)`. Sparse counts (more than `crate::tally::DENSE_COUNT_LIMIT`
     /// patches) take 16 bytes per stored pair once merged, plus the pending buffer: 16 per
     /// non-zero pair for local lines, 8 for global lines (whose counts are symmetric and
     /// stored once per unordered pair).

@@ -81,9 +81,8 @@ mod sphere;
 mod tests;
 
 pub use channel::{
-    DEFAULT_DISTANCE, DEFAULT_RESOLUTION, DEFAULT_VIEWS, ViewWeighting, ViewpointChannel,
-    ViewpointJob, ViewpointOptions, patch_neighbours,
+    ViewWeighting, ViewpointChannel, ViewpointJob, ViewpointOptions, patch_neighbours,
 };
 pub use exact::convex_orthographic_areas;
-pub use raster::{IdRaster, MAX_RESOLUTION, Projection, ViewTotals, bounding_sphere};
+pub use raster::{IdRaster, Projection, ViewTotals, bounding_sphere};
 pub use sphere::ViewSphere;

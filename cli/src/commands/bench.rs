@@ -544,7 +544,8 @@ fn table(r: &Report, budget: f64) -> String {
         );
     }
     for m in r.mc {
-        let per_pair = if m.pairs > 0 && m.patches > sceneinfo::tally::DENSE_COUNT_LIMIT {
+        let per_pair = if m.pairs > 0 && m.patches > sceneinfo::tally::LineTally::DENSE_COUNT_LIMIT
+        {
             format!("{:.1}", m.count_bytes as f64 / m.pairs as f64)
         } else {
             "dense".to_string()

@@ -8,8 +8,9 @@ use std::time::Instant;
 
 use anyhow::Result;
 use sceneinfo::LineJob;
+use sceneinfo::LineSession;
 use sceneinfo::io::partial::fingerprint;
-use sceneinfo::lines::{CHUNK_LINES, chunk_count};
+use sceneinfo::lines::chunk_count;
 use sceneinfo_report::JsonObject;
 
 use crate::args::{LinesArg, MeasureArgs};
@@ -67,7 +68,7 @@ fn write_partial(args: &MeasureArgs, out: &Path) -> Result<()> {
             "--chunks {}..{}: a job of {lines} lines has chunks 0..{total} ({} lines each)",
             chunks.start,
             chunks.end,
-            CHUNK_LINES
+            LineSession::CHUNK_LINES
         );
     }
     let bytes = crate::formats::read_capped(path)?;

@@ -366,7 +366,7 @@ fn saliency_png(
     crate::png::encode_rgb(size, size, &rgb).ok_or_else(|| {
         sceneinfo::ErrorKind::TooLarge {
             what: "picture",
-            max: u64::from(sceneinfo::viewpoint::MAX_RESOLUTION),
+            max: u64::from(sceneinfo::viewpoint::IdRaster::MAX_RESOLUTION),
         }
         .into()
     })

@@ -10,10 +10,10 @@ use crate::tally::memory;
 
 /// Where [`LineBudget::UntilSampled`] starts by default: 2¹⁷ lines, two seeded chunks, a
 /// whole number of chunks so that every doubling reuses the lines cast.
-pub const AUTO_START_LINES: u64 = 2 * CHUNK_LINES;
+pub(crate) const AUTO_START_LINES: u64 = 2 * CHUNK_LINES;
 
 /// The most lines [`LineBudget::UntilSampled`] doubles to by default: 2³⁰ (about 10⁹).
-pub const AUTO_MAX_LINES: u64 = 1 << 30;
+pub(crate) const AUTO_MAX_LINES: u64 = 1 << 30;
 
 /// A line job's budget.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -32,7 +32,14 @@ pub enum LineBudget {
 }
 
 impl LineBudget {
-    /// [`LineBudget::UntilSampled`] from [`AUTO_START_LINES`] to `max`.
+    /// The most lines [`LineBudget::UntilSampled`] doubles to by default: 2³⁰ (about 10⁹).
+    pub const AUTO_MAX_LINES: u64 = AUTO_MAX_LINES;
+
+    /// Where [`LineBudget::UntilSampled`] starts by default: 2¹⁷ lines, two seeded chunks, a
+    /// whole number of chunks so that every doubling reuses the lines cast.
+    pub const AUTO_START_LINES: u64 = AUTO_START_LINES;
+
+    /// [`LineBudget::UntilSampled`] from `AUTO_START_LINES` to `max`.
     #[must_use]
     pub const fn until_sampled(max: u64) -> Self {
         Self::UntilSampled {
@@ -51,7 +58,7 @@ impl LineBudget {
     }
 
     /// Checks the counts against the core's cap ([`check_line_budget`]: 1 to
-    /// [`crate::lines::MAX_LINES`]).
+    /// 2⁵³).
     ///
     /// # Errors
     /// [`ErrorKind::NoLines`] or [`ErrorKind::TooLarge`] for a fixed count, a `start` or a

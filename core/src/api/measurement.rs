@@ -248,7 +248,7 @@ impl Measurement {
     }
 
     /// Per-pair `I_ij^c` (6.35, 6.36), row-major `n × n`, for a line job on at most
-    /// [`crate::tally::DENSE_PAIR_LIMIT`] patches that reached every patch.
+    /// `crate::tally::DENSE_PAIR_LIMIT` patches that reached every patch.
     #[must_use]
     pub fn pair_continuous(&self) -> Option<&[f64]> {
         self.pair_continuous.as_deref()

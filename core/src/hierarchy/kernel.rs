@@ -10,7 +10,7 @@ use crate::lines::{canonical_2d, sample_polygon_point};
 use crate::math;
 
 /// Most point pairs one oracle evaluation may draw.
-pub const MAX_PAIRS: usize = 64;
+pub(crate) const MAX_PAIRS: usize = 64;
 
 /// The point-to-point form factor kernel between `x` (normal `n_x`) and `y` (normal `n_y`),
 /// without visibility:
@@ -113,7 +113,7 @@ pub struct KernelSamples {
 }
 
 impl KernelSamples {
-    /// Draws `n` pairs (clamped to `1..=`[`MAX_PAIRS`]) from `rng`: per pair, a uniform point
+    /// Draws `n` pairs (clamped to `1..=``MAX_PAIRS`) from `rng`: per pair, a uniform point
     /// of the receiver then one of the source (`sample_polygon_point`), and, when the
     /// unoccluded kernel is positive, one visibility test. Needs no allocator.
     pub fn draw<R: Rng + ?Sized, V: Visibility + ?Sized>(

@@ -144,7 +144,7 @@ pub struct McOptions {
     /// Rays of the radiosity computation `R` (the thesis' captions: 19,472 and 116,780 for
     /// Fig. 6.6, 19,458 for Fig. 6.9). At least 1, at most 10⁹.
     pub rays: u64,
-    /// Point pairs (and rays) per oracle evaluation, `1..=`[`MAX_PAIRS`] (10; 4 in Figs.
+    /// Point pairs (and rays) per oracle evaluation, `1..=``MAX_PAIRS` (10; 4 in Figs.
     /// 6.9–6.10).
     pub pairs: usize,
     /// Seed of every random stream.

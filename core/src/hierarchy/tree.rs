@@ -133,7 +133,7 @@ pub enum Budget {
 /// Budgets and stopping rules of [`Hierarchy::build`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HrOptions {
-    /// Point pairs per oracle evaluation, `1..=`[`MAX_PAIRS`] (the thesis: 10, and 4 for the
+    /// Point pairs per oracle evaluation, `1..=``MAX_PAIRS` (the thesis: 10, and 4 for the
     /// robustness experiment of Figures 6.9–6.10).
     pub pairs: usize,
     /// Seed of the pairs' random streams.
@@ -177,6 +177,9 @@ impl Default for HrOptions {
 }
 
 impl HrOptions {
+    /// Most point pairs one oracle evaluation may draw.
+    pub const MAX_PAIRS: usize = MAX_PAIRS;
+
     fn validate(&self) -> Result<()> {
         let bad = |name, value| Err(ErrorKind::BadParameter { name, value }.into());
         if !(1..=MAX_PAIRS).contains(&self.pairs) {

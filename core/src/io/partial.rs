@@ -33,7 +33,7 @@
 //!
 //! Counts are stored sparsely whatever the in-memory layout: 16 bytes per non-zero pair
 //! (32 with the per-pair information of scenes of at most
-//! [`crate::tally::DENSE_PAIR_LIMIT`] patches).
+//! `crate::tally::DENSE_PAIR_LIMIT` patches).
 
 use alloc::vec::Vec;
 use core::ops::Range;

@@ -5,14 +5,14 @@ use crate::error::{ErrorKind, Result};
 /// Most lines one job may cast: 2⁵³, so every line count (and every count of hits, which
 /// the estimators divide by) is an exact `f64`. At ten million lines a second that is 28
 /// years of work; a larger budget is a typo, refused before anything runs.
-pub const MAX_LINES: u64 = 1 << 53;
+pub(crate) const MAX_LINES: u64 = 1 << 53;
 
 /// Checks a line budget `n_lines` before a job starts.
 ///
 /// # Errors
 ///
 /// [`ErrorKind::NoLines`] for `0`; [`ErrorKind::TooLarge`] (`"line budget"`, cap
-/// [`MAX_LINES`]) above the cap.
+/// `MAX_LINES`) above the cap.
 ///
 /// # Examples
 ///

@@ -11,7 +11,7 @@ use rand_core::Rng;
 use rand_pcg::Pcg64;
 
 /// Lines per seeded chunk: the unit of work (and of reproducibility) of a line job.
-pub const CHUNK_LINES: u64 = 1 << 16;
+pub(crate) const CHUNK_LINES: u64 = 1 << 16;
 
 /// SplitMix64's finaliser (Steele, Lea & Flood 2014): a bijection of `u64` that spreads
 /// every input bit over every output bit.

@@ -39,7 +39,7 @@ use crate::error::{ErrorKind, Result};
 use crate::scene::{Material, Scene2, Scene3};
 
 /// The colour channels' names, in order.
-pub const CHANNEL_NAMES: [&str; 3] = ["red", "green", "blue"];
+pub(crate) const CHANNEL_NAMES: [&str; 3] = ["red", "green", "blue"];
 
 /// A solved scene: radiosity per state and colour, and each channel's solve report.
 #[derive(Clone, Debug, PartialEq)]
@@ -51,6 +51,9 @@ pub struct RgbSolution {
 }
 
 impl RgbSolution {
+    /// The colour channels' names, in order.
+    pub const CHANNEL_NAMES: [&str; 3] = CHANNEL_NAMES;
+
     /// The radiosities of one channel (0 = R, 1 = G, 2 = B; others read as blue).
     #[must_use]
     pub fn channel(&self, c: usize) -> Vec<f64> {

@@ -220,7 +220,7 @@ pub fn radiosity_error_lines(
 ///
 /// # Errors
 /// [`ErrorKind::TooLarge`] when the estimate kept no per-pair tally (more than
-/// [`crate::tally::DENSE_PAIR_LIMIT`] patches); [`ErrorKind::BufferTooSmall`] when
+/// `crate::tally::DENSE_PAIR_LIMIT` patches); [`ErrorKind::BufferTooSmall`] when
 /// `out` is shorter than `n²`; the channel's errors.
 #[cfg(feature = "alloc")]
 pub fn visibility_errors_from_lines(estimate: &LineEstimate, out: &mut [f64]) -> Result<f64> {

@@ -12,7 +12,7 @@ use crate::scene::{Frame, Material};
 pub(crate) const MAX_PATCHES_PER_SURFACE: u64 = 1_000_000;
 
 /// Most patches a flatland scene may hold (a cap checked before allocating).
-pub const MAX_PATCHES: usize = 4_000_000;
+pub(crate) const MAX_PATCHES: usize = 4_000_000;
 
 /// A surface: one segment of the scene as drawn, the unit of occlusion.
 #[derive(Clone, Debug, PartialEq)]

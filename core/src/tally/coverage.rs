@@ -45,7 +45,7 @@
 //! `1 − U(M)`. The suggestion is the smallest `M` with `U(M) ≤ 1/10` (about
 //! `ln(10 m) / p_min` when `m` patches share the smallest `p`), found by bisection on
 //! `[0, ln(10 n) / p_min]` (where `U ≤ n·exp(−ln(10 n)) = 1/10`), rounded up to whole
-//! chunks of [`CHUNK_LINES`] and never below twice the lines cast, so that a run unlucky
+//! chunks of `CHUNK_LINES` and never below twice the lines cast, so that a run unlucky
 //! with one patch is told to cast more rather than the same.
 
 use crate::lines::CHUNK_LINES;

@@ -2,7 +2,7 @@
 //! refuse a job that would not fit (`sceneinfo measure --max-memory`).
 //!
 //! The estimates count the large allocations only — the `n²` tables — and are lower bounds:
-//! sparse tables (more than [`DENSE_COUNT_LIMIT`] patches) grow with the pairs that see each
+//! sparse tables (more than `DENSE_COUNT_LIMIT` patches) grow with the pairs that see each
 //! other, which is unknown until the lines are cast, and count as nothing here.
 
 use super::{DENSE_COUNT_LIMIT, DENSE_PAIR_LIMIT};

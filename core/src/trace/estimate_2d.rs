@@ -34,7 +34,7 @@
 //!
 //! # Determinism
 //!
-//! `N` lines are cut into chunks of [`crate::lines::CHUNK_LINES`]; chunk `k` draws from its
+//! `N` lines are cut into chunks of `crate::lines::CHUNK_LINES`; chunk `k` draws from its
 //! own stream [`chunk_rng`]`(seed, k)`. Tallies are integers and 64.64 fixed-point sums, so merging the
 //! chunks' tallies in any order — on any number of threads — gives bit-identical results.
 

@@ -22,7 +22,7 @@
 //!
 //! Setting up the scene's items (sheets and loose polygons, `n` of them) costs `O(n)` per
 //! bundle, so a bundle holds about `bundle_lines_3d``(n)` lines, proportional to `n`
-//! within bounds. A chunk of `L` lines (at most [`crate::lines::CHUNK_LINES`]) casts a
+//! within bounds. A chunk of `L` lines (at most `crate::lines::CHUNK_LINES`) casts a
 //! fixed number of bundles, `B = max(1, round(L / bundle_lines_3d(n)))`, each of expected
 //! size `L / B`: the number of bundles does not depend on what they meet or on their
 //! shifts, and every bundle is cast whatever its size. So every sum over the chunk's lines

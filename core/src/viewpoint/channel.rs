@@ -13,11 +13,11 @@ use crate::scene::Scene3;
 use crate::{ErrorKind, Result};
 
 /// Default number of viewpoints (the icosphere of level 3, as in Feixas et al. 2009).
-pub const DEFAULT_VIEWS: usize = 642;
+pub(crate) const DEFAULT_VIEWS: usize = 642;
 /// Default image side in pixels.
-pub const DEFAULT_RESOLUTION: u32 = 512;
+pub(crate) const DEFAULT_RESOLUTION: u32 = 512;
 /// Default viewpoint distance from the scene's centre, in bounding radii.
-pub const DEFAULT_DISTANCE: f64 = 3.0;
+pub(crate) const DEFAULT_DISTANCE: f64 = 3.0;
 /// Largest `views × patches` of a channel (its dense matrix of `f64`: 512 MiB).
 pub(crate) const MAX_CHANNEL_ENTRIES: u64 = 1 << 26;
 
@@ -778,4 +778,14 @@ pub fn patch_neighbours(scene: &Scene3) -> Vec<Vec<u32>> {
         l.dedup();
     }
     out
+}
+impl ViewpointOptions {
+    /// Default viewpoint distance from the scene's centre, in bounding radii.
+    pub const DEFAULT_DISTANCE: f64 = DEFAULT_DISTANCE;
+
+    /// Default image side in pixels.
+    pub const DEFAULT_RESOLUTION: u32 = DEFAULT_RESOLUTION;
+
+    /// Default number of viewpoints (the icosphere of level 3, as in Feixas et al. 2009).
+    pub const DEFAULT_VIEWS: usize = DEFAULT_VIEWS;
 }

@@ -48,7 +48,7 @@ use crate::scene::Scene3;
 use crate::{ErrorKind, Result};
 
 /// Largest image side in pixels (a square image; the sphere projection has six).
-pub const MAX_RESOLUTION: u32 = 2048;
+pub(crate) const MAX_RESOLUTION: u32 = 2048;
 
 /// Distance of the near clipping plane of a pinhole camera, relative to the scene's
 /// bounding radius.
@@ -195,10 +195,13 @@ pub struct IdRaster {
 }
 
 impl IdRaster {
+    /// Largest image side in pixels (a square image; the sphere projection has six).
+    pub const MAX_RESOLUTION: u32 = MAX_RESOLUTION;
+
     /// A rasteriser of `resolution × resolution` pixels.
     ///
     /// # Errors
-    /// [`ErrorKind::TooLarge`] for a resolution of 0 or above [`MAX_RESOLUTION`].
+    /// [`ErrorKind::TooLarge`] for a resolution of 0 or above `MAX_RESOLUTION`.
     pub fn new(resolution: u32) -> Result<Self> {
         if resolution == 0 || resolution > MAX_RESOLUTION {
             return Err(ErrorKind::TooLarge {

@@ -6,6 +6,7 @@ use alloc::vec::Vec;
 
 use proptest::prelude::*;
 
+use super::raster::MAX_RESOLUTION;
 use super::sphere::MAX_VIEW_LEVEL;
 use super::*;
 use crate::geom::DVec3;

@@ -12,7 +12,7 @@ use std::sync::Mutex;
 
 use anyhow::{Result, anyhow};
 use sceneinfo::hierarchy::{
-    Hierarchy, HrOptions, MAX_PAIRS, McComparison, McOptions, mc_compare_at_size, mean_spread,
+    Hierarchy, HrOptions, McComparison, McOptions, mc_compare_at_size, mean_spread,
 };
 use sceneinfo::scene::Scene3;
 
@@ -139,7 +139,7 @@ pub(super) fn figures_6_6_and_6_9_monte_carlo(runner: &Runner) -> Result<Table> 
         REFERENCE_LEVEL,
         REFERENCE_EPSILON,
         &HrOptions {
-            pairs: MAX_PAIRS,
+            pairs: HrOptions::MAX_PAIRS,
             seed: runner.seed,
             ..HrOptions::default()
         },
@@ -151,7 +151,7 @@ pub(super) fn figures_6_6_and_6_9_monte_carlo(runner: &Runner) -> Result<Table> 
         REFERENCE_LEVEL - 1,
         REFERENCE_EPSILON,
         &HrOptions {
-            pairs: MAX_PAIRS,
+            pairs: HrOptions::MAX_PAIRS,
             seed: runner.seed,
             ..HrOptions::default()
         },
@@ -291,12 +291,13 @@ pub(super) fn figures_6_6_and_6_9_monte_carlo(runner: &Runner) -> Result<Table> 
             "Figs. 6.6 and 6.9 by the thesis' protocol: Cornell box, hierarchical Monte Carlo \
              radiosity (stochastic Jacobi, per-ray refinement), the captions' leaves and \
              radiosity rays, {SEEDS} seeds (± = standard deviation over seeds); RMS radiosity \
-             error against the reference (receivers split {REFERENCE_LEVEL}x, {MAX_PAIRS} \
+             error against the reference (receivers split {REFERENCE_LEVEL}x, {} \
              pairs); mesh RMS: the same mesh re-solved frozen with {FROZEN_RAYS} rays (its \
              error without the run's noise); boundary RMS: over the 10 % of the reference's leaves \
              where its Gouraud vertex values differ most from the leaf's (shadow \
              boundaries); MI lower/higher/level: seed means apart by more \
-             than 2 standard errors"
+             than 2 standard errors",
+            HrOptions::MAX_PAIRS
         ),
         rows,
     })

@@ -38,7 +38,7 @@ use crate::math::{self, FixedSum};
 use crate::tally::LineMethod;
 
 /// Largest patch count of a `PairMoments` tally (84 MB).
-pub const PAIR_MOMENT_LIMIT: usize = 2048;
+pub(crate) const PAIR_MOMENT_LIMIT: usize = 2048;
 
 /// Per-pair moments of the visibility terms of line samples (see the module docs).
 #[derive(Clone, Debug, PartialEq)]
