@@ -246,9 +246,9 @@ pub fn flat_profile(
     seed: u64,
     threads: usize,
 ) -> sceneinfo::Result<sceneinfo::refine::profile::InformationProfile> {
-    let fine = sceneinfo::refine::profile::fine_scene(
+    let fine = sceneinfo::refine::profile::InformationProfile::fine_scene(
         scene,
-        sceneinfo::refine::profile::cells_per_patch(scene.n_patches()),
+        sceneinfo::refine::profile::InformationProfile::cells_per_patch(scene.n_patches()),
     )?;
     let tracer = sceneinfo::trace::estimate_2d::Tracer2::new(&fine)?;
     let tally = run(

@@ -58,11 +58,11 @@ mod visibility;
 
 pub use choice::OracleChoice3;
 #[cfg(feature = "alloc")]
-pub use compare::{OracleComparison, compare_at_size};
+pub use compare::OracleComparison;
 pub use element::Polygon4;
 pub use kernel::{KernelSamples, Surface, Visibility};
 #[cfg(feature = "alloc")]
-pub use mc_compare::{McComparison, mc_compare_at_size, mean_spread};
+pub use mc_compare::McComparison;
 #[cfg(feature = "alloc")]
 pub use monte_carlo::{McElement, McHierarchy, McOptions, McOracle};
 pub use oracle::{Decision, Oracle, Pair, Side};

@@ -27,7 +27,7 @@
 //! KS degrades while MI keeps its quality — is not seen: both degrade alike, by as much as
 //! the seed-to-seed spread.
 
-use sceneinfo::hierarchy::{Hierarchy, HrOptions, OracleComparison, compare_at_size};
+use sceneinfo::hierarchy::{Hierarchy, HrOptions, OracleComparison};
 use sceneinfo::scene::Scene3;
 
 fn cornell() -> Scene3 {
@@ -56,7 +56,7 @@ fn run(
         seed: 2,
         ..HrOptions::default()
     };
-    let c = compare_at_size(&cornell(), reference, oracle, target, &opts).unwrap();
+    let c = OracleComparison::at_size(&cornell(), reference, oracle, target, &opts).unwrap();
     // Matched sizes: the threshold search lands within 6 % of the target (KS-av's count
     // jumps as whole junctions refine at once: 1906 for 2000 with 4 pairs).
     assert!(c.leaves.abs_diff(target) * 100 <= 6 * target, "{c:?}");

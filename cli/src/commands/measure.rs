@@ -9,7 +9,7 @@ use std::time::Instant;
 use anyhow::Result;
 use sceneinfo::LineJob;
 use sceneinfo::LineSession;
-use sceneinfo::io::partial::fingerprint;
+use sceneinfo::io::partial::Partial;
 use sceneinfo::lines::chunk_count;
 use sceneinfo_report::JsonObject;
 
@@ -80,7 +80,8 @@ fn write_partial(args: &MeasureArgs, out: &Path) -> Result<()> {
         .with_chunks(chunks);
     let mut executor = Threads::new(threads_of(sampling));
     let mut partial =
-        sceneinfo::measure_partial(&scene, fingerprint(&bytes), &job, &mut executor).map_err(at)?;
+        sceneinfo::measure_partial(&scene, Partial::fingerprint(&bytes), &job, &mut executor)
+            .map_err(at)?;
     let cast = partial.tally.lines();
     let seconds = start.elapsed().as_secs_f64();
     partial.seconds = seconds;

@@ -135,12 +135,8 @@ pub struct OracleComparison {
     pub rms_error: f64,
 }
 
-/// Builds the mesh of oracle `name` nearest `target` leaves ([`Hierarchy::build_to_target`])
-/// and measures its RMS error against `reference`.
-///
-/// # Errors
-/// Those of [`Hierarchy::build_to_target`] and [`Hierarchy::rms_against`].
-pub fn compare_at_size(
+/// [`OracleComparison::at_size`].
+pub(crate) fn compare_at_size(
     scene: &Scene3,
     reference: &Hierarchy,
     name: &'static str,
@@ -159,6 +155,21 @@ pub fn compare_at_size(
     })
 }
 impl OracleComparison {
+    /// Builds the mesh of oracle `name` nearest `target` leaves ([`Hierarchy::build_to_target`])
+    /// and measures its RMS error against `reference`.
+    ///
+    /// # Errors
+    /// Those of [`Hierarchy::build_to_target`] and [`Hierarchy::rms_against`].
+    pub fn at_size(
+        scene: &Scene3,
+        reference: &Hierarchy,
+        name: &'static str,
+        target: usize,
+        opts: &HrOptions,
+    ) -> Result<OracleComparison> {
+        compare_at_size(scene, reference, name, target, opts)
+    }
+
     /// The runs of Figures 6.6 and 6.9, as `(oracle, point pairs per evaluation)`: the
     /// power-based (2.48), KS-based (2.50) and MI-based (6.30) oracles with 10 pairs, then the
     /// KS- and MI-based ones with 4 (the robustness experiment).

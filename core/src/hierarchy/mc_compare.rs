@@ -140,14 +140,8 @@ pub(crate) fn boundary_leaves(reference: &Hierarchy, fraction: f64) -> Vec<(Vec<
 /// Seed of the frozen re-solves (any seed apart from the runs').
 const FROZEN_SEED: u64 = 0x6672_6f7a;
 
-/// `mc_build_to_target` and the mesh's RMS error against `reference`; with
-/// `frozen_rays > 0` also the error of the same mesh re-solved frozen with that many rays
-/// ([`McComparison::mesh_rms_error`]).
-///
-/// # Errors
-/// Those of `mc_build_to_target`, [`McHierarchy::resolve_frozen`] and
-/// [`McHierarchy::rms_difference`].
-pub fn mc_compare_at_size(
+/// [`McComparison::at_size`].
+pub(crate) fn mc_compare_at_size(
     scene: &Scene3,
     reference: &Hierarchy,
     name: &'static str,
@@ -186,9 +180,8 @@ pub fn mc_compare_at_size(
     })
 }
 
-/// Mean and sample standard deviation of `x` (0 for one value).
-#[must_use]
-pub fn mean_spread(x: &[f64]) -> (f64, f64) {
+/// [`McComparison::mean_spread`].
+pub(crate) fn mean_spread(x: &[f64]) -> (f64, f64) {
     let n = x.len() as f64;
     if x.is_empty() {
         return (0.0, 0.0);
@@ -373,5 +366,30 @@ mod tests {
                 std::println!("{line} {:?}", t.elapsed());
             }
         }
+    }
+}
+impl McComparison {
+    /// Mean and sample standard deviation of `x` (0 for one value).
+    #[must_use]
+    pub fn mean_spread(x: &[f64]) -> (f64, f64) {
+        mean_spread(x)
+    }
+
+    /// `mc_build_to_target` and the mesh's RMS error against `reference`; with
+    /// `frozen_rays > 0` also the error of the same mesh re-solved frozen with that many rays
+    /// ([`McComparison::mesh_rms_error`]).
+    ///
+    /// # Errors
+    /// Those of `mc_build_to_target`, [`McHierarchy::resolve_frozen`] and
+    /// [`McHierarchy::rms_difference`].
+    pub fn at_size(
+        scene: &Scene3,
+        reference: &Hierarchy,
+        name: &'static str,
+        target: usize,
+        opts: &McOptions,
+        frozen_rays: u64,
+    ) -> Result<McComparison> {
+        mc_compare_at_size(scene, reference, name, target, opts, frozen_rays)
     }
 }

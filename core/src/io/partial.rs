@@ -81,10 +81,8 @@ pub struct Partial {
     pub tally: LineTally,
 }
 
-/// A 64-bit fingerprint of `bytes` (the word hash of the file checksum): equal inputs give
-/// equal fingerprints; any change of one 8-byte word changes it.
-#[must_use]
-pub fn fingerprint(bytes: &[u8]) -> u64 {
+/// [`Partial::fingerprint`].
+pub(crate) fn fingerprint(bytes: &[u8]) -> u64 {
     checksum(bytes)
 }
 
@@ -112,6 +110,24 @@ fn checksum(bytes: &[u8]) -> u64 {
 }
 
 impl Partial {
+    /// Merges the partials of one job into one (exact: any order gives the same bits).
+    ///
+    /// # Errors
+    /// [`ErrorKind::NoLines`] for an empty list; [`ErrorKind::PartialMismatch`] when two
+    /// partials come from different jobs (scene, method, seed, line count or patch count);
+    /// [`ErrorKind::ChunkRanges`] when they share a chunk, or leave a gap between them
+    /// (a merged partial is one contiguous chunk range; merge neighbours first).
+    pub fn merge(parts: Vec<Partial>) -> Result<Partial> {
+        merge_partials(parts)
+    }
+
+    /// A 64-bit fingerprint of `bytes` (the word hash of the file checksum): equal inputs give
+    /// equal fingerprints; any change of one 8-byte word changes it.
+    #[must_use]
+    pub fn fingerprint(bytes: &[u8]) -> u64 {
+        fingerprint(bytes)
+    }
+
     /// Whether the chunks cover the whole job.
     #[must_use]
     pub fn is_complete(&self) -> bool {
@@ -322,14 +338,8 @@ impl Partial {
     }
 }
 
-/// Merges the partials of one job into one (exact: any order gives the same bits).
-///
-/// # Errors
-/// [`ErrorKind::NoLines`] for an empty list; [`ErrorKind::PartialMismatch`] when two
-/// partials come from different jobs (scene, method, seed, line count or patch count);
-/// [`ErrorKind::ChunkRanges`] when they share a chunk, or leave a gap between them
-/// (a merged partial is one contiguous chunk range; merge neighbours first).
-pub fn merge_partials(mut parts: Vec<Partial>) -> Result<Partial> {
+/// [`Partial::merge`].
+pub(crate) fn merge_partials(mut parts: Vec<Partial>) -> Result<Partial> {
     parts.sort_by_key(|p| p.chunks.start);
     let mut iter = parts.into_iter();
     let Some(mut acc) = iter.next() else {

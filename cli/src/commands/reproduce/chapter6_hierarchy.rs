@@ -10,7 +10,7 @@
 use std::sync::Mutex;
 
 use anyhow::{Result, anyhow};
-use sceneinfo::hierarchy::{Hierarchy, HrOptions, OracleComparison, compare_at_size};
+use sceneinfo::hierarchy::{Hierarchy, HrOptions, OracleComparison};
 use sceneinfo::scene::Scene3;
 use sceneinfo_report::thesis::{FIGURE_6_6_PATCHES, FIGURE_6_9_PATCHES};
 
@@ -99,7 +99,7 @@ pub(super) fn figures_6_6_and_6_9(runner: &Runner) -> Result<Table> {
                         seed: runner.seed.wrapping_add(1),
                         ..HrOptions::default()
                     };
-                    let r = compare_at_size(&scene, &reference, oracle, target, &opts);
+                    let r = OracleComparison::at_size(&scene, &reference, oracle, target, &opts);
                     results.lock().unwrap_or_else(|p| p.into_inner())[k] = Some(r);
                 }
             });

@@ -11,9 +11,7 @@
 use std::sync::Mutex;
 
 use anyhow::{Result, anyhow};
-use sceneinfo::hierarchy::{
-    Hierarchy, HrOptions, McComparison, McOptions, mc_compare_at_size, mean_spread,
-};
+use sceneinfo::hierarchy::{Hierarchy, HrOptions, McComparison, McOptions};
 use sceneinfo::scene::Scene3;
 
 use super::{Row, Runner, Table, cell};
@@ -106,7 +104,7 @@ where
 
 /// `(mean, standard deviation)` of a field over the seeds of one configuration and oracle.
 fn stats(rs: &[&McComparison], f: impl Fn(&McComparison) -> f64) -> (f64, f64) {
-    mean_spread(&rs.iter().map(|c| f(c)).collect::<Vec<_>>())
+    McComparison::mean_spread(&rs.iter().map(|c| f(c)).collect::<Vec<_>>())
 }
 
 /// Whether `a` is below `b` by more than twice the standard error of the difference of the
@@ -176,7 +174,7 @@ pub(super) fn figures_6_6_and_6_9_monte_carlo(runner: &Runner) -> Result<Table> 
     };
     let results = run_jobs(runner, &jobs, |&(k, o, s)| {
         let c = &CONFIGS[k];
-        mc_compare_at_size(
+        McComparison::at_size(
             &scene,
             &reference,
             o,
@@ -203,7 +201,7 @@ pub(super) fn figures_6_6_and_6_9_monte_carlo(runner: &Runner) -> Result<Table> 
         .collect();
     let total = run_jobs(runner, &total_jobs, |&(k, s, rays)| {
         let c = &CONFIGS[k];
-        mc_compare_at_size(&scene, &reference, "power", c.leaves, &opts(c, rays, s), 0)
+        McComparison::at_size(&scene, &reference, "power", c.leaves, &opts(c, rays, s), 0)
     })?;
     let mut rows = vec![Row {
         label: format!(
