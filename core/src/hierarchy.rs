@@ -3,11 +3,11 @@
 //! # Overview
 //!
 //! - [`Polygon4`]: the elements' shape, a triangle or convex quad split in four.
-//! - `point_kernel`, [`KernelSamples`]: the point-to-point kernel
+//! - `point_kernel`, `KernelSamples`: the point-to-point kernel
 //!   `F(x, y) = cos θ_x cos θ_y / (π r²)` at `N` random point pairs of two elements, with
-//!   visibility through a [`Visibility`] (rays through the scene's BVH, or none in a scene
+//!   visibility through a `Visibility` (rays through the scene's BVH, or none in a scene
 //!   where nothing hides anything).
-//! - [`Oracle`]: link a pair of elements or refine one of them. [`OracleChoice3`] picks one
+//! - `Oracle`: link a pair of elements or refine one of them. [`OracleChoice3`] picks one
 //!   by name: power (2.48) `power`, kernel smoothness (2.49) `ks` and about the average
 //!   (2.50) `ks-av`, MI-based (6.29)–(6.30) `mi`, MI-increase (6.3)–(6.5) `mi-increase`,
 //!   and the regular mesh `regular`.
@@ -19,9 +19,9 @@
 //!   [`Hierarchy::build_to_target`] finds the threshold that gives a wanted mesh size.
 //! - [`McHierarchy`] (`alloc`): hierarchical *Monte Carlo* radiosity — incremental
 //!   stochastic Jacobi with per-ray refinement, the method of the thesis' experiments
-//!   (§6.4.2) — driven by [`McOracle`]; [`mc_compare_at_size`] puts its meshes side by side
+//!   (§6.4.2) — driven by [`McOracle`]; [`McComparison::at_size`] puts its meshes side by side
 //!   at the captions' ray budgets and patch counts (docs/chapter6-protocol.md).
-//! - [`compare_at_size`] (`alloc`): an oracle's mesh at a wanted size and its RMS error
+//! - [`OracleComparison::at_size`] (`alloc`): an oracle's mesh at a wanted size and its RMS error
 //!   against a reference that is fine everywhere
 //!   ([`Hierarchy::build_reference`]) — the comparisons of Figures 6.6 and 6.9.
 //!
@@ -60,11 +60,11 @@ pub use choice::OracleChoice3;
 #[cfg(feature = "alloc")]
 pub use compare::OracleComparison;
 pub use element::Polygon4;
-pub use kernel::{KernelSamples, Surface, Visibility};
+
 #[cfg(feature = "alloc")]
 pub use mc_compare::McComparison;
 #[cfg(feature = "alloc")]
 pub use monte_carlo::{McElement, McHierarchy, McOptions, McOracle};
-pub use oracle::{Decision, Oracle, Pair, Side};
+
 #[cfg(feature = "alloc")]
 pub use tree::{Budget, Element, Hierarchy, HrOptions, Link};

@@ -115,7 +115,7 @@ impl Measurement {
         }
     }
 
-    /// The measurement of a merged partial result ([`crate::io::partial::merge_partials`])
+    /// The measurement of a merged partial result (`crate::io::partial::merge_partials`)
     /// that covers its whole job: one run of the job, bit for bit.
     ///
     /// # Errors
@@ -409,8 +409,8 @@ fn measure_lines(
 /// Tallies the chunks of a fixed line job ([`LineJob::chunk_range`]: all of them, or
 /// `job.chunks`) of `scene` into a [`Partial`] result, to be written
 /// ([`Partial::to_bytes`]) and merged with others
-/// ([`crate::io::partial::merge_partials`], then [`Measurement::from_partial`]).
-/// `fingerprint` identifies the scene ([`crate::io::partial::fingerprint`] of its file);
+/// (`crate::io::partial::merge_partials`, then [`Measurement::from_partial`]).
+/// `fingerprint` identifies the scene (`crate::io::partial::fingerprint` of its file);
 /// partials merge only when it, the method, the seed and the line count agree. If the
 /// executor stops early the partial holds the chunks it cast, a prefix of the range.
 ///

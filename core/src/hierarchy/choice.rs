@@ -71,6 +71,12 @@ impl OracleChoice3 {
         }))
     }
 
+    /// The oracle's name, as [`OracleChoice3::new`] takes it.
+    #[must_use]
+    pub fn name(&self) -> &'static str {
+        self.inner().name()
+    }
+
     fn inner(&self) -> &dyn Oracle {
         match &self.0 {
             Choice::Power(o) => o,

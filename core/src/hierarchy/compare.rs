@@ -87,7 +87,7 @@ impl Hierarchy {
             level,
             epsilon: relative_epsilon * emitted_power(scene),
         };
-        Self::build(scene, &oracle, opts)
+        Self::build_with(scene, &oracle, opts)
     }
 
     /// The RMS radiosity difference from another solution of the same scene, sampled at

@@ -214,7 +214,6 @@ impl McElement {
             normal: self.normal,
             depth: self.depth,
             rho: self.rho,
-            emission: self.emission,
             radiosity: self.radiosity,
             irradiance: [0.0; 3],
         }
@@ -740,7 +739,7 @@ mod tests {
     #[test]
     fn unrefined_monte_carlo_converges_to_the_full_matrix_solution() {
         let scene = lit_box(Subdivision::Grid(2));
-        let exact = Hierarchy::build(
+        let exact = Hierarchy::build_with(
             &scene,
             &RegularOracle { level: 0 },
             &HrOptions {

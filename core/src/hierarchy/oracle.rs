@@ -14,7 +14,7 @@ use crate::hierarchy::kernel::{KernelSamples, Visibility, point_kernel};
 
 /// What an oracle decides for a pair.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Decision {
+pub(crate) enum Decision {
     /// The interaction is accurate enough at this level: make a link.
     Link,
     /// Split the receiver `i` and look again at its children with `j`.
@@ -25,7 +25,7 @@ pub enum Decision {
 
 /// One element of a pair, as an oracle sees it.
 #[derive(Clone, Copy, Debug)]
-pub struct Side<'a> {
+pub(crate) struct Side<'a> {
     /// The element's shape.
     pub polygon: &'a Polygon4,
     /// Area `A`.
@@ -36,8 +36,6 @@ pub struct Side<'a> {
     pub depth: u32,
     /// Reflectance ρ per channel.
     pub rho: [f64; 3],
-    /// Emittance `E` per channel.
-    pub emission: [f64; 3],
     /// Current radiosity `B` per channel.
     pub radiosity: [f64; 3],
     /// Current irradiance `H = Σ_j F_ij B_j = (B − E)/ρ` per channel (the gathered light).
@@ -46,7 +44,7 @@ pub struct Side<'a> {
 
 /// A candidate interaction: light gathered by the receiver `i` from the source `j`.
 #[derive(Clone, Copy, Debug)]
-pub struct Pair<'a> {
+pub(crate) struct Pair<'a> {
     /// The receiver `i`.
     pub receiver: Side<'a>,
     /// The source `j`.
@@ -79,7 +77,7 @@ impl Pair<'_> {
 ///
 /// The thresholds live in the implementations; [`Oracle::decide`] is called once per
 /// candidate pair and may cast more rays through `visibility` (counted by the caller).
-pub trait Oracle {
+pub(crate) trait Oracle {
     /// A short name, e.g. `"mi"`.
     fn name(&self) -> &'static str;
     /// The decision for `pair`, given `samples` of its kernel.
@@ -366,7 +364,6 @@ mod tests {
             normal: if up { DVec3::Z } else { -DVec3::Z },
             depth: 0,
             rho: [0.5; 3],
-            emission: [0.0; 3],
             radiosity: [b; 3],
             irradiance: [b; 3],
         }

@@ -5,7 +5,7 @@
 //! drawing from [`crate::lines::chunk_rng`]`(s, k)`. A [`Partial`] holds the exact tally
 //! (integers and 64.64 fixed-point sums, see [`LineTally`]) of a range of those chunks, the
 //! patch sizes and what identifies the job: a fingerprint of the scene, the method, the
-//! seed, `N`. [`merge_partials`] checks that the partials belong to one job and do not
+//! seed, `N`. `merge_partials` checks that the partials belong to one job and do not
 //! overlap, and adds their tallies; when they cover every chunk, [`Partial::finish`] gives
 //! exactly — bit for bit — the estimate of one run of the whole job on one machine.
 //!
@@ -56,7 +56,7 @@ const MAX_PARTIAL_PATCHES: u64 = 1 << 26;
 /// What identifies a line job: partials merge only when all of it agrees.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct JobId {
-    /// Fingerprint of the scene (e.g. [`fingerprint`] of its file).
+    /// Fingerprint of the scene (e.g. `fingerprint` of its file).
     pub scene: u64,
     /// The sampling method.
     pub method: LineMethod,

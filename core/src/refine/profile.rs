@@ -99,10 +99,10 @@ impl InformationProfile {
     }
 
     /// Tallies `lines` uniform global lines (seed `seed`) over `scene` cut into
-    /// [`cells_per_patch`] cells a patch, on this thread.
+    /// `cells_per_patch` cells a patch, on this thread.
     ///
     /// # Errors
-    /// [`ErrorKind::NoLines`] for `lines == 0`, and the errors of [`fine_scene`] and
+    /// [`ErrorKind::NoLines`] for `lines == 0`, and the errors of `fine_scene` and
     /// [`Tracer2::new`].
     pub fn trace(scene: &Scene2, lines: u64, seed: u64) -> Result<Self> {
         let fine = fine_scene(scene, cells_per_patch(scene.n_patches()))?;
@@ -111,7 +111,7 @@ impl InformationProfile {
         Self::from_tally(&fine, &tally)
     }
 
-    /// The profile of a tally over `fine` (any scene; [`fine_scene`] makes a good one, and
+    /// The profile of a tally over `fine` (any scene; `fine_scene` makes a good one, and
     /// a front end may tally it on many threads).
     ///
     /// # Errors
