@@ -131,6 +131,13 @@ impl ContinuousTally {
         self.groups = self.groups.saturating_add(other.groups);
     }
 
+    /// Whether a term or a total left the fixed-point range, or a non-finite term was
+    /// dropped ([`FixedSum`]'s flag): the estimate then misses something.
+    #[must_use]
+    pub fn saturated(&self) -> bool {
+        self.sum_s.saturated() || self.sum_ss.saturated() || self.sum_sn.saturated()
+    }
+
     /// Number of samples so far.
     #[must_use]
     pub fn samples(&self) -> u64 {

@@ -455,6 +455,14 @@ impl LineTally {
             .collect()
     }
 
+    /// Whether a sum of `I^c` terms (the scene's, or a patch's `I_i^c`) left its
+    /// fixed-point range or dropped a non-finite term: `I_S^c`, its standard error or an
+    /// `I_i^c` then misses something, and [`crate::Warning::SumsOutOfRange`] says so.
+    #[must_use]
+    pub fn sums_out_of_range(&self) -> bool {
+        self.continuous.saturated() || self.patch_info.iter().any(FixedSum::saturated)
+    }
+
     /// Turns the tallies into form factors and continuous measures.
     ///
     /// # Errors

@@ -39,6 +39,9 @@ pub struct LineRunInfo {
     /// `I_S^c` (4.8, 4.13) and its standard error, over the lines cast (defined whatever
     /// patches they reached).
     pub continuous: ContinuousEstimate,
+    /// Whether a sum of `I^c` terms left its range or dropped a non-finite term
+    /// ([`LineTally::sums_out_of_range`]; then [`Warning::SumsOutOfRange`]).
+    pub sums_out_of_range: bool,
 }
 
 /// The result of [`measure`]: the channel of a scene's form factors and what the lines
@@ -133,6 +136,7 @@ impl Measurement {
             interrupted: false,
             auto_max: None,
             continuous: partial.tally.continuous(),
+            sums_out_of_range: partial.tally.sums_out_of_range(),
         };
         if partial.is_complete() && !partial.tally.all_sampled() {
             return Ok(Self::unsampled(&partial.tally, &partial.sizes, run));
@@ -274,7 +278,9 @@ impl Measurement {
 
     /// What the numbers cannot promise: the channel's warnings ([`channel_warnings`]),
     /// [`Warning::UnsampledPatches`] when some patch received no line,
-    /// [`Warning::FewStderrGroups`] when `I_S^c`'s standard error rests on few observations.
+    /// [`Warning::SumsOutOfRange`] when a sum of `I^c` terms saturated or dropped a
+    /// non-finite term, [`Warning::FewStderrGroups`] when `I_S^c`'s standard error rests
+    /// on few observations.
     #[must_use]
     pub fn warnings(&self) -> Vec<Warning> {
         let mut out = Vec::new();
@@ -292,6 +298,9 @@ impl Measurement {
                 lines: c.lines,
                 suggested: c.lines_to_sample_all,
             });
+        }
+        if self.run.is_some_and(|r| r.sums_out_of_range) {
+            out.push(Warning::SumsOutOfRange);
         }
         if let Some(r) = self.run.filter(|r| r.continuous.groups < FEW_STDERR_GROUPS) {
             out.push(Warning::FewStderrGroups {
@@ -402,6 +411,7 @@ fn measure_lines(
             LineBudget::Fixed(_) => None,
         },
         continuous: run.tally.continuous(),
+        sums_out_of_range: run.tally.sums_out_of_range(),
     };
     Measurement::of_tally(run.tally, tracer, info)
 }

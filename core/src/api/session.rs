@@ -125,6 +125,7 @@ impl LineSession {
             interrupted: !self.is_done(),
             auto_max: None,
             continuous: self.tally.continuous(),
+            sums_out_of_range: self.tally.sums_out_of_range(),
         };
         Measurement::of_tally(self.tally.clone(), self.tracer.as_dyn(), info)
     }

@@ -58,6 +58,10 @@ pub enum Warning {
         /// The independent observations `G`.
         groups: u64,
     },
+    /// A sum of `I^c` terms (4.8, 6.37) left the exact fixed-point range (a term beyond ±10¹⁸, a
+    /// total beyond ±2⁶³ ≈ 9.2·10¹⁸), or a term was not finite and was dropped: `I_S^c`, its standard error or some
+    /// `I_i^c` miss those terms (the sums saturate rather than wrap, so they stay finite).
+    SumsOutOfRange,
 }
 
 /// Below this many independent groups the standard error of `I_S^c` is itself unreliable
@@ -100,6 +104,10 @@ impl fmt::Display for Warning {
                     None => Ok(()),
                 }
             }
+            Self::SumsOutOfRange => f.write_str(
+                "a sum of I^c terms left its range or dropped a term that was not finite: \
+                 I_S^c, its standard error and the per-patch I_i^c miss those terms",
+            ),
             Self::FewStderrGroups { groups } => write!(
                 f,
                 "the standard error of I_S^c rests on {groups} observations only: ask for \
