@@ -88,7 +88,7 @@ pub fn run_timed(
     n_lines: u64,
     threads: usize,
 ) -> (LineTally, JobTimes) {
-    let all = 0..sceneinfo::lines::chunk_count(n_lines);
+    let all = 0..sceneinfo::LineSession::chunk_count(n_lines);
     run_chunks_timed(tracer, method, seed, n_lines, all, threads)
 }
 

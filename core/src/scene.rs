@@ -35,9 +35,9 @@ mod scene3;
 #[cfg(feature = "alloc")]
 pub mod triangulate;
 #[cfg(feature = "alloc")]
-pub use catalogue::{CatalogueEntry, SINGULARITY_STEPS, catalogue, catalogue_scene};
+pub use catalogue::CatalogueEntry;
 #[cfg(feature = "alloc")]
-pub use presets3d::{Preset3Entry, SIXTY_FOUR_CUBES_STEPS, preset_3d, presets_3d};
+pub use presets3d::Preset3Entry;
 #[cfg(feature = "alloc")]
 pub(crate) use scene2::MAX_PATCHES_PER_SURFACE;
 #[cfg(feature = "alloc")]

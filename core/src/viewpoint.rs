@@ -80,9 +80,7 @@ mod sphere;
 #[cfg(test)]
 mod tests;
 
-pub use channel::{
-    ViewWeighting, ViewpointChannel, ViewpointJob, ViewpointOptions, patch_neighbours,
-};
+pub use channel::{ViewWeighting, ViewpointChannel, ViewpointJob, ViewpointOptions};
 pub use exact::convex_orthographic_areas;
-pub use raster::{IdRaster, Projection, ViewTotals, bounding_sphere};
+pub use raster::{IdRaster, Projection, ViewTotals};
 pub use sphere::ViewSphere;

@@ -123,9 +123,9 @@ fn table_4_10_continuous_column() {
 /// scene's `I_S^c`, each within the 0.01 of the thesis (3σ ≤ 0.006 here).
 #[test]
 fn table_4_12_rotating_square_and_pentagonal_star() {
-    use sceneinfo::scene::SINGULARITY_STEPS;
+    use sceneinfo::scene::CatalogueEntry;
     use sceneinfo_report::thesis::TABLE_4_12;
-    let last = SINGULARITY_STEPS - 1;
+    let last = CatalogueEntry::SINGULARITY_STEPS - 1;
     let cases = [
         (
             Scene2::rotating_square_subscene(4).unwrap(),

@@ -16,7 +16,7 @@ use sceneinfo::formfactor::exact_2d;
 use sceneinfo::refine::profile::InformationProfile;
 use sceneinfo::refine::refiner2::{OracleChoice2, Refiner2, StepReport};
 use sceneinfo::refine::symmetric::{best_mirrored_cuts, polygon_with_mirrored_cuts};
-use sceneinfo::scene::{Scene2, catalogue_scene};
+use sceneinfo::scene::Scene2;
 use sceneinfo_report::thesis::{FIGURE_6_12_BEST_CUT, TABLE_6_1, TABLE_6_2, TABLE_ROUNDING};
 
 const LINES: u64 = 1_000_000;
@@ -113,7 +113,7 @@ fn refined(name: &str) -> &'static [Vec<StepReport>; 3] {
     static TWO: OnceLock<[Vec<StepReport>; 3]> = OnceLock::new();
     let cell = if name == "refinement-1" { &ONE } else { &TWO };
     cell.get_or_init(|| {
-        let scene = catalogue_scene(name, 1).unwrap();
+        let scene = Scene2::catalogue(name, 1).unwrap();
         let profile = InformationProfile::trace(&scene, LINES, SEED).unwrap();
         ORACLES.map(|oracle| {
             let mut r = Refiner2::with_profile(scene.clone(), oracle, profile.clone()).unwrap();

@@ -10,7 +10,6 @@ use anyhow::Result;
 use sceneinfo::LineJob;
 use sceneinfo::LineSession;
 use sceneinfo::io::partial::Partial;
-use sceneinfo::lines::chunk_count;
 use sceneinfo_report::JsonObject;
 
 use crate::args::{LinesArg, MeasureArgs};
@@ -61,7 +60,7 @@ fn write_partial(args: &MeasureArgs, out: &Path) -> Result<()> {
     if sampling.max_lines.is_some() {
         anyhow::bail!("{}: --max-lines bounds --lines auto only", path.display());
     }
-    let total = chunk_count(lines);
+    let total = LineSession::chunk_count(lines);
     let chunks = args.chunks.clone().unwrap_or(0..total);
     if chunks.end > total {
         anyhow::bail!(

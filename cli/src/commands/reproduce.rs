@@ -15,7 +15,7 @@ use std::time::Instant;
 use anyhow::{Result, anyhow};
 use sceneinfo::continuous::closed_form;
 use sceneinfo::formfactor::quadrature::{self, QuadratureOptions};
-use sceneinfo::scene::{Scene2, Scene3, catalogue, catalogue_scene, preset_3d};
+use sceneinfo::scene::{CatalogueEntry, Scene2, Scene3};
 use sceneinfo::trace::estimate_2d::{Estimate2, LineMethod, Tracer2};
 use sceneinfo::trace::estimate_3d::Tracer3;
 use sceneinfo_report::JsonObject;
@@ -93,7 +93,7 @@ pub fn run(args: &ReproduceArgs, threads: usize) -> Result<()> {
         seed: args.seed,
         threads,
     };
-    sceneinfo::lines::check_line_budget(runner.lines).map_err(|e| anyhow!("{e}"))?;
+    sceneinfo::LineJob::check_lines(runner.lines).map_err(|e| anyhow!("{e}"))?;
     let mut tables = if args.chapter_6_mc {
         vec![chapter6_mc::figures_6_6_and_6_9_monte_carlo(&runner)?]
     } else if args.chapter_5_only {
@@ -238,7 +238,7 @@ fn table_4_11(runner: &Runner) -> Result<Table> {
 /// Table 4.12: Proposition 2 on the last steps of the rotating square and the pentagonal
 /// star.
 fn table_4_12(runner: &Runner) -> Result<Table> {
-    let last = sceneinfo::scene::SINGULARITY_STEPS - 1;
+    let last = sceneinfo::scene::CatalogueEntry::SINGULARITY_STEPS - 1;
     let per_side = 10;
     let cases = [
         (
@@ -277,8 +277,9 @@ fn table_4_12(runner: &Runner) -> Result<Table> {
 /// where it prints one.
 fn catalogue_table(runner: &Runner) -> Result<Table> {
     let mut rows = Vec::new();
-    for entry in catalogue() {
-        let scene = catalogue_scene(entry.name, 10).map_err(|e| anyhow!("{}: {e}", entry.name))?;
+    for entry in CatalogueEntry::all() {
+        let scene =
+            Scene2::catalogue(entry.name, 10).map_err(|e| anyhow!("{}: {e}", entry.name))?;
         let thesis_value = sceneinfo_report::thesis::catalogue_value(entry.name);
         let mut cells = Vec::new();
         if entry.name.starts_with("64-squares") {
@@ -426,8 +427,8 @@ fn table_4_1(runner: &Runner) -> Result<Table> {
                 });
                 continue;
             }
-            "Cornell box" => (preset_3d("cornell-lifted", 1), "cornell-lifted"),
-            other => (preset_3d(other, 1), other),
+            "Cornell box" => (Scene3::preset("cornell-lifted", 1), "cornell-lifted"),
+            other => (Scene3::preset(other, 1), other),
         };
         let scene = scene.map_err(|e| anyhow!("{e}"))?;
         let c = runner
@@ -458,7 +459,7 @@ fn table_4_1(runner: &Runner) -> Result<Table> {
 fn table_4_2(runner: &Runner) -> Result<Table> {
     let mut rows = Vec::new();
     for (name, thesis) in TABLE_4_2 {
-        let scene = preset_3d(name, 1).map_err(|e| anyhow!("{e}"))?;
+        let scene = Scene3::preset(name, 1).map_err(|e| anyhow!("{e}"))?;
         let c = runner.continuous_3d(&scene)?;
         rows.push(Row {
             label: format!("{name} ({} patches)", scene.n_patches()),
@@ -479,7 +480,7 @@ fn table_4_2(runner: &Runner) -> Result<Table> {
 fn table_3_3(runner: &Runner) -> Result<Table> {
     let mut rows = Vec::new();
     for (name, figure, h_s, i_s, h_norm) in TABLE_3_3 {
-        let scene = preset_3d(name, 10).map_err(|e| anyhow!("{e}"))?;
+        let scene = Scene3::preset(name, 10).map_err(|e| anyhow!("{e}"))?;
         let e = runner.estimate_3d(&scene, 10_000_000)?;
         let m = e
             .form_factors

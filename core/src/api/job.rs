@@ -57,7 +57,7 @@ impl LineBudget {
         }
     }
 
-    /// Checks the counts against the core's cap ([`check_line_budget`]: 1 to
+    /// Checks the counts against the core's cap (`check_line_budget`: 1 to
     /// 2⁵³).
     ///
     /// # Errors
@@ -92,6 +92,33 @@ pub struct LineJob {
 }
 
 impl LineJob {
+    /// Checks a line budget `n_lines` before a job starts.
+    ///
+    /// # Errors
+    ///
+    /// [`ErrorKind::NoLines`] for `0`; [`ErrorKind::TooLarge`] (`"line budget"`, cap
+    /// `MAX_LINES`) above the cap.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use sceneinfo::lines::{MAX_LINES, check_line_budget};
+    ///
+    /// assert!(check_line_budget(1_000_000).is_ok());
+    /// assert_eq!(
+    ///     check_line_budget(0).unwrap_err().to_string(),
+    ///     "the line budget must be at least 1"
+    /// );
+    /// assert_eq!(
+    ///     check_line_budget(u64::MAX).unwrap_err().to_string(),
+    ///     "line budget exceeds the cap of 9007199254740992"
+    /// );
+    /// assert!(check_line_budget(MAX_LINES).is_ok());
+    /// ```
+    pub fn check_lines(n_lines: u64) -> Result<()> {
+        crate::lines::check_line_budget(n_lines)
+    }
+
     /// `lines` global lines with seed 1.
     #[must_use]
     pub const fn new(lines: u64) -> Self {

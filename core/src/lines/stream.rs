@@ -57,7 +57,7 @@ pub fn chunk_rng(seed: u64, chunk: u64) -> Pcg64 {
 /// Number of chunks of a job of `n_lines` lines: `⌈n_lines / CHUNK_LINES⌉`.
 #[inline]
 #[must_use]
-pub const fn chunk_count(n_lines: u64) -> u64 {
+pub(crate) const fn chunk_count(n_lines: u64) -> u64 {
     n_lines.div_ceil(CHUNK_LINES)
 }
 
@@ -90,7 +90,7 @@ pub fn canonical<R: Rng + ?Sized>(rng: &mut R) -> f64 {
 /// Two canonical samples `[u₀, u₁]`, drawn in that order.
 #[inline]
 #[must_use]
-pub fn canonical_2d<R: Rng + ?Sized>(rng: &mut R) -> [f64; 2] {
+pub(crate) fn canonical_2d<R: Rng + ?Sized>(rng: &mut R) -> [f64; 2] {
     let u0 = canonical(rng);
     [u0, canonical(rng)]
 }

@@ -481,7 +481,7 @@ pub struct LitEstimate {
 /// group of the standard error per sheaf).
 ///
 /// # Errors
-/// The errors of `cast`, [`LineTally::finish`], [`solve_rgb`], [`rgb_measures`] and
+/// The errors of `cast`, [`LineTally::finish`], `solve_rgb`, `rgb_measures` and
 /// `RadiosityLineTally::estimates_for`.
 pub fn estimate_lit(
     tracer: &(dyn LineTracer + Sync),

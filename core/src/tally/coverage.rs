@@ -189,7 +189,7 @@ mod tests {
     /// estimate's promise: at least 90 %, here for one seed).
     #[test]
     fn suggested_lines_reach_every_patch() {
-        let scene = crate::scene::preset_3d("cube", 40).unwrap();
+        let scene = crate::scene::Scene3::preset("cube", 40).unwrap();
         let tracer = Tracer3::new(&scene).unwrap();
         let tally = tracer.run(LineMethod::Global, 3, 2000).unwrap();
         let cov = tally.coverage(tracer.patch_sizes());

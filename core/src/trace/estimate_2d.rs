@@ -724,7 +724,7 @@ mod tests {
     fn aggregated_bundle_tally_equals_the_lone_lines_tally() {
         // Every line of a bundle, cast through the BVH and tallied as a lone global line,
         // gives the bundle's counts exactly and its information within rounding.
-        let scene = crate::scene::catalogue_scene("64-squares-a", 10).unwrap();
+        let scene = crate::scene::Scene2::catalogue("64-squares-a", 10).unwrap();
         let tracer = Tracer2::new(&scene).unwrap();
         let mut rng = chunk_rng(3, 0);
         for m in [1, 7, 256, 1024] {

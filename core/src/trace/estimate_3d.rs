@@ -384,7 +384,7 @@ mod tests {
         // Every line of a bundle, cast through the BVH and tallied as a global line, gives
         // the same counts as the raster; the information sums agree to rounding (the two
         // compute `t` with different arithmetic, so the terms differ in the last bits).
-        let scene = crate::scene::preset_3d("cornell", 3).unwrap();
+        let scene = crate::scene::Scene3::preset("cornell", 3).unwrap();
         let tracer = Tracer3::new(&scene).unwrap();
         let mut rng = chunk_rng(3, 0);
         for m in [1.0, 37.0, 2000.0] {

@@ -195,6 +195,14 @@ pub struct ViewpointChannel {
 }
 
 impl ViewpointChannel {
+    /// The neighbours of every patch: the patches sharing a vertex position with it (bit-equal
+    /// coordinates; the first `MAX_VALENCE` patches at each vertex), ascending, itself
+    /// excluded.
+    #[must_use]
+    pub fn patch_neighbours(scene: &Scene3) -> Vec<Vec<u32>> {
+        patch_neighbours(scene)
+    }
+
     /// The channel of the rows `areas` (`n_v × n_o`, row-major: `a_o(v)`, the visible
     /// measure of patch `o` from viewpoint `v`) and each row's [`ViewTotals`].
     ///
@@ -496,7 +504,7 @@ impl ViewpointChannel {
     /// p(ô) = p(o) + p(o')
     /// ```
     ///
-    /// `neighbours[o]` lists the neighbours of `o` ([`patch_neighbours`]). A pair of which
+    /// `neighbours[o]` lists the neighbours of `o` (`patch_neighbours`). A pair of which
     /// one polygon is never seen contributes 0 (its weight is 0) and is counted in the mean
     /// (`quoniam` leaves such pairs out of the mean).
     #[must_use]
@@ -739,11 +747,8 @@ fn weighted_js(w1: f64, p: &[f64], w2: f64, q: &[f64]) -> f64 {
 /// there, so the cost stays `O(MAX_VALENCE²)` per vertex.
 pub(crate) const MAX_VALENCE: usize = 64;
 
-/// The neighbours of every patch: the patches sharing a vertex position with it (bit-equal
-/// coordinates; the first `MAX_VALENCE` patches at each vertex), ascending, itself
-/// excluded.
-#[must_use]
-pub fn patch_neighbours(scene: &Scene3) -> Vec<Vec<u32>> {
+/// [`ViewpointChannel::patch_neighbours`].
+pub(crate) fn patch_neighbours(scene: &Scene3) -> Vec<Vec<u32>> {
     let key = |p: crate::geom::DVec3| {
         [
             (p.x + 0.0).to_bits(),

@@ -90,7 +90,7 @@ pub enum Projection {
 
 impl Projection {
     /// The perspective projection from `centre + distance · R · direction` (`R` the
-    /// scene's bounding radius, `centre` its centre: [`bounding_sphere`]) whose field of
+    /// scene's bounding radius, `centre` its centre: `bounding_sphere`) whose field of
     /// view is the cone tangent to the bounding sphere: `sin(half_fov) = 1/distance`.
     ///
     /// # Errors
@@ -117,10 +117,8 @@ impl Projection {
     }
 }
 
-/// The scene's bounding sphere as the crate uses it for views: the centre of the
-/// axis-aligned bounding box and half its diagonal.
-#[must_use]
-pub fn bounding_sphere(scene: &Scene3) -> (DVec3, f64) {
+/// [`IdRaster::bounding_sphere`].
+pub(crate) fn bounding_sphere(scene: &Scene3) -> (DVec3, f64) {
     let (lo, hi) = scene.bounds();
     let centre = (lo + hi) * 0.5;
     let radius = (hi - lo).length() * 0.5;
@@ -195,6 +193,13 @@ pub struct IdRaster {
 }
 
 impl IdRaster {
+    /// The scene's bounding sphere as the crate uses it for views: the centre of the
+    /// axis-aligned bounding box and half its diagonal.
+    #[must_use]
+    pub fn bounding_sphere(scene: &Scene3) -> (DVec3, f64) {
+        bounding_sphere(scene)
+    }
+
     /// Largest image side in pixels (a square image; the sphere projection has six).
     pub const MAX_RESOLUTION: u32 = MAX_RESOLUTION;
 
