@@ -47,6 +47,7 @@ pub use bvh2::Bvh2;
 pub(crate) use bvh2::MAX_PRIMITIVES;
 #[cfg(feature = "alloc")]
 pub use bvh3::Bvh3;
+#[cfg(feature = "alloc")]
 pub(crate) use bvh3::all_hits_naive3;
 
 pub use bvh3::Hit3;
