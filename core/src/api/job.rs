@@ -102,18 +102,19 @@ impl LineJob {
     /// # Examples
     ///
     /// ```
-    /// use sceneinfo::lines::{MAX_LINES, check_line_budget};
+    /// use sceneinfo::LineJob;
     ///
-    /// assert!(check_line_budget(1_000_000).is_ok());
+    /// assert!(LineJob::check_lines(1_000_000).is_ok());
     /// assert_eq!(
-    ///     check_line_budget(0).unwrap_err().to_string(),
+    ///     LineJob::check_lines(0).unwrap_err().to_string(),
     ///     "the line budget must be at least 1"
     /// );
     /// assert_eq!(
-    ///     check_line_budget(u64::MAX).unwrap_err().to_string(),
+    ///     LineJob::check_lines(u64::MAX).unwrap_err().to_string(),
     ///     "line budget exceeds the cap of 9007199254740992"
     /// );
-    /// assert!(check_line_budget(MAX_LINES).is_ok());
+    /// assert!(LineJob::check_lines(1 << 53).is_ok());
+    /// assert!(LineJob::check_lines((1 << 53) + 1).is_err());
     /// ```
     pub fn check_lines(n_lines: u64) -> Result<()> {
         crate::lines::check_line_budget(n_lines)

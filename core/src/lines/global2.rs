@@ -43,10 +43,10 @@ impl Line2 {
     ///
     /// ```
     /// use sceneinfo::geom::DVec2;
-    /// use sceneinfo::lines::{BoundingCircle, sample_global_line_2d};
+    /// use sceneinfo::lines::{BoundingCircle, Line2};
     ///
     /// let circle = BoundingCircle::of_bounds(DVec2::ZERO, DVec2::ONE);
-    /// let line = sample_global_line_2d(&circle, [0.25, 0.75]);
+    /// let line = Line2::global(&circle, [0.25, 0.75]);
     /// // θ = π/4: the line's normal is (cos θ, sin θ), so it runs along (−sin θ, cos θ) or back
     /// assert!((line.dir.length() - 1.0).abs() < 1e-15);
     /// assert!((line.dir.x + line.dir.y).abs() < 1e-12);

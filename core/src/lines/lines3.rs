@@ -83,11 +83,11 @@ impl Line3 {
     ///
     /// ```
     /// use sceneinfo::geom::DVec3;
-    /// use sceneinfo::lines::{BoundingSphere, sample_global_line_3d};
+    /// use sceneinfo::lines::{BoundingSphere, Line3};
     ///
     /// let sphere = BoundingSphere::of_bounds(DVec3::ZERO, DVec3::ONE);
     /// let u = [0.1, 0.2, 0.7, 0.9];
-    /// let line = sample_global_line_3d(&sphere, u);
+    /// let line = Line3::global(&sphere, u);
     /// assert!((line.dir.length() - 1.0).abs() < 1e-15);
     /// // Through the sphere: the line's closest point to the centre lies inside it
     /// let to_centre = sphere.center - line.origin;
