@@ -62,7 +62,7 @@ fn table_6_1_regular_column_is_exact() {
         t.delta_percent,
     );
     let m = measures(&Scene2::regular_polygon(3, 6).unwrap());
-    let i_c = closed_form::equilateral_triangle();
+    let i_c = closed_form::Enclosure::EquilateralTriangle.i_s_continuous();
     // Exact values: the thesis' rounding to 3 decimals (E(MSE) to a whole number, δ̄ to 0.01%).
     assert!((i_c - i_sc).abs() <= TABLE_ROUNDING, "I_S^c {i_c}");
     for (ours, theirs) in [(m.i_s, i_s), (m.h_s, h_s), (m.h_j, h_j)] {
@@ -92,7 +92,7 @@ fn table_6_1_optimal_split_beats_the_regular_one() {
         "I_S {} at cuts {cuts:?}",
         m.i_s
     );
-    let i_c = closed_form::equilateral_triangle();
+    let i_c = closed_form::Enclosure::EquilateralTriangle.i_s_continuous();
     // δ̄ 11.44% against 11.52%: the same Monte Carlo I_S^c in the thesis' denominator.
     let d = 100.0 * relative_discretisation_error(i_c, m.i_s);
     assert!((d - delta).abs() <= 0.1, "δ̄ {d}%");

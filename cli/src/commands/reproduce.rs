@@ -206,10 +206,10 @@ fn table_4_10(runner: &Runner) -> Result<Table> {
 /// Table 4.11: closed forms, our global-line estimate, and the thesis' two columns.
 fn table_4_11(runner: &Runner) -> Result<Table> {
     let shapes: [(f64, usize); 4] = [
-        (closed_form::circle(), 512),
-        (closed_form::regular_hexagon(), 6),
-        (closed_form::square(), 4),
-        (closed_form::equilateral_triangle(), 3),
+        (closed_form::Enclosure::Circle.i_s_continuous(), 512),
+        (closed_form::Enclosure::RegularHexagon.i_s_continuous(), 6),
+        (closed_form::Enclosure::Square.i_s_continuous(), 4),
+        (closed_form::Enclosure::EquilateralTriangle.i_s_continuous(), 3),
     ];
     let mut rows = Vec::new();
     for ((name, exact, mc), (ours_exact, sides)) in TABLE_4_11.iter().zip(shapes) {

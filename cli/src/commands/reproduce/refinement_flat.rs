@@ -70,7 +70,7 @@ pub(super) fn table_6_1() -> Result<Table> {
     let (one, _) = best_mirrored_cuts(3, &[0.25], 1e-4).map_err(|e| anyhow!("{e}"))?;
     let (three, _) =
         best_mirrored_cuts(3, &[1.0 / 6.0, 1.0 / 3.0], 1e-5).map_err(|e| anyhow!("{e}"))?;
-    let i_c = closed_form::equilateral_triangle();
+    let i_c = closed_form::Enclosure::EquilateralTriangle.i_s_continuous();
     let mut rows = vec![Row {
         label: "Fig. 6.12: best cut, % of the side from the vertex".into(),
         cells: vec![cell(
