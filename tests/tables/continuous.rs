@@ -60,13 +60,25 @@ fn table_4_11_triangle_by_global_lines() {
 #[test]
 fn table_4_11_square_by_global_lines() {
     let s = Scene2::regular_polygon(4, 1).unwrap();
-    check_against(&s, LINES, closed_form::Enclosure::Square.i_s_continuous(), 0.0, "square");
+    check_against(
+        &s,
+        LINES,
+        closed_form::Enclosure::Square.i_s_continuous(),
+        0.0,
+        "square",
+    );
 }
 
 #[test]
 fn table_4_11_hexagon_by_global_lines() {
     let s = Scene2::regular_polygon(6, 1).unwrap();
-    check_against(&s, LINES, closed_form::Enclosure::RegularHexagon.i_s_continuous(), 0.0, "hexagon");
+    check_against(
+        &s,
+        LINES,
+        closed_form::Enclosure::RegularHexagon.i_s_continuous(),
+        0.0,
+        "hexagon",
+    );
 }
 
 /// The circle as a regular 512-gon: `I^c` of the n-gon approaches the circle's like
@@ -75,7 +87,13 @@ fn table_4_11_hexagon_by_global_lines() {
 #[test]
 fn table_4_11_circle_by_global_lines_on_a_512_gon() {
     let s = Scene2::regular_polygon(512, 1).unwrap();
-    check_against(&s, LINES, closed_form::Enclosure::Circle.i_s_continuous(), 2e-4, "512-gon vs circle");
+    check_against(
+        &s,
+        LINES,
+        closed_form::Enclosure::Circle.i_s_continuous(),
+        2e-4,
+        "512-gon vs circle",
+    );
 }
 
 /// Table 4.10's `I_S^c` column, and `I_S < I_S^c` (with 50 patches per side, Table 3.5's

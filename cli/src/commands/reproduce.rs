@@ -209,7 +209,10 @@ fn table_4_11(runner: &Runner) -> Result<Table> {
         (closed_form::Enclosure::Circle.i_s_continuous(), 512),
         (closed_form::Enclosure::RegularHexagon.i_s_continuous(), 6),
         (closed_form::Enclosure::Square.i_s_continuous(), 4),
-        (closed_form::Enclosure::EquilateralTriangle.i_s_continuous(), 3),
+        (
+            closed_form::Enclosure::EquilateralTriangle.i_s_continuous(),
+            3,
+        ),
     ];
     let mut rows = Vec::new();
     for ((name, exact, mc), (ours_exact, sides)) in TABLE_4_11.iter().zip(shapes) {
