@@ -60,3 +60,41 @@ impl LineRunReport {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn json(r: &LineRunReport) -> String {
+        let mut s = String::new();
+        let mut o = JsonObject::new(&mut s).unwrap();
+        r.write_fields(&mut o).unwrap();
+        o.finish().unwrap();
+        s
+    }
+
+    #[test]
+    fn the_saturation_warning_is_written_only_when_a_sum_saturated() {
+        let mut r = LineRunReport {
+            method: LineMethod::Global,
+            lines: 10,
+            seed: 1,
+            continuous: ContinuousEstimate {
+                value: 1.0,
+                stderr: 0.1,
+                samples: 20,
+                groups: 10,
+            },
+            i_s: 0.5,
+            sums_out_of_range: false,
+        };
+        assert!(!json(&r).contains("i_s_continuous_warning"));
+        r.sums_out_of_range = true;
+        let with = json(&r);
+        let text = sceneinfo::Warning::SumsOutOfRange.to_string();
+        assert!(
+            with.contains(&format!("\"i_s_continuous_warning\":\"{text}\"")),
+            "{with}"
+        );
+    }
+}
