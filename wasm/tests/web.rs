@@ -301,7 +301,7 @@ fn bad_arguments_are_js_errors_with_the_core_message() {
 
 #[wasm_bindgen_test]
 fn catalogue_lists_the_thesis_scenes_in_order() {
-    let json = CatalogueEntry::all();
+    let json = catalogue();
     let value = parse(&json);
     let keys = js_sys::Object::keys(value.unchecked_ref::<js_sys::Object>());
     let names: Vec<String> = keys.iter().filter_map(|k| k.as_string()).collect();
