@@ -6,9 +6,8 @@
 use sceneinfo::channel::Channel;
 use sceneinfo::formfactor::{FormFactors, exact_2d, exact_3d};
 use sceneinfo::io::parse_flat;
-use sceneinfo::radiosity::rgb::{flat_patch_materials, patch_materials};
 use sceneinfo::refine::proposition::{StateSplit, split_gain};
-use sceneinfo::scene::{Scene2, Scene3, Subdivision, catalogue_scene};
+use sceneinfo::scene::{Scene2, Scene3, Subdivision};
 use sceneinfo::simplify::adjacency::{adjacency_2d, adjacency_3d, coarse_scene_2d};
 use sceneinfo::simplify::{MergeChain, MergeCriterion, Simplifier, compare_criteria};
 
@@ -39,7 +38,7 @@ fn flat_scenes() -> Vec<(String, Scene2)> {
     .map(|(name, k)| {
         (
             format!("{name} ({k} per side)"),
-            catalogue_scene(name, k).unwrap(),
+            Scene2::catalogue(name, k).unwrap(),
         )
     })
     .collect();
@@ -182,7 +181,7 @@ fn solid_scenes() -> Vec<(String, Scene3)> {
         ),
         (
             "octahedron, grid 3".into(),
-            sceneinfo::scene::preset_3d("octahedron", 1)
+            Scene3::preset("octahedron", 1)
                 .unwrap()
                 .subdivided(Subdivision::Grid(3))
                 .unwrap(),
@@ -234,7 +233,7 @@ fn mi_simplification_keeps_at_least_the_i_s_of_regular_coarsening() {
             &ff,
             scene.n_patches(),
             &adjacency_2d(&scene),
-            &flat_patch_materials(&scene),
+            &scene.patch_materials(),
         );
     }
     for (name, scene) in solid_scenes() {
@@ -244,7 +243,7 @@ fn mi_simplification_keeps_at_least_the_i_s_of_regular_coarsening() {
             &ff,
             scene.n_patches(),
             &adjacency_3d(&scene),
-            &patch_materials(&scene),
+            &scene.patch_materials(),
         );
     }
     for row in &rows {

@@ -8,7 +8,7 @@
 
 use rand_core::Rng;
 use sceneinfo::lines::chunk_rng;
-use sceneinfo::scene::{Scene2, Scene3, preset_3d};
+use sceneinfo::scene::{Scene2, Scene3};
 use sceneinfo::tally::{LineEstimate, LineMethod};
 use sceneinfo::trace::{estimate_2d, estimate_3d};
 
@@ -83,7 +83,7 @@ fn flatland_estimates_are_pinned() {
 
 #[test]
 fn solid_estimates_are_pinned() {
-    let scene: Scene3 = preset_3d("cube", 2).unwrap();
+    let scene: Scene3 = Scene3::preset("cube", 2).unwrap();
     let pins = [
         (LineMethod::Global, PIN_SOLID_GLOBAL),
         (LineMethod::Local, PIN_SOLID_LOCAL),

@@ -5,9 +5,7 @@
 use std::ffi::{CString, c_char};
 
 use sceneinfo::continuous::relative_discretisation_error;
-use sceneinfo::{
-    AUTO_MAX_LINES, Job, LineBudget, LineJob, LineMethod, Measurement, Serial, measure,
-};
+use sceneinfo::{Job, LineBudget, LineJob, LineMethod, Measurement, Serial, measure};
 
 use crate::buffers::{clear_out, copy_out, free, handle, input, write_out};
 use crate::scene::{SiScene, text};
@@ -64,7 +62,7 @@ impl SiJob {
             other => return Err(Failure::invalid(format!("unknown method code {other}"))),
         };
         let budget = match (self.lines, self.max_lines) {
-            (0, 0) => LineBudget::until_sampled(AUTO_MAX_LINES),
+            (0, 0) => LineBudget::until_sampled(LineBudget::AUTO_MAX_LINES),
             (0, max) => LineBudget::until_sampled(max),
             (n, _) => LineBudget::Fixed(n),
         };

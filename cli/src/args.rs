@@ -196,14 +196,14 @@ pub struct ViewpointsArgs {
     /// The 3D scene file (OBJ, glTF/GLB, PLY).
     pub file: PathBuf,
     /// Number of viewpoints on the icosphere: 12, 42, 162, 642, 2562 or 10242.
-    #[arg(long, default_value_t = sceneinfo::viewpoint::DEFAULT_VIEWS)]
+    #[arg(long, default_value_t = sceneinfo::viewpoint::ViewpointOptions::DEFAULT_VIEWS)]
     pub views: usize,
     /// Side of each view's image in pixels (the raster error of a polygon's projected area
     /// halves with each doubling).
-    #[arg(long, value_name = "N", default_value_t = sceneinfo::viewpoint::DEFAULT_RESOLUTION)]
+    #[arg(long, value_name = "N", default_value_t = sceneinfo::viewpoint::ViewpointOptions::DEFAULT_RESOLUTION)]
     pub resolution: u32,
     /// Distance of the viewpoints from the scene's centre, in bounding-sphere radii (> 1).
-    #[arg(long, value_name = "R", default_value_t = sceneinfo::viewpoint::DEFAULT_DISTANCE)]
+    #[arg(long, value_name = "R", default_value_t = sceneinfo::viewpoint::ViewpointOptions::DEFAULT_DISTANCE)]
     pub distance: f64,
     /// How many best views to list (least VMI first) and the most views the greedy
     /// selection picks.
@@ -235,7 +235,7 @@ pub struct ViewpointsArgs {
     pub png: Option<PathBuf>,
     /// Side of the --png picture in pixels.
     #[arg(long, value_name = "PX", default_value_t = 512,
-          value_parser = clap::value_parser!(u32).range(16..=sceneinfo::viewpoint::MAX_RESOLUTION as i64))]
+          value_parser = clap::value_parser!(u32).range(16..=sceneinfo::viewpoint::IdRaster::MAX_RESOLUTION as i64))]
     pub png_size: u32,
     /// Worker threads (default: all cores). Never changes the result.
     #[arg(long)]
@@ -396,7 +396,7 @@ pub struct MeasureArgs {
     /// scene's chain for n = 1..N bounces (exact from F^n), its per-patch split and its
     /// links with I_S and the excess entropy (thesis §7.3, Proposition 1).
     #[arg(long, value_name = "N", conflicts_with = "partial",
-          value_parser = clap::value_parser!(u32).range(1..=sceneinfo::channel::MAX_BOUNCES as i64))]
+          value_parser = clap::value_parser!(u32).range(1..=sceneinfo::channel::LongRange::MAX_BOUNCES as i64))]
     pub bounces: Option<u32>,
 }
 

@@ -70,7 +70,7 @@ pub fn check_supported(
     }
     let kind = sceneinfo::ErrorKind::UnsupportedMethod {
         method: method.description(),
-        reason: sceneinfo::tally::UNSUPPORTED_BY_TRACER,
+        reason: sceneinfo::tally::LineTally::UNSUPPORTED_BY_TRACER,
     };
     Err(located(path, &kind.into()))
 }

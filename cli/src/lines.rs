@@ -20,7 +20,12 @@ use std::time::{Duration, Instant};
 use sceneinfo::tally::{LineMethod, LineTally, LineTracer};
 use sceneinfo::{ChunkWork, ChunksDone, Executor};
 
-pub use sceneinfo::{AUTO_MAX_LINES, AUTO_START_LINES, LineBudget};
+pub use sceneinfo::LineBudget;
+
+/// The most lines `--lines auto` doubles to by default.
+pub const AUTO_MAX_LINES: u64 = LineBudget::AUTO_MAX_LINES;
+/// Where `--lines auto` starts.
+pub const AUTO_START_LINES: u64 = LineBudget::AUTO_START_LINES;
 
 /// The executor of the CLI's line jobs: `threads` worker threads, chunks handed out in
 /// increasing order, a progress bar on a terminal, and Ctrl-C (no new chunk starts after
@@ -83,7 +88,7 @@ pub fn run_timed(
     n_lines: u64,
     threads: usize,
 ) -> (LineTally, JobTimes) {
-    let all = 0..sceneinfo::lines::chunk_count(n_lines);
+    let all = 0..sceneinfo::LineSession::chunk_count(n_lines);
     run_chunks_timed(tracer, method, seed, n_lines, all, threads)
 }
 
@@ -241,9 +246,9 @@ pub fn flat_profile(
     seed: u64,
     threads: usize,
 ) -> sceneinfo::Result<sceneinfo::refine::profile::InformationProfile> {
-    let fine = sceneinfo::refine::profile::fine_scene(
+    let fine = sceneinfo::refine::profile::InformationProfile::fine_scene(
         scene,
-        sceneinfo::refine::profile::cells_per_patch(scene.n_patches()),
+        sceneinfo::refine::profile::InformationProfile::cells_per_patch(scene.n_patches()),
     )?;
     let tracer = sceneinfo::trace::estimate_2d::Tracer2::new(&fine)?;
     let tally = run(

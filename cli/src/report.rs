@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use anyhow::Result;
 use sceneinfo::continuous::relative_discretisation_error;
-use sceneinfo::{Coverage, FEW_STDERR_GROUPS, FormFactors, LineRunInfo, LoadReport, Measurement};
+use sceneinfo::{Coverage, FormFactors, LineRunInfo, LoadReport, Measurement};
 use sceneinfo_report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport, UnsampledReport};
 
 use crate::interrupt::Interrupted;
@@ -87,6 +87,7 @@ pub fn print_report(
                     seed: mc.seed,
                     continuous: mc.continuous,
                     i_s: report.i_s(),
+                    sums_out_of_range: mc.sums_out_of_range,
                 };
                 run.write_fields(&mut o)?;
                 o.number("lines_per_second", mc.lines as f64 / seconds.max(1e-9))?;
@@ -295,7 +296,14 @@ fn continuous_lines(s: &mut String, mc: &LineRunInfo) {
         "I_S^c (4.8, 4.13)     {:.6} ± {:.6} bits (1 standard error, from {} independent groups)",
         mc.continuous.value, mc.continuous.stderr, mc.continuous.groups
     );
-    if mc.continuous.groups < FEW_STDERR_GROUPS {
+    if mc.sums_out_of_range {
+        let _ = writeln!(
+            s,
+            "WARNING               {}",
+            sceneinfo::Warning::SumsOutOfRange
+        );
+    }
+    if mc.continuous.groups < sceneinfo::Warning::FEW_STDERR_GROUPS {
         let _ = writeln!(
             s,
             "WARNING               the standard error rests on {} observations only: \

@@ -6,14 +6,11 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use sceneinfo::accel::{Bvh2, Bvh3, all_hits_naive, all_hits_naive3};
+use sceneinfo::accel::{Bvh2, Bvh3, Hit2, Hit3};
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::geom::{DVec2, DVec3, Segment};
-use sceneinfo::lines::{
-    BoundingCircle, BoundingSphere, Line2, Line3, canonical, canonical_2d, chunk_rng,
-    sample_global_line_2d, sample_global_line_3d,
-};
-use sceneinfo::scene::{Scene2, Scene3, catalogue_scene};
+use sceneinfo::lines::{BoundingCircle, BoundingSphere, Line2, Line3, canonical, chunk_rng};
+use sceneinfo::scene::{Scene2, Scene3};
 use sceneinfo::tally::{LineMethod, LineTracer};
 use sceneinfo::trace::estimate_2d::Tracer2;
 use sceneinfo::trace::estimate_3d::Tracer3;
@@ -26,7 +23,7 @@ fn lines_2d(scene: &Scene2) -> Vec<Line2> {
     let circle = BoundingCircle::of_bounds(lo, hi);
     let mut rng = chunk_rng(1, 0);
     (0..BATCH)
-        .map(|_| sample_global_line_2d(&circle, canonical_2d(&mut rng)))
+        .map(|_| Line2::global(&circle, [canonical(&mut rng), canonical(&mut rng)]))
         .collect()
 }
 
@@ -37,13 +34,13 @@ fn lines_3d(scene: &Scene3) -> Vec<Line3> {
     (0..BATCH)
         .map(|_| {
             let u = [(); 4].map(|()| canonical(&mut rng));
-            sample_global_line_3d(&sphere, u)
+            Line3::global(&sphere, u)
         })
         .collect()
 }
 
 fn queries_2d(c: &mut Criterion) {
-    let scene = catalogue_scene("64-squares-a", 10).unwrap();
+    let scene = Scene2::catalogue("64-squares-a", 10).unwrap();
     let segments: Vec<Segment> = scene.patches().iter().map(|p| p.segment).collect();
     let bvh = Bvh2::build(&segments).unwrap();
     let lines = lines_2d(&scene);
@@ -61,7 +58,7 @@ fn queries_2d(c: &mut Criterion) {
     g.bench_function("naive", |b| {
         b.iter(|| {
             for l in &lines {
-                all_hits_naive(&segments, l, &mut hits);
+                Hit2::all_naive(&segments, l, &mut hits);
                 black_box(&hits);
             }
         });
@@ -70,7 +67,7 @@ fn queries_2d(c: &mut Criterion) {
 }
 
 fn queries_3d(c: &mut Criterion) {
-    let room = sceneinfo::scene::preset_3d("cubes-512-random", 1).unwrap();
+    let room = sceneinfo::scene::Scene3::preset("cubes-512-random", 1).unwrap();
     let points = room.points().to_vec();
     let polygons: Vec<(usize, usize)> = room.patches().iter().map(|p| (p.first, p.count)).collect();
     let bvh = Bvh3::build(&points, &polygons).unwrap();
@@ -109,7 +106,7 @@ fn queries_3d(c: &mut Criterion) {
     g.bench_function("naive", |b| {
         b.iter(|| {
             for l in &lines[..256] {
-                all_hits_naive3(&points, &polygons, l, &mut hits);
+                Hit3::all_naive(&points, &polygons, l, &mut hits);
                 black_box(&hits);
             }
         });
@@ -127,7 +124,7 @@ fn sampling(c: &mut Criterion) {
         b.iter(|| {
             for _ in 0..BATCH {
                 let u = [(); 4].map(|()| canonical(&mut rng));
-                black_box(sample_global_line_3d(&sphere, u));
+                black_box(Line3::global(&sphere, u));
             }
         });
     });
@@ -135,7 +132,10 @@ fn sampling(c: &mut Criterion) {
         let mut rng = chunk_rng(2, 0);
         b.iter(|| {
             for _ in 0..BATCH {
-                black_box(sample_global_line_2d(&circle, canonical_2d(&mut rng)));
+                black_box(Line2::global(
+                    &circle,
+                    [canonical(&mut rng), canonical(&mut rng)],
+                ));
             }
         });
     });
@@ -147,7 +147,7 @@ fn chunks(c: &mut Criterion) {
     let lines = BATCH as u64;
     let mut g = c.benchmark_group("global-line chunk with tally");
     g.throughput(Throughput::Elements(lines));
-    let flat = catalogue_scene("64-squares-a", 10).unwrap();
+    let flat = Scene2::catalogue("64-squares-a", 10).unwrap();
     // One tally per tracer, reused: a long job allocates its tallies once.
     let tracer = Tracer2::new(&flat).unwrap();
     let mut tally = tracer.new_tally(LineMethod::Global);
@@ -195,7 +195,7 @@ fn exact(c: &mut Criterion) {
     g.bench_function("3D cube 600", |b| {
         b.iter(|| black_box(exact_3d::form_factors_unoccluded(cube.points(), &polygons).unwrap()));
     });
-    let flat = catalogue_scene("16-squares-4", 52).unwrap();
+    let flat = Scene2::catalogue("16-squares-4", 52).unwrap();
     g.bench_function("flatland 16-squares-4 (605)", |b| {
         b.iter(|| black_box(sceneinfo::formfactor::exact_2d::form_factors(&flat).unwrap()));
     });

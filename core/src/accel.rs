@@ -6,7 +6,7 @@
 //!
 //! - [`Bvh2`] (`alloc`): a bounding volume hierarchy over segments answering
 //!   [`Bvh2::all_hits`] and [`Bvh2::first_hit`] without allocating.
-//! - [`all_hits_naive`] (`alloc`), `first_hit_naive`: the `O(n)` loops the BVH must
+//! - `all_hits_naive` (`alloc`), `first_hit_naive`: the `O(n)` loops the BVH must
 //!   agree with exactly, kept as the baseline of the benchmarks and of the tests.
 //!
 //! # The intersection test
@@ -46,16 +46,18 @@ pub use bvh2::Bvh2;
 #[cfg(feature = "alloc")]
 pub(crate) use bvh2::MAX_PRIMITIVES;
 #[cfg(feature = "alloc")]
-pub use bvh3::{Bvh3, all_hits_naive3};
+pub use bvh3::Bvh3;
+#[cfg(feature = "alloc")]
+pub(crate) use bvh3::all_hits_naive3;
 
 pub use bvh3::Hit3;
 pub(crate) use bvh3::first_hit_naive3;
 #[cfg(feature = "alloc")]
-pub use raster3::BundleHits3;
+pub(crate) use raster3::BundleHits3;
 #[cfg(feature = "alloc")]
-pub use raster3::ParallelRaster3;
+pub(crate) use raster3::ParallelRaster3;
 #[cfg(feature = "alloc")]
-pub use sweep2::{BundleHits2, ParallelSweep2};
+pub(crate) use sweep2::{BundleHits2, ParallelSweep2};
 
 #[cfg(feature = "alloc")]
 use crate::lines::Line2;
@@ -73,6 +75,16 @@ pub struct Hit2 {
 }
 
 impl Hit2 {
+    /// Every intersection of the infinite `line` with a segment of `segments`, sorted by `t`
+    /// then `prim`, written into `out` (cleared first): the `O(n)` baseline of
+    /// [`Bvh2::all_hits`], which returns exactly the same hits in the same order.
+    ///
+    /// Only the first `2³²` segments are considered (hit indices are `u32`).
+    #[cfg(feature = "alloc")]
+    pub fn all_naive(segments: &[Segment], line: &Line2, out: &mut Vec<Hit2>) {
+        all_hits_naive(segments, line, out);
+    }
+
     /// The order of [`Bvh2::all_hits`]: by `t`, then by `prim`.
     #[inline]
     #[must_use]
@@ -179,7 +191,7 @@ impl LineQuery {
 ///
 /// Only the first `2³²` segments are considered (hit indices are `u32`).
 #[cfg(feature = "alloc")]
-pub fn all_hits_naive(segments: &[Segment], line: &Line2, out: &mut Vec<Hit2>) {
+pub(crate) fn all_hits_naive(segments: &[Segment], line: &Line2, out: &mut Vec<Hit2>) {
     out.clear();
     let q = LineQuery::new(line.origin, line.dir);
     for (s, prim) in segments.iter().zip(0..=u32::MAX) {

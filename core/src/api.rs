@@ -48,7 +48,7 @@ mod warning;
 #[cfg(feature = "alloc")]
 pub use executor::{ChunkWork, ChunksDone, Executor, LineRun, Serial, cast_chunks, cast_lines};
 #[cfg(feature = "alloc")]
-pub use job::{AUTO_MAX_LINES, AUTO_START_LINES, Job, LineBudget, LineJob};
+pub use job::{Job, LineBudget, LineJob};
 #[cfg(feature = "alloc")]
 pub use measurement::{LineRunInfo, Measurement, measure, measure_exact, measure_partial};
 #[cfg(feature = "alloc")]
@@ -57,9 +57,7 @@ pub use radiosity::{Lighting, LitLines, RadiosityJob, solve_radiosity};
 pub use scene::{Scene, SceneFormat, SceneTracer};
 #[cfg(feature = "alloc")]
 pub use session::LineSession;
-pub use warning::{
-    CHECK_TOLERANCE, FEW_STDERR_GROUPS, NEARLY_CLOSED_DEFICIT, Warning, channel_warnings,
-};
+pub use warning::{Warning, channel_warnings};
 
 #[cfg(all(test, feature = "std"))]
 mod tests;

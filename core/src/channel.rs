@@ -59,12 +59,12 @@ mod measures;
 mod proptests;
 
 #[cfg(feature = "alloc")]
-pub use bounces::{LongRange, MAX_BOUNCE_WORK, MAX_BOUNCES, long_range_information};
+pub use bounces::{LongRange, long_range_information};
 pub use checks::Checks;
 #[cfg(feature = "alloc")]
 pub use csr_buf::CsrMatrixBuf;
 #[cfg(feature = "alloc")]
-pub use csr_buf::RowMajorCsr;
+pub(crate) use csr_buf::RowMajorCsr;
 pub use markov::{entropy_rate, stationary_distribution};
 pub use matrix::{CsrMatrix, DenseMatrix, Transitions};
 pub use measures::Measures;

@@ -26,7 +26,7 @@
 //! The per-pair split (6.35, 6.36) gives each visible pair's term half to `I_ij^c` and half to
 //! `I_ji^c`, so `I_i^c = Σ_j I_ij^c` (6.37) and `I_S^c = Σ_i I_i^c` (6.38).
 //!
-//! Tallies are kept in exact 64.64 fixed point ([`crate::math::FixedSum`]) so that results
+//! Tallies are kept in exact 64.64 fixed point (`crate::math::FixedSum`) so that results
 //! depend only on the seed and the number of lines, never on the number of threads or the
 //! order in which partial results are merged.
 
@@ -129,6 +129,13 @@ impl ContinuousTally {
         self.sum_n = self.sum_n.saturating_add(other.sum_n);
         self.sum_nn = self.sum_nn.saturating_add(other.sum_nn);
         self.groups = self.groups.saturating_add(other.groups);
+    }
+
+    /// Whether a term or a total left the fixed-point range, or a non-finite term was
+    /// dropped ([`FixedSum`]'s flag): the estimate then misses something.
+    #[must_use]
+    pub fn saturated(&self) -> bool {
+        self.sum_s.saturated() || self.sum_ss.saturated() || self.sum_sn.saturated()
     }
 
     /// Number of samples so far.

@@ -87,6 +87,6 @@ mod map;
 mod point2;
 mod point3;
 
-pub use map::{FieldGrid, FieldPath, MAX_GRID_SIDE, MAX_PATH_SAMPLES};
-pub use point2::{Field2, FieldScratch, MAX_FIELD_EVENTS, PointField};
+pub use map::{FieldGrid, FieldPath};
+pub use point2::{Field2, FieldScratch, PointField};
 pub use point3::{Field3, Field3Scratch};

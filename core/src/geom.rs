@@ -18,7 +18,7 @@ pub(crate) const MAX_COORDINATE: f64 = 1e300;
 /// Positive when `v` is counter-clockwise from `u`.
 #[inline]
 #[must_use]
-pub fn cross(u: DVec2, v: DVec2) -> f64 {
+pub(crate) fn cross(u: DVec2, v: DVec2) -> f64 {
     u.x * v.y - u.y * v.x
 }
 
@@ -33,7 +33,7 @@ pub(crate) fn left_perp(v: DVec2) -> DVec2 {
 /// underflow for tiny separations).
 #[inline]
 #[must_use]
-pub fn distance(p: DVec2, q: DVec2) -> f64 {
+pub(crate) fn distance(p: DVec2, q: DVec2) -> f64 {
     math::hypot(q.x - p.x, q.y - p.y)
 }
 

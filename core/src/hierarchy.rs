@@ -3,15 +3,14 @@
 //! # Overview
 //!
 //! - [`Polygon4`]: the elements' shape, a triangle or convex quad split in four.
-//! - `point_kernel`, [`KernelSamples`]: the point-to-point kernel
+//! - `point_kernel`, `KernelSamples`: the point-to-point kernel
 //!   `F(x, y) = cos θ_x cos θ_y / (π r²)` at `N` random point pairs of two elements, with
-//!   visibility through a [`Visibility`] (rays through the scene's BVH, or none in a scene
+//!   visibility through a `Visibility` (rays through the scene's BVH, or none in a scene
 //!   where nothing hides anything).
-//! - [`Oracle`]: link a pair of elements or refine one of them. Implementations: power
-//!   (2.48) [`PowerOracle`], kernel smoothness (2.49) [`KernelSmoothnessOracle`] and about
-//!   the average (2.50) [`KernelAverageOracle`], MI-based (6.29)–(6.30)
-//!   [`MutualInformationOracle`], MI-increase (6.3)–(6.5) [`MiIncreaseOracle`], and the
-//!   regular mesh [`RegularOracle`]; [`OracleChoice3`] picks one by name.
+//! - `Oracle`: link a pair of elements or refine one of them. [`OracleChoice3`] picks one
+//!   by name: power (2.48) `power`, kernel smoothness (2.49) `ks` and about the average
+//!   (2.50) `ks-av`, MI-based (6.29)–(6.30) `mi`, MI-increase (6.3)–(6.5) `mi-increase`,
+//!   and the regular mesh `regular`.
 //! - [`Hierarchy`] (`alloc`): Hanrahan–Salzman hierarchical radiosity over a
 //!   [`crate::scene::Scene3`]'s patches — element quadtrees, links, gather and push–pull,
 //!   refinement passes with the current radiosities, budgets ([`HrOptions`]) and counts of
@@ -20,18 +19,17 @@
 //!   [`Hierarchy::build_to_target`] finds the threshold that gives a wanted mesh size.
 //! - [`McHierarchy`] (`alloc`): hierarchical *Monte Carlo* radiosity — incremental
 //!   stochastic Jacobi with per-ray refinement, the method of the thesis' experiments
-//!   (§6.4.2) — driven by [`McOracle`]; [`mc_compare_at_size`] puts its meshes side by side
+//!   (§6.4.2) — driven by [`McOracle`]; [`McComparison::at_size`] puts its meshes side by side
 //!   at the captions' ray budgets and patch counts (docs/chapter6-protocol.md);
 //!   [`render_gouraud`] draws a mesh's Gouraud-shaded picture from a [`View3`] and
 //!   [`ImageReference`] measures its image-space error against a reference's.
-//! - [`compare_at_size`] (`alloc`): an oracle's mesh at a wanted size and its RMS error
-//!   against a reference that is fine everywhere ([`ReferenceOracle`],
-//!   [`Hierarchy::build_reference`]) — the comparisons of Figures 6.6 and 6.9.
+//! - [`OracleComparison::at_size`] (`alloc`): an oracle's mesh at a wanted size and its RMS
+//!   error against a reference that is fine everywhere ([`Hierarchy::build_reference`]) — the comparisons of Figures 6.6 and 6.9.
 //!
 //! # Link form factors
 //!
 //! A link's `F_ij` is the exact unoccluded polygon-to-polygon form factor
-//! ([`crate::formfactor::exact_3d::polygon_to_polygon`]) times the fraction of the
+//! (`crate::formfactor::exact_3d::polygon_to_polygon`) times the fraction of the
 //! oracle's `N` point pairs that see each other, so a link in an empty enclosure is exact
 //! and the regular mesh reproduces the full-matrix solution of
 //! [`crate::radiosity::solve`].
@@ -61,33 +59,19 @@ mod tree;
 #[cfg(feature = "alloc")]
 mod visibility;
 
-pub use choice::ORACLE_NAMES;
 pub use choice::OracleChoice3;
 #[cfg(feature = "alloc")]
-pub use compare::{COMPARISON_RUNS, OracleComparison, ReferenceOracle, compare_at_size};
+pub use compare::OracleComparison;
 pub use element::Polygon4;
 #[cfg(feature = "alloc")]
 pub use image::{
     GouraudImage, ImageError, ImageReference, LeafShade, MAX_IMAGE_SIDE, View3,
     leaf_vertex_radiosities, render_gouraud,
 };
-pub use kernel::KernelSamples;
-pub use kernel::{MAX_PAIRS, Surface, Visibility};
 #[cfg(feature = "alloc")]
-pub use mc_compare::{
-    BOUNDARY_FRACTION, MAX_MC_TARGET_BUILDS, McComparison, McReference, boundary_leaves,
-    mc_build_to_target, mc_compare_against, mc_compare_at_size, mc_reference, mean_spread,
-};
+pub use mc_compare::{McComparison, McReference, mc_compare_against, mc_reference};
 #[cfg(feature = "alloc")]
-pub use monte_carlo::{
-    MAX_MC_RAYS, MC_ORACLE_NAMES, McElement, McHierarchy, McOptions, McOracle, cheap_form_factor,
-};
-pub use oracle::Pair;
-pub use oracle::{
-    Decision, KernelAverageOracle, KernelSmoothnessOracle, MiIncreaseOracle,
-    MutualInformationOracle, Oracle, PowerOracle, RegularOracle, Side,
-};
+pub use monte_carlo::{McElement, McHierarchy, McOptions, McOracle};
+
 #[cfg(feature = "alloc")]
-pub use tree::Link;
-#[cfg(feature = "alloc")]
-pub use tree::{Budget, Element, Hierarchy, HrOptions};
+pub use tree::{Budget, Element, Hierarchy, HrOptions, Link};

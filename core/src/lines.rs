@@ -3,10 +3,10 @@
 //!
 //! # Overview
 //!
-//! - [`chunk_rng`], [`chunk_count`], [`chunk_range`], [`canonical`]: a job of `N` lines is
-//!   cut into chunks of [`CHUNK_LINES`] lines, chunk `k` drawing from its own PCG stream, so
+//! - [`chunk_rng`], `chunk_count`, `chunk_range`, [`canonical`]: a job of `N` lines is
+//!   cut into chunks of `CHUNK_LINES` lines, chunk `k` drawing from its own PCG stream, so
 //!   a result depends on the seed and `N` only, never on the number of threads.
-//! - [`sample_global_line_2d`]: global lines, uniform for the invariant measure `dp dθ`
+//! - `sample_global_line_2d`: global lines, uniform for the invariant measure `dp dθ`
 //!   (Sbert's global lines, thesis (2.37)); `invert_global_line_2d` maps a line back.
 //! - `sample_local_line_2d`: local lines, origin uniform on a segment and direction
 //!   cosine-distributed about its normal (thesis (2.36)).
@@ -38,21 +38,29 @@ mod lines3;
 mod local2;
 mod stream;
 
-pub use budget::{MAX_LINES, check_line_budget};
-pub use bundle3::{BundleRow, GlobalBundle3, sheaf_direction_sample};
+pub(crate) use budget::check_line_budget;
+pub use bundle3::BundleRow;
+pub(crate) use bundle3::GlobalBundle3;
+pub(crate) use bundle3::sheaf_direction_sample;
 pub use global2::BoundingCircle;
-pub use global2::{GlobalBundle2, Line2, sample_global_line_2d};
+pub(crate) use global2::GlobalBundle2;
+pub use global2::Line2;
+pub(crate) use global2::sample_global_line_2d;
 pub(crate) use lines3::sample_cosine_hemisphere;
+pub(crate) use lines3::sample_global_line_3d;
 pub(crate) use lines3::sample_local_line_3d;
 pub(crate) use lines3::sample_polygon_point;
 pub(crate) use lines3::sample_uniform_sphere;
-pub use lines3::{BoundingSphere, Line3, sample_global_line_3d};
+pub use lines3::{BoundingSphere, Line3};
 
 pub(crate) use local2::sample_local_line_2d;
 pub(crate) use local2::sample_point_pair;
-pub use stream::canonical_2d;
+pub(crate) use stream::CHUNK_LINES;
+pub(crate) use stream::canonical_2d;
+pub(crate) use stream::chunk_count;
+pub(crate) use stream::chunk_range;
 pub(crate) use stream::mix64;
-pub use stream::{CHUNK_LINES, canonical, chunk_count, chunk_range, chunk_rng};
+pub use stream::{canonical, chunk_rng};
 
 /// The largest `f64` below one, `1 − 2⁻⁵³`: canonical samples live in `[0, ONE_MINUS_EPSILON]`.
 pub(crate) const ONE_MINUS_EPSILON: f64 = 1.0 - f64::EPSILON / 2.0;

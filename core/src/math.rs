@@ -10,10 +10,10 @@ mod fixed;
 mod log_product;
 mod turns;
 pub(crate) use clausen::clausen2;
-pub use fast_log2::log2_fast;
-pub use fixed::FixedSum;
-pub use log_product::Log2Product;
-pub use turns::sin_cos_turns;
+pub(crate) use fast_log2::log2_fast;
+pub(crate) use fixed::FixedSum;
+pub(crate) use log_product::Log2Product;
+pub(crate) use turns::sin_cos_turns;
 
 /// Base-2 logarithm, `log₂ x`. All entropies of the crate are in bits.
 #[inline]
@@ -29,7 +29,7 @@ pub fn log2(x: f64) -> f64 {
 /// ```
 #[inline]
 #[must_use]
-pub fn eta(p: f64) -> f64 {
+pub(crate) fn eta(p: f64) -> f64 {
     if p > 0.0 { -p * libm::log2(p) } else { 0.0 }
 }
 
@@ -39,7 +39,7 @@ pub fn eta(p: f64) -> f64 {
 /// libm's portable routine costs several times more.
 #[inline]
 #[must_use]
-pub fn sqrt(x: f64) -> f64 {
+pub(crate) fn sqrt(x: f64) -> f64 {
     #[cfg(all(target_arch = "wasm32", feature = "std"))]
     return x.sqrt();
     #[cfg(not(all(target_arch = "wasm32", feature = "std")))]
@@ -50,7 +50,7 @@ pub fn sqrt(x: f64) -> f64 {
 /// through [`sqrt`] (glam calls `libm::sqrt` directly, slow on wasm32).
 #[inline]
 #[must_use]
-pub fn length(v: glam::DVec2) -> f64 {
+pub(crate) fn length(v: glam::DVec2) -> f64 {
     sqrt(v.x * v.x + v.y * v.y)
 }
 
@@ -64,35 +64,35 @@ pub(crate) fn atan2(y: f64, x: f64) -> f64 {
 /// Sine.
 #[inline]
 #[must_use]
-pub fn sin(x: f64) -> f64 {
+pub(crate) fn sin(x: f64) -> f64 {
     libm::sin(x)
 }
 
 /// Cosine.
 #[inline]
 #[must_use]
-pub fn cos(x: f64) -> f64 {
+pub(crate) fn cos(x: f64) -> f64 {
     libm::cos(x)
 }
 
 /// Euclidean length of `(x, y)` without undue overflow or underflow.
 #[inline]
 #[must_use]
-pub fn hypot(x: f64, y: f64) -> f64 {
+pub(crate) fn hypot(x: f64, y: f64) -> f64 {
     libm::hypot(x, y)
 }
 
 /// Rounds half away from zero.
 #[inline]
 #[must_use]
-pub fn round(x: f64) -> f64 {
+pub(crate) fn round(x: f64) -> f64 {
     libm::round(x)
 }
 
 /// The largest integer not above `x`.
 #[inline]
 #[must_use]
-pub fn floor(x: f64) -> f64 {
+pub(crate) fn floor(x: f64) -> f64 {
     libm::floor(x)
 }
 
@@ -118,7 +118,7 @@ pub(crate) fn exponent_of(x: f64) -> i32 {
 /// The smallest integer not below `x`.
 #[inline]
 #[must_use]
-pub fn ceil(x: f64) -> f64 {
+pub(crate) fn ceil(x: f64) -> f64 {
     libm::ceil(x)
 }
 
@@ -209,35 +209,35 @@ pub(crate) fn pow(x: f64, y: f64) -> f64 {
 /// Natural logarithm, `ln x`.
 #[inline]
 #[must_use]
-pub fn ln(x: f64) -> f64 {
+pub(crate) fn ln(x: f64) -> f64 {
     libm::log(x)
 }
 
 /// Natural exponential, `eˣ`.
 #[inline]
 #[must_use]
-pub fn exp(x: f64) -> f64 {
+pub(crate) fn exp(x: f64) -> f64 {
     libm::exp(x)
 }
 
 /// Arctangent, `atan x ∈ (−π/2, π/2)`.
 #[inline]
 #[must_use]
-pub fn atan(x: f64) -> f64 {
+pub(crate) fn atan(x: f64) -> f64 {
     libm::atan(x)
 }
 
 /// Tangent, `tan x`.
 #[inline]
 #[must_use]
-pub fn tan(x: f64) -> f64 {
+pub(crate) fn tan(x: f64) -> f64 {
     libm::tan(x)
 }
 
 /// Arcsine, `asin x ∈ [−π/2, π/2]` for `x ∈ [−1, 1]`.
 #[inline]
 #[must_use]
-pub fn asin(x: f64) -> f64 {
+pub(crate) fn asin(x: f64) -> f64 {
     libm::asin(x)
 }
 

@@ -13,7 +13,8 @@
 mod material;
 pub use material::Material;
 mod frame;
-pub use frame::{Frame, SAFE_EXTENT_EXPONENT};
+pub use frame::Frame;
+pub(crate) use frame::SAFE_EXTENT_EXPONENT;
 
 #[cfg(feature = "alloc")]
 mod catalogue;
@@ -36,28 +37,16 @@ pub mod triangulate;
 #[cfg(feature = "alloc")]
 pub use catalogue::CatalogueEntry;
 #[cfg(feature = "alloc")]
-pub use catalogue::{SINGULARITY_STEPS, catalogue, catalogue_scene};
-#[cfg(feature = "alloc")]
 pub use presets3d::Preset3Entry;
-#[cfg(feature = "alloc")]
-pub use presets3d::{SIXTY_FOUR_CUBES_STEPS, preset_3d, presets_3d};
 #[cfg(feature = "alloc")]
 pub(crate) use scene2::MAX_PATCHES_PER_SURFACE;
 #[cfg(feature = "alloc")]
-pub use scene2::Patch2;
+pub use scene2::Scene2;
 #[cfg(feature = "alloc")]
-pub use scene2::Scene2Builder;
-#[cfg(feature = "alloc")]
-pub use scene2::Surface2;
-#[cfg(feature = "alloc")]
-pub use scene2::{MAX_PATCHES, Scene2};
-#[cfg(feature = "alloc")]
-pub use scene3::Face3;
+pub use scene2::{Patch2, Scene2Builder, Surface2};
 #[cfg(feature = "alloc")]
 pub(crate) use scene3::MAX_FACE_VERTICES;
 #[cfg(feature = "alloc")]
 pub(crate) use scene3::MAX_PATCHES_3D;
 #[cfg(feature = "alloc")]
-pub use scene3::Patch3;
-#[cfg(feature = "alloc")]
-pub use scene3::{Scene3, Scene3Builder, Subdivision};
+pub use scene3::{Face3, Patch3, Scene3, Scene3Builder, Subdivision};

@@ -18,7 +18,8 @@ pub mod coverage;
 pub mod memory;
 pub(crate) mod pair_blocks;
 
-pub use counts::{DENSE_COUNT_LIMIT, DENSE_PAIR_LIMIT};
+pub(crate) use counts::DENSE_COUNT_LIMIT;
+pub(crate) use counts::DENSE_PAIR_LIMIT;
 
 use alloc::boxed::Box;
 use alloc::vec;
@@ -43,10 +44,10 @@ pub enum LineMethod {
     Local,
     /// Bundles of parallel global lines: each bundle shares one uniform direction and
     /// covers the bounding circle (sphere) with evenly spaced lines under one uniform shift
-    /// ([`crate::lines::GlobalBundle2`], [`crate::lines::GlobalBundle3`]); every line is
+    /// (`crate::lines::GlobalBundle2`, `crate::lines::GlobalBundle3`); every line is
     /// tallied as a global line, and each sheaf of bundles is one observation of the
-    /// standard error. Cast by a sweep ([`crate::accel::ParallelSweep2`]) or a raster
-    /// ([`crate::accel::ParallelRaster3`]) instead of one tree query per line.
+    /// standard error. Cast by a sweep (`crate::accel::ParallelSweep2`) or a raster
+    /// (`crate::accel::ParallelRaster3`) instead of one tree query per line.
     Bundle,
 }
 
@@ -86,7 +87,7 @@ impl LineMethod {
 
 /// The reason of [`ErrorKind::UnsupportedMethod`] for a method a tracer does not
 /// [`LineTracer::supports`].
-pub const UNSUPPORTED_BY_TRACER: &str = "this kind of scene cannot cast them";
+pub(crate) const UNSUPPORTED_BY_TRACER: &str = "this kind of scene cannot cast them";
 
 /// A scene prepared for line casting.
 pub trait LineTracer {
@@ -157,7 +158,7 @@ pub struct LineTally {
 /// tally carries without knowing what it is (the radiosity terms of (5.20),
 /// `crate::radiosity::continuous::RadiosityLineTally`, are one): told of every pair
 /// sample and every closed line or group, merged exactly as the tally is.
-pub trait SampleTerms: core::fmt::Debug + Send + Sync + Any {
+pub(crate) trait SampleTerms: core::fmt::Debug + Send + Sync + Any {
     /// `weight` copies of the terms of a sample with continuous term `s` between patches
     /// `i` and `j` (2 for a global-line segment, which serves both ends; 1 for a local
     /// line).
@@ -208,7 +209,7 @@ pub struct LineEstimate {
     /// Per-patch `I_i^c` (6.37); they sum to `I_S^c`.
     pub patch_continuous: Vec<f64>,
     /// Per-pair `I_ij^c` (6.35, 6.36), row-major `n × n`, kept for scenes of at most
-    /// [`crate::tally::DENSE_PAIR_LIMIT`] patches.
+    /// `crate::tally::DENSE_PAIR_LIMIT` patches.
     pub pair_continuous: Option<Vec<f64>>,
     /// Lines cast.
     pub lines: u64,
@@ -217,6 +218,15 @@ pub struct LineEstimate {
 }
 
 impl LineTally {
+    /// The reason of [`ErrorKind::UnsupportedMethod`] for a method a tracer does not
+    /// [`LineTracer::supports`].
+    pub const UNSUPPORTED_BY_TRACER: &str = UNSUPPORTED_BY_TRACER;
+
+    /// Largest patch count for which the counts `C_ij` are kept dense (`u32`, `n(n+1)/2 × 4`
+    /// bytes ≤ 64 MiB per global-line tally, `n² × 4` ≤ 128 MiB for local lines): faster than
+    /// sparse and, for scenes where most pairs see each other (a subdivided cube), smaller too.
+    pub const DENSE_COUNT_LIMIT: usize = DENSE_COUNT_LIMIT;
+
     /// An empty tally over `n` patches.
     #[must_use]
     pub fn new(n: usize, method: LineMethod) -> Self {
@@ -232,18 +242,18 @@ impl LineTally {
     }
 
     /// Also accumulates `terms` from the same samples ([`SampleTerms`]).
-    pub fn set_terms(&mut self, terms: Box<dyn SampleTerms>) {
+    pub(crate) fn set_terms(&mut self, terms: Box<dyn SampleTerms>) {
         self.terms = Terms(Some(terms));
     }
 
     /// The terms accumulated alongside, if any.
     #[must_use]
-    pub fn terms(&self) -> Option<&dyn SampleTerms> {
+    pub(crate) fn terms(&self) -> Option<&dyn SampleTerms> {
         self.terms.0.as_deref()
     }
 
     /// Takes the terms accumulated alongside out of the tally.
-    pub fn take_terms(&mut self) -> Option<Box<dyn SampleTerms>> {
+    pub(crate) fn take_terms(&mut self) -> Option<Box<dyn SampleTerms>> {
         self.terms.0.take()
     }
 
@@ -417,7 +427,7 @@ impl LineTally {
     }
 
     /// Memory of the pair counts `C_ij`: `(heap bytes, pairs with a count or
-    /// information)`. Sparse counts (more than [`crate::tally::DENSE_COUNT_LIMIT`]
+    /// information)`. Sparse counts (more than `crate::tally::DENSE_COUNT_LIMIT`
     /// patches) take 16 bytes per stored pair once merged, plus the pending buffer: 16 per
     /// non-zero pair for local lines, 8 for global lines (whose counts are symmetric and
     /// stored once per unordered pair).
@@ -443,6 +453,14 @@ impl LineTally {
             .iter()
             .map(|s| s.value() / samples)
             .collect()
+    }
+
+    /// Whether a sum of `I^c` terms (the scene's, or a patch's `I_i^c`) left its
+    /// fixed-point range or dropped a non-finite term: `I_S^c`, its standard error or an
+    /// `I_i^c` then misses something, and [`crate::Warning::SumsOutOfRange`] says so.
+    #[must_use]
+    pub fn sums_out_of_range(&self) -> bool {
+        self.continuous.saturated() || self.patch_info.iter().any(FixedSum::saturated)
     }
 
     /// Turns the tallies into form factors and continuous measures.

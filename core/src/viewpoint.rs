@@ -51,7 +51,7 @@
 //! plus viewpoint (in)stability, viewpoint saliency and the greedy selection of
 //! representative views: [`ViewpointChannel`]. The channel is rectangular (`N_v × N_o`), so
 //! its measures live here rather than in [`crate::channel`] (a square Markov chain), with the
-//! same helpers ([`crate::math::eta`], `crate::math::log2_ratio`, compensated sums).
+//! same helpers (`crate::math::eta`, `crate::math::log2_ratio`, compensated sums).
 //! `docs/viewpoints.md` lists which conventions are the papers' and which are ours.
 //!
 //! # Determinism
@@ -80,10 +80,7 @@ mod sphere;
 #[cfg(test)]
 mod tests;
 
-pub use channel::{
-    DEFAULT_DISTANCE, DEFAULT_RESOLUTION, DEFAULT_VIEWS, MAX_CHANNEL_ENTRIES, MAX_VALENCE,
-    ViewWeighting, ViewpointChannel, ViewpointJob, ViewpointOptions, patch_neighbours,
-};
+pub use channel::{ViewWeighting, ViewpointChannel, ViewpointJob, ViewpointOptions};
 pub use exact::convex_orthographic_areas;
-pub use raster::{IdRaster, MAX_RESOLUTION, Projection, ViewTotals, bounding_sphere};
-pub use sphere::{MAX_VIEW_LEVEL, ViewSphere};
+pub use raster::{IdRaster, Projection, ViewTotals};
+pub use sphere::ViewSphere;

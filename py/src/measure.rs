@@ -1,13 +1,13 @@
 //! `measure`, `measure_partial` and `merge`: the core's [`sceneinfo::measure`],
-//! [`sceneinfo::measure_partial`] and [`merge_partials`] with the GIL released, on the
+//! [`sceneinfo::measure_partial`] and [`Partial::merge`] with the GIL released, on the
 //! bindings' [`PyExecutor`].
 
 use std::path::PathBuf;
 
 use pyo3::prelude::*;
-use sceneinfo::io::partial::{Partial, merge_partials};
+use sceneinfo::io::partial::Partial;
 use sceneinfo::tally::LineMethod;
-use sceneinfo::{AUTO_MAX_LINES, AUTO_START_LINES, Job, LineBudget, LineJob, Measurement};
+use sceneinfo::{Job, LineBudget, LineJob, Measurement};
 
 use crate::error::{bad_argument, core_error, warn};
 use crate::executor::{PyExecutor, threads_of};
@@ -71,8 +71,8 @@ pub fn job_of(
         None => return Ok(Job::Exact),
         Some(LinesArg::Count(n)) => LineBudget::Fixed(n),
         Some(LinesArg::Auto) => LineBudget::UntilSampled {
-            start: AUTO_START_LINES,
-            max: max_lines.unwrap_or(AUTO_MAX_LINES),
+            start: LineBudget::AUTO_START_LINES,
+            max: max_lines.unwrap_or(LineBudget::AUTO_MAX_LINES),
         },
     };
     Ok(Job::Lines(
@@ -295,6 +295,6 @@ pub fn merge(py: Python<'_>, parts: Vec<PartialArg>) -> PyResult<PyPartial> {
             PartialArg::Path(path) => read_partial(py, &path)?,
         });
     }
-    let p = merge_partials(all).map_err(|e| core_error(py, None, &e))?;
+    let p = Partial::merge(all).map_err(|e| core_error(py, None, &e))?;
     Ok(PyPartial { p })
 }

@@ -5,7 +5,7 @@
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use sceneinfo::{CHECK_TOLERANCE, Checks, Measurement, Measures};
+use sceneinfo::{Checks, Measurement, Measures, Warning};
 
 use crate::arrays::{matrix, vector};
 
@@ -40,9 +40,12 @@ pub fn checks_dict<'py>(py: Python<'py>, c: &Checks) -> PyResult<Bound<'py, PyDi
     d.set_item("max_row_sum_error", c.max_row_sum_error)?;
     d.set_item("max_reciprocity_error", c.max_reciprocity_error)?;
     d.set_item("stationarity_error", c.stationarity_error)?;
-    d.set_item("row_stochastic", c.is_row_stochastic(CHECK_TOLERANCE))?;
-    d.set_item("reversible", c.is_reversible(CHECK_TOLERANCE))?;
-    d.set_item("stationary", c.is_stationary(CHECK_TOLERANCE))?;
+    d.set_item(
+        "row_stochastic",
+        c.is_row_stochastic(Warning::CHECK_TOLERANCE),
+    )?;
+    d.set_item("reversible", c.is_reversible(Warning::CHECK_TOLERANCE))?;
+    d.set_item("stationary", c.is_stationary(Warning::CHECK_TOLERANCE))?;
     Ok(d)
 }
 

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use pyo3::prelude::*;
-use sceneinfo::io::partial::fingerprint;
+use sceneinfo::io::partial::Partial;
 use sceneinfo::{LoadReport, ObjOptions, Scene, SceneFormat};
 
 use crate::arrays::{Floats, Ints, indices, materials, rows};
@@ -73,7 +73,7 @@ impl PyScene {
 
     /// A scene built in memory (see [`PyScene::from_scene`]).
     fn built(scene: Scene) -> Self {
-        let fp = fingerprint(written(&scene, "scene.mtl").0.as_bytes());
+        let fp = Partial::fingerprint(written(&scene, "scene.mtl").0.as_bytes());
         Self {
             scene,
             path: None,
@@ -97,7 +97,7 @@ impl PyScene {
         Ok(Self {
             scene,
             path: Some(path.to_path_buf()),
-            fingerprint: fingerprint(&bytes),
+            fingerprint: Partial::fingerprint(&bytes),
             load_warnings: warning_texts(&report),
         })
     }
@@ -280,7 +280,8 @@ impl PyScene {
     #[staticmethod]
     #[pyo3(signature = (name, grid = 10))]
     fn preset(py: Python<'_>, name: &str, grid: u32) -> PyResult<Self> {
-        let s = sceneinfo::scene::preset_3d(name, grid).map_err(|e| core_error(py, None, &e))?;
+        let s =
+            sceneinfo::scene::Scene3::preset(name, grid).map_err(|e| core_error(py, None, &e))?;
         Ok(Self::built(Scene::from(s)))
     }
 
@@ -289,7 +290,7 @@ impl PyScene {
     #[staticmethod]
     #[pyo3(signature = (name, per_side = 1))]
     fn catalogue(py: Python<'_>, name: &str, per_side: u64) -> PyResult<Self> {
-        let s = sceneinfo::scene::catalogue_scene(name, per_side)
+        let s = sceneinfo::scene::Scene2::catalogue(name, per_side)
             .map_err(|e| core_error(py, None, &e))?;
         Ok(Self::built(Scene::from(s)))
     }

@@ -71,4 +71,9 @@ pub use simplify::SimplificationReport;
 pub use viewpoint::{ViewpointReport, viewpoints_obj_json};
 // The warnings are the façade's (`sceneinfo::Measurement::warnings` gives them too); the
 // reports write their `Display` text under `warnings`.
-pub use sceneinfo::{CHECK_TOLERANCE, NEARLY_CLOSED_DEFICIT, Warning};
+pub use sceneinfo::Warning;
+
+/// Tolerance of the yes/no verdicts of the reports' checks ([`Warning::CHECK_TOLERANCE`]).
+pub const CHECK_TOLERANCE: f64 = Warning::CHECK_TOLERANCE;
+/// Largest row deficit that draws a nearly-closed warning ([`Warning::NEARLY_CLOSED_DEFICIT`]).
+pub const NEARLY_CLOSED_DEFICIT: f64 = Warning::NEARLY_CLOSED_DEFICIT;

@@ -10,7 +10,9 @@ use sceneinfo::scene::{Scene2, Scene3};
 use sceneinfo::tally::coverage::Coverage;
 
 use crate::json::JsonObject;
-use sceneinfo::{CHECK_TOLERANCE, Warning};
+use sceneinfo::Warning;
+
+use crate::CHECK_TOLERANCE;
 
 /// The discrete measures of a scene's channel, with the checks and the background flag.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -5,9 +5,7 @@
 use core::fmt::{self, Write};
 
 use sceneinfo::geom::DVec3;
-use sceneinfo::viewpoint::{
-    ViewWeighting, ViewpointChannel, ViewpointJob, ViewpointOptions, patch_neighbours,
-};
+use sceneinfo::viewpoint::{ViewWeighting, ViewpointChannel, ViewpointJob, ViewpointOptions};
 
 use crate::json::JsonObject;
 
@@ -72,7 +70,7 @@ impl ViewpointReport {
         fraction: f64,
     ) -> Self {
         let n_v = channel.n_views();
-        let neighbours = patch_neighbours(job.scene());
+        let neighbours = ViewpointChannel::patch_neighbours(job.scene());
         let saliency = channel.saliency(&neighbours);
         let mut polygonal_mi = vec![0.0; channel.n_polygons()];
         // The buffer has the channel's length: the call cannot fail

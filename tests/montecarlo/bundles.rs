@@ -14,7 +14,7 @@ fn table_4_11_triangle_by_bundles() {
     let s = Scene2::regular_polygon(3, 1).unwrap();
     let est = estimate(&s, LineMethod::Bundle, 2002, 1 << 21).unwrap();
     let (value, stderr) = (est.continuous.value, est.continuous.stderr);
-    let exact = closed_form::equilateral_triangle();
+    let exact = closed_form::Enclosure::EquilateralTriangle.i_s_continuous();
     assert!(stderr > 0.0 && stderr < 5e-4, "standard error {stderr}");
     assert!(
         (value - exact).abs() <= 3.0 * stderr,
@@ -56,7 +56,7 @@ fn printed_standard_error_matches_the_spread_over_seeds() {
         "spread {spread} vs printed {printed}"
     );
     assert!(printed < global.continuous.stderr / 2.0);
-    let exact = closed_form::square();
+    let exact = closed_form::Enclosure::Square.i_s_continuous();
     assert!(
         (mean - exact).abs() <= 3.0 * spread / k.sqrt(),
         "mean {mean} vs closed form {exact}"

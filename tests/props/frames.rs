@@ -16,7 +16,7 @@ use sceneinfo::formfactor::exact_3d;
 use sceneinfo::formfactor::{FormFactors, exact_2d};
 use sceneinfo::geom::{DVec2, DVec3};
 use sceneinfo::io::{parse_flat, write_flat};
-use sceneinfo::scene::{SAFE_EXTENT_EXPONENT, Scene2, Scene3};
+use sceneinfo::scene::{Frame, Scene2, Scene3};
 use sceneinfo::trace::{estimate_2d, estimate_3d};
 use sceneinfo_report::SceneReport;
 
@@ -138,7 +138,7 @@ proptest! {
     #[test]
     fn flatland_lines_give_the_same_bits_beyond_the_stored_range(
         scene in room_with_segments(),
-        k in (SAFE_EXTENT_EXPONENT + 2)..900,
+        k in (Frame::SAFE_EXTENT_EXPONENT + 2)..900,
         down in any::<bool>(),
         seed in any::<u64>(),
     ) {
@@ -169,7 +169,7 @@ proptest! {
     #[test]
     fn solid_lines_give_the_same_bits_beyond_the_stored_range(
         solid in random_box(),
-        k in (SAFE_EXTENT_EXPONENT + 2)..900,
+        k in (Frame::SAFE_EXTENT_EXPONENT + 2)..900,
         down in any::<bool>(),
         seed in any::<u64>(),
     ) {

@@ -3,7 +3,7 @@
 
 use proptest::prelude::*;
 use sceneinfo::geom::DVec3;
-use sceneinfo::scene::{Scene3, Subdivision, preset_3d};
+use sceneinfo::scene::{Scene3, Subdivision};
 use sceneinfo_tests::convex_polygon;
 
 /// A convex enclosure as its faces (each counter-clockwise about its inward normal) and how
@@ -165,7 +165,7 @@ pub fn random_platonic() -> impl Strategy<Value = Solid> {
     )
         .prop_map(|(name, level)| {
             let cut = Subdivision::Triangles(level);
-            let scene = preset_3d(name, 1).unwrap().subdivided(cut).unwrap();
+            let scene = Scene3::preset(name, 1).unwrap().subdivided(cut).unwrap();
             let faces: Vec<Vec<DVec3>> = (0..scene.faces().len())
                 .map(|f| scene.face_vertices(f).to_vec())
                 .collect();

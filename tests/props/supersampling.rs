@@ -5,7 +5,7 @@
 
 use proptest::prelude::*;
 use sceneinfo::radiosity::display::ToneMap;
-use sceneinfo::radiosity::rgb::solve_rgb;
+use sceneinfo::radiosity::rgb::RgbSolution;
 use sceneinfo::radiosity::{SolveOptions, Solver};
 use sceneinfo::scene::Subdivision;
 use sceneinfo::supersample::render3::{
@@ -108,7 +108,7 @@ fn cornell_box(size: u32) -> (RadianceScene3, PinholeCamera3) {
         .into_form_factors()
         .expect("every patch sampled");
     let materials = scene.patch_materials();
-    let solution = solve_rgb(
+    let solution = RgbSolution::solve(
         &ff.matrix(),
         ff.weights(),
         &materials,

@@ -4,8 +4,8 @@
 //! Monte Carlo claims use a fixed seed and compare differences against their combined
 //! standard errors (3σ); every difference asserted is many σ wide at the line counts used.
 
-use sceneinfo::geom::{DVec2, cross};
-use sceneinfo::scene::{Scene2, catalogue_scene};
+use sceneinfo::geom::DVec2;
+use sceneinfo::scene::Scene2;
 use sceneinfo_report::thesis::{FIGURE_4_14_B, TABLE_3_6_H_S, catalogue_value};
 use sceneinfo_tests::continuous_estimate;
 
@@ -15,7 +15,7 @@ const LINES: u64 = 150_000;
 fn continuous(names: &[String]) -> Vec<(f64, f64)> {
     let scenes: Vec<Scene2> = names
         .iter()
-        .map(|n| catalogue_scene(n, 4).unwrap())
+        .map(|n| Scene2::catalogue(n, 4).unwrap())
         .collect();
     std::thread::scope(|s| {
         let (a, b) = scenes.split_at(scenes.len() / 2);
@@ -120,7 +120,7 @@ fn sixty_four_squares_correlation_orders_i_s_h_s_and_e_mse() {
     let m: Vec<_> = ["a", "b", "c"]
         .iter()
         .map(|x| {
-            let s = catalogue_scene(&format!("64-squares-{x}"), 1).unwrap();
+            let s = Scene2::catalogue(&format!("64-squares-{x}"), 1).unwrap();
             assert_eq!(s.n_patches(), 336);
             sceneinfo_report::measure_flat(&s).unwrap().measures
         })
@@ -175,12 +175,12 @@ fn quadrature_points(cells: usize, levels: u32) -> Vec<(f64, f64)> {
 /// test of the core's `geom::proper_crossing`, which is internal to it.
 fn crosses_properly(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> bool {
     let (r, s) = (p1 - p0, q1 - q0);
-    let denom = cross(r, s);
+    let denom = r.perp_dot(s);
     if denom == 0.0 {
         return false;
     }
     let qp = q0 - p0;
-    let (t, u) = (cross(qp, s) / denom, cross(qp, r) / denom);
+    let (t, u) = (qp.perp_dot(s) / denom, qp.perp_dot(r) / denom);
     let eps = 1e-12;
     t > eps && t < 1.0 - eps && u > eps && u < 1.0 - eps
 }
@@ -251,7 +251,7 @@ fn geometry_matches_thesis_continuous_values() {
         ("pentagonal-star-subscene", 0.005),
         ("pentagonal-star-0", 0.002),
     ] {
-        let q = i_c_quadrature(&catalogue_scene(name, 1).unwrap(), 4, 10);
+        let q = i_c_quadrature(&Scene2::catalogue(name, 1).unwrap(), 4, 10);
         let want = thesis(name);
         eprintln!("{name}: quadrature I_S^c {q:.4}, thesis {want}");
         assert!((q - want).abs() < tol, "{name}: {q} vs {want}");
@@ -270,7 +270,7 @@ fn scenes_with_objects_match_thesis_continuous_values() {
         ("refinement-1", 0.04),
         ("refinement-2", 0.04),
     ] {
-        let q = i_c_quadrature(&catalogue_scene(name, 1).unwrap(), 8, 12);
+        let q = i_c_quadrature(&Scene2::catalogue(name, 1).unwrap(), 8, 12);
         let want = thesis(name);
         eprintln!("{name}: quadrature I_S^c {q:.4}, thesis {want}");
         assert!((q - want).abs() < tol, "{name}: {q} vs {want}");
@@ -306,7 +306,7 @@ fn sixty_four_squares_reproduce_table_3_6() {
 #[test]
 fn triangles_and_l_rooms_stay_below_the_thesis_continuous_values() {
     let i_s = |name: &str, per_side: u64| {
-        exact_measures(name, &catalogue_scene(name, per_side).unwrap()).i_s
+        exact_measures(name, &Scene2::catalogue(name, per_side).unwrap()).i_s
     };
     let tri = i_s("triangle-3", 16);
     assert!(tri < thesis("triangle-3") && tri > 2.1, "{tri}");

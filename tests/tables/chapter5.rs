@@ -10,10 +10,10 @@ use sceneinfo::continuous::ContinuousEstimate;
 use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::radiosity::continuous::{LitEstimate, estimate_lit};
-use sceneinfo::radiosity::rgb::{patch_materials, rgb_measures, solve_rgb};
+use sceneinfo::radiosity::rgb::RgbSolution;
 use sceneinfo::radiosity::walk::{WalkTransitions, gather};
 use sceneinfo::radiosity::{RadiosityMeasures, SolveOptions, Solver};
-use sceneinfo::scene::{Material, Scene3, catalogue_scene};
+use sceneinfo::scene::{Material, Scene2, Scene3};
 use sceneinfo::tally::{LineMethod, LineTracer};
 use sceneinfo::trace::estimate_2d::Tracer2;
 use sceneinfo::trace::estimate_3d::Tracer3;
@@ -34,7 +34,7 @@ fn exact(scene: &Scene3) -> FormFactors {
 }
 
 fn measures(ff: &FormFactors, materials: &[Material]) -> [RadiosityMeasures; 3] {
-    let sol = solve_rgb(
+    let sol = RgbSolution::solve(
         &ff.matrix(),
         ff.weights(),
         materials,
@@ -42,7 +42,7 @@ fn measures(ff: &FormFactors, materials: &[Material]) -> [RadiosityMeasures; 3] 
         &opts(),
     )
     .unwrap();
-    rgb_measures(&ff.matrix(), ff.weights(), &sol).unwrap()
+    sol.measures(&ff.matrix(), ff.weights()).unwrap()
 }
 
 fn lit<T: LineTracer + Sync>(
@@ -71,7 +71,7 @@ fn lit<T: LineTracer + Sync>(
 /// lines within 3 combined standard errors.
 #[test]
 fn table_5_1_constant_radiosity_is_visibility() {
-    let scene = catalogue_scene("64-squares-a", 4).unwrap();
+    let scene = Scene2::catalogue("64-squares-a", 4).unwrap();
     let n = scene.n_patches();
     let materials: Vec<Material> = (0..n)
         .map(|i| {
@@ -128,7 +128,7 @@ fn sphere_with_one_source() {
     let (rho, e_s, s) = (0.6, 3.0, 7);
     let mut materials = vec![Material::new([rho; 3], [0.0; 3]).unwrap(); areas.len()];
     materials[s] = Material::new([rho; 3], [e_s, 0.5 * e_s, 0.0]).unwrap();
-    let sol = solve_rgb(
+    let sol = RgbSolution::solve(
         &ff.matrix(),
         ff.weights(),
         &materials,
@@ -136,7 +136,7 @@ fn sphere_with_one_source() {
         &opts(),
     )
     .unwrap();
-    let m = rgb_measures(&ff.matrix(), ff.weights(), &sol).unwrap();
+    let m = sol.measures(&ff.matrix(), ff.weights()).unwrap();
     for c in 0..2 {
         let e = [e_s, 0.5 * e_s][c];
         let b = rho / (1.0 - rho) * areas[s] * e / a_total; // (5.11)
@@ -269,7 +269,7 @@ fn check_cornell_meshes(meshes: &[(u32, u64)]) {
         let scene = Scene3::cornell_box_thesis(level).unwrap();
         let patches = [19, 121, 481, 1924][level as usize];
         assert_eq!(scene.n_patches(), patches);
-        let materials = patch_materials(&scene);
+        let materials = scene.patch_materials();
         let tracer = Tracer3::new(&scene).unwrap();
         let est = lit(&tracer, &materials, 55, lines);
         let i_s = [0, 1, 2].map(|c| est.measures[c].i_s);
@@ -310,7 +310,7 @@ fn check_cornell_meshes(meshes: &[(u32, u64)]) {
             tolerance: 1e-11,
             ..opts()
         };
-        let southwell = solve_rgb(&f, w, &materials, Solver::Southwell, &loose).unwrap();
+        let southwell = RgbSolution::solve(&f, w, &materials, Solver::Southwell, &loose).unwrap();
         let max_e = 15.0; // the light's emittance
         for (a, b) in est.solution.radiosity.iter().zip(&southwell.radiosity) {
             for c in 0..3 {

@@ -27,9 +27,7 @@
 //! KS degrades while MI keeps its quality — is not seen: both degrade alike, by as much as
 //! the seed-to-seed spread.
 
-use sceneinfo::hierarchy::{
-    COMPARISON_RUNS, Hierarchy, HrOptions, MAX_PAIRS, OracleComparison, compare_at_size,
-};
+use sceneinfo::hierarchy::{Hierarchy, HrOptions, OracleComparison};
 use sceneinfo::scene::Scene3;
 
 fn cornell() -> Scene3 {
@@ -58,7 +56,7 @@ fn run(
         seed: 2,
         ..HrOptions::default()
     };
-    let c = compare_at_size(&cornell(), reference, oracle, target, &opts).unwrap();
+    let c = OracleComparison::at_size(&cornell(), reference, oracle, target, &opts).unwrap();
     // Matched sizes: the threshold search lands within 6 % of the target (KS-av's count
     // jumps as whole junctions refine at once: 1906 for 2000 with 4 pairs).
     assert!(c.leaves.abs_diff(target) * 100 <= 6 * target, "{c:?}");
@@ -83,9 +81,9 @@ fn at_300_leaves_power_beats_mi_in_rms_and_finer_mi_meshes_are_better() {
 #[test]
 #[ignore = "40 s in release, far longer in debug: the thesis' 1000 and 2000 leaves against a 7180-leaf reference; run with --release -- --ignored"]
 fn figures_6_6_and_6_9_power_has_the_lowest_rms_and_4_pairs_affect_mi_and_ks_alike() {
-    let reference = reference(4, MAX_PAIRS);
+    let reference = reference(4, HrOptions::MAX_PAIRS);
     for target in [1000, 2000] {
-        let rms: Vec<f64> = COMPARISON_RUNS
+        let rms: Vec<f64> = OracleComparison::RUNS
             .iter()
             .map(|&(oracle, pairs)| run(&reference, oracle, pairs, target).rms_error)
             .collect();

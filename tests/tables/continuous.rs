@@ -31,10 +31,10 @@ fn check_against(scene: &Scene2, lines: u64, reference: f64, slack: f64, what: &
 #[test]
 fn table_4_11_closed_forms_match_the_thesis() {
     let ours = [
-        closed_form::circle(),
-        closed_form::regular_hexagon(),
-        closed_form::square(),
-        closed_form::equilateral_triangle(),
+        closed_form::Enclosure::Circle.i_s_continuous(),
+        closed_form::Enclosure::RegularHexagon.i_s_continuous(),
+        closed_form::Enclosure::Square.i_s_continuous(),
+        closed_form::Enclosure::EquilateralTriangle.i_s_continuous(),
     ];
     for ((name, exact, _), v) in TABLE_4_11.iter().zip(ours) {
         assert!(
@@ -51,7 +51,7 @@ fn table_4_11_triangle_by_global_lines() {
     check_against(
         &s,
         12_000_000,
-        closed_form::equilateral_triangle(),
+        closed_form::Enclosure::EquilateralTriangle.i_s_continuous(),
         0.0,
         "triangle",
     );
@@ -60,13 +60,25 @@ fn table_4_11_triangle_by_global_lines() {
 #[test]
 fn table_4_11_square_by_global_lines() {
     let s = Scene2::regular_polygon(4, 1).unwrap();
-    check_against(&s, LINES, closed_form::square(), 0.0, "square");
+    check_against(
+        &s,
+        LINES,
+        closed_form::Enclosure::Square.i_s_continuous(),
+        0.0,
+        "square",
+    );
 }
 
 #[test]
 fn table_4_11_hexagon_by_global_lines() {
     let s = Scene2::regular_polygon(6, 1).unwrap();
-    check_against(&s, LINES, closed_form::regular_hexagon(), 0.0, "hexagon");
+    check_against(
+        &s,
+        LINES,
+        closed_form::Enclosure::RegularHexagon.i_s_continuous(),
+        0.0,
+        "hexagon",
+    );
 }
 
 /// The circle as a regular 512-gon: `I^c` of the n-gon approaches the circle's like
@@ -75,7 +87,13 @@ fn table_4_11_hexagon_by_global_lines() {
 #[test]
 fn table_4_11_circle_by_global_lines_on_a_512_gon() {
     let s = Scene2::regular_polygon(512, 1).unwrap();
-    check_against(&s, LINES, closed_form::circle(), 2e-4, "512-gon vs circle");
+    check_against(
+        &s,
+        LINES,
+        closed_form::Enclosure::Circle.i_s_continuous(),
+        2e-4,
+        "512-gon vs circle",
+    );
 }
 
 /// Table 4.10's `I_S^c` column, and `I_S < I_S^c` (with 50 patches per side, Table 3.5's
@@ -123,9 +141,9 @@ fn table_4_10_continuous_column() {
 /// scene's `I_S^c`, each within the 0.01 of the thesis (3σ ≤ 0.006 here).
 #[test]
 fn table_4_12_rotating_square_and_pentagonal_star() {
-    use sceneinfo::scene::SINGULARITY_STEPS;
+    use sceneinfo::scene::CatalogueEntry;
     use sceneinfo_report::thesis::TABLE_4_12;
-    let last = SINGULARITY_STEPS - 1;
+    let last = CatalogueEntry::SINGULARITY_STEPS - 1;
     let cases = [
         (
             Scene2::rotating_square_subscene(4).unwrap(),

@@ -16,7 +16,7 @@ use sceneinfo::formfactor::exact_2d;
 use sceneinfo::refine::profile::InformationProfile;
 use sceneinfo::refine::refiner2::{OracleChoice2, Refiner2, StepReport};
 use sceneinfo::refine::symmetric::{best_mirrored_cuts, polygon_with_mirrored_cuts};
-use sceneinfo::scene::{Scene2, catalogue_scene};
+use sceneinfo::scene::Scene2;
 use sceneinfo_report::thesis::{FIGURE_6_12_BEST_CUT, TABLE_6_1, TABLE_6_2, TABLE_ROUNDING};
 
 const LINES: u64 = 1_000_000;
@@ -62,7 +62,7 @@ fn table_6_1_regular_column_is_exact() {
         t.delta_percent,
     );
     let m = measures(&Scene2::regular_polygon(3, 6).unwrap());
-    let i_c = closed_form::equilateral_triangle();
+    let i_c = closed_form::Enclosure::EquilateralTriangle.i_s_continuous();
     // Exact values: the thesis' rounding to 3 decimals (E(MSE) to a whole number, δ̄ to 0.01%).
     assert!((i_c - i_sc).abs() <= TABLE_ROUNDING, "I_S^c {i_c}");
     for (ours, theirs) in [(m.i_s, i_s), (m.h_s, h_s), (m.h_j, h_j)] {
@@ -92,7 +92,7 @@ fn table_6_1_optimal_split_beats_the_regular_one() {
         "I_S {} at cuts {cuts:?}",
         m.i_s
     );
-    let i_c = closed_form::equilateral_triangle();
+    let i_c = closed_form::Enclosure::EquilateralTriangle.i_s_continuous();
     // δ̄ 11.44% against 11.52%: the same Monte Carlo I_S^c in the thesis' denominator.
     let d = 100.0 * relative_discretisation_error(i_c, m.i_s);
     assert!((d - delta).abs() <= 0.1, "δ̄ {d}%");
@@ -113,7 +113,7 @@ fn refined(name: &str) -> &'static [Vec<StepReport>; 3] {
     static TWO: OnceLock<[Vec<StepReport>; 3]> = OnceLock::new();
     let cell = if name == "refinement-1" { &ONE } else { &TWO };
     cell.get_or_init(|| {
-        let scene = catalogue_scene(name, 1).unwrap();
+        let scene = Scene2::catalogue(name, 1).unwrap();
         let profile = InformationProfile::trace(&scene, LINES, SEED).unwrap();
         ORACLES.map(|oracle| {
             let mut r = Refiner2::with_profile(scene.clone(), oracle, profile.clone()).unwrap();

@@ -3,7 +3,7 @@
 
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::formfactor::quadrature::{QuadratureOptions, scene_i_s_continuous};
-use sceneinfo::scene::{Scene3, preset_3d};
+use sceneinfo::scene::Scene3;
 use sceneinfo::trace::estimate_3d::{LineMethod, estimate};
 use sceneinfo_report::thesis::{PLATONIC_REFERENCE, TABLE_3_8, TABLE_ROUNDING};
 
@@ -116,8 +116,11 @@ fn e_mse_ratio_between_meshes_matches_table_3_8() {
 #[test]
 fn platonic_quadrature_against_the_independent_references() {
     for (name, reference, uncertainty) in PLATONIC_REFERENCE {
-        let r = scene_i_s_continuous(&preset_3d(name, 1).unwrap(), QuadratureOptions::STANDARD)
-            .unwrap();
+        let r = scene_i_s_continuous(
+            &Scene3::preset(name, 1).unwrap(),
+            QuadratureOptions::STANDARD,
+        )
+        .unwrap();
         assert!(r.error_estimate < 1e-5, "{name}: {r:?}");
         assert!((r.visible_area / r.total_area - 1.0).abs() < 1e-12, "{r:?}");
         if name == "tetrahedron" {
@@ -143,7 +146,7 @@ fn platonic_solids_continuous_mutual_information() {
 /// `I_S^c` (4.6) of the platonic solid `name` (one patch a face) by our quadrature, whose
 /// error estimate must be below 10⁻⁵ bits.
 fn platonic_quadrature(name: &str) -> f64 {
-    let scene = preset_3d(name, 1).unwrap();
+    let scene = Scene3::preset(name, 1).unwrap();
     let exact = scene_i_s_continuous(&scene, QuadratureOptions::STANDARD).unwrap();
     assert!(exact.error_estimate < 1e-5, "{name}: {exact:?}");
     exact.value
@@ -155,7 +158,7 @@ fn platonic_quadrature(name: &str) -> f64 {
 pub(crate) fn platonic_estimates_match_quadrature(method: LineMethod, lines: u64, max_stderr: f64) {
     for (name, _, _) in PLATONIC_REFERENCE {
         let exact = platonic_quadrature(name);
-        let e = estimate(&preset_3d(name, 1).unwrap(), method, 41, lines)
+        let e = estimate(&Scene3::preset(name, 1).unwrap(), method, 41, lines)
             .unwrap()
             .continuous;
         println!("{name}, {method:?}: {} ± {} vs {exact}", e.value, e.stderr);

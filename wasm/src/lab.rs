@@ -4,7 +4,7 @@ use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::geom::DVec2;
 use sceneinfo::io::{parse_flat, write_flat};
-use sceneinfo::scene::{Scene2, catalogue_scene};
+use sceneinfo::scene::Scene2;
 use sceneinfo::{Error, LineMethod, LineSession};
 use sceneinfo_report::{JsonObject, SceneReport};
 use wasm_bindgen::prelude::*;
@@ -106,7 +106,7 @@ impl FlatLab {
     /// An unknown name; a bad `per_side`.
     pub fn preset(name: &str, per_side: f64) -> Result<FlatLab, JsError> {
         count("per_side", per_side)
-            .and_then(|k| catalogue_scene(name, k))
+            .and_then(|k| Scene2::catalogue(name, k))
             .map(Self::from_scene)
             .map_err(into_error)
     }
@@ -359,7 +359,7 @@ pub fn catalogue() -> String {
     let mut s = String::new();
     let write = |s: &mut String| -> core::fmt::Result {
         let mut o = JsonObject::new(s)?;
-        for e in sceneinfo::scene::catalogue() {
+        for e in sceneinfo::scene::CatalogueEntry::all() {
             o.object(e.name, |o| {
                 o.string("figure", e.figure)?;
                 o.string("description", e.description)?;

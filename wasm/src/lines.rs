@@ -114,6 +114,7 @@ impl LineJob {
                 seed: run.seed,
                 continuous,
                 i_s: report.map_or(f64::NAN, |r| r.measures.i_s),
+                sums_out_of_range: run.sums_out_of_range,
             };
             run.write_fields(&mut o).map_err(json_error)?;
         }

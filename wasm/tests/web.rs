@@ -3,7 +3,7 @@
 
 #![cfg(target_arch = "wasm32")]
 
-use sceneinfo::lines::CHUNK_LINES;
+use sceneinfo::LineSession;
 use sceneinfo::tally::LineMethod;
 use sceneinfo::trace::estimate_2d;
 use sceneinfo_wasm::{FlatLab, catalogue, measure_flat};
@@ -150,10 +150,10 @@ fn chunked_job_gives_the_core_estimate_bit_for_bit() {
     // Three chunks and a bit, run two chunks at a time: the same tallies as the core's
     // one-shot estimate (which the CLI also runs, on any number of threads).
     let lab = FlatLab::new(ROOM_WITH_WALL).expect("valid");
-    let lines = 3 * CHUNK_LINES + 1000;
+    let lines = 3 * LineSession::CHUNK_LINES + 1000;
     let mut job = lab.global_lines(7.0, lines as f64).expect("job");
     assert!(!job.done());
-    assert_eq!(job.run(2), (2 * CHUNK_LINES) as f64);
+    assert_eq!(job.run(2), (2 * LineSession::CHUNK_LINES) as f64);
     assert!(!job.done());
     assert_eq!(job.run(2), lines as f64);
     assert!(job.done());
@@ -202,7 +202,7 @@ fn stopped_job_equals_the_job_of_its_whole_chunks() {
     let mut long = lab.global_lines(3.0, 1e7).expect("job");
     long.run(2);
     let mut short = lab
-        .global_lines(3.0, (2 * CHUNK_LINES) as f64)
+        .global_lines(3.0, (2 * LineSession::CHUNK_LINES) as f64)
         .expect("job");
     short.run(100);
     assert!(short.done() && !long.done());
@@ -250,7 +250,7 @@ fn bundle_lines_job_gives_the_core_estimate_bit_for_bit() {
     // Bundles of parallel lines chunk by chunk: the same tallies as the core's one-shot
     // estimate with LineMethod::Bundle.
     let lab = FlatLab::new(ROOM_WITH_WALL).expect("valid");
-    let lines = 2 * CHUNK_LINES + 300;
+    let lines = 2 * LineSession::CHUNK_LINES + 300;
     let mut job = lab.bundle_lines(5.0, lines as f64).expect("job");
     while !job.done() {
         job.run(1);
@@ -305,7 +305,7 @@ fn catalogue_lists_the_thesis_scenes_in_order() {
     let value = parse(&json);
     let keys = js_sys::Object::keys(value.unchecked_ref::<js_sys::Object>());
     let names: Vec<String> = keys.iter().filter_map(|k| k.as_string()).collect();
-    let core: Vec<&str> = sceneinfo::scene::catalogue()
+    let core: Vec<&str> = sceneinfo::scene::CatalogueEntry::all()
         .iter()
         .map(|e| e.name)
         .collect();

@@ -22,8 +22,8 @@ use anyhow::{Context, Result};
 use sceneinfo::accel::Bvh3;
 use sceneinfo::formfactor::{exact_2d, exact_3d};
 use sceneinfo::geom::DVec3;
-use sceneinfo::lines::{BoundingSphere, canonical, chunk_rng, sample_global_line_3d};
-use sceneinfo::scene::{Scene2, Scene3, Subdivision, catalogue_scene, preset_3d};
+use sceneinfo::lines::{BoundingSphere, Line3, canonical, chunk_rng};
+use sceneinfo::scene::{Scene2, Scene3, Subdivision};
 use sceneinfo::tally::{LineMethod, LineTally, LineTracer};
 use sceneinfo::trace::estimate_2d::Tracer2;
 use sceneinfo::trace::estimate_3d::Tracer3;
@@ -140,7 +140,7 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
     // Monte Carlo scenes: flatland, then 3D
     let flat: [Named<Scene2>; 2] = [
         ("triangle (30)", || Scene2::regular_polygon(3, 10)),
-        ("64-squares-a", || catalogue_scene("64-squares-a", 10)),
+        ("64-squares-a", || Scene2::catalogue("64-squares-a", 10)),
     ];
     for (name, make) in flat.into_iter().filter(|(n, _)| wanted(n)) {
         note(name);
@@ -156,8 +156,8 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
     let solid: [Named<Scene3>; 5] = [
         ("cube 600", || Scene3::cube(10)),
         ("cube 5400", || Scene3::cube(30)),
-        ("cornell (grid 10)", || preset_3d("cornell", 10)),
-        ("room, 512 cubes", || preset_3d("cubes-512-random", 1)),
+        ("cornell (grid 10)", || Scene3::preset("cornell", 10)),
+        ("room, 512 cubes", || Scene3::preset("cubes-512-random", 1)),
         ("cube 99846", || Scene3::cube(129)),
     ];
     for (name, make) in solid.into_iter().filter(|(n, _)| wanted(n)) {
@@ -176,7 +176,7 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
     let mut exact = Vec::new();
     if wanted("exact") {
         note("exact form factors");
-        let scene = catalogue_scene("16-squares-4", 52)?;
+        let scene = Scene2::catalogue("16-squares-4", 52)?;
         let t = Instant::now();
         let ff = exact_2d::form_factors(&scene)?;
         exact.push(ExactRow {
@@ -362,7 +362,7 @@ fn rate<T: LineTracer + Sync>(
             method,
             SEED,
             lines,
-            0..sceneinfo::lines::chunk_count(lines),
+            0..sceneinfo::LineSession::chunk_count(lines),
             threads,
         )
     };
@@ -471,7 +471,7 @@ fn query_ns_per_line(scene: &Scene3, budget: f64) -> Result<f64> {
         let mut found = 0usize;
         for _ in 0..lines {
             let u = [0; 4].map(|_| canonical(&mut rng));
-            bvh.all_hits(&sample_global_line_3d(&sphere, u), &mut hits);
+            bvh.all_hits(&Line3::global(&sphere, u), &mut hits);
             found += hits.len();
         }
         std::hint::black_box(found);
@@ -544,7 +544,8 @@ fn table(r: &Report, budget: f64) -> String {
         );
     }
     for m in r.mc {
-        let per_pair = if m.pairs > 0 && m.patches > sceneinfo::tally::DENSE_COUNT_LIMIT {
+        let per_pair = if m.pairs > 0 && m.patches > sceneinfo::tally::LineTally::DENSE_COUNT_LIMIT
+        {
             format!("{:.1}", m.count_bytes as f64 / m.pairs as f64)
         } else {
             "dense".to_string()

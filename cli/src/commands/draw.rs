@@ -50,7 +50,7 @@ impl Config {
             Colour::I | Colour::H => args.lines,
         };
         if let Some(n) = lines {
-            sceneinfo::lines::check_line_budget(n)?;
+            sceneinfo::LineJob::check_lines(n)?;
         }
         let needs_discrete = args.color != Colour::Ic || args.matrix_svg.is_some();
         let discrete = needs_discrete.then_some(match (args.color, lines) {

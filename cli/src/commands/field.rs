@@ -29,7 +29,7 @@ pub struct FieldArgs {
     /// Evaluate the field at the centres of a grid of N cells along the longer side of the
     /// scene's bounding box (square cells).
     #[arg(long, value_name = "N",
-          value_parser = clap::value_parser!(u32).range(1..=sceneinfo::field::MAX_GRID_SIDE as i64))]
+          value_parser = clap::value_parser!(u32).range(1..=sceneinfo::field::FieldGrid::MAX_SIDE as i64))]
     pub grid: Option<u32>,
     /// A camera path `x0,y0:x1,y1[:x2,y2…]` (world coordinates; `x,y,z` points in 3D): the
     /// field along it and its animation complexity ∫ I(x) ds.
@@ -46,7 +46,7 @@ pub struct FieldArgs {
     /// 3D scenes: side of each cube-map face in pixels (the raster error of a patch's solid
     /// angle halves with each doubling).
     #[arg(long, value_name = "N", default_value_t = 256,
-          value_parser = clap::value_parser!(u32).range(1..=i64::from(sceneinfo::viewpoint::MAX_RESOLUTION)))]
+          value_parser = clap::value_parser!(u32).range(1..=i64::from(sceneinfo::viewpoint::IdRaster::MAX_RESOLUTION)))]
     pub resolution: u32,
     /// Which measure colours the --png map.
     #[arg(long, value_enum, default_value_t = FieldMeasure::I)]

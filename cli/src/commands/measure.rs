@@ -8,8 +8,8 @@ use std::time::Instant;
 
 use anyhow::Result;
 use sceneinfo::LineJob;
-use sceneinfo::io::partial::fingerprint;
-use sceneinfo::lines::{CHUNK_LINES, chunk_count};
+use sceneinfo::LineSession;
+use sceneinfo::io::partial::Partial;
 use sceneinfo_report::JsonObject;
 
 use crate::args::{LinesArg, MeasureArgs};
@@ -60,14 +60,14 @@ fn write_partial(args: &MeasureArgs, out: &Path) -> Result<()> {
     if sampling.max_lines.is_some() {
         anyhow::bail!("{}: --max-lines bounds --lines auto only", path.display());
     }
-    let total = chunk_count(lines);
+    let total = LineSession::chunk_count(lines);
     let chunks = args.chunks.clone().unwrap_or(0..total);
     if chunks.end > total {
         anyhow::bail!(
             "--chunks {}..{}: a job of {lines} lines has chunks 0..{total} ({} lines each)",
             chunks.start,
             chunks.end,
-            CHUNK_LINES
+            LineSession::CHUNK_LINES
         );
     }
     let bytes = crate::formats::read_capped(path)?;
@@ -79,7 +79,8 @@ fn write_partial(args: &MeasureArgs, out: &Path) -> Result<()> {
         .with_chunks(chunks);
     let mut executor = Threads::new(threads_of(sampling));
     let mut partial =
-        sceneinfo::measure_partial(&scene, fingerprint(&bytes), &job, &mut executor).map_err(at)?;
+        sceneinfo::measure_partial(&scene, Partial::fingerprint(&bytes), &job, &mut executor)
+            .map_err(at)?;
     let cast = partial.tally.lines();
     let seconds = start.elapsed().as_secs_f64();
     partial.seconds = seconds;

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use anyhow::Result;
 use sceneinfo::Measurement;
-use sceneinfo::io::partial::{Partial, merge_partials};
+use sceneinfo::io::partial::Partial;
 
 use crate::args::MergeArgs;
 use crate::output::{located, write_atomic};
@@ -27,7 +27,7 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         parts.push(Partial::from_bytes(&bytes).map_err(|e| located(path, &e))?);
     }
     let first = &args.files[0];
-    let merged = merge_partials(parts).map_err(|e| anyhow::anyhow!("merge: {}", e.kind()))?;
+    let merged = Partial::merge(parts).map_err(|e| anyhow::anyhow!("merge: {}", e.kind()))?;
     if let Some(out) = &args.partial {
         let bytes = merged.to_bytes();
         write_atomic(out, &bytes)?;

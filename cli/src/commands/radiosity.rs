@@ -22,7 +22,7 @@ use std::time::Instant;
 
 use anyhow::{Result, bail};
 use sceneinfo::radiosity::display::{ToneMap, gouraud_mesh};
-use sceneinfo::radiosity::rgb::CHANNEL_NAMES;
+use sceneinfo::radiosity::rgb::RgbSolution;
 use sceneinfo::scene::{Material, Scene3};
 use sceneinfo::{
     Coverage, ErrorKind, Job, Lighting, LineJob, LineMethod, RadiosityJob, RadiosityMeasures,
@@ -182,7 +182,7 @@ fn json(r: &Run, solver: SolverArg) -> Result<String> {
     o.numbers("residual_rgb", &reports.map(|x| x.residual))?;
     let n = r.lit.form_factors().n_patches();
     o.object("radiosity", |o| {
-        for (c, name) in CHANNEL_NAMES.iter().enumerate() {
+        for (c, name) in RgbSolution::CHANNEL_NAMES.iter().enumerate() {
             let column: Vec<f64> = r.lit.solution().radiosity[..n]
                 .iter()
                 .map(|b| b[c])
@@ -197,7 +197,7 @@ fn json(r: &Run, solver: SolverArg) -> Result<String> {
     o.numbers("i_s_rgb", &rgb_of(r.lit.measures(), |m| m.i_s))?;
     let flows = r.lit.measures().map(|m| m.light_flows);
     o.object("light_flows_rgb", |o| {
-        for (c, name) in CHANNEL_NAMES.iter().enumerate() {
+        for (c, name) in RgbSolution::CHANNEL_NAMES.iter().enumerate() {
             o.boolean(name, flows[c])?;
         }
         Ok(())
@@ -328,7 +328,7 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
             );
         }
         let groups = visibility_groups.min(radiosity_groups);
-        if groups < sceneinfo::FEW_STDERR_GROUPS {
+        if groups < sceneinfo::Warning::FEW_STDERR_GROUPS {
             let _ = writeln!(
                 s,
                 "WARNING               the standard errors rest on {groups} observations only: \
@@ -351,7 +351,7 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
             let _ = writeln!(
                 s,
                 "note: no light flows between patches in the {} channel (all its measures 0)",
-                CHANNEL_NAMES[c]
+                RgbSolution::CHANNEL_NAMES[c]
             );
         }
     }

@@ -15,7 +15,7 @@ use std::time::Instant;
 use anyhow::{Result, anyhow};
 use sceneinfo::continuous::closed_form;
 use sceneinfo::formfactor::quadrature::{self, QuadratureOptions};
-use sceneinfo::scene::{Scene2, Scene3, catalogue, catalogue_scene, preset_3d};
+use sceneinfo::scene::{CatalogueEntry, Scene2, Scene3};
 use sceneinfo::trace::estimate_2d::{Estimate2, LineMethod, Tracer2};
 use sceneinfo::trace::estimate_3d::Tracer3;
 use sceneinfo_report::JsonObject;
@@ -94,7 +94,7 @@ pub fn run(args: &ReproduceArgs, threads: usize) -> Result<()> {
         seed: args.seed,
         threads,
     };
-    sceneinfo::lines::check_line_budget(runner.lines).map_err(|e| anyhow!("{e}"))?;
+    sceneinfo::LineJob::check_lines(runner.lines).map_err(|e| anyhow!("{e}"))?;
     let mut tables = if args.chapter_6_mc {
         chapter6_mc::tables(&runner, args)?
     } else if args.chapter_5_only {
@@ -207,10 +207,13 @@ fn table_4_10(runner: &Runner) -> Result<Table> {
 /// Table 4.11: closed forms, our global-line estimate, and the thesis' two columns.
 fn table_4_11(runner: &Runner) -> Result<Table> {
     let shapes: [(f64, usize); 4] = [
-        (closed_form::circle(), 512),
-        (closed_form::regular_hexagon(), 6),
-        (closed_form::square(), 4),
-        (closed_form::equilateral_triangle(), 3),
+        (closed_form::Enclosure::Circle.i_s_continuous(), 512),
+        (closed_form::Enclosure::RegularHexagon.i_s_continuous(), 6),
+        (closed_form::Enclosure::Square.i_s_continuous(), 4),
+        (
+            closed_form::Enclosure::EquilateralTriangle.i_s_continuous(),
+            3,
+        ),
     ];
     let mut rows = Vec::new();
     for ((name, exact, mc), (ours_exact, sides)) in TABLE_4_11.iter().zip(shapes) {
@@ -239,7 +242,7 @@ fn table_4_11(runner: &Runner) -> Result<Table> {
 /// Table 4.12: Proposition 2 on the last steps of the rotating square and the pentagonal
 /// star.
 fn table_4_12(runner: &Runner) -> Result<Table> {
-    let last = sceneinfo::scene::SINGULARITY_STEPS - 1;
+    let last = sceneinfo::scene::CatalogueEntry::SINGULARITY_STEPS - 1;
     let per_side = 10;
     let cases = [
         (
@@ -278,8 +281,9 @@ fn table_4_12(runner: &Runner) -> Result<Table> {
 /// where it prints one.
 fn catalogue_table(runner: &Runner) -> Result<Table> {
     let mut rows = Vec::new();
-    for entry in catalogue() {
-        let scene = catalogue_scene(entry.name, 10).map_err(|e| anyhow!("{}: {e}", entry.name))?;
+    for entry in CatalogueEntry::all() {
+        let scene =
+            Scene2::catalogue(entry.name, 10).map_err(|e| anyhow!("{}: {e}", entry.name))?;
         let thesis_value = sceneinfo_report::thesis::catalogue_value(entry.name);
         let mut cells = Vec::new();
         if entry.name.starts_with("64-squares") {
@@ -427,8 +431,8 @@ fn table_4_1(runner: &Runner) -> Result<Table> {
                 });
                 continue;
             }
-            "Cornell box" => (preset_3d("cornell-lifted", 1), "cornell-lifted"),
-            other => (preset_3d(other, 1), other),
+            "Cornell box" => (Scene3::preset("cornell-lifted", 1), "cornell-lifted"),
+            other => (Scene3::preset(other, 1), other),
         };
         let scene = scene.map_err(|e| anyhow!("{e}"))?;
         let c = runner
@@ -459,7 +463,7 @@ fn table_4_1(runner: &Runner) -> Result<Table> {
 fn table_4_2(runner: &Runner) -> Result<Table> {
     let mut rows = Vec::new();
     for (name, thesis) in TABLE_4_2 {
-        let scene = preset_3d(name, 1).map_err(|e| anyhow!("{e}"))?;
+        let scene = Scene3::preset(name, 1).map_err(|e| anyhow!("{e}"))?;
         let c = runner.continuous_3d(&scene)?;
         rows.push(Row {
             label: format!("{name} ({} patches)", scene.n_patches()),
@@ -480,7 +484,7 @@ fn table_4_2(runner: &Runner) -> Result<Table> {
 fn table_3_3(runner: &Runner) -> Result<Table> {
     let mut rows = Vec::new();
     for (name, figure, h_s, i_s, h_norm) in TABLE_3_3 {
-        let scene = preset_3d(name, 10).map_err(|e| anyhow!("{e}"))?;
+        let scene = Scene3::preset(name, 10).map_err(|e| anyhow!("{e}"))?;
         let e = runner.estimate_3d(&scene, 10_000_000)?;
         let m = e
             .form_factors

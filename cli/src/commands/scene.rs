@@ -4,7 +4,7 @@ use std::io::Write;
 use std::path::Path;
 
 use anyhow::{Result, anyhow};
-use sceneinfo::scene::{Scene2, Scene3, catalogue, catalogue_scene, preset_3d, presets_3d};
+use sceneinfo::scene::{CatalogueEntry, Preset3Entry, Scene2, Scene3};
 
 use crate::args::ScenePreset;
 use crate::output::write_atomic;
@@ -35,23 +35,23 @@ pub fn run(preset: &ScenePreset) -> Result<()> {
             per_side,
             output,
         } => {
-            let s = catalogue_scene(&name, per_side).map_err(invalid)?;
+            let s = Scene2::catalogue(&name, per_side).map_err(invalid)?;
             emit(&sceneinfo::io::write_flat(&s), output.as_deref())
         }
         ScenePreset::Cube { grid, output } => {
-            write_obj(&preset_3d("cube", grid).map_err(invalid)?, &output)
+            write_obj(&Scene3::preset("cube", grid).map_err(invalid)?, &output)
         }
         ScenePreset::Solid { name, grid, output } => {
-            write_obj(&preset_3d(&name, grid).map_err(invalid)?, &output)
+            write_obj(&Scene3::preset(&name, grid).map_err(invalid)?, &output)
         }
         ScenePreset::List => {
             let mut out = std::io::stdout().lock();
             writeln!(out, "flatland catalogue (sceneinfo scene catalogue NAME):")?;
-            for e in catalogue() {
+            for e in CatalogueEntry::all() {
                 writeln!(out, "  {:<28} {:<12} {}", e.name, e.figure, e.description)?;
             }
             writeln!(out, "3D presets (sceneinfo scene solid NAME -o FILE.obj):")?;
-            for e in presets_3d() {
+            for e in Preset3Entry::all() {
                 writeln!(out, "  {:<28} {:<12} {}", e.name, e.figure, e.description)?;
             }
             Ok(())

@@ -12,7 +12,6 @@ use std::time::Instant;
 
 use anyhow::Result;
 use sceneinfo::formfactor::{FormFactors, exact_2d, exact_3d};
-use sceneinfo::radiosity::rgb::{flat_patch_materials, patch_materials};
 use sceneinfo::scene::{Material, Subdivision};
 use sceneinfo::simplify::adjacency::{adjacency_2d, adjacency_3d, coarse_scene_2d};
 use sceneinfo::simplify::{MergeChain, MergeCriterion, MergeStep, Simplifier, compare_criteria};
@@ -38,7 +37,7 @@ pub fn run(args: &SimplifyArgs) -> Result<()> {
                     ff,
                     scene.n_patches(),
                     adjacency_2d(scene),
-                    flat_patch_materials(scene),
+                    scene.patch_materials(),
                     Some(scene),
                 )
             }
@@ -69,7 +68,7 @@ pub fn run(args: &SimplifyArgs) -> Result<()> {
                     ff,
                     scene.n_patches(),
                     adjacency_3d(&scene),
-                    patch_materials(&scene),
+                    scene.patch_materials(),
                     None,
                 )
             }

@@ -14,7 +14,6 @@ use sceneinfo::geom::DVec3;
 use sceneinfo::scene::Scene3;
 use sceneinfo::viewpoint::{
     IdRaster, ViewTotals, ViewWeighting, ViewpointChannel, ViewpointJob, ViewpointOptions,
-    bounding_sphere,
 };
 use sceneinfo_report::ViewpointReport;
 
@@ -301,7 +300,7 @@ fn sphere_ply(
     };
     let (lo, hi) = range(values);
     let scale = Scale::Linear { lo, hi };
-    let (centre, radius) = bounding_sphere(scene);
+    let (centre, radius) = IdRaster::bounding_sphere(scene);
     let mut ply = Ply::in_frame(scene.frame());
     ply.comment(&format!(
         "sceneinfo viewpoints: the viewpoint sphere coloured by {name}"
@@ -366,7 +365,7 @@ fn saliency_png(
     crate::png::encode_rgb(size, size, &rgb).ok_or_else(|| {
         sceneinfo::ErrorKind::TooLarge {
             what: "picture",
-            max: u64::from(sceneinfo::viewpoint::MAX_RESOLUTION),
+            max: u64::from(sceneinfo::viewpoint::IdRaster::MAX_RESOLUTION),
         }
         .into()
     })

@@ -133,7 +133,7 @@ struct Run {
 ///
 /// Queries allocate nothing (the caller's `Vec` is reused) and recurse nowhere (a
 /// fixed-size stack); for segments and lines with coordinates below `10¹⁵⁰` in magnitude
-/// they return exactly what [`super::all_hits_naive`] and `super::first_hit_naive`
+/// they return exactly what `super::all_hits_naive` and `super::first_hit_naive`
 /// return, in the same order — the naive loops run the same per-segment arithmetic, and
 /// the tree only ever culls with a wide margin.
 ///

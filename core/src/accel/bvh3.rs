@@ -156,6 +156,22 @@ pub struct Hit3 {
 }
 
 impl Hit3 {
+    /// Every intersection of the infinite `line` with a polygon, sorted by `t` then `prim`,
+    /// written into `out` (cleared first): the `O(n)` baseline of [`Bvh3::all_hits`], which
+    /// returns exactly the same hits in the same order. Polygons whose range leaves `points`
+    /// are skipped ([`Bvh3::build`] rejects them).
+    ///
+    /// Only the first `2³²` polygons are considered (hit indices are `u32`).
+    #[cfg(feature = "alloc")]
+    pub fn all_naive(
+        points: &[DVec3],
+        polygons: &[(usize, usize)],
+        line: &Line3,
+        out: &mut Vec<Hit3>,
+    ) {
+        all_hits_naive3(points, polygons, line, out);
+    }
+
     /// The order of [`Bvh3::all_hits`]: by `t`, then by `prim`.
     #[inline]
     #[must_use]
@@ -196,7 +212,7 @@ fn naive_hit(frame: &Frame, q: &Query, verts: &[DVec3]) -> Option<f64> {
 ///
 /// Only the first `2³²` polygons are considered (hit indices are `u32`).
 #[cfg(feature = "alloc")]
-pub fn all_hits_naive3(
+pub(crate) fn all_hits_naive3(
     points: &[DVec3],
     polygons: &[(usize, usize)],
     line: &Line3,
@@ -387,7 +403,7 @@ macro_rules! by_octant {
 /// ([`Bvh3::first_hit`], the query of local lines).
 ///
 /// Queries allocate nothing (the caller's `Vec` is reused) and recurse nowhere (a
-/// fixed-size stack); they return exactly what [`all_hits_naive3`] and `first_hit_naive3`
+/// fixed-size stack); they return exactly what `all_hits_naive3` and `first_hit_naive3`
 /// return, in the same order (see the module docs for why: the tree's culling is exact by
 /// construction, the sheets' windows by an error bound with seven orders of magnitude to
 /// spare).

@@ -96,7 +96,7 @@ const SHEET_ROUNDING: f64 = 1e-12;
 /// A polygon list prepared for bundles of parallel lines: sheets of quads, and the other
 /// polygons by their distinct vertices, unit normal and a point of their plane.
 #[derive(Clone, Debug)]
-pub struct ParallelRaster3 {
+pub(crate) struct ParallelRaster3 {
     /// The distinct vertices of the polygons outside sheets (by their bits).
     vertices: Vec<DVec3>,
     /// Polygon `k`'s vertices are `vertices[corner[k]]` for the entries
@@ -171,7 +171,7 @@ struct RasterSheet {
 /// The hits of the lines of one bundle, bucketed per line (the caller's scratch space,
 /// reused from bundle to bundle without allocating once it has grown).
 #[derive(Clone, Debug, Default)]
-pub struct BundleHits3 {
+pub(crate) struct BundleHits3 {
     /// Projected vertices `P_v` and depths `D_v` of the current bundle.
     projected: Vec<[f64; 3]>,
     /// The sheets' vertices projected, when the bundle projects them all.
@@ -468,12 +468,14 @@ impl ParallelRaster3 {
 
     /// Number of distinct vertices of the polygons outside sheets.
     #[must_use]
+    #[cfg(test)]
     pub fn vertex_count(&self) -> usize {
         self.vertices.len()
     }
 
     /// Number of sheets.
     #[must_use]
+    #[cfg(test)]
     pub fn sheet_count(&self) -> usize {
         self.sheets.len()
     }
@@ -858,6 +860,7 @@ impl BundleHits3 {
     /// The lattice point `(a, b)` of line `k` of the last bundle cast (of `bundle`, the
     /// one cast), or `None` beyond the bundle: pass it to [`GlobalBundle3::line_at`].
     #[must_use]
+    #[cfg(test)]
     pub fn line_point(&self, bundle: &GlobalBundle3, k: usize) -> Option<(f64, f64)> {
         let k = u32::try_from(k).ok()?;
         let rows = &self.rows;

@@ -62,7 +62,7 @@ const REORDER_TURN: f64 = 0.4;
 /// Segments prepared for bundles of parallel lines: start `a`, edge `e = b − a` (the same
 /// values the naive loop tests), and the coordinate scale of the margin.
 #[derive(Clone, Debug)]
-pub struct ParallelSweep2 {
+pub(crate) struct ParallelSweep2 {
     a: Vec<DVec2>,
     e: Vec<DVec2>,
     scale: f64,
@@ -71,7 +71,7 @@ pub struct ParallelSweep2 {
 /// The hits of the lines of one bundle, bucketed per line (the caller's scratch space,
 /// reused from bundle to bundle without allocating once it has grown).
 #[derive(Clone, Debug, Default)]
-pub struct BundleHits2 {
+pub(crate) struct BundleHits2 {
     /// Offsets `p_k` of the current bundle's lines.
     offsets: Vec<f64>,
     /// Origins `c + p_k n` of the current bundle's lines.
@@ -108,21 +108,10 @@ impl ParallelSweep2 {
         Self { a, e, scale }
     }
 
-    /// Number of segments.
-    #[must_use]
-    pub fn len(&self) -> usize {
-        self.a.len()
-    }
-
-    /// Whether there are no segments.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.a.is_empty()
-    }
-
     /// Finds every hit of every line of `bundle` into `out`: afterwards
     /// [`BundleHits2::line_hits`]`(k)` is exactly [`super::all_hits_naive`] of
     /// `bundle.line(k)`.
+    #[cfg(test)]
     pub fn cast(&self, bundle: &GlobalBundle2, out: &mut BundleHits2) {
         self.cast_unsorted(bundle, out);
         for k in 0..out.lines() {
@@ -226,6 +215,7 @@ impl ParallelSweep2 {
 impl BundleHits2 {
     /// Empty scratch space.
     #[must_use]
+    #[cfg(test)]
     pub fn new() -> Self {
         Self::default()
     }
@@ -243,6 +233,7 @@ impl BundleHits2 {
 
     /// Number of lines of the last bundle cast.
     #[must_use]
+    #[cfg(test)]
     pub fn lines(&self) -> usize {
         self.end.len()
     }

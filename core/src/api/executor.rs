@@ -189,7 +189,7 @@ pub fn cast_chunks(
 /// `start` lines and, while some patch has no sample ([`LineTally::all_sampled`]), the
 /// executor has not [`Executor::stopped`] and the count is below `max`, doubles it (the last
 /// step clamped to `max`). A whole chunk does not depend on the job it belongs to
-/// ([`crate::lines::chunk_range`]), so when `N` is a whole number of chunks the job of `2N`
+/// (`crate::lines::chunk_range`), so when `N` is a whole number of chunks the job of `2N`
 /// lines is the job of `N` plus the chunks `N/2¹⁶ .. 2N/2¹⁶`: each step casts only those
 /// and merges them (exactly), and the tally equals one run of the final count, bit for bit.
 /// A count off the chunk grid (a `start` that is not a multiple of 2¹⁶) is recast whole.

@@ -10,10 +10,10 @@ use crate::tally::memory;
 
 /// Where [`LineBudget::UntilSampled`] starts by default: 2¹⁷ lines, two seeded chunks, a
 /// whole number of chunks so that every doubling reuses the lines cast.
-pub const AUTO_START_LINES: u64 = 2 * CHUNK_LINES;
+pub(crate) const AUTO_START_LINES: u64 = 2 * CHUNK_LINES;
 
 /// The most lines [`LineBudget::UntilSampled`] doubles to by default: 2³⁰ (about 10⁹).
-pub const AUTO_MAX_LINES: u64 = 1 << 30;
+pub(crate) const AUTO_MAX_LINES: u64 = 1 << 30;
 
 /// A line job's budget.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -32,7 +32,14 @@ pub enum LineBudget {
 }
 
 impl LineBudget {
-    /// [`LineBudget::UntilSampled`] from [`AUTO_START_LINES`] to `max`.
+    /// The most lines [`LineBudget::UntilSampled`] doubles to by default: 2³⁰ (about 10⁹).
+    pub const AUTO_MAX_LINES: u64 = AUTO_MAX_LINES;
+
+    /// Where [`LineBudget::UntilSampled`] starts by default: 2¹⁷ lines, two seeded chunks, a
+    /// whole number of chunks so that every doubling reuses the lines cast.
+    pub const AUTO_START_LINES: u64 = AUTO_START_LINES;
+
+    /// [`LineBudget::UntilSampled`] from `AUTO_START_LINES` to `max`.
     #[must_use]
     pub const fn until_sampled(max: u64) -> Self {
         Self::UntilSampled {
@@ -50,8 +57,8 @@ impl LineBudget {
         }
     }
 
-    /// Checks the counts against the core's cap ([`check_line_budget`]: 1 to
-    /// [`crate::lines::MAX_LINES`]).
+    /// Checks the counts against the core's cap (`check_line_budget`: 1 to
+    /// 2⁵³).
     ///
     /// # Errors
     /// [`ErrorKind::NoLines`] or [`ErrorKind::TooLarge`] for a fixed count, a `start` or a
@@ -85,6 +92,34 @@ pub struct LineJob {
 }
 
 impl LineJob {
+    /// Checks a line budget `n_lines` before a job starts.
+    ///
+    /// # Errors
+    ///
+    /// [`ErrorKind::NoLines`] for `0`; [`ErrorKind::TooLarge`] (`"line budget"`, cap
+    /// `MAX_LINES`) above the cap.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use sceneinfo::LineJob;
+    ///
+    /// assert!(LineJob::check_lines(1_000_000).is_ok());
+    /// assert_eq!(
+    ///     LineJob::check_lines(0).unwrap_err().to_string(),
+    ///     "the line budget must be at least 1"
+    /// );
+    /// assert_eq!(
+    ///     LineJob::check_lines(u64::MAX).unwrap_err().to_string(),
+    ///     "line budget exceeds the cap of 9007199254740992"
+    /// );
+    /// assert!(LineJob::check_lines(1 << 53).is_ok());
+    /// assert!(LineJob::check_lines((1 << 53) + 1).is_err());
+    /// ```
+    pub fn check_lines(n_lines: u64) -> Result<()> {
+        crate::lines::check_line_budget(n_lines)
+    }
+
     /// `lines` global lines with seed 1.
     #[must_use]
     pub const fn new(lines: u64) -> Self {

@@ -39,6 +39,9 @@ pub struct LineRunInfo {
     /// `I_S^c` (4.8, 4.13) and its standard error, over the lines cast (defined whatever
     /// patches they reached).
     pub continuous: ContinuousEstimate,
+    /// Whether a sum of `I^c` terms left its range or dropped a non-finite term
+    /// ([`LineTally::sums_out_of_range`]; then [`Warning::SumsOutOfRange`]).
+    pub sums_out_of_range: bool,
 }
 
 /// The result of [`measure`]: the channel of a scene's form factors and what the lines
@@ -115,7 +118,7 @@ impl Measurement {
         }
     }
 
-    /// The measurement of a merged partial result ([`crate::io::partial::merge_partials`])
+    /// The measurement of a merged partial result (`crate::io::partial::merge_partials`)
     /// that covers its whole job: one run of the job, bit for bit.
     ///
     /// # Errors
@@ -133,6 +136,7 @@ impl Measurement {
             interrupted: false,
             auto_max: None,
             continuous: partial.tally.continuous(),
+            sums_out_of_range: partial.tally.sums_out_of_range(),
         };
         if partial.is_complete() && !partial.tally.all_sampled() {
             return Ok(Self::unsampled(&partial.tally, &partial.sizes, run));
@@ -248,7 +252,7 @@ impl Measurement {
     }
 
     /// Per-pair `I_ij^c` (6.35, 6.36), row-major `n × n`, for a line job on at most
-    /// [`crate::tally::DENSE_PAIR_LIMIT`] patches that reached every patch.
+    /// `crate::tally::DENSE_PAIR_LIMIT` patches that reached every patch.
     #[must_use]
     pub fn pair_continuous(&self) -> Option<&[f64]> {
         self.pair_continuous.as_deref()
@@ -274,7 +278,9 @@ impl Measurement {
 
     /// What the numbers cannot promise: the channel's warnings ([`channel_warnings`]),
     /// [`Warning::UnsampledPatches`] when some patch received no line,
-    /// [`Warning::FewStderrGroups`] when `I_S^c`'s standard error rests on few observations.
+    /// [`Warning::SumsOutOfRange`] when a sum of `I^c` terms saturated or dropped a
+    /// non-finite term, [`Warning::FewStderrGroups`] when `I_S^c`'s standard error rests
+    /// on few observations.
     #[must_use]
     pub fn warnings(&self) -> Vec<Warning> {
         let mut out = Vec::new();
@@ -292,6 +298,9 @@ impl Measurement {
                 lines: c.lines,
                 suggested: c.lines_to_sample_all,
             });
+        }
+        if self.run.is_some_and(|r| r.sums_out_of_range) {
+            out.push(Warning::SumsOutOfRange);
         }
         if let Some(r) = self.run.filter(|r| r.continuous.groups < FEW_STDERR_GROUPS) {
             out.push(Warning::FewStderrGroups {
@@ -402,6 +411,7 @@ fn measure_lines(
             LineBudget::Fixed(_) => None,
         },
         continuous: run.tally.continuous(),
+        sums_out_of_range: run.tally.sums_out_of_range(),
     };
     Measurement::of_tally(run.tally, tracer, info)
 }
@@ -409,8 +419,8 @@ fn measure_lines(
 /// Tallies the chunks of a fixed line job ([`LineJob::chunk_range`]: all of them, or
 /// `job.chunks`) of `scene` into a [`Partial`] result, to be written
 /// ([`Partial::to_bytes`]) and merged with others
-/// ([`crate::io::partial::merge_partials`], then [`Measurement::from_partial`]).
-/// `fingerprint` identifies the scene ([`crate::io::partial::fingerprint`] of its file);
+/// (`crate::io::partial::merge_partials`, then [`Measurement::from_partial`]).
+/// `fingerprint` identifies the scene (`crate::io::partial::fingerprint` of its file);
 /// partials merge only when it, the method, the seed and the line count agree. If the
 /// executor stops early the partial holds the chunks it cast, a prefix of the range.
 ///

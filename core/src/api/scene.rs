@@ -216,15 +216,10 @@ impl Scene {
     /// 2.6).
     #[must_use]
     pub fn patch_materials(&self) -> Vec<Material> {
-        (0..self.n_patches())
-            .map(|i| {
-                let m = match self {
-                    Scene::Flat(s) => s.patch_material(i),
-                    Scene::Solid(s) => s.patch_material(i),
-                };
-                m.copied().unwrap_or_default()
-            })
-            .collect()
+        match self {
+            Scene::Flat(s) => s.patch_materials(),
+            Scene::Solid(s) => s.patch_materials(),
+        }
     }
 
     /// The line tracer of this scene ([`Tracer2`] or [`Tracer3`]): what a line job casts

@@ -31,6 +31,12 @@ impl LineSession {
     /// Lines per chunk, 2¹⁶: the unit [`LineSession::cast`] steps by.
     pub const CHUNK_LINES: u64 = CHUNK_LINES;
 
+    /// Chunks of a job of `n_lines` lines: `⌈n_lines / CHUNK_LINES⌉`.
+    #[must_use]
+    pub const fn chunk_count(n_lines: u64) -> u64 {
+        chunk_count(n_lines)
+    }
+
     /// A session of `job` (a fixed budget; its chunk range, if any, is ignored) on `scene`;
     /// nothing cast yet.
     ///
@@ -125,6 +131,7 @@ impl LineSession {
             interrupted: !self.is_done(),
             auto_max: None,
             continuous: self.tally.continuous(),
+            sums_out_of_range: self.tally.sums_out_of_range(),
         };
         Measurement::of_tally(self.tally.clone(), self.tracer.as_dyn(), info)
     }

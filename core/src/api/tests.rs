@@ -487,3 +487,53 @@ fn radiosity_refuses_unsampled_patches_and_stopped_jobs() {
     let chunks = Job::Lines(LineJob::new(5 * CHUNK_LINES).with_chunks(0..1));
     assert!(solve_radiosity(&scene, &RadiosityJob::new(chunks), &mut Serial).is_err());
 }
+
+#[test]
+fn a_dropped_term_of_i_c_reaches_the_warnings() {
+    // A clean run: no saturation, no warning
+    let scene = cube();
+    let clean = measure(&scene, &lines(CHUNK_LINES), &mut Serial).unwrap();
+    assert!(!clean.line_run().unwrap().sums_out_of_range);
+    assert!(!clean.warnings().contains(&Warning::SumsOutOfRange));
+    // The same lines, then one NaN term (as a degenerate pair could give): the fixed-point
+    // sums drop it and flag it, and the flag must reach the measurement, not vanish
+    let tracer = scene.tracer().unwrap();
+    let job = LineJob::new(CHUNK_LINES);
+    let mut run = cast_lines(
+        tracer.as_dyn(),
+        job.method,
+        job.seed,
+        job.budget,
+        &mut Serial,
+    );
+    assert!(!run.tally.sums_out_of_range());
+    run.tally.continuous.add_group(f64::NAN, 1);
+    assert!(run.tally.sums_out_of_range());
+    let info = LineRunInfo {
+        method: job.method,
+        seed: job.seed,
+        lines: run.tally.lines(),
+        requested: run.lines,
+        budget_done: run.budget_done,
+        interrupted: false,
+        auto_max: None,
+        continuous: run.tally.continuous(),
+        sums_out_of_range: run.tally.sums_out_of_range(),
+    };
+    let m = Measurement::of_tally(run.tally, tracer.as_dyn(), info).unwrap();
+    assert!(
+        m.warnings().contains(&Warning::SumsOutOfRange),
+        "{:?}",
+        m.warnings()
+    );
+    // A per-patch sum out of range counts too
+    let mut run = cast_lines(
+        tracer.as_dyn(),
+        job.method,
+        job.seed,
+        job.budget,
+        &mut Serial,
+    );
+    run.tally.patch_info[2].add(f64::INFINITY);
+    assert!(run.tally.sums_out_of_range());
+}

@@ -38,11 +38,11 @@ use super::{Channel, DenseMatrix, Transitions};
 use crate::error::{Error, ErrorKind, Result};
 
 /// Most bounces [`long_range_information`] follows.
-pub const MAX_BOUNCES: usize = 100_000;
+pub(crate) const MAX_BOUNCES: usize = 100_000;
 
 /// Most multiply-adds [`long_range_information`] may do (`bounces · n³`), about a minute
 /// of work; more is refused with [`ErrorKind::TooLarge`] before starting.
-pub const MAX_BOUNCE_WORK: u64 = 1 << 36;
+pub(crate) const MAX_BOUNCE_WORK: u64 = 1 << 36;
 
 /// The long-range mutual information curve of a chain (module docs).
 #[derive(Clone, Debug, PartialEq)]
@@ -62,6 +62,9 @@ pub struct LongRange {
 }
 
 impl LongRange {
+    /// Most bounces [`long_range_information`] follows.
+    pub const MAX_BOUNCES: usize = MAX_BOUNCES;
+
     /// The lower bound `max(0, H_P − n H_S)` that the block entropies give for
     /// `I(X_0; X_n)` (module docs), `n ≥ 1`.
     #[must_use]
@@ -101,8 +104,8 @@ impl LongRange {
 ///
 /// # Errors
 ///
-/// - [`ErrorKind::BadParameter`] for `bounces = 0` or above [`MAX_BOUNCES`];
-/// - [`ErrorKind::TooLarge`] if the work exceeds [`MAX_BOUNCE_WORK`] or `n²` overflows;
+/// - [`ErrorKind::BadParameter`] for `bounces = 0` or above `MAX_BOUNCES`;
+/// - [`ErrorKind::TooLarge`] if the work exceeds `MAX_BOUNCE_WORK` or `n²` overflows;
 /// - the validation errors of [`Channel::new`] for a power (none for a valid channel:
 ///   rows of `Pⁿ` sum to at most those of `P`).
 pub fn long_range_information<M: Transitions>(

@@ -117,7 +117,7 @@ impl CsrMatrixBuf {
     /// # Errors
     ///
     /// [`ErrorKind::TooLarge`] if `n > 2³²`.
-    pub fn row_major(n: usize, capacity: usize) -> Result<RowMajorCsr> {
+    pub(crate) fn row_major(n: usize, capacity: usize) -> Result<RowMajorCsr> {
         check_size(n)?;
         let mut row_ptr = Vec::with_capacity(n + 1);
         row_ptr.push(0);
@@ -220,7 +220,7 @@ impl CsrMatrixBuf {
 /// [`CsrMatrixBuf::row_major`]): [`push`](Self::push) the entries, then
 /// [`finish`](Self::finish).
 #[derive(Clone, Debug)]
-pub struct RowMajorCsr {
+pub(crate) struct RowMajorCsr {
     n: usize,
     /// One entry per row closed so far, plus the leading 0.
     row_ptr: Vec<usize>,

@@ -62,6 +62,41 @@ use crate::math;
 /// `log₂ e`, the exponent conversion `log₂ eˣ = x log₂ e`.
 const LOG2_E: f64 = core::f64::consts::LOG2_E;
 
+/// A convex flatland enclosure of Table 4.11, whose `I_S^c` has a closed form (module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Enclosure {
+    /// Any circle: `log₂(π/e) ≈ 0.209` bits, the least complex flatland enclosure.
+    Circle,
+    /// A regular hexagon: `log₂(e^{√3−4} · 324(7+4√3)/(168+97√3)) ≈ 0.475` bits.
+    RegularHexagon,
+    /// A square: `log₂(8(1+√2)/e^{1+√2}) ≈ 0.789` bits.
+    Square,
+    /// An equilateral triangle: `log₂(18/e²) ≈ 1.285` bits.
+    EquilateralTriangle,
+}
+
+impl Enclosure {
+    /// The four, in the order of Table 4.11.
+    pub const ALL: [Self; 4] = [
+        Self::Circle,
+        Self::RegularHexagon,
+        Self::Square,
+        Self::EquilateralTriangle,
+    ];
+
+    /// Its `I_S^c` in bits (thesis Table 4.11; the derivations are in the crate's source,
+    /// one function per shape).
+    #[must_use]
+    pub fn i_s_continuous(self) -> f64 {
+        match self {
+            Self::Circle => circle(),
+            Self::RegularHexagon => regular_hexagon(),
+            Self::Square => square(),
+            Self::EquilateralTriangle => equilateral_triangle(),
+        }
+    }
+}
+
 /// `I_S^c` of a circle (any radius): `log₂(π/e) ≈ 0.209` bits (thesis Table 4.11).
 ///
 /// ```text
@@ -73,19 +108,19 @@ const LOG2_E: f64 = core::f64::consts::LOG2_E;
 /// `∫₀^π sin u ln sin u du = 2 ln 2 − 2`). The least complex flatland enclosure: unlike the
 /// sphere (`I_S^c = 0`), a circle's form factors are not proportional to the target lengths.
 #[must_use]
-pub fn circle() -> f64 {
+pub(crate) fn circle() -> f64 {
     math::log2(core::f64::consts::PI) - LOG2_E
 }
 
 /// `I_S^c` of an equilateral triangle: `log₂(18/e²) ≈ 1.285` bits (thesis Table 4.11).
 #[must_use]
-pub fn equilateral_triangle() -> f64 {
+pub(crate) fn equilateral_triangle() -> f64 {
     math::log2(18.0) - 2.0 * LOG2_E
 }
 
 /// `I_S^c` of a square: `log₂(8(1+√2)/e^{1+√2}) ≈ 0.789` bits (thesis Table 4.11).
 #[must_use]
-pub fn square() -> f64 {
+pub(crate) fn square() -> f64 {
     let s = 1.0 + core::f64::consts::SQRT_2;
     math::log2(8.0 * s) - s * LOG2_E
 }
@@ -93,7 +128,7 @@ pub fn square() -> f64 {
 /// `I_S^c` of a regular hexagon: `log₂(e^{√3−4} · 324(7+4√3)/(168+97√3)) ≈ 0.475` bits
 /// (thesis Table 4.11).
 #[must_use]
-pub fn regular_hexagon() -> f64 {
+pub(crate) fn regular_hexagon() -> f64 {
     let r3 = math::sqrt(3.0);
     math::log2(324.0 * (7.0 + 4.0 * r3) / (168.0 + 97.0 * r3)) + (r3 - 4.0) * LOG2_E
 }

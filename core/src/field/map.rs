@@ -9,10 +9,10 @@ use crate::geom::{DVec2, DVec3};
 use crate::math::{self, KahanSum};
 
 /// Most cells along a side of [`Field2::grid`].
-pub const MAX_GRID_SIDE: usize = 4096;
+pub(crate) const MAX_GRID_SIDE: usize = 4096;
 
 /// Most samples per leg of [`Field2::path`].
-pub const MAX_PATH_SAMPLES: usize = 1 << 20;
+pub(crate) const MAX_PATH_SAMPLES: usize = 1 << 20;
 
 /// The field at the centres of a grid of cells (world coordinates).
 #[derive(Clone, Debug, PartialEq)]
@@ -32,6 +32,9 @@ pub struct FieldGrid {
 }
 
 impl FieldGrid {
+    /// Most cells along a side of [`Field2::grid`].
+    pub const MAX_SIDE: usize = MAX_GRID_SIDE;
+
     /// The centre of cell `(c, r)`.
     #[must_use]
     pub fn centre(&self, c: usize, r: usize) -> DVec2 {
@@ -88,7 +91,7 @@ impl Field2<'_> {
     /// [`FieldGrid::cells`].
     ///
     /// # Errors
-    /// [`ErrorKind::BadParameter`] for a side of 0 or above [`MAX_GRID_SIDE`], or a box
+    /// [`ErrorKind::BadParameter`] for a side of 0 or above `MAX_GRID_SIDE`, or a box
     /// that is not finite with `lo ≤ hi`; [`Field2::point`]'s errors.
     pub fn grid(&self, lo: DVec2, hi: DVec2, nx: usize, ny: usize) -> Result<FieldGrid> {
         for (name, n) in [("grid columns", nx), ("grid rows", ny)] {
@@ -156,7 +159,7 @@ impl Field2<'_> {
     ///
     /// # Errors
     /// [`ErrorKind::BadParameter`] for fewer than 2 vertices, `samples` of 0 or above
-    /// [`MAX_PATH_SAMPLES`], or more than [`MAX_PATH_SAMPLES`] samples in all;
+    /// `MAX_PATH_SAMPLES`, or more than `MAX_PATH_SAMPLES` samples in all;
     /// [`Field2::point`]'s errors for a vertex.
     pub fn path(&self, vertices: &[DVec2], samples: usize) -> Result<FieldPath> {
         let mut scratch = FieldScratch::default();

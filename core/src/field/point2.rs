@@ -11,7 +11,7 @@ use crate::scene::Scene2;
 
 /// Most sweep events (patch end points plus surface crossings) a scene may have for
 /// [`Field2`]; each point costs `events · surfaces`.
-pub const MAX_FIELD_EVENTS: usize = 1 << 17;
+pub(crate) const MAX_FIELD_EVENTS: usize = 1 << 17;
 
 /// Sweep events closer than this (radians) are merged.
 const MERGE_ANGLE: f64 = 1e-12;
@@ -77,7 +77,7 @@ impl<'a> Field2<'a> {
     ///
     /// # Errors
     /// Those of [`exact_2d::form_factors`]; [`ErrorKind::TooLarge`] above
-    /// [`MAX_FIELD_EVENTS`] sweep events.
+    /// `MAX_FIELD_EVENTS` sweep events.
     pub fn new(scene: &'a Scene2) -> Result<Self> {
         let ff = exact_2d::form_factors(scene)?;
         Self::with_channel(scene, &ff)
@@ -88,7 +88,7 @@ impl<'a> Field2<'a> {
     ///
     /// # Errors
     /// [`ErrorKind::DimensionMismatch`] if `ff` has another patch count;
-    /// [`ErrorKind::TooLarge`] above [`MAX_FIELD_EVENTS`] sweep events.
+    /// [`ErrorKind::TooLarge`] above `MAX_FIELD_EVENTS` sweep events.
     pub fn with_channel(scene: &'a Scene2, ff: &FormFactors) -> Result<Self> {
         let n = scene.n_patches();
         if ff.n_patches() != n {

@@ -22,7 +22,8 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::geom::DVec3;
 use crate::math::{self, KahanSum};
 use crate::scene::Scene3;
-use crate::viewpoint::{IdRaster, Projection};
+use crate::viewpoint::IdRaster;
+use crate::viewpoint::raster::Projection;
 
 /// Background below this fraction of the sphere counts as none (pixel seams of rounding).
 const SEAM: f64 = 1e-12;

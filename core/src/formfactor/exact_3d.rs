@@ -19,7 +19,7 @@
 //! for the part of the polygon above the tangent plane of `x`, so the polygon is first
 //! clipped to that half-space.
 //!
-//! **Polygon to polygon** ([`polygon_to_polygon`], [`unoccluded_flux`]). Each polygon is
+//! **Polygon to polygon** (`polygon_to_polygon`, [`unoccluded_flux`]). Each polygon is
 //! clipped to the other's front half-space: the points of `i` behind `j`'s plane see `j`'s
 //! back, and the points of `j` behind `i`'s plane are below `i`'s horizon. On the clipped
 //! pair both cosines are non-negative, and Stokes' theorem, applied twice, turns the
@@ -173,18 +173,10 @@ pub fn unoccluded_flux(source: &[DVec3], target: &[DVec3]) -> f64 {
 /// Computed as [`unoccluded_flux`]` / A_i`; see the module documentation for the method and
 /// its error bound.
 ///
-/// # Examples
-///
-/// ```
-/// use sceneinfo::{formfactor::exact_3d::polygon_to_polygon, geom::DVec3};
-/// let v = DVec3::new;
-/// // Two facing unit squares at distance 1 (the lower faces up, the upper down).
-/// let lower = [v(0., 0., 0.), v(1., 0., 0.), v(1., 1., 0.), v(0., 1., 0.)];
-/// let upper = [v(0., 0., 1.), v(0., 1., 1.), v(1., 1., 1.), v(1., 0., 1.)];
-/// assert!((polygon_to_polygon(&lower, &upper) - 0.199_825).abs() < 1e-6);
-/// ```
+/// Two facing unit squares at distance 1 give `0.199 825` (tested in
+/// `parallel_unit_squares`, against Howell's catalogue formula C-11).
 #[must_use]
-pub fn polygon_to_polygon(source: &[DVec3], target: &[DVec3]) -> f64 {
+pub(crate) fn polygon_to_polygon(source: &[DVec3], target: &[DVec3]) -> f64 {
     match (Plane::of(source), Plane::of(target)) {
         (Some(ps), Some(pt)) => (pair_flux(source, &ps, target, &pt).0 / ps.area).clamp(0.0, 1.0),
         _ => 0.0,

@@ -174,7 +174,7 @@ impl FormFactors {
     }
 
     /// Builds a sparse matrix from patch sizes and the `n × n` patch form factors as CSR
-    /// (for example received row by row through [`CsrMatrixBuf::row_major`], which holds
+    /// (for example received row by row through `CsrMatrixBuf::row_major`, which holds
     /// each entry once), adding a background state as [`FormFactors::from_patch_matrix`]
     /// does: its column and row border the matrix in place
     /// ([`CsrMatrixBuf::bordered`]).

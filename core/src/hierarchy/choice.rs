@@ -8,14 +8,20 @@ use crate::hierarchy::oracle::{
 };
 
 /// The names [`OracleChoice3::new`] accepts.
-pub const ORACLE_NAMES: [&str; 6] = ["power", "ks", "ks-av", "mi", "mi-increase", "regular"];
+#[cfg(test)]
+pub(crate) const ORACLE_NAMES: [&str; 6] = ["power", "ks", "ks-av", "mi", "mi-increase", "regular"];
 
 /// Most splits per patch of the regular mesh (`4⁸ = 65 536` elements a patch).
 pub(crate) const MAX_REGULAR_LEVEL: u32 = 8;
 
-/// Any of the oracles of the hierarchy (power, KS, KS-av, MI, MI increase).
+/// Any of the oracles of the hierarchy (power, KS, KS-av, MI, MI increase, regular), chosen
+/// by name with [`OracleChoice3::new`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum OracleChoice3 {
+pub struct OracleChoice3(Choice);
+
+/// The oracle an [`OracleChoice3`] holds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Choice {
     /// (2.48).
     Power(PowerOracle),
     /// (2.49).
@@ -31,7 +37,7 @@ pub enum OracleChoice3 {
 }
 
 impl OracleChoice3 {
-    /// The oracle called `name` (one of [`ORACLE_NAMES`]) with threshold `epsilon`; for
+    /// The oracle called `name` (`power`, `ks`, `ks-av`, `mi`, `mi-increase` or `regular`) with threshold `epsilon`; for
     /// `regular`, `epsilon` is the number of splits per patch (an integer from 0 to
     /// `MAX_REGULAR_LEVEL`).
     ///
@@ -40,12 +46,12 @@ impl OracleChoice3 {
     /// negative or non-finite `epsilon`, or a level that is not such an integer.
     pub fn new(name: &str, epsilon: f64) -> Result<Self> {
         check_epsilon(epsilon)?;
-        Ok(match name {
-            "power" => Self::Power(PowerOracle { epsilon }),
-            "ks" => Self::KernelSmoothness(KernelSmoothnessOracle { epsilon }),
-            "ks-av" => Self::KernelAverage(KernelAverageOracle { epsilon }),
-            "mi" => Self::MutualInformation(MutualInformationOracle { epsilon }),
-            "mi-increase" => Self::MiIncrease(MiIncreaseOracle {
+        Ok(Self(match name {
+            "power" => Choice::Power(PowerOracle { epsilon }),
+            "ks" => Choice::KernelSmoothness(KernelSmoothnessOracle { epsilon }),
+            "ks-av" => Choice::KernelAverage(KernelAverageOracle { epsilon }),
+            "mi" => Choice::MutualInformation(MutualInformationOracle { epsilon }),
+            "mi-increase" => Choice::MiIncrease(MiIncreaseOracle {
                 epsilon,
                 gradient: MiIncreaseOracle::DEFAULT_GRADIENT,
             }),
@@ -57,22 +63,28 @@ impl OracleChoice3 {
                     }
                     .into());
                 }
-                Self::Regular(RegularOracle {
+                Choice::Regular(RegularOracle {
                     level: epsilon as u32,
                 })
             }
             _ => return Err(ErrorKind::UnknownOracle(token(name)).into()),
-        })
+        }))
+    }
+
+    /// The oracle's name, as [`OracleChoice3::new`] takes it.
+    #[must_use]
+    pub fn name(&self) -> &'static str {
+        self.inner().name()
     }
 
     fn inner(&self) -> &dyn Oracle {
-        match self {
-            Self::Power(o) => o,
-            Self::KernelSmoothness(o) => o,
-            Self::KernelAverage(o) => o,
-            Self::MutualInformation(o) => o,
-            Self::MiIncrease(o) => o,
-            Self::Regular(o) => o,
+        match &self.0 {
+            Choice::Power(o) => o,
+            Choice::KernelSmoothness(o) => o,
+            Choice::KernelAverage(o) => o,
+            Choice::MutualInformation(o) => o,
+            Choice::MiIncrease(o) => o,
+            Choice::Regular(o) => o,
         }
     }
 }

@@ -25,7 +25,7 @@ use crate::scene::Scene3;
 /// As `level → ∞` and `ε → 0` this converges to the exact solution like any oracle; its
 /// own error is checked by comparing two levels (the reproduction prints it).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ReferenceOracle {
+pub(crate) struct ReferenceOracle {
     /// Uniform splits of every receiver.
     pub level: u32,
     /// The power threshold ε of (2.48) (units of power).
@@ -62,7 +62,7 @@ pub(crate) fn emitted_power(scene: &Scene3) -> f64 {
 }
 
 impl Hierarchy {
-    /// The reference solution of `scene` ([`ReferenceOracle`]): receivers split `level`
+    /// The reference solution of `scene` (`ReferenceOracle`): receivers split `level`
     /// times, links accepted when they carry less than `relative_epsilon` times the
     /// emitted power (`emitted_power`). `opts.min_area` must let a patch be split
     /// `level` times for the mesh to be uniform.
@@ -87,7 +87,7 @@ impl Hierarchy {
             level,
             epsilon: relative_epsilon * emitted_power(scene),
         };
-        Self::build(scene, &oracle, opts)
+        Self::build_with(scene, &oracle, opts)
     }
 
     /// The RMS radiosity difference from another solution of the same scene, sampled at
@@ -108,7 +108,7 @@ impl Hierarchy {
 /// The runs of Figures 6.6 and 6.9, as `(oracle, point pairs per evaluation)`: the
 /// power-based (2.48), KS-based (2.50) and MI-based (6.30) oracles with 10 pairs, then the
 /// KS- and MI-based ones with 4 (the robustness experiment).
-pub const COMPARISON_RUNS: [(&str, usize); 5] = [
+pub(crate) const COMPARISON_RUNS: [(&str, usize); 5] = [
     ("power", 10),
     ("ks-av", 10),
     ("mi", 10),
@@ -119,7 +119,7 @@ pub const COMPARISON_RUNS: [(&str, usize); 5] = [
 /// One oracle's mesh at a wanted size, and its error against a reference.
 #[derive(Clone, Debug, PartialEq)]
 pub struct OracleComparison {
-    /// The oracle's name (see [`crate::hierarchy::ORACLE_NAMES`]).
+    /// The oracle's name (a name [`OracleChoice3::new`](crate::hierarchy::OracleChoice3::new) accepts).
     pub oracle: &'static str,
     /// Point pairs per evaluation.
     pub pairs: usize,
@@ -135,12 +135,8 @@ pub struct OracleComparison {
     pub rms_error: f64,
 }
 
-/// Builds the mesh of oracle `name` nearest `target` leaves ([`Hierarchy::build_to_target`])
-/// and measures its RMS error against `reference`.
-///
-/// # Errors
-/// Those of [`Hierarchy::build_to_target`] and [`Hierarchy::rms_against`].
-pub fn compare_at_size(
+/// [`OracleComparison::at_size`].
+pub(crate) fn compare_at_size(
     scene: &Scene3,
     reference: &Hierarchy,
     name: &'static str,
@@ -157,4 +153,25 @@ pub fn compare_at_size(
         rays: h.rays(),
         rms_error: h.rms_against(reference)?,
     })
+}
+impl OracleComparison {
+    /// Builds the mesh of oracle `name` nearest `target` leaves ([`Hierarchy::build_to_target`])
+    /// and measures its RMS error against `reference`.
+    ///
+    /// # Errors
+    /// Those of [`Hierarchy::build_to_target`] and [`Hierarchy::rms_against`].
+    pub fn at_size(
+        scene: &Scene3,
+        reference: &Hierarchy,
+        name: &'static str,
+        target: usize,
+        opts: &HrOptions,
+    ) -> Result<OracleComparison> {
+        compare_at_size(scene, reference, name, target, opts)
+    }
+
+    /// The runs of Figures 6.6 and 6.9, as `(oracle, point pairs per evaluation)`: the
+    /// power-based (2.48), KS-based (2.50) and MI-based (6.30) oracles with 10 pairs, then the
+    /// KS- and MI-based ones with 4 (the robustness experiment).
+    pub const RUNS: [(&str, usize); 5] = COMPARISON_RUNS;
 }

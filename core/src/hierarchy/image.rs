@@ -149,8 +149,8 @@ impl View3 {
     }
 }
 
-/// One leaf to draw: the scene patch it lies on, its shape, and what [`ShadedPolygon`]
-/// needs.
+/// One leaf to draw: the scene patch it lies on, its shape, and what the shaded polygon it
+/// becomes needs.
 #[derive(Clone, Copy, Debug)]
 pub struct LeafShade<'a> {
     /// The scene patch.
@@ -209,7 +209,7 @@ impl McHierarchy {
     }
 }
 
-/// The Gouraud vertex radiosities of `leaves` ([`gouraud`]): per leaf, per vertex.
+/// The Gouraud vertex radiosities of `leaves` (`gouraud`): per leaf, per vertex.
 #[must_use]
 pub fn leaf_vertex_radiosities(leaves: &[LeafShade<'_>]) -> Vec<[[f64; 3]; 4]> {
     let polygons: Vec<ShadedPolygon<'_>> = leaves

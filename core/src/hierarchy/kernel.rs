@@ -10,7 +10,7 @@ use crate::lines::{canonical_2d, sample_polygon_point};
 use crate::math;
 
 /// Most point pairs one oracle evaluation may draw.
-pub const MAX_PAIRS: usize = 64;
+pub(crate) const MAX_PAIRS: usize = 64;
 
 /// The point-to-point form factor kernel between `x` (normal `n_x`) and `y` (normal `n_y`),
 /// without visibility:
@@ -35,7 +35,7 @@ pub(crate) fn point_kernel(x: DVec3, n_x: DVec3, y: DVec3, n_y: DVec3) -> f64 {
 }
 
 /// Whether two points see each other: the ray test behind the kernel `F(x, y) V(x, y)`.
-pub trait Visibility {
+pub(crate) trait Visibility {
     /// Whether the open segment from `x` to `y` meets no surface. `x` and `y` lie on
     /// surfaces themselves; those two surfaces do not count.
     fn visible(&self, x: DVec3, y: DVec3) -> bool;
@@ -95,7 +95,7 @@ impl<V: Visibility + ?Sized> Visibility for RayCounter<'_, V> {
 
 /// One side of an element pair: the geometry the kernel needs.
 #[derive(Clone, Copy, Debug)]
-pub struct Surface<'a> {
+pub(crate) struct Surface<'a> {
     /// Vertices, counter-clockwise about `normal`.
     pub vertices: &'a [DVec3],
     /// Unit front normal.
@@ -105,7 +105,7 @@ pub struct Surface<'a> {
 /// The kernel at `N` random point pairs `(x_k, y_k)`, `x_k` uniform on the receiver and
 /// `y_k` on the source: `F(x_k, y_k)` without and with visibility.
 #[derive(Clone, Copy, Debug)]
-pub struct KernelSamples {
+pub(crate) struct KernelSamples {
     unoccluded: [f64; MAX_PAIRS],
     visible: [f64; MAX_PAIRS],
     n: usize,
@@ -113,7 +113,7 @@ pub struct KernelSamples {
 }
 
 impl KernelSamples {
-    /// Draws `n` pairs (clamped to `1..=`[`MAX_PAIRS`]) from `rng`: per pair, a uniform point
+    /// Draws `n` pairs (clamped to `1..=``MAX_PAIRS`) from `rng`: per pair, a uniform point
     /// of the receiver then one of the source (`sample_polygon_point`), and, when the
     /// unoccluded kernel is positive, one visibility test. Needs no allocator.
     pub fn draw<R: Rng + ?Sized, V: Visibility + ?Sized>(
@@ -141,18 +141,6 @@ impl KernelSamples {
             }
         }
         s
-    }
-
-    /// Number of pairs `N`.
-    #[must_use]
-    pub fn len(&self) -> usize {
-        self.n
-    }
-
-    /// Whether there are no pairs (never, for drawn samples).
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.n == 0
     }
 
     /// `F(x_k, y_k) V(x_k, y_k)`, the kernel with visibility.

@@ -16,7 +16,7 @@ use crate::hierarchy::tree::Hierarchy;
 use crate::scene::Scene3;
 
 /// Most solves per threshold search of [`mc_build_to_target`].
-pub const MAX_MC_TARGET_BUILDS: usize = 40;
+pub(crate) const MAX_MC_TARGET_BUILDS: usize = 40;
 
 /// The Monte Carlo mesh of oracle `name` whose leaf count is nearest `target`, and the
 /// threshold that gave it.
@@ -31,7 +31,7 @@ pub const MAX_MC_TARGET_BUILDS: usize = 40;
 /// # Errors
 /// [`BadParameter`](crate::error::ErrorKind::BadParameter) for `target = 0`; those of
 /// [`McOracle::new`] and [`McHierarchy::solve`].
-pub fn mc_build_to_target(
+pub(crate) fn mc_build_to_target(
     scene: &Scene3,
     name: &str,
     target: usize,
@@ -68,7 +68,7 @@ pub fn mc_build_to_target(
 /// One oracle's Monte Carlo mesh at a wanted size and ray budget, and its error.
 #[derive(Clone, Debug, PartialEq)]
 pub struct McComparison {
-    /// The oracle's name ([`super::MC_ORACLE_NAMES`]).
+    /// The oracle's name (one [`McOracle::new`](super::McOracle::new) accepts).
     pub oracle: &'static str,
     /// Point pairs per oracle evaluation.
     pub pairs: usize,
@@ -93,8 +93,8 @@ pub struct McComparison {
     /// ([`McHierarchy::resolve_frozen`]): the mesh's own error with the noise of the run
     /// removed; `None` when not asked for.
     pub mesh_rms_error: Option<f64>,
-    /// The RMS error over the reference's [`BOUNDARY_FRACTION`] leaves of largest radiosity
-    /// variation ([`boundary_leaves`]): shadow boundaries.
+    /// The RMS error over the reference's `BOUNDARY_FRACTION` leaves of largest radiosity
+    /// variation (`boundary_of`): shadow boundaries.
     pub boundary_rms_error: f64,
     /// Per view of the reference, the image-space errors of the mesh's Gouraud picture
     /// ([`ImageReference::error`]).
@@ -102,8 +102,8 @@ pub struct McComparison {
 }
 
 /// Fraction of the reference's leaves counted as lying on shadow boundaries by
-/// [`boundary_leaves`].
-pub const BOUNDARY_FRACTION: f64 = 0.1;
+/// `boundary_of`.
+pub(crate) const BOUNDARY_FRACTION: f64 = 0.1;
 
 /// The reference's leaves where its radiosity varies most — shadow and penumbra
 /// boundaries, the light's rim, corners: the `fraction` of its leaves (at least one) with
@@ -113,16 +113,9 @@ pub const BOUNDARY_FRACTION: f64 = 0.1;
 /// v_e = max over the leaf's vertices and channels |B̂_vertex − B_e|
 /// ```
 ///
-/// (`B̂` the Gouraud vertex radiosities, [`Hierarchy::vertex_radiosities`]), as
-/// `(vertices, B)` pairs. The thesis judges its meshes by their shadows ("the shadow of the
+/// (`B̂` the Gouraud vertex radiosities), as `(vertices, B)` pairs. The thesis judges its meshes by their shadows ("the shadow of the
 /// small cube gets an accurate representation"), which an RMS over the whole area barely
 /// weighs; the RMS over these leaves does.
-#[must_use]
-pub fn boundary_leaves(reference: &Hierarchy, fraction: f64) -> Vec<(Vec<DVec3>, [f64; 3])> {
-    boundary_of(&reference.shaded_leaves(), fraction)
-}
-
-/// [`boundary_leaves`] of any leaves.
 fn boundary_of(leaves: &[LeafShade<'_>], fraction: f64) -> Vec<(Vec<DVec3>, [f64; 3])> {
     let vertex = leaf_vertex_radiosities(leaves);
     let mut scored: Vec<(f64, &LeafShade<'_>)> = leaves
@@ -149,12 +142,12 @@ fn boundary_of(leaves: &[LeafShade<'_>], fraction: f64) -> Vec<(Vec<DVec3>, [f64
 }
 
 /// What every mesh of a comparison is measured against: a fine solution's leaves, its
-/// boundary leaves ([`boundary_leaves`]) and its pictures ([`ImageReference`]).
+/// boundary leaves (`boundary_of`) and its pictures ([`ImageReference`]).
 #[derive(Clone, Debug)]
 pub struct McReference {
     /// The leaves with their radiosities.
     pub leaves: Vec<(Vec<DVec3>, [f64; 3])>,
-    /// The [`BOUNDARY_FRACTION`] of them where the radiosity varies most.
+    /// The `BOUNDARY_FRACTION` of them where the radiosity varies most.
     pub boundary: Vec<(Vec<DVec3>, [f64; 3])>,
     /// Its pictures, one per view.
     pub images: Vec<ImageReference>,
@@ -162,7 +155,7 @@ pub struct McReference {
 
 impl McReference {
     /// The reference made of `leaves` (of a [`Hierarchy`] or an [`McHierarchy`]), with its
-    /// pictures from `views` (boundary pixels: [`BOUNDARY_FRACTION`]).
+    /// pictures from `views` (boundary pixels: `BOUNDARY_FRACTION`).
     ///
     /// # Errors
     /// Those of [`ImageReference::new`].
@@ -189,14 +182,8 @@ impl McReference {
 /// Seed of the frozen re-solves (any seed apart from the runs').
 const FROZEN_SEED: u64 = 0x6672_6f7a;
 
-/// [`mc_build_to_target`] and the mesh's RMS error against `reference`; with
-/// `frozen_rays > 0` also the error of the same mesh re-solved frozen with that many rays
-/// ([`McComparison::mesh_rms_error`]).
-///
-/// # Errors
-/// Those of [`mc_build_to_target`], [`McHierarchy::resolve_frozen`] and
-/// [`McHierarchy::rms_difference`].
-pub fn mc_compare_at_size(
+/// [`McComparison::at_size`].
+pub(crate) fn mc_compare_at_size(
     scene: &Scene3,
     reference: &Hierarchy,
     name: &'static str,
@@ -208,11 +195,11 @@ pub fn mc_compare_at_size(
     Ok(mc_compare_against(scene, &r, name, target, opts, frozen_rays)?.0)
 }
 
-/// [`mc_compare_at_size`] against an [`McReference`] (with its pictures' errors,
+/// `mc_compare_at_size` against an [`McReference`] (with its pictures' errors,
 /// [`McComparison::image_errors`]); also returns the mesh.
 ///
 /// # Errors
-/// As [`mc_compare_at_size`]; those of [`ImageReference::error`].
+/// As `mc_compare_at_size`; those of [`ImageReference::error`].
 pub fn mc_compare_against(
     scene: &Scene3,
     reference: &McReference,
@@ -286,9 +273,8 @@ pub fn mc_reference(
     mesh.resolve_frozen(scene, rays, seed ^ FROZEN_SEED)
 }
 
-/// Mean and sample standard deviation of `x` (0 for one value).
-#[must_use]
-pub fn mean_spread(x: &[f64]) -> (f64, f64) {
+/// [`McComparison::mean_spread`].
+pub(crate) fn mean_spread(x: &[f64]) -> (f64, f64) {
     let n = x.len() as f64;
     if x.is_empty() {
         return (0.0, 0.0);
@@ -530,5 +516,30 @@ mod tests {
                 std::println!("{line} {:?}", t.elapsed());
             }
         }
+    }
+}
+impl McComparison {
+    /// Mean and sample standard deviation of `x` (0 for one value).
+    #[must_use]
+    pub fn mean_spread(x: &[f64]) -> (f64, f64) {
+        mean_spread(x)
+    }
+
+    /// `mc_build_to_target` and the mesh's RMS error against `reference`; with
+    /// `frozen_rays > 0` also the error of the same mesh re-solved frozen with that many rays
+    /// ([`McComparison::mesh_rms_error`]).
+    ///
+    /// # Errors
+    /// Those of `mc_build_to_target`, [`McHierarchy::resolve_frozen`] and
+    /// [`McHierarchy::rms_difference`].
+    pub fn at_size(
+        scene: &Scene3,
+        reference: &Hierarchy,
+        name: &'static str,
+        target: usize,
+        opts: &McOptions,
+        frozen_rays: u64,
+    ) -> Result<McComparison> {
+        mc_compare_at_size(scene, reference, name, target, opts, frozen_rays)
     }
 }

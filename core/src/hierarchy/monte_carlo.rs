@@ -83,11 +83,8 @@ pub enum McOracle {
     MutualInformation(f64),
 }
 
-/// Names [`McOracle::new`] accepts.
-pub const MC_ORACLE_NAMES: [&str; 4] = ["power", "ks", "ks-av", "mi"];
-
 impl McOracle {
-    /// The oracle called `name` (one of [`MC_ORACLE_NAMES`]) with threshold `epsilon`.
+    /// The oracle called `name` (`power`, `ks`, `ks-av` or `mi`) with threshold `epsilon`.
     ///
     /// # Errors
     /// [`ErrorKind::UnknownOracle`] for another name; [`ErrorKind::BadParameter`] for an
@@ -126,7 +123,7 @@ impl McOracle {
 ///
 /// (Hanrahan, Salzman and Aupperle 1991's disc estimate; 0 when either cosine is `≤ 0`).
 #[must_use]
-pub fn cheap_form_factor(c_i: DVec3, n_i: DVec3, c_j: DVec3, n_j: DVec3, a_j: f64) -> f64 {
+pub(crate) fn cheap_form_factor(c_i: DVec3, n_i: DVec3, c_j: DVec3, n_j: DVec3, a_j: f64) -> f64 {
     let d = c_j - c_i;
     let r2 = d.length_squared();
     let r = math::sqrt(r2);
@@ -147,7 +144,7 @@ pub struct McOptions {
     /// Rays of the radiosity computation `R` (the thesis' captions: 19,472 and 116,780 for
     /// Fig. 6.6, 19,458 for Fig. 6.9). At least 1, at most 10⁹.
     pub rays: u64,
-    /// Point pairs (and rays) per oracle evaluation, `1..=`[`MAX_PAIRS`] (10; 4 in Figs.
+    /// Point pairs (and rays) per oracle evaluation, `1..=``MAX_PAIRS` (10; 4 in Figs.
     /// 6.9–6.10).
     pub pairs: usize,
     /// Seed of every random stream.
@@ -175,7 +172,7 @@ impl Default for McOptions {
 }
 
 /// Most rays of one solve.
-pub const MAX_MC_RAYS: u64 = 1_000_000_000;
+pub(crate) const MAX_MC_RAYS: u64 = 1_000_000_000;
 
 /// One element of the Monte Carlo hierarchy.
 #[derive(Clone, Debug, PartialEq)]
@@ -217,7 +214,6 @@ impl McElement {
             normal: self.normal,
             depth: self.depth,
             rho: self.rho,
-            emission: self.emission,
             radiosity: self.radiosity,
             irradiance: [0.0; 3],
         }
@@ -743,7 +739,7 @@ mod tests {
     #[test]
     fn unrefined_monte_carlo_converges_to_the_full_matrix_solution() {
         let scene = lit_box(Subdivision::Grid(2));
-        let exact = Hierarchy::build(
+        let exact = Hierarchy::build_with(
             &scene,
             &RegularOracle { level: 0 },
             &HrOptions {

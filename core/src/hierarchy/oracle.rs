@@ -14,7 +14,7 @@ use crate::hierarchy::kernel::{KernelSamples, Visibility, point_kernel};
 
 /// What an oracle decides for a pair.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Decision {
+pub(crate) enum Decision {
     /// The interaction is accurate enough at this level: make a link.
     Link,
     /// Split the receiver `i` and look again at its children with `j`.
@@ -25,7 +25,7 @@ pub enum Decision {
 
 /// One element of a pair, as an oracle sees it.
 #[derive(Clone, Copy, Debug)]
-pub struct Side<'a> {
+pub(crate) struct Side<'a> {
     /// The element's shape.
     pub polygon: &'a Polygon4,
     /// Area `A`.
@@ -36,8 +36,6 @@ pub struct Side<'a> {
     pub depth: u32,
     /// Reflectance ρ per channel.
     pub rho: [f64; 3],
-    /// Emittance `E` per channel.
-    pub emission: [f64; 3],
     /// Current radiosity `B` per channel.
     pub radiosity: [f64; 3],
     /// Current irradiance `H = Σ_j F_ij B_j = (B − E)/ρ` per channel (the gathered light).
@@ -46,7 +44,7 @@ pub struct Side<'a> {
 
 /// A candidate interaction: light gathered by the receiver `i` from the source `j`.
 #[derive(Clone, Copy, Debug)]
-pub struct Pair<'a> {
+pub(crate) struct Pair<'a> {
     /// The receiver `i`.
     pub receiver: Side<'a>,
     /// The source `j`.
@@ -79,7 +77,7 @@ impl Pair<'_> {
 ///
 /// The thresholds live in the implementations; [`Oracle::decide`] is called once per
 /// candidate pair and may cast more rays through `visibility` (counted by the caller).
-pub trait Oracle {
+pub(crate) trait Oracle {
     /// A short name, e.g. `"mi"`.
     fn name(&self) -> &'static str;
     /// The decision for `pair`, given `samples` of its kernel.
@@ -108,7 +106,7 @@ fn threshold(pair: &Pair<'_>, value: f64, epsilon: f64) -> Decision {
 ///
 /// with the cheap form factor estimate that ignores visibility (§2.1.12).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PowerOracle {
+pub(crate) struct PowerOracle {
     /// The threshold ε (units of power).
     pub epsilon: f64,
 }
@@ -153,7 +151,7 @@ impl Oracle for PowerOracle {
 /// patches" (§2.1.11) — the `min_area` option. The MI oracle (6.30) weights by `A_i A_j`
 /// instead, which vanishes as the elements shrink.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct KernelSmoothnessOracle {
+pub(crate) struct KernelSmoothnessOracle {
     /// The threshold ε (units of radiosity).
     pub epsilon: f64,
 }
@@ -186,7 +184,7 @@ impl Oracle for KernelSmoothnessOracle {
 /// of the thesis' experiments (§6.4.2). Like (2.49) it does not shrink where elements
 /// touch (see [`KernelSmoothnessOracle`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct KernelAverageOracle {
+pub(crate) struct KernelAverageOracle {
     /// The threshold ε (units of radiosity).
     pub epsilon: f64,
 }
@@ -220,7 +218,7 @@ impl Oracle for KernelAverageOracle {
 /// F_k = F(x_k, y_k) V(x_k, y_k),   F̄ = (1/N) Σ F_k
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MutualInformationOracle {
+pub(crate) struct MutualInformationOracle {
     /// The threshold ε (bits times units of radiosity).
     pub epsilon: f64,
 }
@@ -256,7 +254,7 @@ impl Oracle for MutualInformationOracle {
 /// estimator": it casts up to four rays more. `H` is the element's gathered irradiance
 /// (equal to `(B − E)/ρ` where ρ > 0, and defined where ρ = 0).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MiIncreaseOracle {
+pub(crate) struct MiIncreaseOracle {
     /// ε₁ of step 1 (units of power times radiosity).
     pub epsilon: f64,
     /// ε₂ of step 3: the relative variation of the kernel that justifies a split.
@@ -323,7 +321,7 @@ impl Oracle for MiIncreaseOracle {
 /// leaves gets its own link — the full-matrix solution of the regular mesh, the reference
 /// the adaptive oracles are compared with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct RegularOracle {
+pub(crate) struct RegularOracle {
     /// Splits per patch.
     pub level: u32,
 }
@@ -366,7 +364,6 @@ mod tests {
             normal: if up { DVec3::Z } else { -DVec3::Z },
             depth: 0,
             rho: [0.5; 3],
-            emission: [0.0; 3],
             radiosity: [b; 3],
             irradiance: [b; 3],
         }

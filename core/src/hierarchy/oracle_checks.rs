@@ -149,7 +149,6 @@ fn side(p: &Polygon4, normal: DVec3) -> Side<'_> {
         normal,
         depth: 0,
         rho: [1.0; 3],
-        emission: [0.0; 3],
         radiosity: [1.0; 3],
         irradiance: [0.0; 3],
     }

@@ -3,6 +3,7 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
+use super::kernel::MAX_PAIRS;
 use super::*;
 use crate::error::ErrorKind;
 use crate::formfactor::exact_3d;

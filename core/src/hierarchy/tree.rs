@@ -8,6 +8,7 @@ use alloc::vec::Vec;
 use crate::error::{ErrorKind, Result};
 use crate::formfactor::exact_3d;
 use crate::geom::{self, DVec3};
+use crate::hierarchy::choice::OracleChoice3;
 use crate::hierarchy::element::Polygon4;
 use crate::hierarchy::kernel::{
     KernelSamples, MAX_PAIRS, NoOccluders, RayCounter, Surface, Visibility,
@@ -93,7 +94,6 @@ impl Element {
             normal: self.normal,
             depth: self.depth,
             rho: self.rho,
-            emission: self.emission,
             radiosity: self.radiosity,
             irradiance: self.irradiance,
         }
@@ -133,7 +133,7 @@ pub enum Budget {
 /// Budgets and stopping rules of [`Hierarchy::build`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HrOptions {
-    /// Point pairs per oracle evaluation, `1..=`[`MAX_PAIRS`] (the thesis: 10, and 4 for the
+    /// Point pairs per oracle evaluation, `1..=``MAX_PAIRS` (the thesis: 10, and 4 for the
     /// robustness experiment of Figures 6.9–6.10).
     pub pairs: usize,
     /// Seed of the pairs' random streams.
@@ -177,6 +177,9 @@ impl Default for HrOptions {
 }
 
 impl HrOptions {
+    /// Most point pairs one oracle evaluation may draw.
+    pub const MAX_PAIRS: usize = MAX_PAIRS;
+
     fn validate(&self) -> Result<()> {
         let bad = |name, value| Err(ErrorKind::BadParameter { name, value }.into());
         if !(1..=MAX_PAIRS).contains(&self.pairs) {
@@ -235,7 +238,16 @@ impl Hierarchy {
     /// the roots alone exceed `max_elements` or their links `max_links`; the errors of
     /// [`crate::accel::Bvh3::build`]; [`ErrorKind::NoConvergence`] when a solve reaches
     /// `max_iterations`; [`ErrorKind::NotFinite`] when a radiosity overflows.
-    pub fn build(scene: &Scene3, oracle: &dyn Oracle, opts: &HrOptions) -> Result<Self> {
+    pub fn build(scene: &Scene3, oracle: &OracleChoice3, opts: &HrOptions) -> Result<Self> {
+        Self::build_with(scene, oracle, opts)
+    }
+
+    /// [`Hierarchy::build`] with any oracle of the crate (the reference mesh's, the tests').
+    pub(crate) fn build_with(
+        scene: &Scene3,
+        oracle: &dyn Oracle,
+        opts: &HrOptions,
+    ) -> Result<Self> {
         opts.validate()?;
         let occluders = SceneVisibility::new(scene)?;
         let visibility: &dyn Visibility = match &occluders {

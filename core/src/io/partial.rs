@@ -5,7 +5,7 @@
 //! drawing from [`crate::lines::chunk_rng`]`(s, k)`. A [`Partial`] holds the exact tally
 //! (integers and 64.64 fixed-point sums, see [`LineTally`]) of a range of those chunks, the
 //! patch sizes and what identifies the job: a fingerprint of the scene, the method, the
-//! seed, `N`. [`merge_partials`] checks that the partials belong to one job and do not
+//! seed, `N`. `merge_partials` checks that the partials belong to one job and do not
 //! overlap, and adds their tallies; when they cover every chunk, [`Partial::finish`] gives
 //! exactly — bit for bit — the estimate of one run of the whole job on one machine.
 //!
@@ -33,7 +33,7 @@
 //!
 //! Counts are stored sparsely whatever the in-memory layout: 16 bytes per non-zero pair
 //! (32 with the per-pair information of scenes of at most
-//! [`crate::tally::DENSE_PAIR_LIMIT`] patches).
+//! `crate::tally::DENSE_PAIR_LIMIT` patches).
 
 use alloc::vec::Vec;
 use core::ops::Range;
@@ -56,7 +56,7 @@ const MAX_PARTIAL_PATCHES: u64 = 1 << 26;
 /// What identifies a line job: partials merge only when all of it agrees.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct JobId {
-    /// Fingerprint of the scene (e.g. [`fingerprint`] of its file).
+    /// Fingerprint of the scene (e.g. `fingerprint` of its file).
     pub scene: u64,
     /// The sampling method.
     pub method: LineMethod,
@@ -81,10 +81,8 @@ pub struct Partial {
     pub tally: LineTally,
 }
 
-/// A 64-bit fingerprint of `bytes` (the word hash of the file checksum): equal inputs give
-/// equal fingerprints; any change of one 8-byte word changes it.
-#[must_use]
-pub fn fingerprint(bytes: &[u8]) -> u64 {
+/// [`Partial::fingerprint`].
+pub(crate) fn fingerprint(bytes: &[u8]) -> u64 {
     checksum(bytes)
 }
 
@@ -112,6 +110,24 @@ fn checksum(bytes: &[u8]) -> u64 {
 }
 
 impl Partial {
+    /// Merges the partials of one job into one (exact: any order gives the same bits).
+    ///
+    /// # Errors
+    /// [`ErrorKind::NoLines`] for an empty list; [`ErrorKind::PartialMismatch`] when two
+    /// partials come from different jobs (scene, method, seed, line count or patch count);
+    /// [`ErrorKind::ChunkRanges`] when they share a chunk, or leave a gap between them
+    /// (a merged partial is one contiguous chunk range; merge neighbours first).
+    pub fn merge(parts: Vec<Partial>) -> Result<Partial> {
+        merge_partials(parts)
+    }
+
+    /// A 64-bit fingerprint of `bytes` (the word hash of the file checksum): equal inputs give
+    /// equal fingerprints; any change of one 8-byte word changes it.
+    #[must_use]
+    pub fn fingerprint(bytes: &[u8]) -> u64 {
+        fingerprint(bytes)
+    }
+
     /// Whether the chunks cover the whole job.
     #[must_use]
     pub fn is_complete(&self) -> bool {
@@ -322,14 +338,8 @@ impl Partial {
     }
 }
 
-/// Merges the partials of one job into one (exact: any order gives the same bits).
-///
-/// # Errors
-/// [`ErrorKind::NoLines`] for an empty list; [`ErrorKind::PartialMismatch`] when two
-/// partials come from different jobs (scene, method, seed, line count or patch count);
-/// [`ErrorKind::ChunkRanges`] when they share a chunk, or leave a gap between them
-/// (a merged partial is one contiguous chunk range; merge neighbours first).
-pub fn merge_partials(mut parts: Vec<Partial>) -> Result<Partial> {
+/// [`Partial::merge`].
+pub(crate) fn merge_partials(mut parts: Vec<Partial>) -> Result<Partial> {
     parts.sort_by_key(|p| p.chunks.start);
     let mut iter = parts.into_iter();
     let Some(mut acc) = iter.next() else {

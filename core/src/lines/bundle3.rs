@@ -51,8 +51,10 @@ use core::f64::consts::PI;
 use crate::geom::DVec3;
 use crate::math;
 
+#[cfg(test)]
+use super::Line3;
 use super::lines3::orthonormal_basis;
-use super::{BoundingSphere, Line3, clamp_canonical, sample_uniform_sphere};
+use super::{BoundingSphere, clamp_canonical, sample_uniform_sphere};
 
 /// `φ⁻¹ = (√5 − 1)/2`, the golden ratio's inverse: the step of the sheaf's rank-1 lattice.
 const INV_GOLDEN: f64 = 0.618_033_988_749_894_9;
@@ -64,7 +66,7 @@ const INV_GOLDEN: f64 = 0.618_033_988_749_894_9;
 /// The lattice points are held as rows `j`; [`GlobalBundle3::row`] gives the `k`-th row's
 /// height and its points, and [`GlobalBundle3::line_at`] the line through a point.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GlobalBundle3 {
+pub(crate) struct GlobalBundle3 {
     sphere: BoundingSphere,
     dir: DVec3,
     e1: DVec3,
@@ -152,13 +154,6 @@ impl GlobalBundle3 {
         self.spacing
     }
 
-    /// The shift `(s₀, s₁) ∈ [0, 1)²`.
-    #[inline]
-    #[must_use]
-    pub fn shift(&self) -> [f64; 2] {
-        self.shift
-    }
-
     /// Number of rows of lattice points (some may hold no point).
     #[inline]
     #[must_use]
@@ -198,6 +193,7 @@ impl GlobalBundle3 {
     /// The coordinate `a` of point `k` of `row`: `(first + k) h`.
     #[inline]
     #[must_use]
+    #[cfg(test)]
     pub fn row_point(&self, row: &BundleRow, k: u32) -> f64 {
         (row.first + f64::from(k)) * self.spacing
     }
@@ -205,20 +201,16 @@ impl GlobalBundle3 {
     /// Number of lines (lattice points in the disc): random, with expectation
     /// `πr²/h² = m`. `O(rows)`.
     #[must_use]
+    #[cfg(test)]
     pub fn len(&self) -> u64 {
         (0..self.rows).map(|k| u64::from(self.row(k).count)).sum()
-    }
-
-    /// Whether the bundle holds no line (possible only for an expected size below about 4).
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
     }
 
     /// The line through the point `(a, b)` of the plane `d^⊥`: origin `c + a e₁ + b e₂`
     /// (the foot of the perpendicular from the centre), direction `d`.
     #[inline]
     #[must_use]
+    #[cfg(test)]
     pub fn line_at(&self, a: f64, b: f64) -> Line3 {
         Line3 {
             origin: self.sphere.center + self.e1 * a + self.e2 * b,
@@ -232,7 +224,7 @@ impl GlobalBundle3 {
 /// on `[0, 1)²` when `s` is.
 #[inline]
 #[must_use]
-pub fn sheaf_direction_sample(k: u32, count: u32, s: [f64; 2]) -> [f64; 2] {
+pub(crate) fn sheaf_direction_sample(k: u32, count: u32, s: [f64; 2]) -> [f64; 2] {
     let count = f64::from(count.max(1));
     let u0 = (f64::from(k) + clamp_canonical(s[0])) / count;
     let v = clamp_canonical(s[1]) + f64::from(k) * INV_GOLDEN;

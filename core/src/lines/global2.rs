@@ -20,6 +20,42 @@ pub struct Line2 {
 }
 
 impl Line2 {
+    /// A uniformly distributed global line through `circle` (thesis §2.1.6, global lines
+    /// (2.37); Sbert 1993), uniform for the invariant measure `dp dθ`:
+    ///
+    /// ```text
+    /// θ = π u₀ ∈ [0, π),   p = (2u₁ − 1) r ∈ [−r, r)
+    /// G = {x : (x − c)·n(θ) = p},   n(θ) = (cos θ, sin θ)
+    /// origin = c + p n(θ),   dir = n(θ)^⊥ = (−sin θ, cos θ)
+    /// ```
+    ///
+    /// `origin` is the foot of the perpendicular from the centre, so the line's chord through
+    /// the circle is `t ∈ [−√(r² − p²), √(r² − p²)]`. By Crofton's formula the probability that
+    /// the line meets a convex set `K` inside the circle is `perimeter(K) / 2πr`; for a segment
+    /// of length `L` it is `L / πr` (Santaló 1976): the number of lines crossing a patch is
+    /// proportional to its length, as (2.37)'s variance (2.38) assumes. (Unlike the 3D sphere,
+    /// lines through two uniform points of a circle are *not* uniformly distributed — thesis
+    /// §4.5.1 — so flatland samples `(p, θ)` directly.)
+    ///
+    /// Inputs outside `[0, 1)` are clamped; NaN reads as 0.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use sceneinfo::geom::DVec2;
+    /// use sceneinfo::lines::{BoundingCircle, Line2};
+    ///
+    /// let circle = BoundingCircle::of_bounds(DVec2::ZERO, DVec2::ONE);
+    /// let line = Line2::global(&circle, [0.25, 0.75]);
+    /// // θ = π/4: the line's normal is (cos θ, sin θ), so it runs along (−sin θ, cos θ) or back
+    /// assert!((line.dir.length() - 1.0).abs() < 1e-15);
+    /// assert!((line.dir.x + line.dir.y).abs() < 1e-12);
+    /// ```
+    #[must_use]
+    pub fn global(circle: &BoundingCircle, u: [f64; 2]) -> Line2 {
+        sample_global_line_2d(circle, u)
+    }
+
     /// The line through `origin` along `dir`.
     #[inline]
     #[must_use]
@@ -86,39 +122,8 @@ impl BoundingCircle {
     }
 }
 
-/// A uniformly distributed global line through `circle` (thesis §2.1.6, global lines
-/// (2.37); Sbert 1993), uniform for the invariant measure `dp dθ`:
-///
-/// ```text
-/// θ = π u₀ ∈ [0, π),   p = (2u₁ − 1) r ∈ [−r, r)
-/// G = {x : (x − c)·n(θ) = p},   n(θ) = (cos θ, sin θ)
-/// origin = c + p n(θ),   dir = n(θ)^⊥ = (−sin θ, cos θ)
-/// ```
-///
-/// `origin` is the foot of the perpendicular from the centre, so the line's chord through
-/// the circle is `t ∈ [−√(r² − p²), √(r² − p²)]`. By Crofton's formula the probability that
-/// the line meets a convex set `K` inside the circle is `perimeter(K) / 2πr`; for a segment
-/// of length `L` it is `L / πr` (Santaló 1976): the number of lines crossing a patch is
-/// proportional to its length, as (2.37)'s variance (2.38) assumes. (Unlike the 3D sphere,
-/// lines through two uniform points of a circle are *not* uniformly distributed — thesis
-/// §4.5.1 — so flatland samples `(p, θ)` directly.)
-///
-/// Inputs outside `[0, 1)` are clamped; NaN reads as 0.
-///
-/// # Examples
-///
-/// ```
-/// use sceneinfo::geom::DVec2;
-/// use sceneinfo::lines::{BoundingCircle, sample_global_line_2d};
-///
-/// let circle = BoundingCircle::of_bounds(DVec2::ZERO, DVec2::ONE);
-/// let line = sample_global_line_2d(&circle, [0.25, 0.75]);
-/// // θ = π/4: the line's normal is (cos θ, sin θ), so it runs along (−sin θ, cos θ) or back
-/// assert!((line.dir.length() - 1.0).abs() < 1e-15);
-/// assert!((line.dir.x + line.dir.y).abs() < 1e-12);
-/// ```
-#[must_use]
-pub fn sample_global_line_2d(circle: &BoundingCircle, u: [f64; 2]) -> Line2 {
+/// [`Line2::global`].
+pub(crate) fn sample_global_line_2d(circle: &BoundingCircle, u: [f64; 2]) -> Line2 {
     global_line_at(circle, global_line_normal(u[0]), u[1])
 }
 
@@ -155,7 +160,7 @@ fn global_line_at(circle: &BoundingCircle, n: DVec2, u1: f64) -> Line2 {
 /// lines of one bundle are correlated (they share `θ` and `u₁`), so a standard error must
 /// treat a bundle as one observation.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GlobalBundle2 {
+pub(crate) struct GlobalBundle2 {
     circle: BoundingCircle,
     /// `n(θ)`, the common normal.
     normal: DVec2,
@@ -181,13 +186,6 @@ impl GlobalBundle2 {
     #[must_use]
     pub fn len(&self) -> u32 {
         self.m
-    }
-
-    /// Always false: a bundle holds at least one line.
-    #[inline]
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        false
     }
 
     /// The common unit normal `n(θ)`; every line's direction is `n^⊥`.
@@ -229,6 +227,7 @@ impl GlobalBundle2 {
     /// [`sample_global_line_2d`]`(circle, [u₀, v_k])`.
     #[inline]
     #[must_use]
+    #[cfg(test)]
     pub fn line(&self, k: u32) -> Line2 {
         global_line_at(
             &self.circle,

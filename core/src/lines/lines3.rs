@@ -61,6 +61,44 @@ pub struct Line3 {
 }
 
 impl Line3 {
+    /// A uniformly distributed global line through `sphere` (thesis §2.1.6, global lines
+    /// (2.37)): the line through two independent uniform points of the sphere's surface,
+    ///
+    /// ```text
+    /// s₁ = sample_uniform_sphere(u₀, u₁),   s₂ = sample_uniform_sphere(u₂, u₃)
+    /// dir = (s₂ − s₁)/|s₂ − s₁|,   origin = c + r (s₁ + s₂)/2
+    /// ```
+    ///
+    /// uniform for the invariant measure `dG` among the lines meeting the ball (module docs),
+    /// so it hits a convex polygon of area `A` inside the sphere with probability
+    /// `A / 2πr²`. `origin` is the chord's midpoint — the foot of the perpendicular from the
+    /// centre — so the chord is `t ∈ [−L/2, L/2]`, `L = r|s₂ − s₁|`, and `dir` points from
+    /// `s₁` to `s₂`. If the two points coincide (probability zero; only for `u` on the
+    /// `2⁻⁵³` grid), the line passes through the point along the uniform direction
+    /// `sample_uniform_sphere(u₁, u₀)`.
+    ///
+    /// Inputs outside `[0, 1)` are clamped; NaN reads as 0.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use sceneinfo::geom::DVec3;
+    /// use sceneinfo::lines::{BoundingSphere, Line3};
+    ///
+    /// let sphere = BoundingSphere::of_bounds(DVec3::ZERO, DVec3::ONE);
+    /// let u = [0.1, 0.2, 0.7, 0.9];
+    /// let line = Line3::global(&sphere, u);
+    /// assert!((line.dir.length() - 1.0).abs() < 1e-15);
+    /// // Through the sphere: the line's closest point to the centre lies inside it
+    /// let to_centre = sphere.center - line.origin;
+    /// let closest = line.origin + line.dir * to_centre.dot(line.dir);
+    /// assert!((closest - sphere.center).length() < sphere.radius);
+    /// ```
+    #[must_use]
+    pub fn global(sphere: &BoundingSphere, u: [f64; 4]) -> Line3 {
+        sample_global_line_3d(sphere, u)
+    }
+
     /// The line through `origin` along `dir`.
     #[inline]
     #[must_use]
@@ -183,41 +221,8 @@ pub(crate) fn invert_uniform_sphere(d: DVec3) -> [f64; 2] {
     [clamp_canonical(u0), clamp_canonical(phi / TAU)]
 }
 
-/// A uniformly distributed global line through `sphere` (thesis §2.1.6, global lines
-/// (2.37)): the line through two independent uniform points of the sphere's surface,
-///
-/// ```text
-/// s₁ = sample_uniform_sphere(u₀, u₁),   s₂ = sample_uniform_sphere(u₂, u₃)
-/// dir = (s₂ − s₁)/|s₂ − s₁|,   origin = c + r (s₁ + s₂)/2
-/// ```
-///
-/// uniform for the invariant measure `dG` among the lines meeting the ball (module docs),
-/// so it hits a convex polygon of area `A` inside the sphere with probability
-/// `A / 2πr²`. `origin` is the chord's midpoint — the foot of the perpendicular from the
-/// centre — so the chord is `t ∈ [−L/2, L/2]`, `L = r|s₂ − s₁|`, and `dir` points from
-/// `s₁` to `s₂`. If the two points coincide (probability zero; only for `u` on the
-/// `2⁻⁵³` grid), the line passes through the point along the uniform direction
-/// `sample_uniform_sphere(u₁, u₀)`.
-///
-/// Inputs outside `[0, 1)` are clamped; NaN reads as 0.
-///
-/// # Examples
-///
-/// ```
-/// use sceneinfo::geom::DVec3;
-/// use sceneinfo::lines::{BoundingSphere, sample_global_line_3d};
-///
-/// let sphere = BoundingSphere::of_bounds(DVec3::ZERO, DVec3::ONE);
-/// let u = [0.1, 0.2, 0.7, 0.9];
-/// let line = sample_global_line_3d(&sphere, u);
-/// assert!((line.dir.length() - 1.0).abs() < 1e-15);
-/// // Through the sphere: the line's closest point to the centre lies inside it
-/// let to_centre = sphere.center - line.origin;
-/// let closest = line.origin + line.dir * to_centre.dot(line.dir);
-/// assert!((closest - sphere.center).length() < sphere.radius);
-/// ```
-#[must_use]
-pub fn sample_global_line_3d(sphere: &BoundingSphere, u: [f64; 4]) -> Line3 {
+/// [`Line3::global`].
+pub(crate) fn sample_global_line_3d(sphere: &BoundingSphere, u: [f64; 4]) -> Line3 {
     let s1 = sample_uniform_sphere([u[0], u[1]]);
     let s2 = sample_uniform_sphere([u[2], u[3]]);
     if let Some(dir) = unit(s2 - s1) {

@@ -11,7 +11,7 @@ use rand_core::Rng;
 use rand_pcg::Pcg64;
 
 /// Lines per seeded chunk: the unit of work (and of reproducibility) of a line job.
-pub const CHUNK_LINES: u64 = 1 << 16;
+pub(crate) const CHUNK_LINES: u64 = 1 << 16;
 
 /// SplitMix64's finaliser (Steele, Lea & Flood 2014): a bijection of `u64` that spreads
 /// every input bit over every output bit.
@@ -57,7 +57,7 @@ pub fn chunk_rng(seed: u64, chunk: u64) -> Pcg64 {
 /// Number of chunks of a job of `n_lines` lines: `⌈n_lines / CHUNK_LINES⌉`.
 #[inline]
 #[must_use]
-pub const fn chunk_count(n_lines: u64) -> u64 {
+pub(crate) const fn chunk_count(n_lines: u64) -> u64 {
     n_lines.div_ceil(CHUNK_LINES)
 }
 
@@ -68,7 +68,7 @@ pub const fn chunk_count(n_lines: u64) -> u64 {
 /// ```
 #[inline]
 #[must_use]
-pub const fn chunk_range(n_lines: u64, chunk: u64) -> Range<u64> {
+pub(crate) const fn chunk_range(n_lines: u64, chunk: u64) -> Range<u64> {
     let start = match chunk.checked_mul(CHUNK_LINES) {
         Some(s) if s < n_lines => s,
         _ => return n_lines..n_lines,
@@ -90,7 +90,7 @@ pub fn canonical<R: Rng + ?Sized>(rng: &mut R) -> f64 {
 /// Two canonical samples `[u₀, u₁]`, drawn in that order.
 #[inline]
 #[must_use]
-pub fn canonical_2d<R: Rng + ?Sized>(rng: &mut R) -> [f64; 2] {
+pub(crate) fn canonical_2d<R: Rng + ?Sized>(rng: &mut R) -> [f64; 2] {
     let u0 = canonical(rng);
     [u0, canonical(rng)]
 }

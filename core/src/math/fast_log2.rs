@@ -47,7 +47,7 @@ const TABLE: [(f64, f64, f64); TABLE_LEN] = {
 /// subnormal and non-finite `x` go to libm's `log2`.
 #[inline]
 #[must_use]
-pub fn log2_fast(x: f64) -> f64 {
+pub(crate) fn log2_fast(x: f64) -> f64 {
     if !(f64::MIN_POSITIVE..f64::INFINITY).contains(&x) {
         return libm::log2(x);
     }

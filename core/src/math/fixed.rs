@@ -17,7 +17,7 @@ pub(crate) const FIXED_MAX_TERM: f64 = 1.0e18;
 /// totals beyond the range saturate instead of wrapping (so no panic, no NaN), and
 /// [`FixedSum::saturated`] reports it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct FixedSum {
+pub(crate) struct FixedSum {
     acc: i128,
     saturated: bool,
 }

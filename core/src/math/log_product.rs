@@ -43,7 +43,7 @@ const SAFE: u64 = 960;
 /// A factor that is zero, negative, infinite or NaN makes the product invalid
 /// ([`Log2Product::log2`] returns `None`); subnormal factors are exact.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Log2Product {
+pub(crate) struct Log2Product {
     /// The running product `m` (positive and normal while valid).
     mantissa: f64,
     /// The exponent `e` split off so far.
@@ -72,6 +72,7 @@ impl Log2Product {
     /// The product of one factor `x`.
     #[inline]
     #[must_use]
+    #[cfg(test)]
     pub fn of(x: f64) -> Self {
         let mut p = Self::new();
         p.push(x);

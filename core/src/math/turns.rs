@@ -18,7 +18,7 @@ use core::f64::consts::FRAC_PI_2;
 /// gives NaN.
 #[inline]
 #[must_use]
-pub fn sin_cos_turns(u: f64) -> (f64, f64) {
+pub(crate) fn sin_cos_turns(u: f64) -> (f64, f64) {
     let v = 4.0 * u;
     let q = libm::rint(v);
     let r = (v - q) * FRAC_PI_2;

@@ -48,7 +48,7 @@ use crate::scene::Material;
 use crate::tally::{LineMethod, LineTally, LineTracer, SampleTerms};
 
 mod moments;
-pub use moments::PAIR_MOMENT_LIMIT;
+pub(crate) use moments::PAIR_MOMENT_LIMIT;
 pub(crate) use moments::PairMoments;
 
 /// Per-patch data of one colour channel's term `t_ij`.
@@ -470,7 +470,7 @@ pub struct LitEstimate {
 /// job of lines of `method` — on one thread (`|t| t.run(method, seed, n)`) or on many (the
 /// CLI).
 ///
-/// Up to [`PAIR_MOMENT_LIMIT`] patches the lines are cast once, through a
+/// Up to `PAIR_MOMENT_LIMIT` patches the lines are cast once, through a
 /// `RadiosityTracer::pair_moments`, and (5.20) is evaluated from the pair moments after the solve
 /// (the private `moments` module explains its standard error). Beyond, the pair moments would take too much
 /// memory: the job is cast a second time with the same seed (the same lines) through a
@@ -481,7 +481,7 @@ pub struct LitEstimate {
 /// group of the standard error per sheaf).
 ///
 /// # Errors
-/// The errors of `cast`, [`LineTally::finish`], [`solve_rgb`], [`rgb_measures`] and
+/// The errors of `cast`, [`LineTally::finish`], `solve_rgb`, `rgb_measures` and
 /// `RadiosityLineTally::estimates_for`.
 pub fn estimate_lit(
     tracer: &(dyn LineTracer + Sync),

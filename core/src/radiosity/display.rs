@@ -1,7 +1,7 @@
 //! Turning a radiosity solution into display colours: Gouraud vertex radiosities and a
 //! stated tone-mapping operator, for mesh writers (the CLI's PLY output).
 //!
-//! **Vertex radiosity (Gouraud).** [`gouraud`] is the one Gouraud shading of the project:
+//! **Vertex radiosity (Gouraud).** `gouraud` is the one Gouraud shading of the project:
 //! `radiosity --ply` shades the scene's patches with it ([`gouraud_mesh`]) and
 //! `refine --png` the leaves of a hierarchy (`Hierarchy::vertex_radiosities`). A vertex
 //! shared by polygons gets the area-weighted average of their radiosities,
@@ -119,7 +119,7 @@ pub struct GouraudMesh {
 
 /// One polygon to shade: a scene's patch or a hierarchy's leaf element.
 #[derive(Clone, Copy, Debug)]
-pub struct ShadedPolygon<'a> {
+pub(crate) struct ShadedPolygon<'a> {
     /// Its vertices, in order.
     pub vertices: &'a [DVec3],
     /// Its unit normal (the side it faces).
@@ -133,7 +133,7 @@ pub struct ShadedPolygon<'a> {
 }
 
 /// The patches of `scene` with their radiosities `radiosity` (per state; states past the
-/// patches are ignored, missing ones are black), shaded by [`gouraud`].
+/// patches are ignored, missing ones are black), shaded by `gouraud`.
 #[must_use]
 pub fn gouraud_mesh(scene: &Scene3, radiosity: &[[f64; 3]]) -> GouraudMesh {
     let polygons: Vec<ShadedPolygon<'_>> = scene
@@ -157,7 +157,7 @@ pub fn gouraud_mesh(scene: &Scene3, radiosity: &[[f64; 3]]) -> GouraudMesh {
 /// `k`'s vertices in its order; vertices are numbered in the order of their sorted keys
 /// `(plane, position)`, so the mesh does not depend on the order of the polygons.
 #[must_use]
-pub fn gouraud(polygons: &[ShadedPolygon<'_>], bounds: (DVec3, DVec3)) -> GouraudMesh {
+pub(crate) fn gouraud(polygons: &[ShadedPolygon<'_>], bounds: (DVec3, DVec3)) -> GouraudMesh {
     let (lo, hi) = bounds;
     let quantum = 1e-9 * (hi - lo).length().max(f64::MIN_POSITIVE);
     let quantise = |x: f64, q: f64| math::round(x / q) as i64;

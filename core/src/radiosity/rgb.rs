@@ -12,7 +12,7 @@
 //!
 //! ```
 //! use sceneinfo::formfactor::exact_2d;
-//! use sceneinfo::radiosity::{Solver, SolveOptions, rgb};
+//! use sceneinfo::radiosity::{Solver, SolveOptions, rgb::RgbSolution};
 //! use sceneinfo::scene::{Scene2, Material};
 //!
 //! let scene = Scene2::rectangle(1.0, 1.0, 4).unwrap();
@@ -20,10 +20,10 @@
 //! // A red-ish grey room with one white emitter.
 //! let mut materials = vec![Material::new([0.6, 0.3, 0.3], [0.0; 3]).unwrap(); 16];
 //! materials[0] = Material::new([0.0; 3], [1.0; 3]).unwrap();
-//! let sol = rgb::solve_rgb(&ff.matrix(), ff.weights(), &materials, Solver::GaussSeidel,
+//! let sol = RgbSolution::solve(&ff.matrix(), ff.weights(), &materials, Solver::GaussSeidel,
 //!     &SolveOptions::default()).unwrap();
 //! assert!(sol.radiosity[5][0] > sol.radiosity[5][2]); // more red than blue
-//! let m = rgb::rgb_measures(&ff.matrix(), ff.weights(), &sol).unwrap();
+//! let m = sol.measures(&ff.matrix(), ff.weights()).unwrap();
 //! assert!(m[0].i_s > 0.0);
 //! ```
 //!
@@ -36,10 +36,10 @@ use super::measures::{RadiosityMeasures, radiosity_measures};
 use super::{SolveOptions, SolveReport, Solver, solve};
 use crate::channel::Transitions;
 use crate::error::{ErrorKind, Result};
-use crate::scene::{Material, Scene2, Scene3};
+use crate::scene::Material;
 
 /// The colour channels' names, in order.
-pub const CHANNEL_NAMES: [&str; 3] = ["red", "green", "blue"];
+pub(crate) const CHANNEL_NAMES: [&str; 3] = ["red", "green", "blue"];
 
 /// A solved scene: radiosity per state and colour, and each channel's solve report.
 #[derive(Clone, Debug, PartialEq)]
@@ -51,6 +51,35 @@ pub struct RgbSolution {
 }
 
 impl RgbSolution {
+    /// Solves (2.6) for each colour channel with `solver`: form factors `f` (rows sum to at
+    /// most 1), state sizes `sizes` (only ratios matter), one material per patch.
+    ///
+    /// # Errors
+    /// [`ErrorKind::DimensionMismatch`] if there are more materials than states; every error
+    /// of [`solve`]; a [`ErrorKind::NoConvergence`] names the colour channel.
+    pub fn solve<M: Transitions>(
+        f: &M,
+        sizes: &[f64],
+        materials: &[Material],
+        solver: Solver,
+        opts: &SolveOptions,
+    ) -> Result<Self> {
+        solve_rgb(f, sizes, materials, solver, opts)
+    }
+
+    /// The radiosity channel measures (5.5–5.7) of each colour channel, over the same form
+    /// factors `f` and sizes it was solved with. A channel in which no light flows gives
+    /// [`RadiosityMeasures::EMPTY`].
+    ///
+    /// # Errors
+    /// The errors of [`radiosity_measures`].
+    pub fn measures<M: Transitions>(&self, f: &M, sizes: &[f64]) -> Result<[RadiosityMeasures; 3]> {
+        rgb_measures(f, sizes, self)
+    }
+
+    /// The colour channels' names, in order.
+    pub const CHANNEL_NAMES: [&str; 3] = CHANNEL_NAMES;
+
     /// The radiosities of one channel (0 = R, 1 = G, 2 = B; others read as blue).
     #[must_use]
     pub fn channel(&self, c: usize) -> Vec<f64> {
@@ -88,7 +117,7 @@ fn channel_vectors(materials: &[Material], n: usize, c: usize) -> (Vec<f64>, Vec
 /// # Errors
 /// [`ErrorKind::DimensionMismatch`] if there are more materials than states; every error
 /// of [`solve`]; a [`ErrorKind::NoConvergence`] names the colour channel.
-pub fn solve_rgb<M: Transitions>(
+pub(crate) fn solve_rgb<M: Transitions>(
     f: &M,
     sizes: &[f64],
     materials: &[Material],
@@ -140,7 +169,7 @@ pub fn solve_rgb<M: Transitions>(
 ///
 /// # Errors
 /// The errors of [`radiosity_measures`].
-pub fn rgb_measures<M: Transitions>(
+pub(crate) fn rgb_measures<M: Transitions>(
     f: &M,
     sizes: &[f64],
     solution: &RgbSolution,
@@ -154,22 +183,6 @@ pub fn rgb_measures<M: Transitions>(
         *m = radiosity_measures(f, sizes, &b, &mut b_in, &mut weights)?;
     }
     Ok(out)
-}
-
-/// The material of every patch of a flatland scene, in patch order.
-#[must_use]
-pub fn flat_patch_materials(scene: &Scene2) -> Vec<Material> {
-    (0..scene.n_patches())
-        .map(|i| scene.patch_material(i).copied().unwrap_or_default())
-        .collect()
-}
-
-/// The material of every patch of a 3D scene, in patch order.
-#[must_use]
-pub fn patch_materials(scene: &Scene3) -> Vec<Material> {
-    (0..scene.n_patches())
-        .map(|i| scene.patch_material(i).copied().unwrap_or_default())
-        .collect()
 }
 
 #[cfg(test)]
@@ -270,7 +283,7 @@ mod tests {
         let scene = builder.build().unwrap();
         let ff = exact_2d::form_factors(&scene).unwrap();
         assert!(ff.has_background());
-        let m = flat_patch_materials(&scene);
+        let m = scene.patch_materials();
         assert_eq!(m.len(), ff.n_patches());
         let sol = solve_rgb(&ff.matrix(), ff.weights(), &m, Solver::GaussSeidel, &opts()).unwrap();
         assert_eq!(sol.radiosity[ff.n_patches()], [0.0; 3]);

@@ -90,7 +90,7 @@ pub fn visibility_error_point_pairs(a_i: f64, a_j: f64, a_t: f64, kernel: &[f64]
 
 /// Most point pairs [`flat_visibility_error_point_pairs`] draws (it keeps their kernels).
 #[cfg(feature = "alloc")]
-pub const MAX_POINT_PAIRS: u64 = 1 << 24;
+pub(crate) const MAX_POINT_PAIRS: u64 = 1 << 24;
 
 /// `δ^v_ij` (6.19) between patches `i` and `j` of a flatland scene from `n` uniform point
 /// pairs drawn from stream `(seed, 0)` ([`crate::trace::estimate_2d::Tracer2::point_pair_kernel`]:
@@ -98,7 +98,7 @@ pub const MAX_POINT_PAIRS: u64 = 1 << 24;
 ///
 /// # Errors
 /// [`ErrorKind::PatchIndex`] for a bad index; [`ErrorKind::NoLines`] for `n = 0`;
-/// [`ErrorKind::TooLarge`] above [`MAX_POINT_PAIRS`].
+/// [`ErrorKind::TooLarge`] above `MAX_POINT_PAIRS`.
 #[cfg(feature = "alloc")]
 pub fn flat_visibility_error_point_pairs(
     tracer: &crate::trace::estimate_2d::Tracer2,
@@ -220,7 +220,7 @@ pub fn radiosity_error_lines(
 ///
 /// # Errors
 /// [`ErrorKind::TooLarge`] when the estimate kept no per-pair tally (more than
-/// [`crate::tally::DENSE_PAIR_LIMIT`] patches); [`ErrorKind::BufferTooSmall`] when
+/// `crate::tally::DENSE_PAIR_LIMIT` patches); [`ErrorKind::BufferTooSmall`] when
 /// `out` is shorter than `n²`; the channel's errors.
 #[cfg(feature = "alloc")]
 pub fn visibility_errors_from_lines(estimate: &LineEstimate, out: &mut [f64]) -> Result<f64> {

@@ -34,10 +34,8 @@ pub struct InformationProfile {
     lines: u64,
 }
 
-/// The cells each patch of an `n_patches` mesh is cut into: the largest power of two
-/// `2^k ≤ MAX_PROFILE_CELLS / n_patches`, `k ≤ MAX_PROFILE_DEPTH`, and at least 1.
-#[must_use]
-pub fn cells_per_patch(n_patches: usize) -> u64 {
+/// [`InformationProfile::cells_per_patch`].
+pub(crate) fn cells_per_patch(n_patches: usize) -> u64 {
     let per = MAX_PROFILE_CELLS / (n_patches.max(1) as u64);
     let mut c = 1u64;
     while c * 2 <= per && c < (1 << MAX_PROFILE_DEPTH) {
@@ -59,12 +57,8 @@ fn patch_range(scene: &Scene2, i: usize) -> Option<(usize, f64, f64)> {
     Some((patch.surface, t0, t1))
 }
 
-/// `scene` with every patch cut into `cells` equal cells (same surfaces and materials).
-///
-/// # Errors
-/// The builder's errors, e.g. [`ErrorKind::TooManyPatches`] or
-/// [`ErrorKind::ZeroLengthSegment`] for cells too short to have a length.
-pub fn fine_scene(scene: &Scene2, cells: u64) -> Result<Scene2> {
+/// [`InformationProfile::fine_scene`].
+pub(crate) fn fine_scene(scene: &Scene2, cells: u64) -> Result<Scene2> {
     let mut b = Scene2::builder();
     let cells = cells.max(1);
     let mut cuts = Vec::new();
@@ -88,11 +82,27 @@ pub fn fine_scene(scene: &Scene2, cells: u64) -> Result<Scene2> {
 }
 
 impl InformationProfile {
-    /// Tallies `lines` uniform global lines (seed `seed`) over `scene` cut into
-    /// [`cells_per_patch`] cells a patch, on this thread.
+    /// `scene` with every patch cut into `cells` equal cells (same surfaces and materials).
     ///
     /// # Errors
-    /// [`ErrorKind::NoLines`] for `lines == 0`, and the errors of [`fine_scene`] and
+    /// The builder's errors, e.g. [`ErrorKind::TooManyPatches`] or
+    /// [`ErrorKind::ZeroLengthSegment`] for cells too short to have a length.
+    pub fn fine_scene(scene: &Scene2, cells: u64) -> Result<Scene2> {
+        fine_scene(scene, cells)
+    }
+
+    /// The cells each patch of an `n_patches` mesh is cut into: the largest power of two
+    /// `2^k ≤ MAX_PROFILE_CELLS / n_patches`, `k ≤ MAX_PROFILE_DEPTH`, and at least 1.
+    #[must_use]
+    pub fn cells_per_patch(n_patches: usize) -> u64 {
+        cells_per_patch(n_patches)
+    }
+
+    /// Tallies `lines` uniform global lines (seed `seed`) over `scene` cut into
+    /// `cells_per_patch` cells a patch, on this thread.
+    ///
+    /// # Errors
+    /// [`ErrorKind::NoLines`] for `lines == 0`, and the errors of `fine_scene` and
     /// [`Tracer2::new`].
     pub fn trace(scene: &Scene2, lines: u64, seed: u64) -> Result<Self> {
         let fine = fine_scene(scene, cells_per_patch(scene.n_patches()))?;
@@ -101,7 +111,7 @@ impl InformationProfile {
         Self::from_tally(&fine, &tally)
     }
 
-    /// The profile of a tally over `fine` (any scene; [`fine_scene`] makes a good one, and
+    /// The profile of a tally over `fine` (any scene; `fine_scene` makes a good one, and
     /// a front end may tally it on many threads).
     ///
     /// # Errors

@@ -223,7 +223,12 @@ pub fn split_gain<M: Transitions>(channel: &Channel<'_, M>, split: &StateSplit<'
 /// [`ErrorKind::DimensionMismatch`] when the slices differ in length;
 /// [`ErrorKind::InvalidSplit`] for a negative or non-finite value, or when
 /// `|Σ_k w_{i_k} − w_i|` or `|Σ_k w_{i_k} P_{i_k j} − w_i P_ij|` exceeds `SPLIT_TOLERANCE`.
-pub fn pair_gain(w_i: f64, p_ij: f64, sub_weights: &[f64], sub_transitions: &[f64]) -> Result<f64> {
+pub(crate) fn pair_gain(
+    w_i: f64,
+    p_ij: f64,
+    sub_weights: &[f64],
+    sub_transitions: &[f64],
+) -> Result<f64> {
     if sub_weights.len() != sub_transitions.len() {
         return Err(ErrorKind::DimensionMismatch {
             expected: sub_weights.len(),
@@ -365,7 +370,7 @@ fn area_gain(scale: f64, a_i: f64, f_ij: f64, sub_areas: &[f64], sub_f: &[f64]) 
 /// As [`pair_gain`], on the areas relative to `A_i` (the sub-areas must add up to `A_i` and
 /// their flux `Σ_k A_{i_k} F_{i_k j}` to `A_i F_ij`); [`ErrorKind::BadParameter`] for
 /// `A_T ≤ 0` or `A_i ≤ 0`; [`ErrorKind::TooLarge`] above `MAX_SUB_STATES` sub-patches.
-pub fn visibility_pair_gain(
+pub(crate) fn visibility_pair_gain(
     total_area: f64,
     a_i: f64,
     f_ij: f64,
@@ -388,7 +393,7 @@ pub fn visibility_pair_gain(
 /// writes `A_T` in (5.42).
 ///
 /// # Errors
-/// As [`pair_gain`] on the areas; [`ErrorKind::BadParameter`] for `A_T^c ≤ 0` or a
+/// As `pair_gain` on the areas; [`ErrorKind::BadParameter`] for `A_T^c ≤ 0` or a
 /// negative or non-finite radiosity.
 pub fn radiosity_pair_gain(
     total_weight: f64,

@@ -18,7 +18,7 @@
 mod enclosures;
 mod objects;
 
-pub use objects::SINGULARITY_STEPS;
+pub(crate) use objects::SINGULARITY_STEPS;
 
 use crate::error::{ErrorKind, Result, token};
 use crate::geom::{DVec2, distance, signed_area};
@@ -27,7 +27,7 @@ use crate::scene::{MAX_PATCHES_PER_SURFACE, Scene2, Scene2Builder};
 /// One named scene of the catalogue.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CatalogueEntry {
-    /// The name [`catalogue_scene`] accepts, e.g. `"koch-2"`.
+    /// The name `catalogue_scene` accepts, e.g. `"koch-2"`.
     pub name: &'static str,
     /// Where the thesis shows the scene, e.g. `"Fig. 4.12c"`.
     pub figure: &'static str,
@@ -355,43 +355,13 @@ static CATALOGUE: &[CatalogueEntry] = &[
     ),
 ];
 
-/// Every scene of the catalogue, by name, in thesis order. Names of the form `rect-<k>`
-/// other than those listed are accepted too (any `k` [`Scene2::rectangle_aspect`]
-/// accepts).
-///
-/// The families, each constructor documenting its geometry:
-///
-/// | family | constructor | steps | thesis |
-/// |---|---|---|---|
-/// | 24-gon → 12-pointed stars | [`Scene2::star_sequence`] | 0–3 | Fig. 4.11 |
-/// | Von Koch snowflake | [`Scene2::von_koch`] | 0–4 | Fig. 4.12 |
-/// | equilateral → obtuse triangle | [`Scene2::triangle_sequence`] | 0–3 | Fig. 4.13 |
-/// | square → L-shaped rooms | [`Scene2::l_room_sequence`] | 0–3 | Fig. 4.14 |
-/// | three growing objects | [`Scene2::three_objects`] | 0–5 | Fig. 4.15 |
-/// | 16 squares expanding | [`Scene2::sixteen_squares`] | 0–8 | Figs. 4.16–4.17 |
-/// | growing pentagram | [`Scene2::pentagonal_star`] (+ `_subscene`) | 0–8 | Fig. 4.18, Table 4.12 |
-/// | rotating square | [`Scene2::rotating_square`] (+ `_subscene`) | 0–8 | Fig. 4.19, Table 4.12 |
-/// | square into a corner | [`Scene2::square_to_corner`] | 0–8 | Fig. 4.20 |
-/// | rectangle `1 × k` | [`Scene2::rectangle_aspect`] | `k > 0` | Fig. 4.22 |
-/// | 64 squares | [`Scene2::sixty_four_squares`] | a–c | Fig. 3.12, Tables 3.6, 3.9 |
-/// | refinement scenes I, II | [`Scene2::refinement_scene_one`], [`Scene2::refinement_scene_two`] | — | Figs. 6.15–6.18, Table 6.2 |
-///
-/// `per_side` is the number of patches on one side of the enclosure; other sides get a
-/// proportional number (at least one) unless the constructor says otherwise.
-#[must_use]
-pub fn catalogue() -> &'static [CatalogueEntry] {
+/// [`CatalogueEntry::all`].
+pub(crate) fn catalogue() -> &'static [CatalogueEntry] {
     CATALOGUE
 }
 
-/// The catalogue scene called `name`, its reference side cut into `per_side` patches.
-///
-/// `per_side` is ignored by the scenes with a fixed discretisation: `64-squares-*` (80 + 256
-/// patches, as in the thesis) and `refinement-*` (26 patches).
-///
-/// # Errors
-/// [`ErrorKind::UnknownPreset`] for a name not in [`catalogue`] (nor `rect-<k>`), and the
-/// errors of the constructor (e.g. for `per_side = 0`).
-pub fn catalogue_scene(name: &str, per_side: u64) -> Result<Scene2> {
+/// [`Scene2::catalogue`].
+pub(crate) fn catalogue_scene(name: &str, per_side: u64) -> Result<Scene2> {
     let unknown = || ErrorKind::UnknownPreset(token(name)).into();
     let step = |prefix: &str| -> Option<usize> { name.strip_prefix(prefix)?.parse().ok() };
     match name {
@@ -489,3 +459,50 @@ fn add_polygon(
 
 #[cfg(all(test, feature = "std"))]
 mod tests;
+
+impl CatalogueEntry {
+    /// Number of steps of the sequences of Figs. 4.16 and 4.18–4.20 (scenes a–i).
+    pub const SINGULARITY_STEPS: usize = SINGULARITY_STEPS;
+
+    /// Every scene of the catalogue, by name, in thesis order. Names of the form `rect-<k>`
+    /// other than those listed are accepted too (any `k` [`Scene2::rectangle_aspect`]
+    /// accepts).
+    ///
+    /// The families, each constructor documenting its geometry:
+    ///
+    /// | family | constructor | steps | thesis |
+    /// |---|---|---|---|
+    /// | 24-gon → 12-pointed stars | [`Scene2::star_sequence`] | 0–3 | Fig. 4.11 |
+    /// | Von Koch snowflake | [`Scene2::von_koch`] | 0–4 | Fig. 4.12 |
+    /// | equilateral → obtuse triangle | [`Scene2::triangle_sequence`] | 0–3 | Fig. 4.13 |
+    /// | square → L-shaped rooms | [`Scene2::l_room_sequence`] | 0–3 | Fig. 4.14 |
+    /// | three growing objects | [`Scene2::three_objects`] | 0–5 | Fig. 4.15 |
+    /// | 16 squares expanding | [`Scene2::sixteen_squares`] | 0–8 | Figs. 4.16–4.17 |
+    /// | growing pentagram | [`Scene2::pentagonal_star`] (+ `_subscene`) | 0–8 | Fig. 4.18, Table 4.12 |
+    /// | rotating square | [`Scene2::rotating_square`] (+ `_subscene`) | 0–8 | Fig. 4.19, Table 4.12 |
+    /// | square into a corner | [`Scene2::square_to_corner`] | 0–8 | Fig. 4.20 |
+    /// | rectangle `1 × k` | [`Scene2::rectangle_aspect`] | `k > 0` | Fig. 4.22 |
+    /// | 64 squares | [`Scene2::sixty_four_squares`] | a–c | Fig. 3.12, Tables 3.6, 3.9 |
+    /// | refinement scenes I, II | [`Scene2::refinement_scene_one`], [`Scene2::refinement_scene_two`] | — | Figs. 6.15–6.18, Table 6.2 |
+    ///
+    /// `per_side` is the number of patches on one side of the enclosure; other sides get a
+    /// proportional number (at least one) unless the constructor says otherwise.
+    #[must_use]
+    pub fn all() -> &'static [CatalogueEntry] {
+        catalogue()
+    }
+}
+
+impl Scene2 {
+    /// The catalogue scene called `name`, its reference side cut into `per_side` patches.
+    ///
+    /// `per_side` is ignored by the scenes with a fixed discretisation: `64-squares-*` (80 + 256
+    /// patches, as in the thesis) and `refinement-*` (26 patches).
+    ///
+    /// # Errors
+    /// [`ErrorKind::UnknownPreset`] for a name not in `catalogue` (nor `rect-<k>`), and the
+    /// errors of the constructor (e.g. for `per_side = 0`).
+    pub fn catalogue(name: &str, per_side: u64) -> Result<Scene2> {
+        catalogue_scene(name, per_side)
+    }
+}

@@ -565,7 +565,7 @@ fn convex_overlap(a: &[DVec3], b: &[DVec3], n: DVec3, tol: f64) -> bool {
 /// # Errors
 ///
 /// [`ErrorKind::CoincidentSurfaces`] naming the pair.
-pub fn refuse(found: Option<(usize, usize)>) -> Result<()> {
+pub(crate) fn refuse(found: Option<(usize, usize)>) -> Result<()> {
     match found {
         Some((first, second)) => Err(ErrorKind::CoincidentSurfaces { first, second }.into()),
         None => Ok(()),
@@ -675,11 +675,11 @@ mod tests {
             "cubes-27-clustered",
             "64-cubes-0",
         ] {
-            let scene = crate::scene::preset_3d(name, 3);
+            let scene = crate::scene::Scene3::preset(name, 3);
             assert!(scene.is_ok(), "{name}: {scene:?}");
         }
         for name in ["16-squares-0", "three-objects-5", "koch-3", "l-room-3"] {
-            let scene = crate::scene::catalogue_scene(name, 4);
+            let scene = crate::scene::Scene2::catalogue(name, 4);
             assert!(scene.is_ok(), "{name}: {scene:?}");
         }
     }

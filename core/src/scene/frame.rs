@@ -34,7 +34,7 @@ use crate::math;
 /// Measured: the exact flatland measures of a room agree to 1e-15 for scales 10⁻¹⁵⁰ to
 /// 10¹¹ and break at 10⁻¹⁶⁰, where squared lengths underflow; 2⁶⁰ ≈ 10¹⁸ keeps ninety
 /// orders of magnitude of margin either way.
-pub const SAFE_EXTENT_EXPONENT: i32 = 60;
+pub(crate) const SAFE_EXTENT_EXPONENT: i32 = 60;
 
 /// A box whose centre lies more than `2^FAR_EXPONENT` extents from the origin along an axis
 /// is moved to it along that axis (Monte Carlo lines through a far scene would otherwise
@@ -55,6 +55,13 @@ impl Default for Frame {
 }
 
 impl Frame {
+    /// Extents `E ∈ [2^−SAFE_EXTENT_EXPONENT, 2^SAFE_EXTENT_EXPONENT]` are stored unscaled.
+    ///
+    /// Measured: the exact flatland measures of a room agree to 1e-15 for scales 10⁻¹⁵⁰ to
+    /// 10¹¹ and break at 10⁻¹⁶⁰, where squared lengths underflow; 2⁶⁰ ≈ 10¹⁸ keeps ninety
+    /// orders of magnitude of margin either way.
+    pub const SAFE_EXTENT_EXPONENT: i32 = SAFE_EXTENT_EXPONENT;
+
     /// Stored coordinates are the given ones.
     pub const IDENTITY: Frame = Frame {
         origin: DVec3::ZERO,

@@ -36,7 +36,7 @@ mod furniture;
 mod solids;
 
 pub(crate) use cubes::PRESET_SEED;
-pub use cubes::SIXTY_FOUR_CUBES_STEPS;
+pub(crate) use cubes::SIXTY_FOUR_CUBES_STEPS;
 
 use alloc::vec::Vec;
 
@@ -62,7 +62,7 @@ pub(crate) const OBJECT_MATERIAL: Material = Material {
 /// One named scene of the 3D preset index.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Preset3Entry {
-    /// The name [`preset_3d`] accepts, e.g. `"cornell-lifted"`.
+    /// The name `preset_3d` accepts, e.g. `"cornell-lifted"`.
     pub name: &'static str,
     /// Where the thesis shows or uses the scene, e.g. `"Fig. 4.2c, Table 4.2"`.
     pub figure: &'static str,
@@ -313,25 +313,13 @@ static PRESETS_3D: &[Preset3Entry] = &[
     ),
 ];
 
-/// Every 3D preset, by name, in thesis order.
-///
-/// Only `cube`, `cornell`, `cornell-lifted` and `cornell-thesis` (where it is the mesh level
-/// of [`Scene3::cornell_box_thesis`]) take the `grid` of [`preset_3d`]; the others
-/// have the fixed discretisation their constructor documents. The random cube rooms use the
-/// seed `PRESET_SEED`.
-#[must_use]
-pub fn presets_3d() -> &'static [Preset3Entry] {
+/// [`Preset3Entry::all`].
+pub(crate) fn presets_3d() -> &'static [Preset3Entry] {
     PRESETS_3D
 }
 
-/// The 3D preset called `name` (one of [`presets_3d`]), with `grid` cells a side on the
-/// faces of the enclosures that take it (`cube`, `cornell`, `cornell-lifted`; ignored by the
-/// others).
-///
-/// # Errors
-/// [`ErrorKind::UnknownPreset`] for a name not in [`presets_3d`], and the errors of the
-/// constructor (e.g. [`ErrorKind::BadSubdivision`] for `grid = 0`).
-pub fn preset_3d(name: &str, grid: u32) -> Result<Scene3> {
+/// [`Scene3::preset`].
+pub(crate) fn preset_3d(name: &str, grid: u32) -> Result<Scene3> {
     let unknown = || -> crate::Error { ErrorKind::UnknownPreset(token(name)).into() };
     match name {
         "cube" => return Scene3::cube(grid),
@@ -493,3 +481,32 @@ fn check_step(what: &'static str, step: u64, count: u64) -> Result<()> {
 
 #[cfg(all(test, feature = "std"))]
 mod tests;
+
+impl Preset3Entry {
+    /// Number of steps of [`Scene3::sixty_four_cubes`] (0 = Figs. 4.5a/4.6a, 8 = Figs. 4.5f/4.6f).
+    pub const SIXTY_FOUR_CUBES_STEPS: usize = SIXTY_FOUR_CUBES_STEPS;
+
+    /// Every 3D preset, by name, in thesis order.
+    ///
+    /// Only `cube`, `cornell`, `cornell-lifted` and `cornell-thesis` (where it is the mesh level
+    /// of [`Scene3::cornell_box_thesis`]) take the `grid` of `preset_3d`; the others
+    /// have the fixed discretisation their constructor documents. The random cube rooms use the
+    /// seed `PRESET_SEED`.
+    #[must_use]
+    pub fn all() -> &'static [Preset3Entry] {
+        presets_3d()
+    }
+}
+
+impl Scene3 {
+    /// The 3D preset called `name` (one of `presets_3d`), with `grid` cells a side on the
+    /// faces of the enclosures that take it (`cube`, `cornell`, `cornell-lifted`; ignored by the
+    /// others).
+    ///
+    /// # Errors
+    /// [`ErrorKind::UnknownPreset`] for a name not in `presets_3d`, and the errors of the
+    /// constructor (e.g. [`ErrorKind::BadSubdivision`] for `grid = 0`).
+    pub fn preset(name: &str, grid: u32) -> Result<Scene3> {
+        preset_3d(name, grid)
+    }
+}

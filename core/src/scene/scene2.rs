@@ -12,7 +12,7 @@ use crate::scene::{Frame, Material};
 pub(crate) const MAX_PATCHES_PER_SURFACE: u64 = 1_000_000;
 
 /// Most patches a flatland scene may hold (a cap checked before allocating).
-pub const MAX_PATCHES: usize = 4_000_000;
+pub(crate) const MAX_PATCHES: usize = 4_000_000;
 
 /// A surface: one segment of the scene as drawn, the unit of occlusion.
 #[derive(Clone, Debug, PartialEq)]
@@ -126,6 +126,15 @@ impl Scene2 {
         self.patches
             .get(i)
             .and_then(|p| self.materials.get(p.material))
+    }
+
+    /// The material of every patch, in patch order (the radiosity system's `ρ_i`, `E_i`,
+    /// 2.6); the default material where a patch has none.
+    #[must_use]
+    pub fn patch_materials(&self) -> Vec<Material> {
+        (0..self.n_patches())
+            .map(|i| self.patch_material(i).copied().unwrap_or_default())
+            .collect()
     }
 
     /// Relative lengths `l_i = L_i / L_T` (the stationary distribution, §3.3), written into

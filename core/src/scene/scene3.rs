@@ -250,6 +250,15 @@ impl Scene3 {
             .and_then(|p| self.materials.get(p.material))
     }
 
+    /// The material of every patch, in patch order (the radiosity system's `ρ_i`, `E_i`,
+    /// 2.6); the default material where a patch has none.
+    #[must_use]
+    pub fn patch_materials(&self) -> Vec<Material> {
+        (0..self.n_patches())
+            .map(|i| self.patch_material(i).copied().unwrap_or_default())
+            .collect()
+    }
+
     /// Axis-aligned bounds `(min, max)` of all vertices.
     #[must_use]
     pub fn bounds(&self) -> (DVec3, DVec3) {

@@ -3,7 +3,7 @@
 //!
 //! The radiosity of a mesh is solved on its own form factors — for a coarse mesh the merged
 //! chain's, `F'_cd = Σ_{i∈c} Σ_{j∈d} A_i F_ij / A_c`, which are exactly the form factors of
-//! the merged patches (additivity) — by [`crate::radiosity::rgb::solve_rgb`] (Gauss–Seidel,
+//! the merged patches (additivity) — by `crate::radiosity::rgb::solve_rgb` (Gauss–Seidel,
 //! relative residual `1e-12`). Each fine patch `i` reads the radiosity `B'_{c(i)}` of the
 //! coarse patch holding it, and the error is the area-weighted RMS over the fine patches and
 //! the three colour channels:
@@ -69,7 +69,7 @@ pub struct Comparison {
 ///
 /// # Errors
 /// [`ErrorKind::DimensionMismatch`] unless there is one material per patch; the errors of
-/// [`solve_rgb`].
+/// `solve_rgb`.
 pub fn radiosity_per_patch(
     chain: &MergeChain,
     n_patches: usize,

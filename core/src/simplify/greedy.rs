@@ -440,13 +440,13 @@ impl Simplifier {
 mod tests {
     use super::*;
     use crate::formfactor::exact_2d;
-    use crate::scene::catalogue_scene;
+    use crate::scene::Scene2;
     use crate::simplify::adjacency::adjacency_2d;
 
     #[test]
     fn updated_losses_stay_the_exact_losses() {
         // A room with occluders: every merge changes the other candidates' losses.
-        let scene = catalogue_scene("three-objects-2", 6).unwrap();
+        let scene = Scene2::catalogue("three-objects-2", 6).unwrap();
         let ff = exact_2d::form_factors(&scene).unwrap();
         let chain = MergeChain::new(ff.weights(), &ff.matrix()).unwrap();
         let n = scene.n_patches();

@@ -19,12 +19,12 @@ use alloc::vec::Vec;
 /// Largest patch count for which the per-pair continuous information `I_ij^c` is kept
 /// (dense 64.64 fixed-point sums, one per unordered pair: 1024·1025/2 × 16 bytes = 8 MiB
 /// per tally).
-pub const DENSE_PAIR_LIMIT: usize = 1024;
+pub(crate) const DENSE_PAIR_LIMIT: usize = 1024;
 
 /// Largest patch count for which the counts `C_ij` are kept dense (`u32`, `n(n+1)/2 × 4`
 /// bytes ≤ 64 MiB per global-line tally, `n² × 4` ≤ 128 MiB for local lines): faster than
 /// sparse and, for scenes where most pairs see each other (a subdivided cube), smaller too.
-pub const DENSE_COUNT_LIMIT: usize = 5792;
+pub(crate) const DENSE_COUNT_LIMIT: usize = 5792;
 
 /// Tallies `C_ij` of samples leaving patch `i` that reached patch `j`.
 ///

@@ -45,7 +45,7 @@
 //! `1 − U(M)`. The suggestion is the smallest `M` with `U(M) ≤ 1/10` (about
 //! `ln(10 m) / p_min` when `m` patches share the smallest `p`), found by bisection on
 //! `[0, ln(10 n) / p_min]` (where `U ≤ n·exp(−ln(10 n)) = 1/10`), rounded up to whole
-//! chunks of [`CHUNK_LINES`] and never below twice the lines cast, so that a run unlucky
+//! chunks of `CHUNK_LINES` and never below twice the lines cast, so that a run unlucky
 //! with one patch is told to cast more rather than the same.
 
 use crate::lines::CHUNK_LINES;
@@ -189,7 +189,7 @@ mod tests {
     /// estimate's promise: at least 90 %, here for one seed).
     #[test]
     fn suggested_lines_reach_every_patch() {
-        let scene = crate::scene::preset_3d("cube", 40).unwrap();
+        let scene = crate::scene::Scene3::preset("cube", 40).unwrap();
         let tracer = Tracer3::new(&scene).unwrap();
         let tally = tracer.run(LineMethod::Global, 3, 2000).unwrap();
         let cov = tally.coverage(tracer.patch_sizes());

@@ -2,7 +2,7 @@
 //! refuse a job that would not fit (`sceneinfo measure --max-memory`).
 //!
 //! The estimates count the large allocations only — the `n²` tables — and are lower bounds:
-//! sparse tables (more than [`DENSE_COUNT_LIMIT`] patches) grow with the pairs that see each
+//! sparse tables (more than `DENSE_COUNT_LIMIT` patches) grow with the pairs that see each
 //! other, which is unknown until the lines are cast, and count as nothing here.
 
 use super::{DENSE_COUNT_LIMIT, DENSE_PAIR_LIMIT};
@@ -20,7 +20,7 @@ fn square(n: usize, bytes: u64) -> u64 {
 /// 8 n² + 8 (n + 1)²
 /// ```
 #[must_use]
-pub fn exact_bytes(n_patches: usize) -> u64 {
+pub(crate) fn exact_bytes(n_patches: usize) -> u64 {
     square(n_patches, 8).saturating_add(square(n_patches.saturating_add(1), 8))
 }
 
@@ -34,7 +34,7 @@ pub fn exact_bytes(n_patches: usize) -> u64 {
 /// tallies · (8 n² [n ≤ 5792] + 16 n² [n ≤ 1024]) + exact_bytes(n) [n ≤ 5792]
 /// ```
 #[must_use]
-pub fn line_job_bytes(n_patches: usize, tallies: usize) -> u64 {
+pub(crate) fn line_job_bytes(n_patches: usize, tallies: usize) -> u64 {
     let dense = n_patches <= DENSE_COUNT_LIMIT;
     let mut per_tally = 0u64;
     if dense {

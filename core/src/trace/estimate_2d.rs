@@ -27,14 +27,14 @@
 //!
 //! [`LineMethod::Bundle`] casts the same global lines in sheaves: `SHEAF_BUNDLES`
 //! equally spaced directions under one uniform rotation, `BUNDLE_LINES` evenly spaced
-//! parallel lines per direction under one uniform shift ([`GlobalBundle2`]). Each line is
+//! parallel lines per direction under one uniform shift (`GlobalBundle2`). Each line is
 //! tallied exactly as an independent global line and the sums keep their expectations;
-//! the hits come from a sweep ([`ParallelSweep2`]) instead of a tree query per line, and each
+//! the hits come from a sweep (`ParallelSweep2`) instead of a tree query per line, and each
 //! sheaf is one observation of the standard error.
 //!
 //! # Determinism
 //!
-//! `N` lines are cut into chunks of [`crate::lines::CHUNK_LINES`]; chunk `k` draws from its
+//! `N` lines are cut into chunks of `crate::lines::CHUNK_LINES`; chunk `k` draws from its
 //! own stream [`chunk_rng`]`(seed, k)`. Tallies are integers and 64.64 fixed-point sums, so merging the
 //! chunks' tallies in any order — on any number of threads — gives bit-identical results.
 
@@ -724,7 +724,7 @@ mod tests {
     fn aggregated_bundle_tally_equals_the_lone_lines_tally() {
         // Every line of a bundle, cast through the BVH and tallied as a lone global line,
         // gives the bundle's counts exactly and its information within rounding.
-        let scene = crate::scene::catalogue_scene("64-squares-a", 10).unwrap();
+        let scene = crate::scene::Scene2::catalogue("64-squares-a", 10).unwrap();
         let tracer = Tracer2::new(&scene).unwrap();
         let mut rng = chunk_rng(3, 0);
         for m in [1, 7, 256, 1024] {

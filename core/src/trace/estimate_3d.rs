@@ -11,8 +11,8 @@
 //! - **Local lines**: a patch picked by area, a uniform point on it, a cosine direction; the
 //!   nearest surface, if it faces back, gives `C_ij` and one term.
 //! - **Bundles of parallel lines** ([`LineMethod::Bundle`]): the same global lines cast as
-//!   square lattices of parallel lines ([`GlobalBundle3`]), each bundle's hits found by
-//!   projecting the scene once on the plane across its direction ([`ParallelRaster3`])
+//!   square lattices of parallel lines (`GlobalBundle3`), each bundle's hits found by
+//!   projecting the scene once on the plane across its direction (`ParallelRaster3`)
 //!   instead of by a tree query per line, each line tallied exactly as a global line.
 //!
 //! `F_ij ≈ C_ij / N_i` (2.36, 2.37); tallies are exact and mergeable, so results depend on
@@ -21,18 +21,18 @@
 //! # Bundles: how many lines, and the budget
 //!
 //! Setting up the scene's items (sheets and loose polygons, `n` of them) costs `O(n)` per
-//! bundle, so a bundle holds about [`bundle_lines_3d`]`(n)` lines, proportional to `n`
-//! within bounds. A chunk of `L` lines (at most [`crate::lines::CHUNK_LINES`]) casts a
+//! bundle, so a bundle holds about `bundle_lines_3d``(n)` lines, proportional to `n`
+//! within bounds. A chunk of `L` lines (at most `crate::lines::CHUNK_LINES`) casts a
 //! fixed number of bundles, `B = max(1, round(L / bundle_lines_3d(n)))`, each of expected
 //! size `L / B`: the number of bundles does not depend on what they meet or on their
 //! shifts, and every bundle is cast whatever its size. So every sum over the chunk's lines
 //! has the expectation of the same sum over `L` independent global lines by linearity
-//! alone (each bundle's sum has that of `L / B` lines, [`GlobalBundle3`]; with a fixed `B`
+//! alone (each bundle's sum has that of `L / B` lines, `GlobalBundle3`; with a fixed `B`
 //! no stopping-time argument is needed), and the chunk's expected line count is exactly
 //! `L`. Its actual line count is random (a lattice's points in a disc), within a few tens
 //! of `L`; the tally's `lines` are the lines actually cast, all of them meeting the
 //! sphere. The `B` bundles form sheaves of at most `SHEAF_BUNDLES_3D` bundles whose
-//! directions are stratified under one uniform shift ([`sheaf_direction_sample`]); a sheaf
+//! directions are stratified under one uniform shift (`sheaf_direction_sample`); a sheaf
 //! is one observation of the standard error, as its lines are correlated, and different
 //! sheaves are independent.
 
@@ -66,7 +66,7 @@ pub(crate) const SHEAF_BUNDLES_3D: u64 = 16;
 /// bundles of 1,350 lines 0.9 times; with sheets (6 items) 256 and 1024 lines a bundle cost
 /// the same per line and gave the same standard error.
 #[must_use]
-pub const fn bundle_lines_3d(n: usize) -> u64 {
+pub(crate) const fn bundle_lines_3d(n: usize) -> u64 {
     let m = (n / 4) as u64;
     if m < 1024 {
         1024
@@ -384,7 +384,7 @@ mod tests {
         // Every line of a bundle, cast through the BVH and tallied as a global line, gives
         // the same counts as the raster; the information sums agree to rounding (the two
         // compute `t` with different arithmetic, so the terms differ in the last bits).
-        let scene = crate::scene::preset_3d("cornell", 3).unwrap();
+        let scene = crate::scene::Scene3::preset("cornell", 3).unwrap();
         let tracer = Tracer3::new(&scene).unwrap();
         let mut rng = chunk_rng(3, 0);
         for m in [1.0, 37.0, 2000.0] {

@@ -13,13 +13,13 @@ use crate::scene::Scene3;
 use crate::{ErrorKind, Result};
 
 /// Default number of viewpoints (the icosphere of level 3, as in Feixas et al. 2009).
-pub const DEFAULT_VIEWS: usize = 642;
+pub(crate) const DEFAULT_VIEWS: usize = 642;
 /// Default image side in pixels.
-pub const DEFAULT_RESOLUTION: u32 = 512;
+pub(crate) const DEFAULT_RESOLUTION: u32 = 512;
 /// Default viewpoint distance from the scene's centre, in bounding radii.
-pub const DEFAULT_DISTANCE: f64 = 3.0;
+pub(crate) const DEFAULT_DISTANCE: f64 = 3.0;
 /// Largest `views × patches` of a channel (its dense matrix of `f64`: 512 MiB).
-pub const MAX_CHANNEL_ENTRIES: u64 = 1 << 26;
+pub(crate) const MAX_CHANNEL_ENTRIES: u64 = 1 << 26;
 
 /// How the viewpoints are weighted, `p(v)`.
 ///
@@ -79,7 +79,7 @@ impl<'s> ViewpointJob<'s> {
     /// # Errors
     /// The errors of [`ViewSphere::with_count`] and [`IdRaster::new`];
     /// [`ErrorKind::BadParameter`] for a distance not above 1; [`ErrorKind::TooLarge`] when
-    /// `views × patches` exceeds [`MAX_CHANNEL_ENTRIES`].
+    /// `views × patches` exceeds `MAX_CHANNEL_ENTRIES`.
     pub fn new(scene: &'s Scene3, options: ViewpointOptions) -> Result<Self> {
         let sphere = ViewSphere::with_count(options.views)?;
         IdRaster::new(options.resolution)?;
@@ -195,6 +195,14 @@ pub struct ViewpointChannel {
 }
 
 impl ViewpointChannel {
+    /// The neighbours of every patch: the patches sharing a vertex position with it (bit-equal
+    /// coordinates; the first `MAX_VALENCE` patches at each vertex), ascending, itself
+    /// excluded.
+    #[must_use]
+    pub fn patch_neighbours(scene: &Scene3) -> Vec<Vec<u32>> {
+        patch_neighbours(scene)
+    }
+
     /// The channel of the rows `areas` (`n_v × n_o`, row-major: `a_o(v)`, the visible
     /// measure of patch `o` from viewpoint `v`) and each row's [`ViewTotals`].
     ///
@@ -496,7 +504,7 @@ impl ViewpointChannel {
     /// p(ô) = p(o) + p(o')
     /// ```
     ///
-    /// `neighbours[o]` lists the neighbours of `o` ([`patch_neighbours`]). A pair of which
+    /// `neighbours[o]` lists the neighbours of `o` (`patch_neighbours`). A pair of which
     /// one polygon is never seen contributes 0 (its weight is 0) and is counted in the mean
     /// (`quoniam` leaves such pairs out of the mean).
     #[must_use]
@@ -737,13 +745,10 @@ fn weighted_js(w1: f64, p: &[f64], w2: f64, q: &[f64]) -> f64 {
 /// Most patches linked through one vertex position by [`patch_neighbours`]; the patches
 /// met after these at a vertex (a fan of thousands of triangles) are not its neighbours
 /// there, so the cost stays `O(MAX_VALENCE²)` per vertex.
-pub const MAX_VALENCE: usize = 64;
+pub(crate) const MAX_VALENCE: usize = 64;
 
-/// The neighbours of every patch: the patches sharing a vertex position with it (bit-equal
-/// coordinates; the first [`MAX_VALENCE`] patches at each vertex), ascending, itself
-/// excluded.
-#[must_use]
-pub fn patch_neighbours(scene: &Scene3) -> Vec<Vec<u32>> {
+/// [`ViewpointChannel::patch_neighbours`].
+pub(crate) fn patch_neighbours(scene: &Scene3) -> Vec<Vec<u32>> {
     let key = |p: crate::geom::DVec3| {
         [
             (p.x + 0.0).to_bits(),
@@ -778,4 +783,14 @@ pub fn patch_neighbours(scene: &Scene3) -> Vec<Vec<u32>> {
         l.dedup();
     }
     out
+}
+impl ViewpointOptions {
+    /// Default viewpoint distance from the scene's centre, in bounding radii.
+    pub const DEFAULT_DISTANCE: f64 = DEFAULT_DISTANCE;
+
+    /// Default image side in pixels.
+    pub const DEFAULT_RESOLUTION: u32 = DEFAULT_RESOLUTION;
+
+    /// Default number of viewpoints (the icosphere of level 3, as in Feixas et al. 2009).
+    pub const DEFAULT_VIEWS: usize = DEFAULT_VIEWS;
 }

@@ -48,7 +48,7 @@ use crate::scene::Scene3;
 use crate::{ErrorKind, Result};
 
 /// Largest image side in pixels (a square image; the sphere projection has six).
-pub const MAX_RESOLUTION: u32 = 2048;
+pub(crate) const MAX_RESOLUTION: u32 = 2048;
 
 /// Distance of the near clipping plane of a pinhole camera, relative to the scene's
 /// bounding radius.
@@ -90,7 +90,7 @@ pub enum Projection {
 
 impl Projection {
     /// The perspective projection from `centre + distance · R · direction` (`R` the
-    /// scene's bounding radius, `centre` its centre: [`bounding_sphere`]) whose field of
+    /// scene's bounding radius, `centre` its centre: `bounding_sphere`) whose field of
     /// view is the cone tangent to the bounding sphere: `sin(half_fov) = 1/distance`.
     ///
     /// # Errors
@@ -117,10 +117,8 @@ impl Projection {
     }
 }
 
-/// The scene's bounding sphere as the crate uses it for views: the centre of the
-/// axis-aligned bounding box and half its diagonal.
-#[must_use]
-pub fn bounding_sphere(scene: &Scene3) -> (DVec3, f64) {
+/// [`IdRaster::bounding_sphere`].
+pub(crate) fn bounding_sphere(scene: &Scene3) -> (DVec3, f64) {
     let (lo, hi) = scene.bounds();
     let centre = (lo + hi) * 0.5;
     let radius = (hi - lo).length() * 0.5;
@@ -195,10 +193,20 @@ pub struct IdRaster {
 }
 
 impl IdRaster {
+    /// The scene's bounding sphere as the crate uses it for views: the centre of the
+    /// axis-aligned bounding box and half its diagonal.
+    #[must_use]
+    pub fn bounding_sphere(scene: &Scene3) -> (DVec3, f64) {
+        bounding_sphere(scene)
+    }
+
+    /// Largest image side in pixels (a square image; the sphere projection has six).
+    pub const MAX_RESOLUTION: u32 = MAX_RESOLUTION;
+
     /// A rasteriser of `resolution × resolution` pixels.
     ///
     /// # Errors
-    /// [`ErrorKind::TooLarge`] for a resolution of 0 or above [`MAX_RESOLUTION`].
+    /// [`ErrorKind::TooLarge`] for a resolution of 0 or above `MAX_RESOLUTION`.
     pub fn new(resolution: u32) -> Result<Self> {
         if resolution == 0 || resolution > MAX_RESOLUTION {
             return Err(ErrorKind::TooLarge {

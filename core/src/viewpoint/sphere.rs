@@ -13,7 +13,7 @@ use crate::math;
 use crate::{ErrorKind, Result};
 
 /// Largest icosphere level of [`ViewSphere::new`] (10 242 viewpoints).
-pub const MAX_VIEW_LEVEL: u32 = 5;
+pub(crate) const MAX_VIEW_LEVEL: u32 = 5;
 
 /// Unit viewing directions and their neighbours on the icosphere.
 #[derive(Clone, Debug, PartialEq)]
@@ -31,7 +31,7 @@ impl ViewSphere {
     /// edges are first met. Deterministic on every target.
     ///
     /// # Errors
-    /// [`ErrorKind::TooLarge`] for `level >` [`MAX_VIEW_LEVEL`].
+    /// [`ErrorKind::TooLarge`] for `level >` `MAX_VIEW_LEVEL`.
     pub fn new(level: u32) -> Result<Self> {
         if level > MAX_VIEW_LEVEL {
             return Err(ErrorKind::TooLarge {

@@ -6,6 +6,8 @@ use alloc::vec::Vec;
 
 use proptest::prelude::*;
 
+use super::raster::MAX_RESOLUTION;
+use super::sphere::MAX_VIEW_LEVEL;
 use super::*;
 use crate::geom::DVec3;
 use crate::scene::{Scene3, Subdivision};
@@ -77,7 +79,7 @@ fn ortho_error(scene: &Scene3, d: DVec3, n: u32) -> (f64, f64) {
         .project(scene, &Projection::Orthographic { direction: d }, &mut got)
         .unwrap();
     convex_orthographic_areas(scene, d, &mut want).unwrap();
-    let (_, radius) = bounding_sphere(scene);
+    let (_, radius) = IdRaster::bounding_sphere(scene);
     let pixel = 2.0 * radius / f64::from(n);
     // Projected perimeter (pixels) of each visible face: its edges projected on the plane
     let dn = d.normalize();
@@ -407,7 +409,7 @@ fn channel_inequalities_greedy_selection_and_determinism() {
     assert!(partial.last().unwrap().1 >= 0.5 * i && partial.len() < sel.len());
     // Viewpoint saliency Σ_o p(v|o) S(o): Σ_v p(v|o) = 1 for a seen polygon, so the
     // viewpoints' saliencies add up to the seen polygons' saliencies
-    let s_o = c.saliency(&patch_neighbours(&scene));
+    let s_o = c.saliency(&ViewpointChannel::patch_neighbours(&scene));
     let s_v = c.viewpoint_saliency(&s_o);
     let seen: f64 = (0..c.n_polygons())
         .filter(|&o| c.p_o()[o] > 0.0)
@@ -439,7 +441,7 @@ fn channel_inequalities_greedy_selection_and_determinism() {
 fn saliency_is_invariant_under_similarities() {
     let base = Scene3::platonic("icosahedron", Subdivision::Triangles(2)).unwrap();
     let (job, c) = channel(&base, 162, 128);
-    let s0 = c.saliency(&patch_neighbours(job.scene()));
+    let s0 = c.saliency(&ViewpointChannel::patch_neighbours(job.scene()));
     let transformed = |f: &dyn Fn(DVec3) -> DVec3| {
         let faces: Vec<Vec<DVec3>> = (0..base.n_patches())
             .map(|i| base.patch_vertices(i).iter().map(|&p| f(p)).collect())
@@ -463,7 +465,7 @@ fn saliency_is_invariant_under_similarities() {
     for (k, f) in cases.iter().enumerate() {
         let scene = transformed(*f);
         let (job, c) = channel(&scene, 162, 128);
-        let s = c.saliency(&patch_neighbours(job.scene()));
+        let s = c.saliency(&ViewpointChannel::patch_neighbours(job.scene()));
         let worst = s
             .iter()
             .zip(&s0)
@@ -509,7 +511,7 @@ fn a_flat_scene_seen_edge_on_has_blind_viewpoints() {
 #[test]
 fn patch_neighbours_share_vertices() {
     let scene = Scene3::platonic("cube", Subdivision::Grid(2)).unwrap();
-    let nb = patch_neighbours(&scene);
+    let nb = ViewpointChannel::patch_neighbours(&scene);
     // A corner square of a 2×2 face meets 3 on its face, and patches of the two other faces
     // at the cube's corner and edges
     for (i, list) in nb.iter().enumerate() {

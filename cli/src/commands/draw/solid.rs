@@ -45,7 +45,7 @@ impl Config {
     /// scene is small enough and no patch may hide another.
     fn new(args: &DrawArgs, threads: usize, exact_possible: impl FnOnce() -> bool) -> Result<Self> {
         if let Some(n) = args.lines {
-            sceneinfo::lines::check_line_budget(n)?;
+            sceneinfo::LineJob::check_lines(n)?;
         }
         if args.per_area && args.color == Colour::H {
             bail!(

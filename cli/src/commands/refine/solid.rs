@@ -11,10 +11,10 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
+use sceneinfo::LineSession;
 use sceneinfo::continuous::relative_discretisation_error;
 use sceneinfo::geom::DVec3;
-use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, MAX_PAIRS, OracleChoice3};
-use sceneinfo::lines::CHUNK_LINES;
+use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, OracleChoice3};
 use sceneinfo::radiosity::display::ToneMap;
 use sceneinfo::scene::{Material, Scene3};
 use sceneinfo::tally::LineTracer;
@@ -33,7 +33,7 @@ use crate::svg::Rgb;
 pub const DEFAULT_TARGET: usize = 1000;
 /// Global lines that first measure the final mesh's channel when `--lines` is not given
 /// (16 seeded chunks, `2²⁰`).
-pub const DEFAULT_LINES: u64 = 16 * CHUNK_LINES;
+pub const DEFAULT_LINES: u64 = 16 * LineSession::CHUNK_LINES;
 /// Most global lines the automatic budget doubles up to (`2²⁵`, 32 × [`DEFAULT_LINES`]) for
 /// every leaf to receive some.
 pub const MAX_AUTO_LINES: u64 = 32 * DEFAULT_LINES;
@@ -82,8 +82,11 @@ impl Config {
             bail!("{file}: --eye and --look must differ (the camera looks from one to the other)");
         }
         let pairs = args.pairs.unwrap_or(10) as usize;
-        if !(1..=MAX_PAIRS).contains(&pairs) {
-            bail!("{file}: --pairs {pairs} must be 1 to {MAX_PAIRS}");
+        if !(1..=HrOptions::MAX_PAIRS).contains(&pairs) {
+            bail!(
+                "{file}: --pairs {pairs} must be 1 to {}",
+                HrOptions::MAX_PAIRS
+            );
         }
         if let Some(e) = args.eps {
             // Checked again by the core, with the oracle's own rule for `regular`.

@@ -12,9 +12,9 @@
 
 use anyhow::{Result, anyhow};
 use sceneinfo::radiosity::continuous::{LitEstimate, estimate_lit};
-use sceneinfo::radiosity::rgb::{patch_materials, rgb_measures, solve_rgb};
+use sceneinfo::radiosity::rgb::RgbSolution;
 use sceneinfo::radiosity::{SolveOptions, Solver};
-use sceneinfo::scene::{Material, Scene3, catalogue_scene};
+use sceneinfo::scene::{Material, Scene2, Scene3};
 use sceneinfo::tally::{LineMethod, LineTracer};
 use sceneinfo::trace::estimate_2d::Tracer2;
 use sceneinfo::trace::estimate_3d::Tracer3;
@@ -75,7 +75,7 @@ fn constant_radiosity(n: usize) -> Result<Vec<Material>> {
 }
 
 fn table_5_1(runner: &Runner) -> Result<Table> {
-    let scene = catalogue_scene("64-squares-a", 4).map_err(err)?;
+    let scene = Scene2::catalogue("64-squares-a", 4).map_err(err)?;
     let tracer = Tracer2::new(&scene).map_err(err)?;
     let est = runner.lit(
         &tracer,
@@ -138,7 +138,7 @@ fn sphere() -> Result<Table> {
     let ff = sceneinfo::formfactor::exact_3d::spherical_patches(&areas).map_err(err)?;
     let mut materials = vec![Material::new([0.6; 3], [0.0; 3]).map_err(err)?; areas.len()];
     materials[0] = Material::new([0.6; 3], [1.0; 3]).map_err(err)?;
-    let sol = solve_rgb(
+    let sol = RgbSolution::solve(
         &ff.matrix(),
         ff.weights(),
         &materials,
@@ -146,7 +146,7 @@ fn sphere() -> Result<Table> {
         &opts(),
     )
     .map_err(err)?;
-    let m = rgb_measures(&ff.matrix(), ff.weights(), &sol).map_err(err)?;
+    let m = sol.measures(&ff.matrix(), ff.weights()).map_err(err)?;
     Ok(Table {
         key: "sphere_5_2_2",
         title: "Section 5.2.2: sphere with one source, rho = 0.6 (exact spherical-patches model, \
@@ -255,7 +255,7 @@ fn cornell(runner: &Runner, full: bool) -> Result<Table> {
         let tracer = Tracer3::new(&scene).map_err(err)?;
         let lines = cornell_lines(runner, level, full);
         let start = std::time::Instant::now();
-        let est = runner.lit(&tracer, &patch_materials(&scene), lines)?;
+        let est = runner.lit(&tracer, &scene.patch_materials(), lines)?;
         let seconds = start.elapsed().as_secs_f64();
         let (_, patches, thesis_lines, i_s, h_s) = TABLE_5_2[k];
         let i_c = TABLE_5_5[k].4;

@@ -10,9 +10,7 @@
 use std::sync::Mutex;
 
 use anyhow::{Result, anyhow};
-use sceneinfo::hierarchy::{
-    COMPARISON_RUNS, Hierarchy, HrOptions, MAX_PAIRS, OracleComparison, compare_at_size,
-};
+use sceneinfo::hierarchy::{Hierarchy, HrOptions, OracleComparison};
 use sceneinfo::scene::Scene3;
 use sceneinfo_report::thesis::{FIGURE_6_6_PATCHES, FIGURE_6_9_PATCHES};
 
@@ -48,7 +46,7 @@ fn thesis_leaves(oracle: &str, pairs: usize, target: usize) -> Option<f64> {
 pub(super) fn figures_6_6_and_6_9(runner: &Runner) -> Result<Table> {
     let scene = Scene3::cornell_box(false, 1).map_err(err)?;
     let reference_opts = |seed| HrOptions {
-        pairs: MAX_PAIRS,
+        pairs: HrOptions::MAX_PAIRS,
         seed,
         ..HrOptions::default()
     };
@@ -72,7 +70,7 @@ pub(super) fn figures_6_6_and_6_9(runner: &Runner) -> Result<Table> {
     // Every (target, oracle, pairs) search is independent: hand them to the threads.
     let jobs: Vec<(usize, &'static str, usize)> = TARGETS
         .iter()
-        .flat_map(|&t| COMPARISON_RUNS.iter().map(move |&(o, p)| (t, o, p)))
+        .flat_map(|&t| OracleComparison::RUNS.iter().map(move |&(o, p)| (t, o, p)))
         .collect();
     let results: Mutex<Vec<Option<sceneinfo::Result<OracleComparison>>>> =
         Mutex::new(vec![None; jobs.len()]);
@@ -101,7 +99,7 @@ pub(super) fn figures_6_6_and_6_9(runner: &Runner) -> Result<Table> {
                         seed: runner.seed.wrapping_add(1),
                         ..HrOptions::default()
                     };
-                    let r = compare_at_size(&scene, &reference, oracle, target, &opts);
+                    let r = OracleComparison::at_size(&scene, &reference, oracle, target, &opts);
                     results.lock().unwrap_or_else(|p| p.into_inner())[k] = Some(r);
                 }
             });
@@ -151,8 +149,9 @@ pub(super) fn figures_6_6_and_6_9(runner: &Runner) -> Result<Table> {
         title: format!(
             "Figs. 6.6 and 6.9: Cornell box, hierarchical radiosity at matched leaf counts; \
              RMS radiosity error against a reference (receivers split {REFERENCE_LEVEL}×, \
-             {MAX_PAIRS} pairs); thesis: its leaf counts; its claims: MI no worse than power \
-             and KS, and with 4 pairs MI degrades less than KS"
+             {} pairs); thesis: its leaf counts; its claims: MI no worse than power \
+             and KS, and with 4 pairs MI degrades less than KS",
+            HrOptions::MAX_PAIRS
         ),
         rows,
     })

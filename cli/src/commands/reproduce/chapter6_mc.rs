@@ -15,8 +15,8 @@ use std::sync::Mutex;
 
 use anyhow::{Context, Result, anyhow};
 use sceneinfo::hierarchy::{
-    Hierarchy, HrOptions, ImageError, MAX_PAIRS, McComparison, McHierarchy, McOptions, McReference,
-    View3, mc_compare_against, mean_spread, render_gouraud,
+    Hierarchy, HrOptions, ImageError, McComparison, McHierarchy, McOptions, McReference, View3,
+    mc_compare_against, render_gouraud,
 };
 use sceneinfo::radiosity::display::ToneMap;
 use sceneinfo::scene::Scene3;
@@ -137,7 +137,7 @@ where
 
 /// `(mean, standard deviation)` of a field over the seeds of one configuration and oracle.
 fn stats(rs: &[&McComparison], f: impl Fn(&McComparison) -> f64) -> (f64, f64) {
-    mean_spread(&rs.iter().map(|c| f(c)).collect::<Vec<_>>())
+    McComparison::mean_spread(&rs.iter().map(|c| f(c)).collect::<Vec<_>>())
 }
 
 /// Whether `a` is below `b` by more than twice the standard error of the difference of the
@@ -486,7 +486,7 @@ fn figures_6_6_and_6_9_monte_carlo(runner: &Runner, figures: Option<&Path>) -> R
             level,
             REFERENCE_EPSILON,
             &HrOptions {
-                pairs: MAX_PAIRS,
+                pairs: HrOptions::MAX_PAIRS,
                 seed: runner.seed,
                 ..HrOptions::default()
             },
@@ -533,7 +533,7 @@ fn figures_6_6_and_6_9_monte_carlo(runner: &Runner, figures: Option<&Path>) -> R
             "Figs. 6.6 and 6.9 by the thesis' protocol: Cornell box, hierarchical Monte Carlo \
              radiosity (stochastic Jacobi, per-ray refinement), the captions' leaves and \
              radiosity rays, {SEEDS} seeds (± = standard deviation over seeds); RMS radiosity \
-             error against the reference (receivers split {REFERENCE_LEVEL}x, {MAX_PAIRS} \
+             error against the reference (receivers split {REFERENCE_LEVEL}x, {} \
              pairs); mesh RMS: the same mesh re-solved frozen with {FROZEN_RAYS} rays (its \
              error without the run's noise); boundary RMS: over the 10 % of the reference's \
              leaves where its Gouraud vertex values differ most from the leaf's (shadow \
@@ -541,7 +541,9 @@ fn figures_6_6_and_6_9_monte_carlo(runner: &Runner, figures: Option<&Path>) -> R
              reference's tone map), in 8-bit display levels, over all pixels and over the \
              10 % where the reference picture changes most (edge); MI lower/higher/level: \
              seed means apart by more than 2 standard errors",
-            CORNELL_IMAGE.0, CORNELL_IMAGE.1
+            HrOptions::MAX_PAIRS,
+            CORNELL_IMAGE.0,
+            CORNELL_IMAGE.1
         ),
         rows,
     })

@@ -164,7 +164,7 @@ pub(super) fn cube_room(runner: &Runner, args: &ReproduceArgs) -> Result<Table> 
     // Fig. 6.11 against 6.7: MI's more accurate solution
     let mi_rms = |k: usize| {
         let v: Vec<f64> = out.pick(k, "mi").iter().map(|r| r.rms_error).collect();
-        sceneinfo::hierarchy::mean_spread(&v).0
+        sceneinfo::hierarchy::McComparison::mean_spread(&v).0
     };
     table_rows.push(Row {
         label: "6.11 vs 6.7 RMS: MI at 6.11's budget over MI at 6.7's".into(),

@@ -11,7 +11,7 @@ use sceneinfo::ErrorKind;
 use sceneinfo::channel::Measures;
 use sceneinfo::continuous::ContinuousEstimate;
 use sceneinfo::formfactor::quadrature::{QuadratureOptions, scene_i_s_continuous};
-use sceneinfo::scene::{SIXTY_FOUR_CUBES_STEPS, Scene3, preset_3d};
+use sceneinfo::scene::{Preset3Entry, Scene3};
 use sceneinfo::trace::estimate_2d::LineMethod;
 use sceneinfo::trace::estimate_3d::Tracer3;
 use sceneinfo_report::thesis::{TABLE_4_4, TABLE_4_5, TABLE_4_6, TABLE_4_7, TABLE_4_8};
@@ -43,7 +43,7 @@ impl Runner {
 }
 
 fn preset(name: &str, grid: u32) -> Result<Scene3> {
-    preset_3d(name, grid).map_err(|e| anyhow!("{name}: {e}"))
+    Scene3::preset(name, grid).map_err(|e| anyhow!("{name}: {e}"))
 }
 
 /// Table 4.4: the random 512-cube room (Fig. 3.3a) with 10⁴ … 10⁶ global lines (10⁷ with
@@ -169,10 +169,10 @@ pub(super) fn table_4_6(runner: &Runner, full: bool) -> Result<Table> {
 /// `--full` adds `I_S` with 10⁷ lines for both discretisations (cubes finer, walls finer).
 pub(super) fn table_4_7(runner: &Runner, full: bool) -> Result<Table> {
     let mut rows = Vec::new();
-    for step in 0..SIXTY_FOUR_CUBES_STEPS {
+    for step in 0..Preset3Entry::SIXTY_FOUR_CUBES_STEPS {
         let end = match step {
             0 => Some(0),
-            s if s + 1 == SIXTY_FOUR_CUBES_STEPS => Some(5),
+            s if s + 1 == Preset3Entry::SIXTY_FOUR_CUBES_STEPS => Some(5),
             _ => None,
         };
         let letter = end.map_or(String::new(), |e| {
@@ -208,7 +208,7 @@ pub(super) fn table_4_7(runner: &Runner, full: bool) -> Result<Table> {
         key: "table_4_7",
         title: format!(
             "Tables 4.7 and 4.8: 64 cubes from the centre (step 0) to the walls (step {}); our gaps and steps are invented, only the ends are compared{}",
-            SIXTY_FOUR_CUBES_STEPS - 1,
+            Preset3Entry::SIXTY_FOUR_CUBES_STEPS - 1,
             if full {
                 "; I_S with 1e7 lines (thesis: 1e8)"
             } else {

@@ -11,7 +11,7 @@ use sceneinfo::refine::cuts::{
 };
 use sceneinfo::refine::refiner2::{OracleChoice2, Refiner2, StepReport};
 use sceneinfo::refine::symmetric::{best_mirrored_cuts, polygon_with_mirrored_cuts};
-use sceneinfo::scene::{Scene2, catalogue_scene};
+use sceneinfo::scene::Scene2;
 use sceneinfo_report::thesis::{
     FIGURE_6_12_BEST_CUT, REFINEMENT_PATCH_COUNTS, SECTION_6_1_BEST_PARALLEL_CUT,
     SECTION_6_1_GRADIENT_CUTS, TABLE_6_1, TABLE_6_2,
@@ -70,7 +70,7 @@ pub(super) fn table_6_1() -> Result<Table> {
     let (one, _) = best_mirrored_cuts(3, &[0.25], 1e-4).map_err(|e| anyhow!("{e}"))?;
     let (three, _) =
         best_mirrored_cuts(3, &[1.0 / 6.0, 1.0 / 3.0], 1e-5).map_err(|e| anyhow!("{e}"))?;
-    let i_c = closed_form::equilateral_triangle();
+    let i_c = closed_form::Enclosure::EquilateralTriangle.i_s_continuous();
     let mut rows = vec![Row {
         label: "Fig. 6.12: best cut, % of the side from the vertex".into(),
         cells: vec![cell(
@@ -139,7 +139,7 @@ pub(super) fn table_6_2(runner: &Runner) -> Result<Vec<Table>> {
     let mut rows = Vec::new();
     let mut evolution = Vec::new();
     for name in ["refinement-1", "refinement-2"] {
-        let scene = catalogue_scene(name, 1).map_err(|e| anyhow!("{name}: {e}"))?;
+        let scene = Scene2::catalogue(name, 1).map_err(|e| anyhow!("{name}: {e}"))?;
         let profile = crate::lines::flat_profile(&scene, lines, runner.seed, runner.threads)
             .map_err(|e| anyhow!("{name}: {e}"))?;
         for t in TABLE_6_2.iter().filter(|r| r.scene == name) {

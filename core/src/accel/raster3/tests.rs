@@ -117,7 +117,7 @@ proptest! {
 fn preset_scenes_hits_equal_bvh() {
     let mut rng = chunk_rng(4, 0);
     for (name, grid) in [("cornell", 3), ("cubes-512-random", 1), ("octahedron", 2)] {
-        let scene = crate::scene::preset_3d(name, grid).unwrap();
+        let scene = crate::scene::Scene3::preset(name, grid).unwrap();
         let s = Soup {
             points: scene.points().to_vec(),
             polys: scene.patches().iter().map(|p| (p.first, p.count)).collect(),
@@ -221,7 +221,7 @@ fn degenerate_polygons_never_hit() {
 fn the_rooms_cubes_are_one_group_each() {
     // The 512-cube room: 6 gridded walls are sheets, and each cube's 6 faces (consecutive,
     // 8 distinct vertices) one group, so a bundle sets up 512 groups, not 3,072 polygons.
-    let scene = crate::scene::preset_3d("cubes-512-random", 1).unwrap();
+    let scene = crate::scene::Scene3::preset("cubes-512-random", 1).unwrap();
     let polys: Vec<_> = scene.patches().iter().map(|p| (p.first, p.count)).collect();
     let raster = ParallelRaster3::new(scene.points(), &polys);
     assert_eq!((raster.sheet_count(), raster.prim.len()), (6, 3072));

@@ -1,6 +1,6 @@
 use super::*;
 use crate::formfactor::exact_3d::unoccluded_flux;
-use crate::scene::{Subdivision, preset_3d};
+use crate::scene::{Scene3, Subdivision};
 use proptest::prelude::*;
 use std::format;
 use std::vec::Vec;
@@ -261,7 +261,7 @@ fn pair_flux_matches_exact_form_factors() {
 /// independent brute-force quadrature agrees (`tetrahedron_by_brute_force_quadrature`).
 #[test]
 fn tetrahedron_is_below_the_quoted_reference() {
-    let tetra = preset_3d("tetrahedron", 1).unwrap();
+    let tetra = Scene3::preset("tetrahedron", 1).unwrap();
     // Regular: all edges equal.
     let (lo, hi) = (0..4)
         .flat_map(|f| {
@@ -297,7 +297,7 @@ fn tetrahedron_is_below_the_quoted_reference() {
 /// against a much finer rule, and shrinks as the rule grows.
 #[test]
 fn error_estimate_bounds_the_error() {
-    let scene = preset_3d("dodecahedron", 1).unwrap();
+    let scene = Scene3::preset("dodecahedron", 1).unwrap();
     let fine = scene_i_s_continuous(
         &scene,
         QuadratureOptions {
@@ -321,11 +321,11 @@ fn error_estimate_bounds_the_error() {
 
 #[test]
 fn occluded_scenes_and_bad_options_are_refused() {
-    let cornell = preset_3d("cornell", 1).unwrap();
+    let cornell = Scene3::preset("cornell", 1).unwrap();
     let e = scene_i_s_continuous(&cornell, QuadratureOptions::STANDARD).unwrap_err();
     assert_eq!(e.kind(), &ErrorKind::MayBeOccluded);
     assert!(format!("{e}").contains("unoccluded"), "{e}");
-    let cube = preset_3d("cube", 1).unwrap();
+    let cube = Scene3::preset("cube", 1).unwrap();
     for (order, levels) in [(1, 5), (MAX_ORDER + 1, 5), (8, 0), (8, MAX_LEVELS + 1)] {
         let e = scene_i_s_continuous(&cube, QuadratureOptions { order, levels }).unwrap_err();
         assert!(matches!(e.kind(), ErrorKind::BadParameter { .. }), "{e}");
@@ -573,7 +573,7 @@ fn tetrahedron_by_brute_force_quadrature() {
     assert!((flux / area - 1.0 / 3.0).abs() < 1e-7, "F {}", flux / area);
     let brute = 3.0 * flux_log2 / area + (4.0 * area).log2();
     let r = scene_i_s_continuous(
-        &preset_3d("tetrahedron", 1).unwrap(),
+        &Scene3::preset("tetrahedron", 1).unwrap(),
         QuadratureOptions::STANDARD,
     )
     .unwrap();

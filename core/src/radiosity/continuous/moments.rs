@@ -38,7 +38,7 @@ use crate::math::{self, FixedSum};
 use crate::tally::LineMethod;
 
 /// Largest patch count of a `PairMoments` tally (84 MB).
-pub const PAIR_MOMENT_LIMIT: usize = 2048;
+pub(crate) const PAIR_MOMENT_LIMIT: usize = 2048;
 
 /// Per-pair moments of the visibility terms of line samples (see the module docs).
 #[derive(Clone, Debug, PartialEq)]
@@ -214,7 +214,7 @@ mod tests {
     use crate::radiosity::continuous::{RadiosityTracer, incoming_rgb, radiosity_continuous};
     use crate::radiosity::rgb::solve_rgb;
     use crate::radiosity::{SolveOptions, Solver};
-    use crate::scene::{Material, Scene2, catalogue_scene};
+    use crate::scene::{Material, Scene2};
     use crate::tally::LineTracer;
     use crate::trace::estimate_2d::Tracer2;
 
@@ -252,7 +252,7 @@ mod tests {
     /// with room for other seeds, not a property of the estimator.
     #[test]
     fn pair_moments_reproduce_the_line_by_line_estimate() {
-        let scene = catalogue_scene("64-squares-a", 1).unwrap();
+        let scene = Scene2::catalogue("64-squares-a", 1).unwrap();
         let (b, b_in) = lit(&scene);
         let tracer = Tracer2::new(&scene).unwrap();
         for (method, spread) in [(LineMethod::Local, 1e-9), (LineMethod::Global, 0.35)] {

@@ -11,7 +11,7 @@ use crate::math;
 use crate::scene::{Scene2, Scene2Builder};
 
 /// Number of steps of the sequences of Figs. 4.16 and 4.18–4.20 (scenes a–i).
-pub const SINGULARITY_STEPS: usize = 9;
+pub(crate) const SINGULARITY_STEPS: usize = 9;
 
 /// Relative gap left at the last step of the point-contact sequences
 /// ([`Scene2::pentagonal_star`], [`Scene2::rotating_square`]): 0.01% of the enclosure's

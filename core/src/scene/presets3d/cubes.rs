@@ -48,7 +48,7 @@ pub(crate) const SIXTY_FOUR_CUBES_SIDE: f64 = 0.125;
 pub(crate) const SIXTY_FOUR_CUBES_GAPS: [f64; 2] = [0.1, 0.125];
 
 /// Number of steps of [`Scene3::sixty_four_cubes`] (0 = Figs. 4.5a/4.6a, 8 = Figs. 4.5f/4.6f).
-pub const SIXTY_FOUR_CUBES_STEPS: usize = 9;
+pub(crate) const SIXTY_FOUR_CUBES_STEPS: usize = 9;
 
 /// Attempts at placing one random cube before giving up.
 const MAX_ATTEMPTS: u64 = 100_000;
