@@ -349,7 +349,7 @@ impl FlatLab {
     }
 }
 
-/// The flatland catalogue (the thesis' scenes, [`sceneinfo::scene::catalogue`]) as a JSON
+/// The flatland catalogue (the thesis' scenes, [`sceneinfo::scene::CatalogueEntry::all`]) as a JSON
 /// object keyed by name, in catalogue order: `{"koch-0": {"figure": "Fig. 4.12a",
 /// "description": "…", "thesis": 1.285}, …}` (`thesis`, the printed `I_S^c`, only where
 /// the thesis gives one).
