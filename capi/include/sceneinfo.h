@@ -77,7 +77,10 @@ enum SiFormat
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
   /**
-   * By the extension: `.flat` (flatland) or `.obj` (Wavefront OBJ), any case.
+   * As the CLI does: by the content (a PLY, GLB or glTF header, an OBJ or flat first
+   * statement), else by the extension (`.flat`, `.obj`, `.ply`, `.gltf`, `.glb`, any
+   * case), else flat. A content that disagrees with the extension is read as the content
+   * says, with a load warning.
    */
   SI_FORMAT_AUTO = 0,
   /**
@@ -88,6 +91,15 @@ enum SiFormat
    * Wavefront OBJ; `mtllib` files are read from the OBJ's folder.
    */
   SI_FORMAT_OBJ = 2,
+  /**
+   * Stanford PLY (ASCII, binary of either byte order); every face black.
+   */
+  SI_FORMAT_PLY = 3,
+  /**
+   * glTF 2.0, JSON (`.gltf`, buffers from the file's folder or `data:` URIs) or binary
+   * (`.glb`).
+   */
+  SI_FORMAT_GLTF = 4,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -804,16 +816,19 @@ enum SiStatus si_lighting_lines(const struct SiLighting *lighting, struct SiLitL
 enum SiStatus si_lighting_visibility(const struct SiLighting *lighting, struct SiMeasurement **out);
 
 /**
- * Reads a scene file: sceneinfo's flatland format (`.flat`) or Wavefront OBJ (`.obj`,
- * with its `mtllib` material libraries read from the OBJ's folder; faces not subdivided,
- * as the CLI reads them).
+ * Reads a scene file as the CLI reads it: sceneinfo's flatland format (`.flat`), Wavefront
+ * OBJ (`.obj`, with its `mtllib` material libraries read from the OBJ's folder), glTF 2.0
+ * (`.gltf`, `.glb`) or PLY (`.ply`); faces not subdivided. Files over 2 GiB are refused
+ * before reading.
  *
- * `format`: `SI_FORMAT_AUTO` (by the extension), `SI_FORMAT_FLAT` or `SI_FORMAT_OBJ`.
+ * `format`: `SI_FORMAT_AUTO` (by content, then extension), or an `SiFormat` that forces
+ * one.
  *
  * On success `*out` is a new scene, which the caller owns and frees with
  * `si_scene_free`. On failure `*out` is NULL and the message says what was wrong:
  * `SI_ERR_IO` (`file: cannot read: ...`), `SI_ERR_SCENE` (`file:line: what`, the line also
- * from `si_error_line`), `SI_ERR_INVALID_ARGUMENT` (an unknown extension or format code).
+ * from `si_error_line`; `file: where: what` for glTF and PLY), `SI_ERR_INVALID_ARGUMENT`
+ * (an unknown format code).
  *
  * # Safety
  * `path` must be NULL or a NUL-terminated string; `out` NULL or valid for writing one
