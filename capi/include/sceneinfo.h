@@ -66,6 +66,11 @@ typedef enum SiStatus {
    * message.
    */
   SI_ERR_INTERNAL = 8,
+  /**
+   * The job's progress callback asked to stop. `si_measure` still gives its result (the
+   * lines cast before the stop, marked interrupted); `si_radiosity` gives nothing.
+   */
+  SI_STOPPED = 9,
 } SiStatus;
 
 /**
@@ -191,12 +196,24 @@ typedef struct SiMeasurement SiMeasurement;
 typedef struct SiScene SiScene;
 
 /**
+ * A C progress callback: `(lines_done, lines_total, user)`; non-zero stops the job.
+ */
+typedef int32_t (*SiProgressFn)(uint64_t lines_done, uint64_t lines_total, void *user);
+
+/**
  * What to measure a scene with. A zero-initialised `SiJob` is the exact job.
  *
  * A line job of `lines` lines with `seed` gives the same numbers, bit for bit, as
  * `sceneinfo measure --lines LINES --seed SEED --method METHOD`, whatever `threads` is.
  */
 typedef struct SiJob {
+  /**
+   * 0, or `sizeof(SiJob)` as the caller's header has it. A later version of the library
+   * that adds fields at the end reads only the first `size` bytes (0: this version's
+   * layout) and gives the fields past them their zero defaults; this version refuses a
+   * size other than 0 or its own (`SI_ERR_INVALID_ARGUMENT`).
+   */
+  uint32_t size;
   /**
    * An `SiMethod` value.
    */
@@ -224,6 +241,18 @@ typedef struct SiJob {
    * more bytes than this; 0: no limit.
    */
   uint64_t max_memory;
+  /**
+   * NULL, or called on the calling thread after each chunk of 2^16 lines a line job
+   * casts, with the lines cast so far and the job's total (with `lines == 0`, the total
+   * of the current doubling step), and `user`. Returning non-zero stops the job: no new
+   * chunk starts, and the call returns `SI_STOPPED` (see `si_measure`, `si_radiosity`).
+   * It must not call back into this library with the same job's handles.
+   */
+  SiProgressFn progress;
+  /**
+   * Passed to `progress` as is; the library never reads it.
+   */
+  void *user;
 } SiJob;
 
 /**
@@ -359,6 +388,15 @@ typedef struct SiLineRun {
    * it could not be estimated).
    */
   uint64_t lines_to_sample_all;
+  /**
+   * 1 when the progress callback stopped the job before its last chunk, else 0.
+   */
+  int32_t interrupted;
+  /**
+   * The line budget of the chunks cast: a job of `budget_done` lines gives the same
+   * numbers (after a stop, what to ask for to reproduce them).
+   */
+  uint64_t budget_done;
 } SiLineRun;
 
 /**
@@ -575,7 +613,11 @@ const char *si_version(void);
  * On success `*out` is a new measurement owned by the caller (`si_measurement_free`).
  * A line job that left some patch without a line still succeeds: its `I_S^c` and coverage
  * are there (`si_measurement_line_run`), its form factors and discrete measures are
- * `SI_ERR_UNDEFINED`. On failure `*out` is NULL: `SI_ERR_JOB` (exact form factors of an
+ * `SI_ERR_UNDEFINED`. A job stopped by its progress callback returns `SI_STOPPED` and still
+ * sets `*out` (the caller frees it): the measurement of the chunks cast before the stop, a
+ * prefix of the job's, so the same numbers as a job of `SiLineRun.budget_done` lines, with
+ * `SiLineRun.interrupted` set (for lines that missed a patch, `SI_ERR_UNDEFINED` as above).
+ * On failure `*out` is NULL: `SI_ERR_JOB` (exact form factors of an
  * occluded 3D scene, a method the scene cannot cast, a line budget out of range, the
  * memory limit), `SI_ERR_INVALID_ARGUMENT` (an unknown method).
  *
