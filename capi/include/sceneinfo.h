@@ -760,6 +760,31 @@ enum SiStatus si_measurement_form_factors_dense(const struct SiMeasurement *m,
                                                 size_t *out_needed);
 
 /**
+ * Copies the form-factor matrix in compressed sparse rows (CSR), its non-zero entries
+ * only: row `i`'s entries are `cols[k]`, `vals[k]` for `row_ptr[i] <= k < row_ptr[i + 1]`,
+ * columns increasing; `n_states + 1` row pointers, `nnz` entries. The memory grows with
+ * the non-zero entries, not with `n_states²` as `si_measurement_form_factors_dense`'s.
+ *
+ * Buffer rules as `si_measurement_patch_sizes`, with two lengths: `*out_nnz` (when not
+ * NULL) receives `nnz` whatever happens, so `row_ptr = cols = vals = NULL`,
+ * `row_ptr_len = nnz_len = 0` asks for it; `SI_ERR_BUFFER_TOO_SMALL` (nothing written)
+ * when `row_ptr_len < n_states + 1` or `nnz_len < nnz`. `SI_ERR_UNDEFINED` when some
+ * patch received no line.
+ *
+ * # Safety
+ * `m` must be NULL or a live measurement; `row_ptr` NULL or valid for writing
+ * `row_ptr_len` values; `cols` and `vals` NULL or valid for writing `nnz_len` values each;
+ * `out_nnz` NULL or valid for writing one `size_t`.
+ */
+enum SiStatus si_measurement_form_factors_csr(const struct SiMeasurement *m,
+                                              size_t *row_ptr,
+                                              size_t row_ptr_len,
+                                              size_t *cols,
+                                              double *vals,
+                                              size_t nnz_len,
+                                              size_t *out_nnz);
+
+/**
  * The number of warnings: where the numbers cannot be trusted to full precision (a
  * nearly closed scene, row sums or stationarity off, unsampled patches, few observations
  * behind the standard error). 0 for NULL.

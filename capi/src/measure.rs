@@ -4,6 +4,7 @@
 
 use std::ffi::{CString, c_char, c_void};
 
+use sceneinfo::channel::Transitions as _;
 use sceneinfo::continuous::relative_discretisation_error;
 use sceneinfo::{
     AUTO_MAX_LINES, Job, LineBudget, LineJob, LineMethod, Measurement, Serial, measure,
@@ -611,6 +612,73 @@ pub unsafe extern "C" fn si_measurement_form_factors_dense(
         }
         // SAFETY: by the contract above
         unsafe { copy_out(&all, out, out_len, out_needed, "F") }
+    })
+}
+
+/// Copies the form-factor matrix in compressed sparse rows (CSR), its non-zero entries
+/// only: row `i`'s entries are `cols[k]`, `vals[k]` for `row_ptr[i] <= k < row_ptr[i + 1]`,
+/// columns increasing; `n_states + 1` row pointers, `nnz` entries. The memory grows with
+/// the non-zero entries, not with `n_states²` as `si_measurement_form_factors_dense`'s.
+///
+/// Buffer rules as `si_measurement_patch_sizes`, with two lengths: `*out_nnz` (when not
+/// NULL) receives `nnz` whatever happens, so `row_ptr = cols = vals = NULL`,
+/// `row_ptr_len = nnz_len = 0` asks for it; `SI_ERR_BUFFER_TOO_SMALL` (nothing written)
+/// when `row_ptr_len < n_states + 1` or `nnz_len < nnz`. `SI_ERR_UNDEFINED` when some
+/// patch received no line.
+///
+/// # Safety
+/// `m` must be NULL or a live measurement; `row_ptr` NULL or valid for writing
+/// `row_ptr_len` values; `cols` and `vals` NULL or valid for writing `nnz_len` values each;
+/// `out_nnz` NULL or valid for writing one `size_t`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_form_factors_csr(
+    m: *const SiMeasurement,
+    row_ptr: *mut usize,
+    row_ptr_len: usize,
+    cols: *mut usize,
+    vals: *mut f64,
+    nnz_len: usize,
+    out_nnz: *mut usize,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: by the contract above
+        let m = unsafe { handle(m, "measurement") }?;
+        let ff = m.form_factors()?.matrix();
+        let n = ff.n_states();
+        // The count first, without building anything
+        let mut nnz = 0usize;
+        for i in 0..n {
+            ff.for_each_in_row(i, |_, v| nnz += usize::from(v != 0.0));
+        }
+        // SAFETY: by the contract above
+        unsafe { write_needed(out_nnz, nnz) };
+        if row_ptr_len < n + 1 {
+            return Err(too_small("row_ptr", row_ptr_len, n + 1));
+        }
+        if nnz_len < nnz {
+            return Err(too_small("cols and vals", nnz_len, nnz));
+        }
+        let (mut ptr, mut c, mut v) = (
+            Vec::with_capacity(n + 1),
+            Vec::with_capacity(nnz),
+            Vec::with_capacity(nnz),
+        );
+        ptr.push(0);
+        for i in 0..n {
+            ff.for_each_in_row(i, |j, value| {
+                if value != 0.0 {
+                    c.push(j);
+                    v.push(value);
+                }
+            });
+            ptr.push(c.len());
+        }
+        // SAFETY: by the contract above (lengths checked: each copy fits)
+        unsafe { copy_out(&ptr, row_ptr, row_ptr_len, std::ptr::null_mut(), "row_ptr") }?;
+        // SAFETY: as above
+        unsafe { copy_out(&c, cols, nnz_len, std::ptr::null_mut(), "cols") }?;
+        // SAFETY: as above
+        unsafe { copy_out(&v, vals, nnz_len, std::ptr::null_mut(), "vals") }
     })
 }
 

@@ -198,6 +198,52 @@ int main(int argc, char **argv) {
     si_lighting_free(NULL);
     si_scene_free(scene);
 
+    /* Sparse F (CSR) against the dense one: the lit scene, exact */
+    CHECK(si_scene_from_file(argv[3], SI_FORMAT_AUTO, &scene) == SI_OK);
+    CHECK(si_measure(scene, NULL, &m) == SI_OK);
+    {
+        size_t n = si_measurement_n_states(m), nnz = 0, dense_nonzero = 0, agree = 1;
+        CHECK(si_measurement_form_factors_csr(m, NULL, 0, NULL, NULL, 0, &nnz) ==
+              SI_ERR_BUFFER_TOO_SMALL);
+        CHECK(nnz > 0 && nnz <= n * n);
+        double *dense = malloc(n * n * sizeof(double));
+        size_t *row_ptr = malloc((n + 1) * sizeof(size_t));
+        size_t *cols = malloc(nnz * sizeof(size_t));
+        double *vals = malloc(nnz * sizeof(double));
+        CHECK(si_measurement_form_factors_dense(m, dense, n * n, NULL) == SI_OK);
+        /* One value short: refused, nothing written */
+        row_ptr[0] = 7;
+        CHECK(si_measurement_form_factors_csr(m, row_ptr, n + 1, cols, vals, nnz - 1, NULL) ==
+              SI_ERR_BUFFER_TOO_SMALL && row_ptr[0] == 7);
+        CHECK(si_measurement_form_factors_csr(m, row_ptr, n, cols, vals, nnz, NULL) ==
+              SI_ERR_BUFFER_TOO_SMALL);
+        CHECK(si_measurement_form_factors_csr(m, row_ptr, n + 1, cols, vals, nnz, NULL) == SI_OK);
+        CHECK(row_ptr[0] == 0 && row_ptr[n] == nnz);
+        for (size_t i = 0; i < n; i++) {
+            size_t k = row_ptr[i];
+            for (size_t j = 0; j < n; j++) {
+                double f = dense[i * n + j];
+                dense_nonzero += f != 0.0;
+                if (k < row_ptr[i + 1] && cols[k] == j) {
+                    agree &= memcmp(&vals[k], &f, sizeof(double)) == 0;
+                    k++;
+                } else {
+                    agree &= f == 0.0;
+                }
+            }
+            agree &= k == row_ptr[i + 1];
+        }
+        CHECK(agree && dense_nonzero == nnz);
+        printf("sparse F: %zu states, %zu non-zero entries, equal to the dense F bit for bit\n",
+               n, nnz);
+        free(dense);
+        free(row_ptr);
+        free(cols);
+        free(vals);
+    }
+    si_measurement_free(m);
+    si_scene_free(scene);
+
     /* Progress and stop: a line job of 20 chunks on 2 threads, the Cornell box */
     CHECK(si_scene_from_file(argv[2], SI_FORMAT_AUTO, &scene) == SI_OK);
     const uint64_t chunk = (uint64_t)1 << 16;
