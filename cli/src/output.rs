@@ -213,7 +213,7 @@ pub fn load_scene(path: &Path) -> Result<LoadedScene> {
 /// As [`load_scene`].
 pub fn load_scene_with(path: &Path, options: &sceneinfo::io::ObjOptions) -> Result<LoadedScene> {
     let options = crate::formats::LoadOptions {
-        obj: options.clone(),
+        obj: *options,
         format: None,
     };
     let (scene, report) = crate::formats::load_file(path, &options)?;
