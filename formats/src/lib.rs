@@ -1,7 +1,7 @@
 //! Scene files for every front end of sceneinfo (the CLI, the Python package, the C
 //! library): which format a file is (by its content, the extension only breaking ties),
 //! the readers of the mesh formats glTF 2.0 and PLY, and [`load`], the one function that
-//! turns a file's bytes into a [`sceneinfo::Scene`] and its [`LoadReport`]. The core stays
+//! turns a file's bytes into a [`sceneinfo::Scene`] and its [`LoadReport`](sceneinfo::io::LoadReport). The core stays
 //! free of the glTF and PLY crates; this crate is where they live.
 //!
 //! | format | recognised by | read by |

@@ -245,3 +245,60 @@ pub fn load(path: &Path, bytes: Vec<u8>, options: &LoadOptions) -> Result<(Scene
     };
     Ok((scene, report))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn errors_are_classified_for_bindings() {
+        let options = LoadOptions::default();
+        // A missing file: reading
+        let e = load_file(Path::new("/nonexistent/x.ply"), &options).unwrap_err();
+        assert_eq!(classify(&e).class, ErrorClass::Io);
+        // A bad flat file: content, with its line and kind, worded as the CLI
+        let e = load(
+            Path::new("a.flat"),
+            b"seg 0 0 1 0\nseg 0 x 1 1\n".to_vec(),
+            &options,
+        )
+        .unwrap_err();
+        let info = classify(&e);
+        assert_eq!((info.class, info.line), (ErrorClass::Content, Some(2)));
+        assert!(
+            matches!(info.kind, Some(ErrorKind::BadNumber { .. })),
+            "{info:?}"
+        );
+        assert!(format!("{e:#}").starts_with("a.flat:2: "), "{e:#}");
+        // Not UTF-8: line and offset
+        let e = load(Path::new("a.obj"), b"v 0 0 0\n\xff\n".to_vec(), &options).unwrap_err();
+        assert_eq!(
+            format!("{e:#}"),
+            format!("a.obj:2: {} at byte offset 8", ErrorKind::InvalidUtf8)
+        );
+        assert_eq!(classify(&e).line, Some(2));
+        // A malformed PLY: content, its reader's words, no core kind
+        let e = load(
+            Path::new("a.ply"),
+            b"ply\nformat nonsense\n".to_vec(),
+            &options,
+        )
+        .unwrap_err();
+        let info = classify(&e);
+        assert_eq!((info.class, info.kind), (ErrorClass::Content, None));
+        // A forced format wins over the content
+        let forced = LoadOptions {
+            format: Some(Format::Flat),
+            ..LoadOptions::default()
+        };
+        assert!(load(Path::new("a.ply"), b"ply\n".to_vec(), &forced).is_err());
+        let (scene, report) = load(
+            Path::new("b.obj"),
+            b"seg 0 0 1 0\nseg 1 0 0 0\n".to_vec(),
+            &options,
+        )
+        .unwrap();
+        assert!(matches!(scene, Scene::Flat(_)));
+        assert_eq!(report.warnings.len(), 1, "the format-by-content note");
+    }
+}
