@@ -96,7 +96,6 @@ bad_files() {
         file=${file//[[:space:]]/}
         message=${message# }
         [[ -z $file || $file == \#* || $args =~ [^[:space:]] ]] && continue
-        [[ $file == *.flat || $file == *.obj ]] || continue
         if [[ $message =~ ^line\ ([0-9]+):\ (.*)$ ]]; then
             want="tests/data/bad/$file:${BASH_REMATCH[1]}: ${BASH_REMATCH[2]}"
         else
@@ -159,6 +158,13 @@ cmd_check() {
     compare measure flat-local "$flat" 100000 11 2 local
     compare measure cornell-global "$cornell" 100000 3 2 global
     compare measure cornell-bundle "$cornell" 70000 5 2 bundle
+    # The mesh formats, through the readers the CLI uses (crate sceneinfo-formats)
+    compare measure glb-global tests/data/corpus/gltf/BoxTextured-Binary/BoxTextured.glb \
+        100000 7 2 global
+    compare measure gltf-local tests/data/corpus/gltf/BoxTextured/BoxTextured.gltf \
+        100000 3 2 local
+    compare measure ply-global \
+        tests/data/corpus/ply/openmesh/cube-minimal-extra-elements-binary.ply 100000 7 2 global
 
     echo "== radiosity: C and CLI, the same bits (measures, B per channel, I_S^c)"
     local lit=capi/tests/lit.flat lit3="$OUT/cornell-lit.obj"

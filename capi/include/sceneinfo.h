@@ -66,6 +66,11 @@ typedef enum SiStatus {
    * message.
    */
   SI_ERR_INTERNAL = 8,
+  /**
+   * The job's progress callback asked to stop. `si_measure` still gives its result (the
+   * lines cast before the stop, marked interrupted); `si_radiosity` gives nothing.
+   */
+  SI_STOPPED = 9,
 } SiStatus;
 
 /**
@@ -77,7 +82,10 @@ enum SiFormat
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
   /**
-   * By the extension: `.flat` (flatland) or `.obj` (Wavefront OBJ), any case.
+   * As the CLI does: by the content (a PLY, GLB or glTF header, an OBJ or flat first
+   * statement), else by the extension (`.flat`, `.obj`, `.ply`, `.gltf`, `.glb`, any
+   * case), else flat. A content that disagrees with the extension is read as the content
+   * says, with a load warning.
    */
   SI_FORMAT_AUTO = 0,
   /**
@@ -88,6 +96,15 @@ enum SiFormat
    * Wavefront OBJ; `mtllib` files are read from the OBJ's folder.
    */
   SI_FORMAT_OBJ = 2,
+  /**
+   * Stanford PLY (ASCII, binary of either byte order); every face black.
+   */
+  SI_FORMAT_PLY = 3,
+  /**
+   * glTF 2.0, JSON (`.gltf`, buffers from the file's folder or `data:` URIs) or binary
+   * (`.glb`).
+   */
+  SI_FORMAT_GLTF = 4,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -179,12 +196,24 @@ typedef struct SiMeasurement SiMeasurement;
 typedef struct SiScene SiScene;
 
 /**
+ * A C progress callback: `(lines_done, lines_total, user)`; non-zero stops the job.
+ */
+typedef int32_t (*SiProgressFn)(uint64_t lines_done, uint64_t lines_total, void *user);
+
+/**
  * What to measure a scene with. A zero-initialised `SiJob` is the exact job.
  *
  * A line job of `lines` lines with `seed` gives the same numbers, bit for bit, as
  * `sceneinfo measure --lines LINES --seed SEED --method METHOD`, whatever `threads` is.
  */
 typedef struct SiJob {
+  /**
+   * 0, or `sizeof(SiJob)` as the caller's header has it. A later version of the library
+   * that adds fields at the end reads only the first `size` bytes (0: this version's
+   * layout) and gives the fields past them their zero defaults; this version refuses a
+   * size other than 0 or its own (`SI_ERR_INVALID_ARGUMENT`).
+   */
+  uint32_t size;
   /**
    * An `SiMethod` value.
    */
@@ -212,6 +241,18 @@ typedef struct SiJob {
    * more bytes than this; 0: no limit.
    */
   uint64_t max_memory;
+  /**
+   * NULL, or called on the calling thread after each chunk of 2^16 lines a line job
+   * casts, with the lines cast so far and the job's total (with `lines == 0`, the total
+   * of the current doubling step), and `user`. Returning non-zero stops the job: no new
+   * chunk starts, and the call returns `SI_STOPPED` (see `si_measure`, `si_radiosity`).
+   * It must not call back into this library with the same job's handles.
+   */
+  SiProgressFn progress;
+  /**
+   * Passed to `progress` as is; the library never reads it.
+   */
+  void *user;
 } SiJob;
 
 /**
@@ -347,6 +388,15 @@ typedef struct SiLineRun {
    * it could not be estimated).
    */
   uint64_t lines_to_sample_all;
+  /**
+   * 1 when the progress callback stopped the job before its last chunk, else 0.
+   */
+  int32_t interrupted;
+  /**
+   * The line budget of the chunks cast: a job of `budget_done` lines gives the same
+   * numbers (after a stop, what to ask for to reproduce them).
+   */
+  uint64_t budget_done;
 } SiLineRun;
 
 /**
@@ -563,7 +613,11 @@ const char *si_version(void);
  * On success `*out` is a new measurement owned by the caller (`si_measurement_free`).
  * A line job that left some patch without a line still succeeds: its `I_S^c` and coverage
  * are there (`si_measurement_line_run`), its form factors and discrete measures are
- * `SI_ERR_UNDEFINED`. On failure `*out` is NULL: `SI_ERR_JOB` (exact form factors of an
+ * `SI_ERR_UNDEFINED`. A job stopped by its progress callback returns `SI_STOPPED` and still
+ * sets `*out` (the caller frees it): the measurement of the chunks cast before the stop, a
+ * prefix of the job's, so the same numbers as a job of `SiLineRun.budget_done` lines, with
+ * `SiLineRun.interrupted` set (for lines that missed a patch, `SI_ERR_UNDEFINED` as above).
+ * On failure `*out` is NULL: `SI_ERR_JOB` (exact form factors of an
  * occluded 3D scene, a method the scene cannot cast, a line budget out of range, the
  * memory limit), `SI_ERR_INVALID_ARGUMENT` (an unknown method).
  *
@@ -706,6 +760,31 @@ enum SiStatus si_measurement_form_factors_dense(const struct SiMeasurement *m,
                                                 size_t *out_needed);
 
 /**
+ * Copies the form-factor matrix in compressed sparse rows (CSR), its non-zero entries
+ * only: row `i`'s entries are `cols[k]`, `vals[k]` for `row_ptr[i] <= k < row_ptr[i + 1]`,
+ * columns increasing; `n_states + 1` row pointers, `nnz` entries. The memory grows with
+ * the non-zero entries, not with `n_states²` as `si_measurement_form_factors_dense`'s.
+ *
+ * Buffer rules as `si_measurement_patch_sizes`, with two lengths: `*out_nnz` (when not
+ * NULL) receives `nnz` whatever happens, so `row_ptr = cols = vals = NULL`,
+ * `row_ptr_len = nnz_len = 0` asks for it; `SI_ERR_BUFFER_TOO_SMALL` (nothing written)
+ * when `row_ptr_len < n_states + 1` or `nnz_len < nnz`. `SI_ERR_UNDEFINED` when some
+ * patch received no line.
+ *
+ * # Safety
+ * `m` must be NULL or a live measurement; `row_ptr` NULL or valid for writing
+ * `row_ptr_len` values; `cols` and `vals` NULL or valid for writing `nnz_len` values each;
+ * `out_nnz` NULL or valid for writing one `size_t`.
+ */
+enum SiStatus si_measurement_form_factors_csr(const struct SiMeasurement *m,
+                                              size_t *row_ptr,
+                                              size_t row_ptr_len,
+                                              size_t *cols,
+                                              double *vals,
+                                              size_t nnz_len,
+                                              size_t *out_nnz);
+
+/**
  * The number of warnings: where the numbers cannot be trusted to full precision (a
  * nearly closed scene, row sums or stationarity off, unsampled patches, few observations
  * behind the standard error). 0 for NULL.
@@ -804,16 +883,19 @@ enum SiStatus si_lighting_lines(const struct SiLighting *lighting, struct SiLitL
 enum SiStatus si_lighting_visibility(const struct SiLighting *lighting, struct SiMeasurement **out);
 
 /**
- * Reads a scene file: sceneinfo's flatland format (`.flat`) or Wavefront OBJ (`.obj`,
- * with its `mtllib` material libraries read from the OBJ's folder; faces not subdivided,
- * as the CLI reads them).
+ * Reads a scene file as the CLI reads it: sceneinfo's flatland format (`.flat`), Wavefront
+ * OBJ (`.obj`, with its `mtllib` material libraries read from the OBJ's folder), glTF 2.0
+ * (`.gltf`, `.glb`) or PLY (`.ply`); faces not subdivided. Files over 2 GiB are refused
+ * before reading.
  *
- * `format`: `SI_FORMAT_AUTO` (by the extension), `SI_FORMAT_FLAT` or `SI_FORMAT_OBJ`.
+ * `format`: `SI_FORMAT_AUTO` (by content, then extension), or an `SiFormat` that forces
+ * one.
  *
  * On success `*out` is a new scene, which the caller owns and frees with
  * `si_scene_free`. On failure `*out` is NULL and the message says what was wrong:
  * `SI_ERR_IO` (`file: cannot read: ...`), `SI_ERR_SCENE` (`file:line: what`, the line also
- * from `si_error_line`), `SI_ERR_INVALID_ARGUMENT` (an unknown extension or format code).
+ * from `si_error_line`; `file: where: what` for glTF and PLY), `SI_ERR_INVALID_ARGUMENT`
+ * (an unknown format code).
  *
  * # Safety
  * `path` must be NULL or a NUL-terminated string; `out` NULL or valid for writing one

@@ -2,15 +2,16 @@
 //! or by Monte Carlo lines, and what it gives — the channel measures, per-patch arrays and
 //! form factors — copied out to C.
 
-use std::ffi::{CString, c_char};
+use std::ffi::{CString, c_char, c_void};
 
+use sceneinfo::channel::Transitions as _;
 use sceneinfo::continuous::relative_discretisation_error;
 use sceneinfo::{Job, LineBudget, LineJob, LineMethod, Measurement, Serial, measure};
 
 use crate::buffers::{clear_out, copy_out, free, handle, input, write_out};
 use crate::scene::{SiScene, text};
 use crate::status::{Failure, Outcome, SiStatus, guard, guard_value};
-use crate::threads::Threads;
+use crate::threads::{Progress, SiProgressFn, Threads};
 
 /// How a job gets its form factors.
 #[repr(u32)]
@@ -32,8 +33,13 @@ pub enum SiMethod {
 /// A line job of `lines` lines with `seed` gives the same numbers, bit for bit, as
 /// `sceneinfo measure --lines LINES --seed SEED --method METHOD`, whatever `threads` is.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug)]
 pub struct SiJob {
+    /// 0, or `sizeof(SiJob)` as the caller's header has it. A later version of the library
+    /// that adds fields at the end reads only the first `size` bytes (0: this version's
+    /// layout) and gives the fields past them their zero defaults; this version refuses a
+    /// size other than 0 or its own (`SI_ERR_INVALID_ARGUMENT`).
+    pub size: u32,
     /// An `SiMethod` value.
     pub method: u32,
     /// Worker threads of a line job; 0: one per available core. The result does not depend
@@ -49,11 +55,26 @@ pub struct SiJob {
     /// Refuse the job (`SI_ERR_JOB`) before allocating when its large tables would need
     /// more bytes than this; 0: no limit.
     pub max_memory: u64,
+    /// NULL, or called on the calling thread after each chunk of 2^16 lines a line job
+    /// casts, with the lines cast so far and the job's total (with `lines == 0`, the total
+    /// of the current doubling step), and `user`. Returning non-zero stops the job: no new
+    /// chunk starts, and the call returns `SI_STOPPED` (see `si_measure`, `si_radiosity`).
+    /// It must not call back into this library with the same job's handles.
+    pub progress: SiProgressFn,
+    /// Passed to `progress` as is; the library never reads it.
+    pub user: *mut c_void,
 }
 
 impl SiJob {
     /// The core's job.
     fn to_job(self) -> Outcome<Job> {
+        if self.size != 0 && self.size as usize != std::mem::size_of::<Self>() {
+            return Err(Failure::invalid(format!(
+                "SiJob size {} is neither 0 nor this library's {} bytes",
+                self.size,
+                std::mem::size_of::<Self>()
+            )));
+        }
         let method = match self.method {
             0 => return Ok(Job::Exact),
             1 => LineMethod::Global,
@@ -189,6 +210,11 @@ pub struct SiLineRun {
     /// When `unsampled_patches > 0`: about how many lines would reach every patch (0 when
     /// it could not be estimated).
     pub lines_to_sample_all: u64,
+    /// 1 when the progress callback stopped the job before its last chunk, else 0.
+    pub interrupted: i32,
+    /// The line budget of the chunks cast: a job of `budget_done` lines gives the same
+    /// numbers (after a stop, what to ask for to reproduce them).
+    pub budget_done: u64,
 }
 
 /// Measures `scene` with `job` (NULL: the exact job): the form factors, exact or from
@@ -198,7 +224,11 @@ pub struct SiLineRun {
 /// On success `*out` is a new measurement owned by the caller (`si_measurement_free`).
 /// A line job that left some patch without a line still succeeds: its `I_S^c` and coverage
 /// are there (`si_measurement_line_run`), its form factors and discrete measures are
-/// `SI_ERR_UNDEFINED`. On failure `*out` is NULL: `SI_ERR_JOB` (exact form factors of an
+/// `SI_ERR_UNDEFINED`. A job stopped by its progress callback returns `SI_STOPPED` and still
+/// sets `*out` (the caller frees it): the measurement of the chunks cast before the stop, a
+/// prefix of the job's, so the same numbers as a job of `SiLineRun.budget_done` lines, with
+/// `SiLineRun.interrupted` set (for lines that missed a patch, `SI_ERR_UNDEFINED` as above).
+/// On failure `*out` is NULL: `SI_ERR_JOB` (exact form factors of an
 /// occluded 3D scene, a method the scene cannot cast, a line budget out of range, the
 /// memory limit), `SI_ERR_INVALID_ARGUMENT` (an unknown method).
 ///
@@ -229,9 +259,17 @@ pub unsafe extern "C" fn si_measure(
             Job::Lines(_) => measure(&scene.scene, &core_job, &mut executor),
         }
         .map_err(refused)?;
+        let interrupted =
+            m.line_run().is_some_and(|r| r.interrupted) || sceneinfo::Executor::stopped(&executor);
         let m = SiMeasurement::new(m, &scene.source)?;
         // SAFETY: accepted by clear_out
         unsafe { crate::buffers::give(out, m) };
+        if interrupted {
+            return Err(Failure::new(
+                SiStatus::SI_STOPPED,
+                format!("{}: {}", scene.source, sceneinfo::ErrorKind::Stopped),
+            ));
+        }
         Ok(())
     })
 }
@@ -241,7 +279,11 @@ impl SiJob {
     /// tables need is within `max_memory`.
     pub(crate) fn prepare(self, scene: &SiScene) -> Outcome<(Job, Threads)> {
         let job = self.to_job()?;
-        let executor = Threads::new(self.threads);
+        let progress = self.progress.map(|callback| Progress {
+            callback,
+            user: self.user,
+        });
+        let executor = Threads::new(self.threads).with_progress(progress);
         if self.max_memory > 0 {
             // One tally per worker thread and the merged total
             let tallies = match job {
@@ -268,12 +310,15 @@ pub(crate) fn method_code(method: LineMethod) -> u32 {
 impl Default for SiJob {
     fn default() -> Self {
         Self {
+            size: 0,
             method: SiMethod::SI_METHOD_EXACT as u32,
             threads: 0,
             seed: 0,
             lines: 0,
             max_lines: 0,
             max_memory: 0,
+            progress: None,
+            user: std::ptr::null_mut(),
         }
     }
 }
@@ -367,6 +412,8 @@ pub unsafe extern "C" fn si_measurement_line_run(
             stderr_groups: run.continuous.groups,
             unsampled_patches: coverage.map_or(0, |c| c.unsampled),
             lines_to_sample_all: coverage.and_then(|c| c.lines_to_sample_all).unwrap_or(0),
+            interrupted: i32::from(run.interrupted),
+            budget_done: run.budget_done,
         };
         // SAFETY: by the contract above
         unsafe { write_out(out, value, "out") }
@@ -563,6 +610,73 @@ pub unsafe extern "C" fn si_measurement_form_factors_dense(
         }
         // SAFETY: by the contract above
         unsafe { copy_out(&all, out, out_len, out_needed, "F") }
+    })
+}
+
+/// Copies the form-factor matrix in compressed sparse rows (CSR), its non-zero entries
+/// only: row `i`'s entries are `cols[k]`, `vals[k]` for `row_ptr[i] <= k < row_ptr[i + 1]`,
+/// columns increasing; `n_states + 1` row pointers, `nnz` entries. The memory grows with
+/// the non-zero entries, not with `n_states²` as `si_measurement_form_factors_dense`'s.
+///
+/// Buffer rules as `si_measurement_patch_sizes`, with two lengths: `*out_nnz` (when not
+/// NULL) receives `nnz` whatever happens, so `row_ptr = cols = vals = NULL`,
+/// `row_ptr_len = nnz_len = 0` asks for it; `SI_ERR_BUFFER_TOO_SMALL` (nothing written)
+/// when `row_ptr_len < n_states + 1` or `nnz_len < nnz`. `SI_ERR_UNDEFINED` when some
+/// patch received no line.
+///
+/// # Safety
+/// `m` must be NULL or a live measurement; `row_ptr` NULL or valid for writing
+/// `row_ptr_len` values; `cols` and `vals` NULL or valid for writing `nnz_len` values each;
+/// `out_nnz` NULL or valid for writing one `size_t`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_form_factors_csr(
+    m: *const SiMeasurement,
+    row_ptr: *mut usize,
+    row_ptr_len: usize,
+    cols: *mut usize,
+    vals: *mut f64,
+    nnz_len: usize,
+    out_nnz: *mut usize,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: by the contract above
+        let m = unsafe { handle(m, "measurement") }?;
+        let ff = m.form_factors()?.matrix();
+        let n = ff.n_states();
+        // The count first, without building anything
+        let mut nnz = 0usize;
+        for i in 0..n {
+            ff.for_each_in_row(i, |_, v| nnz += usize::from(v != 0.0));
+        }
+        // SAFETY: by the contract above
+        unsafe { write_needed(out_nnz, nnz) };
+        if row_ptr_len < n + 1 {
+            return Err(too_small("row_ptr", row_ptr_len, n + 1));
+        }
+        if nnz_len < nnz {
+            return Err(too_small("cols and vals", nnz_len, nnz));
+        }
+        let (mut ptr, mut c, mut v) = (
+            Vec::with_capacity(n + 1),
+            Vec::with_capacity(nnz),
+            Vec::with_capacity(nnz),
+        );
+        ptr.push(0);
+        for i in 0..n {
+            ff.for_each_in_row(i, |j, value| {
+                if value != 0.0 {
+                    c.push(j);
+                    v.push(value);
+                }
+            });
+            ptr.push(c.len());
+        }
+        // SAFETY: by the contract above (lengths checked: each copy fits)
+        unsafe { copy_out(&ptr, row_ptr, row_ptr_len, std::ptr::null_mut(), "row_ptr") }?;
+        // SAFETY: as above
+        unsafe { copy_out(&c, cols, nnz_len, std::ptr::null_mut(), "cols") }?;
+        // SAFETY: as above
+        unsafe { copy_out(&v, vals, nnz_len, std::ptr::null_mut(), "vals") }
     })
 }
 

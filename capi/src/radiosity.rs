@@ -26,7 +26,7 @@ pub enum SiSolver {
 /// What `si_radiosity` does. A zero-initialised `SiRadiosityJob` is exact form factors
 /// solved by Gauss–Seidel to a relative residual of 1e-10 in at most 100,000 sweeps.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default)]
 pub struct SiRadiosityJob {
     /// How the form factors are found: exact, or lines (as for `si_measure`; the result is
     /// the same bits whatever `form_factors.threads`, and equals `sceneinfo radiosity
@@ -159,8 +159,13 @@ pub unsafe extern "C" fn si_radiosity(
         let core_job = RadiosityJob::new(form_factors)
             .with_solver(solver)
             .with_options(options);
-        let lighting = solve_radiosity(&scene.scene, &core_job, &mut executor)
-            .map_err(|e| Failure::core(SiStatus::SI_ERR_JOB, &scene.source, &e))?;
+        let lighting = solve_radiosity(&scene.scene, &core_job, &mut executor).map_err(|e| {
+            let status = match e.kind() {
+                sceneinfo::ErrorKind::Stopped => SiStatus::SI_STOPPED,
+                _ => SiStatus::SI_ERR_JOB,
+            };
+            Failure::core(status, &scene.source, &e)
+        })?;
         let lit = SiLighting {
             lighting,
             source: scene.source.clone(),

@@ -1,12 +1,11 @@
-//! [`SiScene`]: a scene read from a `.flat` or `.obj` file, or built from arrays, through
+//! [`SiScene`]: a scene read from a file (flat, OBJ, glTF, PLY), or built from arrays, through
 //! the core's [`sceneinfo::Scene`].
 
 use std::ffi::{CStr, CString, c_char};
-use std::fs;
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
-use sceneinfo::{ErrorKind, LoadReport, Material, ObjOptions, Scene, SceneFormat};
+use sceneinfo::{LoadReport, Material, ObjOptions, Scene};
+use sceneinfo_formats::{ErrorClass, Format, LoadOptions};
 
 use crate::buffers::{clear_out, copy_out, free, give, handle, input, write_out};
 use crate::status::{Failure, Outcome, SiStatus, guard, guard_value};
@@ -94,12 +93,20 @@ pub(crate) fn text(s: &str) -> CString {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[allow(non_camel_case_types)] // the C names
 pub enum SiFormat {
-    /// By the extension: `.flat` (flatland) or `.obj` (Wavefront OBJ), any case.
+    /// As the CLI does: by the content (a PLY, GLB or glTF header, an OBJ or flat first
+    /// statement), else by the extension (`.flat`, `.obj`, `.ply`, `.gltf`, `.glb`, any
+    /// case), else flat. A content that disagrees with the extension is read as the content
+    /// says, with a load warning.
     SI_FORMAT_AUTO = 0,
     /// sceneinfo's flatland text format.
     SI_FORMAT_FLAT = 1,
     /// Wavefront OBJ; `mtllib` files are read from the OBJ's folder.
     SI_FORMAT_OBJ = 2,
+    /// Stanford PLY (ASCII, binary of either byte order); every face black.
+    SI_FORMAT_PLY = 3,
+    /// glTF 2.0, JSON (`.gltf`, buffers from the file's folder or `data:` URIs) or binary
+    /// (`.glb`).
+    SI_FORMAT_GLTF = 4,
 }
 
 /// A patch's material: reflectance ρ per RGB channel in `[0, 1)` and emittance E per RGB
@@ -135,10 +142,6 @@ pub struct SiLoadOptions {
     pub emit_from_ka: i32,
 }
 
-/// Largest scene file read (2 GiB, as the CLI), and largest material library (64 MiB).
-const MAX_FILE_BYTES: u64 = 2 << 30;
-const MAX_LIBRARY_BYTES: u64 = 64 << 20;
-
 /// The path of a C string: its bytes as they are on Unix, UTF-8 elsewhere.
 fn path_of(path: &CStr) -> Outcome<PathBuf> {
     #[cfg(unix)]
@@ -154,122 +157,52 @@ fn path_of(path: &CStr) -> Outcome<PathBuf> {
     }
 }
 
-/// The bytes of a regular file of at most `cap` bytes (a device or FIFO, which may never
-/// end, is refused before it is opened).
-fn read_capped(path: &Path, cap: u64) -> Outcome<Vec<u8>> {
-    let io = |what: String| Failure::new(SiStatus::SI_ERR_IO, what);
-    let shown = path.display();
-    let meta = fs::metadata(path).map_err(|e| io(format!("{shown}: cannot read: {e}")))?;
-    if !meta.is_file() {
-        return Err(io(format!(
-            "{shown}: not a regular file (a device, pipe or folder): refused"
-        )));
-    }
-    if meta.len() > cap {
-        return Err(io(format!(
-            "{shown}: {} bytes, larger than the cap of {cap} bytes",
-            meta.len()
-        )));
-    }
-    let file = fs::File::open(path).map_err(|e| io(format!("{shown}: cannot read: {e}")))?;
-    let mut bytes = Vec::new();
-    file.take(cap.saturating_add(1))
-        .read_to_end(&mut bytes)
-        .map_err(|e| io(format!("{shown}: cannot read: {e}")))?;
-    if bytes.len() as u64 > cap {
-        return Err(io(format!("{shown}: larger than the cap of {cap} bytes")));
-    }
-    Ok(bytes)
+/// The format a format code forces, or `None` for `SI_FORMAT_AUTO`.
+fn format_of(format: u32) -> Outcome<Option<Format>> {
+    Ok(match format {
+        0 => None,
+        1 => Some(Format::Flat),
+        2 => Some(Format::Obj),
+        3 => Some(Format::Ply),
+        // The glTF reader takes JSON and binary containers alike
+        4 => Some(Format::Gltf),
+        other => return Err(Failure::invalid(format!("unknown format code {other}"))),
+    })
 }
 
-/// The format of `path` by its extension.
-fn format_of(path: &Path, format: u32) -> Outcome<SiFormat> {
-    match format {
-        1 => Ok(SiFormat::SI_FORMAT_FLAT),
-        2 => Ok(SiFormat::SI_FORMAT_OBJ),
-        0 => {
-            let ext = path
-                .extension()
-                .and_then(|e| e.to_str())
-                .map(str::to_ascii_lowercase);
-            match ext.as_deref() {
-                Some("flat") => Ok(SiFormat::SI_FORMAT_FLAT),
-                Some("obj") => Ok(SiFormat::SI_FORMAT_OBJ),
-                _ => Err(Failure::invalid(format!(
-                    "{}: the extension is neither .flat nor .obj; pass SI_FORMAT_FLAT or \
-                     SI_FORMAT_OBJ",
-                    path.display()
-                ))),
-            }
-        }
-        other => Err(Failure::invalid(format!("unknown format code {other}"))),
-    }
-}
-
-/// Reads the scene in `path`.
+/// Reads the scene in `path` through the front ends' shared reader
+/// ([`sceneinfo_formats::load_file`]: the CLI's messages, caps and formats).
 fn read_scene(path: &Path, options: SiLoadOptions) -> Outcome<SiScene> {
-    let format = format_of(path, options.format)?;
-    let bytes = read_capped(path, MAX_FILE_BYTES)?;
-    let shown = path.display().to_string();
-    let loaded = match format {
-        SiFormat::SI_FORMAT_FLAT | SiFormat::SI_FORMAT_AUTO => {
-            Scene::from_bytes(&bytes, SceneFormat::Flat, |_| None)
-        }
-        SiFormat::SI_FORMAT_OBJ => {
-            // Material libraries from the OBJ's folder; an unreadable one is the first
-            // failure reported, as it may be why the OBJ failed
-            let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-            let library_failure = std::cell::RefCell::new(None);
-            let mtl = |name: &str| {
-                let lib = dir.join(name);
-                if !lib.is_file() {
-                    return None;
-                }
-                let read = read_capped(&lib, MAX_LIBRARY_BYTES).and_then(|b| {
-                    String::from_utf8(b).map_err(|_| {
-                        Failure::new(
-                            SiStatus::SI_ERR_SCENE,
-                            format!("{}: material library is not UTF-8", lib.display()),
-                        )
-                    })
-                });
-                match read {
-                    Ok(text) => Some(text),
-                    Err(f) => {
-                        library_failure.borrow_mut().get_or_insert(f);
-                        None
-                    }
-                }
-            };
-            let obj = ObjOptions::default().with_emit_from_ka(options.emit_from_ka != 0);
-            let parsed = Scene::from_bytes(&bytes, SceneFormat::Obj(obj), mtl);
-            if let Some(f) = library_failure.into_inner() {
-                return Err(f);
-            }
-            parsed
-        }
+    let options = LoadOptions {
+        obj: ObjOptions::default().with_emit_from_ka(options.emit_from_ka != 0),
+        format: format_of(options.format)?,
     };
-    let (scene, report) = loaded.map_err(|e| {
-        let mut f = Failure::core(SiStatus::SI_ERR_SCENE, &shown, &e);
-        // Where the text stops being UTF-8, as the CLI says it
-        if let (ErrorKind::InvalidUtf8, Err(u)) = (e.kind(), std::str::from_utf8(&bytes)) {
-            f.message += &format!(" at byte offset {}", u.valid_up_to());
-        }
+    let (scene, report) = sceneinfo_formats::load_file(path, &options).map_err(|e| {
+        let info = sceneinfo_formats::classify(&e);
+        let status = match info.class {
+            ErrorClass::Io => SiStatus::SI_ERR_IO,
+            ErrorClass::Content => SiStatus::SI_ERR_SCENE,
+        };
+        let mut f = Failure::new(status, format!("{e:#}"));
+        f.line = info.line;
         f
     })?;
-    Ok(SiScene::new(scene, shown, &report))
+    Ok(SiScene::new(scene, path.display().to_string(), &report))
 }
 
-/// Reads a scene file: sceneinfo's flatland format (`.flat`) or Wavefront OBJ (`.obj`,
-/// with its `mtllib` material libraries read from the OBJ's folder; faces not subdivided,
-/// as the CLI reads them).
+/// Reads a scene file as the CLI reads it: sceneinfo's flatland format (`.flat`), Wavefront
+/// OBJ (`.obj`, with its `mtllib` material libraries read from the OBJ's folder), glTF 2.0
+/// (`.gltf`, `.glb`) or PLY (`.ply`); faces not subdivided. Files over 2 GiB are refused
+/// before reading.
 ///
-/// `format`: `SI_FORMAT_AUTO` (by the extension), `SI_FORMAT_FLAT` or `SI_FORMAT_OBJ`.
+/// `format`: `SI_FORMAT_AUTO` (by content, then extension), or an `SiFormat` that forces
+/// one.
 ///
 /// On success `*out` is a new scene, which the caller owns and frees with
 /// `si_scene_free`. On failure `*out` is NULL and the message says what was wrong:
 /// `SI_ERR_IO` (`file: cannot read: ...`), `SI_ERR_SCENE` (`file:line: what`, the line also
-/// from `si_error_line`), `SI_ERR_INVALID_ARGUMENT` (an unknown extension or format code).
+/// from `si_error_line`; `file: where: what` for glTF and PLY), `SI_ERR_INVALID_ARGUMENT`
+/// (an unknown format code).
 ///
 /// # Safety
 /// `path` must be NULL or a NUL-terminated string; `out` NULL or valid for writing one

@@ -44,6 +44,9 @@ pub enum SiStatus {
     /// An internal error (a Rust panic, caught at the boundary). Please report it with the
     /// message.
     SI_ERR_INTERNAL = 8,
+    /// The job's progress callback asked to stop. `si_measure` still gives its result (the
+    /// lines cast before the stop, marked interrupted); `si_radiosity` gives nothing.
+    SI_STOPPED = 9,
 }
 
 /// A failure on its way to the caller: its status, message and line.
@@ -231,6 +234,7 @@ pub extern "C" fn si_status_name(status: i32) -> *const c_char {
         6 => c"SI_ERR_UNDEFINED",
         7 => c"SI_ERR_BUFFER_TOO_SMALL",
         8 => c"SI_ERR_INTERNAL",
+        9 => c"SI_STOPPED",
         _ => c"SI_UNKNOWN",
     };
     name.as_ptr()

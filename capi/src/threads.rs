@@ -4,18 +4,48 @@
 //! into its own tally; the tallies are merged at the end. A tally holds integers and 64.64
 //! fixed-point sums only, so the merge is exact and the result is the same bits as
 //! [`sceneinfo::Serial`]'s for any number of threads (tested below).
+//!
+//! A job with a progress callback ([`Progress`]) has it called on the calling thread after
+//! each chunk (the workers report through a channel); a non-zero answer stops the job: no
+//! new chunk starts, the chunks started finish, so the chunks cast are a prefix of the
+//! job's (the [`sceneinfo::Executor`] contract) and the result is that of a shorter job.
 
+use std::ffi::c_void;
 use std::num::NonZeroUsize;
 use std::panic::resume_unwind;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::mpsc;
 
+use sceneinfo::LineSession;
 use sceneinfo::{ChunkWork, ChunksDone, Executor};
 
+/// A C progress callback: `(lines_done, lines_total, user)`; non-zero stops the job.
+pub type SiProgressFn =
+    Option<unsafe extern "C" fn(lines_done: u64, lines_total: u64, user: *mut c_void) -> i32>;
+
+/// A caller's progress callback and its `user` pointer, called on the calling thread only.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Progress {
+    pub(crate) callback: unsafe extern "C" fn(u64, u64, *mut c_void) -> i32,
+    pub(crate) user: *mut c_void,
+}
+
+impl Progress {
+    /// Whether the caller asks to stop after `done` of `total` lines.
+    fn stop(self, done: u64, total: u64) -> bool {
+        // SAFETY: the caller of si_measure / si_radiosity promised a callable function
+        // that takes its own `user` pointer; it is called on the thread that made the call
+        unsafe { (self.callback)(done, total, self.user) != 0 }
+    }
+}
+
 /// Casts a line job's chunks on `threads` worker threads (fewer when there are fewer
-/// chunks). It never stops early: a C caller's job runs to its end.
+/// chunks), reporting to `progress` after each chunk and stopping when it asks.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Threads {
     threads: usize,
+    progress: Option<Progress>,
+    stopped: bool,
 }
 
 impl Threads {
@@ -25,7 +55,17 @@ impl Threads {
             0 => std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
             n => n as usize,
         };
-        Self { threads }
+        Self {
+            threads,
+            progress: None,
+            stopped: false,
+        }
+    }
+
+    /// These threads, reporting to `progress`.
+    pub(crate) fn with_progress(mut self, progress: Option<Progress>) -> Self {
+        self.progress = progress;
+        self
     }
 
     /// The worker threads.
@@ -42,40 +82,73 @@ impl Executor for Threads {
             .threads
             .min(usize::try_from(n_chunks).unwrap_or(usize::MAX))
             .max(1);
-        let next = AtomicU64::new(range.start);
-        let tallies = std::thread::scope(|scope| {
+        let (next, end) = (AtomicU64::new(range.start), range.end);
+        // Set before the first chunk when an earlier step was stopped: cast nothing
+        let stop = AtomicBool::new(self.stopped);
+        let progress = self.progress;
+        // Lines of the job before this work (earlier doubling steps: whole chunks)
+        let before = range.start.saturating_mul(LineSession::CHUNK_LINES);
+        let total = before.saturating_add(work.lines());
+        let (sender, receiver) = mpsc::channel::<u64>();
+        let done = std::thread::scope(|scope| {
             let workers: Vec<_> = (0..threads)
                 .map(|_| {
-                    scope.spawn(|| {
+                    let sender = progress.is_some().then(|| sender.clone());
+                    let (next, stop) = (&next, &stop);
+                    scope.spawn(move || {
                         let mut tally = work.new_tally();
+                        let mut cast = 0u64;
                         // Bounded: the counter passes range.end after n_chunks steps
-                        loop {
+                        while !stop.load(Ordering::Relaxed) {
                             let chunk = next.fetch_add(1, Ordering::Relaxed);
-                            if chunk >= range.end {
+                            if chunk >= end {
                                 break;
                             }
                             work.cast(chunk, &mut tally);
+                            cast += 1;
+                            if let Some(s) = &sender {
+                                // The receiver lives until every worker is joined
+                                let _ = s.send(work.chunk_lines(chunk));
+                            }
                         }
-                        tally
+                        (tally, cast)
                     })
                 })
                 .collect();
+            drop(sender);
+            // Progress on this thread: one message per chunk cast, until every worker has
+            // finished (their senders dropped); bounded by the chunks
+            if let Some(p) = progress {
+                let mut lines = before;
+                for chunk_lines in receiver.iter() {
+                    lines = lines.saturating_add(chunk_lines);
+                    if !stop.load(Ordering::Relaxed) && p.stop(lines, total) {
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                }
+            }
             // A worker's panic is this call's: the entry point's guard turns it into an error
             workers
                 .into_iter()
                 .map(|w| w.join().unwrap_or_else(|payload| resume_unwind(payload)))
                 .collect::<Vec<_>>()
         });
+        self.stopped = stop.load(Ordering::Relaxed);
         // Exact merge: the order does not matter
-        let mut tallies = tallies.into_iter();
-        let mut total = tallies.next().unwrap_or_else(|| work.new_tally());
+        let chunks = done.iter().map(|(_, cast)| cast).sum();
+        let mut tallies = done.into_iter().map(|(tally, _)| tally);
+        let mut total_tally = tallies.next().unwrap_or_else(|| work.new_tally());
         for t in tallies {
-            total.merge_owned(t);
+            total_tally.merge_owned(t);
         }
         ChunksDone {
-            tally: total,
-            chunks: n_chunks,
+            tally: total_tally,
+            chunks,
         }
+    }
+
+    fn stopped(&self) -> bool {
+        self.stopped
     }
 }
 

@@ -11,6 +11,7 @@
 #include <sceneinfo.h>
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,6 +26,22 @@ static int failures = 0;
             failures++;                                                              \
         }                                                                            \
     } while (0)
+
+/* A progress callback's record: calls, the last (done, total), and after how many calls
+ * it asks to stop (0: never). */
+typedef struct {
+    int calls, stop_after, rising;
+    uint64_t done, total;
+} Watch;
+
+static int watch(uint64_t done, uint64_t total, void *user) {
+    Watch *w = (Watch *)user;
+    if (done <= w->done || done > total) w->rising = 0;
+    w->calls++;
+    w->done = done;
+    w->total = total;
+    return w->stop_after > 0 && w->calls >= w->stop_after;
+}
 
 /* The last message contains `part`. */
 static int says(const char *part) {
@@ -47,12 +64,13 @@ int main(int argc, char **argv) {
     CHECK(says(argv[1]) && says(":1: ") && says("not a number"));
     printf("bad file: %s\n", si_error_message());
 
-    /* A missing file, a folder, an unknown extension, an unknown format code */
+    /* A missing file, a folder, an unknown format code */
     CHECK(si_scene_from_file("/nonexistent/scene.flat", SI_FORMAT_AUTO, &scene) == SI_ERR_IO);
     CHECK(says("/nonexistent/scene.flat: cannot read"));
     CHECK(si_scene_from_file("/", SI_FORMAT_FLAT, &scene) == SI_ERR_IO);
     CHECK(says("not a regular file"));
-    CHECK(si_scene_from_file("scene.txt", SI_FORMAT_AUTO, &scene) == SI_ERR_INVALID_ARGUMENT);
+    /* Any extension is read by content, as the CLI reads it: a missing one is SI_ERR_IO */
+    CHECK(si_scene_from_file("scene.txt", SI_FORMAT_AUTO, &scene) == SI_ERR_IO);
     CHECK(si_scene_from_file(argv[1], 99, &scene) == SI_ERR_INVALID_ARGUMENT);
 
     /* NULL arguments */
@@ -178,6 +196,114 @@ int main(int argc, char **argv) {
     si_measurement_free(m);
     si_lighting_free(lit);
     si_lighting_free(NULL);
+    si_scene_free(scene);
+
+    /* Sparse F (CSR) against the dense one: the lit scene, exact */
+    CHECK(si_scene_from_file(argv[3], SI_FORMAT_AUTO, &scene) == SI_OK);
+    CHECK(si_measure(scene, NULL, &m) == SI_OK);
+    {
+        size_t n = si_measurement_n_states(m), nnz = 0, dense_nonzero = 0, agree = 1;
+        CHECK(si_measurement_form_factors_csr(m, NULL, 0, NULL, NULL, 0, &nnz) ==
+              SI_ERR_BUFFER_TOO_SMALL);
+        CHECK(nnz > 0 && nnz <= n * n);
+        double *dense = malloc(n * n * sizeof(double));
+        size_t *row_ptr = malloc((n + 1) * sizeof(size_t));
+        size_t *cols = malloc(nnz * sizeof(size_t));
+        double *vals = malloc(nnz * sizeof(double));
+        CHECK(si_measurement_form_factors_dense(m, dense, n * n, NULL) == SI_OK);
+        /* One value short: refused, nothing written */
+        row_ptr[0] = 7;
+        CHECK(si_measurement_form_factors_csr(m, row_ptr, n + 1, cols, vals, nnz - 1, NULL) ==
+              SI_ERR_BUFFER_TOO_SMALL && row_ptr[0] == 7);
+        CHECK(si_measurement_form_factors_csr(m, row_ptr, n, cols, vals, nnz, NULL) ==
+              SI_ERR_BUFFER_TOO_SMALL);
+        CHECK(si_measurement_form_factors_csr(m, row_ptr, n + 1, cols, vals, nnz, NULL) == SI_OK);
+        CHECK(row_ptr[0] == 0 && row_ptr[n] == nnz);
+        for (size_t i = 0; i < n; i++) {
+            size_t k = row_ptr[i];
+            for (size_t j = 0; j < n; j++) {
+                double f = dense[i * n + j];
+                dense_nonzero += f != 0.0;
+                if (k < row_ptr[i + 1] && cols[k] == j) {
+                    agree &= memcmp(&vals[k], &f, sizeof(double)) == 0;
+                    k++;
+                } else {
+                    agree &= f == 0.0;
+                }
+            }
+            agree &= k == row_ptr[i + 1];
+        }
+        CHECK(agree && dense_nonzero == nnz);
+        printf("sparse F: %zu states, %zu non-zero entries, equal to the dense F bit for bit\n",
+               n, nnz);
+        free(dense);
+        free(row_ptr);
+        free(cols);
+        free(vals);
+    }
+    si_measurement_free(m);
+    si_scene_free(scene);
+
+    /* Progress and stop: a line job of 20 chunks on 2 threads, the Cornell box */
+    CHECK(si_scene_from_file(argv[2], SI_FORMAT_AUTO, &scene) == SI_OK);
+    const uint64_t chunk = (uint64_t)1 << 16;
+    Watch w = {0, 0, 1, 0, 0};
+    SiJob pj = {0};
+    pj.size = sizeof(SiJob);
+    pj.method = SI_METHOD_GLOBAL;
+    pj.threads = 2;
+    pj.seed = 5;
+    pj.lines = 20 * chunk - 1000; /* the last chunk short */
+    pj.progress = watch;
+    pj.user = &w;
+    CHECK(si_measure(scene, &pj, &m) == SI_OK);
+    CHECK(w.calls == 20 && w.rising && w.done == pj.lines && w.total == pj.lines);
+    SiLineRun full;
+    CHECK(si_measurement_line_run(m, &full) == SI_OK && !full.interrupted);
+    CHECK(full.lines == pj.lines && full.budget_done == pj.lines);
+    si_measurement_free(m);
+    /* Stop after the 3rd chunk: SI_STOPPED, a result of the chunks cast (a prefix) */
+    w = (Watch){0, 3, 1, 0, 0};
+    m = NULL;
+    CHECK(si_measure(scene, &pj, &m) == SI_STOPPED && m != NULL);
+    CHECK(si_error_code() == SI_STOPPED && says("stopped"));
+    printf("stopped: %s\n", si_error_message());
+    SiLineRun part;
+    CHECK(si_measurement_line_run(m, &part) == SI_OK && part.interrupted == 1);
+    CHECK(part.lines >= 3 * chunk && part.lines < pj.lines && part.lines % chunk == 0);
+    CHECK(part.requested == pj.lines && part.budget_done == part.lines);
+    /* The same numbers as a job of budget_done lines, bit for bit */
+    SiJob again = pj;
+    again.lines = part.budget_done;
+    again.progress = NULL;
+    SiMeasurement *m2 = NULL;
+    SiLineRun whole;
+    CHECK(si_measure(scene, &again, &m2) == SI_OK);
+    CHECK(si_measurement_line_run(m2, &whole) == SI_OK && !whole.interrupted);
+    CHECK(memcmp(&whole.i_s_continuous, &part.i_s_continuous, sizeof(double)) == 0);
+    CHECK(whole.lines == part.lines && whole.samples == part.samples);
+    printf("stopped after %d progress calls: %llu of %llu lines, I_S^c = %.17g (a job of "
+           "%llu lines: the same bits)\n", w.calls, (unsigned long long)part.lines,
+           (unsigned long long)part.requested, part.i_s_continuous,
+           (unsigned long long)part.budget_done);
+    si_measurement_free(m2);
+    si_measurement_free(m);
+    /* A size other than 0 or sizeof(SiJob) */
+    pj.size = 8;
+    CHECK(si_measure(scene, &pj, &m) == SI_ERR_INVALID_ARGUMENT && m == NULL);
+    si_scene_free(scene);
+    /* Radiosity stopped: SI_STOPPED and no result */
+    CHECK(si_scene_from_file(argv[3], SI_FORMAT_AUTO, &scene) == SI_OK);
+    rjob = (SiRadiosityJob){0};
+    rjob.form_factors.method = SI_METHOD_GLOBAL;
+    rjob.form_factors.lines = 8 * chunk;
+    rjob.form_factors.threads = 2;
+    rjob.form_factors.progress = watch;
+    rjob.form_factors.user = &w;
+    w = (Watch){0, 1, 1, 0, 0};
+    lit = (SiLighting *)1;
+    CHECK(si_radiosity(scene, &rjob, &lit) == SI_STOPPED && lit == NULL);
+    printf("radiosity stopped: %s\n", si_error_message());
     si_scene_free(scene);
 
     printf("%s: %s\n", si_version(), failures ? "FAILED" : "all checks passed");

@@ -8,11 +8,9 @@
 mod args;
 mod commands;
 mod config;
-mod formats;
 mod interrupt;
 mod job;
 mod lines;
-mod mesh;
 mod output;
 mod picture;
 mod ply;
@@ -20,6 +18,9 @@ mod png;
 mod raster;
 mod report;
 mod svg;
+
+/// The scene file reader shared with the Python package and the C library.
+use sceneinfo_formats as formats;
 
 use std::process::ExitCode;
 

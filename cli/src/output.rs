@@ -1,6 +1,5 @@
 //! Writing files safely and reading scene files with located errors.
 
-use std::cell::RefCell;
 use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -134,76 +133,6 @@ pub fn check_outputs(outputs: &[(&str, &Path)]) -> Result<()> {
     Ok(())
 }
 
-/// The text of `bytes`, read from `path`. Invalid UTF-8 is reported as
-/// `file:line: input is not valid UTF-8 at byte offset N`, `N` counted from 0 at the start
-/// of the file (as `xxd` and `od` count) and the line as the parsers count lines (ended by
-/// LF, CRLF or a lone CR).
-pub fn text_of(path: &Path, bytes: Vec<u8>) -> Result<String> {
-    String::from_utf8(bytes).map_err(|e| {
-        let offset = e.utf8_error().valid_up_to();
-        not_utf8(path, e.as_bytes(), offset)
-    })
-}
-
-/// The error for text in `path` that stops being UTF-8 at byte `offset` of `bytes`.
-fn not_utf8(path: &Path, bytes: &[u8], offset: usize) -> anyhow::Error {
-    let before = &bytes[..offset.min(bytes.len())];
-    // Line breaks before the offset: every LF, and every CR not followed by an LF
-    let breaks = before
-        .iter()
-        .enumerate()
-        .filter(|&(k, &b)| b == b'\n' || (b == b'\r' && bytes.get(k + 1) != Some(&b'\n')))
-        .count();
-    anyhow::anyhow!(
-        "{}:{}: {} at byte offset {offset}",
-        path.display(),
-        breaks + 1,
-        sceneinfo::ErrorKind::InvalidUtf8
-    )
-}
-
-/// Reads the material library `dir/name` for the OBJ reader: `Some(text)`, or `None`
-/// when it is missing or a folder (the reader warns that it was not found and uses the
-/// default material). A device or pipe (`mtllib /dev/zero`), a file over
-/// [`crate::formats::MAX_LIBRARY_BYTES`] (or `--max-input`) or one that cannot be read is an error, kept in
-/// `failure` like the one below. A library that can be read but is not
-/// UTF-8 (e.g. Latin-1 material names) is neither: decoding it lossily would silently
-/// rename materials, and calling it missing would hide why. Its located error
-/// ([`text_of`]) is kept in `failure` (the first one only), `None` returned, and the
-/// caller reports the error once the OBJ is read.
-fn read_library(
-    dir: &Path,
-    name: &str,
-    failure: &RefCell<Option<anyhow::Error>>,
-) -> Option<String> {
-    let path = dir.join(name);
-    // Missing or unreadable: "not found"; a device, pipe or huge file: an error
-    let meta = fs::metadata(&path).ok()?;
-    let read = if meta.is_dir() {
-        return None;
-    } else {
-        crate::formats::read_capped_to(
-            &path,
-            crate::formats::input_cap(crate::formats::MAX_LIBRARY_BYTES),
-            "material libraries",
-        )
-    };
-    let bytes = match read {
-        Ok(bytes) => bytes,
-        Err(e) => {
-            failure.borrow_mut().get_or_insert(e);
-            return None;
-        }
-    };
-    match text_of(&path, bytes) {
-        Ok(text) => Some(text),
-        Err(e) => {
-            failure.borrow_mut().get_or_insert(e);
-            None
-        }
-    }
-}
-
 /// Formats a core error found in `path` as `file:line: what` (or `file: what`).
 pub fn located(path: &Path, err: &sceneinfo::Error) -> anyhow::Error {
     match err.line() {
@@ -283,38 +212,11 @@ pub fn load_scene(path: &Path) -> Result<LoadedScene> {
 /// # Errors
 /// As [`load_scene`].
 pub fn load_scene_with(path: &Path, options: &sceneinfo::io::ObjOptions) -> Result<LoadedScene> {
-    let (bytes, format, note) = crate::formats::read_scene_file(path)?;
-    let mut report = LoadReport::default();
-    if let Some(note) = note {
-        report.warn(None, note);
-    }
-    let scene = match format {
-        Format::Obj => {
-            let text = text_of(path, bytes)?;
-            let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-            let library_failure = RefCell::new(None);
-            let mtl = |name: &str| read_library(&dir, name, &library_failure);
-            let parsed = sceneinfo::io::parse_obj(&text, options, mtl);
-            // A library that is not UTF-8 first: it may be why the OBJ failed
-            if let Some(e) = library_failure.into_inner() {
-                return Err(e.context(format!("{}: material library", path.display())));
-            }
-            let (scene, mut obj_report) = parsed.map_err(|e| located(path, &e))?;
-            // The format note (if any) first, then what the OBJ reader found
-            obj_report.warnings.splice(0..0, report.warnings.drain(..));
-            report = obj_report;
-            Loaded::Solid(scene)
-        }
-        Format::Flat => {
-            let text = text_of(path, bytes)?;
-            let scene = sceneinfo::io::parse_flat(&text).map_err(|e| located(path, &e))?;
-            Loaded::Flat(scene)
-        }
-        Format::Gltf | Format::Glb => {
-            Loaded::Solid(crate::formats::gltf_scene::read(path, &bytes, &mut report)?)
-        }
-        Format::Ply => Loaded::Solid(crate::formats::ply_scene::read(path, &bytes, &mut report)?),
+    let options = crate::formats::LoadOptions {
+        obj: *options,
+        format: None,
     };
+    let (scene, report) = crate::formats::load_file(path, &options)?;
     Ok(LoadedScene { scene, report })
 }
 

@@ -64,6 +64,46 @@ pub fn core_error(py: Python<'_>, file: Option<&Path>, e: &sceneinfo::Error) -> 
     )
 }
 
+/// The Python exception of a scene file's load error ([`sceneinfo_formats::load`]): an
+/// `OSError` when the file (or a library or buffer it names) cannot be read, else a
+/// [`SceneinfoError`] worded as the CLI prints it, of the core's kind (or `'Format'` for a
+/// malformed glTF or PLY document, which its reader words).
+pub fn load_error(py: Python<'_>, file: &Path, e: &anyhow::Error) -> PyErr {
+    let info = sceneinfo_formats::classify(e);
+    let message = format!("{e:#}");
+    if info.class == sceneinfo_formats::ErrorClass::Io {
+        return pyo3::exceptions::PyOSError::new_err(message);
+    }
+    // What was wrong: the message without its `file:` or `file:line:` prefix
+    let shown = file.display().to_string();
+    let what = message
+        .strip_prefix(&shown)
+        .map(|rest| {
+            let rest = rest.strip_prefix(':').unwrap_or(rest);
+            let rest = match info.line {
+                Some(l) => rest
+                    .strip_prefix(&l.to_string())
+                    .and_then(|r| r.strip_prefix(':'))
+                    .unwrap_or(rest),
+                None => rest,
+            };
+            rest.trim_start().to_owned()
+        })
+        .unwrap_or_else(|| message.clone());
+    let kind = info
+        .kind
+        .as_ref()
+        .map_or_else(|| "Format".to_owned(), kind_name);
+    let err = SceneinfoError::new_err(message);
+    let value = err.value(py);
+    // Setting attributes on a fresh exception object cannot fail but for memory
+    let _ = value.setattr("file", shown);
+    let _ = value.setattr("line", info.line);
+    let _ = value.setattr("kind", kind);
+    let _ = value.setattr("message", what);
+    err
+}
+
 /// A [`SceneinfoError`] of the bindings' own (a bad argument), of kind `kind`.
 pub fn bad_argument(py: Python<'_>, kind: &str, what: &str) -> PyErr {
     raise(py, None, None, kind, what)

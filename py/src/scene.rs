@@ -8,11 +8,12 @@ use sceneinfo::io::partial::Partial;
 use sceneinfo::{LoadReport, ObjOptions, Scene, SceneFormat};
 
 use crate::arrays::{Floats, Ints, indices, materials, rows};
-use crate::error::{bad_argument, core_error, warn};
+use crate::error::{bad_argument, core_error, load_error, warn};
 
 /// A scene: flatland segments or 3D planar convex patches.
 ///
-/// Build one with `Scene.load(path)` (`.flat`, `.obj` with its MTL libraries),
+/// Build one with `Scene.load(path)` (`.flat`, `.obj` with its MTL libraries, glTF 2.0
+/// `.gltf`/`.glb`, `.ply`),
 /// `Scene.from_text`, `Scene.from_segments`, `Scene.from_triangles`,
 /// `Scene.from_polygons`, `Scene.preset` or `Scene.catalogue`.
 #[derive(Debug)]
@@ -27,27 +28,6 @@ pub struct PyScene {
     pub fingerprint: u64,
     /// What the loader skipped or repaired, as `line N: what (k times)` texts.
     pub load_warnings: Vec<String>,
-}
-
-/// The format of `path` by its extension (an OBJ read with `obj`).
-fn format_of(py: Python<'_>, path: &Path, obj: ObjOptions) -> PyResult<SceneFormat> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("flat") => Ok(SceneFormat::Flat),
-        Some("obj") => Ok(SceneFormat::Obj(obj)),
-        _ => Err(bad_argument(
-            py,
-            "UnknownFormat",
-            &format!(
-                "{}: unknown scene format (the Python package reads .flat and .obj; the \
-                 CLI also reads glTF and PLY)",
-                path.display()
-            ),
-        )),
-    }
 }
 
 /// The texts of a loader's warnings, as the CLI prints them (`line N: what (k times)`).
@@ -85,19 +65,17 @@ impl PyScene {
     /// Reads the scene in `path` (no warnings issued: see [`PyScene::issue_warnings`]), an
     /// OBJ with `obj`.
     pub fn read(py: Python<'_>, path: &Path, obj: ObjOptions) -> PyResult<Self> {
-        let format = format_of(py, path, obj)?;
-        let bytes = std::fs::read(path).map_err(|e| {
-            pyo3::exceptions::PyOSError::new_err(format!("{}: cannot read: {e}", path.display()))
-        })?;
-        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-        let mtl = |name: &str| std::fs::read_to_string(dir.join(name)).ok();
-        let (scene, report) = py
-            .detach(|| Scene::from_bytes(&bytes, format, mtl))
-            .map_err(|e| core_error(py, Some(path), &e))?;
+        let options = sceneinfo_formats::LoadOptions { obj, format: None };
+        let loaded = py.detach(|| {
+            let bytes = sceneinfo_formats::read_capped(path)?;
+            let fp = Partial::fingerprint(&bytes);
+            sceneinfo_formats::load(path, bytes, &options).map(|(s, r)| (s, r, fp))
+        });
+        let (scene, report, fp) = loaded.map_err(|e| load_error(py, path, &e))?;
         Ok(Self {
             scene,
             path: Some(path.to_path_buf()),
-            fingerprint: Partial::fingerprint(&bytes),
+            fingerprint: fp,
             load_warnings: warning_texts(&report),
         })
     }
@@ -170,10 +148,11 @@ impl<'a, 'py> FromPyObject<'a, 'py> for SceneArg<'py> {
 
 #[pymethods]
 impl PyScene {
-    /// Reads a scene file: `.flat` (flatland) or `.obj` (3D; `mtllib` names are read from
-    /// the OBJ's folder; `emit_from_ka`: a material's `Ka` is its emittance, as the CLI's
-    /// `radiosity --emit-from-ka`). What the loader skipped or repaired is issued as
-    /// `SceneinfoWarning`s and kept in `load_warnings`.
+    /// Reads a scene file as the CLI does, its format told by content, then extension:
+    /// `.flat` (flatland), `.obj` (3D; `mtllib` names are read from the OBJ's folder;
+    /// `emit_from_ka`: a material's `Ka` is its emittance, as the CLI's
+    /// `radiosity --emit-from-ka`), glTF 2.0 (`.gltf`, `.glb`) or PLY. What the loader
+    /// skipped or repaired is issued as `SceneinfoWarning`s and kept in `load_warnings`.
     ///
     /// Raises `SceneinfoError` (with `file`, `line`, `kind`) for a malformed file, `OSError`
     /// when it cannot be read.

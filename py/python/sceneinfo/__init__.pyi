@@ -60,8 +60,8 @@ class Scene:
 
     @staticmethod
     def load(path: _Path, emit_from_ka: bool = False) -> Scene:
-        """Reads a .flat or .obj file (MTL libraries from the OBJ's folder; Ka as emittance
-        with emit_from_ka)."""
+        """Reads a .flat, .obj (MTL libraries from the OBJ's folder; Ka as emittance with
+        emit_from_ka), .gltf/.glb or .ply file, its format told by content, then extension."""
     @staticmethod
     def from_text(text: str, format: Literal["flat", "obj"] = "flat") -> Scene: ...
     @staticmethod

@@ -49,7 +49,7 @@ pub fn add_face(
     }
     builder
         .face_as_drawn(vertices, Subdivision::None, report, None)
-        .map_err(|e| anyhow::anyhow!("{}: {location}: {}", path.display(), e.kind()))
+        .map_err(|e| crate::located_at(path, location, e.kind()))
 }
 
 /// The scene `builder` holds, coincident faces resolved as the OBJ reader resolves them
@@ -66,6 +66,6 @@ pub fn build(builder: Scene3Builder, report: &mut LoadReport, path: &Path) -> Re
             (ErrorKind::EmptyScene, Some(skipped)) => {
                 anyhow::anyhow!("{}: {} ({skipped})", path.display(), e.kind())
             }
-            _ => crate::output::located(path, &e),
+            _ => crate::located(path, &e),
         })
 }

@@ -441,7 +441,7 @@ impl Reader<'_> {
                 || "the default material".to_owned(),
                 |k| format!("material {k}"),
             );
-            anyhow::anyhow!("{}: {which}: {}", self.path.display(), e.kind())
+            crate::located_at(self.path, which, e.kind())
         })?;
         if clamped {
             report.warn(None, LoadWarningKind::BaseColorClamped);

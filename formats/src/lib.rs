@@ -1,5 +1,8 @@
-//! Scene file formats: which one a file is (by its content, the extension only breaking
-//! ties) and the readers of the mesh formats, glTF 2.0 and PLY.
+//! Scene files for every front end of sceneinfo (the CLI, the Python package, the C
+//! library): which format a file is (by its content, the extension only breaking ties),
+//! the readers of the mesh formats glTF 2.0 and PLY, and [`load`], the one function that
+//! turns a file's bytes into a [`sceneinfo::Scene`] and its [`LoadReport`](sceneinfo::io::LoadReport). The core stays
+//! free of the glTF and PLY crates; this crate is where they live.
 //!
 //! | format | recognised by | read by |
 //! |---|---|---|
@@ -11,9 +14,20 @@
 //!
 //! A file whose content is clearly of a format other than its extension says is read as
 //! its content says, with a [`LoadWarningKind::FormatByContent`] note.
+//!
+//! Errors are `anyhow` errors worded as the CLI prints them (`file:line: what`,
+//! `file: where: what`); [`classify`] tells a binding whether one is about reading the file
+//! or about its content, and the line and core error kind when there is one.
 
 pub mod gltf_scene;
+mod load;
+pub mod mesh;
 pub mod ply_scene;
+
+pub(crate) use load::located_at;
+pub use load::{
+    ErrorClass, ErrorInfo, LoadOptions, Located, classify, load, load_file, located, text_of,
+};
 
 use std::fs;
 use std::io::Read;
@@ -170,16 +184,13 @@ fn looks_like_gltf_json(bytes: &[u8]) -> bool {
     bytes.windows(7).any(|w| w == b"\"asset\"")
 }
 
-/// A scene file's bytes and format: files over [`MAX_FILE_BYTES`] are refused before
-/// reading; the format comes from the content, else the extension, else flat. A content
-/// that disagrees with a known extension adds a [`LoadWarningKind::FormatByContent`] note.
-///
-/// # Errors
-/// `file: cannot read`, or `file: N bytes, more than the cap`.
-pub fn read_scene_file(path: &Path) -> Result<(Vec<u8>, Format, Option<LoadWarningKind>)> {
-    let bytes = read_capped(path)?;
+/// The format of `bytes`, read from `path`: by content, else the extension, else flat. A
+/// content that disagrees with a known extension gives a [`LoadWarningKind::FormatByContent`]
+/// note.
+#[must_use]
+pub fn detect(path: &Path, bytes: &[u8]) -> (Format, Option<LoadWarningKind>) {
     let by_extension = Format::of_extension(path);
-    let format = sniff(&bytes).or(by_extension).unwrap_or(Format::Flat);
+    let format = sniff(bytes).or(by_extension).unwrap_or(Format::Flat);
     let note = match by_extension {
         Some(ext) if !ext.agrees(format) => Some(LoadWarningKind::FormatByContent {
             extension: sceneinfo::error::token(
@@ -189,8 +200,21 @@ pub fn read_scene_file(path: &Path) -> Result<(Vec<u8>, Format, Option<LoadWarni
         }),
         _ => None,
     };
-    Ok((bytes, format, note))
+    (format, note)
 }
+
+/// A file refused before or while reading it (not a regular file, over its cap): the
+/// message as printed. [`classify`] calls it a reading error, as an I/O error.
+#[derive(Debug)]
+pub struct FileRefused(pub String);
+
+impl std::fmt::Display for FileRefused {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for FileRefused {}
 
 /// The input cap set by `--max-input`, if given ([`set_max_input`]).
 static MAX_INPUT: OnceLock<u64> = OnceLock::new();
@@ -245,19 +269,20 @@ pub fn read_capped_to(path: &Path, cap: u64, what: &str) -> Result<Vec<u8>> {
     // Asked before opening: opening a FIFO waits for a writer
     let meta = fs::metadata(path).with_context(|| format!("{}: cannot read", path.display()))?;
     if !meta.is_file() {
-        anyhow::bail!(
+        return Err(FileRefused(format!(
             "{}: not a regular file (a device, pipe or folder): refused",
             path.display()
-        );
+        ))
+        .into());
     }
     // The cap in bytes and in the unit it was written in (2 GiB, 64 MiB)
     let unit = binary_size(cap).map_or(String::new(), |u| format!(" ({u})"));
     let too_large = |size: u64| {
-        anyhow::anyhow!(
+        anyhow::Error::new(FileRefused(format!(
             "{}: {size} bytes, larger than {cap} bytes{unit}, the cap on {what}; \
              raise --max-input",
             path.display()
-        )
+        )))
     };
     if meta.len() > cap {
         return Err(too_large(meta.len()));

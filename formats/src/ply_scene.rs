@@ -1,7 +1,7 @@
 //! The one PLY reader (ASCII, binary little- and big-endian), on the `ply-rs-bw` crate:
 //! scenes ([`read`]), the reference solutions of `refine --reference` (faces with their
 //! radiosities, [`read_mesh`]) and, in tests, the files our own writer
-//! ([`crate::ply::Ply`]) makes.
+//! (the CLI's `ply::Ply`) makes.
 //!
 //! What is read: the header's comments, the `vertex` element's `x y z` (any numeric type)
 //! and `red green blue`, the `face` element's `vertex_indices` (or `vertex_index`) lists
