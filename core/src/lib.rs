@@ -118,10 +118,10 @@ pub mod viewpoint;
 
 #[cfg(feature = "alloc")]
 pub use api::{
-    AUTO_MAX_LINES, AUTO_START_LINES, ChunkWork, ChunksDone, Executor, Job, Lighting, LineBudget,
-    LineJob, LineRun, LineRunInfo, LineSession, LitLines, Measurement, RadiosityJob, Scene,
-    SceneFormat, SceneTracer, Serial, cast_chunks, cast_lines, measure, measure_exact,
-    measure_partial, solve_radiosity,
+    AUTO_MAX_LINES, AUTO_START_LINES, ChunkWork, ChunksDone, ExactErrors, Executor, Job, Lighting,
+    LineBudget, LineJob, LineRun, LineRunInfo, LineSession, LitLines, Measurement, RadiosityJob,
+    Scene, SceneFormat, SceneTracer, Serial, cast_chunks, cast_lines, measure, measure_exact,
+    measure_exact_within, measure_partial, solve_radiosity,
 };
 pub use api::{
     CHECK_TOLERANCE, FEW_STDERR_GROUPS, NEARLY_CLOSED_DEFICIT, Warning, channel_warnings,
