@@ -56,11 +56,13 @@
 //! the estimate divided by `A_i` (`A_j`) is the error estimate of `F_ij` (`F_ji`), at most
 //! `tol` for both unless the cap stopped the pair ([`OccludedFormFactors::over_tolerance`]).
 //!
-//! **The estimate is a-posteriori, not a bound**: `|Q_fine − Q_coarse|` bounds the error
-//! of the returned finer value when the finer rule is much closer to the integral than the
-//! coarser (smooth leaves: the error falls by about 2⁶ per split; a kink: about 2³), which
-//! fails only when both rules miss a feature smaller than the leaf (an occluder whose
-//! shadow appears between all 35 points of a triangle).
+//! **The estimate is a-posteriori, not a bound**: a leaf's estimate is
+//! `4 |Q_fine − Q_coarse|` (the factor and its reason in `outer.rs`, `SAFETY`); it bounds
+//! the error of the returned finer value when the finer rule is several times closer to the
+//! integral than the coarser (smooth leaves: about 2⁶; a kink: about 4 on average), which
+//! fails on leaves whose two rules happen to err alike, and when both rules miss a feature
+//! smaller than the leaf (an occluder whose shadow falls between all 35 points of a
+//! triangle).
 //!
 //! # Culling
 //!

@@ -163,7 +163,9 @@ fn coaxial_plates_with_a_centred_blocker() {
 /// by Lambert's contour formula, [`point_to_polygon`], tested against Howell's closed forms
 /// in `exact_3d`). It is smooth between the visibility events, whose positions are solved
 /// for: in `y₀` for each `x₀` (a shadow edge `y₀ + s(Y − y₀)` crossing `y = 0, 1`), and in
-/// `x₀` where a `z` edge `s Z` crosses `z = 1`, or the `y` events cross the floor's edges.
+/// `x₀` where a `z` edge `s Z` crosses `z = 1`, or the `y` events cross the floor's edges;
+/// graded towards the shared edge (`x₀ = 0`) and, for each `x₀`, towards the wall's side
+/// edges (`y₀ = 0, 1`), where the integrand varies over a length `x₀`.
 fn perpendicular_reference(h: f64, (y1, y2): (f64, f64), (z1, z2): (f64, f64)) -> f64 {
     let wall = [v(0., 0., 0.), v(0., 1., 0.), v(0., 1., 1.), v(0., 0., 1.)];
     let inner = |x0: f64, y0: f64| {
@@ -183,7 +185,10 @@ fn perpendicular_reference(h: f64, (y1, y2): (f64, f64), (z1, z2): (f64, f64)) -
     };
     // x0 events: s Z = 1, and the y events y0 = (E − s Y)/(1 − s) reaching y0 = 0 or 1.
     let x_of_s = |s: f64| if s > 1.0 { s * h / (s - 1.0) } else { f64::NAN };
-    let mut x_breaks = vec![h];
+    // Geometric grading towards the shared edge x₀ = 0, where F_{dx→wall} has an
+    // x₀ ln x₀ term that one Gauss–Legendre interval would integrate only to ~10⁻⁷.
+    let mut x_breaks: Vec<f64> = (1..40).map(|k| h * crate::math::pow(0.5, f64::from(k))).collect();
+    x_breaks.push(h);
     for z in [z1, z2] {
         x_breaks.push(x_of_s(1.0 / z));
     }
@@ -199,7 +204,13 @@ fn perpendicular_reference(h: f64, (y1, y2): (f64, f64), (z1, z2): (f64, f64)) -
     }
     x_breaks.retain(|t| t.is_finite());
     integrate_1d(0.0, 1.0, &x_breaks, &mut |x0| {
-        let mut y_breaks = Vec::new();
+        // Graded towards the wall's side edges y₀ = 0, 1, where F_{dx→wall} changes over a
+        // length x₀.
+        let mut y_breaks: Vec<f64> = (0..60)
+            .map(|k| x0 * crate::math::pow(2.0, f64::from(k)))
+            .take_while(|&t| t < 0.5)
+            .flat_map(|t| [t, 1.0 - t])
+            .collect();
         if x0 > h {
             let s = x0 / (x0 - h);
             for e in [0.0, 1.0] {
