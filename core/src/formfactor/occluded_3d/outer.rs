@@ -38,9 +38,9 @@ const RULE: [(f64, f64, f64); 7] = {
 /// smooth the finer rule's error is about 2⁻⁶ of the coarser's, across a kink (a visibility
 /// event) about 2⁻² on average over the leaves along it, but not leaf by leaf: a leaf
 /// whose two rules err alike shows a small difference. With the plain difference the
-/// first references (the coaxial plates with a blocker, the perpendicular pair with a
-/// partial blocker) came out 1.5 and 2.4 times their estimates, so the difference is
-/// weighted by 4. A heuristic, as in every a-posteriori estimate of this kind (QUADPACK's
+/// coaxial plates with a centred blocker (a reference exact to rounding) came out 1.5 times
+/// their estimate at tolerance 10⁻⁶, so the difference is weighted by 4 (the perpendicular
+/// pair's 2.4 times, seen at the same time, was its reference's own error, since graded). A heuristic, as in every a-posteriori estimate of this kind (QUADPACK's
 /// `200 |Δ|^{3/2}` is another).
 pub const SAFETY: f64 = 4.0;
 

@@ -187,7 +187,9 @@ fn perpendicular_reference(h: f64, (y1, y2): (f64, f64), (z1, z2): (f64, f64)) -
     let x_of_s = |s: f64| if s > 1.0 { s * h / (s - 1.0) } else { f64::NAN };
     // Geometric grading towards the shared edge x₀ = 0, where F_{dx→wall} has an
     // x₀ ln x₀ term that one Gauss–Legendre interval would integrate only to ~10⁻⁷.
-    let mut x_breaks: Vec<f64> = (1..40).map(|k| h * crate::math::pow(0.5, f64::from(k))).collect();
+    let mut x_breaks: Vec<f64> = (1..40)
+        .map(|k| h * crate::math::pow(0.5, f64::from(k)))
+        .collect();
     x_breaks.push(h);
     for z in [z1, z2] {
         x_breaks.push(x_of_s(1.0 / z));
