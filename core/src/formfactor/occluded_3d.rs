@@ -55,6 +55,8 @@
 //! is reached. The flux gives both `F_ij` and `F_ji` (2.8), so reciprocity holds exactly;
 //! the estimate divided by `A_i` (`A_j`) is the error estimate of `F_ij` (`F_ji`), at most
 //! `tol` for both unless the cap stopped the pair ([`OccludedFormFactors::over_tolerance`]).
+//! A row whose sum exceeds 1 (a closed scene's, within its estimates) is scaled back to 1
+//! keeping reciprocity, the change added to the estimates (`cap_rows`).
 //!
 //! **The estimate is a-posteriori, not a bound**: a leaf's estimate is
 //! `4 |Q_fine − Q_coarse|` (the factor and its reason in `outer.rs`, `SAFETY`); it bounds
@@ -441,6 +443,7 @@ pub fn form_factors_occluded(
         }
     }
     let areas: Vec<f64> = polys.iter().map(|(_, p)| p.area).collect();
+    cap_rows(&mut f, &mut errors, n);
     Ok(OccludedFormFactors {
         form_factors: FormFactors::from_patch_matrix(&areas, f)?,
         errors,
@@ -449,6 +452,31 @@ pub fn form_factors_occluded(
         over_tolerance,
         points: total_points,
     })
+}
+
+/// Rows above 1 (a closed scene's rows within their estimates of 1, from either side) are
+/// brought to 1 without breaking reciprocity: with `c_i = 1 / Σ_j F_ij` where the sum
+/// exceeds 1 (else 1), each `F_ij` becomes `F_ij · min(c_i, c_j)` (the flux `A_i F_ij` is
+/// scaled alike from both ends, so `A_i F_ij = A_j F_ji` stays; row `i` sums to at most
+/// `c_i Σ_j F_ij = 1`). The change is added to the pair's error estimate.
+fn cap_rows(f: &mut [f64], errors: &mut [f64], n: usize) {
+    let c: Vec<f64> = f
+        .chunks_exact(n.max(1))
+        .map(|row| {
+            let s = crate::math::sum(row.iter().copied());
+            if s > 1.0 { 1.0 / s } else { 1.0 }
+        })
+        .collect();
+    for (i, &ci) in c.iter().enumerate() {
+        for (j, &cj) in c.iter().enumerate() {
+            let k = ci.min(cj);
+            if k < 1.0 {
+                let old = f[i * n + j];
+                f[i * n + j] = old * k;
+                errors[i * n + j] += old - f[i * n + j];
+            }
+        }
+    }
 }
 
 /// [`form_factors_occluded`] of a scene's patches.
