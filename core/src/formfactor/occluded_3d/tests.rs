@@ -296,7 +296,13 @@ fn closed_room_with_a_box_closes_within_the_estimates() {
     let r = form_factors_occluded(&points, &polys, &OcclusionOptions::new(tol)).unwrap();
     assert!(r.pairs_integrated > 0);
     assert_eq!(r.over_tolerance, 0);
-    assert!(r.max_error() <= tol);
+    // Each pair within the tolerance, plus what bringing rows above 1 back to 1 added
+    // (at most the row's excess, itself within the row's estimates).
+    assert!(
+        r.max_error() <= tol + r.max_row_error(),
+        "{:e}",
+        r.max_error()
+    );
     let n = polys.len();
     let ff = &r.form_factors;
     for i in 0..n {
