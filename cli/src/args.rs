@@ -446,6 +446,13 @@ pub struct SamplingArgs {
     /// this (bytes, or with a suffix K, M, G, T = 2^10, 2^20, 2^30, 2^40: `512M`, `1.5G`).
     #[arg(long, value_name = "SIZE", value_parser = parse_bytes)]
     pub max_memory: Option<u64>,
+    /// Exact form factors of a 3D scene where some patch may hide another: the target
+    /// absolute error of each F_ij (default 1e-6, from 1e-10 to 1). The visible part of a
+    /// patch from each point is exact; the integral over the source is adaptive, and its
+    /// error estimate (a-posteriori, not a proof) is reported. Pairs no patch can come
+    /// between stay exact. Not with --lines.
+    #[arg(long, value_name = "TOL")]
+    pub tol: Option<f64>,
 }
 
 /// Parses a memory size: bytes (`1000000`, `1e9`) or a number with a binary suffix `K`,

@@ -5,10 +5,11 @@
 use std::path::Path;
 
 use anyhow::Result;
+use sceneinfo::formfactor::occluded_3d::{self, OcclusionOptions};
 use sceneinfo::tally::LineTracer;
 use sceneinfo::{
-    Coverage, FormFactors, Job, LineBudget, LineJob, LineMethod, LoadReport, Measurement, Scene,
-    Serial,
+    Coverage, ExactErrors, FormFactors, Job, LineBudget, LineJob, LineMethod, LoadReport,
+    Measurement, Scene,
 };
 
 use crate::args::{LinesArg, SamplingArgs};
@@ -75,17 +76,27 @@ pub fn check_supported(
     Err(located(path, &kind.into()))
 }
 
-/// Runs `job` on `scene` (from `path`): exact on this thread, lines on `threads` threads
-/// ([`Threads`]: progress, Ctrl-C).
+/// Runs `job` on `scene` (from `path`): exact on this thread (3D with occlusion to `tol`,
+/// default [`occluded_3d::DEFAULT_TOLERANCE`]), lines on `threads` threads ([`Threads`]:
+/// progress, Ctrl-C).
 ///
 /// # Errors
 /// The façade's errors as `file:line: what` (exact 3D form factors of an occluded scene as
 /// a job refusal, [`crate::output::exact_error`]); [`Interrupted`] when Ctrl-C stopped
 /// the lines before any result could be formed.
-pub fn run_job(path: &Path, scene: &Scene, job: &Job, threads: usize) -> Result<Measurement> {
+pub fn run_job(
+    path: &Path,
+    scene: &Scene,
+    job: &Job,
+    threads: usize,
+    tol: Option<f64>,
+) -> Result<Measurement> {
     let result = match job {
         // Exact form factors do not poll: Ctrl-C there ends the process at once
-        Job::Exact => sceneinfo::measure(scene, job, &mut Serial),
+        Job::Exact => sceneinfo::measure_exact_within(
+            scene,
+            &OcclusionOptions::new(tol.unwrap_or(occluded_3d::DEFAULT_TOLERANCE)),
+        ),
         Job::Lines(_) => sceneinfo::measure(scene, job, &mut Threads::new(threads)),
     };
     result.map_err(|e| {
@@ -118,6 +129,12 @@ pub fn measure_file(
     let scene = loaded.scene;
     let threads = threads_of(sampling);
     let job = job_of(sampling, budget_of(sampling, path)?);
+    if sampling.tol.is_some() && !matches!(job, Job::Exact) {
+        anyhow::bail!(
+            "{}: --tol is the tolerance of exact form factors, not of --lines",
+            path.display()
+        );
+    }
     // The large tables, before anything is allocated for them: one tally per thread and
     // the merged total
     if let Some(limit) = sampling.max_memory {
@@ -125,7 +142,7 @@ pub fn measure_file(
         job.check_memory(scene.n_patches(), tallies, limit)
             .map_err(at)?;
     }
-    let m = run_job(path, &scene, &job, threads)?;
+    let m = run_job(path, &scene, &job, threads, sampling.tol)?;
     Ok((m, report))
 }
 
@@ -136,14 +153,20 @@ pub fn measure_file(
 /// Besides [`measure_file`]'s, [`Interrupted`] when Ctrl-C stopped the lines early (so
 /// that no partial matrix is written as if it were the one asked for), and
 /// [`unsampled_error`] when some patch received no line.
-pub fn form_factors_of(path: &Path, sampling: &SamplingArgs) -> Result<FormFactors> {
+pub fn form_factors_of(
+    path: &Path,
+    sampling: &SamplingArgs,
+) -> Result<(FormFactors, Option<ExactErrors>)> {
     let (m, _) = measure_file(path, sampling)?;
     if m.line_run().is_some_and(|r| r.interrupted) {
         return Err(Interrupted { partial: None }.into());
     }
     let coverage = m.coverage().copied();
-    m.into_form_factors()
-        .ok_or_else(|| unsampled_error(path, coverage.as_ref(), "no matrix written"))
+    let errors = m.exact_errors().cloned();
+    let ff = m
+        .into_form_factors()
+        .ok_or_else(|| unsampled_error(path, coverage.as_ref(), "no matrix written"))?;
+    Ok((ff, errors))
 }
 
 /// The error of a command that needs every row of `F` when some patch received none of

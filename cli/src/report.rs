@@ -79,7 +79,18 @@ pub fn print_report(
             sceneinfo_report::write_load_report(&mut o, load, false)?;
         }
         match mc {
-            None => o.string("form_factors", "exact")?,
+            None => {
+                o.string("form_factors", "exact")?;
+                if let Some(e) = m.exact_errors() {
+                    // Only for 3D scenes with occluded pairs: the estimates of the adaptive
+                    // outer integral (a-posteriori)
+                    o.number("tolerance", e.tolerance)?;
+                    o.number("max_error_estimate", e.max_error)?;
+                    o.number("max_row_error_estimate", e.max_row_error)?;
+                    o.integer("pairs_integrated", e.pairs_integrated as u64)?;
+                    o.integer("pairs_over_tolerance", e.over_tolerance as u64)?;
+                }
+            }
             Some(mc) => {
                 let run = LineRunReport {
                     method: mc.method,
@@ -114,8 +125,24 @@ pub fn print_report(
             "{}",
             table(&file.display().to_string(), &report, mc, seconds)
         )?;
+        if let Some(e) = m.exact_errors() {
+            writeln!(
+                out,
+                "F with occlusion: error estimate max {:.2e} per F_ij, {:.2e} per row (tolerance {:e}; {} pairs integrated, {} over the tolerance)",
+                e.max_error, e.max_row_error, e.tolerance, e.pairs_integrated, e.over_tolerance
+            )?;
+        }
     }
     out.flush()?;
+    if let Some(e) = m.exact_errors().filter(|e| e.over_tolerance > 0) {
+        eprintln!(
+            "sceneinfo: warning: {}: {} pairs stopped at the work cap with an error estimate              above the tolerance {:e} (largest {:.2e})",
+            file.display(),
+            e.over_tolerance,
+            e.tolerance,
+            e.max_error
+        );
+    }
     match mc {
         Some(mc) if mc.interrupted => Err(Interrupted {
             partial: Some((mc.lines, mc.requested, mc.budget_done)),

@@ -514,18 +514,33 @@ fn every_command_gives_a_file_the_same_load_verdict() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
-/// A job refusal is worded apart from a load refusal: exact form factors of a 3D scene
-/// whose patches may hide one another are refused by `measure` without `--lines`, while
-/// the same file measures with lines.
+/// Exact form factors of a 3D scene whose patches may hide one another are computed with
+/// occlusion (they were refused before): `measure` prints the error estimate.
 #[test]
-fn a_job_refusal_says_the_scene_is_valid() {
+fn an_occluded_scene_is_measured_exactly_with_an_error_estimate() {
     let cornell = root().join("tests/data/corpus/obj/cornell_box/cornell_box.obj");
-    let out = bin().arg("measure").arg(&cornell).output().unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{err}");
+    let out = bin()
+        .arg("measure")
+        .arg(&cornell)
+        .args(["--tol", "1e-3"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
     assert!(
-        err.contains(&format!("{}: {JOB_REFUSAL}", cornell.display()))
-            && err.contains("use --lines N"),
-        "{err}"
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
     );
+    assert!(
+        text.contains("F with occlusion: error estimate max"),
+        "{text}"
+    );
+    // --tol belongs to exact form factors
+    let out = bin()
+        .arg("measure")
+        .arg(&cornell)
+        .args(["--tol", "1e-3", "--lines", "1000"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
 }

@@ -50,7 +50,10 @@ pub use executor::{ChunkWork, ChunksDone, Executor, LineRun, Serial, cast_chunks
 #[cfg(feature = "alloc")]
 pub use job::{Job, LineBudget, LineJob};
 #[cfg(feature = "alloc")]
-pub use measurement::{LineRunInfo, Measurement, measure, measure_exact, measure_partial};
+pub use measurement::{
+    ExactErrors, LineRunInfo, Measurement, measure, measure_exact, measure_exact_within,
+    measure_partial,
+};
 #[cfg(feature = "alloc")]
 pub use radiosity::{Lighting, LitLines, RadiosityJob, solve_radiosity};
 #[cfg(feature = "alloc")]

@@ -13,6 +13,9 @@
 //!   formula, polygon-to-polygon by the double contour integral), an occlusion detector and
 //!   the spherical-patches model. In 3D, (2.9):
 //!   `F_ij = 1/A_i ∫∫ cos θ_x cos θ_y / (π r²) V(x, y) dA_y dA_x`.
+//! - [`occluded_3d`] (feature `alloc`): 3D form factors with occlusion — the visible part of
+//!   a polygon from each point exactly (polygon clipping), the outer integral adaptive, each
+//!   `F_ij` with an a-posteriori error estimate.
 //! - [`quadrature`] (feature `alloc`): `I_S^c` by deterministic quadrature.
 //!
 //! Monte Carlo form factors live in [`crate::trace`] (the tracers) and [`crate::tally`] (what
@@ -23,6 +26,8 @@
 
 pub mod exact_2d;
 pub mod exact_3d;
+#[cfg(feature = "alloc")]
+pub mod occluded_3d;
 #[cfg(feature = "alloc")]
 pub mod quadrature;
 

@@ -121,9 +121,10 @@ pub mod viewpoint;
 
 #[cfg(feature = "alloc")]
 pub use api::{
-    ChunkWork, ChunksDone, Executor, Job, Lighting, LineBudget, LineJob, LineRun, LineRunInfo,
-    LineSession, LitLines, Measurement, RadiosityJob, Scene, SceneFormat, SceneTracer, Serial,
-    cast_chunks, cast_lines, measure, measure_exact, measure_partial, solve_radiosity,
+    ChunkWork, ChunksDone, ExactErrors, Executor, Job, Lighting, LineBudget, LineJob, LineRun,
+    LineRunInfo, LineSession, LitLines, Measurement, RadiosityJob, Scene, SceneFormat, SceneTracer,
+    Serial, cast_chunks, cast_lines, measure, measure_exact, measure_exact_within, measure_partial,
+    solve_radiosity,
 };
 pub use api::{Warning, channel_warnings};
 pub use error::{Error, ErrorKind, Result};

@@ -3,4 +3,5 @@
 mod agreement;
 mod bundles;
 mod bundles3d;
+mod occluded3d;
 mod proposition_2;

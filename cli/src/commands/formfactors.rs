@@ -14,7 +14,7 @@ use crate::output::write_atomic;
 use crate::report::{csv, rows};
 
 pub fn run(args: &FormFactorsArgs) -> Result<()> {
-    let ff = crate::job::form_factors_of(&args.file, &args.sampling)?;
+    let (ff, errors) = crate::job::form_factors_of(&args.file, &args.sampling)?;
     let ext = args
         .out
         .extension()
@@ -75,6 +75,27 @@ pub fn run(args: &FormFactorsArgs) -> Result<()> {
         c.max_row_sum_error,
         ff.max_row_deficit()
     )?;
+    if let Some(e) = &errors {
+        // Occluded 3D pairs: reciprocity holds by construction (one flux per pair), each
+        // F_ij and each row sum carry an a-posteriori error estimate
+        writeln!(
+            out,
+            "error estimate      {}  (max over F_ij {:.2e}, tolerance {:e}; {} pairs integrated with occluders, {} over the tolerance)",
+            yes(e.over_tolerance == 0 && e.max_error <= e.tolerance),
+            e.max_error,
+            e.tolerance,
+            e.pairs_integrated,
+            e.over_tolerance
+        )?;
+        // A closed scene's rows lose at most their estimates (an open scene's lose more)
+        writeln!(
+            out,
+            "rows in estimate    {}  (largest loss before any background {:.2e}, largest row estimate {:.2e}; NO is expected for an open scene)",
+            yes(ff.max_row_deficit() <= e.max_row_error.max(CHECK_TOLERANCE)),
+            ff.max_row_deficit(),
+            e.max_row_error
+        )?;
+    }
     out.flush()?;
     Ok(())
 }

@@ -198,8 +198,10 @@ impl LineJob {
 /// What to measure a scene with.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Job {
-    /// Exact form factors: flatland with occlusion (crossed strings, 2.1.6), 3D when no
-    /// polygon can hide another (the contour integral, 2.16).
+    /// Exact form factors: flatland with occlusion (crossed strings, 2.1.6); 3D by the
+    /// contour integral (2.16), with occlusion by exact visibility from each point and an
+    /// adaptive outer integral to [`crate::formfactor::occluded_3d::DEFAULT_TOLERANCE`]
+    /// ([`crate::measure_exact_within`] for another tolerance).
     Exact,
     /// Monte Carlo form factors (2.36, 2.37) and `I_S^c` (4.8, 4.13) from lines.
     Lines(LineJob),

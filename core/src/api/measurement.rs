@@ -6,7 +6,8 @@ use alloc::vec::Vec;
 use crate::channel::{Checks, Measures};
 use crate::continuous::ContinuousEstimate;
 use crate::error::{ErrorKind, Result};
-use crate::formfactor::{FormFactors, exact_2d, exact_3d};
+use crate::formfactor::occluded_3d::{self, OcclusionOptions};
+use crate::formfactor::{FormFactors, exact_2d};
 use crate::io::partial::{JobId, Partial};
 use crate::tally::coverage::Coverage;
 use crate::tally::{LineMethod, LineTally, LineTracer, UNSUPPORTED_BY_TRACER};
@@ -62,6 +63,27 @@ pub struct Measurement {
     run: Option<LineRunInfo>,
     patch_continuous: Option<Vec<f64>>,
     pair_continuous: Option<Vec<f64>>,
+    exact_errors: Option<ExactErrors>,
+}
+
+/// The error estimates of exact 3D form factors with occlusion
+/// ([`crate::formfactor::occluded_3d`]): a-posteriori estimates of the adaptive outer
+/// integral, not rigorous bounds.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct ExactErrors {
+    /// The tolerance asked for on each `F_ij`.
+    pub tolerance: f64,
+    /// The largest estimate of any `F_ij`.
+    pub max_error: f64,
+    /// The largest estimate of a row sum `Σ_j F_ij` (closure is checked against it).
+    pub max_row_error: f64,
+    /// Unordered pairs integrated adaptively (those with candidate occluders).
+    pub pairs_integrated: usize,
+    /// Unordered pairs whose estimate exceeds the tolerance (stopped by the work cap).
+    pub over_tolerance: usize,
+    /// Row-major `n × n` estimates of `|ΔF_ij|` (0 for the exact unoccluded pairs).
+    pub per_pair: Vec<f64>,
 }
 
 impl Measurement {
@@ -84,6 +106,7 @@ impl Measurement {
             run,
             patch_continuous,
             pair_continuous: pair_continuous.flatten(),
+            exact_errors: None,
         })
     }
 
@@ -98,6 +121,7 @@ impl Measurement {
             run: Some(run),
             patch_continuous: Some(tally.patch_continuous()),
             pair_continuous: None,
+            exact_errors: None,
         }
     }
 
@@ -270,6 +294,13 @@ impl Measurement {
         self.run.as_ref()
     }
 
+    /// The error estimates of exact 3D form factors with occlusion, when some pair was
+    /// integrated adaptively (`None` for flatland, unoccluded 3D scenes and lines).
+    #[must_use]
+    pub fn exact_errors(&self) -> Option<&ExactErrors> {
+        self.exact_errors.as_ref()
+    }
+
     /// Lines cast (0 for exact form factors).
     #[must_use]
     pub fn lines(&self) -> u64 {
@@ -321,13 +352,12 @@ pub(super) fn relative(sizes: &[f64]) -> Vec<f64> {
 ///
 /// [`Job::Exact`]: flatland form factors with occlusion
 /// ([`crate::formfactor::exact_2d::form_factors`]), 3D ones of unoccluded scenes
-/// ([`crate::formfactor::exact_3d::scene_form_factors`]). [`Job::Lines`]: the lines of the
+/// ([`measure_exact`]; [`measure_exact_within`] for occluded ones). [`Job::Lines`]: the lines of the
 /// job's budget ([`crate::cast_lines`]), then `F̂_ij = C_ij / C_i` (2.36, 2.37) and `I_S^c`
 /// (4.8, 4.13), or, when some patch received no line, `I_S^c` and the coverage alone.
 ///
 /// # Errors
-/// [`ErrorKind::MayBeOccluded`] for exact form factors of a 3D scene in which some patch
-/// may hide another (cast lines instead); the budget's errors ([`LineJob::check`]);
+/// The exact form factors' ([`measure_exact`]); the budget's errors ([`LineJob::check`]);
 /// [`ErrorKind::BadParameter`] (`"chunks"`) for a job of some chunks only (that is
 /// [`measure_partial`]'s); [`ErrorKind::UnsupportedMethod`]; [`ErrorKind::NoLines`] when
 /// no line was cast; the form factors' and the channel's errors.
@@ -351,18 +381,47 @@ pub fn measure(scene: &Scene, job: &Job, executor: &mut dyn Executor) -> Result<
 
 /// [`measure`] of [`Job::Exact`]: exact flatland form factors with occlusion
 /// ([`exact_2d::form_factors`]), or exact unoccluded 3D ones
-/// ([`exact_3d::scene_form_factors`], refused when a polygon may hide another). A caller
-/// that never casts lines (the browser lab's exact measures) calls this and does not link
-/// the tracers.
+/// ([`crate::formfactor::exact_3d::scene_form_factors`]; [`ErrorKind::MayBeOccluded`] when a
+/// polygon may hide another — [`measure_exact_within`] computes those, with occlusion, to a
+/// tolerance the caller chooses: their cost grows with it and with the occluders, so it is
+/// never a default). A caller that never casts lines (the browser lab's exact measures)
+/// calls this and does not link the tracers.
 ///
 /// # Errors
 /// The exact form factors' and the channel's.
 pub fn measure_exact(scene: &Scene) -> Result<Measurement> {
     let ff = match scene {
         Scene::Flat(s) => exact_2d::form_factors(s)?,
-        Scene::Solid(s) => exact_3d::scene_form_factors(s)?,
+        Scene::Solid(s) => crate::formfactor::exact_3d::scene_form_factors(s)?,
     };
     Measurement::of(ff, scene.patch_sizes(), None, None)
+}
+
+/// [`measure_exact`] with the tolerance and work cap of the 3D form factors with occlusion
+/// (unused in flatland, whose form factors are exact). When some pair was integrated
+/// adaptively, [`Measurement::exact_errors`] holds the error estimates.
+///
+/// # Errors
+/// The options' ([`OcclusionOptions::check`]), the form factors' and the channel's.
+pub fn measure_exact_within(scene: &Scene, options: &OcclusionOptions) -> Result<Measurement> {
+    let (ff, errors) = match scene {
+        Scene::Flat(s) => (exact_2d::form_factors(s)?, None),
+        Scene::Solid(s) => {
+            let r = occluded_3d::scene_form_factors_occluded(s, options)?;
+            let errors = (r.pairs_integrated > 0).then(|| ExactErrors {
+                tolerance: r.tolerance,
+                max_error: r.max_error(),
+                max_row_error: r.max_row_error(),
+                pairs_integrated: r.pairs_integrated,
+                over_tolerance: r.over_tolerance,
+                per_pair: r.errors.clone(),
+            });
+            (r.form_factors, errors)
+        }
+    };
+    let mut m = Measurement::of(ff, scene.patch_sizes(), None, None)?;
+    m.exact_errors = errors;
+    Ok(m)
 }
 
 /// Refuses a method `tracer` cannot cast.

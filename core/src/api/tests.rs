@@ -537,3 +537,37 @@ fn a_dropped_term_of_i_c_reaches_the_warnings() {
     run.tally.patch_info[2].add(f64::INFINITY);
     assert!(run.tally.sums_out_of_range());
 }
+
+/// `measure_exact_within` measures a 3D scene in which a polygon hides part of another
+/// (`Job::Exact` refuses it: the cost depends on a tolerance the caller must choose): the
+/// error estimates come with it, within the tolerance; an unoccluded scene has none.
+#[test]
+fn exact_within_measures_an_occluded_scene_with_estimates() {
+    let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+               f 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\nf 4 8 5 1\n";
+    let inner =
+        "v 0.4 0.4 0.4\nv 0.6 0.4 0.4\nv 0.6 0.6 0.4\nv 0.4 0.6 0.4\nf 12 11 10 9\nf 9 10 11 12\n";
+    let format = SceneFormat::Obj(crate::io::ObjOptions::default());
+    let (open, _) = Scene::from_bytes(obj.as_bytes(), format, |_| None).unwrap();
+    assert!(
+        measure(&open, &Job::Exact, &mut Serial)
+            .unwrap()
+            .exact_errors()
+            .is_none()
+    );
+    let text = alloc::format!("{obj}{inner}");
+    let (scene, _) = Scene::from_bytes(text.as_bytes(), format, |_| None).unwrap();
+    let refused = measure(&scene, &Job::Exact, &mut Serial).unwrap_err();
+    assert!(
+        matches!(refused.kind(), ErrorKind::MayBeOccluded),
+        "{refused}"
+    );
+    let options = crate::formfactor::occluded_3d::OcclusionOptions::new(1e-4);
+    let m = measure_exact_within(&scene, &options).unwrap();
+    let e = m.exact_errors().unwrap();
+    assert!(e.pairs_integrated > 0 && e.over_tolerance == 0 && e.max_error <= 1e-4);
+    // A closed scene (the square is two-sided): rows within their estimates of 1.
+    assert!(m.max_row_deficit().unwrap() <= e.max_row_error + 1e-12);
+    let bad = crate::formfactor::occluded_3d::OcclusionOptions::new(0.0);
+    assert!(measure_exact_within(&scene, &bad).is_err());
+}

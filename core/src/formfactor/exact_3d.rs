@@ -80,6 +80,8 @@ pub(crate) use polygon::{HalfSpace, ON_PLANE, Plane};
 
 #[cfg(feature = "alloc")]
 pub use occlusion::may_be_occluded;
+#[cfg(feature = "alloc")]
+pub(crate) use occlusion::{TOUCH, bounds, hull_meets_polygon};
 
 #[cfg(feature = "alloc")]
 use crate::error::{ErrorKind, Result};
@@ -185,7 +187,7 @@ pub(crate) fn polygon_to_polygon(source: &[DVec3], target: &[DVec3]) -> f64 {
 
 /// `(A_i F_ij, Σ|J_pq| / 2π)`: the flux and the magnitude of the terms that cancelled in it
 /// (a few ulps of the latter bound the rounding error of the former).
-fn pair_flux(src: &[DVec3], ps: &Plane, tgt: &[DVec3], pt: &Plane) -> (f64, f64) {
+pub(crate) fn pair_flux(src: &[DVec3], ps: &Plane, tgt: &[DVec3], pt: &Plane) -> (f64, f64) {
     let tol = ON_PLANE * (ps.magnitude.max(pt.magnitude) + ps.radius + pt.radius);
     // Each polygon clipped to the front of the other's plane.
     let clip_src = HalfSpace {

@@ -9,7 +9,7 @@ use crate::geom::DVec3;
 /// Relative tolerance (of the scene's size) under which polygons count as touching rather
 /// than overlapping. Lines grazing a polygon that only touches the sight region of a pair
 /// form a null set; an occluder reaching deeper than this is reported.
-const TOUCH: f64 = 1e-9;
+pub(crate) const TOUCH: f64 = 1e-9;
 
 /// Whether some polygon **may** block a line between two others, so the unoccluded form
 /// factors of [`super::form_factors_unoccluded`] could be wrong. Conservative: `false`
@@ -116,7 +116,7 @@ fn edges(p: &[DVec3]) -> impl Iterator<Item = (DVec3, DVec3)> + '_ {
 }
 
 /// Axis-aligned bounds of a set of points.
-fn bounds(points: impl Iterator<Item = DVec3>) -> (DVec3, DVec3) {
+pub(crate) fn bounds(points: impl Iterator<Item = DVec3>) -> (DVec3, DVec3) {
     points.fold(
         (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
         |(lo, hi), p| (lo.min(p), hi.max(p)),
@@ -125,7 +125,7 @@ fn bounds(points: impl Iterator<Item = DVec3>) -> (DVec3, DVec3) {
 
 /// Whether the convex hull of polygons `a ∪ b` and the convex polygon `k` overlap by more
 /// than `tol` (no separating axis found among the complete candidate set).
-fn hull_meets_polygon(
+pub(crate) fn hull_meets_polygon(
     (a, pa): &(&[DVec3], Plane),
     (b, pb): &(&[DVec3], Plane),
     (k, pk): &(&[DVec3], Plane),

@@ -1,0 +1,493 @@
+//! 3D form factors with occlusion: exact visibility from each point, adaptive outer
+//! integral with an error estimate per form factor.
+//!
+//! In 3D (2.9), `A_i F_ij = ∫_{A_i} F_{dx→j} dA_x` with the point-to-polygon form factor
+//! (2.16) `F_{dx→j} = ∫_{A_j} cos θ_x cos θ_y / (π r²) V(x, y) dA_y`.
+//!
+//! # Inner integral: exact in the point's view ([`point_to_visible_polygon`])
+//!
+//! From a point `x` in front of the target `P_j` (`d(x) > 0`, with
+//! `d(y) = n_j · (y − p_j)`), a point of an occluder `O` hides part of `P_j` only if it
+//! lies on a segment from `x` to `P_j`: in the pyramid with apex `x` over `P_j` (the half-
+//! spaces bounded by the planes through `x` and each edge of `P_j`), with `0 ≤ d(y) < d(x)`.
+//! On that pyramid the central projection onto the target's plane,
+//!
+//! ```text
+//! y ↦ x + d(x) / (d(x) − d(y)) · (y − x),
+//! ```
+//!
+//! is a perspective map with no pole (`d(y) < d(x)`), so it maps the clipped convex `O`
+//! (Sutherland–Hodgman, one plane at a time) onto a convex polygon, its shadow, inside
+//! `P_j`. The visible part of `P_j` is `P_j` minus the union of the shadows, kept as a list
+//! of disjoint convex pieces: subtracting a convex shadow `S` from a convex piece cuts the
+//! piece by `S`'s edge lines in turn, keeping the part outside each line and going on with
+//! the part inside (at most `|S|` new pieces, the rest being `S`'s). Then
+//!
+//! ```text
+//! F_{dx→vis(j)} = Σ_pieces F_{dx→piece}
+//! ```
+//!
+//! each by Lambert's contour formula ([`exact_3d::point_to_polygon`]). Clipping to the
+//! pyramid first keeps every projected vertex inside `P_j`, so no coordinate grows large.
+//!
+//! **The guard near `x`.** Where `O` passes through `x` itself (an occluder touching the
+//! source patch), `d(x) − d(y) → 0` and the projection divides rounding by almost nothing.
+//! So `O` is also clipped to `d(y) ≤ (1 − η) d(x)` with `η =` [`NEAR_GUARD`] `= 10⁻⁹`:
+//! along each sight line, occluder points closer to `x` than `η` times the line's length
+//! are ignored. This changes `F_{dx→vis(j)}` only for points `x` within `η · r_max` of an
+//! occluder (`r_max` the farthest distance to `P_j`), a band of area at most
+//! `η · r_max · (perimeter of the occluders' traces on patch i)`; its effect on `F_ij` is of
+//! that relative order, far below any tolerance accepted here ([`MIN_TOLERANCE`]).
+//!
+//! Pieces or shadows smaller than `10⁻¹³ A_j` are rounding debris and are dropped. The piece
+//! count is bounded by [`MAX_VISIBLE_PIECES`] ([`ErrorKind::TooLarge`] beyond).
+//! Occluders are opaque from both sides. A polygon lying in the plane of `i` or `j` is not
+//! an occluder (see culling).
+//!
+//! # Outer integral: adaptive, with an error estimate
+//!
+//! The source is the smaller patch of the pair, clipped to the front of the target's
+//! plane and cut into a fan of triangles. On each triangle a degree-5, 7-point rule is
+//! compared with the same rule on its four midpoint children; the leaf with the largest
+//! difference is split (globally adaptive, so refinement follows the visibility events
+//! where `F_{dx→vis(j)}` has kinks) until the differences sum to at most
+//! `tol · min(A_i, A_j)` or the pair's work cap ([`OcclusionOptions::max_points_per_pair`])
+//! is reached. The flux gives both `F_ij` and `F_ji` (2.8), so reciprocity holds exactly;
+//! the estimate divided by `A_i` (`A_j`) is the error estimate of `F_ij` (`F_ji`), at most
+//! `tol` for both unless the cap stopped the pair ([`OccludedFormFactors::over_tolerance`]).
+//! A row whose sum exceeds 1 (a closed scene's, within its estimates) is scaled back to 1
+//! keeping reciprocity, the change added to the estimates (`cap_rows`).
+//!
+//! **The estimate is a-posteriori, not a bound**: a leaf's estimate is
+//! `4 |Q_fine − Q_coarse|` (the factor and its reason in `outer.rs`, `SAFETY`); it bounds
+//! the error of the returned finer value when the finer rule is several times closer to the
+//! integral than the coarser (smooth leaves: about 2⁶; a kink: about 4 on average), which
+//! fails on leaves whose two rules happen to err alike, and when both rules miss a feature
+//! smaller than the leaf (an occluder whose shadow falls between all 35 points of a
+//! triangle).
+//!
+//! # Culling
+//!
+//! A pair is skipped when one patch lies wholly on or behind the other's plane. A segment
+//! from `x ∈ i` to `y ∈ j` that counts lies in front of both planes and inside the convex
+//! hull of `i ∪ j`, so the candidate occluders of a pair are the polygons that reach
+//! strictly in front of both planes and meet the hull's interior: bounding boxes, then the
+//! separating-axis test of [`exact_3d::may_be_occluded`]. A pair with no candidate keeps the
+//! exact unoccluded path ([`exact_3d::unoccluded_flux`]), bit for bit; a scene where no
+//! pair has one is [`exact_3d::form_factors_unoccluded`]'s.
+
+mod outer;
+#[cfg(all(test, feature = "std"))]
+mod tests;
+mod visible;
+
+use alloc::vec;
+use alloc::vec::Vec;
+
+use crate::error::{ErrorKind, Result};
+use crate::formfactor::FormFactors;
+use crate::formfactor::exact_3d::{
+    self, HalfSpace, MAX_DENSE_PATCHES, ON_PLANE, Plane, TOUCH, bounds, hull_meets_polygon,
+    pair_flux, planes,
+};
+use crate::geom::DVec3;
+
+pub use visible::{MAX_VISIBLE_PIECES, NEAR_GUARD};
+
+/// The default tolerance on each form factor.
+pub const DEFAULT_TOLERANCE: f64 = 1e-6;
+
+/// The smallest tolerance accepted: well above the rounding of the contour sums and the
+/// near guard's effect (see the module documentation).
+pub const MIN_TOLERANCE: f64 = 1e-10;
+
+/// The default cap on points evaluated per pair (about 4·10⁶).
+pub const DEFAULT_MAX_POINTS_PER_PAIR: u64 = 1 << 22;
+
+/// The job's tolerance and work cap.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct OcclusionOptions {
+    /// Target absolute error of each form factor (`F_ij` and `F_ji`).
+    pub tolerance: f64,
+    /// Most points at which a pair's inner integral is evaluated.
+    pub max_points_per_pair: u64,
+}
+
+impl OcclusionOptions {
+    /// `tolerance` with the default work cap.
+    #[must_use]
+    pub const fn new(tolerance: f64) -> Self {
+        Self {
+            tolerance,
+            max_points_per_pair: DEFAULT_MAX_POINTS_PER_PAIR,
+        }
+    }
+
+    /// The same options with the work cap `points`.
+    #[must_use]
+    pub const fn with_max_points_per_pair(mut self, points: u64) -> Self {
+        self.max_points_per_pair = points;
+        self
+    }
+
+    /// Checks the tolerance (in [`MIN_TOLERANCE`]`..=1`) and the cap (at least one
+    /// triangle's points).
+    ///
+    /// # Errors
+    /// [`ErrorKind::BadParameter`] (`"tolerance"`, `"max_points_per_pair"`).
+    pub fn check(&self) -> Result<()> {
+        if !(self.tolerance >= MIN_TOLERANCE && self.tolerance <= 1.0) {
+            return Err(ErrorKind::BadParameter {
+                name: "tolerance",
+                value: self.tolerance,
+            }
+            .into());
+        }
+        if self.max_points_per_pair < 5 * outer::RULE_POINTS {
+            return Err(ErrorKind::BadParameter {
+                name: "max_points_per_pair",
+                value: self.max_points_per_pair as f64,
+            }
+            .into());
+        }
+        Ok(())
+    }
+}
+
+impl Default for OcclusionOptions {
+    fn default() -> Self {
+        Self::new(DEFAULT_TOLERANCE)
+    }
+}
+
+/// The flux between two polygons past occluders, with its error estimate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct OccludedFlux {
+    /// `A_i F_ij = A_j F_ji`.
+    pub flux: f64,
+    /// A-posteriori estimate of the flux's absolute error (0 for the exact path).
+    pub error: f64,
+    /// Points at which the inner integral was evaluated (0 for the exact path).
+    pub points: u64,
+}
+
+/// Form factors with occlusion and their error estimates.
+#[derive(Clone, Debug)]
+#[non_exhaustive]
+pub struct OccludedFormFactors {
+    /// The form factors (reciprocal by construction, 2.8).
+    pub form_factors: FormFactors,
+    /// Row-major `n × n`: the a-posteriori estimate of the absolute error of `F_ij` (0 for
+    /// pairs by the exact unoccluded path and pairs that cannot see each other).
+    pub errors: Vec<f64>,
+    /// The tolerance asked for.
+    pub tolerance: f64,
+    /// Unordered pairs integrated adaptively (with candidate occluders).
+    pub pairs_integrated: usize,
+    /// Unordered pairs whose estimate exceeds the tolerance (the work cap stopped them).
+    pub over_tolerance: usize,
+    /// Points evaluated in all.
+    pub points: u64,
+}
+
+impl OccludedFormFactors {
+    /// The largest error estimate of any `F_ij`.
+    #[must_use]
+    pub fn max_error(&self) -> f64 {
+        self.errors.iter().fold(0.0, |m, &e| m.max(e))
+    }
+
+    /// The largest error estimate of a row sum, `max_i Σ_j err(F_ij)`: what closure
+    /// `Σ_j F_ij = 1` of a closed scene can be checked against.
+    #[must_use]
+    pub fn max_row_error(&self) -> f64 {
+        let n = self.form_factors.n_patches();
+        self.errors
+            .chunks_exact(n.max(1))
+            .map(|row| crate::math::sum(row.iter().copied()))
+            .fold(0.0, f64::max)
+    }
+}
+
+/// `F_{dx→vis(P)}`: the form factor from a point `x` with normal `n` to the part of the
+/// convex polygon `target` it sees past `occluders` (convex planar polygons, opaque from
+/// both sides), exact up to rounding (see the module documentation).
+///
+/// # Errors
+/// [`ErrorKind::DegenerateFace`] for a degenerate target; [`ErrorKind::TooLarge`] beyond
+/// [`MAX_VISIBLE_PIECES`] pieces.
+///
+/// # Examples
+///
+/// ```
+/// use sceneinfo::formfactor::{exact_3d, occluded_3d};
+/// use sceneinfo::geom::DVec3;
+/// let v = DVec3::new;
+/// // A unit square at height 2 facing down, and a square at height 1 hiding its half x < 0.5.
+/// let square = [v(0., 0., 2.), v(0., 1., 2.), v(1., 1., 2.), v(1., 0., 2.)];
+/// let blocker = [v(-1., -1., 1.), v(0.5, -1., 1.), v(0.5, 2., 1.), v(-1., 2., 1.)];
+/// let x = v(0.5, 0.5, 0.);
+/// let seen = occluded_3d::point_to_visible_polygon(x, DVec3::Z, &square, &[&blocker]).unwrap();
+/// // From x the blocker hides x < 0.5 of the plane z = 2: half the square, by symmetry.
+/// let whole = exact_3d::point_to_polygon(x, DVec3::Z, &square);
+/// assert!((seen - 0.5 * whole).abs() < 1e-14);
+/// ```
+pub fn point_to_visible_polygon(
+    x: DVec3,
+    n: DVec3,
+    target: &[DVec3],
+    occluders: &[&[DVec3]],
+) -> Result<f64> {
+    let plane = Plane::of(target).ok_or(ErrorKind::DegenerateFace)?;
+    let t = visible::Target::new(target, plane);
+    t.visible_form_factor(
+        x,
+        n.normalize_or_zero(),
+        occluders,
+        &mut visible::Workspace::default(),
+    )
+}
+
+/// The flux `A_i F_ij` from `source` to `target` past `occluders` (all convex planar
+/// polygons, counter-clockwise about their fronts; occluders of either orientation), with
+/// its error estimate: the adaptive outer integral over the smaller of the two of the
+/// exact inner integral ([`point_to_visible_polygon`]), to `tolerance · min(A_i, A_j)`.
+/// With no occluders, the exact [`exact_3d::unoccluded_flux`]. The occluders are used as
+/// given (no culling).
+///
+/// # Errors
+/// The options' ([`OcclusionOptions::check`]); [`ErrorKind::DegenerateFace`];
+/// [`ErrorKind::TooLarge`] beyond [`MAX_VISIBLE_PIECES`] pieces.
+pub fn occluded_flux(
+    source: &[DVec3],
+    target: &[DVec3],
+    occluders: &[&[DVec3]],
+    options: &OcclusionOptions,
+) -> Result<OccludedFlux> {
+    options.check()?;
+    let ps = Plane::of(source).ok_or(ErrorKind::DegenerateFace)?;
+    let pt = Plane::of(target).ok_or(ErrorKind::DegenerateFace)?;
+    if occluders.is_empty() {
+        return Ok(OccludedFlux {
+            flux: pair_flux(source, &ps, target, &pt).0,
+            error: 0.0,
+            points: 0,
+        });
+    }
+    let (small, sp, large, lp) = if ps.area <= pt.area {
+        (source, &ps, target, &pt)
+    } else {
+        (target, &pt, source, &ps)
+    };
+    integrate_pair(small, sp, large, lp, occluders, options)
+}
+
+/// The adaptive flux from `src` (the integration side) to `tgt` past `occluders`.
+fn integrate_pair(
+    src: &[DVec3],
+    ps: &Plane,
+    tgt: &[DVec3],
+    pt: &Plane,
+    occluders: &[&[DVec3]],
+    options: &OcclusionOptions,
+) -> Result<OccludedFlux> {
+    let tol = ON_PLANE * (ps.magnitude.max(pt.magnitude) + ps.radius + pt.radius);
+    // The source's part in front of the target's plane (the rest sees its back).
+    let front = HalfSpace {
+        origin: pt.origin,
+        normal: pt.normal,
+        tol,
+    };
+    let mut clipped: Vec<DVec3> = Vec::with_capacity(src.len() + 1);
+    front.for_each_clipped_edge(src, |a, _| clipped.push(a));
+    if clipped.len() < 3 {
+        return Ok(OccludedFlux {
+            flux: 0.0,
+            error: 0.0,
+            points: 0,
+        });
+    }
+    let target = visible::Target::new(tgt, *pt);
+    let mut work = visible::Workspace::default();
+    let normal = ps.normal;
+    let r = outer::integrate(
+        &clipped,
+        options.tolerance * ps.area.min(pt.area),
+        options.max_points_per_pair,
+        |x| target.visible_form_factor(x, normal, occluders, &mut work),
+    )?;
+    Ok(OccludedFlux {
+        flux: r.value.max(0.0),
+        error: r.error,
+        points: r.points,
+    })
+}
+
+/// The candidate occluders of the pair `(i, j)` into `out`: the polygons that reach
+/// strictly in front of both planes and meet the interior of the convex hull of `i ∪ j`
+/// (bounding boxes, then separating axes).
+fn candidates(
+    polys: &[(&[DVec3], Plane)],
+    boxes: &[(DVec3, DVec3)],
+    i: usize,
+    j: usize,
+    tol: f64,
+    out: &mut Vec<usize>,
+) {
+    out.clear();
+    let (pi, pj) = (&polys[i].1, &polys[j].1);
+    let (hlo, hhi) = (boxes[i].0.min(boxes[j].0), boxes[i].1.max(boxes[j].1));
+    for (k, poly) in polys.iter().enumerate() {
+        if k == i || k == j {
+            continue;
+        }
+        let (klo, khi) = boxes[k];
+        if (klo - hhi).max_element() >= -tol || (hlo - khi).max_element() >= -tol {
+            continue;
+        }
+        let reaches = |p: &Plane| poly.0.iter().any(|&v| p.distance(v) > tol);
+        if !reaches(pi) || !reaches(pj) {
+            continue;
+        }
+        if hull_meets_polygon(&polys[i], &polys[j], poly, tol) {
+            out.push(k);
+        }
+    }
+}
+
+/// Form factors of `polygons` — `(first, count)` ranges of `points`, convex planar
+/// polygons counter-clockwise about their fronts — with occlusion, each with an error
+/// estimate (see the module documentation). When no polygon may hide another
+/// ([`exact_3d::may_be_occluded`]) this is [`exact_3d::form_factors_unoccluded`], bit for
+/// bit, with zero estimates.
+///
+/// # Errors
+/// The options' ([`OcclusionOptions::check`]); those of
+/// [`exact_3d::form_factors_unoccluded`]; [`ErrorKind::TooLarge`] beyond
+/// [`MAX_VISIBLE_PIECES`] pieces.
+pub fn form_factors_occluded(
+    points: &[DVec3],
+    polygons: &[(usize, usize)],
+    options: &OcclusionOptions,
+) -> Result<OccludedFormFactors> {
+    options.check()?;
+    let n = polygons.len();
+    if n > MAX_DENSE_PATCHES {
+        return Err(ErrorKind::TooLarge {
+            what: "patch count for exact form factors",
+            max: MAX_DENSE_PATCHES as u64,
+        }
+        .into());
+    }
+    if !exact_3d::may_be_occluded(points, polygons) {
+        return Ok(OccludedFormFactors {
+            form_factors: exact_3d::form_factors_unoccluded(points, polygons)?,
+            errors: vec![0.0; n * n],
+            tolerance: options.tolerance,
+            pairs_integrated: 0,
+            over_tolerance: 0,
+            points: 0,
+        });
+    }
+    let polys = planes(points, polygons)?;
+    let (lo, hi) = bounds(polys.iter().flat_map(|(v, _)| v.iter().copied()));
+    let touch = TOUCH * (hi - lo).length().max(hi.abs().max(lo.abs()).max_element());
+    let boxes: Vec<(DVec3, DVec3)> = polys
+        .iter()
+        .map(|(v, _)| bounds(v.iter().copied()))
+        .collect();
+    let mut f = vec![0.0; n * n];
+    let mut errors = vec![0.0; n * n];
+    let (mut pairs_integrated, mut over_tolerance, mut total_points) = (0, 0, 0u64);
+    let mut cand = Vec::new();
+    let mut occluders: Vec<&[DVec3]> = Vec::new();
+    for (i, (src, ps)) in polys.iter().enumerate() {
+        for (j, (tgt, pt)) in polys.iter().enumerate().skip(i + 1) {
+            // As form_factors_unoccluded: one lies wholly on or behind the other's plane.
+            let tol = ON_PLANE * (ps.magnitude.max(pt.magnitude) + ps.radius + pt.radius);
+            if pt.distance(ps.centroid) + ps.radius <= tol
+                || ps.distance(pt.centroid) + pt.radius <= tol
+            {
+                continue;
+            }
+            candidates(&polys, &boxes, i, j, touch, &mut cand);
+            let r = if cand.is_empty() {
+                OccludedFlux {
+                    flux: pair_flux(src, ps, tgt, pt).0,
+                    error: 0.0,
+                    points: 0,
+                }
+            } else {
+                occluders.clear();
+                occluders.extend(cand.iter().map(|&k| polys[k].0));
+                pairs_integrated += 1;
+                // Integrate over the smaller patch (ties: the first).
+                let r = if ps.area <= pt.area {
+                    integrate_pair(src, ps, tgt, pt, &occluders, options)?
+                } else {
+                    integrate_pair(tgt, pt, src, ps, &occluders, options)?
+                };
+                if r.error > options.tolerance * ps.area.min(pt.area) {
+                    over_tolerance += 1;
+                }
+                r
+            };
+            total_points = total_points.saturating_add(r.points);
+            // Reciprocity (2.8): one flux, two form factors.
+            f[i * n + j] = (r.flux / ps.area).min(1.0);
+            f[j * n + i] = (r.flux / pt.area).min(1.0);
+            errors[i * n + j] = r.error / ps.area;
+            errors[j * n + i] = r.error / pt.area;
+        }
+    }
+    let areas: Vec<f64> = polys.iter().map(|(_, p)| p.area).collect();
+    cap_rows(&mut f, &mut errors, n);
+    Ok(OccludedFormFactors {
+        form_factors: FormFactors::from_patch_matrix(&areas, f)?,
+        errors,
+        tolerance: options.tolerance,
+        pairs_integrated,
+        over_tolerance,
+        points: total_points,
+    })
+}
+
+/// Rows above 1 (a closed scene's rows within their estimates of 1, from either side) are
+/// brought to 1 without breaking reciprocity: with `c_i = 1 / Σ_j F_ij` where the sum
+/// exceeds 1 (else 1), each `F_ij` becomes `F_ij · min(c_i, c_j)` (the flux `A_i F_ij` is
+/// scaled alike from both ends, so `A_i F_ij = A_j F_ji` stays; row `i` sums to at most
+/// `c_i Σ_j F_ij = 1`). The change is added to the pair's error estimate.
+fn cap_rows(f: &mut [f64], errors: &mut [f64], n: usize) {
+    let c: Vec<f64> = f
+        .chunks_exact(n.max(1))
+        .map(|row| {
+            let s = crate::math::sum(row.iter().copied());
+            if s > 1.0 { 1.0 / s } else { 1.0 }
+        })
+        .collect();
+    for (i, &ci) in c.iter().enumerate() {
+        for (j, &cj) in c.iter().enumerate() {
+            let k = ci.min(cj);
+            if k < 1.0 {
+                let old = f[i * n + j];
+                f[i * n + j] = old * k;
+                errors[i * n + j] += old - f[i * n + j];
+            }
+        }
+    }
+}
+
+/// [`form_factors_occluded`] of a scene's patches.
+///
+/// # Errors
+/// Those of [`form_factors_occluded`].
+pub fn scene_form_factors_occluded(
+    scene: &crate::scene::Scene3,
+    options: &OcclusionOptions,
+) -> Result<OccludedFormFactors> {
+    let polygons: Vec<(usize, usize)> =
+        scene.patches().iter().map(|p| (p.first, p.count)).collect();
+    form_factors_occluded(scene.points(), &polygons, options)
+}

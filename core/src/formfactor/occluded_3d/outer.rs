@@ -1,0 +1,230 @@
+//! The outer integral: globally adaptive quadrature over a convex polygon, triangle by
+//! triangle, with an a-posteriori error estimate.
+
+use alloc::collections::BinaryHeap;
+use alloc::vec::Vec;
+use core::cmp::Ordering;
+
+use crate::error::Result;
+use crate::geom::DVec3;
+use crate::math::KahanSum;
+
+/// The degree-5, 7-point symmetric rule on a triangle (Radon 1948; Stroud T2:5-1), as
+/// barycentric `(λ₁, λ₂)` with weights summing to 1:
+///
+/// ```text
+/// centroid                        w = 9/40
+/// (a, a), (1 − 2a, a), (a, 1 − 2a)  w = (155 − √15)/1200,   a = (6 − √15)/21
+/// (b, b), (1 − 2b, b), (b, 1 − 2b)  w = (155 + √15)/1200,   b = (6 + √15)/21
+/// ```
+const RULE: [(f64, f64, f64); 7] = {
+    const S15: f64 = 3.872_983_346_207_417; // √15
+    const A: f64 = (6.0 - S15) / 21.0;
+    const B: f64 = (6.0 + S15) / 21.0;
+    const WA: f64 = (155.0 - S15) / 1200.0;
+    const WB: f64 = (155.0 + S15) / 1200.0;
+    [
+        (1.0 / 3.0, 1.0 / 3.0, 9.0 / 40.0),
+        (A, A, WA),
+        (1.0 - 2.0 * A, A, WA),
+        (A, 1.0 - 2.0 * A, WA),
+        (B, B, WB),
+        (1.0 - 2.0 * B, B, WB),
+        (B, 1.0 - 2.0 * B, WB),
+    ]
+};
+
+/// The factor on `|Q_fine − Q_coarse|` in a leaf's error estimate. Where the integrand is
+/// smooth the finer rule's error is about 2⁻⁶ of the coarser's, across a kink (a visibility
+/// event) about 2⁻² on average over the leaves along it, but not leaf by leaf: a leaf
+/// whose two rules err alike shows a small difference. With the plain difference the
+/// coaxial plates with a centred blocker (a reference exact to rounding) came out 1.5 times
+/// their estimate at tolerance 10⁻⁶, so the difference is weighted by 4 (the perpendicular
+/// pair's 2.4 times, seen at the same time, was its reference's own error, since graded). A heuristic, as in every a-posteriori estimate of this kind (QUADPACK's
+/// `200 |Δ|^{3/2}` is another).
+pub const SAFETY: f64 = 4.0;
+
+/// Points evaluated per triangle by [`RULE`].
+pub const RULE_POINTS: u64 = RULE.len() as u64;
+
+/// What [`integrate`] returns.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Integral {
+    /// `∫ f dA`: the sum of the finer rule over the leaf triangles.
+    pub value: f64,
+    /// `SAFETY · Σ |Q_fine − Q_coarse|` over the leaves: the a-posteriori error estimate.
+    pub error: f64,
+    /// Points evaluated.
+    pub points: u64,
+}
+
+/// A leaf triangle: its rule value and its four children's.
+struct Leaf {
+    tri: [DVec3; 3],
+    children: [f64; 4],
+    error: f64,
+    order: u64,
+}
+
+impl PartialEq for Leaf {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+impl Eq for Leaf {}
+impl PartialOrd for Leaf {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Leaf {
+    /// Largest error first; among equal errors the older leaf (deterministic order).
+    fn cmp(&self, other: &Self) -> Ordering {
+        self.error
+            .total_cmp(&other.error)
+            .then_with(|| other.order.cmp(&self.order))
+    }
+}
+
+/// The four midpoint children of a triangle (three corners and the middle one).
+fn children(t: &[DVec3; 3]) -> [[DVec3; 3]; 4] {
+    let (a, b, c) = (t[0], t[1], t[2]);
+    let (ab, bc, ca) = (0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a));
+    [[a, ab, ca], [ab, b, bc], [ca, bc, c], [bc, ca, ab]]
+}
+
+/// `∫_T f dA` by [`RULE`].
+fn rule(t: &[DVec3; 3], f: &mut impl FnMut(DVec3) -> Result<f64>) -> Result<f64> {
+    let (a, b, c) = (t[0], t[1], t[2]);
+    let area = 0.5 * (b - a).cross(c - a).length();
+    let mut s = KahanSum::new();
+    for &(l1, l2, w) in &RULE {
+        let p = a + l1 * (b - a) + l2 * (c - a);
+        s.add(w * f(p)?);
+    }
+    Ok(area * s.total())
+}
+
+/// A leaf of `tri` whose own rule value is `coarse`: its children evaluated.
+fn leaf(
+    tri: [DVec3; 3],
+    coarse: f64,
+    order: u64,
+    f: &mut impl FnMut(DVec3) -> Result<f64>,
+) -> Result<Leaf> {
+    let mut ch = [0.0; 4];
+    for (value, t) in ch.iter_mut().zip(children(&tri)) {
+        *value = rule(&t, f)?;
+    }
+    let fine = crate::math::sum(ch.iter().copied());
+    Ok(Leaf {
+        tri,
+        children: ch,
+        error: SAFETY * (fine - coarse).abs(),
+        order,
+    })
+}
+
+/// `∫_P f dA` over the convex polygon `polygon` (a fan of triangles about its first
+/// vertex): each triangle's [`RULE`] is compared with the same rule on its four midpoint
+/// children; the leaf with the largest difference is split until the differences sum to at
+/// most `tolerance` or `max_points` points have been evaluated (the estimate then says how
+/// far it got).
+///
+/// The estimate `SAFETY · Σ |Q_fine − Q_coarse|` ([`SAFETY`]) bounds the error of the finer
+/// values returned when the finer rule is closer to the integral than the coarser one by a
+/// factor of a few at least (an integrand smooth on the leaf: about 2⁶; a kink along a
+/// visibility event: about 4 on average). It is an a-posteriori estimate, not a proof.
+///
+/// # Errors
+/// Those of `f`.
+pub(crate) fn integrate(
+    polygon: &[DVec3],
+    tolerance: f64,
+    max_points: u64,
+    mut f: impl FnMut(DVec3) -> Result<f64>,
+) -> Result<Integral> {
+    let mut heap = BinaryHeap::new();
+    let mut points = 0u64;
+    let mut order = 0u64;
+    for w in polygon[1..].windows(2) {
+        let tri = [polygon[0], w[0], w[1]];
+        let coarse = rule(&tri, &mut f)?;
+        heap.push(leaf(tri, coarse, order, &mut f)?);
+        order += 1;
+        points += 5 * RULE_POINTS;
+    }
+    let split_cost = 16 * RULE_POINTS;
+    // A running total of the leaves' errors, summed afresh before it may stop the loop
+    // (so rounding in the running sum never stops it early).
+    let mut total: f64 = crate::math::sum(heap.iter().map(|l| l.error));
+    loop {
+        if total <= tolerance {
+            total = crate::math::sum(heap.iter().map(|l| l.error));
+            if total <= tolerance {
+                break;
+            }
+        }
+        if points.saturating_add(split_cost) > max_points {
+            break;
+        }
+        let Some(worst) = heap.pop() else { break };
+        total -= worst.error;
+        for (tri, coarse) in children(&worst.tri).into_iter().zip(worst.children) {
+            let l = leaf(tri, coarse, order, &mut f)?;
+            total += l.error;
+            heap.push(l);
+            order += 1;
+        }
+        points += split_cost;
+    }
+    let leaves: Vec<Leaf> = heap.into_vec();
+    let mut value = KahanSum::new();
+    let mut error = KahanSum::new();
+    for l in &leaves {
+        for &c in &l.children {
+            value.add(c);
+        }
+        error.add(l.error);
+    }
+    Ok(Integral {
+        value: value.total(),
+        error: error.total(),
+        points,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rule_integrates_quintics_exactly() {
+        let tri = [DVec3::ZERO, DVec3::X, DVec3::Y];
+        // ∫ x^a y^b over the unit right triangle = a! b! / (a + b + 2)!
+        let fact = |n: u32| (1..=n).map(f64::from).product::<f64>();
+        for a in 0..=5u32 {
+            for b in 0..=(5 - a) {
+                let q = rule(&tri, &mut |p| {
+                    Ok(crate::math::pow(p.x, f64::from(a)) * crate::math::pow(p.y, f64::from(b)))
+                })
+                .unwrap();
+                let exact = fact(a) * fact(b) / fact(a + b + 2);
+                assert!((q - exact).abs() < 1e-15, "x^{a} y^{b}: {q} vs {exact}");
+            }
+        }
+    }
+
+    #[test]
+    fn adaptive_meets_its_tolerance_on_a_kink() {
+        // |x − 0.3| over the unit square: a kink the rule cannot follow.
+        let square = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+        let r = integrate(&square, 1e-8, 1 << 24, |p| Ok((p.x - 0.3).abs())).unwrap();
+        let exact = 0.5 * (0.09 + 0.49);
+        assert!(r.error <= 1e-8);
+        assert!((r.value - exact).abs() <= r.error, "{} vs {exact}", r.value);
+        // A work cap stops it and says so.
+        let capped = integrate(&square, 1e-14, 2000, |p| Ok((p.x - 0.3).abs())).unwrap();
+        assert!(capped.points <= 2000 && capped.error > 1e-14);
+    }
+}

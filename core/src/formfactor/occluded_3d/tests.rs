@@ -1,0 +1,375 @@
+//! Tests of form factors with occlusion against references computed independently of the
+//! shadow clipping: closed-form inner integrals with Gauss–Legendre outer integrals split
+//! at the visibility events.
+
+use super::*;
+use crate::formfactor::exact_3d::point_to_polygon;
+use crate::math::{atan, sqrt};
+use core::f64::consts::PI;
+
+fn v(x: f64, y: f64, z: f64) -> DVec3 {
+    DVec3::new(x, y, z)
+}
+
+/// Howell B-3: from a differential area to a parallel rectangle `[0, a] × [0, b]` at
+/// distance `c`, on the normal through its corner; odd in `a` and `b` so that rectangles
+/// not containing the foot follow by inclusion–exclusion.
+fn corner(a: f64, b: f64, c: f64) -> f64 {
+    if a == 0.0 || b == 0.0 {
+        return 0.0;
+    }
+    let (x, y) = (a.abs() / c, b.abs() / c);
+    let (x1, y1) = (sqrt(1.0 + x * x), sqrt(1.0 + y * y));
+    a.signum() * b.signum() / (2.0 * PI) * (x / x1 * atan(y / x1) + y / y1 * atan(x / y1))
+}
+
+/// From a point at the origin facing `+z` to the axis-aligned rectangle
+/// `[x1, x2] × [y1, y2]` in the plane `z = c`, by inclusion–exclusion of [`corner`].
+fn point_to_rect(x1: f64, x2: f64, y1: f64, y2: f64, c: f64) -> f64 {
+    if x2 <= x1 || y2 <= y1 {
+        return 0.0;
+    }
+    corner(x2, y2, c) - corner(x1, y2, c) - corner(x2, y1, c) + corner(x1, y1, c)
+}
+
+/// Gauss–Legendre nodes and weights on `[-1, 1]` (Newton on `P_n`).
+fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
+    let mut out = Vec::with_capacity(n);
+    for k in 0..n {
+        let mut x = crate::math::cos(PI * (k as f64 + 0.75) / (n as f64 + 0.5));
+        let mut dp = 1.0;
+        for _ in 0..100 {
+            let (mut p0, mut p1) = (1.0, x);
+            for m in 2..=n {
+                let p2 = ((2 * m - 1) as f64 * x * p1 - (m - 1) as f64 * p0) / m as f64;
+                p0 = p1;
+                p1 = p2;
+            }
+            dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
+            let dx = p1 / dp;
+            x -= dx;
+            if dx.abs() < 1e-16 {
+                break;
+            }
+        }
+        out.push((x, 2.0 / ((1.0 - x * x) * dp * dp)));
+    }
+    out
+}
+
+/// `∫_a^b f` by Gauss–Legendre on each interval between sorted `breaks` (those inside).
+fn integrate_1d(a: f64, b: f64, breaks: &[f64], f: &mut impl FnMut(f64) -> f64) -> f64 {
+    let rule = gauss_legendre(24);
+    let mut cuts = vec![a];
+    let mut inner: Vec<f64> = breaks.iter().copied().filter(|&t| t > a && t < b).collect();
+    inner.sort_by(f64::total_cmp);
+    cuts.extend(inner);
+    cuts.push(b);
+    let mut s = 0.0;
+    for w in cuts.windows(2) {
+        let (lo, hi) = (w[0], w[1]);
+        let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+        for &(x, wt) in &rule {
+            s += wt * half * f(mid + half * x);
+        }
+    }
+    s
+}
+
+/// Unit square `[-½, ½]²` in the plane `z`, facing `+z` or `−z`.
+fn centred_square(half: f64, z: f64, up: bool) -> [DVec3; 4] {
+    let r = [
+        v(-half, -half, z),
+        v(half, -half, z),
+        v(half, half, z),
+        v(-half, half, z),
+    ];
+    if up { r } else { [r[0], r[3], r[2], r[1]] }
+}
+
+/// Coaxial parallel plates: source `[-½, ½]²` at `z = 0` facing up, target the same at
+/// `z = 2` facing down, and a centred blocking plate `[-b/2, b/2]²` at `z = 1`.
+///
+/// Reference: from `x = (x₀, y₀, 0)` the blocker's shadow on `z = 2` is the square
+/// `[-b − x₀, b − x₀] × [-b − y₀, b − y₀]` (scale 2 about `x`), so `F_{dx→vis}` is the
+/// target's closed form minus that of the shadow's part inside the target (Howell B-3 by
+/// inclusion–exclusion); it is smooth except on the lines `x₀, y₀ = ±(b − ½)` and
+/// `±(½ − b)` where shadow edges cross target edges, so Gauss–Legendre on the cells between
+/// them integrates it to rounding.
+fn coaxial_reference(b: f64) -> f64 {
+    let inner = |x0: f64, y0: f64| {
+        let whole = point_to_rect(-0.5 - x0, 0.5 - x0, -0.5 - y0, 0.5 - y0, 2.0);
+        // The shadow, relative to the foot of x, clipped to the target.
+        let (sx1, sx2) = ((-b - x0).max(-0.5) - x0, (b - x0).min(0.5) - x0);
+        let (sy1, sy2) = ((-b - y0).max(-0.5) - y0, (b - y0).min(0.5) - y0);
+        whole - point_to_rect(sx1, sx2, sy1, sy2, 2.0)
+    };
+    let breaks = [b - 0.5, 0.5 - b, -b - 0.5, 0.5 + b];
+    integrate_1d(-0.5, 0.5, &breaks, &mut |x0| {
+        integrate_1d(-0.5, 0.5, &breaks, &mut |y0| inner(x0, y0))
+    })
+}
+
+#[test]
+fn inner_integral_matches_closed_form_shadow() {
+    let b = 0.4;
+    let target = centred_square(0.5, 2.0, false);
+    let blocker = centred_square(0.5 * b, 1.0, true);
+    let mut worst: f64 = 0.0;
+    for k in 0..50 {
+        let x0 = -0.5 + (k % 7) as f64 / 6.0 * 0.999 + 0.0005;
+        let y0 = -0.5 + (k / 7) as f64 / 7.0;
+        let got = point_to_visible_polygon(v(x0, y0, 0.0), DVec3::Z, &target, &[&blocker]).unwrap();
+        let whole = point_to_rect(-0.5 - x0, 0.5 - x0, -0.5 - y0, 0.5 - y0, 2.0);
+        let (sx1, sx2) = ((-b - x0).max(-0.5) - x0, (b - x0).min(0.5) - x0);
+        let (sy1, sy2) = ((-b - y0).max(-0.5) - y0, (b - y0).min(0.5) - y0);
+        let want = whole - point_to_rect(sx1, sx2, sy1, sy2, 2.0);
+        worst = worst.max((got - want).abs());
+    }
+    assert!(worst < 1e-13, "worst {worst:e}");
+}
+
+#[test]
+fn coaxial_plates_with_a_centred_blocker() {
+    let source = centred_square(0.5, 0.0, true);
+    let target = centred_square(0.5, 2.0, false);
+    let blocker = centred_square(0.2, 1.0, true);
+    let reference = coaxial_reference(0.4);
+    for tol in [1e-4, 1e-6, 1e-8] {
+        let r = occluded_flux(&source, &target, &[&blocker], &OcclusionOptions::new(tol)).unwrap();
+        // Unit areas: the flux is F_ij.
+        assert!(r.error <= tol, "tol {tol:e}: estimate {:e}", r.error);
+        let err = (r.flux - reference).abs();
+        assert!(
+            err <= r.error.max(1e-12),
+            "tol {tol:e}: |ΔF| {err:e} > estimate {:e}",
+            r.error
+        );
+    }
+    // The blocker hides something, and not everything.
+    let open = exact_3d::unoccluded_flux(&source, &target);
+    assert!(
+        reference < open - 0.01 && reference > 0.5 * open,
+        "{reference} vs {open}"
+    );
+}
+
+/// Floor `[0, 1]²` at `z = 0` facing up, wall `x = 0`, `y, z ∈ [0, 1]` facing `+x`, and a
+/// partial blocker parallel to the wall at `x = h`: `y ∈ [y1, y2]`, `z ∈ [z1, z2]`.
+///
+/// Reference: from `x = (x₀, y₀, 0)` with `x₀ > h` the blocker's shadow on the wall is the
+/// rectangle scaled by `s = x₀ / (x₀ − h)` about the foot `(0, y₀, 0)`; `F_{dx→vis}` is
+/// the wall's form factor minus that of the shadow's part inside the wall (each rectangle
+/// by Lambert's contour formula, [`point_to_polygon`], tested against Howell's closed forms
+/// in `exact_3d`). It is smooth between the visibility events, whose positions are solved
+/// for: in `y₀` for each `x₀` (a shadow edge `y₀ + s(Y − y₀)` crossing `y = 0, 1`), and in
+/// `x₀` where a `z` edge `s Z` crosses `z = 1`, or the `y` events cross the floor's edges;
+/// graded towards the shared edge (`x₀ = 0`) and, for each `x₀`, towards the wall's side
+/// edges (`y₀ = 0, 1`), where the integrand varies over a length `x₀`.
+fn perpendicular_reference(h: f64, (y1, y2): (f64, f64), (z1, z2): (f64, f64)) -> f64 {
+    let wall = [v(0., 0., 0.), v(0., 1., 0.), v(0., 1., 1.), v(0., 0., 1.)];
+    let inner = |x0: f64, y0: f64| {
+        let x = v(x0, y0, 0.0);
+        let whole = point_to_polygon(x, DVec3::Z, &wall);
+        if x0 <= h {
+            return whole;
+        }
+        let s = x0 / (x0 - h);
+        let (a, b) = ((y0 + s * (y1 - y0)).max(0.0), (y0 + s * (y2 - y0)).min(1.0));
+        let (c, d) = ((s * z1).max(0.0), (s * z2).min(1.0));
+        if b <= a || d <= c {
+            return whole;
+        }
+        let shadow = [v(0., a, c), v(0., b, c), v(0., b, d), v(0., a, d)];
+        whole - point_to_polygon(x, DVec3::Z, &shadow)
+    };
+    // x0 events: s Z = 1, and the y events y0 = (E − s Y)/(1 − s) reaching y0 = 0 or 1.
+    let x_of_s = |s: f64| if s > 1.0 { s * h / (s - 1.0) } else { f64::NAN };
+    // Geometric grading towards the shared edge x₀ = 0, where F_{dx→wall} has an
+    // x₀ ln x₀ term that one Gauss–Legendre interval would integrate only to ~10⁻⁷.
+    let mut x_breaks: Vec<f64> = (1..40)
+        .map(|k| h * crate::math::pow(0.5, f64::from(k)))
+        .collect();
+    x_breaks.push(h);
+    for z in [z1, z2] {
+        x_breaks.push(x_of_s(1.0 / z));
+    }
+    for e in [0.0, 1.0] {
+        for y in [y1, y2] {
+            for y0 in [0.0, 1.0] {
+                // y0 (1 − s) = e − s y  ⇒  s (y − y0) = e − y0
+                if y != y0 {
+                    x_breaks.push(x_of_s((e - y0) / (y - y0)));
+                }
+            }
+        }
+    }
+    x_breaks.retain(|t| t.is_finite());
+    integrate_1d(0.0, 1.0, &x_breaks, &mut |x0| {
+        // Graded towards the wall's side edges y₀ = 0, 1, where F_{dx→wall} changes over a
+        // length x₀.
+        let mut y_breaks: Vec<f64> = (0..60)
+            .map(|k| x0 * crate::math::pow(2.0, f64::from(k)))
+            .take_while(|&t| t < 0.5)
+            .flat_map(|t| [t, 1.0 - t])
+            .collect();
+        if x0 > h {
+            let s = x0 / (x0 - h);
+            for e in [0.0, 1.0] {
+                for y in [y1, y2] {
+                    y_breaks.push((e - s * y) / (1.0 - s));
+                }
+            }
+        }
+        integrate_1d(0.0, 1.0, &y_breaks, &mut |y0| inner(x0, y0))
+    })
+}
+
+#[test]
+fn perpendicular_pair_with_a_partial_blocker() {
+    let floor = [v(0., 0., 0.), v(1., 0., 0.), v(1., 1., 0.), v(0., 1., 0.)];
+    let wall = [v(0., 0., 0.), v(0., 1., 0.), v(0., 1., 1.), v(0., 0., 1.)];
+    let (h, ys, zs) = (0.3, (0.2, 0.7), (0.1, 0.5));
+    let blocker = [
+        v(h, ys.0, zs.0),
+        v(h, ys.1, zs.0),
+        v(h, ys.1, zs.1),
+        v(h, ys.0, zs.1),
+    ];
+    let reference = perpendicular_reference(h, ys, zs);
+    // The reference against itself at twice the points would show its own error; against
+    // the open pair it must lie strictly below.
+    let open = exact_3d::unoccluded_flux(&floor, &wall);
+    assert!(reference < open - 0.005, "{reference} vs {open}");
+    for tol in [1e-5, 1e-7] {
+        let r = occluded_flux(&floor, &wall, &[&blocker], &OcclusionOptions::new(tol)).unwrap();
+        assert!(r.error <= tol, "tol {tol:e}: estimate {:e}", r.error);
+        let err = (r.flux - reference).abs();
+        assert!(
+            err <= r.error.max(1e-10),
+            "tol {tol:e}: |ΔF| {err:e} > estimate {:e}",
+            r.error
+        );
+    }
+}
+
+/// A closed box `[0, 2]³` (faces inwards) with a smaller box inside (faces outwards).
+fn box_in_room() -> (Vec<DVec3>, Vec<(usize, usize)>) {
+    let mut points = Vec::new();
+    let mut polys = Vec::new();
+    let mut add_box = |lo: DVec3, hi: DVec3, inwards: bool| {
+        let c = |i: usize| {
+            v(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            )
+        };
+        // Faces counter-clockwise seen from outside.
+        let faces = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
+        for f in faces {
+            let first = points.len();
+            let mut q: Vec<DVec3> = f.iter().map(|&i| c(i)).collect();
+            if inwards {
+                q.reverse();
+            }
+            points.extend(q);
+            polys.push((first, 4));
+        }
+    };
+    add_box(v(0., 0., 0.), v(2., 2., 2.), true);
+    add_box(v(0.6, 0.7, 0.3), v(1.3, 1.2, 0.8), false);
+    (points, polys)
+}
+
+#[test]
+fn closed_room_with_a_box_closes_within_the_estimates() {
+    let (points, polys) = box_in_room();
+    let tol = 1e-5;
+    let r = form_factors_occluded(&points, &polys, &OcclusionOptions::new(tol)).unwrap();
+    assert!(r.pairs_integrated > 0);
+    assert_eq!(r.over_tolerance, 0);
+    // Each pair within the tolerance, plus what bringing rows above 1 back to 1 added
+    // (at most the row's excess, itself within the row's estimates).
+    assert!(
+        r.max_error() <= tol + r.max_row_error(),
+        "{:e}",
+        r.max_error()
+    );
+    let n = polys.len();
+    let ff = &r.form_factors;
+    for i in 0..n {
+        let row: f64 = (0..n).map(|j| ff.get(i, j)).sum();
+        let row_err: f64 = r.errors[i * n..(i + 1) * n].iter().sum();
+        assert!(
+            (row - 1.0).abs() <= row_err + 1e-12,
+            "row {i}: {row} ± {row_err:e}"
+        );
+    }
+}
+
+#[test]
+fn reciprocity_of_the_two_integration_sides() {
+    // Integrating over either side gives the same flux within the two estimates.
+    let floor = [v(0., 0., 0.), v(1., 0., 0.), v(1., 1., 0.), v(0., 1., 0.)];
+    let wall = [v(0., 0., 0.), v(0., 1., 0.), v(0., 1., 2.), v(0., 0., 2.)];
+    let blocker = [
+        v(0.4, 0.1, 0.2),
+        v(0.4, 0.9, 0.2),
+        v(0.2, 0.9, 0.9),
+        v(0.2, 0.1, 0.9),
+    ];
+    let o = OcclusionOptions::new(1e-7);
+    let pf = Plane::of(&floor).unwrap();
+    let pw = Plane::of(&wall).unwrap();
+    let a = integrate_pair(&floor, &pf, &wall, &pw, &[&blocker], &o).unwrap();
+    let b = integrate_pair(&wall, &pw, &floor, &pf, &[&blocker], &o).unwrap();
+    assert!(
+        (a.flux - b.flux).abs() <= a.error + b.error,
+        "{a:?} vs {b:?}"
+    );
+}
+
+#[test]
+fn unoccluded_scenes_keep_the_exact_bits() {
+    // A closed cube: nothing can hide anything.
+    let (points, polys) = box_in_room();
+    let (points, polys) = (&points[..24], &polys[..6]);
+    let exact = exact_3d::form_factors_unoccluded(points, polys).unwrap();
+    let r = form_factors_occluded(points, polys, &OcclusionOptions::default()).unwrap();
+    assert_eq!(r.pairs_integrated, 0);
+    assert_eq!(r.max_error(), 0.0);
+    for i in 0..6 {
+        for j in 0..6 {
+            assert_eq!(
+                r.form_factors.get(i, j).to_bits(),
+                exact.get(i, j).to_bits()
+            );
+        }
+    }
+}
+
+#[test]
+fn bad_options_are_refused() {
+    let (points, polys) = box_in_room();
+    for tol in [0.0, -1.0, f64::NAN, 1e-13, 2.0] {
+        assert!(form_factors_occluded(&points, &polys, &OcclusionOptions::new(tol)).is_err());
+    }
+    let capped = OcclusionOptions::new(1e-6).with_max_points_per_pair(3);
+    assert!(capped.check().is_err());
+}
+
+#[test]
+fn a_work_cap_is_reported() {
+    let (points, polys) = box_in_room();
+    let o = OcclusionOptions::new(1e-10).with_max_points_per_pair(2000);
+    let r = form_factors_occluded(&points, &polys, &o).unwrap();
+    assert!(r.over_tolerance > 0 && r.max_error() > 1e-10);
+}

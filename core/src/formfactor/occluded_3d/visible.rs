@@ -1,0 +1,324 @@
+//! The inner integral: the form factor from a point to the part of a convex polygon it
+//! sees past convex occluders, exact up to rounding (see the parent module for the method).
+
+use alloc::vec::Vec;
+
+use crate::error::{ErrorKind, Result};
+use crate::formfactor::exact_3d::{Plane, point_to_polygon};
+use crate::geom::{DVec2, DVec3};
+
+/// Most convex pieces the visible part of one target may be cut into, from one point. A
+/// point behind `s` shadows of `m` edges each needs at most `1 + s·m` pieces per piece cut,
+/// so this allows scenes with hundreds of overlapping shadows per pair; beyond it
+/// [`ErrorKind::TooLarge`] stops the job instead of an unbounded computation.
+pub const MAX_VISIBLE_PIECES: usize = 4096;
+
+/// Relative depth `η` of the guard near the point: occluder parts with
+/// `d(y) > (1 − η) d(x)` (closer to the point than `η` times its distance to the target's
+/// plane, along the sight line) are left out, so the central projection's divisor stays at
+/// least `η` (see the parent module).
+pub const NEAR_GUARD: f64 = 1e-9;
+
+/// Relative area (of the target's) under which a clipped piece or shadow is rounding
+/// debris and is dropped.
+const SLIVER_AREA: f64 = 1e-13;
+
+/// Relative length (of the target's radius) under which a point counts as lying on a
+/// clipping line.
+const ON_LINE: f64 = 1e-12;
+
+/// A target polygon prepared for visibility queries: its plane and its outline in plane
+/// coordinates `(u, v)` about its centroid, with `u × v = n`.
+#[derive(Clone, Debug)]
+pub(crate) struct Target {
+    plane: Plane,
+    vertices: Vec<DVec3>,
+    u: DVec3,
+    v: DVec3,
+    outline: Vec<DVec2>,
+    tol: f64,
+    sliver: f64,
+}
+
+impl Target {
+    /// `vertices` (convex, planar, counter-clockwise about the front normal) with `plane`.
+    pub fn new(vertices: &[DVec3], plane: Plane) -> Self {
+        let n = plane.normal;
+        let u = n.any_orthonormal_vector();
+        let v = n.cross(u);
+        let c = plane.centroid;
+        let outline = vertices
+            .iter()
+            .map(|&p| DVec2::new(u.dot(p - c), v.dot(p - c)))
+            .collect();
+        Self {
+            plane,
+            vertices: vertices.to_vec(),
+            u,
+            v,
+            outline,
+            tol: ON_LINE * plane.radius,
+            sliver: SLIVER_AREA * plane.area,
+        }
+    }
+
+    /// Plane coordinates of a point of the target's plane.
+    fn to_plane(&self, p: DVec3) -> DVec2 {
+        let d = p - self.plane.centroid;
+        DVec2::new(self.u.dot(d), self.v.dot(d))
+    }
+
+    /// The point of the target's plane at plane coordinates `q`.
+    fn to_space(&self, q: DVec2) -> DVec3 {
+        self.plane.centroid + q.x * self.u + q.y * self.v
+    }
+
+    /// `F_{dx→vis(P)}`: the form factor (2.16, with `V`) from a point `x` with normal `n`
+    /// to the part of the target that `x` sees past `occluders` (convex planar polygons,
+    /// either orientation, opaque from both sides): the target minus the shadows the
+    /// occluders cast on its plane from `x`, as disjoint convex pieces, each by Lambert's
+    /// contour formula ([`point_to_polygon`]).
+    ///
+    /// # Errors
+    /// [`ErrorKind::TooLarge`] when the visible part needs more than
+    /// [`MAX_VISIBLE_PIECES`] pieces.
+    pub fn visible_form_factor(
+        &self,
+        x: DVec3,
+        n: DVec3,
+        occluders: &[&[DVec3]],
+        work: &mut Workspace,
+    ) -> Result<f64> {
+        let dx = self.plane.distance(x);
+        let tol = super::super::exact_3d::ON_PLANE
+            * (self.plane.magnitude + x.abs().max_element() + self.plane.radius);
+        if dx <= tol {
+            return Ok(0.0);
+        }
+        work.pieces.clear();
+        let mut any_shadow = false;
+        for occluder in occluders {
+            if !self.shadow(x, dx, occluder, work) {
+                continue;
+            }
+            if !any_shadow {
+                work.pieces.push(self.outline.clone());
+                any_shadow = true;
+            }
+            self.subtract_shadow(work)?;
+            if work.pieces.is_empty() {
+                return Ok(0.0);
+            }
+        }
+        if !any_shadow {
+            return Ok(point_to_polygon(x, n, &self.vertices));
+        }
+        let mut sum = crate::math::KahanSum::new();
+        for piece in &work.pieces {
+            work.space.clear();
+            work.space.extend(piece.iter().map(|&q| self.to_space(q)));
+            sum.add(point_to_polygon(x, n, &work.space));
+        }
+        Ok(sum.total().clamp(0.0, 1.0))
+    }
+
+    /// The shadow of `occluder` on the target from `x` (at distance `dx` in front of the
+    /// target's plane), counter-clockwise in plane coordinates, into `work.shadow`; `false`
+    /// when it is empty or a sliver.
+    ///
+    /// The occluder is clipped to the pyramid with apex `x` over the target (the planes
+    /// through `x` and each target edge) and to `0 ≤ d(y) ≤ (1 − η) d(x)`; each remaining
+    /// vertex `y` lies on a sight line from `x` to the target, between them, and is
+    /// projected to where that line meets the target's plane,
+    /// `y ↦ x + d(x) / (d(x) − d(y)) · (y − x)`.
+    fn shadow(&self, x: DVec3, dx: f64, occluder: &[DVec3], work: &mut Workspace) -> bool {
+        let n = self.plane.normal;
+        let o = self.plane.origin;
+        let scale = self.plane.radius + (x - self.plane.centroid).length();
+        let tol = super::super::exact_3d::ON_PLANE * scale;
+        work.a.clear();
+        work.a.extend_from_slice(occluder);
+        // In front of the target's plane, and short of the near guard.
+        clip3(&mut work.a, &mut work.b, n, n.dot(o), tol);
+        let near = n.dot(o) + (1.0 - NEAR_GUARD) * dx;
+        clip3(&mut work.a, &mut work.b, -n, -near, tol);
+        // Inside the pyramid from x over the target.
+        let m = self.vertices.len();
+        for k in 0..m {
+            if work.a.len() < 3 {
+                return false;
+            }
+            let (p, q) = (self.vertices[k], self.vertices[(k + 1) % m]);
+            let mut side = (q - x).cross(p - x);
+            if side.dot(self.plane.centroid - x) < 0.0 {
+                side = -side;
+            }
+            let len = side.length();
+            if !(len > 0.0) {
+                continue;
+            }
+            let side = side / len;
+            clip3(&mut work.a, &mut work.b, side, side.dot(x), 0.0);
+        }
+        if work.a.len() < 3 {
+            return false;
+        }
+        work.shadow.clear();
+        for &y in &work.a {
+            let s = (dx - n.dot(y - o)) / dx;
+            let s = s.max(NEAR_GUARD);
+            work.shadow.push(self.to_plane(x + (y - x) / s));
+        }
+        // Counter-clockwise about the target's normal, then inside the target (rounding).
+        if crate::geom::signed_area(&work.shadow) < 0.0 {
+            work.shadow.reverse();
+        }
+        for k in 0..self.outline.len() {
+            let (a, b) = (self.outline[k], self.outline[(k + 1) % self.outline.len()]);
+            let Some(inward) = inward_normal(a, b) else {
+                continue;
+            };
+            clip2(&work.shadow, a, inward, self.tol, &mut work.scratch);
+            core::mem::swap(&mut work.shadow, &mut work.scratch);
+            if work.shadow.len() < 3 {
+                return false;
+            }
+        }
+        crate::geom::signed_area(&work.shadow) > self.sliver
+    }
+
+    /// Replaces `work.pieces` by their parts outside `work.shadow`: each piece is cut by
+    /// the shadow's edge lines in turn, keeping the part outside each line as a new piece
+    /// and going on with the part inside; what is inside every line is the shadow's and is
+    /// dropped. The pieces stay disjoint and convex.
+    fn subtract_shadow(&self, work: &mut Workspace) -> Result<()> {
+        let Workspace {
+            pieces,
+            next,
+            shadow,
+            scratch,
+            rest,
+            ..
+        } = work;
+        let (slo, shi) = bounds2(shadow);
+        next.clear();
+        for piece in pieces.drain(..) {
+            let (plo, phi) = bounds2(&piece);
+            if plo.x >= shi.x || plo.y >= shi.y || slo.x >= phi.x || slo.y >= phi.y {
+                next.push(piece);
+                continue;
+            }
+            rest.clear();
+            rest.extend_from_slice(&piece);
+            let m = shadow.len();
+            for k in 0..m {
+                let (a, b) = (shadow[k], shadow[(k + 1) % m]);
+                let Some(inward) = inward_normal(a, b) else {
+                    continue;
+                };
+                clip2(rest, a, -inward, self.tol, scratch);
+                if scratch.len() >= 3 && crate::geom::signed_area(scratch) > self.sliver {
+                    next.push(scratch.clone());
+                }
+                clip2(rest, a, inward, self.tol, scratch);
+                core::mem::swap(rest, scratch);
+                if rest.len() < 3 || crate::geom::signed_area(rest) <= self.sliver {
+                    break;
+                }
+            }
+            if next.len() > MAX_VISIBLE_PIECES {
+                return Err(ErrorKind::TooLarge {
+                    what: "convex pieces of a polygon's visible part from one point",
+                    max: MAX_VISIBLE_PIECES as u64,
+                }
+                .into());
+            }
+        }
+        core::mem::swap(pieces, next);
+        Ok(())
+    }
+}
+
+/// Buffers reused across points, so a point costs no allocation once they have grown.
+#[derive(Debug, Default)]
+pub(crate) struct Workspace {
+    pieces: Vec<Vec<DVec2>>,
+    next: Vec<Vec<DVec2>>,
+    shadow: Vec<DVec2>,
+    scratch: Vec<DVec2>,
+    rest: Vec<DVec2>,
+    space: Vec<DVec3>,
+    a: Vec<DVec3>,
+    b: Vec<DVec3>,
+}
+
+/// The unit normal pointing left of `a → b` (into a counter-clockwise polygon), `None`
+/// for a zero-length edge.
+fn inward_normal(a: DVec2, b: DVec2) -> Option<DVec2> {
+    let e = b - a;
+    let len = crate::math::length(e);
+    (len > 0.0).then(|| DVec2::new(-e.y, e.x) / len)
+}
+
+/// Axis-aligned bounds of a 2D polygon.
+fn bounds2(p: &[DVec2]) -> (DVec2, DVec2) {
+    p.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), &q| (lo.min(q), hi.max(q)),
+    )
+}
+
+/// Sutherland–Hodgman: the part of convex `poly` where `normal · (p − a) ≥ 0` into `out`
+/// (points within `tol` of the line count as on it).
+fn clip2(poly: &[DVec2], a: DVec2, normal: DVec2, tol: f64, out: &mut Vec<DVec2>) {
+    out.clear();
+    let m = poly.len();
+    let side = |p: DVec2| {
+        let d = normal.dot(p - a);
+        if d.abs() <= tol { 0.0 } else { d }
+    };
+    for k in 0..m {
+        let (p, q) = (poly[k], poly[(k + 1) % m]);
+        let (dp, dq) = (side(p), side(q));
+        if dp >= 0.0 && out.last() != Some(&p) {
+            out.push(p);
+        }
+        if (dp > 0.0 && dq < 0.0) || (dp < 0.0 && dq > 0.0) {
+            let r = p + (q - p) * (dp / (dp - dq));
+            if out.last() != Some(&r) {
+                out.push(r);
+            }
+        }
+    }
+    if out.len() > 1 && out.first() == out.last() {
+        out.pop();
+    }
+}
+
+/// Sutherland–Hodgman in space: `poly` replaced by its part where `normal · p ≥ offset`
+/// (within `tol` counts as on the plane); `tmp` is scratch.
+fn clip3(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, normal: DVec3, offset: f64, tol: f64) {
+    tmp.clear();
+    let m = poly.len();
+    let side = |p: DVec3| {
+        let d = normal.dot(p) - offset;
+        if d.abs() <= tol { 0.0 } else { d }
+    };
+    for k in 0..m {
+        let (p, q) = (poly[k], poly[(k + 1) % m]);
+        let (dp, dq) = (side(p), side(q));
+        if dp >= 0.0 && tmp.last() != Some(&p) {
+            tmp.push(p);
+        }
+        if (dp > 0.0 && dq < 0.0) || (dp < 0.0 && dq > 0.0) {
+            let r = p + (q - p) * (dp / (dp - dq));
+            if tmp.last() != Some(&r) {
+                tmp.push(r);
+            }
+        }
+    }
+    if tmp.len() > 1 && tmp.first() == tmp.last() {
+        tmp.pop();
+    }
+    core::mem::swap(poly, tmp);
+}
