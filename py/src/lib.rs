@@ -10,6 +10,7 @@ mod arrays;
 mod channel;
 mod error;
 mod executor;
+mod hierarchy;
 mod measure;
 mod measurement;
 mod radiosity;
@@ -29,12 +30,14 @@ fn _sceneinfo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<channel::PyChannel>()?;
     m.add_class::<radiosity::PyLighting>()?;
     m.add_class::<refine::PyRefiner>()?;
+    m.add_class::<hierarchy::PyHierarchy>()?;
     m.add_function(wrap_pyfunction!(measure::measure, m)?)?;
     m.add_function(wrap_pyfunction!(measure::measure_partial, m)?)?;
     m.add_function(wrap_pyfunction!(measure::merge, m)?)?;
     m.add_function(wrap_pyfunction!(channel::channel, m)?)?;
     m.add_function(wrap_pyfunction!(radiosity::radiosity, m)?)?;
     m.add_function(wrap_pyfunction!(refine::refine, m)?)?;
+    m.add_function(wrap_pyfunction!(hierarchy::refine_hierarchy, m)?)?;
     m.add("SPARSE_ABOVE", measurement::SPARSE_ABOVE)?;
     m.add("CHUNK_LINES", sceneinfo::LineSession::CHUNK_LINES)?;
     Ok(())

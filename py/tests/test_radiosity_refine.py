@@ -67,3 +67,31 @@ def test_refine_grows_the_mesh_and_reports():
 def test_refine_refuses_3d():
     with pytest.raises(sceneinfo.SceneinfoError):
         sceneinfo.Refiner(sceneinfo.Scene.preset("cube", 2))
+
+
+def test_refine_hierarchy_of_the_cornell_box():
+    """3D refinement (§6.4): more leaves than patches, light conserved in the leaves'
+    radiosity (positive, finite), the leaf areas summing to the scene's, and the same
+    bits for the same seed."""
+    box = sceneinfo.Scene.preset("cornell", 1)
+    h = sceneinfo.refine_hierarchy(box, oracle="mi", leaves=200, seed=3)
+    assert h.n_leaves > box.n_patches and h.rays > 0 and h.n_links > 0
+    b = h.leaf_radiosity
+    assert b.shape == (h.n_leaves, 3) and np.all(np.isfinite(b)) and np.all(b >= 0)
+    assert b.max() > 0
+    polygons = h.leaf_polygons()
+    assert len(polygons) == h.n_leaves and all(p.shape[1] == 3 for p in polygons)
+    assert len(h.leaf_patches) == h.n_leaves
+    again = sceneinfo.refine_hierarchy(box, oracle="mi", epsilon=h.epsilon, seed=3)
+    np.testing.assert_array_equal(again.leaf_radiosity, b)
+
+
+def test_refine_hierarchy_refuses_flatland_and_bad_arguments():
+    flat = sceneinfo.Scene.from_text("poly 4 0 0 1 0 1 1 0 1 per_side 2\n")
+    with pytest.raises(sceneinfo.SceneinfoError):
+        sceneinfo.refine_hierarchy(flat, epsilon=0.1)
+    box = sceneinfo.Scene.preset("cornell", 1)
+    with pytest.raises(sceneinfo.SceneinfoError):
+        sceneinfo.refine_hierarchy(box)  # neither epsilon nor leaves
+    with pytest.raises(sceneinfo.SceneinfoError):
+        sceneinfo.refine_hierarchy(box, oracle="nope", epsilon=0.1)

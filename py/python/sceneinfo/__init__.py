@@ -12,13 +12,15 @@ Scenes come from files (``.flat``, ``.obj``), numpy arrays (``Scene.from_segment
 Monte Carlo form factors and the channel measures; ``channel`` measures any ``(w, P)``;
 ``measure_partial`` and ``merge`` split a line job across processes or machines, exactly;
 ``radiosity`` lights a scene (2.6) and measures its radiosity channel (5.5–5.7); ``refine``
-refines a flatland mesh by an oracle (§6.5.2).
+refines a flatland mesh by an oracle (§6.5.2), ``refine_hierarchy`` a 3D scene's
+hierarchical radiosity (§6.4).
 """
 
 from ._sceneinfo import (
     CHUNK_LINES,
     SPARSE_ABOVE,
     ChannelMeasures,
+    Hierarchy,
     Lighting,
     Measurement,
     Partial,
@@ -32,12 +34,14 @@ from ._sceneinfo import (
     merge,
     radiosity,
     refine,
+    refine_hierarchy,
 )
 
 __all__ = [
     "CHUNK_LINES",
     "SPARSE_ABOVE",
     "ChannelMeasures",
+    "Hierarchy",
     "Lighting",
     "Measurement",
     "Partial",
@@ -51,4 +55,5 @@ __all__ = [
     "merge",
     "radiosity",
     "refine",
+    "refine_hierarchy",
 ]

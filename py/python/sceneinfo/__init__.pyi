@@ -19,6 +19,7 @@ __all__ = [
     "CHUNK_LINES",
     "SPARSE_ABOVE",
     "ChannelMeasures",
+    "Hierarchy",
     "Lighting",
     "Measurement",
     "Partial",
@@ -32,6 +33,7 @@ __all__ = [
     "merge",
     "radiosity",
     "refine",
+    "refine_hierarchy",
 ]
 
 CHUNK_LINES: int
@@ -371,3 +373,42 @@ def refine(
     eps: Optional[float] = None,
 ) -> Refiner:
     """Refines a flatland scene to `patches` patches or δ̄ ≤ eps."""
+
+@final
+class Hierarchy:
+    """A 3D scene's hierarchical radiosity refined by an oracle (§6.4)."""
+
+    @property
+    def n_leaves(self) -> int:
+        """Leaves: the elements of the refined mesh."""
+    @property
+    def n_links(self) -> int:
+        """Links of the final hierarchy."""
+    @property
+    def rays(self) -> int:
+        """Rays cast for link form factors and oracle decisions."""
+    @property
+    def epsilon(self) -> float:
+        """The oracle's threshold the mesh was refined with."""
+    @property
+    def leaf_radiosity(self) -> npt.NDArray[np.float64]:
+        """B per leaf and colour channel, shape (n_leaves, 3)."""
+    @property
+    def leaf_areas(self) -> npt.NDArray[np.float64]:
+        """Area of each leaf."""
+    @property
+    def leaf_patches(self) -> list[int]:
+        """The scene patch each leaf lies on."""
+    def leaf_polygons(self) -> list[npt.NDArray[np.float64]]:
+        """Each leaf's polygon as a (k, 3) array of vertices."""
+
+def refine_hierarchy(
+    scene: Union[Scene, _Path],
+    oracle: Literal["power", "ks", "ks-av", "mi", "mi-increase", "regular"] = "mi",
+    epsilon: Optional[float] = None,
+    leaves: Optional[int] = None,
+    pairs: int = 10,
+    seed: int = 1,
+) -> Hierarchy:
+    """Hierarchical radiosity of a 3D scene, links refined by `oracle` with threshold
+    `epsilon`, or the threshold giving about `leaves` leaves (§6.4)."""
