@@ -1,6 +1,6 @@
 //! `sceneinfo.Refiner` and `sceneinfo.refine`: flatland refinement one split at a time
 //! (thesis §6.5.2) on the core's [`Refiner2`] (the expert module `refine::refiner2`; 3D
-//! refinement, `hierarchy`, is not bound yet).
+//! refinement is `refine_hierarchy`, in `hierarchy.rs`).
 
 use numpy::PyArray1;
 use pyo3::prelude::*;
