@@ -7,7 +7,6 @@ use crate::error::{ErrorKind, Result};
 use crate::geom::{self, DVec3};
 use crate::hierarchy::tree::{Element, Hierarchy};
 use crate::math::KahanSum;
-use crate::radiosity::display::{ShadedPolygon, gouraud};
 use crate::scene::{Material, Scene3, Subdivision};
 
 /// Largest distance of a point from an element's plane, relative to the larger of the
@@ -107,36 +106,7 @@ impl Hierarchy {
     /// whose weld rule (same plane and facing, same material, same point) it documents.
     #[must_use]
     pub fn vertex_radiosities(&self) -> Vec<[[f64; 3]; 4]> {
-        let polygons: Vec<ShadedPolygon<'_>> = self
-            .leaves()
-            .map(|e| ShadedPolygon {
-                vertices: e.polygon.vertices(),
-                normal: e.normal,
-                area: e.area,
-                radiosity: e.radiosity,
-                material: Material {
-                    reflectance: e.rho,
-                    emittance: e.emission,
-                },
-            })
-            .collect();
-        let mut lo = DVec3::splat(f64::INFINITY);
-        let mut hi = DVec3::splat(f64::NEG_INFINITY);
-        for v in polygons.iter().flat_map(|p| p.vertices) {
-            lo = lo.min(*v);
-            hi = hi.max(*v);
-        }
-        let mesh = gouraud(&polygons, (lo, hi));
-        mesh.faces
-            .iter()
-            .map(|face| {
-                let mut out = [[0.0; 3]; 4];
-                for (o, &v) in out.iter_mut().zip(face) {
-                    *o = mesh.vertex_radiosity[v];
-                }
-                out
-            })
-            .collect()
+        super::image::leaf_vertex_radiosities(&self.shaded_leaves())
     }
 
     /// The leaves as a [`Scene3`] (one patch per leaf, in [`Hierarchy::leaves`] order, with
