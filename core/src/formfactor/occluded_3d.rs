@@ -186,7 +186,10 @@ pub struct OccludedFormFactors {
     pub tolerance: f64,
     /// Unordered pairs integrated adaptively (with candidate occluders).
     pub pairs_integrated: usize,
-    /// Unordered pairs whose estimate exceeds the tolerance (the work cap stopped them).
+    /// Unordered pairs whose integration estimate exceeds the tolerance (the work cap
+    /// stopped them). The final [`Self::errors`] also hold what clamping a value above 1
+    /// and bringing rows above 1 back to 1 changed, so an estimate can exceed the tolerance
+    /// by that much (much so only in degenerate scenes, e.g. coincident surfaces).
     pub over_tolerance: usize,
     /// Points evaluated in all.
     pub points: u64,
@@ -435,11 +438,13 @@ pub fn form_factors_occluded(
                 r
             };
             total_points = total_points.saturating_add(r.points);
-            // Reciprocity (2.8): one flux, two form factors.
-            f[i * n + j] = (r.flux / ps.area).min(1.0);
-            f[j * n + i] = (r.flux / pt.area).min(1.0);
-            errors[i * n + j] = r.error / ps.area;
-            errors[j * n + i] = r.error / pt.area;
+            // Reciprocity (2.8): one flux, two form factors; a value above 1 (possible only
+            // within the estimate) is clamped and the clamp added to the estimate.
+            let (fij, fji) = (r.flux / ps.area, r.flux / pt.area);
+            f[i * n + j] = fij.min(1.0);
+            f[j * n + i] = fji.min(1.0);
+            errors[i * n + j] = r.error / ps.area + (fij - 1.0).max(0.0);
+            errors[j * n + i] = r.error / pt.area + (fji - 1.0).max(0.0);
         }
     }
     let areas: Vec<f64> = polys.iter().map(|(_, p)| p.area).collect();
