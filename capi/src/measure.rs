@@ -4,8 +4,8 @@
 
 use std::ffi::{CString, c_char, c_void};
 
+use sceneinfo::ContinuousEstimate;
 use sceneinfo::channel::Transitions as _;
-use sceneinfo::continuous::relative_discretisation_error;
 use sceneinfo::{Job, LineBudget, LineJob, LineMethod, Measurement, Serial, measure};
 
 use crate::buffers::{clear_out, copy_out, free, handle, input, write_out};
@@ -407,7 +407,10 @@ pub unsafe extern "C" fn si_measurement_line_run(
             requested: run.requested,
             i_s_continuous: run.continuous.value,
             i_s_continuous_stderr: run.continuous.stderr,
-            rel_discretisation_error: relative_discretisation_error(run.continuous.value, i_s),
+            rel_discretisation_error: ContinuousEstimate::relative_discretisation_error(
+                run.continuous.value,
+                i_s,
+            ),
             samples: run.continuous.samples,
             stderr_groups: run.continuous.groups,
             unsampled_patches: coverage.map_or(0, |c| c.unsampled),

@@ -93,7 +93,7 @@ pub fn run_job(
 ) -> Result<Measurement> {
     let result = match job {
         // Exact form factors do not poll: Ctrl-C there ends the process at once
-        Job::Exact => sceneinfo::measure_exact_within(
+        Job::Exact => sceneinfo::Measurement::exact_within(
             scene,
             &OcclusionOptions::new(tol.unwrap_or(occluded_3d::DEFAULT_TOLERANCE)),
         ),

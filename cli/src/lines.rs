@@ -10,7 +10,7 @@
 //! Chunks are handed out dynamically, each thread keeps its own tally, and the tallies are
 //! merged at the end. The core's tallies are exact integers and fixed-point sums, so the
 //! result is bit-identical whatever the number of threads. The line-budget loop
-//! (`--lines auto`) is the core's ([`sceneinfo::cast_lines`]), driven through [`Threads`].
+//! (`--lines auto`) is the core's ([`sceneinfo::LineRun::cast_lines`]), driven through [`Threads`].
 
 use std::io::{IsTerminal, Write};
 use std::ops::Range;
@@ -103,7 +103,7 @@ pub fn run_chunks_timed(
     threads: usize,
 ) -> (LineTally, JobTimes) {
     let mut executor = Threads::new(threads);
-    let run = sceneinfo::cast_chunks(tracer, method, seed, n_lines, range, &mut executor);
+    let run = sceneinfo::LineRun::cast_chunks(tracer, method, seed, n_lines, range, &mut executor);
     (run.tally, executor.times)
 }
 

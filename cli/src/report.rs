@@ -8,7 +8,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Result;
-use sceneinfo::continuous::relative_discretisation_error;
+use sceneinfo::ContinuousEstimate;
 use sceneinfo::{Coverage, FormFactors, LineRunInfo, LoadReport, Measurement};
 use sceneinfo_report::{CHECK_TOLERANCE, JsonObject, LineRunReport, SceneReport, UnsampledReport};
 
@@ -243,7 +243,7 @@ fn table(name: &str, report: &Report, mc: Option<&LineRunInfo>, seconds: f64) ->
         let _ = writeln!(
             s,
             "(I_S^c - I_S)/I_S^c   {:.4}",
-            relative_discretisation_error(mc.continuous.value, m.i_s)
+            ContinuousEstimate::relative_discretisation_error(mc.continuous.value, m.i_s)
         );
     }
     let _ = writeln!(s, "H_S / H_P  (3.12)     {:.6}", m.h_s_norm);

@@ -46,21 +46,18 @@ mod session;
 mod warning;
 
 #[cfg(feature = "alloc")]
-pub use executor::{ChunkWork, ChunksDone, Executor, LineRun, Serial, cast_chunks, cast_lines};
+pub use executor::{ChunkWork, ChunksDone, Executor, LineRun, Serial};
 #[cfg(feature = "alloc")]
 pub use job::{Job, LineBudget, LineJob};
 #[cfg(feature = "alloc")]
-pub use measurement::{
-    ExactErrors, LineRunInfo, Measurement, measure, measure_exact, measure_exact_within,
-    measure_partial,
-};
+pub use measurement::{ExactErrors, LineRunInfo, Measurement, measure, measure_partial};
 #[cfg(feature = "alloc")]
 pub use radiosity::{Lighting, LitLines, RadiosityJob, solve_radiosity};
 #[cfg(feature = "alloc")]
 pub use scene::{Scene, SceneFormat, SceneTracer};
 #[cfg(feature = "alloc")]
 pub use session::LineSession;
-pub use warning::{Warning, channel_warnings};
+pub use warning::Warning;
 
 #[cfg(all(test, feature = "std"))]
 mod tests;

@@ -59,13 +59,12 @@ mod measures;
 mod proptests;
 
 #[cfg(feature = "alloc")]
-pub use bounces::{LongRange, long_range_information};
+pub use bounces::LongRange;
 pub use checks::Checks;
 #[cfg(feature = "alloc")]
 pub use csr_buf::CsrMatrixBuf;
 #[cfg(feature = "alloc")]
 pub(crate) use csr_buf::RowMajorCsr;
-pub use markov::{entropy_rate, stationary_distribution};
 pub use matrix::{CsrMatrix, DenseMatrix, Transitions};
 pub use measures::Measures;
 

@@ -174,14 +174,16 @@ impl ContinuousTally {
     }
 }
 
-/// Relative discretisation error `δ̄ = (I_S^c − I_S) / I_S^c` (thesis §4.4.2, Table 6.2's
-/// `δ̄` in per cent is 100 times this); 0 when `I_S^c ≤ 0`.
-#[must_use]
-pub fn relative_discretisation_error(i_s_continuous: f64, i_s: f64) -> f64 {
-    if i_s_continuous > 0.0 {
-        (i_s_continuous - i_s) / i_s_continuous
-    } else {
-        0.0
+impl ContinuousEstimate {
+    /// Relative discretisation error `δ̄ = (I_S^c − I_S) / I_S^c` (thesis §4.4.2, Table 6.2's
+    /// `δ̄` in per cent is 100 times this); 0 when `I_S^c ≤ 0`.
+    #[must_use]
+    pub fn relative_discretisation_error(i_s_continuous: f64, i_s: f64) -> f64 {
+        if i_s_continuous > 0.0 {
+            (i_s_continuous - i_s) / i_s_continuous
+        } else {
+            0.0
+        }
     }
 }
 

@@ -64,14 +64,11 @@ pub use choice::OracleChoice3;
 pub use compare::OracleComparison;
 pub use element::Polygon4;
 #[cfg(feature = "alloc")]
-pub use image::{
-    GouraudImage, ImageError, ImageReference, LeafShade, MAX_IMAGE_SIDE, View3,
-    leaf_vertex_radiosities, render_gouraud,
-};
+pub use image::{ImageError, ImageReference, LeafShade, View3, render_gouraud};
 #[cfg(feature = "alloc")]
 pub use mc_compare::{McComparison, McReference, mc_compare_against, mc_reference};
 #[cfg(feature = "alloc")]
-pub use monte_carlo::{McElement, McHierarchy, McOptions, McOracle};
+pub use monte_carlo::{McHierarchy, McOptions, McOracle};
 
 #[cfg(feature = "alloc")]
 pub use tree::{Budget, Element, Hierarchy, HrOptions, Link};

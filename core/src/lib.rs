@@ -119,14 +119,13 @@ pub mod trace;
 #[cfg(feature = "alloc")]
 pub mod viewpoint;
 
+pub use api::Warning;
 #[cfg(feature = "alloc")]
 pub use api::{
     ChunkWork, ChunksDone, ExactErrors, Executor, Job, Lighting, LineBudget, LineJob, LineRun,
     LineRunInfo, LineSession, LitLines, Measurement, RadiosityJob, Scene, SceneFormat, SceneTracer,
-    Serial, cast_chunks, cast_lines, measure, measure_exact, measure_exact_within, measure_partial,
-    solve_radiosity,
+    Serial, measure, measure_partial, solve_radiosity,
 };
-pub use api::{Warning, channel_warnings};
 pub use error::{Error, ErrorKind, Result};
 
 // The types of the façade's signatures, so that its callers need no expert module

@@ -35,7 +35,7 @@ pub mod measures;
 pub mod rgb;
 pub mod walk;
 pub use lit_channel::radiosity_channel_into;
-pub use measures::{RadiosityMeasures, radiosity_measures};
+pub use measures::RadiosityMeasures;
 
 #[cfg(test)]
 mod proptests;

@@ -79,7 +79,7 @@ use crate::math;
 /// Luminance weights of the red, green and blue channels (ITU-R BT.709; the perceptual
 /// coefficients of the colour contrast of Rigau, Feixas & Sbert 2003, eq. 8, round them to
 /// `0.213, 0.715, 0.072`). They sum to 1.
-pub const LUMINANCE_WEIGHTS: [f64; 3] = [0.2126, 0.7152, 0.0722];
+pub(crate) const LUMINANCE_WEIGHTS: [f64; 3] = [0.2126, 0.7152, 0.0722];
 
 /// Default threshold of the entropy contrast: `0.1`. Ours, not the papers' (not readable
 /// here). Reason: a pixel split in halves between two colours whose channels differ by a
@@ -262,7 +262,7 @@ fn clean(x: f64) -> f64 {
 /// The values are first divided by their maximum, so sums stay finite for any input, and
 /// a constant channel gives `H = log₂ N` to the last bit (contrast exactly `0`).
 #[must_use]
-pub fn entropy_contrast(n: usize, value: impl Fn(usize) -> f64) -> f64 {
+pub(crate) fn entropy_contrast(n: usize, value: impl Fn(usize) -> f64) -> f64 {
     if n < 2 {
         return 0.0;
     }
@@ -292,7 +292,7 @@ pub fn entropy_contrast(n: usize, value: impl Fn(usize) -> f64) -> f64 {
 
 /// The entropy contrast of RGB samples: `Σ_c w_c C_c` with [`LUMINANCE_WEIGHTS`].
 #[must_use]
-pub fn entropy_contrast_rgb(samples: &[[f64; 3]]) -> f64 {
+pub(crate) fn entropy_contrast_rgb(samples: &[[f64; 3]]) -> f64 {
     let mut c = 0.0;
     for (k, w) in LUMINANCE_WEIGHTS.iter().enumerate() {
         c += w * entropy_contrast(samples.len(), |j| samples[j][k]);
@@ -303,7 +303,7 @@ pub fn entropy_contrast_rgb(samples: &[[f64; 3]]) -> f64 {
 /// The mutual-information contrast of RGB samples at `positions` (module docs); the first
 /// `min(samples.len(), positions.len())` samples are used.
 #[must_use]
-pub fn mi_contrast_rgb(samples: &[[f64; 3]], positions: &[[f64; 2]]) -> f64 {
+pub(crate) fn mi_contrast_rgb(samples: &[[f64; 3]], positions: &[[f64; 2]]) -> f64 {
     let n = samples.len().min(positions.len());
     mi_contrast(n, 3, |j, c| samples[j][c], |j| positions[j])
 }

@@ -22,7 +22,7 @@
 
 use core::fmt;
 
-use sceneinfo::channel::{self, Channel, CsrMatrixBuf};
+use sceneinfo::channel::{Channel, CsrMatrixBuf};
 
 use super::invariants::{self, MAX_INPUT_BYTES, Outcome};
 
@@ -229,12 +229,12 @@ pub fn check(data: &[u8]) -> Outcome {
     // The Markov helpers
     if case.mode == 3 {
         // Documented to equal H_S bit for bit for a valid channel
-        let rate = channel::entropy_rate(&case.w, dense.transitions());
+        let rate = Channel::entropy_rate(&case.w, dense.transitions());
         if rate.to_bits() != dense.h_s().to_bits() {
             fail(format!("entropy rate {rate} vs H_S {}", dense.h_s()));
         }
         let (mut stat, mut scratch) = (vec![0.0; n], vec![0.0; n]);
-        let found = channel::stationary_distribution(
+        let found = Channel::stationary_distribution(
             dense.transitions(),
             &mut stat,
             &mut scratch,

@@ -2,7 +2,7 @@
 
 use core::fmt::{self, Write};
 
-use sceneinfo::continuous::{ContinuousEstimate, relative_discretisation_error};
+use sceneinfo::continuous::ContinuousEstimate;
 use sceneinfo::tally::LineMethod;
 
 use crate::json::JsonObject;
@@ -45,7 +45,7 @@ impl LineRunReport {
         o.number("i_s_continuous_stderr", self.continuous.stderr)?;
         o.number(
             "rel_discretisation_error",
-            relative_discretisation_error(self.continuous.value, self.i_s),
+            ContinuousEstimate::relative_discretisation_error(self.continuous.value, self.i_s),
         )?;
         o.integer("lines", self.lines)?;
         o.integer("seed", self.seed)?;

@@ -113,7 +113,7 @@ impl SceneReport {
     /// are written; empty for exact form factors of a well-conditioned scene.
     #[must_use]
     pub fn warnings(&self) -> Vec<Warning> {
-        sceneinfo::channel_warnings(self.background, self.max_row_deficit, &self.checks).to_vec()
+        sceneinfo::Warning::of_channel(self.background, self.max_row_deficit, &self.checks).to_vec()
     }
 
     /// The report as a JSON string.

@@ -4,7 +4,7 @@
 //! error.
 
 use sceneinfo::formfactor::exact_3d;
-use sceneinfo::formfactor::quadrature::{QuadratureOptions, scene_i_s_continuous};
+use sceneinfo::formfactor::quadrature::{ContinuousQuadrature, QuadratureOptions};
 use sceneinfo::scene::Scene3;
 use sceneinfo::trace::estimate_3d::{LineMethod, estimate};
 
@@ -77,7 +77,7 @@ fn platonic_solids_by_bundles() {
 #[test]
 fn printed_standard_error_matches_the_spread_over_seeds() {
     let scene = Scene3::cube(2).unwrap();
-    let exact = scene_i_s_continuous(&scene, QuadratureOptions::STANDARD).unwrap();
+    let exact = ContinuousQuadrature::of_scene(&scene, QuadratureOptions::STANDARD).unwrap();
     let lines = 1 << 20;
     let runs: Vec<(f64, f64)> = (0..30)
         .map(|seed| {

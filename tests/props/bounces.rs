@@ -1,11 +1,11 @@
-//! Long-range mutual information `I(X_0; X_n)` (`sceneinfo::channel::long_range_information`,
+//! Long-range mutual information `I(X_0; X_n)` (`Channel::long_range_information`,
 //! issue 20 item 2): `= I_S` at `n = 1`, never rising in `n` (data processing inequality),
 //! tending to 0 for an ergodic (irreducible, aperiodic) chain, its per-state split summing
 //! to it, and above the block-entropy bound `H_P − n H_S`; on random reversible chains and
 //! on the exact channels of random flatland rooms.
 
 use proptest::prelude::*;
-use sceneinfo::channel::{Channel, DenseMatrix, long_range_information};
+use sceneinfo::channel::{Channel, DenseMatrix};
 use sceneinfo::formfactor::exact_2d;
 
 use super::scenes::room_with_segments;
@@ -46,7 +46,7 @@ proptest! {
     fn ergodic_chains_forget_their_start((n, s) in random_chain()) {
         let (w, p) = chain(n, &s);
         let ch = Channel::new(&w, DenseMatrix::new(n, &p).unwrap()).unwrap();
-        let lr = long_range_information(&ch, 400).unwrap();
+        let lr = ch.long_range_information(400).unwrap();
         prop_assert!((lr.curve[0] - ch.i_s()).abs() < 1e-12);
         for pair in lr.curve.windows(2) {
             prop_assert!(pair[1] <= pair[0] + 1e-12, "{} then {}", pair[0], pair[1]);
@@ -68,7 +68,7 @@ proptest! {
     fn scene_chains_obey_data_processing(scene in room_with_segments()) {
         let ff = exact_2d::form_factors(&scene).unwrap();
         let ch = ff.channel().unwrap();
-        let lr = long_range_information(&ch, 12).unwrap();
+        let lr = ch.long_range_information(12).unwrap();
         prop_assert!((lr.curve[0] - ch.i_s()).abs() < 1e-12);
         // Excess entropy (Proposition 1): H_P − H_S = I_S
         prop_assert!((lr.h_p - lr.h_s - lr.curve[0]).abs() < 1e-9);

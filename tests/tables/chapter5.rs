@@ -9,9 +9,9 @@
 use sceneinfo::continuous::ContinuousEstimate;
 use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::exact_3d;
-use sceneinfo::radiosity::continuous::{LitEstimate, estimate_lit};
+use sceneinfo::radiosity::continuous::LitEstimate;
 use sceneinfo::radiosity::rgb::RgbSolution;
-use sceneinfo::radiosity::walk::{WalkTransitions, gather};
+use sceneinfo::radiosity::walk::{WalkEstimate, WalkTransitions};
 use sceneinfo::radiosity::{RadiosityMeasures, SolveOptions, Solver};
 use sceneinfo::scene::{Material, Scene2, Scene3};
 use sceneinfo::tally::{LineMethod, LineTracer};
@@ -52,7 +52,7 @@ fn lit<T: LineTracer + Sync>(
     lines: u64,
 ) -> LitEstimate {
     let method = LineMethod::Global;
-    estimate_lit(
+    LitEstimate::estimate(
         tracer,
         materials,
         Solver::GaussSeidel,
@@ -123,7 +123,7 @@ fn sphere_with_one_source() {
     let areas: Vec<f64> = (0..40)
         .map(|i| 0.5 + ((i * 13) % 17) as f64 / 17.0)
         .collect();
-    let ff = exact_3d::spherical_patches(&areas).unwrap();
+    let ff = FormFactors::spherical_patches(&areas).unwrap();
     let a_total: f64 = areas.iter().sum();
     let (rho, e_s, s) = (0.6, 3.0, 7);
     let mut materials = vec![Material::new([rho; 3], [0.0; 3]).unwrap(); areas.len()];
@@ -154,14 +154,7 @@ fn sphere_with_one_source() {
         let b_ch: Vec<f64> = sol.radiosity.iter().map(|x| x[c]).collect();
         let mut b_in = vec![0.0; areas.len()];
         let mut w = vec![0.0; areas.len()];
-        sceneinfo::radiosity::radiosity_measures(
-            &ff.matrix(),
-            ff.weights(),
-            &b_ch,
-            &mut b_in,
-            &mut w,
-        )
-        .unwrap();
+        RadiosityMeasures::of(&ff.matrix(), ff.weights(), &b_ch, &mut b_in, &mut w).unwrap();
         for (i, &wi) in w.iter().enumerate() {
             let want = rho * areas[i] / a_total + if i == s { 1.0 - rho } else { 0.0 };
             assert!((wi - want).abs() <= 1e-12, "a_{i} = {wi} vs {want}");
@@ -331,7 +324,8 @@ fn check_cornell_meshes(meshes: &[(u32, u64)]) {
             .collect();
         for patch in [0, scene.n_patches() / 3, scene.n_patches() - 1] {
             let walk =
-                gather(&f, &rho, &e, patch, WalkTransitions::FormFactors, 20_000, 7).unwrap();
+                WalkEstimate::gather(&f, &rho, &e, patch, WalkTransitions::FormFactors, 20_000, 7)
+                    .unwrap();
             let b = est.solution.radiosity[patch][0];
             assert!(walk.stderr > 0.0 || walk.mean == b);
             assert!(

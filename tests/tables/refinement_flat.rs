@@ -11,7 +11,7 @@
 
 use std::sync::OnceLock;
 
-use sceneinfo::continuous::{closed_form, relative_discretisation_error};
+use sceneinfo::continuous::closed_form;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::refine::profile::InformationProfile;
 use sceneinfo::refine::refiner2::{OracleChoice2, Refiner2, StepReport};
@@ -75,7 +75,7 @@ fn table_6_1_regular_column_is_exact() {
     // δ̄ from the exact I_S^c (1.28450): 14.59% against 14.63%. The thesis divided by its
     // Monte Carlo I_S^c (14.63% means 1.2851; 10⁵ lines, standard error ~0.003, which alone
     // moves δ̄ by 0.2 points), so the 0.1 points is the tolerance.
-    let d = 100.0 * relative_discretisation_error(i_c, m.i_s);
+    let d = 100.0 * sceneinfo::ContinuousEstimate::relative_discretisation_error(i_c, m.i_s);
     assert!((d - delta).abs() <= 0.1, "δ̄ {d}%");
 }
 
@@ -94,7 +94,7 @@ fn table_6_1_optimal_split_beats_the_regular_one() {
     );
     let i_c = closed_form::Enclosure::EquilateralTriangle.i_s_continuous();
     // δ̄ 11.44% against 11.52%: the same Monte Carlo I_S^c in the thesis' denominator.
-    let d = 100.0 * relative_discretisation_error(i_c, m.i_s);
+    let d = 100.0 * sceneinfo::ContinuousEstimate::relative_discretisation_error(i_c, m.i_s);
     assert!((d - delta).abs() <= 0.1, "δ̄ {d}%");
     // The thesis' claim: the optimal mesh has the lowest δ̄, entropies and E(MSE).
     let regular = measures(&Scene2::regular_polygon(3, 6).unwrap());

@@ -2,7 +2,7 @@
 //! tetrahedron (Table 4.5) and the sphere model (§3.2.1).
 
 use sceneinfo::formfactor::exact_3d;
-use sceneinfo::formfactor::quadrature::{QuadratureOptions, scene_i_s_continuous};
+use sceneinfo::formfactor::quadrature::{ContinuousQuadrature, QuadratureOptions};
 use sceneinfo::scene::Scene3;
 use sceneinfo::trace::estimate_3d::{LineMethod, estimate};
 use sceneinfo_report::thesis::{PLATONIC_REFERENCE, TABLE_3_8, TABLE_ROUNDING};
@@ -116,7 +116,7 @@ fn e_mse_ratio_between_meshes_matches_table_3_8() {
 #[test]
 fn platonic_quadrature_against_the_independent_references() {
     for (name, reference, uncertainty) in PLATONIC_REFERENCE {
-        let r = scene_i_s_continuous(
+        let r = ContinuousQuadrature::of_scene(
             &Scene3::preset(name, 1).unwrap(),
             QuadratureOptions::STANDARD,
         )
@@ -147,7 +147,7 @@ fn platonic_solids_continuous_mutual_information() {
 /// error estimate must be below 10⁻⁵ bits.
 fn platonic_quadrature(name: &str) -> f64 {
     let scene = Scene3::preset(name, 1).unwrap();
-    let exact = scene_i_s_continuous(&scene, QuadratureOptions::STANDARD).unwrap();
+    let exact = ContinuousQuadrature::of_scene(&scene, QuadratureOptions::STANDARD).unwrap();
     assert!(exact.error_estimate < 1e-5, "{name}: {exact:?}");
     exact.value
 }
@@ -210,7 +210,7 @@ fn tetrahedron_exact_and_refinement() {
 #[test]
 fn sphere_model_is_the_independence_channel() {
     for n in [1usize, 2, 7, 64] {
-        let ff = exact_3d::spherical_patches(&vec![1.0; n]).unwrap();
+        let ff = sceneinfo::FormFactors::spherical_patches(&vec![1.0; n]).unwrap();
         let m = ff.channel().unwrap().measures();
         let log_n = (n as f64).log2();
         assert!(

@@ -111,18 +111,18 @@ pub fn measure_obj(
 /// The JSON report of `scene`'s exact channel ([`sceneinfo::measure`] with
 /// [`Job::Exact`]): the keys and bytes of `sceneinfo measure --json` less its own.
 fn exact_json(scene: &Scene) -> Result<String, JsError> {
-    let m = sceneinfo::measure_exact(scene).map_err(into_error)?;
+    let m = sceneinfo::Measurement::exact(scene).map_err(into_error)?;
     let report = SceneReport::of_measurement(&m)
         .ok_or_else(|| JsError::new("exact form factors have every row"))?;
     Ok(report.to_json())
 }
 
 /// The relative discretisation error `δ̄ = (I_S^c − I_S) / I_S^c` (thesis §4.4.2), 0 when
-/// `I_S^c ≤ 0`: [`sceneinfo::continuous::relative_discretisation_error`].
+/// `I_S^c ≤ 0`: [`sceneinfo::ContinuousEstimate::relative_discretisation_error`].
 #[wasm_bindgen(js_name = relativeDiscretisationError)]
 #[must_use]
 pub fn relative_discretisation_error(i_s_continuous: f64, i_s: f64) -> f64 {
-    sceneinfo::continuous::relative_discretisation_error(i_s_continuous, i_s)
+    sceneinfo::ContinuousEstimate::relative_discretisation_error(i_s_continuous, i_s)
 }
 
 /// Returns the version of this crate (and so of the core it was built with).

@@ -14,7 +14,7 @@ use std::time::Instant;
 
 use anyhow::{Result, anyhow};
 use sceneinfo::continuous::closed_form;
-use sceneinfo::formfactor::quadrature::{self, QuadratureOptions};
+use sceneinfo::formfactor::quadrature::{ContinuousQuadrature, QuadratureOptions};
 use sceneinfo::scene::{CatalogueEntry, Scene2, Scene3};
 use sceneinfo::trace::estimate_2d::{Estimate2, LineMethod, Tracer2};
 use sceneinfo::trace::estimate_3d::Tracer3;
@@ -422,7 +422,7 @@ fn table_4_1(runner: &Runner) -> Result<Table> {
         let (scene, preset) = match name {
             "sphere" => {
                 // The exact spherical-patches model: independence, I_S = I_S^c = 0.
-                let ff = sceneinfo::formfactor::exact_3d::spherical_patches(&[1.0; 64])
+                let ff = sceneinfo::FormFactors::spherical_patches(&[1.0; 64])
                     .map_err(|e| anyhow!("{e}"))?;
                 let i_s = ff.channel().map_err(|e| anyhow!("{e}"))?.i_s();
                 rows.push(Row {
@@ -441,7 +441,7 @@ fn table_4_1(runner: &Runner) -> Result<Table> {
         let mut cells = vec![cell("I_S^c", c.value, c.stderr, Some(thesis))];
         if let Some((_, reference, _)) = PLATONIC_REFERENCE.iter().find(|r| r.0 == name) {
             // Our deterministic reference: quadrature of (4.6), error estimate ≤ 1e-5.
-            let q = quadrature::scene_i_s_continuous(&scene, QuadratureOptions::STANDARD)
+            let q = ContinuousQuadrature::of_scene(&scene, QuadratureOptions::STANDARD)
                 .map_err(|e| anyhow!("{name}: {e}"))?;
             cells.push(cell("quadrature", q.value, 0.0, Some(thesis)));
             cells.push(cell("quoted reference", *reference, 0.0, None));

@@ -1,5 +1,5 @@
 //! [`Executor`]: how a caller runs the seeded chunks of a line job, and the line-budget loop
-//! ([`cast_lines`]) that drives it.
+//! ([`LineRun::cast_lines`]) that drives it.
 //!
 //! A job of `N` lines is the chunks `0..⌈N / 2¹⁶⌉`; chunk `k` holds lines
 //! `k·2¹⁶ .. min((k+1)·2¹⁶, N)` and draws from [`crate::lines::chunk_rng`]`(seed, k)`. A
@@ -109,7 +109,7 @@ pub trait Executor {
     /// Casts `work`'s chunks (see the trait's contract).
     fn execute(&mut self, work: &ChunkWork<'_>) -> ChunksDone;
 
-    /// Whether the caller asked to stop: [`cast_lines`] then casts no further doubling
+    /// Whether the caller asked to stop: [`LineRun::cast_lines`] then casts no further doubling
     /// step, and [`crate::measure`] marks the run as interrupted.
     fn stopped(&self) -> bool {
         false
@@ -135,7 +135,7 @@ impl Executor for Serial {
     }
 }
 
-/// What [`cast_lines`] or [`cast_chunks`] cast.
+/// What [`LineRun::cast_lines`] or [`LineRun::cast_chunks`] cast.
 #[derive(Debug)]
 pub struct LineRun {
     /// The tally: that of one run of `lines` lines (or of the chunks asked for, or of the
@@ -153,86 +153,91 @@ pub struct LineRun {
     pub stopped: bool,
 }
 
-/// Casts the chunks `range` (clamped to `0..⌈n_lines / 2¹⁶⌉`) of the job of `n_lines`
-/// lines of `method` with `seed`, through `executor`.
-pub fn cast_chunks(
-    tracer: &(dyn LineTracer + Sync),
-    method: LineMethod,
-    seed: u64,
-    n_lines: u64,
-    range: Range<u64>,
-    executor: &mut dyn Executor,
-) -> LineRun {
-    let total = chunk_count(n_lines);
-    let end = range.end.min(total);
-    let work = ChunkWork {
-        tracer,
-        method,
-        seed,
-        n_lines,
-        chunks: (range.start.min(end), end),
-    };
-    let done = executor.execute(&work);
-    let k = done.chunks.min(work.chunks.1 - work.chunks.0);
-    LineRun {
-        budget_done: work.lines_of_first(k),
-        tally: done.tally,
-        lines: n_lines,
-        chunks: work.chunks.0..work.chunks.0 + k,
-        stopped: executor.stopped(),
+impl LineRun {
+    /// Casts the chunks `range` (clamped to `0..⌈n_lines / 2¹⁶⌉`) of the job of `n_lines`
+    /// lines of `method` with `seed`, through `executor`.
+    pub fn cast_chunks(
+        tracer: &(dyn LineTracer + Sync),
+        method: LineMethod,
+        seed: u64,
+        n_lines: u64,
+        range: Range<u64>,
+        executor: &mut dyn Executor,
+    ) -> LineRun {
+        let total = chunk_count(n_lines);
+        let end = range.end.min(total);
+        let work = ChunkWork {
+            tracer,
+            method,
+            seed,
+            n_lines,
+            chunks: (range.start.min(end), end),
+        };
+        let done = executor.execute(&work);
+        let k = done.chunks.min(work.chunks.1 - work.chunks.0);
+        LineRun {
+            budget_done: work.lines_of_first(k),
+            tally: done.tally,
+            lines: n_lines,
+            chunks: work.chunks.0..work.chunks.0 + k,
+            stopped: executor.stopped(),
+        }
     }
 }
 
-/// Casts the lines of `budget` through `executor`: the one line-budget loop of the crate.
-///
-/// A fixed budget `N` is the chunks `0..⌈N / 2¹⁶⌉`. `UntilSampled { start, max }` casts
-/// `start` lines and, while some patch has no sample ([`LineTally::all_sampled`]), the
-/// executor has not [`Executor::stopped`] and the count is below `max`, doubles it (the last
-/// step clamped to `max`). A whole chunk does not depend on the job it belongs to
-/// (`crate::lines::chunk_range`), so when `N` is a whole number of chunks the job of `2N`
-/// lines is the job of `N` plus the chunks `N/2¹⁶ .. 2N/2¹⁶`: each step casts only those
-/// and merges them (exactly), and the tally equals one run of the final count, bit for bit.
-/// A count off the chunk grid (a `start` that is not a multiple of 2¹⁶) is recast whole.
-///
-/// ```text
-/// N₀ = start,  N_{s+1} = min(2 N_s, max)   while some C_i = 0        (at most 64 steps)
-/// ```
-pub fn cast_lines(
-    tracer: &(dyn LineTracer + Sync),
-    method: LineMethod,
-    seed: u64,
-    budget: LineBudget,
-    executor: &mut dyn Executor,
-) -> LineRun {
-    let (start, max) = match budget {
-        LineBudget::Fixed(n) => (n, n),
-        LineBudget::UntilSampled { start, max } => (start.min(max), max),
-    };
-    let mut lines = start;
-    let first = cast_chunks(tracer, method, seed, lines, 0..chunk_count(lines), executor);
-    let (mut tally, mut budget_done, mut chunks) = (first.tally, first.budget_done, first.chunks);
-    // Bounded: the count grows by at least one (doubles from 1 on) up to `max`
-    while lines < max && !tally.all_sampled() && !executor.stopped() {
-        let more = lines.saturating_mul(2).max(lines + 1).min(max);
-        let step = if lines % CHUNK_LINES == 0 {
-            let added = chunk_count(lines)..chunk_count(more);
-            cast_chunks(tracer, method, seed, more, added, executor)
-        } else {
-            // Off the chunk grid: the last chunk changes with the count, recast all
-            tally = tracer.new_tally(method);
-            budget_done = 0;
-            cast_chunks(tracer, method, seed, more, 0..chunk_count(more), executor)
+impl LineRun {
+    /// Casts the lines of `budget` through `executor`: the one line-budget loop of the crate.
+    ///
+    /// A fixed budget `N` is the chunks `0..⌈N / 2¹⁶⌉`. `UntilSampled { start, max }` casts
+    /// `start` lines and, while some patch has no sample ([`LineTally::all_sampled`]), the
+    /// executor has not [`Executor::stopped`] and the count is below `max`, doubles it (the last
+    /// step clamped to `max`). A whole chunk does not depend on the job it belongs to
+    /// (`crate::lines::chunk_range`), so when `N` is a whole number of chunks the job of `2N`
+    /// lines is the job of `N` plus the chunks `N/2¹⁶ .. 2N/2¹⁶`: each step casts only those
+    /// and merges them (exactly), and the tally equals one run of the final count, bit for bit.
+    /// A count off the chunk grid (a `start` that is not a multiple of 2¹⁶) is recast whole.
+    ///
+    /// ```text
+    /// N₀ = start,  N_{s+1} = min(2 N_s, max)   while some C_i = 0        (at most 64 steps)
+    /// ```
+    pub fn cast_lines(
+        tracer: &(dyn LineTracer + Sync),
+        method: LineMethod,
+        seed: u64,
+        budget: LineBudget,
+        executor: &mut dyn Executor,
+    ) -> LineRun {
+        let (start, max) = match budget {
+            LineBudget::Fixed(n) => (n, n),
+            LineBudget::UntilSampled { start, max } => (start.min(max), max),
         };
-        tally.merge_owned(step.tally);
-        budget_done += step.budget_done;
-        chunks = chunks.start.min(step.chunks.start)..step.chunks.end;
-        lines = more;
-    }
-    LineRun {
-        tally,
-        lines,
-        budget_done,
-        chunks,
-        stopped: executor.stopped(),
+        let mut lines = start;
+        let first = Self::cast_chunks(tracer, method, seed, lines, 0..chunk_count(lines), executor);
+        let (mut tally, mut budget_done, mut chunks) =
+            (first.tally, first.budget_done, first.chunks);
+        // Bounded: the count grows by at least one (doubles from 1 on) up to `max`
+        while lines < max && !tally.all_sampled() && !executor.stopped() {
+            let more = lines.saturating_mul(2).max(lines + 1).min(max);
+            let step = if lines % CHUNK_LINES == 0 {
+                let added = chunk_count(lines)..chunk_count(more);
+                LineRun::cast_chunks(tracer, method, seed, more, added, executor)
+            } else {
+                // Off the chunk grid: the last chunk changes with the count, recast all
+                tally = tracer.new_tally(method);
+                budget_done = 0;
+                LineRun::cast_chunks(tracer, method, seed, more, 0..chunk_count(more), executor)
+            };
+            tally.merge_owned(step.tally);
+            budget_done += step.budget_done;
+            chunks = chunks.start.min(step.chunks.start)..step.chunks.end;
+            lines = more;
+        }
+        LineRun {
+            tally,
+            lines,
+            budget_done,
+            chunks,
+            stopped: executor.stopped(),
+        }
     }
 }

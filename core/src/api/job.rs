@@ -22,7 +22,7 @@ pub enum LineBudget {
     Fixed(u64),
     /// `start` lines, doubled until every patch has received a sample or the count reaches
     /// `max` (the last step clamped to `max`). The result is one run of the final count, bit
-    /// for bit ([`crate::cast_lines`]).
+    /// for bit ([`crate::LineRun::cast_lines`]).
     UntilSampled {
         /// The first count.
         start: u64,
@@ -201,7 +201,7 @@ pub enum Job {
     /// Exact form factors: flatland with occlusion (crossed strings, 2.1.6); 3D by the
     /// contour integral (2.16), with occlusion by exact visibility from each point and an
     /// adaptive outer integral to [`crate::formfactor::occluded_3d::DEFAULT_TOLERANCE`]
-    /// ([`crate::measure_exact_within`] for another tolerance).
+    /// ([`crate::Measurement::exact_within`] for another tolerance).
     Exact,
     /// Monte Carlo form factors (2.36, 2.37) and `I_S^c` (4.8, 4.13) from lines.
     Lines(LineJob),

@@ -12,8 +12,8 @@ use crate::io::partial::{JobId, Partial};
 use crate::tally::coverage::Coverage;
 use crate::tally::{LineMethod, LineTally, LineTracer, UNSUPPORTED_BY_TRACER};
 
-use super::executor::{Executor, LineRun, cast_chunks, cast_lines};
-use super::warning::{FEW_STDERR_GROUPS, Warning, channel_warnings};
+use super::executor::{Executor, LineRun};
+use super::warning::{FEW_STDERR_GROUPS, Warning};
 use super::{Job, LineBudget, LineJob, Scene};
 
 /// What a line job cast, and `I_S^c` from it.
@@ -307,7 +307,7 @@ impl Measurement {
         self.run.map_or(0, |r| r.lines)
     }
 
-    /// What the numbers cannot promise: the channel's warnings ([`channel_warnings`]),
+    /// What the numbers cannot promise: the channel's warnings ([`Warning::of_channel`]),
     /// [`Warning::UnsampledPatches`] when some patch received no line,
     /// [`Warning::SumsOutOfRange`] when a sum of `I^c` terms saturated or dropped a
     /// non-finite term, [`Warning::FewStderrGroups`] when `I_S^c`'s standard error rests
@@ -316,7 +316,7 @@ impl Measurement {
     pub fn warnings(&self) -> Vec<Warning> {
         let mut out = Vec::new();
         if let (Some((_, checks)), Some(ff)) = (&self.channel, &self.form_factors) {
-            out.extend(channel_warnings(
+            out.extend(Warning::of_channel(
                 ff.has_background(),
                 ff.max_row_deficit(),
                 checks,
@@ -352,18 +352,18 @@ pub(super) fn relative(sizes: &[f64]) -> Vec<f64> {
 ///
 /// [`Job::Exact`]: flatland form factors with occlusion
 /// ([`crate::formfactor::exact_2d::form_factors`]), 3D ones of unoccluded scenes
-/// ([`measure_exact`]; [`measure_exact_within`] for occluded ones). [`Job::Lines`]: the lines of the
-/// job's budget ([`crate::cast_lines`]), then `F̂_ij = C_ij / C_i` (2.36, 2.37) and `I_S^c`
+/// ([`Measurement::exact`]; [`Measurement::exact_within`] for occluded ones). [`Job::Lines`]: the lines of the
+/// job's budget ([`crate::LineRun::cast_lines`]), then `F̂_ij = C_ij / C_i` (2.36, 2.37) and `I_S^c`
 /// (4.8, 4.13), or, when some patch received no line, `I_S^c` and the coverage alone.
 ///
 /// # Errors
-/// The exact form factors' ([`measure_exact`]); the budget's errors ([`LineJob::check`]);
+/// The exact form factors' ([`Measurement::exact`]); the budget's errors ([`LineJob::check`]);
 /// [`ErrorKind::BadParameter`] (`"chunks"`) for a job of some chunks only (that is
 /// [`measure_partial`]'s); [`ErrorKind::UnsupportedMethod`]; [`ErrorKind::NoLines`] when
 /// no line was cast; the form factors' and the channel's errors.
 pub fn measure(scene: &Scene, job: &Job, executor: &mut dyn Executor) -> Result<Measurement> {
     match job {
-        Job::Exact => measure_exact(scene),
+        Job::Exact => Measurement::exact(scene),
         Job::Lines(lines) => {
             lines.check()?;
             if let Some(c) = &lines.chunks {
@@ -379,49 +379,53 @@ pub fn measure(scene: &Scene, job: &Job, executor: &mut dyn Executor) -> Result<
     }
 }
 
-/// [`measure`] of [`Job::Exact`]: exact flatland form factors with occlusion
-/// ([`exact_2d::form_factors`]), or exact unoccluded 3D ones
-/// ([`crate::formfactor::exact_3d::scene_form_factors`]; [`ErrorKind::MayBeOccluded`] when a
-/// polygon may hide another — [`measure_exact_within`] computes those, with occlusion, to a
-/// tolerance the caller chooses: their cost grows with it and with the occluders, so it is
-/// never a default). A caller that never casts lines (the browser lab's exact measures)
-/// calls this and does not link the tracers.
-///
-/// # Errors
-/// The exact form factors' and the channel's.
-pub fn measure_exact(scene: &Scene) -> Result<Measurement> {
-    let ff = match scene {
-        Scene::Flat(s) => exact_2d::form_factors(s)?,
-        Scene::Solid(s) => crate::formfactor::exact_3d::scene_form_factors(s)?,
-    };
-    Measurement::of(ff, scene.patch_sizes(), None, None)
+impl Measurement {
+    /// [`measure`] of [`Job::Exact`]: exact flatland form factors with occlusion
+    /// ([`exact_2d::form_factors`]), or exact unoccluded 3D ones
+    /// ([`crate::formfactor::exact_3d::scene_form_factors`]; [`ErrorKind::MayBeOccluded`] when a
+    /// polygon may hide another — [`Measurement::exact_within`] computes those, with occlusion, to a
+    /// tolerance the caller chooses: their cost grows with it and with the occluders, so it is
+    /// never a default). A caller that never casts lines (the browser lab's exact measures)
+    /// calls this and does not link the tracers.
+    ///
+    /// # Errors
+    /// The exact form factors' and the channel's.
+    pub fn exact(scene: &Scene) -> Result<Measurement> {
+        let ff = match scene {
+            Scene::Flat(s) => exact_2d::form_factors(s)?,
+            Scene::Solid(s) => crate::formfactor::exact_3d::scene_form_factors(s)?,
+        };
+        Measurement::of(ff, scene.patch_sizes(), None, None)
+    }
 }
 
-/// [`measure_exact`] with the tolerance and work cap of the 3D form factors with occlusion
-/// (unused in flatland, whose form factors are exact). When some pair was integrated
-/// adaptively, [`Measurement::exact_errors`] holds the error estimates.
-///
-/// # Errors
-/// The options' ([`OcclusionOptions::check`]), the form factors' and the channel's.
-pub fn measure_exact_within(scene: &Scene, options: &OcclusionOptions) -> Result<Measurement> {
-    let (ff, errors) = match scene {
-        Scene::Flat(s) => (exact_2d::form_factors(s)?, None),
-        Scene::Solid(s) => {
-            let r = occluded_3d::scene_form_factors_occluded(s, options)?;
-            let errors = (r.pairs_integrated > 0).then(|| ExactErrors {
-                tolerance: r.tolerance,
-                max_error: r.max_error(),
-                max_row_error: r.max_row_error(),
-                pairs_integrated: r.pairs_integrated,
-                over_tolerance: r.over_tolerance,
-                per_pair: r.errors.clone(),
-            });
-            (r.form_factors, errors)
-        }
-    };
-    let mut m = Measurement::of(ff, scene.patch_sizes(), None, None)?;
-    m.exact_errors = errors;
-    Ok(m)
+impl Measurement {
+    /// [`Measurement::exact`] with the tolerance and work cap of the 3D form factors with occlusion
+    /// (unused in flatland, whose form factors are exact). When some pair was integrated
+    /// adaptively, [`Measurement::exact_errors`] holds the error estimates.
+    ///
+    /// # Errors
+    /// The options' ([`OcclusionOptions::check`]), the form factors' and the channel's.
+    pub fn exact_within(scene: &Scene, options: &OcclusionOptions) -> Result<Measurement> {
+        let (ff, errors) = match scene {
+            Scene::Flat(s) => (exact_2d::form_factors(s)?, None),
+            Scene::Solid(s) => {
+                let r = occluded_3d::scene_form_factors_occluded(s, options)?;
+                let errors = (r.pairs_integrated > 0).then(|| ExactErrors {
+                    tolerance: r.tolerance,
+                    max_error: r.max_error(),
+                    max_row_error: r.max_row_error(),
+                    pairs_integrated: r.pairs_integrated,
+                    over_tolerance: r.over_tolerance,
+                    per_pair: r.errors.clone(),
+                });
+                (r.form_factors, errors)
+            }
+        };
+        let mut m = Measurement::of(ff, scene.patch_sizes(), None, None)?;
+        m.exact_errors = errors;
+        Ok(m)
+    }
 }
 
 /// Refuses a method `tracer` cannot cast.
@@ -443,7 +447,7 @@ fn measure_lines(
     executor: &mut dyn Executor,
 ) -> Result<Measurement> {
     check_supported(tracer, job.method)?;
-    let run: LineRun = cast_lines(tracer, job.method, job.seed, job.budget, executor);
+    let run: LineRun = LineRun::cast_lines(tracer, job.method, job.seed, job.budget, executor);
     let done = run.tally.lines();
     // A stop between two doubling steps leaves a whole job that has not reached every
     // patch: it was cut short of the next count
@@ -503,7 +507,7 @@ pub fn measure_partial(
     let tracer = scene.tracer()?;
     let tracer = tracer.as_dyn();
     check_supported(tracer, job.method)?;
-    let run = cast_chunks(tracer, job.method, job.seed, lines, chunks, executor);
+    let run = LineRun::cast_chunks(tracer, job.method, job.seed, lines, chunks, executor);
     Ok(Partial {
         job: JobId {
             scene: fingerprint,

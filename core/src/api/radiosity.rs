@@ -16,16 +16,16 @@ use alloc::vec::Vec;
 use crate::continuous::ContinuousEstimate;
 use crate::error::{ErrorKind, Result};
 use crate::formfactor::FormFactors;
-use crate::radiosity::continuous::estimate_lit;
+use crate::radiosity::continuous::LitEstimate;
 use crate::radiosity::rgb::{RgbSolution, rgb_measures, solve_rgb};
 use crate::radiosity::{RadiosityMeasures, SolveOptions, Solver};
 use crate::scene::Material;
 use crate::tally::coverage::Coverage;
 use crate::tally::{LineMethod, LineTracer};
 
-use super::executor::{Executor, cast_lines};
+use super::executor::{Executor, LineRun};
 use super::measurement::{Measurement, check_supported, relative};
-use super::{Job, LineBudget, LineJob, Scene, measure_exact};
+use super::{Job, LineBudget, LineJob, Scene};
 
 /// What [`solve_radiosity`] does: how the form factors are found, and how the radiosity
 /// system (2.6) is solved.
@@ -160,7 +160,7 @@ pub fn solve_radiosity(
     let materials = scene.patch_materials();
     match &job.form_factors {
         Job::Exact => {
-            let visibility = measure_exact(scene)?;
+            let visibility = Measurement::exact(scene)?;
             let ff = visibility.form_factors().ok_or(ErrorKind::NoLines)?;
             let (f, weights) = (ff.matrix(), ff.weights());
             let solution = solve_rgb(&f, weights, &materials, job.solver, &job.options)?;
@@ -182,7 +182,7 @@ pub fn solve_radiosity(
 
 /// The line part of [`solve_radiosity`]. The first cast follows the budget (doubling until
 /// every patch is sampled, for [`LineBudget::UntilSampled`]); a second cast, when
-/// [`estimate_lit`] needs one, uses the count the first settled on.
+/// [`LitEstimate::estimate`] needs one, uses the count the first settled on.
 fn with_lines(
     tracer: &(dyn LineTracer + Sync),
     materials: Vec<Material>,
@@ -203,7 +203,7 @@ fn with_lines(
     let mut coverage: Option<Coverage> = None;
     let cast = |t: &(dyn LineTracer + Sync)| {
         let budget = settled.map_or(lines.budget, LineBudget::Fixed);
-        let run = cast_lines(t, lines.method, lines.seed, budget, executor);
+        let run = LineRun::cast_lines(t, lines.method, lines.seed, budget, executor);
         if run.stopped {
             return Err(ErrorKind::Stopped.into());
         }
@@ -213,7 +213,7 @@ fn with_lines(
         }
         Ok(run.tally)
     };
-    let est = estimate_lit(
+    let est = LitEstimate::estimate(
         tracer,
         &materials,
         job.solver,

@@ -6,7 +6,7 @@ use crate::error::Result;
 use crate::lines::{CHUNK_LINES, chunk_count};
 use crate::tally::{LineMethod, LineTally};
 
-use super::executor::{Executor, cast_chunks};
+use super::executor::{Executor, LineRun};
 use super::measurement::{LineRunInfo, Measurement};
 use super::scene::SceneTracer;
 use super::{LineBudget, LineJob, Scene};
@@ -76,7 +76,7 @@ impl LineSession {
     /// returns the lines cast so far.
     pub fn cast(&mut self, chunks: u64, executor: &mut dyn Executor) -> u64 {
         let end = chunk_count(self.lines).min(self.next_chunk.saturating_add(chunks));
-        let run = cast_chunks(
+        let run = LineRun::cast_chunks(
             self.tracer.as_dyn(),
             self.method,
             self.seed,

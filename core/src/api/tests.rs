@@ -410,7 +410,7 @@ fn radiosity_on_exact_form_factors_is_the_expert_solve() {
     let scene = lit_cube();
     let job = RadiosityJob::new(Job::Exact);
     let lit = solve_radiosity(&scene, &job, &mut Serial).unwrap();
-    let m = measure_exact(&scene).unwrap();
+    let m = Measurement::exact(&scene).unwrap();
     let ff = m.form_factors().unwrap();
     let materials = scene.patch_materials();
     let expert = solve_rgb(
@@ -499,7 +499,7 @@ fn a_dropped_term_of_i_c_reaches_the_warnings() {
     // sums drop it and flag it, and the flag must reach the measurement, not vanish
     let tracer = scene.tracer().unwrap();
     let job = LineJob::new(CHUNK_LINES);
-    let mut run = cast_lines(
+    let mut run = LineRun::cast_lines(
         tracer.as_dyn(),
         job.method,
         job.seed,
@@ -527,7 +527,7 @@ fn a_dropped_term_of_i_c_reaches_the_warnings() {
         m.warnings()
     );
     // A per-patch sum out of range counts too
-    let mut run = cast_lines(
+    let mut run = LineRun::cast_lines(
         tracer.as_dyn(),
         job.method,
         job.seed,
@@ -538,7 +538,7 @@ fn a_dropped_term_of_i_c_reaches_the_warnings() {
     assert!(run.tally.sums_out_of_range());
 }
 
-/// `measure_exact_within` measures a 3D scene in which a polygon hides part of another
+/// `Measurement::exact_within` measures a 3D scene in which a polygon hides part of another
 /// (`Job::Exact` refuses it: the cost depends on a tolerance the caller must choose): the
 /// error estimates come with it, within the tolerance; an unoccluded scene has none.
 #[test]
@@ -563,11 +563,11 @@ fn exact_within_measures_an_occluded_scene_with_estimates() {
         "{refused}"
     );
     let options = crate::formfactor::occluded_3d::OcclusionOptions::new(1e-4);
-    let m = measure_exact_within(&scene, &options).unwrap();
+    let m = Measurement::exact_within(&scene, &options).unwrap();
     let e = m.exact_errors().unwrap();
     assert!(e.pairs_integrated > 0 && e.over_tolerance == 0 && e.max_error <= 1e-4);
     // A closed scene (the square is two-sided): rows within their estimates of 1.
     assert!(m.max_row_deficit().unwrap() <= e.max_row_error + 1e-12);
     let bad = crate::formfactor::occluded_3d::OcclusionOptions::new(0.0);
-    assert!(measure_exact_within(&scene, &bad).is_err());
+    assert!(Measurement::exact_within(&scene, &bad).is_err());
 }

@@ -48,7 +48,7 @@ pub enum Warning {
         /// Lines cast.
         lines: u64,
         /// About how many lines would reach every patch
-        /// ([`crate::tally::coverage::lines_to_sample_all`]), if it could be estimated.
+        /// ([`crate::Coverage::lines_needed`]), if it could be estimated.
         suggested: Option<u64>,
     },
     /// The standard error of `I_S^c` rests on fewer than `FEW_STDERR_GROUPS` independent
@@ -117,33 +117,35 @@ impl fmt::Display for Warning {
     }
 }
 
-/// The warnings of a channel's measures: [`Warning::NearlyClosed`] when a background state
-/// was added for a row deficit of at most `NEARLY_CLOSED_DEFICIT`, [`Warning::RowSums`]
-/// and [`Warning::Stationarity`] when the [`Checks`] fail at `CHECK_TOLERANCE`; empty for
-/// exact form factors of a well-conditioned scene.
-#[must_use]
-pub fn channel_warnings(
-    background: bool,
-    max_row_deficit: f64,
-    checks: &Checks,
-) -> heapless::Vec<Warning, 3> {
-    let mut out = heapless::Vec::new();
-    if background && max_row_deficit <= NEARLY_CLOSED_DEFICIT {
-        let _ = out.push(Warning::NearlyClosed {
-            deficit: max_row_deficit,
-        });
+impl Warning {
+    /// The warnings of a channel's measures: [`Warning::NearlyClosed`] when a background state
+    /// was added for a row deficit of at most `NEARLY_CLOSED_DEFICIT`, [`Warning::RowSums`]
+    /// and [`Warning::Stationarity`] when the [`Checks`] fail at `CHECK_TOLERANCE`; empty for
+    /// exact form factors of a well-conditioned scene.
+    #[must_use]
+    pub fn of_channel(
+        background: bool,
+        max_row_deficit: f64,
+        checks: &Checks,
+    ) -> heapless::Vec<Warning, 3> {
+        let mut out = heapless::Vec::new();
+        if background && max_row_deficit <= NEARLY_CLOSED_DEFICIT {
+            let _ = out.push(Warning::NearlyClosed {
+                deficit: max_row_deficit,
+            });
+        }
+        if !checks.is_row_stochastic(CHECK_TOLERANCE) {
+            let _ = out.push(Warning::RowSums {
+                error: checks.max_row_sum_error,
+            });
+        }
+        if !checks.is_stationary(CHECK_TOLERANCE) {
+            let _ = out.push(Warning::Stationarity {
+                error: checks.stationarity_error,
+            });
+        }
+        out
     }
-    if !checks.is_row_stochastic(CHECK_TOLERANCE) {
-        let _ = out.push(Warning::RowSums {
-            error: checks.max_row_sum_error,
-        });
-    }
-    if !checks.is_stationary(CHECK_TOLERANCE) {
-        let _ = out.push(Warning::Stationarity {
-            error: checks.stationarity_error,
-        });
-    }
-    out
 }
 impl Warning {
     /// Below this many independent groups the standard error of `I_S^c` is itself unreliable

@@ -37,10 +37,10 @@ use alloc::vec::Vec;
 use super::{Channel, DenseMatrix, Transitions};
 use crate::error::{Error, ErrorKind, Result};
 
-/// Most bounces [`long_range_information`] follows.
+/// Most bounces [`Channel::long_range_information`] follows.
 pub(crate) const MAX_BOUNCES: usize = 100_000;
 
-/// Most multiply-adds [`long_range_information`] may do (`bounces · n³`), about a minute
+/// Most multiply-adds [`Channel::long_range_information`] may do (`bounces · n³`), about a minute
 /// of work; more is refused with [`ErrorKind::TooLarge`] before starting.
 pub(crate) const MAX_BOUNCE_WORK: u64 = 1 << 36;
 
@@ -62,7 +62,7 @@ pub struct LongRange {
 }
 
 impl LongRange {
-    /// Most bounces [`long_range_information`] follows.
+    /// Most bounces [`Channel::long_range_information`] follows.
     pub const MAX_BOUNCES: usize = MAX_BOUNCES;
 
     /// The lower bound `max(0, H_P − n H_S)` that the block entropies give for
@@ -96,95 +96,95 @@ impl LongRange {
     }
 }
 
-/// The long-range mutual information `I(X_0; X_n)` for `n = 1, …, bounces`, exactly, from
-/// the powers `Pⁿ` of the channel's matrix kept dense (module docs for the formulas).
-///
-/// Cost about `bounces · n³` multiply-adds (dense rows, skipping zeros of `Pⁿ`) and `3n²`
-/// values of memory.
-///
-/// # Errors
-///
-/// - [`ErrorKind::BadParameter`] for `bounces = 0` or above `MAX_BOUNCES`;
-/// - [`ErrorKind::TooLarge`] if the work exceeds `MAX_BOUNCE_WORK` or `n²` overflows;
-/// - the validation errors of [`Channel::new`] for a power (none for a valid channel:
-///   rows of `Pⁿ` sum to at most those of `P`).
-pub fn long_range_information<M: Transitions>(
-    channel: &Channel<'_, M>,
-    bounces: usize,
-) -> Result<LongRange> {
-    if bounces == 0 || bounces > MAX_BOUNCES {
-        return Err(Error::new(ErrorKind::BadParameter {
-            name: "bounces",
-            value: bounces as f64,
-        }));
-    }
-    let p = channel.transitions();
-    let w = channel.weights();
-    let n = channel.n_states();
-    // The work, before allocating anything
-    let work = (bounces as u64 - 1)
-        .saturating_mul(n as u64)
-        .saturating_mul(n as u64)
-        .saturating_mul(n as u64);
-    let cells = n.checked_mul(n);
-    if work > MAX_BOUNCE_WORK || cells.is_none() {
-        return Err(Error::new(ErrorKind::TooLarge {
-            what: "long-range mutual information (bounces · states³)",
-            max: MAX_BOUNCE_WORK,
-        }));
-    }
-    let cells = cells.unwrap_or(0);
+impl<M: Transitions> Channel<'_, M> {
+    /// The long-range mutual information `I(X_0; X_n)` for `n = 1, …, bounces`, exactly, from
+    /// the powers `Pⁿ` of the channel's matrix kept dense (module docs for the formulas).
+    ///
+    /// Cost about `bounces · n³` multiply-adds (dense rows, skipping zeros of `Pⁿ`) and `3n²`
+    /// values of memory.
+    ///
+    /// # Errors
+    ///
+    /// - [`ErrorKind::BadParameter`] for `bounces = 0` or above `MAX_BOUNCES`;
+    /// - [`ErrorKind::TooLarge`] if the work exceeds `MAX_BOUNCE_WORK` or `n²` overflows;
+    /// - the validation errors of [`Channel::new`] for a power (none for a valid channel:
+    ///   rows of `Pⁿ` sum to at most those of `P`).
+    pub fn long_range_information(&self, bounces: usize) -> Result<LongRange> {
+        let channel = self;
+        if bounces == 0 || bounces > MAX_BOUNCES {
+            return Err(Error::new(ErrorKind::BadParameter {
+                name: "bounces",
+                value: bounces as f64,
+            }));
+        }
+        let p = channel.transitions();
+        let w = channel.weights();
+        let n = channel.n_states();
+        // The work, before allocating anything
+        let work = (bounces as u64 - 1)
+            .saturating_mul(n as u64)
+            .saturating_mul(n as u64)
+            .saturating_mul(n as u64);
+        let cells = n.checked_mul(n);
+        if work > MAX_BOUNCE_WORK || cells.is_none() {
+            return Err(Error::new(ErrorKind::TooLarge {
+                what: "long-range mutual information (bounces · states³)",
+                max: MAX_BOUNCE_WORK,
+            }));
+        }
+        let cells = cells.unwrap_or(0);
 
-    // P¹ densely
-    let mut power = vec![0.0; cells];
-    for i in 0..n {
-        p.for_each_in_row(i, |j, v| {
-            if let Some(x) = power.get_mut(i * n + j) {
-                *x = v;
+        // P¹ densely
+        let mut power = vec![0.0; cells];
+        for i in 0..n {
+            p.for_each_in_row(i, |j, v| {
+                if let Some(x) = power.get_mut(i * n + j) {
+                    *x = v;
+                }
+            });
+        }
+        let dense = power.clone();
+        let mut next = vec![0.0; cells];
+        let mut curve = Vec::with_capacity(bounces);
+        let mut conditional = Vec::with_capacity(bounces);
+        let mut per_state = vec![0.0; n];
+        let mut per_state_first = vec![0.0; n];
+        let (h_p, h_s) = (channel.h_p(), channel.h_s());
+        for step in 1..=bounces {
+            // The measures of the channel (w, Pⁿ)
+            let ch = Channel::new(w, DenseMatrix::from_validated(n, &power))?;
+            curve.push(ch.i_s());
+            conditional.push(ch.h_s());
+            if step == 1 {
+                ch.patch_mutual_information(&mut per_state_first)?;
             }
-        });
-    }
-    let dense = power.clone();
-    let mut next = vec![0.0; cells];
-    let mut curve = Vec::with_capacity(bounces);
-    let mut conditional = Vec::with_capacity(bounces);
-    let mut per_state = vec![0.0; n];
-    let mut per_state_first = vec![0.0; n];
-    let (h_p, h_s) = (channel.h_p(), channel.h_s());
-    for step in 1..=bounces {
-        // The measures of the channel (w, Pⁿ)
-        let ch = Channel::new(w, DenseMatrix::from_validated(n, &power))?;
-        curve.push(ch.i_s());
-        conditional.push(ch.h_s());
-        if step == 1 {
-            ch.patch_mutual_information(&mut per_state_first)?;
-        }
-        if step == bounces {
-            ch.patch_mutual_information(&mut per_state)?;
-            break;
-        }
-        // Pⁿ⁺¹ = Pⁿ P, row by row: (Pⁿ⁺¹)_i· = Σ_k (Pⁿ)_ik P_k·
-        // (contiguous rows of a dense P: the inner loop vectorises)
-        next.fill(0.0);
-        for (out, row) in next.chunks_exact_mut(n).zip(power.chunks_exact(n)) {
-            for (&q, p_k) in row.iter().zip(dense.chunks_exact(n)) {
-                if q > 0.0 {
-                    for (x, &v) in out.iter_mut().zip(p_k) {
-                        *x += q * v;
+            if step == bounces {
+                ch.patch_mutual_information(&mut per_state)?;
+                break;
+            }
+            // Pⁿ⁺¹ = Pⁿ P, row by row: (Pⁿ⁺¹)_i· = Σ_k (Pⁿ)_ik P_k·
+            // (contiguous rows of a dense P: the inner loop vectorises)
+            next.fill(0.0);
+            for (out, row) in next.chunks_exact_mut(n).zip(power.chunks_exact(n)) {
+                for (&q, p_k) in row.iter().zip(dense.chunks_exact(n)) {
+                    if q > 0.0 {
+                        for (x, &v) in out.iter_mut().zip(p_k) {
+                            *x += q * v;
+                        }
                     }
                 }
             }
+            core::mem::swap(&mut power, &mut next);
         }
-        core::mem::swap(&mut power, &mut next);
+        Ok(LongRange {
+            curve,
+            conditional,
+            h_p,
+            h_s,
+            per_state,
+            per_state_first,
+        })
     }
-    Ok(LongRange {
-        curve,
-        conditional,
-        h_p,
-        h_s,
-        per_state,
-        per_state_first,
-    })
 }
 
 #[cfg(test)]
@@ -197,7 +197,7 @@ mod tests {
         let w = [0.5, 0.5];
         let f = [0.0, 1.0, 1.0, 0.0];
         let ch = Channel::new(&w, DenseMatrix::new(2, &f).unwrap()).unwrap();
-        let lr = long_range_information(&ch, 5).unwrap();
+        let lr = ch.long_range_information(5).unwrap();
         assert_eq!(lr.curve, [1.0; 5]);
         assert_eq!(lr.block_bound(1), 1.0);
     }
@@ -208,7 +208,7 @@ mod tests {
         let w = [0.5, 0.3, 0.2];
         let f = [0.2, 0.5, 0.3, 5.0 / 6.0, 0.1, 1.0 / 15.0, 0.75, 0.1, 0.15];
         let ch = Channel::new(&w, DenseMatrix::new(3, &f).unwrap()).unwrap();
-        let lr = long_range_information(&ch, 60).unwrap();
+        let lr = ch.long_range_information(60).unwrap();
         assert!((lr.curve[0] - ch.i_s()).abs() < 1e-15);
         assert!(lr.curve.windows(2).all(|p| p[1] <= p[0] + 1e-12));
         assert!(lr.curve[59] < 1e-12, "{}", lr.curve[59]);
@@ -222,8 +222,8 @@ mod tests {
         let w = [1.0];
         let f = [1.0];
         let ch = Channel::new(&w, DenseMatrix::new(1, &f).unwrap()).unwrap();
-        assert!(long_range_information(&ch, 0).is_err());
-        assert!(long_range_information(&ch, MAX_BOUNCES + 1).is_err());
-        assert_eq!(long_range_information(&ch, 3).unwrap().curve, [0.0; 3]);
+        assert!(ch.long_range_information(0).is_err());
+        assert!(ch.long_range_information(MAX_BOUNCES + 1).is_err());
+        assert_eq!(ch.long_range_information(3).unwrap().curve, [0.0; 3]);
     }
 }

@@ -14,95 +14,97 @@ pub(crate) const MAX_BLOCK_LEN: usize = 16;
 /// well under a second).
 pub(crate) const MAX_BLOCK_PATHS: u64 = 1 << 24;
 
-/// Stationary distribution of the chain `P` by power iteration (2.41), written to `out[..n]`.
-///
-/// Iterates on the *lazy* chain `Q = (P + I) / 2`, which has the same stationary
-/// distribution but no periodicity, so it also converges for periodic chains such as two
-/// facing segments (where `x Pᵏ` oscillates for ever):
-///
-/// ```text
-/// x₀ = (1/n, …, 1/n),   x_{k+1} = (x_k + x_k P) / 2,   normalised to Σ x = 1
-/// stop when ‖x_{k+1} − x_k‖_∞ ≤ tol;   lim x_k = w with wP = w
-/// ```
-///
-/// For a closed scene the result is the relative areas `a_i` (2.40). Rows that sum to
-/// less than one leak mass; renormalising each step then yields the quasi-stationary
-/// distribution. For a reducible chain the limit depends on the uniform start. `scratch`
-/// needs `n` values. Column sums are scattered without compensation: the iteration
-/// corrects its own rounding, so the result is accurate to about `n·ε` relative.
-///
-/// Returns the number of iterations used (0 for an empty chain).
-///
-/// # Errors
-///
-/// - [`ErrorKind::BufferTooSmall`] if `out` or `scratch` holds fewer than `n` values;
-/// - [`ErrorKind::NonFiniteEntry`] / [`ErrorKind::NegativeEntry`] for a bad entry, and
-///   [`ErrorKind::MalformedSparse`] for a column `>= n` (custom [`Transitions`] only);
-/// - [`ErrorKind::NotNormalized`] if a step moves no mass at all (`x P = 0`, e.g. a zero
-///   matrix);
-/// - [`ErrorKind::NoConvergence`] if `max_iter` iterations do not reach `tol` (also when
-///   `tol` is NaN).
-pub fn stationary_distribution<M: Transitions>(
-    p: &M,
-    out: &mut [f64],
-    scratch: &mut [f64],
-    tol: f64,
-    max_iter: u64,
-) -> Result<u64> {
-    let n = p.n_states();
-    for found in [out.len(), scratch.len()] {
-        if found < n {
-            return Err(Error::new(ErrorKind::BufferTooSmall { needed: n, found }));
+impl<M: Transitions> Channel<'_, M> {
+    /// Stationary distribution of the chain `P` by power iteration (2.41), written to `out[..n]`.
+    ///
+    /// Iterates on the *lazy* chain `Q = (P + I) / 2`, which has the same stationary
+    /// distribution but no periodicity, so it also converges for periodic chains such as two
+    /// facing segments (where `x Pᵏ` oscillates for ever):
+    ///
+    /// ```text
+    /// x₀ = (1/n, …, 1/n),   x_{k+1} = (x_k + x_k P) / 2,   normalised to Σ x = 1
+    /// stop when ‖x_{k+1} − x_k‖_∞ ≤ tol;   lim x_k = w with wP = w
+    /// ```
+    ///
+    /// For a closed scene the result is the relative areas `a_i` (2.40). Rows that sum to
+    /// less than one leak mass; renormalising each step then yields the quasi-stationary
+    /// distribution. For a reducible chain the limit depends on the uniform start. `scratch`
+    /// needs `n` values. Column sums are scattered without compensation: the iteration
+    /// corrects its own rounding, so the result is accurate to about `n·ε` relative.
+    ///
+    /// Returns the number of iterations used (0 for an empty chain).
+    ///
+    /// # Errors
+    ///
+    /// - [`ErrorKind::BufferTooSmall`] if `out` or `scratch` holds fewer than `n` values;
+    /// - [`ErrorKind::NonFiniteEntry`] / [`ErrorKind::NegativeEntry`] for a bad entry, and
+    ///   [`ErrorKind::MalformedSparse`] for a column `>= n` (custom [`Transitions`] only);
+    /// - [`ErrorKind::NotNormalized`] if a step moves no mass at all (`x P = 0`, e.g. a zero
+    ///   matrix);
+    /// - [`ErrorKind::NoConvergence`] if `max_iter` iterations do not reach `tol` (also when
+    ///   `tol` is NaN).
+    pub fn stationary_distribution(
+        p: &M,
+        out: &mut [f64],
+        scratch: &mut [f64],
+        tol: f64,
+        max_iter: u64,
+    ) -> Result<u64> {
+        let n = p.n_states();
+        for found in [out.len(), scratch.len()] {
+            if found < n {
+                return Err(Error::new(ErrorKind::BufferTooSmall { needed: n, found }));
+            }
         }
-    }
-    if n == 0 {
-        return Ok(0);
-    }
-    validate_entries(p)?;
+        if n == 0 {
+            return Ok(0);
+        }
+        validate_entries(p)?;
 
-    let (x, y) = (&mut out[..n], &mut scratch[..n]);
-    x.fill(1.0 / n as f64);
-    for iteration in 1..=max_iter {
-        // y = x P, scattered row by row
-        y.fill(0.0);
-        for (i, &x_i) in x.iter().enumerate() {
-            p.for_each_in_row(i, |j, p_ij| {
-                if let Some(y_j) = y.get_mut(j) {
-                    *y_j += x_i * p_ij;
-                }
-            });
-        }
+        let (x, y) = (&mut out[..n], &mut scratch[..n]);
+        x.fill(1.0 / n as f64);
+        for iteration in 1..=max_iter {
+            // y = x P, scattered row by row
+            y.fill(0.0);
+            for (i, &x_i) in x.iter().enumerate() {
+                p.for_each_in_row(i, |j, p_ij| {
+                    if let Some(y_j) = y.get_mut(j) {
+                        *y_j += x_i * p_ij;
+                    }
+                });
+            }
 
-        // A chain that moves no mass at all has no stationary distribution to find.
-        let flow = math::sum(y.iter().copied());
-        if !(flow > 0.0 && flow.is_finite()) {
-            return Err(Error::new(ErrorKind::NotNormalized { sum: flow }));
-        }
+            // A chain that moves no mass at all has no stationary distribution to find.
+            let flow = math::sum(y.iter().copied());
+            if !(flow > 0.0 && flow.is_finite()) {
+                return Err(Error::new(ErrorKind::NotNormalized { sum: flow }));
+            }
 
-        // One lazy step, y = (x + xP)/2, renormalised
-        let mut total = KahanSum::new();
-        for (y_j, &x_j) in y.iter_mut().zip(x.iter()) {
-            *y_j = 0.5 * x_j + 0.5 * *y_j;
-            total.add(*y_j);
+            // One lazy step, y = (x + xP)/2, renormalised
+            let mut total = KahanSum::new();
+            for (y_j, &x_j) in y.iter_mut().zip(x.iter()) {
+                *y_j = 0.5 * x_j + 0.5 * *y_j;
+                total.add(*y_j);
+            }
+            let sum = total.total();
+            if !(sum > 0.0 && sum.is_finite()) {
+                return Err(Error::new(ErrorKind::NotNormalized { sum }));
+            }
+            let mut change: f64 = 0.0;
+            for (x_j, &y_j) in x.iter_mut().zip(y.iter()) {
+                let next = y_j / sum;
+                change = change.max((next - *x_j).abs());
+                *x_j = next;
+            }
+            if change <= tol {
+                return Ok(iteration);
+            }
         }
-        let sum = total.total();
-        if !(sum > 0.0 && sum.is_finite()) {
-            return Err(Error::new(ErrorKind::NotNormalized { sum }));
-        }
-        let mut change: f64 = 0.0;
-        for (x_j, &y_j) in x.iter_mut().zip(y.iter()) {
-            let next = y_j / sum;
-            change = change.max((next - *x_j).abs());
-            *x_j = next;
-        }
-        if change <= tol {
-            return Ok(iteration);
-        }
+        Err(Error::new(ErrorKind::NoConvergence {
+            what: "stationary distribution",
+            iterations: max_iter,
+        }))
     }
-    Err(Error::new(ErrorKind::NoConvergence {
-        what: "stationary distribution",
-        iterations: max_iter,
-    }))
 }
 
 /// Checks that every entry is finite, non-negative and inside the matrix.
@@ -126,30 +128,32 @@ fn validate_entries<M: Transitions>(p: &M) -> Result<()> {
     Ok(())
 }
 
-/// Entropy rate of the chain `P` started in its stationary distribution `w` (2.63), which
-/// for a scene is the scene visibility entropy `H_S` (3.1).
-///
-/// ```text
-/// h = lim H(X_n | X_{n−1}, …, X_1) = H(X_2 | X_1) = −Σ_i w_i Σ_j P_ij log₂ P_ij
-/// ```
-///
-/// `w` is not validated (use [`Channel::new`] for that): weights missing, negative or not
-/// finite count as 0, non-finite entries are skipped, and a non-finite total is returned
-/// as 0, so the result is always finite. For a valid channel it equals
-/// [`Channel::h_s`] bit for bit.
-#[must_use]
-pub fn entropy_rate<M: Transitions>(w: &[f64], p: &M) -> f64 {
-    let mut h = KahanSum::new();
-    for i in 0..p.n_states() {
-        let w_i = w
-            .get(i)
-            .copied()
-            .filter(|v| v.is_finite() && *v >= 0.0)
-            .unwrap_or(0.0);
-        h.add(w_i * row_entropy(&Finite(p), i));
+impl<M: Transitions> Channel<'_, M> {
+    /// Entropy rate of the chain `P` started in its stationary distribution `w` (2.63), which
+    /// for a scene is the scene visibility entropy `H_S` (3.1).
+    ///
+    /// ```text
+    /// h = lim H(X_n | X_{n−1}, …, X_1) = H(X_2 | X_1) = −Σ_i w_i Σ_j P_ij log₂ P_ij
+    /// ```
+    ///
+    /// `w` is not validated (use [`Channel::new`] for that): weights missing, negative or not
+    /// finite count as 0, non-finite entries are skipped, and a non-finite total is returned
+    /// as 0, so the result is always finite. For a valid channel it equals
+    /// [`Channel::h_s`] bit for bit.
+    #[must_use]
+    pub fn entropy_rate(w: &[f64], p: &M) -> f64 {
+        let mut h = KahanSum::new();
+        for i in 0..p.n_states() {
+            let w_i = w
+                .get(i)
+                .copied()
+                .filter(|v| v.is_finite() && *v >= 0.0)
+                .unwrap_or(0.0);
+            h.add(w_i * row_entropy(&Finite(p), i));
+        }
+        let h = h.total();
+        if h.is_finite() { h } else { 0.0 }
     }
-    let h = h.total();
-    if h.is_finite() { h } else { 0.0 }
 }
 
 /// A view that hides non-finite entries (they contribute nothing to an entropy).
@@ -295,14 +299,15 @@ mod tests {
         let p = [0.0, 0.6, 0.4, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0];
         let m = DenseMatrix::new(3, &p).unwrap();
         let (mut out, mut scratch) = ([0.0; 3], [0.0; 3]);
-        let it = stationary_distribution(&m, &mut out, &mut scratch, 1e-15, 10_000).unwrap();
+        let it =
+            Channel::stationary_distribution(&m, &mut out, &mut scratch, 1e-15, 10_000).unwrap();
         assert!(it > 1 && it < 200, "{it}");
         for (x, w) in out.iter().zip([0.5, 0.3, 0.2]) {
             assert!((x - w).abs() < 1e-14, "{out:?}");
         }
         // Two facing segments: the uniform start is already stationary.
         let swap = DenseMatrix::new(2, &[0.0, 1.0, 1.0, 0.0]).unwrap();
-        let it = stationary_distribution(&swap, &mut out, &mut scratch, 0.0, 5).unwrap();
+        let it = Channel::stationary_distribution(&swap, &mut out, &mut scratch, 0.0, 5).unwrap();
         assert_eq!((it, &out[..2]), (1, &[0.5, 0.5][..]));
     }
 
@@ -312,7 +317,7 @@ mod tests {
         let m = DenseMatrix::new(3, &p).unwrap();
         let (mut out, mut scratch) = ([0.0; 3], [0.0; 3]);
         assert_eq!(
-            kind(stationary_distribution(
+            kind(Channel::stationary_distribution(
                 &m,
                 &mut out[..2],
                 &mut scratch,
@@ -325,7 +330,7 @@ mod tests {
             }
         );
         assert_eq!(
-            kind(stationary_distribution(
+            kind(Channel::stationary_distribution(
                 &m,
                 &mut out,
                 &mut scratch[..1],
@@ -338,7 +343,7 @@ mod tests {
             }
         );
         assert_eq!(
-            kind(stationary_distribution(
+            kind(Channel::stationary_distribution(
                 &m,
                 &mut out,
                 &mut scratch,
@@ -351,7 +356,7 @@ mod tests {
             }
         );
         assert!(matches!(
-            kind(stationary_distribution(
+            kind(Channel::stationary_distribution(
                 &m,
                 &mut out,
                 &mut scratch,
@@ -362,7 +367,7 @@ mod tests {
         ));
         let zero = DenseMatrix::new(2, &[0.0; 4]).unwrap();
         assert_eq!(
-            kind(stationary_distribution(
+            kind(Channel::stationary_distribution(
                 &zero,
                 &mut out,
                 &mut scratch,
@@ -373,7 +378,7 @@ mod tests {
         );
         let empty = DenseMatrix::new(0, &[]).unwrap();
         assert_eq!(
-            stationary_distribution(&empty, &mut [], &mut [], 1e-12, 10),
+            Channel::stationary_distribution(&empty, &mut [], &mut [], 1e-12, 10),
             Ok(0)
         );
     }
@@ -383,16 +388,16 @@ mod tests {
         let w = [0.5, 0.25, 0.25];
         let p = [0.0, 0.5, 0.5, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0];
         let c = Channel::from_dense(&w, &p).unwrap();
-        assert_eq!(entropy_rate(&w, c.transitions()), c.h_s());
-        assert_eq!(entropy_rate(&w, c.transitions()), 0.5);
+        assert_eq!(Channel::entropy_rate(&w, c.transitions()), c.h_s());
+        assert_eq!(Channel::entropy_rate(&w, c.transitions()), 0.5);
         // Garbage in, finite garbage out.
         assert_eq!(
-            entropy_rate(&[f64::NAN, -1.0], &DenseMatrix::new(2, &[0.5; 4]).unwrap()),
+            Channel::entropy_rate(&[f64::NAN, -1.0], &DenseMatrix::new(2, &[0.5; 4]).unwrap()),
             0.0
         );
         let halves = DenseMatrix::new(2, &[0.5; 4]).unwrap();
-        assert_eq!(entropy_rate(&[f64::MAX; 2], &halves), 0.0);
-        assert_eq!(entropy_rate(&[], c.transitions()), 0.0);
+        assert_eq!(Channel::entropy_rate(&[f64::MAX; 2], &halves), 0.0);
+        assert_eq!(Channel::entropy_rate(&[], c.transitions()), 0.0);
     }
 
     #[test]

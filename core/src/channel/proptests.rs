@@ -112,7 +112,7 @@ proptest! {
             (m.h_p, m.h_s, m.h_j, m.i_s, m.e_mse, m.fano),
             (c.h_p(), c.h_s(), c.h_j(), c.i_s(), c.e_mse(), c.fano_bound())
         );
-        prop_assert_eq!(entropy_rate(&ch.w, c.transitions()), m.h_s);
+        prop_assert_eq!(Channel::entropy_rate(&ch.w, c.transitions()), m.h_s);
     }
 
     #[test]
@@ -216,7 +216,7 @@ proptest! {
     fn stationary_distribution_recovers_w(ch in chains(1..12, 1, 35, true)) {
         let (mut x, mut scratch) = (std::vec![0.0; ch.n], std::vec![0.0; ch.n]);
         let p = DenseMatrix::new(ch.n, &ch.p).unwrap();
-        let it = stationary_distribution(&p, &mut x, &mut scratch, 1e-15, 2_000_000);
+        let it = Channel::stationary_distribution(&p, &mut x, &mut scratch, 1e-15, 2_000_000);
         prop_assert!(it.is_ok(), "{it:?}");
         for (xi, wi) in x.iter().zip(&ch.w) {
             prop_assert!(close(*xi, *wi, 1e-10), "{x:?} vs {:?}", ch.w);
@@ -284,9 +284,9 @@ proptest! {
         let mut x = std::vec![0.0; n];
         let mut s = std::vec![0.0; n];
         if let Ok(d) = DenseMatrix::new(n, p) {
-            let _ = stationary_distribution(&d, &mut x, &mut s, 1e-12, 1000);
+            let _ = Channel::stationary_distribution(&d, &mut x, &mut s, 1e-12, 1000);
             prop_assert!(x.iter().all(|v| v.is_finite()));
-            prop_assert!(entropy_rate(&w, &d).is_finite());
+            prop_assert!(Channel::entropy_rate(&w, &d).is_finite());
         }
     }
 }

@@ -323,34 +323,36 @@ pub fn form_factors_unoccluded(
     FormFactors::from_patch_matrix(&areas, f)
 }
 
-/// The exact form factors of `n` patches tiling the inside of a sphere (thesis §3.2.1,
-/// 3.11): every point of a sphere sees every patch `j` with the same form factor, its
-/// relative area,
-///
-/// ```text
-/// F_ij = a_j = A_j / Σ_k A_k     for all i, j (including i = j)
-/// ```
-///
-/// so `I_S = 0` and `H_S = H_P`. `areas` are the patch areas (any positive scale).
-///
-/// # Errors
-/// [`ErrorKind::EmptyScene`] for no areas; [`ErrorKind::NonFiniteEntry`] for an area that is
-/// not finite and positive; [`ErrorKind::TooLarge`] above `MAX_DENSE_PATCHES`.
-#[cfg(feature = "alloc")]
-pub fn spherical_patches(areas: &[f64]) -> Result<FormFactors> {
-    let n = areas.len();
-    if n > MAX_DENSE_PATCHES {
-        return Err(ErrorKind::TooLarge {
-            what: "patch count for a dense matrix",
-            max: MAX_DENSE_PATCHES as u64,
+impl FormFactors {
+    /// The exact form factors of `n` patches tiling the inside of a sphere (thesis §3.2.1,
+    /// 3.11): every point of a sphere sees every patch `j` with the same form factor, its
+    /// relative area,
+    ///
+    /// ```text
+    /// F_ij = a_j = A_j / Σ_k A_k     for all i, j (including i = j)
+    /// ```
+    ///
+    /// so `I_S = 0` and `H_S = H_P`. `areas` are the patch areas (any positive scale).
+    ///
+    /// # Errors
+    /// [`ErrorKind::EmptyScene`] for no areas; [`ErrorKind::NonFiniteEntry`] for an area that is
+    /// not finite and positive; [`ErrorKind::TooLarge`] above `MAX_DENSE_PATCHES`.
+    #[cfg(feature = "alloc")]
+    pub fn spherical_patches(areas: &[f64]) -> Result<FormFactors> {
+        let n = areas.len();
+        if n > MAX_DENSE_PATCHES {
+            return Err(ErrorKind::TooLarge {
+                what: "patch count for a dense matrix",
+                max: MAX_DENSE_PATCHES as u64,
+            }
+            .into());
         }
-        .into());
+        let total = crate::math::sum(areas.iter().copied());
+        let row: Vec<f64> = areas.iter().map(|&a| a / total).collect();
+        let mut f = Vec::with_capacity(n * n);
+        for _ in 0..n {
+            f.extend_from_slice(&row);
+        }
+        FormFactors::from_patch_matrix(areas, f)
     }
-    let total = crate::math::sum(areas.iter().copied());
-    let row: Vec<f64> = areas.iter().map(|&a| a / total).collect();
-    let mut f = Vec::with_capacity(n * n);
-    for _ in 0..n {
-        f.extend_from_slice(&row);
-    }
-    FormFactors::from_patch_matrix(areas, f)
 }

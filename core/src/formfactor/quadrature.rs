@@ -174,7 +174,7 @@ impl Default for QuadratureOptions {
     }
 }
 
-/// The result of [`i_s_continuous`].
+/// The result of [`ContinuousQuadrature::of_polygons`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContinuousQuadrature {
     /// `I_S^c` in bits, from the requested rule.
@@ -192,72 +192,73 @@ pub struct ContinuousQuadrature {
     pub facing_pairs: usize,
 }
 
-/// `I_S^c` (4.6) of the convex planar polygons `(first, count)` of `points` (each
-/// counter-clockwise about its front, as in [`exact_3d::form_factors_unoccluded`]) by the
-/// quadrature of the module documentation, with its error estimated by refinement.
-///
-/// # Errors
-/// [`ErrorKind::BadParameter`] for options out of range; the polygon errors of
-/// [`exact_3d::form_factors_unoccluded`] (vertex count, range, coordinates, zero area,
-/// [`ErrorKind::EmptyScene`]); [`ErrorKind::MayBeOccluded`] when some polygon may hide part
-/// of another ([`exact_3d::may_be_occluded`]), where only line estimates apply.
-pub fn i_s_continuous(
-    points: &[DVec3],
-    polygons: &[(usize, usize)],
-    options: QuadratureOptions,
-) -> Result<ContinuousQuadrature> {
-    options.validate()?;
-    let polys = exact_3d::planes(points, polygons)?;
-    if polys.is_empty() {
-        return Err(ErrorKind::EmptyScene.into());
-    }
-    if exact_3d::may_be_occluded(points, polygons) {
-        return Err(ErrorKind::MayBeOccluded.into());
-    }
-    let total_area = math::sum(polys.iter().map(|(_, p)| p.area));
-    let log_area = math::log2(total_area);
-    let fine = Rules::new(options);
-    let coarse = Rules::new(options.coarser());
-    let (mut fine_sum, mut coarse_sum, mut flux_sum) =
-        (KahanSum::new(), KahanSum::new(), KahanSum::new());
-    let mut facing_pairs = 0;
-    for (i, (p, pp)) in polys.iter().enumerate() {
-        for (q, pq) in polys.iter().skip(i + 1).map(|(q, pq)| (*q, pq)) {
-            let Some(pair) = Pair::new(p, pp, q, pq) else {
-                continue;
-            };
-            facing_pairs += 1;
-            let f = pair.integrate(&fine);
-            let c = pair.integrate(&coarse);
-            // Both orders (P, Q) and (Q, P): the integrand is symmetric.
-            fine_sum.add(2.0 * (f.flux_log2 + log_area * f.flux));
-            coarse_sum.add(2.0 * (c.flux_log2 + log_area * c.flux));
-            flux_sum.add(2.0 * f.flux);
+impl ContinuousQuadrature {
+    /// `I_S^c` (4.6) of the convex planar polygons `(first, count)` of `points` (each
+    /// counter-clockwise about its front, as in [`exact_3d::form_factors_unoccluded`]) by the
+    /// quadrature of the module documentation, with its error estimated by refinement.
+    ///
+    /// # Errors
+    /// [`ErrorKind::BadParameter`] for options out of range; the polygon errors of
+    /// [`exact_3d::form_factors_unoccluded`] (vertex count, range, coordinates, zero area,
+    /// [`ErrorKind::EmptyScene`]); [`ErrorKind::MayBeOccluded`] when some polygon may hide part
+    /// of another ([`exact_3d::may_be_occluded`]), where only line estimates apply.
+    pub fn of_polygons(
+        points: &[DVec3],
+        polygons: &[(usize, usize)],
+        options: QuadratureOptions,
+    ) -> Result<ContinuousQuadrature> {
+        options.validate()?;
+        let polys = exact_3d::planes(points, polygons)?;
+        if polys.is_empty() {
+            return Err(ErrorKind::EmptyScene.into());
         }
+        if exact_3d::may_be_occluded(points, polygons) {
+            return Err(ErrorKind::MayBeOccluded.into());
+        }
+        let total_area = math::sum(polys.iter().map(|(_, p)| p.area));
+        let log_area = math::log2(total_area);
+        let fine = Rules::new(options);
+        let coarse = Rules::new(options.coarser());
+        let (mut fine_sum, mut coarse_sum, mut flux_sum) =
+            (KahanSum::new(), KahanSum::new(), KahanSum::new());
+        let mut facing_pairs = 0;
+        for (i, (p, pp)) in polys.iter().enumerate() {
+            for (q, pq) in polys.iter().skip(i + 1).map(|(q, pq)| (*q, pq)) {
+                let Some(pair) = Pair::new(p, pp, q, pq) else {
+                    continue;
+                };
+                facing_pairs += 1;
+                let f = pair.integrate(&fine);
+                let c = pair.integrate(&coarse);
+                // Both orders (P, Q) and (Q, P): the integrand is symmetric.
+                fine_sum.add(2.0 * (f.flux_log2 + log_area * f.flux));
+                coarse_sum.add(2.0 * (c.flux_log2 + log_area * c.flux));
+                flux_sum.add(2.0 * f.flux);
+            }
+        }
+        let value = fine_sum.total() / total_area;
+        let coarse = coarse_sum.total() / total_area;
+        Ok(ContinuousQuadrature {
+            value,
+            error_estimate: (value - coarse).abs(),
+            coarse,
+            total_area,
+            visible_area: flux_sum.total(),
+            facing_pairs,
+        })
     }
-    let value = fine_sum.total() / total_area;
-    let coarse = coarse_sum.total() / total_area;
-    Ok(ContinuousQuadrature {
-        value,
-        error_estimate: (value - coarse).abs(),
-        coarse,
-        total_area,
-        visible_area: flux_sum.total(),
-        facing_pairs,
-    })
 }
 
-/// [`i_s_continuous`] of a [`Scene3`], over its faces (the discretisation into patches does
-/// not change `I_S^c`, and coplanar patches contribute nothing).
-///
-/// # Errors
-/// As [`i_s_continuous`].
-pub fn scene_i_s_continuous(
-    scene: &Scene3,
-    options: QuadratureOptions,
-) -> Result<ContinuousQuadrature> {
-    let faces: Vec<(usize, usize)> = scene.faces().iter().map(|f| (f.first, f.count)).collect();
-    i_s_continuous(scene.points(), &faces, options)
+impl ContinuousQuadrature {
+    /// [`ContinuousQuadrature::of_polygons`] of a [`Scene3`], over its faces (the discretisation into patches does
+    /// not change `I_S^c`, and coplanar patches contribute nothing).
+    ///
+    /// # Errors
+    /// As [`ContinuousQuadrature::of_polygons`].
+    pub fn of_scene(scene: &Scene3, options: QuadratureOptions) -> Result<ContinuousQuadrature> {
+        let faces: Vec<(usize, usize)> = scene.faces().iter().map(|f| (f.first, f.count)).collect();
+        ContinuousQuadrature::of_polygons(scene.points(), &faces, options)
+    }
 }
 
 // ---- one-dimensional rules ----------------------------------------------------------------

@@ -48,7 +48,7 @@ use crate::radiosity::display::{ShadedPolygon, ToneMap, gouraud};
 use crate::scene::{Material, Scene3};
 
 /// Largest picture side in pixels.
-pub const MAX_IMAGE_SIDE: u32 = 4096;
+pub(crate) const MAX_IMAGE_SIDE: u32 = 4096;
 
 /// Back faces a pixel's ray passes through before it gives up (shows nothing).
 const MAX_BACK_FACES: usize = 16;
@@ -211,7 +211,7 @@ impl McHierarchy {
 
 /// The Gouraud vertex radiosities of `leaves` (`gouraud`): per leaf, per vertex.
 #[must_use]
-pub fn leaf_vertex_radiosities(leaves: &[LeafShade<'_>]) -> Vec<[[f64; 3]; 4]> {
+pub(crate) fn leaf_vertex_radiosities(leaves: &[LeafShade<'_>]) -> Vec<[[f64; 3]; 4]> {
     let polygons: Vec<ShadedPolygon<'_>> = leaves
         .iter()
         .map(|l| ShadedPolygon {

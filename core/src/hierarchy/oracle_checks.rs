@@ -13,7 +13,7 @@
 //! ```
 //!
 //! Here `∫∫ F log₂ F` comes from the deterministic quadrature of
-//! [`crate::formfactor::quadrature::i_s_continuous`] on the two polygons alone (for two
+//! [`ContinuousQuadrature::of_polygons`] on the two polygons alone (for two
 //! polygons its value is `2 I^c_ij` with `A_T = A_i + A_j`), `F_ij` from the exact
 //! polygon-to-polygon form factor. The oracle's estimate `X_N` with `N` pairs is a plug-in
 //! estimator: its first term `(1/N) Σ F_k log₂ F_k` is unbiased, its second `F̄ log₂ F̄` is
@@ -49,7 +49,7 @@
 use alloc::vec::Vec;
 
 use crate::formfactor::exact_3d;
-use crate::formfactor::quadrature::{QuadratureOptions, i_s_continuous};
+use crate::formfactor::quadrature::{ContinuousQuadrature, QuadratureOptions};
 use crate::geom::DVec3;
 use crate::hierarchy::element::Polygon4;
 use crate::hierarchy::kernel::{KernelSamples, NoOccluders, Surface, point_kernel};
@@ -110,7 +110,7 @@ impl Case {
         let (a_i, a_j, a_t) = self.areas();
         let mut points = self.receiver.to_vec();
         points.extend_from_slice(&self.source);
-        let q = i_s_continuous(
+        let q = ContinuousQuadrature::of_polygons(
             &points,
             &[(0, 4), (4, 4)],
             QuadratureOptions {

@@ -30,7 +30,7 @@
 //! wrapped tracer's samples reach it through [`LineTally`]'s pair hooks. Run it like any
 //! tracer (one thread with [`LineTracer::run`], or the CLI's threads). The pair-moment
 //! tally needs no solution in advance, so one cast gives `F`, then `B`, then (5.20)
-//! (`RadiosityLineTally::estimates_for`; what [`estimate_lit`] does); the term tally of a
+//! (`RadiosityLineTally::estimates_for`; what [`LitEstimate::estimate`] does); the term tally of a
 //! known solution is read with `radiosity_continuous`.
 
 use alloc::boxed::Box;
@@ -460,81 +460,82 @@ pub struct LitEstimate {
     /// Radiosity `I_S^c` (5.20) per colour channel.
     pub radiosity: [ContinuousEstimate; 3],
     /// Whether the lines were cast once (pair moments) rather than twice (see
-    /// [`estimate_lit`]).
+    /// [`LitEstimate::estimate`]).
     pub one_pass: bool,
 }
 
-/// Runs the radiosity pipeline on `tracer`: `cast` the lines for `F`
-/// ([`LineTally::finish`]), solve (2.6) per channel with `materials` (per patch), measure
-/// (5.5–5.7) and estimate `I_S^c` (5.20) from the same lines. `cast` runs a tracer's whole
-/// job of lines of `method` — on one thread (`|t| t.run(method, seed, n)`) or on many (the
-/// CLI).
-///
-/// Up to `PAIR_MOMENT_LIMIT` patches the lines are cast once, through a
-/// `RadiosityTracer::pair_moments`, and (5.20) is evaluated from the pair moments after the solve
-/// (the private `moments` module explains its standard error). Beyond, the pair moments would take too much
-/// memory: the job is cast a second time with the same seed (the same lines) through a
-/// `RadiosityTracer::new` that sums the terms of the solution line by line. Bundles of
-/// parallel lines ([`LineMethod::Bundle`]) always take the second way: the pair moments
-/// treat every segment as its own observation of the standard error, while the lines of a
-/// sheaf are correlated and must count as one, as the line by line terms count them (one
-/// group of the standard error per sheaf).
-///
-/// # Errors
-/// The errors of `cast`, [`LineTally::finish`], `solve_rgb`, `rgb_measures` and
-/// `RadiosityLineTally::estimates_for`.
-pub fn estimate_lit(
-    tracer: &(dyn LineTracer + Sync),
-    materials: &[Material],
-    solver: Solver,
-    opts: &SolveOptions,
-    method: LineMethod,
-    mut cast: impl FnMut(&(dyn LineTracer + Sync)) -> Result<LineTally>,
-) -> Result<LitEstimate> {
-    let one_pass = if method == LineMethod::Bundle {
-        None
-    } else {
-        RadiosityTracer::pair_moments(tracer).ok()
-    };
-    let mut tally = match &one_pass {
-        Some(t) => cast(t)?,
-        None => cast(tracer)?,
-    };
-    let moments = tally
-        .take_terms()
-        .and_then(|t| t.into_any().downcast::<RadiosityLineTally>().ok());
-    let estimate = tally.finish(tracer)?;
-    let form_factors = estimate.form_factors;
-    let f = form_factors.matrix();
-    let solution = solve_rgb(&f, form_factors.weights(), materials, solver, opts)?;
-    let measures = rgb_measures(&f, form_factors.weights(), &solution)?;
-    let b_in = incoming_rgb(&f, &solution.radiosity)?;
-    let (visibility, radiosity) = match moments {
-        Some(m) => (
-            estimate.continuous,
-            m.estimates_for(tracer.patch_sizes(), &solution.radiosity, &b_in)?,
-        ),
-        None => {
-            let lit = RadiosityTracer::new(tracer, &solution.radiosity, &b_in)?;
-            let tally = cast(&lit)?;
-            let radiosity = radiosity_continuous(&tally).ok_or(ErrorKind::NoLines)?;
-            (tally.continuous(), radiosity)
-        }
-    };
-    Ok(LitEstimate {
-        form_factors,
-        solution,
-        measures,
-        visibility,
-        radiosity,
-        one_pass: one_pass.is_some(),
-    })
+impl LitEstimate {
+    /// Runs the radiosity pipeline on `tracer`: `cast` the lines for `F`
+    /// ([`LineTally::finish`]), solve (2.6) per channel with `materials` (per patch), measure
+    /// (5.5–5.7) and estimate `I_S^c` (5.20) from the same lines. `cast` runs a tracer's whole
+    /// job of lines of `method` — on one thread (`|t| t.run(method, seed, n)`) or on many (the
+    /// CLI).
+    ///
+    /// Up to `PAIR_MOMENT_LIMIT` patches the lines are cast once, through a
+    /// `RadiosityTracer::pair_moments`, and (5.20) is evaluated from the pair moments after the solve
+    /// (the private `moments` module explains its standard error). Beyond, the pair moments would take too much
+    /// memory: the job is cast a second time with the same seed (the same lines) through a
+    /// `RadiosityTracer::new` that sums the terms of the solution line by line. Bundles of
+    /// parallel lines ([`LineMethod::Bundle`]) always take the second way: the pair moments
+    /// treat every segment as its own observation of the standard error, while the lines of a
+    /// sheaf are correlated and must count as one, as the line by line terms count them (one
+    /// group of the standard error per sheaf).
+    ///
+    /// # Errors
+    /// The errors of `cast`, [`LineTally::finish`], `solve_rgb`, `rgb_measures` and
+    /// `RadiosityLineTally::estimates_for`.
+    pub fn estimate(
+        tracer: &(dyn LineTracer + Sync),
+        materials: &[Material],
+        solver: Solver,
+        opts: &SolveOptions,
+        method: LineMethod,
+        mut cast: impl FnMut(&(dyn LineTracer + Sync)) -> Result<LineTally>,
+    ) -> Result<LitEstimate> {
+        let one_pass = if method == LineMethod::Bundle {
+            None
+        } else {
+            RadiosityTracer::pair_moments(tracer).ok()
+        };
+        let mut tally = match &one_pass {
+            Some(t) => cast(t)?,
+            None => cast(tracer)?,
+        };
+        let moments = tally
+            .take_terms()
+            .and_then(|t| t.into_any().downcast::<RadiosityLineTally>().ok());
+        let estimate = tally.finish(tracer)?;
+        let form_factors = estimate.form_factors;
+        let f = form_factors.matrix();
+        let solution = solve_rgb(&f, form_factors.weights(), materials, solver, opts)?;
+        let measures = rgb_measures(&f, form_factors.weights(), &solution)?;
+        let b_in = incoming_rgb(&f, &solution.radiosity)?;
+        let (visibility, radiosity) = match moments {
+            Some(m) => (
+                estimate.continuous,
+                m.estimates_for(tracer.patch_sizes(), &solution.radiosity, &b_in)?,
+            ),
+            None => {
+                let lit = RadiosityTracer::new(tracer, &solution.radiosity, &b_in)?;
+                let tally = cast(&lit)?;
+                let radiosity = radiosity_continuous(&tally).ok_or(ErrorKind::NoLines)?;
+                (tally.continuous(), radiosity)
+            }
+        };
+        Ok(LitEstimate {
+            form_factors,
+            solution,
+            measures,
+            visibility,
+            radiosity,
+            one_pass: one_pass.is_some(),
+        })
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formfactor::exact_3d;
     use crate::radiosity::rgb::solve_rgb;
     use crate::radiosity::{SolveOptions, Solver};
     use crate::scene::{Material, Scene2};
@@ -553,7 +554,7 @@ mod tests {
     #[test]
     fn sphere_with_one_source_has_zero_continuous_information() {
         let areas: Vec<f64> = (0..12).map(|i| 1.0 + (i % 5) as f64 * 0.3).collect();
-        let ff = exact_3d::spherical_patches(&areas).unwrap();
+        let ff = FormFactors::spherical_patches(&areas).unwrap();
         let mut materials = alloc::vec![Material::new([0.7; 3], [0.0; 3]).unwrap(); 12];
         materials[3] = Material::new([0.7; 3], [4.0, 1.0, 0.0]).unwrap();
         let sol = solve_rgb(

@@ -232,36 +232,38 @@ impl RadiosityMeasures {
     };
 }
 
-/// Computes `H_P`, `H_S`, `H_J` and `I_S` of the radiosity channel of one colour channel
-/// from form factors `f`, patch sizes `sizes` (areas or lengths, any scale) and radiosities
-/// `b` (a solution of (2.6)), using the caller's buffers `b_in` and `weights` (`n` entries
-/// each; they receive `B^in` and `𝐚`).
-///
-/// # Errors
-/// The errors of `incoming_radiosity_into` and `radiosity_weights_into`, and of
-/// [`Channel::new`]: [`ErrorKind::TransitionToNullState`] when a state that sends light
-/// receives none while another state sends light to it (impossible for a reciprocal `F`).
-pub fn radiosity_measures<M: Transitions>(
-    f: &M,
-    sizes: &[f64],
-    b: &[f64],
-    b_in: &mut [f64],
-    weights: &mut [f64],
-) -> Result<RadiosityMeasures> {
-    incoming_radiosity_into(f, b, b_in)?;
-    let total = radiosity_weights_into(sizes, b, b_in, weights)?;
-    if total == 0.0 {
-        return Ok(RadiosityMeasures::EMPTY);
+impl RadiosityMeasures {
+    /// Computes `H_P`, `H_S`, `H_J` and `I_S` of the radiosity channel of one colour channel
+    /// from form factors `f`, patch sizes `sizes` (areas or lengths, any scale) and radiosities
+    /// `b` (a solution of (2.6)), using the caller's buffers `b_in` and `weights` (`n` entries
+    /// each; they receive `B^in` and `𝐚`).
+    ///
+    /// # Errors
+    /// The errors of `incoming_radiosity_into` and `radiosity_weights_into`, and of
+    /// [`Channel::new`]: [`ErrorKind::TransitionToNullState`] when a state that sends light
+    /// receives none while another state sends light to it (impossible for a reciprocal `F`).
+    pub fn of<M: Transitions>(
+        f: &M,
+        sizes: &[f64],
+        b: &[f64],
+        b_in: &mut [f64],
+        weights: &mut [f64],
+    ) -> Result<RadiosityMeasures> {
+        incoming_radiosity_into(f, b, b_in)?;
+        let total = radiosity_weights_into(sizes, b, b_in, weights)?;
+        if total == 0.0 {
+            return Ok(RadiosityMeasures::EMPTY);
+        }
+        let p = RadiosityTransitions::new(f, b, b_in)?;
+        let channel = Channel::new(weights, p)?;
+        let (h_p, h_s) = (channel.h_p(), channel.h_s());
+        Ok(RadiosityMeasures {
+            h_p,
+            h_s,
+            h_j: h_p + h_s,
+            i_s: channel.i_s(),
+            total_weight: total,
+            light_flows: true,
+        })
     }
-    let p = RadiosityTransitions::new(f, b, b_in)?;
-    let channel = Channel::new(weights, p)?;
-    let (h_p, h_s) = (channel.h_p(), channel.h_s());
-    Ok(RadiosityMeasures {
-        h_p,
-        h_s,
-        h_j: h_p + h_s,
-        i_s: channel.i_s(),
-        total_weight: total,
-        light_flows: true,
-    })
 }

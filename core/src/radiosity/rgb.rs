@@ -32,7 +32,7 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
-use super::measures::{RadiosityMeasures, radiosity_measures};
+use super::measures::RadiosityMeasures;
 use super::{SolveOptions, SolveReport, Solver, solve};
 use crate::channel::Transitions;
 use crate::error::{ErrorKind, Result};
@@ -72,7 +72,7 @@ impl RgbSolution {
     /// [`RadiosityMeasures::EMPTY`].
     ///
     /// # Errors
-    /// The errors of [`radiosity_measures`].
+    /// The errors of [`RadiosityMeasures::of`].
     pub fn measures<M: Transitions>(&self, f: &M, sizes: &[f64]) -> Result<[RadiosityMeasures; 3]> {
         rgb_measures(f, sizes, self)
     }
@@ -168,7 +168,7 @@ pub(crate) fn solve_rgb<M: Transitions>(
 /// [`RadiosityMeasures::EMPTY`].
 ///
 /// # Errors
-/// The errors of [`radiosity_measures`].
+/// The errors of [`RadiosityMeasures::of`].
 pub(crate) fn rgb_measures<M: Transitions>(
     f: &M,
     sizes: &[f64],
@@ -180,7 +180,7 @@ pub(crate) fn rgb_measures<M: Transitions>(
     let mut out = [RadiosityMeasures::EMPTY; 3];
     for (c, m) in out.iter_mut().enumerate() {
         let b = solution.channel(c);
-        *m = radiosity_measures(f, sizes, &b, &mut b_in, &mut weights)?;
+        *m = RadiosityMeasures::of(f, sizes, &b, &mut b_in, &mut weights)?;
     }
     Ok(out)
 }

@@ -284,70 +284,72 @@ fn too_long() -> crate::Error {
 
 // ---- gathering ---------------------------------------------------------------------------
 
-/// Estimates `B_patch` of (2.6) with `n_walks` gathering walks from `patch` (§2.1.10).
-///
-/// `f`: form factors (rows sum to at most 1; a walk escaping through a row's deficit scores
-/// nothing more); `rho`: reflectances in `[0, 1)`; `e`: emittances `≥ 0`.
-///
-/// # Errors
-/// [`ErrorKind::DimensionMismatch`], [`ErrorKind::NonFiniteEntry`],
-/// [`ErrorKind::NegativeEntry`], [`ErrorKind::Reflectance`] for bad vectors (or guess);
-/// [`ErrorKind::PatchIndex`] for `patch ≥ n`; [`ErrorKind::BadParameter`] for zero walks;
-/// [`ErrorKind::NoConvergence`] for a walk longer than `MAX_WALK_STEPS`.
-#[allow(clippy::too_many_arguments)]
-pub fn gather<M: Transitions>(
-    f: &M,
-    rho: &[f64],
-    e: &[f64],
-    patch: usize,
-    transitions: WalkTransitions<'_>,
-    n_walks: u64,
-    seed: u64,
-) -> Result<WalkEstimate> {
-    let n = f.n_states();
-    check_vector(rho, n, Some(1.0))?;
-    check_vector(e, n, None)?;
-    check_walks(n_walks)?;
-    if patch >= n {
-        return Err(ErrorKind::PatchIndex {
-            index: patch,
-            len: n,
+impl WalkEstimate {
+    /// Estimates `B_patch` of (2.6) with `n_walks` gathering walks from `patch` (§2.1.10).
+    ///
+    /// `f`: form factors (rows sum to at most 1; a walk escaping through a row's deficit scores
+    /// nothing more); `rho`: reflectances in `[0, 1)`; `e`: emittances `≥ 0`.
+    ///
+    /// # Errors
+    /// [`ErrorKind::DimensionMismatch`], [`ErrorKind::NonFiniteEntry`],
+    /// [`ErrorKind::NegativeEntry`], [`ErrorKind::Reflectance`] for bad vectors (or guess);
+    /// [`ErrorKind::PatchIndex`] for `patch ≥ n`; [`ErrorKind::BadParameter`] for zero walks;
+    /// [`ErrorKind::NoConvergence`] for a walk longer than `MAX_WALK_STEPS`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn gather<M: Transitions>(
+        f: &M,
+        rho: &[f64],
+        e: &[f64],
+        patch: usize,
+        transitions: WalkTransitions<'_>,
+        n_walks: u64,
+        seed: u64,
+    ) -> Result<WalkEstimate> {
+        let n = f.n_states();
+        check_vector(rho, n, Some(1.0))?;
+        check_vector(e, n, None)?;
+        check_walks(n_walks)?;
+        if patch >= n {
+            return Err(ErrorKind::PatchIndex {
+                index: patch,
+                len: n,
+            }
+            .into());
         }
-        .into());
-    }
-    let mut m = Moments::new();
-    match transitions {
-        WalkTransitions::FormFactors => for_each_walk(seed, n_walks, |rng| {
-            let (mut k, mut score) = (patch, 0.0);
-            for _ in 0..MAX_WALK_STEPS {
-                score += e[k];
-                if canonical(rng) >= rho[k] {
-                    m.add(score);
-                    return Ok(());
-                }
-                let total = row_total(f, k, |_, v| v);
-                m.steps += 1;
-                match pick(f, k, canonical(rng), 1.0_f64.max(total), |_, v| v) {
-                    Some(j) => k = j,
-                    None => {
+        let mut m = Moments::new();
+        match transitions {
+            WalkTransitions::FormFactors => for_each_walk(seed, n_walks, |rng| {
+                let (mut k, mut score) = (patch, 0.0);
+                for _ in 0..MAX_WALK_STEPS {
+                    score += e[k];
+                    if canonical(rng) >= rho[k] {
                         m.add(score);
                         return Ok(());
                     }
+                    let total = row_total(f, k, |_, v| v);
+                    m.steps += 1;
+                    match pick(f, k, canonical(rng), 1.0_f64.max(total), |_, v| v) {
+                        Some(j) => k = j,
+                        None => {
+                            m.add(score);
+                            return Ok(());
+                        }
+                    }
                 }
+                Err(too_long())
+            })?,
+            WalkTransitions::NullVariance(guess) => {
+                check_vector(guess, n, None)?;
+                // The kernel ρ_k F_kj B̃_j: B'_k = E_k + ρ_k B_k^in of the guess.
+                for_each_walk(seed, n_walks, |rng| {
+                    null_variance_walk(f, rng, &mut m, e, guess, (patch, 1.0), |k, j, v| {
+                        rho[k] * v * guess[j]
+                    })
+                })?;
             }
-            Err(too_long())
-        })?,
-        WalkTransitions::NullVariance(guess) => {
-            check_vector(guess, n, None)?;
-            // The kernel ρ_k F_kj B̃_j: B'_k = E_k + ρ_k B_k^in of the guess.
-            for_each_walk(seed, n_walks, |rng| {
-                null_variance_walk(f, rng, &mut m, e, guess, (patch, 1.0), |k, j, v| {
-                    rho[k] * v * guess[j]
-                })
-            })?;
         }
+        Ok(m.estimate())
     }
-    Ok(m.estimate())
 }
 
 // ---- shooting ----------------------------------------------------------------------------
@@ -387,77 +389,80 @@ fn pick_source(
     last
 }
 
-#[cfg(feature = "alloc")]
-/// Estimates the radiosity of every state with `n_walks` shooting walks with form-factor
-/// transitions (collision estimator of the adjoint system, §2.1.10): `B̂_k = Φ_T visits_k /
-/// (N A_k)`. `sizes` are the patch sizes `A_k` (the scale must be the one `E` is per unit
-/// of).
-///
-/// # Errors
-/// As [`gather`] (no patch index); [`ErrorKind::NegativeEntry`] for a size `≤ 0`.
-pub fn shoot<M: Transitions>(
-    f: &M,
-    sizes: &[f64],
-    rho: &[f64],
-    e: &[f64],
-    n_walks: u64,
-    seed: u64,
-) -> Result<Vec<WalkEstimate>> {
-    let n = f.n_states();
-    check_sizes(sizes, n)?;
-    check_vector(rho, n, Some(1.0))?;
-    check_vector(e, n, None)?;
-    check_walks(n_walks)?;
-    let phi_total = source_total(sizes, e, |_| 1.0);
-    let mut visits = vec![0u64; n];
-    let mut sum = vec![0u64; n];
-    let mut sum_sq = vec![0u128; n];
-    let mut touched: Vec<usize> = Vec::new();
-    let mut steps = 0;
-    if phi_total > 0.0 {
-        for_each_walk(seed, n_walks, |rng| {
-            let mut k = pick_source(sizes, e, canonical(rng), phi_total, |_| 1.0);
-            let mut visit = |k: usize, touched: &mut Vec<usize>| {
-                if visits[k] == 0 {
-                    touched.push(k);
-                }
-                visits[k] += 1;
-            };
-            visit(k, &mut touched);
-            let mut done = false;
-            for _ in 0..MAX_WALK_STEPS {
-                let total = row_total(f, k, |_, v| v);
-                steps += 1;
-                let Some(j) = pick(f, k, canonical(rng), 1.0_f64.max(total), |_, v| v) else {
-                    done = true;
-                    break;
+impl WalkEstimate {
+    #[cfg(feature = "alloc")]
+    /// Estimates the radiosity of every state with `n_walks` shooting walks with form-factor
+    /// transitions (collision estimator of the adjoint system, §2.1.10): `B̂_k = Φ_T visits_k /
+    /// (N A_k)`. `sizes` are the patch sizes `A_k` (the scale must be the one `E` is per unit
+    /// of).
+    ///
+    /// # Errors
+    /// As [`WalkEstimate::gather`] (no patch index); [`ErrorKind::NegativeEntry`] for a size `≤ 0`.
+    pub fn shoot<M: Transitions>(
+        f: &M,
+        sizes: &[f64],
+        rho: &[f64],
+        e: &[f64],
+        n_walks: u64,
+        seed: u64,
+    ) -> Result<Vec<WalkEstimate>> {
+        let n = f.n_states();
+        check_sizes(sizes, n)?;
+        check_vector(rho, n, Some(1.0))?;
+        check_vector(e, n, None)?;
+        check_walks(n_walks)?;
+        let phi_total = source_total(sizes, e, |_| 1.0);
+        let mut visits = vec![0u64; n];
+        let mut sum = vec![0u64; n];
+        let mut sum_sq = vec![0u128; n];
+        let mut touched: Vec<usize> = Vec::new();
+        let mut steps = 0;
+        if phi_total > 0.0 {
+            for_each_walk(seed, n_walks, |rng| {
+                let mut k = pick_source(sizes, e, canonical(rng), phi_total, |_| 1.0);
+                let mut visit = |k: usize, touched: &mut Vec<usize>| {
+                    if visits[k] == 0 {
+                        touched.push(k);
+                    }
+                    visits[k] += 1;
                 };
-                if canonical(rng) >= rho[j] {
-                    done = true;
-                    break;
+                visit(k, &mut touched);
+                let mut done = false;
+                for _ in 0..MAX_WALK_STEPS {
+                    let total = row_total(f, k, |_, v| v);
+                    steps += 1;
+                    let Some(j) = pick(f, k, canonical(rng), 1.0_f64.max(total), |_, v| v) else {
+                        done = true;
+                        break;
+                    };
+                    if canonical(rng) >= rho[j] {
+                        done = true;
+                        break;
+                    }
+                    visit(j, &mut touched);
+                    k = j;
                 }
-                visit(j, &mut touched);
-                k = j;
-            }
-            for &t in &touched {
-                sum[t] += visits[t];
-                sum_sq[t] += u128::from(visits[t]) * u128::from(visits[t]);
-                visits[t] = 0;
-            }
-            touched.clear();
-            if done { Ok(()) } else { Err(too_long()) }
-        })?;
+                for &t in &touched {
+                    sum[t] += visits[t];
+                    sum_sq[t] += u128::from(visits[t]) * u128::from(visits[t]);
+                    visits[t] = 0;
+                }
+                touched.clear();
+                if done { Ok(()) } else { Err(too_long()) }
+            })?;
+        }
+        Ok((0..n)
+            .map(|k| {
+                let scale = phi_total / sizes[k];
+                let (s, ss) = (sum[k] as f64, sum_sq[k] as f64);
+                let mut est =
+                    estimate_from(s * scale, ss * scale * scale, n_walks, 0.0, 0.0, steps);
+                est.min = 0.0;
+                est.max = 0.0;
+                est
+            })
+            .collect())
     }
-    Ok((0..n)
-        .map(|k| {
-            let scale = phi_total / sizes[k];
-            let (s, ss) = (sum[k] as f64, sum_sq[k] as f64);
-            let mut est = estimate_from(s * scale, ss * scale * scale, n_walks, 0.0, 0.0, steps);
-            est.min = 0.0;
-            est.max = 0.0;
-            est
-        })
-        .collect())
 }
 
 fn check_sizes(sizes: &[f64], n: usize) -> Result<()> {
@@ -468,81 +473,84 @@ fn check_sizes(sizes: &[f64], n: usize) -> Result<()> {
     Ok(())
 }
 
-/// Estimates `⟨P, V⟩ = Σ_i A_i B_i V_i` (equal to `⟨Φ, I⟩` by duality) with `n_walks`
-/// shooting walks: with [`WalkTransitions::FormFactors`] the collision estimator scoring
-/// `Φ_T V_k` at each visit, with [`WalkTransitions::NullVariance`]`(Ĩ)` the null-variance
-/// walk (2.47) of the module docs (zero variance when `Ĩ` solves (2.45) for `V`).
-///
-/// # Errors
-/// As [`shoot`]; the receiver `v` must be finite and non-negative.
-#[allow(clippy::too_many_arguments)]
-pub fn shoot_functional<M: Transitions>(
-    f: &M,
-    sizes: &[f64],
-    rho: &[f64],
-    e: &[f64],
-    v: &[f64],
-    transitions: WalkTransitions<'_>,
-    n_walks: u64,
-    seed: u64,
-) -> Result<WalkEstimate> {
-    let n = f.n_states();
-    check_sizes(sizes, n)?;
-    check_vector(rho, n, Some(1.0))?;
-    check_vector(e, n, None)?;
-    check_vector(v, n, None)?;
-    check_walks(n_walks)?;
-    let mut m = Moments::new();
-    match transitions {
-        WalkTransitions::FormFactors => {
-            let phi_total = source_total(sizes, e, |_| 1.0);
-            for_each_walk(seed, n_walks, |rng| {
-                if !(phi_total > 0.0) {
-                    m.add(0.0);
-                    return Ok(());
-                }
-                let mut k = pick_source(sizes, e, canonical(rng), phi_total, |_| 1.0);
-                let mut score = phi_total * v[k];
-                for _ in 0..MAX_WALK_STEPS {
-                    let total = row_total(f, k, |_, x| x);
-                    m.steps += 1;
-                    let Some(j) = pick(f, k, canonical(rng), 1.0_f64.max(total), |_, x| x) else {
-                        m.add(score);
-                        return Ok(());
-                    };
-                    if canonical(rng) >= rho[j] {
-                        m.add(score);
+impl WalkEstimate {
+    /// Estimates `⟨P, V⟩ = Σ_i A_i B_i V_i` (equal to `⟨Φ, I⟩` by duality) with `n_walks`
+    /// shooting walks: with [`WalkTransitions::FormFactors`] the collision estimator scoring
+    /// `Φ_T V_k` at each visit, with [`WalkTransitions::NullVariance`]`(Ĩ)` the null-variance
+    /// walk (2.47) of the module docs (zero variance when `Ĩ` solves (2.45) for `V`).
+    ///
+    /// # Errors
+    /// As [`WalkEstimate::shoot`]; the receiver `v` must be finite and non-negative.
+    #[allow(clippy::too_many_arguments)]
+    pub fn shoot_functional<M: Transitions>(
+        f: &M,
+        sizes: &[f64],
+        rho: &[f64],
+        e: &[f64],
+        v: &[f64],
+        transitions: WalkTransitions<'_>,
+        n_walks: u64,
+        seed: u64,
+    ) -> Result<WalkEstimate> {
+        let n = f.n_states();
+        check_sizes(sizes, n)?;
+        check_vector(rho, n, Some(1.0))?;
+        check_vector(e, n, None)?;
+        check_vector(v, n, None)?;
+        check_walks(n_walks)?;
+        let mut m = Moments::new();
+        match transitions {
+            WalkTransitions::FormFactors => {
+                let phi_total = source_total(sizes, e, |_| 1.0);
+                for_each_walk(seed, n_walks, |rng| {
+                    if !(phi_total > 0.0) {
+                        m.add(0.0);
                         return Ok(());
                     }
-                    score += phi_total * v[j];
-                    k = j;
-                }
-                Err(too_long())
-            })?;
+                    let mut k = pick_source(sizes, e, canonical(rng), phi_total, |_| 1.0);
+                    let mut score = phi_total * v[k];
+                    for _ in 0..MAX_WALK_STEPS {
+                        let total = row_total(f, k, |_, x| x);
+                        m.steps += 1;
+                        let Some(j) = pick(f, k, canonical(rng), 1.0_f64.max(total), |_, x| x)
+                        else {
+                            m.add(score);
+                            return Ok(());
+                        };
+                        if canonical(rng) >= rho[j] {
+                            m.add(score);
+                            return Ok(());
+                        }
+                        score += phi_total * v[j];
+                        k = j;
+                    }
+                    Err(too_long())
+                })?;
+            }
+            WalkTransitions::NullVariance(guess) => {
+                check_vector(guess, n, None)?;
+                let total = source_total(sizes, e, |s| guess[s]);
+                for_each_walk(seed, n_walks, |rng| {
+                    if !(total > 0.0) {
+                        m.add(0.0);
+                        return Ok(());
+                    }
+                    let k = pick_source(sizes, e, canonical(rng), total, |s| guess[s]);
+                    // The kernel ρ_j F_kj Ĩ_j: I'_k = V_k + the outgoing importance of the guess.
+                    null_variance_walk(
+                        f,
+                        rng,
+                        &mut m,
+                        v,
+                        guess,
+                        (k, total / guess[k]),
+                        |_, j, x| rho[j] * x * guess[j],
+                    )
+                })?;
+            }
         }
-        WalkTransitions::NullVariance(guess) => {
-            check_vector(guess, n, None)?;
-            let total = source_total(sizes, e, |s| guess[s]);
-            for_each_walk(seed, n_walks, |rng| {
-                if !(total > 0.0) {
-                    m.add(0.0);
-                    return Ok(());
-                }
-                let k = pick_source(sizes, e, canonical(rng), total, |s| guess[s]);
-                // The kernel ρ_j F_kj Ĩ_j: I'_k = V_k + the outgoing importance of the guess.
-                null_variance_walk(
-                    f,
-                    rng,
-                    &mut m,
-                    v,
-                    guess,
-                    (k, total / guess[k]),
-                    |_, j, x| rho[j] * x * guess[j],
-                )
-            })?;
-        }
+        Ok(m.estimate())
     }
-    Ok(m.estimate())
 }
 
 #[cfg(all(test, feature = "alloc"))]
@@ -592,7 +600,7 @@ mod tests {
         let (ff, rho, e) = room();
         let b = exact_b(&ff, &rho, &e);
         for patch in [0, 5, 10, 14] {
-            let est = gather(
+            let est = WalkEstimate::gather(
                 &ff.matrix(),
                 &rho,
                 &e,
@@ -619,7 +627,7 @@ mod tests {
         let (ff, rho, e) = room();
         let b = exact_b(&ff, &rho, &e);
         for patch in [0, 5, 10, 14] {
-            let est = gather(
+            let est = WalkEstimate::gather(
                 &ff.matrix(),
                 &rho,
                 &e,
@@ -648,7 +656,7 @@ mod tests {
             .map(|(i, &x)| x * (1.0 + 0.3 * (((i * 5) % 7) as f64 / 3.0 - 1.0)))
             .collect();
         let patch = 5;
-        let nv = gather(
+        let nv = WalkEstimate::gather(
             &ff.matrix(),
             &rho,
             &e,
@@ -658,7 +666,7 @@ mod tests {
             11,
         )
         .unwrap();
-        let plain = gather(
+        let plain = WalkEstimate::gather(
             &ff.matrix(),
             &rho,
             &e,
@@ -682,7 +690,7 @@ mod tests {
         let (ff, rho, e) = room();
         let b = exact_b(&ff, &rho, &e);
         let sizes: Vec<f64> = ff.weights().to_vec();
-        let est = shoot(&ff.matrix(), &sizes, &rho, &e, 200_000, 5).unwrap();
+        let est = WalkEstimate::shoot(&ff.matrix(), &sizes, &rho, &e, 200_000, 5).unwrap();
         for (k, (x, &want)) in est.iter().zip(&b).enumerate() {
             // 16 patches at 4σ each: a false alarm has probability ≈ 1e-3 (fixed seed).
             assert!(
@@ -721,7 +729,7 @@ mod tests {
         )
         .unwrap();
         let want = math::sum((0..n).map(|i| sizes[i] * b[i] * v[i]));
-        let nv = shoot_functional(
+        let nv = WalkEstimate::shoot_functional(
             &ff.matrix(),
             &sizes,
             &rho,
@@ -738,7 +746,7 @@ mod tests {
             nv.max - nv.min
         );
         assert!((nv.mean - want).abs() <= 1e-12 * want);
-        let plain = shoot_functional(
+        let plain = WalkEstimate::shoot_functional(
             &ff.matrix(),
             &sizes,
             &rho,
@@ -756,7 +764,7 @@ mod tests {
     #[test]
     fn results_depend_on_seed_and_count_only() {
         let (ff, rho, e) = room();
-        let a = gather(
+        let a = WalkEstimate::gather(
             &ff.matrix(),
             &rho,
             &e,
@@ -766,7 +774,7 @@ mod tests {
             1,
         )
         .unwrap();
-        let b = gather(
+        let b = WalkEstimate::gather(
             &ff.matrix(),
             &rho,
             &e,
@@ -776,7 +784,7 @@ mod tests {
             1,
         )
         .unwrap();
-        let c = gather(
+        let c = WalkEstimate::gather(
             &ff.matrix(),
             &rho,
             &e,
@@ -796,7 +804,7 @@ mod tests {
         let f = ff.matrix();
         let kind = |r: Result<WalkEstimate>| r.unwrap_err().kind().clone();
         assert!(matches!(
-            kind(gather(
+            kind(WalkEstimate::gather(
                 &f,
                 &rho,
                 &e,
@@ -808,11 +816,19 @@ mod tests {
             ErrorKind::PatchIndex { .. }
         ));
         assert!(matches!(
-            kind(gather(&f, &rho, &e, 0, WalkTransitions::FormFactors, 0, 1)),
+            kind(WalkEstimate::gather(
+                &f,
+                &rho,
+                &e,
+                0,
+                WalkTransitions::FormFactors,
+                0,
+                1
+            )),
             ErrorKind::BadParameter { .. }
         ));
         assert!(matches!(
-            kind(gather(
+            kind(WalkEstimate::gather(
                 &f,
                 &rho[1..],
                 &e,
@@ -826,13 +842,21 @@ mod tests {
         let mut bad = rho.clone();
         bad[2] = 1.0;
         assert!(matches!(
-            kind(gather(&f, &bad, &e, 0, WalkTransitions::FormFactors, 10, 1)),
+            kind(WalkEstimate::gather(
+                &f,
+                &bad,
+                &e,
+                0,
+                WalkTransitions::FormFactors,
+                10,
+                1
+            )),
             ErrorKind::Reflectance { .. }
         ));
         let mut nan = e.clone();
         nan[0] = f64::NAN;
         assert!(matches!(
-            kind(gather(
+            kind(WalkEstimate::gather(
                 &f,
                 &rho,
                 &e,
@@ -845,11 +869,13 @@ mod tests {
         ));
         let zero = vec![0.0; ff.n_states()];
         assert!(matches!(
-            shoot(&f, &zero, &rho, &e, 10, 1).unwrap_err().kind(),
+            WalkEstimate::shoot(&f, &zero, &rho, &e, 10, 1)
+                .unwrap_err()
+                .kind(),
             ErrorKind::NegativeEntry { .. }
         ));
         // No emitter: every estimate is exactly 0, not a NaN.
-        let dark = gather(
+        let dark = WalkEstimate::gather(
             &f,
             &rho,
             &zero,
@@ -861,7 +887,7 @@ mod tests {
         .unwrap();
         assert_eq!(dark.mean, 0.0);
         let sizes = ff.weights().to_vec();
-        for x in shoot(&f, &sizes, &rho, &zero, 10, 1).unwrap() {
+        for x in WalkEstimate::shoot(&f, &sizes, &rho, &zero, 10, 1).unwrap() {
             assert_eq!(x.mean, 0.0);
         }
     }

@@ -305,9 +305,8 @@ impl Refiner2 {
             e_mse_per_line: e_mse_per_global_line(&self.scene, m.e_mse),
             i_s_continuous: c.value,
             i_s_continuous_stderr: c.stderr,
-            rel_discretisation_error: crate::continuous::relative_discretisation_error(
-                c.value, m.i_s,
-            ),
+            rel_discretisation_error:
+                crate::continuous::ContinuousEstimate::relative_discretisation_error(c.value, m.i_s),
             background: ff.has_background(),
         };
         Ok(())

@@ -113,7 +113,7 @@ pub fn radiosity_per_patch(
 /// `(RMSE, RMS)`: the area-weighted RMS of `coarse − fine` and of `fine` over patches of
 /// relative areas `a` and the three channels (module docs).
 #[must_use]
-pub fn radiosity_rmse(a: &[f64], fine: &[[f64; 3]], coarse: &[[f64; 3]]) -> (f64, f64) {
+pub(crate) fn radiosity_rmse(a: &[f64], fine: &[[f64; 3]], coarse: &[[f64; 3]]) -> (f64, f64) {
     let (mut err, mut norm, mut area) = (KahanSum::new(), KahanSum::new(), KahanSum::new());
     for ((&a, f), c) in a.iter().zip(fine).zip(coarse) {
         area.add(3.0 * a);

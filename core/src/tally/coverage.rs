@@ -56,7 +56,7 @@ use crate::tally::LineTally;
 /// patch is then reached with probability at least 90 %.
 pub(crate) const UNREACHED_TARGET: f64 = 0.1;
 
-/// Bisection steps of [`lines_to_sample_all`]: the bracket shrinks to `2⁻⁴⁰` of its width,
+/// Bisection steps of [`Coverage::lines_needed`]: the bracket shrinks to `2⁻⁴⁰` of its width,
 /// far below one chunk.
 const BISECTION_STEPS: u32 = 40;
 
@@ -93,7 +93,7 @@ impl LineTally {
     }
 
     /// Which patches the lines reached, and about how many lines would reach them all
-    /// ([`lines_to_sample_all`] with the hit rate estimated from this tally, module docs).
+    /// ([`Coverage::lines_needed`] with the hit rate estimated from this tally, module docs).
     /// `sizes` are the patch sizes (lengths or areas), one per patch.
     #[must_use]
     pub fn coverage(&self, sizes: &[f64]) -> Coverage {
@@ -108,7 +108,7 @@ impl LineTally {
         } else {
             // ĉ = Σ N_i / (N Σ A_i): samples per line per unit of size
             let rate = samples as f64 / (self.lines as f64 * total_size);
-            lines_to_sample_all(sizes, rate).map(|m| m.max(self.lines.saturating_mul(2)))
+            Coverage::lines_needed(sizes, rate).map(|m| m.max(self.lines.saturating_mul(2)))
         };
         Coverage {
             n_patches: self.leaves.len(),
@@ -120,37 +120,39 @@ impl LineTally {
     }
 }
 
-/// The smallest line budget `M`, rounded up to whole chunks, with
-/// `U(M) = Σ_i exp(−M·rate·size_i) ≤ ` `UNREACHED_TARGET`: the expected number of patches
-/// no line reaches when patch `i` is met by each line with probability `rate · size_i`
-/// (Crofton's formula, module docs). `None` when no patch has a positive finite hit
-/// probability; saturates at `u64::MAX`.
-#[must_use]
-pub fn lines_to_sample_all(sizes: &[f64], rate: f64) -> Option<u64> {
-    let p_min = sizes
-        .iter()
-        .map(|&a| a * rate)
-        .filter(|p| p.is_finite() && *p > 0.0)
-        .fold(f64::INFINITY, f64::min);
-    if !p_min.is_finite() {
-        return None;
-    }
-    let unreached =
-        |m: f64| math::sum(sizes.iter().map(|&a| math::exp(-m * (a * rate).max(p_min))));
-    // U(hi) ≤ n·exp(−ln(n / target)) = target
-    let n = sizes.len().max(1) as f64;
-    let (mut lo, mut hi) = (0.0, math::ln(n / UNREACHED_TARGET) / p_min);
-    for _ in 0..BISECTION_STEPS {
-        let mid = 0.5 * (lo + hi);
-        if unreached(mid) <= UNREACHED_TARGET {
-            hi = mid;
-        } else {
-            lo = mid;
+impl Coverage {
+    /// The smallest line budget `M`, rounded up to whole chunks, with
+    /// `U(M) = Σ_i exp(−M·rate·size_i) ≤ ` `UNREACHED_TARGET`: the expected number of patches
+    /// no line reaches when patch `i` is met by each line with probability `rate · size_i`
+    /// (Crofton's formula, module docs). `None` when no patch has a positive finite hit
+    /// probability; saturates at `u64::MAX`.
+    #[must_use]
+    pub fn lines_needed(sizes: &[f64], rate: f64) -> Option<u64> {
+        let p_min = sizes
+            .iter()
+            .map(|&a| a * rate)
+            .filter(|p| p.is_finite() && *p > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        if !p_min.is_finite() {
+            return None;
         }
+        let unreached =
+            |m: f64| math::sum(sizes.iter().map(|&a| math::exp(-m * (a * rate).max(p_min))));
+        // U(hi) ≤ n·exp(−ln(n / target)) = target
+        let n = sizes.len().max(1) as f64;
+        let (mut lo, mut hi) = (0.0, math::ln(n / UNREACHED_TARGET) / p_min);
+        for _ in 0..BISECTION_STEPS {
+            let mid = 0.5 * (lo + hi);
+            if unreached(mid) <= UNREACHED_TARGET {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        // Whole chunks (a float → integer cast saturates; the budget is at least one chunk)
+        let chunks = math::ceil(hi / CHUNK_LINES as f64).max(1.0);
+        Some((chunks as u64).saturating_mul(CHUNK_LINES))
     }
-    // Whole chunks (a float → integer cast saturates; the budget is at least one chunk)
-    let chunks = math::ceil(hi / CHUNK_LINES as f64).max(1.0);
-    Some((chunks as u64).saturating_mul(CHUNK_LINES))
 }
 
 #[cfg(test)]
@@ -167,7 +169,7 @@ mod tests {
         // 1000 patches of size 1 and one of 1e-6; rate 1e-3 per unit size and line
         let mut sizes = vec![1.0; 1000];
         sizes.push(1e-6);
-        let m = lines_to_sample_all(&sizes, 1e-3).unwrap();
+        let m = Coverage::lines_needed(&sizes, 1e-3).unwrap();
         let p = 1e-9;
         let closed = math::ln(1.0 / UNREACHED_TARGET) / p;
         assert!(m as f64 >= closed, "{m} vs {closed}");
@@ -177,11 +179,11 @@ mod tests {
         );
         assert_eq!(m % CHUNK_LINES, 0);
         // Equal patches: ln(10 n)/p
-        let m = lines_to_sample_all(&[1.0; 100], 1e-6).unwrap();
+        let m = Coverage::lines_needed(&[1.0; 100], 1e-6).unwrap();
         let closed = math::ln(1000.0) / 1e-6;
         assert!(m as f64 >= closed && (m as f64) < closed + CHUNK_LINES as f64 + 1.0);
-        assert_eq!(lines_to_sample_all(&[1.0], 0.0), None);
-        assert_eq!(lines_to_sample_all(&[], 1.0), None);
+        assert_eq!(Coverage::lines_needed(&[1.0], 0.0), None);
+        assert_eq!(Coverage::lines_needed(&[], 1.0), None);
     }
 
     /// A cube of 6 × 40 × 40 patches with few global lines: some patches are missed, the

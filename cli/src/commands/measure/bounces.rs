@@ -1,11 +1,11 @@
 //! `measure --bounces N`: the long-range mutual information `I(X_0; X_n)` of the scene's
-//! chain after `n = 1..N` bounces (thesis §7.3; `sceneinfo::channel::long_range_information`).
+//! chain after `n = 1..N` bounces (thesis §7.3; `Channel::long_range_information`).
 
 use std::fmt::Write as _;
 use std::io::Write;
 
 use anyhow::Result;
-use sceneinfo::channel::{LongRange, long_range_information};
+use sceneinfo::channel::LongRange;
 use sceneinfo_report::JsonObject;
 
 use crate::args::MeasureArgs;
@@ -33,7 +33,7 @@ pub(super) fn run(args: &MeasureArgs, bounces: usize) -> Result<()> {
         ));
     };
     let channel = ff.channel().map_err(at)?;
-    let lr = long_range_information(&channel, bounces).map_err(at)?;
+    let lr = channel.long_range_information(bounces).map_err(at)?;
     let w = ff.weights();
     // The patches whose memory of the start lasts longest: D_KL((Fⁿ)_i· ‖ w) = I_i(N)/w_i
     let mut order: Vec<usize> = (0..ff.n_states()).filter(|&i| w[i] > 0.0).collect();

@@ -11,8 +11,8 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
+use sceneinfo::ContinuousEstimate;
 use sceneinfo::LineSession;
-use sceneinfo::continuous::relative_discretisation_error;
 use sceneinfo::geom::DVec3;
 use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, OracleChoice3};
 use sceneinfo::radiosity::display::ToneMap;
@@ -213,7 +213,7 @@ pub fn run(args: &RefineArgs, threads: usize) -> Result<()> {
 ///
 /// A global line meets a leaf with a probability proportional to its area, so the smallest
 /// leaves of a fine mesh may receive none of `config.lines`. Without `--lines` the budget
-/// then doubles ([`sceneinfo::cast_lines`]: the tally grows by the seeded chunks of the
+/// then doubles ([`sceneinfo::LineRun::cast_lines`]: the tally grows by the seeded chunks of the
 /// larger job, so the result equals one run of the final budget) up to
 /// [`MAX_AUTO_LINES`]. A leaf still unsampled after that (or with `--lines` given) leaves
 /// the measures NaN, with a warning that says how many lines to ask for
@@ -242,7 +242,8 @@ fn measure(h: &Hierarchy, config: &Config, seed: u64, file: &Path) -> Result<Mes
         LineBudget::Fixed(config.lines)
     };
     let mut executor = crate::lines::Threads::new(config.threads);
-    let run = sceneinfo::cast_lines(&tracer, LineMethod::Global, seed, budget, &mut executor);
+    let run =
+        sceneinfo::LineRun::cast_lines(&tracer, LineMethod::Global, seed, budget, &mut executor);
     // A job cut short by Ctrl-C is not the one asked for: nothing is reported
     crate::interrupt::stop_if_requested()?;
     let lines = run.lines;
@@ -447,7 +448,7 @@ impl Report<'_> {
         o.number("i_s_continuous_stderr", m.i_s_continuous_stderr)?;
         o.number(
             "rel_discretisation_error",
-            relative_discretisation_error(m.i_s_continuous, m.i_s),
+            ContinuousEstimate::relative_discretisation_error(m.i_s_continuous, m.i_s),
         )?;
         o.boolean("background", m.background)?;
         o.integer("elements", h.elements().len() as u64)?;
@@ -504,7 +505,7 @@ impl Report<'_> {
                 "I_S^c (4.13)          {:.4} ± {:.4} bits; δ̄ = {:.2} %",
                 m.i_s_continuous,
                 m.i_s_continuous_stderr,
-                100.0 * relative_discretisation_error(m.i_s_continuous, m.i_s)
+                100.0 * ContinuousEstimate::relative_discretisation_error(m.i_s_continuous, m.i_s)
             );
         }
         if let Some(r) = self.rms {

@@ -11,7 +11,7 @@
 //!   patches: [`Scene3::cornell_box_thesis`]).
 
 use anyhow::{Result, anyhow};
-use sceneinfo::radiosity::continuous::{LitEstimate, estimate_lit};
+use sceneinfo::radiosity::continuous::LitEstimate;
 use sceneinfo::radiosity::rgb::RgbSolution;
 use sceneinfo::radiosity::{SolveOptions, Solver};
 use sceneinfo::scene::{Material, Scene2, Scene3};
@@ -42,7 +42,7 @@ impl Runner {
         lines: u64,
     ) -> Result<LitEstimate> {
         let method = LineMethod::Global;
-        estimate_lit(
+        LitEstimate::estimate(
             tracer,
             materials,
             Solver::GaussSeidel,
@@ -135,7 +135,7 @@ fn table_5_1(runner: &Runner) -> Result<Table> {
 
 fn sphere() -> Result<Table> {
     let areas: Vec<f64> = (0..64).map(|i| 0.5 + (i % 7) as f64 / 7.0).collect();
-    let ff = sceneinfo::formfactor::exact_3d::spherical_patches(&areas).map_err(err)?;
+    let ff = sceneinfo::FormFactors::spherical_patches(&areas).map_err(err)?;
     let mut materials = vec![Material::new([0.6; 3], [0.0; 3]).map_err(err)?; areas.len()];
     materials[0] = Material::new([0.6; 3], [1.0; 3]).map_err(err)?;
     let sol = RgbSolution::solve(

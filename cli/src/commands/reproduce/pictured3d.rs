@@ -10,7 +10,7 @@ use anyhow::{Result, anyhow};
 use sceneinfo::ErrorKind;
 use sceneinfo::channel::Measures;
 use sceneinfo::continuous::ContinuousEstimate;
-use sceneinfo::formfactor::quadrature::{QuadratureOptions, scene_i_s_continuous};
+use sceneinfo::formfactor::quadrature::{ContinuousQuadrature, QuadratureOptions};
 use sceneinfo::scene::{Preset3Entry, Scene3};
 use sceneinfo::trace::estimate_2d::LineMethod;
 use sceneinfo::trace::estimate_3d::Tracer3;
@@ -86,8 +86,9 @@ pub(super) fn table_4_4(runner: &Runner, full: bool) -> Result<Table> {
 /// form factors, `I_S^c` from the quadrature of (4.6).
 pub(super) fn table_4_5() -> Result<Table> {
     let mut rows = Vec::new();
-    let reference = scene_i_s_continuous(&preset("tetrahedron", 1)?, QuadratureOptions::STANDARD)
-        .map_err(|e| anyhow!("tetrahedron: {e}"))?;
+    let reference =
+        ContinuousQuadrature::of_scene(&preset("tetrahedron", 1)?, QuadratureOptions::STANDARD)
+            .map_err(|e| anyhow!("tetrahedron: {e}"))?;
     for level in 0..4 {
         let scene = preset(&format!("tetra-mesh-{level}"), 1)?;
         let m = exact_3d(&scene)?;

@@ -4,7 +4,7 @@
 //! regular, power-based and DE-based strategies).
 
 use anyhow::{Result, anyhow};
-use sceneinfo::continuous::{closed_form, relative_discretisation_error};
+use sceneinfo::continuous::closed_form;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::refine::cuts::{
     CutDirection, maximise, mse_optimal_cut, radiosity_gradient_gain, square_cut_gain,
@@ -102,7 +102,8 @@ pub(super) fn table_6_1() -> Result<Table> {
                 cell("E(MSE)", m.e_mse, 0.0, Some(t.e_mse)),
                 cell(
                     "δ̄ %",
-                    100.0 * relative_discretisation_error(i_c, m.i_s),
+                    100.0
+                        * sceneinfo::ContinuousEstimate::relative_discretisation_error(i_c, m.i_s),
                     0.0,
                     Some(t.delta_percent),
                 ),

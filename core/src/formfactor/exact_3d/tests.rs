@@ -548,16 +548,19 @@ fn octahedron_is_closed() {
 
 #[test]
 fn spherical_patches_are_independent() {
-    let ff = spherical_patches(&[1.0; 8]).unwrap();
+    let ff = FormFactors::spherical_patches(&[1.0; 8]).unwrap();
     let m = ff.channel().unwrap().measures();
     assert!(m.i_s.abs() < 1e-14);
     assert!((m.h_s - 3.0).abs() < 1e-14 && (m.h_p - 3.0).abs() < 1e-14);
     assert!((m.h_j - 2.0 * m.h_s).abs() < 1e-14);
     // Unequal areas: still independent, H_S = H_P.
-    let ff = spherical_patches(&[1.0, 2.0, 0.5, 3.5]).unwrap();
+    let ff = FormFactors::spherical_patches(&[1.0, 2.0, 0.5, 3.5]).unwrap();
     let m = ff.channel().unwrap().measures();
     assert!(m.i_s.abs() < 1e-14 && (m.h_s - m.h_p).abs() < 1e-14);
-    assert!(spherical_patches(&[]).is_err() && spherical_patches(&[1.0, -1.0]).is_err());
+    assert!(
+        FormFactors::spherical_patches(&[]).is_err()
+            && FormFactors::spherical_patches(&[1.0, -1.0]).is_err()
+    );
 }
 
 #[test]

@@ -272,8 +272,8 @@ fn tetrahedron_is_below_the_quoted_reference() {
             (lo.min(l), hi.max(l))
         });
     assert!(hi - lo < 1e-12 * hi, "edges {lo}..{hi}");
-    let r = scene_i_s_continuous(&tetra, QuadratureOptions::STANDARD).unwrap();
-    let fine = scene_i_s_continuous(
+    let r = ContinuousQuadrature::of_scene(&tetra, QuadratureOptions::STANDARD).unwrap();
+    let fine = ContinuousQuadrature::of_scene(
         &tetra,
         QuadratureOptions {
             order: 16,
@@ -288,7 +288,9 @@ fn tetrahedron_is_below_the_quoted_reference() {
     assert!((r.value - 2.619_458).abs() < 1e-5, "{r:?}");
     let cut = tetra.subdivided(Subdivision::Triangles(1)).unwrap();
     let polygons: Vec<(usize, usize)> = cut.patches().iter().map(|p| (p.first, p.count)).collect();
-    let split = i_s_continuous(cut.points(), &polygons, QuadratureOptions::STANDARD).unwrap();
+    let split =
+        ContinuousQuadrature::of_polygons(cut.points(), &polygons, QuadratureOptions::STANDARD)
+            .unwrap();
     assert!((split.value - r.value).abs() < 1e-7, "{split:?} vs {r:?}");
     assert!((split.visible_area / split.total_area - 1.0).abs() < 1e-10);
 }
@@ -298,7 +300,7 @@ fn tetrahedron_is_below_the_quoted_reference() {
 #[test]
 fn error_estimate_bounds_the_error() {
     let scene = Scene3::preset("dodecahedron", 1).unwrap();
-    let fine = scene_i_s_continuous(
+    let fine = ContinuousQuadrature::of_scene(
         &scene,
         QuadratureOptions {
             order: 16,
@@ -308,7 +310,8 @@ fn error_estimate_bounds_the_error() {
     .unwrap();
     let mut previous = f64::INFINITY;
     for (order, levels) in [(6, 4), (9, 7), (12, 10)] {
-        let r = scene_i_s_continuous(&scene, QuadratureOptions { order, levels }).unwrap();
+        let r =
+            ContinuousQuadrature::of_scene(&scene, QuadratureOptions { order, levels }).unwrap();
         assert!(
             (r.value - fine.value).abs() <= r.error_estimate,
             "{order}/{levels}: {r:?} vs {}",
@@ -322,21 +325,24 @@ fn error_estimate_bounds_the_error() {
 #[test]
 fn occluded_scenes_and_bad_options_are_refused() {
     let cornell = Scene3::preset("cornell", 1).unwrap();
-    let e = scene_i_s_continuous(&cornell, QuadratureOptions::STANDARD).unwrap_err();
+    let e = ContinuousQuadrature::of_scene(&cornell, QuadratureOptions::STANDARD).unwrap_err();
     assert_eq!(e.kind(), &ErrorKind::MayBeOccluded);
     assert!(format!("{e}").contains("unoccluded"), "{e}");
     let cube = Scene3::preset("cube", 1).unwrap();
     for (order, levels) in [(1, 5), (MAX_ORDER + 1, 5), (8, 0), (8, MAX_LEVELS + 1)] {
-        let e = scene_i_s_continuous(&cube, QuadratureOptions { order, levels }).unwrap_err();
+        let e =
+            ContinuousQuadrature::of_scene(&cube, QuadratureOptions { order, levels }).unwrap_err();
         assert!(matches!(e.kind(), ErrorKind::BadParameter { .. }), "{e}");
     }
     assert_eq!(
-        i_s_continuous(&[], &[], QuadratureOptions::STANDARD)
+        ContinuousQuadrature::of_polygons(&[], &[], QuadratureOptions::STANDARD)
             .unwrap_err()
             .kind(),
         &ErrorKind::EmptyScene
     );
-    let e = i_s_continuous(&[v(0., 0., 0.)], &[(0, 3)], QuadratureOptions::STANDARD).unwrap_err();
+    let e =
+        ContinuousQuadrature::of_polygons(&[v(0., 0., 0.)], &[(0, 3)], QuadratureOptions::STANDARD)
+            .unwrap_err();
     assert!(
         matches!(e.kind(), ErrorKind::DimensionMismatch { .. }),
         "{e}"
@@ -357,7 +363,9 @@ fn open_scene_counts_visible_pairs_only() {
         v(1., 1., 1.),
         v(1., 0., 1.),
     ];
-    let r = i_s_continuous(&points, &[(0, 4), (4, 4)], QuadratureOptions::STANDARD).unwrap();
+    let r =
+        ContinuousQuadrature::of_polygons(&points, &[(0, 4), (4, 4)], QuadratureOptions::STANDARD)
+            .unwrap();
     let flux = 0.199_824_895_698_387_46;
     assert!((r.visible_area - 2.0 * flux).abs() < 1e-12, "{r:?}");
     assert_eq!(r.facing_pairs, 1);
@@ -572,7 +580,7 @@ fn tetrahedron_by_brute_force_quadrature() {
     // F between two faces is exactly 1/3.
     assert!((flux / area - 1.0 / 3.0).abs() < 1e-7, "F {}", flux / area);
     let brute = 3.0 * flux_log2 / area + (4.0 * area).log2();
-    let r = scene_i_s_continuous(
+    let r = ContinuousQuadrature::of_scene(
         &Scene3::preset("tetrahedron", 1).unwrap(),
         QuadratureOptions::STANDARD,
     )

@@ -26,7 +26,7 @@
 //!
 //! Memory: 40 bytes per unordered pair, `20 n²` bytes a tally (84 MB at
 //! [`PAIR_MOMENT_LIMIT`] = 2048 patches); larger scenes cast their lines twice instead
-//! ([`super::estimate_lit`]).
+//! ([`super::LitEstimate::estimate`]).
 
 use alloc::vec;
 use alloc::vec::Vec;

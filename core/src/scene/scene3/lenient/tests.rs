@@ -231,7 +231,7 @@ fn staircase_cube() -> Vec<Vec<DVec3>> {
 
 #[test]
 fn a_cube_of_concave_halves_is_closed_and_has_the_cube_s_information() {
-    use crate::formfactor::quadrature::{QuadratureOptions, scene_i_s_continuous};
+    use crate::formfactor::quadrature::{ContinuousQuadrature, QuadratureOptions};
     let halves = staircase_cube();
     let (scene, report) = lenient(&halves, Subdivision::None);
     let scene = scene.unwrap();
@@ -252,12 +252,12 @@ fn a_cube_of_concave_halves_is_closed_and_has_the_cube_s_information() {
         .iter()
         .map(|f| f.iter().rev().copied().collect())
         .collect();
-    let plain = scene_i_s_continuous(
+    let plain = ContinuousQuadrature::of_scene(
         &strict(&cube, Subdivision::None),
         QuadratureOptions::STANDARD,
     )
     .unwrap();
-    let cut = scene_i_s_continuous(&scene, QuadratureOptions::STANDARD).unwrap();
+    let cut = ContinuousQuadrature::of_scene(&scene, QuadratureOptions::STANDARD).unwrap();
     let allowed = 3.0 * (plain.error_estimate + cut.error_estimate) + 1e-12;
     assert!(
         (plain.value - cut.value).abs() <= allowed,
