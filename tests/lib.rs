@@ -34,8 +34,8 @@ pub fn continuous_estimate(
     lines: u64,
     seed: u64,
 ) -> (f64, f64, f64) {
-    use sceneinfo::trace::estimate_2d::{LineMethod, estimate};
-    let est = estimate(scene, LineMethod::Global, seed, lines).unwrap();
+    use sceneinfo::trace::estimate_2d::{LineMethod, Tracer2};
+    let est = Tracer2::estimate(scene, LineMethod::Global, seed, lines).unwrap();
     let i_s = est.form_factors.channel().unwrap().i_s();
     (est.continuous.value, est.continuous.stderr, i_s)
 }

@@ -77,7 +77,7 @@ fn flatland_estimates_are_pinned() {
         (LineMethod::Bundle, PIN_FLAT_BUNDLE),
     ];
     check_estimates("flatland", pins, |m| {
-        estimate_2d::estimate(&scene, m, 11, 100_000).unwrap()
+        estimate_2d::Tracer2::estimate(&scene, m, 11, 100_000).unwrap()
     });
 }
 
@@ -90,7 +90,7 @@ fn solid_estimates_are_pinned() {
         (LineMethod::Bundle, PIN_SOLID_BUNDLE),
     ];
     check_estimates("3D", pins, |m| {
-        estimate_3d::estimate(&scene, m, 11, 100_000).unwrap()
+        estimate_3d::Tracer3::estimate(&scene, m, 11, 100_000).unwrap()
     });
 }
 

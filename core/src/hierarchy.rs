@@ -2,7 +2,7 @@
 //!
 //! # Overview
 //!
-//! - [`Polygon4`]: the elements' shape, a triangle or convex quad split in four.
+//! - `Polygon4`: the elements' shape, a triangle or convex quad split in four.
 //! - `point_kernel`, `KernelSamples`: the point-to-point kernel
 //!   `F(x, y) = cos θ_x cos θ_y / (π r²)` at `N` random point pairs of two elements, with
 //!   visibility through a `Visibility` (rays through the scene's BVH, or none in a scene
@@ -22,7 +22,7 @@
 //!   (§6.4.2) — driven by [`McOracle`]; [`McComparison::at_size`] puts its meshes side by side
 //!   at the captions' ray budgets and patch counts (docs/chapter6-protocol.md);
 //!   [`render_gouraud`] draws a mesh's Gouraud-shaded picture from a [`View3`] and
-//!   [`ImageReference`] measures its image-space error against a reference's.
+//!   `ImageReference` measures its image-space error against a reference's.
 //! - [`OracleComparison::at_size`] (`alloc`): an oracle's mesh at a wanted size and its RMS
 //!   error against a reference that is fine everywhere ([`Hierarchy::build_reference`]) — the comparisons of Figures 6.6 and 6.9.
 //!
@@ -62,9 +62,8 @@ mod visibility;
 pub use choice::OracleChoice3;
 #[cfg(feature = "alloc")]
 pub use compare::OracleComparison;
-pub use element::Polygon4;
 #[cfg(feature = "alloc")]
-pub use image::{ImageError, ImageReference, LeafShade, View3, render_gouraud};
+pub use image::{ImageError, View3, render_gouraud};
 #[cfg(feature = "alloc")]
 pub use mc_compare::{McComparison, McReference, mc_compare_against, mc_reference};
 #[cfg(feature = "alloc")]

@@ -15,7 +15,7 @@
 //! the coarse mesh's `F` is exactly the form factors of the merged patches. Splitting `c`
 //! back into `a` and `b` is a split of Proposition 3 (§5.4: conditions (a) and (b) hold by
 //! construction), so the merge loses exactly the gain of that split, `ΔI ≥ 0` (5.29–5.31),
-//! computed by [`crate::refine::proposition::two_state_split_gain`] from rows `a` and `b` of
+//! computed by `refine::proposition::two_state_split_gain` from rows `a` and `b` of
 //! the joint matrix and the weights alone:
 //!
 //! ```text
@@ -48,4 +48,4 @@ pub use greedy::{MergeCriterion, MergeStep, Simplifier, StopReason};
 
 /// Most states (patches and a background) a [`MergeChain`] holds: it keeps a dense `n × n`
 /// joint matrix (`8 n²` bytes: 134 MB at this cap).
-pub const MAX_MERGE_STATES: usize = 4096;
+pub(crate) const MAX_MERGE_STATES: usize = 4096;

@@ -65,7 +65,7 @@
 //! A pixel is refined when its contrast exceeds the threshold; a constant pixel has
 //! contrast exactly `0` and is never refined (the threshold is at least `0`). The papers'
 //! threshold values could not be read; the defaults ([`DEFAULT_ENTROPY_THRESHOLD`],
-//! [`DEFAULT_MI_THRESHOLD`]) are ours and their reasons are on the constants.
+//! `DEFAULT_MI_THRESHOLD`) are ours and their reasons are on the constants.
 //!
 //! Nothing here allocates: the samples are the caller's slices.
 
@@ -92,7 +92,7 @@ pub const DEFAULT_ENTROPY_THRESHOLD: f64 = 0.1;
 /// (not readable here). Reason: a pixel split in halves along a quadrant boundary between
 /// colours of luminance ratio 10 has `C_I = (1 − h(1/11)) / 2 = 0.28`, between black and a
 /// colour `0.5`, whatever `N`; an edge across the pixel's diagonal `0.25` (black and white).
-pub const DEFAULT_MI_THRESHOLD: f64 = 0.1;
+pub(crate) const DEFAULT_MI_THRESHOLD: f64 = 0.1;
 
 /// Which contrast the oracle computes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -154,7 +154,7 @@ impl Oracle {
         }
     }
 
-    /// The mutual-information contrast with [`DEFAULT_MI_THRESHOLD`].
+    /// The mutual-information contrast with `DEFAULT_MI_THRESHOLD`.
     #[must_use]
     pub const fn mutual_information() -> Self {
         Self {

@@ -44,7 +44,7 @@ impl fmt::Debug for FlatPipelineCase<'_> {
         )?;
         write!(
             f,
-            "    let est = sceneinfo::trace::estimate_2d::estimate(&scene, \
+            "    let est = sceneinfo::trace::estimate_2d::Tracer2::estimate(&scene, \
              LineMethod::Global, {:#x}, {LINES});",
             invariants::seed_of(self.0.as_bytes())
         )

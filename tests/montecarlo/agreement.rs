@@ -4,7 +4,7 @@
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::geom::DVec2;
 use sceneinfo::scene::Scene2;
-use sceneinfo::trace::estimate_2d::{LineMethod, estimate};
+use sceneinfo::trace::estimate_2d::{LineMethod, Tracer2};
 
 /// A room with two boxes and a two-sided wall stub: plenty of partial occlusion.
 fn room() -> Scene2 {
@@ -47,7 +47,7 @@ fn check_method(method: LineMethod, lines: u64) {
     let scene = room();
     let exact = exact_2d::form_factors(&scene).unwrap();
     assert!(!exact.has_background());
-    let est = estimate(&scene, method, 11, lines).unwrap();
+    let est = Tracer2::estimate(&scene, method, 11, lines).unwrap();
     assert!(
         !est.form_factors.has_background(),
         "closed scene: no background"
@@ -121,7 +121,7 @@ fn discrete_i_s_from_few_lines_is_biased_upward_and_converges() {
     let mut previous = f64::INFINITY;
     let mut bias = Vec::new();
     for lines in [10_000u64, 100_000, 1_000_000, 4_000_000] {
-        let est = estimate(&scene, LineMethod::Global, 5, lines).unwrap();
+        let est = Tracer2::estimate(&scene, LineMethod::Global, 5, lines).unwrap();
         let i_s = est.form_factors.channel().unwrap().i_s();
         println!("{lines:>8} lines: I_S = {i_s:.5} (exact {exact:.5})");
         assert!(i_s > exact, "{lines} lines: {i_s} not above exact {exact}");

@@ -3,7 +3,7 @@
 
 use sceneinfo::continuous::closed_form;
 use sceneinfo::scene::Scene2;
-use sceneinfo::trace::estimate_2d::{LineMethod, estimate};
+use sceneinfo::trace::estimate_2d::{LineMethod, Tracer2};
 
 /// `I_S^c` by bundles of the equilateral triangle (one patch per side) against Table
 /// 4.11's closed form 1.2845 (thesis 1.285). Bundles' standard error is about a sixth of
@@ -12,7 +12,7 @@ use sceneinfo::trace::estimate_2d::{LineMethod, estimate};
 #[test]
 fn table_4_11_triangle_by_bundles() {
     let s = Scene2::regular_polygon(3, 1).unwrap();
-    let est = estimate(&s, LineMethod::Bundle, 2002, 1 << 21).unwrap();
+    let est = Tracer2::estimate(&s, LineMethod::Bundle, 2002, 1 << 21).unwrap();
     let (value, stderr) = (est.continuous.value, est.continuous.stderr);
     let exact = closed_form::Enclosure::EquilateralTriangle.i_s_continuous();
     assert!(stderr > 0.0 && stderr < 5e-4, "standard error {stderr}");
@@ -36,7 +36,7 @@ fn printed_standard_error_matches_the_spread_over_seeds() {
     let lines = 1 << 20;
     let runs: Vec<(f64, f64)> = (0..40)
         .map(|seed| {
-            let e = estimate(&s, LineMethod::Bundle, 100 + seed, lines).unwrap();
+            let e = Tracer2::estimate(&s, LineMethod::Bundle, 100 + seed, lines).unwrap();
             (e.continuous.value, e.continuous.stderr)
         })
         .collect();
@@ -45,7 +45,7 @@ fn printed_standard_error_matches_the_spread_over_seeds() {
     let spread = (runs.iter().map(|r| (r.0 - mean).powi(2)).sum::<f64>() / (k - 1.0)).sqrt();
     let printed = runs.iter().map(|r| r.1).sum::<f64>() / k;
     let ratio = spread / printed;
-    let global = estimate(&s, LineMethod::Global, 100, lines).unwrap();
+    let global = Tracer2::estimate(&s, LineMethod::Global, 100, lines).unwrap();
     println!(
         "square, {lines} lines: spread {spread:.3e}, printed {printed:.3e} (ratio {ratio:.2}); \
          global lines {:.3e}",

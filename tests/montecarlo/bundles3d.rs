@@ -6,7 +6,7 @@
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::formfactor::quadrature::{ContinuousQuadrature, QuadratureOptions};
 use sceneinfo::scene::Scene3;
-use sceneinfo::trace::estimate_3d::{LineMethod, estimate};
+use sceneinfo::trace::estimate_3d::{LineMethod, Tracer3};
 
 /// The cube cut 3 × 3 a face (54 patches, no occlusion): the mean of 20 bundle estimates of
 /// each `F_ij` (seeds 0–19, 250,000 lines each) lies within 6 standard errors of the mean
@@ -24,7 +24,7 @@ fn cube_form_factors_agree_with_exact() {
     let mut sum = vec![0.0; n * n];
     let mut sum_sq = vec![0.0; n * n];
     for seed in 0..runs {
-        let est = estimate(&scene, LineMethod::Bundle, seed, lines).unwrap();
+        let est = Tracer3::estimate(&scene, LineMethod::Bundle, seed, lines).unwrap();
         assert!(est.lines.abs_diff(lines) < 500, "{} lines", est.lines);
         for i in 0..n {
             for j in 0..n {
@@ -81,7 +81,7 @@ fn printed_standard_error_matches_the_spread_over_seeds() {
     let lines = 1 << 20;
     let runs: Vec<(f64, f64)> = (0..30)
         .map(|seed| {
-            let e = estimate(&scene, LineMethod::Bundle, 200 + seed, lines).unwrap();
+            let e = Tracer3::estimate(&scene, LineMethod::Bundle, 200 + seed, lines).unwrap();
             (e.continuous.value, e.continuous.stderr)
         })
         .collect();
@@ -90,7 +90,7 @@ fn printed_standard_error_matches_the_spread_over_seeds() {
     let spread = (runs.iter().map(|r| (r.0 - mean).powi(2)).sum::<f64>() / (k - 1.0)).sqrt();
     let printed = (runs.iter().map(|r| r.1 * r.1).sum::<f64>() / k).sqrt();
     let ratio = spread / printed;
-    let global = estimate(&scene, LineMethod::Global, 200, lines).unwrap();
+    let global = Tracer3::estimate(&scene, LineMethod::Global, 200, lines).unwrap();
     println!(
         "cube 24, {lines} lines: spread {spread:.3e}, printed {printed:.3e} (ratio {ratio:.2}); \
          global lines {:.3e}",

@@ -5,7 +5,7 @@ use proptest::prelude::*;
 use sceneinfo::formfactor::occluded_3d::{OcclusionOptions, scene_form_factors_occluded};
 use sceneinfo::io::{ObjOptions, parse_obj};
 use sceneinfo::scene::Scene3;
-use sceneinfo::trace::estimate_3d::{LineMethod, estimate};
+use sceneinfo::trace::estimate_3d::{LineMethod, Tracer3};
 
 /// The Cornell box of the corpus (two blocks standing on the floor, open at the front).
 fn cornell() -> Scene3 {
@@ -37,7 +37,7 @@ fn cornell_box_agrees_with_global_lines() {
     let mut sum = vec![0.0; n * n];
     let mut sum_sq = vec![0.0; n * n];
     for seed in 0..runs {
-        let est = estimate(&scene, LineMethod::Global, seed, lines).unwrap();
+        let est = Tracer3::estimate(&scene, LineMethod::Global, seed, lines).unwrap();
         for i in 0..n {
             for j in 0..n {
                 let f = est.form_factors.get(i, j);

@@ -147,8 +147,8 @@ proptest! {
         let method = estimate_2d::LineMethod::Global;
         // A short patch may get none of 3,000 lines: then both copies must fail alike
         let (a, b) = match (
-            estimate_2d::estimate(&scene, method, seed, 3_000),
-            estimate_2d::estimate(&scaled, method, seed, 3_000),
+            estimate_2d::Tracer2::estimate(&scene, method, seed, 3_000),
+            estimate_2d::Tracer2::estimate(&scaled, method, seed, 3_000),
         ) {
             (Ok(a), Ok(b)) => (a, b),
             (a, b) => {
@@ -182,8 +182,8 @@ proptest! {
         // A small face of a random box may get none of 3,000 lines: then both copies must
         // fail alike (the same patch, the same error), as the bits are the same either way
         let (a, b) = match (
-            estimate_3d::estimate(&solid.scene, method, seed, 3_000),
-            estimate_3d::estimate(&scaled, method, seed, 3_000),
+            estimate_3d::Tracer3::estimate(&solid.scene, method, seed, 3_000),
+            estimate_3d::Tracer3::estimate(&scaled, method, seed, 3_000),
         ) {
             (Ok(a), Ok(b)) => (a, b),
             (a, b) => {

@@ -5,7 +5,7 @@ use proptest::prelude::*;
 use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::scene::Scene3;
-use sceneinfo::trace::estimate_3d::{LineMethod, estimate};
+use sceneinfo::trace::estimate_3d::{LineMethod, Tracer3};
 
 use super::solids::{Solid, convex_enclosure, random_box, refine};
 
@@ -123,7 +123,7 @@ fn check_estimate(solid: &Solid, seed: u64, lines: u64) -> Result<(), TestCaseEr
     let scene = &solid.scene;
     let label = &solid.label;
     let exact = exact(scene)?;
-    let est = estimate(scene, LineMethod::Global, seed, lines).unwrap();
+    let est = Tracer3::estimate(scene, LineMethod::Global, seed, lines).unwrap();
     prop_assert!(!est.form_factors.has_background(), "{label}: background");
     let c = &est.continuous;
     prop_assert!(

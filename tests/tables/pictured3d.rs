@@ -1,7 +1,7 @@
 //! The thesis' claims on its pictured 3D scenes (our versions: `scene::presets3d`).
 
 use sceneinfo::scene::Scene3;
-use sceneinfo::trace::estimate_3d::{LineMethod, estimate};
+use sceneinfo::trace::estimate_3d::{LineMethod, Tracer3};
 
 /// Tables 3.1 and 3.3: clustering the small cubes of a cube room makes the scene more
 /// correlated: higher `I_S`, lower `H_S` (same discretisation, so the same `H_P`). Both from
@@ -11,7 +11,7 @@ fn clustered_cubes_are_more_correlated_than_random_ones() {
     for m in ["27", "64"] {
         let measure = |how: &str, seed: u64| {
             let s = Scene3::preset(&format!("cubes-{m}-{how}"), 1).unwrap();
-            estimate(&s, LineMethod::Global, seed, 3_000_000)
+            Tracer3::estimate(&s, LineMethod::Global, seed, 3_000_000)
                 .unwrap()
                 .form_factors
                 .channel()
@@ -46,7 +46,7 @@ fn sixty_four_cubes_are_most_complex_at_both_ends() {
     let values: Vec<(f64, f64)> = (0..9)
         .map(|step| {
             let s = Scene3::preset(&format!("64-cubes-{step}"), 1).unwrap();
-            let c = estimate(&s, LineMethod::Global, 47, 400_000)
+            let c = Tracer3::estimate(&s, LineMethod::Global, 47, 400_000)
                 .unwrap()
                 .continuous;
             (c.value, c.stderr)
@@ -71,7 +71,7 @@ fn few_lines_overstate_i_s_but_not_i_s_continuous() {
     let scene = Scene3::preset("cubes-512-random", 1).unwrap();
     let runs: Vec<_> = [100_000u64, 1_000_000]
         .iter()
-        .map(|&lines| estimate(&scene, LineMethod::Global, 44, lines).unwrap())
+        .map(|&lines| Tracer3::estimate(&scene, LineMethod::Global, 44, lines).unwrap())
         .collect();
     let i_s: Vec<f64> = runs
         .iter()
@@ -94,7 +94,7 @@ fn cornell_box_i_s_grows_with_refinement_below_i_s_continuous() {
     let mut previous = 0.0;
     for grid in [1, 3] {
         let scene = Scene3::preset("cornell-lifted", grid).unwrap();
-        let e = estimate(&scene, LineMethod::Global, 46, 4_000_000).unwrap();
+        let e = Tracer3::estimate(&scene, LineMethod::Global, 46, 4_000_000).unwrap();
         let i_s = e.form_factors.channel().unwrap().i_s();
         let c = e.continuous;
         assert!(

@@ -4,7 +4,7 @@
 use sceneinfo::formfactor::exact_3d;
 use sceneinfo::formfactor::quadrature::{ContinuousQuadrature, QuadratureOptions};
 use sceneinfo::scene::Scene3;
-use sceneinfo::trace::estimate_3d::{LineMethod, estimate};
+use sceneinfo::trace::estimate_3d::{LineMethod, Tracer3};
 use sceneinfo_report::thesis::{PLATONIC_REFERENCE, TABLE_3_8, TABLE_ROUNDING};
 
 fn exact_measures(scene: &Scene3) -> sceneinfo::channel::Measures {
@@ -40,7 +40,7 @@ fn cube_600_exact_matches_the_converged_thesis_values() {
 /// 1.610 ± 0.003 (the thesis: 1.609, Table 4.1; 1.610 in §4.4).
 #[test]
 fn cube_600_with_ten_million_global_lines_lands_on_the_thesis_row() {
-    let e = estimate(
+    let e = Tracer3::estimate(
         &Scene3::cube(10).unwrap(),
         LineMethod::Global,
         38,
@@ -57,7 +57,7 @@ fn cube_600_with_ten_million_global_lines_lands_on_the_thesis_row() {
 /// depend on the discretisation, so one patch per face and 2·10⁷ lines (σ ≈ 8e-4).
 #[test]
 fn cube_continuous_mutual_information() {
-    let c = estimate(
+    let c = Tracer3::estimate(
         &Scene3::cube(1).unwrap(),
         LineMethod::Global,
         39,
@@ -82,7 +82,7 @@ fn cube_2400_estimates_converge_to_exact_from_above() {
     let exact = exact_measures(&cube).i_s;
     let mut previous = f64::INFINITY;
     for lines in [500_000u64, 2_000_000, 8_000_000] {
-        let e = estimate(&cube, LineMethod::Global, 24, lines).unwrap();
+        let e = Tracer3::estimate(&cube, LineMethod::Global, 24, lines).unwrap();
         let i_s = e.form_factors.channel().unwrap().i_s();
         assert!(
             i_s > exact && i_s < previous,
@@ -158,7 +158,7 @@ fn platonic_quadrature(name: &str) -> f64 {
 pub(crate) fn platonic_estimates_match_quadrature(method: LineMethod, lines: u64, max_stderr: f64) {
     for (name, _, _) in PLATONIC_REFERENCE {
         let exact = platonic_quadrature(name);
-        let e = estimate(&Scene3::preset(name, 1).unwrap(), method, 41, lines)
+        let e = Tracer3::estimate(&Scene3::preset(name, 1).unwrap(), method, 41, lines)
             .unwrap()
             .continuous;
         println!("{name}, {method:?}: {} ± {} vs {exact}", e.value, e.stderr);
@@ -190,7 +190,7 @@ fn tetrahedron_exact_and_refinement() {
         assert!(i_s > previous, "level {level}: {i_s} <= {previous}");
         previous = i_s;
     }
-    let c = estimate(
+    let c = Tracer3::estimate(
         &Scene3::tetrahedron().unwrap(),
         LineMethod::Global,
         45,

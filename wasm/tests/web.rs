@@ -164,7 +164,7 @@ fn chunked_job_gives_the_core_estimate_bit_for_bit() {
     );
     let result = job.finish().expect("every patch sampled");
     let scene = sceneinfo::io::parse_flat(ROOM_WITH_WALL).expect("valid");
-    let core = estimate_2d::estimate(&scene, LineMethod::Global, 7, lines).expect("ok");
+    let core = estimate_2d::Tracer2::estimate(&scene, LineMethod::Global, 7, lines).expect("ok");
     assert_eq!(job.value().to_bits(), core.continuous.value.to_bits());
     assert_eq!(job.stderr().to_bits(), core.continuous.stderr.to_bits());
     assert_eq!(result.patch_continuous(), core.patch_continuous);
@@ -257,7 +257,7 @@ fn bundle_lines_job_gives_the_core_estimate_bit_for_bit() {
     }
     let result = job.finish().expect("every patch sampled");
     let scene = sceneinfo::io::parse_flat(ROOM_WITH_WALL).expect("valid");
-    let core = estimate_2d::estimate(&scene, LineMethod::Bundle, 5, lines).expect("ok");
+    let core = estimate_2d::Tracer2::estimate(&scene, LineMethod::Bundle, 5, lines).expect("ok");
     assert_eq!(job.value().to_bits(), core.continuous.value.to_bits());
     assert_eq!(job.stderr().to_bits(), core.continuous.stderr.to_bits());
     let json = result.json();

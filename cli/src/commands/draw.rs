@@ -9,7 +9,7 @@ use anyhow::Result;
 use sceneinfo::formfactor::FormFactors;
 use sceneinfo::formfactor::exact_2d;
 use sceneinfo::scene::Scene2;
-use sceneinfo::trace::estimate_2d::{Estimate2, LineMethod, Tracer2};
+use sceneinfo::trace::estimate_2d::{LineEstimate, LineMethod, Tracer2};
 
 use crate::args::{Colour, DrawArgs};
 use crate::output::{located, write_atomic};
@@ -130,7 +130,7 @@ pub fn run(args: &DrawArgs, threads: usize) -> Result<()> {
 /// Runs the Monte Carlo lines and the core measures the colouring needs.
 fn compute(scene: &Scene2, config: &Config) -> sceneinfo::Result<Computed> {
     let n = scene.n_patches();
-    let estimate: Option<Estimate2> = match config.lines {
+    let estimate: Option<LineEstimate> = match config.lines {
         None => None,
         Some(lines) => {
             let tracer = Tracer2::new(scene)?;

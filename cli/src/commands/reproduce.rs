@@ -16,7 +16,7 @@ use anyhow::{Result, anyhow};
 use sceneinfo::continuous::closed_form;
 use sceneinfo::formfactor::quadrature::{ContinuousQuadrature, QuadratureOptions};
 use sceneinfo::scene::{CatalogueEntry, Scene2, Scene3};
-use sceneinfo::trace::estimate_2d::{Estimate2, LineMethod, Tracer2};
+use sceneinfo::trace::estimate_2d::{LineEstimate, LineMethod, Tracer2};
 use sceneinfo::trace::estimate_3d::Tracer3;
 use sceneinfo_report::JsonObject;
 use sceneinfo_report::thesis::{
@@ -73,7 +73,7 @@ struct Runner {
 }
 
 impl Runner {
-    fn estimate(&self, scene: &Scene2, lines: u64) -> Result<Estimate2> {
+    fn estimate(&self, scene: &Scene2, lines: u64) -> Result<LineEstimate> {
         let tracer = Tracer2::new(scene).map_err(|e| anyhow!("{e}"))?;
         let tally = crate::lines::run(&tracer, LineMethod::Global, self.seed, lines, self.threads);
         crate::interrupt::stop_if_requested()?;
@@ -335,7 +335,7 @@ impl Runner {
         Ok(tally.continuous())
     }
 
-    fn estimate_3d(&self, scene: &Scene3, lines: u64) -> Result<Estimate2> {
+    fn estimate_3d(&self, scene: &Scene3, lines: u64) -> Result<LineEstimate> {
         let tracer = Tracer3::new(scene).map_err(|e| anyhow!("{e}"))?;
         let tally = crate::lines::run(&tracer, LineMethod::Global, self.seed, lines, self.threads);
         crate::interrupt::stop_if_requested()?;

@@ -204,7 +204,7 @@ fn lines_in_2d_and_3d_are_the_expert_estimates_bits() {
         let Scene::Flat(s) = &flat else {
             unreachable!()
         };
-        let est = crate::trace::estimate_2d::estimate(s, method, 3, 150_000).unwrap();
+        let est = crate::trace::estimate_2d::Tracer2::estimate(s, method, 3, 150_000).unwrap();
         assert_eq!(m.form_factors(), Some(&est.form_factors), "{method:?}");
         assert_eq!(m.continuous(), Some(est.continuous));
         assert_eq!(m.patch_continuous(), Some(&est.patch_continuous[..]));
@@ -215,7 +215,8 @@ fn lines_in_2d_and_3d_are_the_expert_estimates_bits() {
     let Scene::Solid(s) = &solid else {
         unreachable!()
     };
-    let est = crate::trace::estimate_3d::estimate(s, LineMethod::Global, 7, 100_000).unwrap();
+    let est =
+        crate::trace::estimate_3d::Tracer3::estimate(s, LineMethod::Global, 7, 100_000).unwrap();
     assert_eq!(m.form_factors(), Some(&est.form_factors));
     assert_eq!(m.continuous(), Some(est.continuous));
     let run = m.line_run().unwrap();

@@ -32,15 +32,15 @@
 //!
 //! **The guard near `x`.** Where `O` passes through `x` itself (an occluder touching the
 //! source patch), `d(x) − d(y) → 0` and the projection divides rounding by almost nothing.
-//! So `O` is also clipped to `d(y) ≤ (1 − η) d(x)` with `η =` [`NEAR_GUARD`] `= 10⁻⁹`:
+//! So `O` is also clipped to `d(y) ≤ (1 − η) d(x)` with `η =` `NEAR_GUARD` `= 10⁻⁹`:
 //! along each sight line, occluder points closer to `x` than `η` times the line's length
 //! are ignored. This changes `F_{dx→vis(j)}` only for points `x` within `η · r_max` of an
 //! occluder (`r_max` the farthest distance to `P_j`), a band of area at most
 //! `η · r_max · (perimeter of the occluders' traces on patch i)`; its effect on `F_ij` is of
-//! that relative order, far below any tolerance accepted here ([`MIN_TOLERANCE`]).
+//! that relative order, far below any tolerance accepted here (`MIN_TOLERANCE`).
 //!
 //! Pieces or shadows smaller than `10⁻¹³ A_j` are rounding debris and are dropped. The piece
-//! count is bounded by [`MAX_VISIBLE_PIECES`] ([`ErrorKind::TooLarge`] beyond).
+//! count is bounded by `MAX_VISIBLE_PIECES` ([`ErrorKind::TooLarge`] beyond).
 //! Occluders are opaque from both sides. A polygon lying in the plane of `i` or `j` is not
 //! an occluder (see culling).
 //!
@@ -92,17 +92,15 @@ use crate::formfactor::exact_3d::{
 };
 use crate::geom::DVec3;
 
-pub use visible::{MAX_VISIBLE_PIECES, NEAR_GUARD};
-
 /// The default tolerance on each form factor.
 pub const DEFAULT_TOLERANCE: f64 = 1e-6;
 
 /// The smallest tolerance accepted: well above the rounding of the contour sums and the
 /// near guard's effect (see the module documentation).
-pub const MIN_TOLERANCE: f64 = 1e-10;
+pub(crate) const MIN_TOLERANCE: f64 = 1e-10;
 
 /// The default cap on points evaluated per pair (about 4·10⁶).
-pub const DEFAULT_MAX_POINTS_PER_PAIR: u64 = 1 << 22;
+pub(crate) const DEFAULT_MAX_POINTS_PER_PAIR: u64 = 1 << 22;
 
 /// The job's tolerance and work cap.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -131,7 +129,7 @@ impl OcclusionOptions {
         self
     }
 
-    /// Checks the tolerance (in [`MIN_TOLERANCE`]`..=1`) and the cap (at least one
+    /// Checks the tolerance (in `MIN_TOLERANCE``..=1`) and the cap (at least one
     /// triangle's points).
     ///
     /// # Errors
@@ -220,7 +218,7 @@ impl OccludedFormFactors {
 ///
 /// # Errors
 /// [`ErrorKind::DegenerateFace`] for a degenerate target; [`ErrorKind::TooLarge`] beyond
-/// [`MAX_VISIBLE_PIECES`] pieces.
+/// `MAX_VISIBLE_PIECES` pieces.
 ///
 /// # Examples
 ///
@@ -262,7 +260,7 @@ pub fn point_to_visible_polygon(
 ///
 /// # Errors
 /// The options' ([`OcclusionOptions::check`]); [`ErrorKind::DegenerateFace`];
-/// [`ErrorKind::TooLarge`] beyond [`MAX_VISIBLE_PIECES`] pieces.
+/// [`ErrorKind::TooLarge`] beyond `MAX_VISIBLE_PIECES` pieces.
 pub fn occluded_flux(
     source: &[DVec3],
     target: &[DVec3],
@@ -369,8 +367,8 @@ fn candidates(
 /// # Errors
 /// The options' ([`OcclusionOptions::check`]); those of
 /// [`exact_3d::form_factors_unoccluded`]; [`ErrorKind::TooLarge`] beyond
-/// [`MAX_VISIBLE_PIECES`] pieces.
-pub fn form_factors_occluded(
+/// `MAX_VISIBLE_PIECES` pieces.
+pub(crate) fn form_factors_occluded(
     points: &[DVec3],
     polygons: &[(usize, usize)],
     options: &OcclusionOptions,
@@ -484,10 +482,10 @@ fn cap_rows(f: &mut [f64], errors: &mut [f64], n: usize) {
     }
 }
 
-/// [`form_factors_occluded`] of a scene's patches.
+/// `form_factors_occluded` of a scene's patches.
 ///
 /// # Errors
-/// Those of [`form_factors_occluded`].
+/// Those of `form_factors_occluded`.
 pub fn scene_form_factors_occluded(
     scene: &crate::scene::Scene3,
     options: &OcclusionOptions,

@@ -168,7 +168,7 @@ pub struct LeafShade<'a> {
 }
 
 impl Hierarchy {
-    /// The leaves as [`LeafShade`]s, in [`Hierarchy::leaves`] order.
+    /// The leaves as `LeafShade`s, in [`Hierarchy::leaves`] order.
     #[must_use]
     pub fn shaded_leaves(&self) -> Vec<LeafShade<'_>> {
         self.leaves()
@@ -188,7 +188,7 @@ impl Hierarchy {
 }
 
 impl McHierarchy {
-    /// The leaves as [`LeafShade`]s, in element order.
+    /// The leaves as `LeafShade`s, in element order.
     #[must_use]
     pub fn shaded_leaves(&self) -> Vec<LeafShade<'_>> {
         self.elements()
@@ -377,7 +377,7 @@ pub struct ImageReference {
     boundary: Vec<bool>,
 }
 
-/// Image-space errors of a picture against an [`ImageReference`], in display levels
+/// Image-space errors of a picture against an `ImageReference`, in display levels
 /// (`0..=255`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ImageError {

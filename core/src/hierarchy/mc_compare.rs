@@ -97,7 +97,7 @@ pub struct McComparison {
     /// variation (`boundary_of`): shadow boundaries.
     pub boundary_rms_error: f64,
     /// Per view of the reference, the image-space errors of the mesh's Gouraud picture
-    /// ([`ImageReference::error`]).
+    /// (`ImageReference::error`).
     pub image_errors: Vec<ImageError>,
 }
 
@@ -142,7 +142,7 @@ fn boundary_of(leaves: &[LeafShade<'_>], fraction: f64) -> Vec<(Vec<DVec3>, [f64
 }
 
 /// What every mesh of a comparison is measured against: a fine solution's leaves, its
-/// boundary leaves (`boundary_of`) and its pictures ([`ImageReference`]).
+/// boundary leaves (`boundary_of`) and its pictures (`ImageReference`).
 #[derive(Clone, Debug)]
 pub struct McReference {
     /// The leaves with their radiosities.
@@ -158,7 +158,7 @@ impl McReference {
     /// pictures from `views` (boundary pixels: `BOUNDARY_FRACTION`).
     ///
     /// # Errors
-    /// Those of [`ImageReference::new`].
+    /// Those of `ImageReference::new`.
     pub fn new(scene: &Scene3, leaves: &[LeafShade<'_>], views: &[View3]) -> Result<Self> {
         let images = views
             .iter()
@@ -199,7 +199,7 @@ pub(crate) fn mc_compare_at_size(
 /// [`McComparison::image_errors`]); also returns the mesh.
 ///
 /// # Errors
-/// As `mc_compare_at_size`; those of [`ImageReference::error`].
+/// As `mc_compare_at_size`; those of `ImageReference::error`.
 pub fn mc_compare_against(
     scene: &Scene3,
     reference: &McReference,

@@ -273,7 +273,7 @@ pub(crate) fn pair_gain(
 /// `O(n)` and no allocation. `≥ 0` by construction; 0 when `a == b` or a slice is shorter
 /// than the other (the caller's error, not a gain).
 #[must_use]
-pub fn two_state_split_gain(
+pub(crate) fn two_state_split_gain(
     a: usize,
     b: usize,
     w_a: f64,

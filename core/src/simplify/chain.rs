@@ -34,7 +34,7 @@ impl MergeChain {
     ///
     /// # Errors
     /// [`ErrorKind::DimensionMismatch`] when `w` and `P` differ in size;
-    /// [`ErrorKind::TooLarge`] above [`MAX_MERGE_STATES`] states; the errors of
+    /// [`ErrorKind::TooLarge`] above `MAX_MERGE_STATES` states; the errors of
     /// [`Channel::new`] (`w` a distribution, rows summing to at most one).
     pub fn new<M: Transitions>(w: &[f64], p: &M) -> Result<Self> {
         let n = p.n_states();

@@ -70,7 +70,7 @@ pub struct Comparison {
 /// # Errors
 /// [`ErrorKind::DimensionMismatch`] unless there is one material per patch; the errors of
 /// `solve_rgb`.
-pub fn radiosity_per_patch(
+pub(crate) fn radiosity_per_patch(
     chain: &MergeChain,
     n_patches: usize,
     materials: &[Material],
@@ -138,7 +138,7 @@ pub(crate) fn radiosity_rmse(a: &[f64], fine: &[[f64; 3]], coarse: &[[f64; 3]]) 
 /// error against the fine solution.
 ///
 /// # Errors
-/// The errors of [`Simplifier::new`], [`Simplifier::run`] and [`radiosity_per_patch`].
+/// The errors of [`Simplifier::new`], [`Simplifier::run`] and `radiosity_per_patch`.
 pub fn compare_criteria(
     fine: &MergeChain,
     n_patches: usize,

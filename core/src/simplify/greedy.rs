@@ -27,7 +27,7 @@
 //!                                                          − G((p_kb, w_k), (p_lb, w_l))]
 //! ```
 //!
-//! (`G` the log-sum gap of [`crate::refine::proposition::two_state_split_gain`]), the
+//! (`G` the log-sum gap of `refine::proposition::two_state_split_gain`), the
 //! candidates of the merged patch are recomputed (`O(n)` each), and the smallest is found by
 //! one scan: `O(C + d n)` per merge for `C` candidates and `d` neighbours, `O(n²)` to simplify
 //! a mesh of `n` patches with `O(n)` candidates. The updated keys drift by rounding (a few

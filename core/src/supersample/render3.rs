@@ -40,7 +40,7 @@ use super::{Oracle, Verdict};
 
 /// The largest number of samples one render may take (`2³²`): 4 GB of colour samples
 /// for an adaptive render, which keeps them.
-pub const MAX_SAMPLES: u64 = 1 << 32;
+pub(crate) const MAX_SAMPLES: u64 = 1 << 32;
 
 /// A pinhole camera: the eye, an orthonormal frame, and the image plane at distance 1
 /// spanning `2 tan(fov/2)` vertically.
@@ -266,7 +266,7 @@ pub struct Image3 {
 ///
 /// # Errors
 /// [`ErrorKind::BadParameter`] for `spp = 0`, `initial` outside `1..=spp` or
-/// `max_per_pixel < spp` (adaptive); [`ErrorKind::TooLarge`] past [`MAX_SAMPLES`].
+/// `max_per_pixel < spp` (adaptive); [`ErrorKind::TooLarge`] past `MAX_SAMPLES`.
 pub fn render(
     scene: &RadianceScene3,
     camera: &PinholeCamera3,

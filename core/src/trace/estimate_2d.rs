@@ -100,9 +100,6 @@ struct BundleScratch {
     cos: Vec<f64>,
 }
 
-/// The result of a flatland Monte Carlo run (an alias kept for readability).
-pub type Estimate2 = LineEstimate;
-
 /// A flatland scene prepared for line casting: patch geometry and a BVH over the patches.
 #[derive(Debug)]
 pub struct Tracer2 {
@@ -557,14 +554,21 @@ impl LineTracer for Tracer2 {
     }
 }
 
-/// Casts `n_lines` lines of `method` with `seed` on this thread and returns the estimate.
-///
-/// # Errors
-/// [`crate::ErrorKind::NoLines`], [`crate::ErrorKind::UnsampledPatch`], and BVH
-/// construction errors.
-pub fn estimate(scene: &Scene2, method: LineMethod, seed: u64, n_lines: u64) -> Result<Estimate2> {
-    let tracer = Tracer2::new(scene)?;
-    tracer.run(method, seed, n_lines)?.finish(&tracer)
+impl Tracer2 {
+    /// Casts `n_lines` lines of `method` with `seed` on this thread and returns the estimate.
+    ///
+    /// # Errors
+    /// [`crate::ErrorKind::NoLines`], [`crate::ErrorKind::UnsampledPatch`], and BVH
+    /// construction errors.
+    pub fn estimate(
+        scene: &Scene2,
+        method: LineMethod,
+        seed: u64,
+        n_lines: u64,
+    ) -> Result<LineEstimate> {
+        let tracer = Tracer2::new(scene)?;
+        tracer.run(method, seed, n_lines)?.finish(&tracer)
+    }
 }
 
 #[cfg(test)]
@@ -578,7 +582,7 @@ mod tests {
     fn global_lines_match_exact_form_factors() {
         let scene = Scene2::regular_polygon(4, 2).unwrap();
         let exact = exact_2d::form_factors(&scene).unwrap();
-        let est = estimate(&scene, LineMethod::Global, 7, 200_000).unwrap();
+        let est = Tracer2::estimate(&scene, LineMethod::Global, 7, 200_000).unwrap();
         let n = scene.n_patches();
         for i in 0..n {
             for j in 0..n {

@@ -340,19 +340,21 @@ impl LineTracer for Tracer3 {
     }
 }
 
-/// Casts `n_lines` lines of `method` with `seed` on this thread and returns the estimate.
-///
-/// # Errors
-/// [`crate::ErrorKind::NoLines`], [`crate::ErrorKind::UnsampledPatch`], and BVH
-/// construction errors.
-pub fn estimate(
-    scene: &Scene3,
-    method: LineMethod,
-    seed: u64,
-    n_lines: u64,
-) -> Result<LineEstimate> {
-    let tracer = Tracer3::new(scene)?;
-    tracer.run(method, seed, n_lines)?.finish(&tracer)
+impl Tracer3 {
+    /// Casts `n_lines` lines of `method` with `seed` on this thread and returns the estimate.
+    ///
+    /// # Errors
+    /// [`crate::ErrorKind::NoLines`], [`crate::ErrorKind::UnsampledPatch`], and BVH
+    /// construction errors.
+    pub fn estimate(
+        scene: &Scene3,
+        method: LineMethod,
+        seed: u64,
+        n_lines: u64,
+    ) -> Result<LineEstimate> {
+        let tracer = Tracer3::new(scene)?;
+        tracer.run(method, seed, n_lines)?.finish(&tracer)
+    }
 }
 
 #[cfg(test)]

@@ -81,7 +81,7 @@ impl Target {
     ///
     /// # Errors
     /// [`ErrorKind::TooLarge`] when the visible part needs more than
-    /// [`MAX_VISIBLE_PIECES`] pieces.
+    /// `MAX_VISIBLE_PIECES` pieces.
     pub fn visible_form_factor(
         &self,
         x: DVec3,
