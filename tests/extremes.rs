@@ -190,9 +190,8 @@ fn split_target_fluxes_add_up_with_a_long_occluder_crossing_the_target() {
     };
     let split = build(&[0.12840466926070038]);
     let whole = build(&[]);
-    let pieces =
-        exact_2d::pair_flux(&split, 1, 2).unwrap() + exact_2d::pair_flux(&split, 1, 3).unwrap();
-    let one = exact_2d::pair_flux(&whole, 1, 2).unwrap();
+    let pieces = split.pair_flux(1, 2).unwrap() + split.pair_flux(1, 3).unwrap();
+    let one = whole.pair_flux(1, 2).unwrap();
     assert!(
         (pieces - one).abs() <= 1e-9 * one,
         "pieces {pieces} vs whole {one}"

@@ -14,58 +14,65 @@ pub(crate) const TOKEN_CAPACITY: usize = 32;
 /// characters, with `…` appended when cut.
 pub(crate) type Token = heapless::String<TOKEN_CAPACITY>;
 
-/// Builds a `Token` from arbitrary text, safe to print on a terminal.
-///
-/// Control characters (ESC, NUL, CR, …) and the invisible format characters that hide or
-/// reorder text (byte-order mark, zero-width spaces and joiners, bidirectional overrides)
-/// are written as Rust's `char::escape_debug` writes them (`\u{1b}`, `\0`, `\r`,
-/// `\u{feff}`); every other character, `é` included, is kept. Text longer than
-/// `TOKEN_CAPACITY` bytes (escapes counted) is cut between two characters, never inside
-/// one or inside an escape, and ends with `…`.
-///
-/// # Examples
-/// ```
-/// use sceneinfo::error::token;
-/// assert_eq!(token("caf\u{e9}\u{1b}[31m").as_str(), "café\\u{1b}[31m");
-/// assert_eq!(token("\u{feff}mat").as_str(), "\\u{feff}mat");
-/// ```
-#[must_use]
-pub fn token(text: &str) -> Token {
-    /// Appends one character of `text`, escaped when it must be; `false` (and nothing
-    /// appended) when it would pass `limit` bytes.
-    fn push(t: &mut Token, c: char, limit: usize) -> bool {
-        let mut piece = heapless::String::<16>::new();
-        if must_escape(c) {
-            for e in c.escape_debug() {
-                let _ = piece.push(e);
+impl ErrorKind {
+    /// Builds a `Token` from arbitrary text, safe to print on a terminal.
+    ///
+    /// Control characters (ESC, NUL, CR, …) and the invisible format characters that hide or
+    /// reorder text (byte-order mark, zero-width spaces and joiners, bidirectional overrides)
+    /// are written as Rust's `char::escape_debug` writes them (`\u{1b}`, `\0`, `\r`,
+    /// `\u{feff}`); every other character, `é` included, is kept. Text longer than
+    /// `TOKEN_CAPACITY` bytes (escapes counted) is cut between two characters, never inside
+    /// one or inside an escape, and ends with `…`.
+    ///
+    /// # Examples
+    /// ```
+    /// use sceneinfo::ErrorKind;
+    /// assert_eq!(ErrorKind::token("caf\u{e9}\u{1b}[31m").as_str(), "café\\u{1b}[31m");
+    /// assert_eq!(ErrorKind::token("\u{feff}mat").as_str(), "\\u{feff}mat");
+    /// ```
+    #[must_use]
+    pub fn token(text: &str) -> Token {
+        /// Appends one character of `text`, escaped when it must be; `false` (and nothing
+        /// appended) when it would pass `limit` bytes.
+        fn push(t: &mut Token, c: char, limit: usize) -> bool {
+            let mut piece = heapless::String::<16>::new();
+            if must_escape(c) {
+                for e in c.escape_debug() {
+                    let _ = piece.push(e);
+                }
+            } else {
+                let _ = piece.push(c);
             }
-        } else {
-            let _ = piece.push(c);
+            if t.len() + piece.len() > limit {
+                return false;
+            }
+            t.push_str(&piece).is_ok()
         }
-        if t.len() + piece.len() > limit {
-            return false;
+        let mut t = Token::new();
+        // Whole, when it fits
+        if text.chars().all(|c| push(&mut t, c, TOKEN_CAPACITY)) {
+            return t;
         }
-        t.push_str(&piece).is_ok()
-    }
-    let mut t = Token::new();
-    // Whole, when it fits
-    if text.chars().all(|c| push(&mut t, c, TOKEN_CAPACITY)) {
-        return t;
-    }
-    // Else as much as leaves room for the ellipsis
-    let ellipsis = '…';
-    let room = TOKEN_CAPACITY - ellipsis.len_utf8();
-    t.clear();
-    for c in text.chars() {
-        if !push(&mut t, c, room) {
-            break;
+        // Else as much as leaves room for the ellipsis
+        let ellipsis = '…';
+        let room = TOKEN_CAPACITY - ellipsis.len_utf8();
+        t.clear();
+        for c in text.chars() {
+            if !push(&mut t, c, room) {
+                break;
+            }
         }
+        let _ = t.push(ellipsis);
+        t
     }
-    let _ = t.push(ellipsis);
-    t
 }
 
-/// Whether [`token`] escapes `c`: a control character, or a format character that is
+/// [`ErrorKind::token`], for the crate's own errors.
+pub(crate) fn token(text: &str) -> Token {
+    ErrorKind::token(text)
+}
+
+/// Whether [`ErrorKind::token`] escapes `c`: a control character, or a format character that is
 /// invisible or reorders the text around it.
 fn must_escape(c: char) -> bool {
     c.is_control()

@@ -69,5 +69,7 @@ pub use mc_compare::{McComparison, McReference, mc_compare_against, mc_reference
 #[cfg(feature = "alloc")]
 pub use monte_carlo::{McHierarchy, McOptions, McOracle};
 
+#[cfg(all(test, feature = "alloc"))]
+use tree::Element;
 #[cfg(feature = "alloc")]
-pub use tree::{Budget, Element, Hierarchy, HrOptions, Link};
+pub use tree::{Budget, Hierarchy, HrOptions};

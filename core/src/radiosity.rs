@@ -34,7 +34,6 @@ pub mod measures;
 #[cfg(feature = "alloc")]
 pub mod rgb;
 pub mod walk;
-pub use lit_channel::radiosity_channel_into;
 pub use measures::RadiosityMeasures;
 
 #[cfg(test)]

@@ -43,10 +43,10 @@ pub(crate) use scene2::MAX_PATCHES_PER_SURFACE;
 #[cfg(feature = "alloc")]
 pub use scene2::Scene2;
 #[cfg(feature = "alloc")]
-pub use scene2::{Patch2, Scene2Builder, Surface2};
+pub use scene2::{Patch2, Scene2Builder};
 #[cfg(feature = "alloc")]
 pub(crate) use scene3::MAX_FACE_VERTICES;
 #[cfg(feature = "alloc")]
 pub(crate) use scene3::MAX_PATCHES_3D;
 #[cfg(feature = "alloc")]
-pub use scene3::{Face3, Patch3, Scene3, Scene3Builder, Subdivision};
+pub use scene3::{Patch3, Scene3, Scene3Builder, Subdivision};

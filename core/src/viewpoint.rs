@@ -16,7 +16,7 @@
 //! - the **full sphere** of directions (a cube map of six 90° images) for viewpoints inside a
 //!   scene;
 //! - **orthographic**, to compare with the exact areas of convex polyhedra
-//!   ([`convex_orthographic_areas`]: `max(0, −d·n) A`).
+//!   ([`crate::scene::Scene3::convex_orthographic_areas`]: `max(0, −d·n) A`).
 //!
 //! How the resolution bounds the error: [`raster`]'s module docs (`≤ (√2 P + 2m)` pixels per
 //! patch, `P` its projected perimeter and `m` its edges in pixels: halving with each doubling
@@ -81,6 +81,5 @@ mod sphere;
 mod tests;
 
 pub use channel::{ViewWeighting, ViewpointChannel, ViewpointJob, ViewpointOptions};
-pub use exact::convex_orthographic_areas;
 pub use raster::{IdRaster, Projection, ViewTotals};
 pub use sphere::ViewSphere;

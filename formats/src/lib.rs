@@ -193,7 +193,7 @@ pub fn detect(path: &Path, bytes: &[u8]) -> (Format, Option<LoadWarningKind>) {
     let format = sniff(bytes).or(by_extension).unwrap_or(Format::Flat);
     let note = match by_extension {
         Some(ext) if !ext.agrees(format) => Some(LoadWarningKind::FormatByContent {
-            extension: sceneinfo::error::token(
+            extension: sceneinfo::ErrorKind::token(
                 path.extension().and_then(|e| e.to_str()).unwrap_or(""),
             ),
             format: format.name(),

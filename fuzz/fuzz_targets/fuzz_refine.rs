@@ -8,7 +8,7 @@
 //!   non-empty messages;
 //! - for every split of a scene of at most 24 patches, `split_gain` accepts the split read
 //!   off the refined exact form factors (conditions (a) and (b) of Proposition 3) — unless
-//!   the scene spans more than 10⁶ times its smallest feature (`exact_2d::feature_range`: a
+//!   the scene spans more than 10⁶ times its smallest feature (`Scene2::feature_range`: a
 //!   patch, or a surface's end close to another surface), where the exact form factors' own
 //!   rounding may exceed the conditions' 1e-9 — and an accepted gain is finite, `≥ 0`, and
 //!   equals `I_S' − I_S` of the two exact channels within 1e-8.

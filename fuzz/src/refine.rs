@@ -37,13 +37,13 @@ pub const GAIN_TOLERANCE: f64 = 1e-8;
 /// Whether the exact flatland form factors of `scene` are within their guarantee: its
 /// extent is at most [`exact_2d::RESOLVED_RANGE`] times its smallest feature — the
 /// shortest patch or the closest approach of a surface's end to another surface
-/// ([`exact_2d::feature_range`]). Beyond it, distances of the scene's size are differenced
+/// ([`Scene2::feature_range`]). Beyond it, distances of the scene's size are differenced
 /// over a feature 10⁶ times smaller and rows drift by ~10⁻¹⁰ and worse (see
 /// `tests/extremes.rs`; a triangle 4·10¹¹ long and 0.14 wide lost 0.08 of a row), so
 /// Proposition 3's 1e-9 check on the split may fail on their rounding. For such scenes a
 /// refused split is accepted; an accepted one must still satisfy everything.
 fn resolved(scene: &Scene2) -> bool {
-    exact_2d::feature_range(scene) <= exact_2d::RESOLVED_RANGE
+    scene.feature_range() <= exact_2d::RESOLVED_RANGE
 }
 
 /// One fuzz case: the scene text and the splits `(patch selector, t)`. Its `Debug`

@@ -30,8 +30,8 @@ fn check_scene(scene: &Scene2) -> Result<(), TestCaseError> {
     let patches = scene.patches();
     for i in 0..n {
         for j in (i + 1)..n {
-            let f_ij = exact_2d::pair_flux(scene, i, j).unwrap();
-            let f_ji = exact_2d::pair_flux(scene, j, i).unwrap();
+            let f_ij = scene.pair_flux(i, j).unwrap();
+            let f_ji = scene.pair_flux(j, i).unwrap();
             let scale = f_ij.abs().max(f_ji.abs()).max(1e-300);
             prop_assert!(
                 (f_ij - f_ji).abs() <= 1e-12 * scale.max(patches[i].length.min(patches[j].length)),

@@ -198,52 +198,54 @@ fn sine_integral(p: DVec2, t0: f64, t1: f64) -> f64 {
     }
 }
 
-/// Unoccluded flux `L_i F_ij` between two segments that see each other (or partly, where
-/// they cross each other's supporting lines), without allocating: the crossed-strings rule
-/// generalised to one-sided segments. `F_ij = flux / L_i`, `F_ji = flux / L_j`.
-///
-/// ```text
-/// L_i F_ij = ½ (|a_i a_j| + |b_i b_j| − |a_i b_j| − |b_i a_j|)     (fully facing)
-/// ```
-///
-/// Returns 0 when they do not face each other.
-#[must_use]
-pub fn unoccluded_flux(i: Segment, j: Segment) -> f64 {
-    let len_i = i.length();
-    if !(len_i > 0.0) || !(j.length() > 0.0) || collinear(i, j) {
-        return 0.0;
-    }
-    let frame = Frame::of(&i);
-    let Some((p0, p1)) = clip_front(&frame, frame.local(j.a), frame.local(j.b)) else {
-        return 0.0;
-    };
-    let ja = frame.local(j.a);
-    let jb = frame.local(j.b);
-    // The one possible event: where j's supporting line crosses i.
-    let mut cuts = [0.0, len_i, len_i];
-    let mut n_cuts = 2;
-    if let Some(t) = line_crossing_axis(p0, p1)
-        && t > 0.0
-        && t < len_i
-    {
-        cuts = [0.0, t, len_i];
-        n_cuts = 3;
-    }
-    let mut flux = 0.0;
-    for w in cuts[..n_cuts].windows(2) {
-        let (t0, t1) = (w[0], w[1]);
-        let tm = 0.5 * (t0 + t1);
-        if cross(jb - ja, DVec2::new(tm, 0.0) - ja) <= 0.0 {
-            continue; // j shows its back here
+impl Segment {
+    /// Unoccluded flux `L_i F_ij` between two segments that see each other (or partly, where
+    /// they cross each other's supporting lines), without allocating: the crossed-strings rule
+    /// generalised to one-sided segments. `F_ij = flux / L_i`, `F_ji = flux / L_j`.
+    ///
+    /// ```text
+    /// L_i F_ij = ½ (|a_i a_j| + |b_i b_j| − |a_i b_j| − |b_i a_j|)     (fully facing)
+    /// ```
+    ///
+    /// Returns 0 when they do not face each other.
+    #[must_use]
+    pub fn unoccluded_flux(i: Segment, j: Segment) -> f64 {
+        let len_i = i.length();
+        if !(len_i > 0.0) || !(j.length() > 0.0) || collinear(i, j) {
+            return 0.0;
         }
-        let (lo, hi) = if angle(p0, tm) <= angle(p1, tm) {
-            (p0, p1)
-        } else {
-            (p1, p0)
+        let frame = Frame::of(&i);
+        let Some((p0, p1)) = clip_front(&frame, frame.local(j.a), frame.local(j.b)) else {
+            return 0.0;
         };
-        flux += sine_integral(hi, t0, t1) - sine_integral(lo, t0, t1);
+        let ja = frame.local(j.a);
+        let jb = frame.local(j.b);
+        // The one possible event: where j's supporting line crosses i.
+        let mut cuts = [0.0, len_i, len_i];
+        let mut n_cuts = 2;
+        if let Some(t) = line_crossing_axis(p0, p1)
+            && t > 0.0
+            && t < len_i
+        {
+            cuts = [0.0, t, len_i];
+            n_cuts = 3;
+        }
+        let mut flux = 0.0;
+        for w in cuts[..n_cuts].windows(2) {
+            let (t0, t1) = (w[0], w[1]);
+            let tm = 0.5 * (t0 + t1);
+            if cross(jb - ja, DVec2::new(tm, 0.0) - ja) <= 0.0 {
+                continue; // j shows its back here
+            }
+            let (lo, hi) = if angle(p0, tm) <= angle(p1, tm) {
+                (p0, p1)
+            } else {
+                (p1, p0)
+            };
+            flux += sine_integral(hi, t0, t1) - sine_integral(lo, t0, t1);
+        }
+        (0.5 * flux).max(0.0)
     }
-    (0.5 * flux).max(0.0)
 }
 
 /// Where the line through local points `p`, `q` crosses the axis `h = 0`, if not parallel.
@@ -258,25 +260,27 @@ fn line_crossing_axis(p: DVec2, q: DVec2) -> Option<f64> {
     t.is_finite().then_some(t)
 }
 
-/// Point-to-segment form factor `F_{x→j}` without occlusion (flatland form of 2.16): half
-/// the difference of the sines of the angles, from the normal `normal` at `x`, under which
-/// the front of `j` is seen.
-///
-/// ```text
-/// F_{x→j} = ½ (sin φ_hi − sin φ_lo)
-/// ```
-#[must_use]
-pub fn point_to_segment_unoccluded(x: DVec2, normal: DVec2, j: Segment) -> f64 {
-    let n = normal.normalize_or_zero();
-    if n == DVec2::ZERO || j.side(x) <= 0.0 {
-        return 0.0;
+impl Segment {
+    /// Point-to-segment form factor `F_{x→j}` without occlusion (flatland form of 2.16): half
+    /// the difference of the sines of the angles, from the normal `normal` at `x`, under which
+    /// the front of `j` is seen.
+    ///
+    /// ```text
+    /// F_{x→j} = ½ (sin φ_hi − sin φ_lo)
+    /// ```
+    #[must_use]
+    pub fn point_to_segment_unoccluded(x: DVec2, normal: DVec2, j: Segment) -> f64 {
+        let n = normal.normalize_or_zero();
+        if n == DVec2::ZERO || j.side(x) <= 0.0 {
+            return 0.0;
+        }
+        let frame = Frame::new(x, DVec2::new(n.y, -n.x), 0.0);
+        let Some((p0, p1)) = clip_front(&frame, frame.local(j.a), frame.local(j.b)) else {
+            return 0.0;
+        };
+        let s = |p: DVec2| p.x / math::hypot(p.x, p.y);
+        (0.5 * (s(p0) - s(p1)).abs()).min(1.0)
     }
-    let frame = Frame::new(x, DVec2::new(n.y, -n.x), 0.0);
-    let Some((p0, p1)) = clip_front(&frame, frame.local(j.a), frame.local(j.b)) else {
-        return 0.0;
-    };
-    let s = |p: DVec2| p.x / math::hypot(p.x, p.y);
-    (0.5 * (s(p0) - s(p1)).abs()).min(1.0)
 }
 
 // ---------------------------------------------------------------------------------------
@@ -539,7 +543,7 @@ fn occluded_flux<'a>(
         }
     }
     if scratch.occluders.is_empty() {
-        return unoccluded_flux(i, j);
+        return Segment::unoccluded_flux(i, j);
     }
 
     // 2. Events: lines through two candidate points crossing the open patch, and lines of
@@ -623,91 +627,98 @@ fn occluded_flux<'a>(
     (0.5 * flux.total()).max(0.0)
 }
 
-/// The flux `L_i F_ij` from patch `i` to patch `j`, integrated over the source patch `i`
-/// with occlusion by every other surface. [`form_factors`] computes each unordered pair once
-/// and fills both directions by reciprocity; this function lets a caller (or a test) compute
-/// `L_j F_ji` independently by integrating over `j` instead.
-///
-/// # Errors
-/// [`ErrorKind::PatchIndex`] if `i` or `j` is out of range.
-#[cfg(feature = "alloc")]
-pub fn pair_flux(scene: &Scene2, i: usize, j: usize) -> Result<f64> {
-    let n = scene.n_patches();
-    let (Some(pi), Some(pj)) = (scene.patches().get(i), scene.patches().get(j)) else {
-        return Err(ErrorKind::PatchIndex {
-            index: i.max(j),
-            len: n,
+impl Scene2 {
+    /// The flux `L_i F_ij` from patch `i` to patch `j`, integrated over the source patch `i`
+    /// with occlusion by every other surface. [`form_factors`] computes each unordered pair once
+    /// and fills both directions by reciprocity; this function lets a caller (or a test) compute
+    /// `L_j F_ji` independently by integrating over `j` instead.
+    ///
+    /// # Errors
+    /// [`ErrorKind::PatchIndex`] if `i` or `j` is out of range.
+    #[cfg(feature = "alloc")]
+    pub fn pair_flux(&self, i: usize, j: usize) -> Result<f64> {
+        let scene = self;
+        let n = scene.n_patches();
+        let (Some(pi), Some(pj)) = (scene.patches().get(i), scene.patches().get(j)) else {
+            return Err(ErrorKind::PatchIndex {
+                index: i.max(j),
+                len: n,
+            }
+            .into());
+        };
+        if pi.surface == pj.surface {
+            return Ok(0.0);
         }
-        .into());
-    };
-    if pi.surface == pj.surface {
-        return Ok(0.0);
+        let occ = scene
+            .surfaces()
+            .iter()
+            .enumerate()
+            .filter(|&(k, _)| k != pi.surface && k != pj.surface)
+            .map(|(_, s)| &s.segment);
+        Ok(occluded_flux(
+            pi.segment,
+            pj.segment,
+            occ,
+            &mut Scratch::default(),
+        ))
     }
-    let occ = scene
-        .surfaces()
-        .iter()
-        .enumerate()
-        .filter(|&(k, _)| k != pi.surface && k != pj.surface)
-        .map(|(_, s)| &s.segment);
-    Ok(occluded_flux(
-        pi.segment,
-        pj.segment,
-        occ,
-        &mut Scratch::default(),
-    ))
 }
 
-/// Point-to-patch form factor `F_{x→j}` (flatland form of 2.16) with occlusion by every
-/// other surface of the scene: `x` is a point with front normal `normal`, `j` a patch index.
-///
-/// # Errors
-/// [`ErrorKind::PatchIndex`] if `j` is out of range.
-#[cfg(feature = "alloc")]
-pub fn point_to_patch(scene: &Scene2, x: DVec2, normal: DVec2, j: usize) -> Result<f64> {
-    let patch = scene.patches().get(j).ok_or(ErrorKind::PatchIndex {
-        index: j,
-        len: scene.n_patches(),
-    })?;
-    let n = normal.normalize_or_zero();
-    if n == DVec2::ZERO {
-        return Ok(0.0);
-    }
-    let frame = Frame::new(x, DVec2::new(n.y, -n.x), 0.0);
-    let (ja, jb) = (frame.local(patch.segment.a), frame.local(patch.segment.b));
-    let Some((j0, j1)) = clip_front(&frame, ja, jb) else {
-        return Ok(0.0);
-    };
-    let mut occluders = Vec::new();
-    for (k, s) in scene.surfaces().iter().enumerate() {
-        // On j's line, at j's own depth: it cannot hide j (judged as in `occluded_flux`)
-        if k == patch.surface || collinear(patch.segment, s.segment) {
-            continue;
+impl Scene2 {
+    /// Point-to-patch form factor `F_{x→j}` (flatland form of 2.16) with occlusion by every
+    /// other surface of the scene: `x` is a point with front normal `normal`, `j` a patch index.
+    ///
+    /// # Errors
+    /// [`ErrorKind::PatchIndex`] if `j` is out of range.
+    #[cfg(feature = "alloc")]
+    pub fn point_to_patch(&self, x: DVec2, normal: DVec2, j: usize) -> Result<f64> {
+        let scene = self;
+        let patch = scene.patches().get(j).ok_or(ErrorKind::PatchIndex {
+            index: j,
+            len: scene.n_patches(),
+        })?;
+        let n = normal.normalize_or_zero();
+        if n == DVec2::ZERO {
+            return Ok(0.0);
         }
-        let Some((q0, q1)) = clip_front(&frame, frame.local(s.segment.a), frame.local(s.segment.b))
-        else {
-            continue;
+        let frame = Frame::new(x, DVec2::new(n.y, -n.x), 0.0);
+        let (ja, jb) = (frame.local(patch.segment.a), frame.local(patch.segment.b));
+        let Some((j0, j1)) = clip_front(&frame, ja, jb) else {
+            return Ok(0.0);
         };
-        match crate::geom::proper_crossing(q0, q1, j0, j1) {
-            Some((_, c)) => {
-                occluders.push((q0, c));
-                occluders.push((c, q1));
+        let mut occluders = Vec::new();
+        for (k, s) in scene.surfaces().iter().enumerate() {
+            // On j's line, at j's own depth: it cannot hide j (judged as in `occluded_flux`)
+            if k == patch.surface || collinear(patch.segment, s.segment) {
+                continue;
             }
-            None => occluders.push((q0, q1)),
+            let Some((q0, q1)) =
+                clip_front(&frame, frame.local(s.segment.a), frame.local(s.segment.b))
+            else {
+                continue;
+            };
+            match crate::geom::proper_crossing(q0, q1, j0, j1) {
+                Some((_, c)) => {
+                    occluders.push((q0, c));
+                    occluders.push((c, q1));
+                }
+                None => occluders.push((q0, q1)),
+            }
         }
+        let mut shadows = Vec::new();
+        let mut visible = Vec::new();
+        visible_intervals(
+            0.0,
+            (j0, j1),
+            (ja, jb),
+            &occluders,
+            &mut shadows,
+            &mut visible,
+        );
+        let s = |p: DVec2| p.x / math::hypot(p.x, p.y);
+        let f: f64 = visible.iter().map(|&(lo, hi)| 0.5 * (s(hi) - s(lo))).sum();
+        Ok(f.clamp(0.0, 1.0))
     }
-    let mut shadows = Vec::new();
-    let mut visible = Vec::new();
-    visible_intervals(
-        0.0,
-        (j0, j1),
-        (ja, jb),
-        &occluders,
-        &mut shadows,
-        &mut visible,
-    );
-    let s = |p: DVec2| p.x / math::hypot(p.x, p.y);
-    let f: f64 = visible.iter().map(|&(lo, hi)| 0.5 * (s(hi) - s(lo))).sum();
-    Ok(f.clamp(0.0, 1.0))
 }
 
 /// The exact form-factor matrix of a flatland scene (2.20), with occlusion by every surface,
@@ -746,7 +757,7 @@ fn check_closure(scene: &Scene2, lengths: &[f64], f: &[f64]) -> Result<()> {
             return Err(ErrorKind::PrecisionLoss {
                 patch,
                 sum,
-                range: feature_range(scene),
+                range: scene.feature_range(),
                 guaranteed: RESOLVED_RANGE,
             }
             .into());
@@ -755,38 +766,41 @@ fn check_closure(scene: &Scene2, lengths: &[f64], f: &[f64]) -> Result<()> {
     Ok(())
 }
 
-/// The scene's extent (bounding-box diagonal) over its smallest feature: the shortest patch,
-/// or the closest approach of a surface's end to another surface it does not end on (a
-/// vertex a hair's breadth from a long wall is a feature as small as that gap, whatever the
-/// patch lengths). Ends that touch another surface exactly are joints, not features.
-/// Up to [`RESOLVED_RANGE`], [`form_factors`] guarantees rows that close within 1e-9 and
-/// reciprocal fluxes; beyond it, rounding may move a row by more (rows that sum above one are
-/// refused with [`ErrorKind::PrecisionLoss`], rows that fall short read as an open scene).
-/// Costs `O(surfaces²)`.
-#[cfg(feature = "alloc")]
-#[must_use]
-pub fn feature_range(scene: &Scene2) -> f64 {
-    let (lo, hi) = scene.bounds();
-    let mut smallest = scene
-        .patches()
-        .iter()
-        .fold(f64::INFINITY, |m, p| m.min(p.length));
-    let surfaces = scene.surfaces();
-    for (k, s) in surfaces.iter().enumerate() {
-        for end in [s.segment.a, s.segment.b] {
-            for (m, other) in surfaces.iter().enumerate() {
-                let o = other.segment;
-                if m == k || end == o.a || end == o.b {
-                    continue;
-                }
-                let gap = o.distance_to(end);
-                if gap > 0.0 {
-                    smallest = smallest.min(gap);
+impl Scene2 {
+    /// The scene's extent (bounding-box diagonal) over its smallest feature: the shortest patch,
+    /// or the closest approach of a surface's end to another surface it does not end on (a
+    /// vertex a hair's breadth from a long wall is a feature as small as that gap, whatever the
+    /// patch lengths). Ends that touch another surface exactly are joints, not features.
+    /// Up to [`RESOLVED_RANGE`], [`form_factors`] guarantees rows that close within 1e-9 and
+    /// reciprocal fluxes; beyond it, rounding may move a row by more (rows that sum above one are
+    /// refused with [`ErrorKind::PrecisionLoss`], rows that fall short read as an open scene).
+    /// Costs `O(surfaces²)`.
+    #[cfg(feature = "alloc")]
+    #[must_use]
+    pub fn feature_range(&self) -> f64 {
+        let scene = self;
+        let (lo, hi) = scene.bounds();
+        let mut smallest = scene
+            .patches()
+            .iter()
+            .fold(f64::INFINITY, |m, p| m.min(p.length));
+        let surfaces = scene.surfaces();
+        for (k, s) in surfaces.iter().enumerate() {
+            for end in [s.segment.a, s.segment.b] {
+                for (m, other) in surfaces.iter().enumerate() {
+                    let o = other.segment;
+                    if m == k || end == o.a || end == o.b {
+                        continue;
+                    }
+                    let gap = o.distance_to(end);
+                    if gap > 0.0 {
+                        smallest = smallest.min(gap);
+                    }
                 }
             }
         }
+        math::length(hi - lo) / smallest
     }
-    math::length(hi - lo) / smallest
 }
 
 /// Writes the exact `n × n` patch form factors (no background state) row-major into `out`.
@@ -837,13 +851,15 @@ pub(crate) fn form_factors_into(scene: &Scene2, out: &mut [f64]) -> Result<()> {
     Ok(())
 }
 
-/// `½ (|a_i a_j| + |b_i b_j| − |a_i b_j| − |b_i a_j|)`: Hottel's crossed-strings flux for
-/// two segments that face each other completely (each wholly in front of the other). Facing
-/// segments run in opposite senses, so the "crossed" strings join `a_i` to `a_j` and `b_i`
-/// to `b_j`. Given for reference and tests; [`unoccluded_flux`] handles every configuration.
-#[must_use]
-pub fn crossed_strings(i: Segment, j: Segment) -> f64 {
-    0.5 * (distance(i.a, j.a) + distance(i.b, j.b) - distance(i.a, j.b) - distance(i.b, j.a))
+impl Segment {
+    /// `½ (|a_i a_j| + |b_i b_j| − |a_i b_j| − |b_i a_j|)`: Hottel's crossed-strings flux for
+    /// two segments that face each other completely (each wholly in front of the other). Facing
+    /// segments run in opposite senses, so the "crossed" strings join `a_i` to `a_j` and `b_i`
+    /// to `b_j`. Given for reference and tests; [`Segment::unoccluded_flux`] handles every configuration.
+    #[must_use]
+    pub fn crossed_strings(i: Segment, j: Segment) -> f64 {
+        0.5 * (distance(i.a, j.a) + distance(i.b, j.b) - distance(i.a, j.b) - distance(i.b, j.a))
+    }
 }
 
 #[cfg(test)]
@@ -859,11 +875,11 @@ mod tests {
         // Bottom faces up, top (reversed) faces down; distance 1. Crossed strings: √2 − 1.
         let i = seg(0.0, 0.0, 1.0, 0.0);
         let j = seg(1.0, 1.0, 0.0, 1.0);
-        let f = unoccluded_flux(i, j);
+        let f = Segment::unoccluded_flux(i, j);
         assert!((f - (2f64.sqrt() - 1.0)).abs() < 1e-15, "{f}");
-        assert!((crossed_strings(i, j) - f).abs() < 1e-15);
+        assert!((Segment::crossed_strings(i, j) - f).abs() < 1e-15);
         // Seen from behind: nothing.
-        assert_eq!(unoccluded_flux(i, j.reversed()), 0.0);
+        assert_eq!(Segment::unoccluded_flux(i, j.reversed()), 0.0);
     }
 
     #[test]
@@ -871,14 +887,15 @@ mod tests {
         // Two unit sides meeting at a right angle: F = (1 + 1 − √2)/2.
         let i = seg(0.0, 0.0, 1.0, 0.0);
         let j = seg(1.0, 0.0, 1.0, 1.0);
-        let f = unoccluded_flux(i, j);
+        let f = Segment::unoccluded_flux(i, j);
         assert!((f - (2.0 - 2f64.sqrt()) / 2.0).abs() < 1e-15, "{f}");
     }
 
     #[test]
     fn point_to_segment_matches_sines() {
         // From the origin facing +y, a segment spanning 45° either side: ½(sin45 + sin45).
-        let f = point_to_segment_unoccluded(DVec2::ZERO, DVec2::Y, seg(1.0, 1.0, -1.0, 1.0));
+        let f =
+            Segment::point_to_segment_unoccluded(DVec2::ZERO, DVec2::Y, seg(1.0, 1.0, -1.0, 1.0));
         assert!((f - 0.5f64.sqrt()).abs() < 1e-15);
     }
 
@@ -905,7 +922,10 @@ mod tests {
         assert!(
             ff.get(0, 1) > 0.0
                 && ff.get(0, 1)
-                    < unoccluded_flux(scene.patches()[0].segment, scene.patches()[1].segment)
+                    < Segment::unoccluded_flux(
+                        scene.patches()[0].segment,
+                        scene.patches()[1].segment
+                    )
         );
     }
 
@@ -914,7 +934,7 @@ mod tests {
     fn quadrature(scene: &Scene2, i: usize, j: usize) -> f64 {
         let p = scene.patches()[i].segment;
         let n = p.normal();
-        let g = |t: f64| point_to_patch(scene, p.point_at(t), n, j).unwrap();
+        let g = |t: f64| scene.point_to_patch(p.point_at(t), n, j).unwrap();
         fn simpson(
             g: &dyn Fn(f64) -> f64,
             a: f64,
@@ -948,15 +968,15 @@ mod tests {
     fn collinear_back_to_back_segments_exchange_nothing() {
         let wall = seg(2.0, 1.0, 0.0, 2.0);
         let piece = seg(0.0, 2.0, 9.472977730894943e-5, 1.9999526351113455);
-        assert_eq!(unoccluded_flux(piece, wall), 0.0);
-        assert_eq!(unoccluded_flux(wall, piece), 0.0);
+        assert_eq!(Segment::unoccluded_flux(piece, wall), 0.0);
+        assert_eq!(Segment::unoccluded_flux(wall, piece), 0.0);
         let scene = crate::io::parse_flat("poly 4 0 2 4 0 2 2 2 1\n")
             .unwrap()
             .split_patch(0, 2.3689e-5)
             .unwrap();
         let last = scene.n_patches() - 1;
-        assert_eq!(pair_flux(&scene, 0, last).unwrap(), 0.0);
-        assert_eq!(pair_flux(&scene, last, 0).unwrap(), 0.0);
+        assert_eq!(scene.pair_flux(0, last).unwrap(), 0.0);
+        assert_eq!(scene.pair_flux(last, 0).unwrap(), 0.0);
     }
 
     /// A wall coincident with the target (back to back) hides nothing from a source so short
@@ -969,10 +989,10 @@ mod tests {
                     seg 4.0 0.0 3.9961089494163424 0.01556420233463035\n";
         let open = crate::io::parse_flat(pair).unwrap();
         let walled = crate::io::parse_flat(&alloc::format!("{pair}seg 3 4 4 0\n")).unwrap();
-        let free = pair_flux(&open, 0, 1).unwrap();
+        let free = open.pair_flux(0, 1).unwrap();
         assert!(free > 1e-9, "{free}");
         for (i, j) in [(0, 1), (1, 0)] {
-            let flux = pair_flux(&walled, i, j).unwrap();
+            let flux = walled.pair_flux(i, j).unwrap();
             assert!(
                 (flux - free).abs() < 1e-6 * free,
                 "{i} → {j}: {flux} vs {free}"
@@ -991,13 +1011,13 @@ mod tests {
         let open = crate::io::parse_flat("seg 2 4.5 0 5\nseg 0 5 2.5 2.5\n").unwrap();
         let touched =
             crate::io::parse_flat("seg 2 4.5 0 5\nseg 0 5 2.5 2.5\nseg 1 2 1 4\n").unwrap();
-        let free = pair_flux(&open, 0, 1).unwrap();
+        let free = open.pair_flux(0, 1).unwrap();
         assert!(
             (free - 1.25 * core::f64::consts::SQRT_2).abs() < 1e-12,
             "{free}"
         );
         for (i, j) in [(0, 1), (1, 0)] {
-            let flux = pair_flux(&touched, i, j).unwrap();
+            let flux = touched.pair_flux(i, j).unwrap();
             assert!((flux - free).abs() < 1e-12, "{i} → {j}: {flux} vs {free}");
         }
     }

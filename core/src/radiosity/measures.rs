@@ -9,7 +9,7 @@
 //! I_S =  Σ_i Σ_j 𝐚_i 𝐅_ij log(𝐅_ij / 𝐚_j)              (5.7)
 //! ```
 //!
-//! The limits are those of [`super::radiosity_channel_into`]: the incoming radiosity is
+//! The limits are those of [`RadiosityMeasures::channel_into`]: the incoming radiosity is
 //! `B_i^in = Σ_j F_ij B_j` (equal to `(B_i − E_i)/ρ_i` for the solution of (2.6), and its
 //! limit where `ρ_i = 0`); a state with `B_i^in = 0` or `B_i = 0` has weight 0 and an empty
 //! row. When no light flows between states at all (every weight 0: nothing emits, or the

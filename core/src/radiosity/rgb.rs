@@ -190,7 +190,7 @@ mod tests {
     use super::*;
     use crate::channel::{Channel, CsrMatrixBuf, DenseMatrix};
     use crate::formfactor::{FormFactors, exact_2d};
-    use crate::radiosity::radiosity_channel_into;
+    use crate::radiosity::RadiosityMeasures;
     use crate::scene::Scene2;
 
     fn opts() -> SolveOptions {
@@ -303,7 +303,8 @@ mod tests {
         for (c, got) in measures.iter().enumerate() {
             let b = sol.channel(c);
             let (mut w, mut p) = (vec![0.0; n], vec![0.0; n * n]);
-            radiosity_channel_into(&ff.matrix(), ff.weights(), &b, &mut w, &mut p).unwrap();
+            RadiosityMeasures::channel_into(&ff.matrix(), ff.weights(), &b, &mut w, &mut p)
+                .unwrap();
             let ch = Channel::new(&w, DenseMatrix::new(n, &p).unwrap()).unwrap();
             let want = ch.measures();
             assert!((got.h_p - want.h_p).abs() <= 1e-12);

@@ -407,7 +407,7 @@ fn lit_channel(
     let mut w = vec![0.0; n];
     let mut p = vec![0.0; n * n];
     // The stationary distribution serves as the patch sizes (areas up to a common factor).
-    radiosity_channel_into(&ff.matrix(), ff.weights(), &b, &mut w, &mut p).unwrap();
+    RadiosityMeasures::channel_into(&ff.matrix(), ff.weights(), &b, &mut w, &mut p).unwrap();
     (w, p)
 }
 
@@ -462,7 +462,8 @@ fn emitter_without_incoming_light_is_an_error() {
     let m = DenseMatrix::new(2, &f).unwrap();
     let mut w = [0.0; 2];
     let mut p = [0.0; 4];
-    let err = radiosity_channel_into(&m, &[1.0, 1.0], &[1.0, 0.0], &mut w, &mut p).unwrap_err();
+    let err =
+        RadiosityMeasures::channel_into(&m, &[1.0, 1.0], &[1.0, 0.0], &mut w, &mut p).unwrap_err();
     assert!(
         matches!(
             err.kind(),
@@ -471,7 +472,12 @@ fn emitter_without_incoming_light_is_an_error() {
         "{err}"
     );
     // Bad inputs.
-    assert!(radiosity_channel_into(&m, &[1.0], &[1.0, 1.0], &mut w, &mut p).is_err());
-    assert!(radiosity_channel_into(&m, &[1.0, 1.0], &[f64::NAN, 1.0], &mut w, &mut p).is_err());
-    assert!(radiosity_channel_into(&m, &[1.0, 1.0], &[1.0, 1.0], &mut w, &mut [0.0; 3]).is_err());
+    assert!(RadiosityMeasures::channel_into(&m, &[1.0], &[1.0, 1.0], &mut w, &mut p).is_err());
+    assert!(
+        RadiosityMeasures::channel_into(&m, &[1.0, 1.0], &[f64::NAN, 1.0], &mut w, &mut p).is_err()
+    );
+    assert!(
+        RadiosityMeasures::channel_into(&m, &[1.0, 1.0], &[1.0, 1.0], &mut w, &mut [0.0; 3])
+            .is_err()
+    );
 }

@@ -387,7 +387,7 @@ fn split_form_factors(scene: &Scene2, old: &[f64], i: usize) -> Result<Vec<f64>>
     let patches = scene.patches();
     for half in [i, i + 1] {
         for j in (0..n).filter(|&j| j != i && j != i + 1) {
-            let flux = exact_2d::pair_flux(scene, half, j)?;
+            let flux = scene.pair_flux(half, j)?;
             f[half * n + j] = flux / patches[half].length;
             f[j * n + half] = flux / patches[j].length;
         }

@@ -32,7 +32,7 @@
 //! the error per patch halves (O(1/N) relative to the patch), and the error of the whole
 //! distribution, `Σ_i |â_i − a_i| ≤ 2 (√2 P_total + 2 m_total) w_max` (each misattributed
 //! pixel counts for two patches), halves too. The tests check the bound on convex polyhedra
-//! against [`super::convex_orthographic_areas`] and that the error falls with `N`.
+//! against [`crate::scene::Scene3::convex_orthographic_areas`] and that the error falls with `N`.
 //!
 //! Edge functions are evaluated with the edge's endpoints in a canonical order, so two
 //! polygons sharing an edge compute exactly opposite values at every pixel centre: no pixel

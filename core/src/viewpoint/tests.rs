@@ -78,7 +78,7 @@ fn ortho_error(scene: &Scene3, d: DVec3, n: u32) -> (f64, f64) {
     let totals = raster
         .project(scene, &Projection::Orthographic { direction: d }, &mut got)
         .unwrap();
-    convex_orthographic_areas(scene, d, &mut want).unwrap();
+    scene.convex_orthographic_areas(d, &mut want).unwrap();
     let (_, radius) = IdRaster::bounding_sphere(scene);
     let pixel = 2.0 * radius / f64::from(n);
     // Projected perimeter (pixels) of each visible face: its edges projected on the plane
