@@ -33,5 +33,6 @@ pub mod quadrature;
 
 #[cfg(feature = "alloc")]
 mod matrix;
+pub(crate) use matrix::FormFactorView;
 #[cfg(feature = "alloc")]
-pub use matrix::{FormFactorView, FormFactors};
+pub use matrix::FormFactors;

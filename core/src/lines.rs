@@ -39,7 +39,6 @@ mod local2;
 mod stream;
 
 pub(crate) use budget::check_line_budget;
-pub use bundle3::BundleRow;
 pub(crate) use bundle3::GlobalBundle3;
 pub(crate) use bundle3::sheaf_direction_sample;
 pub use global2::BoundingCircle;

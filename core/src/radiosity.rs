@@ -194,21 +194,6 @@ pub fn solve_importance<M: Transitions>(
     )
 }
 
-/// Writes `out_i = w_i x_i`: the power `P_i = A_i B_i` of (2.23) from radiosities, the
-/// emitted power `Φ_i = A_i E_i` from emittances, or `J_i = A_i I_i` (2.44) from
-/// importances.
-///
-/// # Errors
-/// [`ErrorKind::DimensionMismatch`] unless all three slices have the same length.
-pub fn power_from_radiosity(w: &[f64], x: &[f64], out: &mut [f64]) -> Result<()> {
-    check_len(w.len(), x.len())?;
-    check_len(w.len(), out.len())?;
-    for ((o, &wi), &xi) in out.iter_mut().zip(w).zip(x) {
-        *o = wi * xi;
-    }
-    Ok(())
-}
-
 /// Max-norm of the residual `E + ρ F B − B` of (2.6), absolute (not relative). Assumes
 /// `rho`, `e` and `b` have `n` entries (missing ones read as 0).
 #[must_use]

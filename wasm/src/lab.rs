@@ -1,11 +1,9 @@
 //! `FlatLab`: one flatland scene and its exact channel, as the page sees it.
 
-use sceneinfo::formfactor::FormFactors;
-use sceneinfo::formfactor::exact_2d;
 use sceneinfo::geom::DVec2;
 use sceneinfo::io::{parse_flat, write_flat};
 use sceneinfo::scene::Scene2;
-use sceneinfo::{Error, LineMethod, LineSession};
+use sceneinfo::{Error, LineMethod, LineSession, Measurement, Scene};
 use sceneinfo_report::{JsonObject, SceneReport};
 use wasm_bindgen::prelude::*;
 
@@ -17,13 +15,14 @@ use crate::{count, into_error};
 /// doubles are 128 MiB, the most a page should hold).
 const MAX_MATRIX_PATCHES: usize = 4096;
 
-/// A flatland scene, its exact form factors (computed on first use and kept) and the
-/// measures of its channel (thesis chapters 3, 4 and 6).
+/// A flatland scene and its exact [`Measurement`] (computed on first use by the façade's
+/// [`Measurement::exact`] and kept): the measures of its channel (thesis chapters 3, 4
+/// and 6).
 #[wasm_bindgen]
 #[derive(Debug)]
 pub struct FlatLab {
     scene: Scene2,
-    exact: Option<FormFactors>,
+    exact: Option<Measurement>,
 }
 
 impl FlatLab {
@@ -36,27 +35,25 @@ impl FlatLab {
         &self.scene
     }
 
-    /// The exact form factors, computed once.
-    fn exact(&mut self) -> Result<&FormFactors, Error> {
-        let ff = match self.exact.take() {
-            Some(ff) => ff,
-            None => exact_2d::form_factors(&self.scene)?,
+    /// The exact measurement, computed once (exact flatland form factors with occlusion,
+    /// without linking the line tracers).
+    fn exact(&mut self) -> Result<&Measurement, Error> {
+        let m = match self.exact.take() {
+            Some(m) => m,
+            None => Measurement::exact(&Scene::Flat(self.scene.clone()))?,
         };
-        Ok(self.exact.insert(ff))
+        Ok(self.exact.insert(m))
     }
 
-    /// The core's per-state `measure` of the exact channel, cut to the patches.
+    /// A per-state array of the exact measurement (`Measurement::patch_entropies`,
+    /// `Measurement::patch_information`), cut to the patches.
     fn patch_values(
         &mut self,
-        measure: impl Fn(
-            &sceneinfo::channel::Channel<'_, sceneinfo::formfactor::FormFactorView<'_>>,
-            &mut [f64],
-        ) -> sceneinfo::Result<()>,
+        per_state: impl Fn(&Measurement) -> sceneinfo::Result<Option<Vec<f64>>>,
     ) -> Result<Vec<f64>, Error> {
         let n = self.scene.n_patches();
-        let ff = self.exact()?;
-        let mut out = vec![0.0; ff.n_states()];
-        measure(&ff.channel()?, &mut out)?;
+        // Exact form factors reach every patch: the array is always there
+        let mut out = per_state(self.exact()?)?.unwrap_or_default();
         out.truncate(n);
         Ok(out)
     }
@@ -226,7 +223,9 @@ impl FlatLab {
     /// # Errors
     /// The errors of exact form factors and of the channel.
     pub fn measures(&mut self) -> Result<String, JsError> {
-        let report = self.exact().and_then(SceneReport::of).map_err(into_error)?;
+        let m = self.exact().map_err(into_error)?;
+        let report =
+            SceneReport::of_measurement(m).ok_or_else(|| JsError::new("no exact form factors"))?;
         let mut s = String::new();
         let mut o = JsonObject::new(&mut s).map_err(|e| JsError::new(&e.to_string()))?;
         let written = report
@@ -243,7 +242,7 @@ impl FlatLab {
     /// The errors of exact form factors and of the channel.
     #[wasm_bindgen(js_name = patchEntropies)]
     pub fn patch_entropies(&mut self) -> Result<Vec<f64>, JsError> {
-        self.patch_values(|c, out| c.patch_entropies(out))
+        self.patch_values(Measurement::patch_entropies)
             .map_err(into_error)
     }
 
@@ -254,7 +253,7 @@ impl FlatLab {
     /// The errors of exact form factors and of the channel.
     #[wasm_bindgen(js_name = patchInformation)]
     pub fn patch_information(&mut self) -> Result<Vec<f64>, JsError> {
-        self.patch_values(|c, out| c.patch_mutual_information(out))
+        self.patch_values(Measurement::patch_information)
             .map_err(into_error)
     }
 
@@ -276,13 +275,14 @@ impl FlatLab {
                 .into());
             }
             let mut out = vec![0.0; n * n];
-            self.exact()?
-                .channel()?
-                .for_each_pair_information(|i, j, v| {
-                    if i < n && j < n {
-                        out[i * n + j] = v;
-                    }
-                });
+            let Some(ff) = self.exact()?.form_factors() else {
+                return Ok(out);
+            };
+            ff.channel()?.for_each_pair_information(|i, j, v| {
+                if i < n && j < n {
+                    out[i * n + j] = v;
+                }
+            });
             Ok(out)
         };
         matrix().map_err(into_error)

@@ -481,3 +481,18 @@ fn emitter_without_incoming_light_is_an_error() {
             .is_err()
     );
 }
+
+/// Writes `out_i = w_i x_i`: the power `P_i = A_i B_i` of (2.23) from radiosities, the
+/// emitted power `Φ_i = A_i E_i` from emittances, or `J_i = A_i I_i` (2.44) from
+/// importances.
+///
+/// # Errors
+/// [`ErrorKind::DimensionMismatch`] unless all three slices have the same length.
+fn power_from_radiosity(w: &[f64], x: &[f64], out: &mut [f64]) -> Result<()> {
+    check_len(w.len(), x.len())?;
+    check_len(w.len(), out.len())?;
+    for ((o, &wi), &xi) in out.iter_mut().zip(w).zip(x) {
+        *o = wi * xi;
+    }
+    Ok(())
+}
