@@ -420,7 +420,7 @@ typedef struct SiRadiosityJob {
    */
   double tolerance;
   /**
-   * Iteration cap (sweeps, or shots for Southwell); 0: 100,000. Reaching it is
+   * Iteration cap (sweeps, or shots for Southwell); 0: 1,000,000. Reaching it is
    * `SI_ERR_JOB`, never a half answer.
    */
   uint64_t max_iterations;

@@ -37,7 +37,7 @@ pub struct SiRadiosityJob {
     /// Largest accepted max-norm of the residual `E + ρFB − B`, relative to `max E`; 0:
     /// 1e-10.
     pub tolerance: f64,
-    /// Iteration cap (sweeps, or shots for Southwell); 0: 100,000. Reaching it is
+    /// Iteration cap (sweeps, or shots for Southwell); 0: 1,000,000. Reaching it is
     /// `SI_ERR_JOB`, never a half answer.
     pub max_iterations: u64,
 }

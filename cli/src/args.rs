@@ -647,7 +647,7 @@ pub struct RadiosityArgs {
     pub tolerance: f64,
     /// Iteration cap (sweeps for Jacobi and Gauss–Seidel, shots for Southwell); reaching it
     /// is an error.
-    #[arg(long, default_value_t = 1_000_000)]
+    #[arg(long, default_value_t = sceneinfo::radiosity::SolveOptions::DEFAULT_MAX_ITERATIONS)]
     pub max_iterations: u64,
     /// Print JSON instead of a table.
     #[arg(long)]

@@ -258,7 +258,9 @@ pub fn exact_3d_form_factors(
     path: &Path,
     scene: &sceneinfo::scene::Scene3,
 ) -> Result<sceneinfo::formfactor::FormFactors> {
-    sceneinfo::formfactor::exact_3d::scene_form_factors(scene).map_err(|e| exact_error(path, &e))
+    sceneinfo::Scene::Solid(scene.clone())
+        .exact_form_factors()
+        .map_err(|e| exact_error(path, &e))
 }
 
 /// The error of exact form factors of the scene in `path`: [`job_refused`] asking for

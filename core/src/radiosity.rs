@@ -74,12 +74,21 @@ pub struct SolveOptions {
     pub max_iterations: u64,
 }
 
+impl SolveOptions {
+    /// The iteration cap of every front end (the façade's [`SolveOptions::default`], the
+    /// CLI's `--max-iterations`, Python's `max_iterations`, C's `0`): `10⁶`, what `reproduce`
+    /// needs for chapter 5's tables. A solve that converges stops before its cap, so the
+    /// cap moves no printed number; it only decides when a slow solve becomes
+    /// [`ErrorKind::NoConvergence`].
+    pub const DEFAULT_MAX_ITERATIONS: u64 = 1_000_000;
+}
+
 impl Default for SolveOptions {
-    /// Tolerance `1e-10`, at most `100 000` iterations.
+    /// Tolerance `1e-10`, at most [`SolveOptions::DEFAULT_MAX_ITERATIONS`] iterations.
     fn default() -> Self {
         Self {
             tolerance: 1e-10,
-            max_iterations: 100_000,
+            max_iterations: Self::DEFAULT_MAX_ITERATIONS,
         }
     }
 }

@@ -160,7 +160,7 @@ fn solver_of(py: Python<'_>, name: &str) -> PyResult<Solver> {
 /// Raises `SceneinfoError` of kind `RowsUnknown` when some patch received no line (cast
 /// more), `NoConvergence` when the solver does not reach the tolerance.
 #[pyfunction]
-#[pyo3(signature = (scene, lines = None, method = "global", seed = 1, threads = None, progress = None, max_lines = None, solver = "gauss-seidel", tolerance = 1e-10, max_iterations = 100_000))]
+#[pyo3(signature = (scene, lines = None, method = "global", seed = 1, threads = None, progress = None, max_lines = None, solver = "gauss-seidel", tolerance = 1e-10, max_iterations = SolveOptions::DEFAULT_MAX_ITERATIONS))]
 #[allow(clippy::too_many_arguments)]
 pub fn radiosity(
     py: Python<'_>,

@@ -187,13 +187,13 @@ impl UnsampledReport {
     }
 }
 
-/// Measures a flatland scene with exact form factors (thesis §3.3).
+/// Measures a flatland scene with exact form factors (thesis §3.3), through the façade
+/// ([`sceneinfo::Scene::exact_form_factors`]).
 ///
 /// # Errors
-/// The errors of [`sceneinfo::formfactor::exact_2d::form_factors`] and of the channel
-/// constructor.
+/// The errors of the exact form factors and of the channel constructor.
 pub fn measure_flat(scene: &Scene2) -> sceneinfo::Result<SceneReport> {
-    SceneReport::of(&sceneinfo::formfactor::exact_2d::form_factors(scene)?)
+    SceneReport::of(&sceneinfo::Scene::Flat(scene.clone()).exact_form_factors()?)
 }
 
 /// Parses `.flat` text, measures it with exact form factors and returns the JSON report
@@ -207,14 +207,14 @@ pub fn measure_flat_json(text: &str) -> sceneinfo::Result<String> {
 }
 
 /// Measures a 3D scene with exact unoccluded form factors (the contour integral, 2.16, over
-/// each source polygon; [`sceneinfo::formfactor::exact_3d::form_factors_unoccluded`]).
+/// each source polygon), through the façade ([`sceneinfo::Scene::exact_form_factors`]).
 ///
 /// # Errors
 /// [`sceneinfo::ErrorKind::MayBeOccluded`] when some polygon may hide part of another
 /// (exact 3D form factors are computed only for unoccluded scenes: estimate with lines
 /// instead); the errors of the exact form factors and of the channel constructor.
 pub fn measure_solid(scene: &Scene3) -> sceneinfo::Result<SceneReport> {
-    SceneReport::of(&sceneinfo::formfactor::exact_3d::scene_form_factors(scene)?)
+    SceneReport::of(&sceneinfo::Scene::Solid(scene.clone()).exact_form_factors()?)
 }
 
 /// Parses OBJ text (its `mtllib` libraries looked up by `mtl`, as

@@ -19,10 +19,7 @@ use std::io::Write;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use sceneinfo::accel::Bvh3;
-use sceneinfo::formfactor::{exact_2d, exact_3d};
 use sceneinfo::geom::DVec3;
-use sceneinfo::lines::{BoundingSphere, Line3, canonical, chunk_rng};
 use sceneinfo::scene::{Scene2, Scene3, Subdivision};
 use sceneinfo::tally::{LineMethod, LineTally, LineTracer};
 use sceneinfo::trace::estimate_2d::Tracer2;
@@ -118,7 +115,8 @@ struct CurvePoint {
     mesh: String,
     patches: usize,
     ns_per_line: f64,
-    /// Of it, sampling the line and finding its hits (`Bvh3::all_hits`), without the tally.
+    /// Of it, sampling the line and finding its hits (`Tracer3::global_line_hits`), without
+    /// the tally.
     query_ns_per_line: f64,
     hits_per_line: f64,
 }
@@ -177,18 +175,17 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
     if wanted("exact") {
         note("exact form factors");
         let scene = Scene2::catalogue("16-squares-4", 52)?;
+        let scene = sceneinfo::Scene::Flat(scene);
         let t = Instant::now();
-        let ff = exact_2d::form_factors(&scene)?;
+        let ff = scene.exact_form_factors()?;
         exact.push(ExactRow {
             name: "flatland 16-squares-4",
             patches: ff.n_patches(),
             seconds: t.elapsed().as_secs_f64(),
         });
-        let cube = Scene3::cube(10)?;
-        let polygons: Vec<(usize, usize)> =
-            cube.patches().iter().map(|p| (p.first, p.count)).collect();
+        let cube = sceneinfo::Scene::Solid(Scene3::cube(10)?);
         let t = Instant::now();
-        let ff = exact_3d::form_factors_unoccluded(cube.points(), &polygons)?;
+        let ff = cube.exact_form_factors()?;
         exact.push(ExactRow {
             name: "3D cube",
             patches: ff.n_patches(),
@@ -459,22 +456,10 @@ fn curve_point(mesh: String, scene: &Scene3, budget: f64) -> Result<CurvePoint> 
 /// 0's stream); jobs of `L` and `2L` lines, `L` grown until a job takes half of `budget`,
 /// as in `rate`.
 fn query_ns_per_line(scene: &Scene3, budget: f64) -> Result<f64> {
-    let polygons: Vec<(usize, usize)> =
-        scene.patches().iter().map(|p| (p.first, p.count)).collect();
-    let bvh = Bvh3::build(scene.points(), &polygons)?;
-    let (lo, hi) = scene.bounds();
-    let sphere = BoundingSphere::of_bounds(lo, hi);
-    let mut hits = Vec::new();
-    let mut timed = |lines: u64| {
-        let mut rng = chunk_rng(SEED, 0);
+    let tracer = Tracer3::new(scene)?;
+    let timed = |lines: u64| {
         let (cpu, wall) = (crate::lines::thread_cpu_seconds(), Instant::now());
-        let mut found = 0usize;
-        for _ in 0..lines {
-            let u = [0; 4].map(|_| canonical(&mut rng));
-            bvh.all_hits(&Line3::global(&sphere, u), &mut hits);
-            found += hits.len();
-        }
-        std::hint::black_box(found);
+        std::hint::black_box(tracer.global_line_hits(SEED, 0, lines));
         let cpu = cpu.zip(crate::lines::thread_cpu_seconds());
         cpu.map_or(wall.elapsed().as_secs_f64(), |(a, b)| b - a)
     };

@@ -7,7 +7,6 @@
 mod solid;
 use anyhow::Result;
 use sceneinfo::formfactor::FormFactors;
-use sceneinfo::formfactor::exact_2d;
 use sceneinfo::scene::Scene2;
 use sceneinfo::trace::estimate_2d::{LineEstimate, LineMethod, Tracer2};
 
@@ -159,7 +158,7 @@ fn compute(scene: &Scene2, config: &Config) -> sceneinfo::Result<Computed> {
             (Some(est.form_factors), Some(est.patch_continuous))
         }
         (Some(_), est) => (
-            Some(exact_2d::form_factors(scene)?),
+            Some(sceneinfo::Scene::Flat(scene.clone()).exact_form_factors()?),
             est.map(|e| e.patch_continuous),
         ),
         (None, est) => (None, est.map(|e| e.patch_continuous)),
@@ -507,7 +506,9 @@ mod tests {
     #[test]
     fn the_matrix_sums_into_bins() {
         let scene = sceneinfo::io::parse_flat("poly 4 0 0 1 0 1 1 0 1 per_side 120\n").unwrap();
-        let ff = exact_2d::form_factors(&scene).unwrap();
+        let ff = sceneinfo::Scene::Flat(scene.clone())
+            .exact_form_factors()
+            .unwrap();
         let grid = information_grid(&ff, scene.n_patches()).unwrap();
         assert_eq!(grid.bins, MATRIX_BINS);
         let total: f64 = grid.cells.iter().sum();

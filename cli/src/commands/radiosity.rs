@@ -212,10 +212,9 @@ fn json(r: &Run, solver: SolverArg) -> Result<String> {
             o.numbers("i_s_continuous_stderr_rgb", &l.radiosity.map(|e| e.stderr))?;
             o.integer("stderr_groups", l.visibility.groups)?;
             o.integer("line_casts", if l.one_pass { 1 } else { 2 })?;
-            let delta: Vec<f64> = (0..3)
-                .map(|c| l.radiosity[c].value - r.lit.measures()[c].i_s)
-                .collect();
-            o.numbers("discretisation_error_rgb", &delta)?;
+            if let Some(delta) = r.lit.discretisation_error_rgb() {
+                o.numbers("discretisation_error_rgb", &delta)?;
+            }
             o.integer("lines", l.lines)?;
             o.integer("seed", l.seed)?;
             o.integer("samples", l.visibility.samples)?;
@@ -335,16 +334,12 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
                  ask for more lines to trust them"
             );
         }
-        line(
-            &mut s,
-            "I_S^c - I_S (5.21)",
-            [
-                l.visibility.value - v.i_s,
-                lr.value - rad[0].i_s,
-                lg.value - rad[1].i_s,
-                lb.value - rad[2].i_s,
-            ],
-        );
+        if let (Some(v), Some([r, g, b])) = (
+            r.lit.discretisation_error(),
+            r.lit.discretisation_error_rgb(),
+        ) {
+            line(&mut s, "I_S^c - I_S (5.21)", [v, r, g, b]);
+        }
     }
     for (c, m) in rad.iter().enumerate() {
         if !m.light_flows {

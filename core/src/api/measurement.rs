@@ -391,10 +391,7 @@ impl Measurement {
     /// # Errors
     /// The exact form factors' and the channel's.
     pub fn exact(scene: &Scene) -> Result<Measurement> {
-        let ff = match scene {
-            Scene::Flat(s) => exact_2d::form_factors(s)?,
-            Scene::Solid(s) => crate::formfactor::exact_3d::scene_form_factors(s)?,
-        };
+        let ff = scene.exact_form_factors()?;
         Measurement::of(ff, scene.patch_sizes(), None, None)
     }
 }

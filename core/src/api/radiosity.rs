@@ -140,6 +140,26 @@ impl Lighting {
     pub fn lines(&self) -> Option<&LitLines> {
         self.lines.as_ref()
     }
+
+    /// The discretisation error `I_S^c − I_S` (5.21) of the visibility channel: how much
+    /// of the continuous scene's mutual information the patches lose (`None` for exact
+    /// form factors, which give no `I_S^c`).
+    #[must_use]
+    pub fn discretisation_error(&self) -> Option<f64> {
+        let lines = self.lines.as_ref()?;
+        Some(lines.visibility.value - self.visibility.measures()?.i_s)
+    }
+
+    /// The discretisation error `I_S^c − I_S` (5.21) of the radiosity channel, per colour
+    /// channel: the radiosity `I_S^c` (5.20) from the lines less the discrete radiosity
+    /// `I_S` (5.7) of the solution (`None` for exact form factors).
+    #[must_use]
+    pub fn discretisation_error_rgb(&self) -> Option<[f64; 3]> {
+        let lines = self.lines.as_ref()?;
+        Some(core::array::from_fn(|c| {
+            lines.radiosity[c].value - self.measures[c].i_s
+        }))
+    }
 }
 
 /// Lights `scene`: form factors by `job.form_factors` (lines cast through `executor`), the

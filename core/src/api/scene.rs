@@ -184,6 +184,21 @@ impl Scene {
         Ok(Scene::Solid(builder.finish()?))
     }
 
+    /// The exact form factors [`Measurement::exact`](crate::Measurement::exact) measures:
+    /// flatland ones with occlusion (`formfactor::exact_2d`), or unoccluded 3D ones (the
+    /// contour integral, 2.16; `formfactor::exact_3d`).
+    ///
+    /// # Errors
+    /// Those of the exact form factors; [`ErrorKind::MayBeOccluded`] when some 3D polygon
+    /// may hide part of another ([`Measurement::exact_within`](crate::Measurement::exact_within)
+    /// computes those, with occlusion, to a tolerance).
+    pub fn exact_form_factors(&self) -> Result<crate::formfactor::FormFactors> {
+        match self {
+            Scene::Flat(s) => crate::formfactor::exact_2d::form_factors(s),
+            Scene::Solid(s) => crate::formfactor::exact_3d::scene_form_factors(s),
+        }
+    }
+
     /// Whether this is a flatland scene.
     #[must_use]
     pub fn is_flat(&self) -> bool {

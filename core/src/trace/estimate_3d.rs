@@ -357,6 +357,8 @@ impl Tracer3 {
     }
 }
 
+mod query;
+
 #[cfg(test)]
 mod tests {
     use super::*;

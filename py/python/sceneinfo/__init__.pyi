@@ -334,7 +334,7 @@ def radiosity(
     max_lines: Optional[int] = None,
     solver: Literal["gauss-seidel", "jacobi", "southwell"] = "gauss-seidel",
     tolerance: float = 1e-10,
-    max_iterations: int = 100_000,
+    max_iterations: int = 1_000_000,
 ) -> Lighting:
     """Lights the scene (2.6) on exact or line form factors; radiosity measures (5.5–5.7)."""
 

@@ -25,7 +25,7 @@ use super::{Row, Runner, Table, cell};
 fn opts() -> SolveOptions {
     SolveOptions {
         tolerance: 1e-12,
-        max_iterations: 1_000_000,
+        max_iterations: SolveOptions::DEFAULT_MAX_ITERATIONS,
     }
 }
 

@@ -5,7 +5,6 @@
 
 use anyhow::{Result, anyhow};
 use sceneinfo::continuous::closed_form;
-use sceneinfo::formfactor::exact_2d;
 use sceneinfo::refine::cuts::{
     CutDirection, maximise, mse_optimal_cut, radiosity_gradient_gain, square_cut_gain,
 };
@@ -20,8 +19,9 @@ use sceneinfo_report::thesis::{
 use super::{Row, Runner, Table, cell};
 
 fn measures(scene: &Scene2) -> Result<sceneinfo::channel::Measures> {
-    let ff = exact_2d::form_factors(scene).map_err(|e| anyhow!("{e}"))?;
-    Ok(ff.channel().map_err(|e| anyhow!("{e}"))?.measures())
+    Ok(sceneinfo_report::measure_flat(scene)
+        .map_err(|e| anyhow!("{e}"))?
+        .measures)
 }
 
 /// §6.1: the best single cut of two squares sharing an edge, of a square in a corner, and
