@@ -29,11 +29,15 @@
 //! - `console_error_panic_hook` (default): forward Rust panic messages to `console.error`.
 
 mod lab;
+#[cfg(feature = "lab3d")]
+mod lab_3d;
 mod lines;
 mod refine;
 mod viewpoints;
 
 pub use lab::{FlatLab, catalogue};
+#[cfg(feature = "lab3d")]
+pub use lab_3d::{Lab3, Light3, Lines3, LitMesh3, Measures3, presets_3};
 pub use lines::{LineJob, LineResult};
 pub use refine::Refiner;
 pub use viewpoints::viewpoints;

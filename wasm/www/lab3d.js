@@ -1,0 +1,396 @@
+// The 3D lab: scenes in (presets, the user's files), their information coloured on the
+// mesh, their light and their views. Every number comes from the wasm module (pkg3d): the
+// main thread holds the scene for its geometry and shading; the worker (worker3d.js) holds
+// it too and does the long computations.
+import init, { Lab3, presets3 } from './pkg3d/sceneinfo_wasm.js';
+import { View3 } from './gl3d.js';
+import { scale, colourBar } from './plots.js';
+
+const $ = (id) => document.getElementById(id);
+
+await init();
+const view = new View3($('view'));
+const worker = new Worker('./worker3d.js', { type: 'module' });
+
+// The page's state: the scene, its measures and light, what is shown.
+const state = {
+  lab: null, source: null, id: 0,
+  exact: null, mc: null, light: null, views: null,
+};
+// For the browser test and curious users
+window.lab3d = state;
+state.camera = () => ({ ...view.camera });
+
+// ---- messages from the worker -------------------------------------------------------------
+
+const pending = new Map(); // request number → { resolve, reject }
+let requests = 0;
+function request(message) {
+  return new Promise((resolve, reject) => {
+    requests += 1;
+    pending.set(requests, { resolve, reject });
+    worker.postMessage({ ...message, req: requests });
+  });
+}
+
+worker.onmessage = ({ data }) => {
+  const p = data.req === undefined ? null : pending.get(data.req);
+  if (p) {
+    pending.delete(data.req);
+    if (data.type === 'error') p.reject(new Error(data.message));
+    else p.resolve(data);
+    return;
+  }
+  if (data.id !== state.id) return; // about a scene no longer shown
+  if (data.type === 'progress') {
+    $('mc-progress').value = data.done / data.total;
+    $('mc-status').textContent = `${data.done.toLocaleString('en')} of ${data.total.toLocaleString('en')} lines: I_S^c = ${data.value.toFixed(5)} ± ${data.stderr.toFixed(5)}`;
+  } else if (data.type === 'measures') {
+    linesDone(data);
+  } else if (data.type === 'error') {
+    linesFailed(data.message);
+  }
+};
+
+// ---- scenes in ------------------------------------------------------------------------------
+
+function showError(message) {
+  $('error').hidden = !message;
+  $('error').textContent = message ?? '';
+}
+
+function showWarnings(list) {
+  const ul = $('warnings');
+  ul.replaceChildren(...list.map((w) => Object.assign(document.createElement('li'), { textContent: w })));
+  ul.hidden = list.length === 0;
+}
+
+async function loadScene(source, name) {
+  showError(null);
+  let lab;
+  try {
+    lab = source.preset
+      ? Lab3.preset(source.preset, source.grid)
+      : Lab3.fromFile(source.name, source.bytes, source.mtl.map((m) => m[0]), source.mtl.map((m) => m[1]));
+  } catch (e) {
+    showError(e.message);
+    return;
+  }
+  state.lab?.free();
+  Object.assign(state, { lab, source, exact: null, mc: null, light: null, views: null, running: false });
+  state.id += 1;
+  const id = state.id;
+  document.title = `sceneinfo 3D lab: ${name}`;
+  $('scene-name').textContent = `${name}: ${lab.nPatches} patches`;
+  showWarnings(lab.warnings());
+  view.fit(lab.bounds());
+  state.triangles = lab.triangles();
+  state.trianglePatches = lab.trianglePatches();
+  clearMeasures();
+  $('colour').value = 'none';
+  paint();
+  worker.postMessage({ type: 'load', id, source });
+  // The exact channel where no patch can hide another (the core refuses the others)
+  if (lab.nPatches <= 2000) {
+    $('m-note').textContent = 'exact form factors…';
+    try {
+      const m = await request({ type: 'exact', id });
+      if (id !== state.id) return;
+      state.exact = m;
+      showMeasures(JSON.parse(m.json), 'exact');
+      $('m-note').textContent = `exact form factors in ${m.seconds.toFixed(3)} s`;
+    } catch (e) {
+      if (id !== state.id) return;
+      $('m-note').textContent = `No exact measures: ${e.message}. Run lines.`;
+    }
+  } else {
+    $('m-note').textContent = 'Large scene: run lines for its measures.';
+  }
+  $('status-ready')?.remove();
+  document.body.dataset.ready = String(id);
+}
+
+async function loadFiles(files) {
+  const list = [...files];
+  const mtl = await Promise.all(list.filter((f) => /\.mtl$/i.test(f.name)).map(async (f) => [f.name, await f.text()]));
+  const scene = list.find((f) => !/\.mtl$/i.test(f.name));
+  if (!scene) {
+    showError('Choose a scene file (OBJ, glTF / GLB, PLY), with its .mtl files for an OBJ.');
+    return;
+  }
+  const bytes = new Uint8Array(await scene.arrayBuffer());
+  history.replaceState(null, '', location.pathname);
+  await loadScene({ name: scene.name, bytes, mtl }, scene.name);
+}
+
+function presetSource() {
+  return { preset: $('preset').value, grid: Math.max(1, Math.round(Number($('grid').value) || 1)) };
+}
+
+async function loadPreset() {
+  const source = presetSource();
+  const now = state.source;
+  if (!source.preset || (now?.preset === source.preset && now.grid === source.grid)) return;
+  history.replaceState(null, '', `#preset=${encodeURIComponent(source.preset)}&grid=${source.grid}`);
+  await loadScene(source, source.preset);
+}
+
+for (const p of JSON.parse(presets3())) {
+  const o = document.createElement('option');
+  o.value = p.name;
+  o.textContent = `${p.name} — ${p.description}`;
+  $('preset').append(o);
+}
+$('preset').addEventListener('change', loadPreset);
+$('grid').addEventListener('change', loadPreset);
+$('file').addEventListener('change', (e) => loadFiles(e.target.files));
+$('share').addEventListener('click', async () => {
+  if (!state.source?.preset) return;
+  await navigator.clipboard?.writeText(location.href).catch(() => {});
+});
+const canvas = $('view');
+canvas.addEventListener('dragover', (e) => { e.preventDefault(); canvas.classList.add('drop'); });
+canvas.addEventListener('dragleave', () => canvas.classList.remove('drop'));
+canvas.addEventListener('drop', (e) => {
+  e.preventDefault();
+  canvas.classList.remove('drop');
+  loadFiles(e.dataTransfer.files);
+});
+
+// ---- measures -------------------------------------------------------------------------------
+
+const show = (id, v) => { $(id).textContent = v === null || v === undefined ? '–' : String(v); };
+
+function clearMeasures() {
+  for (const k of ['patches', 'source', 'h_p', 'h_s', 'h_j', 'i_s', 'isc', 'isc-err', 'delta']) show(`m-${k}`, null);
+  for (const k of ['h_s', 'i_s', 'isc']) for (const c of [0, 1, 2]) show(`r-${k}-${c}`, null);
+  show('m-patches', state.lab?.nPatches);
+  $('mc-status').textContent = '–';
+  $('rad-status').textContent = '–';
+  $('mc-progress').value = 0;
+  $('vp-status').textContent = '–';
+  $('vp-best').replaceChildren();
+  $('vp-sphere').getContext('2d').clearRect(0, 0, 180, 180);
+}
+
+function showMeasures(j, source) {
+  show('m-source', source);
+  for (const k of ['h_p', 'h_s', 'h_j', 'i_s']) show(`m-${k}`, j[k]);
+  if (j.i_s_continuous !== undefined) {
+    show('m-isc', j.i_s_continuous);
+    show('m-isc-err', j.i_s_continuous_stderr);
+    show('m-delta', j.rel_discretisation_error);
+  }
+}
+
+// ---- Monte Carlo ----------------------------------------------------------------------------
+
+function runLines() {
+  if (!state.lab) return;
+  state.running = true;
+  $('mc-run').disabled = true;
+  $('mc-stop').disabled = false;
+  $('mc-progress').value = 0;
+  worker.postMessage({ type: 'lines', id: state.id, seed: Number($('mc-seed').value), lines: Number($('mc-lines').value) });
+}
+
+function linesDone(m) {
+  state.running = false;
+  state.mc = m;
+  $('mc-run').disabled = false;
+  $('mc-stop').disabled = true;
+  const j = JSON.parse(m.json);
+  showMeasures(j, `${j.lines.toLocaleString('en')} global lines, seed ${j.seed}`);
+  $('mc-status').textContent = `${m.stopped ? 'stopped after' : 'done:'} ${m.done.toLocaleString('en')} lines in ${m.seconds.toFixed(2)} s`;
+  document.body.dataset.lines = String(m.done);
+  paint();
+}
+
+function linesFailed(message) {
+  state.running = false;
+  $('mc-run').disabled = false;
+  $('mc-stop').disabled = true;
+  $('mc-status').textContent = message;
+}
+
+$('mc-run').addEventListener('click', runLines);
+$('mc-stop').addEventListener('click', () => worker.postMessage({ type: 'stop', id: state.id }));
+
+// ---- light ----------------------------------------------------------------------------------
+
+async function solveRadiosity() {
+  if (!state.lab) return;
+  const id = state.id;
+  $('rad-run').disabled = true;
+  $('rad-status').textContent = 'solving…';
+  try {
+    const light = await request({ type: 'radiosity', id, lines: Number($('rad-lines').value), seed: Number($('mc-seed').value) });
+    if (id !== state.id) return;
+    state.light = light;
+    const j = JSON.parse(light.json);
+    for (const c of [0, 1, 2]) {
+      show(`r-h_s-${c}`, j.h_s_rgb[c]);
+      show(`r-i_s-${c}`, j.i_s_rgb[c]);
+      show(`r-isc-${c}`, j.i_s_continuous_rgb?.[c]);
+    }
+    $('rad-status').textContent = `${j.form_factors === 'exact' ? 'exact form factors' : `${j.lines.toLocaleString('en')} lines, seed ${j.seed}`}; ${j.iterations} iterations; ${light.seconds.toFixed(2)} s`;
+    $('colour').value = 'light';
+    paint();
+    document.body.dataset.light = String(id);
+  } catch (e) {
+    $('rad-status').textContent = e.message;
+  } finally {
+    $('rad-run').disabled = false;
+  }
+}
+$('rad-run').addEventListener('click', solveRadiosity);
+
+// ---- views ----------------------------------------------------------------------------------
+
+const VIEWS = 42;
+const VIEW_RADII = 3; // the viewpoint channel's sphere: 3 bounding radii
+
+// Lambert azimuthal equal-area projection about +y onto the sphere canvas.
+function sphereXY(d, size) {
+  const k = Math.sqrt(2 / (1 + Math.max(-0.999, d[1])));
+  return [size / 2 + (d[0] * k * size) / 4.2, size / 2 + (d[2] * k * size) / 4.2];
+}
+
+function drawSphere() {
+  const v = state.views;
+  const c = $('vp-sphere');
+  const g = c.getContext('2d');
+  g.clearRect(0, 0, c.width, c.height);
+  if (!v) return;
+  const s = scale(v.ve, false);
+  for (let k = 0; k < v.n_views; k++) {
+    const d = v.directions.slice(3 * k, 3 * k + 3);
+    const [x, y] = sphereXY(d, c.width);
+    g.fillStyle = s.colour(v.ve[k]);
+    g.beginPath();
+    g.arc(x, y, v.best.includes(k) ? 8 : 6, 0, 2 * Math.PI);
+    g.fill();
+    if (v.best.includes(k)) { g.strokeStyle = '#fff'; g.lineWidth = 2; g.stroke(); }
+  }
+}
+
+async function findViews() {
+  if (!state.lab) return;
+  const id = state.id;
+  $('vp-run').disabled = true;
+  $('vp-status').textContent = 'rendering the views…';
+  try {
+    const r = await request({ type: 'viewpoints', id, views: VIEWS, resolution: 96, best: 4 });
+    if (id !== state.id) return;
+    state.views = JSON.parse(r.json);
+    const v = state.views;
+    $('vp-status').textContent = `I(V;O) = ${v.i_vo.toFixed(4)} bits; best views (least VMI) ${v.best.join(', ')}; ${r.seconds.toFixed(2)} s`;
+    drawSphere();
+    // Thumbnails of the best views, rendered with the current colouring
+    const saved = { ...view.camera };
+    const thumbs = [];
+    for (const k of v.best) {
+      view.lookFrom(v.directions.slice(3 * k, 3 * k + 3), VIEW_RADII);
+      const img = Object.assign(document.createElement('img'), { src: view.canvas.toDataURL('image/png'), alt: `view ${k}` });
+      const b = Object.assign(document.createElement('button'), { type: 'button', title: `view ${k}: VMI ${v.vmi[k].toFixed(4)}` });
+      b.append(img, `#${k}`);
+      b.addEventListener('click', () => view.lookFrom(v.directions.slice(3 * k, 3 * k + 3), VIEW_RADII));
+      thumbs.push(b);
+    }
+    Object.assign(view.camera, saved);
+    view.draw();
+    $('vp-best').replaceChildren(...thumbs);
+    document.body.dataset.views = String(id);
+  } catch (e) {
+    $('vp-status').textContent = e.message;
+  } finally {
+    $('vp-run').disabled = false;
+  }
+}
+$('vp-run').addEventListener('click', findViews);
+$('vp-sphere').addEventListener('click', (e) => {
+  const v = state.views;
+  if (!v) return;
+  const c = e.currentTarget;
+  const r = c.getBoundingClientRect();
+  const x = ((e.clientX - r.left) * c.width) / r.width;
+  const y = ((e.clientY - r.top) * c.height) / r.height;
+  let best = -1;
+  let bestD = Infinity;
+  for (let k = 0; k < v.n_views; k++) {
+    const [px, py] = sphereXY(v.directions.slice(3 * k, 3 * k + 3), c.width);
+    const d = Math.hypot(px - x, py - y);
+    if (d < bestD) [best, bestD] = [k, d];
+  }
+  if (best >= 0) view.lookFrom(v.directions.slice(3 * best, 3 * best + 3), VIEW_RADII);
+});
+
+// ---- colouring ------------------------------------------------------------------------------
+
+// The values of colouring `key` per patch, or a sentence saying what to run first.
+function patchValues(key) {
+  const { exact, mc } = state;
+  const base = exact ?? mc;
+  if (key === 'h') return base?.h ?? 'needs the exact measures or a finished line run';
+  if (key === 'i') return base?.i ?? 'needs the exact measures or a finished line run';
+  if (key === 'ic' || key === 'delta') {
+    if (!mc?.ic) return 'run lines first';
+    if (key === 'ic') return mc.ic;
+    const i = (exact ?? mc).i;
+    if (!i) return 'needs I_i: every patch must receive a line';
+    return mc.ic.map((v, k) => v - i[k]);
+  }
+  if (key === 'saliency') return state.views?.saliency ?? 'find the best views first';
+  return null;
+}
+
+const LABELS = {
+  h: 'H_i (bits)', i: 'I_i (bits)', ic: 'I_i^c (bits)', delta: 'I_i^c − I_i (bits)', saliency: 'S(o)',
+};
+
+function paint() {
+  const key = $('colour').value;
+  const lab = state.lab;
+  $('exposure-label').hidden = key !== 'light';
+  $('colour-bar').hidden = true;
+  $('colour-note').textContent = '';
+  if (!lab) return;
+  if (key === 'light') {
+    if (!state.light) {
+      $('colour-note').textContent = 'solve radiosity first';
+    } else {
+      const exposure = 2 ** Number($('exposure').value);
+      $('exposure-value').textContent = `${exposure.toFixed(2)}×`;
+      const mesh = lab.litMesh(state.light.radiosity, exposure);
+      view.setMesh(mesh.positions(), mesh.colours(), 0);
+      mesh.free();
+      return;
+    }
+  }
+  const values = key === 'light' ? null : patchValues(key);
+  const tri = state.trianglePatches;
+  const colours = new Uint8Array(tri.length * 9).fill(200);
+  if (Array.isArray(values) || ArrayBuffer.isView(values)) {
+    const s = scale(values, key === 'delta');
+    const rgb = Array.from(values, (v) => s.rgb(v));
+    for (let t = 0; t < tri.length; t++) {
+      const c = rgb[tri[t]];
+      for (let k = 0; k < 3; k++) colours.set(c, 9 * t + 3 * k);
+    }
+    $('colour-bar').hidden = false;
+    colourBar($('colour-bar'), s, LABELS[key]);
+  } else if (typeof values === 'string') {
+    $('colour-note').textContent = values;
+  }
+  view.setMesh(state.triangles, colours, 0.35);
+}
+$('colour').addEventListener('change', paint);
+$('exposure').addEventListener('input', paint);
+
+// ---- start: the preset in the address, or the Cornell box --------------------------------------
+
+const hash = new URLSearchParams(location.hash.slice(1));
+$('preset').value = hash.get('preset') ?? 'cornell';
+if (!$('preset').value) $('preset').value = 'cornell';
+$('grid').value = hash.get('grid') ?? '4';
+await loadPreset();
