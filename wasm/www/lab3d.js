@@ -16,6 +16,7 @@ const worker = new Worker('./worker3d.js', { type: 'module' });
 const state = {
   lab: null, source: null, id: 0,
   exact: null, mc: null, light: null, views: null,
+  runs: 0, // finished jobs, told to the browser test through data-lines / -light / -views
 };
 // For the browser test and curious users
 window.lab3d = state;
@@ -202,7 +203,7 @@ function linesDone(m) {
   const j = JSON.parse(m.json);
   showMeasures(j, `${j.lines.toLocaleString('en')} global lines, seed ${j.seed}`);
   $('mc-status').textContent = `${m.stopped ? 'stopped after' : 'done:'} ${m.done.toLocaleString('en')} lines in ${m.seconds.toFixed(2)} s`;
-  document.body.dataset.lines = String(m.done);
+  document.body.dataset.lines = `${state.id}:${++state.runs}`;
   paint();
 }
 
@@ -236,7 +237,7 @@ async function solveRadiosity() {
     $('rad-status').textContent = `${j.form_factors === 'exact' ? 'exact form factors' : `${j.lines.toLocaleString('en')} lines, seed ${j.seed}`}; ${j.iterations} iterations; ${light.seconds.toFixed(2)} s`;
     $('colour').value = 'light';
     paint();
-    document.body.dataset.light = String(id);
+    document.body.dataset.light = `${id}:${++state.runs}`;
   } catch (e) {
     $('rad-status').textContent = e.message;
   } finally {
@@ -300,7 +301,7 @@ async function findViews() {
     Object.assign(view.camera, saved);
     view.draw();
     $('vp-best').replaceChildren(...thumbs);
-    document.body.dataset.views = String(id);
+    document.body.dataset.views = `${id}:${++state.runs}`;
   } catch (e) {
     $('vp-status').textContent = e.message;
   } finally {
