@@ -93,7 +93,8 @@ export class View3 {
     this.colourBuffer = gl.createBuffer();
     this.count = 0;
     this.shade = 0.35;
-    this.camera = { target: [0, 0, 0], radius: 1, yaw: 0.6, pitch: 0.35, distance: 2.8 };
+    // From the front right (−z, +x), as the Cornell boxes are seen
+    this.camera = { target: [0, 0, 0], radius: 1, yaw: Math.PI - 0.5, pitch: 0.3, distance: 2.8 };
     this.listen();
     new ResizeObserver(() => this.draw()).observe(canvas);
   }
