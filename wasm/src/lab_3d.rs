@@ -98,7 +98,8 @@ impl Lab3 {
     /// content, then extension: `sceneinfo_formats::detect`): OBJ (its `mtllib` libraries
     /// looked up in `mtlNames` / `mtlTexts`, a browser has no folder), glTF / GLB (buffers
     /// embedded: a `.gltf` whose buffers are other files cannot be read) or PLY. One patch per
-    /// face.
+    /// face. `emitFromKa` reads an OBJ material's ambient colour `Ka` as its emittance when it
+    /// has no `Ke` (old-style lamps; the CLI's `--emit-from-ka`).
     ///
     /// # Errors
     /// The reader's message, worded as the CLI prints it (`name:line: what`).
@@ -108,6 +109,7 @@ impl Lab3 {
         bytes: &[u8],
         #[wasm_bindgen(js_name = mtlNames)] mtl_names: Vec<String>,
         #[wasm_bindgen(js_name = mtlTexts)] mtl_texts: Vec<String>,
+        #[wasm_bindgen(js_name = emitFromKa)] emit_from_ka: bool,
     ) -> Result<Lab3, JsError> {
         let path = Path::new(name);
         let fail = |e: anyhow::Error| JsError::new(&format!("{e:#}"));
@@ -126,7 +128,8 @@ impl Lab3 {
                         .position(|n| n == lib)
                         .and_then(|k| mtl_texts.get(k).cloned())
                 };
-                let format = SceneFormat::Obj(ObjOptions::default());
+                let options = ObjOptions::default().with_emit_from_ka(emit_from_ka);
+                let format = SceneFormat::Obj(options);
                 let (scene, obj_report) = Scene::from_text(&text, format, library)
                     .map_err(|e| fail(sceneinfo_formats::located(path, &e)))?;
                 let mut obj_report = obj_report;

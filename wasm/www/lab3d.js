@@ -72,7 +72,7 @@ async function loadScene(source, name) {
   try {
     lab = source.preset
       ? Lab3.preset(source.preset, source.grid)
-      : Lab3.fromFile(source.name, source.bytes, source.mtl.map((m) => m[0]), source.mtl.map((m) => m[1]));
+      : Lab3.fromFile(source.name, source.bytes, source.mtl.map((m) => m[0]), source.mtl.map((m) => m[1]), source.emitFromKa);
   } catch (e) {
     showError(e.message);
     return;
@@ -121,7 +121,8 @@ async function loadFiles(files) {
   }
   const bytes = new Uint8Array(await scene.arrayBuffer());
   history.replaceState(null, '', location.pathname);
-  await loadScene({ name: scene.name, bytes, mtl }, scene.name);
+  $('preset').value = '';
+  await loadScene({ name: scene.name, bytes, mtl, emitFromKa: $('emit-ka').checked }, scene.name);
 }
 
 function presetSource() {
@@ -145,6 +146,10 @@ for (const p of JSON.parse(presets3())) {
 $('preset').addEventListener('change', loadPreset);
 $('grid').addEventListener('change', loadPreset);
 $('file').addEventListener('change', (e) => loadFiles(e.target.files));
+$('emit-ka').addEventListener('change', () => {
+  const s = state.source;
+  if (s && !s.preset) loadScene({ ...s, emitFromKa: $('emit-ka').checked }, s.name);
+});
 $('share').addEventListener('click', async () => {
   if (!state.source?.preset) return;
   await navigator.clipboard?.writeText(location.href).catch(() => {});

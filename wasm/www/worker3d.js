@@ -70,7 +70,7 @@ onmessage = async ({ data }) => {
       const s = data.source;
       lab = s.preset
         ? Lab3.preset(s.preset, s.grid)
-        : Lab3.fromFile(s.name, s.bytes, s.mtl.map((m) => m[0]), s.mtl.map((m) => m[1]));
+        : Lab3.fromFile(s.name, s.bytes, s.mtl.map((m) => m[0]), s.mtl.map((m) => m[1]), s.emitFromKa);
       postMessage({ type: 'loaded', id, req, n: lab.nPatches });
     } else if (data.type === 'exact') {
       const start = performance.now();
