@@ -268,11 +268,12 @@ function drawSphere() {
   const g = c.getContext('2d');
   g.clearRect(0, 0, c.width, c.height);
   if (!v) return;
-  const s = scale(v.ve, false);
+  const values = v[$('vp-colour').value];
+  const s = scale(values, false);
   for (let k = 0; k < v.n_views; k++) {
     const d = v.directions.slice(3 * k, 3 * k + 3);
     const [x, y] = sphereXY(d, c.width);
-    g.fillStyle = s.colour(v.ve[k]);
+    g.fillStyle = s.colour(values[k]);
     g.beginPath();
     g.arc(x, y, v.best.includes(k) ? 8 : 6, 0, 2 * Math.PI);
     g.fill();
@@ -314,6 +315,7 @@ async function findViews() {
   }
 }
 $('vp-run').addEventListener('click', findViews);
+$('vp-colour').addEventListener('change', drawSphere);
 $('vp-sphere').addEventListener('click', (e) => {
   const v = state.views;
   if (!v) return;

@@ -217,6 +217,18 @@ test('views: the viewpoint sphere, the best views, a click moves the camera', as
   await page.click('#vp-best button >> nth=0');
   assert.notEqual(await camera(), was, 'a best view moves the camera');
   await notBlank('Cornell box, best view');
+  await page.selectOption('#vp-colour', 'vmi');
+  const dots = await page.evaluate(() => {
+    const c = document.getElementById('vp-sphere');
+    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+    let n = 0;
+    for (let k = 3; k < d.length; k += 4) n += d[k] > 0 ? 1 : 0;
+    return n / (d.length / 4);
+  });
+  assert.ok(dots > 0.05, `the viewpoint sphere is drawn (${dots})`);
+  await page.selectOption('#colour', 'saliency');
+  assert.equal(await page.isHidden('#colour-bar'), false, 'legend of the saliency');
+  await notBlank('Cornell box, mesh saliency');
   await figure('views', 'main > section:nth-child(2)');
   assert.deepEqual(problems, []);
 });
