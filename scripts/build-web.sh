@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Builds the browser demo in wasm/www/ (the page loads wasm/www/pkg/, which this writes):
+# Builds the browser labs in wasm/www/: the flatland page's module wasm/www/pkg/ and the 3D
+# lab's wasm/www/pkg3d/ (lab3d.html):
 #
 #   ./scripts/build-web.sh            # build only
 #   ./scripts/build-web.sh --serve    # build, then serve wasm/www on http://127.0.0.1:8000/
@@ -10,7 +11,7 @@
 # Cargo.toml) optimises for size: opt-level "s", LTO, one codegen unit, panic = abort;
 # wasm-bindgen drops the function-name section (~95 KB of symbol names the page never uses),
 # then binaryen's wasm-opt -Oz shrinks the code (~8%).
-# The build fails if the .wasm the page loads exceeds its budget (450 KB, below).
+# The build fails if a page's .wasm exceeds its budget (below).
 set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
