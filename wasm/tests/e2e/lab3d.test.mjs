@@ -18,7 +18,7 @@ import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
 import { createServer } from 'node:http';
-import { mkdtemp, mkdir, readFile, rm } from 'node:fs/promises';
+import { mkdtemp, mkdir, readFile, rm, writeFile } from 'node:fs/promises';
 import { tmpdir } from 'node:os';
 import { dirname, extname, join, normalize, resolve, sep } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -261,6 +261,25 @@ test("a user's file (corpus Cornell box OBJ + MTL): warnings shown, lines as the
   assert.equal(await shown('m-patches'), g.n_patches);
   await page.waitForFunction(() => document.getElementById('m-source').textContent === 'exact', null, { timeout: 60_000 });
   assert.equal(await shown('m-i_s'), g.i_s);
+  assert.deepEqual(problems, []);
+});
+
+test('a broken file shows the reader\'s error, worded as the CLI words it', async () => {
+  const text = 'v 0 0 0\nv 1 0 0\nf 1 2 7\n';
+  await writeFile(join(work, 'bad.obj'), text);
+  await page.setInputFiles('#file', { name: 'bad.obj', mimeType: 'text/plain', buffer: Buffer.from(text) });
+  await page.waitForSelector('#error:not([hidden])');
+  let stderr = '';
+  try {
+    execFileSync(process.env.SCENEINFO_BIN ?? 'false', ['measure', 'bad.obj'], { cwd: work, encoding: 'utf8', stdio: ['ignore', 'ignore', 'pipe'] });
+  } catch (e) {
+    stderr = e.stderr;
+  }
+  const shownError = (await page.textContent('#error')).trim();
+  assert.match(shownError, /^bad\.obj:3: /);
+  if (process.env.SCENEINFO_BIN) assert.equal(`sceneinfo: ${shownError}`, stderr.trim().split('\n').at(-1));
+  // The scene shown is still the last good one
+  assert.match(await page.textContent('#scene-name'), /^BoxTextured\.glb/);
   assert.deepEqual(problems, []);
 });
 
