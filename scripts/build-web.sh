@@ -55,15 +55,13 @@ build_module() {
     fi
 }
 
-# The flatland page (wasm/www/pkg): without the `lab3d` feature (the 3D lab's engine and
-# the glTF / PLY readers).
+# The flatland page (wasm/www/pkg): without the `lab3d` feature (the 3D lab's engine, the
+# glTF / PLY readers and `viewpoints()`, which only the 3D lab calls).
 # Issue 7's goal was 400 KB for the flatland lab; the real-mesh loader that measureObj and
 # the 3D lab need (triangulation, coincident faces, lenient OBJ/MTL) added 47 KB before
-# wasm-opt (twiggy diff, 2026-11-27), and the viewpoint channel (`viewpoints()`, issue 19:
-# ID rasteriser, channel, JSON) 77 KB more (400,152 → 477,587 bytes): the budget is 500 KB.
-# The flatland page does not call `viewpoints()`; moving it to the 3D module alone would
-# bring this back under 450 KB (the node and parity tests still call it from pkg/).
-build_module "$out" 500000 --no-default-features --features console_error_panic_hook
+# wasm-opt (twiggy diff, 2026-11-27); the viewpoint channel (issue 19, 77 KB) now lives in
+# the 3D lab's module only. Budget: 450 KB.
+build_module "$out" 450000 --no-default-features --features console_error_panic_hook
 # The 3D lab (wasm/www/pkg3d, issue 24): everything, with the file readers. Issue 24's budget
 # is 800 KB compressed for the page's wasm and JS together; the .wasm alone gets 1.3 MB
 # uncompressed here (the browser test reports the gzip -9 size of the whole page).

@@ -21,7 +21,7 @@
 //! run.patchContinuous();              // Float64Array of I_i^c (6.37)
 //! const refiner = lab.refiner('de', 1e6, 1);   // one refinement step at a time
 //! JSON.parse(measureObj(objText, ['room.mtl'], [mtlText])).i_s;  // exact, unoccluded 3D
-//! JSON.parse(viewpoints(objText, 642, 256, 5)).best;  // best views by least VMI
+//! JSON.parse(viewpoints(objText, 642, 256, 5)).best;  // best views by least VMI (feature lab3d: pkg3d)
 //! ```
 //!
 //! # Crate features
@@ -33,6 +33,8 @@ mod lab;
 mod lab_3d;
 mod lines;
 mod refine;
+// The viewpoint channel only in the 3D lab's module (pkg3d): the flatland page never calls it
+#[cfg(feature = "lab3d")]
 mod viewpoints;
 
 pub use lab::{FlatLab, catalogue};
@@ -40,6 +42,7 @@ pub use lab::{FlatLab, catalogue};
 pub use lab_3d::{Lab3, Light3, Lines3, LitMesh3, Measures3, presets_3};
 pub use lines::{LineJob, LineResult};
 pub use refine::Refiner;
+#[cfg(feature = "lab3d")]
 pub use viewpoints::viewpoints;
 
 use sceneinfo::{Scene, SceneFormat};
