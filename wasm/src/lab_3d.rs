@@ -196,13 +196,13 @@ impl Lab3 {
         out
     }
 
-    /// The exact channel ([`sceneinfo::measure_exact`]): refused when some patch may hide
+    /// The exact channel ([`Measurement::exact`]): refused when some patch may hide
     /// another (the core's message says so).
     ///
     /// # Errors
     /// The core's refusal for an occluded scene; its channel errors.
     pub fn exact(&self) -> Result<Measures3, JsError> {
-        let m = sceneinfo::measure_exact(&self.scene()).map_err(into_error)?;
+        let m = Measurement::exact(&self.scene()).map_err(into_error)?;
         Measures3::of(&m)
     }
 
