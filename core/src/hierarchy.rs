@@ -51,6 +51,8 @@ mod oracle;
 #[cfg(all(test, feature = "std"))]
 mod oracle_checks;
 #[cfg(feature = "alloc")]
+mod reference_noise;
+#[cfg(feature = "alloc")]
 mod target;
 #[cfg(all(test, feature = "std"))]
 mod tests;
@@ -65,9 +67,13 @@ pub use compare::OracleComparison;
 #[cfg(feature = "alloc")]
 pub use image::{ImageError, View3, render_gouraud};
 #[cfg(feature = "alloc")]
-pub use mc_compare::{McComparison, McReference, mc_compare_against, mc_reference};
+pub use mc_compare::{
+    McComparison, McReference, mc_compare_against, mc_reference, mc_reference_mesh,
+};
 #[cfg(feature = "alloc")]
 pub use monte_carlo::{McHierarchy, McOptions, McOracle};
+#[cfg(feature = "alloc")]
+pub use reference_noise::{ReferenceNoise, without_noise};
 
 #[cfg(all(test, feature = "alloc"))]
 use tree::Element;

@@ -99,6 +99,10 @@ pub struct McComparison {
     /// Per view of the reference, the image-space errors of the mesh's Gouraud picture
     /// (`ImageReference::error`).
     pub image_errors: Vec<ImageError>,
+    /// The RMS error against each of the reference's independent halves
+    /// ([`McReference::halves`]; empty without them): how much the reference's noise moves
+    /// [`McComparison::rms_error`] (`reference_noise`).
+    pub rms_error_halves: Vec<f64>,
 }
 
 /// Fraction of the reference's leaves counted as lying on shadow boundaries by
@@ -151,6 +155,9 @@ pub struct McReference {
     pub boundary: Vec<(Vec<DVec3>, [f64; 3])>,
     /// Its pictures, one per view.
     pub images: Vec<ImageReference>,
+    /// When the reference is the mean of independent solves of its mesh
+    /// ([`McHierarchy::mean_with`]): each solve's leaves (empty otherwise).
+    pub halves: Vec<Vec<(Vec<DVec3>, [f64; 3])>>,
 }
 
 impl McReference {
@@ -171,6 +178,7 @@ impl McReference {
                 .collect(),
             boundary: boundary_of(leaves, BOUNDARY_FRACTION),
             images,
+            halves: Vec::new(),
         })
     }
 
@@ -225,6 +233,11 @@ pub fn mc_compare_against(
         .map(|r| r.error(scene, &leaves))
         .collect::<Result<Vec<_>>>()?;
     drop(leaves);
+    let rms_error_halves = reference
+        .halves
+        .iter()
+        .map(|half| h.rms_difference(half.iter().map(|(p, b)| (p.as_slice(), *b))))
+        .collect::<Result<Vec<_>>>()?;
     let c = McComparison {
         oracle: name,
         pairs: opts.pairs,
@@ -239,6 +252,7 @@ pub fn mc_compare_against(
         mesh_rms_error,
         boundary_rms_error,
         image_errors,
+        rms_error_halves,
     };
     Ok((c, h))
 }
@@ -259,7 +273,27 @@ pub fn mc_reference(
     rays: u64,
     seed: u64,
 ) -> Result<McHierarchy> {
-    let mesh = McHierarchy::solve(
+    mc_reference_mesh(scene, min_area, mesh_rays, seed)?.resolve_frozen(
+        scene,
+        rays,
+        seed ^ FROZEN_SEED,
+    )
+}
+
+/// The regular mesh of [`mc_reference`] before its frozen re-solve (the power oracle at
+/// `ε = 0` with `mesh_rays` rays down to `min_area`): to be re-solved frozen by several
+/// seeds and averaged ([`McHierarchy::mean_with`]), the spread of the solves measuring the
+/// reference's own noise.
+///
+/// # Errors
+/// Those of [`McHierarchy::solve`].
+pub fn mc_reference_mesh(
+    scene: &Scene3,
+    min_area: f64,
+    mesh_rays: u64,
+    seed: u64,
+) -> Result<McHierarchy> {
+    McHierarchy::solve(
         scene,
         McOracle::Power(0.0),
         &McOptions {
@@ -269,8 +303,7 @@ pub fn mc_reference(
             min_area,
             ..McOptions::default()
         },
-    )?;
-    mesh.resolve_frozen(scene, rays, seed ^ FROZEN_SEED)
+    )
 }
 
 /// [`McComparison::mean_spread`].

@@ -295,6 +295,44 @@ impl McHierarchy {
         Self::run(h, scene, None, &opts)
     }
 
+    /// The mean of this solve and `other`, a solve of the same mesh (two frozen re-solves
+    /// of one mesh by [`McHierarchy::resolve_frozen`] with different seeds): every
+    /// element's radiosity
+    ///
+    /// ```text
+    /// B_e = (B_e^a + B_e^b) / 2
+    /// ```
+    ///
+    /// and the rays of both. Two independent unbiased estimates averaged: the variance of
+    /// the Monte Carlo noise is halved, and `B^a − B` is the mean's noise
+    /// (docs/chapter6-protocol.md, the cube room's reference).
+    ///
+    /// # Errors
+    /// [`ErrorKind::BadParameter`] when the two meshes differ (element count or shapes).
+    pub fn mean_with(&self, other: &Self) -> Result<Self> {
+        let same = self.elements.len() == other.elements.len()
+            && self
+                .elements
+                .iter()
+                .zip(&other.elements)
+                .all(|(a, b)| a.polygon == b.polygon && a.children == b.children);
+        if !same {
+            return Err(ErrorKind::BadParameter {
+                name: "the two solves averaged are not of the same mesh (elements)",
+                value: other.elements.len() as f64,
+            }
+            .into());
+        }
+        let mut h = self.clone();
+        for (e, o) in h.elements.iter_mut().zip(&other.elements) {
+            for (b, ob) in e.radiosity.iter_mut().zip(o.radiosity) {
+                *b = 0.5 * (*b + ob);
+            }
+        }
+        h.rays = self.rays.saturating_add(other.rays);
+        Ok(h)
+    }
+
     /// The iteration of [`McHierarchy::solve`] on `h`; `oracle = None` freezes refinement.
     fn run(
         mut h: Self,

@@ -15,8 +15,8 @@ use std::sync::Mutex;
 
 use anyhow::{Context, Result, anyhow};
 use sceneinfo::hierarchy::{
-    Hierarchy, HrOptions, ImageError, McComparison, McHierarchy, McOptions, McReference, View3,
-    mc_compare_against, render_gouraud,
+    Hierarchy, HrOptions, ImageError, McComparison, McHierarchy, McOptions, McReference,
+    ReferenceNoise, View3, mc_compare_against, render_gouraud,
 };
 use sceneinfo::radiosity::display::ToneMap;
 use sceneinfo::scene::Scene3;
@@ -103,6 +103,8 @@ where
     let results: Mutex<Vec<Option<sceneinfo::Result<T>>>> =
         Mutex::new((0..jobs.len()).map(|_| None).collect());
     let next = Mutex::new(0usize);
+    let started = std::time::Instant::now();
+    let done = Mutex::new(0usize);
     std::thread::scope(|s| {
         for _ in 0..runner.threads.clamp(1, jobs.len().max(1)) {
             s.spawn(|| {
@@ -119,6 +121,15 @@ where
                     }
                     let r = f(job);
                     results.lock().unwrap_or_else(|p| p.into_inner())[k] = Some(r);
+                    // Progress on stderr (the tables on stdout are unchanged)
+                    let mut d = done.lock().unwrap_or_else(|p| p.into_inner());
+                    *d += 1;
+                    eprintln!(
+                        "reproduce --chapter-6-mc: {} of {} jobs done, {:.0} s",
+                        *d,
+                        jobs.len(),
+                        started.elapsed().as_secs_f64()
+                    );
                 }
             });
         }
@@ -190,6 +201,19 @@ impl Outcome {
             .filter(|((kk, oo, _), _)| *kk == k && *oo == o)
             .map(|(_, r)| r)
             .collect()
+    }
+
+    /// Every comparison (the power oracle at MI's total rays too).
+    pub fn all(&self) -> impl Iterator<Item = &McComparison> {
+        self.results.iter().chain(&self.total)
+    }
+
+    /// Every comparison with the reference's noise removed
+    /// ([`McComparison::without_reference_noise`]).
+    pub fn without_reference_noise(&mut self, noise: &ReferenceNoise) {
+        for c in self.results.iter_mut().chain(self.total.iter_mut()) {
+            *c = c.without_reference_noise(noise);
+        }
     }
 
     /// The first seed's mesh of oracle `o` in configuration `k`.
