@@ -69,7 +69,7 @@ impl McReference {
     /// square over the solves. With no halves, all zero.
     ///
     /// # Errors
-    /// Those of [`McHierarchy::rms_difference`] and [`crate::hierarchy::ImageReference::error`].
+    /// Those of [`McHierarchy::rms_difference`] and `ImageReference::error`.
     pub fn noise(&self, scene: &Scene3, halves: &[&McHierarchy]) -> Result<ReferenceNoise> {
         let n = halves.len().max(1) as f64;
         let (mut rms, mut boundary) = (0.0, 0.0);
