@@ -30,6 +30,8 @@
 //! - [`greedy`]: [`Simplifier`], greedy merges of adjacent patches by a [`MergeCriterion`]
 //!   (least information lost, regular blocks, least power displaced), to a patch count or a
 //!   loss budget.
+//! - [`polish`]: a local search after the greedy merge (boundary moves and transfers
+//!   between adjacent clusters at a fixed patch count, taken only when `I_S` rises).
 //! - [`adjacency`]: which patches may merge — flatland: neighbours along one surface;
 //!   3D: patches of one plane sharing an edge; same material in both.
 //! - [`compare`]: the three criteria at equal patch count — `I_S` kept and the radiosity
@@ -41,10 +43,12 @@ pub mod adjacency;
 pub mod chain;
 pub mod compare;
 pub mod greedy;
+pub mod polish;
 
 pub use chain::MergeChain;
 pub use compare::{Comparison, CriterionOutcome, compare_criteria};
 pub use greedy::{MergeCriterion, MergeStep, Simplifier, StopReason};
+pub use polish::{Polished, polish};
 
 /// Most states (patches and a background) a [`MergeChain`] holds: it keeps a dense `n × n`
 /// joint matrix (`8 n²` bytes: 134 MB at this cap).

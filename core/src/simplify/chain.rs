@@ -66,6 +66,45 @@ impl MergeChain {
         })
     }
 
+    /// The chain of weights `w` and joint matrix `joint` (row-major `n × n`, `p_xy = w_x
+    /// P_xy`), made exactly symmetric as in [`MergeChain::new`]. Used to simplify a chain
+    /// whose states are already clusters (the split search of [`super::polish`]); no check
+    /// beyond the sizes, as its entries come from a validated chain.
+    ///
+    /// # Errors
+    /// [`ErrorKind::DimensionMismatch`] when `joint` is not `w.len()²` long;
+    /// [`ErrorKind::TooLarge`] above [`MAX_MERGE_STATES`] states.
+    pub(crate) fn from_joint(w: Vec<f64>, mut joint: Vec<f64>) -> Result<Self> {
+        let n = w.len();
+        if n > MAX_MERGE_STATES {
+            return Err(ErrorKind::TooLarge {
+                what: "states of a chain to simplify",
+                max: MAX_MERGE_STATES as u64,
+            }
+            .into());
+        }
+        if joint.len() != n * n {
+            return Err(ErrorKind::DimensionMismatch {
+                expected: n * n,
+                found: joint.len(),
+            }
+            .into());
+        }
+        for x in 0..n {
+            for y in x + 1..n {
+                let mean = 0.5 * (joint[x * n + y] + joint[y * n + x]);
+                joint[x * n + y] = mean;
+                joint[y * n + x] = mean;
+            }
+        }
+        Ok(Self {
+            n,
+            joint,
+            weights: w,
+            cluster: (0..n).collect(),
+        })
+    }
+
     /// States, merged or not (the original count).
     #[must_use]
     pub fn n_states(&self) -> usize {

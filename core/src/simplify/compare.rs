@@ -20,6 +20,7 @@ use alloc::vec::Vec;
 
 use super::chain::MergeChain;
 use super::greedy::{MergeCriterion, Simplifier, StopReason};
+use super::polish::polish;
 use crate::channel::DenseMatrix;
 use crate::error::{ErrorKind, Result};
 use crate::math::KahanSum;
@@ -154,14 +155,20 @@ pub fn compare_criteria(
     for criterion in MergeCriterion::ALL {
         let mut s = Simplifier::new(fine.clone(), n_patches, adjacency, criterion, Some(&fine_b))?;
         let (_, stop) = s.run(target, None)?;
-        let coarse_b = radiosity_per_patch(s.chain(), n_patches, materials)?;
+        let (chain, i_s) = if criterion == MergeCriterion::Information {
+            let polished = polish(fine, n_patches, adjacency, s.chain().clusters())?;
+            (polished.chain, polished.i_s)
+        } else {
+            (s.chain().clone(), s.i_s())
+        };
+        let coarse_b = radiosity_per_patch(&chain, n_patches, materials)?;
         let (rmse, _) = radiosity_rmse(&a, &fine_b, &coarse_b);
         outcomes.push(CriterionOutcome {
             criterion,
             n_patches: s.n_patches(),
-            i_s: s.i_s(),
+            i_s,
             kept: if fine_i_s > 0.0 {
-                s.i_s() / fine_i_s
+                i_s / fine_i_s
             } else {
                 1.0
             },

@@ -1,0 +1,583 @@
+//! Polishing a simplified mesh: a local search over partitions of the fine patches at a
+//! fixed patch count, accepting only changes that raise `I_S` (3.8), so the greedy merge's
+//! myopia — the cheapest merge now may force dear merges later — is partly undone.
+//!
+//! The coarse mesh is a partition of the fine patches into clusters, each connected by the
+//! adjacency of [`super::adjacency`] (one piece of one surface with one material); states
+//! past the patches (a background) stay alone. With `L` the 0/1 matrix of cluster
+//! membership and `p` the fine joint matrix, the coarse chain has joint `Q = Lᵀ p L`,
+//! weights `W = Lᵀ w` and
+//!
+//! ```text
+//! I_S = Σ_cd Q_cd log₂(Q_cd / (W_c W_d))                       (3.8, with p_ij = w_i F_ij)
+//! ```
+//!
+//! Two moves, both keeping the patch count (the coarse mesh is always a partition reached
+//! by merges of adjacent patches, so every reported loss stays Proposition 3's gain):
+//!
+//! 1. **Boundary move** (Kernighan–Lin / Fiduccia–Mattheyses style, single moves, best
+//!    first): patch `x` of cluster `A` goes to a cluster `B` holding a neighbour of `x`,
+//!    when `A` keeps at least one patch and stays connected. With `r = (p L)_x` (how much of
+//!    `x`'s joint falls on each cluster) and `u = e_B − e_A`,
+//!
+//!    ```text
+//!    Q' = Q + u rᵀ + r uᵀ + p_xx u uᵀ,   W'_A = W_A − w_x,   W'_B = W_B + w_x
+//!    ```
+//!
+//!    so only rows and columns `A`, `B` change and the exact change of `I_S` costs `O(m)`
+//!    for `m` clusters.
+//! 2. **Transfer** (moves a patch from one surface's share to another's): merge two
+//!    adjacent clusters `C`, `D` and split a third cluster `E` in two, the split found by
+//!    the greedy merge itself run inside `E` down to two parts (the other clusters held
+//!    fixed, [`super::Simplifier`] on the chain whose states are `E`'s patches and the other
+//!    clusters). The candidates are ranked by `gain(E) − loss(C, D)` (each exact alone, the
+//!    sum ignoring their coupling); the first few are evaluated exactly and the first that
+//!    raises `I_S` is taken.
+//!
+//! The search alternates boundary moves until none helps and one transfer, until no
+//! transfer helps. A change is accepted only when it raises `I_S` by more than
+//! [`GAIN_THRESHOLD`] bits (far above the rounding of the incremental updates), so no
+//! partition repeats; the loops are also capped ([`MOVES_PER_PATCH`], one transfer round
+//! per patch). The incremental `Q`, `W`, `p L` are rebuilt from the fine chain after every
+//! round of moves, and the final `I_S` is recomputed from the merged chain: if rounding ever
+//! made it lower than the start's, the starting partition is returned.
+//!
+//! Cost: a boundary move scans the patches on cluster borders, `O(b d m)` for `b` of them
+//! with `d` neighbours, plus `O(n)` to apply; a transfer round runs one greedy split per
+//! cluster, `O(Σ_E (|E| + m)²)`, and ranks `O(m²)` candidates; a rebuild is `O(n²)`.
+
+use alloc::vec;
+use alloc::vec::Vec;
+
+use super::chain::MergeChain;
+use super::greedy::{MergeCriterion, Simplifier};
+use crate::error::{ErrorKind, Result};
+use crate::math::{self, KahanSum};
+use crate::refine::proposition::two_state_split_gain;
+
+/// A change is taken only when it raises `I_S` by more than this (bits). The incremental
+/// gains agree with recomputed `I_S` differences to about `1e-15` (a few ulps per term).
+pub const GAIN_THRESHOLD: f64 = 1e-12;
+
+/// At most this many boundary moves per fine patch over a whole polish.
+pub const MOVES_PER_PATCH: usize = 32;
+
+/// Transfer candidates evaluated exactly per round, best ranked first.
+const TRANSFER_TRIES: usize = 8;
+
+/// A polished partition ([`polish`]).
+#[derive(Clone, Debug)]
+pub struct Polished {
+    /// The fine chain merged into the polished clusters (each merged patch named by its
+    /// smallest fine patch, as [`MergeChain::clusters`] gives it).
+    pub chain: MergeChain,
+    /// `I_S` of the starting partition, recomputed (bits).
+    pub start_i_s: f64,
+    /// `I_S` of the polished partition, recomputed from `chain` (bits); `≥ start_i_s`.
+    pub i_s: f64,
+    /// Boundary moves taken.
+    pub moves: u64,
+    /// Transfers taken.
+    pub transfers: u64,
+}
+
+/// `q log₂(q / v)`, 0 unless both are positive.
+fn term(q: f64, v: f64) -> f64 {
+    if q > 0.0 && v > 0.0 {
+        q * math::log2(q / v)
+    } else {
+        0.0
+    }
+}
+
+/// A partition of the fine chain's states with its coarse chain (module docs).
+struct Partition<'a> {
+    fine: &'a MergeChain,
+    n: usize,
+    n_patches: usize,
+    /// Sorted fine neighbours of each patch.
+    neighbours: Vec<Vec<usize>>,
+    /// Cluster of each state, `0..m`.
+    label: Vec<usize>,
+    /// States of each cluster, increasing.
+    members: Vec<Vec<usize>>,
+    m: usize,
+    /// `(p L)_ic`, `n × m`.
+    r: Vec<f64>,
+    /// `Q = Lᵀ p L`, `m × m`.
+    q: Vec<f64>,
+    /// `W = Lᵀ w`.
+    w: Vec<f64>,
+}
+
+impl<'a> Partition<'a> {
+    fn new(
+        fine: &'a MergeChain,
+        n_patches: usize,
+        adjacency: &[(usize, usize)],
+        clusters: &[usize],
+    ) -> Result<Self> {
+        let n = fine.n_states();
+        if clusters.len() != n || n_patches > n {
+            return Err(ErrorKind::DimensionMismatch {
+                expected: n,
+                found: clusters.len(),
+            }
+            .into());
+        }
+        // Patches name patch representatives; later states stay alone.
+        for (x, &c) in clusters.iter().enumerate() {
+            let ok = if x < n_patches {
+                c < n_patches
+            } else {
+                c == x
+            };
+            if !ok {
+                return Err(ErrorKind::PatchIndex { index: c, len: n }.into());
+            }
+        }
+        let mut neighbours = vec![Vec::new(); n_patches];
+        for &(a, b) in adjacency {
+            if a >= n_patches || b >= n_patches || a == b {
+                return Err(ErrorKind::PatchIndex {
+                    index: a.max(b),
+                    len: n_patches,
+                }
+                .into());
+            }
+            neighbours[a].push(b);
+            neighbours[b].push(a);
+        }
+        for list in &mut neighbours {
+            list.sort_unstable();
+            list.dedup();
+        }
+        // Cluster ids in order of first appearance.
+        let mut id_of_rep = vec![usize::MAX; n];
+        let mut label = vec![0; n];
+        let mut m = 0;
+        for x in 0..n {
+            let rep = clusters[x];
+            if id_of_rep[rep] == usize::MAX {
+                id_of_rep[rep] = m;
+                m += 1;
+            }
+            label[x] = id_of_rep[rep];
+        }
+        let mut p = Self {
+            fine,
+            n,
+            n_patches,
+            neighbours,
+            label,
+            members: Vec::new(),
+            m,
+            r: Vec::new(),
+            q: Vec::new(),
+            w: Vec::new(),
+        };
+        p.rebuild();
+        Ok(p)
+    }
+
+    /// Members, `p L`, `Q` and `W` from the labels and the fine chain: `O(n²)`.
+    fn rebuild(&mut self) {
+        let (n, m) = (self.n, self.m);
+        self.members = vec![Vec::new(); m];
+        for x in 0..n {
+            self.members[self.label[x]].push(x);
+        }
+        self.r = vec![0.0; n * m];
+        for i in 0..n {
+            let row = self.fine.joint_row(i);
+            let out = &mut self.r[i * m..(i + 1) * m];
+            for (j, &v) in row.iter().enumerate() {
+                out[self.label[j]] += v;
+            }
+        }
+        self.q = vec![0.0; m * m];
+        self.w = vec![0.0; m];
+        for i in 0..n {
+            let c = self.label[i];
+            self.w[c] += self.fine.weight(i);
+            for d in 0..m {
+                self.q[c * m + d] += self.r[i * m + d];
+            }
+        }
+    }
+
+    /// `I_S` of the coarse chain from `Q` and `W`.
+    fn i_s(&self) -> f64 {
+        i_s_of(&self.q, &self.w)
+    }
+
+    /// The exact change of `I_S` if patch `x` moved to cluster `b` (module docs); `None`
+    /// when its cluster would be left empty.
+    fn move_gain(&self, x: usize, b: usize) -> Option<f64> {
+        let (m, a) = (self.m, self.label[x]);
+        if a == b || self.members[a].len() < 2 {
+            return None;
+        }
+        let r = &self.r[x * m..(x + 1) * m];
+        let w_x = self.fine.weight(x);
+        let p_xx = self.fine.joint_row(x)[x];
+        let (w_a, w_b) = (self.w[a], self.w[b]);
+        let (w_a2, w_b2) = (w_a - w_x, w_b + w_x);
+        let (q_a, q_b) = (&self.q[a * m..(a + 1) * m], &self.q[b * m..(b + 1) * m]);
+        let mut gain = KahanSum::new();
+        for d in 0..m {
+            if d == a || d == b {
+                continue;
+            }
+            let w_d = self.w[d];
+            let after = term((q_a[d] - r[d]).max(0.0), w_a2 * w_d)
+                + term(q_b[d] + r[d], w_b2 * w_d);
+            let before = term(q_a[d], w_a * w_d) + term(q_b[d], w_b * w_d);
+            gain.add(2.0 * (after - before));
+        }
+        let q_ab = 0.5 * (q_a[b] + q_b[a]);
+        let aa = (q_a[a] - 2.0 * r[a] + p_xx).max(0.0);
+        let bb = q_b[b] + 2.0 * r[b] + p_xx;
+        let ab = (q_ab - r[b] + r[a] - p_xx).max(0.0);
+        gain.add(term(aa, w_a2 * w_a2) + term(bb, w_b2 * w_b2) + 2.0 * term(ab, w_a2 * w_b2));
+        gain.add(-(term(q_a[a], w_a * w_a) + term(q_b[b], w_b * w_b) + 2.0 * term(q_ab, w_a * w_b)));
+        Some(gain.total())
+    }
+
+    /// Moves patch `x` to cluster `b`, updating `Q`, `W`, `p L` in `O(n + m)`.
+    fn apply_move(&mut self, x: usize, b: usize) {
+        let (m, a) = (self.m, self.label[x]);
+        let r: Vec<f64> = self.r[x * m..(x + 1) * m].to_vec();
+        let p_xx = self.fine.joint_row(x)[x];
+        for d in 0..m {
+            self.q[a * m + d] -= r[d];
+            self.q[b * m + d] += r[d];
+        }
+        for c in 0..m {
+            self.q[c * m + a] -= r[c];
+            self.q[c * m + b] += r[c];
+        }
+        self.q[a * m + a] += p_xx;
+        self.q[b * m + b] += p_xx;
+        self.q[a * m + b] -= p_xx;
+        self.q[b * m + a] -= p_xx;
+        let w_x = self.fine.weight(x);
+        self.w[a] -= w_x;
+        self.w[b] += w_x;
+        let row = self.fine.joint_row(x);
+        for (i, &p) in row.iter().enumerate() {
+            // p_ix = p_xi (the joint is exactly symmetric).
+            self.r[i * m + a] -= p;
+            self.r[i * m + b] += p;
+        }
+        self.label[x] = b;
+        self.members[a].retain(|&y| y != x);
+        let list = &mut self.members[b];
+        let at = list.partition_point(|&y| y < x);
+        list.insert(at, x);
+    }
+
+    /// Whether the cluster of patch `x` stays connected without `x` (breadth-first search
+    /// over its patches' adjacency).
+    fn connected_without(&self, x: usize) -> bool {
+        let a = self.label[x];
+        let rest: Vec<usize> = self.members[a].iter().copied().filter(|&y| y != x).collect();
+        let Some(&first) = rest.first() else {
+            return false;
+        };
+        let mut seen = vec![false; self.n_patches];
+        let mut stack = vec![first];
+        seen[first] = true;
+        let mut reached = 1;
+        while let Some(y) = stack.pop() {
+            for &z in &self.neighbours[y] {
+                if z != x && !seen[z] && self.label[z] == a {
+                    seen[z] = true;
+                    reached += 1;
+                    stack.push(z);
+                }
+            }
+        }
+        reached == rest.len()
+    }
+
+    /// Best-first boundary moves until none raises `I_S` by more than [`GAIN_THRESHOLD`] or
+    /// `budget` moves are taken. Returns the moves taken.
+    fn boundary_moves(&mut self, budget: usize) -> usize {
+        let mut taken = 0;
+        let mut candidates: Vec<(f64, usize, usize)> = Vec::new();
+        while taken < budget {
+            candidates.clear();
+            let mut targets = Vec::new();
+            for x in 0..self.n_patches {
+                let a = self.label[x];
+                targets.clear();
+                targets.extend(
+                    self.neighbours[x]
+                        .iter()
+                        .map(|&y| self.label[y])
+                        .filter(|&b| b != a),
+                );
+                targets.sort_unstable();
+                targets.dedup();
+                for &b in &targets {
+                    if let Some(g) = self.move_gain(x, b)
+                        && g > GAIN_THRESHOLD
+                    {
+                        candidates.push((g, x, b));
+                    }
+                }
+            }
+            candidates.sort_unstable_by(|s, t| {
+                t.0.total_cmp(&s.0)
+                    .then(s.1.cmp(&t.1))
+                    .then(s.2.cmp(&t.2))
+            });
+            let Some(&(_, x, b)) = candidates.iter().find(|c| self.connected_without(c.1)) else {
+                break;
+            };
+            self.apply_move(x, b);
+            taken += 1;
+        }
+        self.rebuild();
+        taken
+    }
+
+    /// The best split of cluster `e` in two by the greedy merge inside it (module docs):
+    /// `(gain, part)`, `part[k]` whether member `k` goes to the second part. `None` when
+    /// `e` has fewer than two patches or the greedy cannot end at two connected parts.
+    fn greedy_split(&self, e: usize) -> Option<(f64, Vec<bool>)> {
+        let members = &self.members[e];
+        let k = members.len();
+        if k < 2 || members.iter().any(|&x| x >= self.n_patches) {
+            return None;
+        }
+        let m = self.m;
+        let others: Vec<usize> = (0..m).filter(|&c| c != e).collect();
+        let s = k + others.len();
+        let mut joint = vec![0.0; s * s];
+        let mut w = vec![0.0; s];
+        for (i, &x) in members.iter().enumerate() {
+            w[i] = self.fine.weight(x);
+            let row = self.fine.joint_row(x);
+            for (j, &y) in members.iter().enumerate() {
+                joint[i * s + j] = row[y];
+            }
+            for (j, &c) in others.iter().enumerate() {
+                let v = self.r[x * m + c];
+                joint[i * s + k + j] = v;
+                joint[(k + j) * s + i] = v;
+            }
+        }
+        for (i, &c) in others.iter().enumerate() {
+            w[k + i] = self.w[c];
+            for (j, &d) in others.iter().enumerate() {
+                joint[(k + i) * s + k + j] = self.q[c * m + d];
+            }
+        }
+        let mut pairs = Vec::new();
+        for (i, &x) in members.iter().enumerate() {
+            for &y in &self.neighbours[x] {
+                if y > x
+                    && let Ok(j) = members.binary_search(&y)
+                {
+                    pairs.push((i, j));
+                }
+            }
+        }
+        let chain = MergeChain::from_joint(w, joint).ok()?;
+        let mut greedy = Simplifier::new(chain, k, &pairs, MergeCriterion::Information, None).ok()?;
+        greedy.run(2, None).ok()?;
+        if greedy.n_patches() != 2 {
+            return None;
+        }
+        let local = greedy.chain();
+        let second = (1..k).find(|&i| local.cluster_of(i) != local.cluster_of(0))?;
+        let gain = local.merge_loss(local.cluster_of(0), local.cluster_of(second));
+        Some((
+            gain,
+            (0..k).map(|i| local.cluster_of(i) != local.cluster_of(0)).collect(),
+        ))
+    }
+
+    /// `I_S` of the partition with labels `label` (same `m`; only the members of cluster
+    /// `e` may be relabelled individually, every other cluster `c` moves whole to
+    /// `label` of its members): `O(n (m + |E|))` from `p L`.
+    fn i_s_relabelled(&self, label: &[usize], e: usize) -> f64 {
+        let m = self.m;
+        // Where each old cluster's column goes (all of it), except e's.
+        let column: Vec<usize> = (0..m)
+            .map(|c| self.members[c].first().map_or(c, |&x| label[x]))
+            .collect();
+        let mut q = vec![0.0; m * m];
+        let mut w = vec![0.0; m];
+        let mut acc = vec![0.0; m];
+        for i in 0..self.n {
+            acc.iter_mut().for_each(|v| *v = 0.0);
+            for c in 0..m {
+                if c != e {
+                    acc[column[c]] += self.r[i * m + c];
+                }
+            }
+            let row = self.fine.joint_row(i);
+            for &j in &self.members[e] {
+                acc[label[j]] += row[j];
+            }
+            let c = label[i];
+            w[c] += self.fine.weight(i);
+            for d in 0..m {
+                q[c * m + d] += acc[d];
+            }
+        }
+        i_s_of(&q, &w)
+    }
+
+    /// One transfer (module docs), if one of the [`TRANSFER_TRIES`] best ranked raises
+    /// `I_S` by more than [`GAIN_THRESHOLD`]. Returns whether one was taken.
+    fn transfer(&mut self) -> bool {
+        let m = self.m;
+        let splits: Vec<(usize, f64, Vec<bool>)> = (0..m)
+            .filter_map(|e| self.greedy_split(e).map(|(g, part)| (e, g, part)))
+            .collect();
+        if splits.is_empty() {
+            return false;
+        }
+        let mut pairs: Vec<(usize, usize)> = Vec::new();
+        for x in 0..self.n_patches {
+            for &y in &self.neighbours[x] {
+                let (c, d) = (self.label[x], self.label[y]);
+                if c < d {
+                    pairs.push((c, d));
+                }
+            }
+        }
+        pairs.sort_unstable();
+        pairs.dedup();
+        let merges: Vec<(usize, usize, f64)> = pairs
+            .into_iter()
+            .map(|(c, d)| {
+                let loss = two_state_split_gain(
+                    c,
+                    d,
+                    self.w[c],
+                    self.w[d],
+                    &self.q[c * m..(c + 1) * m],
+                    &self.q[d * m..(d + 1) * m],
+                );
+                (c, d, loss)
+            })
+            .collect();
+        let mut ranked: Vec<(f64, usize, usize)> = Vec::new();
+        for (si, (e, gain, _)) in splits.iter().enumerate() {
+            for (mi, &(c, d, loss)) in merges.iter().enumerate() {
+                if *e != c && *e != d {
+                    ranked.push((gain - loss, si, mi));
+                }
+            }
+        }
+        ranked.sort_unstable_by(|s, t| {
+            t.0.total_cmp(&s.0)
+                .then(s.1.cmp(&t.1))
+                .then(s.2.cmp(&t.2))
+        });
+        let now = self.i_s();
+        for &(_, si, mi) in ranked.iter().take(TRANSFER_TRIES) {
+            let (e, _, part) = &splits[si];
+            let (c, d, _) = merges[mi];
+            // D's patches join C; E's second part takes D's id.
+            let mut label = self.label.clone();
+            for &x in &self.members[d] {
+                label[x] = c;
+            }
+            for (k, &x) in self.members[*e].iter().enumerate() {
+                if part[k] {
+                    label[x] = d;
+                }
+            }
+            if self.i_s_relabelled(&label, *e) > now + GAIN_THRESHOLD {
+                self.label = label;
+                self.rebuild();
+                return true;
+            }
+        }
+        false
+    }
+
+    /// The fine chain merged into this partition's clusters, each into its smallest state.
+    fn merged_chain(&self) -> Result<MergeChain> {
+        let mut chain = self.fine.clone();
+        for list in &self.members {
+            if let Some((&rep, rest)) = list.split_first() {
+                for &x in rest {
+                    chain.merge(rep, x)?;
+                }
+            }
+        }
+        Ok(chain)
+    }
+}
+
+/// `Σ_cd Q_cd log₂(Q_cd / (W_c W_d))` over an `m × m` joint.
+fn i_s_of(q: &[f64], w: &[f64]) -> f64 {
+    let m = w.len();
+    let mut total = KahanSum::new();
+    for c in 0..m {
+        for d in 0..m {
+            total.add(term(q[c * m + d], w[c] * w[d]));
+        }
+    }
+    total.total()
+}
+
+/// Polishes the partition `clusters` of `fine` (for every state, the representative of its
+/// cluster, as [`MergeChain::clusters`] gives it; the first `n_patches` states are patches,
+/// later ones stay alone) by boundary moves and transfers between adjacent clusters
+/// (`adjacency`: the fine pairs that may merge), at a fixed patch count (module docs).
+/// Every cluster must be connected by `adjacency` for the result's clusters to be (the
+/// moves keep connectivity; greedy merges give connected clusters).
+///
+/// # Errors
+/// [`ErrorKind::DimensionMismatch`] when `clusters` is not one entry per state of `fine`;
+/// [`ErrorKind::PatchIndex`] for a pair or a representative out of range; the errors of
+/// [`MergeChain::merge`] and [`MergeChain::i_s`].
+pub fn polish(
+    fine: &MergeChain,
+    n_patches: usize,
+    adjacency: &[(usize, usize)],
+    clusters: &[usize],
+) -> Result<Polished> {
+    let mut p = Partition::new(fine, n_patches, adjacency, clusters)?;
+    let start = p.merged_chain()?;
+    let start_i_s = start.i_s()?;
+    let mut budget = MOVES_PER_PATCH.saturating_mul(n_patches);
+    let mut moves = p.boundary_moves(budget);
+    budget -= moves;
+    let mut transfers = 0;
+    for _ in 0..n_patches {
+        if !p.transfer() {
+            break;
+        }
+        transfers += 1;
+        let taken = p.boundary_moves(budget);
+        moves += taken;
+        budget -= taken;
+    }
+    let chain = p.merged_chain()?;
+    let i_s = chain.i_s()?;
+    if i_s < start_i_s {
+        return Ok(Polished {
+            chain: start,
+            start_i_s,
+            i_s: start_i_s,
+            moves: 0,
+            transfers: 0,
+        });
+    }
+    Ok(Polished {
+        chain,
+        start_i_s,
+        i_s,
+        moves: moves as u64,
+        transfers,
+    })
+}
