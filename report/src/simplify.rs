@@ -23,6 +23,13 @@ pub struct SimplificationReport<'a> {
     pub steps: &'a [MergeStep],
     /// Why it stopped.
     pub stop: StopReason,
+    /// `I_S` of the final mesh: the greedy merges' partition after the polish
+    /// (`sceneinfo::simplify::polish`), bits.
+    pub i_s: f64,
+    /// Boundary moves the polish took.
+    pub polish_moves: u64,
+    /// Transfers (a patch's share moved between surfaces or clusters) the polish took.
+    pub polish_transfers: u64,
     /// The three criteria at the patch count it reached.
     pub comparison: &'a Comparison,
     /// Wall-clock time.
@@ -31,7 +38,9 @@ pub struct SimplificationReport<'a> {
 
 impl SimplificationReport<'_> {
     /// Writes the report as one JSON object: `fine_patches`, `fine_i_s`, `target` and
-    /// `max_loss` (null when not given), `n_patches`, `i_s`, `lost` (bits), `stop`
+    /// `max_loss` (null when not given), `n_patches`, `greedy_i_s` (after the greedy
+    /// merges), `i_s` (after the polish: the final mesh's), `lost` (bits, fine less final),
+    /// `polish_moves`, `polish_transfers`, `stop`
     /// (`target`, `budget`, `no adjacent patches`), `steps` (an object of columns, one entry
     /// per merge: `kept`, `absorbed` — the merged patches' representatives, their smallest
     /// original patch index — `loss`, `n_patches`, `i_s`), `comparison` (`fine_rms`, then
@@ -52,13 +61,16 @@ impl SimplificationReport<'_> {
             Some(b) => o.number("max_loss", b)?,
             None => o.null("max_loss")?,
         }
-        let (n, i_s) = self
+        let (n, greedy_i_s) = self
             .steps
             .last()
             .map_or((self.fine_patches, self.fine_i_s), |s| (s.n_patches, s.i_s));
         o.integer("n_patches", n as u64)?;
-        o.number("i_s", i_s)?;
-        o.number("lost", self.fine_i_s - i_s)?;
+        o.number("greedy_i_s", greedy_i_s)?;
+        o.number("i_s", self.i_s)?;
+        o.number("lost", self.fine_i_s - self.i_s)?;
+        o.integer("polish_moves", self.polish_moves)?;
+        o.integer("polish_transfers", self.polish_transfers)?;
         o.string("stop", self.stop.name())?;
         o.object("steps", |c| {
             let steps = self.steps;

@@ -1,6 +1,7 @@
 //! `sceneinfo simplify`: MI-based mesh simplification (thesis §7.3; `docs/simplify.md`).
 //! Greedy merges of adjacent patches with the least information lost, to `--to N` patches
-//! or a `--max-loss` budget in bits, then the three criteria (mi, regular, power) compared
+//! or a `--max-loss` budget in bits, a polish of that partition at the same patch count
+//! (`simplify::polish`: only changes that raise `I_S`), then the three criteria (mi, regular, power) compared
 //! at the patch count reached: `I_S` kept and the radiosity error against the fine solution.
 //! Flatland with exact form factors; 3D with exact form factors when no polygon can hide
 //! another (otherwise refused).
@@ -14,7 +15,9 @@ use anyhow::Result;
 use sceneinfo::formfactor::{FormFactors, exact_2d, exact_3d};
 use sceneinfo::scene::{Material, Subdivision};
 use sceneinfo::simplify::adjacency::{adjacency_2d, adjacency_3d, coarse_scene_2d};
-use sceneinfo::simplify::{MergeChain, MergeCriterion, MergeStep, Simplifier, compare_criteria};
+use sceneinfo::simplify::{
+    MergeChain, MergeCriterion, MergeStep, Simplifier, compare_criteria, polish,
+};
 use sceneinfo_report::SimplificationReport;
 
 use crate::args::SimplifyArgs;
@@ -78,9 +81,10 @@ pub fn run(args: &SimplifyArgs) -> Result<()> {
         Simplifier::new(chain.clone(), n, &pairs, MergeCriterion::Information, None).map_err(at)?;
     let fine_i_s = s.start_i_s();
     let (steps, stop) = s.run(args.to.unwrap_or(1), args.max_loss).map_err(at)?;
+    let polished = polish(&chain, n, &pairs, s.chain().clusters()).map_err(at)?;
     let comparison = compare_criteria(&chain, n, &pairs, &materials, s.n_patches()).map_err(at)?;
     if let (Some(out), Some(scene)) = (&args.output, flat) {
-        let coarse = coarse_scene_2d(scene, s.chain().clusters()).map_err(at)?;
+        let coarse = coarse_scene_2d(scene, polished.chain.clusters()).map_err(at)?;
         write_atomic(out, sceneinfo::io::write_flat(&coarse).as_bytes())?;
     }
     let report = SimplificationReport {
@@ -90,6 +94,9 @@ pub fn run(args: &SimplifyArgs) -> Result<()> {
         max_loss: args.max_loss,
         steps: &steps,
         stop,
+        i_s: polished.i_s,
+        polish_moves: polished.moves,
+        polish_transfers: polished.transfers,
         comparison: &comparison,
         seconds: start.elapsed().as_secs_f64(),
     };
@@ -131,6 +138,20 @@ fn table(path: &Path, r: &SimplificationReport<'_>, n_pairs: usize, with_steps: 
             },
         r.fine_i_s - i_s,
         r.stop.name()
+    );
+    let _ = writeln!(
+        t,
+        "polished: I_S = {:.6} bits ({:.2}% kept, {:.6} bits lost); {} boundary moves, {} transfers",
+        r.i_s,
+        100.0
+            * if r.fine_i_s > 0.0 {
+                r.i_s / r.fine_i_s
+            } else {
+                1.0
+            },
+        r.fine_i_s - r.i_s,
+        r.polish_moves,
+        r.polish_transfers
     );
     if with_steps {
         let _ = writeln!(

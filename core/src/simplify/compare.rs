@@ -167,11 +167,7 @@ pub fn compare_criteria(
             criterion,
             n_patches: s.n_patches(),
             i_s,
-            kept: if fine_i_s > 0.0 {
-                i_s / fine_i_s
-            } else {
-                1.0
-            },
+            kept: if fine_i_s > 0.0 { i_s / fine_i_s } else { 1.0 },
             rmse,
             relative_rmse: if fine_rms > 0.0 { rmse / fine_rms } else { 0.0 },
             stop,

@@ -63,7 +63,7 @@ pub const GAIN_THRESHOLD: f64 = 1e-12;
 pub const MOVES_PER_PATCH: usize = 32;
 
 /// Transfer candidates evaluated exactly per round, best ranked first.
-const TRANSFER_TRIES: usize = 8;
+const TRANSFER_TRIES: usize = 24;
 
 /// A polished partition ([`polish`]).
 #[derive(Clone, Debug)]
@@ -108,6 +108,9 @@ struct Partition<'a> {
     q: Vec<f64>,
     /// `W = Lᵀ w`.
     w: Vec<f64>,
+    /// The adjacency components that are paths whose patches see none of each other (a
+    /// flatland surface), each in path order: [`Partition::surface_dp`] optimises them.
+    paths: Vec<Vec<usize>>,
 }
 
 impl<'a> Partition<'a> {
@@ -127,11 +130,7 @@ impl<'a> Partition<'a> {
         }
         // Patches name patch representatives; later states stay alone.
         for (x, &c) in clusters.iter().enumerate() {
-            let ok = if x < n_patches {
-                c < n_patches
-            } else {
-                c == x
-            };
+            let ok = if x < n_patches { c < n_patches } else { c == x };
             if !ok {
                 return Err(ErrorKind::PatchIndex { index: c, len: n }.into());
             }
@@ -175,7 +174,9 @@ impl<'a> Partition<'a> {
             r: Vec::new(),
             q: Vec::new(),
             w: Vec::new(),
+            paths: Vec::new(),
         };
+        p.paths = p.find_paths();
         p.rebuild();
         Ok(p)
     }
@@ -230,8 +231,8 @@ impl<'a> Partition<'a> {
                 continue;
             }
             let w_d = self.w[d];
-            let after = term((q_a[d] - r[d]).max(0.0), w_a2 * w_d)
-                + term(q_b[d] + r[d], w_b2 * w_d);
+            let after =
+                term((q_a[d] - r[d]).max(0.0), w_a2 * w_d) + term(q_b[d] + r[d], w_b2 * w_d);
             let before = term(q_a[d], w_a * w_d) + term(q_b[d], w_b * w_d);
             gain.add(2.0 * (after - before));
         }
@@ -240,7 +241,9 @@ impl<'a> Partition<'a> {
         let bb = q_b[b] + 2.0 * r[b] + p_xx;
         let ab = (q_ab - r[b] + r[a] - p_xx).max(0.0);
         gain.add(term(aa, w_a2 * w_a2) + term(bb, w_b2 * w_b2) + 2.0 * term(ab, w_a2 * w_b2));
-        gain.add(-(term(q_a[a], w_a * w_a) + term(q_b[b], w_b * w_b) + 2.0 * term(q_ab, w_a * w_b)));
+        gain.add(
+            -(term(q_a[a], w_a * w_a) + term(q_b[b], w_b * w_b) + 2.0 * term(q_ab, w_a * w_b)),
+        );
         Some(gain.total())
     }
 
@@ -281,7 +284,11 @@ impl<'a> Partition<'a> {
     /// over its patches' adjacency).
     fn connected_without(&self, x: usize) -> bool {
         let a = self.label[x];
-        let rest: Vec<usize> = self.members[a].iter().copied().filter(|&y| y != x).collect();
+        let rest: Vec<usize> = self.members[a]
+            .iter()
+            .copied()
+            .filter(|&y| y != x)
+            .collect();
         let Some(&first) = rest.first() else {
             return false;
         };
@@ -329,9 +336,7 @@ impl<'a> Partition<'a> {
                 }
             }
             candidates.sort_unstable_by(|s, t| {
-                t.0.total_cmp(&s.0)
-                    .then(s.1.cmp(&t.1))
-                    .then(s.2.cmp(&t.2))
+                t.0.total_cmp(&s.0).then(s.1.cmp(&t.1)).then(s.2.cmp(&t.2))
             });
             let Some(&(_, x, b)) = candidates.iter().find(|c| self.connected_without(c.1)) else {
                 break;
@@ -386,7 +391,8 @@ impl<'a> Partition<'a> {
             }
         }
         let chain = MergeChain::from_joint(w, joint).ok()?;
-        let mut greedy = Simplifier::new(chain, k, &pairs, MergeCriterion::Information, None).ok()?;
+        let mut greedy =
+            Simplifier::new(chain, k, &pairs, MergeCriterion::Information, None).ok()?;
         greedy.run(2, None).ok()?;
         if greedy.n_patches() != 2 {
             return None;
@@ -396,7 +402,9 @@ impl<'a> Partition<'a> {
         let gain = local.merge_loss(local.cluster_of(0), local.cluster_of(second));
         Some((
             gain,
-            (0..k).map(|i| local.cluster_of(i) != local.cluster_of(0)).collect(),
+            (0..k)
+                .map(|i| local.cluster_of(i) != local.cluster_of(0))
+                .collect(),
         ))
     }
 
@@ -433,8 +441,9 @@ impl<'a> Partition<'a> {
     }
 
     /// One transfer (module docs), if one of the [`TRANSFER_TRIES`] best ranked raises
-    /// `I_S` by more than [`GAIN_THRESHOLD`]. Returns whether one was taken.
-    fn transfer(&mut self) -> bool {
+    /// `I_S` by more than [`GAIN_THRESHOLD`], at once or after at most `budget` boundary
+    /// moves on a trial copy. Returns whether one was taken.
+    fn transfer(&mut self, budget: usize) -> bool {
         let m = self.m;
         let splits: Vec<(usize, f64, Vec<bool>)> = (0..m)
             .filter_map(|e| self.greedy_split(e).map(|(g, part)| (e, g, part)))
@@ -475,11 +484,7 @@ impl<'a> Partition<'a> {
                 }
             }
         }
-        ranked.sort_unstable_by(|s, t| {
-            t.0.total_cmp(&s.0)
-                .then(s.1.cmp(&t.1))
-                .then(s.2.cmp(&t.2))
-        });
+        ranked.sort_unstable_by(|s, t| t.0.total_cmp(&s.0).then(s.1.cmp(&t.1)).then(s.2.cmp(&t.2)));
         let now = self.i_s();
         for &(_, si, mi) in ranked.iter().take(TRANSFER_TRIES) {
             let (e, _, part) = &splits[si];
@@ -499,8 +504,280 @@ impl<'a> Partition<'a> {
                 self.rebuild();
                 return true;
             }
+            // Not better at once: better after boundary moves settle the new borders?
+            if budget > 0 {
+                let mut trial = self.relabelled(label);
+                trial.boundary_moves(budget);
+                if trial.i_s() > now + GAIN_THRESHOLD {
+                    *self = trial;
+                    return true;
+                }
+            }
         }
         false
+    }
+
+    /// The components of the patch adjacency that are paths (every patch with at most two
+    /// neighbours, one fewer pair than patches) and whose patches do not see each other
+    /// (`p_ij = 0` inside), each listed from its smaller end.
+    fn find_paths(&self) -> Vec<Vec<usize>> {
+        let mut seen = vec![false; self.n_patches];
+        let mut paths = Vec::new();
+        for start in 0..self.n_patches {
+            if seen[start] {
+                continue;
+            }
+            let mut component = vec![start];
+            seen[start] = true;
+            let mut k = 0;
+            while k < component.len() {
+                for &y in &self.neighbours[component[k]] {
+                    if !seen[y] {
+                        seen[y] = true;
+                        component.push(y);
+                    }
+                }
+                k += 1;
+            }
+            let degrees: usize = component.iter().map(|&x| self.neighbours[x].len()).sum();
+            if component.len() < 2
+                || component.iter().any(|&x| self.neighbours[x].len() > 2)
+                || degrees != 2 * (component.len() - 1)
+                || component.iter().any(|&x| {
+                    let row = self.fine.joint_row(x);
+                    component.iter().any(|&y| row[y] != 0.0)
+                })
+            {
+                continue;
+            }
+            // Walk from the smallest end.
+            let Some(&end) = component
+                .iter()
+                .filter(|&&x| self.neighbours[x].len() == 1)
+                .min()
+            else {
+                continue;
+            };
+            let mut path = vec![end];
+            let mut previous = usize::MAX;
+            let mut at = end;
+            while path.len() < component.len() {
+                let Some(&next) = self.neighbours[at].iter().find(|&&y| y != previous) else {
+                    break;
+                };
+                previous = at;
+                at = next;
+                path.push(next);
+            }
+            if path.len() == component.len() {
+                paths.push(path);
+            }
+        }
+        paths
+    }
+
+    /// For path `path` with every other cluster fixed, the best partition into `k` runs for
+    /// every `k` in `1..=k_max`: `(value, cut ends)` per `k`, the value `Σ_runs 2 Σ_d
+    /// Q_cd log₂(Q_cd / (W_c W_d))` over clusters `d` off the path (exactly the terms of
+    /// `I_S` that depend on the path's clusters: its patches do not see each other), by
+    /// dynamic programming over the runs, `O(L² (m + k_max))` for `L` patches.
+    fn path_optimum(&self, path: &[usize], k_max: usize) -> Vec<(f64, Vec<usize>)> {
+        let (m, len) = (self.m, path.len());
+        let on_path: Vec<bool> = {
+            let mut v = vec![false; m];
+            for &x in path {
+                v[self.label[x]] = true;
+            }
+            v
+        };
+        let off: Vec<usize> = (0..m).filter(|&d| !on_path[d]).collect();
+        // Prefix sums of r over the path, per off-path cluster, and of the weights.
+        let width = off.len();
+        let mut prefix = vec![0.0; (len + 1) * width];
+        let mut weight = vec![0.0; len + 1];
+        for (t, &x) in path.iter().enumerate() {
+            weight[t + 1] = weight[t] + self.fine.weight(x);
+            for (k, &d) in off.iter().enumerate() {
+                prefix[(t + 1) * width + k] = prefix[t * width + k] + self.r[x * m + d];
+            }
+        }
+        let run = |i: usize, j: usize| -> f64 {
+            let w_c = weight[j] - weight[i];
+            let mut total = KahanSum::new();
+            for (k, &d) in off.iter().enumerate() {
+                let q = prefix[j * width + k] - prefix[i * width + k];
+                total.add(2.0 * term(q.max(0.0), w_c * self.w[d]));
+            }
+            total.total()
+        };
+        let mut value = vec![0.0; (len + 1) * (len + 1)];
+        for i in 0..len {
+            for j in i + 1..=len {
+                value[i * (len + 1) + j] = run(i, j);
+            }
+        }
+        let k_max = k_max.min(len);
+        // best[k][j]: k runs covering the first j patches; from[k][j] the last run's start.
+        let mut best = vec![f64::NEG_INFINITY; (k_max + 1) * (len + 1)];
+        let mut from = vec![0; (k_max + 1) * (len + 1)];
+        best[0] = 0.0;
+        for k in 1..=k_max {
+            for j in k..=len {
+                for i in k - 1..j {
+                    let v = best[(k - 1) * (len + 1) + i] + value[i * (len + 1) + j];
+                    if v > best[k * (len + 1) + j] {
+                        best[k * (len + 1) + j] = v;
+                        from[k * (len + 1) + j] = i;
+                    }
+                }
+            }
+        }
+        (1..=k_max)
+            .map(|k| {
+                let mut ends = Vec::with_capacity(k);
+                let mut j = len;
+                for kk in (1..=k).rev() {
+                    ends.push(j);
+                    j = from[kk * (len + 1) + j];
+                }
+                ends.reverse();
+                (best[k * (len + 1) + len], ends)
+            })
+            .collect()
+    }
+
+    /// The labels with path `path` cut into runs ending at `ends`, the runs taking the ids
+    /// `ids` in order.
+    fn labels_with_runs(&self, path: &[usize], ends: &[usize], ids: &[usize]) -> Vec<usize> {
+        let mut label = self.label.clone();
+        let mut start = 0;
+        for (&end, &id) in ends.iter().zip(ids) {
+            for &x in &path[start..end] {
+                label[x] = id;
+            }
+            start = end;
+        }
+        label
+    }
+
+    /// The partition with labels `label` (ids `0..m`, none empty), rebuilt.
+    fn relabelled(&self, label: Vec<usize>) -> Self {
+        let mut p = Self {
+            fine: self.fine,
+            n: self.n,
+            n_patches: self.n_patches,
+            neighbours: self.neighbours.clone(),
+            label,
+            members: Vec::new(),
+            m: self.m,
+            r: Vec::new(),
+            q: Vec::new(),
+            w: Vec::new(),
+            paths: self.paths.clone(),
+        };
+        p.rebuild();
+        p
+    }
+
+    /// Coordinate ascent over the flatland surfaces (paths, module docs): each path's
+    /// optimal cut into its current number of runs given the others, then one run moved
+    /// from one path to another when that raises `I_S`. Returns the changes taken (each
+    /// raises `I_S` by more than [`GAIN_THRESHOLD`]).
+    fn surface_dp(&mut self) -> usize {
+        let taken = self.sweep_paths();
+        self.move_run(taken)
+    }
+
+    /// Each path's optimal cut into its current number of runs given the others, in turn;
+    /// returns the paths changed.
+    fn sweep_paths(&mut self) -> usize {
+        (0..self.paths.len())
+            .filter(|&s| self.sweep_path(s))
+            .count()
+    }
+
+    /// Path `s` cut optimally into its current number of runs given the others, when that
+    /// raises `I_S` by more than [`GAIN_THRESHOLD`]; returns whether it changed.
+    fn sweep_path(&mut self, s: usize) -> bool {
+        let path = self.paths[s].clone();
+        let ids = self.run_ids(&path);
+        let Some((_, ends)) = self.path_optimum(&path, ids.len()).pop() else {
+            return false;
+        };
+        let label = self.labels_with_runs(&path, &ends, &ids);
+        if label != self.label {
+            let next = self.relabelled(label);
+            if next.i_s() > self.i_s() + GAIN_THRESHOLD {
+                *self = next;
+                return true;
+            }
+        }
+        false
+    }
+
+    /// One run moved from a path `t` to a path `s`, ranked by the separate changes of the
+    /// two paths' optima, checked exactly (after [`Partition::sweep_path`] of both on the
+    /// trial); returns `taken` plus one if a move was taken.
+    fn move_run(&mut self, taken: usize) -> usize {
+        let now = self.i_s();
+        let mut options: Vec<(f64, usize, usize)> = Vec::new();
+        let optima: Vec<Vec<(f64, Vec<usize>)>> = self
+            .paths
+            .iter()
+            .map(|path| {
+                let k = self.run_ids(path).len();
+                self.path_optimum(path, k + 1)
+            })
+            .collect();
+        for (s, up) in optima.iter().enumerate() {
+            let k_s = self.run_ids(&self.paths[s]).len();
+            let Some(gain) = up.get(k_s).zip(up.get(k_s - 1)).map(|(a, b)| a.0 - b.0) else {
+                continue;
+            };
+            for (t, down) in optima.iter().enumerate() {
+                let k_t = self.run_ids(&self.paths[t]).len();
+                if t == s || k_t < 2 {
+                    continue;
+                }
+                let loss = down[k_t - 1].0 - down[k_t - 2].0;
+                options.push((gain - loss, s, t));
+            }
+        }
+        options
+            .sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+        for &(_, s, t) in options.iter().take(TRANSFER_TRIES) {
+            let (path_s, path_t) = (&self.paths[s], &self.paths[t]);
+            let (mut ids_s, mut ids_t) = (self.run_ids(path_s), self.run_ids(path_t));
+            let Some(freed) = ids_t.pop() else { continue };
+            ids_s.push(freed);
+            let mut label = self.labels_with_runs(path_t, &optima[t][ids_t.len() - 1].1, &ids_t);
+            let mut start = 0;
+            for (&end, &id) in optima[s][ids_s.len() - 1].1.iter().zip(&ids_s) {
+                for &x in &path_s[start..end] {
+                    label[x] = id;
+                }
+                start = end;
+            }
+            let mut next = self.relabelled(label);
+            next.sweep_path(s);
+            next.sweep_path(t);
+            if next.i_s() > now + GAIN_THRESHOLD {
+                *self = next;
+                return taken + 1;
+            }
+        }
+        taken
+    }
+
+    /// The cluster ids of a path's runs, in path order.
+    fn run_ids(&self, path: &[usize]) -> Vec<usize> {
+        let mut ids: Vec<usize> = Vec::new();
+        for &x in path {
+            if ids.last() != Some(&self.label[x]) {
+                ids.push(self.label[x]);
+            }
+        }
+        ids
     }
 
     /// The fine chain merged into this partition's clusters, each into its smallest state.
@@ -550,17 +827,23 @@ pub fn polish(
     let start = p.merged_chain()?;
     let start_i_s = start.i_s()?;
     let mut budget = MOVES_PER_PATCH.saturating_mul(n_patches);
-    let mut moves = p.boundary_moves(budget);
-    budget -= moves;
+    let trial_moves = n_patches / 8 + 8;
+    let mut moves = 0;
     let mut transfers = 0;
-    for _ in 0..n_patches {
-        if !p.transfer() {
-            break;
-        }
-        transfers += 1;
+    for _ in 0..n_patches.max(1) {
         let taken = p.boundary_moves(budget);
         moves += taken;
         budget -= taken;
+        let along = p.surface_dp();
+        transfers += along;
+        if along == 0 {
+            // Where every patch lies on a path the runs' moves above are the transfers.
+            let on_paths: usize = p.paths.iter().map(Vec::len).sum();
+            if on_paths == n_patches || !p.transfer(budget.min(trial_moves)) {
+                break;
+            }
+            transfers += 1;
+        }
     }
     let chain = p.merged_chain()?;
     let i_s = chain.i_s()?;
@@ -578,6 +861,95 @@ pub fn polish(
         start_i_s,
         i_s,
         moves: moves as u64,
-        transfers,
+        transfers: transfers as u64,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formfactor::{exact_2d, exact_3d};
+    use crate::scene::{Scene2, Scene3};
+    use crate::simplify::adjacency::{adjacency_2d, adjacency_3d};
+
+    fn greedy(fine: &MergeChain, n: usize, pairs: &[(usize, usize)], to: usize) -> Vec<usize> {
+        let mut s =
+            Simplifier::new(fine.clone(), n, pairs, MergeCriterion::Information, None).unwrap();
+        s.run(to, None).unwrap();
+        s.chain().clusters().to_vec()
+    }
+
+    #[test]
+    fn a_boundary_move_gains_exactly_the_recomputed_i_s_difference() {
+        let scene = Scene3::cube(3).unwrap();
+        let ff = exact_3d::scene_form_factors(&scene).unwrap();
+        let fine = MergeChain::new(ff.weights(), &ff.matrix()).unwrap();
+        let n = scene.n_patches();
+        let pairs = adjacency_3d(&scene);
+        let clusters = greedy(&fine, n, &pairs, 18);
+        let mut p = Partition::new(&fine, n, &pairs, &clusters).unwrap();
+        let mut checked = 0;
+        for x in 0..n {
+            for &y in &p.neighbours[x].clone() {
+                let b = p.label[y];
+                let Some(gain) = p.move_gain(x, b) else {
+                    continue;
+                };
+                let mut label = p.label.clone();
+                label[x] = b;
+                let after = p.relabelled(label).i_s();
+                assert!((after - p.i_s() - gain).abs() < 1e-13, "{x} → {b}");
+                checked += 1;
+            }
+        }
+        assert!(checked > 0);
+        // The incremental update agrees with a rebuild.
+        let (x, b) = (0..n)
+            .find_map(|x| {
+                let y = p.neighbours[x]
+                    .iter()
+                    .find(|&&y| p.label[y] != p.label[x])?;
+                p.move_gain(x, p.label[*y]).map(|_| (x, p.label[*y]))
+            })
+            .unwrap();
+        let before = p.i_s();
+        let gain = p.move_gain(x, b).unwrap();
+        p.apply_move(x, b);
+        let incremental = p.i_s();
+        p.rebuild();
+        assert!((incremental - p.i_s()).abs() < 1e-13);
+        assert!((p.i_s() - before - gain).abs() < 1e-13);
+    }
+
+    #[test]
+    fn polishing_keeps_the_count_and_connectivity_and_never_loses() {
+        let scene = Scene2::catalogue("three-objects-2", 8).unwrap();
+        let ff = exact_2d::form_factors(&scene).unwrap();
+        let fine = MergeChain::new(ff.weights(), &ff.matrix()).unwrap();
+        let n = scene.n_patches();
+        let pairs = adjacency_2d(&scene);
+        let clusters = greedy(&fine, n, &pairs, 27);
+        let polished = polish(&fine, n, &pairs, &clusters).unwrap();
+        assert!(polished.i_s >= polished.start_i_s);
+        assert!((polished.i_s - polished.chain.i_s().unwrap()).abs() < 1e-15);
+        assert_eq!(polished.chain.live_states().len(), 27);
+        // Every cluster is a run of one surface (flatland clusters are intervals).
+        let p = Partition::new(&fine, n, &pairs, polished.chain.clusters()).unwrap();
+        for list in &p.members {
+            for w in list.windows(2) {
+                assert!(pairs.contains(&(w[0], w[1])), "{list:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn bad_partitions_are_refused() {
+        let scene = Scene2::regular_polygon(4, 2).unwrap();
+        let ff = exact_2d::form_factors(&scene).unwrap();
+        let fine = MergeChain::new(ff.weights(), &ff.matrix()).unwrap();
+        let pairs = adjacency_2d(&scene);
+        assert!(polish(&fine, 8, &pairs, &[0; 3]).is_err());
+        assert!(polish(&fine, 8, &pairs, &[9; 8]).is_err());
+        assert!(polish(&fine, 8, &[(0, 8)], &[0, 1, 2, 3, 4, 5, 6, 7]).is_err());
+    }
 }
