@@ -252,13 +252,13 @@ impl<'a> Partition<'a> {
         let (m, a) = (self.m, self.label[x]);
         let r: Vec<f64> = self.r[x * m..(x + 1) * m].to_vec();
         let p_xx = self.fine.joint_row(x)[x];
-        for d in 0..m {
-            self.q[a * m + d] -= r[d];
-            self.q[b * m + d] += r[d];
+        for (d, &v) in r.iter().enumerate() {
+            self.q[a * m + d] -= v;
+            self.q[b * m + d] += v;
         }
-        for c in 0..m {
-            self.q[c * m + a] -= r[c];
-            self.q[c * m + b] += r[c];
+        for (c, &v) in r.iter().enumerate() {
+            self.q[c * m + a] -= v;
+            self.q[c * m + b] += v;
         }
         self.q[a * m + a] += p_xx;
         self.q[b * m + b] += p_xx;
