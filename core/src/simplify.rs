@@ -30,7 +30,7 @@
 //! - [`greedy`]: [`Simplifier`], greedy merges of adjacent patches by a [`MergeCriterion`]
 //!   (least information lost, regular blocks, least power displaced), to a patch count or a
 //!   loss budget.
-//! - [`polish`]: a local search after the greedy merge (boundary moves and transfers
+//! - [`mod@polish`]: a local search after the greedy merge (boundary moves and transfers
 //!   between adjacent clusters at a fixed patch count, taken only when `I_S` rises).
 //! - [`adjacency`]: which patches may merge — flatland: neighbours along one surface;
 //!   3D: patches of one plane sharing an edge; same material in both.
