@@ -46,7 +46,9 @@ mod session;
 mod warning;
 
 #[cfg(feature = "alloc")]
-pub use executor::{ChunkWork, ChunksDone, Executor, LineRun, Serial, cast_chunks, cast_lines};
+pub use executor::{
+    ChunkWork, ChunksDone, Executor, LineRun, RowDone, RowWork, Serial, cast_chunks, cast_lines,
+};
 #[cfg(feature = "alloc")]
 pub use job::{Job, LineBudget, LineJob};
 #[cfg(feature = "alloc")]
