@@ -184,7 +184,8 @@ pub fn read(path: &Path, text: &str, report: &mut LoadReport) -> Result<Scene3> 
     }
     let mut builder = Scene3Builder::default();
     for (head, pieces) in groups.iter().enumerate() {
-        let Some(Some(first)) = surfaces.get(head) else {
+        // Pieces combined into another surface belong to that one's group
+        let Some(Some(first)) = surfaces.get(head).filter(|_| !pieces.is_empty()) else {
             continue;
         };
         let polygon = if pieces.len() == 1 {

@@ -384,10 +384,14 @@ fn a_work_cap_is_reported() {
 /// - every occluded pair of the box in a room, at 10⁻³ and 10⁻⁴, against the same pair at
 ///   10⁻⁸ (its own estimate added to the allowance: the reference is not exact).
 ///
-/// The test prints the coverage of each family and asserts it is at least 90 % over all:
-/// an estimate that covered less would be no error estimate at all. A case that fails
-/// also fails by how much (the worst ratio error/estimate is printed).
+/// The test prints the coverage of each family and the worst ratio error/estimate, and
+/// asserts the coverage is at least 90 % over all: an estimate that covered less would be
+/// no error estimate at all. Seen (2026-11-27): 152/152 cases covered, worst ratios 0.18
+/// (coaxial), 0.08 (perpendicular), 0.12 (box in room).
 #[test]
+#[ignore = "the estimate-coverage study of docs/occlusion.md: about 4 minutes in the test \
+            profile on a busy 2-core machine; run with `cargo test -p sceneinfo --lib \
+            estimate_coverage -- --ignored --nocapture`"]
 fn estimate_coverage_against_references() {
     let mut cases: Vec<(&str, f64, f64)> = Vec::new(); // (family, |error|, allowance)
     let source = centred_square(0.5, 0.0, true);
