@@ -122,10 +122,9 @@ pub mod viewpoint;
 #[cfg(feature = "alloc")]
 pub use api::{
     ChunkWork, ChunksDone, ExactErrors, Executor, Job, Lighting, LineBudget, LineJob, LineRun,
-    LineRunInfo, LineSession, LitLines, Measurement, RadiosityJob, RowDone, RowWork, Scene, SceneFormat,
-    SceneTracer,
-    Serial, cast_chunks, cast_lines, measure, measure_exact, measure_exact_within, measure_partial,
-    solve_radiosity,
+    LineRunInfo, LineSession, LitLines, Measurement, RadiosityJob, RowDone, RowWork, Scene,
+    SceneFormat, SceneTracer, Serial, cast_chunks, cast_lines, measure, measure_exact,
+    measure_exact_within, measure_partial, solve_radiosity,
 };
 pub use api::{Warning, channel_warnings};
 pub use error::{Error, ErrorKind, Result};

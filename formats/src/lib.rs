@@ -171,7 +171,10 @@ pub fn sniff(bytes: &[u8]) -> Option<Format> {
     // The first statement of the file
     // View3D: a first line that is a `!` comment, a title, controls or the geometry line
     // (upper case: `f` is OBJ's face)
-    let first_line = text.split(['\n', '\r']).map(str::trim).find(|l| !l.is_empty())?;
+    let first_line = text
+        .split(['\n', '\r'])
+        .map(str::trim)
+        .find(|l| !l.is_empty())?;
     if first_line.starts_with('!')
         || ["T", "C", "F"].contains(&first_line.split_whitespace().next().unwrap_or(""))
     {

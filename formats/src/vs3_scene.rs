@@ -127,7 +127,10 @@ pub fn read(path: &Path, text: &str, report: &mut LoadReport) -> Result<Scene3> 
                         break;
                     }
                     let p = vertices.get(v).copied().flatten().ok_or_else(|| {
-                        at(line, &format!("vertex {v} is not defined before it is used"))
+                        at(
+                            line,
+                            &format!("vertex {v} is not defined before it is used"),
+                        )
                     })?;
                     corners.push(p);
                 }
@@ -285,8 +288,7 @@ fn union_of_pieces(pieces: &[&[DVec3]]) -> Option<Vec<DVec3>> {
         };
         for p in iter {
             while hull.len() >= start + 2
-                && cross(&hull[hull.len() - 2], &hull[hull.len() - 1], p)
-                    <= 1e-12 * scale * scale
+                && cross(&hull[hull.len() - 2], &hull[hull.len() - 1], p) <= 1e-12 * scale * scale
             {
                 hull.pop();
             }
@@ -365,7 +367,10 @@ mod tests {
                 c.sort_by(|x, y| x.partial_cmp(y).unwrap());
                 c
             };
-            assert_eq!(corners(&vs3, a.first, a.count), corners(&obj, b.first, b.count));
+            assert_eq!(
+                corners(&vs3, a.first, a.count),
+                corners(&obj, b.first, b.count)
+            );
         }
         assert!((vs3.total_area() - obj.total_area()).abs() < 1e-12);
     }

@@ -5,8 +5,8 @@ use std::fmt::Write as _;
 use std::io::Write;
 
 use anyhow::{Result, bail};
-use sceneinfo::channel::Transitions;
 use sceneinfo::ExactErrors;
+use sceneinfo::channel::Transitions;
 use sceneinfo::formfactor::FormFactors;
 use sceneinfo_report::CHECK_TOLERANCE;
 

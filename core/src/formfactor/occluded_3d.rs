@@ -396,8 +396,8 @@ pub(crate) struct PairRow {
 /// How [`form_factors_occluded_by`] runs the rows: given the row count `n` and the row
 /// function (pure: the same bits for a row whatever thread computes it), the results of
 /// rows `0..n` in order, or `None` when the caller stopped.
-pub(crate) type RowRunner<'r> =
-    dyn FnMut(usize, &(dyn Fn(usize) -> Result<PairRow> + Sync)) -> Option<Vec<Result<PairRow>>> + 'r;
+pub(crate) type RowRunner<'r> = dyn FnMut(usize, &(dyn Fn(usize) -> Result<PairRow> + Sync)) -> Option<Vec<Result<PairRow>>>
+    + 'r;
 
 /// The scene prepared for its rows: planes, bounding boxes, the contact tolerance.
 struct Prepared<'a> {

@@ -440,8 +440,8 @@ fn estimate_coverage_against_references() {
                 continue; // the pair faces away or has no occluder: exact path
             }
             for tol in [1e-3, 1e-4] {
-                let r = occluded_flux(poly(i), poly(j), &others, &OcclusionOptions::new(tol))
-                    .unwrap();
+                let r =
+                    occluded_flux(poly(i), poly(j), &others, &OcclusionOptions::new(tol)).unwrap();
                 cases.push((
                     "box in room",
                     (r.flux - reference.flux).abs(),
@@ -454,10 +454,7 @@ fn estimate_coverage_against_references() {
     for family in ["coaxial", "perpendicular", "box in room"] {
         let of: Vec<_> = cases.iter().filter(|c| c.0 == family).collect();
         let covered = of.iter().filter(|c| c.1 <= c.2.max(1e-13)).count();
-        let worst = of
-            .iter()
-            .map(|c| c.1 / c.2.max(1e-13))
-            .fold(0.0, f64::max);
+        let worst = of.iter().map(|c| c.1 / c.2.max(1e-13)).fold(0.0, f64::max);
         std::println!(
             "coverage {family}: {covered}/{} ({:.1} %), worst error/estimate {worst:.2}",
             of.len(),
@@ -466,6 +463,10 @@ fn estimate_coverage_against_references() {
         covered_all += covered;
     }
     let share = covered_all as f64 / cases.len() as f64;
-    std::println!("coverage all: {covered_all}/{} ({:.1} %)", cases.len(), 100.0 * share);
+    std::println!(
+        "coverage all: {covered_all}/{} ({:.1} %)",
+        cases.len(),
+        100.0 * share
+    );
     assert!(share >= 0.9, "coverage {share}");
 }
