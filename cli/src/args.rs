@@ -486,9 +486,10 @@ pub fn parse_bytes(s: &str) -> Result<u64, String> {
 pub struct FormFactorsArgs {
     /// The scene file: `.flat` or `.obj`.
     pub file: PathBuf,
-    /// Output: `.csv` (one row of F per line) or `.txt` (View3D style: number of states,
-    /// their relative sizes, then the rows of F).
-    #[arg(long, value_name = "F.csv|F.txt")]
+    /// Output: `.csv` (one row of F per line), `.txt` (View3D style: number of states,
+    /// their relative sizes, then the rows of F) or `.ijv` (sparse: `i,j,F_ij,error` per
+    /// non-zero entry, rows in order).
+    #[arg(long, value_name = "F.csv|F.txt|F.ijv")]
     pub out: PathBuf,
     /// How the form factors are computed.
     #[command(flatten)]

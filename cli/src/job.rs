@@ -76,8 +76,8 @@ pub fn check_supported(
     Err(located(path, &kind.into()))
 }
 
-/// Runs `job` on `scene` (from `path`): exact on this thread (3D with occlusion to `tol`,
-/// default [`occluded_3d::DEFAULT_TOLERANCE`]), lines on `threads` threads ([`Threads`]:
+/// Runs `job` on `scene` (from `path`): exact (3D with occlusion to `tol`, default
+/// [`occluded_3d::DEFAULT_TOLERANCE`], rows on `threads` threads), lines on `threads` threads ([`Threads`]:
 /// progress, Ctrl-C).
 ///
 /// # Errors
@@ -92,10 +92,11 @@ pub fn run_job(
     tol: Option<f64>,
 ) -> Result<Measurement> {
     let result = match job {
-        // Exact form factors do not poll: Ctrl-C there ends the process at once
+        // Exact 3D rows on the threads (Ctrl-C: no new row starts, the job is stopped)
         Job::Exact => sceneinfo::Measurement::exact_within(
             scene,
             &OcclusionOptions::new(tol.unwrap_or(occluded_3d::DEFAULT_TOLERANCE)),
+            &mut Threads::new(threads),
         ),
         Job::Lines(_) => sceneinfo::measure(scene, job, &mut Threads::new(threads)),
     };

@@ -14,11 +14,11 @@
 
 use std::io::{IsTerminal, Write};
 use std::ops::Range;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use sceneinfo::tally::{LineMethod, LineTally, LineTracer};
-use sceneinfo::{ChunkWork, ChunksDone, Executor};
+use sceneinfo::{ChunkWork, ChunksDone, Executor, RowDone, RowWork};
 
 pub use sceneinfo::LineBudget;
 
@@ -66,6 +66,38 @@ impl Executor for Threads {
 
     fn stopped(&self) -> bool {
         crate::interrupt::requested()
+    }
+
+    /// The rows of an exact job on the workers, handed out dynamically (after Ctrl-C no new
+    /// row starts and the job reports it stopped). Each row is a pure function of its
+    /// index, so the result is the same bits for any thread count.
+    fn execute_rows(&mut self, work: &RowWork<'_>) -> Vec<RowDone> {
+        let _polling = crate::interrupt::Polling::start();
+        let rows = work.rows();
+        let next = AtomicUsize::new(rows.start);
+        let threads = self.threads.min(rows.len().max(1));
+        let start = Instant::now();
+        let parts: Vec<Vec<RowDone>> = std::thread::scope(|scope| {
+            let workers: Vec<_> = (0..threads)
+                .map(|_| {
+                    scope.spawn(|| {
+                        let mut done = Vec::new();
+                        // Bounded: each row is taken once
+                        while !crate::interrupt::requested() {
+                            let row = next.fetch_add(1, Ordering::Relaxed);
+                            if row >= rows.end {
+                                break;
+                            }
+                            done.push(work.run(row));
+                        }
+                        done
+                    })
+                })
+                .collect();
+            workers.into_iter().filter_map(|w| w.join().ok()).collect()
+        });
+        self.times.wall += start.elapsed().as_secs_f64();
+        parts.into_iter().flatten().collect()
     }
 }
 

@@ -46,7 +46,7 @@ mod session;
 mod warning;
 
 #[cfg(feature = "alloc")]
-pub use executor::{ChunkWork, ChunksDone, Executor, LineRun, Serial};
+pub use executor::{ChunkWork, ChunksDone, Executor, LineRun, RowDone, RowWork, Serial};
 #[cfg(feature = "alloc")]
 pub use job::{Job, LineBudget, LineJob};
 #[cfg(feature = "alloc")]

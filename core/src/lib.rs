@@ -123,8 +123,8 @@ pub use api::Warning;
 #[cfg(feature = "alloc")]
 pub use api::{
     ChunkWork, ChunksDone, ExactErrors, Executor, Job, Lighting, LineBudget, LineJob, LineRun,
-    LineRunInfo, LineSession, LitLines, Measurement, RadiosityJob, Scene, SceneFormat, SceneTracer,
-    Serial, measure, measure_partial, solve_radiosity,
+    LineRunInfo, LineSession, LitLines, Measurement, RadiosityJob, RowDone, RowWork, Scene,
+    SceneFormat, SceneTracer, Serial, measure, measure_partial, solve_radiosity,
 };
 pub use error::{Error, ErrorKind, Result};
 

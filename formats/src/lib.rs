@@ -11,6 +11,7 @@
 //! | glTF | a JSON object with an `"asset"` key | [`gltf_scene`] |
 //! | OBJ | first statement an OBJ keyword (`v`, `f`, `o`, `mtllib`, …) | `sceneinfo::io::parse_obj` |
 //! | flat | first statement `seg`, `poly` or `mat`; any other file | `sceneinfo::io::parse_flat` |
+//! | View3D `.vs3` | first statement `T`, `C`, `F` (upper case) or a `!` comment; extension `.vs3` | [`vs3_scene`] |
 //!
 //! A file whose content is clearly of a format other than its extension says is read as
 //! its content says, with a [`LoadWarningKind::FormatByContent`] note.
@@ -23,6 +24,7 @@ pub mod gltf_scene;
 mod load;
 pub mod mesh;
 pub mod ply_scene;
+pub mod vs3_scene;
 
 pub(crate) use load::located_at;
 pub use load::{
@@ -54,6 +56,8 @@ pub enum Format {
     Gltf,
     /// glTF 2.0, binary container.
     Glb,
+    /// NIST View3D's input (`F 3`, vertices and surfaces).
+    Vs3,
 }
 
 impl Format {
@@ -66,6 +70,7 @@ impl Format {
             Self::Ply => "PLY",
             Self::Gltf => "glTF",
             Self::Glb => "GLB",
+            Self::Vs3 => "View3D .vs3",
         }
     }
 
@@ -79,6 +84,7 @@ impl Format {
             "ply" => Self::Ply,
             "gltf" => Self::Gltf,
             "glb" => Self::Glb,
+            "vs3" => Self::Vs3,
             _ => return None,
         })
     }
@@ -163,6 +169,17 @@ pub fn sniff(bytes: &[u8]) -> Option<Format> {
         return looks_like_gltf_json(bytes).then_some(Format::Gltf);
     }
     // The first statement of the file
+    // View3D: a first line that is a `!` comment, a title, controls or the geometry line
+    // (upper case: `f` is OBJ's face)
+    let first_line = text
+        .split(['\n', '\r'])
+        .map(str::trim)
+        .find(|l| !l.is_empty())?;
+    if first_line.starts_with('!')
+        || ["T", "C", "F"].contains(&first_line.split_whitespace().next().unwrap_or(""))
+    {
+        return Some(Format::Vs3);
+    }
     let first = text
         .split(['\n', '\r'])
         .map(|l| l.split('#').next().unwrap_or("").trim())

@@ -201,8 +201,8 @@ pub fn load_file(path: &Path, options: &LoadOptions) -> Result<(Scene, LoadRepor
 }
 
 /// The scene in `bytes`, read from `path` (which names it in messages, and whose folder
-/// holds an OBJ's `mtllib` libraries and a glTF's buffer files): flat, OBJ, glTF / GLB or
-/// PLY, by `options.format` or else by content, then extension ([`crate::detect`]).
+/// holds an OBJ's `mtllib` libraries and a glTF's buffer files): flat, OBJ, glTF / GLB,
+/// PLY or View3D `.vs3`, by `options.format` or else by content, then extension ([`crate::detect`]).
 ///
 /// # Errors
 /// `file:line: what` for text formats, `file: where: what` for the others; a material
@@ -242,6 +242,10 @@ pub fn load(path: &Path, bytes: Vec<u8>, options: &LoadOptions) -> Result<(Scene
             Scene::Solid(crate::gltf_scene::read(path, &bytes, &mut report)?)
         }
         Format::Ply => Scene::Solid(crate::ply_scene::read(path, &bytes, &mut report)?),
+        Format::Vs3 => {
+            let text = text_of(path, bytes)?;
+            Scene::Solid(crate::vs3_scene::read(path, &text, &mut report)?)
+        }
     };
     Ok((scene, report))
 }

@@ -143,6 +143,12 @@ impl Lab3 {
             Format::Ply => Scene::Solid(
                 sceneinfo_formats::ply_scene::read(path, bytes, &mut report).map_err(fail)?,
             ),
+            Format::Vs3 => {
+                let text = sceneinfo_formats::text_of(path, bytes.to_vec()).map_err(fail)?;
+                Scene::Solid(
+                    sceneinfo_formats::vs3_scene::read(path, &text, &mut report).map_err(fail)?,
+                )
+            }
             Format::Flat => return Err(JsError::new(FLAT_REFUSED)),
         };
         Self::of(scene, &report)

@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 use std::io::Write;
 
 use anyhow::{Result, bail};
+use sceneinfo::ExactErrors;
 use sceneinfo::channel::Transitions;
 use sceneinfo::formfactor::FormFactors;
 use sceneinfo_report::CHECK_TOLERANCE;
@@ -23,8 +24,9 @@ pub fn run(args: &FormFactorsArgs) -> Result<()> {
     let text = match ext.as_deref() {
         Some("csv") => csv(&ff)?,
         Some("txt") => view3d_text(&ff)?,
+        Some("ijv") => sparse_text(&ff, errors.as_ref(), args.sampling.lines.is_none())?,
         _ => bail!(
-            "{}: the output must end in .csv or .txt",
+            "{}: the output must end in .csv, .txt or .ijv",
             args.out.display()
         ),
     };
@@ -98,6 +100,40 @@ pub fn run(args: &FormFactorsArgs) -> Result<()> {
     }
     out.flush()?;
     Ok(())
+}
+
+/// The sparse matrix: a comment line, then one line `i,j,F_ij,err_ij` per non-zero entry,
+/// rows in order, columns increasing within a row (the compressed-row order), `err_ij` the
+/// entry's error estimate (0 for an exact entry; empty for Monte Carlo, whose errors are
+/// statistical). Shortest round-trip decimals.
+fn sparse_text(ff: &FormFactors, errors: Option<&ExactErrors>, exact: bool) -> Result<String> {
+    let n = ff.n_states();
+    let np = ff.n_patches();
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "# sceneinfo form factors, sparse: {n} states ({np} patches{}); i,j,F_ij,error estimate",
+        if ff.has_background() {
+            ", background last"
+        } else {
+            ""
+        }
+    );
+    let view = ff.matrix();
+    for i in 0..n {
+        view.for_each_in_row(i, |j, v| {
+            if v != 0.0 {
+                let err = match errors {
+                    Some(e) if i < np && j < np => format!("{:?}", e.per_pair[i * np + j]),
+                    Some(_) => String::new(),
+                    None if exact => "0".to_owned(),
+                    None => String::new(),
+                };
+                let _ = writeln!(s, "{i},{j},{v:?},{err}");
+            }
+        });
+    }
+    Ok(s)
 }
 
 /// A View3D-style text matrix: a header line with the number of states, a line with the

@@ -8,7 +8,11 @@
 //! threads in any order and merge their tallies in any order, and the result is the same
 //! bits as [`Serial`]'s.
 
+use alloc::vec::Vec;
 use core::ops::Range;
+
+use crate::error::Result;
+use crate::formfactor::occluded_3d::PairRow;
 
 use crate::lines::{CHUNK_LINES, chunk_count, chunk_range};
 use crate::tally::{LineMethod, LineTally, LineTracer};
@@ -114,6 +118,73 @@ pub trait Executor {
     fn stopped(&self) -> bool {
         false
     }
+
+    /// Computes the rows of an exact job ([`crate::measure_exact_within`]): calls
+    /// [`RowWork::run`] once for each row of [`RowWork::rows`], on any threads in any
+    /// order, and returns what they gave in any order. Each row is a pure function of its
+    /// index, so the result is the same bits for any number of threads. To stop, it starts
+    /// no new row; the job then fails with [`crate::ErrorKind::Stopped`]. The default
+    /// computes every row in order on this thread.
+    fn execute_rows(&mut self, work: &RowWork<'_>) -> Vec<RowDone> {
+        // Bounded: the rows of the job
+        work.rows().map(|row| work.run(row)).collect()
+    }
+}
+
+/// The rows of an exact job, handed to [`Executor::execute_rows`]. Shareable between
+/// threads (`Sync`).
+#[derive(Clone, Copy)]
+pub struct RowWork<'a> {
+    rows: usize,
+    row: &'a (dyn Fn(usize) -> Result<PairRow> + Sync),
+}
+
+impl core::fmt::Debug for RowWork<'_> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("RowWork")
+            .field("rows", &self.rows)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<'a> RowWork<'a> {
+    pub(crate) fn new(rows: usize, row: &'a (dyn Fn(usize) -> Result<PairRow> + Sync)) -> Self {
+        Self { rows, row }
+    }
+
+    /// The rows to compute.
+    #[must_use]
+    pub fn rows(&self) -> Range<usize> {
+        0..self.rows
+    }
+
+    /// Computes row `row` (an empty result outside [`RowWork::rows`], which the job
+    /// ignores).
+    #[must_use]
+    pub fn run(&self, row: usize) -> RowDone {
+        RowDone {
+            row,
+            result: (row < self.rows).then(|| (self.row)(row)),
+        }
+    }
+
+    /// Puts `done` in row order: `None` when some row is missing (the executor stopped).
+    pub(crate) fn collect(&self, done: Vec<RowDone>) -> Option<Vec<Result<PairRow>>> {
+        let mut rows: Vec<Option<Result<PairRow>>> = (0..self.rows).map(|_| None).collect();
+        for d in done {
+            if let (Some(slot), Some(r)) = (rows.get_mut(d.row), d.result) {
+                *slot = Some(r);
+            }
+        }
+        rows.into_iter().collect()
+    }
+}
+
+/// One row of a [`RowWork`], computed ([`RowWork::run`]); opaque, `Send`.
+#[derive(Debug)]
+pub struct RowDone {
+    row: usize,
+    result: Option<Result<PairRow>>,
 }
 
 /// The executor of a caller without threads: every chunk in order, on this thread.

@@ -12,7 +12,7 @@ use crate::io::partial::{JobId, Partial};
 use crate::tally::coverage::Coverage;
 use crate::tally::{LineMethod, LineTally, LineTracer, UNSUPPORTED_BY_TRACER};
 
-use super::executor::{Executor, LineRun};
+use super::executor::{Executor, LineRun, RowWork};
 use super::warning::{FEW_STDERR_GROUPS, Warning};
 use super::{Job, LineBudget, LineJob, Scene};
 
@@ -398,16 +398,33 @@ impl Measurement {
 
 impl Measurement {
     /// [`Measurement::exact`] with the tolerance and work cap of the 3D form factors with occlusion
-    /// (unused in flatland, whose form factors are exact). When some pair was integrated
+    /// (unused in flatland, whose form factors are exact), the rows of a 3D scene computed
+    /// through `executor` ([`Executor::execute_rows`]: the same bits for any number of
+    /// threads; an unoccluded scene gives [`Measurement::exact`]'s). When some pair was integrated
     /// adaptively, [`Measurement::exact_errors`] holds the error estimates.
     ///
     /// # Errors
-    /// The options' ([`OcclusionOptions::check`]), the form factors' and the channel's.
-    pub fn exact_within(scene: &Scene, options: &OcclusionOptions) -> Result<Measurement> {
+    /// The options' ([`OcclusionOptions::check`]), the form factors' and the channel's;
+    /// [`ErrorKind::Stopped`] when the executor stopped before every row was done.
+    pub fn exact_within(
+        scene: &Scene,
+        options: &OcclusionOptions,
+        executor: &mut dyn Executor,
+    ) -> Result<Measurement> {
         let (ff, errors) = match scene {
             Scene::Flat(s) => (exact_2d::form_factors(s)?, None),
             Scene::Solid(s) => {
-                let r = occluded_3d::scene_form_factors_occluded(s, options)?;
+                let polygons: Vec<(usize, usize)> =
+                    s.patches().iter().map(|p| (p.first, p.count)).collect();
+                let r = occluded_3d::form_factors_occluded_by(
+                    s.points(),
+                    &polygons,
+                    options,
+                    &mut |n, row| {
+                        let work = RowWork::new(n, row);
+                        work.collect(executor.execute_rows(&work))
+                    },
+                )?;
                 let errors = (r.pairs_integrated > 0).then(|| ExactErrors {
                     tolerance: r.tolerance,
                     max_error: r.max_error(),

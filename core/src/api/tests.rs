@@ -101,6 +101,37 @@ impl Executor for Threads {
             chunks: end - work.chunks().start,
         }
     }
+    /// Rows handed out dynamically from the end (the longest rows last), each worker's
+    /// results appended in reverse order of the workers: any order must give the same bits.
+    fn execute_rows(&mut self, work: &RowWork<'_>) -> Vec<RowDone> {
+        let next = Mutex::new(work.rows().end);
+        let mut parts: Vec<Vec<RowDone>> = std::thread::scope(|s| {
+            let workers: Vec<_> = (0..self.0)
+                .map(|_| {
+                    s.spawn(|| {
+                        let mut done = Vec::new();
+                        loop {
+                            let row = {
+                                let mut n = next.lock().unwrap();
+                                if *n == 0 {
+                                    break done;
+                                }
+                                *n -= 1;
+                                *n
+                            };
+                            done.push(work.run(row));
+                        }
+                    })
+                })
+                .collect();
+            workers.into_iter().map(|w| w.join().unwrap()).collect()
+        });
+        let mut all = Vec::new();
+        while let Some(p) = parts.pop() {
+            all.extend(p);
+        }
+        all
+    }
 }
 
 /// An executor that stops (as after Ctrl-C) once it has cast `limit` chunks.
@@ -564,11 +595,51 @@ fn exact_within_measures_an_occluded_scene_with_estimates() {
         "{refused}"
     );
     let options = crate::formfactor::occluded_3d::OcclusionOptions::new(1e-4);
-    let m = Measurement::exact_within(&scene, &options).unwrap();
+    let m = Measurement::exact_within(&scene, &options, &mut Serial).unwrap();
     let e = m.exact_errors().unwrap();
     assert!(e.pairs_integrated > 0 && e.over_tolerance == 0 && e.max_error <= 1e-4);
     // A closed scene (the square is two-sided): rows within their estimates of 1.
     assert!(m.max_row_deficit().unwrap() <= e.max_row_error + 1e-12);
     let bad = crate::formfactor::occluded_3d::OcclusionOptions::new(0.0);
-    assert!(Measurement::exact_within(&scene, &bad).is_err());
+    assert!(Measurement::exact_within(&scene, &bad, &mut Serial).is_err());
+}
+
+/// The exact 3D job with occlusion gives the same bits on 1, 2 and 3 threads (rows handed
+/// out in another order), and on an unoccluded scene `measure_exact`'s bits; an executor
+/// that computes no row stops the job.
+#[test]
+fn exact_within_is_the_same_on_any_thread_count() {
+    let room = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+                f 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\nf 4 8 5 1\n";
+    let plate =
+        "v 0.3 0.2 0.5\nv 0.7 0.2 0.5\nv 0.7 0.6 0.5\nv 0.3 0.6 0.5\nf 12 11 10 9\nf 9 10 11 12\n";
+    let format = SceneFormat::Obj(crate::io::ObjOptions::default());
+    let options = crate::formfactor::occluded_3d::OcclusionOptions::new(1e-4);
+    let (open, _) = Scene::from_bytes(room.as_bytes(), format, |_| None).unwrap();
+    let serial = Measurement::exact(&open).unwrap();
+    for threads in 1..=3 {
+        let m = Measurement::exact_within(&open, &options, &mut Threads(threads)).unwrap();
+        assert_same(&serial, &m);
+    }
+    let text = alloc::format!("{room}{plate}");
+    let (scene, _) = Scene::from_bytes(text.as_bytes(), format, |_| None).unwrap();
+    let serial = Measurement::exact_within(&scene, &options, &mut Serial).unwrap();
+    assert!(serial.exact_errors().unwrap().pairs_integrated > 0);
+    for threads in 1..=3 {
+        let m = Measurement::exact_within(&scene, &options, &mut Threads(threads)).unwrap();
+        assert_same(&serial, &m);
+        assert_eq!(serial.exact_errors(), m.exact_errors());
+    }
+    // Stopped before any row (as after Ctrl-C): no result, a typed error
+    struct NoRows;
+    impl Executor for NoRows {
+        fn execute(&mut self, work: &ChunkWork<'_>) -> ChunksDone {
+            Serial.execute(work)
+        }
+        fn execute_rows(&mut self, _: &RowWork<'_>) -> Vec<RowDone> {
+            Vec::new()
+        }
+    }
+    let stopped = Measurement::exact_within(&scene, &options, &mut NoRows).unwrap_err();
+    assert!(matches!(stopped.kind(), ErrorKind::Stopped), "{stopped}");
 }

@@ -373,6 +373,104 @@ pub(crate) fn form_factors_occluded(
     polygons: &[(usize, usize)],
     options: &OcclusionOptions,
 ) -> Result<OccludedFormFactors> {
+    form_factors_occluded_by(points, polygons, options, &mut |n, row| {
+        // Bounded: the rows of the job
+        Some((0..n).map(row).collect())
+    })
+}
+
+/// The pairs `(i, j > i)` of one row `i` of [`form_factors_occluded`]: each independent of
+/// every other row, so rows may be computed on any thread in any order.
+#[derive(Clone, Debug)]
+pub(crate) struct PairRow {
+    /// `(j, flux, error estimate of the flux)` of the pairs that see each other.
+    pairs: Vec<(usize, f64, f64)>,
+    /// Pairs integrated adaptively, those over the tolerance, points evaluated.
+    integrated: usize,
+    over_tolerance: usize,
+    points: u64,
+}
+
+/// How [`form_factors_occluded_by`] runs the rows: given the row count `n` and the row
+/// function (pure: the same bits for a row whatever thread computes it), the results of
+/// rows `0..n` in order, or `None` when the caller stopped.
+pub(crate) type RowRunner<'r> = dyn FnMut(usize, &(dyn Fn(usize) -> Result<PairRow> + Sync)) -> Option<Vec<Result<PairRow>>>
+    + 'r;
+
+/// The scene prepared for its rows: planes, bounding boxes, the contact tolerance.
+struct Prepared<'a> {
+    polys: Vec<(&'a [DVec3], Plane)>,
+    boxes: Vec<(DVec3, DVec3)>,
+    touch: f64,
+    /// Whether some polygon may hide another (else every pair takes the exact path).
+    may_occlude: bool,
+    options: OcclusionOptions,
+}
+
+impl Prepared<'_> {
+    /// Row `i`: the pairs `(i, j)`, `j > i`, culled, then exact or integrated.
+    fn row(&self, i: usize) -> Result<PairRow> {
+        let polys = &self.polys;
+        let (src, ps) = &polys[i];
+        let mut out = PairRow {
+            pairs: Vec::new(),
+            integrated: 0,
+            over_tolerance: 0,
+            points: 0,
+        };
+        let mut cand = Vec::new();
+        let mut occluders: Vec<&[DVec3]> = Vec::new();
+        for (j, (tgt, pt)) in polys.iter().enumerate().skip(i + 1) {
+            // As form_factors_unoccluded: one lies wholly on or behind the other's plane.
+            let tol = ON_PLANE * (ps.magnitude.max(pt.magnitude) + ps.radius + pt.radius);
+            if pt.distance(ps.centroid) + ps.radius <= tol
+                || ps.distance(pt.centroid) + pt.radius <= tol
+            {
+                continue;
+            }
+            if self.may_occlude {
+                candidates(polys, &self.boxes, i, j, self.touch, &mut cand);
+            }
+            let r = if !self.may_occlude || cand.is_empty() {
+                OccludedFlux {
+                    flux: pair_flux(src, ps, tgt, pt).0,
+                    error: 0.0,
+                    points: 0,
+                }
+            } else {
+                occluders.clear();
+                occluders.extend(cand.iter().map(|&k| polys[k].0));
+                out.integrated += 1;
+                // Integrate over the smaller patch (ties: the first).
+                let r = if ps.area <= pt.area {
+                    integrate_pair(src, ps, tgt, pt, &occluders, &self.options)?
+                } else {
+                    integrate_pair(tgt, pt, src, ps, &occluders, &self.options)?
+                };
+                if r.error > self.options.tolerance * ps.area.min(pt.area) {
+                    out.over_tolerance += 1;
+                }
+                r
+            };
+            out.points = out.points.saturating_add(r.points);
+            out.pairs.push((j, r.flux, r.error));
+        }
+        Ok(out)
+    }
+}
+
+/// [`form_factors_occluded`] with its rows run by `run` (the façade hands them to an
+/// executor's threads). Each row is a pure function of its index and the rows are
+/// assembled in order, so the result is the same bits whatever runs them.
+///
+/// # Errors
+/// Those of [`form_factors_occluded`]; [`ErrorKind::Stopped`] when `run` returns `None`.
+pub(crate) fn form_factors_occluded_by(
+    points: &[DVec3],
+    polygons: &[(usize, usize)],
+    options: &OcclusionOptions,
+    run: &mut RowRunner<'_>,
+) -> Result<OccludedFormFactors> {
     options.check()?;
     let n = polygons.len();
     if n > MAX_DENSE_PATCHES {
@@ -382,16 +480,7 @@ pub(crate) fn form_factors_occluded(
         }
         .into());
     }
-    if !exact_3d::may_be_occluded(points, polygons) {
-        return Ok(OccludedFormFactors {
-            form_factors: exact_3d::form_factors_unoccluded(points, polygons)?,
-            errors: vec![0.0; n * n],
-            tolerance: options.tolerance,
-            pairs_integrated: 0,
-            over_tolerance: 0,
-            points: 0,
-        });
-    }
+    let may_occlude = exact_3d::may_be_occluded(points, polygons);
     let polys = planes(points, polygons)?;
     let (lo, hi) = bounds(polys.iter().flat_map(|(v, _)| v.iter().copied()));
     let touch = TOUCH * (hi - lo).length().max(hi.abs().max(lo.abs()).max_element());
@@ -399,54 +488,42 @@ pub(crate) fn form_factors_occluded(
         .iter()
         .map(|(v, _)| bounds(v.iter().copied()))
         .collect();
+    let prepared = Prepared {
+        polys,
+        boxes,
+        touch,
+        may_occlude,
+        options: *options,
+    };
+    let rows = run(n, &|i| prepared.row(i)).ok_or(ErrorKind::Stopped)?;
+    if rows.len() != n {
+        return Err(ErrorKind::Stopped.into());
+    }
     let mut f = vec![0.0; n * n];
     let mut errors = vec![0.0; n * n];
     let (mut pairs_integrated, mut over_tolerance, mut total_points) = (0, 0, 0u64);
-    let mut cand = Vec::new();
-    let mut occluders: Vec<&[DVec3]> = Vec::new();
-    for (i, (src, ps)) in polys.iter().enumerate() {
-        for (j, (tgt, pt)) in polys.iter().enumerate().skip(i + 1) {
-            // As form_factors_unoccluded: one lies wholly on or behind the other's plane.
-            let tol = ON_PLANE * (ps.magnitude.max(pt.magnitude) + ps.radius + pt.radius);
-            if pt.distance(ps.centroid) + ps.radius <= tol
-                || ps.distance(pt.centroid) + pt.radius <= tol
-            {
-                continue;
-            }
-            candidates(&polys, &boxes, i, j, touch, &mut cand);
-            let r = if cand.is_empty() {
-                OccludedFlux {
-                    flux: pair_flux(src, ps, tgt, pt).0,
-                    error: 0.0,
-                    points: 0,
-                }
-            } else {
-                occluders.clear();
-                occluders.extend(cand.iter().map(|&k| polys[k].0));
-                pairs_integrated += 1;
-                // Integrate over the smaller patch (ties: the first).
-                let r = if ps.area <= pt.area {
-                    integrate_pair(src, ps, tgt, pt, &occluders, options)?
-                } else {
-                    integrate_pair(tgt, pt, src, ps, &occluders, options)?
-                };
-                if r.error > options.tolerance * ps.area.min(pt.area) {
-                    over_tolerance += 1;
-                }
-                r
-            };
-            total_points = total_points.saturating_add(r.points);
+    let polys = &prepared.polys;
+    for (i, row) in rows.into_iter().enumerate() {
+        let row = row?;
+        pairs_integrated += row.integrated;
+        over_tolerance += row.over_tolerance;
+        total_points = total_points.saturating_add(row.points);
+        let ai = polys[i].1.area;
+        for (j, flux, error) in row.pairs {
+            let aj = polys[j].1.area;
             // Reciprocity (2.8): one flux, two form factors; a value above 1 (possible only
             // within the estimate) is clamped and the clamp added to the estimate.
-            let (fij, fji) = (r.flux / ps.area, r.flux / pt.area);
+            let (fij, fji) = (flux / ai, flux / aj);
             f[i * n + j] = fij.min(1.0);
             f[j * n + i] = fji.min(1.0);
-            errors[i * n + j] = r.error / ps.area + (fij - 1.0).max(0.0);
-            errors[j * n + i] = r.error / pt.area + (fji - 1.0).max(0.0);
+            errors[i * n + j] = error / ai + (fij - 1.0).max(0.0);
+            errors[j * n + i] = error / aj + (fji - 1.0).max(0.0);
         }
     }
     let areas: Vec<f64> = polys.iter().map(|(_, p)| p.area).collect();
-    cap_rows(&mut f, &mut errors, n);
+    if may_occlude {
+        cap_rows(&mut f, &mut errors, n);
+    }
     Ok(OccludedFormFactors {
         form_factors: FormFactors::from_patch_matrix(&areas, f)?,
         errors,

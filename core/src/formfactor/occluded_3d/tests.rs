@@ -373,3 +373,100 @@ fn a_work_cap_is_reported() {
     let r = form_factors_occluded(&points, &polys, &o).unwrap();
     assert!(r.over_tolerance > 0 && r.max_error() > 1e-10);
 }
+
+/// How often the a-posteriori estimate `4 |Q_fine − Q_coarse|` covers the true error
+/// (docs/occlusion.md, "How honest the estimate is"): over configurations with an exact
+/// or a very fine reference, the fraction of cases where `|F − F_ref| ≤ estimate`.
+///
+/// - coaxial plates with centred blockers of 5 sizes (closed-form inner integral,
+///   Gauss–Legendre outer: rounding-accurate), tolerances 10⁻³ … 10⁻⁸;
+/// - the perpendicular pair with 4 partial blockers (reference as above), 10⁻³ … 10⁻⁷;
+/// - every occluded pair of the box in a room, at 10⁻³ and 10⁻⁴, against the same pair at
+///   10⁻⁸ (its own estimate added to the allowance: the reference is not exact).
+///
+/// The test prints the coverage of each family and the worst ratio error/estimate, and
+/// asserts the coverage is at least 90 % over all: an estimate that covered less would be
+/// no error estimate at all. Seen (2026-11-27): 152/152 cases covered, worst ratios 0.18
+/// (coaxial), 0.08 (perpendicular), 0.12 (box in room).
+#[test]
+#[ignore = "the estimate-coverage study of docs/occlusion.md: about 4 minutes in the test \
+            profile on a busy 2-core machine; run with `cargo test -p sceneinfo --lib \
+            estimate_coverage -- --ignored --nocapture`"]
+fn estimate_coverage_against_references() {
+    let mut cases: Vec<(&str, f64, f64)> = Vec::new(); // (family, |error|, allowance)
+    let source = centred_square(0.5, 0.0, true);
+    let target = centred_square(0.5, 2.0, false);
+    for b in [0.1, 0.25, 0.4, 0.6, 0.9] {
+        let blocker = centred_square(0.5 * b, 1.0, true);
+        let reference = coaxial_reference(b);
+        for tol in [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8] {
+            let o = OcclusionOptions::new(tol);
+            let r = occluded_flux(&source, &target, &[&blocker], &o).unwrap();
+            cases.push(("coaxial", (r.flux - reference).abs(), r.error));
+        }
+    }
+    let floor = [v(0., 0., 0.), v(1., 0., 0.), v(1., 1., 0.), v(0., 1., 0.)];
+    let wall = [v(0., 0., 0.), v(0., 1., 0.), v(0., 1., 1.), v(0., 0., 1.)];
+    for (h, ys, zs) in [
+        (0.3, (0.2, 0.7), (0.1, 0.5)),
+        (0.5, (0.0, 0.4), (0.2, 0.9)),
+        (0.15, (0.3, 1.2), (0.05, 0.3)),
+        (0.7, (-0.2, 0.5), (0.0, 0.6)),
+    ] {
+        let blocker = [
+            v(h, ys.0, zs.0),
+            v(h, ys.1, zs.0),
+            v(h, ys.1, zs.1),
+            v(h, ys.0, zs.1),
+        ];
+        let reference = perpendicular_reference(h, ys, zs);
+        for tol in [1e-3, 1e-4, 1e-5, 1e-6, 1e-7] {
+            let o = OcclusionOptions::new(tol);
+            let r = occluded_flux(&floor, &wall, &[&blocker], &o).unwrap();
+            cases.push(("perpendicular", (r.flux - reference).abs(), r.error));
+        }
+    }
+    let (points, polys) = box_in_room();
+    let poly = |k: usize| &points[polys[k].0..polys[k].0 + polys[k].1];
+    let n = polys.len();
+    let fine = OcclusionOptions::new(1e-8);
+    for i in 0..n {
+        for j in i + 1..n {
+            let others: Vec<&[DVec3]> = (0..n).filter(|&k| k != i && k != j).map(poly).collect();
+            let Ok(reference) = occluded_flux(poly(i), poly(j), &others, &fine) else {
+                continue;
+            };
+            if reference.points == 0 {
+                continue; // the pair faces away or has no occluder: exact path
+            }
+            for tol in [1e-3, 1e-4] {
+                let r =
+                    occluded_flux(poly(i), poly(j), &others, &OcclusionOptions::new(tol)).unwrap();
+                cases.push((
+                    "box in room",
+                    (r.flux - reference.flux).abs(),
+                    r.error + reference.error,
+                ));
+            }
+        }
+    }
+    let mut covered_all = 0;
+    for family in ["coaxial", "perpendicular", "box in room"] {
+        let of: Vec<_> = cases.iter().filter(|c| c.0 == family).collect();
+        let covered = of.iter().filter(|c| c.1 <= c.2.max(1e-13)).count();
+        let worst = of.iter().map(|c| c.1 / c.2.max(1e-13)).fold(0.0, f64::max);
+        std::println!(
+            "coverage {family}: {covered}/{} ({:.1} %), worst error/estimate {worst:.2}",
+            of.len(),
+            100.0 * covered as f64 / of.len() as f64
+        );
+        covered_all += covered;
+    }
+    let share = covered_all as f64 / cases.len() as f64;
+    std::println!(
+        "coverage all: {covered_all}/{} ({:.1} %)",
+        cases.len(),
+        100.0 * share
+    );
+    assert!(share >= 0.9, "coverage {share}");
+}
