@@ -165,6 +165,9 @@ fn for_each_dense_symmetric(
         }
     };
     let info_at = |k: usize| info.and_then(|v| v.get(k)).copied().unwrap_or(0);
+    if carries.is_empty() && info.is_none() {
+        return for_each_dense_counts(n, counts, f);
+    }
     let rows = GATHER_ROWS.min(n);
     let mut upper_counts = vec![0u64; rows * n];
     let mut upper_info = vec![0i128; if info.is_some() { rows * n } else { 0 }];
@@ -198,6 +201,41 @@ fn for_each_dense_symmetric(
                 let v = upper_info.get(row + j).copied().unwrap_or(0);
                 if c > 0 || v != 0 {
                     f(i, j, c, v);
+                }
+            }
+        }
+    }
+}
+
+/// [`for_each_dense_symmetric`] of counts without carries or information (the common
+/// case: every count below `2³²`, more than [`DENSE_PAIR_LIMIT`] patches), on slices.
+fn for_each_dense_counts(n: usize, counts: &[u32], mut f: impl FnMut(usize, usize, u64, i128)) {
+    let rows = GATHER_ROWS.min(n);
+    let mut upper = vec![0u32; rows * n];
+    for i0 in (0..n).step_by(GATHER_ROWS) {
+        let i1 = (i0 + GATHER_ROWS).min(n);
+        for j in i0 + 1..n {
+            let base = j * (j + 1) / 2;
+            let run = counts.get(base + i0..base + i1.min(j)).unwrap_or(&[]);
+            for (r, &c) in run.iter().enumerate() {
+                if let Some(u) = upper.get_mut(r * n + j) {
+                    *u = c;
+                }
+            }
+        }
+        for i in i0..i1 {
+            let base = i * (i + 1) / 2;
+            let lower = counts.get(base..=base + i).unwrap_or(&[]);
+            for (j, &c) in lower.iter().enumerate() {
+                if c > 0 {
+                    f(i, j, u64::from(c) << u32::from(i == j), 0);
+                }
+            }
+            let row = (i - i0) * n;
+            let upper_row = upper.get(row + i + 1..row + n).unwrap_or(&[]);
+            for (j, &c) in (i + 1..).zip(upper_row) {
+                if c > 0 {
+                    f(i, j, u64::from(c), 0);
                 }
             }
         }
@@ -919,6 +957,12 @@ mod tests {
             .map(|&(i, j, _)| (i, j, info[tri(i, j)]))
             .collect();
         assert_eq!(walked, plain);
+        // Without information (more than DENSE_PAIR_LIMIT patches): the counts-only walk
+        let mut counts_only = dense.clone();
+        if let PairCounts::Dense { info, .. } = &mut counts_only {
+            *info = None;
+        }
+        assert_eq!(collect(&mut counts_only), expected);
     }
 
     #[test]
