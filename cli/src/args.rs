@@ -279,6 +279,11 @@ pub struct BenchArgs {
     /// Run only the parts whose name contains this text (a scene's name, `exact`, `curve`).
     #[arg(long)]
     pub only: Option<String>,
+    /// Repetitions of every measurement (the configurations of a scene interleaved: naive,
+    /// global 1t, global Nt, bundle 1t, bundle Nt, then again); rates are printed as
+    /// median [min-max].
+    #[arg(long, default_value_t = 3)]
+    pub reps: usize,
     /// Also run the memory check: this many global lines on the 99,846-patch cube (sparse
     /// counts) on all threads, printing the time and the peak resident memory.
     #[arg(long, value_name = "N", value_parser = parse_count)]

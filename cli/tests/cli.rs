@@ -544,7 +544,16 @@ fn refine_obj_writes_its_outputs_when_some_leaf_misses_the_lines() {
 #[test]
 fn bench_prints_rates_beside_the_naive_baseline_and_the_load() {
     // One small scene only: naive, 1 and 2 threads, each a pair of short jobs.
-    let json = stdout_of(&["bench", "--only", "triangle", "--json", "--threads", "2"]);
+    let json = stdout_of(&[
+        "bench",
+        "--only",
+        "triangle",
+        "--json",
+        "--threads",
+        "2",
+        "--reps",
+        "2",
+    ]);
     assert!(json.contains("\"triangle (30)\""), "{json}");
     assert!(
         !json.contains("cube"),
@@ -565,4 +574,17 @@ fn bench_prints_rates_beside_the_naive_baseline_and_the_load() {
     assert!((1.3..1.6).contains(&hits), "{hits}");
     assert_eq!(json_number(&json, "patches"), 30.0);
     assert_eq!(json_number(&json, "threads"), 2.0);
+    // Repeated measurements: min <= median <= max, the repetitions, cores and noise flag
+    assert_eq!(json_number(&json, "repetitions"), 2.0);
+    assert!(json_number(&json, "cores") >= 1.0, "{json}");
+    assert!(
+        json.contains("\"noisy\":true") || json.contains("\"noisy\":false"),
+        "{json}"
+    );
+    let (lo, mid, hi) = (
+        json_number(&json, "lines_per_cpu_second_1_thread_min"),
+        json_number(&json, "lines_per_cpu_second_1_thread"),
+        json_number(&json, "lines_per_cpu_second_1_thread_max"),
+    );
+    assert!(lo > 0.0 && lo <= mid && mid <= hi, "{lo} {mid} {hi}");
 }

@@ -41,13 +41,13 @@ struct McRow {
     /// Samples (crossings) per line.
     hits_per_line: f64,
     /// Naive baseline, 1 thread, lines per CPU second.
-    naive: f64,
+    naive: Spread,
     /// BVH, 1 thread, lines per CPU second.
-    one: f64,
+    one: Spread,
     /// BVH, 1 thread, lines per wall second.
-    one_wall: f64,
+    one_wall: Spread,
     /// BVH, `threads` threads, lines per wall second.
-    many: f64,
+    many: Spread,
     peak_mb: Option<f64>,
     count_bytes: usize,
     pairs: u64,
@@ -57,14 +57,14 @@ struct McRow {
 struct BundleRow {
     name: &'static str,
     /// Global lines: 1 thread, lines per CPU second of the whole job; the figure of merit
-    /// of `I_S^c`.
-    global: f64,
+    /// of `I_S^c` (of the repetition with the median rate).
+    global: Spread,
     global_merit: Merit,
     /// Bundles: 1 thread, lines per CPU second of the whole job and (marginal) per wall
     /// second; `threads`, per wall second (marginal); the figure of merit of `I_S^c`.
-    bundle: f64,
-    bundle_wall: f64,
-    bundle_many: f64,
+    bundle: Spread,
+    bundle_wall: Spread,
+    bundle_many: Spread,
     bundle_merit: Merit,
 }
 
@@ -114,7 +114,7 @@ struct ExactRow {
 struct CurvePoint {
     mesh: String,
     patches: usize,
-    ns_per_line: f64,
+    ns_per_line: Spread,
     /// Of it, sampling the line and finding its hits (`Tracer3::global_line_hits`), without
     /// the tally.
     query_ns_per_line: f64,
@@ -123,6 +123,7 @@ struct CurvePoint {
 
 pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
     let budget = if args.full { 3.0 } else { 0.25 };
+    let reps = args.reps.max(1);
     let start = Instant::now();
     let load_before = load_average();
     let mut mc = Vec::new();
@@ -146,9 +147,8 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
         reset_peak();
         let tracer = Tracer2::new(&scene)?;
         let naive = Tracer2::new(&scene)?.naive_baseline();
-        let (row, global_merit) = bench_scene(name, &tracer, &naive, budget, threads);
-        note(&format!("{name}: bundles"));
-        bundles.push(bench_bundles(name, &tracer, global_merit, budget, threads));
+        let (row, bundle) = bench_scene(name, &tracer, &naive, budget, threads, reps);
+        bundles.push(bundle);
         mc.push(row);
     }
     let solid: [Named<Scene3>; 5] = [
@@ -164,9 +164,8 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
         reset_peak();
         let tracer = Tracer3::new(&scene)?;
         let naive = Tracer3::new(&scene)?.naive_baseline();
-        let (row, global_merit) = bench_scene(name, &tracer, &naive, budget, threads);
-        note(&format!("{name}: bundles"));
-        bundles.push(bench_bundles(name, &tracer, global_merit, budget, threads));
+        let (row, bundle) = bench_scene(name, &tracer, &naive, budget, threads, reps);
+        bundles.push(bundle);
         mc.push(row);
     }
 
@@ -207,13 +206,19 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
                 format!("cube grid {k}"),
                 &Scene3::cube(k)?,
                 budget,
+                reps,
             )?);
         }
         let levels: &[u32] = if args.full { &[1, 3, 5, 7] } else { &[1, 3, 5] };
         for &l in levels {
             note(&format!("curve: triangulated cube level {l}"));
             let scene = triangulated_cube(l)?;
-            curve.push(curve_point(format!("cube triangles {l}"), &scene, budget)?);
+            curve.push(curve_point(
+                format!("cube triangles {l}"),
+                &scene,
+                budget,
+                reps,
+            )?);
         }
     }
 
@@ -230,7 +235,12 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
 
     let total = start.elapsed().as_secs_f64();
     let load = [load_before, load_average()];
+    let cores = crate::config::cores();
+    let noise = noise(&mc, &bundles, &curve, load, cores);
     let report = Report {
+        reps,
+        cores,
+        noise: &noise,
         mc: &mc,
         bundles: &bundles,
         exact: &exact,
@@ -252,6 +262,12 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
 
 /// Everything `bench` measured, for printing.
 struct Report<'a> {
+    /// Repetitions of every measurement.
+    reps: usize,
+    /// Logical CPUs of the machine.
+    cores: usize,
+    /// Why the run is noisy (empty: it is not).
+    noise: &'a [String],
     mc: &'a [McRow],
     bundles: &'a [BundleRow],
     exact: &'a [ExactRow],
@@ -321,6 +337,153 @@ fn triangulated_cube(level: u32) -> Result<Scene3> {
     Ok(b.build()?)
 }
 
+/// Min, median and max of one figure over the repetitions of a benchmark.
+#[derive(Clone, Copy, Debug)]
+struct Spread {
+    min: f64,
+    median: f64,
+    max: f64,
+}
+
+impl Spread {
+    /// The spread of `xs` (the median of an even count is the mean of the middle two);
+    /// zeros for no value.
+    fn of(xs: &[f64]) -> Self {
+        let mut v: Vec<f64> = xs.iter().copied().filter(|x| x.is_finite()).collect();
+        if v.is_empty() {
+            return Self {
+                min: 0.0,
+                median: 0.0,
+                max: 0.0,
+            };
+        }
+        v.sort_by(f64::total_cmp);
+        let n = v.len();
+        let median = if n % 2 == 1 {
+            v[n / 2]
+        } else {
+            0.5 * (v[n / 2 - 1] + v[n / 2])
+        };
+        Self {
+            min: v[0],
+            median,
+            max: v[n - 1],
+        }
+    }
+
+    /// `max / min`: 1 for a figure that repeats exactly.
+    fn max_over_min(&self) -> f64 {
+        if self.min > 0.0 {
+            self.max / self.min
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// `median [min–max]` in millions, for the tables.
+    fn millions(&self) -> String {
+        format!(
+            "{:.3} [{:.3}-{:.3}]",
+            self.median / 1e6,
+            self.min / 1e6,
+            self.max / 1e6
+        )
+    }
+}
+
+/// A spread above this (`max / min` of a rate over the repetitions) flags the run as noisy.
+const NOISY_SPREAD: f64 = 1.3;
+/// A 1-minute load average above this share of the cores flags the run as noisy.
+const NOISY_LOAD_PER_CORE: f64 = 0.25;
+
+/// One configuration a benchmark compares: a tracer, a line method and a thread count.
+struct Config<'a> {
+    tracer: &'a (dyn LineTracer + Sync),
+    method: LineMethod,
+    threads: usize,
+}
+
+/// One repetition of a configuration: its marginal rates and what its longer job's tally
+/// held (the tally itself is dropped: a 5400-patch tally is 58 MB).
+struct Sample {
+    rate: Rate,
+    merit: Merit,
+    /// Samples (crossings) per line.
+    hits_per_line: f64,
+    /// [`LineTally::count_memory`].
+    count_memory: (usize, u64),
+}
+
+impl Config<'_> {
+    fn job(&self, lines: u64) -> (LineTally, crate::lines::JobTimes) {
+        crate::lines::run_chunks_timed(
+            self.tracer,
+            self.method,
+            SEED,
+            lines,
+            0..sceneinfo::LineSession::chunk_count(lines),
+            self.threads,
+        )
+    }
+
+    /// The job length `L` of this configuration: grown (×2, from 256) until a job of `L`
+    /// lines takes half of `budget` (wall time), so that `t(2L) − t(L)` is large beside
+    /// the noise of what a job pays once.
+    fn calibrate(&self, budget: f64) -> u64 {
+        let mut lines = 256u64;
+        loop {
+            let (_, job) = self.job(lines);
+            if job.wall >= budget / 2.0 || lines >= 1 << 40 {
+                return lines;
+            }
+            lines *= 2;
+        }
+    }
+
+    /// Jobs of `L` and `2L` lines: the marginal rates `L / (t(2L) − t(L))` on both clocks,
+    /// which leave out what a job pays once (allocating and merging the tallies — 58 MB a
+    /// thread for the 5400-patch cube's dense counts — and starting threads). A difference
+    /// that is not positive (noise larger than a job) falls back to the rate of the `2L` job.
+    fn sample(&self, lines: u64) -> Sample {
+        let marginal = |t1: f64, t2: f64| {
+            if t2 > t1 {
+                lines as f64 / (t2 - t1)
+            } else {
+                2.0 * lines as f64 / t2.max(1e-9)
+            }
+        };
+        let (_, job1) = self.job(lines);
+        let (tally, job2) = self.job(2 * lines);
+        let rate = Rate {
+            wall: marginal(job1.wall, job2.wall),
+            cpu: job1
+                .worker_cpu
+                .zip(job2.worker_cpu)
+                .map(|(c1, c2)| marginal(c1, c2)),
+        };
+        Sample {
+            rate,
+            merit: Merit::of(&tally, &job2),
+            hits_per_line: tally.continuous().samples as f64 / tally.lines().max(1) as f64,
+            count_memory: tally.count_memory(),
+        }
+    }
+}
+
+/// Runs every configuration `reps` times, interleaved (A B C A B C …, after calibrating
+/// each one's job length once), so that a drift of the machine's speed touches all of
+/// them alike. Returns each configuration's samples in repetition order.
+fn interleaved(configs: &[Config<'_>], budget: f64, reps: usize) -> Vec<Vec<Sample>> {
+    let lengths: Vec<u64> = configs.iter().map(|c| c.calibrate(budget)).collect();
+    let mut samples: Vec<Vec<Sample>> = configs.iter().map(|_| Vec::new()).collect();
+    for _ in 0..reps.max(1) {
+        for ((c, &l), out) in configs.iter().zip(&lengths).zip(&mut samples) {
+            out.push(c.sample(l));
+        }
+    }
+    samples
+}
+
 /// Rates of a tracer on some threads: lines per second of wall time and per second of
 /// the workers' CPU time.
 struct Rate {
@@ -338,115 +501,114 @@ impl Rate {
     }
 }
 
-/// Rates of `tracer` casting lines of `method` on `threads` threads, and the tally and
-/// times of the last job.
-///
-/// Jobs of `L` and `2L` lines give the marginal rates `L / (t(2L) − t(L))`, with `L` grown
-/// (×2) until a job of `L` lines takes half of `budget`: the difference then leaves out
-/// what a job pays once (allocating and merging the tallies — 233 MB a thread for the
-/// 5400-patch cube's dense counts — and starting threads), so it is the rate of a long
-/// job, and it is large beside the noise of those costs. (A difference that is not
-/// positive — noise larger than a job — falls back to the rate of the `2L` job.)
-fn rate<T: LineTracer + Sync>(
-    tracer: &T,
-    method: LineMethod,
-    budget: f64,
-    threads: usize,
-) -> (Rate, LineTally, crate::lines::JobTimes) {
-    let timed = |lines: u64| {
-        crate::lines::run_chunks_timed(
-            tracer,
-            method,
-            SEED,
-            lines,
-            0..sceneinfo::LineSession::chunk_count(lines),
-            threads,
-        )
-    };
-    let marginal = |lines: u64, t1: f64, t2: f64| {
-        if t2 > t1 {
-            lines as f64 / (t2 - t1)
-        } else {
-            2.0 * lines as f64 / t2.max(1e-9)
-        }
-    };
-    let mut lines = 4096u64;
-    loop {
-        let (_, job1) = timed(lines);
-        if job1.wall >= budget / 2.0 || lines >= 1 << 40 {
-            let (tally, job2) = timed(2 * lines);
-            let wall = marginal(lines, job1.wall, job2.wall);
-            let cpu = job1
-                .worker_cpu
-                .zip(job2.worker_cpu)
-                .map(|(c1, c2)| marginal(lines, c1, c2));
-            return (Rate { wall, cpu }, tally, job2);
-        }
-        lines *= 2;
-    }
+/// The spread of `f` over samples.
+fn spread(samples: &[Sample], f: impl Fn(&Sample) -> f64) -> Spread {
+    Spread::of(&samples.iter().map(f).collect::<Vec<_>>())
 }
 
+/// Global lines (naive baseline, BVH on 1 and `threads` threads) and bundles (1 and
+/// `threads` threads) on one scene, the five configurations interleaved `reps` times.
 fn bench_scene<T: LineTracer + Sync>(
     name: &'static str,
     tracer: &T,
     naive: &T,
     budget: f64,
     threads: usize,
-) -> (McRow, Merit) {
-    let (naive_rate, _, _) = rate(naive, LineMethod::Global, budget, 1);
-    let (one, one_tally, one_job) = rate(tracer, LineMethod::Global, budget, 1);
-    let (many, tally, _) = rate(tracer, LineMethod::Global, budget, threads);
-    let (count_bytes, pairs) = tally.count_memory();
-    let samples = tally.continuous().samples;
+    reps: usize,
+) -> (McRow, BundleRow) {
+    let configs = [
+        Config {
+            tracer: naive,
+            method: LineMethod::Global,
+            threads: 1,
+        },
+        Config {
+            tracer,
+            method: LineMethod::Global,
+            threads: 1,
+        },
+        Config {
+            tracer,
+            method: LineMethod::Global,
+            threads,
+        },
+        Config {
+            tracer,
+            method: LineMethod::Bundle,
+            threads: 1,
+        },
+        Config {
+            tracer,
+            method: LineMethod::Bundle,
+            threads,
+        },
+    ];
+    let s = interleaved(&configs, budget, reps);
+    let [naive_s, one_s, many_s, b_one_s, b_many_s] = &s[..] else {
+        unreachable!("five configurations")
+    };
+    let ((count_bytes, pairs), hits_per_line) = many_s
+        .last()
+        .map_or(((0, 0), 0.0), |x| (x.count_memory, x.hits_per_line));
     let row = McRow {
         name,
         patches: tracer.n_patches(),
-        hits_per_line: samples as f64 / tally.lines().max(1) as f64,
-        naive: naive_rate.cpu_or_wall(),
-        one: one.cpu_or_wall(),
-        one_wall: one.wall,
-        many: many.wall,
+        hits_per_line,
+        naive: spread(naive_s, |x| x.rate.cpu_or_wall()),
+        one: spread(one_s, |x| x.rate.cpu_or_wall()),
+        one_wall: spread(one_s, |x| x.rate.wall),
+        many: spread(many_s, |x| x.rate.wall),
         peak_mb: peak_bytes().map(|b| b as f64 / 1e6),
         count_bytes,
         pairs,
     };
-    (row, Merit::of(&one_tally, &one_job))
-}
-
-/// Bundles of parallel lines on the scene of `tracer`, beside its global lines' figure of
-/// merit from the same run.
-fn bench_bundles<T: LineTracer + Sync>(
-    name: &'static str,
-    tracer: &T,
-    global_merit: Merit,
-    budget: f64,
-    threads: usize,
-) -> BundleRow {
-    let (one, tally, job) = rate(tracer, LineMethod::Bundle, budget, 1);
-    // The 1-thread rates of this table are whole-job rates (lines per CPU second of the
-    // 2L-line job), like the efficiency: for these scenes a job's fixed costs are small,
-    // and unlike the marginal rates they stay sane under heavy load.
-    let (many, _, _) = rate(tracer, LineMethod::Bundle, budget, threads);
-    BundleRow {
+    let merit = |v: &[Sample]| {
+        let m: Vec<Merit> = v.iter().map(|x| x.merit).collect();
+        // The repetition of median whole-job rate stands for the configuration
+        let mut order: Vec<usize> = (0..m.len()).collect();
+        order.sort_by(|&a, &b| m[a].rate().total_cmp(&m[b].rate()));
+        (
+            m[order[order.len() / 2]],
+            Spread::of(&m.iter().map(Merit::rate).collect::<Vec<_>>()),
+        )
+    };
+    let (global_merit, global) = merit(one_s);
+    let (bundle_merit, bundle) = merit(b_one_s);
+    let bundles = BundleRow {
         name,
-        global: global_merit.rate(),
+        global,
         global_merit,
-        bundle: Merit::of(&tally, &job).rate(),
-        bundle_wall: one.wall,
-        bundle_many: many.wall,
-        bundle_merit: Merit::of(&tally, &job),
-    }
+        bundle,
+        bundle_wall: spread(b_one_s, |x| x.rate.wall),
+        bundle_many: spread(b_many_s, |x| x.rate.wall),
+        bundle_merit,
+    };
+    (row, bundles)
 }
 
-fn curve_point(mesh: String, scene: &Scene3, budget: f64) -> Result<CurvePoint> {
+fn curve_point(mesh: String, scene: &Scene3, budget: f64, reps: usize) -> Result<CurvePoint> {
     let tracer = Tracer3::new(scene)?;
-    let (r, tally, _) = rate(&tracer, LineMethod::Global, budget, 1);
+    let config = Config {
+        tracer: &tracer,
+        method: LineMethod::Global,
+        threads: 1,
+    };
+    let lines = config.calibrate(budget);
+    // The full job and the query alone, alternated
+    let (mut full, mut query) = (Vec::new(), Vec::new());
+    let mut hits_per_line = 0.0;
+    for _ in 0..reps.max(1) {
+        let s = config.sample(lines);
+        full.push(1e9 / s.rate.cpu_or_wall());
+        hits_per_line = s.hits_per_line;
+        query.push(query_ns_per_line(scene, budget)?);
+    }
     Ok(CurvePoint {
         mesh,
         patches: tracer.n_patches(),
-        ns_per_line: 1e9 / r.cpu_or_wall(),
-        query_ns_per_line: query_ns_per_line(scene, budget)?,
-        hits_per_line: tally.continuous().samples as f64 / tally.lines().max(1) as f64,
+        ns_per_line: Spread::of(&full),
+        query_ns_per_line: Spread::of(&query).median,
+        hits_per_line,
     })
 }
 
@@ -454,7 +616,7 @@ fn curve_point(mesh: String, scene: &Scene3, budget: f64) -> Result<CurvePoint> 
 /// all its hits with the BVH, without tallying them: the query's share of a curve point's
 /// cost, the rest being the tally's. Lines as in the tracer's jobs (seed [`SEED`], chunk
 /// 0's stream); jobs of `L` and `2L` lines, `L` grown until a job takes half of `budget`,
-/// as in `rate`.
+/// as in [`Config::calibrate`].
 fn query_ns_per_line(scene: &Scene3, budget: f64) -> Result<f64> {
     let tracer = Tracer3::new(scene)?;
     let timed = |lines: u64| {
@@ -473,6 +635,46 @@ fn query_ns_per_line(scene: &Scene3, budget: f64) -> Result<f64> {
         }
         lines *= 2;
     }
+}
+
+/// Why a run's figures are not to be trusted: a 1-minute load average above
+/// [`NOISY_LOAD_PER_CORE`] of the cores before or after, or a rate whose `max / min` over
+/// the repetitions exceeds [`NOISY_SPREAD`] (one line each; empty for a quiet run).
+fn noise(
+    mc: &[McRow],
+    bundles: &[BundleRow],
+    curve: &[CurvePoint],
+    load: [Option<f64>; 2],
+    cores: usize,
+) -> Vec<String> {
+    let mut why = Vec::new();
+    let limit = NOISY_LOAD_PER_CORE * cores as f64;
+    for (when, l) in ["before", "after"].iter().zip(load) {
+        if let Some(l) = l.filter(|&l| l > limit) {
+            why.push(format!(
+                "load average {l:.2} {when} > {limit:.2} ({NOISY_LOAD_PER_CORE} x {cores} cores)"
+            ));
+        }
+    }
+    let mut check = |what: String, s: &Spread| {
+        let r = s.max_over_min();
+        if r > NOISY_SPREAD {
+            why.push(format!("{what}: max/min {r:.2} > {NOISY_SPREAD}"));
+        }
+    };
+    for m in mc {
+        check(format!("{} naive 1t", m.name), &m.naive);
+        check(format!("{} global 1t", m.name), &m.one);
+        check(format!("{} global Nt", m.name), &m.many);
+    }
+    for b in bundles {
+        check(format!("{} bundle 1t", b.name), &b.bundle);
+        check(format!("{} bundle Nt", b.name), &b.bundle_many);
+    }
+    for p in curve {
+        check(format!("curve {}", p.mesh), &p.ns_per_line);
+    }
+    why
 }
 
 /// Resets the kernel's peak-RSS mark of this process (Linux; ignored elsewhere).
@@ -499,11 +701,21 @@ fn table(r: &Report, budget: f64) -> String {
     let threads = r.threads;
     let _ = writeln!(
         s,
-        "Load average (1 min) {} before, {} after, on {} cores",
+        "Load average (1 min) {} before, {} after, on {} cores; {} repetitions of every \
+         measurement, configurations of a scene interleaved; rates: median [min-max]",
         or_na(r.load[0]),
         or_na(r.load[1]),
-        crate::config::cores()
+        r.cores,
+        r.reps
     );
+    if r.noise.is_empty() {
+        let _ = writeln!(s, "quiet run: load and spreads within the limits");
+    } else {
+        let _ = writeln!(s, "NOISY RUN (figures are rough indications only):");
+        for w in r.noise {
+            let _ = writeln!(s, "  {w}");
+        }
+    }
     if !r.mc.is_empty() {
         let _ = writeln!(
             s,
@@ -513,7 +725,7 @@ fn table(r: &Report, budget: f64) -> String {
         );
         let _ = writeln!(
             s,
-            "{:<20} {:>7} {:>6} {:>9} {:>8} {:>9} {:>8} {:>9} {:>6} {:>8} {:>9} {:>7}",
+            "{:<20} {:>7} {:>6} {:>9} {:>21} {:>21} {:>21} {:>9} {:>6} {:>8} {:>9} {:>7}",
             "scene",
             "patches",
             "hits",
@@ -537,16 +749,16 @@ fn table(r: &Report, budget: f64) -> String {
         };
         let _ = writeln!(
             s,
-            "{:<20} {:>7} {:>6.2} {:>9.4} {:>8.3} {:>9.3} {:>8.3} {:>9.1} {:>6.2} {:>8} {:>9.1} {:>7}",
+            "{:<20} {:>7} {:>6.2} {:>9.4} {:>21} {:>21} {:>21} {:>9.1} {:>6.2} {:>8} {:>9.1} {:>7}",
             m.name,
             m.patches,
             m.hits_per_line,
-            m.naive / 1e6,
-            m.one / 1e6,
-            m.one_wall / 1e6,
-            m.many / 1e6,
-            m.one / m.naive,
-            m.many / m.one_wall,
+            m.naive.median / 1e6,
+            m.one.millions(),
+            m.one_wall.millions(),
+            m.many.millions(),
+            m.one.median / m.naive.median,
+            m.many.median / m.one_wall.median,
             m.peak_mb.map_or("n/a".to_string(), |m| format!("{m:.0}")),
             m.count_bytes as f64 / 1e6,
             per_pair
@@ -562,7 +774,7 @@ fn table(r: &Report, budget: f64) -> String {
         );
         let _ = writeln!(
             s,
-            "{:<20} {:>9} {:>9} {:>9} {:>9} {:>8} {:>11} {:>11} {:>11} {:>7}",
+            "{:<20} {:>21} {:>21} {:>21} {:>21} {:>8} {:>11} {:>11} {:>11} {:>7}",
             "scene",
             "global 1t",
             "bundle 1t",
@@ -579,13 +791,13 @@ fn table(r: &Report, budget: f64) -> String {
         let (g, u) = (&b.global_merit, &b.bundle_merit);
         let _ = writeln!(
             s,
-            "{:<20} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>8.2} {:>11.3e} {:>11.3e} {:>11.3} {:>7.1}",
+            "{:<20} {:>21} {:>21} {:>21} {:>21} {:>8.2} {:>11.3e} {:>11.3e} {:>11.3} {:>7.1}",
             b.name,
-            b.global / 1e6,
-            b.bundle / 1e6,
-            b.bundle_wall / 1e6,
-            b.bundle_many / 1e6,
-            b.bundle / b.global,
+            b.global.millions(),
+            b.bundle.millions(),
+            b.bundle_wall.millions(),
+            b.bundle_many.millions(),
+            b.bundle.median / b.global.median,
             g.efficiency(),
             u.efficiency(),
             u.stderr_per_line() / g.stderr_per_line(),
@@ -606,20 +818,23 @@ fn table(r: &Report, budget: f64) -> String {
         let _ = writeln!(
             s,
             "\nCost per global line against patches (1 thread, full tally, CPU time)\n\
-             {:<20} {:>8} {:>9} {:>9} {:>6} {:>12}",
-            "mesh", "patches", "ns/line", "query ns", "hits", "ns/log2(n)"
+             {:<20} {:>8} {:>19} {:>9} {:>6} {:>12}",
+            "mesh", "patches", "ns/line [min-max]", "query ns", "hits", "ns/log2(n)"
         );
     }
     for p in r.curve {
         let _ = writeln!(
             s,
-            "{:<20} {:>8} {:>9.0} {:>9.0} {:>6.2} {:>12.1}",
+            "{:<20} {:>8} {:>19} {:>9.0} {:>6.2} {:>12.1}",
             p.mesh,
             p.patches,
-            p.ns_per_line,
+            format!(
+                "{:.0} [{:.0}-{:.0}]",
+                p.ns_per_line.median, p.ns_per_line.min, p.ns_per_line.max
+            ),
             p.query_ns_per_line,
             p.hits_per_line,
-            p.ns_per_line / (p.patches as f64).log2()
+            p.ns_per_line.median / (p.patches as f64).log2()
         );
     }
     if let Some(m) = r.memory {
@@ -650,6 +865,10 @@ fn json(r: &Report) -> Result<String> {
     let mut s = String::new();
     let mut o = JsonObject::new(&mut s).context("json")?;
     o.integer("threads", r.threads as u64)?;
+    o.integer("cores", r.cores as u64)?;
+    o.integer("repetitions", r.reps as u64)?;
+    o.boolean("noisy", !r.noise.is_empty())?;
+    o.string("noise", &r.noise.join("; "))?;
     if let Some(l) = r.load[0] {
         o.number("load_average_before", l)?;
     }
@@ -661,12 +880,12 @@ fn json(r: &Report) -> Result<String> {
             o.object(m.name, |o| {
                 o.integer("patches", m.patches as u64)?;
                 o.number("hits_per_line", m.hits_per_line)?;
-                o.number("naive_lines_per_cpu_second", m.naive)?;
-                o.number("lines_per_cpu_second_1_thread", m.one)?;
-                o.number("lines_per_second_1_thread", m.one_wall)?;
-                o.number("lines_per_second", m.many)?;
-                o.number("speedup_over_naive", m.one / m.naive)?;
-                o.number("thread_scaling", m.many / m.one_wall)?;
+                spread_json(o, "naive_lines_per_cpu_second", &m.naive)?;
+                spread_json(o, "lines_per_cpu_second_1_thread", &m.one)?;
+                spread_json(o, "lines_per_second_1_thread", &m.one_wall)?;
+                spread_json(o, "lines_per_second", &m.many)?;
+                o.number("speedup_over_naive", m.one.median / m.naive.median)?;
+                o.number("thread_scaling", m.many.median / m.one_wall.median)?;
                 if let Some(p) = m.peak_mb {
                     o.number("peak_mb", p)?;
                 }
@@ -679,10 +898,10 @@ fn json(r: &Report) -> Result<String> {
     o.object("bundles", |o| {
         for b in r.bundles {
             o.object(b.name, |o| {
-                o.number("global_lines_per_cpu_second_1_thread", b.global)?;
-                o.number("bundle_lines_per_cpu_second_1_thread", b.bundle)?;
-                o.number("bundle_lines_per_second_1_thread", b.bundle_wall)?;
-                o.number("bundle_lines_per_second", b.bundle_many)?;
+                spread_json(o, "global_lines_per_cpu_second_1_thread", &b.global)?;
+                spread_json(o, "bundle_lines_per_cpu_second_1_thread", &b.bundle)?;
+                spread_json(o, "bundle_lines_per_second_1_thread", &b.bundle_wall)?;
+                spread_json(o, "bundle_lines_per_second", &b.bundle_many)?;
                 for (key, m) in [("global", &b.global_merit), ("bundle", &b.bundle_merit)] {
                     o.object(key, |o| {
                         o.integer("lines", m.lines)?;
@@ -709,7 +928,7 @@ fn json(r: &Report) -> Result<String> {
         for p in r.curve {
             o.object(&p.mesh, |o| {
                 o.integer("patches", p.patches as u64)?;
-                o.number("ns_per_line", p.ns_per_line)?;
+                spread_json(o, "ns_per_line", &p.ns_per_line)?;
                 o.number("query_ns_per_line", p.query_ns_per_line)?;
                 o.number("hits_per_line", p.hits_per_line)
             })?;
@@ -732,4 +951,16 @@ fn json(r: &Report) -> Result<String> {
     o.number("seconds", r.total)?;
     o.finish()?;
     Ok(s)
+}
+
+/// `key` = the median, and `key_min`, `key_max`.
+fn spread_json<W: std::fmt::Write>(
+    o: &mut JsonObject<'_, W>,
+    key: &str,
+    s: &Spread,
+) -> std::fmt::Result {
+    o.number(key, s.median)?;
+    o.number(&format!("{key}_min"), s.min)?;
+    o.number(&format!("{key}_max"), s.max)?;
+    Ok(())
 }
