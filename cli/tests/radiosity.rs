@@ -392,7 +392,9 @@ fn srgb_byte(c: f64) -> f64 {
 
 /// The number after `text`'s first `key` (up to a space or `)`).
 fn number_after(text: &str, key: &str) -> f64 {
-    let at = text.find(key).unwrap_or_else(|| panic!("no {key:?} in {text}"));
+    let at = text
+        .find(key)
+        .unwrap_or_else(|| panic!("no {key:?} in {text}"));
     let rest = &text[at + key.len()..];
     let end = rest.find([' ', ')', '\n']).unwrap_or(rest.len());
     rest[..end].parse().unwrap()
@@ -400,9 +402,8 @@ fn number_after(text: &str, key: &str) -> f64 {
 
 /// The face lines of an ASCII PLY file: the numbers after each face's index list.
 fn face_tails(text: &str) -> Vec<Vec<f64>> {
-    let count = |element: &str| -> usize {
-        number_after(text, &format!("element {element} ")) as usize
-    };
+    let count =
+        |element: &str| -> usize { number_after(text, &format!("element {element} ")) as usize };
     let body = &text[text.find("end_header\n").unwrap() + "end_header\n".len()..];
     body.lines()
         .skip(count("vertex"))
@@ -427,7 +428,13 @@ fn radiosity_and_refine_ply_colour_a_radiosity_alike() {
     // (radiosity B per face and channel, the face's colour, white) of each command
     let lit = temp("tone-radiosity.ply");
     let json = run_json(
-        &["--json", "--lines", "100000", "--ply", lit.to_str().unwrap()],
+        &[
+            "--json",
+            "--lines",
+            "100000",
+            "--ply",
+            lit.to_str().unwrap(),
+        ],
         &obj,
     );
     let text = std::fs::read_to_string(&lit).unwrap();
@@ -447,7 +454,11 @@ fn radiosity_and_refine_ply_colour_a_radiosity_alike() {
         .arg(&refined)
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let text = std::fs::read_to_string(&refined).unwrap();
     let white = number_after(&text, "radiosity / ");
     faces.extend(

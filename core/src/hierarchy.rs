@@ -65,8 +65,8 @@ pub use compare::OracleComparison;
 pub use element::Polygon4;
 #[cfg(feature = "alloc")]
 pub use image::{
-    GouraudImage, ImageError, ImageReference, LeafShade, MAX_IMAGE_SIDE,
-    leaf_vertex_radiosities, render_gouraud,
+    GouraudImage, ImageError, ImageReference, LeafShade, MAX_IMAGE_SIDE, leaf_vertex_radiosities,
+    render_gouraud,
 };
 #[cfg(feature = "alloc")]
 pub use mc_compare::{McComparison, McReference, mc_compare_against, mc_reference};

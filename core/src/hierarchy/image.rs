@@ -36,8 +36,8 @@ use crate::geom::{self, DVec3};
 use crate::hierarchy::element::Polygon4;
 use crate::hierarchy::monte_carlo::McHierarchy;
 use crate::hierarchy::tree::Hierarchy;
-use crate::math;
 use crate::image::{Camera3, ShadedPolygon, ToneMap, gouraud, interpolate};
+use crate::math;
 use crate::scene::{Material, Scene3};
 
 /// Largest picture side in pixels.

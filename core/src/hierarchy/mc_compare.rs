@@ -7,13 +7,11 @@ use alloc::vec::Vec;
 
 use crate::error::Result;
 use crate::geom::DVec3;
-use crate::hierarchy::image::{
-    ImageError, ImageReference, LeafShade, leaf_vertex_radiosities,
-};
+use crate::hierarchy::image::{ImageError, ImageReference, LeafShade, leaf_vertex_radiosities};
 use crate::hierarchy::monte_carlo::{McHierarchy, McOptions, McOracle};
-use crate::image::Camera3;
 use crate::hierarchy::target::{ThresholdSearch, bad_target, check_target, first_threshold};
 use crate::hierarchy::tree::Hierarchy;
+use crate::image::Camera3;
 use crate::scene::Scene3;
 
 /// Most solves per threshold search of [`mc_build_to_target`].

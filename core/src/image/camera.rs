@@ -56,7 +56,12 @@ impl Camera3 {
     /// [`ErrorKind::BadParameter`] for a field of view outside `(0, 180)` degrees, a zero
     /// image side, non-finite points or `eye = look`; [`ErrorKind::TooLarge`] for a side
     /// above [`Camera3::MAX_SIDE`].
-    pub fn new(eye: DVec3, look: DVec3, fov_degrees: f64, (width, height): (u32, u32)) -> Result<Self> {
+    pub fn new(
+        eye: DVec3,
+        look: DVec3,
+        fov_degrees: f64,
+        (width, height): (u32, u32),
+    ) -> Result<Self> {
         let bad = |name, value| Err(Error::new(ErrorKind::BadParameter { name, value }));
         if !(fov_degrees > 0.0 && fov_degrees < 180.0) {
             return bad("field of view (degrees)", fov_degrees);
@@ -197,7 +202,12 @@ mod tests {
         for bad in [
             Camera3::new(v(0., 0., -3.), DVec3::ZERO, 180.0, (4, 2)),
             Camera3::new(v(0., 0., -3.), DVec3::ZERO, 40.0, (0, 2)),
-            Camera3::new(v(0., 0., -3.), DVec3::ZERO, 40.0, (Camera3::MAX_SIDE + 1, 2)),
+            Camera3::new(
+                v(0., 0., -3.),
+                DVec3::ZERO,
+                40.0,
+                (Camera3::MAX_SIDE + 1, 2),
+            ),
             Camera3::new(DVec3::ZERO, DVec3::ZERO, 40.0, (4, 2)),
             Camera3::new(v(f64::NAN, 0., 0.), DVec3::ZERO, 40.0, (4, 2)),
         ] {

@@ -246,7 +246,12 @@ mod tests {
             // The ray through the pixel's centre meets y = −0.5 at t = −0.5 / d_y
             let d = c.direction(k as u32 % w, k as u32 / w, [0.5, 0.5]);
             let z = c.eye().z + d.z * (-0.5 / d.y);
-            assert!((value[0] - (z + 5.0)).abs() < 1e-9, "{k}: {} vs {}", value[0], z + 5.0);
+            assert!(
+                (value[0] - (z + 5.0)).abs() < 1e-9,
+                "{k}: {} vs {}",
+                value[0],
+                z + 5.0
+            );
         }
         // The floor reaches behind the eye: clipped, not dropped (the lower half of the image)
         assert!(shown > (w * h / 3) as usize, "{shown}");

@@ -64,7 +64,11 @@ pub(crate) struct PolygonFill {
 impl PolygonFill {
     /// Loads a polygon given in the camera's frame and clips it to `z ≥ near` when `near`
     /// is given (a pinhole); whether at least three vertices remain.
-    pub(crate) fn load(&mut self, vertices: impl Iterator<Item = DVec3>, near: Option<f64>) -> bool {
+    pub(crate) fn load(
+        &mut self,
+        vertices: impl Iterator<Item = DVec3>,
+        near: Option<f64>,
+    ) -> bool {
         self.poly.clear();
         self.poly.extend(vertices);
         if let Some(near) = near {
@@ -88,7 +92,10 @@ impl PolygonFill {
         } else {
             (p.x, p.y)
         };
-        ((x / window.half_x + 1.0) * half_w, (1.0 - y / window.half_y) * half_h)
+        (
+            (x / window.half_x + 1.0) * half_w,
+            (1.0 - y / window.half_y) * half_h,
+        )
     }
 
     /// Rasterises the loaded polygon, whose plane is `normal · p = h` (camera frame), into

@@ -32,8 +32,8 @@ use alloc::vec::Vec;
 use crate::accel::Bvh3;
 use crate::error::{Error, ErrorKind, Result};
 use crate::geom::DVec3;
-use crate::math;
 use crate::image::{Camera3, ToneMap};
+use crate::math;
 use crate::scene::Scene3;
 
 use super::sequence::{pixel_scramble, sobol_2d};
@@ -63,7 +63,11 @@ impl RadianceScene3 {
             scene.patches().iter().map(|p| (p.first, p.count)).collect();
         let bvh = Bvh3::build(scene.points(), &polygons)?;
         let colour = (0..scene.n_patches())
-            .map(|i| radiosity.get(i).map_or([0.0; 3], |b| b.map(|c| tone.exposure(c))))
+            .map(|i| {
+                radiosity
+                    .get(i)
+                    .map_or([0.0; 3], |b| b.map(|c| tone.exposure(c)))
+            })
             .collect();
         let normal = scene.patches().iter().map(|p| p.normal).collect();
         Ok(Self {

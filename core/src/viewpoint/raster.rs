@@ -385,7 +385,10 @@ impl IdRaster {
             pinhole: cam.pinhole,
         };
         let Self {
-            depth, id: ids, fill, ..
+            depth,
+            id: ids,
+            fill,
+            ..
         } = self;
         for (i, patch) in scene.patches().iter().enumerate() {
             let Ok(id) = u32::try_from(i) else {
