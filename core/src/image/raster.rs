@@ -24,7 +24,7 @@ use crate::math;
 /// The image a polygon is drawn into: its size and its window on the image plane.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Window {
-    /// Width and height in pixels.
+    /// Width in pixels.
     pub width: u32,
     /// Height in pixels.
     pub height: u32,
