@@ -15,7 +15,6 @@ mod output;
 mod picture;
 mod ply;
 mod png;
-mod raster;
 mod report;
 mod svg;
 

@@ -21,8 +21,9 @@
 //!   stochastic Jacobi with per-ray refinement, the method of the thesis' experiments
 //!   (§6.4.2) — driven by [`McOracle`]; [`McComparison::at_size`] puts its meshes side by side
 //!   at the captions' ray budgets and patch counts (docs/chapter6-protocol.md);
-//!   [`render_gouraud`] draws a mesh's Gouraud-shaded picture from a [`View3`] and
-//!   `ImageReference` measures its image-space error against a reference's.
+//!   [`render_gouraud`] draws a mesh's Gouraud-shaded picture from a
+//!   [`Camera3`](crate::image::Camera3) and `ImageReference` measures its image-space
+//!   error against a reference's.
 //! - [`OracleComparison::at_size`] (`alloc`): an oracle's mesh at a wanted size and its RMS
 //!   error against a reference that is fine everywhere ([`Hierarchy::build_reference`]) — the comparisons of Figures 6.6 and 6.9.
 //!
@@ -65,7 +66,7 @@ pub use choice::OracleChoice3;
 #[cfg(feature = "alloc")]
 pub use compare::OracleComparison;
 #[cfg(feature = "alloc")]
-pub use image::{ImageError, View3, render_gouraud};
+pub use image::{ImageError, render_gouraud};
 #[cfg(feature = "alloc")]
 pub use mc_compare::{
     McComparison, McReference, mc_compare_against, mc_reference, mc_reference_mesh,

@@ -103,6 +103,8 @@ pub mod formfactor;
 pub mod geom;
 pub mod hierarchy;
 #[cfg(feature = "alloc")]
+pub mod image;
+#[cfg(feature = "alloc")]
 pub mod io;
 pub mod lines;
 pub mod math;

@@ -27,8 +27,6 @@ use crate::math::KahanSum;
 
 #[cfg(feature = "alloc")]
 pub mod continuous;
-#[cfg(feature = "alloc")]
-pub mod display;
 mod lit_channel;
 pub mod measures;
 #[cfg(feature = "alloc")]

@@ -4,12 +4,12 @@
 //! Cornell box an adaptive render beats a uniform one at equal total samples over seeds.
 
 use proptest::prelude::*;
-use sceneinfo::radiosity::display::ToneMap;
+use sceneinfo::image::{Camera3, ToneMap};
 use sceneinfo::radiosity::rgb::RgbSolution;
 use sceneinfo::radiosity::{SolveOptions, Solver};
 use sceneinfo::scene::Subdivision;
 use sceneinfo::supersample::render3::{
-    Allocation, PinholeCamera3, RadianceScene3, RenderOptions, Spread, render, rmse,
+    Allocation, RadianceScene3, RenderOptions, Spread, render, rmse,
 };
 use sceneinfo::supersample::sequence::{pixel_scramble, sobol_2d};
 use sceneinfo::supersample::{ContrastMeasure, Oracle, Verdict};
@@ -92,7 +92,7 @@ proptest! {
 
 /// The corpus Cornell box (Embree's, via tinyobjloader: tests/data/corpus/SOURCES.md), its
 /// faces cut 4 × 4, lit by Monte Carlo radiosity, seen through the framing camera.
-fn cornell_box(size: u32) -> (RadianceScene3, PinholeCamera3) {
+fn cornell_box(size: u32) -> (RadianceScene3, Camera3) {
     const OBJ: &str = include_str!("../data/corpus/obj/cornell_box/cornell_box.obj");
     const MTL: &str = include_str!("../data/corpus/obj/cornell_box/cornell_box.mtl");
     let options = sceneinfo::io::ObjOptions::new(Subdivision::Grid(4)).with_emit_from_ka(true);
@@ -118,7 +118,7 @@ fn cornell_box(size: u32) -> (RadianceScene3, PinholeCamera3) {
     .unwrap();
     let tone = ToneMap::for_scene(&solution.radiosity, &materials);
     let radiance = RadianceScene3::new(&solid, &solution.radiosity, tone).unwrap();
-    let camera = PinholeCamera3::framing(solid.bounds(), 40.0, size, size).unwrap();
+    let camera = Camera3::framing(solid.bounds(), 40.0, (size, size)).unwrap();
     (radiance, camera)
 }
 

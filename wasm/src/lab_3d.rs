@@ -12,8 +12,8 @@
 
 use std::path::Path;
 
+use sceneinfo::image::{ToneMap, gouraud_mesh};
 use sceneinfo::io::{LoadReport, ObjOptions};
-use sceneinfo::radiosity::display::{ToneMap, gouraud_mesh};
 use sceneinfo::scene::Preset3Entry;
 use sceneinfo::viewpoint::{ViewpointJob, ViewpointOptions};
 use sceneinfo::{

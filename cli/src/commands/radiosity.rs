@@ -21,7 +21,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{Result, bail};
-use sceneinfo::radiosity::display::{ToneMap, gouraud_mesh};
+use sceneinfo::image::{ToneMap, gouraud_mesh};
 use sceneinfo::radiosity::rgb::RgbSolution;
 use sceneinfo::scene::{Material, Scene3};
 use sceneinfo::{

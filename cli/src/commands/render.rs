@@ -14,11 +14,11 @@ use std::time::Instant;
 
 use anyhow::{Result, bail};
 use sceneinfo::geom::DVec3;
-use sceneinfo::radiosity::display::ToneMap;
+use sceneinfo::image::{Camera3, ToneMap};
 use sceneinfo::scene::{Scene3, Subdivision};
 use sceneinfo::supersample::Oracle;
 use sceneinfo::supersample::render3::{
-    Allocation, Image3, PinholeCamera3, RadianceScene3, RenderOptions, Spread, render, rmse,
+    Allocation, Image3, RadianceScene3, RenderOptions, Spread, render, rmse,
 };
 use sceneinfo::{ErrorKind, RadiosityJob};
 
@@ -172,10 +172,9 @@ fn allocation_name(a: Allocation) -> String {
 
 /// The camera of `--eye`, `--look`, `--fov`, `--size` (given in the scene's units; the
 /// scene is stored in its frame), or the framing one.
-fn camera_of(args: &RenderArgs, solid: &Scene3) -> sceneinfo::Result<PinholeCamera3> {
-    let (w, h) = args.size;
+fn camera_of(args: &RenderArgs, solid: &Scene3) -> sceneinfo::Result<Camera3> {
     let frame = solid.frame();
-    let framing = PinholeCamera3::framing(solid.bounds(), args.fov, w, h)?;
+    let framing = Camera3::framing(solid.bounds(), args.fov, args.size)?;
     if args.eye.is_none() && args.look.is_none() {
         return Ok(framing);
     }
@@ -186,7 +185,7 @@ fn camera_of(args: &RenderArgs, solid: &Scene3) -> sceneinfo::Result<PinholeCame
     let look = args
         .look
         .map_or((lo + hi) * 0.5, |p| frame.to_stored(DVec3::from_array(p)));
-    PinholeCamera3::new(eye, look, args.fov, w, h)
+    Camera3::new(eye, look, args.fov, args.size)
 }
 
 /// Samples in all, per pixel (least, greatest) and how the adaptive ones were placed.
@@ -207,7 +206,7 @@ fn compare(
     s: &mut String,
     args: &RenderArgs,
     radiance: &RadianceScene3,
-    camera: &PinholeCamera3,
+    camera: &Camera3,
 ) -> Result<()> {
     let threshold = args.threshold;
     let at = |e: sceneinfo::Error| located(&args.file, &e);

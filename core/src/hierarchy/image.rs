@@ -4,21 +4,14 @@
 //!
 //! # The picture
 //!
-//! [`View3`] is a pinhole camera at `eye` looking at `look` (up: `+y`, or `+z` when looking
-//! nearly along `y`), vertical field of view `fov`, `width × height` pixels sampled once at
-//! their centres. The ray of pixel `(x, y)`:
-//!
-//! ```text
-//! d = f + r · (2 (x + ½)/W − 1) tan(fov/2) W/H + u · (1 − 2 (y + ½)/H) tan(fov/2)
-//! ```
-//!
-//! (`f, r, u` the forward, right and up unit vectors). The first hit on a patch's *front*
+//! A [`Camera3`] (the crate's one pinhole camera) samples each pixel once, at its centre,
+//! along [`Camera3::direction`]. The first hit on a patch's *front*
 //! is found through the scene's BVH (back faces are passed through, as a renderer culls
 //! them: the Cornell box is seen through its front wall); the pixel's value is the Gouraud
-//! radiosity of the leaf holding the hit point — [`crate::radiosity::display::gouraud`]'s
-//! vertex radiosities, interpolated linearly over the triangle of the leaf's fan
-//! `(v₀, v_k, v_{k+1})` that holds the point. That is what a perspective-correct Gouraud
-//! rasteriser draws for the same fan (the CLI's pictures).
+//! radiosity of the leaf holding the hit point — the crate's one Gouraud shading
+//! ([`crate::image`]): vertex radiosities welded by its rule, interpolated linearly over the
+//! triangle of the leaf's fan `(v₀, v_k, v_{k+1})` that holds the point. That is what
+//! [`crate::image::Picture3`] draws for the same fan, up to its coverage of pixel centres.
 //!
 //! # The error
 //!
@@ -43,8 +36,8 @@ use crate::geom::{self, DVec3};
 use crate::hierarchy::element::Polygon4;
 use crate::hierarchy::monte_carlo::McHierarchy;
 use crate::hierarchy::tree::Hierarchy;
+use crate::image::{Camera3, ShadedPolygon, ToneMap, gouraud, interpolate};
 use crate::math;
-use crate::radiosity::display::{ShadedPolygon, ToneMap, gouraud};
 use crate::scene::{Material, Scene3};
 
 /// Largest picture side in pixels.
@@ -52,102 +45,6 @@ pub(crate) const MAX_IMAGE_SIDE: u32 = 4096;
 
 /// Back faces a pixel's ray passes through before it gives up (shows nothing).
 const MAX_BACK_FACES: usize = 16;
-
-/// A pinhole camera (module docs), in the scene's *stored* coordinates
-/// ([`View3::in_scene_units`] converts).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct View3 {
-    /// Eye.
-    pub eye: DVec3,
-    /// The point looked at.
-    pub look: DVec3,
-    /// Vertical field of view, degrees, in `(0, 180)`.
-    pub fov_degrees: f64,
-    /// Width in pixels.
-    pub width: u32,
-    /// Height in pixels.
-    pub height: u32,
-}
-
-impl View3 {
-    /// The view with `eye` and `look` given in the scene's own units (as written in its
-    /// file), converted to its stored frame.
-    #[must_use]
-    pub fn in_scene_units(
-        scene: &Scene3,
-        eye: DVec3,
-        look: DVec3,
-        fov_degrees: f64,
-        (width, height): (u32, u32),
-    ) -> Self {
-        let f = scene.frame();
-        Self {
-            eye: f.to_stored(eye),
-            look: f.to_stored(look),
-            fov_degrees,
-            width,
-            height,
-        }
-    }
-
-    /// The view of the CLI's default picture (`refine --png`): looking along `+z` at the
-    /// centre of the scene's bounding box from where its bounding sphere (times 0.85) fills
-    /// the field of view — into a room whose front faces `−z`, like the Cornell box.
-    #[must_use]
-    pub fn framing(scene: &Scene3, fov_degrees: f64, (width, height): (u32, u32)) -> Self {
-        let (lo, hi) = scene.bounds();
-        let centre = (lo + hi) * 0.5;
-        let radius = (hi - lo).length() * 0.5;
-        let half = (fov_degrees.to_radians() * 0.5).clamp(1e-6, 1.5);
-        let distance = radius / math::sin(half) * 0.85;
-        Self {
-            eye: centre - DVec3::Z * distance.max(1e-9),
-            look: centre,
-            fov_degrees,
-            width,
-            height,
-        }
-    }
-
-    /// `(right, up, forward)` and `tan(fov/2)`.
-    fn frame(&self) -> Result<(DVec3, DVec3, DVec3, f64)> {
-        let bad = |name, value| ErrorKind::BadParameter { name, value };
-        if !(self.fov_degrees > 0.0 && self.fov_degrees < 180.0) {
-            return Err(bad("fov_degrees (0 to 180)", self.fov_degrees).into());
-        }
-        if self.width == 0
-            || self.height == 0
-            || self.width > MAX_IMAGE_SIDE
-            || self.height > MAX_IMAGE_SIDE
-        {
-            return Err(ErrorKind::TooLarge {
-                what: "picture side (1 to the maximum)",
-                max: u64::from(MAX_IMAGE_SIDE),
-            }
-            .into());
-        }
-        let forward = (self.look - self.eye)
-            .try_normalize()
-            .filter(|_| self.eye.is_finite() && self.look.is_finite())
-            .ok_or(bad("eye - look", (self.look - self.eye).length()))?;
-        let world_up = if forward.y.abs() > 0.99 {
-            DVec3::Z
-        } else {
-            DVec3::Y
-        };
-        let right = forward
-            .cross(world_up)
-            .try_normalize()
-            .ok_or(bad("eye - look", 0.0))?;
-        let up = right.cross(forward);
-        Ok((
-            right,
-            up,
-            forward,
-            math::tan(self.fov_degrees.to_radians() * 0.5),
-        ))
-    }
-}
 
 /// One leaf to draw: the scene patch it lies on, its shape, and what the shaded polygon it
 /// becomes needs.
@@ -268,14 +165,20 @@ impl GouraudImage {
 /// seen from `view` (module docs).
 ///
 /// # Errors
-/// [`ErrorKind::BadParameter`] / [`ErrorKind::TooLarge`] for a bad view; those of
-/// [`Bvh3::build`].
+/// [`ErrorKind::TooLarge`] for a side above [`MAX_IMAGE_SIDE`]; those of [`Bvh3::build`].
 pub fn render_gouraud(
     scene: &Scene3,
     leaves: &[LeafShade<'_>],
-    view: &View3,
+    view: &Camera3,
 ) -> Result<GouraudImage> {
-    let (right, up, forward, tan_half) = view.frame()?;
+    let (width, height) = view.size();
+    if width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE {
+        return Err(ErrorKind::TooLarge {
+            what: "picture side (1 to the maximum)",
+            max: u64::from(MAX_IMAGE_SIDE),
+        }
+        .into());
+    }
     let polygons: Vec<(usize, usize)> =
         scene.patches().iter().map(|p| (p.first, p.count)).collect();
     let bvh = Bvh3::build(scene.points(), &polygons)?;
@@ -288,15 +191,11 @@ pub fn render_gouraud(
         }
     }
     let vertex = leaf_vertex_radiosities(leaves);
-    let (w, h) = (view.width as usize, view.height as usize);
-    let aspect = w as f64 / h as f64;
+    let (w, h) = (width as usize, height as usize);
     let mut pixels = vec![None; w * h];
     for (k, px) in pixels.iter_mut().enumerate() {
-        let (x, y) = ((k % w) as f64 + 0.5, (k / w) as f64 + 0.5);
-        let sx = (2.0 * x / w as f64 - 1.0) * tan_half * aspect;
-        let sy = (1.0 - 2.0 * y / h as f64) * tan_half;
-        let dir = forward + right * sx + up * sy;
-        let mut origin = view.eye;
+        let dir = view.direction((k % w) as u32, (k / w) as u32, [0.5, 0.5]);
+        let mut origin = view.eye();
         for _ in 0..MAX_BACK_FACES {
             let Some(hit) = bvh.first_hit(origin, dir, t_min) else {
                 break;
@@ -313,7 +212,7 @@ pub fn render_gouraud(
                 .map(|l| {
                     interpolate(
                         leaves[l].polygon.vertices(),
-                        &vertex[l],
+                        &vertex[l][..],
                         p,
                         leaves[l].normal,
                     )
@@ -322,8 +221,8 @@ pub fn render_gouraud(
         }
     }
     Ok(GouraudImage {
-        width: view.width,
-        height: view.height,
+        width,
+        height,
         pixels,
     })
 }
@@ -342,33 +241,11 @@ fn leaf_holding(leaves: &[LeafShade<'_>], list: &[u32], p: DVec3) -> Option<usiz
         })
 }
 
-/// Linear interpolation of the vertex values `b` at `p` over the fan triangle
-/// `(v₀, v_k, v_{k+1})` holding it (the one it is least outside of, for a point on an edge).
-fn interpolate(v: &[DVec3], b: &[[f64; 3]; 4], p: DVec3, normal: DVec3) -> [f64; 3] {
-    let mut best = (f64::NEG_INFINITY, [0.0; 3]);
-    for k in 1..v.len().saturating_sub(1) {
-        let (a, bb, c) = (v[0], v[k], v[k + 1]);
-        let area = (bb - a).cross(c - a).dot(normal);
-        if !(area.abs() > 0.0) {
-            continue;
-        }
-        let wa = (bb - p).cross(c - p).dot(normal) / area;
-        let wb = (c - p).cross(a - p).dot(normal) / area;
-        let wc = 1.0 - wa - wb;
-        let worst = wa.min(wb).min(wc);
-        if worst > best.0 {
-            let value = [0, 1, 2].map(|ch| wa * b[0][ch] + wb * b[k][ch] + wc * b[k + 1][ch]);
-            best = (worst, value);
-        }
-    }
-    best.1
-}
-
 /// A reference picture, tone-mapped, and its boundary pixels (module docs).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ImageReference {
     /// The view.
-    pub view: View3,
+    pub view: Camera3,
     /// The tone map of every picture compared with it (the reference's).
     pub tone: ToneMap,
     /// Display levels of the reference, per pixel; `None` where nothing is seen.
@@ -397,7 +274,7 @@ impl ImageReference {
     pub fn new(
         scene: &Scene3,
         leaves: &[LeafShade<'_>],
-        view: &View3,
+        view: &Camera3,
         boundary_fraction: f64,
     ) -> Result<Self> {
         let image = render_gouraud(scene, leaves, view)?;
@@ -409,7 +286,7 @@ impl ImageReference {
             .iter()
             .map(|p| p.map(|b| tone.rgb(b)))
             .collect();
-        let (w, h) = (view.width as usize, view.height as usize);
+        let (w, h) = (view.size().0 as usize, view.size().1 as usize);
         let mut scored: Vec<(u32, usize)> = Vec::new();
         for (k, c) in levels.iter().enumerate() {
             let Some(c) = c else { continue };
@@ -496,7 +373,8 @@ mod tests {
     }
 
     /// A picture of a mesh against itself has no error; the framing view sees the box
-    /// through its front wall (most pixels show the scene); a bad view is a typed error.
+    /// through its front wall (most pixels show the scene); a picture too large is a typed
+    /// error.
     #[test]
     fn a_mesh_against_itself_has_no_image_error() {
         let scene = cornell();
@@ -506,7 +384,7 @@ mod tests {
         };
         let mc = McHierarchy::solve(&scene, McOracle::Power(1e9), &o).unwrap();
         let leaves = mc.shaded_leaves();
-        let view = View3::framing(&scene, 40.0, (48, 40));
+        let view = Camera3::framing(scene.bounds(), 40.0, (48, 40)).unwrap();
         let r = ImageReference::new(&scene, &leaves, &view, 0.1).unwrap();
         let shown = r.levels.iter().filter(|p| p.is_some()).count();
         assert!(shown > 48 * 40 / 2, "{shown}");
@@ -514,19 +392,8 @@ mod tests {
         let e = r.error(&scene, &leaves).unwrap();
         assert_eq!(e.rmse, 0.0);
         assert_eq!(e.boundary_rmse, 0.0);
-        for bad in [
-            View3 {
-                fov_degrees: 180.0,
-                ..view
-            },
-            View3 { width: 0, ..view },
-            View3 {
-                look: view.eye,
-                ..view
-            },
-        ] {
-            assert!(render_gouraud(&scene, &leaves, &bad).is_err(), "{bad:?}");
-        }
+        let large = Camera3::framing(scene.bounds(), 40.0, (MAX_IMAGE_SIDE + 1, 8)).unwrap();
+        assert!(render_gouraud(&scene, &leaves, &large).is_err());
     }
 
     /// Gouraud interpolation reproduces a linear field exactly: on a quad whose vertex
@@ -548,7 +415,7 @@ mod tests {
             v(1.0, 0.5, 0.),
             v(2.0, 0.0, 0.),
         ] {
-            let got = interpolate(&quad, &b, p, DVec3::Z);
+            let got = interpolate(&quad, &b[..], p, DVec3::Z);
             assert!((got[0] - f(p)).abs() < 1e-12, "{p} {got:?}");
         }
     }

@@ -7,12 +7,11 @@ use alloc::vec::Vec;
 
 use crate::error::Result;
 use crate::geom::DVec3;
-use crate::hierarchy::image::{
-    ImageError, ImageReference, LeafShade, View3, leaf_vertex_radiosities,
-};
+use crate::hierarchy::image::{ImageError, ImageReference, LeafShade, leaf_vertex_radiosities};
 use crate::hierarchy::monte_carlo::{McHierarchy, McOptions, McOracle};
 use crate::hierarchy::target::{ThresholdSearch, bad_target, check_target, first_threshold};
 use crate::hierarchy::tree::Hierarchy;
+use crate::image::Camera3;
 use crate::scene::Scene3;
 
 /// Most solves per threshold search of [`mc_build_to_target`].
@@ -166,7 +165,7 @@ impl McReference {
     ///
     /// # Errors
     /// Those of `ImageReference::new`.
-    pub fn new(scene: &Scene3, leaves: &[LeafShade<'_>], views: &[View3]) -> Result<Self> {
+    pub fn new(scene: &Scene3, leaves: &[LeafShade<'_>], views: &[Camera3]) -> Result<Self> {
         let images = views
             .iter()
             .map(|v| ImageReference::new(scene, leaves, v, BOUNDARY_FRACTION))
@@ -486,13 +485,14 @@ mod tests {
         let scene = cube_room();
         assert_eq!(scene.n_patches(), 550);
         let reference = mc_reference(&scene, 1.0 / 6000.0, 30_000, 300_000, 7).unwrap();
-        let view = View3::in_scene_units(
+        let view = Camera3::in_scene_units(
             &scene,
             DVec3::new(0.35, 2.7, 0.3),
             DVec3::new(2.9, 0.7, 2.6),
             70.0,
             (64, 48),
-        );
+        )
+        .unwrap();
         let r = McReference::new(&scene, &reference.shaded_leaves(), &[view]).unwrap();
         for seed in 1..=2 {
             let run = |name: &'static str, pairs: usize, rays: u64| {

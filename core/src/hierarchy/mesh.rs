@@ -102,7 +102,7 @@ impl Hierarchy {
 
     /// Gouraud colours: for each leaf (in [`Hierarchy::leaves`] order) and each of its
     /// vertices (unused entries black), the area-weighted mean radiosity of the leaves that
-    /// share the vertex — `crate::radiosity::display::gouraud`, the one Gouraud shading,
+    /// share the vertex — the one Gouraud shading ([`crate::image`]),
     /// whose weld rule (same plane and facing, same material, same point) it documents.
     #[must_use]
     pub fn vertex_radiosities(&self) -> Vec<[[f64; 3]; 4]> {

@@ -8,7 +8,7 @@
 //! - 3D ([`adjacency_3d`]): patches with the same material, on one plane with the same
 //!   facing, sharing an edge — two vertices in common (positions equal after rounding to
 //!   `1e-9` of the scene's bounding-box diagonal, the weld rule of
-//!   `radiosity::display::gouraud`). Patches that only touch at a vertex, or along part of
+//!   `image::gouraud_mesh`). Patches that only touch at a vertex, or along part of
 //!   an edge (a T-junction), are not adjacent. Unions of adjacent patches may be non-convex;
 //!   the coarse mesh's form factors are sums of its pieces' (additivity), so no geometry of
 //!   the union is needed.

@@ -4,9 +4,10 @@
 //! total number of samples.
 //!
 //! **What a sample sees.** The ray from the eye through the sample's position in the pixel
-//! meets the nearest patch `i`; the sample's value is the patch's radiosity in display
+//! ([`Camera3::direction`], the crate's one pinhole camera) meets the nearest patch `i`; the sample's value is the patch's radiosity in display
 //! units, `clamp(B_i / B_white, 0, 1)` per channel (the linear part of
-//! [`ToneMap`]: exposure and clamp, before the sRGB curve). Patches are shaded flat (the
+//! [`ToneMap`]: [`ToneMap::exposure`], before the sRGB curve; see [`crate::image`] for the
+//! colour pipeline). Patches are shaded flat (the
 //! radiosity solution is piecewise constant), so a pixel varies only where an edge — of an
 //! object, a patch or a shadow resolved by the mesh — crosses it. A ray that misses, or
 //! meets a patch's back, sees black. Errors are measured in these linear units.
@@ -31,8 +32,8 @@ use alloc::vec::Vec;
 use crate::accel::Bvh3;
 use crate::error::{Error, ErrorKind, Result};
 use crate::geom::DVec3;
+use crate::image::{Camera3, ToneMap};
 use crate::math;
-use crate::radiosity::display::ToneMap;
 use crate::scene::Scene3;
 
 use super::sequence::{pixel_scramble, sobol_2d};
@@ -41,110 +42,6 @@ use super::{Oracle, Verdict};
 /// The largest number of samples one render may take (`2³²`): 4 GB of colour samples
 /// for an adaptive render, which keeps them.
 pub(crate) const MAX_SAMPLES: u64 = 1 << 32;
-
-/// A pinhole camera: the eye, an orthonormal frame, and the image plane at distance 1
-/// spanning `2 tan(fov/2)` vertically.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PinholeCamera3 {
-    eye: DVec3,
-    right: DVec3,
-    up: DVec3,
-    forward: DVec3,
-    tan_half: f64,
-    width: u32,
-    height: u32,
-}
-
-impl PinholeCamera3 {
-    /// A camera at `eye` looking at `look`, vertical field of view `fov_degrees`, image
-    /// `width × height` pixels; up is `+y` (`+z` when looking along `y`).
-    ///
-    /// # Errors
-    /// [`ErrorKind::BadParameter`] for a field of view outside `(0, 180)` degrees, a zero
-    /// image side, non-finite points or `eye = look`.
-    pub fn new(eye: DVec3, look: DVec3, fov_degrees: f64, width: u32, height: u32) -> Result<Self> {
-        let bad = |name, value| Err(Error::new(ErrorKind::BadParameter { name, value }));
-        if !(fov_degrees > 0.0 && fov_degrees < 180.0) {
-            return bad("field of view (degrees)", fov_degrees);
-        }
-        if width == 0 || height == 0 {
-            return bad("image side", f64::from(width.min(height)));
-        }
-        if !(eye.is_finite() && look.is_finite()) {
-            return bad("camera position", f64::NAN);
-        }
-        let Some(forward) = (look - eye).try_normalize() else {
-            return bad("distance from eye to look", (look - eye).length());
-        };
-        let world_up = if forward.y.abs() > 0.99 {
-            DVec3::Z
-        } else {
-            DVec3::Y
-        };
-        let Some(right) = forward.cross(world_up).try_normalize() else {
-            return bad("camera direction", f64::NAN);
-        };
-        let up = right.cross(forward);
-        let half = fov_degrees.to_radians() * 0.5;
-        Ok(Self {
-            eye,
-            right,
-            up,
-            forward,
-            tan_half: math::tan(half),
-            width,
-            height,
-        })
-    }
-
-    /// A camera that frames the box `bounds`: looking at its centre along `+z` from where
-    /// its bounding sphere fills the field of view (the view into a room whose open side
-    /// faces `−z`, like the Cornell box's; the framing of `refine --png`).
-    ///
-    /// # Errors
-    /// As [`PinholeCamera3::new`].
-    pub fn framing(
-        bounds: (DVec3, DVec3),
-        fov_degrees: f64,
-        width: u32,
-        height: u32,
-    ) -> Result<Self> {
-        let (lo, hi) = bounds;
-        let centre = (lo + hi) * 0.5;
-        let radius = (hi - lo).length() * 0.5;
-        let half = (fov_degrees.to_radians() * 0.5).clamp(1e-6, 1.5);
-        let distance = (radius / math::sin(half) * 0.85).max(1e-9);
-        Self::new(
-            centre - DVec3::Z * distance,
-            centre,
-            fov_degrees,
-            width,
-            height,
-        )
-    }
-
-    /// The eye.
-    #[must_use]
-    pub fn eye(&self) -> DVec3 {
-        self.eye
-    }
-
-    /// Image width and height in pixels.
-    #[must_use]
-    pub fn size(&self) -> (u32, u32) {
-        (self.width, self.height)
-    }
-
-    /// The (unnormalised) direction through position `uv ∈ [0, 1)²` of pixel `(px, py)`,
-    /// rows from the top.
-    #[must_use]
-    pub fn direction(&self, px: u32, py: u32, uv: [f64; 2]) -> DVec3 {
-        let (w, h) = (f64::from(self.width), f64::from(self.height));
-        let sx = (2.0 * (f64::from(px) + uv[0]) / w - 1.0) * self.tan_half * w / h;
-        let sy = (1.0 - 2.0 * (f64::from(py) + uv[1]) / h) * self.tan_half;
-        self.forward + self.right * sx + self.up * sy
-    }
-}
 
 /// A scene's patches in a BVH with their display colours: what a primary ray sees.
 #[derive(Clone, Debug)]
@@ -165,16 +62,12 @@ impl RadianceScene3 {
         let polygons: Vec<(usize, usize)> =
             scene.patches().iter().map(|p| (p.first, p.count)).collect();
         let bvh = Bvh3::build(scene.points(), &polygons)?;
-        let white = tone.white;
-        let show = |b: f64| {
-            if white > 0.0 && white.is_finite() && b > 0.0 {
-                (b / white).min(1.0)
-            } else {
-                0.0
-            }
-        };
         let colour = (0..scene.n_patches())
-            .map(|i| radiosity.get(i).map_or([0.0; 3], |b| b.map(show)))
+            .map(|i| {
+                radiosity
+                    .get(i)
+                    .map_or([0.0; 3], |b| b.map(|c| tone.exposure(c)))
+            })
             .collect();
         let normal = scene.patches().iter().map(|p| p.normal).collect();
         Ok(Self {
@@ -269,7 +162,7 @@ pub struct Image3 {
 /// `max_per_pixel < spp` (adaptive); [`ErrorKind::TooLarge`] past `MAX_SAMPLES`.
 pub fn render(
     scene: &RadianceScene3,
-    camera: &PinholeCamera3,
+    camera: &Camera3,
     allocation: Allocation,
     options: &RenderOptions,
 ) -> Result<Image3> {
@@ -380,13 +273,13 @@ fn adaptive(
 /// The samples of every pixel while a render runs.
 struct Film<'a> {
     scene: &'a RadianceScene3,
-    camera: &'a PinholeCamera3,
+    camera: &'a Camera3,
     scramble: Vec<[u32; 2]>,
     samples: Vec<Vec<[f64; 3]>>,
 }
 
 impl<'a> Film<'a> {
-    fn new(scene: &'a RadianceScene3, camera: &'a PinholeCamera3, seed: u64) -> Self {
+    fn new(scene: &'a RadianceScene3, camera: &'a Camera3, seed: u64) -> Self {
         let (w, h) = camera.size();
         let n = w as usize * h as usize;
         Self {

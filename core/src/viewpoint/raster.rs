@@ -34,15 +34,18 @@
 //! pixel counts for two patches), halves too. The tests check the bound on convex polyhedra
 //! against [`crate::scene::Scene3::convex_orthographic_areas`] and that the error falls with `N`.
 //!
-//! Edge functions are evaluated with the edge's endpoints in a canonical order, so two
-//! polygons sharing an edge compute exactly opposite values at every pixel centre: no pixel
-//! centre falls between them (watertight), and one on the edge belongs to both (the depth
-//! test then picks one).
+//! The polygons go through the crate's one rasteriser (`crate::image`'s, shared with the
+//! pictures): edge functions are evaluated with the edge's endpoints in a canonical order,
+//! so two polygons sharing an edge compute exactly opposite values at every pixel centre:
+//! no pixel centre falls between them (watertight), and one on the edge belongs to both
+//! (the depth test then picks one).
 
 use alloc::vec;
 use alloc::vec::Vec;
 
 use crate::geom::DVec3;
+use crate::image::look_basis;
+use crate::image::raster::{PolygonFill, Window};
 use crate::math;
 use crate::scene::Scene3;
 use crate::{ErrorKind, Result};
@@ -149,14 +152,7 @@ struct Camera {
 
 impl Camera {
     fn looking(origin: DVec3, forward: DVec3, pinhole: bool, half: f64) -> Option<Self> {
-        let forward = forward.try_normalize()?;
-        let world_up = if forward.y.abs() > 0.99 {
-            DVec3::Z
-        } else {
-            DVec3::Y
-        };
-        let right = forward.cross(world_up).try_normalize()?;
-        let up = right.cross(forward);
+        let (right, up, forward) = look_basis(forward)?;
         Some(Self {
             origin,
             right,
@@ -183,13 +179,8 @@ pub struct IdRaster {
     /// Pinhole pixel solid angles for `weights_for` (`tan_half`), row-major.
     weights: Vec<f64>,
     weights_for: f64,
-    /// Scratch: camera-space vertices, clipped.
-    poly: Vec<DVec3>,
-    clipped: Vec<DVec3>,
-    /// Scratch: projected vertices in pixel coordinates.
-    projected: Vec<(f64, f64)>,
-    /// Scratch: their edges.
-    edges: Vec<Edge>,
+    /// The rasteriser's scratch buffers.
+    fill: PolygonFill,
 }
 
 impl IdRaster {
@@ -222,10 +213,7 @@ impl IdRaster {
             id: vec![NONE; pixels],
             weights: Vec::new(),
             weights_for: f64::NAN,
-            poly: Vec::new(),
-            clipped: Vec::new(),
-            projected: Vec::new(),
-            edges: Vec::new(),
+            fill: PolygonFill::default(),
         })
     }
 
@@ -383,24 +371,32 @@ impl IdRaster {
         self.weights_for = tan_half;
     }
 
-    /// Draws every patch of `scene` into the id buffer for `cam`.
+    /// Draws every patch of `scene` into the id buffer for `cam` (the crate's one
+    /// rasteriser, [`crate::image`]; ties in depth keep the lower index).
     fn draw(&mut self, scene: &Scene3, cam: &Camera, radius: f64) {
         self.depth.fill(f64::INFINITY);
         self.id.fill(NONE);
-        let near = NEAR * radius;
+        let near = cam.pinhole.then_some(NEAR * radius);
+        let window = Window {
+            width: self.n,
+            height: self.n,
+            half_x: cam.half,
+            half_y: cam.half,
+            pinhole: cam.pinhole,
+        };
+        let Self {
+            depth,
+            id: ids,
+            fill,
+            ..
+        } = self;
         for (i, patch) in scene.patches().iter().enumerate() {
             let Ok(id) = u32::try_from(i) else {
                 break;
             };
-            self.poly.clear();
-            self.poly
-                .extend(scene.patch_vertices(i).iter().map(|&p| cam.camera_space(p)));
-            if cam.pinhole {
-                // Clip to the near plane z ≥ near (Sutherland–Hodgman, one plane)
-                clip_near(&self.poly, near, &mut self.clipped);
-                core::mem::swap(&mut self.poly, &mut self.clipped);
-            }
-            if self.poly.len() < 3 {
+            // Camera space, clipped to the near plane z ≥ near for a pinhole
+            let corners = scene.patch_vertices(i).iter().map(|&p| cam.camera_space(p));
+            if !fill.load(corners, near) {
                 continue;
             }
             let normal = DVec3::new(
@@ -408,168 +404,15 @@ impl IdRaster {
                 patch.normal.dot(cam.up),
                 patch.normal.dot(cam.forward),
             );
-            let h = normal.dot(self.poly[0]);
-            self.fill(cam, id, normal, h);
-        }
-    }
-
-    /// Fills the projection of the convex polygon `self.poly` (camera space) whose plane is
-    /// `normal · p = h`.
-    fn fill(&mut self, cam: &Camera, id: u32, normal: DVec3, h: f64) {
-        let n = f64::from(self.n);
-        let half_n = 0.5 * n;
-        // Pixel coordinates: x to the right, y down, pixel (c, r) centred at (c + ½, r + ½)
-        self.projected.clear();
-        for p in &self.poly {
-            let (x, y) = if cam.pinhole {
-                (p.x / p.z, p.y / p.z)
-            } else {
-                (p.x, p.y)
-            };
-            self.projected
-                .push(((x / cam.half + 1.0) * half_n, (1.0 - y / cam.half) * half_n));
-        }
-        let m = self.projected.len();
-        let mut twice_area = 0.0;
-        let (mut lo_x, mut hi_x, mut lo_y, mut hi_y) =
-            (f64::INFINITY, -f64::INFINITY, f64::INFINITY, -f64::INFINITY);
-        for k in 0..m {
-            let (a, b) = (self.projected[k], self.projected[(k + 1) % m]);
-            twice_area += a.0 * b.1 - a.1 * b.0;
-            lo_x = lo_x.min(a.0);
-            hi_x = hi_x.max(a.0);
-            lo_y = lo_y.min(a.1);
-            hi_y = hi_y.max(a.1);
-        }
-        if twice_area == 0.0 || !twice_area.is_finite() {
-            // Edge-on (or degenerate after projection): covers no pixel centre's area
-            return;
-        }
-        let sign = if twice_area > 0.0 { 1.0 } else { -1.0 };
-        // Pixel range whose centres can be inside: c + ½ ∈ [lo, hi]
-        let span = |lo: f64, hi: f64| -> Option<(usize, usize)> {
-            let first = math::ceil(lo - 0.5).max(0.0);
-            let last = math::floor(hi - 0.5).min(n - 1.0);
-            (first <= last).then_some((first as usize, last as usize))
-        };
-        let (Some((c0, c1)), Some((r0, r1))) = (span(lo_x, hi_x), span(lo_y, hi_y)) else {
-            return;
-        };
-        // Each edge with its endpoints in lexicographic order (p, q) and the sign s of that
-        // reordering: inside ⇔ st·(dx·(y − py) − dy·(x − px)) ≥ 0 for every edge, st = ±1
-        // the polygon's orientation times s. The neighbour across a shared edge orders it
-        // the same way, so computes exactly the opposite value: watertight
-        self.edges.clear();
-        for k in 0..m {
-            let (a, b) = (self.projected[k], self.projected[(k + 1) % m]);
-            let (p, q, s) = if a <= b { (a, b, 1.0) } else { (b, a, -1.0) };
-            self.edges.push(Edge {
-                px: p.0,
-                py: p.1,
-                dx: q.0 - p.0,
-                dy: q.1 - p.1,
-                st: sign * s,
-                row: 0.0,
-            });
-        }
-        // Narrowing each row to the columns between the edges' crossings (widened by two
-        // pixels against rounding) is safe while coordinates are far below 2⁵² pixels
-        let narrow = lo_x.abs().max(hi_x.abs()).max(lo_y.abs()).max(hi_y.abs()) < 1e12;
-        let side = self.n as usize;
-        for row in r0..=r1 {
-            let py = row as f64 + 0.5;
-            let iy = (1.0 - py / half_n) * cam.half;
-            // This row's part of each edge function, and the columns it allows
-            let (mut xl, mut xr) = (f64::NEG_INFINITY, f64::INFINITY);
-            for e in &mut self.edges {
-                e.row = e.dx * (py - e.py);
-                let c = e.st * e.dy;
-                let w = e.st * e.row;
-                if c > 0.0 {
-                    xr = xr.min(e.px + w / c);
-                } else if c < 0.0 {
-                    xl = xl.max(e.px + w / c);
-                } else if w < 0.0 {
-                    xr = f64::NEG_INFINITY;
-                }
-            }
-            let (mut first, mut last) = (c0, c1);
-            if narrow {
-                if !(xl <= xr) {
-                    continue;
-                }
-                let a = math::ceil(xl - 0.5) - 2.0;
-                let b = math::floor(xr - 0.5) + 2.0;
-                if a > c0 as f64 {
-                    first = a.min(c1 as f64 + 1.0) as usize;
-                }
-                if b < c1 as f64 {
-                    if b < c0 as f64 {
-                        continue;
-                    }
-                    last = b as usize;
-                }
-            }
-            for col in first..=last {
-                let px = col as f64 + 0.5;
-                let inside = self
-                    .edges
-                    .iter()
-                    .all(|e| e.st * (e.row - e.dy * (px - e.px)) >= 0.0);
-                if !inside {
-                    continue;
-                }
-                // Depth along the pixel's ray, from the polygon's plane
-                let ix = (px / half_n - 1.0) * cam.half;
-                let z = if cam.pinhole {
-                    h / (normal.x * ix + normal.y * iy + normal.z)
-                } else {
-                    (h - normal.x * ix - normal.y * iy) / normal.z
-                };
-                if !z.is_finite() || (cam.pinhole && z <= 0.0) {
-                    continue;
-                }
-                let k = row * side + col;
-                if let (Some(d), Some(slot)) = (self.depth.get_mut(k), self.id.get_mut(k))
+            let h = normal.dot(fill.polygon()[0]);
+            fill.fill(&window, normal, h, |k, z, _, _| {
+                if let (Some(d), Some(slot)) = (depth.get_mut(k), ids.get_mut(k))
                     && z < *d
                 {
                     *d = z;
                     *slot = id;
                 }
-            }
-        }
-    }
-}
-
-/// One edge of a projected polygon, endpoints in lexicographic order.
-#[derive(Clone, Copy, Debug, Default)]
-struct Edge {
-    px: f64,
-    py: f64,
-    dx: f64,
-    dy: f64,
-    /// The polygon's orientation times the canonical order's sign: ±1.
-    st: f64,
-    /// `dx · (y − py)` of the row being filled.
-    row: f64,
-}
-
-/// Sutherland–Hodgman clip of the polygon `input` to `z ≥ near`, into `out`.
-fn clip_near(input: &[DVec3], near: f64, out: &mut Vec<DVec3>) {
-    out.clear();
-    let m = input.len();
-    for k in 0..m {
-        let a = input[k];
-        let b = input[(k + 1) % m];
-        let (ina, inb) = (a.z >= near, b.z >= near);
-        if ina {
-            out.push(a);
-        }
-        if ina != inb {
-            let t = (near - a.z) / (b.z - a.z);
-            let mut p = a + (b - a) * t;
-            p.z = near;
-            out.push(p);
+            });
         }
     }
 }

@@ -15,7 +15,7 @@ use sceneinfo::ContinuousEstimate;
 use sceneinfo::LineSession;
 use sceneinfo::geom::DVec3;
 use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, OracleChoice3};
-use sceneinfo::radiosity::display::ToneMap;
+use sceneinfo::image::{Camera3, Picture3, ToneMap};
 use sceneinfo::scene::{Material, Scene3};
 use sceneinfo::tally::LineTracer;
 use sceneinfo::trace::estimate_2d::LineMethod;
@@ -26,7 +26,6 @@ use crate::args::{Oracle, RefineArgs};
 use crate::lines::LineBudget;
 use crate::output::{Loaded, job_refused, located, write_atomic};
 use crate::ply::Ply;
-use crate::raster::{Camera, Raster};
 use crate::svg::Rgb;
 
 /// Leaves aimed at when neither `--eps` nor `--target` is given.
@@ -377,39 +376,38 @@ fn mesh_ply(h: &Hierarchy, file: &Path, config: &Config, eps: f64) -> Result<Str
 
 /// Renders the leaves: Gouraud-shaded radiosity, element edges, z-buffer; PNG bytes.
 fn render(h: &Hierarchy, scene: &Scene3, args: &RefineArgs) -> Result<Vec<u8>> {
-    let (width, height) = args.size;
     let (lo, hi) = scene.bounds();
-    let framing = Camera::framing(lo, hi, args.fov, width, height);
-    let camera = Camera {
-        eye: match &args.eye {
-            // Given in the scene's units; the leaves are in its stored frame
-            Some(p) => scene.frame().to_stored(DVec3::from_array(*p)),
-            None => framing.eye,
-        },
-        look: match &args.look {
-            Some(p) => scene.frame().to_stored(DVec3::from_array(*p)),
-            None => framing.look,
-        },
-        ..framing
-    };
-    let Some(mut raster) = Raster::new(camera, (hi - lo).length(), [0.0; 3]) else {
-        bail!(
+    let bad_camera = |e: sceneinfo::Error| {
+        anyhow::anyhow!(
             "--eye and --look must differ and --fov lie strictly between 0 and 180 degrees \
-             (got {})",
+             (got {}): {e}",
             args.fov
-        );
+        )
     };
-    let white = tone_map(h).white;
+    let framing = Camera3::framing((lo, hi), args.fov, args.size).map_err(bad_camera)?;
+    // Given in the scene's units; the leaves are in its stored frame
+    let stored = |p: &Option<[f64; 3]>, default: DVec3| {
+        p.map_or(default, |p| scene.frame().to_stored(DVec3::from_array(p)))
+    };
+    let camera = Camera3::new(
+        stored(&args.eye, framing.eye()),
+        stored(&args.look, framing.look()),
+        args.fov,
+        args.size,
+    )
+    .map_err(bad_camera)?;
+    let tone = tone_map(h);
+    let mut picture = Picture3::new(camera, (hi - lo).length(), [0.0; 3]);
     let colours = h.vertex_radiosities();
     for (e, c) in h.leaves().zip(&colours) {
-        let n = e.polygon.vertices().len();
-        let c: Vec<[f64; 3]> = c[..n].iter().map(|b| b.map(|v| v / white)).collect();
-        raster.polygon(e.polygon.vertices(), e.normal, &c);
+        picture.polygon(e.polygon.vertices(), e.normal, c);
     }
+    // Edges dark grey: 5 % of white
     for e in h.leaves() {
-        raster.outline(e.polygon.vertices(), e.normal, [0.05; 3]);
+        picture.outline(e.polygon.vertices(), e.normal, [0.05 * tone.white; 3]);
     }
-    crate::png::encode_rgb(width, height, &raster.to_rgb8()).context("empty image")
+    let (width, height) = args.size;
+    crate::png::encode_rgb(width, height, &picture.to_rgb8(&tone)).context("empty image")
 }
 
 /// What `refine` prints.

@@ -16,14 +16,13 @@ use std::sync::Mutex;
 use anyhow::{Context, Result, anyhow};
 use sceneinfo::hierarchy::{
     Hierarchy, HrOptions, ImageError, McComparison, McHierarchy, McOptions, McReference,
-    ReferenceNoise, View3, mc_compare_against, render_gouraud,
+    ReferenceNoise, mc_compare_against, render_gouraud,
 };
-use sceneinfo::radiosity::display::ToneMap;
+use sceneinfo::image::{Camera3, Picture3, ToneMap};
 use sceneinfo::scene::Scene3;
 
 use super::{Row, Runner, Table, cell};
 use crate::args::{McScenes, ReproduceArgs};
-use crate::raster::{Camera, Raster};
 
 /// Seeds per configuration.
 const SEEDS: u64 = 5;
@@ -452,39 +451,32 @@ pub(super) fn rows(configs: &[Config], out: &Outcome, views: usize) -> Vec<Row> 
     rows
 }
 
-/// A row of panels: per mesh its elements (light grey, dark edges; CLI rasteriser) above
+/// A row of panels: per mesh its elements (light grey, dark edges; the core's [`Picture3`]) above
 /// its Gouraud picture (the core's [`render_gouraud`], the picture the image errors
 /// measure), tone-mapped by `tone`; written as one PNG.
 pub(super) fn write_panels(
     path: &Path,
     scene: &Scene3,
     meshes: &[&McHierarchy],
-    view: &View3,
+    view: &Camera3,
     tone: &ToneMap,
 ) -> Result<()> {
-    let (w, h) = (view.width as usize, view.height as usize);
+    let (w, h) = (view.size().0 as usize, view.size().1 as usize);
     let cols = meshes.len().max(1);
     let mut canvas = vec![255u8; 3 * w * cols * h * 2];
     let (lo, hi) = scene.bounds();
     for (col, mesh) in meshes.iter().enumerate() {
-        let camera = Camera {
-            eye: view.eye,
-            look: view.look,
-            fov_degrees: view.fov_degrees,
-            width: view.width,
-            height: view.height,
-        };
-        let mut raster = Raster::new(camera, (hi - lo).length(), [1.0; 3])
-            .ok_or_else(|| anyhow!("bad view for the pictures"))?;
+        // Linear greys, white at 1
+        let mut picture = Picture3::new(*view, (hi - lo).length(), [1.0; 3]);
         let leaves = mesh.shaded_leaves();
         for l in &leaves {
             let n = l.polygon.vertices().len();
-            raster.polygon(l.polygon.vertices(), l.normal, &vec![[0.75; 3]; n]);
+            picture.polygon(l.polygon.vertices(), l.normal, &vec![[0.75; 3]; n]);
         }
         for l in &leaves {
-            raster.outline(l.polygon.vertices(), l.normal, [0.02; 3]);
+            picture.outline(l.polygon.vertices(), l.normal, [0.02; 3]);
         }
-        let top = raster.to_rgb8();
+        let top = picture.to_rgb8(&ToneMap { white: 1.0 });
         let bottom = render_gouraud(scene, &leaves, view)
             .map_err(err)?
             .to_rgb8(tone, [255; 3]);
@@ -521,7 +513,7 @@ fn figures_6_6_and_6_9_monte_carlo(runner: &Runner, figures: Option<&Path>) -> R
     crate::interrupt::stop_if_requested()?;
     let coarser = build(REFERENCE_LEVEL - 1)?;
     let reference_change = coarser.rms_against(&reference).map_err(err)?;
-    let view = View3::framing(&scene, 40.0, CORNELL_IMAGE);
+    let view = Camera3::framing(scene.bounds(), 40.0, CORNELL_IMAGE).map_err(err)?;
     let leaves = reference.shaded_leaves();
     let mc_reference = McReference::new(&scene, &leaves, &[view]).map_err(err)?;
     let out = run_configs(runner, &scene, &mc_reference, &CONFIGS, SEEDS, |_| {
@@ -536,7 +528,7 @@ fn figures_6_6_and_6_9_monte_carlo(runner: &Runner, figures: Option<&Path>) -> R
     }];
     rows.extend(self::rows(&CONFIGS, &out, 1));
     if let Some(dir) = figures {
-        let panel = View3::framing(&scene, 40.0, CORNELL_PANEL);
+        let panel = Camera3::framing(scene.bounds(), 40.0, CORNELL_PANEL).map_err(err)?;
         let tone = mc_reference.images[0].tone;
         for (k, file) in [
             (0, "ch6mc_fig66_I.png"),

@@ -8,7 +8,8 @@
 
 use anyhow::{Result, anyhow, bail};
 use sceneinfo::geom::DVec3;
-use sceneinfo::hierarchy::{McComparison, McHierarchy, McReference, View3, mc_reference_mesh};
+use sceneinfo::hierarchy::{McComparison, McHierarchy, McReference, mc_reference_mesh};
+use sceneinfo::image::Camera3;
 use sceneinfo::io::{ObjOptions, parse_obj};
 use sceneinfo::scene::{Scene3, Subdivision};
 
@@ -61,11 +62,11 @@ pub(super) fn scene() -> Result<Scene3> {
 }
 
 /// The views of Figs. 6.7 and 6.8 at `size`.
-fn views(scene: &Scene3, size: (u32, u32)) -> Vec<View3> {
+fn views(scene: &Scene3, size: (u32, u32)) -> sceneinfo::Result<Vec<Camera3>> {
     VIEWS
         .iter()
         .map(|(eye, look)| {
-            View3::in_scene_units(
+            Camera3::in_scene_units(
                 scene,
                 DVec3::from_array(*eye),
                 DVec3::from_array(*look),
@@ -135,7 +136,7 @@ pub(super) fn cube_room(runner: &Runner, args: &ReproduceArgs) -> Result<Table> 
         .map_err(|_| anyhow!("the two reference solves did not run"))?;
     let reference = first.mean_with(&second).map_err(err)?;
     let leaves = reference.shaded_leaves();
-    let mc_ref = McReference::new(&scene, &leaves, &views(&scene, IMAGE))
+    let mc_ref = McReference::new(&scene, &leaves, &views(&scene, IMAGE).map_err(err)?)
         .map_err(err)?
         .with_halves(&[&first, &second]);
     let noise = mc_ref.noise(&scene, &[&first, &second]).map_err(err)?;
@@ -196,7 +197,7 @@ pub(super) fn cube_room(runner: &Runner, args: &ReproduceArgs) -> Result<Table> 
         cells: vec![cell("ratio", mi_rms(2) / mi_rms(0), 0.0, None)],
     });
     if let Some(dir) = &args.figures {
-        let panels = views(&scene, PANEL);
+        let panels = views(&scene, PANEL).map_err(err)?;
         let tone = mc_ref.images[0].tone;
         for (k, v, file) in [
             (0, 0, "ch6mc_fig67.png"),

@@ -1,5 +1,4 @@
-//! Turning a radiosity solution into display colours: Gouraud vertex radiosities and a
-//! stated tone-mapping operator, for mesh writers (the CLI's PLY output).
+//! Gouraud vertex radiosities: the second step of the colour pipeline (see [`super`]).
 //!
 //! **Vertex radiosity (Gouraud).** `gouraud` is the one Gouraud shading of the project:
 //! `radiosity --ply` shades the scene's patches with it ([`gouraud_mesh`]) and
@@ -31,80 +30,12 @@
 //! - positions are quantised, not compared bit for bit, so corners computed along
 //!   different paths (midpoints of two neighbouring roots, a file's rounded coordinates)
 //!   still meet.
-//!
-//! **Tone mapping.** [`ToneMap`] is a linear exposure followed by the sRGB transfer function
-//! (IEC 61966-2-1): `c = B / B_white`, clamped to `[0, 1]`, then
-//! `c ≤ 0.0031308 ? 12.92 c : 1.055 c^(1/2.4) − 0.055`, times 255, rounded.
-//! [`ToneMap::for_scene`] picks `B_white` as the largest radiosity (over the three channels)
-//! of the patches that do not emit, so reflected light uses the whole range and light
-//! sources clip to white.
 
 use alloc::vec::Vec;
 
 use crate::geom::DVec3;
 use crate::math;
 use crate::scene::{Material, Scene3};
-
-/// Linear exposure with white at `white`, then sRGB encoding (see the module docs).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ToneMap {
-    /// The radiosity shown as full white (`> 0`; a non-positive or non-finite value maps
-    /// everything to black).
-    pub white: f64,
-}
-
-impl ToneMap {
-    /// White at the largest radiosity of a non-emitting patch (or of any patch when every
-    /// patch emits); `materials` per patch, `radiosity` per state (extra states ignored).
-    #[must_use]
-    pub fn for_scene(radiosity: &[[f64; 3]], materials: &[Material]) -> Self {
-        let max_of = |emitters: bool| {
-            radiosity
-                .iter()
-                .zip(materials)
-                .filter(|(_, m)| emitters || !m.is_emitter())
-                .flat_map(|(b, _)| b.iter().copied())
-                .filter(|x| x.is_finite())
-                .fold(0.0_f64, f64::max)
-        };
-        let white = match max_of(false) {
-            w if w > 0.0 => w,
-            _ => max_of(true),
-        };
-        Self { white }
-    }
-
-    /// One channel: `B ↦ 0..=255`.
-    #[must_use]
-    pub fn channel(&self, b: f64) -> u8 {
-        if !(self.white > 0.0 && self.white.is_finite() && b > 0.0) {
-            return 0;
-        }
-        Self::encode(b / self.white)
-    }
-
-    /// A linear value (`1` = white; clamped to `[0, 1]`, NaN black) through the sRGB
-    /// transfer function to `0..=255`: `12.92 c` below `0.0031308`, else
-    /// `1.055 c^{1/2.4} − 0.055` (IEC 61966-2-1). The one colour encoding of every picture
-    /// and mesh the front ends write.
-    #[must_use]
-    pub fn encode(c: f64) -> u8 {
-        let c = if c > 0.0 { c.min(1.0) } else { 0.0 };
-        let encoded = if c <= 0.003_130_8 {
-            12.92 * c
-        } else {
-            1.055 * math::pow(c, 1.0 / 2.4) - 0.055
-        };
-        // In [0, 1] by construction; the cast saturates anyway.
-        (255.0 * encoded + 0.5) as u8
-    }
-
-    /// An RGB triple.
-    #[must_use]
-    pub fn rgb(&self, b: [f64; 3]) -> [u8; 3] {
-        [self.channel(b[0]), self.channel(b[1]), self.channel(b[2])]
-    }
-}
 
 /// A mesh of polygons with welded vertices (the module's weld rule) and Gouraud radiosities.
 #[derive(Clone, Debug, PartialEq)]
@@ -222,49 +153,45 @@ pub(crate) fn gouraud(polygons: &[ShadedPolygon<'_>], bounds: (DVec3, DVec3)) ->
     }
 }
 
+/// Gouraud interpolation: the vertex values `b` (one per vertex of the convex polygon `v`,
+/// normal `normal`) at its point `p`, linear over the triangle of the fan
+/// `(v₀, v_k, v_{k+1})` that holds `p` — the one `p` is least outside of, for a point on an
+/// edge or just outside after rounding. With the barycentric weights of that triangle,
+///
+/// ```text
+/// w_a = ((v_k − p) × (v_{k+1} − p)) · n / A,   w_b = ((v_{k+1} − p) × (v₀ − p)) · n / A,
+/// w_c = 1 − w_a − w_b,   A = ((v_k − v₀) × (v_{k+1} − v₀)) · n,
+/// B(p) = w_a B₀ + w_b B_k + w_c B_{k+1}
+/// ```
+///
+/// In 3D, so the value is perspective-correct in any picture (Cohen & Wallace 1993, §10.2).
+/// Black for a polygon of fewer than three vertices or values.
+pub(crate) fn interpolate(v: &[DVec3], b: &[[f64; 3]], p: DVec3, normal: DVec3) -> [f64; 3] {
+    let mut best = (f64::NEG_INFINITY, [0.0; 3]);
+    let n = v.len().min(b.len());
+    for k in 1..n.saturating_sub(1) {
+        let (a, bb, c) = (v[0], v[k], v[k + 1]);
+        let area = (bb - a).cross(c - a).dot(normal);
+        if !(area.abs() > 0.0) {
+            continue;
+        }
+        let wa = (bb - p).cross(c - p).dot(normal) / area;
+        let wb = (c - p).cross(a - p).dot(normal) / area;
+        let wc = 1.0 - wa - wb;
+        let worst = wa.min(wb).min(wc);
+        if worst > best.0 {
+            let value = [0, 1, 2].map(|ch| wa * b[0][ch] + wb * b[k][ch] + wc * b[k + 1][ch]);
+            best = (worst, value);
+        }
+    }
+    best.1
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    #[test]
-    fn encode_is_the_srgb_curve_clamped() {
-        // sRGB(0.5) = 1.055 · 0.5^(1/2.4) − 0.055 = 0.7354 → 187.5 → 188
-        assert_eq!(ToneMap::encode(0.5), 188);
-        assert_eq!(ToneMap::encode(0.0), 0);
-        assert_eq!(ToneMap::encode(1.0), 255);
-        assert_eq!(ToneMap::encode(2.0), 255);
-        assert_eq!(ToneMap::encode(-1.0), 0);
-        assert_eq!(ToneMap::encode(f64::NAN), 0);
-        // the linear toe: 12.92 · 0.001 = 0.01292 → 3.29 → 3
-        assert_eq!(ToneMap::encode(0.001), 3);
-        let tone = ToneMap { white: 4.0 };
-        assert_eq!(tone.channel(2.0), ToneMap::encode(0.5));
-    }
     use crate::scene::Scene3;
-
-    #[test]
-    fn tone_map_is_srgb_of_a_linear_exposure() {
-        let t = ToneMap { white: 2.0 };
-        assert_eq!(t.channel(0.0), 0);
-        assert_eq!(t.channel(2.0), 255);
-        assert_eq!(t.channel(50.0), 255);
-        assert_eq!(t.channel(f64::NAN), 0);
-        // 18 % grey encodes to 118 in sRGB.
-        assert_eq!(t.channel(0.36), 118);
-        // The linear toe.
-        assert_eq!(t.channel(2.0 * 0.002), (255.0 * 12.92 * 0.002 + 0.5) as u8);
-        assert_eq!(ToneMap { white: 0.0 }.channel(1.0), 0);
-    }
-
-    #[test]
-    fn white_is_the_brightest_reflector() {
-        let lamp = Material::new([0.0; 3], [5.0; 3]).unwrap();
-        let wall = Material::new([0.5; 3], [0.0; 3]).unwrap();
-        let b = [[5.0; 3], [0.2, 0.7, 0.1], [0.3, 0.3, 0.3]];
-        let t = ToneMap::for_scene(&b, &[lamp, wall, wall]);
-        assert_eq!(t.white, 0.7);
-        assert_eq!(ToneMap::for_scene(&b[..1], &[lamp]).white, 5.0);
-    }
 
     #[test]
     fn corners_weld_within_one_plane_and_material_only() {
