@@ -33,6 +33,7 @@ pub mod quadrature;
 
 #[cfg(feature = "alloc")]
 mod matrix;
+#[cfg(feature = "alloc")]
 pub(crate) use matrix::FormFactorView;
 #[cfg(feature = "alloc")]
 pub use matrix::FormFactors;

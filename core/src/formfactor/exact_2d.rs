@@ -627,6 +627,7 @@ fn occluded_flux<'a>(
     (0.5 * flux.total()).max(0.0)
 }
 
+#[cfg(feature = "alloc")]
 impl Scene2 {
     /// The flux `L_i F_ij` from patch `i` to patch `j`, integrated over the source patch `i`
     /// with occlusion by every other surface. [`form_factors`] computes each unordered pair once
@@ -664,6 +665,7 @@ impl Scene2 {
     }
 }
 
+#[cfg(feature = "alloc")]
 impl Scene2 {
     /// Point-to-patch form factor `F_{x→j}` (flatland form of 2.16) with occlusion by every
     /// other surface of the scene: `x` is a point with front normal `normal`, `j` a patch index.
@@ -766,6 +768,7 @@ fn check_closure(scene: &Scene2, lengths: &[f64], f: &[f64]) -> Result<()> {
     Ok(())
 }
 
+#[cfg(feature = "alloc")]
 impl Scene2 {
     /// The scene's extent (bounding-box diagonal) over its smallest feature: the shortest patch,
     /// or the closest approach of a surface's end to another surface it does not end on (a

@@ -323,6 +323,7 @@ pub fn form_factors_unoccluded(
     FormFactors::from_patch_matrix(&areas, f)
 }
 
+#[cfg(feature = "alloc")]
 impl FormFactors {
     /// The exact form factors of `n` patches tiling the inside of a sphere (thesis §3.2.1,
     /// 3.11): every point of a sphere sees every patch `j` with the same form factor, its
