@@ -440,8 +440,11 @@ mod tests {
         for n in [4usize, 8, 16, 64] {
             let c = entropy_contrast(n, |j| (j % 2) as f64);
             assert!((c - 1.0 / (n as f64).log2()).abs() < 1e-12, "{n}: {c}");
-            let s: Vec<[f64; 3]> = (0..n).map(|j| [(j % 2) as f64; 3]).collect();
-            let c = entropy_contrast_rgb(&s);
+            let mut s = [[0.0; 3]; 64];
+            for (j, x) in s.iter_mut().enumerate() {
+                *x = [(j % 2) as f64; 3];
+            }
+            let c = entropy_contrast_rgb(&s[..n]);
             assert!((c - 0.5 / (n as f64).log2()).abs() < 1e-12, "{n}: {c}");
         }
         // Left/right halves, black and white: I_d = 1 bit of 2, times Y = 1/2
