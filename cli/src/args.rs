@@ -88,13 +88,14 @@ pub struct RenderArgs {
     pub spp: u32,
     /// The oracle's threshold, in [0, 1]: a pixel whose contrast exceeds it may take more
     /// samples, highest contrast first, until the budget is spent (the papers' defaults
-    /// could not be read; ours is 0.1 for both contrasts: docs/supersampling.md).
+    /// could not be read; ours is 0.02 for both contrasts: docs/supersampling.md).
     #[arg(long, value_name = "T", default_value_t = sceneinfo::supersample::DEFAULT_ENTROPY_THRESHOLD)]
     pub threshold: f64,
-    /// Adaptive: a pixel's contrast is the larger of its own samples' and of its samples
-    /// with its four neighbours' (catches edges that fall between a pixel's first samples).
+    /// Adaptive: judge a pixel by its own samples only, not also by its samples with its
+    /// four neighbours' (the default compares neighbours: it catches edges that fall
+    /// between a pixel's first samples).
     #[arg(long)]
-    pub neighbours: bool,
+    pub own_samples_only: bool,
     /// Write the rendered image as PNG (sRGB).
     #[arg(long, value_name = "OUT.png")]
     pub png: Option<PathBuf>,

@@ -44,7 +44,10 @@ fn renders_the_cornell_box_with_its_sample_map() {
     ]));
     // Equal budget: 16 × 16 pixels × 4 spp
     assert!(out.contains("samples               1024 in all"), "{out}");
-    assert!(out.contains("adaptive, mi contrast > 0.1"), "{out}");
+    assert!(
+        out.contains("adaptive, mi contrast > 0.02, pixel and its 4 neighbours"),
+        "{out}"
+    );
     for p in [&png, &map] {
         let bytes = std::fs::read(p).unwrap();
         assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");

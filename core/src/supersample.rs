@@ -20,20 +20,25 @@
 //! ```text
 //! p_j = c_j / Σ_k c_k                       H_c = −Σ_j p_j log₂ p_j
 //! C_c = 1 − H_c / log₂ N  ∈ [0, 1]          channel contrast
-//! C_H = Σ_c w_c C_c                         pixel contrast, w = (0.2126, 0.7152, 0.0722)
+//! C_H = Σ_c w_c C_c c̄_c                     pixel colour contrast, w = (0.2126, 0.7152, 0.0722)
 //! ```
 //!
-//! `H_c` and `C_c` are the equations (6) and (7) of Rigau, Feixas & Sbert, "Entropy-based
-//! adaptive sampling" (Graphics Interface 2003, the journal version of ref. 68), as a public
-//! implementation of that paper quotes them (lucille's `entropy_as.c`). Its pixel colour
-//! contrast (8) weights the channels with perceptual coefficients `(0.213, 0.715, 0.072)`;
-//! we use the Rec. 709 luminance weights they round, and do not multiply by the channel's
-//! mean colour, which that implementation also does (it would make the contrast depend on
-//! the exposure: a threshold could then not be stated once). `C_c = 0` when a channel is
-//! zero everywhere or `N < 2`. The contrast is invariant under scaling a channel, exactly
-//! `0` for a constant pixel, and `1` when all the light of the channel arrives through one
-//! sample. `1 − H/log N` is also `D(p ‖ u) / log₂ N`, the Kullback–Leibler divergence of
-//! the samples' light from the uniform spread a constant pixel would have.
+//! `H_c`, `C_c` and `C_H` are the equations (6), (7) and (8) of Rigau, Feixas & Sbert,
+//! "Entropy-based adaptive sampling" (Graphics Interface 2003, the journal version of
+//! ref. 68), as a public implementation of that paper quotes them (lucille's
+//! `entropy_as.c`): the pixel colour contrast weights each channel's contrast by a
+//! perceptual coefficient (`0.213, 0.715, 0.072`; we use the Rec. 709 luminance weights
+//! they round, which sum to 1, so eq. 8's division by `Σ w_c` is void) *and by the
+//! channel's mean colour `c̄_c`*. The samples are **display-referred**: `1` is white (the
+//! renderer's exposure already applied), and a mean above `1` counts as `1`, so `C_H ∈
+//! [0, 1]`. The mean colour is what ties the contrast to the visible error: `C_c` alone is
+//! invariant under scaling the channel, so an edge between two near-blacks scores as high
+//! as one between grey and white, while its error in the picture is far smaller (measured:
+//! leaving out `c̄_c` made adaptive sampling lose to uniform on the Cornell box,
+//! `docs/supersampling.md`). `C_c = 0` when a channel is zero everywhere or `N < 2`;
+//! `C_H` is exactly `0` for a constant pixel. `1 − H/log N` is also `D(p ‖ u) / log₂ N`,
+//! the Kullback–Leibler divergence of the samples' light from the uniform spread a
+//! constant pixel would have.
 //!
 //! ## Mutual-information contrast (ref. 69, as read here)
 //!
@@ -45,7 +50,7 @@
 //! ```text
 //! p(g, c) = w_c Σ_{j ∈ g} c_j / Σ_{k,c'} w_c' c'_k          luminous power of quadrant g, channel c
 //! I_d = Σ_{g,c} p(g, c) log₂( p(g, c) / (a_g p(c)) )        = D(q ‖ a) + I(X; C),  q_g = Σ_c p(g, c)
-//! C_I = I_d / log₂(1 / min_g a_g)  ∈ [0, 1]
+//! C_I = Y · I_d / log₂(1 / min_g a_g)  ∈ [0, 1],   Y = min(1, Σ_c w_c c̄_c)
 //! ```
 //!
 //! `a_g p(c)` is the pixel as displayed — one colour spread evenly over its area (the
@@ -58,14 +63,19 @@
 //! miss. Unlike `C_H`, `C_I` ignores variation *within* quadrants: uncorrelated noise
 //! spread evenly scores low, an edge or a shadow boundary through the pixel high. The
 //! bound `I_d ≤ Σ p(g,c) log₂(1/a_g) ≤ log₂(1/min a_g)` makes `C_I ≤ 1`; it is `2` bits for
-//! four equally sampled quadrants.
+//! four equally sampled quadrants. The factor `Y`, the pixel's mean display luminance,
+//! is eq. 8's mean-colour weighting carried over (same reason: an edge between near-blacks
+//! is information but little visible error).
 //!
 //! ## Verdict and defaults
 //!
 //! A pixel is refined when its contrast exceeds the threshold; a constant pixel has
 //! contrast exactly `0` and is never refined (the threshold is at least `0`). The papers'
 //! threshold values could not be read; the defaults ([`DEFAULT_ENTROPY_THRESHOLD`],
-//! `DEFAULT_MI_THRESHOLD`) are ours and their reasons are on the constants.
+//! `DEFAULT_MI_THRESHOLD`) are ours and their reasons are on the constants. Both
+//! contrasts also need a pixel's *first* samples to see its edge; a renderer should compare
+//! a pixel's samples with its neighbours' as well (the demonstration renderer does,
+//! [`render3::RenderOptions::neighbours`]).
 //!
 //! Nothing here allocates: the samples are the caller's slices.
 
@@ -81,18 +91,21 @@ use crate::math;
 /// `0.213, 0.715, 0.072`). They sum to 1.
 pub(crate) const LUMINANCE_WEIGHTS: [f64; 3] = [0.2126, 0.7152, 0.0722];
 
-/// Default threshold of the entropy contrast: `0.1`. Ours, not the papers' (not readable
-/// here). Reason: a pixel split in halves between two colours whose channels differ by a
-/// factor 10 has `C_H = (1 − h(1/11)) / log₂ N = 0.561 / log₂ N`, above `0.1` up to `N = 32`
-/// samples; between black and any colour `C_H = 1 / log₂ N`, above `0.1` up to `N = 1024`;
-/// a pixel whose samples vary by ±10 % at random has `C_H` near `σ²/(2μ² ln N) ≈ 0.002`.
-pub const DEFAULT_ENTROPY_THRESHOLD: f64 = 0.1;
+/// Default threshold of the entropy contrast: `0.02`. Ours, not the papers' (not
+/// readable here). Meaning: a pixel split in halves between black and a grey of display
+/// value `v` has `C_H = v / (2 log₂ N)`; `0.02` refines it while `v > 0.04 log₂ N` — at
+/// 4 samples any edge brighter than `0.08` (about a fifth of the way up the sRGB curve),
+/// at 16 samples one brighter than `0.16`; so faint edges stop early and bright ones go on
+/// to the renderer's cap. Chosen after the measurements of `docs/supersampling.md`, which
+/// show every threshold tried in `[0.01, 0.05]` beating uniform sampling on the Cornell box
+/// at 2 resolutions and 2 budgets, so it is not a value tuned to one case.
+pub const DEFAULT_ENTROPY_THRESHOLD: f64 = 0.02;
 
-/// Default threshold of the mutual-information contrast: `0.1`. Ours, not the papers'
-/// (not readable here). Reason: a pixel split in halves along a quadrant boundary between
-/// colours of luminance ratio 10 has `C_I = (1 − h(1/11)) / 2 = 0.28`, between black and a
-/// colour `0.5`, whatever `N`; an edge across the pixel's diagonal `0.25` (black and white).
-pub(crate) const DEFAULT_MI_THRESHOLD: f64 = 0.1;
+/// Default threshold of the mutual-information contrast: `0.02`, as for the entropy
+/// contrast. Meaning: a pixel split in halves along a quadrant boundary between black and
+/// a grey of display value `v` has `C_I = v/2 · 1/2 = v/4`, whatever `N`; `0.02` refines it
+/// while `v > 0.08`.
+pub(crate) const DEFAULT_MI_THRESHOLD: f64 = 0.02;
 
 /// Which contrast the oracle computes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -218,7 +231,10 @@ impl Oracle {
     #[must_use]
     pub fn contrast_luminance(&self, samples: &[f64], positions: &[[f64; 2]]) -> f64 {
         match self.measure {
-            ContrastMeasure::Entropy => entropy_contrast(samples.len(), |j| samples[j]),
+            ContrastMeasure::Entropy => {
+                entropy_contrast(samples.len(), |j| samples[j])
+                    * display_mean(samples.len(), |j| samples[j])
+            }
             ContrastMeasure::MutualInformation => {
                 let n = samples.len().min(positions.len());
                 mi_contrast(n, 1, |j, _| samples[j], |j| positions[j])
@@ -290,12 +306,30 @@ pub(crate) fn entropy_contrast(n: usize, value: impl Fn(usize) -> f64) -> f64 {
     (1.0 - h / math::log2(n as f64)).clamp(0.0, 1.0)
 }
 
-/// The entropy contrast of RGB samples: `Σ_c w_c C_c` with [`LUMINANCE_WEIGHTS`].
+/// The mean of `n` display-referred values, each read by [`clean`], at most `1` (white);
+/// `0` when `n = 0`.
+fn display_mean(n: usize, value: impl Fn(usize) -> f64) -> f64 {
+    if n == 0 {
+        return 0.0;
+    }
+    // Each value capped at 1 first: the sum stays finite and the mean in [0, 1]
+    let mut sum = 0.0;
+    for j in 0..n {
+        sum += clean(value(j)).min(1.0);
+    }
+    (sum / n as f64).clamp(0.0, 1.0)
+}
+
+/// The pixel colour contrast of display-referred RGB samples: `Σ_c w_c C_c c̄_c` with
+/// [`LUMINANCE_WEIGHTS`] (GI 2003 eq. 8; module docs).
 #[must_use]
 pub(crate) fn entropy_contrast_rgb(samples: &[[f64; 3]]) -> f64 {
     let mut c = 0.0;
     for (k, w) in LUMINANCE_WEIGHTS.iter().enumerate() {
-        c += w * entropy_contrast(samples.len(), |j| samples[j][k]);
+        let mean = display_mean(samples.len(), |j| samples[j][k]);
+        if mean > 0.0 {
+            c += w * entropy_contrast(samples.len(), |j| samples[j][k]) * mean;
+        }
     }
     c.clamp(0.0, 1.0)
 }
@@ -384,7 +418,12 @@ fn mi_contrast(
     if min_a >= 1.0 {
         return 0.0;
     }
-    (i_d / -math::log2(min_a)).clamp(0.0, 1.0)
+    // Y: the pixel's mean display luminance (module docs)
+    let mut y = 0.0;
+    for c in 0..channels {
+        y += weight(c) * display_mean(n, |j| value(j, c));
+    }
+    (y.clamp(0.0, 1.0) * i_d / -math::log2(min_a)).clamp(0.0, 1.0)
 }
 
 #[cfg(test)]
@@ -397,19 +436,29 @@ mod tests {
     fn constant_is_zero_and_split_matches_closed_form() {
         assert_eq!(entropy_contrast(4, |_| 0.3), 0.0);
         assert_eq!(entropy_contrast(4, |_| 0.0), 0.0);
-        // Black and white halves: C = 1 / log₂ N
+        // Black and white halves: C = 1 / log₂ N, times the mean colour 1/2
         for n in [4usize, 8, 16, 64] {
             let c = entropy_contrast(n, |j| (j % 2) as f64);
             assert!((c - 1.0 / (n as f64).log2()).abs() < 1e-12, "{n}: {c}");
+            let mut s = [[0.0; 3]; 64];
+            for (j, x) in s.iter_mut().enumerate() {
+                *x = [(j % 2) as f64; 3];
+            }
+            let c = entropy_contrast_rgb(&s[..n]);
+            assert!((c - 0.5 / (n as f64).log2()).abs() < 1e-12, "{n}: {c}");
         }
-        // Left/right halves, black and white: I_d = 1 bit of 2
+        // Left/right halves, black and white: I_d = 1 bit of 2, times Y = 1/2
         let s = [1.0, 0.0, 1.0, 0.0];
         let c = Oracle::mutual_information().contrast_luminance(&s, &AT4);
-        assert!((c - 0.5).abs() < 1e-12, "{c}");
-        // All the light in one quadrant: 2 bits of 2
+        assert!((c - 0.25).abs() < 1e-12, "{c}");
+        // All the light in one quadrant: 2 bits of 2, times Y = 1/4
         let s = [1.0, 0.0, 0.0, 0.0];
         let c = Oracle::mutual_information().contrast_luminance(&s, &AT4);
-        assert!((c - 1.0).abs() < 1e-12, "{c}");
+        assert!((c - 0.25).abs() < 1e-12, "{c}");
+        // Display-referred: values above white count as white
+        let bright = [[4.0; 3], [0.0; 3], [4.0; 3], [0.0; 3]];
+        let c = entropy_contrast_rgb(&bright);
+        assert!((c - 0.25).abs() < 1e-12, "{c}");
     }
 
     #[test]

@@ -126,7 +126,16 @@ pub fn run(args: &RenderArgs, threads: usize) -> Result<()> {
         "image                 {w}×{h}, {} spp on average",
         args.spp
     );
-    let _ = writeln!(s, "allocation            {}", allocation_name(allocation));
+    let neighbours = if matches!(allocation, Allocation::Adaptive(_)) && !args.own_samples_only {
+        ", pixel and its 4 neighbours"
+    } else {
+        ""
+    };
+    let _ = writeln!(
+        s,
+        "allocation            {}{neighbours}",
+        allocation_name(allocation)
+    );
     write_counts(&mut s, &image);
     let _ = writeln!(s, "render                {render_seconds:.2} s");
     if args.rmse {
@@ -141,7 +150,7 @@ pub fn run(args: &RenderArgs, threads: usize) -> Result<()> {
 /// The sampling options of the flags, with seed `seed`.
 fn options_of(args: &RenderArgs, seed: u64) -> RenderOptions {
     let mut options = RenderOptions::new(args.spp, seed);
-    options.neighbours = args.neighbours;
+    options.neighbours = !args.own_samples_only;
     options
 }
 
