@@ -9,7 +9,9 @@ use sceneinfo::io::parse_flat;
 use sceneinfo::refine::proposition::{StateSplit, split_gain};
 use sceneinfo::scene::{Scene2, Scene3, Subdivision};
 use sceneinfo::simplify::adjacency::{adjacency_2d, adjacency_3d, coarse_scene_2d};
-use sceneinfo::simplify::{MergeChain, MergeCriterion, Simplifier, compare_criteria, polish};
+use sceneinfo::simplify::{
+    MergeChain, MergeCriterion, Simplifier, compare_criteria, polish::Polished,
+};
 
 /// Tolerance of the issue: a merge's loss against the recomputed `I_S` difference. Both
 /// are sums of `O(n²)` terms of a few bits at most, in `f64` with compensated sums.
@@ -301,7 +303,7 @@ fn polishing_never_loses_and_the_polished_scene_measures_what_it_reports() {
             let mut s = Simplifier::new(fine.clone(), n, &pairs, MergeCriterion::Information, None)
                 .unwrap();
             s.run(target, None).unwrap();
-            let p = polish(&fine, n, &pairs, s.chain().clusters()).unwrap();
+            let p = Polished::of(&fine, n, &pairs, s.chain().clusters()).unwrap();
             assert!((p.start_i_s - s.i_s()).abs() <= LOSS_TOLERANCE, "{name}");
             assert!(p.i_s >= p.start_i_s, "{name} at {target}");
             assert_eq!(p.chain.live_states().len(), s.chain().live_states().len());

@@ -68,13 +68,11 @@ pub use compare::OracleComparison;
 #[cfg(feature = "alloc")]
 pub use image::{ImageError, render_gouraud};
 #[cfg(feature = "alloc")]
-pub use mc_compare::{
-    McComparison, McReference, mc_compare_against, mc_reference, mc_reference_mesh,
-};
+pub use mc_compare::{McComparison, McReference};
 #[cfg(feature = "alloc")]
 pub use monte_carlo::{McHierarchy, McOptions, McOracle};
 #[cfg(feature = "alloc")]
-pub use reference_noise::{ReferenceNoise, without_noise};
+pub use reference_noise::ReferenceNoise;
 
 #[cfg(all(test, feature = "alloc"))]
 use tree::Element;

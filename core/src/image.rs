@@ -2,7 +2,7 @@
 //! the front ends write: one pinhole camera ([`Camera3`]), one polygon rasteriser with a
 //! depth buffer (crate-private, shared with the viewpoint channel's
 //! [`IdRaster`](crate::viewpoint::IdRaster); [`Picture3`] draws with it), the one Gouraud
-//! shading ([`gouraud_mesh`]) and the one tone map ([`ToneMap`]).
+//! shading ([`GouraudMesh::of`]) and the one tone map ([`ToneMap`]).
 //!
 //! # The colour pipeline
 //!
@@ -43,7 +43,7 @@ mod tone;
 
 pub use camera::Camera3;
 pub(crate) use camera::look_basis;
-pub use gouraud::{GouraudMesh, gouraud_mesh};
+pub use gouraud::GouraudMesh;
 pub(crate) use gouraud::{ShadedPolygon, gouraud, interpolate};
 pub use picture::Picture3;
 pub use tone::ToneMap;

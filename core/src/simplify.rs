@@ -48,7 +48,7 @@ pub mod polish;
 pub use chain::MergeChain;
 pub use compare::{Comparison, CriterionOutcome, compare_criteria};
 pub use greedy::{MergeCriterion, MergeStep, Simplifier, StopReason};
-pub use polish::{Polished, polish};
+pub use polish::Polished;
 
 /// Most states (patches and a background) a [`MergeChain`] holds: it keeps a dense `n × n`
 /// joint matrix (`8 n²` bytes: 134 MB at this cap).

@@ -8,9 +8,7 @@ use sceneinfo::image::{Camera3, ToneMap};
 use sceneinfo::radiosity::rgb::RgbSolution;
 use sceneinfo::radiosity::{SolveOptions, Solver};
 use sceneinfo::scene::Subdivision;
-use sceneinfo::supersample::render3::{
-    Allocation, RadianceScene3, RenderOptions, Spread, render, rmse,
-};
+use sceneinfo::supersample::render3::{Allocation, RadianceScene3, RenderOptions, Spread, render};
 use sceneinfo::supersample::sequence::{pixel_scramble, sobol_2d};
 use sceneinfo::supersample::{ContrastMeasure, Oracle, Verdict};
 use sceneinfo::{Job, LineBudget, LineJob, Scene, Serial};
@@ -155,7 +153,7 @@ fn adaptive_beats_uniform_on_the_cornell_box_at_equal_samples() {
                     let image = render(&radiance, &camera, allocation, &options).unwrap();
                     let budget = u64::from(size * size * spp);
                     assert_eq!(image.samples, budget, "equal total samples");
-                    rmse(&image.rgb, &reference.rgb).unwrap()
+                    image.rmse(&reference).unwrap()
                 })
                 .collect();
             let s = Spread::of(&errors).unwrap();

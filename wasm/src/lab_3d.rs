@@ -12,7 +12,7 @@
 
 use std::path::Path;
 
-use sceneinfo::image::{ToneMap, gouraud_mesh};
+use sceneinfo::image::{GouraudMesh, ToneMap};
 use sceneinfo::io::{LoadReport, ObjOptions};
 use sceneinfo::scene::Preset3Entry;
 use sceneinfo::viewpoint::{ViewpointJob, ViewpointOptions};
@@ -300,7 +300,7 @@ impl Lab3 {
             .collect();
         let materials: Vec<Material> = self.scene.patch_materials();
         let tone = tone_map(&per_patch, &materials, exposure);
-        let mesh = gouraud_mesh(&self.scene, &per_patch);
+        let mesh = GouraudMesh::of(&self.scene, &per_patch);
         let mut positions = Vec::new();
         let mut colours = Vec::new();
         for face in &mesh.faces {

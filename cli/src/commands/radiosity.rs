@@ -21,7 +21,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{Result, bail};
-use sceneinfo::image::{ToneMap, gouraud_mesh};
+use sceneinfo::image::{GouraudMesh, ToneMap};
 use sceneinfo::radiosity::rgb::RgbSolution;
 use sceneinfo::scene::{Material, Scene3};
 use sceneinfo::{
@@ -396,7 +396,7 @@ fn is_ambient_lamps(w: &sceneinfo::io::LoadWarning) -> bool {
 /// The lit scene as a PLY mesh with Gouraud vertex colours and flat face colours.
 fn lit_mesh(scene: &Scene3, r: &Run, name: &str) -> Ply {
     let tone = ToneMap::for_scene(&r.lit.solution().radiosity, r.lit.materials());
-    let mesh = gouraud_mesh(scene, &r.lit.solution().radiosity);
+    let mesh = GouraudMesh::of(scene, &r.lit.solution().radiosity);
     let rgb = |b: [f64; 3]| {
         let [x, y, z] = tone.rgb(b);
         Rgb(x, y, z)

@@ -18,7 +18,7 @@ use sceneinfo::image::{Camera3, ToneMap};
 use sceneinfo::scene::{Scene3, Subdivision};
 use sceneinfo::supersample::Oracle;
 use sceneinfo::supersample::render3::{
-    Allocation, Image3, RadianceScene3, RenderOptions, Spread, render, rmse,
+    Allocation, Image3, RadianceScene3, RenderOptions, Spread, render,
 };
 use sceneinfo::{ErrorKind, RadiosityJob};
 
@@ -244,7 +244,7 @@ fn compare(
         for (k, (_, allocation)) in methods.iter().enumerate() {
             let image =
                 render(radiance, camera, *allocation, &options_of(args, seed)).map_err(at)?;
-            let e = rmse(&image.rgb, &reference.rgb).unwrap_or(f64::NAN);
+            let e = image.rmse(&reference).unwrap_or(f64::NAN);
             errors[k].push(e);
             spread[k] += image.spread;
         }

@@ -16,7 +16,7 @@ use sceneinfo::formfactor::{FormFactors, exact_2d, exact_3d};
 use sceneinfo::scene::{Material, Subdivision};
 use sceneinfo::simplify::adjacency::{adjacency_2d, adjacency_3d, coarse_scene_2d};
 use sceneinfo::simplify::{
-    MergeChain, MergeCriterion, MergeStep, Simplifier, compare_criteria, polish,
+    MergeChain, MergeCriterion, MergeStep, Polished, Simplifier, compare_criteria,
 };
 use sceneinfo_report::SimplificationReport;
 
@@ -81,7 +81,7 @@ pub fn run(args: &SimplifyArgs) -> Result<()> {
         Simplifier::new(chain.clone(), n, &pairs, MergeCriterion::Information, None).map_err(at)?;
     let fine_i_s = s.start_i_s();
     let (steps, stop) = s.run(args.to.unwrap_or(1), args.max_loss).map_err(at)?;
-    let polished = polish(&chain, n, &pairs, s.chain().clusters()).map_err(at)?;
+    let polished = Polished::of(&chain, n, &pairs, s.chain().clusters()).map_err(at)?;
     let comparison = compare_criteria(&chain, n, &pairs, &materials, s.n_patches()).map_err(at)?;
     if let (Some(out), Some(scene)) = (&args.output, flat) {
         let coarse = coarse_scene_2d(scene, polished.chain.clusters()).map_err(at)?;

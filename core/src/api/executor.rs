@@ -119,7 +119,7 @@ pub trait Executor {
         false
     }
 
-    /// Computes the rows of an exact job ([`crate::measure_exact_within`]): calls
+    /// Computes the rows of an exact job ([`crate::Measurement::exact_within`]): calls
     /// [`RowWork::run`] once for each row of [`RowWork::rows`], on any threads in any
     /// order, and returns what they gave in any order. Each row is a pure function of its
     /// index, so the result is the same bits for any number of threads. To stop, it starts

@@ -165,7 +165,7 @@ impl GouraudImage {
 /// seen from `view` (module docs).
 ///
 /// # Errors
-/// [`ErrorKind::TooLarge`] for a side above [`MAX_IMAGE_SIDE`]; those of [`Bvh3::build`].
+/// [`ErrorKind::TooLarge`] for a side above `MAX_IMAGE_SIDE`; those of [`Bvh3::build`].
 pub fn render_gouraud(
     scene: &Scene3,
     leaves: &[LeafShade<'_>],

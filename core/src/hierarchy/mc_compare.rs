@@ -199,110 +199,116 @@ pub(crate) fn mc_compare_at_size(
     frozen_rays: u64,
 ) -> Result<McComparison> {
     let r = McReference::new(scene, &reference.shaded_leaves(), &[])?;
-    Ok(mc_compare_against(scene, &r, name, target, opts, frozen_rays)?.0)
+    Ok(McComparison::against(scene, &r, name, target, opts, frozen_rays)?.0)
 }
 
-/// `mc_compare_at_size` against an [`McReference`] (with its pictures' errors,
-/// [`McComparison::image_errors`]); also returns the mesh.
-///
-/// # Errors
-/// As `mc_compare_at_size`; those of `ImageReference::error`.
-pub fn mc_compare_against(
-    scene: &Scene3,
-    reference: &McReference,
-    name: &'static str,
-    target: usize,
-    opts: &McOptions,
-    frozen_rays: u64,
-) -> Result<(McComparison, McHierarchy)> {
-    let (epsilon, h) = mc_build_to_target(scene, name, target, opts)?;
-    let rms_error = reference.rms(&h)?;
-    let boundary_rms_error =
-        h.rms_difference(reference.boundary.iter().map(|(p, b)| (p.as_slice(), *b)))?;
-    let mesh_rms_error = if frozen_rays > 0 {
-        let f = h.resolve_frozen(scene, frozen_rays, FROZEN_SEED ^ opts.seed)?;
-        Some(reference.rms(&f)?)
-    } else {
-        None
-    };
-    let leaves = h.shaded_leaves();
-    let image_errors = reference
-        .images
-        .iter()
-        .map(|r| r.error(scene, &leaves))
-        .collect::<Result<Vec<_>>>()?;
-    drop(leaves);
-    let rms_error_halves = reference
-        .halves
-        .iter()
-        .map(|half| h.rms_difference(half.iter().map(|(p, b)| (p.as_slice(), *b))))
-        .collect::<Result<Vec<_>>>()?;
-    let c = McComparison {
-        oracle: name,
-        pairs: opts.pairs,
-        seed: opts.seed,
-        epsilon,
-        leaves: h.n_leaves(),
-        links: h.links(),
-        evaluations: h.evaluations(),
-        rays: h.rays(),
-        oracle_rays: h.oracle_rays(),
-        rms_error,
-        mesh_rms_error,
-        boundary_rms_error,
-        image_errors,
-        rms_error_halves,
-    };
-    Ok((c, h))
+impl McComparison {
+    /// `mc_compare_at_size` against an [`McReference`] (with its pictures' errors,
+    /// [`McComparison::image_errors`]); also returns the mesh.
+    ///
+    /// # Errors
+    /// As `mc_compare_at_size`; those of `ImageReference::error`.
+    pub fn against(
+        scene: &Scene3,
+        reference: &McReference,
+        name: &'static str,
+        target: usize,
+        opts: &McOptions,
+        frozen_rays: u64,
+    ) -> Result<(McComparison, McHierarchy)> {
+        let (epsilon, h) = mc_build_to_target(scene, name, target, opts)?;
+        let rms_error = reference.rms(&h)?;
+        let boundary_rms_error =
+            h.rms_difference(reference.boundary.iter().map(|(p, b)| (p.as_slice(), *b)))?;
+        let mesh_rms_error = if frozen_rays > 0 {
+            let f = h.resolve_frozen(scene, frozen_rays, FROZEN_SEED ^ opts.seed)?;
+            Some(reference.rms(&f)?)
+        } else {
+            None
+        };
+        let leaves = h.shaded_leaves();
+        let image_errors = reference
+            .images
+            .iter()
+            .map(|r| r.error(scene, &leaves))
+            .collect::<Result<Vec<_>>>()?;
+        drop(leaves);
+        let rms_error_halves = reference
+            .halves
+            .iter()
+            .map(|half| h.rms_difference(half.iter().map(|(p, b)| (p.as_slice(), *b))))
+            .collect::<Result<Vec<_>>>()?;
+        let c = McComparison {
+            oracle: name,
+            pairs: opts.pairs,
+            seed: opts.seed,
+            epsilon,
+            leaves: h.n_leaves(),
+            links: h.links(),
+            evaluations: h.evaluations(),
+            rays: h.rays(),
+            oracle_rays: h.oracle_rays(),
+            rms_error,
+            mesh_rms_error,
+            boundary_rms_error,
+            image_errors,
+            rms_error_halves,
+        };
+        Ok((c, h))
+    }
 }
 
-/// A Monte Carlo reference for scenes too large for [`Hierarchy::build_reference`]: the
-/// regular mesh made by the power oracle at `ε = 0` (every element pair a ray meets is
-/// refined until the larger element of the pair cannot be split above `min_area`, the
-/// element area bound relative to `A_T`) with `mesh_rays` rays, then re-solved frozen
-/// ([`McHierarchy::resolve_frozen`]) with `rays` rays and `seed`. Its own noise is measured
-/// by two seeds' difference (docs/chapter6-protocol.md).
-///
-/// # Errors
-/// Those of [`McHierarchy::solve`] and [`McHierarchy::resolve_frozen`].
-pub fn mc_reference(
-    scene: &Scene3,
-    min_area: f64,
-    mesh_rays: u64,
-    rays: u64,
-    seed: u64,
-) -> Result<McHierarchy> {
-    mc_reference_mesh(scene, min_area, mesh_rays, seed)?.resolve_frozen(
-        scene,
-        rays,
-        seed ^ FROZEN_SEED,
-    )
+impl McHierarchy {
+    /// A Monte Carlo reference for scenes too large for [`Hierarchy::build_reference`]: the
+    /// regular mesh made by the power oracle at `ε = 0` (every element pair a ray meets is
+    /// refined until the larger element of the pair cannot be split above `min_area`, the
+    /// element area bound relative to `A_T`) with `mesh_rays` rays, then re-solved frozen
+    /// ([`McHierarchy::resolve_frozen`]) with `rays` rays and `seed`. Its own noise is measured
+    /// by two seeds' difference (docs/chapter6-protocol.md).
+    ///
+    /// # Errors
+    /// Those of [`McHierarchy::solve`] and [`McHierarchy::resolve_frozen`].
+    pub fn reference(
+        scene: &Scene3,
+        min_area: f64,
+        mesh_rays: u64,
+        rays: u64,
+        seed: u64,
+    ) -> Result<McHierarchy> {
+        McHierarchy::reference_mesh(scene, min_area, mesh_rays, seed)?.resolve_frozen(
+            scene,
+            rays,
+            seed ^ FROZEN_SEED,
+        )
+    }
 }
 
-/// The regular mesh of [`mc_reference`] before its frozen re-solve (the power oracle at
-/// `ε = 0` with `mesh_rays` rays down to `min_area`): to be re-solved frozen by several
-/// seeds and averaged ([`McHierarchy::mean_with`]), the spread of the solves measuring the
-/// reference's own noise.
-///
-/// # Errors
-/// Those of [`McHierarchy::solve`].
-pub fn mc_reference_mesh(
-    scene: &Scene3,
-    min_area: f64,
-    mesh_rays: u64,
-    seed: u64,
-) -> Result<McHierarchy> {
-    McHierarchy::solve(
-        scene,
-        McOracle::Power(0.0),
-        &McOptions {
-            rays: mesh_rays,
-            pairs: 1,
-            seed,
-            min_area,
-            ..McOptions::default()
-        },
-    )
+impl McHierarchy {
+    /// The regular mesh of [`McHierarchy::reference`] before its frozen re-solve (the power oracle at
+    /// `ε = 0` with `mesh_rays` rays down to `min_area`): to be re-solved frozen by several
+    /// seeds and averaged ([`McHierarchy::mean_with`]), the spread of the solves measuring the
+    /// reference's own noise.
+    ///
+    /// # Errors
+    /// Those of [`McHierarchy::solve`].
+    pub fn reference_mesh(
+        scene: &Scene3,
+        min_area: f64,
+        mesh_rays: u64,
+        seed: u64,
+    ) -> Result<McHierarchy> {
+        McHierarchy::solve(
+            scene,
+            McOracle::Power(0.0),
+            &McOptions {
+                rays: mesh_rays,
+                pairs: 1,
+                seed,
+                min_area,
+                ..McOptions::default()
+            },
+        )
+    }
 }
 
 /// [`McComparison::mean_spread`].
@@ -484,7 +490,7 @@ mod tests {
     fn cube_room_at_a_small_budget() {
         let scene = cube_room();
         assert_eq!(scene.n_patches(), 550);
-        let reference = mc_reference(&scene, 1.0 / 6000.0, 30_000, 300_000, 7).unwrap();
+        let reference = McHierarchy::reference(&scene, 1.0 / 6000.0, 30_000, 300_000, 7).unwrap();
         let view = Camera3::in_scene_units(
             &scene,
             DVec3::new(0.35, 2.7, 0.3),
@@ -502,7 +508,7 @@ mod tests {
                     seed,
                     ..McOptions::default()
                 };
-                let (c, _) = mc_compare_against(&scene, &r, name, 700, &o, 0).unwrap();
+                let (c, _) = McComparison::against(&scene, &r, name, 700, &o, 0).unwrap();
                 assert!(c.leaves.abs_diff(700) <= 21, "{c:?}");
                 assert_eq!(c.rays, rays);
                 c

@@ -42,7 +42,7 @@ pub struct ReferenceNoise {
 /// `√(max(0, x² − σ²))`: a measured RMS `x` with an independent noise of RMS `σ` removed in
 /// quadrature (module docs).
 #[must_use]
-pub fn without_noise(x: f64, sigma: f64) -> f64 {
+pub(crate) fn without_noise(x: f64, sigma: f64) -> f64 {
     math::sqrt((x * x - sigma * sigma).max(0.0))
 }
 
@@ -115,7 +115,7 @@ impl McComparison {
     }
 
     /// This comparison with the reference's noise removed in quadrature from every measure
-    /// against the reference ([`without_noise`]: RMS, mesh RMS and boundary RMS by the
+    /// against the reference (`without_noise`: RMS, mesh RMS and boundary RMS by the
     /// reference's, each view's image and edge RMSE by its picture's).
     #[must_use]
     pub fn without_reference_noise(&self, noise: &ReferenceNoise) -> Self {
@@ -134,8 +134,8 @@ impl McComparison {
 #[cfg(all(test, feature = "std"))]
 mod tests {
     use super::*;
-    use crate::hierarchy::mc_compare::{mc_compare_against, mc_reference_mesh};
     use crate::hierarchy::monte_carlo::{McOptions, McOracle};
+    use crate::hierarchy::{McComparison, McHierarchy};
 
     /// Removing noise in quadrature: exact on a right triangle, never negative, nothing
     /// removed for no noise.
@@ -154,7 +154,7 @@ mod tests {
     #[test]
     fn mean_of_two_solves_and_its_noise() {
         let scene = crate::scene::Scene3::cornell_box(false, 1).unwrap();
-        let mesh = mc_reference_mesh(&scene, 1.0 / 800.0, 20_000, 3).unwrap();
+        let mesh = McHierarchy::reference_mesh(&scene, 1.0 / 800.0, 20_000, 3).unwrap();
         let a = mesh.resolve_frozen(&scene, 40_000, 11).unwrap();
         let b = mesh.resolve_frozen(&scene, 40_000, 12).unwrap();
         let m = a.mean_with(&b).unwrap();
@@ -194,7 +194,7 @@ mod tests {
             seed: 5,
             ..McOptions::default()
         };
-        let (c, _) = mc_compare_against(&scene, &r, "power", 200, &o, 0).unwrap();
+        let (c, _) = McComparison::against(&scene, &r, "power", 200, &o, 0).unwrap();
         assert_eq!(c.rms_error_halves.len(), 2);
         let residual = c.reference_error(&noise).unwrap();
         assert!(residual.is_finite() && residual >= 0.0);

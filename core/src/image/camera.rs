@@ -23,7 +23,7 @@ pub(crate) fn look_basis(forward: DVec3) -> Option<(DVec3, DVec3, DVec3)> {
 }
 
 /// A pinhole camera: eye, look-at point, vertical field of view and image size, with its
-/// frame ([`look_basis`]: up is `+y`, or `+z` when looking along `y`) and the image plane at
+/// frame (`look_basis`: up is `+y`, or `+z` when looking along `y`) and the image plane at
 /// distance 1 spanning `2 tan(fov/2)` vertically and `2 tan(fov/2) W/H` across. The ray of
 /// position `(u, v) ∈ [0, 1)²` in pixel `(x, y)` (rows from the top):
 ///
@@ -165,7 +165,7 @@ impl Camera3 {
     }
 
     /// `p` in the camera's frame: `(right, up, forward)` coordinates relative to the eye.
-    pub(crate) fn to_camera(&self, p: DVec3) -> DVec3 {
+    pub(crate) fn in_camera_frame(&self, p: DVec3) -> DVec3 {
         let d = p - self.eye;
         DVec3::new(d.dot(self.right), d.dot(self.up), d.dot(self.forward))
     }
@@ -198,7 +198,7 @@ mod tests {
         // forward, +y up, right = z × y = −x)
         let d = c.direction(3, 1, [1.0, 0.0]);
         assert!((d - v(-2.0, 0.0, 1.0)).length() < 1e-15, "{d}");
-        assert_eq!(c.to_camera(DVec3::ZERO), v(0., 0., 3.));
+        assert_eq!(c.in_camera_frame(DVec3::ZERO), v(0., 0., 3.));
         for bad in [
             Camera3::new(v(0., 0., -3.), DVec3::ZERO, 180.0, (4, 2)),
             Camera3::new(v(0., 0., -3.), DVec3::ZERO, 40.0, (0, 2)),

@@ -1,7 +1,7 @@
 //! Gouraud vertex radiosities: the second step of the colour pipeline (see [`super`]).
 //!
 //! **Vertex radiosity (Gouraud).** `gouraud` is the one Gouraud shading of the project:
-//! `radiosity --ply` shades the scene's patches with it ([`gouraud_mesh`]) and
+//! `radiosity --ply` shades the scene's patches with it ([`GouraudMesh::of`]) and
 //! `refine --png` the leaves of a hierarchy (`Hierarchy::vertex_radiosities`). A vertex
 //! shared by polygons gets the area-weighted average of their radiosities,
 //!
@@ -63,23 +63,25 @@ pub(crate) struct ShadedPolygon<'a> {
     pub material: Material,
 }
 
-/// The patches of `scene` with their radiosities `radiosity` (per state; states past the
-/// patches are ignored, missing ones are black), shaded by `gouraud`.
-#[must_use]
-pub fn gouraud_mesh(scene: &Scene3, radiosity: &[[f64; 3]]) -> GouraudMesh {
-    let polygons: Vec<ShadedPolygon<'_>> = scene
-        .patches()
-        .iter()
-        .enumerate()
-        .map(|(i, p)| ShadedPolygon {
-            vertices: scene.patch_vertices(i),
-            normal: p.normal,
-            area: p.area,
-            radiosity: radiosity.get(i).copied().unwrap_or([0.0; 3]),
-            material: scene.patch_material(i).copied().unwrap_or_default(),
-        })
-        .collect();
-    gouraud(&polygons, scene.bounds())
+impl GouraudMesh {
+    /// The patches of `scene` with their radiosities `radiosity` (per state; states past the
+    /// patches are ignored, missing ones are black), shaded by `gouraud`.
+    #[must_use]
+    pub fn of(scene: &Scene3, radiosity: &[[f64; 3]]) -> GouraudMesh {
+        let polygons: Vec<ShadedPolygon<'_>> = scene
+            .patches()
+            .iter()
+            .enumerate()
+            .map(|(i, p)| ShadedPolygon {
+                vertices: scene.patch_vertices(i),
+                normal: p.normal,
+                area: p.area,
+                radiosity: radiosity.get(i).copied().unwrap_or([0.0; 3]),
+                material: scene.patch_material(i).copied().unwrap_or_default(),
+            })
+            .collect();
+        gouraud(&polygons, scene.bounds())
+    }
 }
 
 /// Welds the corners of `polygons` by the module's weld rule (same plane and facing, same
@@ -253,7 +255,7 @@ mod tests {
         let scene = Scene3::cube(2).unwrap();
         let n = scene.n_patches();
         let b: Vec<[f64; 3]> = (0..n).map(|i| [i as f64, 1.0, 0.0]).collect();
-        let mesh = gouraud_mesh(&scene, &b);
+        let mesh = GouraudMesh::of(&scene, &b);
         // Each face's 2 × 2 grid has 9 distinct vertices; faces (planes) are not welded
         // together.
         assert_eq!(mesh.positions.len(), 6 * 9);

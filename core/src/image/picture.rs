@@ -85,7 +85,7 @@ impl Picture3 {
             corners,
         } = self;
         corners.clear();
-        corners.extend(vertices.iter().map(|&p| camera.to_camera(p)));
+        corners.extend(vertices.iter().map(|&p| camera.in_camera_frame(p)));
         if !fill.load(corners.iter().copied(), Some(*near)) {
             return;
         }
@@ -113,7 +113,11 @@ impl Picture3 {
         }
         for k in 0..vertices.len() {
             let (p, q) = (vertices[k], vertices[(k + 1) % vertices.len()]);
-            self.segment(self.camera.to_camera(p), self.camera.to_camera(q), colour);
+            self.segment(
+                self.camera.in_camera_frame(p),
+                self.camera.in_camera_frame(q),
+                colour,
+            );
         }
     }
 
@@ -134,7 +138,7 @@ impl Picture3 {
             PolygonFill::project(&self.window, q),
         );
         let (inv_a, inv_b) = (1.0 / p.z, 1.0 / q.z);
-        let steps = (b.0 - a.0).abs().max((b.1 - a.1).abs()).ceil();
+        let steps = crate::math::ceil((b.0 - a.0).abs().max((b.1 - a.1).abs()));
         if !steps.is_finite() || steps > 1e5 {
             return;
         }

@@ -20,7 +20,7 @@ use alloc::vec::Vec;
 
 use super::chain::MergeChain;
 use super::greedy::{MergeCriterion, Simplifier, StopReason};
-use super::polish::polish;
+use super::polish::Polished;
 use crate::channel::DenseMatrix;
 use crate::error::{ErrorKind, Result};
 use crate::math::KahanSum;
@@ -156,7 +156,7 @@ pub fn compare_criteria(
         let mut s = Simplifier::new(fine.clone(), n_patches, adjacency, criterion, Some(&fine_b))?;
         let (_, stop) = s.run(target, None)?;
         let (chain, i_s) = if criterion == MergeCriterion::Information {
-            let polished = polish(fine, n_patches, adjacency, s.chain().clusters())?;
+            let polished = Polished::of(fine, n_patches, adjacency, s.chain().clusters())?;
             (polished.chain, polished.i_s)
         } else {
             (s.chain().clone(), s.i_s())

@@ -36,8 +36,8 @@
 //!
 //! The search alternates boundary moves until none helps and one transfer, until no
 //! transfer helps. A change is accepted only when it raises `I_S` by more than
-//! [`GAIN_THRESHOLD`] bits (far above the rounding of the incremental updates), so no
-//! partition repeats; the loops are also capped ([`MOVES_PER_PATCH`], one transfer round
+//! `GAIN_THRESHOLD` bits (far above the rounding of the incremental updates), so no
+//! partition repeats; the loops are also capped (`MOVES_PER_PATCH`, one transfer round
 //! per patch). The incremental `Q`, `W`, `p L` are rebuilt from the fine chain after every
 //! round of moves, and the final `I_S` is recomputed from the merged chain: if rounding ever
 //! made it lower than the start's, the starting partition is returned.
@@ -57,15 +57,15 @@ use crate::refine::proposition::two_state_split_gain;
 
 /// A change is taken only when it raises `I_S` by more than this (bits). The incremental
 /// gains agree with recomputed `I_S` differences to about `1e-15` (a few ulps per term).
-pub const GAIN_THRESHOLD: f64 = 1e-12;
+pub(crate) const GAIN_THRESHOLD: f64 = 1e-12;
 
 /// At most this many boundary moves per fine patch over a whole polish.
-pub const MOVES_PER_PATCH: usize = 32;
+pub(crate) const MOVES_PER_PATCH: usize = 32;
 
 /// Transfer candidates evaluated exactly per round, best ranked first.
 const TRANSFER_TRIES: usize = 24;
 
-/// A polished partition ([`polish`]).
+/// A polished partition ([`Polished::of`]).
 #[derive(Clone, Debug)]
 pub struct Polished {
     /// The fine chain merged into the polished clusters (each merged patch named by its
@@ -806,63 +806,65 @@ fn i_s_of(q: &[f64], w: &[f64]) -> f64 {
     total.total()
 }
 
-/// Polishes the partition `clusters` of `fine` (for every state, the representative of its
-/// cluster, as [`MergeChain::clusters`] gives it; the first `n_patches` states are patches,
-/// later ones stay alone) by boundary moves and transfers between adjacent clusters
-/// (`adjacency`: the fine pairs that may merge), at a fixed patch count (module docs).
-/// Every cluster must be connected by `adjacency` for the result's clusters to be (the
-/// moves keep connectivity; greedy merges give connected clusters).
-///
-/// # Errors
-/// [`ErrorKind::DimensionMismatch`] when `clusters` is not one entry per state of `fine`;
-/// [`ErrorKind::PatchIndex`] for a pair or a representative out of range; the errors of
-/// [`MergeChain::merge`] and [`MergeChain::i_s`].
-pub fn polish(
-    fine: &MergeChain,
-    n_patches: usize,
-    adjacency: &[(usize, usize)],
-    clusters: &[usize],
-) -> Result<Polished> {
-    let mut p = Partition::new(fine, n_patches, adjacency, clusters)?;
-    let start = p.merged_chain()?;
-    let start_i_s = start.i_s()?;
-    let mut budget = MOVES_PER_PATCH.saturating_mul(n_patches);
-    let trial_moves = n_patches / 8 + 8;
-    let mut moves = 0;
-    let mut transfers = 0;
-    for _ in 0..n_patches.max(1) {
-        let taken = p.boundary_moves(budget);
-        moves += taken;
-        budget -= taken;
-        let along = p.surface_dp();
-        transfers += along;
-        if along == 0 {
-            // Where every patch lies on a path the runs' moves above are the transfers.
-            let on_paths: usize = p.paths.iter().map(Vec::len).sum();
-            if on_paths == n_patches || !p.transfer(budget.min(trial_moves)) {
-                break;
+impl Polished {
+    /// Polishes the partition `clusters` of `fine` (for every state, the representative of its
+    /// cluster, as [`MergeChain::clusters`] gives it; the first `n_patches` states are patches,
+    /// later ones stay alone) by boundary moves and transfers between adjacent clusters
+    /// (`adjacency`: the fine pairs that may merge), at a fixed patch count (module docs).
+    /// Every cluster must be connected by `adjacency` for the result's clusters to be (the
+    /// moves keep connectivity; greedy merges give connected clusters).
+    ///
+    /// # Errors
+    /// [`ErrorKind::DimensionMismatch`] when `clusters` is not one entry per state of `fine`;
+    /// [`ErrorKind::PatchIndex`] for a pair or a representative out of range; the errors of
+    /// [`MergeChain::merge`] and [`MergeChain::i_s`].
+    pub fn of(
+        fine: &MergeChain,
+        n_patches: usize,
+        adjacency: &[(usize, usize)],
+        clusters: &[usize],
+    ) -> Result<Polished> {
+        let mut p = Partition::new(fine, n_patches, adjacency, clusters)?;
+        let start = p.merged_chain()?;
+        let start_i_s = start.i_s()?;
+        let mut budget = MOVES_PER_PATCH.saturating_mul(n_patches);
+        let trial_moves = n_patches / 8 + 8;
+        let mut moves = 0;
+        let mut transfers = 0;
+        for _ in 0..n_patches.max(1) {
+            let taken = p.boundary_moves(budget);
+            moves += taken;
+            budget -= taken;
+            let along = p.surface_dp();
+            transfers += along;
+            if along == 0 {
+                // Where every patch lies on a path the runs' moves above are the transfers.
+                let on_paths: usize = p.paths.iter().map(Vec::len).sum();
+                if on_paths == n_patches || !p.transfer(budget.min(trial_moves)) {
+                    break;
+                }
+                transfers += 1;
             }
-            transfers += 1;
         }
-    }
-    let chain = p.merged_chain()?;
-    let i_s = chain.i_s()?;
-    if i_s < start_i_s {
-        return Ok(Polished {
-            chain: start,
+        let chain = p.merged_chain()?;
+        let i_s = chain.i_s()?;
+        if i_s < start_i_s {
+            return Ok(Polished {
+                chain: start,
+                start_i_s,
+                i_s: start_i_s,
+                moves: 0,
+                transfers: 0,
+            });
+        }
+        Ok(Polished {
+            chain,
             start_i_s,
-            i_s: start_i_s,
-            moves: 0,
-            transfers: 0,
-        });
+            i_s,
+            moves: moves as u64,
+            transfers: transfers as u64,
+        })
     }
-    Ok(Polished {
-        chain,
-        start_i_s,
-        i_s,
-        moves: moves as u64,
-        transfers: transfers as u64,
-    })
 }
 
 #[cfg(test)]
@@ -929,7 +931,7 @@ mod tests {
         let n = scene.n_patches();
         let pairs = adjacency_2d(&scene);
         let clusters = greedy(&fine, n, &pairs, 27);
-        let polished = polish(&fine, n, &pairs, &clusters).unwrap();
+        let polished = Polished::of(&fine, n, &pairs, &clusters).unwrap();
         assert!(polished.i_s >= polished.start_i_s);
         assert!((polished.i_s - polished.chain.i_s().unwrap()).abs() < 1e-15);
         assert_eq!(polished.chain.live_states().len(), 27);
@@ -948,8 +950,8 @@ mod tests {
         let ff = exact_2d::form_factors(&scene).unwrap();
         let fine = MergeChain::new(ff.weights(), &ff.matrix()).unwrap();
         let pairs = adjacency_2d(&scene);
-        assert!(polish(&fine, 8, &pairs, &[0; 3]).is_err());
-        assert!(polish(&fine, 8, &pairs, &[9; 8]).is_err());
-        assert!(polish(&fine, 8, &[(0, 8)], &[0, 1, 2, 3, 4, 5, 6, 7]).is_err());
+        assert!(Polished::of(&fine, 8, &pairs, &[0; 3]).is_err());
+        assert!(Polished::of(&fine, 8, &pairs, &[9; 8]).is_err());
+        assert!(Polished::of(&fine, 8, &[(0, 8)], &[0, 1, 2, 3, 4, 5, 6, 7]).is_err());
     }
 }

@@ -376,19 +376,23 @@ impl<'a> Film<'a> {
     }
 }
 
-/// Root-mean-square difference of two images over every pixel and channel, or `None` when
-/// their pixel counts differ or they are empty.
-#[must_use]
-pub fn rmse(a: &[[f64; 3]], b: &[[f64; 3]]) -> Option<f64> {
-    if a.len() != b.len() || a.is_empty() {
-        return None;
+impl Image3 {
+    /// Root-mean-square difference of this image and `reference` over every pixel and
+    /// channel, `√(Σ_{p,c} (a_pc − b_pc)² / 3N)`, or `None` when their pixel counts differ or
+    /// they are empty.
+    #[must_use]
+    pub fn rmse(&self, reference: &Image3) -> Option<f64> {
+        let (a, b) = (&self.rgb, &reference.rgb);
+        if a.len() != b.len() || a.is_empty() {
+            return None;
+        }
+        let sum = math::sum(
+            a.iter()
+                .zip(b)
+                .flat_map(|(x, y)| (0..3).map(move |c| (x[c] - y[c]) * (x[c] - y[c]))),
+        );
+        Some(math::sqrt(sum / (3 * a.len()) as f64))
     }
-    let sum = math::sum(
-        a.iter()
-            .zip(b)
-            .flat_map(|(x, y)| (0..3).map(move |c| (x[c] - y[c]) * (x[c] - y[c]))),
-    );
-    Some(math::sqrt(sum / (3 * a.len()) as f64))
 }
 
 /// Mean, sample standard deviation, least and greatest of repeated measurements (an

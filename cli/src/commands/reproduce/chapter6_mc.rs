@@ -16,7 +16,7 @@ use std::sync::Mutex;
 use anyhow::{Context, Result, anyhow};
 use sceneinfo::hierarchy::{
     Hierarchy, HrOptions, ImageError, McComparison, McHierarchy, McOptions, McReference,
-    ReferenceNoise, mc_compare_against, render_gouraud,
+    ReferenceNoise, render_gouraud,
 };
 use sceneinfo::image::{Camera3, Picture3, ToneMap};
 use sceneinfo::scene::Scene3;
@@ -252,7 +252,7 @@ pub(super) fn run_configs(
     };
     let both = run_jobs(runner, &jobs, |&(k, o, s)| {
         let c = &configs[k];
-        let (r, h) = mc_compare_against(
+        let (r, h) = McComparison::against(
             scene,
             reference,
             o,
@@ -290,7 +290,7 @@ pub(super) fn run_configs(
         .collect();
     out.total = run_jobs(runner, &out.total_jobs, |&(k, s, rays)| {
         let c = &configs[k];
-        Ok(mc_compare_against(scene, reference, "power", c.leaves, &opts(c, rays, s), 0)?.0)
+        Ok(McComparison::against(scene, reference, "power", c.leaves, &opts(c, rays, s), 0)?.0)
     })?;
     Ok(out)
 }

@@ -2,13 +2,13 @@
 //! `scenes/cube_room.obj` (a room with a table and four chairs; what is invented:
 //! docs/chapter6-protocol.md), hierarchical Monte Carlo radiosity at the captions' rays and
 //! patch counts times `--cube-room-scale`, each oracle over `--cube-room-seeds` seeds,
-//! against a Monte Carlo reference on a regular fine mesh (`mc_reference`; the deterministic
+//! against a Monte Carlo reference on a regular fine mesh (`McHierarchy::reference`; the deterministic
 //! reference of the Cornell box is far too slow here), with the image errors from the two
 //! views of Figs. 6.7 and 6.8.
 
 use anyhow::{Result, anyhow, bail};
 use sceneinfo::geom::DVec3;
-use sceneinfo::hierarchy::{McComparison, McHierarchy, McReference, mc_reference_mesh};
+use sceneinfo::hierarchy::{McComparison, McHierarchy, McReference};
 use sceneinfo::image::Camera3;
 use sceneinfo::io::{ObjOptions, parse_obj};
 use sceneinfo::scene::{Scene3, Subdivision};
@@ -43,7 +43,7 @@ const MIN_REFERENCE_LEAVES: f64 = 20_000.0;
 /// The reference's rays: to make its regular mesh, and to solve it, per leaf.
 const REFERENCE_MESH_RAYS_PER_LEAF: f64 = 10.0;
 const REFERENCE_RAYS_PER_LEAF: f64 = 200.0;
-/// Seed offset of the reference's frozen solves (as `mc_reference`'s).
+/// Seed offset of the reference's frozen solves (as `McHierarchy::reference`'s).
 const FROZEN_SEED: u64 = 0x6672_6f7a;
 /// Rays of each mesh's frozen re-solve, per radiosity ray of its run.
 const FROZEN_PER_RAY: u64 = 10;
@@ -117,7 +117,7 @@ pub(super) fn cube_room(runner: &Runner, args: &ReproduceArgs) -> Result<Table> 
     // solve against the mean measures the mean's noise (docs/chapter6-protocol.md)
     let n_ref = MIN_REFERENCE_LEAVES.max(3.0 * FIG_6_11.0 * s);
     let min_area = 1.0 / (2.0 * n_ref);
-    let mesh = mc_reference_mesh(
+    let mesh = McHierarchy::reference_mesh(
         &scene,
         min_area,
         (REFERENCE_MESH_RAYS_PER_LEAF * n_ref) as u64,
