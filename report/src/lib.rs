@@ -52,6 +52,7 @@
 #![forbid(unsafe_code)]
 
 mod json;
+mod lighting;
 mod line_run;
 mod load;
 mod refine;
@@ -61,6 +62,7 @@ pub mod thesis;
 mod viewpoint;
 
 pub use json::JsonObject;
+pub use lighting::write_lighting_fields;
 pub use line_run::LineRunReport;
 pub use load::write_load_report;
 pub use refine::{RefinementReport, step_json, write_step_fields};

@@ -21,7 +21,9 @@ use sceneinfo::{
     Serial,
 };
 use sceneinfo_formats::Format;
-use sceneinfo_report::{JsonObject, LineRunReport, SceneReport, UnsampledReport, ViewpointReport};
+use sceneinfo_report::{
+    JsonObject, LineRunReport, SceneReport, UnsampledReport, ViewpointReport, write_lighting_fields,
+};
 use wasm_bindgen::prelude::*;
 
 use crate::{count, into_error};
@@ -253,29 +255,7 @@ impl Lab3 {
         let mut json = String::new();
         let mut o = JsonObject::new(&mut json).map_err(json_error)?;
         (|| {
-            visibility.write_fields(&mut o)?;
-            o.string("solver", "gauss-seidel")?;
-            o.integer("iterations", lit.solution().iterations())?;
-            o.number("residual", lit.solution().residual())?;
-            let rgb = |f: &dyn Fn(&sceneinfo::RadiosityMeasures) -> f64| {
-                let m = lit.measures();
-                [f(&m[0]), f(&m[1]), f(&m[2])]
-            };
-            o.numbers("h_p_rgb", &rgb(&|m| m.h_p))?;
-            o.numbers("h_s_rgb", &rgb(&|m| m.h_s))?;
-            o.numbers("h_j_rgb", &rgb(&|m| m.h_j))?;
-            o.numbers("i_s_rgb", &rgb(&|m| m.i_s))?;
-            match lit.lines() {
-                None => o.string("form_factors", "exact")?,
-                Some(l) => {
-                    o.string("form_factors", l.method.description())?;
-                    o.number("i_s_continuous", l.visibility.value)?;
-                    o.number("i_s_continuous_stderr", l.visibility.stderr)?;
-                    o.numbers("i_s_continuous_rgb", &l.radiosity.map(|e| e.value))?;
-                    o.integer("lines", l.lines)?;
-                    o.integer("seed", l.seed)?;
-                }
-            }
+            write_lighting_fields(&mut o, &visibility, &lit, "gauss-seidel")?;
             o.finish()
         })()
         .map_err(json_error)?;

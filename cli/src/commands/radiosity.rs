@@ -28,7 +28,7 @@ use sceneinfo::{
     Coverage, ErrorKind, Job, Lighting, LineJob, LineMethod, RadiosityJob, RadiosityMeasures,
     SolveOptions, Solver,
 };
-use sceneinfo_report::{JsonObject, SceneReport};
+use sceneinfo_report::{JsonObject, SceneReport, write_lighting_fields};
 
 use crate::args::{RadiosityArgs, SolverArg};
 use crate::output::{Loaded, located, write_atomic};
@@ -166,66 +166,10 @@ fn solver_name(s: SolverArg) -> &'static str {
     }
 }
 
-fn rgb_of(m: &[RadiosityMeasures; 3], f: impl Fn(&RadiosityMeasures) -> f64) -> [f64; 3] {
-    [f(&m[0]), f(&m[1]), f(&m[2])]
-}
-
 fn json(r: &Run, solver: SolverArg) -> Result<String> {
     let mut s = String::new();
     let mut o = JsonObject::new(&mut s)?;
-    r.visibility.write_fields(&mut o)?;
-    o.string("solver", solver_name(solver))?;
-    o.integer("iterations", r.lit.solution().iterations())?;
-    o.number("residual", r.lit.solution().residual())?;
-    let reports = &r.lit.solution().reports;
-    o.numbers("iterations_rgb", &reports.map(|x| x.iterations as f64))?;
-    o.numbers("residual_rgb", &reports.map(|x| x.residual))?;
-    let n = r.lit.form_factors().n_patches();
-    o.object("radiosity", |o| {
-        for (c, name) in RgbSolution::CHANNEL_NAMES.iter().enumerate() {
-            let column: Vec<f64> = r.lit.solution().radiosity[..n]
-                .iter()
-                .map(|b| b[c])
-                .collect();
-            o.numbers(name, &column)?;
-        }
-        Ok(())
-    })?;
-    o.numbers("h_p_rgb", &rgb_of(r.lit.measures(), |m| m.h_p))?;
-    o.numbers("h_s_rgb", &rgb_of(r.lit.measures(), |m| m.h_s))?;
-    o.numbers("h_j_rgb", &rgb_of(r.lit.measures(), |m| m.h_j))?;
-    o.numbers("i_s_rgb", &rgb_of(r.lit.measures(), |m| m.i_s))?;
-    let flows = r.lit.measures().map(|m| m.light_flows);
-    o.object("light_flows_rgb", |o| {
-        for (c, name) in RgbSolution::CHANNEL_NAMES.iter().enumerate() {
-            o.boolean(name, flows[c])?;
-        }
-        Ok(())
-    })?;
-    match r.lit.lines() {
-        None => o.string("form_factors", "exact")?,
-        Some(l) => {
-            o.string("form_factors", l.method.description())?;
-            o.number("i_s_continuous", l.visibility.value)?;
-            o.number("i_s_continuous_stderr", l.visibility.stderr)?;
-            o.numbers("i_s_continuous_rgb", &l.radiosity.map(|e| e.value))?;
-            o.numbers("i_s_continuous_stderr_rgb", &l.radiosity.map(|e| e.stderr))?;
-            o.integer("stderr_groups", l.visibility.groups)?;
-            o.integer("line_casts", if l.one_pass { 1 } else { 2 })?;
-            if let Some(delta) = r.lit.discretisation_error_rgb() {
-                o.numbers("discretisation_error_rgb", &delta)?;
-            }
-            o.integer("lines", l.lines)?;
-            o.integer("seed", l.seed)?;
-            o.integer("samples", l.visibility.samples)?;
-            if let Some(max) = l.auto_max {
-                // Only with --lines auto: `lines` is the count it stopped at
-                o.boolean("lines_auto", true)?;
-                o.integer("lines_budget", l.lines)?;
-                o.integer("max_lines", max)?;
-            }
-        }
-    }
+    write_lighting_fields(&mut o, &r.visibility, &r.lit, solver_name(solver))?;
     o.number("seconds", r.seconds)?;
     o.finish()?;
     Ok(s)
