@@ -1,6 +1,7 @@
 """Long jobs: the GIL is released, progress is reported, Ctrl-C stops them within a second."""
 
 import _thread
+import signal
 import threading
 import time
 
@@ -24,6 +25,10 @@ def test_keyboard_interrupt_stops_a_long_measure():
                 f"(the timer fired: {timer.finished.is_set()}; {done:,} of {total:,} lines)"
             )
 
+    # A shell that starts the tests in the background without job control (`./scripts/test.sh
+    # &` in a script, nohup) makes them ignore SIGINT, and then Python installs no handler and
+    # `interrupt_main` does nothing: install Python's own handler for this test
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.5, _thread.interrupt_main)
     timer.start()
     try:
@@ -31,6 +36,7 @@ def test_keyboard_interrupt_stops_a_long_measure():
             sceneinfo.measure(scene, lines=BIG_JOB, threads=2, progress=guard)
     finally:
         timer.cancel()
+        signal.signal(signal.SIGINT, previous)
 
 
 def test_the_gil_is_released_while_lines_are_cast():
