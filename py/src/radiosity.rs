@@ -151,6 +151,10 @@ fn solver_of(py: Python<'_>, name: &str) -> PyResult<Solver> {
     }
 }
 
+// The signature's literal is the core's default (a const path would show as `...` in the
+// Python signature and fail stubtest): checked at compile time
+const _: () = assert!(SolveOptions::DEFAULT_MAX_ITERATIONS == 1_000_000);
+
 /// Lights a scene with its materials: form factors exact (`lines=None`) or from lines (as
 /// `measure`), then `B = E + ρFB` (2.6) solved per colour channel by `solver`
 /// (`'gauss-seidel'`, `'jacobi'`, `'southwell'`) to a relative residual `tolerance` within
@@ -160,7 +164,7 @@ fn solver_of(py: Python<'_>, name: &str) -> PyResult<Solver> {
 /// Raises `SceneinfoError` of kind `RowsUnknown` when some patch received no line (cast
 /// more), `NoConvergence` when the solver does not reach the tolerance.
 #[pyfunction]
-#[pyo3(signature = (scene, lines = None, method = "global", seed = 1, threads = None, progress = None, max_lines = None, solver = "gauss-seidel", tolerance = 1e-10, max_iterations = SolveOptions::DEFAULT_MAX_ITERATIONS))]
+#[pyo3(signature = (scene, lines = None, method = "global", seed = 1, threads = None, progress = None, max_lines = None, solver = "gauss-seidel", tolerance = 1e-10, max_iterations = 1_000_000))]
 #[allow(clippy::too_many_arguments)]
 pub fn radiosity(
     py: Python<'_>,
