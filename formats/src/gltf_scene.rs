@@ -51,6 +51,21 @@ const CHUNK_BIN: u32 = 0x004E_4942;
 /// `file: where: what` for a broken container, a buffer shorter than it declares, an
 /// accessor outside its buffer view, an index out of range, a face the scene refuses, …
 pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene3> {
+    read_with(path, bytes, report, &|file| super::read_capped(file))
+}
+
+/// [`read`] with the files a `.gltf`'s buffer URIs name read by `open` (given the path:
+/// the URI, percent-decoded, relative to the `.gltf`'s folder) rather than from the disk:
+/// the 3D lab in a browser, which has the files the user picked and no folder.
+///
+/// # Errors
+/// Those of [`read`]; `open`'s, in the context of the buffer whose file it is.
+pub fn read_with(
+    path: &Path,
+    bytes: &[u8],
+    report: &mut LoadReport,
+    open: &dyn Fn(&Path) -> Result<Vec<u8>>,
+) -> Result<Scene3> {
     let file = path.display();
     let (json, blob) = if bytes.starts_with(b"glTF") {
         split_glb(bytes).with_context(|| format!("{file}: GLB container"))?
@@ -60,7 +75,7 @@ pub fn read(path: &Path, bytes: &[u8], report: &mut LoadReport) -> Result<Scene3
     let document = parse_document(json).with_context(|| format!("{file}: glTF"))?;
     let document = &document;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    let buffers = load_buffers(document, blob, &dir).with_context(|| format!("{file}"))?;
+    let buffers = load_buffers(document, blob, &dir, open).with_context(|| format!("{file}"))?;
     let mut reader = Reader {
         path,
         document,
@@ -163,6 +178,7 @@ fn load_buffers(
     document: &gltf::Document,
     blob: Option<&[u8]>,
     dir: &Path,
+    open: &dyn Fn(&Path) -> Result<Vec<u8>>,
 ) -> Result<Vec<Option<Vec<u8>>>> {
     // The buffers the meshes' positions and indices read
     let mut used = vec![false; document.buffers().len()];
@@ -199,7 +215,7 @@ fn load_buffers(
                 })?
                 .to_vec(),
             gltf::buffer::Source::Uri(uri) => {
-                read_uri(uri, dir).with_context(|| format!("buffer {k}"))?
+                read_uri(uri, dir, open).with_context(|| format!("buffer {k}"))?
             }
         };
         if data.len() < buffer.length() {
@@ -215,8 +231,9 @@ fn load_buffers(
 }
 
 /// The bytes a buffer URI names: a base64 `data:` URI, or a file relative to `dir`
-/// (percent-escapes decoded), held to [`super::MAX_FILE_BYTES`] (or `--max-input`).
-fn read_uri(uri: &str, dir: &Path) -> Result<Vec<u8>> {
+/// (percent-escapes decoded) read by `open` (from the disk: held to
+/// [`super::MAX_FILE_BYTES`] or `--max-input`).
+fn read_uri(uri: &str, dir: &Path, open: &dyn Fn(&Path) -> Result<Vec<u8>>) -> Result<Vec<u8>> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let (_, data) = rest
             .split_once(";base64,")
@@ -237,8 +254,7 @@ fn read_uri(uri: &str, dir: &Path) -> Result<Vec<u8>> {
         }
         _ => percent_decode(uri).with_context(|| format!("URI '{uri}'"))?,
     };
-    let file = dir.join(&relative);
-    super::read_capped(&file)
+    open(&dir.join(&relative))
 }
 
 /// `uri` with its `%XX` escapes decoded.

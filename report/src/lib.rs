@@ -16,6 +16,7 @@
 //! | [`write_load_report`] | what a loader skipped or repaired |
 //! | [`ViewpointReport`] | the viewpoint channel's measures (`viewpoints --json`, wasm `viewpoints`) |
 //! | [`RefinementReport`], [`step_json`] | flatland refinement steps (`refine --json`, wasm `Refiner`) |
+//! | [`HierarchyReport`], [`LeafMeasures`] | a refined 3D mesh (`refine FILE.obj --json`, wasm `Refiner3`) |
 //! | [`SimplificationReport`] | MI-based mesh simplification: merges and the criteria compared (`simplify --json`) |
 //! | [`thesis`] | the thesis' table values, and the values it prints for the flatland catalogue's scenes |
 //!
@@ -56,6 +57,7 @@ mod lighting;
 mod line_run;
 mod load;
 mod refine;
+mod refine_3d;
 mod scene;
 mod simplify;
 pub mod thesis;
@@ -66,6 +68,7 @@ pub use lighting::write_lighting_fields;
 pub use line_run::LineRunReport;
 pub use load::write_load_report;
 pub use refine::{RefinementReport, step_json, write_step_fields};
+pub use refine_3d::{HierarchyReport, LeafMeasures};
 pub use scene::{
     SceneReport, UnsampledReport, measure_flat, measure_flat_json, measure_obj_json, measure_solid,
 };

@@ -265,27 +265,8 @@ impl FlatLab {
     /// `TooLarge` above 4096 patches; the errors of exact form factors and of the channel.
     #[wasm_bindgen(js_name = informationMatrix)]
     pub fn information_matrix(&mut self) -> Result<Vec<f64>, JsError> {
-        let n = self.scene.n_patches();
-        let mut matrix = || -> sceneinfo::Result<Vec<f64>> {
-            if n > MAX_MATRIX_PATCHES {
-                return Err(sceneinfo::ErrorKind::TooLarge {
-                    what: "mutual information matrix (patches)",
-                    max: MAX_MATRIX_PATCHES as u64,
-                }
-                .into());
-            }
-            let mut out = vec![0.0; n * n];
-            let Some(ff) = self.exact()?.form_factors() else {
-                return Ok(out);
-            };
-            ff.channel()?.for_each_pair_information(|i, j, v| {
-                if i < n && j < n {
-                    out[i * n + j] = v;
-                }
-            });
-            Ok(out)
-        };
-        matrix().map_err(into_error)
+        let m = self.exact().map_err(into_error)?;
+        crate::lines::information_matrix(m, MAX_MATRIX_PATCHES).map_err(into_error)
     }
 
     /// A Monte Carlo job of `lines` uniformly distributed global lines (2.37) from `seed`,

@@ -12,6 +12,7 @@
 
 use std::path::Path;
 
+use sceneinfo::geom::DVec3;
 use sceneinfo::image::{GouraudMesh, ToneMap};
 use sceneinfo::io::{LoadReport, ObjOptions};
 use sceneinfo::scene::Preset3Entry;
@@ -21,11 +22,11 @@ use sceneinfo::{
     Serial,
 };
 use sceneinfo_formats::Format;
-use sceneinfo_report::{
-    JsonObject, LineRunReport, SceneReport, UnsampledReport, ViewpointReport, write_lighting_fields,
-};
+use sceneinfo_report::{JsonObject, SceneReport, ViewpointReport, write_lighting_fields};
 use wasm_bindgen::prelude::*;
 
+use crate::lines::LineResult;
+use crate::refine_3d::Refiner3;
 use crate::{count, into_error};
 
 /// A JSON writer's error as a JavaScript one (it only fails on a formatter error).
@@ -97,24 +98,29 @@ impl Lab3 {
     }
 
     /// The scene in the file `name` of content `bytes`, read as the CLI reads it (format by
-    /// content, then extension: `sceneinfo_formats::detect`): OBJ (its `mtllib` libraries
-    /// looked up in `mtlNames` / `mtlTexts`, a browser has no folder), glTF / GLB (buffers
-    /// embedded: a `.gltf` whose buffers are other files cannot be read) or PLY. One patch per
-    /// face. `emitFromKa` reads an OBJ material's ambient colour `Ka` as its emittance when it
-    /// has no `Ke` (old-style lamps; the CLI's `--emit-from-ka`).
+    /// content, then extension: `sceneinfo_formats::detect`): OBJ, glTF / GLB, PLY or View3D
+    /// `.vs3`. One patch per face. A browser has no folder to find a file's companions in, so
+    /// the other files the user gave come with it: `fileNames[k]` of `fileSizes[k]` bytes, their
+    /// contents one after the other in `fileBytes` — an OBJ's `mtllib` libraries, a `.gltf`'s
+    /// buffer files (by name; textures are not read). `emitFromKa` reads an OBJ material's
+    /// ambient colour `Ka` as its emittance when it has no `Ke` (old-style lamps; the CLI's
+    /// `--emit-from-ka`).
     ///
     /// # Errors
-    /// The reader's message, worded as the CLI prints it (`name:line: what`).
+    /// The reader's message, worded as the CLI prints it (`name:line: what`); a `.gltf` buffer
+    /// file that is not among the files given, by name.
     #[wasm_bindgen(js_name = fromFile)]
     pub fn from_file(
         name: &str,
         bytes: &[u8],
-        #[wasm_bindgen(js_name = mtlNames)] mtl_names: Vec<String>,
-        #[wasm_bindgen(js_name = mtlTexts)] mtl_texts: Vec<String>,
+        #[wasm_bindgen(js_name = fileNames)] file_names: Vec<String>,
+        #[wasm_bindgen(js_name = fileSizes)] file_sizes: Vec<u32>,
+        #[wasm_bindgen(js_name = fileBytes)] file_bytes: &[u8],
         #[wasm_bindgen(js_name = emitFromKa)] emit_from_ka: bool,
     ) -> Result<Lab3, JsError> {
         let path = Path::new(name);
         let fail = |e: anyhow::Error| JsError::new(&format!("{e:#}"));
+        let others = Companions::new(&file_names, &file_sizes, file_bytes)?;
         let (format, note) = sceneinfo_formats::detect(path, bytes);
         // The format note (if any) first, then what the reader found, as the CLI orders them
         let mut report = LoadReport::default();
@@ -125,10 +131,8 @@ impl Lab3 {
             Format::Obj => {
                 let text = sceneinfo_formats::text_of(path, bytes.to_vec()).map_err(fail)?;
                 let library = |lib: &str| {
-                    mtl_names
-                        .iter()
-                        .position(|n| n == lib)
-                        .and_then(|k| mtl_texts.get(k).cloned())
+                    let bytes = others.get(Path::new(lib))?;
+                    sceneinfo_formats::text_of(Path::new(lib), bytes.to_vec()).ok()
                 };
                 let options = ObjOptions::default().with_emit_from_ka(emit_from_ka);
                 let format = SceneFormat::Obj(options);
@@ -139,9 +143,13 @@ impl Lab3 {
                 report = obj_report;
                 scene
             }
-            Format::Gltf | Format::Glb => Scene::Solid(
-                sceneinfo_formats::gltf_scene::read(path, bytes, &mut report).map_err(fail)?,
-            ),
+            Format::Gltf | Format::Glb => {
+                let open = |file: &Path| others.open(file, name);
+                Scene::Solid(
+                    sceneinfo_formats::gltf_scene::read_with(path, bytes, &mut report, &open)
+                        .map_err(fail)?,
+                )
+            }
             Format::Ply => Scene::Solid(
                 sceneinfo_formats::ply_scene::read(path, bytes, &mut report).map_err(fail)?,
             ),
@@ -205,27 +213,28 @@ impl Lab3 {
     }
 
     /// The exact channel ([`Measurement::exact`]): refused when some patch may hide
-    /// another (the core's message says so).
+    /// another (the core's message says so). Its JSON is `sceneinfo measure --json`'s less
+    /// timing; `H_i`, `I_i` and `I_ij` per patch.
     ///
     /// # Errors
     /// The core's refusal for an occluded scene; its channel errors.
-    pub fn exact(&self) -> Result<Measures3, JsError> {
-        let m = Measurement::exact(&self.scene()).map_err(into_error)?;
-        Measures3::of(&m)
+    pub fn exact(&self) -> Result<LineResult, JsError> {
+        LineResult::of(Measurement::exact(&self.scene()).map_err(into_error)?)
     }
 
     /// A Monte Carlo job of `lines` global lines of seed `seed`, cast chunk by chunk
-    /// ([`LineSession`]): its result equals `sceneinfo measure FILE --lines N --seed S`.
+    /// ([`LineSession`], the flatland lab's [`crate::LineJob`]): its result equals `sceneinfo
+    /// measure FILE --lines N --seed S`.
     ///
     /// # Errors
     /// A count that is not a whole number, a line budget the core refuses.
     #[wasm_bindgen(js_name = lineJob)]
-    pub fn line_job(&self, seed: f64, lines: f64) -> Result<Lines3, JsError> {
+    pub fn line_job(&self, seed: f64, lines: f64) -> Result<crate::lines::LineJob, JsError> {
         let seed = count("seed", seed).map_err(into_error)?;
         let lines = count("lines", lines).map_err(into_error)?;
         let job = LineJob::new(lines).with_seed(seed);
         let session = LineSession::new(&self.scene(), &job).map_err(into_error)?;
-        Ok(Lines3 { session })
+        Ok(crate::lines::LineJob::new(session))
     }
 
     /// The scene lit ([`sceneinfo::solve_radiosity`], Gauss–Seidel, the default stopping
@@ -281,18 +290,15 @@ impl Lab3 {
         let materials: Vec<Material> = self.scene.patch_materials();
         let tone = tone_map(&per_patch, &materials, exposure);
         let mesh = GouraudMesh::of(&self.scene, &per_patch);
-        let mut positions = Vec::new();
-        let mut colours = Vec::new();
+        let mut lit = LitMesh3::default();
         for face in &mesh.faces {
             for k in 2..face.len() {
                 for v in [face[0], face[k - 1], face[k]] {
-                    let p = mesh.positions[v];
-                    positions.extend([p.x as f32, p.y as f32, p.z as f32]);
-                    colours.extend(tone.rgb(mesh.vertex_radiosity[v]));
+                    lit.push(mesh.positions[v], tone.rgb(mesh.vertex_radiosity[v]));
                 }
             }
         }
-        LitMesh3 { positions, colours }
+        lit
     }
 
     /// The viewpoint channel ([`sceneinfo::viewpoint`]): `views` viewpoints on an icosphere
@@ -316,23 +322,105 @@ impl Lab3 {
         let channel = job.run().map_err(into_error)?;
         Ok(ViewpointReport::new(&job, &channel, best).to_json())
     }
+
+    /// A refinement player on the scene ([`Refiner3`]): hierarchical radiosity with oracle
+    /// `oracle` (`power`, `ks`, `ks-av`, `mi`, `mi-increase`, `regular`), `pairs` point pairs
+    /// per evaluation, the leaves measured by `lines` global lines, `seed` for both (as
+    /// `sceneinfo refine FILE --oracle O --pairs P --lines L --seed S`). Starts at the
+    /// oracle's coarsest mesh.
+    ///
+    /// # Errors
+    /// An unknown oracle, counts that are not whole numbers, the core's errors.
+    pub fn refiner(
+        &self,
+        oracle: &str,
+        pairs: f64,
+        lines: f64,
+        seed: f64,
+    ) -> Result<Refiner3, JsError> {
+        let pairs = usize::try_from(count("pairs", pairs).map_err(into_error)?).unwrap_or(0);
+        let lines = count("lines", lines).map_err(into_error)?;
+        let seed = count("seed", seed).map_err(into_error)?;
+        Refiner3::new(self.scene.clone(), oracle, pairs, lines, seed).map_err(into_error)
+    }
+}
+
+/// The files given with a scene file, by name.
+struct Companions<'a> {
+    files: Vec<(&'a str, &'a [u8])>,
+}
+
+impl<'a> Companions<'a> {
+    /// `names[k]` holds `sizes[k]` bytes of `bytes`, in order.
+    fn new(names: &'a [String], sizes: &[u32], bytes: &'a [u8]) -> Result<Self, JsError> {
+        if names.len() != sizes.len() {
+            return Err(JsError::new("fileNames and fileSizes differ in length"));
+        }
+        let mut files = Vec::with_capacity(names.len());
+        let mut rest = bytes;
+        for (name, &size) in names.iter().zip(sizes) {
+            let Some((file, tail)) = rest.split_at_checked(size as usize) else {
+                return Err(JsError::new("fileBytes is shorter than fileSizes say"));
+            };
+            files.push((name.as_str(), file));
+            rest = tail;
+        }
+        Ok(Self { files })
+    }
+
+    /// The file named like `path`: the same name, else the same last component (a browser
+    /// gives names without folders).
+    fn get(&self, path: &Path) -> Option<&'a [u8]> {
+        let same = |n: &str| Path::new(n) == path;
+        let leaf = |n: &str| Path::new(n).file_name().is_some_and(|f| Some(f) == path.file_name());
+        let find = |test: &dyn Fn(&str) -> bool| self.files.iter().find(|(n, _)| test(n));
+        find(&same).or_else(|| find(&leaf)).map(|&(_, b)| b)
+    }
+
+    /// The file `path` a glTF buffer names, or why not: it was not given with `scene`.
+    fn open(&self, path: &Path, scene: &str) -> anyhow::Result<Vec<u8>> {
+        self.get(path).map(<[u8]>::to_vec).ok_or_else(|| {
+            anyhow::anyhow!(
+                "{} is missing: pick or drop it together with {scene} (a browser cannot open \
+                 the files beside it)",
+                path.display()
+            )
+        })
+    }
 }
 
 /// The display tone map: the core's sRGB tone map with white at its choice for the scene
 /// divided by `exposure` (the one call to rename if the core's tone map moves).
-fn tone_map(radiosity: &[[f64; 3]], materials: &[Material], exposure: f64) -> ToneMap {
+pub(crate) fn tone_map(radiosity: &[[f64; 3]], materials: &[Material], exposure: f64) -> ToneMap {
     let auto = ToneMap::for_scene(radiosity, materials);
     ToneMap {
         white: auto.white / exposure,
     }
 }
 
-/// A shaded mesh: triangles (9 floats each) and an sRGB colour per corner.
+/// A shaded mesh: triangles (9 floats each) and an sRGB colour per corner, and the edges of
+/// its polygons (a refined mesh shows its elements).
 #[wasm_bindgen]
-#[derive(Debug)]
+#[derive(Debug, Default)]
 pub struct LitMesh3 {
     positions: Vec<f32>,
     colours: Vec<u8>,
+    edges: Vec<f32>,
+}
+
+impl LitMesh3 {
+    /// Appends a triangle corner at `p` (stored coordinates) of colour `rgb`.
+    pub(crate) fn push(&mut self, p: DVec3, rgb: [u8; 3]) {
+        self.positions.extend([p.x as f32, p.y as f32, p.z as f32]);
+        self.colours.extend(rgb);
+    }
+
+    /// Appends the edge from `a` to `b`.
+    pub(crate) fn push_edge(&mut self, a: DVec3, b: DVec3) {
+        for p in [a, b] {
+            self.edges.extend([p.x as f32, p.y as f32, p.z as f32]);
+        }
+    }
 }
 
 #[wasm_bindgen]
@@ -347,6 +435,12 @@ impl LitMesh3 {
     #[must_use]
     pub fn colours(&self) -> Vec<u8> {
         self.colours.clone()
+    }
+
+    /// Edges as line segments, 6 floats each (empty for a scene's own patches).
+    #[must_use]
+    pub fn edges(&self) -> Vec<f32> {
+        self.edges.clone()
     }
 }
 
@@ -374,139 +468,5 @@ impl Light3 {
     #[must_use]
     pub fn patch_radiosity(&self) -> Vec<f64> {
         self.radiosity.clone()
-    }
-}
-
-/// A scene's measures and their per-patch split: the JSON of `sceneinfo measure --json`
-/// (less timing), `H_i` (3.2), `I_i` (6.7 summed over `j`) and, from lines, `I_i^c` (6.37).
-#[wasm_bindgen]
-#[derive(Debug)]
-pub struct Measures3 {
-    json: String,
-    entropies: Option<Vec<f64>>,
-    information: Option<Vec<f64>>,
-    continuous: Option<Vec<f64>>,
-}
-
-impl Measures3 {
-    fn of(m: &Measurement) -> Result<Self, JsError> {
-        let mut json = String::new();
-        let mut o = JsonObject::new(&mut json).map_err(json_error)?;
-        let report = SceneReport::of_measurement(m);
-        match (&report, m.coverage()) {
-            (Some(r), _) => r.write_fields(&mut o),
-            (None, Some(&coverage)) => UnsampledReport { coverage }.write_fields(&mut o),
-            (None, None) => Err(std::fmt::Error),
-        }
-        .map_err(json_error)?;
-        if let (Some(run), Some(continuous)) = (m.line_run(), m.continuous()) {
-            LineRunReport {
-                method: run.method,
-                lines: run.lines,
-                seed: run.seed,
-                continuous,
-                i_s: report.map_or(f64::NAN, |r| r.measures.i_s),
-                sums_out_of_range: run.sums_out_of_range,
-            }
-            .write_fields(&mut o)
-            .map_err(json_error)?;
-        }
-        o.finish().map_err(json_error)?;
-        Ok(Self {
-            json,
-            entropies: m.patch_entropies().map_err(into_error)?,
-            information: m.patch_information().map_err(into_error)?,
-            continuous: m.patch_continuous().map(<[f64]>::to_vec),
-        })
-    }
-}
-
-#[wasm_bindgen]
-impl Measures3 {
-    /// The JSON report.
-    #[must_use]
-    pub fn json(&self) -> String {
-        self.json.clone()
-    }
-
-    /// `H_i` per patch (3.2), when every row of `F` is known.
-    #[wasm_bindgen(js_name = patchEntropies)]
-    #[must_use]
-    pub fn patch_entropies(&self) -> Option<Vec<f64>> {
-        self.entropies.clone()
-    }
-
-    /// `I_i` per patch (its row of `I_ij`, 6.7), when every row of `F` is known.
-    #[wasm_bindgen(js_name = patchInformation)]
-    #[must_use]
-    pub fn patch_information(&self) -> Option<Vec<f64>> {
-        self.information.clone()
-    }
-
-    /// `I_i^c` per patch (6.37), from lines.
-    #[wasm_bindgen(js_name = patchContinuous)]
-    #[must_use]
-    pub fn patch_continuous(&self) -> Option<Vec<f64>> {
-        self.continuous.clone()
-    }
-}
-
-/// A Monte Carlo job over a 3D scene, stepped chunk by chunk by the page's worker.
-#[wasm_bindgen]
-#[derive(Debug)]
-pub struct Lines3 {
-    session: LineSession,
-}
-
-#[wasm_bindgen]
-impl Lines3 {
-    /// Casts the next `chunks` chunks of 2^16 lines; returns the lines cast so far.
-    pub fn run(&mut self, chunks: u32) -> f64 {
-        self.session.cast(u64::from(chunks), &mut Serial) as f64
-    }
-
-    /// Lines cast so far.
-    #[wasm_bindgen(getter, js_name = linesDone)]
-    #[must_use]
-    pub fn lines_done(&self) -> f64 {
-        self.session.lines_done() as f64
-    }
-
-    /// The job's line budget.
-    #[wasm_bindgen(getter, js_name = linesTotal)]
-    #[must_use]
-    pub fn lines_total(&self) -> f64 {
-        self.session.lines_total() as f64
-    }
-
-    /// Whether every chunk has been cast.
-    #[wasm_bindgen(getter)]
-    #[must_use]
-    pub fn done(&self) -> bool {
-        self.session.is_done()
-    }
-
-    /// `I_S^c` (4.8) so far, in bits.
-    #[wasm_bindgen(getter)]
-    #[must_use]
-    pub fn value(&self) -> f64 {
-        self.session.continuous().value
-    }
-
-    /// Its standard error.
-    #[wasm_bindgen(getter)]
-    #[must_use]
-    pub fn stderr(&self) -> f64 {
-        self.session.continuous().stderr
-    }
-
-    /// The measures of the lines cast so far ([`LineSession::measurement`]): JSON like
-    /// `sceneinfo measure --lines N --seed S --json` less its timing.
-    ///
-    /// # Errors
-    /// `NoLines` before the first chunk; the channel's errors.
-    pub fn finish(&self) -> Result<Measures3, JsError> {
-        let m = self.session.measurement().map_err(into_error)?;
-        Measures3::of(&m)
     }
 }

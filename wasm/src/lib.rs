@@ -33,15 +33,19 @@ mod lab;
 mod lab_3d;
 mod lines;
 mod refine;
+#[cfg(feature = "lab3d")]
+mod refine_3d;
 // The viewpoint channel only in the 3D lab's module (pkg3d): the flatland page never calls it
 #[cfg(feature = "lab3d")]
 mod viewpoints;
 
 pub use lab::{FlatLab, catalogue};
 #[cfg(feature = "lab3d")]
-pub use lab_3d::{Lab3, Light3, Lines3, LitMesh3, Measures3, presets_3};
+pub use lab_3d::{Lab3, Light3, LitMesh3, presets_3};
 pub use lines::{LineJob, LineResult};
 pub use refine::Refiner;
+#[cfg(feature = "lab3d")]
+pub use refine_3d::Refiner3;
 #[cfg(feature = "lab3d")]
 pub use viewpoints::viewpoints;
 

@@ -6,7 +6,7 @@
 //! bits as `sceneinfo measure --lines N --seed S` on any number of threads; a job stopped
 //! after `k` whole chunks equals the job of `k · 2^16` lines.
 
-use sceneinfo::{LineSession, Serial};
+use sceneinfo::{LineSession, Measurement, Serial};
 use sceneinfo_report::{JsonObject, LineRunReport, SceneReport, UnsampledReport};
 use wasm_bindgen::prelude::*;
 
@@ -96,8 +96,26 @@ impl LineJob {
     /// # Errors
     /// `NoLines` before the first chunk; the channel's errors.
     pub fn finish(&self) -> Result<LineResult, JsError> {
-        let json_error = |e: std::fmt::Error| JsError::new(&e.to_string());
         let m = self.session.measurement().map_err(into_error)?;
+        LineResult::of(m)
+    }
+}
+
+/// A measurement (a finished or stopped Monte Carlo run, or the 3D lab's exact measures)
+/// and its JSON report.
+#[wasm_bindgen]
+#[derive(Debug)]
+pub struct LineResult {
+    m: Measurement,
+    json: String,
+}
+
+impl LineResult {
+    /// `m` with its report: the keys of `sceneinfo measure --json` less its timing
+    /// ([`SceneReport`], or [`UnsampledReport`] when a patch has no row of `F`; then
+    /// [`LineRunReport`] after a line run).
+    pub(crate) fn of(m: Measurement) -> Result<Self, JsError> {
+        let json_error = |e: std::fmt::Error| JsError::new(&e.to_string());
         let mut json = String::new();
         let mut o = JsonObject::new(&mut json).map_err(json_error)?;
         let report = SceneReport::of_measurement(&m);
@@ -119,44 +137,56 @@ impl LineJob {
             run.write_fields(&mut o).map_err(json_error)?;
         }
         o.finish().map_err(json_error)?;
-        Ok(LineResult {
-            patch_continuous: m
-                .patch_continuous()
-                .map(<[f64]>::to_vec)
-                .unwrap_or_default(),
-            pair_continuous: m.pair_continuous().map(<[f64]>::to_vec),
-            json,
-        })
+        Ok(Self { m, json })
     }
 }
 
-/// A finished (or stopped) Monte Carlo run.
-#[wasm_bindgen]
-#[derive(Debug)]
-pub struct LineResult {
-    /// `I_i^c` per patch (6.37).
-    patch_continuous: Vec<f64>,
-    /// `I_ij^c` (6.35, 6.36), when kept.
-    pair_continuous: Option<Vec<f64>>,
-    json: String,
+/// The mutual information matrix `I_ij = a_i F_ij log₂(F_ij / a_j)` (6.7) of `m`'s channel
+/// over its patches, `n × n` row-major (an open scene's background state left out); zeros
+/// when `m` has no form factors (a patch without lines).
+///
+/// # Errors
+/// `TooLarge` above `max` patches; the channel's errors.
+pub(crate) fn information_matrix(m: &Measurement, max: usize) -> sceneinfo::Result<Vec<f64>> {
+    let n = m.n_patches();
+    if n > max {
+        return Err(sceneinfo::ErrorKind::TooLarge {
+            what: "mutual information matrix (patches)",
+            max: max as u64,
+        }
+        .into());
+    }
+    let mut out = vec![0.0; n * n];
+    if let Some(ff) = m.form_factors() {
+        ff.channel()?.for_each_pair_information(|i, j, v| {
+            if i < n && j < n {
+                out[i * n + j] = v;
+            }
+        });
+    }
+    Ok(out)
 }
 
 #[wasm_bindgen]
 impl LineResult {
-    /// The report as JSON, the keys and bytes of `sceneinfo measure --lines N --json` less
-    /// its timing (`seconds`, `lines_per_second`): the measures of the Monte Carlo form
-    /// factors, then `form_factors, i_s_continuous, i_s_continuous_stderr,
-    /// rel_discretisation_error, lines, seed, samples`.
+    /// The report as JSON, the keys and bytes of `sceneinfo measure --json` (with lines:
+    /// `--lines N --seed S`) less its timing (`seconds`, `lines_per_second`): the measures
+    /// of the form factors, then after lines `form_factors, i_s_continuous,
+    /// i_s_continuous_stderr, rel_discretisation_error, lines, seed, samples`.
     #[must_use]
     pub fn json(&self) -> String {
         self.json.clone()
     }
 
-    /// `I_i^c` of each patch (6.37); they sum to `I_S^c`.
+    /// `I_i^c` of each patch (6.37), from lines (empty after exact measures); they sum to
+    /// `I_S^c`.
     #[wasm_bindgen(js_name = patchContinuous)]
     #[must_use]
     pub fn patch_continuous(&self) -> Vec<f64> {
-        self.patch_continuous.clone()
+        self.m
+            .patch_continuous()
+            .map(<[f64]>::to_vec)
+            .unwrap_or_default()
     }
 
     /// `I_ij^c` (6.35, 6.36), `n × n` row-major, for scenes of at most
@@ -165,6 +195,38 @@ impl LineResult {
     #[wasm_bindgen(js_name = pairContinuous)]
     #[must_use]
     pub fn pair_continuous(&self) -> Option<Vec<f64>> {
-        self.pair_continuous.clone()
+        self.m.pair_continuous().map(<[f64]>::to_vec)
+    }
+
+    /// `H_i` per patch (3.2), when every row of `F` is known (`undefined` otherwise).
+    ///
+    /// # Errors
+    /// The channel's.
+    #[wasm_bindgen(js_name = patchEntropies)]
+    pub fn patch_entropies(&self) -> Result<Option<Vec<f64>>, JsError> {
+        self.m.patch_entropies().map_err(into_error)
+    }
+
+    /// `I_i` per patch (its row of `I_ij`, 6.7), when every row of `F` is known
+    /// (`undefined` otherwise).
+    ///
+    /// # Errors
+    /// The channel's.
+    #[wasm_bindgen(js_name = patchInformation)]
+    pub fn patch_information(&self) -> Result<Option<Vec<f64>>, JsError> {
+        self.m.patch_information().map_err(into_error)
+    }
+
+    /// `I_ij` (6.7), `n × n` row-major, for at most `maxPatches` patches (thesis Fig. 6.14's
+    /// heat map); zeros when a patch has no row of `F`.
+    ///
+    /// # Errors
+    /// `TooLarge` above `maxPatches`; the channel's errors.
+    #[wasm_bindgen(js_name = informationMatrix)]
+    pub fn information_matrix(
+        &self,
+        #[wasm_bindgen(js_name = maxPatches)] max_patches: u32,
+    ) -> Result<Vec<f64>, JsError> {
+        information_matrix(&self.m, max_patches as usize).map_err(into_error)
     }
 }

@@ -32,7 +32,7 @@ out vec4 outColour;
 void main() {
   vec3 n = normalize(cross(dFdx(vPosition), dFdy(vPosition)));
   float facing = abs(dot(n, normalize(eye - vPosition)));
-  outColour = vec4(vColour * (1.0 - shade + shade * facing), 1.0);
+  outColour = vec4(shade > 0.0 ? vColour * (1.0 - shade + shade * facing) : vColour, 1.0);
 }`;
 
 function compile(gl, type, source) {
@@ -92,6 +92,10 @@ export class View3 {
     this.positionBuffer = gl.createBuffer();
     this.colourBuffer = gl.createBuffer();
     this.count = 0;
+    // Edges (a refined mesh's elements): lines in one dark colour
+    this.edgeVao = gl.createVertexArray();
+    this.edgeBuffer = gl.createBuffer();
+    this.edgeCount = 0;
     this.shade = 0.35;
     // From the front right (−z, +x), as the Cornell boxes are seen
     this.camera = { target: [0, 0, 0], radius: 1, yaw: Math.PI - 0.5, pitch: 0.3, distance: 2.8 };
@@ -107,8 +111,9 @@ export class View3 {
     c.distance = 2.8 * c.radius;
   }
 
-  /// Triangles (`positions`, 9 floats each) with a colour per corner (`colours`, sRGB bytes).
-  setMesh(positions, colours, shade) {
+  /// Triangles (`positions`, 9 floats each) with a colour per corner (`colours`, sRGB bytes);
+  /// `edges`, line segments (6 floats each) drawn over them, or none.
+  setMesh(positions, colours, shade, edges = null) {
     const gl = this.gl;
     gl.bindVertexArray(this.vao);
     gl.bindBuffer(gl.ARRAY_BUFFER, this.positionBuffer);
@@ -124,6 +129,17 @@ export class View3 {
     gl.bindVertexArray(null);
     this.count = positions.length / 3;
     this.shade = shade;
+    this.edgeCount = 0;
+    if (edges?.length) {
+      gl.bindVertexArray(this.edgeVao);
+      gl.bindBuffer(gl.ARRAY_BUFFER, this.edgeBuffer);
+      gl.bufferData(gl.ARRAY_BUFFER, edges, gl.STATIC_DRAW);
+      gl.enableVertexAttribArray(position);
+      gl.vertexAttribPointer(position, 3, gl.FLOAT, false, 0, 0);
+      gl.disableVertexAttribArray(colour);
+      gl.bindVertexArray(null);
+      this.edgeCount = edges.length / 3;
+    }
     this.draw();
   }
 
@@ -172,8 +188,18 @@ export class View3 {
     gl.uniformMatrix4fv(this.uniforms.viewProjection, false, multiply(proj, lookAt(eye, c.target, up)));
     gl.uniform1f(this.uniforms.shade, this.shade);
     gl.uniform3fv(this.uniforms.eye, eye);
+    // The faces a little behind their edges
+    gl.enable(gl.POLYGON_OFFSET_FILL);
+    gl.polygonOffset(1, 1);
     gl.bindVertexArray(this.vao);
     gl.drawArrays(gl.TRIANGLES, 0, this.count);
+    gl.disable(gl.POLYGON_OFFSET_FILL);
+    if (this.edgeCount > 0) {
+      gl.uniform1f(this.uniforms.shade, 0);
+      gl.bindVertexArray(this.edgeVao);
+      gl.vertexAttrib3f(gl.getAttribLocation(this.program, 'colour'), 0.08, 0.08, 0.08);
+      gl.drawArrays(gl.LINES, 0, this.edgeCount);
+    }
     gl.bindVertexArray(null);
   }
 

@@ -4,7 +4,8 @@
 // it too and does the long computations.
 import init, { Lab3, presets3 } from './pkg3d/sceneinfo_wasm.js';
 import { View3 } from './gl3d.js';
-import { scale, colourBar } from './plots.js';
+import { colourBar, heatMap, refinementPlot, scale } from './plots.js';
+import { HEAT_MAP_LIMIT, labOf } from './scene3d.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -16,7 +17,8 @@ const worker = new Worker('./worker3d.js', { type: 'module' });
 const state = {
   lab: null, source: null, id: 0,
   exact: null, mc: null, light: null, views: null,
-  runs: 0, // finished jobs, told to the browser test through data-lines / -light / -views
+  refine: null, // the refinement player: { points, report, mesh, busy, playing }
+  runs: 0, // finished jobs, told to the browser test through data-lines / -light / -views / -refined
 };
 // For the browser test and curious users
 window.lab3d = state;
@@ -70,15 +72,14 @@ async function loadScene(source, name) {
   showError(null);
   let lab;
   try {
-    lab = source.preset
-      ? Lab3.preset(source.preset, source.grid)
-      : Lab3.fromFile(source.name, source.bytes, source.mtl.map((m) => m[0]), source.mtl.map((m) => m[1]), source.emitFromKa);
+    lab = labOf(Lab3, source);
   } catch (e) {
     showError(e.message);
     return;
   }
   state.lab?.free();
-  Object.assign(state, { lab, source, exact: null, mc: null, light: null, views: null, running: false });
+  stopPlaying();
+  Object.assign(state, { lab, source, exact: null, mc: null, light: null, views: null, running: false, refine: null });
   state.id += 1;
   const id = state.id;
   document.title = `sceneinfo 3D lab: ${name}`;
@@ -99,6 +100,7 @@ async function loadScene(source, name) {
       if (id !== state.id) return;
       state.exact = m;
       showMeasures(JSON.parse(m.json), 'exact');
+      drawHeat();
       $('m-note').textContent = `exact form factors in ${m.seconds.toFixed(3)} s`;
     } catch (e) {
       if (id !== state.id) return;
@@ -111,18 +113,23 @@ async function loadScene(source, name) {
   document.body.dataset.ready = String(id);
 }
 
+// Files that may be a scene; the others the user gives with it are its companions (an OBJ's
+// .mtl libraries, a .gltf's .bin buffers). Images (textures) are not read.
+const SCENE_FILE = /\.(obj|gltf|glb|ply|vs3)$/i;
+const IMAGE_FILE = /\.(png|jpe?g|webp|ktx2|basis)$/i;
+
 async function loadFiles(files) {
-  const list = [...files];
-  const mtl = await Promise.all(list.filter((f) => /\.mtl$/i.test(f.name)).map(async (f) => [f.name, await f.text()]));
-  const scene = list.find((f) => !/\.mtl$/i.test(f.name));
+  const list = [...files].filter((f) => !IMAGE_FILE.test(f.name));
+  const scene = list.find((f) => SCENE_FILE.test(f.name)) ?? list.find((f) => !/\.(mtl|bin)$/i.test(f.name));
   if (!scene) {
-    showError('Choose a scene file (OBJ, glTF / GLB, PLY), with its .mtl files for an OBJ.');
+    showError('Choose a scene file (OBJ, glTF / GLB, PLY, .vs3), with its .mtl files for an OBJ or its .bin files for a .gltf.');
     return;
   }
-  const bytes = new Uint8Array(await scene.arrayBuffer());
+  const bytesOf = async (f) => new Uint8Array(await f.arrayBuffer());
+  const others = await Promise.all(list.filter((f) => f !== scene).map(async (f) => [f.name, await bytesOf(f)]));
   history.replaceState(null, '', location.pathname);
   $('preset').value = '';
-  await loadScene({ name: scene.name, bytes, mtl, emitFromKa: $('emit-ka').checked }, scene.name);
+  await loadScene({ name: scene.name, bytes: await bytesOf(scene), files: others, emitFromKa: $('emit-ka').checked }, scene.name);
 }
 
 function presetSource() {
@@ -177,6 +184,8 @@ function clearMeasures() {
   $('vp-status').textContent = '–';
   $('vp-best').replaceChildren();
   $('vp-sphere').getContext('2d').clearRect(0, 0, 180, 180);
+  drawHeat();
+  showRefinement();
 }
 
 function showMeasures(j, source) {
@@ -209,6 +218,7 @@ function linesDone(m) {
   showMeasures(j, `${j.lines.toLocaleString('en')} global lines, seed ${j.seed}`);
   $('mc-status').textContent = `${m.stopped ? 'stopped after' : 'done:'} ${m.done.toLocaleString('en')} lines in ${m.seconds.toFixed(2)} s`;
   document.body.dataset.lines = `${state.id}:${++state.runs}`;
+  drawHeat();
   paint();
 }
 
@@ -333,6 +343,149 @@ $('vp-sphere').addEventListener('click', (e) => {
   if (best >= 0) view.lookFrom(v.directions.slice(3 * best, 3 * best + 3), VIEW_RADII);
 });
 
+// ---- I_ij heat map --------------------------------------------------------------------------
+
+function drawHeat() {
+  const c = $('heat');
+  const bar = $('heat-bar');
+  c.getContext('2d').clearRect(0, 0, c.width, c.height);
+  bar.hidden = true;
+  const n = state.lab?.nPatches ?? 0;
+  const m = state.exact ?? state.mc;
+  if (!state.lab) {
+    $('heat-note').textContent = '–';
+  } else if (n > HEAT_MAP_LIMIT) {
+    $('heat-note').textContent = `not drawn above ${HEAT_MAP_LIMIT} patches (this scene has ${n})`;
+  } else if (!m?.matrix) {
+    $('heat-note').textContent = 'needs the exact measures or a finished line run';
+  } else if (!m.h) {
+    $('heat-note').textContent = 'needs every patch to receive a line';
+  } else {
+    const max = heatMap(c, m.matrix, n);
+    bar.hidden = false;
+    colourBar(bar, scale([-1, 1], true), 'I_ij / max |I_ij| (√ scale)');
+    $('heat-note').textContent = `${n} × ${n} patches (row i, column j; sums of bins when n > ${c.width}), ` +
+      `largest |I_ij| ${max.toExponential(2)} bits; red > 0 (more transfer than chance), blue < 0; ` +
+      `${m === state.exact ? 'exact form factors' : 'from the line run'}`;
+    document.body.dataset.heat = `${state.id}:${n}`;
+  }
+}
+
+// ---- refinement -----------------------------------------------------------------------------
+
+const PLAY_INTERVAL_MS = 300;
+let playTimer = 0;
+
+function stopPlaying() {
+  clearTimeout(playTimer);
+  if (state.refine) state.refine.playing = false;
+  $('ref-play').textContent = 'Play';
+}
+
+function resetRefinement() {
+  stopPlaying();
+  state.refine = null;
+  if ($('colour').value === 'refine') $('colour').value = 'none';
+  showRefinement();
+  paint();
+}
+
+function showRefinement() {
+  const r = state.refine;
+  const j = r?.report;
+  const num = (v, d = 4) => (v === null || v === undefined ? '–' : v.toFixed(d));
+  $('ref-leaves').textContent = j ? String(j.n_patches) : '–';
+  $('ref-eps').textContent = j ? String(j.eps) : '–';
+  $('ref-is').textContent = j ? num(j.i_s) : '–';
+  $('ref-isc').textContent = j && j.i_s_continuous !== null ? `${num(j.i_s_continuous)} ± ${num(j.i_s_continuous_stderr)}` : '–';
+  $('ref-delta').textContent = j && j.rel_discretisation_error !== null ? `${(100 * j.rel_discretisation_error).toFixed(2)} %` : '–';
+  $('ref-cost').textContent = j ? `${j.links.toLocaleString('en')}, ${j.rays.toLocaleString('en')}` : '–';
+  const points = (r?.points ?? []).filter((p) => p.i_s !== null);
+  const ceiling = j && j.i_s_continuous !== null ? { value: j.i_s_continuous, stderr: j.i_s_continuous_stderr } : null;
+  refinementPlot($('ref-plot'), points, ceiling);
+}
+
+// One step of the player: the first starts the refiner on the scene (its coarsest mesh).
+async function refineStep() {
+  if (!state.lab || state.refine?.busy) return;
+  const id = state.id;
+  const exposure = 2 ** Number($('exposure').value);
+  const r = state.refine ?? { points: [], report: null, mesh: null, playing: false };
+  state.refine = r;
+  r.busy = true;
+  $('ref-step').disabled = true;
+  $('ref-status').textContent = r.report ? 'refining…' : 'building the coarsest mesh…';
+  try {
+    const message = r.report
+      ? { type: 'refine-step', id, exposure }
+      : {
+        type: 'refine-start', id, exposure, oracle: $('ref-oracle').value, pairs: 10,
+        lines: Number($('ref-lines').value), seed: Number($('mc-seed').value),
+      };
+    const out = await request(message);
+    if (id !== state.id || state.refine !== r) return;
+    r.report = JSON.parse(out.report);
+    r.mesh = { ...out, exposure };
+    r.points.push({ n: r.report.n_patches, i_s: r.report.i_s });
+    const j = r.report;
+    $('ref-status').textContent = `${j.steps === 0 ? 'start' : `step ${j.steps}`}: ${j.oracle}, ε = ${j.eps}, ` +
+      `${j.n_patches.toLocaleString('en')} leaves of ${j.elements.toLocaleString('en')} elements; ` +
+      `${out.seconds.toFixed(2)} s${j.warning ? `. ${j.warning}` : ''}`;
+    $('colour').value = 'refine';
+    paint();
+    document.body.dataset.refined = `${id}:${++state.runs}`;
+  } catch (e) {
+    if (id !== state.id) return;
+    stopPlaying();
+    $('ref-status').textContent = e.message;
+    document.body.dataset.refineError = `${id}:${++state.runs}`;
+  } finally {
+    r.busy = false;
+    $('ref-step').disabled = false;
+    showRefinement();
+  }
+}
+
+function playTick() {
+  const r = state.refine;
+  if (r && !r.playing) return;
+  refineStep().then(() => {
+    if (state.refine?.playing) playTimer = setTimeout(playTick, PLAY_INTERVAL_MS);
+  });
+}
+
+$('ref-step').addEventListener('click', refineStep);
+$('ref-reset').addEventListener('click', resetRefinement);
+$('ref-oracle').addEventListener('change', resetRefinement);
+$('ref-lines').addEventListener('change', resetRefinement);
+$('ref-play').addEventListener('click', () => {
+  if (state.refine?.playing) {
+    stopPlaying();
+    return;
+  }
+  if (!state.refine) state.refine = { points: [], report: null, mesh: null, playing: false };
+  state.refine.playing = true;
+  $('ref-play').textContent = 'Pause';
+  playTick();
+});
+
+// The refined mesh at the exposure shown (the worker shades it).
+async function refineMesh() {
+  const r = state.refine;
+  if (!r?.report) return;
+  const id = state.id;
+  const exposure = 2 ** Number($('exposure').value);
+  r.busy = true;
+  try {
+    const out = await request({ type: 'refine-mesh', id, exposure });
+    if (id !== state.id || state.refine !== r) return;
+    r.mesh = { ...out, exposure };
+  } finally {
+    r.busy = false;
+  }
+  paint();
+}
+
 // ---- colouring ------------------------------------------------------------------------------
 
 // The values of colouring `key` per patch, or a sentence saying what to run first.
@@ -359,7 +512,7 @@ const LABELS = {
 function paint() {
   const key = $('colour').value;
   const lab = state.lab;
-  $('exposure-label').hidden = key !== 'light';
+  $('exposure-label').hidden = key !== 'light' && key !== 'refine';
   $('colour-bar').hidden = true;
   $('colour-note').textContent = '';
   if (!lab) return;
@@ -375,7 +528,20 @@ function paint() {
       return;
     }
   }
-  const values = key === 'light' ? null : patchValues(key);
+  if (key === 'refine') {
+    const mesh = state.refine?.mesh;
+    if (!mesh) {
+      $('colour-note').textContent = 'step the refinement first';
+    } else {
+      const exposure = 2 ** Number($('exposure').value);
+      $('exposure-value').textContent = `${exposure.toFixed(2)}×`;
+      view.setMesh(mesh.positions, mesh.colours, 0, mesh.edges);
+      $('colour-note').textContent = `${state.refine.report.n_patches} leaves, Gouraud shaded, element edges`;
+      if (mesh.exposure !== exposure && !state.refine.busy) refineMesh();
+      return;
+    }
+  }
+  const values = key === 'light' || key === 'refine' ? null : patchValues(key);
   const tri = state.trianglePatches;
   const colours = new Uint8Array(tri.length * 9).fill(200);
   if (Array.isArray(values) || ArrayBuffer.isView(values)) {

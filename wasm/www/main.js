@@ -142,6 +142,7 @@ function startMonteCarlo({ keep = false } = {}) {
   if (state.keep) state.mc = { ...state.mc, patchContinuous: null };
   else state.mc = null;
   document.body.dataset.mc = 'running';
+  document.body.dataset.mcJob = String(state.job); // the job whose end data-mc-done will name
   const lines = Number($('mc-lines').value);
   const seed = Number($('mc-seed').value);
   const method = $('mc-method').value;

@@ -1,28 +1,47 @@
 // The 3D lab's worker: every long computation off the main thread (the 3D module, pkg3d).
 //
-// In:  { type: 'load', id, source }        source = { preset, grid } | { name, bytes, mtl: [[name, text]…] }
+// In:  { type: 'load', id, source }        source: see scene3d.js
 //      { type: 'exact', id }               exact measures (unoccluded scenes)
 //      { type: 'lines', id, seed, lines }  Monte Carlo, chunk by chunk (2^16 lines each)
 //      { type: 'stop', id }                stops the running line job after its chunk
 //      { type: 'radiosity', id, lines, seed }
 //      { type: 'viewpoints', id, views, resolution, best }
-// Out: { type: 'progress' | 'measures' | 'light' | 'views' | 'error', id, … }
+//      { type: 'refine-start', id, oracle, pairs, lines, seed, exposure }  the refinement player
+//      { type: 'refine-step', id, exposure }, { type: 'refine-mesh', id, exposure }
+// Out: { type: 'progress' | 'measures' | 'light' | 'views' | 'refined' | 'error', id, … }
+// Measures carry H_i, I_i, I_i^c per patch and, up to HEAT_MAP_LIMIT patches, I_ij.
 import init, { Lab3 } from './pkg3d/sceneinfo_wasm.js';
+import { HEAT_MAP_LIMIT, labOf } from './scene3d.js';
 
 const ready = init();
 let lab = null;
 let current = null; // the running line job: { id, stop }
+let refiner = null; // the refinement player's Refiner3
 
 // Lets queued messages ('stop', a newer job) in between chunks.
 const breathe = () => new Promise((resolve) => setTimeout(resolve, 0));
 const messageOf = (e) => (e instanceof Error ? e.message : String(e));
 
 function measuresMessage(id, m, extra) {
+  const ic = m.patchContinuous();
+  const n = lab.nPatches;
   const out = {
     type: 'measures', id, json: m.json(), h: m.patchEntropies(), i: m.patchInformation(),
-    ic: m.patchContinuous(), ...extra,
+    ic: ic.length ? ic : null, matrix: n <= HEAT_MAP_LIMIT ? m.informationMatrix(HEAT_MAP_LIMIT) : null,
+    ...extra,
   };
   m.free();
+  return out;
+}
+
+// The refiner's current report and mesh (leaves Gouraud shaded, with their edges).
+function refinedMessage(id, req, report, exposure) {
+  const mesh = refiner.mesh(exposure);
+  const out = {
+    type: 'refined', id, req, report, positions: mesh.positions(), colours: mesh.colours(),
+    edges: mesh.edges(),
+  };
+  mesh.free();
   return out;
 }
 
@@ -65,12 +84,11 @@ onmessage = async ({ data }) => {
   try {
     if (data.type === 'load') {
       current = null; // a new scene ends the running line job
+      refiner?.free();
+      refiner = null;
       lab?.free();
       lab = null;
-      const s = data.source;
-      lab = s.preset
-        ? Lab3.preset(s.preset, s.grid)
-        : Lab3.fromFile(s.name, s.bytes, s.mtl.map((m) => m[0]), s.mtl.map((m) => m[1]), s.emitFromKa);
+      lab = labOf(Lab3, data.source);
       postMessage({ type: 'loaded', id, req, n: lab.nPatches });
     } else if (data.type === 'exact') {
       const start = performance.now();
@@ -89,6 +107,20 @@ onmessage = async ({ data }) => {
       const start = performance.now();
       const json = lab.viewpoints(data.views, data.resolution, data.best);
       postMessage({ type: 'views', id, req, json, seconds: (performance.now() - start) / 1000 });
+    } else if (data.type === 'refine-start') {
+      refiner?.free();
+      refiner = null;
+      const start = performance.now();
+      refiner = lab.refiner(data.oracle, data.pairs, data.lines, data.seed);
+      const message = refinedMessage(id, req, refiner.reportJson(), data.exposure);
+      postMessage({ ...message, seconds: (performance.now() - start) / 1000 });
+    } else if (data.type === 'refine-step') {
+      const start = performance.now();
+      const report = refiner.step();
+      const message = refinedMessage(id, req, report, data.exposure);
+      postMessage({ ...message, seconds: (performance.now() - start) / 1000 });
+    } else if (data.type === 'refine-mesh') {
+      postMessage(refinedMessage(id, req, refiner.reportJson(), data.exposure));
     }
   } catch (e) {
     postMessage({ type: 'error', id, req, message: messageOf(e) });

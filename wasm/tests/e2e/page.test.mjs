@@ -12,81 +12,26 @@
 
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
-import { createServer } from 'node:http';
-import { mkdtemp, mkdir, readFile, rm } from 'node:fs/promises';
-import { tmpdir } from 'node:os';
-import { dirname, extname, join, normalize, resolve, sep } from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
+import { mkdir } from 'node:fs/promises';
+import { dirname, join } from 'node:path';
+import { openBrowser, repo } from './harness.mjs';
 
-const here = dirname(fileURLToPath(import.meta.url));
-const repo = resolve(here, '..', '..', '..');
-const www = join(repo, 'wasm', 'www');
 const screenshot = process.env.E2E_SCREENSHOT ?? join(repo, 'target', 'e2e', 'index.png');
-const executablePath = process.env.CHROMIUM ?? '/usr/bin/chromium';
 
-const types = {
-  '.html': 'text/html; charset=utf-8',
-  '.js': 'text/javascript; charset=utf-8',
-  '.wasm': 'application/wasm',
-  '.css': 'text/css; charset=utf-8',
-  '.json': 'application/json',
-};
-
-let server;
+let browser;
 let context;
-let userDataDir;
 let page;
 let baseUrl;
-const problems = []; // console errors and uncaught page errors: any of them fails the run
-
-// Serves static files from `www` only (no directory escape).
-async function serve(req, res) {
-  const path = decodeURIComponent(new URL(req.url, 'http://x').pathname);
-  const file = normalize(join(www, path.endsWith('/') ? `${path}index.html` : path));
-  if (!file.startsWith(www + sep)) {
-    res.writeHead(403).end();
-    return;
-  }
-  try {
-    const body = await readFile(file);
-    res.writeHead(200, { 'content-type': types[extname(file)] ?? 'application/octet-stream' });
-    res.end(body);
-  } catch {
-    res.writeHead(404).end('not found');
-  }
-}
-
-function watch(p) {
-  p.on('console', (msg) => {
-    if (msg.type() === 'error') problems.push(`console.error: ${msg.text()}`);
-  });
-  p.on('pageerror', (err) => problems.push(`page error: ${err.message}`));
-}
+let problems; // console errors and uncaught page errors: any of them fails the run
+let watch;
 
 before(async () => {
-  server = createServer((req, res) => void serve(req, res));
-  await new Promise((ok) => server.listen(0, '127.0.0.1', ok));
-  baseUrl = `http://127.0.0.1:${server.address().port}/`;
-
-  userDataDir = await mkdtemp(join(tmpdir(), 'sceneinfo-e2e-'));
-  context = await chromium.launchPersistentContext(userDataDir, {
-    executablePath,
-    headless: true,
-    viewport: { width: 1360, height: 1000 },
-    args: [
-      '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-      '--disable-background-networking', '--disable-component-update', '--disable-sync',
-    ],
-  });
-  page = context.pages()[0] ?? (await context.newPage());
-  watch(page);
+  browser = await openBrowser({ viewport: { width: 1360, height: 1000 }, args: ['--disable-gpu'] });
+  ({ context, page, baseUrl, problems, watch } = browser);
 });
 
 after(async () => {
-  await context?.close();
-  await new Promise((ok) => (server ? server.close(ok) : ok()));
-  if (userDataDir) await rm(userDataDir, { recursive: true, force: true });
+  await browser?.close();
 });
 
 // The number shown in element `id`.
@@ -97,13 +42,19 @@ async function shown(p, id) {
   return v;
 }
 
-// Runs `action`, then waits until the Monte Carlo job it started has finished.
+// Runs `action`, then waits until the Monte Carlo job it started has finished: the page's
+// latest job (`data-mc-job`, set when a job starts) is newer than before `action`, and it is
+// the one `data-mc-done` names. Waiting for `data-mc-done` to pass its old value was not
+// enough: a job already running before `action` (the page's first one) could end between
+// the read and `action`, and the wait then passed on it while the new job was half done
+// (a test once read I_S^c after 524,288 of 10^6 lines).
 async function andMonteCarlo(p, action) {
-  const before = Number((await p.getAttribute('body', 'data-mc-done')) ?? 0);
+  const before = Number((await p.getAttribute('body', 'data-mc-job')) ?? 0);
   await action();
-  await p.waitForFunction((b) => Number(document.body.dataset.mcDone ?? 0) > b, before, {
-    timeout: 120_000,
-  });
+  await p.waitForFunction((b) => {
+    const { mcJob, mcDone } = document.body.dataset;
+    return Number(mcJob ?? 0) > b && mcDone === mcJob;
+  }, before, { timeout: 120_000 });
 }
 
 // The I_S^c ± stderr the page shows.

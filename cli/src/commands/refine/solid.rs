@@ -14,13 +14,13 @@ use anyhow::{Context, Result, bail};
 use sceneinfo::ContinuousEstimate;
 use sceneinfo::LineSession;
 use sceneinfo::geom::DVec3;
-use sceneinfo::hierarchy::{Budget, Hierarchy, HrOptions, OracleChoice3};
+use sceneinfo::hierarchy::{Hierarchy, HrOptions, OracleChoice3};
 use sceneinfo::image::{Camera3, Picture3, ToneMap};
 use sceneinfo::scene::{Material, Scene3};
 use sceneinfo::tally::LineTracer;
 use sceneinfo::trace::estimate_2d::LineMethod;
 use sceneinfo::trace::estimate_3d::Tracer3;
-use sceneinfo_report::JsonObject;
+use sceneinfo_report::{HierarchyReport, JsonObject, LeafMeasures};
 
 use crate::args::{Oracle, RefineArgs};
 use crate::lines::LineBudget;
@@ -121,23 +121,6 @@ impl Config {
     }
 }
 
-/// The final mesh's channel, from global lines over its leaves: NaN measures (JSON `null`)
-/// and a warning when some leaf received none of the lines.
-#[derive(Debug)]
-struct MeshMeasures {
-    n_patches: usize,
-    i_s: f64,
-    h_s: f64,
-    h_j: f64,
-    i_s_continuous: f64,
-    i_s_continuous_stderr: f64,
-    background: bool,
-    /// Global lines cast.
-    lines: u64,
-    /// Why the measures are missing.
-    warning: Option<String>,
-}
-
 /// Runs `refine` on a `.obj` scene.
 pub fn run(args: &RefineArgs, threads: usize) -> Result<()> {
     let config = Config::new(args, threads)?;
@@ -217,7 +200,7 @@ pub fn run(args: &RefineArgs, threads: usize) -> Result<()> {
 /// [`MAX_AUTO_LINES`]. A leaf still unsampled after that (or with `--lines` given) leaves
 /// the measures NaN, with a warning that says how many lines to ask for
 /// ([`sceneinfo::tally::coverage`]).
-fn measure(h: &Hierarchy, config: &Config, seed: u64, file: &Path) -> Result<MeshMeasures> {
+fn measure(h: &Hierarchy, config: &Config, seed: u64, file: &Path) -> Result<LeafMeasures> {
     let at = |e: sceneinfo::Error| located(file, &e);
     // Leaves too small to validate as patches: the file was fine, the mesh went too fine
     let too_fine = |e: sceneinfo::Error| {
@@ -254,26 +237,20 @@ fn measure(h: &Hierarchy, config: &Config, seed: u64, file: &Path) -> Result<Mes
             Some(m) => format!("about {m}"),
             None => format!("more than {lines}"),
         };
-        return Ok(MeshMeasures {
-            n_patches: leaves.n_patches(),
-            i_s: f64::NAN,
-            h_s: f64::NAN,
-            h_j: f64::NAN,
-            i_s_continuous: f64::NAN,
-            i_s_continuous_stderr: f64::NAN,
-            background: false,
+        return Ok(LeafMeasures::unmeasured(
+            leaves.n_patches(),
             lines,
-            warning: Some(format!(
+            format!(
                 "the mesh's channel is not measured: {} of the {} leaves (the first, leaf \
                  {first}, {area:.1e} of the scene's area) received none of the {lines} global \
                  lines; cast more with --lines ({more}), or bound the leaves with --min-area",
                 c.unsampled, c.n_patches
-            )),
-        });
+            ),
+        ));
     }
     let est = run.tally.finish(&tracer).map_err(at)?;
     let m = est.form_factors.channel().map_err(at)?.measures();
-    Ok(MeshMeasures {
+    Ok(LeafMeasures {
         n_patches: leaves.n_patches(),
         i_s: m.i_s,
         h_s: m.h_s,
@@ -415,53 +392,33 @@ struct Report<'a> {
     config: &'a Config,
     eps: f64,
     h: &'a Hierarchy,
-    m: &'a MeshMeasures,
+    m: &'a LeafMeasures,
     rms: Option<f64>,
     hr_seconds: f64,
     seconds: f64,
 }
 
-fn budget_name(b: Option<Budget>) -> &'static str {
-    match b {
-        None => "none",
-        Some(Budget::Elements) => "elements",
-        Some(Budget::Links) => "links",
-        Some(Budget::Rays) => "rays",
-    }
-}
-
 impl Report<'_> {
     fn json(&self, seed: u64) -> Result<String, std::fmt::Error> {
-        let (h, m) = (self.h, self.m);
         let mut s = String::new();
         let mut o = JsonObject::new(&mut s)?;
-        o.string("oracle", self.config.oracle)?;
-        o.number("eps", self.eps)?;
-        o.integer("pairs", self.config.options.pairs as u64)?;
-        o.integer("n_patches", m.n_patches as u64)?;
-        o.number("i_s", m.i_s)?;
-        o.number("h_s", m.h_s)?;
-        o.number("h_j", m.h_j)?;
-        o.number("i_s_continuous", m.i_s_continuous)?;
-        o.number("i_s_continuous_stderr", m.i_s_continuous_stderr)?;
-        o.number(
-            "rel_discretisation_error",
-            ContinuousEstimate::relative_discretisation_error(m.i_s_continuous, m.i_s),
-        )?;
-        o.boolean("background", m.background)?;
-        o.integer("elements", h.elements().len() as u64)?;
-        o.integer("links", h.links().len() as u64)?;
-        o.integer("rays", h.rays())?;
-        // null without --reference
-        o.number("rms_error", self.rms.unwrap_or(f64::NAN))?;
-        o.string("budget_hit", budget_name(h.budget_hit()))?;
-        o.integer("passes", u64::from(h.passes()))?;
-        o.integer("iterations", h.iterations())?;
-        o.integer("lines", m.lines)?;
-        o.integer("seed", seed)?;
+        self.hierarchy(seed).write_fields(&mut o)?;
         o.number("seconds", self.seconds)?;
         o.finish()?;
         Ok(s)
+    }
+
+    /// The report crate's view of the run (the keys `refine --json` shares with the 3D lab).
+    fn hierarchy(&self, seed: u64) -> HierarchyReport<'_> {
+        HierarchyReport {
+            oracle: self.config.oracle,
+            eps: self.eps,
+            pairs: self.config.options.pairs,
+            hierarchy: self.h,
+            leaves: self.m,
+            rms_error: self.rms,
+            seed,
+        }
     }
 
     fn table(&self, name: &str) -> String {
@@ -484,7 +441,7 @@ impl Report<'_> {
             h.links().len(),
             h.rays(),
             self.hr_seconds,
-            budget_name(h.budget_hit())
+            self.hierarchy(0).budget_hit()
         );
         if m.warning.is_some() {
             let _ = writeln!(
