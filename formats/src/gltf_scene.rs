@@ -803,6 +803,37 @@ mod tests {
         assert!(split_glb(&v1).is_err());
     }
 
+    /// A `.gltf` whose buffer is a file beside it (Khronos' BoxTextured, in the corpus):
+    /// `read_with` given that file reads the scene `read` reads from the disk, asks for the
+    /// buffer's file only (not the texture's), and passes on `open`'s error for it.
+    #[test]
+    fn buffers_read_by_the_caller() {
+        let dir =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/corpus/gltf/BoxTextured");
+        let path = dir.join("BoxTextured.gltf");
+        let bytes = std::fs::read(&path).unwrap();
+        let from_disk = read(&path, &bytes, &mut LoadReport::default()).unwrap();
+        let asked = std::cell::RefCell::new(Vec::new());
+        let open = |file: &Path| {
+            asked.borrow_mut().push(file.to_path_buf());
+            std::fs::read(file).map_err(anyhow::Error::from)
+        };
+        let given = read_with(&path, &bytes, &mut LoadReport::default(), &open).unwrap();
+        assert_eq!(asked.into_inner(), [dir.join("BoxTextured0.bin")]);
+        assert_eq!(given.n_patches(), from_disk.n_patches());
+        assert_eq!(
+            given.total_area().to_bits(),
+            from_disk.total_area().to_bits()
+        );
+        let refuse = |file: &Path| -> Result<Vec<u8>> { bail!("{} is missing", file.display()) };
+        let name = Path::new("BoxTextured.gltf");
+        let e = read_with(name, &bytes, &mut LoadReport::default(), &refuse).unwrap_err();
+        assert_eq!(
+            format!("{e:#}"),
+            "BoxTextured.gltf: buffer 0: BoxTextured0.bin is missing"
+        );
+    }
+
     #[test]
     fn numbers_as_written() {
         assert_eq!(as_written(0.2), 0.2);

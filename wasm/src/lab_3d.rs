@@ -372,7 +372,11 @@ impl<'a> Companions<'a> {
     /// gives names without folders).
     fn get(&self, path: &Path) -> Option<&'a [u8]> {
         let same = |n: &str| Path::new(n) == path;
-        let leaf = |n: &str| Path::new(n).file_name().is_some_and(|f| Some(f) == path.file_name());
+        let leaf = |n: &str| {
+            Path::new(n)
+                .file_name()
+                .is_some_and(|f| Some(f) == path.file_name())
+        };
         let find = |test: &dyn Fn(&str) -> bool| self.files.iter().find(|(n, _)| test(n));
         find(&same).or_else(|| find(&leaf)).map(|&(_, b)| b)
     }
