@@ -12,7 +12,7 @@
 //! ```text
 //! B_i         radiosity of patch (or leaf) i, per RGB channel: the solve
 //!   → B_v     Gouraud vertex values, B_v = Σ_{i∋v} A_i B_i / Σ_{i∋v} A_i, corners welded
-//!             within one plane, facing and material (gouraud_mesh; Cohen & Wallace 1993
+//!             within one plane, facing and material (GouraudMesh::of; Cohen & Wallace 1993
 //!             §10.2), interpolated linearly over the fan triangle a pixel's ray meets
 //!   → c       exposure, c = clamp(B / white, 0, 1), white the largest radiosity of a
 //!             non-emitting patch (ToneMap::for_scene; emitters clip to white)

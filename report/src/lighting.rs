@@ -39,7 +39,13 @@ pub fn write_lighting_fields<W: Write>(
     let n = lit.form_factors().n_patches();
     o.object("radiosity", |o| {
         for (c, name) in RgbSolution::CHANNEL_NAMES.iter().enumerate() {
-            let column: Vec<f64> = lit.solution().radiosity[..n].iter().map(|b| b[c]).collect();
+            let column: Vec<f64> = lit
+                .solution()
+                .radiosity
+                .iter()
+                .take(n)
+                .map(|b| b[c])
+                .collect();
             o.numbers(name, &column)?;
         }
         Ok(())

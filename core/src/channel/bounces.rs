@@ -40,9 +40,14 @@ use crate::error::{Error, ErrorKind, Result};
 /// Most bounces [`Channel::long_range_information`] follows.
 pub(crate) const MAX_BOUNCES: usize = 100_000;
 
-/// Most multiply-adds [`Channel::long_range_information`] may do (`bounces · n³`), about a minute
-/// of work; more is refused with [`ErrorKind::TooLarge`] before starting.
+/// Most multiply-adds [`Channel::long_range_information`] may do (`(bounces − 1) · n³`),
+/// about a minute of work; more is refused with [`ErrorKind::TooLarge`] before starting.
 pub(crate) const MAX_BOUNCE_WORK: u64 = 1 << 36;
+
+/// Most entries of one dense `n × n` power [`Channel::long_range_information`] may hold:
+/// `2²⁶` (`n ≤ 8192`, 512 MiB of `f64`). The work bound alone allows any `n` for one bounce,
+/// which does no multiplication but still needs `Pⁿ` dense.
+pub(crate) const MAX_BOUNCE_CELLS: usize = 1 << 26;
 
 /// The long-range mutual information curve of a chain (module docs).
 #[derive(Clone, Debug, PartialEq)]
@@ -100,13 +105,14 @@ impl<M: Transitions> Channel<'_, M> {
     /// The long-range mutual information `I(X_0; X_n)` for `n = 1, …, bounces`, exactly, from
     /// the powers `Pⁿ` of the channel's matrix kept dense (module docs for the formulas).
     ///
-    /// Cost about `bounces · n³` multiply-adds (dense rows, skipping zeros of `Pⁿ`) and `3n²`
-    /// values of memory.
+    /// Cost about `(bounces − 1) · n³` multiply-adds (dense rows, skipping zeros of `Pⁿ`)
+    /// and `3n²` values of memory (`n²` for one bounce).
     ///
     /// # Errors
     ///
     /// - [`ErrorKind::BadParameter`] for `bounces = 0` or above `MAX_BOUNCES`;
-    /// - [`ErrorKind::TooLarge`] if the work exceeds `MAX_BOUNCE_WORK` or `n²` overflows;
+    /// - [`ErrorKind::TooLarge`] if the work exceeds `MAX_BOUNCE_WORK` or `n²` exceeds
+    ///   `MAX_BOUNCE_CELLS`;
     /// - the validation errors of [`Channel::new`] for a power (none for a valid channel:
     ///   rows of `Pⁿ` sum to at most those of `P`).
     pub fn long_range_information(&self, bounces: usize) -> Result<LongRange> {
@@ -125,14 +131,18 @@ impl<M: Transitions> Channel<'_, M> {
             .saturating_mul(n as u64)
             .saturating_mul(n as u64)
             .saturating_mul(n as u64);
-        let cells = n.checked_mul(n);
-        if work > MAX_BOUNCE_WORK || cells.is_none() {
+        if work > MAX_BOUNCE_WORK {
             return Err(Error::new(ErrorKind::TooLarge {
                 what: "long-range mutual information (bounces · states³)",
                 max: MAX_BOUNCE_WORK,
             }));
         }
-        let cells = cells.unwrap_or(0);
+        let Some(cells) = n.checked_mul(n).filter(|&c| c <= MAX_BOUNCE_CELLS) else {
+            return Err(Error::new(ErrorKind::TooLarge {
+                what: "long-range mutual information (states², a dense matrix)",
+                max: MAX_BOUNCE_CELLS as u64,
+            }));
+        };
 
         // P¹ densely
         let mut power = vec![0.0; cells];
@@ -143,8 +153,14 @@ impl<M: Transitions> Channel<'_, M> {
                 }
             });
         }
-        let dense = power.clone();
-        let mut next = vec![0.0; cells];
+        // P and the next power, needed only past the first bounce
+        let more = if bounces > 1 { cells } else { 0 };
+        let dense = if bounces > 1 {
+            power.clone()
+        } else {
+            Vec::new()
+        };
+        let mut next = vec![0.0; more];
         let mut curve = Vec::with_capacity(bounces);
         let mut conditional = Vec::with_capacity(bounces);
         let mut per_state = vec![0.0; n];
@@ -225,5 +241,26 @@ mod tests {
         assert!(ch.long_range_information(0).is_err());
         assert!(ch.long_range_information(MAX_BOUNCES + 1).is_err());
         assert_eq!(ch.long_range_information(3).unwrap().curve, [0.0; 3]);
+    }
+
+    /// One bounce does no multiplication, so the work bound lets any size through; the
+    /// dense power is refused before it is allocated (it asked for `n²` values, 800 GB at
+    /// 10⁵ states, and aborted).
+    #[test]
+    fn a_dense_power_too_large_is_refused_before_allocating() {
+        let n = 8193;
+        let w = vec![1.0 / n as f64; n];
+        let diagonal: Vec<(usize, usize, f64)> = (0..n).map(|i| (i, i, 1.0)).collect();
+        let p = crate::channel::CsrMatrixBuf::from_triplets(n, &diagonal).unwrap();
+        let ch = Channel::new(&w, p.as_matrix()).unwrap();
+        let err = ch.long_range_information(1).unwrap_err();
+        assert!(matches!(err.kind(), ErrorKind::TooLarge { .. }), "{err}");
+        // Within the bound, one bounce is the channel's I_S (here H_P: X_1 = X_0)
+        let w3 = [0.5, 0.25, 0.25];
+        let id = [1., 0., 0., 0., 1., 0., 0., 0., 1.];
+        let ch = Channel::new(&w3, DenseMatrix::new(3, &id).unwrap()).unwrap();
+        let lr = ch.long_range_information(1).unwrap();
+        assert!((lr.curve[0] - 1.5).abs() < 1e-15, "{}", lr.curve[0]);
+        assert_eq!(lr.per_state, lr.per_state_first);
     }
 }

@@ -29,7 +29,9 @@
 //!   hierarchy's leaves of neighbouring root patches meet at the same points;
 //! - positions are quantised, not compared bit for bit, so corners computed along
 //!   different paths (midpoints of two neighbouring roots, a file's rounded coordinates)
-//!   still meet.
+//!   still meet — unless their difference straddles a boundary of the grid (corners `δ`
+//!   apart do with probability about `δ / q` per coordinate, `q` = `1e-9` of the
+//!   diagonal): such a pair stays two vertices, each with its own average.
 
 use alloc::vec::Vec;
 
@@ -96,14 +98,16 @@ pub(crate) fn gouraud(polygons: &[ShadedPolygon<'_>], bounds: (DVec3, DVec3)) ->
     let quantise = |x: f64, q: f64| math::round(x / q) as i64;
     let at = |v: DVec3, q: f64| [quantise(v.x, q), quantise(v.y, q), quantise(v.z, q)];
     // (plane and material, quantised position, corner id) for every polygon corner, sorted
-    // to weld; materials by their bits (validated values, no NaN; −0 cannot occur)
+    // to weld; materials by their bits (validated values, no NaN), `x + 0.0` turning a −0
+    // (which `Material::new` accepts: a file's `Kd -0`) into the +0 it equals
     type Plane = ([i64; 3], i64, [u64; 6]);
     let mut corners: Vec<(Plane, [i64; 3], usize)> = Vec::new();
     let mut corner_at: Vec<DVec3> = Vec::new();
     for p in polygons {
         let offset = p.vertices.first().map_or(0.0, |&v| p.normal.dot(v));
         let (rho, emit) = (p.material.reflectance, p.material.emittance);
-        let material = [rho[0], rho[1], rho[2], emit[0], emit[1], emit[2]].map(f64::to_bits);
+        let material =
+            [rho[0], rho[1], rho[2], emit[0], emit[1], emit[2]].map(|x| (x + 0.0).to_bits());
         let plane = (at(p.normal, 1e-9), quantise(offset, quantum), material);
         for &v in p.vertices {
             corners.push((plane, at(v, quantum), corner_at.len()));
@@ -248,6 +252,19 @@ mod tests {
         );
         assert_eq!(mesh.positions.len(), 8);
         assert!(mesh.vertex_radiosity[mesh.faces[0][1]] == [1.0; 3]);
+        // A reflectance of −0 (a file's `Kd -0 0.5 0.5`) is the material +0 gives: they weld
+        let minus = Material::new([-0.0, 0.5, 0.5], [0.0; 3]).unwrap();
+        let plus = Material::new([0.0, 0.5, 0.5], [-0.0; 3]).unwrap();
+        assert_eq!(minus, plus);
+        let mesh = gouraud(
+            &[
+                shaded(left, DVec3::Z, 1.0, minus),
+                shaded(right, DVec3::Z, 3.0, plus),
+            ],
+            bounds,
+        );
+        assert_eq!(mesh.positions.len(), 6);
+        assert_eq!(mesh.vertex_radiosity[mesh.faces[0][1]], [2.0; 3]);
     }
 
     #[test]

@@ -121,8 +121,8 @@ impl Picture3 {
         }
     }
 
-    /// A camera-frame segment, clipped to the near plane, stepped pixel by pixel with `1/z`
-    /// interpolated linearly on the screen.
+    /// A camera-frame segment, clipped to the near plane and then to the image (widened by a
+    /// pixel), stepped pixel by pixel with `1/z` interpolated linearly on the screen.
     fn segment(&mut self, mut p: DVec3, mut q: DVec3, colour: [f64; 3]) {
         let near = self.near;
         if p.z < near && q.z < near {
@@ -138,14 +138,41 @@ impl Picture3 {
             PolygonFill::project(&self.window, q),
         );
         let (inv_a, inv_b) = (1.0 / p.z, 1.0 / q.z);
-        let steps = crate::math::ceil((b.0 - a.0).abs().max((b.1 - a.1).abs()));
-        if !steps.is_finite() || steps > 1e5 {
+        let (w, h) = (f64::from(self.window.width), f64::from(self.window.height));
+        // The part `t ∈ [t0, t1]` of a + t (b − a) within [−1, w + 1] × [−1, h + 1]
+        // (Liang–Barsky): an edge that passes near the eye projects far past the image,
+        // and only its visible part is stepped
+        let d = (b.0 - a.0, b.1 - a.1);
+        let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
+        for (dir, room) in [
+            (-d.0, a.0 + 1.0),
+            (d.0, w + 1.0 - a.0),
+            (-d.1, a.1 + 1.0),
+            (d.1, h + 1.0 - a.1),
+        ] {
+            if dir == 0.0 {
+                if room < 0.0 {
+                    return;
+                }
+            } else if dir < 0.0 {
+                t0 = t0.max(room / dir);
+            } else {
+                t1 = t1.min(room / dir);
+            }
+        }
+        // At most the image's diagonal in steps once clipped; NaN (no finite projection)
+        // draws nothing
+        let steps = crate::math::ceil(d.0.abs().max(d.1.abs()) * (t1 - t0));
+        if !(t0 <= t1) || !steps.is_finite() || steps > 1e5 {
             return;
         }
-        let (w, h) = (f64::from(self.window.width), f64::from(self.window.height));
         let n = steps as usize;
         for s in 0..=n {
-            let t = if n == 0 { 0.0 } else { s as f64 / steps };
+            let t = if n == 0 {
+                t0
+            } else {
+                t0 + (t1 - t0) * (s as f64 / steps)
+            };
             let (x, y) = (a.0 + (b.0 - a.0) * t, a.1 + (b.1 - a.1) * t);
             if !(x >= 0.0 && x < w && y >= 0.0 && y < h) {
                 continue;
@@ -222,6 +249,20 @@ mod tests {
         assert!(close(r.values()[24 * 64 + 32], [0.0, 1.0, 0.0]));
         r.outline(&near, -DVec3::Z, [1.0; 3]);
         assert!(r.values().iter().filter(|c| **c == [1.0; 3]).count() > 40);
+    }
+
+    /// An edge that reaches far past the image (here 10⁶ to the side: 10⁷ pixels away) is
+    /// drawn where it crosses the image, not dropped for its length.
+    #[test]
+    fn a_long_edge_is_drawn_where_it_crosses_the_picture() {
+        let v = DVec3::new;
+        let sliver = [v(-1e6, -0.01, 0.0), v(-1e6, 0.01, 0.0), v(0.3, 0.0, 0.0)];
+        let mut r = Picture3::new(camera(), 1.0, [0.0; 3]);
+        r.outline(&sliver, -DVec3::Z, [1.0; 3]);
+        let lit = r.values().iter().filter(|c| **c == [1.0; 3]).count();
+        // Both long edges run from (0.3, 0), column 27, to the image's side, column 63, in
+        // the middle rows: no pixel lit before the clip to the image
+        assert!(lit >= 20, "{lit} pixels");
     }
 
     /// Gouraud values are perspective-correct: on a floor receding from the eye whose

@@ -71,7 +71,7 @@ pub struct WalkEstimate {
     pub mean: f64,
     /// Standard error of the mean (0 with fewer than two walks).
     pub stderr: f64,
-    /// Smallest and largest single-walk score.
+    /// Smallest single-walk score.
     pub min: f64,
     /// Largest single-walk score.
     pub max: f64,
@@ -394,7 +394,8 @@ impl WalkEstimate {
     /// Estimates the radiosity of every state with `n_walks` shooting walks with form-factor
     /// transitions (collision estimator of the adjoint system, §2.1.10): `B̂_k = Φ_T visits_k /
     /// (N A_k)`. `sizes` are the patch sizes `A_k` (the scale must be the one `E` is per unit
-    /// of).
+    /// of). The estimates' `min` and `max` are not tracked (one walk scores many states):
+    /// both are `0`.
     ///
     /// # Errors
     /// As [`WalkEstimate::gather`] (no patch index); [`ErrorKind::NegativeEntry`] for a size `≤ 0`.
