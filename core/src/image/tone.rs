@@ -24,8 +24,10 @@ pub struct ToneMap {
 }
 
 impl ToneMap {
-    /// White at the largest radiosity of a non-emitting patch (or of any patch when every
-    /// patch emits); `materials` per patch, `radiosity` per state (extra states ignored).
+    /// White at the largest finite radiosity of a non-emitting patch (or of any patch when
+    /// no non-emitting patch is lit: every patch emits, or the reflectors are black);
+    /// `materials` per patch, `radiosity` per state (extra states ignored). `0` when nothing
+    /// is lit: then every value maps to black.
     #[must_use]
     pub fn for_scene(radiosity: &[[f64; 3]], materials: &[Material]) -> Self {
         let max_of = |emitters: bool| {
