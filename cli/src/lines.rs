@@ -94,7 +94,15 @@ impl Executor for Threads {
                     })
                 })
                 .collect();
-            workers.into_iter().filter_map(|w| w.join().ok()).collect()
+            // A worker that panicked is a bug, not a stop: re-raise its panic rather than
+            // return fewer rows (which would read as an interrupted job).
+            workers
+                .into_iter()
+                .map(|w| {
+                    w.join()
+                        .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+                })
+                .collect()
         });
         self.times.wall += start.elapsed().as_secs_f64();
         parts.into_iter().flatten().collect()

@@ -1,5 +1,5 @@
 //! `Lab3`: the engine of the 3D lab (`wasm/www/lab3d.html`): a 3D scene read from a preset
-//! or from a user's file (OBJ + MTL, glTF / GLB, PLY, through `sceneinfo-formats`), its
+//! or from a user's file (OBJ + MTL, glTF / GLB, PLY, View3D `.vs3`, through `sceneinfo-formats`), its
 //! patches as triangles for WebGL, its measures (exact or by chunked Monte Carlo lines), its
 //! light (the core's `solve_radiosity`) shaded by the core's Gouraud mesh and tone map, and
 //! its viewpoint channel.
@@ -54,8 +54,7 @@ pub fn presets_3() -> Result<String, JsError> {
 }
 
 /// The refusal of a `.flat` file.
-const FLAT_REFUSED: &str =
-    "a flatland scene: the 3D lab reads OBJ, glTF / GLB and PLY (the flatland lab reads .flat)";
+const FLAT_REFUSED: &str = "a flatland scene: the 3D lab reads OBJ, glTF / GLB, PLY and View3D .vs3 (the flatland lab reads .flat)";
 
 /// A 3D scene in the lab, with what its loader said.
 #[wasm_bindgen]

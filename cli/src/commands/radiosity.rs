@@ -278,11 +278,11 @@ fn table(name: &str, r: &Run, solver: SolverArg) -> String {
                  ask for more lines to trust them"
             );
         }
-        if let (Some(v), Some([r, g, b])) = (
+        if let (Some(v), Some([red, green, blue])) = (
             r.lit.discretisation_error(),
             r.lit.discretisation_error_rgb(),
         ) {
-            line(&mut s, "I_S^c - I_S (5.21)", [v, r, g, b]);
+            line(&mut s, "I_S^c - I_S (5.21)", [v, red, green, blue]);
         }
     }
     for (c, m) in rad.iter().enumerate() {

@@ -8,7 +8,7 @@
 //!   job.form_factors = Job::Lines   lines → F̂ (2.36/2.37) and I_S^c (4.8) → solve (2.6)
 //!                                   → measures (5.5–5.7) and radiosity I_S^c (5.20) from the
 //!                                   same lines (cast a second time for bundles and large
-//!                                   scenes: radiosity::continuous::estimate_lit)
+//!                                   scenes: LitEstimate::estimate)
 //! ```
 
 use alloc::vec::Vec;
