@@ -309,7 +309,11 @@ pub struct MergeArgs {
     pub partial: Option<PathBuf>,
     /// Also write the form factors as `formfactors --out` does (`.csv`, `.txt`, `.ijv` or
     /// View3D's `.vf3`).
-    #[arg(long, value_name = "F.ijv|F.vf3|F.csv|F.txt", conflicts_with = "partial")]
+    #[arg(
+        long,
+        value_name = "F.ijv|F.vf3|F.csv|F.txt",
+        conflicts_with = "partial"
+    )]
     pub out: Option<PathBuf>,
 }
 
@@ -511,7 +515,11 @@ pub struct FormFactorsArgs {
     /// sizes, then the rows of F), `.ijv` (sparse: `i,j,F_ij,error` per non-zero entry,
     /// rows in order) or `.vf3` (View3D's output file: header, areas, rows, emissivities;
     /// 3D scenes, patches only).
-    #[arg(long, value_name = "F.csv|F.txt|F.ijv|F.vf3", required_unless_present = "partial")]
+    #[arg(
+        long,
+        value_name = "F.csv|F.txt|F.ijv|F.vf3",
+        required_unless_present = "partial"
+    )]
     pub out: Option<PathBuf>,
     /// Exact 3D form factors: compute only rows A..B (half-open, of 0..patches) into the
     /// `--partial` file; `sceneinfo merge` joins the ranges into the whole job's form

@@ -7,9 +7,7 @@ use std::path::Path;
 use anyhow::Result;
 use sceneinfo::formfactor::occluded_3d::{self, OcclusionOptions};
 use sceneinfo::tally::LineTracer;
-use sceneinfo::{
-    Coverage, Job, LineBudget, LineJob, LineMethod, LoadReport, Measurement, Scene,
-};
+use sceneinfo::{Coverage, Job, LineBudget, LineJob, LineMethod, LoadReport, Measurement, Scene};
 
 use crate::args::{LinesArg, SamplingArgs};
 use crate::interrupt::Interrupted;

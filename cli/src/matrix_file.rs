@@ -77,9 +77,9 @@ pub fn write(path: &Path, m: &Measurement, areas: Option<&[f64]>) -> Result<()> 
 /// entry's error estimate (0 for an exact entry; empty for Monte Carlo, whose errors are
 /// statistical, and for the background state). Shortest round-trip decimals.
 fn sparse_text(m: &Measurement) -> String {
-    let (n, np, background) = m
-        .form_factors()
-        .map_or((0, 0, false), |f| (f.n_states(), f.n_patches(), f.has_background()));
+    let (n, np, background) = m.form_factors().map_or((0, 0, false), |f| {
+        (f.n_states(), f.n_patches(), f.has_background())
+    });
     let estimated = m.exact_errors().is_some();
     let mut s = String::new();
     let _ = writeln!(

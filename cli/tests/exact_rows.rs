@@ -31,9 +31,10 @@ fn row_ranges_merge_into_the_one_job_byte_for_byte() {
     assert!(n > 3, "{ijv}");
     // Some entry carries a non-zero error estimate (the plate hides part of the room)
     assert!(
-        ijv.lines()
-            .skip(1)
-            .any(|l| l.rsplit(',').next().is_some_and(|e| e.parse::<f64>().unwrap() > 0.0)),
+        ijv.lines().skip(1).any(|l| l
+            .rsplit(',')
+            .next()
+            .is_some_and(|e| e.parse::<f64>().unwrap() > 0.0)),
         "{ijv}"
     );
     let patches: usize = std::fs::read_to_string(&one_vf3)
@@ -69,7 +70,10 @@ fn row_ranges_merge_into_the_one_job_byte_for_byte() {
             "--partial",
             s(&part),
         ]);
-        assert!(text.starts_with(&format!("wrote {}: rows {rows}", s(&part))), "{text}");
+        assert!(
+            text.starts_with(&format!("wrote {}: rows {rows}", s(&part))),
+            "{text}"
+        );
         parts.push(part);
     }
     let (merged_ijv, merged_vf3) = (temp("merged.ijv"), temp("merged.vf3"));
@@ -82,16 +86,32 @@ fn row_ranges_merge_into_the_one_job_byte_for_byte() {
         "--out",
         s(&merged_ijv),
     ]);
-    stdout_of(&["merge", s(&parts[1]), s(&parts[0]), s(&parts[2]), "--out", s(&merged_vf3)]);
+    stdout_of(&[
+        "merge",
+        s(&parts[1]),
+        s(&parts[0]),
+        s(&parts[2]),
+        "--out",
+        s(&merged_vf3),
+    ]);
     assert_eq!(ijv, std::fs::read_to_string(&merged_ijv).unwrap());
-    assert_eq!(std::fs::read(&one_vf3).unwrap(), std::fs::read(&merged_vf3).unwrap());
+    assert_eq!(
+        std::fs::read(&one_vf3).unwrap(),
+        std::fs::read(&merged_vf3).unwrap()
+    );
     // The report of the merge is `measure`'s (the measures to rounding: sparse storage)
     let measured = stdout_of(&["measure", s(&scene), "--tol", "1e-3", "--json"]);
     for key in ["i_s", "h_s", "max_error_estimate"] {
         let (x, y) = (number(&report, key), number(&measured, key));
-        assert!((x - y).abs() <= 1e-12, "{key}: {x} vs {y}\n{report}\n{measured}");
+        assert!(
+            (x - y).abs() <= 1e-12,
+            "{key}: {x} vs {y}\n{report}\n{measured}"
+        );
     }
-    assert!(without_timing(&report).contains("\"pairs_integrated\""), "{report}");
+    assert!(
+        without_timing(&report).contains("\"pairs_integrated\""),
+        "{report}"
+    );
     // Merged in stages
     let stage = temp("stage.sir");
     stdout_of(&["merge", s(&parts[1]), s(&parts[2]), "--partial", s(&stage)]);
@@ -108,11 +128,22 @@ fn bad_row_ranges_are_refused() {
     let part = |rows: &str, tol: &str, name: &str| {
         let p = temp(name);
         stdout_of(&[
-            "formfactors", s(&scene), "--tol", tol, "--rows", rows, "--partial", s(&p),
+            "formfactors",
+            s(&scene),
+            "--tol",
+            tol,
+            "--rows",
+            rows,
+            "--partial",
+            s(&p),
         ]);
         p
     };
-    let (a, b, c) = (part("0..3", "1e-3", "a.sir"), part("2..5", "1e-3", "b.sir"), part("3..5", "1e-2", "c.sir"));
+    let (a, b, c) = (
+        part("0..3", "1e-3", "a.sir"),
+        part("2..5", "1e-3", "b.sir"),
+        part("3..5", "1e-2", "c.sir"),
+    );
     let d = part("4..5", "1e-3", "d.sir");
     let refused = |args: &[&str], says: &str| {
         let out = bin().args(args).output().unwrap();
@@ -120,20 +151,49 @@ fn bad_row_ranges_are_refused() {
         assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
         assert!(err.contains(says), "{args:?}: {err}");
     };
-    refused(&["merge", s(&a), s(&b)], "partial results overlap: rows 0..3 and 2..5");
-    refused(&["merge", s(&a), s(&c)], "their tolerance differs");
-    refused(&["merge", s(&a), s(&d)], "rows 3..4 are in no partial result");
-    refused(&["merge", s(&a)], "compute the rest (formfactors --rows A..B --partial)");
     refused(
-        &["formfactors", s(&scene), "--rows", "0..99", "--partial", s(&temp("x.sir"))],
+        &["merge", s(&a), s(&b)],
+        "partial results overlap: rows 0..3 and 2..5",
+    );
+    refused(&["merge", s(&a), s(&c)], "their tolerance differs");
+    refused(
+        &["merge", s(&a), s(&d)],
+        "rows 3..4 are in no partial result",
+    );
+    refused(
+        &["merge", s(&a)],
+        "compute the rest (formfactors --rows A..B --partial)",
+    );
+    refused(
+        &[
+            "formfactors",
+            s(&scene),
+            "--rows",
+            "0..99",
+            "--partial",
+            s(&temp("x.sir")),
+        ],
         "has rows 0..",
     );
     refused(
-        &["formfactors", s(&scene), "--lines", "1000", "--partial", s(&temp("y.sir"))],
+        &[
+            "formfactors",
+            s(&scene),
+            "--lines",
+            "1000",
+            "--partial",
+            s(&temp("y.sir")),
+        ],
         "holds exact rows",
     );
-    refused(&["formfactors", s(&scene), "--out", s(&temp("f.bad"))], ".csv, .txt, .ijv or .vf3");
+    refused(
+        &["formfactors", s(&scene), "--out", s(&temp("f.bad"))],
+        ".csv, .txt, .ijv or .vf3",
+    );
     let flat = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/room620.flat");
-    refused(&["formfactors", s(&flat), "--out", s(&temp("f.vf3"))], "View3D's format (.vf3)");
+    refused(
+        &["formfactors", s(&flat), "--out", s(&temp("f.vf3"))],
+        "View3D's format (.vf3)",
+    );
     let _ = succeeded;
 }

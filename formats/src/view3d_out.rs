@@ -68,7 +68,10 @@ impl View3dMatrix {
 ///
 /// # Errors
 /// `row`'s.
-pub fn write_text(areas: &[f64], mut row: impl FnMut(usize, &mut [f64]) -> Result<()>) -> Result<String> {
+pub fn write_text(
+    areas: &[f64],
+    mut row: impl FnMut(usize, &mut [f64]) -> Result<()>,
+) -> Result<String> {
     let n = areas.len();
     let mut s = String::with_capacity(n.saturating_mul(n + 2).saturating_mul(12));
     let _ = writeln!(s, "View3D {FORMAT_VERSION} 0 0 0 {n}");
@@ -103,7 +106,10 @@ pub fn read(path: &Path, bytes: &[u8]) -> Result<View3dMatrix> {
         return read_binary(path, bytes);
     }
     let Ok(text) = std::str::from_utf8(bytes) else {
-        bail!("{}: not a View3D output file (neither text nor View3D's binary header)", path.display());
+        bail!(
+            "{}: not a View3D output file (neither text nor View3D's binary header)",
+            path.display()
+        );
     };
     let mut tokens = text
         .lines()
@@ -117,10 +123,15 @@ pub fn read(path: &Path, bytes: &[u8]) -> Result<View3dMatrix> {
         };
         match t.parse::<f64>() {
             Ok(v) if v.is_finite() => Ok(v),
-            _ => bail!("{}:{line}: '{t}' in the {what} is not a finite number", path.display()),
+            _ => bail!(
+                "{}:{line}: '{t}' in the {what} is not a finite number",
+                path.display()
+            ),
         }
     };
-    let areas = (0..n).map(|_| number("areas")).collect::<Result<Vec<_>>>()?;
+    let areas = (0..n)
+        .map(|_| number("areas"))
+        .collect::<Result<Vec<_>>>()?;
     let form_factors = (0..n * n)
         .map(|_| number("view factors"))
         .collect::<Result<Vec<_>>>()?;
@@ -147,21 +158,33 @@ pub fn read(path: &Path, bytes: &[u8]) -> Result<View3dMatrix> {
 fn header_fields(path: &Path, header: &[(usize, &str)]) -> Result<(String, bool, bool, usize)> {
     let words: Vec<&str> = header.iter().map(|(_, t)| *t).collect();
     let [name, version, out, encl, emit, n] = words[..] else {
-        bail!("{}:1: not a View3D output file (a header 'View3D version out encl emit N' is expected)", path.display());
+        bail!(
+            "{}:1: not a View3D output file (a header 'View3D version out encl emit N' is expected)",
+            path.display()
+        );
     };
     if name != "View3D" {
-        bail!("{}:1: not a View3D output file (the header begins with '{name}', not 'View3D')", path.display());
+        bail!(
+            "{}:1: not a View3D output file (the header begins with '{name}', not 'View3D')",
+            path.display()
+        );
     }
     let flag = |t: &str, what: &str| match t {
         "0" => Ok(false),
         "1" => Ok(true),
-        _ => bail!("{}:1: the header's {what} is '{t}', not 0 or 1", path.display()),
+        _ => bail!(
+            "{}:1: the header's {what} is '{t}', not 0 or 1",
+            path.display()
+        ),
     };
     flag(out, "out")?;
     let (encl, emit) = (flag(encl, "encl")?, flag(emit, "emit")?);
     let n: usize = match n.parse() {
         Ok(n) if (1..=MAX_SURFACES).contains(&n) => n,
-        _ => bail!("{}:1: the header's surface count '{n}' is not a count from 1 to {MAX_SURFACES}", path.display()),
+        _ => bail!(
+            "{}:1: the header's surface count '{n}' is not a count from 1 to {MAX_SURFACES}",
+            path.display()
+        ),
     };
     Ok((version.to_owned(), encl, emit, n))
 }
@@ -185,8 +208,16 @@ fn read_binary(path: &Path, bytes: &[u8]) -> Result<View3dMatrix> {
         .map(|c| f64::from(f32::from_le_bytes([c[0], c[1], c[2], c[3]])));
     let mut take = |k: usize| -> Vec<f64> { values.by_ref().take(k).collect() };
     let (areas, form_factors, emissivities) = (take(n), take(n * n), take(n));
-    if areas.iter().chain(&form_factors).chain(&emissivities).any(|v| !v.is_finite()) {
-        bail!("{}: a number of the binary View3D file is not finite", path.display());
+    if areas
+        .iter()
+        .chain(&form_factors)
+        .chain(&emissivities)
+        .any(|v| !v.is_finite())
+    {
+        bail!(
+            "{}: a number of the binary View3D file is not finite",
+            path.display()
+        );
     }
     Ok(View3dMatrix {
         version,
@@ -214,7 +245,10 @@ mod tests {
             0.200044 0.200044 0.199825 0.200044 0.200044 0.000000\n\
             0.500 0.500 0.500 0.500 0.500 0.500\n";
         let m = read(Path::new("cube.out"), text.as_bytes()).unwrap();
-        assert_eq!((m.n(), m.encl, m.emit, m.version.as_str()), (6, true, false, "3.3.1"));
+        assert_eq!(
+            (m.n(), m.encl, m.emit, m.version.as_str()),
+            (6, true, false, "3.3.1")
+        );
         assert_eq!(m.form_factors[3], 0.199825);
         assert_eq!(m.form_factors[6 * 5 + 2], 0.199825);
         assert_eq!(m.emissivities, vec![0.5; 6]);
@@ -232,7 +266,10 @@ mod tests {
         .unwrap();
         assert!(text.starts_with("View3D 3.3.1 0 0 0 3\n"), "{text}");
         let m = read(Path::new("f.vf3"), text.as_bytes()).unwrap();
-        assert_eq!((m.areas.as_slice(), m.form_factors.as_slice()), (&areas[..], &f[..]));
+        assert_eq!(
+            (m.areas.as_slice(), m.form_factors.as_slice()),
+            (&areas[..], &f[..])
+        );
         assert_eq!(m.emissivities, vec![1.0; 3]);
         let mut bin = format!("{:<30}", "View3D 3.3.1 1 0 0 3").into_bytes();
         bin.extend_from_slice(b"\r\n");
@@ -253,8 +290,14 @@ mod tests {
             ("sceneinfo 1 0 0 0 2\n", "begins with 'sceneinfo'"),
             ("View3D 3.3 0 0 0 0\n", "surface count '0'"),
             ("View3D 3.3 2 0 0 1\n1\n0\n", "out is '2'"),
-            ("View3D 3.3 0 0 0 2\n1 1\n0 0.5\n0.5\n", "ends before its view factors"),
-            ("View3D 3.3 0 0 0 1\n1\nnan\n", "x.vf3:3: 'nan' in the view factors"),
+            (
+                "View3D 3.3 0 0 0 2\n1 1\n0 0.5\n0.5\n",
+                "ends before its view factors",
+            ),
+            (
+                "View3D 3.3 0 0 0 1\n1\nnan\n",
+                "x.vf3:3: 'nan' in the view factors",
+            ),
         ] {
             let e = read(p, text.as_bytes()).unwrap_err().to_string();
             assert!(e.contains(says), "{text:?}: {e}");

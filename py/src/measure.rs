@@ -5,9 +5,9 @@
 use std::path::PathBuf;
 
 use pyo3::prelude::*;
+use sceneinfo::formfactor::occluded_3d::{self, OcclusionOptions};
 use sceneinfo::io::partial::Partial;
 use sceneinfo::tally::LineMethod;
-use sceneinfo::formfactor::occluded_3d::{self, OcclusionOptions};
 use sceneinfo::{ExactRows, Job, LineBudget, LineJob, Measurement};
 
 use crate::error::{bad_argument, core_error, warn};
@@ -508,7 +508,10 @@ pub fn read_view3d<'py>(
     d.set_item("encl", v.encl)?;
     d.set_item("emit", v.emit)?;
     d.set_item("areas", crate::arrays::vector(py, v.areas))?;
-    d.set_item("form_factors", crate::arrays::matrix(py, n, n, v.form_factors)?)?;
+    d.set_item(
+        "form_factors",
+        crate::arrays::matrix(py, n, n, v.form_factors)?,
+    )?;
     d.set_item("emissivities", crate::arrays::vector(py, v.emissivities))?;
     Ok(d)
 }

@@ -53,7 +53,11 @@ pub fn run(args: &FormFactorsArgs) -> Result<()> {
         } else {
             ""
         },
-        if ff.is_sparse() { ", stored sparse" } else { "" }
+        if ff.is_sparse() {
+            ", stored sparse"
+        } else {
+            ""
+        }
     )?;
     writeln!(
         o,

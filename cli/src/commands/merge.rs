@@ -31,7 +31,10 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         files.push(bytes);
     }
     let first = &args.files[0];
-    if files.first().is_some_and(|f| f.starts_with(&ExactRows::MAGIC)) {
+    if files
+        .first()
+        .is_some_and(|f| f.starts_with(&ExactRows::MAGIC))
+    {
         return merge_rows(args, &files, start);
     }
     let mut parts = Vec::with_capacity(files.len());
@@ -97,8 +100,8 @@ fn merge_rows(args: &MergeArgs, files: &[Vec<u8>], start: Instant) -> Result<()>
         return Ok(());
     }
     let areas = merged.patch_areas().to_vec();
-    let m = Measurement::from_exact_rows(merged)
-        .map_err(|e| anyhow::anyhow!("merge: {}", e.kind()))?;
+    let m =
+        Measurement::from_exact_rows(merged).map_err(|e| anyhow::anyhow!("merge: {}", e.kind()))?;
     print_report(
         Path::new(&args.files[0]),
         &m,

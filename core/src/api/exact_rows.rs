@@ -239,7 +239,9 @@ impl ExactRows {
                 Some("tolerance")
             } else if p.options.max_points_per_pair != acc.options.max_points_per_pair {
                 Some("work cap")
-            } else if p.sizes != acc.sizes || p.areas != acc.areas || p.may_occlude != acc.may_occlude
+            } else if p.sizes != acc.sizes
+                || p.areas != acc.areas
+                || p.may_occlude != acc.may_occlude
             {
                 Some("patches")
             } else {
@@ -337,8 +339,8 @@ impl ExactRows {
         }
         let mut r = Cursor { bytes: &body[12..] };
         let scene = r.u64()?;
-        let options = OcclusionOptions::new(f64::from_bits(r.u64()?))
-            .with_max_points_per_pair(r.u64()?);
+        let options =
+            OcclusionOptions::new(f64::from_bits(r.u64()?)).with_max_points_per_pair(r.u64()?);
         options
             .check()
             .map_err(|_| bad("tolerance or work cap out of range"))?;
