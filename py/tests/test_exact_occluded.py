@@ -27,10 +27,14 @@ def test_occluded_vs3_scene_has_estimates_within_the_tolerance():
     assert e is not None and e["pairs_integrated"] > 0 and e["pairs_over_tolerance"] == 0
     assert e["tolerance"] == TOL and 0 < e["max_error"] <= TOL
     indptr, indices, data, errors = entries(m)
-    assert len(errors) == len(data) and np.all(errors >= 0) and np.all(errors <= TOL)
+    n = m.n_patches
+    i_of = np.repeat(np.arange(len(indptr) - 1), np.diff(indptr))
+    patch = (i_of < n) & (indices < n)
+    # An estimate for every entry between patches, none for the background state's
+    assert len(errors) == len(data) and np.array_equal(np.isnan(errors), ~patch)
+    assert np.all(errors[patch] >= 0) and np.all(errors[patch] <= TOL)
     # Reciprocity a_i F_ij = a_j F_ji within the entries' estimates (2.8); rows within
     # their estimates of at most 1
-    n = m.n_patches
     a = m.patch_sizes
     F = np.zeros((n, n))
     E = np.zeros((n, n))
@@ -60,7 +64,7 @@ def test_rows_in_ranges_merge_into_the_whole_job_bit_for_bit(tmp_path):
     assert merged.to_bytes() == whole.to_bytes()
     a, b = merged.measurement(), sceneinfo.measure(ROOM_VS3, tol=TOL, threads=2)
     for x, y in zip(entries(a), entries(b)):
-        assert np.array_equal(x, y)
+        assert np.array_equal(x, y, equal_nan=True)
     assert a.exact_errors == b.exact_errors
     with pytest.raises(sceneinfo.SceneinfoError) as e:
         sceneinfo.merge_rows([parts[1], sceneinfo.exact_rows(ROOM_VS3, tol=TOL, rows=(3, n))])
@@ -84,7 +88,8 @@ def test_the_cli_writes_the_same_entries_and_view3d_file(cli, tmp_path):
     i_of = np.repeat(np.arange(len(indptr) - 1), np.diff(indptr))
     assert [(int(r[0]), int(r[1])) for r in rows] == list(zip(i_of.tolist(), indices.tolist()))
     assert [float(r[2]) for r in rows] == data.tolist()
-    assert [float(r[3]) for r in rows] == errors.tolist()
+    assert [r[3] == "" for r in rows] == np.isnan(errors).tolist()
+    assert [float(r[3]) for r in rows if r[3]] == errors[~np.isnan(errors)].tolist()
     v = sceneinfo.read_view3d(vf3)
     n = m.n_patches
     assert v["form_factors"].shape == (n, n) and not v["encl"] and not v["emit"]

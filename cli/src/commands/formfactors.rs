@@ -123,15 +123,16 @@ fn write_rows(args: &FormFactorsArgs, part: &Path) -> Result<()> {
     let loaded = crate::output::load_scene(path)?;
     loaded.print_warnings(path, false);
     let scene = loaded.scene;
-    if let (Some(rows), n) = (&args.rows, scene.n_patches()) {
-        if rows.end > n {
-            anyhow::bail!(
-                "--rows {}..{}: {} has rows 0..{n} (one per patch)",
-                rows.start,
-                rows.end,
-                path.display()
-            );
-        }
+    let n = scene.n_patches();
+    if let Some(rows) = &args.rows
+        && rows.end > n
+    {
+        anyhow::bail!(
+            "--rows {}..{}: {} has rows 0..{n} (one per patch)",
+            rows.start,
+            rows.end,
+            path.display()
+        );
     }
     if matches!(scene, Scene::Flat(_)) {
         anyhow::bail!(

@@ -461,8 +461,11 @@ impl Assembled {
                 counts[j + 1] += 1;
             }
         }
-        for i in 0..n {
-            counts[i + 1] += counts[i];
+        // Prefix sums: counts[i] becomes the first entry of row i
+        let mut total = 0;
+        for c in &mut counts {
+            total += *c;
+            *c = total;
         }
         let offsets = counts;
         let nnz = offsets[n];
