@@ -119,11 +119,12 @@ bad_files() {
 # every entry and its error estimate, bit for bit.
 exact_with_occlusion() {
     local scene=tests/data/vs3/room_with_plate.vs3 tol=1e-3
-    x "$OUT/exact" "$scene" "$tol" >"$OUT/exact.c.txt"
+    printf '+ %s\n' "$OUT/exact $scene $tol"
+    "$OUT/exact" "$scene" "$tol" >"$OUT/exact.c.txt"
     "$TARGET/debug/sceneinfo" formfactors "$scene" --tol "$tol" --out "$OUT/exact.ijv" >/dev/null
     python3 - "$OUT/exact.c.txt" "$OUT/exact.ijv" <<'EOF'
 import math, struct, sys
-c = [l.split(",") for l in open(sys.argv[1]).read().split()]
+c = [l.split(",") for l in open(sys.argv[1]).read().splitlines()]
 cli = [l.split(",") for l in open(sys.argv[2]).read().splitlines()[1:]]
 bits = lambda x: struct.pack("<d", float(x))
 if len(c) != len(cli):
