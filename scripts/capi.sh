@@ -115,6 +115,28 @@ bad_files() {
     echo "  bad inputs: $n files of tests/data/bad refused with the CLI's file:line: message"
 }
 
+# The C test of exact form factors with occlusion against `sceneinfo formfactors --tol`:
+# every entry and its error estimate, bit for bit.
+exact_with_occlusion() {
+    local scene=tests/data/vs3/room_with_plate.vs3 tol=1e-3
+    printf '+ %s\n' "$OUT/exact $scene $tol"
+    "$OUT/exact" "$scene" "$tol" >"$OUT/exact.c.txt"
+    "$TARGET/debug/sceneinfo" formfactors "$scene" --tol "$tol" --out "$OUT/exact.ijv" >/dev/null
+    python3 - "$OUT/exact.c.txt" "$OUT/exact.ijv" <<'EOF'
+import math, struct, sys
+c = [l.split(",") for l in open(sys.argv[1]).read().splitlines()]
+cli = [l.split(",") for l in open(sys.argv[2]).read().splitlines()[1:]]
+bits = lambda x: struct.pack("<d", float(x))
+if len(c) != len(cli):
+    sys.exit(f"C gave {len(c)} entries, the CLI {len(cli)}")
+for a, b in zip(c, cli):
+    err_same = math.isnan(float(a[3])) if b[3] == "" else bits(a[3]) == bits(b[3])
+    if a[:2] != b[:2] or bits(a[2]) != bits(b[2]) or not err_same:
+        sys.exit(f"C {a} vs CLI {b}")
+print(f"    bit-identical: {len(c)} entries of F and their error estimates")
+EOF
+}
+
 cmd_check() {
     command -v "$CC" >/dev/null || { echo "no C compiler ($CC)"; return 1; }
     command -v "$CXX" >/dev/null || { echo "no C++ compiler ($CXX)"; return 1; }
@@ -140,6 +162,8 @@ cmd_check() {
             capi/examples/radiosity.c -o "$OUT/radiosity" $libs -Wl,-rpath,"$TARGET/debug"
         x "$CC" -std=c11 -Wall -Wextra -Werror "${san[@]}" $cflags \
             capi/tests/errors.c -o "$OUT/errors" $libs -Wl,-rpath,"$TARGET/debug" -lm
+        x "$CC" -std=c11 -Wall -Wextra -Wpedantic -Werror "${san[@]}" $cflags \
+            capi/tests/exact.c -o "$OUT/exact" $libs -Wl,-rpath,"$TARGET/debug" -lm
         # The C++ example links the static library
         x "$CXX" -std=c++17 -Wall -Wextra -Werror "${san[@]}" $cflags \
             capi/examples/measure.cpp -o "$OUT/measure_cpp" \
@@ -186,6 +210,9 @@ if not (same(i_s, cli["i_s"]) and same(h_s, cli["h_s"])):
     sys.exit(f"C++ I_S {i_s!r}, H_S {h_s!r}; CLI {cli['i_s']!r}, {cli['h_s']!r}")
 print("    bit-identical: I_S and H_S")
 EOF
+
+    echo "== exact form factors with occlusion (a View3D .vs3 scene): C and CLI, the same bits"
+    exact_with_occlusion
 
     echo "== failures are statuses and messages"
     x "$OUT/errors" tests/data/bad/not_a_number.flat "$cornell" capi/tests/lit.flat

@@ -400,6 +400,33 @@ typedef struct SiLineRun {
 } SiLineRun;
 
 /**
+ * The error estimates of exact 3D form factors with occlusion (`si_measure_exact`):
+ * a-posteriori estimates of the adaptive integral over the source patch, not proven bounds.
+ */
+typedef struct SiExactErrors {
+  /**
+   * The tolerance asked for on each `F_ij`.
+   */
+  double tolerance;
+  /**
+   * The largest estimate of any `F_ij`.
+   */
+  double max_error;
+  /**
+   * The largest estimate of a row sum `Σ_j F_ij` (closure is checked against it).
+   */
+  double max_row_error;
+  /**
+   * Unordered pairs integrated past occluders (the others are exact).
+   */
+  uint64_t pairs_integrated;
+  /**
+   * Unordered pairs whose estimate exceeds the tolerance (stopped by the work cap).
+   */
+  uint64_t pairs_over_tolerance;
+} SiExactErrors;
+
+/**
  * What `si_radiosity` does. A zero-initialised `SiRadiosityJob` is exact form factors
  * solved by Gauss–Seidel to a relative residual of 1e-10 in at most 100,000 sweeps.
  */
@@ -631,6 +658,29 @@ enum SiStatus si_measure(const struct SiScene *scene,
                          struct SiMeasurement **out);
 
 /**
+ * Measures the 3D `scene` with exact form factors computed with occlusion, each `F_ij` to
+ * the absolute error `tolerance` (1e-10 to 1), with an error estimate per entry
+ * (`si_measurement_exact_errors`, `si_measurement_form_factor_errors_csr`): the CLI's
+ * `sceneinfo measure FILE --tol TOLERANCE`, bit for bit. Pairs no patch can come between
+ * stay exact (a scene where none can gives `si_measure`'s bits); a scene of more than
+ * 2,048 patches keeps its form factors sparse. A flatland scene gets `si_measure`'s exact
+ * form factors. `job` (NULL: the defaults) must be an exact job (`SI_METHOD_EXACT`); its
+ * `threads` compute the rows (the same bits for any count), its `progress` is called
+ * with rows done and rows instead of lines and may stop the job, its `max_memory` applies.
+ *
+ * On success `*out` is a new measurement owned by the caller. On failure `*out` is NULL:
+ * `SI_ERR_INVALID_ARGUMENT` (a tolerance out of range, a line job), `SI_ERR_JOB` (the
+ * form factors', the memory limit), `SI_STOPPED` (the progress callback stopped it).
+ *
+ * # Safety
+ * As `si_measure`.
+ */
+enum SiStatus si_measure_exact(const struct SiScene *scene,
+                               double tolerance,
+                               const struct SiJob *job,
+                               struct SiMeasurement **out);
+
+/**
  * Frees a measurement (NULL: nothing).
  *
  * # Safety
@@ -783,6 +833,34 @@ enum SiStatus si_measurement_form_factors_csr(const struct SiMeasurement *m,
                                               double *vals,
                                               size_t nnz_len,
                                               size_t *out_nnz);
+
+/**
+ * Writes the error estimates of exact form factors with occlusion into `*out`.
+ * `SI_ERR_UNDEFINED` (`*out` untouched) when no pair was integrated past occluders
+ * (every form factor exact: flatland, an unoccluded scene) and for line jobs.
+ *
+ * # Safety
+ * `m` must be NULL or a live measurement; `out` NULL or valid for writing one
+ * `SiExactErrors`.
+ */
+enum SiStatus si_measurement_exact_errors(const struct SiMeasurement *m, struct SiExactErrors *out);
+
+/**
+ * Copies the error estimate of each entry `si_measurement_form_factors_csr` gives, in
+ * the same order: 0 for an exact entry, the estimate of a pair integrated past
+ * occluders, NaN where there is none (line jobs, the background state's entries).
+ * `*out_nnz` (when not NULL) receives the entry count whatever happens;
+ * `SI_ERR_BUFFER_TOO_SMALL` (nothing written) when `errors_len` is shorter;
+ * `SI_ERR_UNDEFINED` when some patch received no line.
+ *
+ * # Safety
+ * `m` must be NULL or a live measurement; `errors` NULL or valid for writing
+ * `errors_len` doubles; `out_nnz` NULL or valid for writing one `size_t`.
+ */
+enum SiStatus si_measurement_form_factor_errors_csr(const struct SiMeasurement *m,
+                                                    double *errors,
+                                                    size_t errors_len,
+                                                    size_t *out_nnz);
 
 /**
  * The number of warnings: where the numbers cannot be trusted to full precision (a

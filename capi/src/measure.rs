@@ -6,6 +6,7 @@ use std::ffi::{CString, c_char, c_void};
 
 use sceneinfo::ContinuousEstimate;
 use sceneinfo::channel::Transitions as _;
+use sceneinfo::formfactor::occluded_3d::OcclusionOptions;
 use sceneinfo::{Job, LineBudget, LineJob, LineMethod, Measurement, Serial, measure};
 
 use crate::buffers::{clear_out, copy_out, free, handle, input, write_out};
@@ -270,6 +271,64 @@ pub unsafe extern "C" fn si_measure(
                 format!("{}: {}", scene.source, sceneinfo::ErrorKind::Stopped),
             ));
         }
+        Ok(())
+    })
+}
+
+/// Measures the 3D `scene` with exact form factors computed with occlusion, each `F_ij` to
+/// the absolute error `tolerance` (1e-10 to 1), with an error estimate per entry
+/// (`si_measurement_exact_errors`, `si_measurement_form_factor_errors_csr`): the CLI's
+/// `sceneinfo measure FILE --tol TOLERANCE`, bit for bit. Pairs no patch can come between
+/// stay exact (a scene where none can gives `si_measure`'s bits); a scene of more than
+/// 2,048 patches keeps its form factors sparse. A flatland scene gets `si_measure`'s exact
+/// form factors. `job` (NULL: the defaults) must be an exact job (`SI_METHOD_EXACT`); its
+/// `threads` compute the rows (the same bits for any count), its `progress` is called
+/// with rows done and rows instead of lines and may stop the job, its `max_memory` applies.
+///
+/// On success `*out` is a new measurement owned by the caller. On failure `*out` is NULL:
+/// `SI_ERR_INVALID_ARGUMENT` (a tolerance out of range, a line job), `SI_ERR_JOB` (the
+/// form factors', the memory limit), `SI_STOPPED` (the progress callback stopped it).
+///
+/// # Safety
+/// As `si_measure`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measure_exact(
+    scene: *const SiScene,
+    tolerance: f64,
+    job: *const SiJob,
+    out: *mut *mut SiMeasurement,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: `out` is NULL or writable by the contract above
+        unsafe { clear_out(out, "out") }?;
+        // SAFETY: by the contract above
+        let scene = unsafe { handle(scene, "scene") }?;
+        // SAFETY: NULL or one valid SiJob by the contract above
+        let job = unsafe { input(job, usize::from(!job.is_null()), "job") }?
+            .first()
+            .copied()
+            .unwrap_or_default();
+        let options = OcclusionOptions::new(tolerance);
+        options
+            .check()
+            .map_err(|e| Failure::core(SiStatus::SI_ERR_INVALID_ARGUMENT, "tolerance", &e))?;
+        let (core_job, mut executor) = job.prepare(scene)?;
+        if !matches!(core_job, Job::Exact) {
+            return Err(Failure::invalid(
+                "si_measure_exact takes an exact job (SI_METHOD_EXACT); lines are si_measure's",
+            ));
+        }
+        let m = Measurement::exact_within(&scene.scene, &options, &mut executor).map_err(|e| {
+            let status = if matches!(e.kind(), sceneinfo::ErrorKind::Stopped) {
+                SiStatus::SI_STOPPED
+            } else {
+                SiStatus::SI_ERR_JOB
+            };
+            Failure::core(status, &scene.source, &e)
+        })?;
+        let m = SiMeasurement::new(m, &scene.source)?;
+        // SAFETY: accepted by clear_out
+        unsafe { crate::buffers::give(out, m) };
         Ok(())
     })
 }
@@ -680,6 +739,84 @@ pub unsafe extern "C" fn si_measurement_form_factors_csr(
         unsafe { copy_out(&c, cols, nnz_len, std::ptr::null_mut(), "cols") }?;
         // SAFETY: as above
         unsafe { copy_out(&v, vals, nnz_len, std::ptr::null_mut(), "vals") }
+    })
+}
+
+/// The error estimates of exact 3D form factors with occlusion (`si_measure_exact`):
+/// a-posteriori estimates of the adaptive integral over the source patch, not proven bounds.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SiExactErrors {
+    /// The tolerance asked for on each `F_ij`.
+    pub tolerance: f64,
+    /// The largest estimate of any `F_ij`.
+    pub max_error: f64,
+    /// The largest estimate of a row sum `Σ_j F_ij` (closure is checked against it).
+    pub max_row_error: f64,
+    /// Unordered pairs integrated past occluders (the others are exact).
+    pub pairs_integrated: u64,
+    /// Unordered pairs whose estimate exceeds the tolerance (stopped by the work cap).
+    pub pairs_over_tolerance: u64,
+}
+
+/// Writes the error estimates of exact form factors with occlusion into `*out`.
+/// `SI_ERR_UNDEFINED` (`*out` untouched) when no pair was integrated past occluders
+/// (every form factor exact: flatland, an unoccluded scene) and for line jobs.
+///
+/// # Safety
+/// `m` must be NULL or a live measurement; `out` NULL or valid for writing one
+/// `SiExactErrors`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_exact_errors(
+    m: *const SiMeasurement,
+    out: *mut SiExactErrors,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: by the contract above
+        let m = unsafe { handle(m, "measurement") }?;
+        let e = m.m.exact_errors().ok_or_else(|| {
+            Failure::new(
+                SiStatus::SI_ERR_UNDEFINED,
+                "no pair was integrated past occluders (exact form factors, or lines)",
+            )
+        })?;
+        let value = SiExactErrors {
+            tolerance: e.tolerance,
+            max_error: e.max_error,
+            max_row_error: e.max_row_error,
+            pairs_integrated: e.pairs_integrated as u64,
+            pairs_over_tolerance: e.over_tolerance as u64,
+        };
+        // SAFETY: by the contract above
+        unsafe { write_out(out, value, "out") }
+    })
+}
+
+/// Copies the error estimate of each entry `si_measurement_form_factors_csr` gives, in
+/// the same order: 0 for an exact entry, the estimate of a pair integrated past
+/// occluders, NaN where there is none (line jobs, the background state's entries).
+/// `*out_nnz` (when not NULL) receives the entry count whatever happens;
+/// `SI_ERR_BUFFER_TOO_SMALL` (nothing written) when `errors_len` is shorter;
+/// `SI_ERR_UNDEFINED` when some patch received no line.
+///
+/// # Safety
+/// `m` must be NULL or a live measurement; `errors` NULL or valid for writing
+/// `errors_len` doubles; `out_nnz` NULL or valid for writing one `size_t`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_form_factor_errors_csr(
+    m: *const SiMeasurement,
+    errors: *mut f64,
+    errors_len: usize,
+    out_nnz: *mut usize,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: by the contract above
+        let m = unsafe { handle(m, "measurement") }?;
+        m.form_factors()?;
+        let mut all = Vec::new();
+        m.m.for_each_form_factor(|_, _, _, e| all.push(e.unwrap_or(f64::NAN)));
+        // SAFETY: by the contract above
+        unsafe { copy_out(&all, errors, errors_len, out_nnz, "errors") }
     })
 }
 

@@ -13,11 +13,11 @@
 use std::ffi::c_void;
 use std::num::NonZeroUsize;
 use std::panic::resume_unwind;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::mpsc;
 
 use sceneinfo::LineSession;
-use sceneinfo::{ChunkWork, ChunksDone, Executor};
+use sceneinfo::{ChunkWork, ChunksDone, Executor, RowDone, RowWork};
 
 /// A C progress callback: `(lines_done, lines_total, user)`; non-zero stops the job.
 pub type SiProgressFn =
@@ -149,6 +149,61 @@ impl Executor for Threads {
 
     fn stopped(&self) -> bool {
         self.stopped
+    }
+
+    /// The rows of an exact job on the workers, handed out from one counter; the progress
+    /// callback gets `(rows done, rows)` after each row and may stop the job (no new row
+    /// starts; the job then fails as stopped). Each row is a pure function of its index, so
+    /// the result is the same bits for any number of threads.
+    fn execute_rows(&mut self, work: &RowWork<'_>) -> Vec<RowDone> {
+        let rows = work.rows();
+        let threads = self.threads.min(rows.len()).max(1);
+        let next = AtomicUsize::new(rows.start);
+        let stop = AtomicBool::new(self.stopped);
+        let progress = self.progress;
+        let total = rows.len() as u64;
+        let (sender, receiver) = mpsc::channel::<()>();
+        let done = std::thread::scope(|scope| {
+            let workers: Vec<_> = (0..threads)
+                .map(|_| {
+                    let sender = progress.is_some().then(|| sender.clone());
+                    let (next, stop, end) = (&next, &stop, rows.end);
+                    scope.spawn(move || {
+                        let mut out = Vec::new();
+                        // Bounded: the counter passes the last row after rows.len() steps
+                        while !stop.load(Ordering::Relaxed) {
+                            let row = next.fetch_add(1, Ordering::Relaxed);
+                            if row >= end {
+                                break;
+                            }
+                            out.push(work.run(row));
+                            if let Some(s) = &sender {
+                                // The receiver lives until every worker is joined
+                                let _ = s.send(());
+                            }
+                        }
+                        out
+                    })
+                })
+                .collect();
+            drop(sender);
+            if let Some(p) = progress {
+                let mut finished = 0u64;
+                // Bounded: one message per row
+                for () in receiver.iter() {
+                    finished += 1;
+                    if !stop.load(Ordering::Relaxed) && p.stop(finished, total) {
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                }
+            }
+            workers
+                .into_iter()
+                .flat_map(|w| w.join().unwrap_or_else(|payload| resume_unwind(payload)))
+                .collect::<Vec<_>>()
+        });
+        self.stopped = stop.load(Ordering::Relaxed);
+        done
     }
 }
 

@@ -304,9 +304,17 @@ pub struct MergeArgs {
     #[arg(long, value_name = "F.csv")]
     pub matrix: Option<PathBuf>,
     /// Write the merged partial result instead of measuring (the inputs need not cover the
-    /// whole job; neighbouring chunk ranges only): for merging in stages.
+    /// whole job; neighbouring chunk or row ranges only): for merging in stages.
     #[arg(long, value_name = "OUT.sip")]
     pub partial: Option<PathBuf>,
+    /// Also write the form factors as `formfactors --out` does (`.csv`, `.txt`, `.ijv` or
+    /// View3D's `.vf3`).
+    #[arg(
+        long,
+        value_name = "F.ijv|F.vf3|F.csv|F.txt",
+        conflicts_with = "partial"
+    )]
+    pub out: Option<PathBuf>,
 }
 
 /// Preset scenes.
@@ -417,6 +425,17 @@ pub fn parse_chunks(s: &str) -> Result<std::ops::Range<u64>, String> {
     if a < b { Ok(a..b) } else { Err(bad()) }
 }
 
+/// Parses a half-open row range `A..B` with `A < B`.
+pub fn parse_rows(s: &str) -> Result<std::ops::Range<usize>, String> {
+    let bad = || format!("'{s}' is not a row range A..B with A < B (e.g. 0..100)");
+    let (a, b) = s.split_once("..").ok_or_else(bad)?;
+    let (a, b) = (
+        a.trim().parse::<usize>().map_err(|_| bad())?,
+        b.trim().parse::<usize>().map_err(|_| bad())?,
+    );
+    if a < b { Ok(a..b) } else { Err(bad()) }
+}
+
 /// Exact form factors, or Monte Carlo lines.
 #[derive(Debug, clap::Args)]
 pub struct SamplingArgs {
@@ -490,13 +509,27 @@ pub fn parse_bytes(s: &str) -> Result<u64, String> {
 /// Arguments of `formfactors`.
 #[derive(Debug, clap::Args)]
 pub struct FormFactorsArgs {
-    /// The scene file: `.flat` or `.obj`.
+    /// The scene file: `.flat`, `.obj`, glTF, `.ply` or View3D's `.vs3`.
     pub file: PathBuf,
-    /// Output: `.csv` (one row of F per line), `.txt` (View3D style: number of states,
-    /// their relative sizes, then the rows of F) or `.ijv` (sparse: `i,j,F_ij,error` per
-    /// non-zero entry, rows in order).
-    #[arg(long, value_name = "F.csv|F.txt|F.ijv")]
-    pub out: PathBuf,
+    /// Output: `.csv` (one row of F per line), `.txt` (number of states, their relative
+    /// sizes, then the rows of F), `.ijv` (sparse: `i,j,F_ij,error` per non-zero entry,
+    /// rows in order) or `.vf3` (View3D's output file: header, areas, rows, emissivities;
+    /// 3D scenes, patches only).
+    #[arg(
+        long,
+        value_name = "F.csv|F.txt|F.ijv|F.vf3",
+        required_unless_present = "partial"
+    )]
+    pub out: Option<PathBuf>,
+    /// Exact 3D form factors: compute only rows A..B (half-open, of 0..patches) into the
+    /// `--partial` file; `sceneinfo merge` joins the ranges into the whole job's form
+    /// factors, bit for bit.
+    #[arg(long, value_name = "A..B", value_parser = parse_rows, requires = "partial")]
+    pub rows: Option<std::ops::Range<usize>>,
+    /// Write the exact rows (all, or `--rows`) to this partial-result file instead of the
+    /// matrix (exact 3D form factors only).
+    #[arg(long, value_name = "OUT.sir", conflicts_with = "out")]
+    pub partial: Option<PathBuf>,
     /// How the form factors are computed.
     #[command(flatten)]
     pub sampling: SamplingArgs,

@@ -108,7 +108,10 @@ fn outputs(command: &Command) -> Vec<(&'static str, &Path)> {
             out.push(("--matrix", a.matrix.as_ref()));
             out.push(("--partial", a.partial.as_ref()));
         }
-        Command::Formfactors(a) => out.push(("--out", Some(&a.out))),
+        Command::Formfactors(a) => {
+            out.push(("--out", a.out.as_ref()));
+            out.push(("--partial", a.partial.as_ref()));
+        }
         Command::Radiosity(a) => out.push(("--ply", a.ply.as_ref())),
         Command::Draw(a) => {
             out.push(("--svg", a.svg.as_ref()));
@@ -118,6 +121,7 @@ fn outputs(command: &Command) -> Vec<(&'static str, &Path)> {
         Command::Merge(a) => {
             out.push(("--matrix", a.matrix.as_ref()));
             out.push(("--partial", a.partial.as_ref()));
+            out.push(("--out", a.out.as_ref()));
         }
         Command::Refine(a) => {
             out.push(("--svg", a.svg.as_ref()));

@@ -7,10 +7,7 @@ use std::path::Path;
 use anyhow::Result;
 use sceneinfo::formfactor::occluded_3d::{self, OcclusionOptions};
 use sceneinfo::tally::LineTracer;
-use sceneinfo::{
-    Coverage, ExactErrors, FormFactors, Job, LineBudget, LineJob, LineMethod, LoadReport,
-    Measurement, Scene,
-};
+use sceneinfo::{Coverage, Job, LineBudget, LineJob, LineMethod, LoadReport, Measurement, Scene};
 
 use crate::args::{LinesArg, SamplingArgs};
 use crate::interrupt::Interrupted;
@@ -120,6 +117,14 @@ pub fn measure_file(
     path: &Path,
     sampling: &SamplingArgs,
 ) -> Result<(Measurement, Option<LoadReport>)> {
+    measure_scene(path, sampling).map(|(m, report, _)| (m, report))
+}
+
+/// [`measure_file`], also returning the scene.
+fn measure_scene(
+    path: &Path,
+    sampling: &SamplingArgs,
+) -> Result<(Measurement, Option<LoadReport>, Scene)> {
     let at = |e: sceneinfo::Error| located(path, &e);
     let loaded = crate::output::load_scene(path)?;
     // The loader's warnings on stderr (visibility: not the material ones); in the JSON too
@@ -144,11 +149,12 @@ pub fn measure_file(
             .map_err(at)?;
     }
     let m = run_job(path, &scene, &job, threads, sampling.tol)?;
-    Ok((m, report))
+    Ok((m, report, scene))
 }
 
-/// The form factors of the scene in `path`: exact (flatland with occlusion; 3D when no
-/// pair can be occluded) or, with `--lines`, Monte Carlo on the requested threads.
+/// The form factors of the scene in `path`: exact (flatland with occlusion; 3D with
+/// occlusion to `--tol`) or, with `--lines`, Monte Carlo on the requested threads; the
+/// measurement and, for a 3D scene, its patch areas in the file's units.
 ///
 /// # Errors
 /// Besides [`measure_file`]'s, [`Interrupted`] when Ctrl-C stopped the lines early (so
@@ -157,17 +163,24 @@ pub fn measure_file(
 pub fn form_factors_of(
     path: &Path,
     sampling: &SamplingArgs,
-) -> Result<(FormFactors, Option<ExactErrors>)> {
-    let (m, _) = measure_file(path, sampling)?;
+) -> Result<(Measurement, Option<Vec<f64>>)> {
+    let (m, _, scene) = measure_scene(path, sampling)?;
     if m.line_run().is_some_and(|r| r.interrupted) {
         return Err(Interrupted { partial: None }.into());
     }
-    let coverage = m.coverage().copied();
-    let errors = m.exact_errors().cloned();
-    let ff = m
-        .into_form_factors()
-        .ok_or_else(|| unsampled_error(path, coverage.as_ref(), "no matrix written"))?;
-    Ok((ff, errors))
+    if m.form_factors().is_none() {
+        return Err(unsampled_error(path, m.coverage(), "no matrix written"));
+    }
+    let areas = match &scene {
+        Scene::Solid(s) => Some(
+            s.patches()
+                .iter()
+                .map(|p| s.frame().area_to_world(p.area))
+                .collect(),
+        ),
+        Scene::Flat(_) => None,
+    };
+    Ok((m, areas))
 }
 
 /// The error of a command that needs every row of `F` when some patch received none of

@@ -11,6 +11,7 @@ mod config;
 mod interrupt;
 mod job;
 mod lines;
+mod matrix_file;
 mod output;
 mod picture;
 mod ply;

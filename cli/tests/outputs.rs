@@ -74,6 +74,10 @@ fn output_commands(scene: &Path, obj: &Path, partial: &Path) -> Vec<(Vec<String>
         (s(&["measure", flat, "--matrix"]), s(&big)),
         (s(&["measure", flat, "--partial"]), s(&big)),
         (s(&["formfactors", flat, "--out"]), s(&big)),
+        (
+            s(&["formfactors", obj, "--tol", "1e-9", "--partial"]),
+            vec![],
+        ),
         (s(&["radiosity", obj, "--ply"]), s(&big)),
         (
             s(&["draw", flat, "--svg"]),
@@ -100,6 +104,7 @@ fn output_commands(scene: &Path, obj: &Path, partial: &Path) -> Vec<(Vec<String>
         (s(&["simplify", flat, "--to", "2", "--output"]), vec![]),
         (s(&["merge", partial, "--matrix"]), vec![]),
         (s(&["merge", partial, "--partial"]), vec![]),
+        (s(&["merge", partial, "--out"]), vec![]),
         (s(&["scene", "polygon", "--sides", "5", "--output"]), vec![]),
         (s(&["scene", "cube", "--output"]), vec![]),
     ];

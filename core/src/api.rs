@@ -32,6 +32,8 @@
 //! caller that needs more than this; the front ends use the façade for measuring.
 
 #[cfg(feature = "alloc")]
+mod exact_rows;
+#[cfg(feature = "alloc")]
 mod executor;
 #[cfg(feature = "alloc")]
 mod job;
@@ -46,11 +48,13 @@ mod session;
 mod warning;
 
 #[cfg(feature = "alloc")]
+pub use exact_rows::ExactRows;
+#[cfg(feature = "alloc")]
 pub use executor::{ChunkWork, ChunksDone, Executor, LineRun, RowDone, RowWork, Serial};
 #[cfg(feature = "alloc")]
 pub use job::{Job, LineBudget, LineJob};
 #[cfg(feature = "alloc")]
-pub use measurement::{ExactErrors, LineRunInfo, Measurement, measure, measure_partial};
+pub use measurement::{LineRunInfo, Measurement, measure, measure_partial};
 #[cfg(feature = "alloc")]
 pub use radiosity::{Lighting, LitLines, RadiosityJob, solve_radiosity};
 #[cfg(feature = "alloc")]

@@ -391,6 +391,20 @@ pub enum ErrorKind {
         /// The job's number of chunks.
         total: u64,
     },
+    /// Two partial results of exact rows overlap or leave rows between them.
+    RowRanges {
+        /// The rows merged so far.
+        first: core::ops::Range<u64>,
+        /// The next partial's rows (by first row).
+        second: core::ops::Range<u64>,
+    },
+    /// Partial results of exact rows do not cover the whole job.
+    MissingRows {
+        /// The rows present.
+        have: core::ops::Range<u64>,
+        /// The job's number of rows (patches).
+        total: u64,
+    },
 
     /// A job would need more memory than the caller allows (`--max-memory`).
     MemoryLimit {
@@ -634,6 +648,27 @@ impl fmt::Display for ErrorKind {
                 f,
                 "partial results cover chunks {}..{} of the job's 0..{total}: compute the rest \
                  (measure --chunks A..B --partial) before merging",
+                have.start, have.end
+            ),
+            K::RowRanges { first, second } => {
+                if second.start < first.end {
+                    write!(
+                        f,
+                        "partial results overlap: rows {}..{} and {}..{}",
+                        first.start, first.end, second.start, second.end
+                    )
+                } else {
+                    write!(
+                        f,
+                        "rows {}..{} are in no partial result (between {}..{} and {}..{})",
+                        first.end, second.start, first.start, first.end, second.start, second.end
+                    )
+                }
+            }
+            K::MissingRows { have, total } => write!(
+                f,
+                "partial results cover rows {}..{} of the job's 0..{total}: compute the rest \
+                 (formfactors --rows A..B --partial) before merging",
                 have.start, have.end
             ),
             K::UnsupportedMethod { method, reason } => {

@@ -124,7 +124,7 @@ pub mod viewpoint;
 pub use api::Warning;
 #[cfg(feature = "alloc")]
 pub use api::{
-    ChunkWork, ChunksDone, ExactErrors, Executor, Job, Lighting, LineBudget, LineJob, LineRun,
+    ChunkWork, ChunksDone, ExactRows, Executor, Job, Lighting, LineBudget, LineJob, LineRun,
     LineRunInfo, LineSession, LitLines, Measurement, RadiosityJob, RowDone, RowWork, Scene,
     SceneFormat, SceneTracer, Serial, measure, measure_partial, solve_radiosity,
 };

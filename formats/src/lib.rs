@@ -24,6 +24,7 @@ pub mod gltf_scene;
 mod load;
 pub mod mesh;
 pub mod ply_scene;
+pub mod view3d_out;
 pub mod vs3_scene;
 
 pub(crate) use load::located_at;

@@ -6,11 +6,11 @@
 //! and the tallies merge exactly, so the result is the bits of [`sceneinfo::Serial`]
 //! whatever the thread count.
 
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::time::Duration;
 
 use pyo3::prelude::*;
-use sceneinfo::{ChunkWork, ChunksDone, Executor};
+use sceneinfo::{ChunkWork, ChunksDone, Executor, RowDone, RowWork};
 
 /// How often the calling thread looks at Python (signals, progress) while workers cast.
 const POLL: Duration = Duration::from_millis(20);
@@ -135,6 +135,66 @@ impl Executor for PyExecutor {
 
     fn stopped(&self) -> bool {
         self.stop.load(Ordering::Relaxed)
+    }
+
+    /// The rows of an exact job on the workers, handed out in increasing order while the
+    /// calling thread polls Ctrl-C and calls `progress(rows done, rows)`; after a stop no
+    /// new row starts (the job then fails as stopped). Each row is a pure function of its
+    /// index, so the result is the same bits for any thread count.
+    fn execute_rows(&mut self, work: &RowWork<'_>) -> Vec<RowDone> {
+        let Self {
+            threads,
+            progress,
+            stop,
+            error,
+        } = self;
+        let stop = &*stop;
+        let rows = work.rows();
+        let total = rows.len() as u64;
+        let next = AtomicUsize::new(rows.start);
+        let done = AtomicU64::new(0);
+        let n = rows.len().clamp(1, *threads);
+        let out = std::thread::scope(|scope| {
+            let workers: Vec<_> = (0..n)
+                .map(|_| {
+                    scope.spawn(|| {
+                        let mut out = Vec::new();
+                        // Bounded: each pass takes a new row, or stops
+                        loop {
+                            if stop.load(Ordering::Relaxed) {
+                                break;
+                            }
+                            let row = next.fetch_add(1, Ordering::Relaxed);
+                            if row >= rows.end {
+                                break;
+                            }
+                            out.push(work.run(row));
+                            done.fetch_add(1, Ordering::Relaxed);
+                        }
+                        out
+                    })
+                })
+                .collect();
+            // Bounded: the workers end once every row is done or a stop is seen
+            let mut polls = 0u32;
+            while !workers.iter().all(|w| w.is_finished()) {
+                std::thread::sleep(POLL);
+                polls = polls.wrapping_add(1);
+                let report = polls.is_multiple_of(PROGRESS_EVERY);
+                let now = (done.load(Ordering::Relaxed), total);
+                poll(progress.as_ref(), error, stop, now, report);
+            }
+            workers
+                .into_iter()
+                .filter_map(|w| w.join().ok())
+                .flatten()
+                .collect::<Vec<_>>()
+        });
+        if !stop.load(Ordering::Relaxed) {
+            let now = (done.load(Ordering::Relaxed), total);
+            poll(progress.as_ref(), error, stop, now, true);
+        }
+        out
     }
 }
 

@@ -27,6 +27,7 @@ fn _sceneinfo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::PyScene>()?;
     m.add_class::<measurement::PyMeasurement>()?;
     m.add_class::<measure::PyPartial>()?;
+    m.add_class::<measure::PyExactRows>()?;
     m.add_class::<channel::PyChannel>()?;
     m.add_class::<radiosity::PyLighting>()?;
     m.add_class::<refine::PyRefiner>()?;
@@ -34,6 +35,9 @@ fn _sceneinfo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(measure::measure, m)?)?;
     m.add_function(wrap_pyfunction!(measure::measure_partial, m)?)?;
     m.add_function(wrap_pyfunction!(measure::merge, m)?)?;
+    m.add_function(wrap_pyfunction!(measure::exact_rows, m)?)?;
+    m.add_function(wrap_pyfunction!(measure::merge_rows, m)?)?;
+    m.add_function(wrap_pyfunction!(measure::read_view3d, m)?)?;
     m.add_function(wrap_pyfunction!(channel::channel, m)?)?;
     m.add_function(wrap_pyfunction!(radiosity::radiosity, m)?)?;
     m.add_function(wrap_pyfunction!(refine::refine, m)?)?;

@@ -5,9 +5,10 @@
 use std::path::PathBuf;
 
 use pyo3::prelude::*;
+use sceneinfo::formfactor::occluded_3d::{self, OcclusionOptions};
 use sceneinfo::io::partial::Partial;
 use sceneinfo::tally::LineMethod;
-use sceneinfo::{Job, LineBudget, LineJob, Measurement};
+use sceneinfo::{ExactRows, Job, LineBudget, LineJob, Measurement};
 
 use crate::error::{bad_argument, core_error, warn};
 use crate::executor::{PyExecutor, threads_of};
@@ -91,8 +92,11 @@ pub fn issue(py: Python<'_>, m: &Measurement) -> PyResult<()> {
     Ok(())
 }
 
-/// Measures a scene: exact form factors (`lines=None`: flatland with occlusion, 3D scenes
-/// where no patch can hide another, 2.16), or Monte Carlo form factors from `lines` global
+/// Measures a scene: exact form factors (`lines=None`: flatland with occlusion; 3D with
+/// occlusion, each `F_ij` to the absolute tolerance `tol`, default 1e-6, with its error
+/// estimate — pairs no patch can come between stay exact, 2.16, and a scene where none can
+/// gives those bits; rows on `threads` threads, the same bits for any count; 3D scenes of
+/// more than 2,048 patches store `F` sparse), or Monte Carlo form factors from `lines` global
 /// (2.37) or local (2.36) lines or bundles, seeded by `seed` (`lines='auto'` doubles from
 /// 2¹⁷ until every patch is sampled, up to `max_lines`), cast on `threads` threads (default:
 /// one per core; the result is the same bits for any count). The GIL is released while it
@@ -102,7 +106,7 @@ pub fn issue(py: Python<'_>, m: &Measurement) -> PyResult<()> {
 /// Returns a `Measurement`: `H_P` (3.5), `H_S` (3.1), `H_J` (3.6), `I_S` (3.8), ..., and
 /// `I_S^c` (4.8, 4.13) of a line job. Its warnings are issued as `SceneinfoWarning`s.
 #[pyfunction]
-#[pyo3(signature = (scene, lines = None, method = "global", seed = 1, threads = None, progress = None, max_lines = None))]
+#[pyo3(signature = (scene, lines = None, method = "global", seed = 1, threads = None, progress = None, max_lines = None, tol = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn measure(
     py: Python<'_>,
@@ -113,12 +117,24 @@ pub fn measure(
     threads: Option<usize>,
     progress: Option<Py<PyAny>>,
     max_lines: Option<u64>,
+    tol: Option<f64>,
 ) -> PyResult<PyMeasurement> {
     let scene = scene.resolve(py)?;
     let s = scene.get();
     let job = job_of(py, lines, method, seed, max_lines)?;
+    if tol.is_some() && !matches!(job, Job::Exact) {
+        return Err(bad_argument(
+            py,
+            "BadParameter",
+            "tol is the tolerance of exact form factors, not of lines",
+        ));
+    }
+    let options = OcclusionOptions::new(tol.unwrap_or(occluded_3d::DEFAULT_TOLERANCE));
     let mut executor = PyExecutor::new(threads_of(py, threads)?, progress);
-    let result = py.detach(|| sceneinfo::measure(&s.scene, &job, &mut executor));
+    let result = py.detach(|| match &job {
+        Job::Exact => Measurement::exact_within(&s.scene, &options, &mut executor),
+        Job::Lines(_) => sceneinfo::measure(&s.scene, &job, &mut executor),
+    });
     // A KeyboardInterrupt (or the callback's error) wins over a partial result
     if let Some(e) = executor.error.take() {
         return Err(e);
@@ -297,4 +313,205 @@ pub fn merge(py: Python<'_>, parts: Vec<PartialArg>) -> PyResult<PyPartial> {
     }
     let p = Partial::merge(all).map_err(|e| core_error(py, None, &e))?;
     Ok(PyPartial { p })
+}
+
+/// Rows `i0..i1` of the exact 3D form factors with occlusion of a scene, sparse: for each
+/// row `i`, the pairs `(i, j > i)` that see each other, their flux and its error estimate
+/// (the core's `ExactRows`). A partial result of its job: `merge_rows` joins neighbouring
+/// ranges (from other processes or machines, or the CLI's `formfactors --rows A..B
+/// --partial`), and `measurement()` of a complete one has the whole job's form factors,
+/// bit for bit, stored sparse.
+#[derive(Debug)]
+#[pyclass(name = "ExactRows", module = "sceneinfo", frozen)]
+pub struct PyExactRows {
+    r: ExactRows,
+}
+
+/// Reads the file of exact rows `path`.
+fn read_rows(py: Python<'_>, path: &std::path::Path) -> PyResult<ExactRows> {
+    let bytes = std::fs::read(path).map_err(|e| {
+        pyo3::exceptions::PyOSError::new_err(format!("{}: cannot read: {e}", path.display()))
+    })?;
+    ExactRows::from_bytes(&bytes).map_err(|e| core_error(py, Some(path), &e))
+}
+
+/// A `merge_rows` argument: an `ExactRows` or a path to one.
+#[derive(Debug)]
+pub enum RowsArg {
+    /// Exact rows.
+    Rows(Box<ExactRows>),
+    /// A file of exact rows.
+    Path(PathBuf),
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for RowsArg {
+    type Error = PyErr;
+
+    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        if let Ok(p) = ob.cast::<PyExactRows>() {
+            return Ok(Self::Rows(Box::new(p.get().r.clone())));
+        }
+        Ok(Self::Path(ob.extract()?))
+    }
+}
+
+#[pymethods]
+impl PyExactRows {
+    /// Reads a file of exact rows (the CLI's `formfactors --partial` writes them too).
+    #[staticmethod]
+    fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
+        Ok(Self {
+            r: read_rows(py, &path)?,
+        })
+    }
+
+    /// Exact rows from the bytes of a file.
+    #[staticmethod]
+    fn from_bytes(py: Python<'_>, data: &[u8]) -> PyResult<Self> {
+        let r = ExactRows::from_bytes(data).map_err(|e| core_error(py, None, &e))?;
+        Ok(Self { r })
+    }
+
+    /// The file's bytes (versioned, checksummed).
+    fn to_bytes<'py>(&self, py: Python<'py>) -> Bound<'py, pyo3::types::PyBytes> {
+        pyo3::types::PyBytes::new(py, &self.r.to_bytes())
+    }
+
+    /// Writes the rows to `path`.
+    fn save(&self, path: PathBuf) -> PyResult<()> {
+        std::fs::write(path, self.r.to_bytes())?;
+        Ok(())
+    }
+
+    /// The rows held, `(start, end)` (half-open).
+    #[getter]
+    fn rows(&self) -> (usize, usize) {
+        let r = self.r.rows();
+        (r.start, r.end)
+    }
+
+    /// Patches of the scene (the job's rows are `0..n_patches`).
+    #[getter]
+    fn n_patches(&self) -> usize {
+        self.r.n_patches()
+    }
+
+    /// Pairs `(i, j > i)` of the rows held that see each other.
+    #[getter]
+    fn pair_count(&self) -> usize {
+        self.r.pair_count()
+    }
+
+    /// The job's tolerance on each `F_ij`.
+    #[getter]
+    fn tolerance(&self) -> f64 {
+        self.r.options().tolerance
+    }
+
+    /// Whether the rows are all the job's.
+    #[getter]
+    fn is_complete(&self) -> bool {
+        self.r.is_complete()
+    }
+
+    /// The measurement of a complete job: its form factors (sparse) with their error
+    /// estimates, the channel measures.
+    fn measurement(&self, py: Python<'_>) -> PyResult<PyMeasurement> {
+        let r = self.r.clone();
+        let m = py
+            .detach(|| Measurement::from_exact_rows(r))
+            .map_err(|e| core_error(py, None, &e))?;
+        issue(py, &m)?;
+        Ok(PyMeasurement { m })
+    }
+
+    fn __repr__(&self) -> String {
+        let r = self.r.rows();
+        format!(
+            "<sceneinfo.ExactRows rows {}..{} of {}, {} pairs, tolerance {:e}>",
+            r.start,
+            r.end,
+            self.r.n_patches(),
+            self.r.pair_count(),
+            self.r.options().tolerance
+        )
+    }
+}
+
+/// Computes rows `rows = (start, end)` (default: all) of the exact form factors of the 3D
+/// `scene` with occlusion, each `F_ij` to the absolute tolerance `tol`, on `threads`
+/// threads (GIL released, `progress(rows done, rows)`, Ctrl-C as in `measure`): an
+/// `ExactRows`. Ranges of one job merge only when the scene's fingerprint (its file's
+/// bytes, or its written form for a scene built in memory), `tol` and the patches agree.
+#[pyfunction]
+#[pyo3(signature = (scene, tol = 1e-6, rows = None, threads = None, progress = None))]
+pub fn exact_rows(
+    py: Python<'_>,
+    scene: SceneArg<'_>,
+    tol: f64,
+    rows: Option<(usize, usize)>,
+    threads: Option<usize>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<PyExactRows> {
+    let scene = scene.resolve(py)?;
+    let s = scene.get();
+    let options = OcclusionOptions::new(tol);
+    let mut executor = PyExecutor::new(threads_of(py, threads)?, progress);
+    let result = py.detach(|| {
+        ExactRows::compute(
+            &s.scene,
+            s.fingerprint,
+            &options,
+            rows.map(|(a, b)| a..b),
+            &mut executor,
+        )
+    });
+    if let Some(e) = executor.error.take() {
+        return Err(e);
+    }
+    let r = result.map_err(|e| s.error(py, &e))?;
+    Ok(PyExactRows { r })
+}
+
+/// Merges exact rows (`ExactRows` or paths to their files) of one job: an `ExactRows` of
+/// the rows of all of them (neighbouring ranges, any order, no overlap).
+#[pyfunction]
+pub fn merge_rows(py: Python<'_>, parts: Vec<RowsArg>) -> PyResult<PyExactRows> {
+    let mut all = Vec::with_capacity(parts.len());
+    for p in parts {
+        all.push(match p {
+            RowsArg::Rows(r) => *r,
+            RowsArg::Path(path) => read_rows(py, &path)?,
+        });
+    }
+    let r = ExactRows::merge(all).map_err(|e| core_error(py, None, &e))?;
+    Ok(PyExactRows { r })
+}
+
+/// Reads a View3D output file (text or binary, View3D 3.3's manual): a dict with
+/// `areas` (N,), `form_factors` (N, N), `emissivities` (N,) as numpy arrays, and the
+/// header's `version`, `encl`, `emit` — to compare View3D's matrices with sceneinfo's
+/// (the CLI's `formfactors --out F.vf3` writes this format).
+#[pyfunction]
+pub fn read_view3d<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+    let bytes = std::fs::read(&path).map_err(|e| {
+        pyo3::exceptions::PyOSError::new_err(format!("{}: cannot read: {e}", path.display()))
+    })?;
+    let v = sceneinfo_formats::view3d_out::read(&path, &bytes)
+        .map_err(|e| crate::error::load_error(py, &path, &e))?;
+    let d = pyo3::types::PyDict::new(py);
+    let n = v.n();
+    d.set_item("version", v.version)?;
+    d.set_item("encl", v.encl)?;
+    d.set_item("emit", v.emit)?;
+    d.set_item("areas", crate::arrays::vector(py, v.areas))?;
+    d.set_item(
+        "form_factors",
+        crate::arrays::matrix(py, n, n, v.form_factors)?,
+    )?;
+    d.set_item("emissivities", crate::arrays::vector(py, v.emissivities))?;
+    Ok(d)
 }

@@ -346,6 +346,36 @@ impl PyMeasurement {
         (d.into_pyarray(py), c.into_pyarray(py), p.into_pyarray(py))
     }
 
+    /// The error estimates of exact 3D form factors with occlusion, as a dict
+    /// (`tolerance`, `max_error`, `max_row_error`, `pairs_integrated`,
+    /// `pairs_over_tolerance`: the CLI's keys without `_estimate`); None when no pair was
+    /// integrated (flatland, unoccluded scenes, lines). A-posteriori estimates of the
+    /// adaptive outer integral, not proven bounds.
+    #[getter]
+    fn exact_errors<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(e) = self.m.exact_errors() else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("tolerance", e.tolerance)?;
+        d.set_item("max_error", e.max_error)?;
+        d.set_item("max_row_error", e.max_row_error)?;
+        d.set_item("pairs_integrated", e.pairs_integrated)?;
+        d.set_item("pairs_over_tolerance", e.over_tolerance)?;
+        Ok(Some(d))
+    }
+
+    /// The error estimate of each entry of `form_factors_csr()`'s `data`, in the same
+    /// order: 0 for an exact entry, the a-posteriori estimate of a pair integrated past
+    /// occluders, NaN where there is none (Monte Carlo form factors, whose errors are
+    /// statistical, and the background state's entries).
+    fn form_factor_errors<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let mut out = Vec::new();
+        self.m
+            .for_each_form_factor(|_, _, _, e| out.push(e.unwrap_or(f64::NAN)));
+        vector(py, out)
+    }
+
     fn __repr__(&self) -> String {
         match self.m.measures() {
             Some(m) => format!(

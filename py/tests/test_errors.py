@@ -70,11 +70,14 @@ def test_bad_input_raises_a_sceneinfo_error(call):
     assert info.value.kind and info.value.message
 
 
-def test_occluded_3d_exact_is_refused_with_its_kind():
+def test_occluded_3d_exact_refuses_a_tolerance_out_of_range_with_its_kind():
+    # Exact form factors of an occluded scene are computed with occlusion (the CLI's
+    # measure --tol; test_exact_occluded.py), to a tolerance from 1e-10 to 1
     s = sceneinfo.Scene.preset("cornell", 2)
-    with pytest.raises(sceneinfo.SceneinfoError) as info:
-        sceneinfo.measure(s)
-    assert info.value.kind == "MayBeOccluded"
+    for tol in (0.0, 1e-11, 2.0, float("nan")):
+        with pytest.raises(sceneinfo.SceneinfoError) as info:
+            sceneinfo.measure(s, tol=tol)
+        assert info.value.kind == "BadParameter"
 
 
 def test_missing_file_is_an_os_error(tmp_path):

@@ -1,38 +1,38 @@
 //! `sceneinfo formfactors`: write a scene's form-factor matrix (exact, or Monte Carlo with
 //! `--lines`) and report its checks: `0 ≤ F ≤ 1`, reciprocity, closure.
 
-use std::fmt::Write as _;
 use std::io::Write;
+use std::path::Path;
 
-use anyhow::{Result, bail};
-use sceneinfo::ExactErrors;
+use anyhow::Result;
 use sceneinfo::channel::Transitions;
-use sceneinfo::formfactor::FormFactors;
+use sceneinfo::formfactor::occluded_3d::{self, OcclusionOptions};
+use sceneinfo::io::partial::Partial;
+use sceneinfo::{ExactRows, Scene};
 use sceneinfo_report::CHECK_TOLERANCE;
 
 use crate::args::FormFactorsArgs;
-use crate::output::write_atomic;
-use crate::report::{csv, rows};
+use crate::interrupt::Interrupted;
+use crate::lines::Threads;
+use crate::output::{located, write_atomic};
 
 pub fn run(args: &FormFactorsArgs) -> Result<()> {
-    let (ff, errors) = crate::job::form_factors_of(&args.file, &args.sampling)?;
-    let ext = args
-        .out
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let text = match ext.as_deref() {
-        Some("csv") => csv(&ff)?,
-        Some("txt") => view3d_text(&ff)?,
-        Some("ijv") => sparse_text(&ff, errors.as_ref(), args.sampling.lines.is_none())?,
-        _ => bail!(
-            "{}: the output must end in .csv, .txt or .ijv",
-            args.out.display()
-        ),
+    if let Some(part) = &args.partial {
+        return write_rows(args, part);
+    }
+    let Some(out) = &args.out else {
+        anyhow::bail!("formfactors: give --out F.ijv (or --partial OUT.sir)");
     };
-    write_atomic(&args.out, text.as_bytes())?;
-    let channel = ff.channel().map_err(|e| anyhow::anyhow!("{e}"))?;
-    let c = channel.checks();
+    crate::matrix_file::format_of(out)?;
+    let (m, areas) = crate::job::form_factors_of(&args.file, &args.sampling)?;
+    crate::matrix_file::write(out, &m, areas.as_deref())?;
+    let Some(ff) = m.form_factors() else {
+        anyhow::bail!("{}: no form factors", args.file.display());
+    };
+    let errors = m.exact_errors();
+    let Some(c) = m.checks() else {
+        anyhow::bail!("{}: no checks", args.file.display());
+    };
     let (mut min, mut max) = (f64::INFINITY, f64::NEG_INFINITY);
     let view = ff.matrix();
     for i in 0..ff.n_states() {
@@ -42,36 +42,41 @@ pub fn run(args: &FormFactorsArgs) -> Result<()> {
         });
     }
     let yes = |b: bool| if b { "yes" } else { "NO" };
-    let mut out = std::io::stdout().lock();
+    let mut o = std::io::stdout().lock();
     writeln!(
-        out,
-        "wrote {} ({} states{})",
-        args.out.display(),
+        o,
+        "wrote {} ({} states{}{})",
+        out.display(),
         ff.n_states(),
         if ff.has_background() {
             ", background last"
         } else {
             ""
+        },
+        if ff.is_sparse() {
+            ", stored sparse"
+        } else {
+            ""
         }
     )?;
     writeln!(
-        out,
+        o,
         "F >= 0              {}  (min stored entry {min:.3e})",
         yes(min >= 0.0)
     )?;
     writeln!(
-        out,
+        o,
         "F <= 1              {}  (max entry {max:.6})",
         yes(max <= 1.0)
     )?;
     writeln!(
-        out,
+        o,
         "reciprocity         {}  (max relative |a_i F_ij - a_j F_ji| = {:.2e}, tolerance {CHECK_TOLERANCE:e})",
         yes(c.is_reversible(CHECK_TOLERANCE)),
         c.max_reciprocity_error
     )?;
     writeln!(
-        out,
+        o,
         "closure             {}  (max |1 - row sum| = {:.2e}; largest loss before any background {:.2e})",
         yes(c.is_row_stochastic(CHECK_TOLERANCE)),
         c.max_row_sum_error,
@@ -81,7 +86,7 @@ pub fn run(args: &FormFactorsArgs) -> Result<()> {
         // Occluded 3D pairs: reciprocity holds by construction (one flux per pair), each
         // F_ij and each row sum carry an a-posteriori error estimate
         writeln!(
-            out,
+            o,
             "error estimate      {}  (max over F_ij {:.2e}, tolerance {:e}; {} pairs integrated with occluders, {} over the tolerance)",
             yes(e.over_tolerance == 0 && e.max_error <= e.tolerance),
             e.max_error,
@@ -91,77 +96,83 @@ pub fn run(args: &FormFactorsArgs) -> Result<()> {
         )?;
         // A closed scene's rows lose at most their estimates (an open scene's lose more)
         writeln!(
-            out,
+            o,
             "rows in estimate    {}  (largest loss before any background {:.2e}, largest row estimate {:.2e}; NO is expected for an open scene)",
             yes(ff.max_row_deficit() <= e.max_row_error.max(CHECK_TOLERANCE)),
             ff.max_row_deficit(),
             e.max_row_error
         )?;
     }
-    out.flush()?;
+    o.flush()?;
     Ok(())
 }
 
-/// The sparse matrix: a comment line, then one line `i,j,F_ij,err_ij` per non-zero entry,
-/// rows in order, columns increasing within a row (the compressed-row order), `err_ij` the
-/// entry's error estimate (0 for an exact entry; empty for Monte Carlo, whose errors are
-/// statistical). Shortest round-trip decimals.
-fn sparse_text(ff: &FormFactors, errors: Option<&ExactErrors>, exact: bool) -> Result<String> {
-    let n = ff.n_states();
-    let np = ff.n_patches();
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "# sceneinfo form factors, sparse: {n} states ({np} patches{}); i,j,F_ij,error estimate",
-        if ff.has_background() {
-            ", background last"
+/// `formfactors FILE [--rows A..B] --partial OUT.sir`: the exact rows of a 3D scene
+/// (all, or `--rows`) into a partial-result file, and what it wrote.
+fn write_rows(args: &FormFactorsArgs, part: &Path) -> Result<()> {
+    let path = &args.file;
+    let sampling = &args.sampling;
+    if sampling.lines.is_some() {
+        anyhow::bail!(
+            "{}: --partial of formfactors holds exact rows; a line job's partial is \
+             measure --lines N --chunks A..B --partial",
+            path.display()
+        );
+    }
+    let bytes = crate::formats::read_capped(path)?;
+    let loaded = crate::output::load_scene(path)?;
+    loaded.print_warnings(path, false);
+    let scene = loaded.scene;
+    let n = scene.n_patches();
+    if let Some(rows) = &args.rows
+        && rows.end > n
+    {
+        anyhow::bail!(
+            "--rows {}..{}: {} has rows 0..{n} (one per patch)",
+            rows.start,
+            rows.end,
+            path.display()
+        );
+    }
+    if matches!(scene, Scene::Flat(_)) {
+        anyhow::bail!(
+            "{}: exact rows are for 3D scenes (flatland form factors are exact and dense: \
+             formfactors --out)",
+            path.display()
+        );
+    }
+    let options = OcclusionOptions::new(sampling.tol.unwrap_or(occluded_3d::DEFAULT_TOLERANCE));
+    let start = std::time::Instant::now();
+    let threads = crate::job::threads_of(sampling);
+    let rows = ExactRows::compute(
+        &scene,
+        Partial::fingerprint(&bytes),
+        &options,
+        args.rows.clone(),
+        &mut Threads::new(threads),
+    )
+    .map_err(|e| {
+        if crate::interrupt::requested() {
+            Interrupted { partial: None }.into()
         } else {
-            ""
+            located(path, &e)
         }
-    );
-    let view = ff.matrix();
-    for i in 0..n {
-        view.for_each_in_row(i, |j, v| {
-            if v != 0.0 {
-                let err = match errors {
-                    Some(e) if i < np && j < np => format!("{:?}", e.per_pair[i * np + j]),
-                    Some(_) => String::new(),
-                    None if exact => "0".to_owned(),
-                    None => String::new(),
-                };
-                let _ = writeln!(s, "{i},{j},{v:?},{err}");
-            }
-        });
-    }
-    Ok(s)
-}
-
-/// A View3D-style text matrix: a header line with the number of states, a line with the
-/// relative sizes (areas, lengths) of the states, then one row of `F` per line,
-/// space-separated.
-fn view3d_text(ff: &FormFactors) -> Result<String> {
-    let n = ff.n_states();
-    let mut s = String::with_capacity(n * n * 12);
-    let _ = writeln!(
-        s,
-        "# sceneinfo form factors: {n} states; line 2: relative sizes; then F rows"
-    );
-    let _ = writeln!(s, "{n}");
-    for (k, w) in ff.weights().iter().enumerate() {
-        if k > 0 {
-            s.push(' ');
-        }
-        let _ = write!(s, "{w:?}");
-    }
-    s.push('\n');
-    rows(ff, |row| {
-        for (k, v) in row.iter().enumerate() {
-            if k > 0 {
-                s.push(' ');
-            }
-            let _ = write!(s, "{v:?}");
-        }
-        s.push('\n');
     })?;
-    Ok(s)
+    let file = rows.to_bytes();
+    write_atomic(part, &file)?;
+    let r = rows.rows();
+    writeln!(
+        std::io::stdout().lock(),
+        "wrote {}: rows {}..{} of 0..{} (tolerance {:e}), {} pairs that see each other, \
+         {} bytes, {:.3} s",
+        part.display(),
+        r.start,
+        r.end,
+        rows.n_patches(),
+        options.tolerance,
+        rows.pair_count(),
+        file.len(),
+        start.elapsed().as_secs_f64()
+    )?;
+    Ok(())
 }

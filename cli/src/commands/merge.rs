@@ -1,14 +1,15 @@
-//! `sceneinfo merge`: combines partial results (`measure … --partial`) into the result of
-//! one run of the whole job — bit for bit, since tallies are exact integers and fixed-point
-//! sums — or into one larger partial result.
+//! `sceneinfo merge`: combines partial results into the result of one run of the whole job,
+//! bit for bit, or into one larger partial result: a line job's (`measure … --partial`;
+//! tallies are exact integers and fixed-point sums) or exact rows of a 3D scene
+//! (`formfactors … --rows A..B --partial`; each row is a pure function of its index).
 
 use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Result;
-use sceneinfo::Measurement;
 use sceneinfo::io::partial::Partial;
+use sceneinfo::{ExactRows, Measurement};
 
 use crate::args::MergeArgs;
 use crate::output::{located, write_atomic};
@@ -16,7 +17,10 @@ use crate::report::{Timing, print_report};
 
 pub fn run(args: &MergeArgs) -> Result<()> {
     let start = Instant::now();
-    let mut parts = Vec::with_capacity(args.files.len());
+    if let Some(out) = &args.out {
+        crate::matrix_file::format_of(out)?;
+    }
+    let mut files = Vec::with_capacity(args.files.len());
     for path in &args.files {
         // A regular file within the input cap, like every file the CLI reads
         let bytes = crate::formats::read_capped_to(
@@ -24,9 +28,19 @@ pub fn run(args: &MergeArgs) -> Result<()> {
             crate::formats::input_cap(crate::formats::MAX_FILE_BYTES),
             "partial results",
         )?;
-        parts.push(Partial::from_bytes(&bytes).map_err(|e| located(path, &e))?);
+        files.push(bytes);
     }
     let first = &args.files[0];
+    if files
+        .first()
+        .is_some_and(|f| f.starts_with(&ExactRows::MAGIC))
+    {
+        return merge_rows(args, &files, start);
+    }
+    let mut parts = Vec::with_capacity(files.len());
+    for (path, bytes) in args.files.iter().zip(&files) {
+        parts.push(Partial::from_bytes(bytes).map_err(|e| located(path, &e))?);
+    }
     let merged = Partial::merge(parts).map_err(|e| anyhow::anyhow!("merge: {}", e.kind()))?;
     if let Some(out) = &args.partial {
         let bytes = merged.to_bytes();
@@ -54,5 +68,53 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         Timing { start, earlier },
         args.json,
         args.matrix.as_deref(),
-    )
+    )?;
+    if let Some(out) = &args.out {
+        crate::matrix_file::write(out, &m, None)?;
+    }
+    Ok(())
+}
+
+/// Merges files of exact rows: into one (`--partial`), or, when they cover every row, the
+/// report of the whole job and its matrix (`--out`), bit for bit those of one job.
+fn merge_rows(args: &MergeArgs, files: &[Vec<u8>], start: Instant) -> Result<()> {
+    let mut parts = Vec::with_capacity(files.len());
+    for (path, bytes) in args.files.iter().zip(files) {
+        parts.push(ExactRows::from_bytes(bytes).map_err(|e| located(path, &e))?);
+    }
+    let merged = ExactRows::merge(parts).map_err(|e| anyhow::anyhow!("merge: {}", e.kind()))?;
+    if let Some(out) = &args.partial {
+        let bytes = merged.to_bytes();
+        write_atomic(out, &bytes)?;
+        let rows = merged.rows();
+        writeln!(
+            std::io::stdout().lock(),
+            "wrote {}: rows {}..{} of 0..{}, {} pairs that see each other, {} bytes",
+            out.display(),
+            rows.start,
+            rows.end,
+            merged.n_patches(),
+            merged.pair_count(),
+            bytes.len()
+        )?;
+        return Ok(());
+    }
+    let areas = merged.patch_areas().to_vec();
+    let m =
+        Measurement::from_exact_rows(merged).map_err(|e| anyhow::anyhow!("merge: {}", e.kind()))?;
+    print_report(
+        Path::new(&args.files[0]),
+        &m,
+        None,
+        Timing {
+            start,
+            earlier: 0.0,
+        },
+        args.json,
+        args.matrix.as_deref(),
+    )?;
+    if let Some(out) = &args.out {
+        crate::matrix_file::write(out, &m, Some(&areas))?;
+    }
+    Ok(())
 }

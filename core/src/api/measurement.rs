@@ -3,6 +3,7 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
+use crate::channel::Transitions as _;
 use crate::channel::{Checks, Measures};
 use crate::continuous::ContinuousEstimate;
 use crate::error::{ErrorKind, Result};
@@ -68,7 +69,9 @@ pub struct Measurement {
 
 /// The error estimates of exact 3D form factors with occlusion
 /// ([`crate::formfactor::occluded_3d`]): a-posteriori estimates of the adaptive outer
-/// integral, not rigorous bounds.
+/// integral, not rigorous bounds. What [`Measurement::exact_errors`] returns (the type is
+/// not re-exported: the façade keeps its item count); each entry's estimate is read with
+/// [`Measurement::for_each_form_factor`].
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct ExactErrors {
@@ -82,8 +85,12 @@ pub struct ExactErrors {
     pub pairs_integrated: usize,
     /// Unordered pairs whose estimate exceeds the tolerance (stopped by the work cap).
     pub over_tolerance: usize,
-    /// Row-major `n × n` estimates of `|ΔF_ij|` (0 for the exact unoccluded pairs).
-    pub per_pair: Vec<f64>,
+    /// The estimates of `|ΔF_ij|` (0 for the exact unoccluded pairs), read through
+    /// [`Measurement::for_each_form_factor`]: row-major `n × n` when the form factors are
+    /// dense, one per stored (non-zero) patch entry in row-major order when sparse.
+    pub(crate) per_pair: Vec<f64>,
+    /// Whether `per_pair` follows the sparse form factors' entries.
+    pub(crate) sparse: bool,
 }
 
 impl Measurement {
@@ -301,6 +308,48 @@ impl Measurement {
         self.exact_errors.as_ref()
     }
 
+    /// Calls `f(i, j, F_ij, error)` for every non-zero form factor, rows in order and
+    /// columns increasing within a row (the background state's row and column too, last,
+    /// when the scene is open): `error` is the entry's error estimate for exact form
+    /// factors (0 for an exact pair; [`Measurement::exact_errors`]), `None` for the
+    /// background state's entries and for Monte Carlo form factors, whose errors are
+    /// statistical. Nothing when some patch received no line.
+    pub fn for_each_form_factor(&self, mut f: impl FnMut(usize, usize, f64, Option<f64>)) {
+        let Some(ff) = &self.form_factors else {
+            return;
+        };
+        let n = ff.n_patches();
+        let exact = self.run.is_none();
+        let errors = self.exact_errors.as_ref();
+        let view = ff.matrix();
+        let mut k = 0;
+        // Bounded: the states' rows
+        for i in 0..ff.n_states() {
+            view.for_each_in_row(i, |j, v| {
+                if v == 0.0 {
+                    return;
+                }
+                let error = if i >= n || j >= n || !exact {
+                    None
+                } else {
+                    let e = match errors {
+                        Some(e) if e.sparse => e.per_pair.get(k).copied(),
+                        Some(e) => e.per_pair.get(i * n + j).copied(),
+                        None => Some(0.0),
+                    };
+                    k += 1;
+                    e
+                };
+                f(i, j, v, error);
+            });
+        }
+    }
+
+    /// Sets the error estimates of exact form factors ([`Measurement::from_exact_rows`]).
+    pub(super) fn set_exact_errors(&mut self, errors: ExactErrors) {
+        self.exact_errors = Some(errors);
+    }
+
     /// Lines cast (0 for exact form factors).
     #[must_use]
     pub fn lines(&self) -> u64 {
@@ -401,7 +450,10 @@ impl Measurement {
     /// (unused in flatland, whose form factors are exact), the rows of a 3D scene computed
     /// through `executor` ([`Executor::execute_rows`]: the same bits for any number of
     /// threads; an unoccluded scene gives [`Measurement::exact`]'s). When some pair was integrated
-    /// adaptively, [`Measurement::exact_errors`] holds the error estimates.
+    /// adaptively, [`Measurement::exact_errors`] holds the error estimates. A 3D scene of
+    /// more than `SPARSE_EXACT_ABOVE` (2,048) patches is computed as
+    /// [`Measurement::from_exact_rows`] does, its form factors stored sparse (the same
+    /// values; the memory grows with the pairs that see each other, not with `n²`).
     ///
     /// # Errors
     /// The options' ([`OcclusionOptions::check`]), the form factors' and the channel's;
@@ -411,6 +463,10 @@ impl Measurement {
         options: &OcclusionOptions,
         executor: &mut dyn Executor,
     ) -> Result<Measurement> {
+        if matches!(scene, Scene::Solid(s) if s.n_patches() > SPARSE_EXACT_ABOVE) {
+            let rows = super::ExactRows::compute(scene, 0, options, None, executor)?;
+            return Measurement::from_exact_rows(rows);
+        }
         let (ff, errors) = match scene {
             Scene::Flat(s) => (exact_2d::form_factors(s)?, None),
             Scene::Solid(s) => {
@@ -432,6 +488,7 @@ impl Measurement {
                     pairs_integrated: r.pairs_integrated,
                     over_tolerance: r.over_tolerance,
                     per_pair: r.errors.clone(),
+                    sparse: false,
                 });
                 (r.form_factors, errors)
             }
@@ -441,6 +498,10 @@ impl Measurement {
         Ok(m)
     }
 }
+
+/// Above this many patches, [`Measurement::exact_within`] stores a 3D scene's form factors
+/// sparse (a dense matrix of 2,048 patches is 32 MiB with its estimates).
+pub(crate) const SPARSE_EXACT_ABOVE: usize = 2048;
 
 /// Refuses a method `tracer` cannot cast.
 pub(super) fn check_supported(tracer: &(dyn LineTracer + Sync), method: LineMethod) -> Result<()> {

@@ -643,3 +643,132 @@ fn exact_within_is_the_same_on_any_thread_count() {
     let stopped = Measurement::exact_within(&scene, &options, &mut NoRows).unwrap_err();
     assert!(matches!(stopped.kind(), ErrorKind::Stopped), "{stopped}");
 }
+
+/// The room with a two-sided plate of `exact_within_is_the_same_on_any_thread_count`.
+fn room_with_plate() -> Scene {
+    let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+                f 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\nf 4 8 5 1\n\
+                v 0.3 0.2 0.5\nv 0.7 0.2 0.5\nv 0.7 0.6 0.5\nv 0.3 0.6 0.5\n\
+                f 12 11 10 9\nf 9 10 11 12\n";
+    let format = SceneFormat::Obj(crate::io::ObjOptions::default());
+    Scene::from_bytes(text.as_bytes(), format, |_| None)
+        .unwrap()
+        .0
+}
+
+/// Every non-zero entry `(i, j, F_ij, error)` of a measurement.
+fn entries(m: &Measurement) -> Vec<(usize, usize, u64, Option<u64>)> {
+    let mut out = Vec::new();
+    m.for_each_form_factor(|i, j, v, e| out.push((i, j, v.to_bits(), e.map(f64::to_bits))));
+    out
+}
+
+/// Exact rows computed whole, or in three ranges on different executors, through their
+/// files and merged in any order, give the dense job's form factors and error estimates
+/// bit for bit, stored sparse; the channel measures agree to rounding.
+#[test]
+fn exact_rows_in_ranges_merge_into_the_dense_job_bit_for_bit() {
+    let scene = room_with_plate();
+    let options = crate::formfactor::occluded_3d::OcclusionOptions::new(1e-4);
+    let dense = Measurement::exact_within(&scene, &options, &mut Serial).unwrap();
+    assert!(!dense.form_factors().unwrap().is_sparse());
+    let whole = ExactRows::compute(&scene, 7, &options, None, &mut Threads(2)).unwrap();
+    assert!(whole.is_complete() && whole.rows() == (0..8));
+    let sparse = Measurement::from_exact_rows(whole.clone()).unwrap();
+    assert!(sparse.form_factors().unwrap().is_sparse());
+    assert_eq!(entries(&dense), entries(&sparse));
+    let (d, s) = (
+        dense.exact_errors().unwrap(),
+        sparse.exact_errors().unwrap(),
+    );
+    assert!(d.pairs_integrated > 0);
+    assert_eq!(
+        (
+            d.max_error,
+            d.max_row_error,
+            d.pairs_integrated,
+            d.over_tolerance
+        ),
+        (
+            s.max_error,
+            s.max_row_error,
+            s.pairs_integrated,
+            s.over_tolerance
+        )
+    );
+    let (dm, sm) = (dense.measures().unwrap(), sparse.measures().unwrap());
+    assert!((dm.i_s - sm.i_s).abs() <= 1e-13 && (dm.h_s - sm.h_s).abs() <= 1e-13);
+    // Three ranges, each through its file, merged in another order
+    let mut parts = Vec::new();
+    for (rows, threads) in [(3..6, 1), (0..3, 3), (6..8, 2)] {
+        let p = ExactRows::compute(&scene, 7, &options, Some(rows), &mut Threads(threads));
+        let bytes = p.unwrap().to_bytes();
+        parts.push(ExactRows::from_bytes(&bytes).unwrap());
+    }
+    let merged = ExactRows::merge(parts.clone()).unwrap();
+    assert_eq!(merged, whole);
+    let m = Measurement::from_exact_rows(merged).unwrap();
+    assert_eq!(entries(&m), entries(&sparse));
+    assert_eq!(m.exact_errors(), sparse.exact_errors());
+    // Merged in stages too
+    let first = ExactRows::merge(parts[..2].to_vec()).unwrap();
+    assert_eq!(first.rows(), 0..6);
+    assert_eq!(
+        ExactRows::merge(alloc::vec![parts[2].clone(), first]).unwrap(),
+        whole
+    );
+}
+
+/// Incomplete, overlapping, gapped and foreign row ranges are refused with typed errors;
+/// so are damaged files, flatland scenes and rows outside the scene.
+#[test]
+fn exact_rows_refuse_what_is_not_one_job() {
+    let scene = room_with_plate();
+    let options = crate::formfactor::occluded_3d::OcclusionOptions::new(1e-3);
+    let part = |rows: Range<usize>, fp: u64, o| {
+        ExactRows::compute(&scene, fp, &o, Some(rows), &mut Serial).unwrap()
+    };
+    let kind = |e: crate::Error| e.kind().clone();
+    let a = part(0..4, 1, options);
+    assert!(matches!(
+        kind(Measurement::from_exact_rows(a.clone()).unwrap_err()),
+        ErrorKind::MissingRows { have, total: 8 } if have == (0..4)
+    ));
+    let overlap = ExactRows::merge(alloc::vec![a.clone(), part(3..8, 1, options)]).unwrap_err();
+    assert!(matches!(kind(overlap), ErrorKind::RowRanges { .. }));
+    let gap = ExactRows::merge(alloc::vec![a.clone(), part(5..8, 1, options)]).unwrap_err();
+    let text = alloc::format!("{gap}");
+    assert!(
+        text.contains("rows 4..5 are in no partial result"),
+        "{text}"
+    );
+    let other = ExactRows::merge(alloc::vec![a.clone(), part(4..8, 2, options)]).unwrap_err();
+    assert!(matches!(
+        kind(other),
+        ErrorKind::PartialMismatch { field: "scene" }
+    ));
+    let looser = crate::formfactor::occluded_3d::OcclusionOptions::new(1e-2);
+    let other = ExactRows::merge(alloc::vec![a.clone(), part(4..8, 1, looser)]).unwrap_err();
+    assert!(matches!(
+        kind(other),
+        ErrorKind::PartialMismatch { field: "tolerance" }
+    ));
+    // Every single damaged byte, and every cut, is refused
+    let bytes = a.to_bytes();
+    for k in 0..bytes.len() {
+        let mut bad = bytes.clone();
+        bad[k] ^= 0x10;
+        assert!(ExactRows::from_bytes(&bad).is_err(), "byte {k}");
+        assert!(ExactRows::from_bytes(&bytes[..k]).is_err(), "cut at {k}");
+    }
+    let line_partial = b"SCNINFOP\x01\x00\x00\x00";
+    assert!(ExactRows::from_bytes(line_partial).is_err());
+    let flat = Scene::Flat(Scene2::catalogue("l-room-0", 2).unwrap());
+    let e = ExactRows::compute(&flat, 0, &options, None, &mut Serial).unwrap_err();
+    assert!(matches!(kind(e), ErrorKind::UnsupportedMethod { .. }));
+    let e = ExactRows::compute(&scene, 0, &options, Some(4..9), &mut Serial).unwrap_err();
+    assert!(matches!(
+        kind(e),
+        ErrorKind::BadParameter { name: "rows", .. }
+    ));
+}

@@ -384,11 +384,11 @@ pub(crate) fn form_factors_occluded(
 #[derive(Clone, Debug)]
 pub(crate) struct PairRow {
     /// `(j, flux, error estimate of the flux)` of the pairs that see each other.
-    pairs: Vec<(usize, f64, f64)>,
+    pub(crate) pairs: Vec<(usize, f64, f64)>,
     /// Pairs integrated adaptively, those over the tolerance, points evaluated.
-    integrated: usize,
-    over_tolerance: usize,
-    points: u64,
+    pub(crate) integrated: usize,
+    pub(crate) over_tolerance: usize,
+    pub(crate) points: u64,
 }
 
 /// How [`form_factors_occluded_by`] runs the rows: given the row count `n` and the row
@@ -407,7 +407,30 @@ struct Prepared<'a> {
     options: OcclusionOptions,
 }
 
-impl Prepared<'_> {
+impl<'a> Prepared<'a> {
+    /// The planes, boxes and contact tolerance of `polygons` (see [`form_factors_occluded`]).
+    fn new(
+        points: &'a [DVec3],
+        polygons: &[(usize, usize)],
+        options: &OcclusionOptions,
+    ) -> Result<Self> {
+        let may_occlude = exact_3d::may_be_occluded(points, polygons);
+        let polys = planes(points, polygons)?;
+        let (lo, hi) = bounds(polys.iter().flat_map(|(v, _)| v.iter().copied()));
+        let touch = TOUCH * (hi - lo).length().max(hi.abs().max(lo.abs()).max_element());
+        let boxes: Vec<(DVec3, DVec3)> = polys
+            .iter()
+            .map(|(v, _)| bounds(v.iter().copied()))
+            .collect();
+        Ok(Prepared {
+            polys,
+            boxes,
+            touch,
+            may_occlude,
+            options: *options,
+        })
+    }
+
     /// Row `i`: the pairs `(i, j)`, `j > i`, culled, then exact or integrated.
     fn row(&self, i: usize) -> Result<PairRow> {
         let polys = &self.polys;
@@ -480,21 +503,8 @@ pub(crate) fn form_factors_occluded_by(
         }
         .into());
     }
-    let may_occlude = exact_3d::may_be_occluded(points, polygons);
-    let polys = planes(points, polygons)?;
-    let (lo, hi) = bounds(polys.iter().flat_map(|(v, _)| v.iter().copied()));
-    let touch = TOUCH * (hi - lo).length().max(hi.abs().max(lo.abs()).max_element());
-    let boxes: Vec<(DVec3, DVec3)> = polys
-        .iter()
-        .map(|(v, _)| bounds(v.iter().copied()))
-        .collect();
-    let prepared = Prepared {
-        polys,
-        boxes,
-        touch,
-        may_occlude,
-        options: *options,
-    };
+    let prepared = Prepared::new(points, polygons, options)?;
+    let may_occlude = prepared.may_occlude;
     let rows = run(n, &|i| prepared.row(i)).ok_or(ErrorKind::Stopped)?;
     if rows.len() != n {
         return Err(ErrorKind::Stopped.into());
@@ -532,6 +542,53 @@ pub(crate) fn form_factors_occluded_by(
         over_tolerance,
         points: total_points,
     })
+}
+
+/// The rows `rows` of [`form_factors_occluded`] before their assembly, for a sparse or
+/// partial job (`crate::api::ExactRows`): each row's pairs `(i, j > i)` with their fluxes
+/// and estimates, the polygons' areas (`A_i` of `F_ij = flux / A_i`) and whether some
+/// polygon may hide another (then rows above 1 are capped, `cap_rows`). No cap on the patch
+/// count: the caller stores only the pairs that see each other.
+///
+/// # Errors
+/// The options' ([`OcclusionOptions::check`]); [`ErrorKind::BadParameter`] (`"rows"`)
+/// for rows outside `0..n`; those of the rows; [`ErrorKind::Stopped`] when `run` stops.
+pub(crate) fn occluded_rows_by(
+    points: &[DVec3],
+    polygons: &[(usize, usize)],
+    options: &OcclusionOptions,
+    rows: core::ops::Range<usize>,
+    run: &mut RowRunner<'_>,
+) -> Result<OccludedRows> {
+    options.check()?;
+    if rows.start > rows.end || rows.end > polygons.len() {
+        return Err(ErrorKind::BadParameter {
+            name: "rows",
+            value: rows.end as f64,
+        }
+        .into());
+    }
+    let prepared = Prepared::new(points, polygons, options)?;
+    let start = rows.start;
+    let done = run(rows.len(), &|k| prepared.row(start + k)).ok_or(ErrorKind::Stopped)?;
+    if done.len() != rows.len() {
+        return Err(ErrorKind::Stopped.into());
+    }
+    Ok(OccludedRows {
+        rows: done.into_iter().collect::<Result<Vec<PairRow>>>()?,
+        areas: prepared.polys.iter().map(|(_, p)| p.area).collect(),
+        may_occlude: prepared.may_occlude,
+    })
+}
+
+/// What [`occluded_rows_by`] gives.
+pub(crate) struct OccludedRows {
+    /// The rows asked for, in order.
+    pub(crate) rows: Vec<PairRow>,
+    /// Every polygon's area, as the rows' form factors divide by it.
+    pub(crate) areas: Vec<f64>,
+    /// Whether some polygon may hide another.
+    pub(crate) may_occlude: bool,
 }
 
 /// Rows above 1 (a closed scene's rows within their estimates of 1, from either side) are

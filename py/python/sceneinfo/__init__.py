@@ -10,7 +10,9 @@ Visibility and Radiosity in a Scene* (2002); equation numbers refer to it.
 Scenes come from files (``.flat``, ``.obj``), numpy arrays (``Scene.from_segments``,
 ``Scene.from_triangles``, ``Scene.from_polygons``) or presets. ``measure`` gives exact or
 Monte Carlo form factors and the channel measures; ``channel`` measures any ``(w, P)``;
-``measure_partial`` and ``merge`` split a line job across processes or machines, exactly;
+``measure_partial`` and ``merge`` split a line job across processes or machines, exactly,
+and ``exact_rows`` and ``merge_rows`` an exact 3D job with occlusion (sparse form factors
+with error estimates); ``read_view3d`` reads View3D's output files;
 ``radiosity`` lights a scene (2.6) and measures its radiosity channel (5.5–5.7); ``refine``
 refines a flatland mesh by an oracle (§6.5.2), ``refine_hierarchy`` a 3D scene's
 hierarchical radiosity (§6.4).
@@ -20,6 +22,7 @@ from ._sceneinfo import (
     CHUNK_LINES,
     SPARSE_ABOVE,
     ChannelMeasures,
+    ExactRows,
     Hierarchy,
     Lighting,
     Measurement,
@@ -29,10 +32,13 @@ from ._sceneinfo import (
     SceneinfoError,
     SceneinfoWarning,
     channel,
+    exact_rows,
     measure,
     measure_partial,
     merge,
+    merge_rows,
     radiosity,
+    read_view3d,
     refine,
     refine_hierarchy,
 )
@@ -41,6 +47,7 @@ __all__ = [
     "CHUNK_LINES",
     "SPARSE_ABOVE",
     "ChannelMeasures",
+    "ExactRows",
     "Hierarchy",
     "Lighting",
     "Measurement",
@@ -50,10 +57,13 @@ __all__ = [
     "SceneinfoError",
     "SceneinfoWarning",
     "channel",
+    "exact_rows",
     "measure",
     "measure_partial",
     "merge",
+    "merge_rows",
     "radiosity",
+    "read_view3d",
     "refine",
     "refine_hierarchy",
 ]

@@ -19,6 +19,7 @@ __all__ = [
     "CHUNK_LINES",
     "SPARSE_ABOVE",
     "ChannelMeasures",
+    "ExactRows",
     "Hierarchy",
     "Lighting",
     "Measurement",
@@ -28,10 +29,13 @@ __all__ = [
     "SceneinfoError",
     "SceneinfoWarning",
     "channel",
+    "exact_rows",
     "measure",
     "measure_partial",
     "merge",
+    "merge_rows",
     "radiosity",
+    "read_view3d",
     "refine",
     "refine_hierarchy",
 ]
@@ -203,6 +207,11 @@ class Measurement:
         self,
     ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], npt.NDArray[np.int64]]:
         """(data, indices, indptr) of F without scipy."""
+    @property
+    def exact_errors(self) -> Optional[dict[str, Union[float, int]]]:
+        """Error estimates of exact 3D form factors with occlusion (None: none integrated)."""
+    def form_factor_errors(self) -> npt.NDArray[np.float64]:
+        """Each F entry's error estimate, aligned with form_factors_csr()'s data (NaN: none)."""
 
 @final
 class ChannelMeasures:
@@ -263,6 +272,40 @@ class Partial:
     def measurement(self) -> Measurement:
         """One run of the whole job, bit for bit (complete partials only)."""
 
+@final
+class ExactRows:
+    """Rows of the exact 3D form factors with occlusion of a scene, to merge with others."""
+
+    @staticmethod
+    def load(path: _Path) -> ExactRows: ...
+    @staticmethod
+    def from_bytes(data: bytes) -> ExactRows: ...
+    def to_bytes(self) -> bytes: ...
+    def save(self, path: _Path) -> None: ...
+    @property
+    def rows(self) -> Tuple[int, int]: ...
+    @property
+    def n_patches(self) -> int: ...
+    @property
+    def pair_count(self) -> int: ...
+    @property
+    def tolerance(self) -> float: ...
+    @property
+    def is_complete(self) -> bool: ...
+    def measurement(self) -> Measurement:
+        """The whole job's form factors (sparse) and measures (complete rows only)."""
+
+def exact_rows(
+    scene: Union[Scene, _Path],
+    tol: float = 1e-06,
+    rows: Optional[Tuple[int, int]] = None,
+    threads: Optional[int] = None,
+    progress: Optional[_Progress] = None,
+) -> ExactRows: ...
+def merge_rows(parts: Sequence[Union[ExactRows, _Path]]) -> ExactRows: ...
+def read_view3d(path: _Path) -> dict[str, Any]:
+    """A View3D output file: areas, form_factors (N, N), emissivities, version, encl, emit."""
+
 def measure(
     scene: Union[Scene, _Path],
     lines: Union[None, int, Literal["auto"]] = None,
@@ -271,6 +314,7 @@ def measure(
     threads: Optional[int] = None,
     progress: Optional[_Progress] = None,
     max_lines: Optional[int] = None,
+    tol: Optional[float] = None,
 ) -> Measurement:
     """Exact (lines=None) or Monte Carlo (2.36, 2.37) form factors and their measures."""
 

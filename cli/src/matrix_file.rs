@@ -1,0 +1,142 @@
+//! The form-factor matrix files of `formfactors --out` and `merge --out`, by extension:
+//! `.csv` (one row of `F` per line), `.txt` (the number of states, their relative sizes,
+//! then the rows), `.ijv` (sparse, with each entry's error estimate) and `.vf3` (View3D's
+//! output file, `sceneinfo_formats::view3d_out`).
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use anyhow::{Result, bail};
+use sceneinfo::Measurement;
+use sceneinfo::formfactor::FormFactors;
+
+use crate::output::write_atomic;
+use crate::report::{csv, rows};
+
+/// The matrix formats, by the output's extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MatrixFormat {
+    Csv,
+    Sizes,
+    Sparse,
+    View3d,
+}
+
+/// The format of the output `path` (checked before any work).
+///
+/// # Errors
+/// An extension other than `.csv`, `.txt`, `.ijv` or `.vf3`.
+pub fn format_of(path: &Path) -> Result<MatrixFormat> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    Ok(match ext.as_deref() {
+        Some("csv") => MatrixFormat::Csv,
+        Some("txt") => MatrixFormat::Sizes,
+        Some("ijv") => MatrixFormat::Sparse,
+        Some("vf3") => MatrixFormat::View3d,
+        _ => bail!(
+            "{}: the output must end in .csv, .txt, .ijv or .vf3",
+            path.display()
+        ),
+    })
+}
+
+/// Writes the form factors of `m` to `path` in the format of its extension; `areas` are
+/// the patch areas in the scene file's units (View3D's file lists them; `None` for a
+/// flatland scene, which View3D's format cannot hold).
+///
+/// # Errors
+/// [`format_of`]'s; no form factors; `.vf3` without areas; writing.
+pub fn write(path: &Path, m: &Measurement, areas: Option<&[f64]>) -> Result<()> {
+    let format = format_of(path)?;
+    let Some(ff) = m.form_factors() else {
+        bail!("{}: no form factors to write", path.display());
+    };
+    let text = match format {
+        MatrixFormat::Csv => csv(ff)?,
+        MatrixFormat::Sizes => sizes_text(ff)?,
+        MatrixFormat::Sparse => sparse_text(m),
+        MatrixFormat::View3d => {
+            let Some(areas) = areas else {
+                bail!(
+                    "{}: View3D's format (.vf3) holds a 3D scene's patches and their areas: \
+                     use .ijv or .csv",
+                    path.display()
+                );
+            };
+            view3d_text(ff, areas)?
+        }
+    };
+    write_atomic(path, text.as_bytes())
+}
+
+/// The sparse matrix: a comment line, then one line `i,j,F_ij,err_ij` per non-zero entry,
+/// rows in order, columns increasing within a row (the compressed-row order), `err_ij` the
+/// entry's error estimate (0 for an exact entry; empty for Monte Carlo, whose errors are
+/// statistical, and for the background state). Shortest round-trip decimals.
+fn sparse_text(m: &Measurement) -> String {
+    let (n, np, background) = m.form_factors().map_or((0, 0, false), |f| {
+        (f.n_states(), f.n_patches(), f.has_background())
+    });
+    let estimated = m.exact_errors().is_some();
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "# sceneinfo form factors, sparse: {n} states ({np} patches{}); i,j,F_ij,error estimate",
+        if background { ", background last" } else { "" }
+    );
+    m.for_each_form_factor(|i, j, v, error| {
+        let _ = match error {
+            Some(e) if estimated => writeln!(s, "{i},{j},{v:?},{e:?}"),
+            Some(_) => writeln!(s, "{i},{j},{v:?},0"),
+            None => writeln!(s, "{i},{j},{v:?},"),
+        };
+    });
+    s
+}
+
+/// A header line with the number of states, a line with the relative sizes (areas,
+/// lengths) of the states, then one row of `F` per line, space-separated.
+fn sizes_text(ff: &FormFactors) -> Result<String> {
+    let n = ff.n_states();
+    let mut s = String::with_capacity(n * n * 12);
+    let _ = writeln!(
+        s,
+        "# sceneinfo form factors: {n} states; line 2: relative sizes; then F rows"
+    );
+    let _ = writeln!(s, "{n}");
+    for (k, w) in ff.weights().iter().enumerate() {
+        if k > 0 {
+            s.push(' ');
+        }
+        let _ = write!(s, "{w:?}");
+    }
+    s.push('\n');
+    rows(ff, |row| {
+        for (k, v) in row.iter().enumerate() {
+            if k > 0 {
+                s.push(' ');
+            }
+            let _ = write!(s, "{v:?}");
+        }
+        s.push('\n');
+    })?;
+    Ok(s)
+}
+
+/// View3D's text output of the patches' form factors (the background state left out).
+fn view3d_text(ff: &FormFactors, areas: &[f64]) -> Result<String> {
+    let np = ff.n_patches();
+    if areas.len() != np {
+        bail!("{} areas for {np} patches", areas.len());
+    }
+    let mut row = vec![0.0; ff.n_states()];
+    crate::formats::view3d_out::write_text(areas, |i, out| {
+        ff.dense_row_into(i, &mut row)
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+        out.copy_from_slice(&row[..np]);
+        Ok(())
+    })
+}
