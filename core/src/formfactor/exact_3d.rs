@@ -45,7 +45,10 @@
 //!   `|K₁₅ − G₇|` per piece is below its share of `2π · 10⁻¹² min(A_i, A_j) / (m_i m_j)`
 //!   (`m` = number of clipped edges), so their total estimated error in `F_ij` and `F_ji` is
 //!   at most 10⁻¹². `|K₁₅ − G₇|` overestimates the error of `K₁₅` for integrands analytic on
-//!   the interval, which skew segments (that never touch) give.
+//!   the interval, which skew segments (that never touch) give. A pair a rounding away
+//!   from perpendicular (`J_pq ∝ e_p · e_q`) whose `|J_pq|` is bounded below half its share
+//!   is skipped instead (`Kernel::negligible` in `contour.rs`): axis-aligned meshes whose
+//!   coordinates are not binary fractions have ~10⁵ such pairs at 600 patches.
 //! - Rounding: the edge-pair terms cancel, from about `r²` (the polygons' distance squared)
 //!   down to `A_i A_j / r²`. Their sum is compensated, so `F_ij` carries an absolute error of
 //!   a few ulps of `Σ|J_pq| / (2π A_i)`: below 10⁻¹² for the 10 × 10-per-face cube, and below
@@ -58,10 +61,12 @@
 //!
 //! # Cost
 //!
-//! `O(m_i m_j)` transcendental evaluations per pair of closed-form edges (a few per edge
-//! pair), about 15 per skew pair and Kronrod step. The full matrix is computed once per
-//! unordered pair and filled by reciprocity (2.8), `F_ji = A_i F_ij / A_j`; pairs that do not
-//! face each other, including coplanar ones, cost one vertex pass.
+//! `O(m_i m_j)` transcendental evaluations per pair of closed-form edges (4 logarithms and
+//! 4 arctangents per parallel edge pair), about 15 per skew pair and Kronrod step; edge
+//! directions are computed once per clipped edge, not per edge pair. The full matrix is
+//! computed once per unordered pair and filled by reciprocity (2.8), `F_ji = A_i F_ij / A_j`;
+//! pairs that do not face each other, including coplanar ones, cost one vertex pass. The
+//! 600-patch cube (callgrind, one thread): about 5 800 instructions per facing pair.
 
 mod contour;
 #[cfg(feature = "alloc")]
