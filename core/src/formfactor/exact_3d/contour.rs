@@ -33,6 +33,11 @@ const PARALLEL_SINE: f64 = 1e-11;
 /// `10⁻¹⁵ L_p L_q (1 + |ln r/ℓ|)`.
 const PERPENDICULAR_COSINE: f64 = 1e-15;
 
+/// Largest `|cos|` for which a pair headed for quadrature is first tested for a negligible
+/// integral (`Kernel::negligible`): far below any angle a mesh means, far above the
+/// rounding of axis-aligned coordinates. Larger cosines are integrated without the test.
+const SMALL_COSINE: f64 = 1e-9;
+
 /// Relative tolerance under which two lines count as coplanar (their distance, relative to
 /// the segments' size and offset).
 const COPLANAR: f64 = 1e-12;
@@ -84,6 +89,55 @@ const WG: [f64; 4] = [
     0.417_959_183_673_469_4,
 ];
 
+/// `|v|`, the same bits as glam's `length` (a correctly rounded square root of the same
+/// sum), through [`math::sqrt`]: glam calls libm's portable square root, which on wasm32
+/// costs many times the `f64.sqrt` instruction.
+#[inline]
+pub(super) fn length3(v: DVec3) -> f64 {
+    math::sqrt(v.length_squared())
+}
+
+/// `atan2(u, h)`, the same bits: for `h > 0` libm's `atan2` is `atan(u / h)` (it computes
+/// `±atan(|u/h|)`, `atan` is odd, and both give the same `±π/2` once `|u/h| > 2⁶⁴`), without
+/// `atan2`'s quadrant tests.
+#[inline]
+fn atan_ratio(u: f64, h: f64) -> f64 {
+    if h > 0.0 {
+        math::atan(u / h)
+    } else {
+        math::atan2(u, h)
+    }
+}
+
+/// An edge `start → end` of a (clipped) polygon with its length and unit direction,
+/// computed once and used against every edge of the other polygon.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Edge {
+    /// First endpoint.
+    pub start: DVec3,
+    /// Second endpoint.
+    pub end: DVec3,
+    /// `(end − start) / length` (not finite for a zero-length edge, which adds nothing).
+    pub dir: DVec3,
+    /// `|end − start|`.
+    pub length: f64,
+}
+
+impl Edge {
+    /// The edge `start → end`.
+    #[inline]
+    pub fn new(start: DVec3, end: DVec3) -> Self {
+        let d = end - start;
+        let length = length3(d);
+        Self {
+            start,
+            end,
+            dir: d / length,
+            length,
+        }
+    }
+}
+
 /// Shared parameters of the edge-pair integrals of one polygon pair.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Kernel {
@@ -108,7 +162,7 @@ impl Kernel {
         if r2 == 0.0 {
             return 0.0;
         }
-        0.25 * (u * u - h * h) * self.log_ratio(r2) + h * u * math::atan2(u, h)
+        0.25 * (u * u - h * h) * self.log_ratio(r2) + h * u * atan_ratio(u, h)
     }
 
     /// `F₁(u) = ½ u ln((u² + h²)/ℓ²) + ½ u + h atan(u/h)`, the antiderivative in `u` of
@@ -121,7 +175,7 @@ impl Kernel {
         } else {
             0.5 * u * self.log_ratio(r2)
         };
-        log_term + 0.5 * u + h * math::atan2(u, h)
+        log_term + 0.5 * u + h * atan_ratio(u, h)
     }
 
     /// The coplanar antiderivative `H(s, t)` with `∂²H/∂s∂t = κ(r)`,
@@ -158,21 +212,29 @@ impl Kernel {
     }
 
     /// `J_pq` for the segments `p0 → p1` and `q0 → q1`.
+    #[cfg(test)]
     pub fn edge_pair(&self, p0: DVec3, p1: DVec3, q0: DVec3, q1: DVec3) -> f64 {
-        let (dp, dq) = (p1 - p0, q1 - q0);
-        let (lp, lq) = (dp.length(), dq.length());
+        self.edges(&Edge::new(p0, p1), &Edge::new(q0, q1))
+    }
+
+    /// `J_pq` for the edges `p` and `q` (directions and lengths computed once per edge, not
+    /// once per pair: the same bits as from the endpoints).
+    #[inline]
+    pub fn edges(&self, p: &Edge, q: &Edge) -> f64 {
+        let (lp, lq) = (p.length, q.length);
         if !(lp > 0.0 && lq > 0.0) {
             return 0.0;
         }
-        let (e1, e2) = (dp / lp, dq / lq);
+        let (e1, e2) = (p.dir, q.dir);
         let c = e1.dot(e2);
         if c.abs() <= PERPENDICULAR_COSINE {
             return 0.0;
         }
         let cross = e1.cross(e2);
-        let sn = cross.length();
+        let sn = length3(cross);
+        let (p0, q0) = (p.start, q.start);
         if sn <= PARALLEL_SINE {
-            return self.parallel(p0, e1, lp, q0, q1);
+            return self.parallel(p0, e1, lp, q0, q.end);
         }
         let w = p0 - q0;
         let (w1, w2) = (w.dot(e1), w.dot(e2));
@@ -180,7 +242,7 @@ impl Kernel {
         let s_star = (c * w2 - w1) / (sn * sn);
         let t_star = w2 + c * s_star;
         let gap = w.dot(cross).abs() / sn;
-        let size = lp + lq + w.length();
+        let size = lp + lq + length3(w);
         if gap <= COPLANAR * size {
             let (s0, s1) = (-s_star, lp - s_star);
             let (t0, t1) = (-t_star, lq - t_star);
@@ -194,7 +256,33 @@ impl Kernel {
                 return c * h;
             }
         }
+        if c.abs() <= SMALL_COSINE && self.negligible(c, lp, lq, size) {
+            return 0.0;
+        }
         c * self.outer_quadrature(p0, e1, lp, q0, e2, lq, s_star)
+    }
+
+    /// Whether `|J_pq|` is at most half the tolerance of its quadrature, so the pair can be
+    /// skipped: `J_pq = c I` with `I = ∫_p ∫_q κ`, and with `R = |p₀ − q₀| + L_p + L_q`
+    /// (at least every distance `r` between the segments) and `κ = ln(R/ℓ) − ln(R/r) + 3/2`,
+    ///
+    /// ```text
+    /// |I| ≤ L_p L_q (|ln(R/ℓ)| + 3/2) + ∫_p ∫_q ln(R/r)
+    ///     ≤ L_p L_q (|ln(R/ℓ)| + 5/2 + ln(2R/L_q))
+    /// ```
+    ///
+    /// (for each point of `p`, `r` is at least the distance along `q`'s line to its foot
+    /// `t₀`, and `∫_0^{L_q} ln(R/|t − t₀|) dt` is largest for `t₀ = L_q/2`). Edges a rounding
+    /// away from perpendicular (axis-aligned meshes whose coordinates are not exact binary
+    /// fractions, `|c| ≈ 10⁻¹⁵`) would otherwise cost a Gauss–Kronrod integral each for a
+    /// term below the quadrature's own error.
+    fn negligible(&self, c: f64, lp: f64, lq: f64, size: f64) -> bool {
+        let big_r = size;
+        let bound = c.abs()
+            * lp
+            * lq
+            * ((0.5 * self.log_ratio(big_r * big_r)).abs() + 2.5 + math::ln(2.0 * big_r / lq));
+        bound <= 0.5 * self.tol
     }
 
     /// Parallel (or antiparallel) segments: with coordinates `a` along `e` from `p0` and the
@@ -209,7 +297,7 @@ impl Kernel {
         let (v0, v1) = (q0 - p0, q1 - p0);
         let (b0, b1) = (v0.dot(e), v1.dot(e));
         // Mean perpendicular offset of q's endpoints (equal up to rounding).
-        let h = 0.5 * ((v0 - b0 * e) + (v1 - b1 * e)).length();
+        let h = 0.5 * length3((v0 - b0 * e) + (v1 - b1 * e));
         let (a0, a1) = (0.0, lp);
         self.f2(a1 - b0, h) + self.f2(a0 - b1, h) - self.f2(a0 - b0, h) - self.f2(a1 - b1, h)
     }
@@ -235,7 +323,7 @@ impl Kernel {
         let g = |s: f64| -> f64 {
             // Foot of p(s) on q's line at coordinate a; h its distance from the line.
             let a = w2 + s * c;
-            let h = (w_perp + s * e1_perp).length();
+            let h = length3(w_perp + s * e1_perp);
             self.f1(lq - a, h) - self.f1(-a, h)
         };
         let tol = self.tol;

@@ -11,6 +11,10 @@ use crate::geom::DVec3;
 /// form a null set; an occluder reaching deeper than this is reported.
 pub(crate) const TOUCH: f64 = 1e-9;
 
+/// Relative rounding allowance of a computed distance, far above the few ulps of a dot
+/// product, for deciding a polygon's side of a plane by its bounding sphere.
+const SPHERE_SLACK: f64 = 1e-12;
+
 /// Whether some polygon **may** block a line between two others, so the unoccluded form
 /// factors of [`super::form_factors_unoccluded`] could be wrong. Conservative: `false`
 /// guarantees that no polygon meets the interior of the sight region of any facing pair.
@@ -32,8 +36,9 @@ pub(crate) const TOUCH: f64 = 1e-9;
 /// Returns `true` for invalid input (a range outside `points`, fewer than three vertices,
 /// zero area, non-finite coordinates): nothing can be vouched for.
 ///
-/// Cost: `O(n² m)` for the bit sets and `O(n³ / 64)` word operations for the pairs, plus the
-/// separating-axis tests of the surviving candidates.
+/// Cost: `O(n²)` for the bit sets (`O(m)` more per polygon whose bounding sphere straddles
+/// a plane) and `O(n³ / 64)` word operations for the pairs, plus the separating-axis tests
+/// of the surviving candidates.
 #[must_use]
 pub fn may_be_occluded(points: &[DVec3], polygons: &[(usize, usize)]) -> bool {
     let Ok(polys) = super::planes(points, polygons) else {
@@ -51,18 +56,32 @@ pub fn may_be_occluded(points: &[DVec3], polygons: &[(usize, usize)]) -> bool {
     let words = n.div_ceil(64);
     let mut front = vec![0u64; n * words];
     let mut back = vec![0u64; n * words];
+    // Rounding allowance of a distance, for the bounding-sphere shortcut below.
+    let slack = SPHERE_SLACK * hi.abs().max(lo.abs()).max_element();
     for (k, (_, pk)) in polys.iter().enumerate() {
-        for (i, (vi, _)) in polys.iter().enumerate() {
-            let (mut d_min, mut d_max) = (f64::INFINITY, f64::NEG_INFINITY);
-            for &v in vi.iter() {
-                let d = pk.distance(v);
-                d_min = d_min.min(d);
-                d_max = d_max.max(d);
-            }
-            if d_min >= -tol {
+        for (i, (vi, pi)) in polys.iter().enumerate() {
+            // Every vertex lies within `radius` of the centroid, a convex combination of the
+            // vertices: a sphere clear of the band |d| ≤ tol decides both bits as the vertex
+            // loop would (its d_min and d_max lie on the sphere's side of the band).
+            let dc = pk.distance(pi.centroid);
+            let reach = pi.radius * (1.0 + SPHERE_SLACK) + slack;
+            let (is_front, is_back) = if dc - reach > tol {
+                (true, false)
+            } else if dc + reach < -tol {
+                (false, true)
+            } else {
+                let (mut d_min, mut d_max) = (f64::INFINITY, f64::NEG_INFINITY);
+                for &v in vi.iter() {
+                    let d = pk.distance(v);
+                    d_min = d_min.min(d);
+                    d_max = d_max.max(d);
+                }
+                (d_min >= -tol, d_max <= tol)
+            };
+            if is_front {
                 front[i * words + k / 64] |= 1 << (k % 64);
             }
-            if d_max <= tol {
+            if is_back {
                 back[i * words + k / 64] |= 1 << (k % 64);
             }
         }
