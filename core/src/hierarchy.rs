@@ -38,9 +38,9 @@
 mod choice;
 #[cfg(feature = "alloc")]
 mod compare;
-mod element;
 #[cfg(feature = "alloc")]
-mod image;
+mod decision_map;
+mod element;
 mod kernel;
 #[cfg(feature = "alloc")]
 mod mc_compare;
@@ -54,6 +54,8 @@ mod oracle_checks;
 #[cfg(feature = "alloc")]
 mod reference_noise;
 #[cfg(feature = "alloc")]
+mod rendering;
+#[cfg(feature = "alloc")]
 mod target;
 #[cfg(all(test, feature = "std"))]
 mod tests;
@@ -66,13 +68,13 @@ pub use choice::OracleChoice3;
 #[cfg(feature = "alloc")]
 pub use compare::OracleComparison;
 #[cfg(feature = "alloc")]
-pub use image::{ImageError, render_gouraud};
-#[cfg(feature = "alloc")]
 pub use mc_compare::{McComparison, McReference};
 #[cfg(feature = "alloc")]
 pub use monte_carlo::{McHierarchy, McOptions, McOracle};
 #[cfg(feature = "alloc")]
 pub use reference_noise::ReferenceNoise;
+#[cfg(feature = "alloc")]
+pub use rendering::{ImageError, render_gouraud};
 
 #[cfg(all(test, feature = "alloc"))]
 use tree::Element;

@@ -7,8 +7,8 @@ use alloc::vec::Vec;
 
 use crate::error::Result;
 use crate::geom::DVec3;
-use crate::hierarchy::image::{ImageError, ImageReference, LeafShade, leaf_vertex_radiosities};
 use crate::hierarchy::monte_carlo::{McHierarchy, McOptions, McOracle};
+use crate::hierarchy::rendering::{ImageError, ImageReference, LeafShade, leaf_vertex_radiosities};
 use crate::hierarchy::target::{ThresholdSearch, bad_target, check_target, first_threshold};
 use crate::hierarchy::tree::Hierarchy;
 use crate::image::Camera3;
@@ -26,6 +26,16 @@ pub(crate) const MAX_MC_TARGET_BUILDS: usize = 40;
 /// of `target` or after [`MAX_MC_TARGET_BUILDS`] solves. Every solve uses the same seed, so
 /// the leaf count is a step function of `ε` (not always monotone: a split changes which
 /// element pairs later rays meet); the nearest is kept, ties to the earlier.
+///
+/// Two shortcuts leave the result bit for bit what solving every threshold gives:
+/// - a solve that refined nothing linked every pair because its value lay below `ε`
+///   (or no split was allowed, whatever `ε`); at any `ε'` above the largest such value
+///   ([`McHierarchy::linked_max`]) every decision, ray and radiosity is the same, so that
+///   solve is not repeated;
+/// - a solve is stopped once it has `target + d` leaves, `d` the best distance so far
+///   ([`McHierarchy::solve_capped`]; leaves are never merged): it can no longer be the
+///   nearest (ties go to the earlier), nor within 1 % (`d` is not), and the search only
+///   needs to know it reached `target`.
 ///
 /// # Errors
 /// [`BadParameter`](crate::error::ErrorKind::BadParameter) for `target = 0`; those of
@@ -45,19 +55,32 @@ pub(crate) fn mc_build_to_target(
     .n_leaves();
     let distance = |n: usize| n.abs_diff(target);
     let mut best: Option<(f64, McHierarchy)> = None;
+    // The largest value linked by a solve that refined nothing: the same solve above it
+    let mut unrefined_above: Option<f64> = None;
     let mut search = ThresholdSearch::new(first_threshold(scene, name), 1.0 + 1e-4);
     for _ in 0..MAX_MC_TARGET_BUILDS {
         let eps = search.eps();
-        let h = McHierarchy::solve(scene, McOracle::new(name, eps)?, opts)?;
-        let n = h.n_leaves();
-        let unrefined = n == roots;
-        if best
-            .as_ref()
-            .is_none_or(|(_, b)| distance(n) < distance(b.n_leaves()))
-        {
-            best = Some((eps, h));
-        }
-        if distance(n) * 100 <= target || search.next(n, target, unrefined).is_none() {
+        let n = if unrefined_above.is_some_and(|v| eps > v) {
+            roots
+        } else {
+            let cap = best.as_ref().map_or(usize::MAX, |(_, b)| {
+                target.saturating_add(distance(b.n_leaves()))
+            });
+            let h = McHierarchy::solve_capped(scene, McOracle::new(name, eps)?, opts, cap)?;
+            let n = h.n_leaves();
+            if n == roots && n < cap {
+                // Finished (not stopped by the cap) and unrefined
+                unrefined_above = Some(h.linked_max());
+            }
+            if best
+                .as_ref()
+                .is_none_or(|(_, b)| distance(n) < distance(b.n_leaves()))
+            {
+                best = Some((eps, h));
+            }
+            n
+        };
+        if distance(n) * 100 <= target || search.next(n, target, n == roots).is_none() {
             break;
         }
     }
@@ -102,6 +125,14 @@ pub struct McComparison {
     /// ([`McReference::halves`]; empty without them): how much the reference's noise moves
     /// [`McComparison::rms_error`] (`reference_noise`).
     pub rms_error_halves: Vec<f64>,
+    /// [`McComparison::mesh_rms_error`] against each of the reference's halves (empty
+    /// without them, or without a frozen re-solve).
+    pub mesh_rms_error_halves: Vec<f64>,
+    /// [`McComparison::boundary_rms_error`] against each of the reference's halves.
+    pub boundary_rms_error_halves: Vec<f64>,
+    /// [`McComparison::image_errors`] against each of the reference's halves (per half,
+    /// per view).
+    pub image_errors_halves: Vec<Vec<ImageError>>,
 }
 
 /// Fraction of the reference's leaves counted as lying on shadow boundaries by
@@ -116,31 +147,37 @@ pub(crate) const BOUNDARY_FRACTION: f64 = 0.1;
 /// v_e = max over the leaf's vertices and channels |B̂_vertex − B_e|
 /// ```
 ///
-/// (`B̂` the Gouraud vertex radiosities), as `(vertices, B)` pairs. The thesis judges its meshes by their shadows ("the shadow of the
+/// (`B̂` the Gouraud vertex radiosities), as indices into `leaves`, largest first. The thesis judges its meshes by their shadows ("the shadow of the
 /// small cube gets an accurate representation"), which an RMS over the whole area barely
 /// weighs; the RMS over these leaves does.
-fn boundary_of(leaves: &[LeafShade<'_>], fraction: f64) -> Vec<(Vec<DVec3>, [f64; 3])> {
+fn boundary_of(leaves: &[LeafShade<'_>], fraction: f64) -> Vec<usize> {
     let vertex = leaf_vertex_radiosities(leaves);
-    let mut scored: Vec<(f64, &LeafShade<'_>)> = leaves
+    let mut scored: Vec<(f64, usize)> = leaves
         .iter()
         .zip(&vertex)
-        .map(|(e, vb)| {
+        .enumerate()
+        .map(|(k, (e, vb))| {
             let mut v = 0.0f64;
             for b in &vb[..e.polygon.vertices().len()] {
                 for (bv, be) in b.iter().zip(e.radiosity) {
                     v = v.max((bv - be).abs());
                 }
             }
-            (v, e)
+            (v, k)
         })
         .collect();
     scored.sort_by(|a, b| b.0.total_cmp(&a.0));
     let keep =
         ((scored.len() as f64 * fraction.clamp(0.0, 1.0)) as usize).clamp(1, scored.len().max(1));
-    scored
-        .into_iter()
-        .take(keep)
-        .map(|(_, e)| (e.polygon.vertices().to_vec(), e.radiosity))
+    scored.into_iter().take(keep).map(|(_, k)| k).collect()
+}
+
+/// The leaves `which` of `leaves` as `(vertices, B)` pairs, in that order.
+fn leaves_at(leaves: &[LeafShade<'_>], which: &[usize]) -> Vec<(Vec<DVec3>, [f64; 3])> {
+    which
+        .iter()
+        .filter_map(|&k| leaves.get(k))
+        .map(|e| (e.polygon.vertices().to_vec(), e.radiosity))
         .collect()
 }
 
@@ -157,6 +194,12 @@ pub struct McReference {
     /// When the reference is the mean of independent solves of its mesh
     /// ([`McHierarchy::mean_with`]): each solve's leaves (empty otherwise).
     pub halves: Vec<Vec<(Vec<DVec3>, [f64; 3])>>,
+    /// Per solve of `halves`, its leaves at the mean's boundary leaves.
+    pub boundary_halves: Vec<Vec<(Vec<DVec3>, [f64; 3])>>,
+    /// Per solve of `halves`, its pictures (the mean's views, tone map and edge pixels).
+    pub image_halves: Vec<Vec<ImageReference>>,
+    /// The indices of the boundary leaves in the reference's leaves.
+    boundary_index: Vec<usize>,
 }
 
 impl McReference {
@@ -170,15 +213,47 @@ impl McReference {
             .iter()
             .map(|v| ImageReference::new(scene, leaves, v, BOUNDARY_FRACTION))
             .collect::<Result<Vec<_>>>()?;
+        let boundary_index = boundary_of(leaves, BOUNDARY_FRACTION);
         Ok(Self {
             leaves: leaves
                 .iter()
                 .map(|l| (l.polygon.vertices().to_vec(), l.radiosity))
                 .collect(),
-            boundary: boundary_of(leaves, BOUNDARY_FRACTION),
+            boundary: leaves_at(leaves, &boundary_index),
             images,
             halves: Vec::new(),
+            boundary_halves: Vec::new(),
+            image_halves: Vec::new(),
+            boundary_index,
         })
+    }
+
+    /// This reference (the mean of `halves`, [`McHierarchy::mean_with`]) with each of its
+    /// independent solves kept — its leaves, its boundary leaves and its pictures — so that
+    /// every comparison also measures its errors against each
+    /// ([`McComparison::rms_error_halves`] and the like;
+    /// [`McComparison::reference_error`]).
+    ///
+    /// # Errors
+    /// Those of [`render_gouraud`](super::render_gouraud).
+    pub fn with_halves(mut self, scene: &Scene3, halves: &[&McHierarchy]) -> Result<Self> {
+        self.halves.clear();
+        self.boundary_halves.clear();
+        self.image_halves.clear();
+        for h in halves {
+            let leaves = h.shaded_leaves();
+            self.halves
+                .push(leaves_at(&leaves, &(0..leaves.len()).collect::<Vec<_>>()));
+            self.boundary_halves
+                .push(leaves_at(&leaves, &self.boundary_index));
+            self.image_halves.push(
+                self.images
+                    .iter()
+                    .map(|r| r.with_picture_of(scene, &leaves))
+                    .collect::<Result<Vec<_>>>()?,
+            );
+        }
+        Ok(self)
     }
 
     fn rms(&self, h: &McHierarchy) -> Result<f64> {
@@ -220,11 +295,19 @@ impl McComparison {
         let rms_error = reference.rms(&h)?;
         let boundary_rms_error =
             h.rms_difference(reference.boundary.iter().map(|(p, b)| (p.as_slice(), *b)))?;
-        let mesh_rms_error = if frozen_rays > 0 {
+        let against = |m: &McHierarchy, leaves: &[(Vec<DVec3>, [f64; 3])]| {
+            m.rms_difference(leaves.iter().map(|(p, b)| (p.as_slice(), *b)))
+        };
+        let (mesh_rms_error, mesh_rms_error_halves) = if frozen_rays > 0 {
             let f = h.resolve_frozen(scene, frozen_rays, FROZEN_SEED ^ opts.seed)?;
-            Some(reference.rms(&f)?)
+            let halves = reference
+                .halves
+                .iter()
+                .map(|half| against(&f, half))
+                .collect::<Result<Vec<_>>>()?;
+            (Some(reference.rms(&f)?), halves)
         } else {
-            None
+            (None, Vec::new())
         };
         let leaves = h.shaded_leaves();
         let image_errors = reference
@@ -232,7 +315,22 @@ impl McComparison {
             .iter()
             .map(|r| r.error(scene, &leaves))
             .collect::<Result<Vec<_>>>()?;
+        let image_errors_halves = reference
+            .image_halves
+            .iter()
+            .map(|views| {
+                views
+                    .iter()
+                    .map(|r| r.error(scene, &leaves))
+                    .collect::<Result<Vec<_>>>()
+            })
+            .collect::<Result<Vec<_>>>()?;
         drop(leaves);
+        let boundary_rms_error_halves = reference
+            .boundary_halves
+            .iter()
+            .map(|half| against(&h, half))
+            .collect::<Result<Vec<_>>>()?;
         let rms_error_halves = reference
             .halves
             .iter()
@@ -253,6 +351,9 @@ impl McComparison {
             boundary_rms_error,
             image_errors,
             rms_error_halves,
+            mesh_rms_error_halves,
+            boundary_rms_error_halves,
+            image_errors_halves,
         };
         Ok((c, h))
     }
@@ -308,6 +409,71 @@ impl McHierarchy {
                 ..McOptions::default()
             },
         )
+    }
+}
+
+/// Distance from `p` to the convex polygon `v` with unit normal `n`: to its plane where
+/// `p` projects inside it, else to its nearest edge.
+fn distance_to_polygon(p: DVec3, v: &[DVec3], n: DVec3) -> f64 {
+    let Some(&v0) = v.first() else {
+        return f64::INFINITY;
+    };
+    let plane = n.dot(p - v0);
+    let q = p - n * plane;
+    let inside = (0..v.len()).all(|k| {
+        let (a, b) = (v[k], v[(k + 1) % v.len()]);
+        (b - a).cross(q - a).dot(n) >= 0.0
+    });
+    if inside {
+        return plane.abs();
+    }
+    (0..v.len())
+        .map(|k| {
+            let (a, b) = (v[k], v[(k + 1) % v.len()]);
+            let e = b - a;
+            let t = (e.dot(p - a) / e.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+            (a + e * t - p).length()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+impl McHierarchy {
+    /// The share of the leaves whose centroid lies within `within` (scene units) of a patch
+    /// of `scene` that is not parallel to the leaf's own: leaves along *junctions*, where two
+    /// surfaces meet and the point kernel is unbounded, so that the kernel-smoothness
+    /// oracles (2.49), (2.50) read large values at any element size. How much of a mesh a
+    /// KS oracle spends there (docs/chapter6-protocol.md, Fig. 6.10).
+    #[must_use]
+    pub fn share_near_junctions(&self, scene: &Scene3, within: f64) -> f64 {
+        let patches: Vec<(&[DVec3], DVec3, DVec3, DVec3)> = (0..scene.n_patches())
+            .map(|q| {
+                let v = scene.patch_vertices(q);
+                let (mut lo, mut hi) =
+                    (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+                for &x in v {
+                    lo = lo.min(x);
+                    hi = hi.max(x);
+                }
+                (v, scene.patches()[q].normal, lo, hi)
+            })
+            .collect();
+        let (mut near, mut all) = (0usize, 0usize);
+        for e in self.elements().iter().filter(|e| e.is_leaf()) {
+            all += 1;
+            let c = e.polygon.centroid();
+            let close = patches.iter().any(|&(v, n, lo, hi)| {
+                let outside = (lo - c).max(c - hi).max(DVec3::ZERO);
+                outside.length() < within
+                    && n.dot(e.normal).abs() < 1.0 - 1e-6
+                    && distance_to_polygon(c, v, n) < within
+            });
+            near += usize::from(close);
+        }
+        if all == 0 {
+            0.0
+        } else {
+            near as f64 / all as f64
+        }
     }
 }
 
@@ -465,6 +631,98 @@ mod tests {
         }
         let (p, m) = (mean_spread(&power).0, mean_spread(&mi).0);
         assert!(m < p, "MI {mi:?} power {power:?}");
+    }
+
+    /// The search without its shortcuts (every threshold solved to the end), as
+    /// `mc_build_to_target` was written before them.
+    fn plain_search(
+        scene: &Scene3,
+        name: &str,
+        target: usize,
+        opts: &McOptions,
+    ) -> (f64, McHierarchy) {
+        let roots = McHierarchy::solve(
+            scene,
+            McOracle::new(name, f64::MAX).unwrap(),
+            &McOptions { rays: 1, ..*opts },
+        )
+        .unwrap()
+        .n_leaves();
+        let distance = |n: usize| n.abs_diff(target);
+        let mut best: Option<(f64, McHierarchy)> = None;
+        let mut search = ThresholdSearch::new(first_threshold(scene, name), 1.0 + 1e-4);
+        for _ in 0..MAX_MC_TARGET_BUILDS {
+            let eps = search.eps();
+            let h = McHierarchy::solve(scene, McOracle::new(name, eps).unwrap(), opts).unwrap();
+            let n = h.n_leaves();
+            if best
+                .as_ref()
+                .is_none_or(|(_, b)| distance(n) < distance(b.n_leaves()))
+            {
+                best = Some((eps, h));
+            }
+            if distance(n) * 100 <= target || search.next(n, target, n == roots).is_none() {
+                break;
+            }
+        }
+        best.unwrap()
+    }
+
+    /// The search's shortcuts (skipping repeats of an unrefined solve, stopping solves that
+    /// overshoot) change nothing: the same threshold and the same mesh, radiosities bit for
+    /// bit, as solving every threshold — per oracle, on the Cornell box and the cube room.
+    #[test]
+    fn search_shortcuts_give_the_plain_search_bit_for_bit() {
+        let bits = |h: &McHierarchy| -> Vec<[u64; 3]> {
+            h.elements()
+                .iter()
+                .map(|e| e.radiosity.map(f64::to_bits))
+                .collect()
+        };
+        for (scene, target, rays) in [
+            (Scene3::cornell_box(false, 1).unwrap(), 150, 3000),
+            (cube_room(), 640, 4000),
+        ] {
+            for (name, pairs) in [("power", 10), ("ks-av", 4), ("mi", 10)] {
+                let o = McOptions {
+                    rays,
+                    pairs,
+                    seed: 5,
+                    ..McOptions::default()
+                };
+                let (e0, h0) = plain_search(&scene, name, target, &o);
+                let (e1, h1) = mc_build_to_target(&scene, name, target, &o).unwrap();
+                assert_eq!(e0.to_bits(), e1.to_bits(), "{name}");
+                assert_eq!(h0.n_leaves(), h1.n_leaves(), "{name}");
+                assert_eq!(h0.oracle_rays(), h1.oracle_rays(), "{name}");
+                assert!(bits(&h0) == bits(&h1), "{name}");
+            }
+        }
+    }
+
+    /// A unit cube's faces split 4×4: a leaf of the floor's corner cell lies within 0.3 of
+    /// two walls, one in the middle of the floor of none; the share counts leaves, and a
+    /// mesh of the floor's cells alone (16 of 96) has the corner and edge cells near.
+    #[test]
+    fn share_near_junctions_counts_leaves_along_edges() {
+        let scene = Scene3::cube(4).unwrap();
+        let h = McHierarchy::solve(
+            &scene,
+            McOracle::Power(f64::MAX),
+            &McOptions {
+                rays: 10,
+                ..McOptions::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(h.n_leaves(), 96);
+        // Cells 0.25 wide: centroids 0.125 from the edges; within 0.2 every cell along an
+        // edge (12 of 16 per face), within 0.1 none.
+        assert_eq!(h.share_near_junctions(&scene, 0.1), 0.0);
+        assert!((h.share_near_junctions(&scene, 0.2) - 0.75).abs() < 1e-12);
+        let p = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+        assert!((distance_to_polygon(DVec3::new(0.5, 0.5, 2.0), &p, DVec3::Z) - 2.0).abs() < 1e-12);
+        assert!((distance_to_polygon(DVec3::new(2.0, 0.5, 0.0), &p, DVec3::Z) - 1.0).abs() < 1e-12);
     }
 
     /// The cube room of Figs. 6.7–6.11 (`scenes/cube_room.obj`).

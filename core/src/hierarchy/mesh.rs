@@ -106,7 +106,7 @@ impl Hierarchy {
     /// whose weld rule (same plane and facing, same material, same point) it documents.
     #[must_use]
     pub fn vertex_radiosities(&self) -> Vec<[[f64; 3]; 4]> {
-        super::image::leaf_vertex_radiosities(&self.shaded_leaves())
+        super::rendering::leaf_vertex_radiosities(&self.shaded_leaves())
     }
 
     /// The leaves as a [`Scene3`] (one patch per leaf, in [`Hierarchy::leaves`] order, with

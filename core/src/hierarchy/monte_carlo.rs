@@ -47,7 +47,6 @@
 //! - Oracle rays (visibility tests of the oracles' point pairs) are counted apart from the
 //!   rays of the radiosity computation, as the thesis' captions do.
 
-use alloc::collections::BTreeMap;
 use alloc::vec;
 use alloc::vec::Vec;
 use core::f64::consts::PI;
@@ -55,6 +54,7 @@ use core::f64::consts::PI;
 use crate::accel::Bvh3;
 use crate::error::{ErrorKind, Result};
 use crate::geom::{self, DVec3};
+use crate::hierarchy::decision_map::DecisionMap;
 use crate::hierarchy::element::Polygon4;
 use crate::hierarchy::kernel::{
     KernelSamples, MAX_PAIRS, NoOccluders, RayCounter, Surface, Visibility,
@@ -197,6 +197,9 @@ pub struct McElement {
     pub radiosity: [f64; 3],
     unshot: [f64; 3],
     received: [f64; 3],
+    /// The diagonal of its vertices' bounding box (`geom::bounds_diagonal`), kept for the
+    /// point location of every ray (`McHierarchy::on`).
+    size: f64,
 }
 
 impl McElement {
@@ -234,8 +237,12 @@ pub struct McHierarchy {
     links: u64,
     iterations: u32,
     escaped: u64,
+    /// The largest oracle value linked because it lay below the threshold (0 when none):
+    /// a solve that refined nothing makes the same decisions, rays and radiosities at any
+    /// threshold above it (`mc_build_to_target` skips those solves).
+    linked_max: f64,
     /// The oracle's decision per (receiver, source) element pair met by a ray.
-    decisions: BTreeMap<(u32, u32), Decision>,
+    decisions: DecisionMap,
 }
 
 /// Tolerance of point location, relative to the element's size.
@@ -249,6 +256,18 @@ impl McHierarchy {
     /// the roots exceed `max_elements`; the errors of [`Bvh3::build`];
     /// [`ErrorKind::NotFinite`] if a radiosity overflows.
     pub fn solve(scene: &Scene3, oracle: McOracle, opts: &McOptions) -> Result<Self> {
+        Self::solve_capped(scene, oracle, opts, usize::MAX)
+    }
+
+    /// [`McHierarchy::solve`], stopped as soon as the mesh has `max_leaves` leaves or more
+    /// (then the solve is unfinished: only its leaf count, a lower bound of the finished
+    /// solve's, may be used — leaves are only ever split, never merged).
+    pub(crate) fn solve_capped(
+        scene: &Scene3,
+        oracle: McOracle,
+        opts: &McOptions,
+        max_leaves: usize,
+    ) -> Result<Self> {
         let bad = |name, value: f64| Err(ErrorKind::BadParameter { name, value }.into());
         if !(1..=MAX_PAIRS).contains(&opts.pairs) {
             return bad("pairs (1 to 64)", opts.pairs as f64);
@@ -260,7 +279,14 @@ impl McHierarchy {
             return bad("min_area", opts.min_area);
         }
         let h = Self::with_roots(scene, opts)?;
-        Self::run(h, scene, Some(oracle), opts)
+        Self::run(h, scene, Some(oracle), opts, max_leaves)
+    }
+
+    /// The largest oracle value this solve linked because it lay below the threshold (0
+    /// when none). When the solve refined nothing, a solve with any threshold above this
+    /// value is the same solve, decision for decision and bit for bit.
+    pub(crate) fn linked_max(&self) -> f64 {
+        self.linked_max
     }
 
     /// The same mesh solved again from `B = E` with `rays` rays and `seed`, refinement
@@ -286,13 +312,13 @@ impl McHierarchy {
             e.received = [0.0; 3];
         }
         (h.rays, h.oracle_rays, h.evaluations, h.links) = (0, 0, 0, 0);
-        (h.iterations, h.escaped) = (0, 0);
+        (h.iterations, h.escaped, h.linked_max) = (0, 0, 0.0);
         let opts = McOptions {
             rays,
             seed,
             ..McOptions::default()
         };
-        Self::run(h, scene, None, &opts)
+        Self::run(h, scene, None, &opts, usize::MAX)
     }
 
     /// The mean of this solve and `other`, a solve of the same mesh (two frozen re-solves
@@ -333,13 +359,16 @@ impl McHierarchy {
         Ok(h)
     }
 
-    /// The iteration of [`McHierarchy::solve`] on `h`; `oracle = None` freezes refinement.
+    /// The iteration of [`McHierarchy::solve`] on `h`; `oracle = None` freezes refinement;
+    /// stops unfinished once the mesh has `max_leaves` leaves.
     fn run(
         mut h: Self,
         scene: &Scene3,
         oracle: Option<McOracle>,
         opts: &McOptions,
+        max_leaves: usize,
     ) -> Result<Self> {
+        let mut n_leaves = h.n_leaves();
         let polygons: Vec<(usize, usize)> =
             scene.patches().iter().map(|p| (p.first, p.count)).collect();
         let bvh = Bvh3::build(scene.points(), &polygons)?;
@@ -427,30 +456,41 @@ impl McHierarchy {
                 };
                 // Per-ray refinement, at most 2·MAX_DEPTH steps
                 for _ in 0..=2 * MAX_DEPTH {
-                    let d = match cache.get(&(r, s)) {
-                        Some(&d) => d,
+                    let d = match cache.get(r, s) {
+                        Some(d) => d,
                         None => {
                             let Some(oracle) = oracle else { break };
-                            let d = h.decide(r, s, oracle, opts, &counter, min_child);
+                            let (d, below) = h.decide(r, s, oracle, opts, &counter, min_child);
                             h.evaluations += 1;
                             if d == Decision::Link {
                                 h.links += 1;
                             }
-                            cache.insert((r, s), d);
+                            if let Some(v) = below {
+                                h.linked_max = h.linked_max.max(v);
+                            }
+                            cache.insert(r, s, d);
                             d
                         }
                     };
                     match d {
                         Decision::Link => break,
                         Decision::RefineReceiver => {
+                            n_leaves += 3 * usize::from(h.elements[r as usize].is_leaf());
                             let c = h.split(r);
                             r = h.child_at(c, y);
                         }
                         Decision::RefineSource => {
+                            n_leaves += 3 * usize::from(h.elements[s as usize].is_leaf());
                             let c = h.split(s);
                             s = h.child_at(c, x);
                         }
                     }
+                }
+                if n_leaves >= max_leaves {
+                    // Unfinished: only the leaf count may be used (`solve_capped`)
+                    h.oracle_rays = counter.rays();
+                    h.decisions = cache;
+                    return Ok(h);
                 }
                 let e = &mut h.elements[r as usize];
                 let area = e.area;
@@ -490,6 +530,7 @@ impl McHierarchy {
                 check_root_budget(elements.len(), opts.max_elements)?;
                 roots.push(elements.len() as u32);
                 elements.push(McElement {
+                    size: geom::bounds_diagonal(poly.vertices()),
                     area: poly.area(),
                     polygon: poly,
                     patch: k as u32,
@@ -516,12 +557,14 @@ impl McHierarchy {
             links: 0,
             iterations: 0,
             escaped: 0,
-            decisions: BTreeMap::new(),
+            linked_max: 0.0,
+            decisions: DecisionMap::default(),
         })
     }
 
     /// The oracle's decision for receiver `r`, source `s`, made a link where a split is not
-    /// allowed (smallest area, depth, element budget).
+    /// allowed (smallest area, depth, element budget); with the oracle's value when it lay
+    /// below the threshold.
     fn decide(
         &self,
         r: u32,
@@ -530,7 +573,7 @@ impl McHierarchy {
         opts: &McOptions,
         vis: &RayCounter<'_, dyn Visibility + '_>,
         min_child: f64,
-    ) -> Decision {
+    ) -> (Decision, Option<f64>) {
         let (er, es) = (&self.elements[r as usize], &self.elements[s as usize]);
         let pair = Pair {
             receiver: er.side(),
@@ -572,7 +615,7 @@ impl McHierarchy {
             }
         };
         if value < eps {
-            return Decision::Link;
+            return (Decision::Link, Some(value));
         }
         let d = pair.refine_larger();
         let e = if d == Decision::RefineReceiver {
@@ -584,7 +627,7 @@ impl McHierarchy {
             || (e.depth < MAX_DEPTH
                 && e.area * 0.25 >= min_child
                 && self.elements.len() + 4 <= opts.max_elements);
-        if can { d } else { Decision::Link }
+        (if can { d } else { Decision::Link }, None)
     }
 
     fn split(&mut self, e: u32) -> u32 {
@@ -596,6 +639,7 @@ impl McHierarchy {
         let parent = el.clone();
         for poly in parent.polygon.split() {
             self.elements.push(McElement {
+                size: geom::bounds_diagonal(poly.vertices()),
                 area: poly.area(),
                 polygon: poly,
                 children: NONE,
@@ -610,7 +654,7 @@ impl McHierarchy {
 
     fn on(e: &McElement, p: DVec3) -> bool {
         let v = e.polygon.vertices();
-        let size = geom::bounds_diagonal(v).max(p.abs().max_element());
+        let size = e.size.max(p.abs().max_element());
         e.normal.dot(p - v[0]).abs() <= 1e-5 * size && e.polygon.contains(p, e.normal, ON_ELEMENT)
     }
 

@@ -21,9 +21,9 @@ use alloc::vec;
 use alloc::vec::Vec;
 
 use crate::error::Result;
-use crate::hierarchy::image::ImageError;
 use crate::hierarchy::mc_compare::{McComparison, McReference};
 use crate::hierarchy::monte_carlo::McHierarchy;
+use crate::hierarchy::rendering::ImageError;
 use crate::math;
 use crate::scene::Scene3;
 
@@ -46,24 +46,19 @@ pub(crate) fn without_noise(x: f64, sigma: f64) -> f64 {
     math::sqrt((x * x - sigma * sigma).max(0.0))
 }
 
-impl McReference {
-    /// This reference (the mean of `halves`, [`McHierarchy::mean_with`]) with the leaves of
-    /// each of its independent solves kept, so that every comparison also measures its
-    /// error against each ([`McComparison::rms_error_halves`]).
-    #[must_use]
-    pub fn with_halves(mut self, halves: &[&McHierarchy]) -> Self {
-        self.halves = halves
-            .iter()
-            .map(|h| {
-                h.shaded_leaves()
-                    .iter()
-                    .map(|l| (l.polygon.vertices().to_vec(), l.radiosity))
-                    .collect()
-            })
-            .collect();
-        self
-    }
+/// What a reference's noise of RMS `σ` (the mean of two solves) leaves in a measure
+/// corrected by `without_noise`, from the measure against each solve, `[a, b]`: each
+/// corrected by one solve's noise `√2 σ`, half their difference (module docs). `None`
+/// without two values.
+fn residual(halves: &[f64], sigma: f64) -> Option<f64> {
+    let [a, b] = halves else {
+        return None;
+    };
+    let half = core::f64::consts::SQRT_2 * sigma;
+    Some(0.5 * (without_noise(*a, half) - without_noise(*b, half)).abs())
+}
 
+impl McReference {
     /// The noise of this reference, the mean of the independent solves `halves` (module
     /// docs): each solve's RMS, boundary RMS and image errors against the mean, root mean
     /// square over the solves. With no halves, all zero.
@@ -107,11 +102,30 @@ impl McComparison {
     /// without two halves.
     #[must_use]
     pub fn reference_error(&self, noise: &ReferenceNoise) -> Option<f64> {
-        let [a, b] = self.rms_error_halves.as_slice() else {
-            return None;
-        };
-        let half = core::f64::consts::SQRT_2 * noise.rms;
-        Some(0.5 * (without_noise(*a, half) - without_noise(*b, half)).abs())
+        residual(&self.rms_error_halves, noise.rms)
+    }
+
+    /// [`McComparison::reference_error`] of the other measures: the mesh alone (mesh RMS,
+    /// noise `σ` of the area RMS), the boundary leaves, and each view's image and edge
+    /// RMSE (their pictures' noise), in that order — `None` for a measure without two
+    /// halves.
+    #[must_use]
+    pub fn reference_errors(&self, noise: &ReferenceNoise) -> Vec<Option<f64>> {
+        let mut out = vec![
+            residual(&self.mesh_rms_error_halves, noise.rms),
+            residual(&self.boundary_rms_error_halves, noise.boundary_rms),
+        ];
+        for (v, n) in noise.images.iter().enumerate() {
+            let per_half = |f: fn(&ImageError) -> f64| -> Vec<f64> {
+                self.image_errors_halves
+                    .iter()
+                    .filter_map(|views| views.get(v).map(f))
+                    .collect()
+            };
+            out.push(residual(&per_half(|e| e.rmse), n.rmse));
+            out.push(residual(&per_half(|e| e.boundary_rmse), n.boundary_rmse));
+        }
+        out
     }
 
     /// This comparison with the reference's noise removed in quadrature from every measure
@@ -173,8 +187,11 @@ mod tests {
         let leaves = m.shaded_leaves();
         let r = McReference::new(&scene, &leaves, &[])
             .unwrap()
-            .with_halves(&[&a, &b]);
+            .with_halves(&scene, &[&a, &b])
+            .unwrap();
         assert_eq!(r.halves.len(), 2);
+        assert_eq!(r.boundary_halves.len(), 2);
+        assert_eq!(r.boundary_halves[0].len(), r.boundary.len());
         let noise = r.noise(&scene, &[&a, &b]).unwrap();
         let ab = a
             .rms_difference(

@@ -99,6 +99,22 @@ pub(super) fn run_jobs<J: Sync, T: Send, F>(runner: &Runner, jobs: &[J], f: F) -
 where
     F: Fn(&J) -> sceneinfo::Result<T> + Sync,
 {
+    let order: Vec<usize> = (0..jobs.len()).collect();
+    run_jobs_in(runner, jobs, &order, f)
+}
+
+/// [`run_jobs`], the threads taking the jobs in the order `order` (indices into `jobs`;
+/// the costliest first, so that no thread is left alone with a long job at the end); the
+/// results come back in the jobs' order whatever the order and the thread count.
+pub(super) fn run_jobs_in<J: Sync, T: Send, F>(
+    runner: &Runner,
+    jobs: &[J],
+    order: &[usize],
+    f: F,
+) -> Result<Vec<T>>
+where
+    F: Fn(&J) -> sceneinfo::Result<T> + Sync,
+{
     let results: Mutex<Vec<Option<sceneinfo::Result<T>>>> =
         Mutex::new((0..jobs.len()).map(|_| None).collect());
     let next = Mutex::new(0usize);
@@ -114,12 +130,14 @@ where
                         *n += 1;
                         k
                     };
-                    let Some(job) = jobs.get(k) else { break };
+                    let Some((i, job)) = order.get(k).and_then(|&i| Some((i, jobs.get(i)?))) else {
+                        break;
+                    };
                     if crate::interrupt::requested() {
                         break;
                     }
                     let r = f(job);
-                    results.lock().unwrap_or_else(|p| p.into_inner())[k] = Some(r);
+                    results.lock().unwrap_or_else(|p| p.into_inner())[i] = Some(r);
                     // Progress on stderr (the tables on stdout are unchanged)
                     let mut d = done.lock().unwrap_or_else(|p| p.into_inner());
                     *d += 1;
@@ -189,6 +207,9 @@ pub(super) struct Outcome {
     total_jobs: Vec<(usize, u64, u64)>,
     total: Vec<McComparison>,
     seeds: u64,
+    /// Per job, its mesh's share of leaves near junctions
+    /// (`McHierarchy::share_near_junctions`) when asked for.
+    near_junctions: Vec<Option<f64>>,
 }
 
 impl Outcome {
@@ -199,6 +220,17 @@ impl Outcome {
             .zip(&self.results)
             .filter(|((kk, oo, _), _)| *kk == k && *oo == o)
             .map(|(_, r)| r)
+            .collect()
+    }
+
+    /// The share of leaves near junctions of oracle `o` in configuration `k`, one per seed
+    /// (empty when not asked for).
+    pub fn near_junctions(&self, k: usize, o: &str) -> Vec<f64> {
+        self.jobs
+            .iter()
+            .zip(&self.near_junctions)
+            .filter(|((kk, oo, _), _)| *kk == k && *oo == o)
+            .filter_map(|(_, r)| *r)
             .collect()
     }
 
@@ -225,7 +257,8 @@ impl Outcome {
 }
 
 /// Every `(configuration, oracle, seed)` against `reference`, each mesh also re-solved
-/// frozen with `frozen(config)` rays (0: not), then the power oracle at MI's total rays
+/// frozen with `frozen(config)` rays (0: not) and, with `junction = Some(d)`, its share of
+/// leaves within `d` of a junction measured; then the power oracle at MI's total rays
 /// where asked.
 pub(super) fn run_configs(
     runner: &Runner,
@@ -234,6 +267,7 @@ pub(super) fn run_configs(
     configs: &[Config],
     seeds: u64,
     frozen: impl Fn(&Config) -> u64 + Sync,
+    junction: Option<f64>,
 ) -> Result<Outcome> {
     let jobs: Vec<(usize, &'static str, u64)> = configs
         .iter()
@@ -250,7 +284,16 @@ pub(super) fn run_configs(
         seed: runner.seed.wrapping_add(seed),
         ..McOptions::default()
     };
-    let both = run_jobs(runner, &jobs, |&(k, o, s)| {
+    // The costliest first: radiosity rays, the frozen re-solve's, and the oracles' (about
+    // `pairs` per ray for KS-av and MI)
+    let cost = |&(k, o, _): &(usize, &str, u64)| {
+        let c = &configs[k];
+        let per_ray = if o == "power" { 1 } else { 1 + c.pairs as u64 };
+        c.rays * per_ray + frozen(c)
+    };
+    let mut order: Vec<usize> = (0..jobs.len()).collect();
+    order.sort_by_key(|&i| std::cmp::Reverse(cost(&jobs[i])));
+    let both = run_jobs_in(runner, &jobs, &order, |&(k, o, s)| {
         let c = &configs[k];
         let (r, h) = McComparison::against(
             scene,
@@ -260,12 +303,15 @@ pub(super) fn run_configs(
             &opts(c, c.rays, s),
             frozen(c),
         )?;
-        Ok((r, (s == 1).then_some(h)))
+        let near = junction.map(|d| h.share_near_junctions(scene, d));
+        Ok((r, near, (s == 1).then_some(h)))
     })?;
     let mut results = Vec::new();
     let mut meshes = Vec::new();
-    for (&(k, o, _), (r, h)) in jobs.iter().zip(both) {
+    let mut near_junctions = Vec::new();
+    for (&(k, o, _), (r, near, h)) in jobs.iter().zip(both) {
         results.push(r);
+        near_junctions.push(near);
         if let Some(h) = h {
             meshes.push((k, o, h));
         }
@@ -277,6 +323,7 @@ pub(super) fn run_configs(
         total_jobs: Vec::new(),
         total: Vec::new(),
         seeds,
+        near_junctions,
     };
     out.total_jobs = (0..configs.len())
         .filter(|&k| configs[k].total_rays)
@@ -516,9 +563,15 @@ fn figures_6_6_and_6_9_monte_carlo(runner: &Runner, figures: Option<&Path>) -> R
     let view = Camera3::framing(scene.bounds(), 40.0, CORNELL_IMAGE).map_err(err)?;
     let leaves = reference.shaded_leaves();
     let mc_reference = McReference::new(&scene, &leaves, &[view]).map_err(err)?;
-    let out = run_configs(runner, &scene, &mc_reference, &CONFIGS, SEEDS, |_| {
-        FROZEN_RAYS
-    })?;
+    let out = run_configs(
+        runner,
+        &scene,
+        &mc_reference,
+        &CONFIGS,
+        SEEDS,
+        |_| FROZEN_RAYS,
+        None,
+    )?;
     let mut rows = vec![Row {
         label: format!(
             "reference, {} leaves: RMS vs 3x splits",

@@ -47,6 +47,9 @@ const REFERENCE_RAYS_PER_LEAF: f64 = 200.0;
 const FROZEN_SEED: u64 = 0x6672_6f7a;
 /// Rays of each mesh's frozen re-solve, per radiosity ray of its run.
 const FROZEN_PER_RAY: u64 = 10;
+/// Distance (metres) from a surface in another plane within which a leaf counts as lying
+/// along a junction (`McHierarchy::share_near_junctions`).
+const JUNCTION: f64 = 0.1;
 
 fn err(e: sceneinfo::Error) -> anyhow::Error {
     anyhow!("cube room: {e}")
@@ -138,12 +141,19 @@ pub(super) fn cube_room(runner: &Runner, args: &ReproduceArgs) -> Result<Table> 
     let leaves = reference.shaded_leaves();
     let mc_ref = McReference::new(&scene, &leaves, &views(&scene, IMAGE).map_err(err)?)
         .map_err(err)?
-        .with_halves(&[&first, &second]);
+        .with_halves(&scene, &[&first, &second])
+        .map_err(err)?;
     let noise = mc_ref.noise(&scene, &[&first, &second]).map_err(err)?;
     crate::interrupt::stop_if_requested()?;
-    let out = run_configs(runner, &scene, &mc_ref, &configs, seeds, |c| {
-        FROZEN_PER_RAY * c.rays
-    })?;
+    let out = run_configs(
+        runner,
+        &scene,
+        &mc_ref,
+        &configs,
+        seeds,
+        |c| FROZEN_PER_RAY * c.rays,
+        Some(JUNCTION),
+    )?;
     // What the reference's noise leaves in the corrected RMS, over every run
     let residual: Vec<f64> = out
         .all()
@@ -151,6 +161,32 @@ pub(super) fn cube_room(runner: &Runner, args: &ReproduceArgs) -> Result<Table> 
         .collect();
     let residual_max = residual.iter().copied().fold(0.0, f64::max);
     let residual_mean = McComparison::mean_spread(&residual).0;
+    // The same for the other measures (`McComparison::reference_errors`' order)
+    let others: Vec<Vec<Option<f64>>> = out.all().map(|c| c.reference_errors(&noise)).collect();
+    let other_rows: Vec<Row> = [
+        "mesh RMS",
+        "boundary RMS",
+        "image RMSE",
+        "image edges",
+        "image 2 RMSE",
+        "image 2 edges",
+    ]
+    .iter()
+    .enumerate()
+    .filter_map(|(m, name)| {
+        let r: Vec<f64> = others
+            .iter()
+            .filter_map(|e| e.get(m).copied().flatten())
+            .collect();
+        (!r.is_empty()).then(|| Row {
+            label: format!("reference: its noise left in a corrected {name}"),
+            cells: vec![
+                cell("mean", McComparison::mean_spread(&r).0, 0.0, None),
+                cell("max", r.iter().copied().fold(0.0, f64::max), 0.0, None),
+            ],
+        })
+    })
+    .collect();
     let mut out = out;
     out.without_reference_noise(&noise);
     let mut noise_cells = vec![
@@ -186,7 +222,21 @@ pub(super) fn cube_room(runner: &Runner, args: &ReproduceArgs) -> Result<Table> 
             ],
         },
     ];
+    table_rows.extend(other_rows);
     table_rows.extend(rows(&configs, &out, 2));
+    // Where each oracle's mesh puts its leaves: the share along junctions
+    for (k, c) in configs.iter().enumerate() {
+        for &o in c.oracles {
+            let (m, sd) = McComparison::mean_spread(&out.near_junctions(k, o));
+            table_rows.push(Row {
+                label: format!(
+                    "Fig. {} ({} pairs): {o}: near junctions ({JUNCTION} m)",
+                    c.label, c.pairs
+                ),
+                cells: vec![cell("share", m, sd, None)],
+            });
+        }
+    }
     // Fig. 6.11 against 6.7: MI's more accurate solution
     let mi_rms = |k: usize| {
         let v: Vec<f64> = out.pick(k, "mi").iter().map(|r| r.rms_error).collect();

@@ -331,6 +331,27 @@ impl ImageReference {
         })
     }
 
+    /// The same view, tone map and edge pixels with the picture of `leaves` instead: one
+    /// of the independent solves a mean reference averages, so that a mesh's image errors
+    /// against each solve are measured on the same pixels and levels as against the mean
+    /// (`McReference::with_halves`).
+    ///
+    /// # Errors
+    /// Those of [`render_gouraud`].
+    pub(crate) fn with_picture_of(&self, scene: &Scene3, leaves: &[LeafShade<'_>]) -> Result<Self> {
+        let image = render_gouraud(scene, leaves, &self.view)?;
+        Ok(Self {
+            view: self.view,
+            tone: self.tone,
+            levels: image
+                .pixels
+                .iter()
+                .map(|p| p.map(|b| self.tone.rgb(b)))
+                .collect(),
+            boundary: self.boundary.clone(),
+        })
+    }
+
     /// The errors of `leaves`' picture from the same view (module docs); a pixel the mesh
     /// shows as nothing counts as black.
     ///
