@@ -633,9 +633,8 @@ pub struct ReproduceArgs {
     #[arg(long, value_enum, default_value_t = McScenes::Both, requires = "chapter_6_mc")]
     pub mc_scenes: McScenes,
     /// With --chapter-6-mc: the cube room's rays and patch counts as a fraction of the
-    /// thesis' (402,650 rays at ~13,900 patches; 2,684,260 at 18,338). 1 is the full run
-    /// (hours on two cores, not run yet); the default 0.1 took 2.7 minutes of CPU in release
-    /// (15 of wall time on a shared, overloaded machine).
+    /// thesis' (402,650 rays at ~13,900 patches; 2,684,260 at 18,338). 1 is the full size;
+    /// in release 0.1 took 1.6 minutes of CPU, 0.3 about 4 (3 seeds; docs/chapter6-protocol.md).
     #[arg(
         long,
         value_name = "F",
