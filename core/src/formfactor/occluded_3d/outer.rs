@@ -78,8 +78,10 @@ pub(crate) trait Integrand {
 }
 
 /// A plain function: never known in closed form.
+#[cfg(test)]
 struct Plain<F>(F);
 
+#[cfg(test)]
 impl<F: FnMut(DVec3) -> Result<f64>> Integrand for Plain<F> {
     fn classify(&mut self, _: &[DVec3; 3], _: &[u32], out: &mut Vec<u32>) -> Result<Option<f64>> {
         out.clear();
