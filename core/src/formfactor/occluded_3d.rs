@@ -642,7 +642,10 @@ pub(crate) fn form_factors_occluded_by(
         .map(|(v, _)| bounds(v.iter().copied()))
         .collect();
     let occ = if may_occlude {
-        Occluders::new(&polys, (hi - lo).length().max(hi.abs().max(lo.abs()).max_element()))
+        Occluders::new(
+            &polys,
+            (hi - lo).length().max(hi.abs().max(lo.abs()).max_element()),
+        )
     } else {
         Occluders::new(&[], 1.0)
     };

@@ -83,13 +83,10 @@ impl Occluders {
             // (node, start, end) still to build; bounded: each entry splits a range.
             let mut todo = vec![(0usize, 0usize, list.len())];
             while let Some((node, start, end)) = todo.pop() {
-                let (lo, hi) = order[start..end]
-                    .iter()
-                    .map(|&k| &list[k as usize])
-                    .fold(
-                        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-                        |(lo, hi), o| (lo.min(o.lo), hi.max(o.hi)),
-                    );
+                let (lo, hi) = order[start..end].iter().map(|&k| &list[k as usize]).fold(
+                    (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+                    |(lo, hi), o| (lo.min(o.lo), hi.max(o.hi)),
+                );
                 if end - start <= LEAF_SIZE {
                     nodes[node] = Node {
                         lo,
@@ -137,7 +134,8 @@ impl Occluders {
         if self.nodes.is_empty() {
             return;
         }
-        let apart = |a: DVec3, b: DVec3| (a - hi).max_element() >= -tol || (lo - b).max_element() >= -tol;
+        let apart =
+            |a: DVec3, b: DVec3| (a - hi).max_element() >= -tol || (lo - b).max_element() >= -tol;
         // Bounded: each node is visited at most once.
         let mut stack = vec![0u32];
         while let Some(n) = stack.pop() {
@@ -279,8 +277,10 @@ fn merge_coplanar(polys: &[(&[DVec3], Plane)], scale: f64) -> Vec<Occluder> {
             end += 1;
         }
         let n = polys[idx[start]].1.normal;
-        let mut group: Vec<Option<Vec<DVec3>>> =
-            idx[start..end].iter().map(|&i| Some(polys[i].0.to_vec())).collect();
+        let mut group: Vec<Option<Vec<DVec3>>> = idx[start..end]
+            .iter()
+            .map(|&i| Some(polys[i].0.to_vec()))
+            .collect();
         let mut boxes: Vec<(DVec3, DVec3)> = idx[start..end]
             .iter()
             .map(|&i| bounds(polys[i].0.iter().copied()))
@@ -371,7 +371,12 @@ mod tests {
         assert!(areas.iter().all(|a| (a - 1.0).abs() < 1e-12), "{areas:?}");
         assert!(occ.list.iter().all(|o| o.vertices.len() == 4));
         let mut out = Vec::new();
-        occ.overlapping(DVec3::new(0.2, 0.2, 0.5), DVec3::new(0.3, 0.3, 2.0), 0.0, &mut out);
+        occ.overlapping(
+            DVec3::new(0.2, 0.2, 0.5),
+            DVec3::new(0.3, 0.3, 2.0),
+            0.0,
+            &mut out,
+        );
         assert_eq!(out.len(), 1);
         assert_eq!(occ.list[out[0] as usize].lo.z, 1.0);
     }
@@ -402,10 +407,28 @@ mod tests {
         let (src, tgt) = (sq(0.0, 0.5), sq(2.0, 0.5));
         let big = sq(1.0, 0.6);
         let small = sq(1.0, 0.4);
-        assert!(blocks_all(&src, &tgt, &big, &Plane::of(&big).unwrap(), 1e-12));
-        assert!(!blocks_all(&src, &tgt, &small, &Plane::of(&small).unwrap(), 1e-12));
+        assert!(blocks_all(
+            &src,
+            &tgt,
+            &big,
+            &Plane::of(&big).unwrap(),
+            1e-12
+        ));
+        assert!(!blocks_all(
+            &src,
+            &tgt,
+            &small,
+            &Plane::of(&small).unwrap(),
+            1e-12
+        ));
         // A plate beyond the target separates nothing.
         let beyond = sq(3.0, 5.0);
-        assert!(!blocks_all(&src, &tgt, &beyond, &Plane::of(&beyond).unwrap(), 1e-12));
+        assert!(!blocks_all(
+            &src,
+            &tgt,
+            &beyond,
+            &Plane::of(&beyond).unwrap(),
+            1e-12
+        ));
     }
 }

@@ -67,8 +67,12 @@ pub(crate) trait Integrand {
     ///
     /// # Errors
     /// Those of the closed form.
-    fn classify(&mut self, tri: &[DVec3; 3], parent: &[u32], out: &mut Vec<u32>)
-    -> Result<Option<f64>>;
+    fn classify(
+        &mut self,
+        tri: &[DVec3; 3],
+        parent: &[u32],
+        out: &mut Vec<u32>,
+    ) -> Result<Option<f64>>;
 
     /// `f(x)` with the candidate occluders `cands` of a triangle containing `x`.
     ///

@@ -412,7 +412,11 @@ fn a_pair_hidden_by_one_plate_is_exactly_zero_without_integration() {
     assert_eq!(r.pairs_blocked, 0);
     let reference = coaxial_reference(0.9);
     let f = r.form_factors.get(0, 1);
-    assert!((f - reference).abs() <= r.errors[1], "{f} vs {reference} ± {}", r.errors[1]);
+    assert!(
+        (f - reference).abs() <= r.errors[1],
+        "{f} vs {reference} ± {}",
+        r.errors[1]
+    );
 }
 
 #[test]
@@ -431,7 +435,10 @@ fn a_blocker_cut_into_cells_hides_as_the_whole_plate() {
         let (points, ranges) = flat(&polygons);
         let r = form_factors_occluded(&points, &ranges, &OcclusionOptions::new(1e-6)).unwrap();
         let (f, e) = (r.form_factors.get(0, 1), r.errors[1]);
-        assert!(e <= 1e-6 && (f - reference).abs() <= e, "k = {k}: {f} vs {reference} ± {e}");
+        assert!(
+            e <= 1e-6 && (f - reference).abs() <= e,
+            "k = {k}: {f} vs {reference} ± {e}"
+        );
     }
 }
 

@@ -64,7 +64,8 @@ impl Scene3 {
         let total = u64::from(side) * u64::from(side) + 84 * u64::from(m) * u64::from(m);
         check_patch_total(total)?;
         let pitch = FOOTPRINT_CELLS + STREET_CELLS;
-        let in_footprint = |c: u32| c >= STREET_CELLS && (c - STREET_CELLS) % pitch < FOOTPRINT_CELLS;
+        let in_footprint =
+            |c: u32| c >= STREET_CELLS && (c - STREET_CELLS) % pitch < FOOTPRINT_CELLS;
         let c = CITY_CELL;
         let p = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
         let mut b = Scene3::builder();
@@ -76,7 +77,12 @@ impl Scene3 {
                 }
                 let (x, y) = (f64::from(i) * c, f64::from(j) * c);
                 b.polygon(
-                    &[p(x, y, 0.0), p(x + c, y, 0.0), p(x + c, y + c, 0.0), p(x, y + c, 0.0)],
+                    &[
+                        p(x, y, 0.0),
+                        p(x + c, y, 0.0),
+                        p(x + c, y + c, 0.0),
+                        p(x, y + c, 0.0),
+                    ],
                     Subdivision::None,
                 )?;
             }
@@ -92,7 +98,12 @@ impl Scene3 {
                 let y0 = f64::from(STREET_CELLS + bb * pitch) * c;
                 let centre = p(x0 + 0.5 * width, y0 + 0.5 * width, 0.5 * h);
                 // Walls: the footprint's edges, cut into columns and rows.
-                let corners = [p(x0, y0, 0.0), p(x0 + width, y0, 0.0), p(x0 + width, y0 + width, 0.0), p(x0, y0 + width, 0.0)];
+                let corners = [
+                    p(x0, y0, 0.0),
+                    p(x0 + width, y0, 0.0),
+                    p(x0 + width, y0 + width, 0.0),
+                    p(x0, y0 + width, 0.0),
+                ];
                 for e in 0..4 {
                     let (s, t) = (corners[e], corners[(e + 1) % 4]);
                     let step = (t - s) / f64::from(FOOTPRINT_CELLS);
@@ -102,7 +113,8 @@ impl Scene3 {
                                 h * f64::from(row) / f64::from(WALL_ROWS),
                                 h * f64::from(row + 1) / f64::from(WALL_ROWS),
                             );
-                            let (u0, u1) = (s + step * f64::from(col), s + step * f64::from(col + 1));
+                            let (u0, u1) =
+                                (s + step * f64::from(col), s + step * f64::from(col + 1));
                             let quad = [
                                 p(u0.x, u0.y, z0),
                                 p(u1.x, u1.y, z0),
@@ -116,7 +128,12 @@ impl Scene3 {
                         }
                     }
                 }
-                let roof = [p(x0, y0, h), p(x0 + width, y0, h), p(x0 + width, y0 + width, h), p(x0, y0 + width, h)];
+                let roof = [
+                    p(x0, y0, h),
+                    p(x0 + width, y0, h),
+                    p(x0 + width, y0 + width, h),
+                    p(x0, y0 + width, h),
+                ];
                 add_facing(&mut b, &roof, DVec3::Z, Subdivision::Grid(ROOF_GRID))?;
             }
         }
