@@ -43,7 +43,7 @@ impl Scene3 {
     /// - each wall: 4 columns of 5 m × 6 rows of `h/6`, facing out; each roof: `2 × 2`
     ///   squares of 10 m, facing up (no floor): 100 patches a building;
     ///
-    /// `(8m + 4)² + 84 m²` in all: 10,000 at `m = 8` (the preset `city-block`), 592 at
+    /// `(8m + 4)² + 84 m²` in all: 10,000 at `m = 8` (the preset `city-block`), 736 at
     /// `m = 2`. Objects: `ground` (`super::ENCLOSURE_MATERIAL`), `building-0`, … row by row
     /// (`super::OBJECT_MATERIAL`). Not closed: rows sum to less than 1, the rest leaving
     /// to the sky (the background state of [`crate::formfactor::FormFactors`]).

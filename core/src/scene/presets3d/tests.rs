@@ -651,7 +651,7 @@ fn every_listed_preset_builds_by_name() {
     );
     assert_eq!(preset_3d("sphere-3", 1).unwrap().n_patches(), 1280);
     assert_eq!(preset_3d("city-block", 1).unwrap().n_patches(), 10_000);
-    assert_eq!(Scene3::city_block(2, PRESET_SEED).unwrap().n_patches(), 592);
+    assert_eq!(Scene3::city_block(2, PRESET_SEED).unwrap().n_patches(), 736);
     assert_eq!(preset_3d("tetra-mesh-2", 1).unwrap().n_patches(), 64);
     for bad in [
         "",
