@@ -70,12 +70,20 @@
 //!
 //! A pair is skipped when one patch lies wholly on or behind the other's plane. A segment
 //! from `x ∈ i` to `y ∈ j` that counts lies in front of both planes and inside the convex
-//! hull of `i ∪ j`, so the candidate occluders of a pair are the polygons that reach
-//! strictly in front of both planes and meet the hull's interior: bounding boxes, then the
-//! separating-axis test of [`exact_3d::may_be_occluded`]. A pair with no candidate keeps the
-//! exact unoccluded path ([`exact_3d::unoccluded_flux`]), bit for bit; a scene where no
-//! pair has one is [`exact_3d::form_factors_unoccluded`]'s.
+//! hull of `i ∪ j`, so the candidate occluders of a pair are the occluders that reach
+//! strictly in front of both planes and meet the hull's interior: a box tree over the
+//! occluders' bounds, then the separating-axis test of [`exact_3d::may_be_occluded`]. The
+//! occluders are the polygons with coplanar neighbours merged into convex unions (a
+//! gridded face is one occluder; `occluders.rs`). A pair one candidate hides wholly (its
+//! plane separates them and every vertex-to-vertex segment crosses it inside) is `0`
+//! exactly, not integrated. In the outer integral, each triangle keeps the candidates of
+//! the hull of it and the target: with none left, its flux is the exact unoccluded one
+//! ([`exact_3d::unoccluded_flux`] on the triangle), and with one hiding it wholly, 0; only
+//! the other triangles are refined. A pair with no candidate keeps the exact unoccluded
+//! path, bit for bit; a scene where no pair has one is
+//! [`exact_3d::form_factors_unoccluded`]'s.
 
+mod occluders;
 mod outer;
 #[cfg(all(test, feature = "std"))]
 mod tests;
@@ -91,6 +99,7 @@ use crate::formfactor::exact_3d::{
     pair_flux, planes,
 };
 use crate::geom::DVec3;
+use occluders::{Occluder, Occluders, blocks_all};
 
 /// The default tolerance on each form factor.
 pub const DEFAULT_TOLERANCE: f64 = 1e-6;
@@ -184,6 +193,9 @@ pub struct OccludedFormFactors {
     pub tolerance: f64,
     /// Unordered pairs integrated adaptively (with candidate occluders).
     pub pairs_integrated: usize,
+    /// Unordered pairs with candidate occluders found hidden from each other by one of
+    /// them (`F = 0` exactly, not integrated).
+    pub pairs_blocked: usize,
     /// Unordered pairs whose integration estimate exceeds the tolerance (the work cap
     /// stopped them). The final [`Self::errors`] also hold what clamping a value above 1
     /// and bringing rows above 1 back to 1 changed, so an estimate can exceed the tolerance
@@ -256,7 +268,9 @@ pub fn point_to_visible_polygon(
 /// its error estimate: the adaptive outer integral over the smaller of the two of the
 /// exact inner integral ([`point_to_visible_polygon`]), to `tolerance · min(A_i, A_j)`.
 /// With no occluders, the exact [`exact_3d::unoccluded_flux`]. The occluders are used as
-/// given (no culling).
+/// given (not merged); each triangle of the outer integral keeps those that meet the
+/// convex hull of it and the target, and is integrated exactly when none does (see the
+/// module documentation).
 ///
 /// # Errors
 /// The options' ([`OcclusionOptions::check`]); [`ErrorKind::DegenerateFace`];
@@ -282,16 +296,123 @@ pub fn occluded_flux(
     } else {
         (target, &pt, source, &ps)
     };
-    integrate_pair(small, sp, large, lp, occluders, options)
+    integrate_past(small, sp, large, lp, occluders, options)
 }
 
-/// The adaptive flux from `src` (the integration side) to `tgt` past `occluders`.
-fn integrate_pair(
+/// [`integrate_pair`] past the occluders given (degenerate ones, of no area, hide nothing
+/// and are dropped).
+fn integrate_past(
     src: &[DVec3],
     ps: &Plane,
     tgt: &[DVec3],
     pt: &Plane,
     occluders: &[&[DVec3]],
+    options: &OcclusionOptions,
+) -> Result<OccludedFlux> {
+    let occ: Vec<Occluder> = occluders
+        .iter()
+        .filter_map(|&v| {
+            let plane = Plane::of(v)?;
+            let (lo, hi) = bounds(v.iter().copied());
+            Some(Occluder {
+                vertices: v.to_vec(),
+                plane,
+                lo,
+                hi,
+            })
+        })
+        .collect();
+    let all: Vec<u32> = (0..occ.len() as u32).collect();
+    let (lo, hi) = bounds(
+        src.iter()
+            .chain(tgt)
+            .chain(occluders.iter().flat_map(|o| o.iter()))
+            .copied(),
+    );
+    let touch = TOUCH * (hi - lo).length().max(hi.abs().max(lo.abs()).max_element());
+    integrate_pair(src, ps, tgt, pt, &occ, &all, touch, options)
+}
+
+/// The integrand of one pair: the visible form factor from a point of the source to the
+/// target past the pair's candidate occluders, and what is known per triangle of the
+/// source (no candidate left: the exact unoccluded flux; one candidate hiding every sight
+/// line: zero).
+struct PairIntegrand<'s, 'o> {
+    target: visible::Target,
+    tgt: &'s [DVec3],
+    pt: Plane,
+    tgt_box: (DVec3, DVec3),
+    normal: DVec3,
+    occ: &'o [Occluder],
+    touch: f64,
+    work: visible::Workspace,
+    buf: Vec<&'o [DVec3]>,
+}
+
+impl outer::Integrand for PairIntegrand<'_, '_> {
+    /// The candidates of `tri`: those of the parent whose boxes overlap the box of
+    /// `tri ∪ target` and that meet the interior of its convex hull (separating axes).
+    /// None left: the exact unoccluded flux of `tri` (2.9 without `V`); one of them
+    /// hiding every sight line ([`blocks_all`]): zero.
+    fn classify(
+        &mut self,
+        tri: &[DVec3; 3],
+        parent: &[u32],
+        out: &mut Vec<u32>,
+    ) -> Result<Option<f64>> {
+        out.clear();
+        let Some(pl) = Plane::of(tri) else {
+            return Ok(Some(0.0));
+        };
+        let (lo, hi) = bounds(tri.iter().copied());
+        let (hlo, hhi) = (lo.min(self.tgt_box.0), hi.max(self.tgt_box.1));
+        let t = self.touch;
+        for &k in parent {
+            let o = &self.occ[k as usize];
+            if (o.lo - hhi).max_element() >= -t || (hlo - o.hi).max_element() >= -t {
+                continue;
+            }
+            if !hull_meets_polygon(
+                &(tri.as_slice(), pl),
+                &(self.tgt, self.pt),
+                &(o.vertices.as_slice(), o.plane),
+                t,
+            ) {
+                continue;
+            }
+            if blocks_all(tri, self.tgt, &o.vertices, &o.plane, t) {
+                out.clear();
+                return Ok(Some(0.0));
+            }
+            out.push(k);
+        }
+        if out.is_empty() {
+            return Ok(Some(pair_flux(tri, &pl, self.tgt, &self.pt).0));
+        }
+        Ok(None)
+    }
+
+    fn eval(&mut self, x: DVec3, cands: &[u32]) -> Result<f64> {
+        self.buf.clear();
+        let occ = self.occ;
+        self.buf
+            .extend(cands.iter().map(|&k| occ[k as usize].vertices.as_slice()));
+        self.target
+            .visible_form_factor(x, self.normal, &self.buf, &mut self.work)
+    }
+}
+
+/// The adaptive flux from `src` (the integration side) to `tgt` past the occluders
+/// `cands` of `occ`.
+#[allow(clippy::too_many_arguments)]
+fn integrate_pair(
+    src: &[DVec3],
+    ps: &Plane,
+    tgt: &[DVec3],
+    pt: &Plane,
+    occ: &[Occluder],
+    cands: &[u32],
+    touch: f64,
     options: &OcclusionOptions,
 ) -> Result<OccludedFlux> {
     let tol = ON_PLANE * (ps.magnitude.max(pt.magnitude) + ps.radius + pt.radius);
@@ -310,14 +431,23 @@ fn integrate_pair(
             points: 0,
         });
     }
-    let target = visible::Target::new(tgt, *pt);
-    let mut work = visible::Workspace::default();
-    let normal = ps.normal;
-    let r = outer::integrate(
+    let mut g = PairIntegrand {
+        target: visible::Target::new(tgt, *pt),
+        tgt,
+        pt: *pt,
+        tgt_box: bounds(tgt.iter().copied()),
+        normal: ps.normal,
+        occ,
+        touch,
+        work: visible::Workspace::default(),
+        buf: Vec::new(),
+    };
+    let r = outer::integrate_with(
         &clipped,
+        cands,
         options.tolerance * ps.area.min(pt.area),
         options.max_points_per_pair,
-        |x| target.visible_form_factor(x, normal, occluders, &mut work),
+        &mut g,
     )?;
     Ok(OccludedFlux {
         flux: r.value.max(0.0),
@@ -326,33 +456,29 @@ fn integrate_pair(
     })
 }
 
-/// The candidate occluders of the pair `(i, j)` into `out`: the polygons that reach
-/// strictly in front of both planes and meet the interior of the convex hull of `i ∪ j`
-/// (bounding boxes, then separating axes).
+/// The candidate occluders of the pair `(i, j)` into `out`: the occluders whose boxes
+/// overlap the box of `i ∪ j` (the tree), that reach strictly in front of both planes and
+/// meet the interior of the convex hull of `i ∪ j` (separating axes). `scratch` is reused.
 fn candidates(
     polys: &[(&[DVec3], Plane)],
     boxes: &[(DVec3, DVec3)],
-    i: usize,
-    j: usize,
+    occ: &Occluders,
+    (i, j): (usize, usize),
     tol: f64,
-    out: &mut Vec<usize>,
+    out: &mut Vec<u32>,
+    scratch: &mut Vec<u32>,
 ) {
     out.clear();
     let (pi, pj) = (&polys[i].1, &polys[j].1);
     let (hlo, hhi) = (boxes[i].0.min(boxes[j].0), boxes[i].1.max(boxes[j].1));
-    for (k, poly) in polys.iter().enumerate() {
-        if k == i || k == j {
-            continue;
-        }
-        let (klo, khi) = boxes[k];
-        if (klo - hhi).max_element() >= -tol || (hlo - khi).max_element() >= -tol {
-            continue;
-        }
-        let reaches = |p: &Plane| poly.0.iter().any(|&v| p.distance(v) > tol);
+    occ.overlapping(hlo, hhi, tol, scratch);
+    for &k in scratch.iter() {
+        let o = &occ.list[k as usize];
+        let reaches = |p: &Plane| o.vertices.iter().any(|&v| p.distance(v) > tol);
         if !reaches(pi) || !reaches(pj) {
             continue;
         }
-        if hull_meets_polygon(&polys[i], &polys[j], poly, tol) {
+        if hull_meets_polygon(&polys[i], &polys[j], &(o.vertices.as_slice(), o.plane), tol) {
             out.push(k);
         }
     }
@@ -385,8 +511,10 @@ pub(crate) fn form_factors_occluded(
 pub(crate) struct PairRow {
     /// `(j, flux, error estimate of the flux)` of the pairs that see each other.
     pub(crate) pairs: Vec<(usize, f64, f64)>,
-    /// Pairs integrated adaptively, those over the tolerance, points evaluated.
+    /// Pairs integrated adaptively, pairs found hidden, those over the tolerance, points
+    /// evaluated.
     pub(crate) integrated: usize,
+    pub(crate) blocked: usize,
     pub(crate) over_tolerance: usize,
     pub(crate) points: u64,
 }
@@ -397,10 +525,12 @@ pub(crate) struct PairRow {
 pub(crate) type RowRunner<'r> = dyn FnMut(usize, &(dyn Fn(usize) -> Result<PairRow> + Sync)) -> Option<Vec<Result<PairRow>>>
     + 'r;
 
-/// The scene prepared for its rows: planes, bounding boxes, the contact tolerance.
+/// The scene prepared for its rows: planes, bounding boxes, the occluders, the contact
+/// tolerance.
 struct Prepared<'a> {
     polys: Vec<(&'a [DVec3], Plane)>,
     boxes: Vec<(DVec3, DVec3)>,
+    occ: Occluders,
     touch: f64,
     /// Whether some polygon may hide another (else every pair takes the exact path).
     may_occlude: bool,
@@ -422,9 +552,18 @@ impl<'a> Prepared<'a> {
             .iter()
             .map(|(v, _)| bounds(v.iter().copied()))
             .collect();
+        let occ = if may_occlude {
+            Occluders::new(
+                &polys,
+                (hi - lo).length().max(hi.abs().max(lo.abs()).max_element()),
+            )
+        } else {
+            Occluders::new(&[], 1.0)
+        };
         Ok(Prepared {
             polys,
             boxes,
+            occ,
             touch,
             may_occlude,
             options: *options,
@@ -438,11 +577,12 @@ impl<'a> Prepared<'a> {
         let mut out = PairRow {
             pairs: Vec::new(),
             integrated: 0,
+            blocked: 0,
             over_tolerance: 0,
             points: 0,
         };
         let mut cand = Vec::new();
-        let mut occluders: Vec<&[DVec3]> = Vec::new();
+        let mut scratch = Vec::new();
         for (j, (tgt, pt)) in polys.iter().enumerate().skip(i + 1) {
             // As form_factors_unoccluded: one lies wholly on or behind the other's plane.
             let tol = ON_PLANE * (ps.magnitude.max(pt.magnitude) + ps.radius + pt.radius);
@@ -452,7 +592,15 @@ impl<'a> Prepared<'a> {
                 continue;
             }
             if self.may_occlude {
-                candidates(polys, &self.boxes, i, j, self.touch, &mut cand);
+                candidates(
+                    polys,
+                    &self.boxes,
+                    &self.occ,
+                    (i, j),
+                    self.touch,
+                    &mut cand,
+                    &mut scratch,
+                );
             }
             let r = if !self.may_occlude || cand.is_empty() {
                 OccludedFlux {
@@ -460,16 +608,30 @@ impl<'a> Prepared<'a> {
                     error: 0.0,
                     points: 0,
                 }
+            } else if cand.iter().any(|&k| {
+                let o = &self.occ.list[k as usize];
+                blocks_all(src, tgt, &o.vertices, &o.plane, self.touch)
+            }) {
+                out.blocked += 1;
+                continue;
             } else {
-                occluders.clear();
-                occluders.extend(cand.iter().map(|&k| polys[k].0));
                 out.integrated += 1;
                 // Integrate over the smaller patch (ties: the first).
-                let r = if ps.area <= pt.area {
-                    integrate_pair(src, ps, tgt, pt, &occluders, &self.options)?
+                let (a, pa, b, pb) = if ps.area <= pt.area {
+                    (*src, ps, *tgt, pt)
                 } else {
-                    integrate_pair(tgt, pt, src, ps, &occluders, &self.options)?
+                    (*tgt, pt, *src, ps)
                 };
+                let r = integrate_pair(
+                    a,
+                    pa,
+                    b,
+                    pb,
+                    &self.occ.list,
+                    &cand,
+                    self.touch,
+                    &self.options,
+                )?;
                 if r.error > self.options.tolerance * ps.area.min(pt.area) {
                     out.over_tolerance += 1;
                 }
@@ -511,11 +673,13 @@ pub(crate) fn form_factors_occluded_by(
     }
     let mut f = vec![0.0; n * n];
     let mut errors = vec![0.0; n * n];
-    let (mut pairs_integrated, mut over_tolerance, mut total_points) = (0, 0, 0u64);
+    let (mut pairs_integrated, mut pairs_blocked) = (0, 0);
+    let (mut over_tolerance, mut total_points) = (0, 0u64);
     let polys = &prepared.polys;
     for (i, row) in rows.into_iter().enumerate() {
         let row = row?;
         pairs_integrated += row.integrated;
+        pairs_blocked += row.blocked;
         over_tolerance += row.over_tolerance;
         total_points = total_points.saturating_add(row.points);
         let ai = polys[i].1.area;
@@ -539,6 +703,7 @@ pub(crate) fn form_factors_occluded_by(
         errors,
         tolerance: options.tolerance,
         pairs_integrated,
+        pairs_blocked,
         over_tolerance,
         points: total_points,
     })

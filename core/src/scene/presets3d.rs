@@ -10,6 +10,7 @@
 //! | cube room with `m³` small cubes, random or clustered | [`Scene3::cube_room_with_cubes`] | Figs. 3.3, 3.7, 3.8, Tables 3.1, 3.3, 4.4 |
 //! | 64 cubes expanding from the centre to the walls | [`Scene3::sixty_four_cubes`] | Figs. 4.5, 4.6, Tables 4.7, 4.8 |
 //! | room with tables and chairs | [`Scene3::table_and_chairs_room`] | Fig. 4.2, Table 4.2 |
+//! | city block, `m × m` buildings on streets (open: no sky) | `Scene3::city_block` | none (issue 23) |
 //!
 //! The thesis' 3D figures are renderings whose coordinates are lost (the Cornell box excepted:
 //! its geometry is published). Each constructor documents the geometry chosen here, and where
@@ -20,7 +21,8 @@
 //!
 //! - **Closed.** Every scene is a union of closed surfaces (each edge of a face, split at the
 //!   vertices of other faces lying on it, is shared with exactly one other face, traversed the
-//!   other way), so every line leaving a patch meets another and form-factor rows sum to 1.
+//!   other way), so every line leaving a patch meets another and form-factor rows sum to 1
+//!   (the city block excepted: it is open to the sky).
 //! - **Orientation.** The enclosure faces inwards: the object named [`ENCLOSURE`] (plus
 //!   `"light"` in the Cornell box) holds the faces whose front side sees the room's interior.
 //!   Every other object is a closed surface facing outwards, away from its own centre.
@@ -30,6 +32,7 @@
 //!   no emitter, unless a constructor says otherwise (the Cornell box and the tetrahedron
 //!   meshes carry lights).
 
+mod city;
 mod cornell;
 mod cubes;
 mod furniture;
@@ -150,6 +153,11 @@ static PRESETS_3D: &[Preset3Entry] = &[
         "cubes-512-clustered",
         "Fig. 3.3c, Tables 3.1, 3.3",
         "unit cube room (600 patches) with 512 cubes of side 0.05 packed in an 8 × 8 × 8 block"
+    ),
+    entry!(
+        "city-block",
+        "issue 23 (not in the thesis)",
+        "open city block: 8 × 8 box buildings 15-45 m tall on 20-m streets, 10,000 patches"
     ),
     entry!(
         "64-cubes-0",
@@ -330,6 +338,7 @@ pub(crate) fn preset_3d(name: &str, grid: u32) -> Result<Scene3> {
         "cornell" => return Scene3::cornell_box(false, grid),
         "cornell-lifted" => return Scene3::cornell_box(true, grid),
         "cornell-thesis" => return Scene3::cornell_box_thesis(grid),
+        "city-block" => return Scene3::city_block(city::MAX_CITY_BLOCKS, PRESET_SEED),
         _ => {}
     }
     if !PRESETS_3D.iter().any(|e| e.name == name) {

@@ -58,12 +58,51 @@ pub(crate) struct Integral {
     pub points: u64,
 }
 
-/// A leaf triangle: its rule value and its four children's.
+/// What the integral over a region needs: where the integrand is known in closed form
+/// over a whole triangle, and the integrand at a point.
+pub(crate) trait Integrand {
+    /// `Some(∫_T f dA)` when it is known exactly over `tri` (e.g. no occluder reaches the
+    /// triangle's sight lines); else `None` with the candidate occluders of `tri` — a
+    /// subset of `parent`, those of a triangle containing it — in `out`.
+    ///
+    /// # Errors
+    /// Those of the closed form.
+    fn classify(
+        &mut self,
+        tri: &[DVec3; 3],
+        parent: &[u32],
+        out: &mut Vec<u32>,
+    ) -> Result<Option<f64>>;
+
+    /// `f(x)` with the candidate occluders `cands` of a triangle containing `x`.
+    ///
+    /// # Errors
+    /// Those of the integrand.
+    fn eval(&mut self, x: DVec3, cands: &[u32]) -> Result<f64>;
+}
+
+/// A plain function: never known in closed form.
+#[cfg(test)]
+struct Plain<F>(F);
+
+#[cfg(test)]
+impl<F: FnMut(DVec3) -> Result<f64>> Integrand for Plain<F> {
+    fn classify(&mut self, _: &[DVec3; 3], _: &[u32], out: &mut Vec<u32>) -> Result<Option<f64>> {
+        out.clear();
+        Ok(None)
+    }
+    fn eval(&mut self, x: DVec3, _: &[u32]) -> Result<f64> {
+        (self.0)(x)
+    }
+}
+
+/// A leaf triangle: its rule value and its four children's, with its candidates.
 struct Leaf {
     tri: [DVec3; 3],
     children: [f64; 4],
     error: f64,
     order: u64,
+    cands: Vec<u32>,
 }
 
 impl PartialEq for Leaf {
@@ -86,7 +125,8 @@ impl Ord for Leaf {
     }
 }
 
-/// The four midpoint children of a triangle (three corners and the middle one).
+/// The four midpoint children of a triangle (three corners and the middle one), all of
+/// the parent's orientation.
 fn children(t: &[DVec3; 3]) -> [[DVec3; 3]; 4] {
     let (a, b, c) = (t[0], t[1], t[2]);
     let (ab, bc, ca) = (0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a));
@@ -94,7 +134,7 @@ fn children(t: &[DVec3; 3]) -> [[DVec3; 3]; 4] {
 }
 
 /// `∫_T f dA` by [`RULE`].
-fn rule(t: &[DVec3; 3], f: &mut impl FnMut(DVec3) -> Result<f64>) -> Result<f64> {
+fn rule(t: &[DVec3; 3], mut f: impl FnMut(DVec3) -> Result<f64>) -> Result<f64> {
     let (a, b, c) = (t[0], t[1], t[2]);
     let area = 0.5 * (b - a).cross(c - a).length();
     let mut s = KahanSum::new();
@@ -110,11 +150,12 @@ fn leaf(
     tri: [DVec3; 3],
     coarse: f64,
     order: u64,
-    f: &mut impl FnMut(DVec3) -> Result<f64>,
+    cands: Vec<u32>,
+    g: &mut impl Integrand,
 ) -> Result<Leaf> {
     let mut ch = [0.0; 4];
     for (value, t) in ch.iter_mut().zip(children(&tri)) {
-        *value = rule(&t, f)?;
+        *value = rule(&t, |p| g.eval(p, &cands))?;
     }
     let fine = crate::math::sum(ch.iter().copied());
     Ok(Leaf {
@@ -122,14 +163,33 @@ fn leaf(
         children: ch,
         error: SAFETY * (fine - coarse).abs(),
         order,
+        cands,
     })
 }
 
 /// `∫_P f dA` over the convex polygon `polygon` (a fan of triangles about its first
-/// vertex): each triangle's [`RULE`] is compared with the same rule on its four midpoint
-/// children; the leaf with the largest difference is split until the differences sum to at
-/// most `tolerance` or `max_points` points have been evaluated (the estimate then says how
-/// far it got).
+/// vertex) for a plain function `f` ([`integrate_with`] with nothing known in closed
+/// form).
+///
+/// # Errors
+/// Those of `f`.
+#[cfg(test)]
+pub(crate) fn integrate(
+    polygon: &[DVec3],
+    tolerance: f64,
+    max_points: u64,
+    f: impl FnMut(DVec3) -> Result<f64>,
+) -> Result<Integral> {
+    integrate_with(polygon, &[], tolerance, max_points, &mut Plain(f))
+}
+
+/// `∫_P g dA` over the convex polygon `polygon` (a fan of triangles about its first
+/// vertex), `cands` the candidates of the whole polygon. A triangle whose integral `g`
+/// knows exactly ([`Integrand::classify`]) is a finished leaf with no error; on the others
+/// the [`RULE`] is compared with the same rule on the four midpoint children, and the leaf
+/// with the largest difference is split (its children classified in turn) until the
+/// differences sum to at most `tolerance` or `max_points` points have been evaluated (the
+/// estimate then says how far it got).
 ///
 /// The estimate `SAFETY · Σ |Q_fine − Q_coarse|` ([`SAFETY`]) bounds the error of the finer
 /// values returned when the finer rule is closer to the integral than the coarser one by a
@@ -137,20 +197,28 @@ fn leaf(
 /// visibility event: about 4 on average). It is an a-posteriori estimate, not a proof.
 ///
 /// # Errors
-/// Those of `f`.
-pub(crate) fn integrate(
+/// Those of `g`.
+pub(crate) fn integrate_with(
     polygon: &[DVec3],
+    cands: &[u32],
     tolerance: f64,
     max_points: u64,
-    mut f: impl FnMut(DVec3) -> Result<f64>,
+    g: &mut impl Integrand,
 ) -> Result<Integral> {
     let mut heap = BinaryHeap::new();
     let mut points = 0u64;
     let mut order = 0u64;
+    let mut exact = KahanSum::new();
+    let mut sub = Vec::new();
     for w in polygon[1..].windows(2) {
         let tri = [polygon[0], w[0], w[1]];
-        let coarse = rule(&tri, &mut f)?;
-        heap.push(leaf(tri, coarse, order, &mut f)?);
+        if let Some(v) = g.classify(&tri, cands, &mut sub)? {
+            exact.add(v);
+            continue;
+        }
+        let c = core::mem::take(&mut sub);
+        let coarse = rule(&tri, |p| g.eval(p, &c))?;
+        heap.push(leaf(tri, coarse, order, c, g)?);
         order += 1;
         points += 5 * RULE_POINTS;
     }
@@ -171,15 +239,21 @@ pub(crate) fn integrate(
         let Some(worst) = heap.pop() else { break };
         total -= worst.error;
         for (tri, coarse) in children(&worst.tri).into_iter().zip(worst.children) {
-            let l = leaf(tri, coarse, order, &mut f)?;
+            if let Some(v) = g.classify(&tri, &worst.cands, &mut sub)? {
+                exact.add(v);
+                continue;
+            }
+            let c = core::mem::take(&mut sub);
+            let l = leaf(tri, coarse, order, c, g)?;
             total += l.error;
             heap.push(l);
             order += 1;
+            points += 4 * RULE_POINTS;
         }
-        points += split_cost;
     }
     let leaves: Vec<Leaf> = heap.into_vec();
     let mut value = KahanSum::new();
+    value.add(exact.total());
     let mut error = KahanSum::new();
     for l in &leaves {
         for &c in &l.children {
@@ -205,7 +279,7 @@ mod tests {
         let fact = |n: u32| (1..=n).map(f64::from).product::<f64>();
         for a in 0..=5u32 {
             for b in 0..=(5 - a) {
-                let q = rule(&tri, &mut |p| {
+                let q = rule(&tri, |p| {
                     Ok(crate::math::pow(p.x, f64::from(a)) * crate::math::pow(p.y, f64::from(b)))
                 })
                 .unwrap();

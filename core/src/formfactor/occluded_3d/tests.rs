@@ -329,8 +329,8 @@ fn reciprocity_of_the_two_integration_sides() {
     let o = OcclusionOptions::new(1e-7);
     let pf = Plane::of(&floor).unwrap();
     let pw = Plane::of(&wall).unwrap();
-    let a = integrate_pair(&floor, &pf, &wall, &pw, &[&blocker], &o).unwrap();
-    let b = integrate_pair(&wall, &pw, &floor, &pf, &[&blocker], &o).unwrap();
+    let a = integrate_past(&floor, &pf, &wall, &pw, &[&blocker], &o).unwrap();
+    let b = integrate_past(&wall, &pw, &floor, &pf, &[&blocker], &o).unwrap();
     assert!(
         (a.flux - b.flux).abs() <= a.error + b.error,
         "{a:?} vs {b:?}"
@@ -353,6 +353,92 @@ fn unoccluded_scenes_keep_the_exact_bits() {
                 exact.get(i, j).to_bits()
             );
         }
+    }
+}
+
+/// `polygons` as the flat `(points, ranges)` of [`form_factors_occluded`].
+fn flat(polygons: &[Vec<DVec3>]) -> (Vec<DVec3>, Vec<(usize, usize)>) {
+    let mut points = Vec::new();
+    let mut ranges = Vec::new();
+    for p in polygons {
+        ranges.push((points.len(), p.len()));
+        points.extend_from_slice(p);
+    }
+    (points, ranges)
+}
+
+/// The centred square `[-h, h]²` at height `z` (facing `±z`) cut into `k × k` cells.
+fn cut_square(h: f64, z: f64, up: bool, k: usize) -> Vec<Vec<DVec3>> {
+    let step = 2.0 * h / k as f64;
+    let mut cells = Vec::new();
+    for a in 0..k {
+        for b in 0..k {
+            let (x, y) = (-h + a as f64 * step, -h + b as f64 * step);
+            let q = vec![
+                v(x, y, z),
+                v(x + step, y, z),
+                v(x + step, y + step, z),
+                v(x, y + step, z),
+            ];
+            cells.push(if up { q } else { vec![q[0], q[3], q[2], q[1]] });
+        }
+    }
+    cells
+}
+
+#[test]
+fn a_pair_hidden_by_one_plate_is_exactly_zero_without_integration() {
+    // Coaxial unit squares 2 apart, a plate of side 1.4 midway hides every sight line.
+    let polygons = [
+        centred_square(0.5, 0.0, true).to_vec(),
+        centred_square(0.5, 2.0, false).to_vec(),
+        centred_square(0.7, 1.0, true).to_vec(),
+    ];
+    let (points, ranges) = flat(&polygons);
+    let r = form_factors_occluded(&points, &ranges, &OcclusionOptions::new(1e-8)).unwrap();
+    assert_eq!(r.form_factors.get(0, 1), 0.0);
+    assert_eq!(r.errors[1], 0.0);
+    assert_eq!(r.pairs_blocked, 1);
+    assert_eq!(r.pairs_integrated, 0);
+    // A plate of side 0.9 hides only part: integrated, and F within its estimate of the
+    // closed-form reference.
+    let polygons = [
+        polygons[0].clone(),
+        polygons[1].clone(),
+        centred_square(0.45, 1.0, true).to_vec(),
+    ];
+    let (points, ranges) = flat(&polygons);
+    let r = form_factors_occluded(&points, &ranges, &OcclusionOptions::new(1e-7)).unwrap();
+    assert_eq!(r.pairs_blocked, 0);
+    let reference = coaxial_reference(0.9);
+    let f = r.form_factors.get(0, 1);
+    assert!(
+        (f - reference).abs() <= r.errors[1],
+        "{f} vs {reference} ± {}",
+        r.errors[1]
+    );
+}
+
+#[test]
+fn a_blocker_cut_into_cells_hides_as_the_whole_plate() {
+    // The coaxial plates with a centred blocker of side 0.6, whole or cut into 5 × 5
+    // cells (merged back into one occluder): the same F within the estimates, both
+    // within their estimates of the closed form.
+    let (src, tgt) = (
+        centred_square(0.5, 0.0, true).to_vec(),
+        centred_square(0.5, 2.0, false).to_vec(),
+    );
+    let reference = coaxial_reference(0.6);
+    for k in [1, 5] {
+        let mut polygons = vec![src.clone(), tgt.clone()];
+        polygons.extend(cut_square(0.3, 1.0, true, k));
+        let (points, ranges) = flat(&polygons);
+        let r = form_factors_occluded(&points, &ranges, &OcclusionOptions::new(1e-6)).unwrap();
+        let (f, e) = (r.form_factors.get(0, 1), r.errors[1]);
+        assert!(
+            e <= 1e-6 && (f - reference).abs() <= e,
+            "k = {k}: {f} vs {reference} ± {e}"
+        );
     }
 }
 

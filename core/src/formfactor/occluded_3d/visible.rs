@@ -96,6 +96,9 @@ impl Target {
             return Ok(0.0);
         }
         work.pieces.clear();
+        if !occluders.is_empty() {
+            self.pyramid(x, dx, work);
+        }
         let mut any_shadow = false;
         for occluder in occluders {
             if !self.shadow(x, dx, occluder, work) {
@@ -122,6 +125,35 @@ impl Target {
         Ok(sum.total().clamp(0.0, 1.0))
     }
 
+    /// The clipping planes of a point's shadows, as `(normal, offset, tolerance)` of the
+    /// half-spaces `normal · y ≥ offset` into `work.planes`: in front of the target's plane,
+    /// short of the near guard (`d(y) ≤ (1 − η) d(x)`), and the pyramid from `x` over the
+    /// target (the planes through `x` and each target edge, facing the centroid).
+    fn pyramid(&self, x: DVec3, dx: f64, work: &mut Workspace) {
+        let n = self.plane.normal;
+        let o = self.plane.origin;
+        let scale = self.plane.radius + (x - self.plane.centroid).length();
+        let tol = super::super::exact_3d::ON_PLANE * scale;
+        work.planes.clear();
+        work.planes.push((n, n.dot(o), tol));
+        let near = n.dot(o) + (1.0 - NEAR_GUARD) * dx;
+        work.planes.push((-n, -near, tol));
+        let m = self.vertices.len();
+        for k in 0..m {
+            let (p, q) = (self.vertices[k], self.vertices[(k + 1) % m]);
+            let mut side = (q - x).cross(p - x);
+            if side.dot(self.plane.centroid - x) < 0.0 {
+                side = -side;
+            }
+            let len = side.length();
+            if !(len > 0.0) {
+                continue;
+            }
+            let side = side / len;
+            work.planes.push((side, side.dot(x), 0.0));
+        }
+    }
+
     /// The shadow of `occluder` on the target from `x` (at distance `dx` in front of the
     /// target's plane), counter-clockwise in plane coordinates, into `work.shadow`; `false`
     /// when it is empty or a sliver.
@@ -134,31 +166,25 @@ impl Target {
     fn shadow(&self, x: DVec3, dx: f64, occluder: &[DVec3], work: &mut Workspace) -> bool {
         let n = self.plane.normal;
         let o = self.plane.origin;
-        let scale = self.plane.radius + (x - self.plane.centroid).length();
-        let tol = super::super::exact_3d::ON_PLANE * scale;
+        // Wholly outside one of the planes (beyond its tolerance): the clips below would
+        // leave nothing, so skip them.
+        if work
+            .planes
+            .iter()
+            .any(|&(normal, offset, tol)| occluder.iter().all(|&y| normal.dot(y) - offset < -tol))
+        {
+            return false;
+        }
         work.a.clear();
         work.a.extend_from_slice(occluder);
-        // In front of the target's plane, and short of the near guard.
-        clip3(&mut work.a, &mut work.b, n, n.dot(o), tol);
-        let near = n.dot(o) + (1.0 - NEAR_GUARD) * dx;
-        clip3(&mut work.a, &mut work.b, -n, -near, tol);
-        // Inside the pyramid from x over the target.
-        let m = self.vertices.len();
-        for k in 0..m {
+        // In front of the target's plane, short of the near guard, inside the pyramid from
+        // x over the target (the planes of `pyramid`, in that order).
+        for k in 0..work.planes.len() {
             if work.a.len() < 3 {
                 return false;
             }
-            let (p, q) = (self.vertices[k], self.vertices[(k + 1) % m]);
-            let mut side = (q - x).cross(p - x);
-            if side.dot(self.plane.centroid - x) < 0.0 {
-                side = -side;
-            }
-            let len = side.length();
-            if !(len > 0.0) {
-                continue;
-            }
-            let side = side / len;
-            clip3(&mut work.a, &mut work.b, side, side.dot(x), 0.0);
+            let (normal, offset, tol) = work.planes[k];
+            clip3(&mut work.a, &mut work.b, normal, offset, tol);
         }
         if work.a.len() < 3 {
             return false;
@@ -250,6 +276,8 @@ pub(crate) struct Workspace {
     space: Vec<DVec3>,
     a: Vec<DVec3>,
     b: Vec<DVec3>,
+    /// The current point's clipping planes (`Target::pyramid`).
+    planes: Vec<(DVec3, f64, f64)>,
 }
 
 /// The unit normal pointing left of `a → b` (into a counter-clockwise polygon), `None`
