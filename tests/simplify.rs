@@ -5,7 +5,7 @@
 
 use sceneinfo::channel::Channel;
 use sceneinfo::formfactor::{FormFactors, exact_2d, exact_3d};
-use sceneinfo::io::parse_flat;
+use sceneinfo::io::{ObjOptions, parse_flat, parse_obj};
 use sceneinfo::refine::proposition::{StateSplit, split_gain};
 use sceneinfo::scene::{Scene2, Scene3, Subdivision};
 use sceneinfo::simplify::adjacency::{adjacency_2d, adjacency_3d, coarse_scene_2d};
@@ -170,9 +170,30 @@ fn merging_then_splitting_back_restores_i_s() {
     }
 }
 
+/// A mesh nobody on the project wrote: tinyobjloader's
+/// `models/issue-295-trianguation-failure.obj` (tests/data/corpus/SOURCES.md, MIT), a closed
+/// 1 × 1 × 3 box of 14 unit quads at coordinates near 10⁴. Its quads face outwards (no
+/// patch sees another), so each is turned to face inwards (vertex order reversed), making
+/// the box an enclosure, and cut `grid × grid`.
+fn corpus_box(grid: u32) -> Scene3 {
+    let text = include_str!("data/corpus/obj/tinyobjloader/issue-295-trianguation-failure.obj");
+    let options = ObjOptions::new(Subdivision::Grid(1));
+    let outward = parse_obj(text, &options, |_| None).unwrap().0;
+    assert_eq!(outward.faces().len(), 14);
+    let mut builder = Scene3::builder();
+    for f in 0..outward.faces().len() {
+        let mut v = outward.face_vertices(f).to_vec();
+        v.reverse();
+        builder.polygon(&v, Subdivision::Grid(grid)).unwrap();
+    }
+    builder.build().unwrap()
+}
+
 /// The 3D scenes: enclosures with exact unoccluded form factors.
 fn solid_scenes() -> Vec<(String, Scene3)> {
     vec![
+        ("corpus box (issue-295), grid 2".into(), corpus_box(2)),
+        ("corpus box (issue-295), grid 3".into(), corpus_box(3)),
         ("cube, grid 4".into(), Scene3::cube(4).unwrap()),
         (
             "tetrahedron, grid 6".into(),
@@ -220,8 +241,14 @@ fn mi_simplification_keeps_at_least_the_i_s_of_regular_coarsening() {
             let (mi, regular, power) = (&c.outcomes[0], &c.outcomes[1], &c.outcomes[2]);
             assert_eq!(mi.n_patches, regular.n_patches, "{name}: equal counts");
             rows.push(format!(
-                "{name:>28} {n:>4} → {:>4}: I_S kept mi {:.4} regular {:.4} power {:.4}",
-                mi.n_patches, mi.kept, regular.kept, power.kept
+                "{name:>30} {n:>4} → {:>4}: I_S mi {:.6} regular {:.6} bits (kept {:.4} / {:.4}, power {:.4}){}",
+                mi.n_patches,
+                mi.i_s,
+                regular.i_s,
+                mi.kept,
+                regular.kept,
+                power.kept,
+                if c.polished.top_down { ", top-down start" } else { "" }
             ));
             if mi.i_s < regular.i_s - LOSS_TOLERANCE {
                 failures.push(format!(

@@ -44,6 +44,7 @@ pub mod chain;
 pub mod compare;
 pub mod greedy;
 pub mod polish;
+mod split;
 
 pub use chain::MergeChain;
 pub use compare::{Comparison, CriterionOutcome, compare_criteria};

@@ -1,7 +1,7 @@
 //! `sceneinfo simplify`: MI-based mesh simplification (thesis §7.3; `docs/simplify.md`).
 //! Greedy merges of adjacent patches with the least information lost, to `--to N` patches
 //! or a `--max-loss` budget in bits, a polish of that partition at the same patch count
-//! (`simplify::polish`: only changes that raise `I_S`), then the three criteria (mi, regular, power) compared
+//! (`simplify::polish`: only changes that raise `I_S`; computed once, inside the comparison), then the three criteria (mi, regular, power) compared
 //! at the patch count reached: `I_S` kept and the radiosity error against the fine solution.
 //! Flatland with exact form factors; 3D with exact form factors when no polygon can hide
 //! another (otherwise refused).
@@ -16,7 +16,7 @@ use sceneinfo::formfactor::{FormFactors, exact_2d, exact_3d};
 use sceneinfo::scene::{Material, Subdivision};
 use sceneinfo::simplify::adjacency::{adjacency_2d, adjacency_3d, coarse_scene_2d};
 use sceneinfo::simplify::{
-    MergeChain, MergeCriterion, MergeStep, Polished, Simplifier, compare_criteria,
+    MergeChain, MergeCriterion, MergeStep, Simplifier, compare_criteria,
 };
 use sceneinfo_report::SimplificationReport;
 
@@ -81,8 +81,9 @@ pub fn run(args: &SimplifyArgs) -> Result<()> {
         Simplifier::new(chain.clone(), n, &pairs, MergeCriterion::Information, None).map_err(at)?;
     let fine_i_s = s.start_i_s();
     let (steps, stop) = s.run(args.to.unwrap_or(1), args.max_loss).map_err(at)?;
-    let polished = Polished::of(&chain, n, &pairs, s.chain().clusters()).map_err(at)?;
+    // The comparison polishes the greedy mesh (the same merges, to the count reached).
     let comparison = compare_criteria(&chain, n, &pairs, &materials, s.n_patches()).map_err(at)?;
+    let polished = &comparison.polished;
     if let (Some(out), Some(scene)) = (&args.output, flat) {
         let coarse = coarse_scene_2d(scene, polished.chain.clusters()).map_err(at)?;
         write_atomic(out, sceneinfo::io::write_flat(&coarse).as_bytes())?;

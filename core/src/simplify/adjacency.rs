@@ -16,6 +16,7 @@
 //! Pairs come out `(a, b)` with `a < b`, sorted, each once. Patches of one plane and facing
 //! do not see each other, so two adjacent patches never exchange light.
 
+use alloc::vec;
 use alloc::vec::Vec;
 
 use crate::error::{ErrorKind, Result};
@@ -73,6 +74,34 @@ pub fn coarse_scene_2d(scene: &Scene2, clusters: &[usize]) -> Result<Scene2> {
         })
         .collect();
     scene.with_cuts(cuts)
+}
+
+/// The sorted, deduplicated neighbours of each of the first `n_patches` states in the
+/// pairs `adjacency` (the merges' and the polish's bookkeeping).
+///
+/// # Errors
+/// [`ErrorKind::PatchIndex`] for a pair naming a state `≥ n_patches` or one patch twice.
+pub(crate) fn neighbour_lists(
+    adjacency: &[(usize, usize)],
+    n_patches: usize,
+) -> Result<Vec<Vec<usize>>> {
+    let mut neighbours = vec![Vec::new(); n_patches];
+    for &(a, b) in adjacency {
+        if a >= n_patches || b >= n_patches || a == b {
+            return Err(ErrorKind::PatchIndex {
+                index: a.max(b),
+                len: n_patches,
+            }
+            .into());
+        }
+        neighbours[a].push(b);
+        neighbours[b].push(a);
+    }
+    for list in &mut neighbours {
+        list.sort_unstable();
+        list.dedup();
+    }
+    Ok(neighbours)
 }
 
 /// Relative rounding of positions, normals and plane offsets in [`adjacency_3d`].
@@ -139,7 +168,6 @@ pub fn adjacency_3d(scene: &Scene3) -> Vec<(usize, usize)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use alloc::vec;
 
     #[test]
     fn flatland_neighbours_are_consecutive_patches_of_one_surface() {

@@ -15,7 +15,7 @@ use crate::refine::proposition::two_state_split_gain;
 /// States keep their indices: a merge of `a < b` keeps `a` (the merged state) and empties
 /// `b`. A merged state is named by the smallest original state it holds, its
 /// *representative*.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct MergeChain {
     n: usize,
     /// `p_xy`, row-major `n × n`, exactly symmetric; rows and columns of absorbed states 0.

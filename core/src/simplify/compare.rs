@@ -62,6 +62,9 @@ pub struct Comparison {
     pub fine_rms: f64,
     /// One outcome per criterion, in [`MergeCriterion::ALL`] order.
     pub outcomes: Vec<CriterionOutcome>,
+    /// The `mi` mesh: the greedy merge polished ([`Polished::of`]), so a caller that wants
+    /// the mesh itself need not polish again.
+    pub polished: Polished,
 }
 
 /// The radiosity of every patch state of `chain` as merged, solved on its coarse form
@@ -152,20 +155,31 @@ pub fn compare_criteria(
     let fine_i_s = fine.i_s()?;
     let (_, fine_rms) = radiosity_rmse(&a, &fine_b, &fine_b);
     let mut outcomes = Vec::with_capacity(MergeCriterion::ALL.len());
+    let mut greedy = Simplifier::new(
+        fine.clone(),
+        n_patches,
+        adjacency,
+        MergeCriterion::Information,
+        None,
+    )?;
+    let (_, mi_stop) = greedy.run(target, None)?;
+    let polished = Polished::of(fine, n_patches, adjacency, greedy.chain().clusters())?;
     for criterion in MergeCriterion::ALL {
-        let mut s = Simplifier::new(fine.clone(), n_patches, adjacency, criterion, Some(&fine_b))?;
-        let (_, stop) = s.run(target, None)?;
-        let (chain, i_s) = if criterion == MergeCriterion::Information {
-            let polished = Polished::of(fine, n_patches, adjacency, s.chain().clusters())?;
-            (polished.chain, polished.i_s)
+        let other;
+        let (chain, i_s, n, stop) = if criterion == MergeCriterion::Information {
+            (&polished.chain, polished.i_s, greedy.n_patches(), mi_stop)
         } else {
-            (s.chain().clone(), s.i_s())
+            let mut s =
+                Simplifier::new(fine.clone(), n_patches, adjacency, criterion, Some(&fine_b))?;
+            let (_, stop) = s.run(target, None)?;
+            other = s;
+            (other.chain(), other.i_s(), other.n_patches(), stop)
         };
-        let coarse_b = radiosity_per_patch(&chain, n_patches, materials)?;
+        let coarse_b = radiosity_per_patch(chain, n_patches, materials)?;
         let (rmse, _) = radiosity_rmse(&a, &fine_b, &coarse_b);
         outcomes.push(CriterionOutcome {
             criterion,
-            n_patches: s.n_patches(),
+            n_patches: n,
             i_s,
             kept: if fine_i_s > 0.0 { i_s / fine_i_s } else { 1.0 },
             rmse,
@@ -178,5 +192,6 @@ pub fn compare_criteria(
         fine_i_s,
         fine_rms,
         outcomes,
+        polished,
     })
 }

@@ -38,6 +38,7 @@ use alloc::vec;
 use alloc::vec::Vec;
 use core::cmp::Ordering;
 
+use super::adjacency::neighbour_lists;
 use super::chain::MergeChain;
 use crate::error::{ErrorKind, Result};
 use crate::refine::proposition::pair_gap;
@@ -215,24 +216,15 @@ impl Simplifier {
             }
             None => {}
         }
-        let mut neighbours = vec![Vec::new(); n];
-        for &(a, b) in adjacency {
-            for x in [a, b] {
-                if x >= n_patches || a == b || !chain.is_live(x) {
-                    return Err(ErrorKind::PatchIndex {
-                        index: x,
-                        len: n_patches,
-                    }
-                    .into());
-                }
+        let mut neighbours = neighbour_lists(adjacency, n_patches)?;
+        if let Some(x) = (0..n_patches).find(|&x| !neighbours[x].is_empty() && !chain.is_live(x)) {
+            return Err(ErrorKind::PatchIndex {
+                index: x,
+                len: n_patches,
             }
-            neighbours[a].push(b);
-            neighbours[b].push(a);
+            .into());
         }
-        for list in &mut neighbours {
-            list.sort_unstable();
-            list.dedup();
-        }
+        neighbours.resize(n, Vec::new());
         let i_s = chain.i_s()?;
         let mut s = Self {
             chain,

@@ -34,8 +34,25 @@
 //!    sum ignoring their coupling); the first few are evaluated exactly and the first that
 //!    raises `I_S` is taken.
 //!
-//! The search alternates boundary moves until none helps and one transfer, until no
-//! transfer helps. A change is accepted only when it raises `I_S` by more than
+//! 3. **Exact re-split** (3D; `super::split`): two adjacent clusters of at most
+//!    `EXACT_SPLIT_PATCHES` patches together are cut anew into the best two connected
+//!    parts with the others fixed, every cut of their union tried (Gray code order,
+//!    `O(o)` per cut). It contains every sequence of boundary moves between the two, so a
+//!    staircase border that single moves cannot straighten (each step worse) is left.
+//!
+//! The search alternates boundary moves until none helps, the flatland surfaces' dynamic
+//! programming, exact re-splits, and one transfer, until none helps.
+//!
+//! **Two starts.** [`Polished::of`] polishes the partition it is given (the greedy merge's)
+//! and a second one built the other way, **top-down**: every adjacency component whole
+//! (one cluster per surface piece), then the cluster whose best split in two gains the most
+//! `I_S` (exact along a flatland surface and up to `EXACT_SPLIT_PATCHES` patches, else the
+//! greedy split) is split, until the same patch count — the thesis' refinement direction
+//! (Proposition 3's gain, §5.4) instead of the merge's. It keeps whichever ends higher. The
+//! greedy merge decides the cheap merges first and cannot undo them (star-2: each side's
+//! two middle patches merge first, so every side ends 1 + 3, a local optimum of every
+//! single-surface move); the top-down split decides the large cuts first. Neither start
+//! looks at regular coarsening. A change is accepted only when it raises `I_S` by more than
 //! `GAIN_THRESHOLD` bits (far above the rounding of the incremental updates), so no
 //! partition repeats; the loops are also capped (`MOVES_PER_PATCH`, one transfer round
 //! per patch). The incremental `Q`, `W`, `p L` are rebuilt from the fine chain after every
@@ -49,8 +66,10 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
+use super::adjacency::neighbour_lists;
 use super::chain::MergeChain;
 use super::greedy::{MergeCriterion, Simplifier};
+use super::split::{EXACT_SPLIT_PATCHES, TwoParts, best_bipartition};
 use crate::error::{ErrorKind, Result};
 use crate::math::{self, KahanSum};
 use crate::refine::proposition::two_state_split_gain;
@@ -66,7 +85,7 @@ pub(crate) const MOVES_PER_PATCH: usize = 32;
 const TRANSFER_TRIES: usize = 24;
 
 /// A polished partition ([`Polished::of`]).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Polished {
     /// The fine chain merged into the polished clusters (each merged patch named by its
     /// smallest fine patch, as [`MergeChain::clusters`] gives it).
@@ -77,8 +96,12 @@ pub struct Polished {
     pub i_s: f64,
     /// Boundary moves taken.
     pub moves: u64,
-    /// Transfers taken.
+    /// Larger changes taken: transfers, re-cut surfaces, runs moved between surfaces and
+    /// exact re-splits.
     pub transfers: u64,
+    /// Whether the result was polished from the top-down start (module docs) rather than
+    /// from the partition given, which it beats.
+    pub top_down: bool,
 }
 
 /// `q log₂(q / v)`, 0 unless both are positive.
@@ -111,6 +134,8 @@ struct Partition<'a> {
     /// The adjacency components that are paths whose patches see none of each other (a
     /// flatland surface), each in path order: [`Partition::surface_dp`] optimises them.
     paths: Vec<Vec<usize>>,
+    /// For each patch on one of `paths`: the path and its position along it.
+    path_of: Vec<Option<(usize, usize)>>,
 }
 
 impl<'a> Partition<'a> {
@@ -135,22 +160,7 @@ impl<'a> Partition<'a> {
                 return Err(ErrorKind::PatchIndex { index: c, len: n }.into());
             }
         }
-        let mut neighbours = vec![Vec::new(); n_patches];
-        for &(a, b) in adjacency {
-            if a >= n_patches || b >= n_patches || a == b {
-                return Err(ErrorKind::PatchIndex {
-                    index: a.max(b),
-                    len: n_patches,
-                }
-                .into());
-            }
-            neighbours[a].push(b);
-            neighbours[b].push(a);
-        }
-        for list in &mut neighbours {
-            list.sort_unstable();
-            list.dedup();
-        }
+        let neighbours = neighbour_lists(adjacency, n_patches)?;
         // Cluster ids in order of first appearance.
         let mut id_of_rep = vec![usize::MAX; n];
         let mut label = vec![0; n];
@@ -175,8 +185,15 @@ impl<'a> Partition<'a> {
             q: Vec::new(),
             w: Vec::new(),
             paths: Vec::new(),
+            path_of: Vec::new(),
         };
         p.paths = p.find_paths();
+        p.path_of = vec![None; n_patches];
+        for (s, path) in p.paths.iter().enumerate() {
+            for (t, &x) in path.iter().enumerate() {
+                p.path_of[x] = Some((s, t));
+            }
+        }
         p.rebuild();
         Ok(p)
     }
@@ -451,18 +468,8 @@ impl<'a> Partition<'a> {
         if splits.is_empty() {
             return false;
         }
-        let mut pairs: Vec<(usize, usize)> = Vec::new();
-        for x in 0..self.n_patches {
-            for &y in &self.neighbours[x] {
-                let (c, d) = (self.label[x], self.label[y]);
-                if c < d {
-                    pairs.push((c, d));
-                }
-            }
-        }
-        pairs.sort_unstable();
-        pairs.dedup();
-        let merges: Vec<(usize, usize, f64)> = pairs
+        let merges: Vec<(usize, usize, f64)> = self
+            .adjacent_clusters()
             .into_iter()
             .map(|(c, d)| {
                 let loss = two_state_split_gain(
@@ -662,6 +669,11 @@ impl<'a> Partition<'a> {
 
     /// The partition with labels `label` (ids `0..m`, none empty), rebuilt.
     fn relabelled(&self, label: Vec<usize>) -> Self {
+        self.with_labels(label, self.m)
+    }
+
+    /// The partition with labels `label` (ids `0..m`, none empty), rebuilt.
+    fn with_labels(&self, label: Vec<usize>, m: usize) -> Self {
         let mut p = Self {
             fine: self.fine,
             n: self.n,
@@ -669,14 +681,179 @@ impl<'a> Partition<'a> {
             neighbours: self.neighbours.clone(),
             label,
             members: Vec::new(),
-            m: self.m,
+            m,
             r: Vec::new(),
             q: Vec::new(),
             w: Vec::new(),
             paths: self.paths.clone(),
+            path_of: self.path_of.clone(),
         };
         p.rebuild();
         p
+    }
+
+    /// For every state, the smallest state of its cluster (as [`MergeChain::clusters`]).
+    fn representatives(&self) -> Vec<usize> {
+        self.label.iter().map(|&c| self.members[c][0]).collect()
+    }
+
+    /// The pairs `(c, d)`, `c < d`, of clusters holding two adjacent patches.
+    fn adjacent_clusters(&self) -> Vec<(usize, usize)> {
+        let mut pairs: Vec<(usize, usize)> = Vec::new();
+        for x in 0..self.n_patches {
+            for &y in &self.neighbours[x] {
+                let (c, d) = (self.label[x], self.label[y]);
+                if c < d {
+                    pairs.push((c, d));
+                }
+            }
+        }
+        pairs.sort_unstable();
+        pairs.dedup();
+        pairs
+    }
+
+    /// The split search of `split` for the patches `u` against every cluster not in
+    /// `inside` (the clusters `u` is made of).
+    fn two_parts(&self, u: &[usize], inside: &[usize]) -> TwoParts {
+        let m = self.m;
+        let others: Vec<usize> = (0..m).filter(|c| !inside.contains(c)).collect();
+        let (k, o) = (u.len(), others.len());
+        let mut to_others = vec![0.0; k * o];
+        let mut joint = vec![0.0; k * k];
+        for (i, &x) in u.iter().enumerate() {
+            for (j, &c) in others.iter().enumerate() {
+                to_others[i * o + j] = self.r[x * m + c];
+            }
+            let row = self.fine.joint_row(x);
+            for (l, &y) in u.iter().enumerate() {
+                joint[i * k + l] = row[y];
+            }
+        }
+        TwoParts::new(
+            to_others,
+            others.iter().map(|&c| self.w[c]).collect(),
+            u.iter().map(|&x| self.fine.weight(x)).collect(),
+            joint,
+        )
+    }
+
+    /// For each patch of `u` (at most 32), the mask of its neighbours in `u`.
+    fn neighbour_masks(&self, u: &[usize]) -> Vec<u32> {
+        u.iter()
+            .map(|&x| {
+                self.neighbours[x]
+                    .iter()
+                    .filter_map(|y| u.iter().position(|z| z == y))
+                    .fold(0u32, |mask, i| mask | 1 << i)
+            })
+            .collect()
+    }
+
+    /// The patches `u` in order along one path, if they all lie on one.
+    fn path_order(&self, u: &[usize]) -> Option<Vec<usize>> {
+        let (first, _) = (*self.path_of.get(*u.first()?)?)?;
+        let mut at = Vec::with_capacity(u.len());
+        for &x in u {
+            let (s, t) = (*self.path_of.get(x)?)?;
+            if s != first {
+                return None;
+            }
+            at.push((t, x));
+        }
+        at.sort_unstable();
+        Some(at.into_iter().map(|(_, x)| x).collect())
+    }
+
+    /// The best split of cluster `e` in two connected parts with the others fixed:
+    /// `(gain, the patches of one part)`. Exact along a path and up to
+    /// `EXACT_SPLIT_PATCHES` patches (`split`), else the greedy split. `None` below two
+    /// patches.
+    fn best_split(&self, e: usize) -> Option<(f64, Vec<usize>)> {
+        let members = &self.members[e];
+        if members.len() < 2 || members.iter().any(|&x| x >= self.n_patches) {
+            return None;
+        }
+        if let Some(order) = self.path_order(members) {
+            let mut parts = self.two_parts(&order, &[e]);
+            let (v, t) = parts.best_prefix()?;
+            return Some((v - parts.whole(), order[..t].to_vec()));
+        }
+        if members.len() <= EXACT_SPLIT_PATCHES {
+            let mut parts = self.two_parts(members, &[e]);
+            let (v, mask) = best_bipartition(&mut parts, &self.neighbour_masks(members))?;
+            let part = members
+                .iter()
+                .enumerate()
+                .filter(|&(i, _)| mask & (1 << i) != 0)
+                .map(|(_, &x)| x)
+                .collect();
+            return Some((v - parts.whole(), part));
+        }
+        let (gain, part) = self.greedy_split(e)?;
+        let part = members
+            .iter()
+            .zip(&part)
+            .filter(|&(_, &second)| second)
+            .map(|(&x, _)| x)
+            .collect();
+        Some((gain, part))
+    }
+
+    /// Exact re-splits (module docs): two adjacent clusters of at most
+    /// `EXACT_SPLIT_PATCHES` patches together, not on one path, cut anew into the best two
+    /// connected parts with the others fixed. The re-splits that raise `I_S` are taken best
+    /// first, each checked on the rebuilt sums, a cluster at most once per call. Returns
+    /// the re-splits taken.
+    fn resplit_pairs(&mut self) -> usize {
+        let mut options: Vec<(f64, usize, usize, Vec<usize>, u32)> = Vec::new();
+        for (c, d) in self.adjacent_clusters() {
+            if self.members[c].len() + self.members[d].len() > EXACT_SPLIT_PATCHES {
+                continue;
+            }
+            let mut u: Vec<usize> = self.members[c]
+                .iter()
+                .chain(&self.members[d])
+                .copied()
+                .collect();
+            u.sort_unstable();
+            if self.path_order(&u).is_some() {
+                continue;
+            }
+            let mut parts = self.two_parts(&u, &[c, d]);
+            for (i, &x) in u.iter().enumerate() {
+                parts.set(i, self.label[x] == d);
+            }
+            let now = parts.value();
+            for i in 0..u.len() {
+                parts.set(i, false);
+            }
+            if let Some((v, mask)) = best_bipartition(&mut parts, &self.neighbour_masks(&u))
+                && v > now + GAIN_THRESHOLD
+            {
+                options.push((v - now, c, d, u, mask));
+            }
+        }
+        options.sort_unstable_by(|s, t| t.0.total_cmp(&s.0).then(s.1.cmp(&t.1)).then(s.2.cmp(&t.2)));
+        let mut touched = vec![false; self.m];
+        let mut taken = 0;
+        for (_, c, d, u, mask) in options {
+            if touched[c] || touched[d] {
+                continue;
+            }
+            let mut label = self.label.clone();
+            for (i, &x) in u.iter().enumerate() {
+                label[x] = if mask & (1 << i) != 0 { d } else { c };
+            }
+            let next = self.relabelled(label);
+            if next.i_s() > self.i_s() + GAIN_THRESHOLD {
+                *self = next;
+                touched[c] = true;
+                touched[d] = true;
+                taken += 1;
+            }
+        }
+        taken
     }
 
     /// Coordinate ascent over the flatland surfaces (paths, module docs): each path's
@@ -794,6 +971,62 @@ impl<'a> Partition<'a> {
     }
 }
 
+/// Most `n² × splits` the top-down start may cost (each split rebuilds the `O(n²)` sums).
+const TOP_DOWN_WORK: usize = 1 << 27;
+
+/// The top-down start (module docs): every adjacency component of the patches one cluster,
+/// then the cluster whose best split (`Partition::best_split`) gains the most is split,
+/// until `count` patch clusters. For every state, its cluster's representative; `None`
+/// when there are more components than `count`, no cluster can split, or the work would
+/// pass `TOP_DOWN_WORK`.
+fn top_down(
+    fine: &MergeChain,
+    n_patches: usize,
+    adjacency: &[(usize, usize)],
+    count: usize,
+) -> Result<Option<Vec<usize>>> {
+    let n = fine.n_states();
+    let neighbours = neighbour_lists(adjacency, n_patches)?;
+    let mut clusters: Vec<usize> = (0..n).collect();
+    let mut seen = vec![false; n_patches];
+    let mut components = 0;
+    for start in 0..n_patches {
+        if seen[start] {
+            continue;
+        }
+        components += 1;
+        seen[start] = true;
+        let mut stack = vec![start];
+        while let Some(x) = stack.pop() {
+            clusters[x] = start;
+            for &y in &neighbours[x] {
+                if !seen[y] {
+                    seen[y] = true;
+                    stack.push(y);
+                }
+            }
+        }
+    }
+    if components > count || n * n * (count - components) > TOP_DOWN_WORK {
+        return Ok(None);
+    }
+    let mut p = Partition::new(fine, n_patches, adjacency, &clusters)?;
+    for _ in components..count {
+        let best = (0..p.m)
+            .filter_map(|e| p.best_split(e).map(|(gain, part)| (gain, e, part)))
+            .max_by(|s, t| s.0.total_cmp(&t.0).then(t.1.cmp(&s.1)));
+        let Some((_, _, part)) = best else {
+            return Ok(None);
+        };
+        let mut label = p.label.clone();
+        for &x in &part {
+            label[x] = p.m;
+        }
+        p = p.with_labels(label, p.m + 1);
+    }
+    Ok(Some(p.representatives()))
+}
+
 /// `Σ_cd Q_cd log₂(Q_cd / (W_c W_d))` over an `m × m` joint.
 fn i_s_of(q: &[f64], w: &[f64]) -> f64 {
     let m = w.len();
@@ -824,6 +1057,33 @@ impl Polished {
         adjacency: &[(usize, usize)],
         clusters: &[usize],
     ) -> Result<Polished> {
+        let given = Self::from_start(fine, n_patches, adjacency, clusters)?;
+        let mut reps = clusters[..n_patches.min(clusters.len())].to_vec();
+        reps.sort_unstable();
+        reps.dedup();
+        let count = reps.len();
+        if let Some(top) = top_down(fine, n_patches, adjacency, count)? {
+            let other = Self::from_start(fine, n_patches, adjacency, &top)?;
+            if other.i_s > given.i_s + GAIN_THRESHOLD
+                && other.chain.live_states().len() == given.chain.live_states().len()
+            {
+                return Ok(Polished {
+                    start_i_s: given.start_i_s,
+                    top_down: true,
+                    ..other
+                });
+            }
+        }
+        Ok(given)
+    }
+
+    /// The local search from the partition `clusters` alone.
+    fn from_start(
+        fine: &MergeChain,
+        n_patches: usize,
+        adjacency: &[(usize, usize)],
+        clusters: &[usize],
+    ) -> Result<Polished> {
         let mut p = Partition::new(fine, n_patches, adjacency, clusters)?;
         let start = p.merged_chain()?;
         let start_i_s = start.i_s()?;
@@ -835,7 +1095,10 @@ impl Polished {
             let taken = p.boundary_moves(budget);
             moves += taken;
             budget -= taken;
-            let along = p.surface_dp();
+            let mut along = p.surface_dp();
+            if along == 0 {
+                along = p.resplit_pairs();
+            }
             transfers += along;
             if along == 0 {
                 // Where every patch lies on a path the runs' moves above are the transfers.
@@ -855,6 +1118,7 @@ impl Polished {
                 i_s: start_i_s,
                 moves: 0,
                 transfers: 0,
+                top_down: false,
             });
         }
         Ok(Polished {
@@ -863,6 +1127,7 @@ impl Polished {
             i_s,
             moves: moves as u64,
             transfers: transfers as u64,
+            top_down: false,
         })
     }
 }
