@@ -40,7 +40,8 @@ impl SimplificationReport<'_> {
     /// Writes the report as one JSON object: `fine_patches`, `fine_i_s`, `target` and
     /// `max_loss` (null when not given), `n_patches`, `greedy_i_s` (after the greedy
     /// merges), `i_s` (after the polish: the final mesh's), `lost` (bits, fine less final),
-    /// `polish_moves`, `polish_transfers`, `stop`
+    /// `polish_moves`, `polish_transfers`, `polish_top_down` (whether the polished mesh
+    /// came from the top-down start), `stop`
     /// (`target`, `budget`, `no adjacent patches`), `steps` (an object of columns, one entry
     /// per merge: `kept`, `absorbed` — the merged patches' representatives, their smallest
     /// original patch index — `loss`, `n_patches`, `i_s`), `comparison` (`fine_rms`, then
@@ -71,6 +72,7 @@ impl SimplificationReport<'_> {
         o.number("lost", self.fine_i_s - self.i_s)?;
         o.integer("polish_moves", self.polish_moves)?;
         o.integer("polish_transfers", self.polish_transfers)?;
+        o.boolean("polish_top_down", self.comparison.polished.top_down)?;
         o.string("stop", self.stop.name())?;
         o.object("steps", |c| {
             let steps = self.steps;

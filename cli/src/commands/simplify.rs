@@ -15,9 +15,7 @@ use anyhow::Result;
 use sceneinfo::formfactor::{FormFactors, exact_2d, exact_3d};
 use sceneinfo::scene::{Material, Subdivision};
 use sceneinfo::simplify::adjacency::{adjacency_2d, adjacency_3d, coarse_scene_2d};
-use sceneinfo::simplify::{
-    MergeChain, MergeCriterion, MergeStep, Simplifier, compare_criteria,
-};
+use sceneinfo::simplify::{MergeChain, MergeCriterion, MergeStep, Simplifier, compare_criteria};
 use sceneinfo_report::SimplificationReport;
 
 use crate::args::SimplifyArgs;
@@ -142,7 +140,7 @@ fn table(path: &Path, r: &SimplificationReport<'_>, n_pairs: usize, with_steps: 
     );
     let _ = writeln!(
         t,
-        "polished: I_S = {:.6} bits ({:.2}% kept, {:.6} bits lost); {} boundary moves, {} transfers",
+        "polished: I_S = {:.6} bits ({:.2}% kept, {:.6} bits lost); {} boundary moves, {} transfers{}",
         r.i_s,
         100.0
             * if r.fine_i_s > 0.0 {
@@ -152,7 +150,12 @@ fn table(path: &Path, r: &SimplificationReport<'_>, n_pairs: usize, with_steps: 
             },
         r.fine_i_s - r.i_s,
         r.polish_moves,
-        r.polish_transfers
+        r.polish_transfers,
+        if r.comparison.polished.top_down {
+            " (from the top-down start, which beat the greedy merge's)"
+        } else {
+            ""
+        }
     );
     if with_steps {
         let _ = writeln!(

@@ -834,7 +834,8 @@ impl<'a> Partition<'a> {
                 options.push((v - now, c, d, u, mask));
             }
         }
-        options.sort_unstable_by(|s, t| t.0.total_cmp(&s.0).then(s.1.cmp(&t.1)).then(s.2.cmp(&t.2)));
+        options
+            .sort_unstable_by(|s, t| t.0.total_cmp(&s.0).then(s.1.cmp(&t.1)).then(s.2.cmp(&t.2)));
         let mut touched = vec![false; self.m];
         let mut taken = 0;
         for (_, c, d, u, mask) in options {

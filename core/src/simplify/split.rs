@@ -84,7 +84,11 @@ impl TwoParts {
             }
         }
         let row_u: Vec<f64> = (0..k)
-            .map(|i| inside.get(i * k..(i + 1) * k).map_or(0.0, |r| r.iter().sum()))
+            .map(|i| {
+                inside
+                    .get(i * k..(i + 1) * k)
+                    .map_or(0.0, |r| r.iter().sum())
+            })
             .collect();
         let inside = if inside.iter().any(|&v| v != 0.0) {
             inside
@@ -252,7 +256,12 @@ mod tests {
             0.02, 0.00, 0.00, 0.02, //
             0.00, 0.01, 0.02, 0.01,
         ];
-        TwoParts::new(to_others, vec![0.3, 0.25], vec![0.15, 0.12, 0.14, 0.11], inside)
+        TwoParts::new(
+            to_others,
+            vec![0.3, 0.25],
+            vec![0.15, 0.12, 0.14, 0.11],
+            inside,
+        )
     }
 
     /// `V(S)` from scratch, for a mask.
