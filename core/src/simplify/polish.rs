@@ -39,6 +39,9 @@
 //!    parts with the others fixed, every cut of their union tried (Gray code order,
 //!    `O(o)` per cut). It contains every sequence of boundary moves between the two, so a
 //!    staircase border that single moves cannot straighten (each step worse) is left.
+//!    The exact searches of one polish share a budget of `EXACT_SPLIT_WORK` updates
+//!    (`2^28`); past it, pairs are no longer re-split (and the top-down start splits by
+//!    the greedy merge), so a large mesh costs at most about a second more.
 //!
 //! The search alternates boundary moves until none helps, the flatland surfaces' dynamic
 //! programming, exact re-splits, and one transfer, until none helps.
@@ -769,7 +772,7 @@ impl<'a> Partition<'a> {
     /// `(gain, the patches of one part)`. Exact along a path and up to
     /// `EXACT_SPLIT_PATCHES` patches (`split`), else the greedy split. `None` below two
     /// patches.
-    fn best_split(&self, e: usize) -> Option<(f64, Vec<usize>)> {
+    fn best_split(&self, e: usize, budget: &mut u64) -> Option<(f64, Vec<usize>)> {
         let members = &self.members[e];
         if members.len() < 2 || members.iter().any(|&x| x >= self.n_patches) {
             return None;
@@ -779,7 +782,8 @@ impl<'a> Partition<'a> {
             let (v, t) = parts.best_prefix()?;
             return Some((v - parts.whole(), order[..t].to_vec()));
         }
-        if members.len() <= EXACT_SPLIT_PATCHES {
+        if let Some(left) = within(*budget, members.len(), self.m) {
+            *budget = left;
             let mut parts = self.two_parts(members, &[e]);
             let (v, mask) = best_bipartition(&mut parts, &self.neighbour_masks(members))?;
             let part = members
@@ -805,12 +809,16 @@ impl<'a> Partition<'a> {
     /// connected parts with the others fixed. The re-splits that raise `I_S` are taken best
     /// first, each checked on the rebuilt sums, a cluster at most once per call. Returns
     /// the re-splits taken.
-    fn resplit_pairs(&mut self) -> usize {
+    fn resplit_pairs(&mut self, budget: &mut u64) -> usize {
         let mut options: Vec<(f64, usize, usize, Vec<usize>, u32)> = Vec::new();
         for (c, d) in self.adjacent_clusters() {
-            if self.members[c].len() + self.members[d].len() > EXACT_SPLIT_PATCHES {
+            let Some(left) = within(
+                *budget,
+                self.members[c].len() + self.members[d].len(),
+                self.m,
+            ) else {
                 continue;
-            }
+            };
             let mut u: Vec<usize> = self.members[c]
                 .iter()
                 .chain(&self.members[d])
@@ -820,6 +828,7 @@ impl<'a> Partition<'a> {
             if self.path_order(&u).is_some() {
                 continue;
             }
+            *budget = left;
             let mut parts = self.two_parts(&u, &[c, d]);
             for (i, &x) in u.iter().enumerate() {
                 parts.set(i, self.label[x] == d);
@@ -972,6 +981,22 @@ impl<'a> Partition<'a> {
     }
 }
 
+/// Most elementary updates the exact searches of `split` may take in one polish from one
+/// start, and in the top-down start: past it, a cluster splits by the greedy merge and
+/// pairs are no longer re-split (about a second of work).
+const EXACT_SPLIT_WORK: u64 = 1 << 28;
+
+/// The budget left after an exact search over `k` patches against the other of `m`
+/// clusters (`2^(k−1)` cuts of `O(m + k)` each), if `k` is small enough
+/// (`EXACT_SPLIT_PATCHES`) and the budget covers it.
+fn within(budget: u64, k: usize, m: usize) -> Option<u64> {
+    if !(2..=EXACT_SPLIT_PATCHES).contains(&k) {
+        return None;
+    }
+    let cost = (1u64 << (k - 1)) * (m + k) as u64;
+    budget.checked_sub(cost)
+}
+
 /// Most `n² × splits` the top-down start may cost (each split rebuilds the `O(n²)` sums).
 const TOP_DOWN_WORK: usize = 1 << 27;
 
@@ -1012,9 +1037,13 @@ fn top_down(
         return Ok(None);
     }
     let mut p = Partition::new(fine, n_patches, adjacency, &clusters)?;
+    let mut exact_budget = EXACT_SPLIT_WORK;
     for _ in components..count {
         let best = (0..p.m)
-            .filter_map(|e| p.best_split(e).map(|(gain, part)| (gain, e, part)))
+            .filter_map(|e| {
+                p.best_split(e, &mut exact_budget)
+                    .map(|(gain, part)| (gain, e, part))
+            })
             .max_by(|s, t| s.0.total_cmp(&t.0).then(t.1.cmp(&s.1)));
         let Some((_, _, part)) = best else {
             return Ok(None);
@@ -1092,13 +1121,14 @@ impl Polished {
         let trial_moves = n_patches / 8 + 8;
         let mut moves = 0;
         let mut transfers = 0;
+        let mut exact_budget = EXACT_SPLIT_WORK;
         for _ in 0..n_patches.max(1) {
             let taken = p.boundary_moves(budget);
             moves += taken;
             budget -= taken;
             let mut along = p.surface_dp();
             if along == 0 {
-                along = p.resplit_pairs();
+                along = p.resplit_pairs(&mut exact_budget);
             }
             transfers += along;
             if along == 0 {
