@@ -283,8 +283,8 @@ mod tests {
                 (&mut w_t, &mut q_t)
             };
             *w += p.w_members[i];
-            for d in 0..o {
-                q[d] += p.to_others[i * o + d];
+            for (d, q_d) in q.iter_mut().enumerate() {
+                *q_d += p.to_others[i * o + d];
             }
             for l in 0..k {
                 let v = full[i * k + l];
