@@ -7,8 +7,8 @@
 //!   `.flat` format, so a merged patch never spans two.
 //! - 3D ([`adjacency_3d`]): patches with the same material, on one plane with the same
 //!   facing, sharing an edge — two vertices in common (positions equal after rounding to
-//!   `1e-9` of the scene's bounding-box diagonal, the weld rule of
-//!   `image::gouraud_mesh`). Patches that only touch at a vertex, or along part of
+//!   `1e-9` of the scene's bounding-box diagonal, as `image::GouraudMesh::of` welds, except
+//!   that materials are told apart here by index and there by value). Patches that only touch at a vertex, or along part of
 //!   an edge (a T-junction), are not adjacent. Unions of adjacent patches may be non-convex;
 //!   the coarse mesh's form factors are sums of its pieces' (additivity), so no geometry of
 //!   the union is needed.
