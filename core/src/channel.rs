@@ -57,6 +57,8 @@ mod matrix;
 mod measures;
 #[cfg(test)]
 mod proptests;
+#[cfg(feature = "alloc")]
+mod survey;
 
 #[cfg(feature = "alloc")]
 pub use bounces::LongRange;
@@ -65,6 +67,8 @@ pub use checks::Checks;
 pub use csr_buf::CsrMatrixBuf;
 #[cfg(feature = "alloc")]
 pub(crate) use csr_buf::RowMajorCsr;
+#[cfg(feature = "alloc")]
+pub(crate) use survey::measures_and_checks;
 pub use matrix::{CsrMatrix, DenseMatrix, Transitions};
 pub use measures::Measures;
 
