@@ -67,10 +67,10 @@ pub use checks::Checks;
 pub use csr_buf::CsrMatrixBuf;
 #[cfg(feature = "alloc")]
 pub(crate) use csr_buf::RowMajorCsr;
-#[cfg(feature = "alloc")]
-pub(crate) use survey::measures_and_checks;
 pub use matrix::{CsrMatrix, DenseMatrix, Transitions};
 pub use measures::Measures;
+#[cfg(feature = "alloc")]
+pub(crate) use survey::measures_and_checks;
 
 use crate::error::{Error, ErrorKind, Result};
 use crate::math::KahanSum;

@@ -680,7 +680,8 @@ impl PairCounts {
                     return low + wrapped(0..counts.len());
                 }
                 // Off-diagonal pairs count twice (C_ij and C_ji), the diagonal once
-                let all = counts.iter().filter(|&&c| c > 0).count() as u64 + wrapped(0..counts.len());
+                let all =
+                    counts.iter().filter(|&&c| c > 0).count() as u64 + wrapped(0..counts.len());
                 let diagonal = (0..*n)
                     .filter(|&i| {
                         let k = i * (i + 3) / 2;
