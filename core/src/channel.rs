@@ -57,6 +57,8 @@ mod matrix;
 mod measures;
 #[cfg(test)]
 mod proptests;
+#[cfg(feature = "alloc")]
+mod survey;
 
 #[cfg(feature = "alloc")]
 pub use bounces::LongRange;
@@ -67,6 +69,8 @@ pub use csr_buf::CsrMatrixBuf;
 pub(crate) use csr_buf::RowMajorCsr;
 pub use matrix::{CsrMatrix, DenseMatrix, Transitions};
 pub use measures::Measures;
+#[cfg(feature = "alloc")]
+pub(crate) use survey::measures_and_checks;
 
 use crate::error::{Error, ErrorKind, Result};
 use crate::math::KahanSum;

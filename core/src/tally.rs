@@ -510,10 +510,15 @@ impl LineTally {
             PairCounts::new(0, self.method.is_global()),
         );
         counts.apply_held();
-        let mut matrix = if counts.is_dense() {
+        // Stored sparse unless the counts fill a third of the matrix (CSR takes 12 bytes an
+        // entry, dense 8 per pair): every later pass (the background's row sums, the
+        // channel's checks and measures) then visits the non-zero entries only, and gives
+        // the same bits as over the dense matrix, whose zeros those passes skip (and a
+        // compensated sum of the row adds exactly: `KahanSum::add(0.0)` changes nothing).
+        let pairs = usize::try_from(counts.nonzero_counts()).unwrap_or(usize::MAX);
+        let mut matrix = if counts.is_dense() && pairs > n * n / SPARSE_FILL {
             Matrix::Dense(vec![0.0; n * n])
         } else {
-            let pairs = usize::try_from(counts.nonzero_pairs()).unwrap_or(usize::MAX);
             Matrix::Sparse(CsrMatrixBuf::row_major(n, pairs.min(n.saturating_mul(n)))?)
         };
         let mut misordered = None;
@@ -550,6 +555,10 @@ impl LineTally {
         })
     }
 }
+
+/// [`LineTally::finish_with_sizes`] stores the form factors sparse (CSR) when at most
+/// `1 / SPARSE_FILL` of the `n²` pairs have a count.
+const SPARSE_FILL: usize = 3;
 
 /// The form factors [`LineTally::finish_with_sizes`] fills from the counts.
 enum Matrix {

@@ -101,8 +101,8 @@ impl Measurement {
         run: Option<LineRunInfo>,
         continuous: Option<(Vec<f64>, Option<Vec<f64>>)>,
     ) -> Result<Self> {
-        let channel = ff.channel()?;
-        let pair = (channel.measures(), channel.checks());
+        // One pass over the matrix for the channel's validation, measures and checks
+        let pair = crate::channel::measures_and_checks(ff.weights(), ff.matrix())?;
         let (patch_continuous, pair_continuous) = continuous.unzip();
         Ok(Self {
             n_patches: ff.n_patches(),

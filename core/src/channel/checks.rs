@@ -52,6 +52,57 @@ impl Checks {
     }
 }
 
+/// The row sums and reciprocity errors of [`Channel::checks`], gathered row by row;
+/// shared with the single pass of `channel::survey`, so both give the same bits.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct CheckSums {
+    min_row_sum: f64,
+    max_row_sum: f64,
+    max_row_sum_error: f64,
+    max_reciprocity_error: f64,
+}
+
+impl CheckSums {
+    pub(super) const fn new() -> Self {
+        Self {
+            min_row_sum: f64::INFINITY,
+            max_row_sum: 0.0,
+            max_row_sum_error: 0.0,
+            max_reciprocity_error: 0.0,
+        }
+    }
+
+    /// Adds the pair `forward = w_i P_ij`, `backward = w_j P_ji`.
+    #[inline]
+    pub(super) fn add_pair(&mut self, forward: f64, backward: f64) {
+        let scale = forward.max(backward);
+        if scale > 0.0 {
+            self.max_reciprocity_error = self
+                .max_reciprocity_error
+                .max((forward - backward).abs() / scale);
+        }
+    }
+
+    /// Adds a row's compensated sum `Σ_j P_ij`.
+    #[inline]
+    pub(super) fn add_row_sum(&mut self, sum: f64) {
+        self.min_row_sum = self.min_row_sum.min(sum);
+        self.max_row_sum = self.max_row_sum.max(sum);
+        self.max_row_sum_error = self.max_row_sum_error.max((1.0 - sum).abs());
+    }
+
+    /// The checks of `n` states whose rows were added.
+    pub(super) fn checks(&self, n: usize, stationarity_error: f64) -> Checks {
+        Checks {
+            min_row_sum: if n == 0 { 0.0 } else { self.min_row_sum },
+            max_row_sum: self.max_row_sum,
+            max_row_sum_error: self.max_row_sum_error,
+            max_reciprocity_error: self.max_reciprocity_error,
+            stationarity_error,
+        }
+    }
+}
+
 impl<M: Transitions> Channel<'_, M> {
     /// Row sums, reciprocity and stationarity of the channel; see [`Checks`].
     ///
@@ -66,9 +117,7 @@ impl<M: Transitions> Channel<'_, M> {
         let w = |i: usize| self.w.get(i).copied().unwrap_or(0.0);
 
         // Row sums and pairwise reciprocity
-        let (mut min_row_sum, mut max_row_sum, mut max_row_sum_error) =
-            (f64::INFINITY, 0.0_f64, 0.0_f64);
-        let mut max_reciprocity_error: f64 = 0.0;
+        let mut sums = CheckSums::new();
         for i in 0..n {
             let mut s = KahanSum::new();
             let w_i = w(i);
@@ -76,30 +125,11 @@ impl<M: Transitions> Channel<'_, M> {
                 s.add(p_ij);
                 // Each unordered pair is seen from both ends; that costs a second `get`
                 // but also catches entries whose reverse is not stored.
-                let forward = w_i * p_ij;
-                let backward = w(j) * self.p.get(j, i);
-                let scale = forward.max(backward);
-                if scale > 0.0 {
-                    max_reciprocity_error =
-                        max_reciprocity_error.max((forward - backward).abs() / scale);
-                }
+                sums.add_pair(w_i * p_ij, w(j) * self.p.get(j, i));
             });
-            let sum = s.total();
-            min_row_sum = min_row_sum.min(sum);
-            max_row_sum = max_row_sum.max(sum);
-            max_row_sum_error = max_row_sum_error.max((1.0 - sum).abs());
+            sums.add_row_sum(s.total());
         }
-        if n == 0 {
-            min_row_sum = 0.0;
-        }
-
-        Checks {
-            min_row_sum,
-            max_row_sum,
-            max_row_sum_error,
-            max_reciprocity_error,
-            stationarity_error: self.stationarity_error(),
-        }
+        sums.checks(n, self.stationarity_error())
     }
 
     /// `‖wP − w‖_∞`, choosing the heap or the blocked sweep.

@@ -200,45 +200,15 @@ impl<M: Transitions> Channel<'_, M> {
     pub fn measures(&self) -> Measures {
         // One visit per stored entry feeds four row sums; each term is the same function
         // the single-measure methods use.
-        let (mut h_s, mut h_j, mut i_s, mut e_mse) = (
-            KahanSum::new(),
-            KahanSum::new(),
-            KahanSum::new(),
-            KahanSum::new(),
-        );
+        let mut totals = MeasureSums::new();
         for i in 0..self.n_states() {
             let w_i = self.w(i);
-            let (mut e, mut jt, mut inf, mut m) = (
-                KahanSum::new(),
-                KahanSum::new(),
-                KahanSum::new(),
-                KahanSum::new(),
-            );
-            self.p.for_each_in_row(i, |j, p_ij| {
-                e.add(eta_prob(p_ij));
-                jt.add(eta_prob(w_i * p_ij));
-                inf.add(pair_information(w_i, p_ij, self.w(j)));
-                m.add(mse_term(p_ij));
-            });
-            h_s.add(w_i * e.total());
-            h_j.add(jt.total());
-            i_s.add(inf.total());
-            e_mse.add(m.total());
+            let mut row = RowMeasureSums::new();
+            self.p
+                .for_each_in_row(i, |j, p_ij| row.add(w_i, p_ij, self.w(j)));
+            totals.add_row(w_i, &row);
         }
-        let (h_p, h_s, h_j, i_s) = (self.h_p(), h_s.total(), h_j.total(), i_s.total());
-        Measures {
-            n_states: self.n_states(),
-            h_p,
-            h_s,
-            h_j,
-            i_s,
-            h_s_norm: normalized(h_s, h_p),
-            i_s_norm: normalized(i_s, h_p),
-            h_s_joint_norm: normalized(h_s, h_j),
-            i_s_joint_norm: normalized(i_s, h_j),
-            e_mse: e_mse.total(),
-            fano: fano(h_s, self.n_states()),
-        }
+        totals.measures(self.w)
     }
 
     /// Entropy of each patch (3.2) into `out[..n]`.
@@ -317,6 +287,89 @@ impl<M: Transitions> Channel<'_, M> {
                     f(i, j, pair_information(w_i, p_ij, self.w(j)));
                 }
             });
+        }
+    }
+}
+
+/// The four compensated sums of one row that [`Channel::measures`] adds up:
+/// `H_i` (3.2), `−Σ_j η(w_i P_ij)` (3.6), `I_i` (6.8) and `Σ_j P_ij (1 − P_ij)` (3.20).
+/// Shared with the single pass of `channel::survey`, so both give the same bits.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct RowMeasureSums {
+    entropy: KahanSum,
+    joint: KahanSum,
+    information: KahanSum,
+    mse: KahanSum,
+}
+
+impl RowMeasureSums {
+    pub(super) const fn new() -> Self {
+        Self {
+            entropy: KahanSum::new(),
+            joint: KahanSum::new(),
+            information: KahanSum::new(),
+            mse: KahanSum::new(),
+        }
+    }
+
+    /// Adds the terms of entry `P_ij` of row `i`.
+    #[inline]
+    pub(super) fn add(&mut self, w_i: f64, p_ij: f64, w_j: f64) {
+        self.entropy.add(eta_prob(p_ij));
+        self.joint.add(eta_prob(w_i * p_ij));
+        self.information.add(pair_information(w_i, p_ij, w_j));
+        self.mse.add(mse_term(p_ij));
+    }
+}
+
+/// The sums over the rows of [`Channel::measures`], row by row.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct MeasureSums {
+    h_s: KahanSum,
+    h_j: KahanSum,
+    i_s: KahanSum,
+    e_mse: KahanSum,
+}
+
+impl MeasureSums {
+    pub(super) const fn new() -> Self {
+        Self {
+            h_s: KahanSum::new(),
+            h_j: KahanSum::new(),
+            i_s: KahanSum::new(),
+            e_mse: KahanSum::new(),
+        }
+    }
+
+    /// Adds row `i`'s sums (rows in increasing `i`).
+    #[inline]
+    pub(super) fn add_row(&mut self, w_i: f64, row: &RowMeasureSums) {
+        self.h_s.add(w_i * row.entropy.total());
+        self.h_j.add(row.joint.total());
+        self.i_s.add(row.information.total());
+        self.e_mse.add(row.mse.total());
+    }
+
+    /// The measures of the channel with distribution `w` whose rows were added.
+    pub(super) fn measures(&self, w: &[f64]) -> Measures {
+        let (h_p, h_s, h_j, i_s) = (
+            positional_entropy(w),
+            self.h_s.total(),
+            self.h_j.total(),
+            self.i_s.total(),
+        );
+        Measures {
+            n_states: w.len(),
+            h_p,
+            h_s,
+            h_j,
+            i_s,
+            h_s_norm: normalized(h_s, h_p),
+            i_s_norm: normalized(i_s, h_p),
+            h_s_joint_norm: normalized(h_s, h_j),
+            i_s_joint_norm: normalized(i_s, h_j),
+            e_mse: self.e_mse.total(),
+            fano: fano(h_s, w.len()),
         }
     }
 }
