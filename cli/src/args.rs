@@ -412,6 +412,12 @@ pub struct MeasureArgs {
     #[arg(long, value_name = "N", conflicts_with = "partial",
           value_parser = clap::value_parser!(u32).range(1..=sceneinfo::channel::LongRange::MAX_BOUNCES as i64))]
     pub bounces: Option<u32>,
+    /// With --bounces: also estimate I(X_0;X_n) by about W random walks (at least 32 from
+    /// each patch; seeded by --seed), with its standard error and Miller–Madow bias, beside
+    /// the exact curve.
+    #[arg(long, value_name = "W", requires = "bounces",
+          value_parser = clap::value_parser!(u64).range(1..))]
+    pub walks: Option<u64>,
 }
 
 /// Parses a half-open chunk range `A..B` with `A < B`.

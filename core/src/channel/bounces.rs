@@ -251,7 +251,8 @@ impl<M: Transitions> Channel<'_, M> {
     ///
     /// the delta-method variance plus the variance of the `χ²_{K−1} / (2 m_i ln 2)` law of
     /// `D̂_i` when `p = w` (the delta term vanishes there, when the chain has forgotten its
-    /// start). The walks depend on `(seed, walks)` only: state `i` draws from
+    /// start). Both expansions need `m_i ≫ K̂`: with fewer walks per state than states
+    /// reached the correction falls short and `σ` does not cover the remaining bias. The walks depend on `(seed, walks)` only: state `i` draws from
     /// `Pcg64(seed, stream i)`.
     ///
     /// # Errors

@@ -34,6 +34,13 @@ pub(super) fn run(args: &MeasureArgs, bounces: usize) -> Result<()> {
     };
     let channel = ff.channel().map_err(at)?;
     let lr = channel.long_range_information(bounces).map_err(at)?;
+    // [estimate, standard error, Miller–Madow bias] per bounce
+    let walks = match args.walks {
+        Some(count) => channel
+            .long_range_information_by_walks(bounces, count, args.sampling.seed)
+            .map_err(at)?,
+        None => Vec::new(),
+    };
     let w = ff.weights();
     // The patches whose memory of the start lasts longest: D_KL((Fⁿ)_i· ‖ w) = I_i(N)/w_i
     let mut order: Vec<usize> = (0..ff.n_states()).filter(|&i| w[i] > 0.0).collect();
@@ -68,20 +75,34 @@ pub(super) fn run(args: &MeasureArgs, bounces: usize) -> Result<()> {
         o.numbers("per_patch_first", &lr.per_state_first)?;
         o.numbers("per_patch_last", &lr.per_state)?;
         o.displays("longest", order.iter())?;
+        if let Some(count) = args.walks {
+            let column = |k: usize| -> Vec<f64> { walks.iter().map(|r| r[k]).collect() };
+            o.integer("walks", count)?;
+            o.integer("walk_seed", args.sampling.seed)?;
+            o.numbers("i_n_walks", &column(0))?;
+            o.numbers("i_n_walks_sigma", &column(1))?;
+            o.numbers("i_n_walks_bias", &column(2))?;
+        }
         o.finish()?;
         writeln!(out, "{s}")?;
     } else {
         write!(
             out,
             "{}",
-            table(&file.display().to_string(), &lr, &order, w)?
+            table(&file.display().to_string(), &lr, &order, w, &walks)?
         )?;
     }
     out.flush()?;
     Ok(())
 }
 
-fn table(name: &str, lr: &LongRange, order: &[usize], w: &[f64]) -> Result<String> {
+fn table(
+    name: &str,
+    lr: &LongRange,
+    order: &[usize],
+    w: &[f64],
+    walks: &[[f64; 3]],
+) -> Result<String> {
     let mut s = String::new();
     writeln!(s, "{name}: long-range mutual information I(X_0;X_n)")?;
     writeln!(
@@ -92,20 +113,31 @@ fn table(name: &str, lr: &LongRange, order: &[usize], w: &[f64]) -> Result<Strin
         lr.curve[0],
         lr.h_p - lr.h_s
     )?;
-    writeln!(
+    write!(
         s,
         "      n    I(X_0;X_n)   H(X_n|X_0)   H_P - n H_S (bound)"
     )?;
+    if walks.is_empty() {
+        writeln!(s)?;
+    } else {
+        writeln!(s, "   walks ± σ (Miller–Madow bias removed)")?;
+    }
     let n = lr.curve.len();
     for (k, (&i, &h)) in lr.curve.iter().zip(&lr.conditional).enumerate() {
         // All of a short curve; of a long one the first 10, then every tenth, and the last
         let step = k + 1;
         if n <= 30 || step <= 10 || step % 10 == 0 || step == n {
-            writeln!(
+            write!(
                 s,
                 "  {step:>5}  {i:>12.6}  {h:>11.6}  {:>12.6}",
                 lr.block_bound(step)
             )?;
+            match walks.get(k) {
+                Some([e, sigma, bias]) => {
+                    writeln!(s, "         {e:>10.6} ± {sigma:.6} (bias {bias:.6})")?;
+                }
+                None => writeln!(s)?,
+            }
         }
     }
     if let Some(r) = lr.decay_ratio() {
