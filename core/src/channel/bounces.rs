@@ -284,7 +284,7 @@ impl<M: Transitions> Channel<'_, M> {
         let per_state = |wi: f64| -> u64 {
             if wi > 0.0 {
                 // ⌈walks · w_i⌉ in f64, capped far above any allowed total
-                ((walks as f64 * wi).ceil().min(MAX_WALK_STEPS as f64) as u64)
+                (libm::ceil(walks as f64 * wi).min(MAX_WALK_STEPS as f64) as u64)
                     .max(MIN_WALKS_PER_STATE)
             } else {
                 0
