@@ -106,6 +106,37 @@ fn bounces_start_at_i_s_and_never_rise() {
     assert!(table.contains("I(X_0;X_n)"), "{table}");
 }
 
+/// `--walks`: the random-walk columns agree with the exact curve within 3σ (12 patches,
+/// about 80,000 walks a patch, so the Miller–Madow regime `m ≫ K` holds; seed 3).
+#[test]
+fn walks_agree_with_the_exact_curve() {
+    let room = write("walks.flat", "poly 4 0 0 3 0 3 2 0 2 per_side 3\n");
+    let json = stdout_of(&[
+        "measure",
+        room.to_str().unwrap(),
+        "--bounces",
+        "6",
+        "--walks",
+        "1000000",
+        "--seed",
+        "3",
+        "--json",
+    ]);
+    let exact = values(&json, "i_n");
+    let walks = values(&json, "i_n_walks");
+    let sigma = values(&json, "i_n_walks_sigma");
+    let bias = values(&json, "i_n_walks_bias");
+    assert_eq!((walks.len(), sigma.len(), bias.len()), (6, 6, 6));
+    for k in 0..6 {
+        assert!(sigma[k] > 0.0 && bias[k] > 0.0, "{json}");
+        assert!(
+            (walks[k] - exact[k]).abs() <= 3.0 * sigma[k],
+            "n={}: {json}",
+            k + 1
+        );
+    }
+}
+
 #[test]
 fn refusals_exit_2() {
     let square = write("refuse.flat", "poly 4 0 0 1 0 1 1 0 1\n");
