@@ -42,6 +42,35 @@ fn poll(
     }
 }
 
+/// Polls Ctrl-C and reports progress (`done` of `total`) on the calling thread until every
+/// worker has finished, then joins them in order. A worker that panicked is a bug, not a
+/// stop: its panic is raised again rather than returning fewer results.
+fn join_polling<T>(
+    workers: Vec<std::thread::ScopedJoinHandle<'_, T>>,
+    done: &AtomicU64,
+    total: u64,
+    progress: Option<&Py<PyAny>>,
+    error: &mut Option<PyErr>,
+    stop: &AtomicBool,
+) -> Vec<T> {
+    // Bounded: each worker ends once its work is done or a stop is seen
+    let mut polls = 0u32;
+    while !workers.iter().all(|w| w.is_finished()) {
+        std::thread::sleep(POLL);
+        polls = polls.wrapping_add(1);
+        let report = polls.is_multiple_of(PROGRESS_EVERY);
+        let now = (done.load(Ordering::Relaxed), total);
+        poll(progress, error, stop, now, report);
+    }
+    workers
+        .into_iter()
+        .map(|w| {
+            w.join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+        })
+        .collect()
+}
+
 /// Seeded chunks on `threads` std threads; Ctrl-C and the progress callback between chunks.
 #[derive(Debug)]
 pub struct PyExecutor {
@@ -105,18 +134,7 @@ impl Executor for PyExecutor {
                 })
                 .collect();
             // Bounded: the workers end once the range is cast or a stop is seen
-            let mut polls = 0u32;
-            while !workers.iter().all(|w| w.is_finished()) {
-                std::thread::sleep(POLL);
-                polls = polls.wrapping_add(1);
-                let report = polls.is_multiple_of(PROGRESS_EVERY);
-                let now = (done.load(Ordering::Relaxed), total);
-                poll(progress.as_ref(), error, stop, now, report);
-            }
-            workers
-                .into_iter()
-                .filter_map(|w| w.join().ok())
-                .collect::<Vec<_>>()
+            join_polling(workers, &done, total, progress.as_ref(), error, stop)
         });
         let mut tallies = tallies.into_iter();
         let mut merged = tallies.next().unwrap_or_else(|| work.new_tally());
@@ -176,17 +194,8 @@ impl Executor for PyExecutor {
                 })
                 .collect();
             // Bounded: the workers end once every row is done or a stop is seen
-            let mut polls = 0u32;
-            while !workers.iter().all(|w| w.is_finished()) {
-                std::thread::sleep(POLL);
-                polls = polls.wrapping_add(1);
-                let report = polls.is_multiple_of(PROGRESS_EVERY);
-                let now = (done.load(Ordering::Relaxed), total);
-                poll(progress.as_ref(), error, stop, now, report);
-            }
-            workers
+            join_polling(workers, &done, total, progress.as_ref(), error, stop)
                 .into_iter()
-                .filter_map(|w| w.join().ok())
                 .flatten()
                 .collect::<Vec<_>>()
         });

@@ -49,7 +49,7 @@ use crate::channel::CsrMatrixBuf;
 use crate::error::{ErrorKind, Result};
 use crate::formfactor::FormFactors;
 use crate::formfactor::occluded_3d::{self, OcclusionOptions};
-use crate::io::partial::fingerprint as checksum;
+use crate::io::partial::{Reader, fingerprint as checksum};
 
 use super::executor::{Executor, RowWork};
 use super::measurement::ExactErrors;
@@ -337,7 +337,10 @@ impl ExactRows {
         if checksum(body) != u64::from_le_bytes(s) {
             return Err(bad("checksum mismatch (the file is corrupt or was cut short)").into());
         }
-        let mut r = Cursor { bytes: &body[12..] };
+        let mut r = Reader {
+            bytes: &body[12..],
+            bad: "truncated",
+        };
         let scene = r.u64()?;
         let options =
             OcclusionOptions::new(f64::from_bits(r.u64()?)).with_max_points_per_pair(r.u64()?);
@@ -583,35 +586,5 @@ impl Measurement {
             });
         }
         Ok(m)
-    }
-}
-
-/// A cursor over a file's bytes; every read fails when the bytes run out.
-struct Cursor<'a> {
-    bytes: &'a [u8],
-}
-
-impl Cursor<'_> {
-    fn take<const K: usize>(&mut self) -> Result<[u8; K]> {
-        if self.bytes.len() < K {
-            return Err(ErrorKind::BadPartial { what: "truncated" }.into());
-        }
-        let (head, rest) = self.bytes.split_at(K);
-        self.bytes = rest;
-        let mut out = [0u8; K];
-        out.copy_from_slice(head);
-        Ok(out)
-    }
-
-    fn u8(&mut self) -> Result<u8> {
-        Ok(self.take::<1>()?[0])
-    }
-
-    fn u32(&mut self) -> Result<u32> {
-        Ok(u32::from_le_bytes(self.take()?))
-    }
-
-    fn u64(&mut self) -> Result<u64> {
-        Ok(u64::from_le_bytes(self.take()?))
     }
 }

@@ -399,14 +399,15 @@ fn put_fixed(w: &mut Vec<u8>, s: &FixedSum) {
     w.push(u8::from(s.saturated()));
 }
 
-/// A cursor over the file's bytes; every read fails with `bad` when the bytes run out.
-struct Reader<'a> {
-    bytes: &'a [u8],
-    bad: &'static str,
+/// A cursor over a file's bytes; every read fails with `bad` when the bytes run out (also
+/// the reader of `api::ExactRows` files).
+pub(crate) struct Reader<'a> {
+    pub(crate) bytes: &'a [u8],
+    pub(crate) bad: &'static str,
 }
 
 impl Reader<'_> {
-    fn take<const K: usize>(&mut self) -> Result<[u8; K]> {
+    pub(crate) fn take<const K: usize>(&mut self) -> Result<[u8; K]> {
         if self.bytes.len() < K {
             return Err(ErrorKind::BadPartial { what: self.bad }.into());
         }
@@ -417,19 +418,19 @@ impl Reader<'_> {
         Ok(out)
     }
 
-    fn u8(&mut self) -> Result<u8> {
+    pub(crate) fn u8(&mut self) -> Result<u8> {
         Ok(self.take::<1>()?[0])
     }
 
-    fn u32(&mut self) -> Result<u32> {
+    pub(crate) fn u32(&mut self) -> Result<u32> {
         Ok(u32::from_le_bytes(self.take()?))
     }
 
-    fn u64(&mut self) -> Result<u64> {
+    pub(crate) fn u64(&mut self) -> Result<u64> {
         Ok(u64::from_le_bytes(self.take()?))
     }
 
-    fn u128(&mut self) -> Result<u128> {
+    pub(crate) fn u128(&mut self) -> Result<u128> {
         Ok(u128::from_le_bytes(self.take()?))
     }
 
