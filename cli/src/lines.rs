@@ -215,7 +215,15 @@ fn execute_timed(work: &ChunkWork<'_>, threads: usize) -> (ChunksDone, JobTimes)
         show_progress(&done, range_lines.max(1), start, || {
             workers.iter().all(|w| w.is_finished())
         });
-        workers.into_iter().filter_map(|w| w.join().ok()).collect()
+        // A panicked worker is a bug: re-raise it rather than merge fewer tallies than the
+        // chunks counted as done (a silently different answer).
+        workers
+            .into_iter()
+            .map(|w| {
+                w.join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+            })
+            .collect()
     });
     let worker_cpu = results.iter().map(|r| r.1).sum::<Option<f64>>();
     // Merged into the first worker's tally: exact, so the same bits as a fresh sum, without
