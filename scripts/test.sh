@@ -215,6 +215,8 @@ checks_start=$(date +%s)
 passed=0
 failed=0
 summary=()
+failures=()
+step_logs=$(mktemp -d)
 
 # run_step NAME FUNCTION...: runs the function in a subshell with errexit on, timing it.
 run_step() {
@@ -227,12 +229,13 @@ run_step() {
     printf '\n'
     local t0 t1 rc secs
     t0=$(date +%s%N)
+    local log="$step_logs/$((passed + failed + 1)).log"
     set +e
     (
         set -euo pipefail
         "$@"
-    )
-    rc=$?
+    ) 2>&1 | tee "$log"
+    rc=${PIPESTATUS[0]}
     set -e
     t1=$(date +%s%N)
     secs=$(awk -v ns="$((t1 - t0))" 'BEGIN { printf "%.1f", ns / 1e9 }')
@@ -244,6 +247,13 @@ run_step() {
         failed=$((failed + 1))
         summary+=("$(printf 'FAIL %7ss  %s (exit %d)' "$secs" "$name" "$rc")")
         printf '<== FAIL  %s (%s s, exit %d)\n' "$name" "$secs" "$rc"
+        # What failed, for the summary at the end (CI keeps only the tail of the output):
+        # failing test names, panic messages with the line after, compiler errors.
+        failures+=("--- $name")
+        mapfile -t -O "${#failures[@]}" failures < <(
+            grep -E -A2 '^test .* FAILED$|panicked at|^error(\[E[0-9]+\])?:|^---- |^FAILED|^!!! ' "$log" |
+                grep -v -E '^note: run with' | head -n 40
+        )
     fi
 }
 
@@ -271,7 +281,7 @@ check_clippy() {
 }
 
 check_tests() {
-    x cargo test --workspace
+    x cargo test --workspace --no-fail-fast
 }
 
 check_no_std() {
@@ -389,6 +399,10 @@ printf '=%.0s' {1..90}
 printf '\n=== summary (total %s s, of which %s s installing)\n' \
     "$(($(date +%s) - install_start))" "$((checks_start - install_start))"
 printf '%s\n' "${summary[@]}"
+if [[ ${#failures[@]} -gt 0 ]]; then
+    printf '\n=== what failed (the lines of each failed step that name it)\n'
+    printf '%s\n' "${failures[@]}"
+fi
 printf '=%.0s' {1..90}
 printf '\n'
 echo "$passed passed, $failed failed"
