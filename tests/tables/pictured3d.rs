@@ -5,13 +5,15 @@ use sceneinfo::trace::estimate_3d::{LineMethod, Tracer3};
 
 /// Tables 3.1 and 3.3: clustering the small cubes of a cube room makes the scene more
 /// correlated: higher `I_S`, lower `H_S` (same discretisation, so the same `H_P`). Both from
-/// the same number of global lines (their small-sample biases are alike).
+/// the same number of global lines (their small-sample biases are alike). At 10⁶ lines the
+/// differences of I_S are about 0.037 (27 cubes) and 0.12 bits (64), at least 12 times the
+/// noise floor of 10⁻³ used below (seed-to-seed differences were ~10⁻⁴).
 #[test]
 fn clustered_cubes_are_more_correlated_than_random_ones() {
     for m in ["27", "64"] {
         let measure = |how: &str, seed: u64| {
             let s = Scene3::preset(&format!("cubes-{m}-{how}"), 1).unwrap();
-            Tracer3::estimate(&s, LineMethod::Global, seed, 3_000_000)
+            Tracer3::estimate(&s, LineMethod::Global, seed, 1_000_000)
                 .unwrap()
                 .form_factors
                 .channel()

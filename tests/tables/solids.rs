@@ -81,7 +81,7 @@ fn cube_2400_estimates_converge_to_exact_from_above() {
     let cube = Scene3::cube(20).unwrap();
     let exact = exact_measures(&cube).i_s;
     let mut previous = f64::INFINITY;
-    for lines in [500_000u64, 2_000_000, 8_000_000] {
+    for lines in [250_000u64, 1_000_000, 4_000_000] {
         let e = Tracer3::estimate(&cube, LineMethod::Global, 24, lines).unwrap();
         let i_s = e.form_factors.channel().unwrap().i_s();
         assert!(
