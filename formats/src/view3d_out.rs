@@ -24,7 +24,9 @@
 //!
 //! [`read`] reads the text form, tokens in order (so line breaks inside a list do not
 //! matter), and the binary form (`out = 1`): a 32-byte header holding the same six fields
-//! and ending in `\r\n`, then `f32` little-endian areas, rows and emissivities.
+//! and ending in `\r\n`, then `f32` little-endian areas, rows and emissivities. The manual
+//! does not give the binary layout; this is what View3D 4.0.0 wrote on x86-64
+//! (`tests/data/vs3/room_with_plate.view3d.bin`, read by a test beside its text form).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -279,6 +281,62 @@ mod tests {
         let b = read(Path::new("f.bin"), &bin).unwrap();
         assert_eq!(b.form_factors[5], f64::from((1.0f64 / 3.0) as f32));
         assert_eq!(b.emissivities, vec![f64::from(0.9f32); 3]);
+    }
+
+    /// Files View3D 4.0.0 itself wrote (tests/data/vs3/README.md says how) on the room with
+    /// a plate: its binary form (`out=1`) reads, and each number is the text form's
+    /// (`out=0`, same run settings) to the digits the text prints. View3D prints the
+    /// `f32` it stores in binary with `%f` (view factors), `%.3f` (emissivities) and `%g`
+    /// (areas), so formatting the binary value so must give the text token exactly: a
+    /// misread offset, byte order or width fails it.
+    #[test]
+    fn reads_a_binary_file_view3d_wrote_as_its_text_form() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/vs3");
+        let read_file = |name: &str| {
+            let path = dir.join(name);
+            read(&path, &std::fs::read(&path).unwrap()).unwrap()
+        };
+        let bin = read_file("room_with_plate.view3d.bin");
+        let text = read_file("room_with_plate.view3d.txt");
+        // The hexagon's two pieces are one surface (`cmb`): 9 of the file's 10
+        assert_eq!(
+            (bin.n(), bin.version.as_str(), bin.encl, bin.emit),
+            (9, "4.0.0", false, false)
+        );
+        assert_eq!(
+            (text.n(), text.version.as_str(), text.encl, text.emit),
+            (9, "4.0.0", false, false)
+        );
+        let tokens = std::fs::read_to_string(dir.join("room_with_plate.view3d.txt")).unwrap();
+        let tokens: Vec<&str> = tokens.split_whitespace().skip(6).collect();
+        let n = bin.n();
+        let values = bin
+            .areas
+            .iter()
+            .chain(&bin.form_factors)
+            .chain(&bin.emissivities);
+        assert_eq!(tokens.len(), n + n * n + n);
+        for (k, (&v, &t)) in values.zip(&tokens).enumerate() {
+            let printed = if k < n {
+                // %g of these areas: at most 6 significant digits, no trailing zeros
+                format!("{v:.6}")
+                    .trim_end_matches('0')
+                    .trim_end_matches('.')
+                    .to_owned()
+            } else if k < n + n * n {
+                format!("{v:.6}")
+            } else {
+                format!("{v:.3}")
+            };
+            assert_eq!(printed, t, "value {k}: binary {v:e}, text {t}");
+        }
+        // The text form reads as the same numbers to its six decimals
+        for (b, t) in bin.form_factors.iter().zip(&text.form_factors) {
+            assert!((b - t).abs() <= 5e-7, "{b} vs {t}");
+        }
+        // The plate's lower face to the wall y = 0, View3D's value (docs/occlusion.md)
+        assert_eq!(text.form_factors[7 * n + 1], 0.161307);
+        assert!((bin.form_factors[7 * n + 1] - 0.161307).abs() < 5e-7);
     }
 
     /// Files that are not View3D's, or end early, are refused with the file and line.
