@@ -122,7 +122,13 @@ exact_with_occlusion() {
     printf '+ %s\n' "$OUT/exact $scene $tol"
     "$OUT/exact" "$scene" "$tol" >"$OUT/exact.c.txt"
     "$TARGET/debug/sceneinfo" formfactors "$scene" --tol "$tol" --out "$OUT/exact.ijv" >/dev/null
-    python3 - "$OUT/exact.c.txt" "$OUT/exact.ijv" <<'EOF'
+    compare_ijv "$OUT/exact.c.txt" "$OUT/exact.ijv"
+}
+
+# Compares a C program's `i,j,F_ij,error` lines with the CLI's `.ijv` file, bit for bit
+# (an empty error field of the CLI: NaN in C).
+compare_ijv() {
+    python3 - "$1" "$2" <<'EOF'
 import math, struct, sys
 c = [l.split(",") for l in open(sys.argv[1]).read().splitlines()]
 cli = [l.split(",") for l in open(sys.argv[2]).read().splitlines()[1:]]
@@ -135,6 +141,24 @@ for a, b in zip(c, cli):
         sys.exit(f"C {a} vs CLI {b}")
 print(f"    bit-identical: {len(c)} entries of F and their error estimates")
 EOF
+}
+
+# The C test of exact rows: a job split in two ranges, written, read, merged and measured
+# through the C API against the CLI's `formfactors --rows --partial` and `merge --out`: the
+# partial files byte for byte, every merged entry and its estimate bit for bit.
+exact_rows_merged() {
+    # 9 patches: the hexagon's two pieces are one (a merge short of rows would fail)
+    local scene=tests/data/vs3/room_with_plate.vs3 tol=1e-3 split=4 n=9 dir="$OUT/exact-rows"
+    local S="$TARGET/debug/sceneinfo"
+    rm -rf "$dir" && mkdir -p "$dir"
+    printf '+ %s\n' "$OUT/rows $scene $tol $split $dir"
+    "$OUT/rows" "$scene" "$tol" "$split" "$dir" >"$dir/merged.c.txt"
+    "$S" formfactors "$scene" --tol "$tol" --rows "0..$split" --partial "$dir/cli0.sir" >/dev/null
+    "$S" formfactors "$scene" --tol "$tol" --rows "$split..$n" --partial "$dir/cli1.sir" >/dev/null
+    "$S" merge "$dir/cli0.sir" "$dir/cli1.sir" --out "$dir/merged.ijv" >/dev/null
+    cmp "$dir/c0.sir" "$dir/cli0.sir" && cmp "$dir/c1.sir" "$dir/cli1.sir"
+    echo "    byte-identical: the C and CLI partial files of rows 0..$split and $split..$n"
+    compare_ijv "$dir/merged.c.txt" "$dir/merged.ijv"
 }
 
 cmd_check() {
@@ -164,6 +188,8 @@ cmd_check() {
             capi/tests/errors.c -o "$OUT/errors" $libs -Wl,-rpath,"$TARGET/debug" -lm
         x "$CC" -std=c11 -Wall -Wextra -Wpedantic -Werror "${san[@]}" $cflags \
             capi/tests/exact.c -o "$OUT/exact" $libs -Wl,-rpath,"$TARGET/debug" -lm
+        x "$CC" -std=c11 -Wall -Wextra -Wpedantic -Werror "${san[@]}" $cflags \
+            capi/tests/rows.c -o "$OUT/rows" $libs -Wl,-rpath,"$TARGET/debug" -lm
         # The C++ example links the static library
         x "$CXX" -std=c++17 -Wall -Wextra -Werror "${san[@]}" $cflags \
             capi/examples/measure.cpp -o "$OUT/measure_cpp" \
@@ -213,6 +239,9 @@ EOF
 
     echo "== exact form factors with occlusion (a View3D .vs3 scene): C and CLI, the same bits"
     exact_with_occlusion
+
+    echo "== exact rows in two ranges, merged: C and CLI, the same files and bits"
+    exact_rows_merged
 
     echo "== failures are statuses and messages"
     x "$OUT/errors" tests/data/bad/not_a_number.flat "$cornell" capi/tests/lit.flat

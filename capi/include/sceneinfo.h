@@ -71,6 +71,15 @@ typedef enum SiStatus {
    * lines cast before the stop, marked interrupted); `si_radiosity` gives nothing.
    */
   SI_STOPPED = 9,
+  /**
+   * Partial results (exact rows, `si_exact_rows_*`) are not what they should be: a file
+   * or bytes that are not a partial result (wrong magic bytes, a checksum mismatch, cut
+   * short, a layout version this library does not read), parts of different jobs (scene,
+   * tolerance, patches), overlapping rows or rows missing between parts, or a
+   * measurement asked of rows that do not cover the job. The message names the file or
+   * part and what was wrong.
+   */
+  SI_ERR_PARTIAL = 10,
 } SiStatus;
 
 /**
@@ -175,6 +184,14 @@ typedef enum SiSolver SiSolver;
 typedef uint32_t SiSolver;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
+
+/**
+ * Rows `first..end` of the exact form factors with occlusion of a 3D scene: for each row
+ * `i`, the pairs `(i, j > i)` that see each other, their flux and its error estimate.
+ * Opaque to C; made by `si_exact_rows`, `si_exact_rows_read`, `si_exact_rows_from_bytes` or
+ * `si_exact_rows_merge`, freed by `si_exact_rows_free`. It owns all its data.
+ */
+typedef struct SiExactRows SiExactRows;
 
 /**
  * A lit scene: `si_radiosity`'s result. Opaque to C; freed by `si_lighting_free`. It owns
@@ -537,6 +554,38 @@ typedef struct SiLitLines {
    */
   int32_t one_pass;
 } SiLitLines;
+
+/**
+ * What a set of exact rows holds.
+ */
+typedef struct SiExactRowsInfo {
+  /**
+   * The first row held.
+   */
+  size_t first;
+  /**
+   * One past the last row held (rows `first..end`, half-open).
+   */
+  size_t end;
+  /**
+   * Patches of the scene: the job's rows are `0..n_patches`.
+   */
+  size_t n_patches;
+  /**
+   * Pairs `(i, j > i)` of the rows held that see each other (each gives `F_ij` and
+   * `F_ji`).
+   */
+  size_t pair_count;
+  /**
+   * The job's tolerance on each `F_ij`.
+   */
+  double tolerance;
+  /**
+   * 1 when the rows are all the job's (`0..n_patches`: `si_exact_rows_measurement`
+   * accepts them), else 0.
+   */
+  int32_t complete;
+} SiExactRowsInfo;
 
 /**
  * How `si_scene_from_file_with` reads a file. A zero-initialised `SiLoadOptions` is what
@@ -959,6 +1008,140 @@ enum SiStatus si_lighting_lines(const struct SiLighting *lighting, struct SiLitL
  * `lighting` must be NULL or a live lighting; `out` NULL or valid for writing one pointer.
  */
 enum SiStatus si_lighting_visibility(const struct SiLighting *lighting, struct SiMeasurement **out);
+
+/**
+ * Computes rows `first..end` (half-open, `first < end <= si_scene_n_patches(scene)`; all
+ * of them: `0, n`) of the exact form factors with occlusion of the 3D `scene`, each `F_ij`
+ * to the absolute error `tolerance` (1e-10 to 1): the CLI's `sceneinfo formfactors FILE
+ * --tol TOLERANCE --rows FIRST..END --partial P.sir`. A row is a pure function of the
+ * scene, the tolerance and its index, so any process may compute any range;
+ * `si_exact_rows_merge` joins the ranges and `si_exact_rows_measurement` measures the
+ * whole job, the same bits as `si_measure_exact`'s. `job` (NULL: the defaults) must be an
+ * exact job: its `threads` compute the rows (the same bits for any count), its `progress`
+ * is called with rows done and rows and may stop the job; `max_memory` does not apply
+ * (rows hold 20 bytes per pair that sees each other).
+ *
+ * The rows carry the scene's fingerprint: that of its file's bytes (the CLI's), or of its
+ * written form for a scene built from arrays; ranges merge only when it, the tolerance
+ * and the patches agree.
+ *
+ * On success `*out` is new rows owned by the caller (`si_exact_rows_free`). On failure
+ * `*out` is NULL: `SI_ERR_INVALID_ARGUMENT` (a tolerance out of range, an empty range or
+ * one past the patches, a line job), `SI_ERR_JOB` (a flatland scene: its exact form
+ * factors are dense, `si_measure`'s), `SI_STOPPED` (the progress callback stopped it).
+ *
+ * # Safety
+ * `scene` must be NULL or a live scene; `job` NULL or a valid `SiJob`; `out` NULL or valid
+ * for writing one pointer. The scene is only read.
+ */
+enum SiStatus si_exact_rows(const struct SiScene *scene,
+                            double tolerance,
+                            size_t first,
+                            size_t end,
+                            const struct SiJob *job,
+                            struct SiExactRows **out);
+
+/**
+ * Frees exact rows (NULL: nothing).
+ *
+ * # Safety
+ * `rows` must be NULL or rows of this library not freed before; it must not be used
+ * after this call.
+ */
+void si_exact_rows_free(struct SiExactRows *rows);
+
+/**
+ * Writes what `rows` holds into `*out`.
+ *
+ * # Safety
+ * `rows` must be NULL or live rows; `out` NULL or valid for writing one
+ * `SiExactRowsInfo`.
+ */
+enum SiStatus si_exact_rows_info(const struct SiExactRows *rows, struct SiExactRowsInfo *out);
+
+/**
+ * Writes `rows` to the file `path` (created or replaced): the partial-result file of the
+ * CLI's `formfactors --rows A..B --partial` (versioned, checksummed), which `sceneinfo
+ * merge` and `si_exact_rows_read` read. `SI_ERR_IO` (`path: cannot write: ...`) when it
+ * cannot be written.
+ *
+ * # Safety
+ * `rows` must be NULL or live rows; `path` NULL or a NUL-terminated string.
+ */
+enum SiStatus si_exact_rows_write(const struct SiExactRows *rows, const char *path);
+
+/**
+ * Reads the partial-result file of exact rows `path` (`si_exact_rows_write`'s, or the
+ * CLI's `formfactors --partial`), checking its magic bytes, version, checksum and every
+ * field. On success `*out` is new rows owned by the caller. On failure `*out` is NULL:
+ * `SI_ERR_IO` (`path: cannot read: ...`, not a regular file, over 2 GiB), `SI_ERR_PARTIAL`
+ * (`path: bad partial-result file: what`, e.g. a line job's partial file, a checksum
+ * mismatch, a file cut short; a layout version this library does not read).
+ *
+ * # Safety
+ * `path` must be NULL or a NUL-terminated string; `out` NULL or valid for writing one
+ * pointer.
+ */
+enum SiStatus si_exact_rows_read(const char *path, struct SiExactRows **out);
+
+/**
+ * Copies the partial-result file of `rows` (`si_exact_rows_write`'s bytes) into the
+ * caller's buffer, to send it elsewhere without a file. Buffer rules as
+ * `si_scene_patch_sizes`: `*out_needed` (if not NULL) always receives the length,
+ * `SI_ERR_BUFFER_TOO_SMALL` (nothing written) when `out_len` is shorter.
+ *
+ * # Safety
+ * `rows` must be NULL or live rows; `out` NULL or valid for writing `out_len` bytes;
+ * `out_needed` NULL or valid for writing one `size_t`.
+ */
+enum SiStatus si_exact_rows_to_bytes(const struct SiExactRows *rows,
+                                     uint8_t *out,
+                                     size_t out_len,
+                                     size_t *out_needed);
+
+/**
+ * Reads exact rows from the `len` bytes of a partial-result file at `bytes` (checked as
+ * `si_exact_rows_read` checks a file; messages begin `bytes: `). On success `*out` is new
+ * rows owned by the caller; on failure NULL: `SI_ERR_PARTIAL`.
+ *
+ * # Safety
+ * `bytes` must be NULL or point to `len` readable bytes; `out` NULL or valid for writing
+ * one pointer. The library keeps no pointer to `bytes`.
+ */
+enum SiStatus si_exact_rows_from_bytes(const uint8_t *bytes, size_t len, struct SiExactRows **out);
+
+/**
+ * Merges `n_parts` exact rows of one job (`parts[0..n_parts]`, in any order; they are
+ * copied, not consumed) into new rows: neighbouring ranges joined, the same bits as one
+ * `si_exact_rows` of their union. The parts stay the caller's; `*out` is new rows owned
+ * by the caller (NULL on failure).
+ *
+ * Failures: `SI_ERR_PARTIAL` when two parts come from different jobs (scene, tolerance,
+ * work cap, patches) or their rows overlap or leave rows between them — the message
+ * names the part (its file) and the rows before it, e.g. `merge: b.sir (rows 3..9) after
+ * a.sir (rows 0..4): partial results overlap: rows 0..4 and 3..9`;
+ * `SI_ERR_INVALID_ARGUMENT` for no parts; `SI_ERR_NULL_ARGUMENT` for a NULL part.
+ *
+ * # Safety
+ * `parts` must be NULL or point to `n_parts` pointers, each NULL or live rows; `out` NULL
+ * or valid for writing one pointer.
+ */
+enum SiStatus si_exact_rows_merge(const struct SiExactRows *const *parts,
+                                  size_t n_parts,
+                                  struct SiExactRows **out);
+
+/**
+ * Measures complete exact rows (`si_exact_rows_info`'s `complete`: a merge of ranges
+ * covering `0..n_patches`, or one `si_exact_rows` of them all): a new measurement, owned
+ * by the caller, with the same form factors and error estimates, bit for bit, as
+ * `si_measure_exact` of the scene at that tolerance (and the CLI's `merge P*.sir`),
+ * stored sparse. On failure `*out` is NULL: `SI_ERR_PARTIAL` when rows are missing (the
+ * message names the rows held and the job's), `SI_ERR_JOB` for the channel's errors.
+ *
+ * # Safety
+ * `rows` must be NULL or live rows; `out` NULL or valid for writing one pointer.
+ */
+enum SiStatus si_exact_rows_measurement(const struct SiExactRows *rows, struct SiMeasurement **out);
 
 /**
  * Reads a scene file as the CLI reads it: sceneinfo's flatland format (`.flat`), Wavefront

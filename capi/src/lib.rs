@@ -4,10 +4,10 @@
 //!
 //! The rules every entry point keeps (docs/c-api.md says them for C programmers):
 //!
-//! - **Handles** (`SiScene`, `SiMeasurement`, `SiLighting`) are made by one call
-//!   (`si_scene_from_file`, `si_measure`, `si_radiosity`, …), owned by the caller, and
-//!   freed by their `si_*_free` (NULL is a no-op). A handle owns all its data: freeing a
-//!   scene does not invalidate its measurements.
+//! - **Handles** (`SiScene`, `SiMeasurement`, `SiLighting`, `SiExactRows`) are made by one
+//!   call (`si_scene_from_file`, `si_measure`, `si_radiosity`, `si_exact_rows`, …), owned
+//!   by the caller, and freed by their `si_*_free` (NULL is a no-op). A handle owns all its
+//!   data: freeing a scene does not invalidate its measurements.
 //! - **Errors**: a fallible call returns an `SiStatus`; on failure a message (`file:line:
 //!   what`) is kept per thread until the next fallible call ([`status`]).
 //! - **Buffers**: arrays are copied into caller buffers with explicit lengths; the length
@@ -24,6 +24,7 @@
 mod buffers;
 pub mod measure;
 pub mod radiosity;
+pub mod rows;
 pub mod scene;
 pub mod status;
 mod threads;

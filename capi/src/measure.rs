@@ -337,12 +337,7 @@ impl SiJob {
     /// The core's job of `self` for `scene` and its executor, once the memory its large
     /// tables need is within `max_memory`.
     pub(crate) fn prepare(self, scene: &SiScene) -> Outcome<(Job, Threads)> {
-        let job = self.to_job()?;
-        let progress = self.progress.map(|callback| Progress {
-            callback,
-            user: self.user,
-        });
-        let executor = Threads::new(self.threads).with_progress(progress);
+        let (job, executor) = self.executor()?;
         if self.max_memory > 0 {
             // One tally per worker thread and the merged total
             let tallies = match job {
@@ -353,6 +348,19 @@ impl SiJob {
                 .map_err(|e| Failure::core(SiStatus::SI_ERR_JOB, &scene.source, &e))?;
         }
         Ok((job, executor))
+    }
+}
+
+impl SiJob {
+    /// The core's job of `self` and its executor (`threads`, `progress`), with no memory
+    /// check.
+    pub(crate) fn executor(self) -> Outcome<(Job, Threads)> {
+        let job = self.to_job()?;
+        let progress = self.progress.map(|callback| Progress {
+            callback,
+            user: self.user,
+        });
+        Ok((job, Threads::new(self.threads).with_progress(progress)))
     }
 }
 

@@ -4,6 +4,7 @@
 use std::ffi::{CStr, CString, c_char};
 use std::path::{Path, PathBuf};
 
+use sceneinfo::io::partial::Partial;
 use sceneinfo::{LoadReport, Material, ObjOptions, Scene};
 use sceneinfo_formats::{ErrorClass, Format, LoadOptions};
 
@@ -19,10 +20,27 @@ pub struct SiScene {
     report: SiLoadReport,
     /// The file it was read from, or what built it: the start of a job's error messages.
     pub(crate) source: String,
+    /// The fingerprint of the file's bytes (`Partial::fingerprint`, as the CLI takes it
+    /// for partial results); `None` for a scene built from arrays.
+    file_fingerprint: Option<u64>,
     warnings: Vec<CString>,
 }
 
 impl SiScene {
+    /// The fingerprint exact rows of this scene carry ([`sceneinfo::ExactRows::compute`]):
+    /// its file's bytes, as the CLI's `formfactors --partial` and Python take it, so their
+    /// files and this library's merge; for a scene built from arrays, its written form
+    /// (`io::write_obj` / `io::write_flat`, as Python's scenes built in memory).
+    pub(crate) fn fingerprint(&self) -> u64 {
+        self.file_fingerprint.unwrap_or_else(|| {
+            let written = match &self.scene {
+                Scene::Flat(s) => sceneinfo::io::write_flat(s),
+                Scene::Solid(s) => sceneinfo::io::write_obj(s, "scene.mtl").0,
+            };
+            Partial::fingerprint(written.as_bytes())
+        })
+    }
+
     fn new(scene: Scene, source: String, report: &LoadReport) -> Self {
         let warnings = report
             .warnings
@@ -47,6 +65,7 @@ impl SiScene {
             scene,
             report,
             source,
+            file_fingerprint: None,
             warnings,
         }
     }
@@ -143,7 +162,7 @@ pub struct SiLoadOptions {
 }
 
 /// The path of a C string: its bytes as they are on Unix, UTF-8 elsewhere.
-fn path_of(path: &CStr) -> Outcome<PathBuf> {
+pub(crate) fn path_of(path: &CStr) -> Outcome<PathBuf> {
     #[cfg(unix)]
     {
         use std::os::unix::ffi::OsStrExt;
@@ -177,7 +196,12 @@ fn read_scene(path: &Path, options: SiLoadOptions) -> Outcome<SiScene> {
         obj: ObjOptions::default().with_emit_from_ka(options.emit_from_ka != 0),
         format: format_of(options.format)?,
     };
-    let (scene, report) = sceneinfo_formats::load_file(path, &options).map_err(|e| {
+    // `load_file`'s steps, keeping the bytes' fingerprint on the way
+    let loaded = sceneinfo_formats::read_capped(path).and_then(|bytes| {
+        let fingerprint = Partial::fingerprint(&bytes);
+        sceneinfo_formats::load(path, bytes, &options).map(|loaded| (loaded, fingerprint))
+    });
+    let ((scene, report), fingerprint) = loaded.map_err(|e| {
         let info = sceneinfo_formats::classify(&e);
         let status = match info.class {
             ErrorClass::Io => SiStatus::SI_ERR_IO,
@@ -187,7 +211,9 @@ fn read_scene(path: &Path, options: SiLoadOptions) -> Outcome<SiScene> {
         f.line = info.line;
         f
     })?;
-    Ok(SiScene::new(scene, path.display().to_string(), &report))
+    let mut scene = SiScene::new(scene, path.display().to_string(), &report);
+    scene.file_fingerprint = Some(fingerprint);
+    Ok(scene)
 }
 
 /// Reads a scene file as the CLI reads it: sceneinfo's flatland format (`.flat`), Wavefront

@@ -47,6 +47,13 @@ pub enum SiStatus {
     /// The job's progress callback asked to stop. `si_measure` still gives its result (the
     /// lines cast before the stop, marked interrupted); `si_radiosity` gives nothing.
     SI_STOPPED = 9,
+    /// Partial results (exact rows, `si_exact_rows_*`) are not what they should be: a file
+    /// or bytes that are not a partial result (wrong magic bytes, a checksum mismatch, cut
+    /// short, a layout version this library does not read), parts of different jobs (scene,
+    /// tolerance, patches), overlapping rows or rows missing between parts, or a
+    /// measurement asked of rows that do not cover the job. The message names the file or
+    /// part and what was wrong.
+    SI_ERR_PARTIAL = 10,
 }
 
 /// A failure on its way to the caller: its status, message and line.
@@ -235,6 +242,7 @@ pub extern "C" fn si_status_name(status: i32) -> *const c_char {
         7 => c"SI_ERR_BUFFER_TOO_SMALL",
         8 => c"SI_ERR_INTERNAL",
         9 => c"SI_STOPPED",
+        10 => c"SI_ERR_PARTIAL",
         _ => c"SI_UNKNOWN",
     };
     name.as_ptr()
