@@ -13,6 +13,7 @@ use std::ptr::{null, null_mut};
 
 use crate::measure::*;
 use crate::radiosity::*;
+use crate::rows::*;
 use crate::scene::*;
 use crate::status::*;
 
@@ -160,4 +161,152 @@ fn a_lit_room_by_lines_on_threads_gives_one_threads_bits() {
     assert_eq!(one, solve(3));
     // SAFETY: made above, freed once
     unsafe { si_scene_free(scene) };
+}
+
+/// A regular tetrahedron's faces from arrays (4 patches, facing inwards: no patch hides
+/// another, so every pair is exact and cheap).
+fn tetrahedron() -> *mut SiScene {
+    let v = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+    let tri: [u32; 12] = [0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2];
+    let mut scene = null_mut();
+    // SAFETY: 4 vertices and 12 indices as counted, no offsets or materials
+    let status = unsafe {
+        si_scene_from_arrays(
+            v.as_ptr(),
+            4,
+            tri.as_ptr(),
+            12,
+            null(),
+            0,
+            null(),
+            0,
+            &mut scene,
+        )
+    };
+    assert_eq!(status, SiStatus::SI_OK, "{}", message());
+    scene
+}
+
+/// Rows `first..end` of `scene` at tolerance 1e-3, or the failure's status.
+fn rows_of(scene: *const SiScene, first: usize, end: usize) -> (SiStatus, *mut SiExactRows) {
+    let mut rows = std::ptr::dangling_mut::<SiExactRows>();
+    // SAFETY: a live scene, NULL job (the defaults), a writable out-pointer
+    let status = unsafe { si_exact_rows(scene, 1e-3, first, end, null(), &mut rows) };
+    (status, rows)
+}
+
+#[test]
+fn exact_rows_merge_and_their_failures_name_the_part_and_what_was_wrong() {
+    // Two scenes built alike from arrays: the same fingerprint (their written form), so
+    // rows of one merge with rows of the other
+    let (a, b) = (tetrahedron(), tetrahedron());
+    let (ok0, r0) = rows_of(a, 0, 2);
+    let (ok1, r1) = rows_of(b, 2, 4);
+    assert_eq!(
+        (ok0, ok1),
+        (SiStatus::SI_OK, SiStatus::SI_OK),
+        "{}",
+        message()
+    );
+    let (empty, none) = rows_of(a, 2, 2);
+    assert_eq!(empty, SiStatus::SI_ERR_INVALID_ARGUMENT);
+    assert!(none.is_null(), "a failing call leaves NULL in *out");
+    assert_eq!(
+        message(),
+        "rows 2..2: an empty range (first must be below end)"
+    );
+    assert_eq!(rows_of(a, 1, 5).0, SiStatus::SI_ERR_INVALID_ARGUMENT);
+    assert_eq!(
+        message(),
+        "rows 1..5: the scene of si_scene_from_arrays has rows 0..4 (one per patch)"
+    );
+    let mut merged = null_mut();
+    let mut m = null_mut();
+    // SAFETY: live rows, lists of live rows with their lengths, writable out-pointers;
+    // every handle freed once
+    unsafe {
+        // Rows missing: a partial failure naming the rows held and the job's
+        assert_eq!(
+            si_exact_rows_measurement(r0, &mut m),
+            SiStatus::SI_ERR_PARTIAL
+        );
+        assert!(m.is_null());
+        assert!(
+            message().starts_with(
+                "the scene of si_scene_from_arrays: partial results cover rows 0..2 of the \
+                 job's 0..4"
+            ),
+            "{}",
+            message()
+        );
+        assert_eq!(
+            si_exact_rows_merge([r0.cast_const(); 2].as_ptr(), 2, &mut merged),
+            SiStatus::SI_ERR_PARTIAL
+        );
+        assert_eq!(
+            message(),
+            "merge: the scene of si_scene_from_arrays (rows 0..2) after the scene of \
+             si_scene_from_arrays (rows 0..2): partial results overlap: rows 0..2 and 0..2"
+        );
+        // Bytes that are not a partial result, a file that is not there or not writable
+        let junk = [7u8; 40];
+        assert_eq!(
+            si_exact_rows_from_bytes(junk.as_ptr(), junk.len(), &mut merged),
+            SiStatus::SI_ERR_PARTIAL
+        );
+        assert_eq!(
+            message(),
+            "bytes: bad partial-result file: not a sceneinfo file of exact rows (wrong magic \
+             bytes)"
+        );
+        let missing = c"/nonexistent/sceneinfo/rows.sir";
+        assert_eq!(
+            si_exact_rows_read(missing.as_ptr(), &mut merged),
+            SiStatus::SI_ERR_IO
+        );
+        assert!(message().starts_with("/nonexistent/sceneinfo/rows.sir: cannot read"));
+        assert_eq!(
+            si_exact_rows_write(r0, missing.as_ptr()),
+            SiStatus::SI_ERR_IO
+        );
+        assert!(message().starts_with("/nonexistent/sceneinfo/rows.sir: cannot write"));
+
+        // In either order, the merge is the whole job: si_measure_exact's numbers
+        let parts = [r1.cast_const(), r0.cast_const()];
+        assert_eq!(
+            si_exact_rows_merge(parts.as_ptr(), 2, &mut merged),
+            SiStatus::SI_OK,
+            "{}",
+            message()
+        );
+        let mut info = SiExactRowsInfo::default();
+        assert_eq!(si_exact_rows_info(merged, &mut info), SiStatus::SI_OK);
+        assert_eq!(
+            (info.first, info.end, info.n_patches, info.complete),
+            (0, 4, 4, 1)
+        );
+        // 6 unordered pairs of faces, every one seen
+        assert_eq!(info.pair_count, 6);
+        assert_eq!(si_exact_rows_measurement(merged, &mut m), SiStatus::SI_OK);
+        let mut whole = null_mut();
+        assert_eq!(
+            si_measure_exact(a, 1e-3, null(), &mut whole),
+            SiStatus::SI_OK
+        );
+        let (mut x, mut y) = (SiMeasures::default(), SiMeasures::default());
+        assert_eq!(si_measurement_measures(m, &mut x), SiStatus::SI_OK);
+        assert_eq!(si_measurement_measures(whole, &mut y), SiStatus::SI_OK);
+        assert_eq!(
+            (x.i_s.to_bits(), x.h_s.to_bits()),
+            (y.i_s.to_bits(), y.h_s.to_bits())
+        );
+        assert!(x.i_s > 0.0);
+        si_measurement_free(whole);
+        si_measurement_free(m);
+        si_exact_rows_free(merged);
+        si_exact_rows_free(r0);
+        si_exact_rows_free(r1);
+        si_scene_free(a);
+        si_scene_free(b);
+    }
 }
