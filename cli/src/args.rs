@@ -87,10 +87,12 @@ pub struct RenderArgs {
           value_parser = clap::value_parser!(u32).range(1..=65_536))]
     pub spp: u32,
     /// The oracle's threshold, in [0, 1]: a pixel whose contrast exceeds it may take more
-    /// samples, highest contrast first, until the budget is spent (the papers' defaults
-    /// could not be read; ours is 0.02 for both contrasts: docs/supersampling.md).
-    #[arg(long, value_name = "T", default_value_t = sceneinfo::supersample::DEFAULT_ENTROPY_THRESHOLD)]
-    pub threshold: f64,
+    /// samples, highest contrast first, until the budget is spent. Default: each
+    /// contrast's own (the papers' could not be read; ours are 0.02 for entropy and for
+    /// mi, each with its reason: docs/supersampling.md). 0 makes the budget the only
+    /// stopping rule, which wins on dim scenes.
+    #[arg(long, value_name = "T")]
+    pub threshold: Option<f64>,
     /// Adaptive: judge a pixel by its own samples only, not also by its samples with its
     /// four neighbours' (the default compares neighbours: it catches edges that fall
     /// between a pixel's first samples).
@@ -407,17 +409,22 @@ pub struct MeasureArgs {
     #[arg(long, value_name = "OUT.sip", requires = "lines")]
     pub partial: Option<PathBuf>,
     /// Instead of the usual report, the long-range mutual information I(X_0;X_n) of the
-    /// scene's chain for n = 1..N bounces (exact from F^n), its per-patch split and its
+    /// scene's chain for n = 1..N bounces (exact from F^n; see --walks), its per-patch split and its
     /// links with I_S and the excess entropy (thesis §7.3, Proposition 1).
     #[arg(long, value_name = "N", conflicts_with = "partial",
           value_parser = clap::value_parser!(u32).range(1..=sceneinfo::channel::LongRange::MAX_BOUNCES as i64))]
     pub bounces: Option<u32>,
     /// With --bounces: also estimate I(X_0;X_n) by about W random walks (at least 32 from
-    /// each patch; seeded by --seed), with its standard error and Miller–Madow bias, beside
-    /// the exact curve.
+    /// each patch; seeded by --seed; the last step averaged over the known rows), with its
+    /// standard error and the bias removed, beside the exact curve; alone when F^n is too
+    /// large to compute densely.
     #[arg(long, value_name = "W", requires = "bounces",
           value_parser = clap::value_parser!(u64).range(1..))]
     pub walks: Option<u64>,
+    /// With --walks: compute the walks' curve only, not the exact one from F^n (what a
+    /// scene too large for dense powers gets anyway).
+    #[arg(long, requires = "walks")]
+    pub walks_only: bool,
 }
 
 /// Parses a half-open chunk range `A..B` with `A < B`.

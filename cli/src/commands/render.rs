@@ -154,14 +154,18 @@ fn options_of(args: &RenderArgs, seed: u64) -> RenderOptions {
     options
 }
 
-/// The oracle of `--adaptive` and `--threshold`, `None` for uniform sampling.
-fn oracle_of(adaptive: AdaptiveArg, threshold: f64) -> sceneinfo::Result<Option<Oracle>> {
+/// The oracle of `--adaptive` and `--threshold` (without it, each contrast's own default),
+/// `None` for uniform sampling.
+fn oracle_of(adaptive: AdaptiveArg, threshold: Option<f64>) -> sceneinfo::Result<Option<Oracle>> {
     let oracle = match adaptive {
         AdaptiveArg::None => return Ok(None),
         AdaptiveArg::Entropy => Oracle::entropy(),
         AdaptiveArg::Mi => Oracle::mutual_information(),
     };
-    oracle.with_threshold(threshold).map(Some)
+    match threshold {
+        Some(t) => oracle.with_threshold(t).map(Some),
+        None => Ok(Some(oracle)),
+    }
 }
 
 fn allocation_of(oracle: Option<Oracle>) -> Allocation {

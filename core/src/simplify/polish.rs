@@ -97,10 +97,12 @@ pub struct Polished {
     pub start_i_s: f64,
     /// `I_S` of the polished partition, recomputed from `chain` (bits); `≥ start_i_s`.
     pub i_s: f64,
-    /// Boundary moves taken.
+    /// Boundary moves taken, including those that settled a transfer's borders; when
+    /// `top_down`, those of the polish from the top-down start (its splits not counted).
     pub moves: u64,
-    /// Larger changes taken: transfers, re-cut surfaces, runs moved between surfaces and
-    /// exact re-splits.
+    /// Larger changes taken, each counted once: transfers, re-cut surfaces (one per
+    /// surface re-cut in a sweep), runs moved between surfaces (with the re-cuts of the
+    /// two surfaces they need) and exact re-splits.
     pub transfers: u64,
     /// Whether the result was polished from the top-down start (module docs) rather than
     /// from the partition given, which it beats.
@@ -462,14 +464,14 @@ impl<'a> Partition<'a> {
 
     /// One transfer (module docs), if one of the [`TRANSFER_TRIES`] best ranked raises
     /// `I_S` by more than [`GAIN_THRESHOLD`], at once or after at most `budget` boundary
-    /// moves on a trial copy. Returns whether one was taken.
-    fn transfer(&mut self, budget: usize) -> bool {
+    /// moves on a trial copy. Returns, when one was taken, the boundary moves taken with it.
+    fn transfer(&mut self, budget: usize) -> Option<usize> {
         let m = self.m;
         let splits: Vec<(usize, f64, Vec<bool>)> = (0..m)
             .filter_map(|e| self.greedy_split(e).map(|(g, part)| (e, g, part)))
             .collect();
         if splits.is_empty() {
-            return false;
+            return None;
         }
         let merges: Vec<(usize, usize, f64)> = self
             .adjacent_clusters()
@@ -512,19 +514,19 @@ impl<'a> Partition<'a> {
             if self.i_s_relabelled(&label, *e) > now + GAIN_THRESHOLD {
                 self.label = label;
                 self.rebuild();
-                return true;
+                return Some(0);
             }
             // Not better at once: better after boundary moves settle the new borders?
             if budget > 0 {
                 let mut trial = self.relabelled(label);
-                trial.boundary_moves(budget);
+                let moved = trial.boundary_moves(budget);
                 if trial.i_s() > now + GAIN_THRESHOLD {
                     *self = trial;
-                    return true;
+                    return Some(moved);
                 }
             }
         }
-        false
+        None
     }
 
     /// The components of the patch adjacency that are paths (every patch with at most two
@@ -1134,9 +1136,15 @@ impl Polished {
             if along == 0 {
                 // Where every patch lies on a path the runs' moves above are the transfers.
                 let on_paths: usize = p.paths.iter().map(Vec::len).sum();
-                if on_paths == n_patches || !p.transfer(budget.min(trial_moves)) {
+                if on_paths == n_patches {
                     break;
                 }
+                // The boundary moves that settled the transfer's borders count as moves
+                let Some(moved) = p.transfer(budget.min(trial_moves)) else {
+                    break;
+                };
+                moves += moved;
+                budget -= moved;
                 transfers += 1;
             }
         }

@@ -1,10 +1,13 @@
 //! `measure --bounces N`: the long-range mutual information `I(X_0; X_n)` of the scene's
-//! chain after `n = 1..N` bounces (thesis §7.3; `Channel::long_range_information`).
+//! chain after `n = 1..N` bounces (thesis §7.3; `Channel::long_range_information`), and
+//! with `--walks` its estimate by random walks (`Channel::long_range_information_by_walks`),
+//! alone when `Fⁿ` is too large for dense powers or with `--walks-only`.
 
 use std::fmt::Write as _;
 use std::io::Write;
 
 use anyhow::Result;
+use sceneinfo::ErrorKind;
 use sceneinfo::channel::LongRange;
 use sceneinfo_report::JsonObject;
 
@@ -33,13 +36,58 @@ pub(super) fn run(args: &MeasureArgs, bounces: usize) -> Result<()> {
         ));
     };
     let channel = ff.channel().map_err(at)?;
-    let lr = channel.long_range_information(bounces).map_err(at)?;
-    // [estimate, standard error, Miller–Madow bias] per bounce
+    // The exact curve from dense powers, unless asked for the walks alone or too large
+    // with walks to fall back on
+    let exact = if args.walks_only {
+        None
+    } else {
+        match channel.long_range_information(bounces) {
+            Ok(lr) => Some(lr),
+            Err(e) if args.walks.is_some() && matches!(e.kind(), ErrorKind::TooLarge { .. }) => {
+                eprintln!(
+                    "{}: {e}; the curve is estimated by the walks alone",
+                    file.display()
+                );
+                None
+            }
+            Err(e) if matches!(e.kind(), ErrorKind::TooLarge { .. }) => {
+                return Err(anyhow::anyhow!(
+                    "{}; --walks W estimates the curve without dense powers",
+                    located(file, &e)
+                ));
+            }
+            Err(e) => return Err(at(e)),
+        }
+    };
+    // [estimate, standard error, bias removed] per bounce
     let walks = match args.walks {
         Some(count) => channel
             .long_range_information_by_walks(bounces, count, args.sampling.seed)
             .map_err(at)?,
         None => Vec::new(),
+    };
+    let Some(lr) = exact else {
+        let only = WalksOnly {
+            name: file.display().to_string(),
+            states: ff.n_states(),
+            background: ff.has_background(),
+            monte_carlo,
+            h_p: channel.h_p(),
+            h_s: channel.h_s(),
+            i_s: channel.i_s(),
+            walks: args.walks.unwrap_or(0),
+            seed: args.sampling.seed,
+            curve: walks,
+        };
+        let mut out = std::io::stdout().lock();
+        let text = if args.json {
+            only.json()?
+        } else {
+            only.table()?
+        };
+        write!(out, "{text}")?;
+        out.flush()?;
+        return Ok(());
     };
     let w = ff.weights();
     // The patches whose memory of the start lasts longest: D_KL((Fⁿ)_i· ‖ w) = I_i(N)/w_i
@@ -120,7 +168,7 @@ fn table(
     if walks.is_empty() {
         writeln!(s)?;
     } else {
-        writeln!(s, "   walks ± σ (Miller–Madow bias removed)")?;
+        writeln!(s, "   walks ± σ (bias removed; n = 1 exact)")?;
     }
     let n = lr.curve.len();
     for (k, (&i, &h)) in lr.curve.iter().zip(&lr.conditional).enumerate() {
@@ -160,4 +208,102 @@ fn table(
         )?;
     }
     Ok(s)
+}
+
+/// The curve by walks alone (no dense powers): exact at `n = 1` (the rows themselves),
+/// estimated with a standard error after.
+struct WalksOnly {
+    name: String,
+    states: usize,
+    background: bool,
+    monte_carlo: bool,
+    h_p: f64,
+    h_s: f64,
+    i_s: f64,
+    walks: u64,
+    seed: u64,
+    curve: Vec<[f64; 3]>,
+}
+
+impl WalksOnly {
+    fn bound(&self, n: usize) -> f64 {
+        (self.h_p - n as f64 * self.h_s).max(0.0)
+    }
+
+    fn json(&self) -> Result<String> {
+        let mut s = String::new();
+        let mut o = JsonObject::new(&mut s)?;
+        o.string("file", &self.name)?;
+        o.integer("states", self.states as u64)?;
+        o.boolean("background", self.background)?;
+        o.string(
+            "form_factors",
+            if self.monte_carlo {
+                "monte carlo"
+            } else {
+                "exact"
+            },
+        )?;
+        o.string("curve", "walks")?;
+        o.number("h_p", self.h_p)?;
+        o.number("h_s", self.h_s)?;
+        o.number("i_s", self.i_s)?;
+        o.number("excess_entropy", self.h_p - self.h_s)?;
+        o.integer("bounces", self.curve.len() as u64)?;
+        let bound: Vec<f64> = (1..=self.curve.len()).map(|n| self.bound(n)).collect();
+        o.numbers("block_bound", &bound)?;
+        let column = |k: usize| -> Vec<f64> { self.curve.iter().map(|r| r[k]).collect() };
+        o.integer("walks", self.walks)?;
+        o.integer("walk_seed", self.seed)?;
+        o.numbers("i_n_walks", &column(0))?;
+        o.numbers("i_n_walks_sigma", &column(1))?;
+        o.numbers("i_n_walks_bias", &column(2))?;
+        o.finish()?;
+        s.push('\n');
+        Ok(s)
+    }
+
+    fn table(&self) -> Result<String> {
+        let mut s = String::new();
+        writeln!(
+            s,
+            "{}: long-range mutual information I(X_0;X_n) by random walks only ({} states{})",
+            self.name,
+            self.states,
+            if self.background {
+                ", background included"
+            } else {
+                ""
+            }
+        )?;
+        writeln!(
+            s,
+            "  H_P {:.6}  H_S {:.6}  I_S = I(X_0;X_1) {:.6}  excess entropy E = H_P - H_S {:.6}  (exact, from the rows)",
+            self.h_p,
+            self.h_s,
+            self.i_s,
+            self.h_p - self.h_s
+        )?;
+        writeln!(
+            s,
+            "  about {} walks (at least 32 a state), seed {}: n = 1 exact (the rows themselves), n >= 2 estimated",
+            self.walks, self.seed
+        )?;
+        writeln!(
+            s,
+            "      n    I(X_0;X_n) ± σ (walks)     bias removed   H_P - n H_S (bound)"
+        )?;
+        let n = self.curve.len();
+        for (k, [e, sigma, bias]) in self.curve.iter().enumerate() {
+            let step = k + 1;
+            if n <= 30 || step <= 10 || step % 10 == 0 || step == n {
+                writeln!(
+                    s,
+                    "  {step:>5}  {e:>12.6} ± {sigma:.6}  {bias:>12.6}  {:>12.6}",
+                    self.bound(step)
+                )?;
+            }
+        }
+        Ok(s)
+    }
 }
