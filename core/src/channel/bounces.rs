@@ -218,6 +218,11 @@ pub(crate) const MAX_WALK_STEPS: u64 = 1 << 34;
 /// `MAX_BOUNCE_WORK`.
 pub(crate) const MAX_WALK_WORK: u64 = 1 << 36;
 
+/// Whether [`Channel::long_range_information_by_walks`] reports the split-half standard
+/// error rather than the expansion's (`Channel::walks_curve`; chosen by the coverage
+/// measured in `docs/fields.md`).
+const SPLIT_HALF_SIGMA: bool = false;
+
 /// Fewest walks started from each state of positive weight by
 /// [`Channel::long_range_information_by_walks`].
 pub(crate) const MIN_WALKS_PER_STATE: u64 = 32;
@@ -402,6 +407,26 @@ impl<M: Transitions> Channel<'_, M> {
         walks: u64,
         seed: u64,
     ) -> Result<Vec<[f64; 3]>> {
+        let curve = self.walks_curve(bounces, walks, seed, SPLIT_HALF_SIGMA)?;
+        let sigma = if SPLIT_HALF_SIGMA { 3 } else { 1 };
+        Ok(curve.iter().map(|r| [r[0], r[sigma], r[2]]).collect())
+    }
+
+    /// [`Channel::long_range_information_by_walks`] with both standard errors:
+    /// `[estimate, σ by the expansion, bias, σ by split halves]`, the last 0 unless `split`.
+    ///
+    /// The split-half σ: each state's walks are also cut into two halves (the first
+    /// `⌊m_i/2⌋` walks and the rest), each estimated alone as above, and
+    /// `σ² = Σ_i w_i² (D̂_{A,i} − D̂_{B,i})² / 4` — unbiased for `Var(D̂_i)` up to the
+    /// halves' larger bias, whatever the law of `D̂_i` (one χ²₁ term per stratum; good when
+    /// many strata carry the weight). Costs twice the row reads.
+    pub(crate) fn walks_curve(
+        &self,
+        bounces: usize,
+        walks: u64,
+        seed: u64,
+        split: bool,
+    ) -> Result<Vec<[f64; 4]>> {
         if bounces == 0 || bounces > MAX_BOUNCES {
             return Err(Error::new(ErrorKind::BadParameter {
                 name: "bounces",
@@ -453,25 +478,29 @@ impl<M: Transitions> Channel<'_, M> {
             }));
         }
 
-        // counts[t·n + x]: walks at x after t + 1 bounces, t < bounces − 1
+        // counts[t·n + x]: walks at x after t + 1 bounces, t < bounces − 1; first_half the
+        // same for the first ⌊m/2⌋ walks
         let mut counts = vec![0u64; cells - n];
+        let mut first_half = vec![0u64; if split { cells - n } else { 0 }];
         // The states reached at each bounce, to read and reset only those
         let mut reached: Vec<Vec<usize>> = vec![Vec::new(); bounces - 1];
-        let mut group: Vec<(usize, u64)> = Vec::new();
+        let (mut group, mut group_a, mut group_b) = (Vec::new(), Vec::new(), Vec::new());
         let (mut q, mut s2, mut touched) = (vec![0.0; n], vec![0.0; n], Vec::new());
         let mut estimate = vec![0.0; bounces];
         let mut variance = vec![0.0; bounces];
+        let mut split_variance = vec![0.0; bounces];
         let mut bias = vec![0.0; bounces];
         for (i, &wi) in w.iter().enumerate() {
             let m = per_state(wi);
             if m == 0 {
                 continue;
             }
+            let m_a = m / 2;
             let mut rng = rand_pcg::Pcg64::new(
                 u128::from(seed) ^ (0xcafe_f00d_d15e_a5e5_u128 << 64),
                 i as u128,
             );
-            for _ in 0..m {
+            for walk in 0..m {
                 let mut x = i;
                 for (t, seen) in reached.iter_mut().enumerate() {
                     let Some(next) = rows.step(x, &mut rng) else {
@@ -483,17 +512,32 @@ impl<M: Transitions> Channel<'_, M> {
                         seen.push(x);
                     }
                     *c += 1;
+                    if split && walk < m_a {
+                        first_half[t * n + x] += 1;
+                    }
                 }
             }
             for t in 0..bounces {
                 group.clear();
+                group_a.clear();
+                group_b.clear();
                 if t == 0 {
                     group.push((i, m));
+                    group_a.push((i, m_a));
+                    group_b.push((i, m - m_a));
                 } else {
                     for &k in &reached[t - 1] {
-                        let c = &mut counts[(t - 1) * n + k];
-                        group.push((k, *c));
-                        *c = 0;
+                        let c = core::mem::take(&mut counts[(t - 1) * n + k]);
+                        group.push((k, c));
+                        if split {
+                            let a = core::mem::take(&mut first_half[(t - 1) * n + k]);
+                            if a > 0 {
+                                group_a.push((k, a));
+                            }
+                            if c > a {
+                                group_b.push((k, c - a));
+                            }
+                        }
                     }
                     reached[t - 1].clear();
                 }
@@ -501,10 +545,24 @@ impl<M: Transitions> Channel<'_, M> {
                 estimate[t] += wi * e;
                 bias[t] += wi * b;
                 variance[t] += wi * wi * var;
+                if split {
+                    let [ea, _, _] =
+                        rao_blackwell(&rows, w, &group_a, m_a, &mut q, &mut s2, &mut touched);
+                    let [eb, _, _] =
+                        rao_blackwell(&rows, w, &group_b, m - m_a, &mut q, &mut s2, &mut touched);
+                    split_variance[t] += wi * wi * (ea - eb) * (ea - eb) / 4.0;
+                }
             }
         }
         Ok((0..bounces)
-            .map(|t| [estimate[t], libm::sqrt(variance[t]), bias[t]])
+            .map(|t| {
+                [
+                    estimate[t],
+                    libm::sqrt(variance[t]),
+                    bias[t],
+                    libm::sqrt(split_variance[t]),
+                ]
+            })
             .collect())
     }
 }
@@ -587,11 +645,12 @@ mod tests {
     }
 
     /// Coverage of the walks' ±2σ interval over seeds (prints a table; asserts nothing but
-    /// that it ran): the flatland room and the cube of the test above, `scenes/room620.flat`,
-    /// at few and many walks per patch. About 2 min in release:
-    /// `cargo test -p sceneinfo --release --lib walks_coverage_over_seeds -- --ignored --nocapture`.
+    /// that it ran): the flatland room and the cube of the test above (100 seeds) and
+    /// `scenes/room620.flat` (40 and 16 seeds), at 32, 160 and (small scenes) 1000 walks
+    /// per patch. A few minutes in the test profile:
+    /// `cargo test -p sceneinfo --lib walks_coverage_over_seeds -- --ignored --nocapture`.
     #[test]
-    #[ignore = "a measurement, not a check: ±2σ coverage of the walks over 100 seeds on three scenes; about 2 min in release; run with --release --ignored --nocapture"]
+    #[ignore = "a measurement, not a check: ±2σ coverage of the walks over many seeds on three scenes; a few minutes; run with --ignored --nocapture"]
     fn walks_coverage_over_seeds() {
         extern crate std;
         use crate::formfactor::{exact_2d, exact_3d};
@@ -615,32 +674,45 @@ mod tests {
             let exact = ch.long_range_information(bounces).unwrap();
             let n = ch.n_states() as u64;
             for per_patch in [32, 160, 1000] {
-                let seeds = if n > 100 && per_patch > 200 { 20 } else { 100 };
-                let mut inside = vec![0u32; bounces];
-                let mut z = vec![0.0f64; bounces];
-                let mut sig = vec![0.0f64; bounces];
+                // room620 costs about 620 · 12 · 2 · 620 · min(m, 620) row reads a seed
+                let seeds = match (n > 100, per_patch) {
+                    (false, _) => 100,
+                    (true, 32) => 40,
+                    (true, 160) => 16,
+                    (true, _) => continue,
+                };
+                // per bounce: [inside ±2σ, Σ z, Σ σ] for the expansion's σ and the split σ
+                let mut tally = vec![[[0.0f64; 3]; 2]; bounces];
+                let mut errors = vec![0.0f64; bounces];
                 for seed in 0..seeds {
-                    let est = ch
-                        .long_range_information_by_walks(bounces, per_patch * n, seed)
-                        .unwrap();
-                    for (k, (&[e, s, _], &x)) in est.iter().zip(&exact.curve).enumerate() {
-                        if (e - x).abs() <= 2.0 * s + 1e-12 {
-                            inside[k] += 1;
+                    let est = ch.walks_curve(bounces, per_patch * n, seed, true).unwrap();
+                    for (k, (r, &x)) in est.iter().zip(&exact.curve).enumerate() {
+                        errors[k] += (r[0] - x) * (r[0] - x);
+                        for (t, s) in tally[k].iter_mut().zip([r[1], r[3]]) {
+                            if (r[0] - x).abs() <= 2.0 * s + 1e-12 {
+                                t[0] += 1.0;
+                            }
+                            if s > 0.0 {
+                                t[1] += (r[0] - x) / s;
+                            }
+                            t[2] += s;
                         }
-                        if s > 0.0 {
-                            z[k] += (e - x) / s;
-                        }
-                        sig[k] += s;
                     }
                 }
+                let f = seeds as f64;
                 for k in [1, 2, 4, 8, 11] {
+                    let [a, b] = tally[k];
                     println!(
-                        "{name} ({n} states) {per_patch} walks/patch n={}: exact {:.6}, ±2σ holds it {}/{seeds}, mean z {:+.2}, mean σ {:.2e}",
+                        "{name} ({n} states) {per_patch} walks/patch n={}: exact {:.6}, rms error {:.2e}; expansion σ {:.2e}: ±2σ holds {}/{seeds}, mean z {:+.2}; split σ {:.2e}: ±2σ holds {}/{seeds}, mean z {:+.2}",
                         k + 1,
                         exact.curve[k],
-                        inside[k],
-                        z[k] / seeds as f64,
-                        sig[k] / seeds as f64
+                        libm::sqrt(errors[k] / f),
+                        a[2] / f,
+                        a[0],
+                        a[1] / f,
+                        b[2] / f,
+                        b[0],
+                        b[1] / f
                     );
                 }
             }
