@@ -151,6 +151,20 @@ fn walks_agree_with_the_exact_curve() {
     assert!((number(&alone, "i_s") - exact[0]).abs() < 1e-12);
 }
 
+/// A curve too large for dense powers is refused with a pointer to `--walks` (100 patches,
+/// 100,000 bounces: `(N − 1) n³` is 10¹¹, over the cap), before any work.
+#[test]
+fn too_large_for_dense_powers_points_to_walks() {
+    let room = write("large.flat", "poly 4 0 0 3 0 3 2 0 2 per_side 25\n");
+    let out = bin()
+        .args(["measure", room.to_str().unwrap(), "--bounces", "100000"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--walks W"), "{err}");
+}
+
 #[test]
 fn refusals_exit_2() {
     let square = write("refuse.flat", "poly 4 0 0 1 0 1 1 0 1\n");
