@@ -186,19 +186,20 @@ impl ParallelSweep2 {
         out.ranges.resize(out.sorted.len(), (0, 0));
         let to_k = 0.5 * f64::from(m) / r;
         let u1 = bundle.shift();
+        let (offsets, start) = (out.offsets.as_slice(), out.start.as_mut_slice());
         for (seg, range) in out.sorted.iter().zip(&mut out.ranges) {
             let pa = n.dot(seg.a - c);
             let pb = pa + n.dot(seg.e);
             // Either order for a NaN (a segment with a NaN never hits: any range will do)
             let (lo, hi) = if pb < pa { (pb, pa) } else { (pa, pb) };
             let (lo, hi) = (lo - delta, hi + delta);
-            let k0 = first_at_least(&out.offsets, lo, (lo + r) * to_k - u1);
-            let k1 = first_above(&out.offsets, hi, (hi + r) * to_k - u1).max(k0);
+            let k0 = first_at_least(offsets, lo, (lo + r) * to_k - u1);
+            let k1 = first_above(offsets, hi, (hi + r) * to_k - u1).max(k0);
             *range = (k0, k1);
-            if let Some(s) = out.start.get_mut(k0 as usize) {
+            if let Some(s) = start.get_mut(k0 as usize) {
                 *s = s.wrapping_add(1);
             }
-            if let Some(s) = out.start.get_mut(k1 as usize) {
+            if let Some(s) = start.get_mut(k1 as usize) {
                 *s = s.wrapping_sub(1);
             }
         }
@@ -233,14 +234,14 @@ impl ParallelSweep2 {
         } = out;
         let hits = hits.as_mut_slice();
         segment_hits.clear();
-        for (seg, &(k0, k1)) in sorted.iter().zip(ranges.iter()) {
+        segment_hits.resize(sorted.len(), 0);
+        for ((seg, &(k0, k1)), seg_found) in sorted.iter().zip(ranges.iter()).zip(segment_hits) {
             let (a, e, prim) = (seg.a, seg.e, seg.prim);
             // `LineQuery::hit`'s denominator, the same for every line
             let denom = cross(e, d);
             let lines = k0 as usize..k1 as usize;
             let (Some(origins), Some(end)) = (origins.get(lines.clone()), end.get_mut(lines))
             else {
-                segment_hits.push(0);
                 continue;
             };
             let mut found = 0u32;
@@ -253,7 +254,7 @@ impl ParallelSweep2 {
                     found += 1;
                 }
             }
-            segment_hits.push(found);
+            *seg_found = found;
         }
     }
 }
