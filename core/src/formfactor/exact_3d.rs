@@ -72,6 +72,7 @@ mod contour;
 #[cfg(feature = "alloc")]
 mod occlusion;
 mod polygon;
+mod rectangle;
 #[cfg(all(test, feature = "std"))]
 mod tests;
 
@@ -81,6 +82,7 @@ use crate::geom::DVec3;
 use crate::math::KahanSum;
 
 use contour::{Edge, Kernel};
+use rectangle::AxisRect;
 pub(crate) use polygon::{HalfSpace, ON_PLANE, Plane};
 
 #[cfg(feature = "alloc")]
@@ -196,8 +198,35 @@ pub(crate) fn polygon_to_polygon(source: &[DVec3], target: &[DVec3]) -> f64 {
 
 /// `(A_i F_ij, Σ|J_pq| / 2π)`: the flux and the magnitude of the terms that cancelled in it
 /// (a few ulps of the latter bound the rounding error of the former).
+///
+/// Two axis-aligned rectangles take the written-out sum of `rectangle.rs`; every other pair
+/// the general contour sum.
 pub(crate) fn pair_flux(src: &[DVec3], ps: &Plane, tgt: &[DVec3], pt: &Plane) -> (f64, f64) {
-    let tol = ON_PLANE * (ps.magnitude.max(pt.magnitude) + ps.radius + pt.radius);
+    if let (Some(rs), Some(rt)) = (AxisRect::of(src, ps), AxisRect::of(tgt, pt)) {
+        let ell = log_scale(ps, pt);
+        return rectangle::rect_flux(&rs, &rt, contact(ps, pt), 1.0 / (ell * ell));
+    }
+    contour_flux(src, ps, tgt, pt)
+}
+
+/// The distance under which a vertex of one polygon counts as on the other's plane.
+#[inline]
+fn contact(ps: &Plane, pt: &Plane) -> f64 {
+    ON_PLANE * (ps.magnitude.max(pt.magnitude) + ps.radius + pt.radius)
+}
+
+/// The log scale `ℓ` of a pair: the distance of the centroids, or the pair's size when
+/// they touch (`contour.rs`: it keeps the logarithms of the cancelling terms small).
+#[inline]
+fn log_scale(ps: &Plane, pt: &Plane) -> f64 {
+    (pt.centroid - ps.centroid)
+        .length()
+        .max(ps.radius + pt.radius)
+}
+
+/// [`pair_flux`] by the general double contour sum (any convex polygons).
+fn contour_flux(src: &[DVec3], ps: &Plane, tgt: &[DVec3], pt: &Plane) -> (f64, f64) {
+    let tol = contact(ps, pt);
     // Each polygon clipped to the front of the other's plane.
     let clip_src = HalfSpace {
         origin: pt.origin,
@@ -212,10 +241,7 @@ pub(crate) fn pair_flux(src: &[DVec3], ps: &Plane, tgt: &[DVec3], pt: &Plane) ->
     if !clip_src.reaches(src) || !clip_tgt.reaches(tgt) {
         return (0.0, 0.0);
     }
-    // The log scale ℓ: the pair's distance, or its size when they touch.
-    let ell = (pt.centroid - ps.centroid)
-        .length()
-        .max(ps.radius + pt.radius);
+    let ell = log_scale(ps, pt);
     let edges = ((src.len() + 1) * (tgt.len() + 1)) as f64;
     let kernel = Kernel {
         inv_l2: 1.0 / (ell * ell),
