@@ -82,7 +82,6 @@ use crate::geom::DVec3;
 use crate::math::KahanSum;
 
 use contour::{Edge, Kernel};
-use rectangle::AxisRect;
 pub(crate) use polygon::{HalfSpace, ON_PLANE, Plane};
 
 #[cfg(feature = "alloc")]
@@ -202,9 +201,9 @@ pub(crate) fn polygon_to_polygon(source: &[DVec3], target: &[DVec3]) -> f64 {
 /// Two axis-aligned rectangles take the written-out sum of `rectangle.rs`; every other pair
 /// the general contour sum.
 pub(crate) fn pair_flux(src: &[DVec3], ps: &Plane, tgt: &[DVec3], pt: &Plane) -> (f64, f64) {
-    if let (Some(rs), Some(rt)) = (AxisRect::of(src, ps), AxisRect::of(tgt, pt)) {
+    if let (Some(rs), Some(rt)) = (&ps.rect, &pt.rect) {
         let ell = log_scale(ps, pt);
-        return rectangle::rect_flux(&rs, &rt, contact(ps, pt), 1.0 / (ell * ell));
+        return rectangle::rect_flux(rs, rt, contact(ps, pt), 1.0 / (ell * ell));
     }
     contour_flux(src, ps, tgt, pt)
 }

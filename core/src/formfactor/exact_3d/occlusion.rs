@@ -56,6 +56,14 @@ pub fn may_be_occluded(points: &[DVec3], polygons: &[(usize, usize)]) -> bool {
     let words = n.div_ceil(64);
     let mut front = vec![0u64; n * words];
     let mut back = vec![0u64; n * words];
+    // The bits past n in each last word count as "in front" for every polygon, so no pair
+    // takes them for candidates (the pair loop needs no mask).
+    if n % 64 != 0 {
+        let padding = !((1u64 << (n % 64)) - 1);
+        for i in 0..n {
+            front[i * words + words - 1] = padding;
+        }
+    }
     // Rounding allowance of a distance, for the bounding-sphere shortcut below.
     let slack = SPHERE_SLACK * hi.abs().max(lo.abs()).max_element();
     for (k, (_, pk)) in polys.iter().enumerate() {
@@ -86,6 +94,11 @@ pub fn may_be_occluded(points: &[DVec3], polygons: &[(usize, usize)]) -> bool {
             }
         }
     }
+    // Every polygon on the closed front side of every plane (a convex enclosure): no pair
+    // has a candidate, which the pair loop below would find in O(n² · n/64).
+    if front.iter().all(|&word| word == u64::MAX) {
+        return false;
+    }
     let boxes: Vec<(DVec3, DVec3)> = polys
         .iter()
         .map(|(v, _)| bounds(v.iter().copied()))
@@ -105,9 +118,6 @@ pub fn may_be_occluded(points: &[DVec3], polygons: &[(usize, usize)]) -> bool {
                 let (ki, kj) = (back[i * words + w], back[j * words + w]);
                 // Candidates: k whose plane does not separate the pair's hull from k.
                 let mut cand = !((fi & fj) | (ki & kj));
-                if w == words - 1 && n % 64 != 0 {
-                    cand &= (1u64 << (n % 64)) - 1;
-                }
                 while cand != 0 {
                     let k = w * 64 + cand.trailing_zeros() as usize;
                     cand &= cand - 1;

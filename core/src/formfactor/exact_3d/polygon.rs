@@ -1,5 +1,6 @@
 //! Planes of convex polygons and allocation-free clipping to a half-space.
 
+use super::rectangle::AxisRect;
 use crate::geom::DVec3;
 
 /// Relative tolerance (about 5 000 ulps) under which a vertex counts as lying on a plane:
@@ -22,6 +23,9 @@ pub(crate) struct Plane {
     pub radius: f64,
     /// Largest coordinate magnitude of a vertex (for rounding tolerances).
     pub magnitude: f64,
+    /// The polygon as an axis-aligned rectangle, when it is one (found once per polygon,
+    /// used for every pair it is in).
+    pub rect: Option<AxisRect>,
 }
 
 impl Plane {
@@ -62,13 +66,15 @@ impl Plane {
             .iter()
             .map(|v| v.abs().max_element())
             .fold(0.0, f64::max);
+        let normal = n / twice_area;
         Some(Self {
             origin: v0,
-            normal: n / twice_area,
+            normal,
             area: 0.5 * twice_area,
             centroid,
             radius,
             magnitude,
+            rect: AxisRect::of(poly, normal, magnitude),
         })
     }
 

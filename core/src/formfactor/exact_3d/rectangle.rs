@@ -33,15 +33,13 @@ use core::f64::consts::PI;
 use crate::geom::DVec3;
 use crate::math::{self, KahanSum};
 
-use super::polygon::Plane;
-
 /// Largest deviation from axis alignment, relative to the polygon's largest coordinate,
 /// snapped to its bounding rectangle: 16 ulps.
 const SNAP: f64 = 16.0 * f64::EPSILON;
 
 /// An axis-aligned rectangle: its normal axis and sign, and its extent.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct AxisRect {
+pub(crate) struct AxisRect {
     /// The axis of the normal (0, 1, 2 for x, y, z).
     axis: usize,
     /// `+1` when the front normal points along `+axis`, else `−1`.
@@ -54,14 +52,14 @@ pub(super) struct AxisRect {
 }
 
 impl AxisRect {
-    /// The rectangle of `poly` (with its plane `plane`) when it is a quadrilateral with
-    /// axis-aligned edges to within [`SNAP`], else `None`.
-    #[inline]
-    pub fn of(poly: &[DVec3], plane: &Plane) -> Option<Self> {
+    /// The rectangle of `poly` (with unit front normal `normal` and largest coordinate
+    /// magnitude `magnitude`) when it is a quadrilateral with axis-aligned edges to within
+    /// [`SNAP`], else `None`.
+    pub fn of(poly: &[DVec3], normal: DVec3, magnitude: f64) -> Option<Self> {
         let [v0, v1, v2, v3] = *poly else {
             return None;
         };
-        let n = plane.normal.abs();
+        let n = normal.abs();
         let axis = if n.x >= n.y && n.x >= n.z {
             0
         } else if n.y >= n.z {
@@ -70,7 +68,7 @@ impl AxisRect {
             2
         };
         let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
-        let slack = SNAP * plane.magnitude;
+        let slack = SNAP * magnitude;
         let v = [v0.to_array(), v1.to_array(), v2.to_array(), v3.to_array()];
         let level = v[0][axis];
         // Edge k runs along u (true) or w (false); the edges alternate.
@@ -100,7 +98,7 @@ impl AxisRect {
         }
         Some(Self {
             axis,
-            sign: if plane.normal.to_array()[axis] > 0.0 {
+            sign: if normal.to_array()[axis] > 0.0 {
                 1.0
             } else {
                 -1.0

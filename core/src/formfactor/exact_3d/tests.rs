@@ -686,10 +686,7 @@ fn rectangle_sum_is_the_contour_sum() {
             tgt[k] = DVec3::from_array(p);
         }
         let (ps, pt) = (Plane::of(&src).unwrap(), Plane::of(&tgt).unwrap());
-        let (Some(rs), Some(rt)) = (
-            rectangle::AxisRect::of(&src, &ps),
-            rectangle::AxisRect::of(&tgt, &pt),
-        ) else {
+        let (Some(rs), Some(rt)) = (ps.rect, pt.rect) else {
             panic!("case {case}: not taken as axis-aligned rectangles: {src:?} {tgt:?}");
         };
         let ell = log_scale(&ps, &pt);
