@@ -65,8 +65,11 @@
 //! 4 arctangents per parallel edge pair), about 15 per skew pair and Kronrod step; edge
 //! directions are computed once per clipped edge, not per edge pair. The full matrix is
 //! computed once per unordered pair and filled by reciprocity (2.8), `F_ji = A_i F_ij / A_j`;
-//! pairs that do not face each other, including coplanar ones, cost one vertex pass. The
-//! 600-patch cube (callgrind, one thread): about 5 800 instructions per facing pair.
+//! pairs that do not face each other, including coplanar ones, cost one vertex pass. Two
+//! axis-aligned rectangles (each found once, in its `Plane`) take the same sum written out
+//! in `rectangle.rs`: only their parallel edge pairs, no clipping or vector algebra, 16
+//! logarithms and 16 or 32 arctangents. The 600-patch cube (callgrind, one thread): about
+//! 3 100 instructions per facing pair (5 800 by the general sum).
 
 mod contour;
 #[cfg(feature = "alloc")]

@@ -116,9 +116,9 @@ impl AxisRect {
     fn clipped(&self, t: usize, other: &Self, tol: f64) -> Option<(f64, f64)> {
         let (lo, hi, p) = (self.lo[t], self.hi[t], other.level);
         if other.sign > 0.0 {
-            (hi > p + tol).then(|| (if lo < p - tol { p } else { lo }, hi))
+            (hi > p + tol).then_some((if lo < p - tol { p } else { lo }, hi))
         } else {
-            (lo < p - tol).then(|| (lo, if hi > p + tol { p } else { hi }))
+            (lo < p - tol).then_some((lo, if hi > p + tol { p } else { hi }))
         }
     }
 }
@@ -171,15 +171,11 @@ pub(super) fn rect_flux(s: &AxisRect, t: &AxisRect, tol: f64, inv_l2: f64) -> (f
                 let side = if ps == qs { 1.0 } else { -1.0 };
                 // Edges along u at w positions, then along w at u positions.
                 let hw = math::sqrt(dw[index(ps, qs)] * dw[index(ps, qs)] + d2);
-                let j = side
-                    * sign
-                    * mixed(&du, hw, |i| logs[i][index(ps, qs)]);
+                let j = side * sign * mixed(&du, hw, |i| logs[i][index(ps, qs)]);
                 sum.add(j);
                 magnitude += j.abs();
                 let hu = math::sqrt(du[index(ps, qs)] * du[index(ps, qs)] + d2);
-                let j = side
-                    * sign
-                    * mixed(&dw, hu, |k| logs[index(ps, qs)][k]);
+                let j = side * sign * mixed(&dw, hu, |k| logs[index(ps, qs)][k]);
                 sum.add(j);
                 magnitude += j.abs();
             }
@@ -230,7 +226,11 @@ fn mixed(u: &[f64; 4], h: f64, log: impl Fn(usize) -> f64) -> f64 {
         if r2 == 0.0 {
             return 0.0;
         }
-        let angle = if h > 0.0 { h * x * math::atan(x / h) } else { 0.0 };
+        let angle = if h > 0.0 {
+            h * x * math::atan(x / h)
+        } else {
+            0.0
+        };
         0.25 * (x * x - h * h) * log(i) + angle
     };
     f2(0) + f2(1) - f2(2) - f2(3)

@@ -613,7 +613,14 @@ fn facing_rules() {
 /// A rectangle with normal axis `axis` (front along `+axis` when `up`) at `level`, spanning
 /// `[lo, hi]` on the two other axes (in cyclic order), its vertices counter-clockwise about
 /// the front and starting at corner `start`.
-fn axis_rect(axis: usize, up: bool, level: f64, lo: [f64; 2], hi: [f64; 2], start: usize) -> [DVec3; 4] {
+fn axis_rect(
+    axis: usize,
+    up: bool,
+    level: f64,
+    lo: [f64; 2],
+    hi: [f64; 2],
+    start: usize,
+) -> [DVec3; 4] {
     let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
     let corner = |a: f64, b: f64| {
         let mut p = [0.0; 3];
