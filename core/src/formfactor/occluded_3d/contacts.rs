@@ -49,7 +49,12 @@ struct Line {
 /// The contact points of `occluders` with the convex polygon `src` (plane `ps`), within
 /// `tol`: occluder vertices on the plane inside `src`, and crossings of occluder edges with
 /// the plane inside `src`; each with the directions of the occluder edges through it.
-fn contacts(src: &[DVec3], ps: &Plane, occluders: &[&[DVec3]], tol: f64) -> Vec<(DVec3, Vec<DVec3>, Vec<DVec3>)> {
+fn contacts(
+    src: &[DVec3],
+    ps: &Plane,
+    occluders: &[&[DVec3]],
+    tol: f64,
+) -> Vec<(DVec3, Vec<DVec3>, Vec<DVec3>)> {
     let n = ps.normal;
     let inside = |c: DVec3| {
         let m = src.len();
@@ -141,7 +146,10 @@ pub(crate) fn initial_triangles(
             next.clear();
             for cell in cells.drain(..) {
                 let side = |p: DVec3| l.normal.dot(p - l.point);
-                let hi = cell.iter().map(|&p| side(p)).fold(f64::NEG_INFINITY, f64::max);
+                let hi = cell
+                    .iter()
+                    .map(|&p| side(p))
+                    .fold(f64::NEG_INFINITY, f64::max);
                 let lo = cell.iter().map(|&p| side(p)).fold(f64::INFINITY, f64::min);
                 if hi <= tol || lo >= -tol {
                     next.push(cell);

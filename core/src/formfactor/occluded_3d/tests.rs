@@ -662,8 +662,13 @@ fn cornell_corner_pair() -> ([DVec3; 3], [DVec3; 4], [[DVec3; 4]; 2]) {
 fn touching_corner_estimate_covers_the_error() {
     let (source, target, faces) = cornell_corner_pair();
     let occ: Vec<&[DVec3]> = faces.iter().map(|f| f.as_slice()).collect();
-    let area = 0.5 * (source[1] - source[0]).cross(source[2] - source[0]).length();
-    let n = (source[1] - source[0]).cross(source[2] - source[0]).normalize();
+    let area = 0.5
+        * (source[1] - source[0])
+            .cross(source[2] - source[0])
+            .length();
+    let n = (source[1] - source[0])
+        .cross(source[2] - source[0])
+        .normalize();
     let rule = gauss_legendre(6);
     let mut reference = 0.0;
     let panels = 240;
@@ -685,8 +690,15 @@ fn touching_corner_estimate_covers_the_error() {
     for tol in [1e-4, 1e-6] {
         let r = occluded_flux(&source, &target, &occ, &OcclusionOptions::new(tol)).unwrap();
         let (f, est) = (r.flux / area, r.error / area);
-        std::println!("tol {tol:e}: F = {f:.9e}, estimate {est:.3e}, error {:.3e}, points {}", (f - reference).abs(), r.points);
-        assert!((f - reference).abs() <= est, "tol {tol:e}: F {f} vs {reference}, estimate {est}");
+        std::println!(
+            "tol {tol:e}: F = {f:.9e}, estimate {est:.3e}, error {:.3e}, points {}",
+            (f - reference).abs(),
+            r.points
+        );
+        assert!(
+            (f - reference).abs() <= est,
+            "tol {tol:e}: F {f} vs {reference}, estimate {est}"
+        );
         assert!(est <= tol, "tol {tol:e}: estimate {est}");
     }
 }
