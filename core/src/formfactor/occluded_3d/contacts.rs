@@ -2,8 +2,9 @@
 //! touches it, so that no leaf of the outer integral has such an event inside it.
 //!
 //! **Why.** Where a convex occluder touches the source polygon at a point `c` (a vertex of
-//! the occluder on the source's plane, or an occluder edge crossing that plane inside the
-//! source: a block standing beside a floor piece, its corner at the piece's vertex), the
+//! the occluder on the source's plane, or an occluder edge crossing that plane, inside the
+//! source or within [`NEAR_CONTACT`] of its radius outside it: a block standing beside a
+//! floor piece, its corner at the piece's vertex or just past its edge), the
 //! occluder seen from `x = c + ε d` looks, as `ε → 0`, like its tangent cone at `c` seen from
 //! `c + ε d`, so `F_{dx→vis(j)} → g(d)`: a function of the direction from `c` only
 //! (homogeneous of degree 0 about `c`). Its steps — from the whole target seen to none of it
