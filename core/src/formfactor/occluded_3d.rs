@@ -47,7 +47,8 @@
 //! # Outer integral: adaptive, with an error estimate
 //!
 //! The source is the smaller patch of the pair, clipped to the front of the target's
-//! plane and cut into a fan of triangles. On each triangle a degree-5, 7-point rule is
+//! plane and cut into a fan of triangles (first cut along the visibility events through
+//! the points where an occluder touches it, `contacts.rs`). On each triangle a degree-5, 7-point rule is
 //! compared with the same rule on its four midpoint children; the leaf with the largest
 //! difference is split (globally adaptive, so refinement follows the visibility events
 //! where `F_{dx→vis(j)}` has kinks) until the differences sum to at most
@@ -83,6 +84,7 @@
 //! path, bit for bit; a scene where no pair has one is
 //! [`exact_3d::form_factors_unoccluded`]'s.
 
+mod contacts;
 mod occluders;
 mod outer;
 #[cfg(all(test, feature = "std"))]
@@ -442,8 +444,13 @@ fn integrate_pair(
         work: visible::Workspace::default(),
         buf: Vec::new(),
     };
+    let touching: Vec<&[DVec3]> = cands
+        .iter()
+        .map(|&k| occ[k as usize].vertices.as_slice())
+        .collect();
+    let triangles = contacts::initial_triangles(&clipped, ps, tgt, &touching, touch);
     let r = outer::integrate_with(
-        &clipped,
+        &triangles,
         cands,
         options.tolerance * ps.area.min(pt.area),
         options.max_points_per_pair,

@@ -180,11 +180,15 @@ pub(crate) fn integrate(
     max_points: u64,
     f: impl FnMut(DVec3) -> Result<f64>,
 ) -> Result<Integral> {
-    integrate_with(polygon, &[], tolerance, max_points, &mut Plain(f))
+    let fan: Vec<[DVec3; 3]> = polygon[1..]
+        .windows(2)
+        .map(|w| [polygon[0], w[0], w[1]])
+        .collect();
+    integrate_with(&fan, &[], tolerance, max_points, &mut Plain(f))
 }
 
-/// `∫_P g dA` over the convex polygon `polygon` (a fan of triangles about its first
-/// vertex), `cands` the candidates of the whole polygon. A triangle whose integral `g`
+/// `∫_P g dA` over the region `P` tiled by `triangles` (a fan of the source, or its cells
+/// cut at the contacts, `contacts.rs`), `cands` the candidates of the whole region. A triangle whose integral `g`
 /// knows exactly ([`Integrand::classify`]) is a finished leaf with no error; on the others
 /// the [`RULE`] is compared with the same rule on the four midpoint children, and the leaf
 /// with the largest difference is split (its children classified in turn) until the
@@ -199,7 +203,7 @@ pub(crate) fn integrate(
 /// # Errors
 /// Those of `g`.
 pub(crate) fn integrate_with(
-    polygon: &[DVec3],
+    triangles: &[[DVec3; 3]],
     cands: &[u32],
     tolerance: f64,
     max_points: u64,
@@ -210,8 +214,7 @@ pub(crate) fn integrate_with(
     let mut order = 0u64;
     let mut exact = KahanSum::new();
     let mut sub = Vec::new();
-    for w in polygon[1..].windows(2) {
-        let tri = [polygon[0], w[0], w[1]];
+    for &tri in triangles {
         if let Some(v) = g.classify(&tri, cands, &mut sub)? {
             exact.add(v);
             continue;
