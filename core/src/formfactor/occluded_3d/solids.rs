@@ -14,7 +14,9 @@
 //! the target `T`. Every segment `σ = [s, t]` crosses `Π` once, at a point `c` of the convex
 //! hull of the crossings `c_ab` of the vertex-to-vertex segments (see `blocks_all`). If every
 //! `c_ab` lies inside `K` by more than the contact tolerance, every `c` does, so `σ` passes
-//! through `K`'s interior. If moreover `S` lies strictly outside `K` (beyond one face
+//! through `K`'s interior. (Crossings on the open face are allowed: they make an edge of
+//! that hull, crossed by a set of sight lines of no measure — a street seen along the
+//! ground under a building.) If moreover `S` lies strictly outside `K` (beyond one face
 //! plane), `σ` enters `K` at a point `e` of `∂K` strictly between `s` and `c`; `e` lies on a
 //! face `F`. `F` is not in the plane of `S` (`σ` meets that plane only at `s`), nor in the
 //! plane of `T` (only at `t`, beyond `c`), and not the open face `P` when `S` and `T` lie
@@ -141,7 +143,12 @@ impl Solid {
             tgt.iter().all(|&b| {
                 let db = m.dot(b) - off;
                 let c = a + (b - a) * (da / (da - db));
-                self.planes.iter().all(|&(n, d)| n.dot(c) - d < -tol)
+                // Strictly inside the real faces; on the open face allowed (those
+                // crossings form an edge of the crossings' polygon: no area).
+                let open = if self.open { 1 } else { 0 };
+                let (real, open) = self.planes.split_at(self.planes.len() - open);
+                real.iter().all(|&(n, d)| n.dot(c) - d < -tol)
+                    && open.iter().all(|&(n, d)| n.dot(c) - d <= tol)
             })
         })
     }
