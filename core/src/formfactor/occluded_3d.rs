@@ -373,7 +373,8 @@ impl outer::Integrand for PairIntegrand<'_, '_> {
         let (lo, hi) = bounds(tri.iter().copied());
         let (hlo, hhi) = (lo.min(self.tgt_box.0), hi.max(self.tgt_box.1));
         let t = self.touch;
-        self.shaft.of((tri.as_slice(), &pl), (self.tgt, &self.pt), t);
+        self.shaft
+            .of((tri.as_slice(), &pl), (self.tgt, &self.pt), t);
         for &k in parent {
             let o = &self.occ[k as usize];
             if (o.lo - hhi).max_element() >= -t

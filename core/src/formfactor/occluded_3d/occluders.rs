@@ -140,14 +140,7 @@ impl Occluders {
 
     /// The occluders whose boxes overlap the box `[lo, hi]` by more than `tol` on every
     /// axis and that no axis of `shaft` separates from it, into `out` (ascending).
-    pub fn overlapping(
-        &self,
-        lo: DVec3,
-        hi: DVec3,
-        tol: f64,
-        shaft: &Shaft,
-        out: &mut Vec<u32>,
-    ) {
+    pub fn overlapping(&self, lo: DVec3, hi: DVec3, tol: f64, shaft: &Shaft, out: &mut Vec<u32>) {
         out.clear();
         if self.nodes.is_empty() {
             return;

@@ -183,11 +183,8 @@ pub(crate) fn find_solids(list: &[Occluder], tol: f64) -> (Vec<Solid>, Vec<u32>)
         }
         x
     };
-    let behind = |p: &Occluder, q: &Occluder| {
-        q.vertices
-            .iter()
-            .all(|&v| p.plane.distance(v) <= tol)
-    };
+    let behind =
+        |p: &Occluder, q: &Occluder| q.vertices.iter().all(|&v| p.plane.distance(v) <= tol);
     let mut matched = alloc::vec![false; edges.len()];
     let mut g = 0;
     while g < edges.len() {
@@ -204,8 +201,7 @@ pub(crate) fn find_solids(list: &[Occluder], tol: f64) -> (Vec<Solid>, Vec<u32>)
             };
             let opposite = dir(p, edges[g].3) != dir(q, edges[g + 1].3);
             let fold = p.plane.normal.cross(q.plane.normal).length() > 1e-6;
-            if edges[g].2 != edges[g + 1].2 && opposite && fold && behind(p, q) && behind(q, p)
-            {
+            if edges[g].2 != edges[g + 1].2 && opposite && fold && behind(p, q) && behind(q, p) {
                 matched[g] = true;
                 matched[g + 1] = true;
                 let (a, b) = (

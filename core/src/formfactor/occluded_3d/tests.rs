@@ -645,7 +645,12 @@ fn square_facing(c: DVec3, h: f64, n: DVec3) -> Vec<DVec3> {
     } else {
         (DVec3::X, DVec3::Y)
     };
-    let q = vec![c - h * u - h * w, c + h * u - h * w, c + h * u + h * w, c - h * u + h * w];
+    let q = vec![
+        c - h * u - h * w,
+        c + h * u - h * w,
+        c + h * u + h * w,
+        c - h * u + h * w,
+    ];
     if (u.cross(w)).dot(n) > 0.0 {
         q
     } else {
