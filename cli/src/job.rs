@@ -145,8 +145,7 @@ fn measure_scene(
     // the merged total
     if let Some(limit) = sampling.max_memory {
         let tallies = threads.saturating_add(1);
-        job.check_memory(scene.n_patches(), tallies, limit)
-            .map_err(at)?;
+        job.check_memory_of(&scene, tallies, limit).map_err(at)?;
     }
     let m = run_job(path, &scene, &job, threads, sampling.tol)?;
     Ok((m, report, scene))

@@ -75,6 +75,7 @@ impl Executor for Threads {
         let _polling = crate::interrupt::Polling::start();
         let rows = work.rows();
         let next = AtomicUsize::new(rows.start);
+        let rows_done = AtomicU64::new(0);
         let threads = self.threads.min(rows.len().max(1));
         let start = Instant::now();
         let parts: Vec<Vec<RowDone>> = std::thread::scope(|scope| {
@@ -89,11 +90,15 @@ impl Executor for Threads {
                                 break;
                             }
                             done.push(work.run(row));
+                            rows_done.fetch_add(1, Ordering::Relaxed);
                         }
                         done
                     })
                 })
                 .collect();
+            show_progress(&rows_done, rows.len().max(1) as u64, start, "rows", || {
+                workers.iter().all(|w| w.is_finished())
+            });
             // A worker that panicked is a bug, not a stop: re-raise its panic rather than
             // return fewer rows (which would read as an interrupted job).
             workers
@@ -212,7 +217,7 @@ fn execute_timed(work: &ChunkWork<'_>, threads: usize) -> (ChunksDone, JobTimes)
                 })
             })
             .collect();
-        show_progress(&done, range_lines.max(1), start, || {
+        show_progress(&done, range_lines.max(1), start, "lines", || {
             workers.iter().all(|w| w.is_finished())
         });
         // A panicked worker is a bug: re-raise it rather than merge fewer tallies than the
@@ -247,7 +252,13 @@ fn execute_timed(work: &ChunkWork<'_>, threads: usize) -> (ChunksDone, JobTimes)
 
 /// Draws a progress bar on a terminal's stderr while the workers run, starting after one
 /// second (short jobs stay quiet), and erases it at the end.
-fn show_progress(done: &AtomicU64, total: u64, start: Instant, finished: impl Fn() -> bool) {
+fn show_progress(
+    done: &AtomicU64,
+    total: u64,
+    start: Instant,
+    unit: &str,
+    finished: impl Fn() -> bool,
+) {
     let tty = std::io::stderr().is_terminal();
     let mut shown = false;
     let mut drawn = Instant::now();
@@ -269,17 +280,26 @@ fn show_progress(done: &AtomicU64, total: u64, start: Instant, finished: impl Fn
         } else {
             0.0
         };
-        let _ = write!(
-            std::io::stderr(),
-            "\r[{}{}] {:5.1}%  {:.3e}/{:.3e} lines  {:.2} M lines/s  ETA {:.0} s ",
-            "#".repeat(filled),
-            " ".repeat(width - filled),
-            100.0 * frac,
-            d as f64,
-            total as f64,
-            rate / 1e6,
-            eta
-        );
+        let bar = format!("{}{}", "#".repeat(filled), " ".repeat(width - filled));
+        let _ = if unit == "lines" {
+            write!(
+                std::io::stderr(),
+                "\r[{bar}] {:5.1}%  {:.3e}/{:.3e} lines  {:.2} M lines/s  ETA {:.0} s ",
+                100.0 * frac,
+                d as f64,
+                total as f64,
+                rate / 1e6,
+                eta
+            )
+        } else {
+            // Rows differ in cost (row i has the pairs j > i), so the ETA is rough.
+            write!(
+                std::io::stderr(),
+                "\r[{bar}] {:5.1}%  {d}/{total} {unit}  {rate:.1} {unit}/s  ETA {:.0} s ",
+                100.0 * frac,
+                eta
+            )
+        };
         shown = true;
     }
     if shown {

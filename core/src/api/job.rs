@@ -8,6 +8,8 @@ use crate::lines::{CHUNK_LINES, check_line_budget, chunk_count};
 use crate::tally::LineMethod;
 use crate::tally::memory;
 
+use super::Scene;
+
 /// Where [`LineBudget::UntilSampled`] starts by default: 2¹⁷ lines, two seeded chunks, a
 /// whole number of chunks so that every doubling reuses the lines cast.
 pub(crate) const AUTO_START_LINES: u64 = 2 * CHUNK_LINES;
@@ -220,13 +222,36 @@ impl Job {
         }
     }
 
+    /// [`Job::check_memory`] judged on the layout the job will take for `scene`: an exact
+    /// job on a 3D scene of more than 2,048 patches is stored sparse
+    /// ([`crate::Measurement::exact_within`]), its tables growing with the pairs that see
+    /// each other (about 40 bytes a pair, unknown before the job, counted as nothing like
+    /// the line jobs' sparse tables), so only its per-patch arrays count (64 bytes a patch)
+    /// instead of the dense `n × n` matrix.
+    ///
+    /// # Errors
+    /// [`ErrorKind::MemoryLimit`].
+    pub fn check_memory_of(&self, scene: &Scene, tallies: usize, limit: u64) -> Result<()> {
+        let n = scene.n_patches();
+        let sparse = matches!(self, Job::Exact)
+            && matches!(scene, Scene::Solid(s) if s.n_patches() > super::measurement::SPARSE_EXACT_ABOVE);
+        if sparse {
+            return self.refuse_above((n as u64).saturating_mul(64), limit);
+        }
+        self.check_memory(n, tallies, limit)
+    }
+
     /// Refuses the job before anything is allocated when [`Job::memory_bytes`] exceeds
     /// `limit` bytes.
     ///
     /// # Errors
     /// [`ErrorKind::MemoryLimit`].
     pub fn check_memory(&self, n_patches: usize, tallies: usize, limit: u64) -> Result<()> {
-        let needed = self.memory_bytes(n_patches, tallies);
+        self.refuse_above(self.memory_bytes(n_patches, tallies), limit)
+    }
+
+    /// `MemoryLimit` when `needed` exceeds `limit`.
+    fn refuse_above(&self, needed: u64, limit: u64) -> Result<()> {
         if needed <= limit {
             return Ok(());
         }

@@ -403,6 +403,22 @@ fn budgets_and_memory_are_checked_before_any_work() {
     let e = lines(1000).check_memory(2000, 3, 1 << 20).unwrap_err();
     assert!(matches!(e.kind(), ErrorKind::MemoryLimit { .. }));
     assert!(Job::Exact.check_memory(6, 1, 1 << 20).is_ok());
+    // A 3D exact job of more than 2,048 patches is stored sparse: judged on its per-patch
+    // arrays (64 bytes a patch), not on the dense 8 n² + 8 (n + 1)² (≈ 216 MB here).
+    let big = Scene::Solid(crate::scene::Scene3::preset("cubes-512-random", 1).unwrap());
+    assert_eq!(big.n_patches(), 3672);
+    assert!(Job::Exact.check_memory(3672, 1, 1 << 20).is_err());
+    assert!(Job::Exact.check_memory_of(&big, 1, 1 << 20).is_ok());
+    let e = Job::Exact.check_memory_of(&big, 1, 1000).unwrap_err();
+    assert!(matches!(
+        e.kind(),
+        ErrorKind::MemoryLimit {
+            needed: 235_008,
+            ..
+        }
+    ));
+    // A line job keeps its dense tallies' estimate.
+    assert!(lines(1000).check_memory_of(&big, 3, 1 << 20).is_err());
 }
 
 #[test]

@@ -87,6 +87,7 @@
 mod contacts;
 mod occluders;
 mod outer;
+mod solids;
 #[cfg(all(test, feature = "std"))]
 mod tests;
 mod visible;
@@ -101,7 +102,8 @@ use crate::formfactor::exact_3d::{
     pair_flux, planes,
 };
 use crate::geom::DVec3;
-use occluders::{Occluder, Occluders, blocks_all};
+use occluders::{Occluder, Occluders, Shaft, blocks_all};
+use solids::{NO_SOLID, Solid};
 
 /// The default tolerance on each form factor.
 pub const DEFAULT_TOLERANCE: f64 = 1e-6;
@@ -332,7 +334,7 @@ fn integrate_past(
             .copied(),
     );
     let touch = TOUCH * (hi - lo).length().max(hi.abs().max(lo.abs()).max_element());
-    integrate_pair(src, ps, tgt, pt, &occ, &all, touch, options)
+    integrate_pair(src, ps, tgt, pt, (&occ, &[], &[]), &all, touch, options)
 }
 
 /// The integrand of one pair: the visible form factor from a point of the source to the
@@ -346,9 +348,13 @@ struct PairIntegrand<'s, 'o> {
     tgt_box: (DVec3, DVec3),
     normal: DVec3,
     occ: &'o [Occluder],
+    solids: &'o [Solid],
+    solid_of: &'o [u32],
+    seen: Vec<u32>,
     touch: f64,
     work: visible::Workspace,
     buf: Vec<&'o [DVec3]>,
+    shaft: Shaft,
 }
 
 impl outer::Integrand for PairIntegrand<'_, '_> {
@@ -369,9 +375,14 @@ impl outer::Integrand for PairIntegrand<'_, '_> {
         let (lo, hi) = bounds(tri.iter().copied());
         let (hlo, hhi) = (lo.min(self.tgt_box.0), hi.max(self.tgt_box.1));
         let t = self.touch;
+        self.shaft
+            .of((tri.as_slice(), &pl), (self.tgt, &self.pt), t);
         for &k in parent {
             let o = &self.occ[k as usize];
-            if (o.lo - hhi).max_element() >= -t || (hlo - o.hi).max_element() >= -t {
+            if (o.lo - hhi).max_element() >= -t
+                || (hlo - o.hi).max_element() >= -t
+                || self.shaft.separates(o.lo, o.hi)
+            {
                 continue;
             }
             if !hull_meets_polygon(
@@ -391,6 +402,17 @@ impl outer::Integrand for PairIntegrand<'_, '_> {
         if out.is_empty() {
             return Ok(Some(pair_flux(tri, &pl, self.tgt, &self.pt).0));
         }
+        if hidden_by_solid(
+            out,
+            self.solid_of,
+            self.solids,
+            (tri.as_slice(), self.tgt),
+            t,
+            &mut self.seen,
+        ) {
+            out.clear();
+            return Ok(Some(0.0));
+        }
         Ok(None)
     }
 
@@ -404,6 +426,30 @@ impl outer::Integrand for PairIntegrand<'_, '_> {
     }
 }
 
+/// Whether one of the solids that `cands` are faces of hides every segment from `src` to
+/// `tgt` ([`Solid::hides`]); each solid tried once (`seen` is reused).
+fn hidden_by_solid(
+    cands: &[u32],
+    solid_of: &[u32],
+    solids: &[Solid],
+    (src, tgt): (&[DVec3], &[DVec3]),
+    tol: f64,
+    seen: &mut Vec<u32>,
+) -> bool {
+    seen.clear();
+    for &k in cands {
+        let s = solid_of.get(k as usize).copied().unwrap_or(NO_SOLID);
+        if s == NO_SOLID || seen.contains(&s) {
+            continue;
+        }
+        seen.push(s);
+        if solids[s as usize].hides(src, tgt, tol) {
+            return true;
+        }
+    }
+    false
+}
+
 /// The adaptive flux from `src` (the integration side) to `tgt` past the occluders
 /// `cands` of `occ`.
 #[allow(clippy::too_many_arguments)]
@@ -412,7 +458,7 @@ fn integrate_pair(
     ps: &Plane,
     tgt: &[DVec3],
     pt: &Plane,
-    occ: &[Occluder],
+    (occ, solids, solid_of): (&[Occluder], &[Solid], &[u32]),
     cands: &[u32],
     touch: f64,
     options: &OcclusionOptions,
@@ -440,9 +486,13 @@ fn integrate_pair(
         tgt_box: bounds(tgt.iter().copied()),
         normal: ps.normal,
         occ,
+        solids,
+        solid_of,
+        seen: Vec::new(),
         touch,
         work: visible::Workspace::default(),
         buf: Vec::new(),
+        shaft: Shaft::default(),
     };
     let touching: Vec<&[DVec3]> = cands
         .iter()
@@ -464,8 +514,10 @@ fn integrate_pair(
 }
 
 /// The candidate occluders of the pair `(i, j)` into `out`: the occluders whose boxes
-/// overlap the box of `i ∪ j` (the tree), that reach strictly in front of both planes and
-/// meet the interior of the convex hull of `i ∪ j` (separating axes). `scratch` is reused.
+/// overlap the box of `i ∪ j` and that the pair's shaft does not separate (the tree, see
+/// [`Shaft`]), that reach strictly in front of both planes and meet the interior of the
+/// convex hull of `i ∪ j` (separating axes). `scratch` and `shaft` are reused.
+#[allow(clippy::too_many_arguments)]
 fn candidates(
     polys: &[(&[DVec3], Plane)],
     boxes: &[(DVec3, DVec3)],
@@ -474,11 +526,13 @@ fn candidates(
     tol: f64,
     out: &mut Vec<u32>,
     scratch: &mut Vec<u32>,
+    shaft: &mut Shaft,
 ) {
     out.clear();
     let (pi, pj) = (&polys[i].1, &polys[j].1);
     let (hlo, hhi) = (boxes[i].0.min(boxes[j].0), boxes[i].1.max(boxes[j].1));
-    occ.overlapping(hlo, hhi, tol, scratch);
+    shaft.of((polys[i].0, pi), (polys[j].0, pj), tol);
+    occ.overlapping(hlo, hhi, tol, shaft, scratch);
     for &k in scratch.iter() {
         let o = &occ.list[k as usize];
         let reaches = |p: &Plane| o.vertices.iter().any(|&v| p.distance(v) > tol);
@@ -577,6 +631,33 @@ impl<'a> Prepared<'a> {
         })
     }
 
+    /// Leaves out of `cand` the faces of solids that `src` lies outside of and that face
+    /// away from all of `src` (see `solids.rs`, back faces); `outside` is reused.
+    fn drop_back_faces(&self, src: &[DVec3], cand: &mut Vec<u32>, outside: &mut Vec<u32>) {
+        if self.occ.solids.is_empty() {
+            return;
+        }
+        // Solids src is outside of, as (solid, verdict) pairs.
+        outside.clear();
+        let t = self.touch;
+        cand.retain(|&k| {
+            let s = self.occ.solid_of[k as usize];
+            if s == NO_SOLID {
+                return true;
+            }
+            let solid = &self.occ.solids[s as usize];
+            let out = match outside.chunks_exact(2).find(|e| e[0] == s) {
+                Some(e) => e[1] == 1,
+                None => {
+                    let o = solid.outside_of(src, t);
+                    outside.extend([s, u32::from(o)]);
+                    o
+                }
+            };
+            !(out && solid.faces_away(&self.occ.list[k as usize], src, t))
+        });
+    }
+
     /// Row `i`: the pairs `(i, j)`, `j > i`, culled, then exact or integrated.
     fn row(&self, i: usize) -> Result<PairRow> {
         let polys = &self.polys;
@@ -590,6 +671,8 @@ impl<'a> Prepared<'a> {
         };
         let mut cand = Vec::new();
         let mut scratch = Vec::new();
+        let mut shaft = Shaft::default();
+        let mut seen = Vec::new();
         for (j, (tgt, pt)) in polys.iter().enumerate().skip(i + 1) {
             // As form_factors_unoccluded: one lies wholly on or behind the other's plane.
             let tol = ON_PLANE * (ps.magnitude.max(pt.magnitude) + ps.radius + pt.radius);
@@ -607,6 +690,7 @@ impl<'a> Prepared<'a> {
                     self.touch,
                     &mut cand,
                     &mut scratch,
+                    &mut shaft,
                 );
             }
             let r = if !self.may_occlude || cand.is_empty() {
@@ -618,7 +702,14 @@ impl<'a> Prepared<'a> {
             } else if cand.iter().any(|&k| {
                 let o = &self.occ.list[k as usize];
                 blocks_all(src, tgt, &o.vertices, &o.plane, self.touch)
-            }) {
+            }) || hidden_by_solid(
+                &cand,
+                &self.occ.solid_of,
+                &self.occ.solids,
+                (src, tgt),
+                self.touch,
+                &mut seen,
+            ) {
                 out.blocked += 1;
                 continue;
             } else {
@@ -629,12 +720,13 @@ impl<'a> Prepared<'a> {
                 } else {
                     (*tgt, pt, *src, ps)
                 };
+                self.drop_back_faces(a, &mut cand, &mut seen);
                 let r = integrate_pair(
                     a,
                     pa,
                     b,
                     pb,
-                    &self.occ.list,
+                    (&self.occ.list, &self.occ.solids, &self.occ.solid_of),
                     &cand,
                     self.touch,
                     &self.options,

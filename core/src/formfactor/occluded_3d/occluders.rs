@@ -26,6 +26,7 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
+use super::solids::{Solid, find_solids};
 use crate::formfactor::exact_3d::{ON_PLANE, Plane, bounds};
 use crate::geom::DVec3;
 
@@ -61,6 +62,9 @@ struct Node {
 #[derive(Clone, Debug)]
 pub(crate) struct Occluders {
     pub list: Vec<Occluder>,
+    /// The convex solids the occluders make (`solids.rs`), and per occluder its solid.
+    pub solids: Vec<Solid>,
+    pub solid_of: Vec<u32>,
     nodes: Vec<Node>,
     order: Vec<u32>,
 }
@@ -71,6 +75,7 @@ impl Occluders {
     /// are one).
     pub fn new(polys: &[(&[DVec3], Plane)], scale: f64) -> Self {
         let list = merge_coplanar(polys, scale);
+        let (solids, solid_of) = find_solids(&list, ON_PLANE * scale);
         let mut order: Vec<u32> = (0..list.len() as u32).collect();
         let mut nodes = Vec::with_capacity(2 * list.len() / LEAF_SIZE + 1);
         if !list.is_empty() {
@@ -124,18 +129,27 @@ impl Occluders {
                 todo.push((left, start, mid));
             }
         }
-        Self { list, nodes, order }
+        Self {
+            list,
+            solids,
+            solid_of,
+            nodes,
+            order,
+        }
     }
 
     /// The occluders whose boxes overlap the box `[lo, hi]` by more than `tol` on every
-    /// axis, into `out` (ascending).
-    pub fn overlapping(&self, lo: DVec3, hi: DVec3, tol: f64, out: &mut Vec<u32>) {
+    /// axis and that no axis of `shaft` separates from it, into `out` (ascending).
+    pub fn overlapping(&self, lo: DVec3, hi: DVec3, tol: f64, shaft: &Shaft, out: &mut Vec<u32>) {
         out.clear();
         if self.nodes.is_empty() {
             return;
         }
-        let apart =
-            |a: DVec3, b: DVec3| (a - hi).max_element() >= -tol || (lo - b).max_element() >= -tol;
+        let apart = |a: DVec3, b: DVec3| {
+            (a - hi).max_element() >= -tol
+                || (lo - b).max_element() >= -tol
+                || shaft.separates(a, b)
+        };
         // Bounded: each node is visited at most once.
         let mut stack = vec![0u32];
         while let Some(n) = stack.pop() {
@@ -157,6 +171,72 @@ impl Occluders {
             }
         }
         out.sort_unstable();
+    }
+}
+
+/// Axes that separate a box from the convex hull of a pair of polygons, for pruning the
+/// box tree before the exact separating-axis test (`hull_meets_polygon`): each axis `a`
+/// with the hull's extent `[h_lo, h_hi]` along it and the slack `t = tol |a|` of that
+/// test, so that a box with `min a·y ≥ h_hi − t` or `max a·y ≤ h_lo + t` holds only
+/// polygons the exact test also finds apart (the same axes, the same inequalities, and a
+/// polygon's extent lies inside its box's). The axes: the two polygons' normals, with the
+/// condition "reaching strictly in front of both planes" (`max n·(y − o) ≤ tol`: apart),
+/// and the hull's side facets (an edge of one polygon with a vertex of the other) that
+/// support it (Haines and Wallace's shaft culling, 1994).
+#[derive(Debug, Default)]
+pub(crate) struct Shaft {
+    /// `(axis, h_lo + t, h_hi − t)`: apart when the box's extent along `axis` lies at or
+    /// below the first or at or above the second.
+    axes: Vec<(DVec3, f64, f64)>,
+}
+
+impl Shaft {
+    /// The shaft of the hull of `a` and `b` (planes `pa`, `pb`) at tolerance `tol`.
+    pub fn of(&mut self, (a, pa): (&[DVec3], &Plane), (b, pb): (&[DVec3], &Plane), tol: f64) {
+        self.axes.clear();
+        // In front of both planes: apart when max n·y ≤ n·o + tol.
+        for p in [pa, pb] {
+            self.axes
+                .push((p.normal, p.normal.dot(p.origin) + tol, f64::INFINITY));
+        }
+        for (p, q) in [(a, b), (b, a)] {
+            let m = p.len();
+            for k in 0..m {
+                let (u, v) = (p[k], p[(k + 1) % m]);
+                for &w in q {
+                    let axis = (v - u).cross(w - u);
+                    let len = axis.length();
+                    if !(len > 0.0) {
+                        continue;
+                    }
+                    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+                    for &y in a.iter().chain(b) {
+                        let d = axis.dot(y);
+                        lo = lo.min(d);
+                        hi = hi.max(d);
+                    }
+                    // A supporting plane of the hull: the facet's own offset is an extreme.
+                    let at = axis.dot(u);
+                    let slack = 1e-9 * (hi - lo).abs();
+                    if hi - at > slack && at - lo > slack {
+                        continue;
+                    }
+                    let t = tol * len;
+                    self.axes.push((axis, lo + t, hi - t));
+                }
+            }
+        }
+    }
+
+    /// Whether an axis of the shaft separates the box `[lo, hi]` from the hull.
+    pub fn separates(&self, lo: DVec3, hi: DVec3) -> bool {
+        let (c, e) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
+        self.axes.iter().any(|&(axis, below, above)| {
+            let (mid, half) = (axis.dot(c), axis.abs().dot(e));
+            // A margin for the rounding of the box's extent: pruning less is always safe.
+            let r = 1e-12 * (mid.abs() + half);
+            mid + half + r <= below || mid - half - r >= above
+        })
     }
 }
 
@@ -375,6 +455,7 @@ mod tests {
             DVec3::new(0.2, 0.2, 0.5),
             DVec3::new(0.3, 0.3, 2.0),
             0.0,
+            &Shaft::default(),
             &mut out,
         );
         assert_eq!(out.len(), 1);

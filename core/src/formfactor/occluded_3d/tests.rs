@@ -703,3 +703,100 @@ fn touching_corner_estimate_covers_the_error() {
         assert!(est <= tol, "tol {tol:e}: estimate {est}");
     }
 }
+
+/// The six faces of the box `[lo, hi]`, counter-clockwise seen from outside, less the
+/// bottom when `floor` is false.
+fn box_faces(lo: DVec3, hi: DVec3, floor: bool) -> Vec<Vec<DVec3>> {
+    let c = |i: usize| {
+        v(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        )
+    };
+    let faces = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    faces
+        .iter()
+        .skip(usize::from(!floor))
+        .map(|f| f.iter().map(|&i| c(i)).collect())
+        .collect()
+}
+
+/// A square of side `2h` centred at `c` facing `n` (`±x` or `±z`).
+fn square_facing(c: DVec3, h: f64, n: DVec3) -> Vec<DVec3> {
+    let (u, w) = if n.x != 0.0 {
+        (DVec3::Y, DVec3::Z)
+    } else {
+        (DVec3::X, DVec3::Y)
+    };
+    let q = vec![
+        c - h * u - h * w,
+        c + h * u - h * w,
+        c + h * u + h * w,
+        c - h * u + h * w,
+    ];
+    if (u.cross(w)).dot(n) > 0.0 {
+        q
+    } else {
+        q.into_iter().rev().collect()
+    }
+}
+
+#[test]
+fn a_box_hides_a_pair_that_no_face_of_it_hides_alone() {
+    // A small square on the floor and one facing down, diagonally above and beyond a box
+    // (closed, or standing open on the floor): the sight lines pass the box's vertical edge,
+    // entering through its `-x` or its `-y` face and leaving through `+x` or `+y`.
+    let src = square_facing(v(0.0, 0.0, 0.0), 0.1, DVec3::Z);
+    let tgt = square_facing(v(3.0, 3.0, 3.0), 0.1, -DVec3::Z);
+    for floor in [true, false] {
+        let faces = box_faces(v(1.0, 1.0, 0.0), v(2.0, 2.0, 2.5), floor);
+        for f in &faces {
+            let p = Plane::of(f).unwrap();
+            assert!(!blocks_all(&src, &tgt, f, &p, 1e-9), "a face alone hides");
+        }
+        let mut polygons = vec![src.clone(), tgt.clone()];
+        polygons.extend(faces.iter().cloned());
+        let (points, ranges) = flat(&polygons);
+        let r = form_factors_occluded(&points, &ranges, &OcclusionOptions::new(1e-6)).unwrap();
+        assert_eq!(r.form_factors.get(0, 1), 0.0, "floor {floor}");
+        assert_eq!((r.pairs_blocked, r.errors[1]), (1, 0.0), "floor {floor}");
+        // Integrated past the faces as plain polygons (no solid): zero within its estimate.
+        let occ: Vec<&[DVec3]> = faces.iter().map(Vec::as_slice).collect();
+        let plain = occluded_flux(&src, &tgt, &occ, &OcclusionOptions::new(1e-6)).unwrap();
+        assert!(plain.flux <= plain.error + 1e-15, "{plain:?}");
+    }
+}
+
+#[test]
+fn leaving_out_a_box_s_back_faces_keeps_the_form_factor() {
+    // The box moved so that its edge cuts the sight lines: integrated with the faces the source sees the
+    // back of left out, and past all six as plain polygons.
+    let src = square_facing(v(0.0, 0.0, 0.0), 0.1, DVec3::Z);
+    let tgt = square_facing(v(3.0, 3.0, 3.0), 0.1, -DVec3::Z);
+    let faces = box_faces(v(1.0, 1.95, 0.0), v(2.0, 3.0, 2.5), true);
+    let mut polygons = vec![src.clone(), tgt.clone()];
+    polygons.extend(faces.iter().cloned());
+    let (points, ranges) = flat(&polygons);
+    let opts = OcclusionOptions::new(1e-7);
+    let r = form_factors_occluded(&points, &ranges, &opts).unwrap();
+    assert_eq!((r.pairs_integrated, r.pairs_blocked), (1, 0));
+    let area = Plane::of(&src).unwrap().area;
+    let occ: Vec<&[DVec3]> = faces.iter().map(Vec::as_slice).collect();
+    let plain = occluded_flux(&src, &tgt, &occ, &opts).unwrap();
+    let (f, e) = (r.form_factors.get(0, 1), r.errors[1]);
+    assert!(f > 1e-6, "{f}");
+    assert!(
+        (f - plain.flux / area).abs() <= e + plain.error / area,
+        "{f} ± {e} vs {} ± {}",
+        plain.flux / area,
+        plain.error / area
+    );
+}
