@@ -344,7 +344,7 @@ impl SiJob {
                 Job::Exact => 1,
                 Job::Lines(_) => executor.count().saturating_add(1),
             };
-            job.check_memory(scene.scene.n_patches(), tallies, self.max_memory)
+            job.check_memory_of(&scene.scene, tallies, self.max_memory)
                 .map_err(|e| Failure::core(SiStatus::SI_ERR_JOB, &scene.source, &e))?;
         }
         Ok((job, executor))
