@@ -172,13 +172,7 @@ impl LineQuery {
     /// (see the module docs for the formulas). Always finite.
     #[inline(always)]
     pub(crate) fn hit(&self, a: DVec2, e: DVec2) -> Option<f64> {
-        self.hit_over(a, e, cross(e, self.d))
-    }
-
-    /// [`LineQuery::hit`] given `denom = e × d` (the same bits: a segment tested against
-    /// many parallel lines computes it once).
-    #[inline(always)]
-    pub(crate) fn hit_over(&self, a: DVec2, e: DVec2, denom: f64) -> Option<f64> {
+        let denom = cross(e, self.d);
         let w = self.o - a;
         let s = cross(w, self.d) / denom;
         // NaN (denom = 0 with w × d = 0, or NaN input) and ±∞ (parallel) fail here.

@@ -271,23 +271,6 @@ impl LineTally {
         }
     }
 
-    /// `n` samples leave patch `i` from its front side ([`LineTally::leave`] `n` times).
-    #[inline]
-    pub(crate) fn leave_times(&mut self, i: usize, n: u64) {
-        if let Some(c) = self.leaves.get_mut(i) {
-            *c += n;
-        }
-    }
-
-    /// Takes back one [`LineTally::leave`] of patch `i` (a sample counted ahead and then
-    /// tallied another way).
-    #[inline]
-    pub(crate) fn unleave(&mut self, i: usize) {
-        if let Some(c) = self.leaves.get_mut(i) {
-            *c = c.saturating_sub(1);
-        }
-    }
-
     /// A global-line segment between mutually facing patches `i` and `j` with continuous
     /// term `s` (if not degenerate): one sample for each end. Returns the line-sum
     /// contribution (`2s`).

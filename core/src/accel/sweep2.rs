@@ -32,11 +32,6 @@
 //! turn by small steps), so each line's bucket fills nearly sorted and its sort moves few
 //! hits: 8 % less time on the 64-squares room, none measurable on the triangle (session
 //! 4, repaired every bundle); repairing it only every ~32 bundles saved another 12 %.
-//! The segments are copied in that order whenever it is repaired, so that each bundle
-//! reads them in sequence (range pass, then tests), with the test's denominator `e × d`
-//! once per segment, and counts each segment's hits ([`BundleHits2::segment_hits`], what
-//! the tally adds as leaving samples): 1045 → 919 instructions a line on the 64-squares
-//! room (session 13, `docs/performance.md`), the same hits in the same order.
 //!
 //! [`ParallelSweep2::cast_unsorted`] skips the sort: a caller that checks the gaps between
 //! consecutive hits anyway (the tally's `eps` test) knows that a line whose gaps are all
@@ -46,7 +41,7 @@
 
 use alloc::vec::Vec;
 
-use crate::geom::{DVec2, Segment, cross};
+use crate::geom::{DVec2, Segment};
 use crate::lines::GlobalBundle2;
 
 use super::{Hit2, LineQuery, sort_hits};
@@ -81,7 +76,7 @@ pub(crate) struct BundleHits2 {
     offsets: Vec<f64>,
     /// Origins `c + p_k n` of the current bundle's lines.
     origins: Vec<DVec2>,
-    /// Candidate line range `k₀ .. k₁` of each segment of `sorted`, in its order.
+    /// Candidate line range `k₀ .. k₁` of each segment.
     ranges: Vec<(u32, u32)>,
     /// Line `k`'s bucket starts at `start[k]`; `start[m]` = number of candidates.
     start: Vec<usize>,
@@ -89,28 +84,14 @@ pub(crate) struct BundleHits2 {
     end: Vec<usize>,
     /// The buckets.
     hits: Vec<Hit2>,
-    /// Hits of the current bundle per segment of `sorted`, in its order.
-    segment_hits: Vec<u32>,
     /// Depth `d · (midpoint − c)` of each segment along the lines of the bundle the order
     /// was last repaired for.
     depth: Vec<f64>,
     /// The segments sorted by depth, kept from bundle to bundle: the bundles of a sheaf
     /// turn by small steps, so the last order is nearly sorted for the next ones.
     order: Vec<u32>,
-    /// The segments themselves in the order of `order` (start, edge, index), so that each
-    /// bundle reads them in one sequential pass.
-    sorted: Vec<SortedSegment>,
     /// The direction `order` was sorted for.
     order_dir: DVec2,
-}
-
-/// A segment of [`BundleHits2::sorted`]: start `a`, edge `e` and index, copied from
-/// [`ParallelSweep2`] in the depth order.
-#[derive(Clone, Copy, Debug)]
-struct SortedSegment {
-    a: DVec2,
-    e: DVec2,
-    prim: u32,
 }
 
 impl ParallelSweep2 {
@@ -145,68 +126,39 @@ impl ParallelSweep2 {
     /// `all_hits`. A line whose hits found are strictly increasing in `t` already is in
     /// that order (`(t, prim)` is then decided by `t` alone), which is what a caller
     /// checking the gaps between consecutive hits learns for free.
-    /// [`BundleHits2::segment_hits`] gives how many hits each segment has in the bundle.
     pub(crate) fn cast_unsorted(&self, bundle: &GlobalBundle2, out: &mut BundleHits2) {
         let m = bundle.len();
         let mu = m as usize;
         let circle = bundle.circle();
         let (c, r, n) = (circle.center, circle.radius, bundle.normal());
-        let d = bundle.dir();
-        // The depth order is repaired only when the direction has turned by more than
-        // REORDER_TURN since it was last sorted (or the segments changed); the segments
-        // are then copied in that order
-        if out.sorted.len() != self.a.len()
-            || !((d - out.order_dir).length_squared() <= REORDER_TURN * REORDER_TURN)
-        {
-            out.depth.clear();
-            out.depth.extend(
-                self.a
-                    .iter()
-                    .zip(&self.e)
-                    .map(|(a, e)| d.dot(*a - c) + 0.5 * d.dot(*e)),
-            );
-            order_by_depth(&mut out.order, &out.depth);
-            out.order_dir = d;
-            out.sorted.clear();
-            out.sorted.extend(out.order.iter().filter_map(|&prim| {
-                let p = prim as usize;
-                Some(SortedSegment {
-                    a: *self.a.get(p)?,
-                    e: *self.e.get(p)?,
-                    prim,
-                })
-            }));
-        }
-        // The lines' offsets and origins, as the lines themselves compute them
+        // The lines' offsets, as the lines themselves compute them
         out.offsets.clear();
         out.offsets.extend((0..m).map(|k| bundle.offset(k)));
-        out.origins.clear();
-        out.origins.extend(out.offsets.iter().map(|&p| c + n * p));
         let delta = MARGIN * (c.abs().max_element() + r + self.scale);
-        // Candidate ranges, counted per line in a difference array (the segments in any
-        // order: only the counts per line come out of it)
+        // Candidate ranges, counted per line in a difference array
         out.start.clear();
         out.start.resize(mu + 1, 0);
         out.ranges.clear();
-        out.ranges.resize(out.sorted.len(), (0, 0));
         let to_k = 0.5 * f64::from(m) / r;
         let u1 = bundle.shift();
-        let (offsets, start) = (out.offsets.as_slice(), out.start.as_mut_slice());
-        for (seg, range) in out.sorted.iter().zip(&mut out.ranges) {
-            let pa = n.dot(seg.a - c);
-            let pb = pa + n.dot(seg.e);
-            // Either order for a NaN (a segment with a NaN never hits: any range will do)
-            let (lo, hi) = if pb < pa { (pb, pa) } else { (pa, pb) };
-            let (lo, hi) = (lo - delta, hi + delta);
-            let k0 = first_at_least(offsets, lo, (lo + r) * to_k - u1);
-            let k1 = first_above(offsets, hi, (hi + r) * to_k - u1).max(k0);
-            *range = (k0, k1);
-            if let Some(s) = start.get_mut(k0 as usize) {
-                *s = s.wrapping_add(1);
+        let d = bundle.dir();
+        // The depth order is repaired only when the direction has turned by more than
+        // REORDER_TURN since it was last sorted (or the segments changed)
+        let reorder = out.order.len() != self.a.len()
+            || !((d - out.order_dir).length_squared() <= REORDER_TURN * REORDER_TURN);
+        out.depth.clear();
+        for (a, e) in self.a.iter().zip(&self.e) {
+            let pa = n.dot(*a - c);
+            let pb = pa + n.dot(*e);
+            if reorder {
+                out.depth.push(d.dot(*a - c) + 0.5 * d.dot(*e));
             }
-            if let Some(s) = start.get_mut(k1 as usize) {
-                *s = s.wrapping_sub(1);
-            }
+            let (lo, hi) = (pa.min(pb) - delta, pa.max(pb) + delta);
+            let k0 = first_at_least(&out.offsets, lo, (lo + r) * to_k - u1);
+            let k1 = first_above(&out.offsets, hi, (hi + r) * to_k - u1).max(k0);
+            out.ranges.push((k0, k1));
+            out.start[k0 as usize] = out.start[k0 as usize].wrapping_add(1);
+            out.start[k1 as usize] = out.start[k1 as usize].wrapping_sub(1);
         }
         // Bucket starts: prefix sums of the counts (the wrapping differences add up to
         // counts ≥ 0, as every range has k₀ ≤ k₁)
@@ -227,39 +179,35 @@ impl ParallelSweep2 {
         }
         // The exact test of every candidate, segment by segment in the order of their
         // midpoints' depth along the lines, so that each line's bucket fills nearly sorted
+        if reorder {
+            order_by_depth(&mut out.order, &out.depth);
+            out.order_dir = d;
+        }
         let query = LineQuery::new(c, d);
+        // The lines' origins, as the lines compute them
+        out.origins.clear();
+        out.origins.extend(out.offsets.iter().map(|&p| c + n * p));
         let BundleHits2 {
             origins,
             ranges,
             end,
             hits,
-            segment_hits,
-            sorted,
+            order,
             ..
         } = out;
-        let hits = hits.as_mut_slice();
-        segment_hits.clear();
-        segment_hits.resize(sorted.len(), 0);
-        for ((seg, &(k0, k1)), seg_found) in sorted.iter().zip(ranges.iter()).zip(segment_hits) {
-            let (a, e, prim) = (seg.a, seg.e, seg.prim);
-            // `LineQuery::hit`'s denominator, the same for every line
-            let denom = cross(e, d);
-            let lines = k0 as usize..k1 as usize;
-            let (Some(origins), Some(end)) = (origins.get(lines.clone()), end.get_mut(lines))
+        for &prim in order.iter() {
+            let p = prim as usize;
+            let (Some(&(k0, k1)), Some(a), Some(e)) = (ranges.get(p), self.a.get(p), self.e.get(p))
             else {
                 continue;
             };
-            let mut found = 0u32;
-            for (&o, end) in origins.iter().zip(end) {
-                if let Some(t) = query.with_origin(o).hit_over(a, e, denom)
-                    && let Some(slot) = hits.get_mut(*end)
-                {
-                    *slot = Hit2 { t, prim };
+            let lines = k0 as usize..k1 as usize;
+            for (&o, end) in origins[lines.clone()].iter().zip(&mut end[lines]) {
+                if let Some(t) = query.with_origin(o).hit(*a, *e) {
+                    hits[*end] = Hit2 { t, prim };
                     *end += 1;
-                    found += 1;
                 }
             }
-            *seg_found = found;
         }
     }
 }
@@ -281,15 +229,6 @@ impl BundleHits2 {
             (Some(&s), Some(&e)) => &self.hits[s..e],
             _ => &[],
         }
-    }
-
-    /// `(segment, hits)` for every segment: how many hits of the last bundle cast are on
-    /// each segment (in the segments' depth order; every segment once).
-    pub fn segment_hits(&self) -> impl Iterator<Item = (usize, u32)> + '_ {
-        self.sorted
-            .iter()
-            .zip(&self.segment_hits)
-            .map(|(s, &n)| (s.prim as usize, n))
     }
 
     /// Number of lines of the last bundle cast.
@@ -367,11 +306,13 @@ fn sort_nearly_sorted(hits: &mut [Hit2]) {
 #[inline]
 fn first_at_least(offsets: &[f64], x: f64, guess: f64) -> u32 {
     let m = offsets.len();
-    let mut k = start_index(guess, m);
-    while k > 0 && offsets.get(k - 1).is_some_and(|&p| p >= x) {
+    // `as` truncates and saturates (NaN → 0); the walks below correct the estimate, and
+    // the clamp keeps them inside the offsets.
+    let mut k = (guess.max(0.0) as usize).min(m);
+    while k > 0 && offsets[k - 1] >= x {
         k -= 1;
     }
-    while offsets.get(k).is_some_and(|&p| p < x) {
+    while k < m && offsets[k] < x {
         k += 1;
     }
     k as u32
@@ -381,27 +322,14 @@ fn first_at_least(offsets: &[f64], x: f64, guess: f64) -> u32 {
 #[inline]
 fn first_above(offsets: &[f64], x: f64, guess: f64) -> u32 {
     let m = offsets.len();
-    let mut k = start_index(guess + 1.0, m);
-    while k > 0 && offsets.get(k - 1).is_some_and(|&p| p > x) {
+    let mut k = ((guess + 1.0).max(0.0) as usize).min(m);
+    while k > 0 && offsets[k - 1] > x {
         k -= 1;
     }
-    while offsets.get(k).is_some_and(|&p| p <= x) {
+    while k < m && offsets[k] <= x {
         k += 1;
     }
     k as u32
-}
-
-/// `x` clamped to `[0, m]` and rounded to the nearest index (NaN gives 0): where the walks
-/// above start (any start in `0 ..= m` gives the same answer; a good one saves steps).
-/// `x + 2⁵²` holds `round(x)` in its low mantissa bits for `0 ≤ x < 2⁵¹`, a cheaper
-/// conversion than a saturating cast (`m ≤ 2³²`: offsets are indexed by `u32`).
-#[inline]
-fn start_index(x: f64, m: usize) -> usize {
-    const TWO_52: f64 = 4_503_599_627_370_496.0;
-    let x = if x > 0.0 { x } else { 0.0 };
-    let top = m as f64;
-    let x = if x < top { x } else { top };
-    (((x + TWO_52).to_bits() & 0xffff_ffff_ffff) as usize).min(m)
 }
 
 #[cfg(test)]
@@ -468,18 +396,6 @@ mod tests {
             assert_eq!(naive, tree);
         }
         assert!(out.line_hits(m as usize).is_empty());
-        // Each segment's hit count is the number of lines that found it, every segment once
-        let mut found = alloc::vec![0u32; segs.len()];
-        for k in 0..m as usize {
-            for h in out.line_hits(k) {
-                found[h.prim as usize] += 1;
-            }
-        }
-        let mut counted = alloc::vec![None; segs.len()];
-        for (p, n) in out.segment_hits() {
-            assert_eq!(counted[p].replace(n), None, "segment {p} counted twice");
-        }
-        assert_eq!(counted, found.iter().map(|&n| Some(n)).collect::<Vec<_>>());
         // The unsorted cast: the same hits, already in order wherever `t` strictly
         // increases, and in order once sorted
         let mut unsorted = out.clone();

@@ -318,15 +318,9 @@ impl Tracer2 {
             }
             return (sum, samples);
         }
-        // Every hit is a sample leaving its patch: counted per segment here, and taken
-        // back below for the lines tallied one by one (which count their own)
-        for (p, n) in hits.segment_hits() {
-            tally.leave_times(p, u64::from(n));
-        }
         // Each patch's cosine with the bundle's direction
         cos.clear();
         cos.extend(self.normals.iter().map(|n| dir.dot(*n)));
-        let cos = cos.as_slice();
         let eps = 1e-12 * self.circle.radius;
         let gap_floor = eps.max(0.0);
         let separated =
@@ -340,9 +334,6 @@ impl Tracer2 {
             if !separated(line, gap_floor) {
                 let sorted = hits.sort_line(k);
                 if !separated(sorted, eps) {
-                    for h in sorted {
-                        tally.unleave(h.prim as usize);
-                    }
                     line_by_line(sorted, tally);
                     continue;
                 }
@@ -354,6 +345,7 @@ impl Tracer2 {
             let mut front: Option<(&Hit2, f64)> = None;
             for h in line {
                 let p = h.prim as usize;
+                tally.leave(p);
                 let c = cos.get(p).copied().unwrap_or(0.0);
                 if let Some((f, cf)) = front
                     && c < 0.0
