@@ -10,6 +10,16 @@ use std::ptr;
 
 use crate::status::{Failure, Outcome, SiStatus};
 
+/// `*ptr`, or `T::default()` when `ptr` is NULL (an optional job or options struct).
+///
+/// # Safety
+/// `ptr` must be NULL or point to one initialised, aligned `T`.
+pub(crate) unsafe fn input_or_default<T: Copy + Default>(ptr: *const T, what: &str) -> Outcome<T> {
+    // SAFETY: NULL (no item read) or one valid T by the caller's contract
+    let items = unsafe { input(ptr, usize::from(!ptr.is_null()), what) }?;
+    Ok(items.first().copied().unwrap_or_default())
+}
+
 /// The `len` items at `ptr`, as a slice (`len == 0`: empty, whatever `ptr` is).
 ///
 /// # Safety

@@ -9,7 +9,7 @@ use sceneinfo::channel::Transitions as _;
 use sceneinfo::formfactor::occluded_3d::OcclusionOptions;
 use sceneinfo::{Job, LineBudget, LineJob, LineMethod, Measurement, Serial, measure};
 
-use crate::buffers::{clear_out, copy_out, free, handle, input, write_out};
+use crate::buffers::{clear_out, copy_out, free, handle, input_or_default, write_out};
 use crate::scene::{SiScene, text};
 use crate::status::{Failure, Outcome, SiStatus, guard, guard_value};
 use crate::threads::{Progress, SiProgressFn, Threads};
@@ -249,10 +249,7 @@ pub unsafe extern "C" fn si_measure(
         // SAFETY: by the contract above
         let scene = unsafe { handle(scene, "scene") }?;
         // SAFETY: NULL or one valid SiJob by the contract above
-        let job = unsafe { input(job, usize::from(!job.is_null()), "job") }?
-            .first()
-            .copied()
-            .unwrap_or_default();
+        let job = unsafe { input_or_default(job, "job") }?;
         let (core_job, mut executor) = job.prepare(scene)?;
         let refused = |e: sceneinfo::Error| Failure::core(SiStatus::SI_ERR_JOB, &scene.source, &e);
         let m = match core_job {
@@ -304,10 +301,7 @@ pub unsafe extern "C" fn si_measure_exact(
         // SAFETY: by the contract above
         let scene = unsafe { handle(scene, "scene") }?;
         // SAFETY: NULL or one valid SiJob by the contract above
-        let job = unsafe { input(job, usize::from(!job.is_null()), "job") }?
-            .first()
-            .copied()
-            .unwrap_or_default();
+        let job = unsafe { input_or_default(job, "job") }?;
         let options = OcclusionOptions::new(tolerance);
         options
             .check()

@@ -5,7 +5,7 @@
 
 use sceneinfo::{Lighting, RadiosityJob, SolveOptions, Solver, solve_radiosity};
 
-use crate::buffers::{clear_out, copy_out, free, give, handle, input, write_out};
+use crate::buffers::{clear_out, copy_out, free, give, handle, input_or_default, write_out};
 use crate::measure::{SiJob, SiMeasurement, method_code};
 use crate::scene::SiScene;
 use crate::status::{Failure, Outcome, SiStatus, guard, guard_value};
@@ -150,10 +150,7 @@ pub unsafe extern "C" fn si_radiosity(
         // SAFETY: by the contract above
         let scene = unsafe { handle(scene, "scene") }?;
         // SAFETY: NULL or one valid SiRadiosityJob by the contract above
-        let job = unsafe { input(job, usize::from(!job.is_null()), "job") }?
-            .first()
-            .copied()
-            .unwrap_or_default();
+        let job = unsafe { input_or_default(job, "job") }?;
         let (solver, options) = job.options()?;
         let (form_factors, mut executor) = job.form_factors.prepare(scene)?;
         let core_job = RadiosityJob::new(form_factors)

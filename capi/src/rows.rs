@@ -10,7 +10,7 @@ use std::ffi::{CStr, c_char};
 use sceneinfo::formfactor::occluded_3d::OcclusionOptions;
 use sceneinfo::{ErrorKind, ExactRows, Job, Measurement};
 
-use crate::buffers::{clear_out, copy_out, free, give, handle, input, write_out};
+use crate::buffers::{clear_out, copy_out, free, give, handle, input, input_or_default, write_out};
 use crate::measure::{SiJob, SiMeasurement};
 use crate::scene::{SiScene, path_of};
 use crate::status::{Failure, Outcome, SiStatus, guard, guard_value};
@@ -99,10 +99,7 @@ pub unsafe extern "C" fn si_exact_rows(
         // SAFETY: by the contract above
         let scene = unsafe { handle(scene, "scene") }?;
         // SAFETY: NULL or one valid SiJob by the contract above
-        let job = unsafe { input(job, usize::from(!job.is_null()), "job") }?
-            .first()
-            .copied()
-            .unwrap_or_default();
+        let job = unsafe { input_or_default(job, "job") }?;
         let options = OcclusionOptions::new(tolerance);
         options
             .check()

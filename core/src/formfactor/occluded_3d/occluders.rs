@@ -240,25 +240,29 @@ impl Shaft {
     }
 }
 
+/// Which side of a plane, given by its signed distance `d`, every point of `p` lies on by
+/// more than `tol`: `1` all in front, `-1` all behind, `0` straddling or too close.
+pub(crate) fn strict_side(p: &[DVec3], d: impl Fn(DVec3) -> f64, tol: f64) -> i8 {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for &v in p {
+        let dv = d(v);
+        lo = lo.min(dv);
+        hi = hi.max(dv);
+    }
+    if lo > tol {
+        1
+    } else if hi < -tol {
+        -1
+    } else {
+        0
+    }
+}
+
 /// Whether the convex occluder `(o, po)` hides every segment from `src` to `tgt` (convex
 /// polygons): its plane separates them strictly and every vertex-to-vertex segment crosses
 /// it strictly inside `o` (see the module docs). Conservative: `false` when unsure.
 pub(crate) fn blocks_all(src: &[DVec3], tgt: &[DVec3], o: &[DVec3], po: &Plane, tol: f64) -> bool {
-    let side = |p: &[DVec3]| {
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for &v in p {
-            let d = po.distance(v);
-            lo = lo.min(d);
-            hi = hi.max(d);
-        }
-        if lo > tol {
-            1
-        } else if hi < -tol {
-            -1
-        } else {
-            0
-        }
-    };
+    let side = |p: &[DVec3]| strict_side(p, |v| po.distance(v), tol);
     let (ss, st) = (side(src), side(tgt));
     if ss == 0 || st == 0 || ss == st {
         return false;

@@ -39,7 +39,7 @@
 
 use alloc::vec::Vec;
 
-use super::occluders::Occluder;
+use super::occluders::{Occluder, strict_side};
 use crate::geom::DVec3;
 
 /// No solid: the mark of an occluder that is a face of none.
@@ -119,21 +119,7 @@ impl Solid {
             return false;
         }
         let off = m.dot(self.centre);
-        let side = |p: &[DVec3]| {
-            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-            for &v in p {
-                let d = m.dot(v) - off;
-                lo = lo.min(d);
-                hi = hi.max(d);
-            }
-            if lo > tol {
-                1
-            } else if hi < -tol {
-                -1
-            } else {
-                0
-            }
-        };
+        let side = |p: &[DVec3]| strict_side(p, |v| m.dot(v) - off, tol);
         let (ss, st) = (side(src), side(tgt));
         if ss == 0 || st == 0 || ss == st {
             return false;
