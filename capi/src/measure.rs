@@ -302,10 +302,7 @@ pub unsafe extern "C" fn si_measure_exact(
         let scene = unsafe { handle(scene, "scene") }?;
         // SAFETY: NULL or one valid SiJob by the contract above
         let job = unsafe { input_or_default(job, "job") }?;
-        let options = OcclusionOptions::new(tolerance);
-        options
-            .check()
-            .map_err(|e| Failure::core(SiStatus::SI_ERR_INVALID_ARGUMENT, "tolerance", &e))?;
+        let options = occlusion_options(tolerance)?;
         let (core_job, mut executor) = job.prepare(scene)?;
         if !matches!(core_job, Job::Exact) {
             return Err(Failure::invalid(
@@ -325,6 +322,16 @@ pub unsafe extern "C" fn si_measure_exact(
         unsafe { crate::buffers::give(out, m) };
         Ok(())
     })
+}
+
+/// The occlusion options of an exact job at `tolerance`, once the tolerance is checked
+/// (`SI_ERR_INVALID_ARGUMENT` when out of range).
+pub(crate) fn occlusion_options(tolerance: f64) -> Outcome<OcclusionOptions> {
+    let options = OcclusionOptions::new(tolerance);
+    options
+        .check()
+        .map_err(|e| Failure::core(SiStatus::SI_ERR_INVALID_ARGUMENT, "tolerance", &e))?;
+    Ok(options)
 }
 
 impl SiJob {

@@ -7,11 +7,10 @@
 
 use std::ffi::{CStr, c_char};
 
-use sceneinfo::formfactor::occluded_3d::OcclusionOptions;
 use sceneinfo::{ErrorKind, ExactRows, Job, Measurement};
 
 use crate::buffers::{clear_out, copy_out, free, give, handle, input, input_or_default, write_out};
-use crate::measure::{SiJob, SiMeasurement};
+use crate::measure::{SiJob, SiMeasurement, occlusion_options};
 use crate::scene::{SiScene, path_of};
 use crate::status::{Failure, Outcome, SiStatus, guard, guard_value};
 
@@ -100,10 +99,7 @@ pub unsafe extern "C" fn si_exact_rows(
         let scene = unsafe { handle(scene, "scene") }?;
         // SAFETY: NULL or one valid SiJob by the contract above
         let job = unsafe { input_or_default(job, "job") }?;
-        let options = OcclusionOptions::new(tolerance);
-        options
-            .check()
-            .map_err(|e| Failure::core(SiStatus::SI_ERR_INVALID_ARGUMENT, "tolerance", &e))?;
+        let options = occlusion_options(tolerance)?;
         let n = scene.scene.n_patches();
         if first >= end {
             return Err(Failure::invalid(format!(

@@ -96,18 +96,9 @@ impl Executor for Threads {
                     })
                 })
                 .collect();
-            show_progress(&rows_done, rows.len().max(1) as u64, start, "rows", || {
-                workers.iter().all(|w| w.is_finished())
-            });
-            // A worker that panicked is a bug, not a stop: re-raise its panic rather than
-            // return fewer rows (which would read as an interrupted job).
-            workers
-                .into_iter()
-                .map(|w| {
-                    w.join()
-                        .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
-                })
-                .collect()
+            // A worker that panicked is a bug, not a stop: its panic is re-raised rather
+            // than fewer rows returned (which would read as an interrupted job).
+            join_with_progress(workers, &rows_done, rows.len().max(1) as u64, start, "rows")
         });
         self.times.wall += start.elapsed().as_secs_f64();
         parts.into_iter().flatten().collect()
@@ -217,18 +208,9 @@ fn execute_timed(work: &ChunkWork<'_>, threads: usize) -> (ChunksDone, JobTimes)
                 })
             })
             .collect();
-        show_progress(&done, range_lines.max(1), start, "lines", || {
-            workers.iter().all(|w| w.is_finished())
-        });
-        // A panicked worker is a bug: re-raise it rather than merge fewer tallies than the
-        // chunks counted as done (a silently different answer).
-        workers
-            .into_iter()
-            .map(|w| {
-                w.join()
-                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
-            })
-            .collect()
+        // A panicked worker is a bug: its panic is re-raised rather than fewer tallies
+        // merged than the chunks counted as done (a silently different answer).
+        join_with_progress(workers, &done, range_lines.max(1), start, "lines")
     });
     let worker_cpu = results.iter().map(|r| r.1).sum::<Option<f64>>();
     // Merged into the first worker's tally: exact, so the same bits as a fresh sum, without
@@ -248,6 +230,27 @@ fn execute_timed(work: &ChunkWork<'_>, threads: usize) -> (ChunksDone, JobTimes)
         chunks: chunks_done.load(Ordering::Relaxed),
     };
     (done, times)
+}
+
+/// Shows the progress of `workers` (`done` of `total` `unit`) until they all finish, then
+/// joins them in order, re-raising the panic of any worker that panicked.
+fn join_with_progress<T>(
+    workers: Vec<std::thread::ScopedJoinHandle<'_, T>>,
+    done: &AtomicU64,
+    total: u64,
+    start: Instant,
+    unit: &str,
+) -> Vec<T> {
+    show_progress(done, total, start, unit, || {
+        workers.iter().all(|w| w.is_finished())
+    });
+    workers
+        .into_iter()
+        .map(|w| {
+            w.join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+        })
+        .collect()
 }
 
 /// Draws a progress bar on a terminal's stderr while the workers run, starting after one

@@ -258,30 +258,12 @@ fn box_in_room() -> (Vec<DVec3>, Vec<(usize, usize)>) {
     let mut points = Vec::new();
     let mut polys = Vec::new();
     let mut add_box = |lo: DVec3, hi: DVec3, inwards: bool| {
-        let c = |i: usize| {
-            v(
-                if i & 1 == 0 { lo.x } else { hi.x },
-                if i & 2 == 0 { lo.y } else { hi.y },
-                if i & 4 == 0 { lo.z } else { hi.z },
-            )
-        };
-        // Faces counter-clockwise seen from outside.
-        let faces = [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
-        for f in faces {
-            let first = points.len();
-            let mut q: Vec<DVec3> = f.iter().map(|&i| c(i)).collect();
+        for mut q in box_faces(lo, hi, true) {
             if inwards {
                 q.reverse();
             }
+            polys.push((points.len(), 4));
             points.extend(q);
-            polys.push((first, 4));
         }
     };
     add_box(v(0., 0., 0.), v(2., 2., 2.), true);
