@@ -136,7 +136,7 @@ pub fn print_report(
     out.flush()?;
     if let Some(e) = m.exact_errors().filter(|e| e.over_tolerance > 0) {
         eprintln!(
-            "sceneinfo: warning: {}: {} pairs stopped at the work cap with an error estimate              above the tolerance {:e} (largest {:.2e})",
+            "sceneinfo: warning: {}: {} pairs stopped at the work cap with an error estimate above the tolerance {:e} (largest {:.2e})",
             file.display(),
             e.over_tolerance,
             e.tolerance,
