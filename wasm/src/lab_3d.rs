@@ -18,7 +18,7 @@ use sceneinfo::io::{LoadReport, ObjOptions};
 use sceneinfo::scene::Preset3Entry;
 use sceneinfo::viewpoint::{ViewpointJob, ViewpointOptions};
 use sceneinfo::{
-    Job, LineJob, LineSession, Material, Measurement, RadiosityJob, Scene, Scene3, SceneFormat,
+    Job, LineJob, LineMethod, LineSession, Material, Measurement, RadiosityJob, Scene, Scene3, SceneFormat,
     Serial,
 };
 use sceneinfo_formats::Format;
@@ -221,17 +221,32 @@ impl Lab3 {
         LineResult::of(Measurement::exact(&self.scene()).map_err(into_error)?)
     }
 
-    /// A Monte Carlo job of `lines` global lines of seed `seed`, cast chunk by chunk
-    /// ([`LineSession`], the flatland lab's [`crate::LineJob`]): its result equals `sceneinfo
-    /// measure FILE --lines N --seed S`.
+    /// A Monte Carlo job of `lines` lines of seed `seed` by `method` — `global` (2.37),
+    /// `local` (2.36) or `bundle` (bundles of parallel global lines), the names of the CLI's
+    /// `--method` — cast chunk by chunk ([`LineSession`], the flatland lab's
+    /// [`crate::LineJob`]): its result equals `sceneinfo measure FILE --lines N --seed S
+    /// --method M`.
     ///
     /// # Errors
-    /// A count that is not a whole number, a line budget the core refuses.
+    /// A count that is not a whole number, an unknown method, a line budget the core refuses.
     #[wasm_bindgen(js_name = lineJob)]
-    pub fn line_job(&self, seed: f64, lines: f64) -> Result<crate::lines::LineJob, JsError> {
+    pub fn line_job(
+        &self,
+        seed: f64,
+        lines: f64,
+        method: &str,
+    ) -> Result<crate::lines::LineJob, JsError> {
         let seed = count("seed", seed).map_err(into_error)?;
         let lines = count("lines", lines).map_err(into_error)?;
-        let job = LineJob::new(lines).with_seed(seed);
+        let method = [LineMethod::Global, LineMethod::Local, LineMethod::Bundle]
+            .into_iter()
+            .find(|m| m.name() == method)
+            .ok_or_else(|| {
+                JsError::new(&format!(
+                    "unknown line method '{method}': global, local or bundle"
+                ))
+            })?;
+        let job = LineJob::new(lines).with_method(method).with_seed(seed);
         let session = LineSession::new(&self.scene(), &job).map_err(into_error)?;
         Ok(crate::lines::LineJob::new(session))
     }

@@ -2,7 +2,7 @@
 //
 // In:  { type: 'load', id, source }        source: see scene3d.js
 //      { type: 'exact', id }               exact measures (unoccluded scenes)
-//      { type: 'lines', id, seed, lines }  Monte Carlo, chunk by chunk (2^16 lines each)
+//      { type: 'lines', id, seed, lines, method }  Monte Carlo, chunk by chunk (2^16 lines each)
 //      { type: 'stop', id }                stops the running line job after its chunk
 //      { type: 'radiosity', id, lines, seed }
 //      { type: 'viewpoints', id, views, resolution, best }
@@ -18,11 +18,23 @@ let lab = null;
 let current = null; // the running line job: { id, stop }
 let refiner = null; // the refinement player's Refiner3
 
-// Lets queued messages ('stop', a newer job) in between chunks.
-const breathe = () => new Promise((resolve) => setTimeout(resolve, 0));
+// Lets queued messages ('stop', a newer job) in between chunks: a message to itself, not
+// setTimeout(0), which browsers clamp to 4 ms once timers nest five deep (a 10^7-line job
+// would wait 0.6 s in all).
+const tick = new MessageChannel();
+const ticks = [];
+tick.port1.onmessage = () => ticks.shift()?.();
+const breathe = () => new Promise((resolve) => {
+  ticks.push(resolve);
+  tick.port2.postMessage(null);
+});
 const messageOf = (e) => (e instanceof Error ? e.message : String(e));
 
-function measuresMessage(id, m, extra) {
+// Posts measurement `m` (then freed) with `extra`; its arrays are moved, not copied (the
+// I_ij matrix of 1024 patches is 8 MiB). `extra.arraysSeconds` is the time its per-patch
+// values and I_ij took.
+function postMeasures(id, m, extra) {
+  const start = performance.now();
   const ic = m.patchContinuous();
   const n = lab.nPatches;
   const out = {
@@ -31,7 +43,9 @@ function measuresMessage(id, m, extra) {
     ...extra,
   };
   m.free();
-  return out;
+  out.arraysSeconds = (performance.now() - start) / 1000;
+  const moved = [out.h, out.i, out.ic, out.matrix].filter((a) => a).map((a) => a.buffer);
+  postMessage(out, moved);
 }
 
 // The refiner's current report and mesh (leaves Gouraud shaded, with their edges).
@@ -45,13 +59,13 @@ function refinedMessage(id, req, report, exposure) {
   return out;
 }
 
-async function lines({ id, seed, lines: count }) {
+async function lines({ id, seed, lines: count, method }) {
   const me = { id, stop: false };
   current = me;
   let job;
   try {
-    job = lab.lineJob(seed, count);
     const start = performance.now();
+    job = lab.lineJob(seed, count, method);
     while (!job.done && !me.stop && current === me) {
       job.run(1);
       postMessage({
@@ -61,8 +75,10 @@ async function lines({ id, seed, lines: count }) {
       await breathe();
     }
     if (current !== me) return;
+    // seconds: the job from its start to its measures (the per-patch values and I_ij after)
+    const m = job.finish();
     const seconds = (performance.now() - start) / 1000;
-    postMessage(measuresMessage(id, job.finish(), { stopped: !job.done, done: job.linesDone, seconds }));
+    postMeasures(id, m, { stopped: !job.done, done: job.linesDone, seconds });
   } catch (e) {
     if (current === me) postMessage({ type: 'error', id, message: messageOf(e) });
   } finally {
@@ -91,9 +107,10 @@ onmessage = async ({ data }) => {
       lab = labOf(Lab3, data.source);
       postMessage({ type: 'loaded', id, req, n: lab.nPatches });
     } else if (data.type === 'exact') {
+      // seconds: form factors and the channel's measures; then the arrays (postMeasures)
       const start = performance.now();
       const m = lab.exact();
-      postMessage(measuresMessage(id, m, { req, seconds: (performance.now() - start) / 1000 }));
+      postMeasures(id, m, { req, seconds: (performance.now() - start) / 1000 });
     } else if (data.type === 'radiosity') {
       const start = performance.now();
       const light = lab.radiosity(data.lines, data.seed);
