@@ -125,19 +125,26 @@ export function heatMap(c, matrix, n) {
   const g = c.getContext('2d');
   const bins = Math.min(n, c.width);
   const sums = new Float64Array(bins * bins);
-  const bin = (i) => Math.floor((i * bins) / n);
+  // Each patch's bin once (the 3D lab's 600-patch cube has 360,000 cells to add up)
+  const bin = new Int32Array(n);
+  for (let i = 0; i < n; i++) bin[i] = Math.floor((i * bins) / n);
   for (let i = 0; i < n; i++) {
-    const bi = bin(i) * bins;
-    for (let j = 0; j < n; j++) sums[bi + bin(j)] += matrix[i * n + j];
+    const bi = bin[i] * bins;
+    const row = i * n;
+    for (let j = 0; j < n; j++) sums[bi + bin[j]] += matrix[row + j];
   }
   let m = 0;
   for (const v of sums) m = Math.max(m, Math.abs(v));
   const s = scale([-1, 1], true);
   const image = g.createImageData(bins, bins);
+  const px = image.data;
   for (let k = 0; k < sums.length; k++) {
-    const v = sums[k] === 0 ? 0 : Math.sign(sums[k]) * Math.sqrt(Math.abs(sums[k]) / (m || 1));
-    const [r, gg, b] = sums[k] === 0 ? [255, 255, 255] : s.rgb(v);
-    image.data.set([r, gg, b, 255], 4 * k);
+    const v = sums[k];
+    const [r, gg, b] = v === 0 ? [255, 255, 255] : s.rgb(Math.sign(v) * Math.sqrt(Math.abs(v) / (m || 1)));
+    px[4 * k] = r;
+    px[4 * k + 1] = gg;
+    px[4 * k + 2] = b;
+    px[4 * k + 3] = 255;
   }
   // Draw the bins, then stretch them over the canvas without smoothing.
   const tmp = new OffscreenCanvas(bins, bins);

@@ -8,10 +8,12 @@
 // for 5 runs (the browser's start included). The page runs in one tab, the worker on a
 // second thread: the numbers are the page's, not a benchmark of the core.
 
+import { loadavg } from 'node:os';
 import { openBrowser } from './harness.mjs';
 import { timeItem7 } from './item7.mjs';
 
 const runs = Math.max(1, Number(process.argv[2] ?? 5) || 5);
+const loadAtStart = loadavg()[0];
 const median = (xs) => {
   const s = [...xs].sort((a, b) => a - b);
   const m = s.length >> 1;
@@ -32,10 +34,12 @@ try {
     const xs = all.map((r) => r[key][sub]);
     return `${what}: median ${median(xs).toFixed(3)} s, min ${Math.min(...xs).toFixed(3)} s, max ${Math.max(...xs).toFixed(3)} s`;
   };
-  console.log(`\nissue 24, item 7, ${runs} runs (load average ${(await import('node:os')).loadavg()[0].toFixed(2)} at the end):`);
+  console.log(`\nissue 24, item 7, ${runs} runs (1-minute load average ${loadAtStart.toFixed(2)} at the start, ${loadavg()[0].toFixed(2)} at the end):`);
   console.log(line('cube (600 patches), exact measures in the page (budget 0.3 s)', 'cube', 'total'));
   console.log(line('  of which form factors and measures in the worker', 'cube', 'channel'));
   console.log(line('  of which per-patch values and I_ij in the worker', 'cube', 'arrays'));
+  console.log(line('  of which the scene read in the worker and the messages', 'cube', 'moved'));
+  console.log(line('  of which shown in the page (table, heat map)', 'cube', 'shown'));
   for (const grid of [4, 2]) {
     console.log(line(`Cornell box (grid ${grid}, ${all[0][`cornell${grid}`].patches} patches), 10^6 lines, click to measures shown (budget 2 s)`, `cornell${grid}`, 'total'));
     console.log(line('  of which in the worker (lines and measures)', `cornell${grid}`, 'worker'));
