@@ -8,8 +8,9 @@
 //      { type: 'viewpoints', id, views, resolution, best }
 //      { type: 'refine-start', id, oracle, pairs, lines, seed, exposure }  the refinement player
 //      { type: 'refine-step', id, exposure }, { type: 'refine-mesh', id, exposure }
-// Out: { type: 'progress' | 'measures' | 'light' | 'views' | 'refined' | 'error', id, … }
-// Measures carry H_i, I_i, I_i^c per patch and, up to HEAT_MAP_LIMIT patches, I_ij.
+// Out: { type: 'progress' | 'measures' | 'matrix' | 'light' | 'views' | 'refined' | 'error', id, … }
+// Measures carry H_i, I_i, I_i^c per patch; up to HEAT_MAP_LIMIT patches a 'matrix' message
+// with I_ij follows them.
 import init, { Lab3 } from './pkg3d/sceneinfo_wasm.js';
 import { HEAT_MAP_LIMIT, labOf } from './scene3d.js';
 
@@ -30,22 +31,30 @@ const breathe = () => new Promise((resolve) => {
 });
 const messageOf = (e) => (e instanceof Error ? e.message : String(e));
 
-// Posts measurement `m` (then freed) with `extra`; its arrays are moved, not copied (the
-// I_ij matrix of 1024 patches is 8 MiB). `extra.arraysSeconds` is the time its per-patch
-// values and I_ij took.
+// Posts measurement `m` (then freed) with `extra`, then its I_ij matrix in a second
+// message { type: 'matrix', id, kind: extra.kind, matrix, seconds } (scenes up to
+// HEAT_MAP_LIMIT patches), so that the measures are shown while it is computed. Arrays are
+// moved, not copied (the matrix of 1024 patches is 8 MiB). `arraysSeconds`: the time of
+// the per-patch values.
 function postMeasures(id, m, extra) {
   const start = performance.now();
   const ic = m.patchContinuous();
-  const n = lab.nPatches;
   const out = {
     type: 'measures', id, json: m.json(), h: m.patchEntropies(), i: m.patchInformation(),
-    ic: ic.length ? ic : null, matrix: n <= HEAT_MAP_LIMIT ? m.informationMatrix(HEAT_MAP_LIMIT) : null,
-    ...extra,
+    ic: ic.length ? ic : null, ...extra,
   };
-  m.free();
   out.arraysSeconds = (performance.now() - start) / 1000;
-  const moved = [out.h, out.i, out.ic, out.matrix].filter((a) => a).map((a) => a.buffer);
-  postMessage(out, moved);
+  postMessage(out, [out.h, out.i, out.ic].filter((a) => a).map((a) => a.buffer));
+  try {
+    if (lab.nPatches <= HEAT_MAP_LIMIT) {
+      const t = performance.now();
+      const matrix = m.informationMatrix(HEAT_MAP_LIMIT);
+      const seconds = (performance.now() - t) / 1000;
+      postMessage({ type: 'matrix', id, kind: extra.kind, matrix, seconds }, [matrix.buffer]);
+    }
+  } finally {
+    m.free();
+  }
 }
 
 // The refiner's current report and mesh (leaves Gouraud shaded, with their edges).
@@ -78,7 +87,7 @@ async function lines({ id, seed, lines: count, method }) {
     // seconds: the job from its start to its measures (the per-patch values and I_ij after)
     const m = job.finish();
     const seconds = (performance.now() - start) / 1000;
-    postMeasures(id, m, { stopped: !job.done, done: job.linesDone, seconds });
+    postMeasures(id, m, { kind: 'lines', stopped: !job.done, done: job.linesDone, seconds });
   } catch (e) {
     if (current === me) postMessage({ type: 'error', id, message: messageOf(e) });
   } finally {
@@ -110,7 +119,7 @@ onmessage = async ({ data }) => {
       // seconds: form factors and the channel's measures; then the arrays (postMeasures)
       const start = performance.now();
       const m = lab.exact();
-      postMeasures(id, m, { req, seconds: (performance.now() - start) / 1000 });
+      postMeasures(id, m, { kind: 'exact', req, seconds: (performance.now() - start) / 1000 });
     } else if (data.type === 'radiosity') {
       const start = performance.now();
       const light = lab.radiosity(data.lines, data.seed);

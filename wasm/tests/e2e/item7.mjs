@@ -2,9 +2,9 @@
 // that lab3d.html is open in (Chromium). Printed, never asserted (speed is not a test).
 //
 //   - the exact measures of the 600-patch cube (preset `cube`, grid 10) in the page: from
-//     the page's request to the measures and the I_ij heat map shown (the worker computes
-//     them: form factors and measures, then the per-patch values and I_ij, moved to the
-//     page);
+//     the page's request to the measures shown (the worker computes the form factors and
+//     the measures, then the per-patch values, and sends them), and to the I_ij heat map
+//     shown (the worker computes I_ij after sending the measures);
 //   - 10^6 global lines on the Cornell box (preset `cornell`, grid 4 as the page opens it,
 //     and grid 2, the 49 patches of earlier sessions' timings) in the worker: from the click
 //     on "Run lines" to the measures shown (the worker's part beside it).
@@ -37,7 +37,7 @@ export async function timeItem7(page, label = '', timeout = 300_000) {
   // Leave any cube open first, so that the cube is loaded (and measured) afresh
   await openPreset(page, 'tetrahedron', 1, timeout);
   await openPreset(page, 'cube', 10, timeout);
-  await page.waitForFunction(() => /^exact measures in/.test(document.getElementById('m-note').textContent), null, { timeout });
+  await page.waitForFunction(() => /^exact measures in.*heat map/.test(document.getElementById('m-note').textContent), null, { timeout });
   const cube = await page.evaluate(() => window.lab3d.timing.exact);
   if (cube.patches !== 600) throw new Error(`the cube has ${cube.patches} patches, not 600`);
   console.log(`${label}cube, 600 patches: ${await page.textContent('#m-note')}`);
