@@ -154,6 +154,8 @@ test('Cornell box: lines, colourings and radiosity equal the CLI bit for bit', a
     await notBlank(`Cornell box, ${key}`);
     if (key === 'delta') await figure('information', 'main > section:first-child');
   }
+  // The I_ij heat map of the line run (its matrix follows the measures)
+  await page.waitForFunction(() => /:49$/.test(document.body.dataset.heat ?? ''));
   await figure('measures', 'main > section:nth-child(2)');
   // Progress and Stop: a 10^7-line job stopped after its first chunks gives the measures of
   // the lines it cast, as the CLI's run of that many lines (chunk k is seeded alone)
