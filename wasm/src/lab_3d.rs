@@ -18,8 +18,8 @@ use sceneinfo::io::{LoadReport, ObjOptions};
 use sceneinfo::scene::Preset3Entry;
 use sceneinfo::viewpoint::{ViewpointJob, ViewpointOptions};
 use sceneinfo::{
-    Job, LineJob, LineMethod, LineSession, Material, Measurement, RadiosityJob, Scene, Scene3, SceneFormat,
-    Serial,
+    Job, LineJob, LineMethod, LineSession, Material, Measurement, RadiosityJob, Scene, Scene3,
+    SceneFormat, Serial,
 };
 use sceneinfo_formats::Format;
 use sceneinfo_report::{JsonObject, SceneReport, ViewpointReport, write_lighting_fields};
