@@ -37,15 +37,15 @@ const messageOf = (e) => (e instanceof Error ? e.message : String(e));
 // moved, not copied (the matrix of 1024 patches is 8 MiB). `arraysSeconds`: the time of
 // the per-patch values.
 function postMeasures(id, m, extra) {
-  const start = performance.now();
-  const ic = m.patchContinuous();
-  const out = {
-    type: 'measures', id, json: m.json(), h: m.patchEntropies(), i: m.patchInformation(),
-    ic: ic.length ? ic : null, ...extra,
-  };
-  out.arraysSeconds = (performance.now() - start) / 1000;
-  postMessage(out, [out.h, out.i, out.ic].filter((a) => a).map((a) => a.buffer));
   try {
+    const start = performance.now();
+    const ic = m.patchContinuous();
+    const out = {
+      type: 'measures', id, json: m.json(), h: m.patchEntropies(), i: m.patchInformation(),
+      ic: ic.length ? ic : null, ...extra,
+    };
+    out.arraysSeconds = (performance.now() - start) / 1000;
+    postMessage(out, [out.h, out.i, out.ic].filter((a) => a).map((a) => a.buffer));
     if (lab.nPatches <= HEAT_MAP_LIMIT) {
       const t = performance.now();
       const matrix = m.informationMatrix(HEAT_MAP_LIMIT);
