@@ -510,6 +510,18 @@ impl LineTally {
             PairCounts::new(0, self.method.is_global()),
         );
         counts.apply_held();
+        if let Some(form_factors) = sparse_from_triangle(&counts, leaves, sizes)? {
+            drop(counts);
+            let patch_continuous = self.patch_continuous();
+            return Ok(LineEstimate {
+                form_factors,
+                continuous: self.continuous.estimate(),
+                patch_continuous,
+                pair_continuous: pair,
+                lines: self.lines,
+                method: self.method,
+            });
+        }
         // Stored sparse unless the counts fill a third of the matrix (CSR takes 12 bytes an
         // entry, dense 8 per pair): every later pass (the background's row sums, the
         // channel's checks and measures) then visits the non-zero entries only, and gives
@@ -554,6 +566,50 @@ impl LineTally {
             method: self.method,
         })
     }
+}
+
+/// The sparse form factors `F_ij = C_ij / N_i` of dense symmetric counts that hold
+/// nothing else (every scene over [`DENSE_PAIR_LIMIT`] patches, unless a count passed
+/// `2³²`), built straight from the packed triangle: one sequential pass for the row
+/// lengths, one that puts each non-zero `s_ab` into rows `b` and `a` (both in increasing
+/// column order, see `counts::Triangle::for_each_nonzero`). The same entries, values and
+/// order as the row-major walk of [`PairCounts::for_each`] into [`RowMajorCsr`], without
+/// gathering the triangle's columns. `None` when the counts are not such a triangle or fill
+/// more than `1 / SPARSE_FILL` of the matrix (then the caller's dense route).
+fn sparse_from_triangle(
+    counts: &PairCounts,
+    leaves: &[u64],
+    sizes: &[f64],
+) -> Result<Option<FormFactors>> {
+    let Some(triangle) = counts.triangle() else {
+        return Ok(None);
+    };
+    let n = leaves.len();
+    let lengths = triangle.row_lengths();
+    let pairs: usize = lengths.iter().sum();
+    if pairs > n * n / SPARSE_FILL {
+        return Ok(None);
+    }
+    let mut rows = CsrMatrixBuf::by_row_lengths(n, &lengths)?;
+    drop(lengths);
+    let leaf = |i: usize| leaves.get(i).copied().unwrap_or(0) as f64;
+    let mut misordered = None;
+    triangle.for_each_nonzero(|b, a, s| {
+        let s = u64::from(s);
+        let put = if a == b {
+            rows.push(b, b, (s << 1) as f64 / leaf(b))
+        } else {
+            rows.push(b, a, s as f64 / leaf(b))
+                .and_then(|()| rows.push(a, b, s as f64 / leaf(a)))
+        };
+        if let Err(err) = put {
+            misordered.get_or_insert(err);
+        }
+    });
+    if let Some(err) = misordered {
+        return Err(err);
+    }
+    Ok(Some(FormFactors::from_patch_csr(sizes, rows.finish()?)?))
 }
 
 /// [`LineTally::finish_with_sizes`] stores the form factors sparse (CSR) when at most
@@ -756,5 +812,69 @@ pub(crate) mod test_support {
         tally.end_group(sum, n, group_lines);
         tally.counts.settle();
         (tally, (sum, n))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tally::counts::PairCounts;
+
+    /// The row-major route of `finish_with_sizes`: counts walked in row-major order into
+    /// a `RowMajorCsr`.
+    fn by_rows(counts: &mut PairCounts, leaves: &[u64], sizes: &[f64]) -> Result<FormFactors> {
+        let n = leaves.len();
+        let mut rows = CsrMatrixBuf::row_major(n, 0)?;
+        counts.for_each(|i, j, c, _| {
+            rows.push(i, j, c as f64 / leaves[i] as f64).unwrap();
+        });
+        FormFactors::from_patch_csr(sizes, rows.finish())
+    }
+
+    proptest::proptest! {
+        /// Sparse form factors straight from the packed triangle are those of the
+        /// row-major walk, bit for bit (random sparse triangles, some rows empty but every
+        /// patch sampled, open and closed scenes).
+        #[test]
+        fn triangle_route_is_the_row_major_route(
+            n in 1usize..40,
+            cells in proptest::collection::vec((0usize..40, 0usize..40, 1u32..5000), 0..60),
+            extra in proptest::collection::vec(0u64..1000, 40),
+            sizes in proptest::collection::vec(0.01f64..1.0, 40),
+        ) {
+            let mut packed = vec![0u32; n * (n + 1) / 2];
+            for &(i, j, c) in &cells {
+                let (a, b) = (i.min(j) % n, i.max(j) % n);
+                let (a, b) = (a.min(b), a.max(b));
+                packed[b * (b + 1) / 2 + a] = c;
+            }
+            let mut counts = PairCounts::Dense {
+                n,
+                symmetric: true,
+                counts: packed,
+                carries: alloc::collections::BTreeMap::new(),
+                info: None,
+                pending: counts::Pending::new(),
+            };
+            // Leaves: each row's samples plus some that left the scene (open scenes)
+            let mut leaves = vec![0u64; n];
+            counts.for_each(|i, _, c, _| leaves[i] += c);
+            for (l, &e) in leaves.iter_mut().zip(&extra) {
+                *l += e.max(u64::from(*l == 0));
+            }
+            let sizes = &sizes[..n];
+            let triangle = sparse_from_triangle(&counts, &leaves, sizes);
+            let rows = by_rows(&mut counts, &leaves, sizes);
+            match (triangle, rows) {
+                (Ok(Some(a)), Ok(b)) => proptest::prop_assert_eq!(a, b),
+                (Ok(None), _) => {
+                    // Too full for sparse: the caller's dense route
+                    let pairs = leaves.len() * leaves.len() / SPARSE_FILL;
+                    proptest::prop_assert!(counts.nonzero_counts() as usize > pairs);
+                }
+                (Err(a), Err(b)) => proptest::prop_assert_eq!(a, b),
+                (a, b) => proptest::prop_assert!(false, "{a:?} against {b:?}"),
+            }
+        }
     }
 }

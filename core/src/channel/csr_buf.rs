@@ -130,6 +130,40 @@ impl CsrMatrixBuf {
         })
     }
 
+    /// Starts an `n × n` matrix whose row `i` will hold exactly `lengths[i]` entries,
+    /// received in any interleaving of rows but in increasing column order within each
+    /// row (a symmetric matrix read from its packed triangle in memory order gives that:
+    /// `tally`'s counts). The entries are written in place, once.
+    ///
+    /// # Errors
+    ///
+    /// [`ErrorKind::DimensionMismatch`] unless `lengths` has `n` entries;
+    /// [`ErrorKind::TooLarge`] if `n > 2³²`.
+    pub(crate) fn by_row_lengths(n: usize, lengths: &[usize]) -> Result<ScatteredCsr> {
+        check_size(n)?;
+        if lengths.len() != n {
+            return Err(Error::new(ErrorKind::DimensionMismatch {
+                expected: n,
+                found: lengths.len(),
+            }));
+        }
+        let mut row_ptr = Vec::with_capacity(n + 1);
+        let mut total = 0usize;
+        row_ptr.push(0);
+        for &len in lengths {
+            total = total.saturating_add(len);
+            row_ptr.push(total);
+        }
+        let next = row_ptr.get(..n).unwrap_or(&[]).to_vec();
+        Ok(ScatteredCsr {
+            n,
+            row_ptr,
+            next,
+            col_idx: alloc::vec![0; total],
+            values: alloc::vec![0.0; total],
+        })
+    }
+
     /// Borders the `n × n` matrix with a last column and a last row, giving an
     /// `(n + 1) × (n + 1)` matrix: entry `(i, n)` is `column[i]` and `(n, j)` is `row[j]`
     /// (`row` has `n + 1` entries, the corner last); zeros are dropped. The entries move once,
@@ -271,6 +305,70 @@ impl RowMajorCsr {
             col_idx: self.col_idx,
             values: self.values,
         }
+    }
+}
+
+/// An `n × n` CSR matrix whose row lengths are known, filled row by row in any
+/// interleaving (from [`CsrMatrixBuf::by_row_lengths`]): [`push`](Self::push) the
+/// entries, then [`finish`](Self::finish).
+#[derive(Clone, Debug)]
+pub(crate) struct ScatteredCsr {
+    n: usize,
+    row_ptr: Vec<usize>,
+    /// Where row `i`'s next entry goes.
+    next: Vec<usize>,
+    col_idx: Vec<u32>,
+    values: Vec<f64>,
+}
+
+impl ScatteredCsr {
+    /// Puts entry `(i, j) = v` after the entries of row `i` pushed before.
+    ///
+    /// # Errors
+    ///
+    /// [`ErrorKind::MalformedSparse`] if `(i, j)` is out of range, row `i` is full, `j`
+    /// is not after the row's last column, or `v` is zero (the lengths count stored
+    /// entries); [`ErrorKind::NonFiniteEntry`] / [`ErrorKind::NegativeEntry`] for a bad
+    /// `v`.
+    #[inline]
+    pub(crate) fn push(&mut self, i: usize, j: usize, v: f64) -> Result<()> {
+        check_entry(i, j, v)?;
+        let malformed = || Error::new(ErrorKind::MalformedSparse);
+        let (Some(&start), Some(&end), Some(at)) = (
+            self.row_ptr.get(i),
+            self.row_ptr.get(i + 1),
+            self.next.get_mut(i),
+        ) else {
+            return Err(malformed());
+        };
+        let k = *at;
+        let after_last = k == start || self.col_idx.get(k - 1).is_some_and(|&c| (c as usize) < j);
+        if k >= end || j >= self.n || !after_last || v == 0.0 {
+            return Err(malformed());
+        }
+        *at = k + 1;
+        if let (Some(c), Some(x)) = (self.col_idx.get_mut(k), self.values.get_mut(k)) {
+            *c = j as u32;
+            *x = v;
+        }
+        Ok(())
+    }
+
+    /// The matrix.
+    ///
+    /// # Errors
+    ///
+    /// [`ErrorKind::MalformedSparse`] if some row got fewer entries than its length.
+    pub(crate) fn finish(self) -> Result<CsrMatrixBuf> {
+        if self.next.iter().zip(self.row_ptr.get(1..).unwrap_or(&[])).any(|(a, b)| a != b) {
+            return Err(Error::new(ErrorKind::MalformedSparse));
+        }
+        Ok(CsrMatrixBuf {
+            n: self.n,
+            row_ptr: self.row_ptr,
+            col_idx: self.col_idx,
+            values: self.values,
+        })
     }
 }
 

@@ -294,12 +294,47 @@ impl<M: Transitions> Channel<'_, M> {
 /// The four compensated sums of one row that [`Channel::measures`] adds up:
 /// `H_i` (3.2), `−Σ_j η(w_i P_ij)` (3.6), `I_i` (6.8) and `Σ_j P_ij (1 − P_ij)` (3.20).
 /// Shared with the single pass of `channel::survey`, so both give the same bits.
+///
+/// The terms of an entry are remembered ([`TermMemo`]): a row of line estimates
+/// `P_ij = C_ij / N_i` holds few distinct values (most counts of a short job are 1 or 2),
+/// and a value met again reuses its logarithms, the same bits as computing them anew.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct RowMeasureSums {
     entropy: KahanSum,
     joint: KahanSum,
     information: KahanSum,
     mse: KahanSum,
+    memo: [TermMemo; MEMO_SLOTS],
+}
+
+/// Slots of [`RowMeasureSums`]' memo (direct-mapped by the entry's bits).
+const MEMO_SLOTS: usize = 4;
+
+/// The terms of one entry `(w_i, P_ij, w_j)`, by the bits of its inputs.
+#[derive(Clone, Copy, Debug)]
+struct TermMemo {
+    w_i: u64,
+    p_ij: u64,
+    w_j: u64,
+    /// `η(P_ij)`, `η(w_i P_ij)`, `P_ij (1 − P_ij)`: functions of `w_i` and `P_ij` alone.
+    eta: f64,
+    joint: f64,
+    mse: f64,
+    /// `w_i P_ij log₂(P_ij / w_j)`.
+    information: f64,
+}
+
+impl TermMemo {
+    /// No entry: NaN bits, which no accepted entry has.
+    const EMPTY: Self = Self {
+        w_i: u64::MAX,
+        p_ij: u64::MAX,
+        w_j: u64::MAX,
+        eta: 0.0,
+        joint: 0.0,
+        mse: 0.0,
+        information: 0.0,
+    };
 }
 
 impl RowMeasureSums {
@@ -309,16 +344,35 @@ impl RowMeasureSums {
             joint: KahanSum::new(),
             information: KahanSum::new(),
             mse: KahanSum::new(),
+            memo: [TermMemo::EMPTY; MEMO_SLOTS],
         }
     }
 
     /// Adds the terms of entry `P_ij` of row `i`.
     #[inline]
     pub(super) fn add(&mut self, w_i: f64, p_ij: f64, w_j: f64) {
-        self.entropy.add(eta_prob(p_ij));
-        self.joint.add(eta_prob(w_i * p_ij));
-        self.information.add(pair_information(w_i, p_ij, w_j));
-        self.mse.add(mse_term(p_ij));
+        let (wi_bits, p_bits, wj_bits) = (w_i.to_bits(), p_ij.to_bits(), w_j.to_bits());
+        // p = c / N: c and 2c differ in the exponent, c and 3c in the mantissa
+        let slot = ((p_bits >> 52) ^ (p_bits >> 45)) as usize % MEMO_SLOTS;
+        let memo = &mut self.memo[slot];
+        if memo.w_i != wi_bits || memo.p_ij != p_bits {
+            *memo = TermMemo {
+                w_i: wi_bits,
+                p_ij: p_bits,
+                w_j: wj_bits,
+                eta: eta_prob(p_ij),
+                joint: eta_prob(w_i * p_ij),
+                mse: mse_term(p_ij),
+                information: pair_information(w_i, p_ij, w_j),
+            };
+        } else if memo.w_j != wj_bits {
+            memo.w_j = wj_bits;
+            memo.information = pair_information(w_i, p_ij, w_j);
+        }
+        self.entropy.add(memo.eta);
+        self.joint.add(memo.joint);
+        self.information.add(memo.information);
+        self.mse.add(memo.mse);
     }
 }
 

@@ -315,14 +315,23 @@ pub(crate) fn coincident_face_pairs(faces: &[(&[DVec3], DVec3)]) -> Result<Vec<(
 fn first_copies(faces: &[(&[DVec3], DVec3)]) -> Vec<usize> {
     // The canonical rotation of a face: the start of its smallest vertex (by bits)
     let bits = |p: &DVec3| p.to_array().map(f64::to_bits);
-    let start = |v: &[DVec3]| (0..v.len()).min_by_key(|&k| bits(&v[k])).unwrap_or(0);
+    // Each face's vertex count, normal and start, found once rather than per comparison
+    let heads: Vec<(usize, [u64; 3], usize)> = faces
+        .iter()
+        .map(|&(v, n)| {
+            let start = (0..v.len()).min_by_key(|&k| bits(&v[k])).unwrap_or(0);
+            (v.len(), bits(&n), start)
+        })
+        .collect();
     let key = |k: usize| {
-        let (v, n) = faces[k];
-        let s = start(v);
-        (v.len(), bits(&n), v[s..].iter().chain(&v[..s]).map(bits))
+        let (v, _) = faces[k];
+        let (len, n, s) = heads[k];
+        (len, n, v[s..].iter().chain(&v[..s]).map(bits))
     };
+    // Faces by (vertex count, normal, rotated vertices), then index: a total order, so
+    // an unstable sort gives the one result
     let mut order: Vec<usize> = (0..faces.len()).collect();
-    order.sort_by(|&a, &b| {
+    order.sort_unstable_by(|&a, &b| {
         let ((la, na, va), (lb, nb, vb)) = (key(a), key(b));
         la.cmp(&lb)
             .then(na.cmp(&nb))

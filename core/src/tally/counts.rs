@@ -79,7 +79,7 @@ pub(crate) struct Pending {
 }
 
 impl Pending {
-    const fn new() -> Self {
+    pub(crate) const fn new() -> Self {
         Self {
             index: [0; PENDING],
             len: 0,
@@ -252,6 +252,48 @@ fn for_each_dense_counts(n: usize, counts: &[u32], mut f: impl FnMut(usize, usiz
             let upper_row = upper.get(row + i + 1..row + n).unwrap_or(&[]);
             for_each_nonzero(upper_row, i + 1, |j, c| f(i, j, u64::from(c), 0));
         }
+    }
+}
+
+/// Dense symmetric counts that hold nothing but `u32` counts (no carries, no per-pair
+/// information, nothing pending): the packed triangle itself, `s_ab` at [`tri`]`(a, b)`.
+/// What [`PairCounts::triangle`] lends to a one-pass reader.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Triangle<'a> {
+    n: usize,
+    counts: &'a [u32],
+}
+
+impl Triangle<'_> {
+    /// Calls `f(b, a, s_ab)` for every non-zero `s_ab`, `a ≤ b`, in memory order (`b`
+    /// increasing, then `a`): one sequential read of the counts, runs of zeros skipped a
+    /// block at a time. Full row `i` of `C` is `(i, a ≤ i)` from triangle row `i`, then
+    /// `(i, b > i)` from the later rows `b` in increasing `b`, so each full row receives
+    /// its entries in increasing column order.
+    #[inline]
+    pub(crate) fn for_each_nonzero(&self, mut f: impl FnMut(usize, usize, u32)) {
+        for b in 0..self.n {
+            let base = b * (b + 1) / 2;
+            let row = self.counts.get(base..=base + b).unwrap_or(&[]);
+            for_each_nonzero(row, 0, |a, s| f(b, a, s));
+        }
+    }
+
+    /// Number of non-zero entries in each full row of `C` (`C_ab` and `C_ba` both count
+    /// `s_ab`, the diagonal once): one sequential pass.
+    pub(crate) fn row_lengths(&self) -> Vec<usize> {
+        let mut lengths = vec![0usize; self.n];
+        self.for_each_nonzero(|b, a, _| {
+            if let Some(l) = lengths.get_mut(b) {
+                *l += 1;
+            }
+            if a != b
+                && let Some(l) = lengths.get_mut(a)
+            {
+                *l += 1;
+            }
+        });
+        lengths
     }
 }
 
@@ -813,6 +855,23 @@ impl PairCounts {
     /// Whether per-pair continuous information is kept.
     pub(crate) fn has_pair_info(&self) -> bool {
         matches!(self, Self::Dense { info: Some(_), .. })
+    }
+
+    /// The packed triangle of dense symmetric counts, when that is all they hold (no
+    /// carries, no per-pair information, nothing pending): the one-pass route of
+    /// [`crate::tally::LineTally::finish_with_sizes`] to sparse form factors.
+    pub(crate) fn triangle(&self) -> Option<Triangle<'_>> {
+        match self {
+            Self::Dense {
+                n,
+                symmetric: true,
+                counts,
+                carries,
+                info: None,
+                pending,
+            } if carries.is_empty() && pending.len == 0 => Some(Triangle { n: *n, counts }),
+            _ => None,
+        }
     }
 
     /// Whether the counts are dense.
