@@ -275,15 +275,27 @@ impl Triangle<'_> {
         for b in 0..self.n {
             let base = b * (b + 1) / 2;
             let row = self.counts.get(base..=base + b).unwrap_or(&[]);
-            for_each_nonzero(row, 0, |a, s| f(b, a, s));
+            // Mostly zeros: a wide block tested at once, then its narrow blocks
+            let mut wide = row.chunks_exact(WIDE_ZERO_RUN);
+            let mut a = 0;
+            for block in &mut wide {
+                if block.iter().fold(0, |x, &c| x | c) != 0 {
+                    for_each_nonzero(block, a, |a, s| f(b, a, s));
+                }
+                a += WIDE_ZERO_RUN;
+            }
+            for_each_nonzero(wide.remainder(), a, |a, s| f(b, a, s));
         }
     }
 
     /// Number of non-zero entries in each full row of `C` (`C_ab` and `C_ba` both count
-    /// `s_ab`, the diagonal once): one sequential pass.
-    pub(crate) fn row_lengths(&self) -> Vec<usize> {
+    /// `s_ab`, the diagonal once), and the non-zero `(b, a, s_ab)` in memory order when
+    /// there are at most `cap` of them (else `None`: read them again with
+    /// [`Self::for_each_nonzero`]): one sequential pass over the counts.
+    pub(crate) fn row_lengths(&self, cap: usize) -> (Vec<usize>, Option<Vec<(u32, u32, u32)>>) {
         let mut lengths = vec![0usize; self.n];
-        self.for_each_nonzero(|b, a, _| {
+        let mut entries = Some(Vec::new());
+        self.for_each_nonzero(|b, a, s| {
             if let Some(l) = lengths.get_mut(b) {
                 *l += 1;
             }
@@ -292,10 +304,21 @@ impl Triangle<'_> {
             {
                 *l += 1;
             }
+            if let Some(list) = &mut entries {
+                if list.len() < cap {
+                    // Dense counts have at most DENSE_COUNT_LIMIT rows: indices fit a u32
+                    list.push((b as u32, a as u32, s));
+                } else {
+                    entries = None;
+                }
+            }
         });
-        lengths
+        (lengths, entries)
     }
 }
+
+/// Entries a wide block of `Triangle::for_each_nonzero` tests at once.
+const WIDE_ZERO_RUN: usize = 64;
 
 /// Entries a block of [`for_each_nonzero`] tests at once.
 const ZERO_RUN: usize = 8;
