@@ -510,7 +510,7 @@ impl LineTally {
             PairCounts::new(0, self.method.is_global()),
         );
         counts.apply_held();
-        if let Some(form_factors) = sparse_from_triangle(&counts, leaves, sizes)? {
+        if let Some(form_factors) = sparse_from_triangle(&mut counts, leaves, sizes)? {
             drop(counts);
             let patch_continuous = self.patch_continuous();
             return Ok(LineEstimate {
@@ -578,22 +578,26 @@ impl LineTally {
 /// gathering the triangle's columns. `None` when the counts are not such a triangle or fill
 /// more than `1 / SPARSE_FILL` of the matrix (then the caller's dense route).
 fn sparse_from_triangle(
-    counts: &PairCounts,
+    counts: &mut PairCounts,
     leaves: &[u64],
     sizes: &[f64],
 ) -> Result<Option<FormFactors>> {
-    let Some(triangle) = counts.triangle() else {
-        return Ok(None);
-    };
     let n = leaves.len();
     // The non-zero counts are kept from the first pass while they are few (a short job:
     // 10⁵ lines put 61,000 in the 5400-patch cube's 14.6 M), so that the counts are read
     // once; never more than a 32nd of the counts' own size
     let cap = n * (n + 1) / 2 / 32;
-    let (lengths, entries) = triangle.row_lengths(cap);
+    let Some((lengths, entries)) = counts.triangle().map(|t| t.row_lengths(cap)) else {
+        return Ok(None);
+    };
     let pairs: usize = lengths.iter().sum();
     if pairs > n * n / SPARSE_FILL {
         return Ok(None);
+    }
+    if entries.is_some() {
+        // Not read again: freed before the matrix is allocated (58 MB for the cube), so
+        // the peak is below that of the counts and the matrix together
+        *counts = PairCounts::new(0, true);
     }
     let mut rows = CsrMatrixBuf::by_row_lengths(n, &lengths)?;
     drop(lengths);
@@ -611,13 +615,15 @@ fn sparse_from_triangle(
             misordered.get_or_insert(err);
         }
     };
-    match entries {
-        Some(list) => {
+    match (entries, counts.triangle()) {
+        (Some(list), _) => {
             for (b, a, s) in list {
                 put(b as usize, a as usize, s);
             }
         }
-        None => triangle.for_each_nonzero(put),
+        (None, Some(triangle)) => triangle.for_each_nonzero(put),
+        // (The counts were a triangle above; were they not, `finish` finds rows short)
+        (None, None) => {}
     }
     if let Some(err) = misordered {
         return Err(err);
@@ -876,7 +882,7 @@ mod tests {
                 *l += e.max(u64::from(*l == 0));
             }
             let sizes = &sizes[..n];
-            let triangle = sparse_from_triangle(&counts, &leaves, sizes);
+            let triangle = sparse_from_triangle(&mut counts.clone(), &leaves, sizes);
             let rows = by_rows(&mut counts, &leaves, sizes);
             match (triangle, rows) {
                 (Ok(Some(a)), Ok(b)) => proptest::prop_assert_eq!(a, b),
