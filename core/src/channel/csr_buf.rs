@@ -360,7 +360,12 @@ impl ScatteredCsr {
     ///
     /// [`ErrorKind::MalformedSparse`] if some row got fewer entries than its length.
     pub(crate) fn finish(self) -> Result<CsrMatrixBuf> {
-        if self.next.iter().zip(self.row_ptr.get(1..).unwrap_or(&[])).any(|(a, b)| a != b) {
+        if self
+            .next
+            .iter()
+            .zip(self.row_ptr.get(1..).unwrap_or(&[]))
+            .any(|(a, b)| a != b)
+        {
             return Err(Error::new(ErrorKind::MalformedSparse));
         }
         Ok(CsrMatrixBuf {
