@@ -292,7 +292,7 @@ impl Triangle<'_> {
     /// `s_ab`, the diagonal once), and the non-zero `(b, a, s_ab)` in memory order when
     /// there are at most `cap` of them (else `None`: read them again with
     /// [`Self::for_each_nonzero`]): one sequential pass over the counts.
-    pub(crate) fn row_lengths(&self, cap: usize) -> (Vec<usize>, Option<Vec<(u32, u32, u32)>>) {
+    pub(crate) fn row_lengths(&self, cap: usize) -> (Vec<usize>, Option<Vec<TriangleEntry>>) {
         let mut lengths = vec![0usize; self.n];
         let mut entries = Some(Vec::new());
         self.for_each_nonzero(|b, a, s| {
@@ -316,6 +316,9 @@ impl Triangle<'_> {
         (lengths, entries)
     }
 }
+
+/// A non-zero count of a [`Triangle`]: `(b, a, s_ab)`, `a ≤ b`.
+pub(crate) type TriangleEntry = (u32, u32, u32);
 
 /// Entries a wide block of `Triangle::for_each_nonzero` tests at once.
 const WIDE_ZERO_RUN: usize = 64;
