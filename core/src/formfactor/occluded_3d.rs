@@ -81,7 +81,10 @@
 //! `2 tol · min(A_i, A_j)` is not integrated either: its occluded flux lies in `[0, Φ]`,
 //! so `Φ / 2` with the error bound `Φ / 2` (a true bound, not an a-posteriori estimate)
 //! meets the tolerance for both `F_ij` and `F_ji` (`bounded_by_unoccluded`); these count
-//! among [`OccludedFormFactors::pairs_integrated`]. In the outer integral, each triangle keeps the candidates of
+//! among [`OccludedFormFactors::pairs_integrated`]. Such a pair is tested before its
+//! candidates are searched (the search costs more than the bound): only the box tree
+//! walked with its shaft, and when that meets no occluder the pair keeps its exact value;
+//! a pair that one or several occluders hide is then bounded, not 0. In the outer integral, each triangle keeps the candidates of
 //! the hull of it and the target: with none left, its flux is the exact unoccluded one
 //! ([`exact_3d::unoccluded_flux`] on the triangle), and with one hiding it wholly, 0; only
 //! the other triangles are refined. A pair with no candidate keeps the exact unoccluded
@@ -473,20 +476,19 @@ fn hidden_by_solid(
 const BOUND_MARGIN: f64 = 1e-9;
 
 /// The pair's flux settled by a bound instead of an integral, when the bound is within
-/// the tolerance: the occluded flux lies in `[0, Φ]` with `Φ` the unoccluded flux
-/// ([`pair_flux`]: both patches clipped to the front of the other's plane, where the
+/// the tolerance: the occluded flux lies in `[0, Φ]` with `Φ = unoccluded` the unoccluded
+/// flux ([`pair_flux`]: both patches clipped to the front of the other's plane, where the
 /// integrand of (2.9) is `≥ 0`, so `V ≤ 1` can only lower it). When
 /// `Φ' / 2 ≤ tol · min(A_i, A_j)`, with `Φ' = (1 + BOUND_MARGIN) Φ` covering rounding,
 /// the flux is `Φ' / 2` with the error bound `Φ' / 2`: a true bound, not an estimate, and
 /// within the tolerance of both `F_ij` and `F_ji`. `None` otherwise (integrate).
 fn bounded_by_unoccluded(
-    src: &[DVec3],
+    unoccluded: f64,
     ps: &Plane,
-    tgt: &[DVec3],
     pt: &Plane,
     tolerance: f64,
 ) -> Option<OccludedFlux> {
-    let upper = pair_flux(src, ps, tgt, pt).0.max(0.0) * (1.0 + BOUND_MARGIN);
+    let upper = unoccluded.max(0.0) * (1.0 + BOUND_MARGIN);
     (upper.is_finite() && 0.5 * upper <= tolerance * ps.area.min(pt.area)).then_some(
         OccludedFlux {
             flux: 0.5 * upper,
@@ -729,6 +731,32 @@ impl<'a> Prepared<'a> {
             {
                 continue;
             }
+            let flux = pair_flux(src, ps, tgt, pt).0;
+            if self.may_occlude
+                && let Some(b) = bounded_by_unoccluded(flux, ps, pt, self.options.tolerance)
+            {
+                // Small enough to bound: only the box tree walked with the shaft (the
+                // first step of `candidates`); nothing met, the exact value.
+                let (hlo, hhi) = (
+                    self.boxes[i].0.min(self.boxes[j].0),
+                    self.boxes[i].1.max(self.boxes[j].1),
+                );
+                shaft.of((src, ps), (tgt, pt), self.touch);
+                self.occ
+                    .overlapping(hlo, hhi, self.touch, &shaft, &mut scratch);
+                let r = if scratch.is_empty() {
+                    OccludedFlux {
+                        flux,
+                        error: 0.0,
+                        points: 0,
+                    }
+                } else {
+                    out.integrated += 1;
+                    b
+                };
+                out.pairs.push((j, r.flux, r.error));
+                continue;
+            }
             if self.may_occlude {
                 candidates(
                     polys,
@@ -743,7 +771,7 @@ impl<'a> Prepared<'a> {
             }
             let r = if !self.may_occlude || cand.is_empty() {
                 OccludedFlux {
-                    flux: pair_flux(src, ps, tgt, pt).0,
+                    flux,
                     error: 0.0,
                     points: 0,
                 }
@@ -771,10 +799,6 @@ impl<'a> Prepared<'a> {
             )? {
                 out.blocked += 1;
                 continue;
-            } else if let Some(r) = bounded_by_unoccluded(src, ps, tgt, pt, self.options.tolerance)
-            {
-                out.integrated += 1;
-                r
             } else {
                 out.integrated += 1;
                 // Integrate over the smaller patch (ties: the first).

@@ -158,7 +158,7 @@ fn scale_probe() {
                 }
             }
             let unocc = pair_flux(src, ps, tgt, pt).0;
-            if !joint && !full && bounded_by_unoccluded(src, ps, tgt, pt, tol).is_some() {
+            if !joint && !full && bounded_by_unoccluded(unocc, ps, pt, tol).is_some() {
                 bounded.add(t0.elapsed().as_secs_f64(), 0, cand.len());
                 continue;
             }
@@ -189,7 +189,7 @@ fn scale_probe() {
             if joint {
                 joint_integrated.add(s, r.points, nc);
                 let seen = seen_from_samples((src, ps), (tgt, pt), &prep.occ.list, &cand);
-                assert!(seen == 0.0, "({i}, {j}) hidden jointly, yet seen from samples: {seen:e}");
+                assert!(seen <= 1e-12, "({i}, {j}) hidden jointly, yet seen from samples: {seen:e}");
             } else if r.flux <= 1e-3 * unocc {
                 nearly_hidden.add(s, r.points, nc);
             }
@@ -278,7 +278,7 @@ fn two_plates_hide_a_pair_jointly() {
         })
         .collect();
     let seen = seen_from_samples((planes[0].0, &planes[0].1), (planes[1].0, &planes[1].1), &occ, &[0, 1]);
-    assert_eq!(seen, 0.0);
+    assert!(seen <= 1e-12, "{seen:e}");
     // Either plate alone leaves part of the ceiling in view.
     for k in 0..2 {
         assert!(seen_from_samples((planes[0].0, &planes[0].1), (planes[1].0, &planes[1].1), &occ, &[k]) > 0.0);
@@ -367,7 +367,8 @@ fn pairs_hidden_jointly_are_hidden_from_sampled_points() {
             if joint {
                 hidden += 1;
                 let seen = seen_from_samples((src, &ps), (tgt, &pt), &prep.occ.list, &cand);
-                assert_eq!(seen, 0.0, "({i}, {j})");
+                // Rounding of Lambert's sums over the pieces left: far below any tolerance.
+                assert!(seen <= 1e-12, "({i}, {j}): {seen:e}");
             }
         }
     }
