@@ -489,13 +489,11 @@ fn bounded_by_unoccluded(
     tolerance: f64,
 ) -> Option<OccludedFlux> {
     let upper = unoccluded.max(0.0) * (1.0 + BOUND_MARGIN);
-    (upper.is_finite() && 0.5 * upper <= tolerance * ps.area.min(pt.area)).then_some(
-        OccludedFlux {
-            flux: 0.5 * upper,
-            error: 0.5 * upper,
-            points: 0,
-        },
-    )
+    (upper.is_finite() && 0.5 * upper <= tolerance * ps.area.min(pt.area)).then_some(OccludedFlux {
+        flux: 0.5 * upper,
+        error: 0.5 * upper,
+        points: 0,
+    })
 }
 
 /// The adaptive flux from `src` (the integration side) to `tgt` past the occluders

@@ -189,7 +189,10 @@ fn scale_probe() {
             if joint {
                 joint_integrated.add(s, r.points, nc);
                 let seen = seen_from_samples((src, ps), (tgt, pt), &prep.occ.list, &cand);
-                assert!(seen <= 1e-12, "({i}, {j}) hidden jointly, yet seen from samples: {seen:e}");
+                assert!(
+                    seen <= 1e-12,
+                    "({i}, {j}) hidden jointly, yet seen from samples: {seen:e}"
+                );
             } else if r.flux <= 1e-3 * unocc {
                 nearly_hidden.add(s, r.points, nc);
             }
@@ -207,7 +210,10 @@ fn scale_probe() {
         ("bounded (F_unocc/2 <= tol)", &bounded),
         ("integrated, F_unocc/2 <= tol", &small),
         ("integrated, the others", &integrated),
-        ("  integrated, not jointly hidden, flux <= 1e-3 F_unocc", &nearly_hidden),
+        (
+            "  integrated, not jointly hidden, flux <= 1e-3 F_unocc",
+            &nearly_hidden,
+        ),
         ("  (full) integrated, jointly hidden", &joint_integrated),
     ] {
         println!(
@@ -277,15 +283,31 @@ fn two_plates_hide_a_pair_jointly() {
             }
         })
         .collect();
-    let seen = seen_from_samples((planes[0].0, &planes[0].1), (planes[1].0, &planes[1].1), &occ, &[0, 1]);
+    let seen = seen_from_samples(
+        (planes[0].0, &planes[0].1),
+        (planes[1].0, &planes[1].1),
+        &occ,
+        &[0, 1],
+    );
     assert!(seen <= 1e-12, "{seen:e}");
     // Either plate alone leaves part of the ceiling in view.
     for k in 0..2 {
-        assert!(seen_from_samples((planes[0].0, &planes[0].1), (planes[1].0, &planes[1].1), &occ, &[k]) > 0.0);
+        assert!(
+            seen_from_samples(
+                (planes[0].0, &planes[0].1),
+                (planes[1].0, &planes[1].1),
+                &occ,
+                &[k]
+            ) > 0.0
+        );
     }
     let (points, polys) = two_plates(0.5, 0.5);
     let r = form_factors_occluded(&points, &polys, &OcclusionOptions::new(1e-6)).unwrap();
-    assert!(r.form_factors.get(0, 1) > 1e-3, "{}", r.form_factors.get(0, 1));
+    assert!(
+        r.form_factors.get(0, 1) > 1e-3,
+        "{}",
+        r.form_factors.get(0, 1)
+    );
 }
 
 /// Random boxes in a room: every pair the umbra test declares hidden is hidden from every
@@ -324,7 +346,11 @@ fn pairs_hidden_jointly_are_hidden_from_sampled_points() {
         (state >> 11) as f64 / (1u64 << 53) as f64
     };
     for _ in 0..30 {
-        let lo = v(0.05 + 0.8 * next(), 0.05 + 0.8 * next(), 0.05 + 0.8 * next());
+        let lo = v(
+            0.05 + 0.8 * next(),
+            0.05 + 0.8 * next(),
+            0.05 + 0.8 * next(),
+        );
         polys.extend(box_faces(lo, lo + DVec3::splat(0.1)));
     }
     let mut points = Vec::new();
