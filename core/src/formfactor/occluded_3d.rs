@@ -783,10 +783,7 @@ impl<'a> Prepared<'a> {
                 (src, tgt),
                 self.touch,
                 &mut seen,
-            ) {
-                out.blocked += 1;
-                continue;
-            } else if umbra::hidden_jointly(
+            ) || umbra::hidden_jointly(
                 (src, tgt, pt.area),
                 &visible::Target::new(tgt, *pt),
                 (&self.occ.list, &self.occ.solids, &self.occ.solid_of),
