@@ -154,8 +154,7 @@ pub(crate) fn initial_triangles(
         }
     }
     let events = event_segments(src, ps, target, occluders, tol);
-    let mut cuts: Vec<(Line, Option<(DVec3, DVec3)>)> =
-        lines.iter().map(|&l| (l, None)).collect();
+    let mut cuts: Vec<(Line, Option<(DVec3, DVec3)>)> = lines.iter().map(|&l| (l, None)).collect();
     if events.len() <= MAX_EVENT_LINES {
         cuts.extend(events.into_iter().map(|(l, a, b)| (l, Some((a, b)))));
     }
@@ -453,13 +452,19 @@ mod tests {
             .iter()
             .map(|t| 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).dot(DVec3::Z))
             .sum();
-        assert!((area - 1.0).abs() < 1e-14, "the cells tile the source: {area}");
+        assert!(
+            (area - 1.0).abs() < 1e-14,
+            "the cells tile the source: {area}"
+        );
         // No triangle straddles an event line.
         for t in &tris {
             for c in [-0.3, 0.3] {
                 for side in [|p: DVec3| p.x, |p: DVec3| p.y] {
                     let lo = t.iter().map(|&p| side(p) - c).fold(f64::INFINITY, f64::min);
-                    let hi = t.iter().map(|&p| side(p) - c).fold(f64::NEG_INFINITY, f64::max);
+                    let hi = t
+                        .iter()
+                        .map(|&p| side(p) - c)
+                        .fold(f64::NEG_INFINITY, f64::max);
                     assert!(lo >= -1e-12 || hi <= 1e-12, "{t:?} straddles {c}");
                 }
             }

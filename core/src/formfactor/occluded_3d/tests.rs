@@ -782,4 +782,3 @@ fn leaving_out_a_box_s_back_faces_keeps_the_form_factor() {
         plain.error / area
     );
 }
-
