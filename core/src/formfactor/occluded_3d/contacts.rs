@@ -26,8 +26,13 @@
 //! its corners. On each cell `g` is then smooth in the direction from `c` (the shadow keeps
 //! its combinatorics), and for a smooth degree-0 function the corner child carries a quarter
 //! of the parent's error, so `|Q_fine − Q_coarse|` is about three quarters of the coarse
-//! error and the estimate (`outer.rs`) holds again. Other events (away from contacts) are
-//! at a positive distance from the source and are resolved by the refinement as before.
+//! error and the estimate (`outer.rs`) holds again.
+//!
+//! **Events away from contacts.** The EV events between the target and the occluders
+//! ([`event_segments`]) cut the cells they pass through as well, so the adaptive integral
+//! meets no such kink inside a cell (discontinuity meshing: Heckbert 1992; Lischinski,
+//! Tampieri & Greenberg 1992). EV events between two occluders and EEE events are not cut:
+//! the refinement follows them as before.
 //!
 //! Bounded: at most [`MAX_CONTACT_LINES`] lines per pair (beyond, the rest are not cut:
 //! only the estimate's reliability is lost, never the value's correctness).
