@@ -347,7 +347,7 @@ fn event_segments(
         if (near - c).length() > reach || !near.is_finite() {
             return;
         }
-        let half = (reach * reach / dd).sqrt();
+        let half = crate::math::sqrt(reach * reach / dd);
         let (a2, b2) = (a + (t - half).max(0.0) * d, a + (t + half).min(1.0) * d);
         if segment_meets(src, n, a2, b2, tol) {
             out.push((
