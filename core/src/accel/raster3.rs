@@ -218,6 +218,20 @@ impl Frame {
         [self.e1.dot(w), self.e2.dot(w), self.d.dot(w)]
     }
 
+    /// [`Frame::project`] without the depth (its third entry 0): the same bits for the
+    /// first two.
+    #[inline(always)]
+    fn project_across(&self, v: DVec3) -> [f64; 3] {
+        let w = v - self.c;
+        [self.e1.dot(w), self.e2.dot(w), 0.0]
+    }
+
+    /// The depth of [`Frame::project`] alone (the same bits).
+    #[inline(always)]
+    fn depth(&self, v: DVec3) -> f64 {
+        self.d.dot(v - self.c)
+    }
+
     /// The parameter of the hit of the line through `(a, b)` with the plane of unit normal
     /// `n` through `p0`, clamped into the depths `[near − δ, far + δ]` of the polygon;
     /// `None` if the line is parallel to the plane or `t` is not finite.
@@ -715,9 +729,11 @@ impl ParallelRaster3 {
             let quads = &self.quads[rs.first_quad as usize..][..sheet.len()];
             let planes = &self.quad_planes[rs.first_quad as usize..][..sheet.len()];
             let quad_corners = &self.quad_corners[rs.first_quad as usize..][..sheet.len()];
+            // What the window of every candidate shares (one division per sheet and bundle)
+            let projected = sheet.projected((pu[0], pu[1]), (pv[0], pv[1]), tau);
             for_each_candidate(frame, rows, lo, hi, frame.delta + tau, |line, a, b| {
                 let rel = (pa[0] - a, pa[1] - b);
-                let (cols, rws) = sheet.window_projected(rel, (pu[0], pu[1]), (pv[0], pv[1]), tau);
+                let (cols, rws) = projected.window(rel);
                 for j in rws {
                     for i in cols.clone() {
                         let o = (j * m + i) as usize;
@@ -725,21 +741,30 @@ impl ParallelRaster3 {
                             continue;
                         };
                         let vertex = |k: usize| sheet_projected.get(c[k] as usize).copied();
-                        // Written out: `q.map(…)` was not inlined (7 % of a cube job)
-                        let p = match (all_projected, vertex(0), vertex(1), vertex(2), vertex(3)) {
-                            (true, Some(p0), Some(p1), Some(p2), Some(p3)) => [p0, p1, p2, p3],
-                            _ => [
-                                frame.project(q[0]),
-                                frame.project(q[1]),
-                                frame.project(q[2]),
-                                frame.project(q[3]),
-                            ],
-                        };
+                        // Written out: `q.map(…)` was not inlined (7 % of a cube job). Quads
+                        // projected here get their depths only if crossed (most are not)
+                        let (p, depths) =
+                            match (all_projected, vertex(0), vertex(1), vertex(2), vertex(3)) {
+                                (true, Some(p0), Some(p1), Some(p2), Some(p3)) => {
+                                    ([p0, p1, p2, p3], true)
+                                }
+                                _ => (
+                                    [
+                                        frame.project_across(q[0]),
+                                        frame.project_across(q[1]),
+                                        frame.project_across(q[2]),
+                                        frame.project_across(q[3]),
+                                    ],
+                                    false,
+                                ),
+                            };
                         if !crosses(p.iter().copied(), p[3], a, b) {
                             continue;
                         }
-                        let near = p[0][2].min(p[1][2]).min(p[2][2]).min(p[3][2]);
-                        let far = p[0][2].max(p[1][2]).max(p[2][2]).max(p[3][2]);
+                        let depth = |k: usize| if depths { p[k][2] } else { frame.depth(q[k]) };
+                        let (d0, d1, d2, d3) = (depth(0), depth(1), depth(2), depth(3));
+                        let near = d0.min(d1).min(d2).min(d3);
+                        let far = d0.max(d1).max(d2).max(d3);
                         let Some(&(n, p0)) = planes.get(o) else {
                             continue;
                         };
