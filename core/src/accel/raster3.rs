@@ -763,8 +763,11 @@ impl ParallelRaster3 {
                         }
                         let depth = |k: usize| if depths { p[k][2] } else { frame.depth(q[k]) };
                         let (d0, d1, d2, d3) = (depth(0), depth(1), depth(2), depth(3));
-                        let near = lesser(lesser(lesser(d0, d1), d2), d3);
-                        let far = greater(greater(greater(d0, d1), d2), d3);
+                        // From ±∞, as `f64::min`/`max` fold (a NaN depth is passed over)
+                        let near = [d0, d1, d2, d3].into_iter().fold(f64::INFINITY, lesser);
+                        let far = [d0, d1, d2, d3]
+                            .into_iter()
+                            .fold(f64::NEG_INFINITY, greater);
                         let Some(&(n, p0)) = planes.get(o) else {
                             continue;
                         };
@@ -832,11 +835,12 @@ fn for_each_candidate(
     }
 }
 
-/// The smaller of `a` and `b` by one comparison: [`f64::min`] for numbers (all the
-/// raster compares: projections and depths of finite vertices, and `t`, which is not NaN),
-/// without its NaN handling (a few instructions more per call in the hot loops). Where `a`
-/// and `b` are zeros of both signs it may differ from `f64::min` in the sign; every
-/// caller's result is the same either way (bounds grown by a margin; `t` gets `+ 0.0`).
+/// The smaller of `a` and `b` by one comparison: [`f64::min`] without its NaN handling (a
+/// few instructions more per call in the hot loops). It equals `f64::min` when `a` is not
+/// NaN (a NaN `b` is passed over, as `f64::min` does): every caller folds from `±∞` or
+/// clamps `t`, which is not NaN. Where `a` and `b` are zeros of both signs it may differ
+/// from `f64::min` in the sign; every caller's result is the same either way (bounds grown
+/// by a margin; `t` gets `+ 0.0`).
 #[inline(always)]
 fn lesser(a: f64, b: f64) -> f64 {
     if b < a { b } else { a }
