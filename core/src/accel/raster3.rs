@@ -218,6 +218,20 @@ impl Frame {
         [self.e1.dot(w), self.e2.dot(w), self.d.dot(w)]
     }
 
+    /// [`Frame::project`] without the depth (its third entry 0): the same bits for the
+    /// first two.
+    #[inline(always)]
+    fn project_across(&self, v: DVec3) -> [f64; 3] {
+        let w = v - self.c;
+        [self.e1.dot(w), self.e2.dot(w), 0.0]
+    }
+
+    /// The depth of [`Frame::project`] alone (the same bits).
+    #[inline(always)]
+    fn depth(&self, v: DVec3) -> f64 {
+        self.d.dot(v - self.c)
+    }
+
     /// The parameter of the hit of the line through `(a, b)` with the plane of unit normal
     /// `n` through `p0`, clamped into the depths `[near − δ, far + δ]` of the polygon;
     /// `None` if the line is parallel to the plane or `t` is not finite.
@@ -232,7 +246,7 @@ impl Frame {
             return None;
         }
         // `+ 0.0` turns −0 into +0.
-        let t = t.max(near - self.delta).min(far + self.delta) + 0.0;
+        let t = lesser(greater(t, near - self.delta), far + self.delta) + 0.0;
         t.is_finite().then_some(t)
     }
 }
@@ -588,8 +602,8 @@ impl ParallelRaster3 {
         }
         let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
         for p in &local[..ids.len()] {
-            lo = [lo[0].min(p[0]), lo[1].min(p[1]), 0.0];
-            hi = [hi[0].max(p[0]), hi[1].max(p[1]), 0.0];
+            lo = [lesser(lo[0], p[0]), lesser(lo[1], p[1]), 0.0];
+            hi = [greater(hi[0], p[0]), greater(hi[1], p[1]), 0.0];
         }
         let edges = &self.group_edges[group.edges.0 as usize..group.edges.1 as usize];
         let polygons = group.first as usize..group.end as usize;
@@ -638,8 +652,8 @@ impl ParallelRaster3 {
         let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
         for &v in &self.group_vertices[group.vertices.0 as usize..group.vertices.1 as usize] {
             let p = projected[v as usize];
-            lo = [lo[0].min(p[0]), lo[1].min(p[1]), 0.0];
-            hi = [hi[0].max(p[0]), hi[1].max(p[1]), 0.0];
+            lo = [lesser(lo[0], p[0]), lesser(lo[1], p[1]), 0.0];
+            hi = [greater(hi[0], p[0]), greater(hi[1], p[1]), 0.0];
         }
         for_each_candidate(frame, rows, lo, hi, frame.delta, |line, a, b| {
             for k in group.first as usize..group.end as usize {
@@ -671,8 +685,8 @@ impl ParallelRaster3 {
         let (mut near, mut far) = (f64::INFINITY, f64::NEG_INFINITY);
         for &v in self.polygon_corners(k) {
             let depth = projected[v as usize][2];
-            near = near.min(depth);
-            far = far.max(depth);
+            near = lesser(near, depth);
+            far = greater(far, depth);
         }
         let t = frame.plane_t(self.normal[k], self.p0[k], a, b, near, far)?;
         Some(Hit3 {
@@ -709,15 +723,17 @@ impl ParallelRaster3 {
             for (i, j) in [(0.0, 0.0), (mf, 0.0), (0.0, kf), (mf, kf)] {
                 let x = pa[0] + i * pu[0] + j * pv[0];
                 let y = pa[1] + i * pu[1] + j * pv[1];
-                lo = [lo[0].min(x), lo[1].min(y), 0.0];
-                hi = [hi[0].max(x), hi[1].max(y), 0.0];
+                lo = [lesser(lo[0], x), lesser(lo[1], y), 0.0];
+                hi = [greater(hi[0], x), greater(hi[1], y), 0.0];
             }
             let quads = &self.quads[rs.first_quad as usize..][..sheet.len()];
             let planes = &self.quad_planes[rs.first_quad as usize..][..sheet.len()];
             let quad_corners = &self.quad_corners[rs.first_quad as usize..][..sheet.len()];
+            // What the window of every candidate shares (one division per sheet and bundle)
+            let projected = sheet.projected((pu[0], pu[1]), (pv[0], pv[1]), tau);
             for_each_candidate(frame, rows, lo, hi, frame.delta + tau, |line, a, b| {
                 let rel = (pa[0] - a, pa[1] - b);
-                let (cols, rws) = sheet.window_projected(rel, (pu[0], pu[1]), (pv[0], pv[1]), tau);
+                let (cols, rws) = projected.window(rel);
                 for j in rws {
                     for i in cols.clone() {
                         let o = (j * m + i) as usize;
@@ -725,21 +741,33 @@ impl ParallelRaster3 {
                             continue;
                         };
                         let vertex = |k: usize| sheet_projected.get(c[k] as usize).copied();
-                        // Written out: `q.map(…)` was not inlined (7 % of a cube job)
-                        let p = match (all_projected, vertex(0), vertex(1), vertex(2), vertex(3)) {
-                            (true, Some(p0), Some(p1), Some(p2), Some(p3)) => [p0, p1, p2, p3],
-                            _ => [
-                                frame.project(q[0]),
-                                frame.project(q[1]),
-                                frame.project(q[2]),
-                                frame.project(q[3]),
-                            ],
-                        };
+                        // Written out: `q.map(…)` was not inlined (7 % of a cube job). Quads
+                        // projected here get their depths only if crossed (most are not)
+                        let (p, depths) =
+                            match (all_projected, vertex(0), vertex(1), vertex(2), vertex(3)) {
+                                (true, Some(p0), Some(p1), Some(p2), Some(p3)) => {
+                                    ([p0, p1, p2, p3], true)
+                                }
+                                _ => (
+                                    [
+                                        frame.project_across(q[0]),
+                                        frame.project_across(q[1]),
+                                        frame.project_across(q[2]),
+                                        frame.project_across(q[3]),
+                                    ],
+                                    false,
+                                ),
+                            };
                         if !crosses(p.iter().copied(), p[3], a, b) {
                             continue;
                         }
-                        let near = p[0][2].min(p[1][2]).min(p[2][2]).min(p[3][2]);
-                        let far = p[0][2].max(p[1][2]).max(p[2][2]).max(p[3][2]);
+                        let depth = |k: usize| if depths { p[k][2] } else { frame.depth(q[k]) };
+                        let (d0, d1, d2, d3) = (depth(0), depth(1), depth(2), depth(3));
+                        // From ±∞, as `f64::min`/`max` fold (a NaN depth is passed over)
+                        let near = [d0, d1, d2, d3].into_iter().fold(f64::INFINITY, lesser);
+                        let far = [d0, d1, d2, d3]
+                            .into_iter()
+                            .fold(f64::NEG_INFINITY, greater);
                         let Some(&(n, p0)) = planes.get(o) else {
                             continue;
                         };
@@ -805,6 +833,23 @@ fn for_each_candidate(
             f(rows.line[row] + q as u32, a, b);
         }
     }
+}
+
+/// The smaller of `a` and `b` by one comparison: [`f64::min`] without its NaN handling (a
+/// few instructions more per call in the hot loops). It equals `f64::min` when `a` is not
+/// NaN (a NaN `b` is passed over, as `f64::min` does): every caller folds from `±∞` or
+/// clamps `t`, which is not NaN. Where `a` and `b` are zeros of both signs it may differ
+/// from `f64::min` in the sign; every caller's result is the same either way (bounds grown
+/// by a margin; `t` gets `+ 0.0`).
+#[inline(always)]
+fn lesser(a: f64, b: f64) -> f64 {
+    if b < a { b } else { a }
+}
+
+/// The larger of `a` and `b` by one comparison (see [`lesser`]).
+#[inline(always)]
+fn greater(a: f64, b: f64) -> f64 {
+    if b > a { b } else { a }
 }
 
 /// `⌊x⌋` as an integer, for the lattice indices of a bundle (`|x|` far below `2⁶³`; `as`
