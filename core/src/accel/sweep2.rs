@@ -391,6 +391,7 @@ mod tests {
     use super::*;
     use crate::accel::{Bvh2, all_hits_naive};
     use crate::lines::{BoundingCircle, canonical, canonical_2d, chunk_rng, sample_global_line_2d};
+    use alloc::vec;
     use proptest::prelude::*;
 
     /// A scene-like soup: random segments, some sharing endpoints, some axis-aligned.
@@ -450,6 +451,14 @@ mod tests {
             assert_eq!(naive, tree);
         }
         assert!(out.line_hits(m as usize).is_empty());
+        // The hits found per segment: those of the lines, segment by segment
+        let mut per_segment = vec![0u32; segs.len()];
+        for k in 0..m as usize {
+            for h in out.line_hits(k) {
+                per_segment[h.prim as usize] += 1;
+            }
+        }
+        assert_eq!(out.found(), &per_segment[..]);
         // The unsorted cast: the same hits, already in order wherever `t` strictly
         // increases, and in order once sorted
         let mut unsorted = out.clone();
@@ -463,6 +472,13 @@ mod tests {
             assert_eq!(unsorted.sort_line(k), out.line_hits(k), "line {k}");
         }
         assert!(unsorted.sort_line(m as usize).is_empty());
+        assert_eq!(unsorted.found(), &per_segment[..]);
+        // A line taken out of the counts: its hits leave them, and only its hits
+        unsorted.uncount_line(0);
+        for h in out.line_hits(0) {
+            per_segment[h.prim as usize] -= 1;
+        }
+        assert_eq!(unsorted.found(), &per_segment[..]);
     }
 
     proptest! {
