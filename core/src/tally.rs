@@ -271,6 +271,15 @@ impl LineTally {
         }
     }
 
+    /// `counts[i]` samples leave patch `i` from its front side, for every `i` ([`LineTally::leave`]
+    /// `counts[i]` times).
+    #[inline]
+    pub(crate) fn leave_counts(&mut self, counts: &[u32]) {
+        for (c, &n) in self.leaves.iter_mut().zip(counts) {
+            *c += u64::from(n);
+        }
+    }
+
     /// A global-line segment between mutually facing patches `i` and `j` with continuous
     /// term `s` (if not degenerate): one sample for each end. Returns the line-sum
     /// contribution (`2s`).

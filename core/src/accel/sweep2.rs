@@ -92,6 +92,8 @@ pub(crate) struct BundleHits2 {
     order: Vec<u32>,
     /// The direction `order` was sorted for.
     order_dir: DVec2,
+    /// Hits found on each segment by the last cast (indexed by segment).
+    found: Vec<u32>,
 }
 
 impl ParallelSweep2 {
@@ -139,6 +141,7 @@ impl ParallelSweep2 {
         out.start.clear();
         out.start.resize(mu + 1, 0);
         out.ranges.clear();
+        out.ranges.resize(self.a.len(), (0, 0));
         let to_k = 0.5 * f64::from(m) / r;
         let u1 = bundle.shift();
         let d = bundle.dir();
@@ -147,18 +150,32 @@ impl ParallelSweep2 {
         let reorder = out.order.len() != self.a.len()
             || !((d - out.order_dir).length_squared() <= REORDER_TURN * REORDER_TURN);
         out.depth.clear();
-        for (a, e) in self.a.iter().zip(&self.e) {
+        if reorder {
+            out.depth.extend(
+                self.a
+                    .iter()
+                    .zip(&self.e)
+                    .map(|(a, e)| d.dot(*a - c) + 0.5 * d.dot(*e)),
+            );
+        }
+        // (slices, so that their lengths and addresses stay in registers)
+        let (offsets, start) = (&out.offsets[..], &mut out.start[..]);
+        for ((a, e), range) in self.a.iter().zip(&self.e).zip(&mut out.ranges) {
             let pa = n.dot(*a - c);
             let pb = pa + n.dot(*e);
-            if reorder {
-                out.depth.push(d.dot(*a - c) + 0.5 * d.dot(*e));
+            // (a NaN projection gives an empty range below, or candidates the exact test
+            // rejects: no hit either way)
+            let (lo, hi) = if pa <= pb { (pa, pb) } else { (pb, pa) };
+            let (lo, hi) = (lo - delta, hi + delta);
+            let k0 = first_at_least(offsets, lo, (lo + r) * to_k - u1);
+            let k1 = first_above(offsets, hi, (hi + r) * to_k - u1).max(k0);
+            *range = (k0, k1);
+            if let Some(s) = start.get_mut(k0 as usize) {
+                *s = s.wrapping_add(1);
             }
-            let (lo, hi) = (pa.min(pb) - delta, pa.max(pb) + delta);
-            let k0 = first_at_least(&out.offsets, lo, (lo + r) * to_k - u1);
-            let k1 = first_above(&out.offsets, hi, (hi + r) * to_k - u1).max(k0);
-            out.ranges.push((k0, k1));
-            out.start[k0 as usize] = out.start[k0 as usize].wrapping_add(1);
-            out.start[k1 as usize] = out.start[k1 as usize].wrapping_sub(1);
+            if let Some(s) = start.get_mut(k1 as usize) {
+                *s = s.wrapping_sub(1);
+            }
         }
         // Bucket starts: prefix sums of the counts (the wrapping differences add up to
         // counts ≥ 0, as every range has k₀ ≤ k₁)
@@ -187,27 +204,37 @@ impl ParallelSweep2 {
         // The lines' origins, as the lines compute them
         out.origins.clear();
         out.origins.extend(out.offsets.iter().map(|&p| c + n * p));
+        out.found.clear();
+        out.found.resize(self.a.len(), 0);
         let BundleHits2 {
             origins,
             ranges,
             end,
             hits,
             order,
+            found,
             ..
         } = out;
         for &prim in order.iter() {
             let p = prim as usize;
-            let (Some(&(k0, k1)), Some(a), Some(e)) = (ranges.get(p), self.a.get(p), self.e.get(p))
-            else {
+            let (Some(&(k0, k1)), Some(a), Some(e), Some(found)) = (
+                ranges.get(p),
+                self.a.get(p),
+                self.e.get(p),
+                found.get_mut(p),
+            ) else {
                 continue;
             };
             let lines = k0 as usize..k1 as usize;
+            let mut n = 0u32;
             for (&o, end) in origins[lines.clone()].iter().zip(&mut end[lines]) {
                 if let Some(t) = query.with_origin(o).hit(*a, *e) {
                     hits[*end] = Hit2 { t, prim };
                     *end += 1;
+                    n += 1;
                 }
             }
+            *found = n;
         }
     }
 }
@@ -228,6 +255,26 @@ impl BundleHits2 {
         match (self.start.get(k), self.end.get(k)) {
             (Some(&s), Some(&e)) => &self.hits[s..e],
             _ => &[],
+        }
+    }
+
+    /// The number of hits the last cast found on each segment (indexed by segment, as
+    /// [`ParallelSweep2::new`] got them), less those of the lines passed to
+    /// [`BundleHits2::uncount_line`] since.
+    #[must_use]
+    pub fn found(&self) -> &[u32] {
+        &self.found
+    }
+
+    /// Takes the hits of line `k` out of [`BundleHits2::found`] (a line the caller
+    /// counts by itself); the hits stay readable.
+    pub fn uncount_line(&mut self, k: usize) {
+        if let (Some(&s), Some(&e)) = (self.start.get(k), self.end.get(k)) {
+            for h in &self.hits[s..e] {
+                if let Some(n) = self.found.get_mut(h.prim as usize) {
+                    *n = n.saturating_sub(1);
+                }
+            }
         }
     }
 
@@ -302,13 +349,20 @@ fn sort_nearly_sorted(hits: &mut [Hit2]) {
     }
 }
 
+/// The index `⌊guess⌋` clamped to `0 ..= m` (NaN → 0), where a search over `m` offsets
+/// starts. The clamp runs in `f64` and the conversion to `u32`: cheaper than a saturating
+/// conversion to `usize` (`m ≤ 2³²`, as segment and line indices are `u32`).
+#[inline]
+fn start_at(guess: f64, m: usize) -> usize {
+    // `max` turns NaN into 0; `as` truncates and saturates
+    (guess.max(0.0).min(m as f64) as u32 as usize).min(m)
+}
+
 /// The first `k` with `offsets[k] ≥ x`, starting the search from the estimate `guess`.
 #[inline]
 fn first_at_least(offsets: &[f64], x: f64, guess: f64) -> u32 {
     let m = offsets.len();
-    // `as` truncates and saturates (NaN → 0); the walks below correct the estimate, and
-    // the clamp keeps them inside the offsets.
-    let mut k = (guess.max(0.0) as usize).min(m);
+    let mut k = start_at(guess, m);
     while k > 0 && offsets[k - 1] >= x {
         k -= 1;
     }
@@ -322,7 +376,7 @@ fn first_at_least(offsets: &[f64], x: f64, guess: f64) -> u32 {
 #[inline]
 fn first_above(offsets: &[f64], x: f64, guess: f64) -> u32 {
     let m = offsets.len();
-    let mut k = ((guess + 1.0).max(0.0) as usize).min(m);
+    let mut k = start_at(guess + 1.0, m);
     while k > 0 && offsets[k - 1] > x {
         k -= 1;
     }
@@ -337,6 +391,7 @@ mod tests {
     use super::*;
     use crate::accel::{Bvh2, all_hits_naive};
     use crate::lines::{BoundingCircle, canonical, canonical_2d, chunk_rng, sample_global_line_2d};
+    use alloc::vec;
     use proptest::prelude::*;
 
     /// A scene-like soup: random segments, some sharing endpoints, some axis-aligned.
@@ -396,6 +451,14 @@ mod tests {
             assert_eq!(naive, tree);
         }
         assert!(out.line_hits(m as usize).is_empty());
+        // The hits found per segment: those of the lines, segment by segment
+        let mut per_segment = vec![0u32; segs.len()];
+        for k in 0..m as usize {
+            for h in out.line_hits(k) {
+                per_segment[h.prim as usize] += 1;
+            }
+        }
+        assert_eq!(out.found(), &per_segment[..]);
         // The unsorted cast: the same hits, already in order wherever `t` strictly
         // increases, and in order once sorted
         let mut unsorted = out.clone();
@@ -409,6 +472,13 @@ mod tests {
             assert_eq!(unsorted.sort_line(k), out.line_hits(k), "line {k}");
         }
         assert!(unsorted.sort_line(m as usize).is_empty());
+        assert_eq!(unsorted.found(), &per_segment[..]);
+        // A line taken out of the counts: its hits leave them, and only its hits
+        unsorted.uncount_line(0);
+        for h in out.line_hits(0) {
+            per_segment[h.prim as usize] -= 1;
+        }
+        assert_eq!(unsorted.found(), &per_segment[..]);
     }
 
     proptest! {

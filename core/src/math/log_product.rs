@@ -44,12 +44,12 @@ const SAFE: u64 = 960;
 /// ([`Log2Product::log2`] returns `None`); subnormal factors are exact.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Log2Product {
-    /// The running product `m` (positive and normal while valid).
+    /// The running product `m` (positive and normal while valid), NaN once a factor was
+    /// not a positive finite number (no flag beside it: 16 bytes, so that a table of
+    /// products stays small in the cache).
     mantissa: f64,
     /// The exponent `e` split off so far.
     exponent: i64,
-    /// Whether a factor was not a positive finite number.
-    invalid: bool,
 }
 
 impl Default for Log2Product {
@@ -65,7 +65,6 @@ impl Log2Product {
         Self {
             mantissa: 1.0,
             exponent: 0,
-            invalid: false,
         }
     }
 
@@ -97,8 +96,9 @@ impl Log2Product {
     /// positive normal number: both are renormalised into `[1, 2)` first.
     #[cold]
     fn push_slow(&mut self, x: f64) {
-        if !(x > 0.0 && x < f64::INFINITY) || self.invalid {
-            self.invalid = true;
+        if !(x > 0.0 && x < f64::INFINITY) || self.mantissa.is_nan() {
+            // Invalid for good: a NaN mantissa stays NaN (and out of the safe range)
+            self.mantissa = f64::NAN;
             return;
         }
         let (xm, xe) = split(x);
@@ -114,7 +114,7 @@ impl Log2Product {
     #[inline]
     #[must_use]
     pub fn log2(&self) -> Option<f64> {
-        if self.invalid {
+        if self.mantissa.is_nan() {
             return None;
         }
         let (m, e) = split(self.mantissa);

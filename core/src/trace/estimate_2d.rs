@@ -334,18 +334,20 @@ impl Tracer2 {
             if !separated(line, gap_floor) {
                 let sorted = hits.sort_line(k);
                 if !separated(sorted, eps) {
-                    line_by_line(sorted, tally);
+                    // Its samples counted by the line's own normalisation, not per segment
+                    hits.uncount_line(k);
+                    line_by_line(hits.line_hits(k), tally);
                     continue;
                 }
-                line = sorted;
+                line = hits.line_hits(k);
             }
-            // Every hit a sample; a hit facing along the line followed by one facing back
-            // is a segment between them (as `global_hit_terms` counts a line)
+            // Every hit a sample (its leaving count is added per segment below); a hit
+            // facing along the line followed by one facing back is a segment between them
+            // (as `global_hit_terms` counts a line)
             fast_samples += line.len() as u64;
             let mut front: Option<(&Hit2, f64)> = None;
             for h in line {
                 let p = h.prim as usize;
-                tally.leave(p);
                 let c = cos.get(p).copied().unwrap_or(0.0);
                 if let Some((f, cf)) = front
                     && c < 0.0
@@ -356,6 +358,9 @@ impl Tracer2 {
                 front = (c > 0.0).then_some((h, c));
             }
         }
+        // The leaving samples of the lines tallied here, segment by segment: each hit
+        // found leaves its patch once (the same counts as one `leave` per hit)
+        tally.leave_counts(hits.found());
         (sum, samples + fast_samples)
     }
 
