@@ -77,14 +77,7 @@
 //! occluders are the polygons with coplanar neighbours merged into convex unions (a
 //! gridded face is one occluder; `occluders.rs`). A pair one candidate hides wholly (its
 //! plane separates them and every vertex-to-vertex segment crosses it inside) is `0`
-//! exactly, not integrated. A pair whose unoccluded flux `Φ` (exact, cheap) is at most
-//! `2 tol · min(A_i, A_j)` is not integrated either: its occluded flux lies in `[0, Φ]`,
-//! so `Φ / 2` with the error bound `Φ / 2` (a true bound, not an a-posteriori estimate)
-//! meets the tolerance for both `F_ij` and `F_ji` (`bounded_by_unoccluded`); these count
-//! among [`OccludedFormFactors::pairs_integrated`]. Such a pair is tested before its
-//! candidates are searched (the search costs more than the bound): only the box tree
-//! walked with its shaft, and when that meets no occluder the pair keeps its exact value;
-//! a pair that one or several occluders hide is then bounded, not 0. In the outer integral, each triangle keeps the candidates of
+//! exactly, not integrated. In the outer integral, each triangle keeps the candidates of
 //! the hull of it and the target: with none left, its flux is the exact unoccluded one
 //! ([`exact_3d::unoccluded_flux`] on the triangle), and with one hiding it wholly, 0; only
 //! the other triangles are refined. A pair with no candidate keeps the exact unoccluded
@@ -94,12 +87,9 @@
 mod contacts;
 mod occluders;
 mod outer;
-#[cfg(all(test, feature = "std"))]
-mod scale_tests;
 mod solids;
 #[cfg(all(test, feature = "std"))]
 mod tests;
-mod umbra;
 mod visible;
 
 use alloc::vec;
@@ -205,9 +195,7 @@ pub struct OccludedFormFactors {
     pub errors: Vec<f64>,
     /// The tolerance asked for.
     pub tolerance: f64,
-    /// Unordered pairs with candidate occluders given an error estimate: integrated
-    /// adaptively, or bounded (unoccluded flux at most twice the tolerance, see the module
-    /// documentation).
+    /// Unordered pairs integrated adaptively (with candidate occluders).
     pub pairs_integrated: usize,
     /// Unordered pairs with candidate occluders found hidden from each other by one of
     /// them (`F = 0` exactly, not integrated).
@@ -365,7 +353,6 @@ struct PairIntegrand<'s, 'o> {
     seen: Vec<u32>,
     touch: f64,
     work: visible::Workspace,
-    fusion: umbra::Fusion,
     buf: Vec<&'o [DVec3]>,
     shaft: Shaft,
 }
@@ -422,15 +409,7 @@ impl outer::Integrand for PairIntegrand<'_, '_> {
             (tri.as_slice(), self.tgt),
             t,
             &mut self.seen,
-        ) || umbra::hidden_jointly(
-            (tri.as_slice(), self.tgt, self.pt.area),
-            &self.target,
-            (self.occ, self.solids, self.solid_of),
-            out,
-            t,
-            &mut self.fusion,
-            &mut self.work,
-        )? {
+        ) {
             out.clear();
             return Ok(Some(0.0));
         }
@@ -469,31 +448,6 @@ fn hidden_by_solid(
         }
     }
     false
-}
-
-/// Relative margin on the unoccluded flux used as an upper bound of the occluded one: far
-/// above the rounding of the contour sums (about `10⁻¹⁴` relative).
-const BOUND_MARGIN: f64 = 1e-9;
-
-/// The pair's flux settled by a bound instead of an integral, when the bound is within
-/// the tolerance: the occluded flux lies in `[0, Φ]` with `Φ = unoccluded` the unoccluded
-/// flux ([`pair_flux`]: both patches clipped to the front of the other's plane, where the
-/// integrand of (2.9) is `≥ 0`, so `V ≤ 1` can only lower it). When
-/// `Φ' / 2 ≤ tol · min(A_i, A_j)`, with `Φ' = (1 + BOUND_MARGIN) Φ` covering rounding,
-/// the flux is `Φ' / 2` with the error bound `Φ' / 2`: a true bound, not an estimate, and
-/// within the tolerance of both `F_ij` and `F_ji`. `None` otherwise (integrate).
-fn bounded_by_unoccluded(
-    unoccluded: f64,
-    ps: &Plane,
-    pt: &Plane,
-    tolerance: f64,
-) -> Option<OccludedFlux> {
-    let upper = unoccluded.max(0.0) * (1.0 + BOUND_MARGIN);
-    (upper.is_finite() && 0.5 * upper <= tolerance * ps.area.min(pt.area)).then_some(OccludedFlux {
-        flux: 0.5 * upper,
-        error: 0.5 * upper,
-        points: 0,
-    })
 }
 
 /// The adaptive flux from `src` (the integration side) to `tgt` past the occluders
@@ -537,7 +491,6 @@ fn integrate_pair(
         seen: Vec::new(),
         touch,
         work: visible::Workspace::default(),
-        fusion: umbra::Fusion::default(),
         buf: Vec::new(),
         shaft: Shaft::default(),
     };
@@ -720,39 +673,12 @@ impl<'a> Prepared<'a> {
         let mut scratch = Vec::new();
         let mut shaft = Shaft::default();
         let mut seen = Vec::new();
-        let (mut fusion, mut work) = (umbra::Fusion::default(), visible::Workspace::default());
         for (j, (tgt, pt)) in polys.iter().enumerate().skip(i + 1) {
             // As form_factors_unoccluded: one lies wholly on or behind the other's plane.
             let tol = ON_PLANE * (ps.magnitude.max(pt.magnitude) + ps.radius + pt.radius);
             if pt.distance(ps.centroid) + ps.radius <= tol
                 || ps.distance(pt.centroid) + pt.radius <= tol
             {
-                continue;
-            }
-            let flux = pair_flux(src, ps, tgt, pt).0;
-            if self.may_occlude
-                && let Some(b) = bounded_by_unoccluded(flux, ps, pt, self.options.tolerance)
-            {
-                // Small enough to bound: only the box tree walked with the shaft (the
-                // first step of `candidates`); nothing met, the exact value.
-                let (hlo, hhi) = (
-                    self.boxes[i].0.min(self.boxes[j].0),
-                    self.boxes[i].1.max(self.boxes[j].1),
-                );
-                shaft.of((src, ps), (tgt, pt), self.touch);
-                self.occ
-                    .overlapping(hlo, hhi, self.touch, &shaft, &mut scratch);
-                let r = if scratch.is_empty() {
-                    OccludedFlux {
-                        flux,
-                        error: 0.0,
-                        points: 0,
-                    }
-                } else {
-                    out.integrated += 1;
-                    b
-                };
-                out.pairs.push((j, r.flux, r.error));
                 continue;
             }
             if self.may_occlude {
@@ -769,7 +695,7 @@ impl<'a> Prepared<'a> {
             }
             let r = if !self.may_occlude || cand.is_empty() {
                 OccludedFlux {
-                    flux,
+                    flux: pair_flux(src, ps, tgt, pt).0,
                     error: 0.0,
                     points: 0,
                 }
@@ -783,15 +709,7 @@ impl<'a> Prepared<'a> {
                 (src, tgt),
                 self.touch,
                 &mut seen,
-            ) || umbra::hidden_jointly(
-                (src, tgt, pt.area),
-                &visible::Target::new(tgt, *pt),
-                (&self.occ.list, &self.occ.solids, &self.occ.solid_of),
-                &cand,
-                self.touch,
-                &mut fusion,
-                &mut work,
-            )? {
+            ) {
                 out.blocked += 1;
                 continue;
             } else {

@@ -84,16 +84,6 @@ impl Solid {
             .any(|m| self.crossings_inside(src, tgt, m, tol))
     }
 
-    /// Whether every point of `p` lies on `K`'s side of its open face, within `tol` (true
-    /// for a closed solid): then a segment between two such points that passes through
-    /// `K`'s interior meets a real face (see [`Solid::hides`]).
-    pub(crate) fn below_open_face(&self, p: &[DVec3], tol: f64) -> bool {
-        !self.open || {
-            let (n, d) = self.planes[self.planes.len() - 1];
-            p.iter().all(|&v| n.dot(v) - d <= tol)
-        }
-    }
-
     /// Whether every point of `p` lies outside `K` (beyond one face plane by more than
     /// `tol`) and on `K`'s side of the open face (within `tol`): then a sight line from
     /// `p` that meets `K`'s interior enters it through a face `p` sees the front of.

@@ -125,58 +125,6 @@ impl Target {
         Ok(sum.total().clamp(0.0, 1.0))
     }
 
-    /// The shadow of `occluder` on the target from `x`, as in
-    /// [`Self::visible_form_factor`] (clipped to the pyramid from `x` over the target and
-    /// short of the near guard, so never larger than the true shadow), counter-clockwise
-    /// in plane coordinates, into `out`; `false` when it is empty or a sliver, or `x` is
-    /// not in front of the target (for occluder fusion, `umbra.rs`).
-    pub fn shadow_from(
-        &self,
-        x: DVec3,
-        occluder: &[DVec3],
-        work: &mut Workspace,
-        out: &mut Vec<DVec2>,
-    ) -> bool {
-        let dx = self.plane.distance(x);
-        let tol = super::super::exact_3d::ON_PLANE
-            * (self.plane.magnitude + x.abs().max_element() + self.plane.radius);
-        if dx <= tol {
-            return false;
-        }
-        self.pyramid(x, dx, work);
-        if !self.shadow(x, dx, occluder, work) {
-            return false;
-        }
-        out.clear();
-        out.extend_from_slice(&work.shadow);
-        true
-    }
-
-    /// Whether the convex polygons `shadows` (counter-clockwise, plane coordinates) cover
-    /// the target: its outline minus each in turn leaves no piece above the sliver area
-    /// (for occluder fusion, `umbra.rs`).
-    ///
-    /// # Errors
-    /// [`ErrorKind::TooLarge`] beyond `MAX_VISIBLE_PIECES` pieces.
-    pub fn covered_by(&self, shadows: &[Vec<DVec2>], work: &mut Workspace) -> Result<bool> {
-        work.pieces.clear();
-        work.pieces.push(self.outline.clone());
-        for s in shadows {
-            work.shadow.clear();
-            work.shadow.extend_from_slice(s);
-            self.subtract_shadow(work)?;
-            if work.pieces.is_empty() {
-                return Ok(true);
-            }
-        }
-        Ok(false)
-    }
-
-    /// The relative tolerance of the target's 2D clips and its sliver area.
-    pub fn tolerances(&self) -> (f64, f64) {
-        (self.tol, self.sliver)
-    }
-
     /// The clipping planes of a point's shadows, as `(normal, offset, tolerance)` of the
     /// half-spaces `normal · y ≥ offset` into `work.planes`: in front of the target's plane,
     /// short of the near guard (`d(y) ≤ (1 − η) d(x)`), and the pyramid from `x` over the
