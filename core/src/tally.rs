@@ -521,15 +521,7 @@ impl LineTally {
         counts.apply_held();
         if let Some(form_factors) = sparse_from_triangle(&mut counts, leaves, sizes)? {
             drop(counts);
-            let patch_continuous = self.patch_continuous();
-            return Ok(LineEstimate {
-                form_factors,
-                continuous: self.continuous.estimate(),
-                patch_continuous,
-                pair_continuous: pair,
-                lines: self.lines,
-                method: self.method,
-            });
+            return Ok(self.estimate_with(form_factors, pair));
         }
         // Stored sparse unless the counts fill a third of the matrix (CSR takes 12 bytes an
         // entry, dense 8 per pair): every later pass (the background's row sums, the
@@ -565,15 +557,24 @@ impl LineTally {
             Matrix::Dense(m) => FormFactors::from_patch_matrix(sizes, m)?,
             Matrix::Sparse(rows) => FormFactors::from_patch_csr(sizes, rows.finish())?,
         };
-        let patch_continuous = self.patch_continuous();
-        Ok(LineEstimate {
+        Ok(self.estimate_with(form_factors, pair))
+    }
+
+    /// The estimate of finished form factors, with the tally's `I_S^c`, per-patch `I_i^c`
+    /// and the given per-pair `I_ij^c`.
+    fn estimate_with(
+        &self,
+        form_factors: FormFactors,
+        pair_continuous: Option<Vec<f64>>,
+    ) -> LineEstimate {
+        LineEstimate {
             form_factors,
             continuous: self.continuous.estimate(),
-            patch_continuous,
-            pair_continuous: pair,
+            patch_continuous: self.patch_continuous(),
+            pair_continuous,
             lines: self.lines,
             method: self.method,
-        })
+        }
     }
 }
 
