@@ -60,8 +60,11 @@ build_module() {
 # Issue 7's goal was 400 KB for the flatland lab; the real-mesh loader that measureObj and
 # the 3D lab need (triangulation, coincident faces, lenient OBJ/MTL) added 47 KB before
 # wasm-opt (twiggy diff, 2026-11-27); the viewpoint channel (issue 19, 77 KB) now lives in
-# the 3D lab's module only. Budget: 450 KB.
-build_module "$out" 450000 --no-default-features --features console_error_panic_hook
+# the 3D lab's module only. Budget: 450 KB until session 14, whose core changes (the
+# one-pass sparse form factors of line jobs, the flatland bundle counts, the occluded pair's
+# event cut) took the module from 448,226 to 456,970 bytes (which change added how much
+# was not measured): budget 470 KB, a regression alarm rather than a goal.
+build_module "$out" 470000 --no-default-features --features console_error_panic_hook
 # The 3D lab (wasm/www/pkg3d, issue 24): everything, with the file readers. Issue 24's budget
 # is 800 KB compressed for the page's wasm and JS together; the .wasm alone gets 1.3 MB
 # uncompressed here (the browser test reports the gzip -9 size of the whole page).

@@ -34,8 +34,16 @@ pub fn succeeded(out: std::process::Output) -> std::process::Output {
 
 /// A path in this test process' own temporary directory.
 pub fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sceneinfo-cli-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    static DIR: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    let dir = DIR.get_or_init(|| {
+        let dir = std::env::temp_dir().join(format!("sceneinfo-cli-test-{}", std::process::id()));
+        // Process ids are reused: a folder of this name left by a dead test process would
+        // hand this one its files (a test asserting that a refused job wrote nothing then
+        // fails), so each test process starts from an empty folder.
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    });
     dir.join(name)
 }
 
