@@ -360,26 +360,51 @@ pub enum ScenePreset {
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
-    /// The empty unit cube, each face cut into K × K patches (writes OBJ + MTL).
+    /// The empty unit cube, each face cut into K × K patches (writes OBJ + MTL, or View3D's
+    /// `.vs3` when the output's extension says so).
     Cube {
         /// Patches per face edge.
         #[arg(long, default_value_t = 10)]
         grid: u32,
-        /// Output .obj file (its .mtl is written beside it).
+        /// Output `.obj` file (its `.mtl` is written beside it) or `.vs3` (View3D's input).
         #[arg(short, long)]
         output: PathBuf,
+        /// View3D's tolerance `eps` written into a `.vs3` file's controls.
+        #[arg(long, default_value_t = 1e-4)]
+        eps: f64,
     },
     /// A 3D preset by name: tetrahedron, octahedron, dodecahedron, icosahedron, cornell,
-    /// cornell-lifted, … (`sceneinfo scene list` lists them; writes OBJ + MTL).
+    /// cornell-lifted, … (`sceneinfo scene list` lists them; writes OBJ + MTL, or View3D's
+    /// `.vs3` when the output's extension says so).
     Solid {
         /// The preset's name.
         name: String,
         /// Subdivision of the preset's faces where it has one (K × K per quad).
         #[arg(long, default_value_t = 1)]
         grid: u32,
-        /// Output .obj file (its .mtl is written beside it).
+        /// Output `.obj` file (its `.mtl` is written beside it) or `.vs3` (View3D's input).
         #[arg(short, long)]
         output: PathBuf,
+        /// View3D's tolerance `eps` written into a `.vs3` file's controls.
+        #[arg(long, default_value_t = 1e-4)]
+        eps: f64,
+    },
+    /// Any scene file sceneinfo reads (OBJ, glTF, PLY, `.vs3`, `.flat`) written as OBJ + MTL,
+    /// View3D's `.vs3` (3D) or `.flat` (flatland), by the output's extension: one patch of
+    /// the scene per OBJ face or View3D surface, in order, so results compare row by row.
+    Convert {
+        /// The scene file to read.
+        file: PathBuf,
+        /// Output `.obj`, `.vs3` or `.flat` file.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// View3D's tolerance `eps` written into a `.vs3` file's controls (View3D's default
+        /// 1e-4; it warns below 1e-6).
+        #[arg(long, default_value_t = 1e-4)]
+        eps: f64,
+        /// Write `encl=1` into a `.vs3` file's controls: View3D renormalises every row to 1.
+        #[arg(long)]
+        enclosure: bool,
     },
     /// List the names of the flatland catalogue and the 3D presets.
     List,

@@ -99,7 +99,9 @@ fn outputs(command: &Command) -> Vec<(&'static str, &Path)> {
             ScenePreset::Polygon { output, .. }
             | ScenePreset::Rect { output, .. }
             | ScenePreset::Catalogue { output, .. } => out.push(("--output", output.as_ref())),
-            ScenePreset::Cube { output, .. } | ScenePreset::Solid { output, .. } => {
+            ScenePreset::Cube { output, .. }
+            | ScenePreset::Solid { output, .. }
+            | ScenePreset::Convert { output, .. } => {
                 out.push(("--output", Some(output)));
             }
             ScenePreset::List => {}
@@ -147,12 +149,22 @@ fn outputs(command: &Command) -> Vec<(&'static str, &Path)> {
         .collect()
 }
 
-/// The material library `scene cube|solid -o FILE.obj` writes beside its OBJ.
+/// The material library `scene cube|solid|convert -o FILE.obj` writes beside its OBJ.
 fn mtl_beside(command: &Command) -> Option<PathBuf> {
     match command {
         Command::Scene {
-            preset: ScenePreset::Cube { output, .. } | ScenePreset::Solid { output, .. },
-        } => Some(output.with_extension("mtl")),
+            preset:
+                ScenePreset::Cube { output, .. }
+                | ScenePreset::Solid { output, .. }
+                | ScenePreset::Convert { output, .. },
+        } => {
+            // An OBJ gets its library; `.vs3` and `.flat` are one file
+            let one_file = matches!(
+                crate::formats::Format::of_extension(output),
+                Some(crate::formats::Format::Vs3 | crate::formats::Format::Flat)
+            );
+            (!one_file).then(|| output.with_extension("mtl"))
+        }
         _ => None,
     }
 }

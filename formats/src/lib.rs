@@ -13,6 +13,8 @@
 //! | flat | first statement `seg`, `poly` or `mat`; any other file | `sceneinfo::io::parse_flat` |
 //! | View3D `.vs3` | first statement `T`, `C`, `F` (upper case) or a `!` comment; extension `.vs3` | [`vs3_scene`] |
 //!
+//! 3D scenes are written back as View3D input by [`vs3_write`].
+//!
 //! A file whose content is clearly of a format other than its extension says is read as
 //! its content says, with a [`LoadWarningKind::FormatByContent`] note.
 //!
@@ -26,6 +28,7 @@ pub mod mesh;
 pub mod ply_scene;
 pub mod view3d_out;
 pub mod vs3_scene;
+pub mod vs3_write;
 
 pub(crate) use load::located_at;
 pub use load::{

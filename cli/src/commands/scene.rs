@@ -1,4 +1,5 @@
-//! `sceneinfo scene`: write preset scenes (`.flat` for flatland, OBJ + MTL for 3D).
+//! `sceneinfo scene`: write preset scenes (`.flat` for flatland, OBJ + MTL or View3D's `.vs3`
+//! for 3D), and any scene file in another of those formats (`scene convert`).
 
 use std::io::Write;
 use std::path::Path;
@@ -7,6 +8,7 @@ use anyhow::{Result, anyhow};
 use sceneinfo::scene::{CatalogueEntry, Preset3Entry, Scene2, Scene3};
 
 use crate::args::ScenePreset;
+use crate::formats::vs3_write::Vs3Controls;
 use crate::output::write_atomic;
 
 /// Writes the preset scene `preset` asks for.
@@ -38,12 +40,35 @@ pub fn run(preset: &ScenePreset) -> Result<()> {
             let s = Scene2::catalogue(&name, per_side).map_err(invalid)?;
             emit(&sceneinfo::io::write_flat(&s), output.as_deref())
         }
-        ScenePreset::Cube { grid, output } => {
-            write_obj(&Scene3::preset("cube", grid).map_err(invalid)?, &output)
+        ScenePreset::Cube { grid, output, eps } => {
+            let title = format!("cube, grid {grid}");
+            write_3d(
+                &Scene3::preset("cube", grid).map_err(invalid)?,
+                &output,
+                &title,
+                vs3(eps, false)?,
+            )
         }
-        ScenePreset::Solid { name, grid, output } => {
-            write_obj(&Scene3::preset(&name, grid).map_err(invalid)?, &output)
+        ScenePreset::Solid {
+            name,
+            grid,
+            output,
+            eps,
+        } => {
+            let title = format!("{name}, grid {grid}");
+            write_3d(
+                &Scene3::preset(&name, grid).map_err(invalid)?,
+                &output,
+                &title,
+                vs3(eps, false)?,
+            )
         }
+        ScenePreset::Convert {
+            file,
+            output,
+            eps,
+            enclosure,
+        } => convert(&file, &output, vs3(eps, enclosure)?),
         ScenePreset::List => {
             let mut out = std::io::stdout().lock();
             writeln!(out, "flatland catalogue (sceneinfo scene catalogue NAME):")?;
@@ -56,6 +81,59 @@ pub fn run(preset: &ScenePreset) -> Result<()> {
             }
             Ok(())
         }
+    }
+}
+
+/// View3D's controls for a `.vs3` output, `eps` checked (a positive finite number).
+fn vs3(eps: f64, enclosure: bool) -> Result<Vs3Controls> {
+    if !(eps.is_finite() && eps > 0.0) {
+        return Err(anyhow!(
+            "--eps must be a positive number (View3D's epsAdap), got {eps}"
+        ));
+    }
+    Ok(Vs3Controls { eps, enclosure })
+}
+
+/// Whether `path` names a View3D input file (extension `.vs3`, any case).
+fn is_vs3(path: &Path) -> bool {
+    crate::formats::Format::of_extension(path) == Some(crate::formats::Format::Vs3)
+}
+
+/// Writes a 3D scene as View3D's `.vs3` when `path` says so, else as OBJ + MTL.
+fn write_3d(scene: &Scene3, path: &Path, title: &str, controls: Vs3Controls) -> Result<()> {
+    if is_vs3(path) {
+        let text = crate::formats::vs3_write::write(scene, title, controls);
+        write_atomic(path, text.as_bytes())
+    } else {
+        write_obj(scene, path)
+    }
+}
+
+/// `scene convert`: reads `file` as every command does and writes it as `output`'s
+/// extension says (`.vs3`, `.flat`, else OBJ + MTL); a flatland scene only as `.flat`, a 3D
+/// one not as `.flat`.
+fn convert(file: &Path, output: &Path, controls: Vs3Controls) -> Result<()> {
+    let loaded = crate::output::load_scene(file)?;
+    loaded.print_warnings(file, false);
+    let to_flat =
+        crate::formats::Format::of_extension(output) == Some(crate::formats::Format::Flat);
+    let title = file
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    match (&loaded.scene, to_flat) {
+        (sceneinfo::Scene::Flat(s), true) => {
+            write_atomic(output, sceneinfo::io::write_flat(s).as_bytes())
+        }
+        (sceneinfo::Scene::Solid(s), false) => write_3d(s, output, &title, controls),
+        (sceneinfo::Scene::Flat(_), false) => Err(anyhow!(
+            "{}: a flatland scene is written as .flat only (got {})",
+            file.display(),
+            output.display()
+        )),
+        (sceneinfo::Scene::Solid(_), true) => Err(anyhow!(
+            "{}: a 3D scene is written as .obj or .vs3, not .flat",
+            file.display()
+        )),
     }
 }
 
