@@ -638,7 +638,9 @@ impl ParallelRaster3 {
         let polygons = group.first as usize..group.end as usize;
         let masks = &self.edge_mask[polygons.clone()];
         let reversed = &self.reversed_mask[polygons];
-        // A cube's 12 edges and 6 faces as arrays: loops of a constant count, unrolled
+        // A cube's 6 faces as arrays: the polygons' loop of a constant count, unrolled
+        // (with the truncation in `sheets.rs`, the room's 2293 → 2090 instructions a line;
+        // the 12 edges' loop as an array was not cheaper)
         let cube = <&[[u8; 2]; 12]>::try_from(edges)
             .ok()
             .zip(<&[u32; 6]>::try_from(masks).ok())
