@@ -71,6 +71,13 @@
 //! (the room's walls: 726 for 1,024 lines), otherwise a tested quad's four at each
 //! candidate (the 99,846-patch cube: about 100,000 vertices).
 //!
+//! Most candidates need neither the window nor the closed test: along a row of the
+//! lattice the crossing with the sheet's ideal lattice is affine in `a`, and a candidate
+//! whose crossing lies inside a cell by more than the window's error bound is a hit of
+//! that cell's quad alone, one outside the sheet by as much a hit of none; only those
+//! within the bound of a cell's side take the window and the closed test (`sheets.rs`,
+//! which proves that the hits are the same, bit for bit).
+//!
 //! Hits are bucketed per line by a counting sort and each line's hits sorted by `(t,
 //! prim)` like [`super::Bvh3::all_hits`]. A bundle of `m` lines over `n` loose polygons
 //! (not in a sheet, in `g` groups) and `s` sheets costs `O(V + n + s + m + candidates)`
@@ -182,6 +189,9 @@ pub(crate) struct BundleHits3 {
     /// Line `k`'s hits are `hits[start[k]..start[k + 1]]`.
     start: Vec<u32>,
     hits: Vec<Hit3>,
+    /// Candidates of the sheets' row path by the exact path and inside a cell (tests).
+    #[cfg(test)]
+    row_paths: [usize; 2],
 }
 
 /// The rows of a bundle's lattice points: per row, `b`, `first` (in units of `h`), the
@@ -207,6 +217,10 @@ struct Frame {
     /// `b` of the first row, and the number of rows.
     first_row_b: f64,
     rows: i64,
+    /// The largest `|a|` and `|b|` of the bundle's lattice points (as computed for the
+    /// candidates: `(first + q) h` and the rows' `b`).
+    a_max: f64,
+    b_max: f64,
 }
 
 impl Frame {
@@ -505,6 +519,11 @@ impl ParallelRaster3 {
     /// [`BundleHits3::line_hits`]`(k)` holds the hits of line `k` (rows in order, points
     /// in order within a row; [`BundleHits3::line_point`]), sorted by `t` then `prim`.
     pub fn cast(&self, bundle: &GlobalBundle3, out: &mut BundleHits3) {
+        self.cast_by(bundle, SheetPath::Rows, out);
+    }
+
+    /// [`ParallelRaster3::cast`] with the sheets cast by `path`.
+    fn cast_by(&self, bundle: &GlobalBundle3, path: SheetPath, out: &mut BundleHits3) {
         let c = bundle.sphere().center;
         let r = bundle.sphere().radius;
         let (e1, e2) = bundle.frame();
@@ -515,6 +534,8 @@ impl ParallelRaster3 {
         rows.count.clear();
         rows.line.clear();
         let mut lines = 0u32;
+        let h = bundle.spacing();
+        let (mut a_max, mut b_max) = (0.0f64, 0.0f64);
         for k in 0..bundle.rows() {
             let row = bundle.row(k);
             rows.b.push(row.b);
@@ -522,6 +543,12 @@ impl ParallelRaster3 {
             rows.count.push(row.count);
             rows.line.push(lines);
             lines = lines.saturating_add(row.count);
+            if let Some(last) = row.count.checked_sub(1) {
+                // The row's extreme points, by the candidates' arithmetic
+                let ends = [row.first * h, (row.first + f64::from(last)) * h];
+                a_max = greater(greater(a_max, ends[0].abs()), ends[1].abs());
+                b_max = greater(b_max, row.b.abs());
+            }
         }
         rows.line.push(lines);
         let frame = Frame {
@@ -529,11 +556,13 @@ impl ParallelRaster3 {
             e1,
             e2,
             d: bundle.dir(),
-            h: bundle.spacing(),
-            inv_h: 1.0 / bundle.spacing(),
+            h,
+            inv_h: 1.0 / h,
             delta: MARGIN * (c.abs().max_element() + r + self.scale),
             first_row_b: out.rows.b.first().copied().unwrap_or(0.0),
             rows: i64::from(bundle.rows()),
+            a_max,
+            b_max,
         };
         // Every distinct vertex of the loose polygons projected once
         out.projected.clear();
@@ -546,7 +575,7 @@ impl ParallelRaster3 {
         }
         out.found.clear();
         self.cast_polygons(&frame, out);
-        self.cast_sheets(&frame, r, out);
+        self.cast_sheets(&frame, r, path, out);
         // Bucket the hits per line (a counting sort), then sort each line's
         out.start.clear();
         out.start.resize(lines as usize + 2, 0);
@@ -609,27 +638,28 @@ impl ParallelRaster3 {
         let polygons = group.first as usize..group.end as usize;
         let masks = &self.edge_mask[polygons.clone()];
         let reversed = &self.reversed_mask[polygons];
+        // A cube's 6 faces as arrays: the polygons' loop of a constant count, unrolled
+        // (with the truncation in `sheets.rs`, the room's 2293 → 2090 instructions a line;
+        // the 12 edges' loop as an array was not cheaper)
+        let cube = <&[[u8; 2]; 12]>::try_from(edges)
+            .ok()
+            .zip(<&[u32; 6]>::try_from(masks).ok())
+            .zip(<&[u32; 6]>::try_from(reversed).ok());
         for_each_candidate(frame, rows, lo, hi, frame.delta, |line, a, b| {
             let rel = local.map(|p| (p[0] - a, p[1] - b));
-            // Bit e of `gt` (`lt`): edge function e is > 0 (< 0)
-            let (mut gt, mut lt) = (0u32, 0u32);
-            for (e, &[u, v]) in edges.iter().enumerate() {
-                let (p, q) = (
-                    rel[usize::from(u) % GROUP_VERTICES],
-                    rel[usize::from(v) % GROUP_VERTICES],
-                );
-                let s = p.0 * q.1 - p.1 * q.0;
-                gt |= u32::from(s > 0.0) << e;
-                lt |= u32::from(s < 0.0) << e;
-            }
             // Bit j of `crossed`: the line crosses polygon j of the group (no branch per
             // polygon: which polygons a candidate crosses is a coin toss)
-            let mut crossed = 0u32;
-            for (j, (&mask, &rev)) in masks.iter().zip(reversed).enumerate() {
-                let pos = ((gt & !rev) | (lt & rev)) & mask;
-                let neg = ((lt & !rev) | (gt & rev)) & mask;
-                crossed |= u32::from((pos != 0) != (neg != 0)) << j;
-            }
+            let crossed = match cube {
+                Some(((edges, masks), reversed)) => {
+                    let (gt, lt) = edge_signs(&rel, edges);
+                    polygons_crossed(gt, lt, masks, reversed)
+                }
+                None => {
+                    let (gt, lt) = edge_signs(&rel, edges);
+                    polygons_crossed(gt, lt, masks, reversed)
+                }
+            };
+            let mut crossed = crossed;
             while crossed != 0 {
                 let k = group.first as usize + crossed.trailing_zeros() as usize;
                 crossed &= crossed - 1;
@@ -696,97 +726,6 @@ impl ParallelRaster3 {
     }
 }
 
-impl ParallelRaster3 {
-    /// Each sheet against the lattice points of its projected parallelogram, each point
-    /// against the quads of its window (module docs, "Sheets").
-    fn cast_sheets(&self, frame: &Frame, r: f64, out: &mut BundleHits3) {
-        let BundleHits3 {
-            rows,
-            found,
-            sheet_projected,
-            ..
-        } = out;
-        let all_projected = !sheet_projected.is_empty();
-        for rs in &self.sheets {
-            let sheet = &rs.sheet;
-            let [a0, u, v] = sheet.lattice();
-            let (m, k) = (sheet.cols(), sheet.rows());
-            let pa = frame.project(a0);
-            let pu = [frame.e1.dot(u), frame.e2.dot(u)];
-            let pv = [frame.e1.dot(v), frame.e2.dot(v)];
-            let norm1 = |w: DVec3| w.x.abs() + w.y.abs() + w.z.abs();
-            let size = norm1(a0 - frame.c) + f64::from(m) * norm1(u) + f64::from(k) * norm1(v) + r;
-            let tau = sheet.deviation() + SHEET_ROUNDING * size;
-            // The projected parallelogram's bounds
-            let (mf, kf) = (f64::from(m), f64::from(k));
-            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-            for (i, j) in [(0.0, 0.0), (mf, 0.0), (0.0, kf), (mf, kf)] {
-                let x = pa[0] + i * pu[0] + j * pv[0];
-                let y = pa[1] + i * pu[1] + j * pv[1];
-                lo = [lesser(lo[0], x), lesser(lo[1], y), 0.0];
-                hi = [greater(hi[0], x), greater(hi[1], y), 0.0];
-            }
-            let quads = &self.quads[rs.first_quad as usize..][..sheet.len()];
-            let planes = &self.quad_planes[rs.first_quad as usize..][..sheet.len()];
-            let quad_corners = &self.quad_corners[rs.first_quad as usize..][..sheet.len()];
-            // What the window of every candidate shares (one division per sheet and bundle)
-            let projected = sheet.projected((pu[0], pu[1]), (pv[0], pv[1]), tau);
-            for_each_candidate(frame, rows, lo, hi, frame.delta + tau, |line, a, b| {
-                let rel = (pa[0] - a, pa[1] - b);
-                let (cols, rws) = projected.window(rel);
-                for j in rws {
-                    for i in cols.clone() {
-                        let o = (j * m + i) as usize;
-                        let (Some(q), Some(c)) = (quads.get(o), quad_corners.get(o)) else {
-                            continue;
-                        };
-                        let vertex = |k: usize| sheet_projected.get(c[k] as usize).copied();
-                        // Written out: `q.map(…)` was not inlined (7 % of a cube job). Quads
-                        // projected here get their depths only if crossed (most are not)
-                        let (p, depths) =
-                            match (all_projected, vertex(0), vertex(1), vertex(2), vertex(3)) {
-                                (true, Some(p0), Some(p1), Some(p2), Some(p3)) => {
-                                    ([p0, p1, p2, p3], true)
-                                }
-                                _ => (
-                                    [
-                                        frame.project_across(q[0]),
-                                        frame.project_across(q[1]),
-                                        frame.project_across(q[2]),
-                                        frame.project_across(q[3]),
-                                    ],
-                                    false,
-                                ),
-                            };
-                        if !crosses(p.iter().copied(), p[3], a, b) {
-                            continue;
-                        }
-                        let depth = |k: usize| if depths { p[k][2] } else { frame.depth(q[k]) };
-                        let (d0, d1, d2, d3) = (depth(0), depth(1), depth(2), depth(3));
-                        // From ±∞, as `f64::min`/`max` fold (a NaN depth is passed over)
-                        let near = [d0, d1, d2, d3].into_iter().fold(f64::INFINITY, lesser);
-                        let far = [d0, d1, d2, d3]
-                            .into_iter()
-                            .fold(f64::NEG_INFINITY, greater);
-                        let Some(&(n, p0)) = planes.get(o) else {
-                            continue;
-                        };
-                        if let Some(t) = frame.plane_t(n, p0, a, b, near, far) {
-                            found.push((
-                                line,
-                                Hit3 {
-                                    t,
-                                    prim: rs.prim + o as u32,
-                                },
-                            ));
-                        }
-                    }
-                }
-            });
-        }
-    }
-}
-
 /// Appends the distinct points (by their bits) among `points[i]`, `i` in `used`, to
 /// `distinct` (sorted by their bits), and sets `id[i]` to each one's index there.
 fn distinct_by_bits(
@@ -817,6 +756,49 @@ fn for_each_candidate(
     grow: f64,
     mut f: impl FnMut(u32, f64, f64),
 ) {
+    for_each_row(frame, rows, lo, hi, grow, |row| {
+        for q in row.q_lo..=row.q_hi {
+            f(row.line(q), row.a(frame, q), row.b);
+        }
+    });
+}
+
+/// The lattice points of one row inside a box: `q_lo ≤ q ≤ q_hi` (possibly empty).
+#[derive(Clone, Copy, Debug)]
+struct RowSpan {
+    b: f64,
+    first: f64,
+    /// The line of the row's point `q = 0`.
+    line0: u32,
+    q_lo: i64,
+    q_hi: i64,
+}
+
+impl RowSpan {
+    /// `a` of the row's point `q`: `(first + q) h`, the one arithmetic of every caller.
+    #[inline(always)]
+    fn a(&self, frame: &Frame, q: i64) -> f64 {
+        (self.first + q as f64) * frame.h
+    }
+
+    /// The line of the row's point `q`.
+    #[inline(always)]
+    fn line(&self, q: i64) -> u32 {
+        self.line0 + q as u32
+    }
+}
+
+/// Calls `f` for every row of the bundle with lattice points inside the box `[lo, hi]` of
+/// the plane (first two coordinates) grown by `grow`, with the range of those points.
+#[inline(always)]
+fn for_each_row(
+    frame: &Frame,
+    rows: &Rows,
+    lo: [f64; 3],
+    hi: [f64; 3],
+    grow: f64,
+    mut f: impl FnMut(RowSpan),
+) {
     // Rows whose b lies in [lo₁ − grow, hi₁ + grow] (rows are h apart from the first)
     let row_lo = ceil_index((lo[1] - grow - frame.first_row_b) * frame.inv_h).max(0);
     let row_hi = floor_index((hi[1] + grow - frame.first_row_b) * frame.inv_h).min(frame.rows - 1);
@@ -828,11 +810,47 @@ fn for_each_candidate(
         let (b, first, count) = (rows.b[row], rows.first[row], rows.count[row]);
         let q_lo = ceil_index(x_lo - first).max(0);
         let q_hi = floor_index(x_hi - first).min(i64::from(count) - 1);
-        for q in q_lo..=q_hi {
-            let a = (first + q as f64) * frame.h;
-            f(rows.line[row] + q as u32, a, b);
+        if q_lo <= q_hi {
+            f(RowSpan {
+                b,
+                first,
+                line0: rows.line[row],
+                q_lo,
+                q_hi,
+            });
         }
     }
+}
+
+/// The signs of a compact group's edge functions at a candidate, `rel` its vertices
+/// relative to the candidate: bit `e` of the first (second) mask is set when edge `e`'s
+/// function is `> 0` (`< 0`).
+#[inline(always)]
+fn edge_signs(rel: &[(f64, f64); GROUP_VERTICES], edges: &[[u8; 2]]) -> (u32, u32) {
+    let (mut gt, mut lt) = (0u32, 0u32);
+    for (e, &[u, v]) in edges.iter().enumerate() {
+        let (p, q) = (
+            rel[usize::from(u) % GROUP_VERTICES],
+            rel[usize::from(v) % GROUP_VERTICES],
+        );
+        let s = p.0 * q.1 - p.1 * q.0;
+        gt |= u32::from(s > 0.0) << e;
+        lt |= u32::from(s < 0.0) << e;
+    }
+    (gt, lt)
+}
+
+/// Bit `j`: polygon `j` of a compact group is crossed (no two of its edge functions of
+/// opposite signs, not all zero), from [`edge_signs`] and its polygons' edge masks.
+#[inline(always)]
+fn polygons_crossed(gt: u32, lt: u32, masks: &[u32], reversed: &[u32]) -> u32 {
+    let mut crossed = 0u32;
+    for (j, (&mask, &rev)) in masks.iter().zip(reversed).enumerate() {
+        let pos = ((gt & !rev) | (lt & rev)) & mask;
+        let neg = ((lt & !rev) | (gt & rev)) & mask;
+        crossed |= u32::from((pos != 0) != (neg != 0)) << j;
+    }
+    crossed
 }
 
 /// The smaller of `a` and `b` by one comparison: [`f64::min`] without its NaN handling (a
@@ -917,6 +935,10 @@ impl BundleHits3 {
         })
     }
 }
+
+mod sheets;
+
+use sheets::SheetPath;
 
 #[cfg(all(test, feature = "std"))]
 mod tests;

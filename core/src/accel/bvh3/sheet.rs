@@ -320,15 +320,43 @@ impl ProjectedSheet {
     /// The window of [`Sheet::window`] for the line to which `A` projects at `a`.
     #[inline(always)]
     pub(in crate::accel) fn window(&self, a: (f64, f64)) -> (Range<u32>, Range<u32>) {
-        let (pu, pv, inv_det, tau) = (self.pu, self.pv, self.inv_det, self.tau);
+        let (s, t) = self.crossing(a);
+        let (ws, wt) = self.half_widths(a.0.abs() + a.1.abs());
+        (cells(s, ws, self.m), cells(t, wt, self.k))
+    }
+
+    /// The crossing `(s, t)` of the line with the ideal lattice ([`Sheet::window`]), `A`
+    /// projecting at `a`.
+    #[inline(always)]
+    pub(in crate::accel) fn crossing(&self, a: (f64, f64)) -> (f64, f64) {
+        let (pu, pv, inv_det) = (self.pu, self.pv, self.inv_det);
         let s = (pv.0 * a.1 - pv.1 * a.0) * inv_det;
         let t = (a.0 * pu.1 - a.1 * pu.0) * inv_det;
-        let na = a.0.abs() + a.1.abs();
+        (s, t)
+    }
+
+    /// The window's allowances `(w_s, w_t)` ([`Sheet::window`]) for a line to which `A`
+    /// projects at 1-norm `na`; they grow with `na`.
+    #[inline(always)]
+    pub(in crate::accel) fn half_widths(&self, na: f64) -> (f64, f64) {
+        let (inv_det, tau) = (self.inv_det, self.tau);
         let r = na + f64::from(self.m) * self.nu + f64::from(self.k) * self.nv + tau;
         let de = WINDOW_SLACK * r * r;
         let ws = (de + tau * (self.nv + 2.0 * r)) * inv_det.abs() + WINDOW_SLACK;
         let wt = (de + tau * (self.nu + 2.0 * r)) * inv_det.abs() + WINDOW_SLACK;
-        (cells(s, ws, self.m), cells(t, wt, self.k))
+        (ws, wt)
+    }
+
+    /// The projections `u'`, `v'` and `1/det` the crossing is computed from.
+    #[inline(always)]
+    pub(in crate::accel) fn axes(&self) -> ((f64, f64), (f64, f64), f64) {
+        (self.pu, self.pv, self.inv_det)
+    }
+
+    /// The 1-norms `|u'|₁`, `|v'|₁`.
+    #[inline(always)]
+    pub(in crate::accel) fn norms(&self) -> (f64, f64) {
+        (self.nu, self.nv)
     }
 }
 

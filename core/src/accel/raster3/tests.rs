@@ -113,6 +113,111 @@ proptest! {
     }
 }
 
+/// Casts `bundle` over `s` with the sheets row by row and by the exact path: the same
+/// hits for every line, bit for bit. Returns the row path's candidates by the exact path
+/// and inside a cell.
+fn rows_equal_exact(s: &Soup, bundle: &GlobalBundle3) -> [usize; 2] {
+    let raster = ParallelRaster3::new(&s.points, &s.polys);
+    let (mut rows, mut exact) = (BundleHits3::new(), BundleHits3::new());
+    raster.cast_by(bundle, SheetPath::Rows, &mut rows);
+    raster.cast_by(bundle, SheetPath::Exact, &mut exact);
+    assert_eq!(exact.row_paths, [0, 0]);
+    assert_eq!(rows.start, exact.start, "{bundle:?}");
+    let bits = |h: &[Hit3]| {
+        h.iter()
+            .map(|h| (h.t.to_bits(), h.prim))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(bits(&rows.hits), bits(&exact.hits), "{bundle:?}");
+    rows.row_paths
+}
+
+/// A soup with one `n × n` sheet whose vertices are (to rounding) lattice points of
+/// `bundle`, `step` lattice spacings apart, tilted in depth: the bundle's lines run
+/// along the quads' edges and through their vertices.
+fn sheet_on_the_lattice(bundle: &GlobalBundle3, n: u32, step: u32, tilt: f64) -> Soup {
+    let (e1, e2) = bundle.frame();
+    let (c, d) = (bundle.sphere().center, bundle.dir());
+    let mid = bundle.row(bundle.rows() / 2);
+    let row0 = bundle.rows() / 2 - n * step / 2;
+    let q0 = mid.count / 2 - n * step / 2;
+    let point = |i: u32, j: u32| {
+        let a = bundle.row_point(&mid, q0 + i * step);
+        let b = bundle.row(row0 + j * step).b;
+        c + e1 * a + e2 * b + d * (tilt * a + 0.1 * b)
+    };
+    let mut s = Soup::default();
+    for j in 0..n {
+        for i in 0..n {
+            s.push(&[
+                point(i, j),
+                point(i + 1, j),
+                point(i + 1, j + 1),
+                point(i, j + 1),
+            ]);
+        }
+    }
+    s
+}
+
+proptest! {
+    /// The sheets' row path equals the exact path bit for bit: sheet soups (tilted,
+    /// sheared, jittered grids among loose polygons) and cube meshes near and far.
+    #[test]
+    fn sheet_rows_equal_exact_path(
+        (s, _) in sheet_soup(),
+        seed in 0u64..1_000_000,
+        m in 1.0f64..3000.0,
+        far in any::<bool>(),
+    ) {
+        let sphere = sphere_of(&s);
+        let mut rng = chunk_rng(seed, 7);
+        for _ in 0..3 {
+            rows_equal_exact(&s, &bundle(&mut rng, &sphere, m));
+        }
+        let offset = if far { DVec3::new(1e4, -3e3, 7e2) } else { DVec3::splat(-0.5) };
+        let cube = cube_mesh(1 + (seed % 9) as usize, 1.0, offset, false, true);
+        rows_equal_exact(&cube, &bundle(&mut rng, &sphere_of(&cube), m));
+    }
+
+    /// A sheet whose edges and vertices lie on the bundle's lines (to rounding): the row
+    /// path leaves those candidates to the exact path and equals it bit for bit.
+    #[test]
+    fn sheet_on_the_lines_rows_equal_exact_path(
+        seed in 0u64..1_000_000,
+        step in 1u32..4,
+        tilt in -3.0f64..3.0,
+    ) {
+        let sphere = BoundingSphere::of_bounds(DVec3::splat(-1.0), DVec3::new(2.0, 1.0, 1.0));
+        let mut rng = chunk_rng(seed, 8);
+        let b = bundle(&mut rng, &sphere, 4000.0);
+        let s = sheet_on_the_lattice(&b, 6, step, tilt);
+        let [exact, inside] = rows_equal_exact(&s, &b);
+        // Every candidate on a line of the sheet's lattice is near a side
+        prop_assert!(exact >= 36, "{exact}");
+        if step > 1 {
+            prop_assert!(inside > 0);
+        }
+    }
+}
+
+#[test]
+fn the_cubes_sheets_take_the_row_path() {
+    // The cube of 30 × 30 quads a face: nearly every candidate of its sheets is inside a
+    // cell or outside the sheet, and the hits are those of the exact path.
+    let s = cube_mesh(30, 1.0, DVec3::splat(-0.5), false, true);
+    let sphere = sphere_of(&s);
+    let mut rng = chunk_rng(9, 0);
+    let (mut exact, mut inside) = (0, 0);
+    for _ in 0..20 {
+        let [e, i] = rows_equal_exact(&s, &bundle(&mut rng, &sphere, 1024.0));
+        (exact, inside) = (exact + e, inside + i);
+    }
+    // 20 bundles of ~1,024 lines, about 1.3 crossings a line
+    assert!(inside > 20_000, "{inside}");
+    assert!(exact * 1000 < inside, "{exact} of {inside}");
+}
+
 #[test]
 fn preset_scenes_hits_equal_bvh() {
     let mut rng = chunk_rng(4, 0);
@@ -124,8 +229,10 @@ fn preset_scenes_hits_equal_bvh() {
         };
         let bvh = s.bvh();
         let sphere = sphere_of(&s);
-        let hits = check_bundle(&s, &bvh, &sphere, &bundle(&mut rng, &sphere, 2000.0));
+        let b = bundle(&mut rng, &sphere, 2000.0);
+        let hits = check_bundle(&s, &bvh, &sphere, &b);
         assert!(hits > 500, "{name}: {hits}");
+        rows_equal_exact(&s, &b);
     }
 }
 
