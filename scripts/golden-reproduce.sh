@@ -9,10 +9,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release -q -p sceneinfo-cli
+# The binary cargo just built, wherever CARGO_TARGET_DIR puts it
+bin="${CARGO_TARGET_DIR:-target}/release/sceneinfo"
 golden=tests/data/golden/reproduce.json
 # "seconds":1.5 and "seconds":{"ours":1.5} → <clock>
 strip() { sed -E 's/"([a-z_]*second[a-z_]*)":(\{"ours":)?-?[0-9.eE+-]+\}?/"\1":<clock>/g'; }
-got=$(target/release/sceneinfo reproduce --json | strip)
+got=$("$bin" reproduce --json | strip)
 if [[ "${1:-}" == "--bless" ]]; then
     printf '%s\n' "$got" > "$golden"
     echo "wrote $golden"
