@@ -213,7 +213,11 @@ impl ParallelSweep2 {
         }
         out.found.clear();
         out.found.resize(segments, 0);
-        out.active.clear();
+        // Fixed-size buffers written by index (a line has at most one hit per segment, and
+        // at most every segment active)
+        out.active.resize(segments, 0);
+        out.spare.resize(segments, 0);
+        out.line.resize(segments, Hit2 { t: 0.0, prim: 0 });
         let query = LineQuery::new(c, d);
         let BundleSweep2 {
             offsets,
@@ -227,31 +231,40 @@ impl ParallelSweep2 {
             found,
             ..
         } = out;
+        let mut n_active = 0usize;
         for (k, (&p, &first)) in offsets.iter().zip(head.iter()).enumerate() {
             // The active segments: the last line's that reach this one, merged with those
             // entering here (both by rank; the entering ones have no end to check: their
-            // ranges are not empty)
-            spare.clear();
+            // ranges are not empty). Each is written, and kept by counting it.
+            let mut kept = 0usize;
             let mut entering = first;
-            for &rank in active.iter() {
+            for &rank in active.get(..n_active).unwrap_or_default() {
                 while entering < rank {
-                    spare.push(entering);
+                    if let Some(slot) = spare.get_mut(kept) {
+                        *slot = entering;
+                    }
+                    kept += 1;
                     entering = next.get(entering as usize).copied().unwrap_or(NO_SEGMENT);
                 }
-                if end.get(rank as usize).is_some_and(|&e| e as usize > k) {
-                    spare.push(rank);
+                if let Some(slot) = spare.get_mut(kept) {
+                    *slot = rank;
                 }
+                kept += usize::from(end.get(rank as usize).is_some_and(|&e| e as usize > k));
             }
             while entering != NO_SEGMENT {
-                spare.push(entering);
+                if let Some(slot) = spare.get_mut(kept) {
+                    *slot = entering;
+                }
+                kept += 1;
                 entering = next.get(entering as usize).copied().unwrap_or(NO_SEGMENT);
             }
             core::mem::swap(active, spare);
+            n_active = kept.min(active.len());
             // The exact test of the active segments, from the line's origin as the line
             // computes it
             let q = query.with_origin(c + n * p);
-            line.clear();
-            for &rank in active.iter() {
+            let mut hits = 0usize;
+            for &rank in active.get(..n_active).unwrap_or_default() {
                 let Some(&prim) = order.get(rank as usize) else {
                     continue;
                 };
@@ -262,14 +275,17 @@ impl ParallelSweep2 {
                     continue;
                 };
                 if let Some(t) = q.hit(*a, *e) {
-                    line.push(Hit2 { t, prim });
+                    if let Some(slot) = line.get_mut(hits) {
+                        *slot = Hit2 { t, prim };
+                    }
+                    hits += 1;
                     *found += 1;
                 }
             }
             visit(
                 k,
                 &mut SweptLine {
-                    hits: line,
+                    hits: line.get_mut(..hits).unwrap_or_default(),
                     found,
                 },
             );
