@@ -57,7 +57,7 @@ pub(crate) use raster3::BundleHits3;
 #[cfg(feature = "alloc")]
 pub(crate) use raster3::ParallelRaster3;
 #[cfg(feature = "alloc")]
-pub(crate) use sweep2::{BundleSweep2, ParallelSweep2, SweptLine};
+pub(crate) use sweep2::{BundleHits2, ParallelSweep2};
 
 #[cfg(feature = "alloc")]
 use crate::lines::Line2;

@@ -53,15 +53,11 @@ const MARGIN: f64 = 1e-9;
 /// radians) before the segments' depth order is repaired. The order only makes each
 /// line's hits arrive nearly sorted, so a stale one costs a few more moves of the
 /// per-line sort, while repairing it costs the depths and an insertion pass over all
-/// segments. 64-squares room, 8·10⁶ lines, user time (session 4's bucketed sweep):
-/// repaired every bundle 1.04–1.06 s, past a turn of 0.05: 0.96–0.97, 0.1: 0.95–0.98,
-/// 0.2: 0.92–0.96, **0.4: 0.90–0.94**, 0.8: 0.90–0.92, never: 1.07–1.09. With a sheaf's
-/// 256 directions π/256 apart, 0.4 repairs every ~32 bundles, and at every sheaf (a new
-/// random rotation).
+/// segments. 64-squares room, 8·10⁶ lines, user time: repaired every bundle 1.04–1.06 s,
+/// past a turn of 0.05: 0.96–0.97, 0.1: 0.95–0.98, 0.2: 0.92–0.96, **0.4: 0.90–0.94**,
+/// 0.8: 0.90–0.92, never: 1.07–1.09. With a sheaf's 256 directions π/256 apart, 0.4
+/// repairs every ~32 bundles, and at every sheaf (a new random rotation).
 const REORDER_TURN: f64 = 0.4;
-
-/// End of a list of segments starting on the same line.
-const NO_SEGMENT: u32 = u32::MAX;
 
 /// Segments prepared for bundles of parallel lines: start `a`, edge `e = b − a` (the same
 /// values the naive loop tests), and the coordinate scale of the margin.
@@ -72,25 +68,22 @@ pub(crate) struct ParallelSweep2 {
     scale: f64,
 }
 
-/// The caller's scratch space for [`ParallelSweep2::cast_lines`], reused from bundle to
-/// bundle without allocating once it has grown.
+/// The hits of the lines of one bundle, bucketed per line (the caller's scratch space,
+/// reused from bundle to bundle without allocating once it has grown).
 #[derive(Clone, Debug, Default)]
-pub(crate) struct BundleSweep2 {
+pub(crate) struct BundleHits2 {
     /// Offsets `p_k` of the current bundle's lines.
     offsets: Vec<f64>,
-    /// By rank (position in `order`): one past the last candidate line of the segment.
-    end: Vec<u32>,
-    /// By rank: the next segment (rank) whose candidates start on the same line, or
-    /// [`NO_SEGMENT`]; the lists run in increasing rank.
-    next: Vec<u32>,
-    /// By line: the first segment (rank) whose candidates start on that line.
-    head: Vec<u32>,
-    /// The segments (ranks) whose candidate range holds the current line, by rank.
-    active: Vec<u32>,
-    /// The next line's `active`, built from this one.
-    spare: Vec<u32>,
-    /// The current line's hits, in the order found (the active segments' rank order).
-    line: Vec<Hit2>,
+    /// Origins `c + p_k n` of the current bundle's lines.
+    origins: Vec<DVec2>,
+    /// Candidate line range `k₀ .. k₁` of each segment.
+    ranges: Vec<(u32, u32)>,
+    /// Line `k`'s bucket starts at `start[k]`; `start[m]` = number of candidates.
+    start: Vec<usize>,
+    /// Line `k`'s bucket ends (so far) at `end[k]`.
+    end: Vec<usize>,
+    /// The buckets.
+    hits: Vec<Hit2>,
     /// Depth `d · (midpoint − c)` of each segment along the lines of the bundle the order
     /// was last repaired for.
     depth: Vec<f64>,
@@ -101,14 +94,6 @@ pub(crate) struct BundleSweep2 {
     order_dir: DVec2,
     /// Hits found on each segment by the last cast (indexed by segment).
     found: Vec<u32>,
-}
-
-/// One line of a bundle as [`ParallelSweep2::cast_lines`] hands it over: its hits in the
-/// order found, and the per-segment hit counts it is part of.
-#[derive(Debug)]
-pub(crate) struct SweptLine<'a> {
-    hits: &'a mut [Hit2],
-    found: &'a mut [u32],
 }
 
 impl ParallelSweep2 {
@@ -125,175 +110,136 @@ impl ParallelSweep2 {
         Self { a, e, scale }
     }
 
-    /// Finds every hit of every line of `bundle`, line by line in order `k = 0, 1, …`:
-    /// `visit(k, line)` gets line `k` with [`SweptLine::hits`] the hits of
-    /// [`super::all_hits_naive`] of `bundle.line(k)` in the order they were found (the
-    /// segments' depth order, nearly the order of `t`); [`SweptLine::sort`] puts them in
-    /// the order of `all_hits`. A line whose hits found are strictly increasing in `t`
-    /// already is in that order (`(t, prim)` is then decided by `t` alone), which is what
-    /// a caller checking the gaps between consecutive hits learns for free. Afterwards
-    /// [`BundleSweep2::found`] holds the hits found per segment.
-    ///
-    /// The lines are swept in order of their offsets: a segment enters the set of active
-    /// segments on the first line of its candidate range and leaves it past the last, the
-    /// set kept in the segments' depth order (a merge per line of the set with the
-    /// segments entering there, both in that order), and each line runs the exact test on
-    /// the active segments only: the candidates of the module docs, tested line by line
-    /// instead of segment by segment, so that each line's hits are complete — and handed
-    /// over — while they are still in the fastest cache.
-    pub(crate) fn cast_lines(
-        &self,
-        bundle: &GlobalBundle2,
-        out: &mut BundleSweep2,
-        mut visit: impl FnMut(usize, &mut SweptLine<'_>),
-    ) {
+    /// Finds every hit of every line of `bundle` into `out`: afterwards
+    /// [`BundleHits2::line_hits`]`(k)` is exactly [`super::all_hits_naive`] of
+    /// `bundle.line(k)`.
+    #[cfg(test)]
+    pub fn cast(&self, bundle: &GlobalBundle2, out: &mut BundleHits2) {
+        self.cast_unsorted(bundle, out);
+        for k in 0..out.lines() {
+            out.sort_line(k);
+        }
+    }
+
+    /// [`ParallelSweep2::cast`] without the per-line sort: afterwards
+    /// [`BundleHits2::line_hits`]`(k)` holds the hits of [`super::all_hits_naive`] of
+    /// `bundle.line(k)` in the order they were found (the segments' depth order, nearly
+    /// the order of `t`), and [`BundleHits2::sort_line`]`(k)` puts them in the order of
+    /// `all_hits`. A line whose hits found are strictly increasing in `t` already is in
+    /// that order (`(t, prim)` is then decided by `t` alone), which is what a caller
+    /// checking the gaps between consecutive hits learns for free.
+    pub(crate) fn cast_unsorted(&self, bundle: &GlobalBundle2, out: &mut BundleHits2) {
         let m = bundle.len();
         let mu = m as usize;
         let circle = bundle.circle();
         let (c, r, n) = (circle.center, circle.radius, bundle.normal());
-        let segments = self.a.len();
         // The lines' offsets, as the lines themselves compute them
         out.offsets.clear();
         out.offsets.extend((0..m).map(|k| bundle.offset(k)));
         let delta = MARGIN * (c.abs().max_element() + r + self.scale);
+        // Candidate ranges, counted per line in a difference array
+        out.start.clear();
+        out.start.resize(mu + 1, 0);
+        out.ranges.clear();
+        out.ranges.resize(self.a.len(), (0, 0));
         let to_k = 0.5 * f64::from(m) / r;
         let u1 = bundle.shift();
         let d = bundle.dir();
         // The depth order is repaired only when the direction has turned by more than
         // REORDER_TURN since it was last sorted (or the segments changed)
-        if out.order.len() != segments
-            || !((d - out.order_dir).length_squared() <= REORDER_TURN * REORDER_TURN)
-        {
-            out.depth.clear();
+        let reorder = out.order.len() != self.a.len()
+            || !((d - out.order_dir).length_squared() <= REORDER_TURN * REORDER_TURN);
+        out.depth.clear();
+        if reorder {
             out.depth.extend(
                 self.a
                     .iter()
                     .zip(&self.e)
                     .map(|(a, e)| d.dot(*a - c) + 0.5 * d.dot(*e)),
             );
+        }
+        // (slices, so that their lengths and addresses stay in registers)
+        let (offsets, start) = (&out.offsets[..], &mut out.start[..]);
+        for ((a, e), range) in self.a.iter().zip(&self.e).zip(&mut out.ranges) {
+            let pa = n.dot(*a - c);
+            let pb = pa + n.dot(*e);
+            // (a NaN projection gives an empty range below, or candidates the exact test
+            // rejects: no hit either way)
+            let (lo, hi) = if pa <= pb { (pa, pb) } else { (pb, pa) };
+            let (lo, hi) = (lo - delta, hi + delta);
+            let k0 = first_at_least(offsets, lo, (lo + r) * to_k - u1);
+            let k1 = first_above(offsets, hi, (hi + r) * to_k - u1).max(k0);
+            *range = (k0, k1);
+            if let Some(s) = start.get_mut(k0 as usize) {
+                *s = s.wrapping_add(1);
+            }
+            if let Some(s) = start.get_mut(k1 as usize) {
+                *s = s.wrapping_sub(1);
+            }
+        }
+        // Bucket starts: prefix sums of the counts (the wrapping differences add up to
+        // counts ≥ 0, as every range has k₀ ≤ k₁)
+        let mut running = 0usize;
+        let mut total = 0usize;
+        for s in &mut out.start {
+            running = running.wrapping_add(*s);
+            *s = total;
+            total = total.wrapping_add(running);
+        }
+        out.end.clear();
+        out.end.extend_from_slice(&out.start[..mu]);
+        // Room for every candidate; what earlier bundles left there is never read (a
+        // line's bucket is read up to its end, written in this bundle), so the buckets
+        // are not cleared: they only grow
+        if out.hits.len() < total {
+            out.hits.resize(total, Hit2 { t: 0.0, prim: 0 });
+        }
+        // The exact test of every candidate, segment by segment in the order of their
+        // midpoints' depth along the lines, so that each line's bucket fills nearly sorted
+        if reorder {
             order_by_depth(&mut out.order, &out.depth);
             out.order_dir = d;
         }
-        // Candidate ranges `k₀ .. k₁` by rank; each segment with candidates put on the
-        // list of its first line (ranks visited downwards, so each list runs upwards)
-        out.head.clear();
-        out.head.resize(mu, NO_SEGMENT);
-        out.next.clear();
-        out.next.resize(segments, NO_SEGMENT);
-        out.end.clear();
-        out.end.resize(segments, 0);
-        {
-            let (offsets, head, next, end) = (
-                &out.offsets[..],
-                &mut out.head[..],
-                &mut out.next[..],
-                &mut out.end[..],
-            );
-            for (rank, &prim) in out.order.iter().enumerate().rev() {
-                let (Some(a), Some(e)) = (self.a.get(prim as usize), self.e.get(prim as usize))
-                else {
-                    continue;
-                };
-                let pa = n.dot(*a - c);
-                let pb = pa + n.dot(*e);
-                // (a NaN projection gives an empty range below, or candidates the exact
-                // test rejects: no hit either way)
-                let (lo, hi) = if pa <= pb { (pa, pb) } else { (pb, pa) };
-                let (lo, hi) = (lo - delta, hi + delta);
-                let k0 = first_at_least(offsets, lo, (lo + r) * to_k - u1);
-                let k1 = first_above(offsets, hi, (hi + r) * to_k - u1);
-                if k0 < k1
-                    && let Some(first) = head.get_mut(k0 as usize)
-                {
-                    next[rank] = *first;
-                    *first = rank as u32;
-                    end[rank] = k1;
-                }
-            }
-        }
-        out.found.clear();
-        out.found.resize(segments, 0);
-        // Fixed-size buffers written by index (a line has at most one hit per segment, and
-        // at most every segment active)
-        out.active.resize(segments, 0);
-        out.spare.resize(segments, 0);
-        out.line.resize(segments, Hit2 { t: 0.0, prim: 0 });
         let query = LineQuery::new(c, d);
-        let BundleSweep2 {
-            offsets,
+        // The lines' origins, as the lines compute them
+        out.origins.clear();
+        out.origins.extend(out.offsets.iter().map(|&p| c + n * p));
+        out.found.clear();
+        out.found.resize(self.a.len(), 0);
+        let BundleHits2 {
+            origins,
+            ranges,
             end,
-            next,
-            head,
-            active,
-            spare,
-            line,
+            hits,
             order,
             found,
             ..
         } = out;
-        let mut n_active = 0usize;
-        for (k, (&p, &first)) in offsets.iter().zip(head.iter()).enumerate() {
-            // The active segments: the last line's that reach this one, merged with those
-            // entering here (both by rank; the entering ones have no end to check: their
-            // ranges are not empty). Each is written, and kept by counting it.
-            let mut kept = 0usize;
-            let mut entering = first;
-            for &rank in active.get(..n_active).unwrap_or_default() {
-                while entering < rank {
-                    if let Some(slot) = spare.get_mut(kept) {
-                        *slot = entering;
-                    }
-                    kept += 1;
-                    entering = next.get(entering as usize).copied().unwrap_or(NO_SEGMENT);
-                }
-                if let Some(slot) = spare.get_mut(kept) {
-                    *slot = rank;
-                }
-                kept += usize::from(end.get(rank as usize).is_some_and(|&e| e as usize > k));
-            }
-            while entering != NO_SEGMENT {
-                if let Some(slot) = spare.get_mut(kept) {
-                    *slot = entering;
-                }
-                kept += 1;
-                entering = next.get(entering as usize).copied().unwrap_or(NO_SEGMENT);
-            }
-            core::mem::swap(active, spare);
-            n_active = kept.min(active.len());
-            // The exact test of the active segments, from the line's origin as the line
-            // computes it
-            let q = query.with_origin(c + n * p);
-            let mut hits = 0usize;
-            for &rank in active.get(..n_active).unwrap_or_default() {
-                let Some(&prim) = order.get(rank as usize) else {
-                    continue;
-                };
-                let p = prim as usize;
-                let (Some(a), Some(e), Some(found)) =
-                    (self.a.get(p), self.e.get(p), found.get_mut(p))
-                else {
-                    continue;
-                };
-                if let Some(t) = q.hit(*a, *e) {
-                    if let Some(slot) = line.get_mut(hits) {
-                        *slot = Hit2 { t, prim };
-                    }
-                    hits += 1;
-                    *found += 1;
+        for &prim in order.iter() {
+            let p = prim as usize;
+            let (Some(&(k0, k1)), Some(a), Some(e), Some(found)) = (
+                ranges.get(p),
+                self.a.get(p),
+                self.e.get(p),
+                found.get_mut(p),
+            ) else {
+                continue;
+            };
+            let lines = k0 as usize..k1 as usize;
+            let mut n = 0u32;
+            for (&o, end) in origins[lines.clone()].iter().zip(&mut end[lines]) {
+                if let Some(t) = query.with_origin(o).hit(*a, *e) {
+                    hits[*end] = Hit2 { t, prim };
+                    *end += 1;
+                    n += 1;
                 }
             }
-            visit(
-                k,
-                &mut SweptLine {
-                    hits: line.get_mut(..hits).unwrap_or_default(),
-                    found,
-                },
-            );
+            *found = n;
         }
     }
 }
 
-impl BundleSweep2 {
+impl BundleHits2 {
     /// Empty scratch space.
     #[must_use]
     #[cfg(test)]
@@ -301,36 +247,54 @@ impl BundleSweep2 {
         Self::default()
     }
 
+    /// The hits of line `k` of the last bundle cast, sorted by `t` then `prim` after
+    /// [`ParallelSweep2::cast`] or [`BundleHits2::sort_line`] (empty for `k` beyond the
+    /// bundle).
+    #[must_use]
+    pub fn line_hits(&self, k: usize) -> &[Hit2] {
+        match (self.start.get(k), self.end.get(k)) {
+            (Some(&s), Some(&e)) => &self.hits[s..e],
+            _ => &[],
+        }
+    }
+
     /// The number of hits the last cast found on each segment (indexed by segment, as
-    /// [`ParallelSweep2::new`] got them), less those of the lines that
-    /// [`SweptLine::uncount`] took out.
+    /// [`ParallelSweep2::new`] got them), less those of the lines passed to
+    /// [`BundleHits2::uncount_line`] since.
     #[must_use]
     pub fn found(&self) -> &[u32] {
         &self.found
     }
-}
 
-impl SweptLine<'_> {
-    /// The line's hits in the order found.
-    #[must_use]
-    pub fn hits(&self) -> &[Hit2] {
-        self.hits
-    }
-
-    /// Sorts the line's hits by `t` then `prim` (the order of [`super::Bvh2::all_hits`])
-    /// and returns them.
-    pub fn sort(&mut self) -> &[Hit2] {
-        sort_nearly_sorted(self.hits);
-        self.hits
-    }
-
-    /// Takes the line's hits out of [`BundleSweep2::found`] (a line the caller counts by
-    /// itself); the hits stay readable.
-    pub fn uncount(&mut self) {
-        for h in self.hits.iter() {
-            if let Some(n) = self.found.get_mut(h.prim as usize) {
-                *n = n.saturating_sub(1);
+    /// Takes the hits of line `k` out of [`BundleHits2::found`] (a line the caller
+    /// counts by itself); the hits stay readable.
+    pub fn uncount_line(&mut self, k: usize) {
+        if let (Some(&s), Some(&e)) = (self.start.get(k), self.end.get(k)) {
+            for h in &self.hits[s..e] {
+                if let Some(n) = self.found.get_mut(h.prim as usize) {
+                    *n = n.saturating_sub(1);
+                }
             }
+        }
+    }
+
+    /// Number of lines of the last bundle cast.
+    #[must_use]
+    #[cfg(test)]
+    pub fn lines(&self) -> usize {
+        self.end.len()
+    }
+
+    /// Sorts the hits of line `k` by `t` then `prim` (the order of
+    /// [`super::Bvh2::all_hits`]) and returns them (empty for `k` beyond the bundle).
+    pub fn sort_line(&mut self, k: usize) -> &[Hit2] {
+        match (self.start.get(k), self.end.get(k)) {
+            (Some(&s), Some(&e)) => {
+                let line = &mut self.hits[s..e];
+                sort_nearly_sorted(line);
+                line
+            }
+            _ => &[],
         }
     }
 }
@@ -454,53 +418,67 @@ mod tests {
     }
 
     fn check(segs: &[Segment], circle: &BoundingCircle, u: [f64; 2], m: u32) {
-        check_with(segs, circle, u, m, &mut BundleSweep2::new());
+        check_with(segs, circle, u, m, &mut BundleHits2::new());
     }
 
     /// Casts one bundle into `out` (possibly holding the depth order of earlier bundles)
-    /// and compares every line with the naive loop and the BVH: the hits found, once
-    /// sorted, and already in order wherever `t` strictly increases; the lines in order;
-    /// the hits counted per segment, less those of line 0, taken out.
+    /// and compares every line with the naive loop and the BVH.
     fn check_with(
         segs: &[Segment],
         circle: &BoundingCircle,
         u: [f64; 2],
         m: u32,
-        out: &mut BundleSweep2,
+        out: &mut BundleHits2,
     ) {
         let sweep = ParallelSweep2::new(segs);
         let bvh = Bvh2::build(segs).unwrap();
         let bundle = GlobalBundle2::new(circle, u, m);
+        sweep.cast(&bundle, out);
         let (mut naive, mut tree) = (Vec::new(), Vec::new());
-        let mut per_segment = vec![0u32; segs.len()];
-        let mut lines = 0;
-        sweep.cast_lines(&bundle, out, |k, swept| {
-            assert_eq!(k, lines, "lines in order");
-            lines += 1;
-            let line = bundle.line(k as u32);
+        for k in 0..m {
+            let line = bundle.line(k);
             assert_eq!(
                 line,
-                sample_global_line_2d(circle, [u[0], bundle.canonical_offset(k as u32)])
+                sample_global_line_2d(circle, [u[0], bundle.canonical_offset(k)])
             );
             all_hits_naive(segs, &line, &mut naive);
             bvh.all_hits(&line, &mut tree);
+            assert_eq!(
+                out.line_hits(k as usize),
+                &naive[..],
+                "line {k} of {bundle:?}"
+            );
             assert_eq!(naive, tree);
-            let found = swept.hits().to_vec();
-            if found.windows(2).all(|w| w[0].t < w[1].t) {
-                assert_eq!(found, naive, "line {k} of {bundle:?}");
+        }
+        assert!(out.line_hits(m as usize).is_empty());
+        // The hits found per segment: those of the lines, segment by segment
+        let mut per_segment = vec![0u32; segs.len()];
+        for k in 0..m as usize {
+            for h in out.line_hits(k) {
+                per_segment[h.prim as usize] += 1;
             }
-            assert_eq!(swept.sort(), &naive[..], "line {k} of {bundle:?}");
-            assert_eq!(swept.hits(), &naive[..]);
-            if k == 0 {
-                swept.uncount();
-            } else {
-                for h in &naive {
-                    per_segment[h.prim as usize] += 1;
-                }
-            }
-        });
-        assert_eq!(lines, m as usize);
+        }
         assert_eq!(out.found(), &per_segment[..]);
+        // The unsorted cast: the same hits, already in order wherever `t` strictly
+        // increases, and in order once sorted
+        let mut unsorted = out.clone();
+        sweep.cast_unsorted(&bundle, &mut unsorted);
+        assert_eq!(unsorted.lines(), m as usize);
+        for k in 0..m as usize {
+            let found = unsorted.line_hits(k).to_vec();
+            if found.windows(2).all(|w| w[0].t < w[1].t) {
+                assert_eq!(found, out.line_hits(k), "line {k}");
+            }
+            assert_eq!(unsorted.sort_line(k), out.line_hits(k), "line {k}");
+        }
+        assert!(unsorted.sort_line(m as usize).is_empty());
+        assert_eq!(unsorted.found(), &per_segment[..]);
+        // A line taken out of the counts: its hits leave them, and only its hits
+        unsorted.uncount_line(0);
+        for h in out.line_hits(0) {
+            per_segment[h.prim as usize] -= 1;
+        }
+        assert_eq!(unsorted.found(), &per_segment[..]);
     }
 
     proptest! {
@@ -529,7 +507,7 @@ mod tests {
         ) {
             let segs = soup(seed, n);
             let circle = BoundingCircle::of_bounds(DVec2::splat(-10.0), DVec2::splat(10.0));
-            let mut out = BundleSweep2::new();
+            let mut out = BundleHits2::new();
             for j in 0..8 {
                 let u = [(f64::from(j) + u0) / 8.0, (u0 * 7.0 + f64::from(j) * 0.3) % 1.0];
                 check_with(&segs, &circle, u, m, &mut out);
@@ -568,20 +546,11 @@ mod tests {
     fn empty_and_degenerate_inputs() {
         let circle = BoundingCircle::of_bounds(DVec2::ZERO, DVec2::ONE);
         let sweep = ParallelSweep2::new(&[]);
-        let mut out = BundleSweep2::new();
-        let mut lines = 0;
-        sweep.cast_lines(&GlobalBundle2::new(&circle, [0.3, 0.7], 8), &mut out, |_, l| {
-            assert!(l.hits().is_empty());
-            lines += 1;
-        });
-        assert_eq!(lines, 8);
+        let mut out = BundleHits2::new();
+        sweep.cast(&GlobalBundle2::new(&circle, [0.3, 0.7], 8), &mut out);
+        assert!((0..8).all(|k| out.line_hits(k).is_empty()));
         let bad = [Segment::new(DVec2::new(f64::NAN, 0.0), DVec2::ONE)];
-        lines = 0;
-        let bundle = GlobalBundle2::new(&circle, [f64::NAN, 2.0], 0);
-        ParallelSweep2::new(&bad).cast_lines(&bundle, &mut out, |_, l| {
-            assert!(l.hits().iter().all(|h| h.t.is_finite()));
-            lines += 1;
-        });
-        assert_eq!(lines, 1);
+        ParallelSweep2::new(&bad).cast(&GlobalBundle2::new(&circle, [f64::NAN, 2.0], 0), &mut out);
+        assert!(out.line_hits(0).iter().all(|h| h.t.is_finite()));
     }
 }

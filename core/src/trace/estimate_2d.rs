@@ -40,7 +40,7 @@
 
 use alloc::vec::Vec;
 
-use crate::accel::{BundleSweep2, Bvh2, Hit2, ParallelSweep2, SweptLine};
+use crate::accel::{BundleHits2, Bvh2, Hit2, ParallelSweep2};
 use crate::continuous;
 use crate::error::Result;
 use crate::geom::{DVec2, Segment};
@@ -90,8 +90,8 @@ const _: () = assert!(BUNDLE_LINES as u64 * SHEAF_BUNDLES as u64 == crate::lines
 /// Scratch space of [`Tracer2::tally_bundle`], reused from bundle to bundle.
 #[derive(Debug, Default)]
 struct BundleScratch {
-    /// The sweep's scratch space.
-    sweep: BundleSweep2,
+    /// The hits of the bundle's lines.
+    hits: BundleHits2,
     /// One line's crossings, for the lines normalised one by one.
     crossings: Vec<Crossing>,
     /// The bundle's segments per patch pair.
@@ -296,11 +296,14 @@ impl Tracer2 {
         tally: &mut LineTally,
     ) -> (f64, u64) {
         let BundleScratch {
-            sweep,
+            hits,
             crossings,
             blocks,
             cos,
         } = scratch;
+        // Each line's hits in the order found; a line is sorted below only if its hits
+        // are not strictly increasing in `t` (then they are in the order of all_hits)
+        self.sweep.cast_unsorted(bundle, hits);
         let dir = bundle.dir();
         let (mut sum, mut samples) = (0.0, 0u64);
         let mut line_by_line = |line: &[Hit2], tally: &mut LineTally| {
@@ -310,9 +313,9 @@ impl Tracer2 {
             }
         };
         if tally.terms().is_some() {
-            self.sweep.cast_lines(bundle, sweep, |_, line| {
-                line_by_line(line.sort(), tally);
-            });
+            for k in 0..bundle.len() as usize {
+                line_by_line(hits.sort_line(k), tally);
+            }
             return (sum, samples);
         }
         // Each patch's cosine with the bundle's direction
@@ -323,20 +326,21 @@ impl Tracer2 {
         let separated =
             |line: &[Hit2], floor: f64| line.windows(2).all(|w| !(w[1].t - w[0].t <= floor));
         let mut fast_samples = 0u64;
-        // Each line's hits in the order found, handed over line by line; a line is sorted
-        // only if its hits are not strictly increasing in `t` (then they are in the order
-        // of all_hits)
-        self.sweep.cast_lines(bundle, sweep, |_, swept: &mut SweptLine<'_>| {
+        for k in 0..bundle.len() as usize {
+            let mut line = hits.line_hits(k);
             // Gaps all above eps (≥ 0; finite `t`): strictly increasing, so already in
             // the order of all_hits. Else sorted first, and tallied line by line if two
             // hits lie within eps (the decision all_hits' order gives)
-            if !separated(swept.hits(), gap_floor) && !separated(swept.sort(), eps) {
-                // Its samples counted by the line's own normalisation, not per segment
-                swept.uncount();
-                line_by_line(swept.hits(), tally);
-                return;
+            if !separated(line, gap_floor) {
+                let sorted = hits.sort_line(k);
+                if !separated(sorted, eps) {
+                    // Its samples counted by the line's own normalisation, not per segment
+                    hits.uncount_line(k);
+                    line_by_line(hits.line_hits(k), tally);
+                    continue;
+                }
+                line = hits.line_hits(k);
             }
-            let line = swept.hits();
             // Every hit a sample (its leaving count is added per segment below); a hit
             // facing along the line followed by one facing back is a segment between them
             // (as `global_hit_terms` counts a line)
@@ -353,10 +357,10 @@ impl Tracer2 {
                 }
                 front = (c > 0.0).then_some((h, c));
             }
-        });
+        }
         // The leaving samples of the lines tallied here, segment by segment: each hit
         // found leaves its patch once (the same counts as one `leave` per hit)
-        tally.leave_counts(sweep.found());
+        tally.leave_counts(hits.found());
         (sum, samples + fast_samples)
     }
 
@@ -776,16 +780,12 @@ mod tests {
         }
         // The axis bundles do meet coincident hits (else this test would not test them)
         let bundle = GlobalBundle2::new(&tracer.circle, [0.0, 0.0], 8);
+        let mut hits = BundleHits2::new();
+        tracer.sweep.cast(&bundle, &mut hits);
         let eps = 1e-12 * tracer.circle.radius;
-        let mut close = 0;
-        tracer
-            .sweep
-            .cast_lines(&bundle, &mut BundleSweep2::new(), |_, line| {
-                if line.sort().windows(2).any(|w| w[1].t - w[0].t <= eps) {
-                    close += 1;
-                }
-            });
-        assert!(close >= 3);
+        let close =
+            (0..8).filter(|&k| hits.line_hits(k).windows(2).any(|w| w[1].t - w[0].t <= eps));
+        assert!(close.count() >= 3);
     }
 
     #[test]
