@@ -160,12 +160,11 @@ impl LineQuery {
         }
     }
 
-    /// The same direction from another origin (the lines of a bundle: `1/(d·d)` is
-    /// shared, with the bits [`LineQuery::new`] computes).
+    /// `1/(d·d)`.
     #[cfg(feature = "alloc")]
     #[inline]
-    pub(crate) fn with_origin(&self, o: DVec2) -> Self {
-        Self { o, ..*self }
+    pub(crate) fn inv_dd(&self) -> f64 {
+        self.inv_dd
     }
 
     /// The line parameter where the line meets the closed segment `a → a + e`, if it does
