@@ -207,12 +207,16 @@ impl ParallelSweep2 {
         let query = LineQuery::new(c, d);
         // The lines' origins, as the lines compute them (`c + n p`), coordinate by
         // coordinate
+        // (one more, a copy of the last, so that every segment's candidates can be tested
+        // two at a time: an odd range takes the next line too, whose result is not read)
         out.origin_x.clear();
         out.origin_x.extend(out.offsets.iter().map(|&p| (c + n * p).x));
+        out.origin_x.push(out.origin_x.last().copied().unwrap_or(0.0));
         out.origin_y.clear();
         out.origin_y.extend(out.offsets.iter().map(|&p| (c + n * p).y));
+        out.origin_y.push(out.origin_y.last().copied().unwrap_or(0.0));
         out.crossings.clear();
-        out.crossings.resize(mu, f64::NAN);
+        out.crossings.resize(mu + 1, f64::NAN);
         out.found.clear();
         out.found.resize(self.a.len(), 0);
         let BundleHits2 {
@@ -226,6 +230,8 @@ impl ParallelSweep2 {
             found,
             ..
         } = out;
+        // (slices, so that their lengths and addresses stay in registers)
+        let (hits, end, found): (&mut [Hit2], &mut [usize], &mut [u32]) = (hits, end, found);
         for &prim in order.iter() {
             let p = prim as usize;
             let (Some(&(k0, k1)), Some(a), Some(e), Some(found)) = (
@@ -236,11 +242,13 @@ impl ParallelSweep2 {
             ) else {
                 continue;
             };
-            let lines = k0 as usize..k1 as usize;
+            let (k0, k1) = (k0 as usize, k1 as usize);
+            // An even number of lines tested (the padding line past the last if need be)
+            let tested = k0..(k1 + (k1 - k0) % 2).min(origin_x.len());
             let (Some(xs), Some(ys), Some(ends)) = (
-                origin_x.get(lines.clone()),
-                origin_y.get(lines.clone()),
-                end.get_mut(lines),
+                origin_x.get(tested.clone()),
+                origin_y.get(tested),
+                end.get_mut(k0..k1),
             ) else {
                 continue;
             };
