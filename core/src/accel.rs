@@ -160,11 +160,12 @@ impl LineQuery {
         }
     }
 
-    /// `1/(d·d)`.
+    /// The same direction from another origin (the lines of a bundle: `1/(d·d)` is
+    /// shared, with the bits [`LineQuery::new`] computes).
     #[cfg(feature = "alloc")]
     #[inline]
-    pub(crate) fn inv_dd(&self) -> f64 {
-        self.inv_dd
+    pub(crate) fn with_origin(&self, o: DVec2) -> Self {
+        Self { o, ..*self }
     }
 
     /// The line parameter where the line meets the closed segment `a → a + e`, if it does

@@ -74,12 +74,8 @@ pub(crate) struct ParallelSweep2 {
 pub(crate) struct BundleHits2 {
     /// Offsets `p_k` of the current bundle's lines.
     offsets: Vec<f64>,
-    /// Origins `c + p_k n` of the current bundle's lines, `x` coordinates.
-    origin_x: Vec<f64>,
-    /// Their `y` coordinates.
-    origin_y: Vec<f64>,
-    /// One segment's candidates: the hit's `t`, or NaN for a miss.
-    crossings: Vec<f64>,
+    /// Origins `c + p_k n` of the current bundle's lines.
+    origins: Vec<DVec2>,
     /// Candidate line range `k₀ .. k₁` of each segment.
     ranges: Vec<(u32, u32)>,
     /// Line `k`'s bucket starts at `start[k]`; `start[m]` = number of candidates.
@@ -205,24 +201,13 @@ impl ParallelSweep2 {
             out.order_dir = d;
         }
         let query = LineQuery::new(c, d);
-        // The lines' origins, as the lines compute them (`c + n p`), coordinate by
-        // coordinate
-        // (one more, a copy of the last, so that every segment's candidates can be tested
-        // two at a time: an odd range takes the next line too, whose result is not read)
-        out.origin_x.clear();
-        out.origin_x.extend(out.offsets.iter().map(|&p| (c + n * p).x));
-        out.origin_x.push(out.origin_x.last().copied().unwrap_or(0.0));
-        out.origin_y.clear();
-        out.origin_y.extend(out.offsets.iter().map(|&p| (c + n * p).y));
-        out.origin_y.push(out.origin_y.last().copied().unwrap_or(0.0));
-        out.crossings.clear();
-        out.crossings.resize(mu + 1, f64::NAN);
+        // The lines' origins, as the lines compute them
+        out.origins.clear();
+        out.origins.extend(out.offsets.iter().map(|&p| c + n * p));
         out.found.clear();
         out.found.resize(self.a.len(), 0);
         let BundleHits2 {
-            origin_x,
-            origin_y,
-            crossings,
+            origins,
             ranges,
             end,
             hits,
@@ -230,8 +215,6 @@ impl ParallelSweep2 {
             found,
             ..
         } = out;
-        // (slices, so that their lengths and addresses stay in registers)
-        let (hits, end, found): (&mut [Hit2], &mut [usize], &mut [u32]) = (hits, end, found);
         for &prim in order.iter() {
             let p = prim as usize;
             let (Some(&(k0, k1)), Some(a), Some(e), Some(found)) = (
@@ -242,55 +225,17 @@ impl ParallelSweep2 {
             ) else {
                 continue;
             };
-            let (k0, k1) = (k0 as usize, k1 as usize);
-            // An even number of lines tested (the padding line past the last if need be)
-            let tested = k0..(k1 + (k1 - k0) % 2).min(origin_x.len());
-            let (Some(xs), Some(ys), Some(ends)) = (
-                origin_x.get(tested.clone()),
-                origin_y.get(tested),
-                end.get_mut(k0..k1),
-            ) else {
-                continue;
-            };
-            let len = xs.len().min(crossings.len());
-            let ts = &mut crossings[..len];
-            // The exact test of every candidate, without a branch (so that it runs on
-            // two candidates at once): `t`, or NaN for a miss
-            crossing_params(&query, *a, *e, xs, ys, ts);
-            // Each candidate written to its line's bucket, which moves on past a hit
+            let lines = k0 as usize..k1 as usize;
             let mut n = 0u32;
-            for (&t, end) in ts.iter().zip(ends) {
-                let hit = !t.is_nan();
-                if let Some(slot) = hits.get_mut(*end) {
-                    *slot = Hit2 { t, prim };
+            for (&o, end) in origins[lines.clone()].iter().zip(&mut end[lines]) {
+                if let Some(t) = query.with_origin(o).hit(*a, *e) {
+                    hits[*end] = Hit2 { t, prim };
+                    *end += 1;
+                    n += 1;
                 }
-                *end += usize::from(hit);
-                n += u32::from(hit);
             }
             *found = n;
         }
-    }
-}
-
-/// [`LineQuery::hit`] of the segment `a → a + e` from the origins `(xs[i], ys[i])` into
-/// `ts[i]`: the same formulas on the same values, so the same `t` bit for bit, and NaN
-/// where `hit` returns `None`. Written without branches (a select per candidate), so that
-/// the compiler can test two candidates per instruction.
-#[inline]
-fn crossing_params(query: &LineQuery, a: DVec2, e: DVec2, xs: &[f64], ys: &[f64], ts: &mut [f64]) {
-    let d = query.d;
-    let inv_dd = query.inv_dd();
-    let denom = e.x * d.y - e.y * d.x;
-    for ((t, &ox), &oy) in ts.iter_mut().zip(xs).zip(ys) {
-        // w = o − a, s = (w × d)/(e × d)
-        let (wx, wy) = (ox - a.x, oy - a.y);
-        let s = (wx * d.y - wy * d.x) / denom;
-        // t = ((a + e s − o) · d)/(d · d) + 0 (−0 → +0)
-        let (px, py) = ((a.x + e.x * s) - ox, (a.y + e.y * s) - oy);
-        let u = ((px * d.x) + (py * d.y)) * inv_dd + 0.0;
-        // 0 ≤ s ≤ 1 (NaN fails) and a finite t
-        let hit = (s >= 0.0) & (s <= 1.0) & (u.abs() < f64::INFINITY);
-        *t = if hit { u } else { f64::NAN };
     }
 }
 
