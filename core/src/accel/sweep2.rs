@@ -215,6 +215,9 @@ impl ParallelSweep2 {
             found,
             ..
         } = out;
+        // (slices, so that the buckets' length and address stay in registers across the
+        // stores)
+        let (hits, end): (&mut [Hit2], &mut [usize]) = (hits, end);
         for &prim in order.iter() {
             let p = prim as usize;
             let (Some(&(k0, k1)), Some(a), Some(e), Some(found)) = (
