@@ -281,10 +281,7 @@ impl Rows {
     }
 }
 
-/// One start state's estimate at one bounce: `[D̂_i − b_i, σ_i², b_i]`.
-///
-/// `group` holds the states `k` the walks were at one bounce earlier with their counts
-/// `c_k` (of `m` walks); `q`, `s2` are zeroed scratch of `n` values, left zeroed.
+/// RESEARCH: one start state's `[D̂, b, σ² expansion, mean delete-one D̂_(-x), jackknife var]`.
 fn rao_blackwell(
     rows: &Rows,
     w: &[f64],
@@ -293,10 +290,9 @@ fn rao_blackwell(
     q: &mut [f64],
     s2: &mut [f64],
     touched: &mut Vec<usize>,
-) -> [f64; 3] {
+) -> [f64; 5] {
     let ln2 = core::f64::consts::LN_2;
     let mf = m as f64;
-    // q̂_j = (1/m) Σ_k c_k P_kj,  s2_j = (1/m) Σ_k c_k P_kj²
     for &(k, c) in group {
         let cf = c as f64 / mf;
         for e in rows.range(k) {
@@ -308,45 +304,57 @@ fn rao_blackwell(
             s2[j] += cf * v * v;
         }
     }
-    // Plug-in divergence, its second-order bias and the variance of that quadratic term
-    let (mut d, mut bias, mut var2) = (0.0, 0.0, 0.0);
+    let (mut d, mut bias, mut var2, mut q_all) = (0.0, 0.0, 0.0, 0.0);
     for &j in touched.iter() {
         let qj = q[j];
         if qj > 0.0 && w[j] > 0.0 {
             d += qj * libm::log2(qj / w[j]);
-            // Var(q̂_j) = Var_x(P_xj) / m, the sample variance with m − 1
+            q_all += qj;
             let v = ((s2[j] - qj * qj) / (mf - 1.0)).max(0.0);
             let t = v / (2.0 * qj * ln2);
             bias += t;
             var2 += 2.0 * t * t;
         }
     }
-    // Delta method: D̂ − D ≈ Σ_j g_j (q̂_j − q_j), g_j = log₂(q̂_j / w_j) + 1/ln 2, so
-    // Var ≈ Var_x(L(x)) / m with L(x) = Σ_j P_xj g_j over the walks' states x
-    let var1 = if group.len() > 1 {
+    let (mut var1, mut del_mean, mut jack_var) = (0.0, d, 0.0);
+    if group.len() > 1 {
         let (mut l1, mut l2) = (0.0, 0.0);
+        let r = mf / (mf - 1.0);
+        let s = 1.0 / (mf - 1.0);
+        let log_r = libm::log2(r);
+        let (mut j1, mut j2) = (0.0, 0.0);
         for &(k, c) in group {
-            let mut l = 0.0;
+            let (mut l, mut d_row, mut q_row, mut in_row) = (0.0, 0.0, 0.0, 0.0);
             for e in rows.range(k) {
                 let j = rows.cols[e];
                 if q[j] > 0.0 && w[j] > 0.0 {
-                    l += rows.vals[e] * (libm::log2(q[j] / w[j]) + 1.0 / ln2);
+                    let lg = libm::log2(q[j] / w[j]);
+                    l += rows.vals[e] * (lg + 1.0 / ln2);
+                    d_row += q[j] * lg;
+                    q_row += q[j];
+                    let qd = r * q[j] - s * rows.vals[e];
+                    if qd > 0.0 {
+                        in_row += qd * libm::log2(qd / w[j]);
+                    }
                 }
             }
+            let del = r * (d - d_row) + r * log_r * (q_all - q_row) + in_row;
             let cf = c as f64 / mf;
             l1 += cf * l;
             l2 += cf * l * l;
+            j1 += cf * del;
+            j2 += cf * del * del;
         }
-        ((l2 - l1 * l1) / (mf - 1.0)).max(0.0)
-    } else {
-        0.0
-    };
+        var1 = ((l2 - l1 * l1) / (mf - 1.0)).max(0.0);
+        del_mean = j1;
+        jack_var = ((mf - 1.0) * (j2 - j1 * j1)).max(0.0);
+    }
     for &j in touched.iter() {
         q[j] = 0.0;
         s2[j] = 0.0;
     }
     touched.clear();
-    [d - bias, var1 + var2, bias]
+    [d, bias, var1 + var2, del_mean, jack_var]
 }
 
 impl<M: Transitions> Channel<'_, M> {
@@ -408,8 +416,10 @@ impl<M: Transitions> Channel<'_, M> {
         seed: u64,
     ) -> Result<Vec<[f64; 3]>> {
         let curve = self.walks_curve(bounces, walks, seed, SPLIT_HALF_SIGMA)?;
-        let sigma = if SPLIT_HALF_SIGMA { 3 } else { 1 };
-        Ok(curve.iter().map(|r| [r[0], r[sigma], r[2]]).collect())
+        Ok(curve
+            .iter()
+            .map(|r| [r[0], libm::sqrt(r[1]), r[7]])
+            .collect())
     }
 
     /// [`Channel::long_range_information_by_walks`] with both standard errors:
@@ -426,7 +436,7 @@ impl<M: Transitions> Channel<'_, M> {
         walks: u64,
         seed: u64,
         split: bool,
-    ) -> Result<Vec<[f64; 4]>> {
+    ) -> Result<Vec<[f64; 11]>> {
         if bounces == 0 || bounces > MAX_BOUNCES {
             return Err(Error::new(ErrorKind::BadParameter {
                 name: "bounces",
@@ -486,10 +496,7 @@ impl<M: Transitions> Channel<'_, M> {
         let mut reached: Vec<Vec<usize>> = vec![Vec::new(); bounces - 1];
         let (mut group, mut group_a, mut group_b) = (Vec::new(), Vec::new(), Vec::new());
         let (mut q, mut s2, mut touched) = (vec![0.0; n], vec![0.0; n], Vec::new());
-        let mut estimate = vec![0.0; bounces];
-        let mut variance = vec![0.0; bounces];
-        let mut split_variance = vec![0.0; bounces];
-        let mut bias = vec![0.0; bounces];
+        let mut research = vec![[0.0f64; 11]; bounces];
         for (i, &wi) in w.iter().enumerate() {
             let m = per_state(wi);
             if m == 0 {
@@ -541,29 +548,45 @@ impl<M: Transitions> Channel<'_, M> {
                     }
                     reached[t - 1].clear();
                 }
-                let [e, var, b] = rao_blackwell(&rows, w, &group, m, &mut q, &mut s2, &mut touched);
-                estimate[t] += wi * e;
-                bias[t] += wi * b;
-                variance[t] += wi * wi * var;
+                let [d, b, var, del, jv] =
+                    rao_blackwell(&rows, w, &group, m, &mut q, &mut s2, &mut touched);
+                let mf = m as f64;
+                let acc = &mut research[t];
+                acc[0] += wi * (d - b);
+                acc[1] += wi * wi * var;
+                acc[5] += wi * (mf * d - (mf - 1.0) * del);
+                acc[6] += wi * wi * jv;
+                acc[7] += wi * b;
+                acc[8] += wi * d;
                 if split {
-                    let [ea, _, _] =
+                    let [da, ba, _, _, _] =
                         rao_blackwell(&rows, w, &group_a, m_a, &mut q, &mut s2, &mut touched);
-                    let [eb, _, _] =
+                    let [db, bb, _, _, _] =
                         rao_blackwell(&rows, w, &group_b, m - m_a, &mut q, &mut s2, &mut touched);
-                    split_variance[t] += wi * wi * (ea - eb) * (ea - eb) / 4.0;
+                    let h = (1.0 / m_a as f64 + 1.0 / (m - m_a) as f64) / 2.0;
+                    let inv = 1.0 / mf;
+                    let rich = |full: f64, avg: f64| (h * full - inv * avg) / (h - inv);
+                    acc[2] += wi * rich(d, (da + db) / 2.0);
+                    acc[3] += wi * rich(d - b, (da - ba + db - bb) / 2.0);
+                    acc[4] += wi * wi * (da - db) * (da - db) / 4.0;
+                    acc[9] += wi * wi * (da - ba - db + bb) * (da - ba - db + bb) / 4.0;
+                    let hs = [inv, 1.0 / (mf - 1.0), h];
+                    let fs = [d, del, (da + db) / 2.0];
+                    let mut x = 0.0;
+                    for i in 0..3 {
+                        let mut l = 1.0;
+                        for j in 0..3 {
+                            if j != i {
+                                l *= -hs[j] / (hs[i] - hs[j]);
+                            }
+                        }
+                        x += l * fs[i];
+                    }
+                    acc[10] += wi * x;
                 }
             }
         }
-        Ok((0..bounces)
-            .map(|t| {
-                [
-                    estimate[t],
-                    libm::sqrt(variance[t]),
-                    bias[t],
-                    libm::sqrt(split_variance[t]),
-                ]
-            })
-            .collect())
+        Ok(research)
     }
 }
 
@@ -644,76 +667,89 @@ mod tests {
         }
     }
 
-    /// Coverage of the walks' ±2σ interval over seeds (prints a table; asserts nothing but
-    /// that it ran): the flatland room and the cube of the test above (100 seeds) and
-    /// `scenes/room620.flat` (40 and 16 seeds), at 32, 160 and (small scenes) 1000 walks
-    /// per patch. A few minutes in the test profile:
-    /// `cargo test -p sceneinfo --lib walks_coverage_over_seeds -- --ignored --nocapture`.
     #[test]
-    #[ignore = "a measurement, not a check: ±2σ coverage of the walks over many seeds on three scenes; a few minutes; run with --ignored --nocapture"]
-    fn walks_coverage_over_seeds() {
+    #[ignore = "research"]
+    fn walks_research() {
         extern crate std;
         use crate::formfactor::{exact_2d, exact_3d};
         use crate::scene::{Scene2, Scene3};
         use std::println;
+        let only = std::env::var("WALKS_SCENE").unwrap_or_default();
+        let per_patches: Vec<u64> = std::env::var("WALKS_PER")
+            .unwrap_or("32,160".into())
+            .split(',')
+            .map(|x| x.parse().unwrap())
+            .collect();
+        let seeds: u64 = std::env::var("WALKS_SEEDS")
+            .unwrap_or("6".into())
+            .parse()
+            .unwrap();
         let room620 = crate::io::parse_flat(include_str!("../../../scenes/room620.flat")).unwrap();
-        let scenes = [
-            (
-                "flatland 2×1 room",
-                exact_2d::form_factors(&Scene2::rectangle(2.0, 1.0, 4).unwrap()).unwrap(),
-            ),
-            (
-                "cube grid 2",
-                exact_3d::scene_form_factors(&Scene3::cube(2).unwrap()).unwrap(),
-            ),
-            ("room620", exact_2d::form_factors(&room620).unwrap()),
-        ];
+        let mut scenes = std::vec::Vec::new();
+        if only.is_empty() || only == "flat" {
+            scenes.push(("flat2x1", exact_2d::form_factors(&Scene2::rectangle(2.0, 1.0, 4).unwrap()).unwrap()));
+        }
+        if only.is_empty() || only == "cube" {
+            scenes.push(("cube2", exact_3d::scene_form_factors(&Scene3::cube(2).unwrap()).unwrap()));
+        }
+        if only.is_empty() || only == "rect128" {
+            scenes.push(("rect128", exact_2d::form_factors(&Scene2::rectangle(2.0, 1.0, 32).unwrap()).unwrap()));
+        }
+        if only.is_empty() || only == "room620" {
+            scenes.push(("room620", exact_2d::form_factors(&room620).unwrap()));
+        }
         let bounces = 12;
+        let names = ["old", "sJplug", "sJcorr", "dJplug", "plug", "rich3"];
         for (name, ff) in &scenes {
             let ch = ff.channel().unwrap();
             let exact = ch.long_range_information(bounces).unwrap();
             let n = ch.n_states() as u64;
-            for per_patch in [32, 160, 1000] {
-                // room620 costs about 620 · 12 · 2 · 620 · min(m, 620) row reads a seed
-                let seeds = match (n > 100, per_patch) {
-                    (false, _) => 100,
-                    (true, 32) => 40,
-                    (true, 160) => 16,
-                    (true, _) => continue,
-                };
-                // per bounce: [inside ±2σ, Σ z, Σ σ] for the expansion's σ and the split σ
-                let mut tally = vec![[[0.0f64; 3]; 2]; bounces];
-                let mut errors = vec![0.0f64; bounces];
+            for &per_patch in &per_patches {
+                // per bounce, per estimator: [Σ err, Σ err², cover exp, cover split, cover splitcorr, cover jack, Σσexp, Σσsplit, Σσjack]
+                let mut tally = vec![[[0.0f64; 9]; 6]; bounces];
                 for seed in 0..seeds {
                     let est = ch.walks_curve(bounces, per_patch * n, seed, true).unwrap();
                     for (k, (r, &x)) in est.iter().zip(&exact.curve).enumerate() {
-                        errors[k] += (r[0] - x) * (r[0] - x);
-                        for (t, s) in tally[k].iter_mut().zip([r[1], r[3]]) {
-                            if (r[0] - x).abs() <= 2.0 * s + 1e-12 {
-                                t[0] += 1.0;
+                        let es = [r[0], r[2], r[3], r[5], r[8], r[10]];
+                        let sig = [libm::sqrt(r[1]), libm::sqrt(r[4]), libm::sqrt(r[9]), libm::sqrt(r[6])];
+                        for (v, &e) in es.iter().enumerate() {
+                            let t = &mut tally[k][v];
+                            let err = e - x;
+                            t[0] += err;
+                            t[1] += err * err;
+                            for (c, &sg) in sig.iter().enumerate() {
+                                if err.abs() <= 2.0 * sg + 1e-12 {
+                                    t[2 + c] += 1.0;
+                                }
                             }
-                            if s > 0.0 {
-                                t[1] += (r[0] - x) / s;
-                            }
-                            t[2] += s;
+                            t[6] += sig[0];
+                            t[7] += sig[1];
+                            t[8] += sig[3];
                         }
                     }
                 }
                 let f = seeds as f64;
-                for k in [1, 2, 4, 8, 11] {
-                    let [a, b] = tally[k];
+                for k in [1, 2, 4, 7, 11] {
                     println!(
-                        "{name} ({n} states) {per_patch} walks/patch n={}: exact {:.6}, rms error {:.2e}; expansion σ {:.2e}: ±2σ holds {}/{seeds}, mean z {:+.2}; split σ {:.2e}: ±2σ holds {}/{seeds}, mean z {:+.2}",
+                        "{name} ({n}) {per_patch}/patch n={} exact {:.6}  σexp {:.1e} σsplit {:.1e} σjack {:.1e}",
                         k + 1,
                         exact.curve[k],
-                        libm::sqrt(errors[k] / f),
-                        a[2] / f,
-                        a[0],
-                        a[1] / f,
-                        b[2] / f,
-                        b[0],
-                        b[1] / f
+                        tally[k][0][6] / f,
+                        tally[k][0][7] / f,
+                        tally[k][0][8] / f
                     );
+                    for (v, t) in tally[k].iter().enumerate() {
+                        println!(
+                            "    {:7} bias {:+.2e} rms {:.2e} cover exp {:>3} split {:>3} splitc {:>3} jack {:>3} /{seeds}",
+                            names[v],
+                            t[0] / f,
+                            libm::sqrt(t[1] / f),
+                            t[2],
+                            t[3],
+                            t[4],
+                            t[5]
+                        );
+                    }
                 }
             }
         }
