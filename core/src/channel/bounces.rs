@@ -33,7 +33,8 @@
 //!
 //! For chains too large for dense powers, [`Channel::long_range_information_by_walks`]
 //! estimates the same curve by random walks whose last step is averaged over the known
-//! rows (Rao–Blackwell), with a second-order bias correction and a standard error (its docs).
+//! rows (Rao–Blackwell), with the plug-in's bias removed by a generalised jackknife and a
+//! jackknife standard error (its docs).
 
 use alloc::vec;
 use alloc::vec::Vec;
