@@ -416,8 +416,8 @@ impl<M: Transitions> Channel<'_, M> {
     /// `I(X_0; X_n)` for `n = 1, …, bounces` estimated by random walks on the rows of the
     /// channel's matrix, without any power of it: one `[estimate, standard_error, bias]`
     /// per bounce, in bits (`bias` the correction subtracted from the plug-in). Memory
-    /// `bounces · n` counts plus the rows; work about `3 Σ_i m_i · bounces` row reads
-    /// (below).
+    /// `2 · bounces · n` counts (all walks, first halves) plus the rows; work about
+    /// `3 Σ_i m_i · bounces` row reads (below).
     ///
     /// From each state `i` with `w_i > 0`, `m_i = max(⌈walks · w_i⌉, 32)` walks start (a
     /// stratified draw of `X_0 ~ w`) and step `bounces − 1` times, each step drawing the
@@ -468,8 +468,8 @@ impl<M: Transitions> Channel<'_, M> {
     ///
     /// - [`ErrorKind::BadParameter`] for `bounces = 0` or above `MAX_BOUNCES`, or `walks = 0`;
     /// - [`ErrorKind::TooLarge`] if the steps `Σ_i m_i · (bounces − 1)` exceed `2³⁴`, the
-    ///   row reads (estimated before starting) `MAX_WALK_WORK`, or the counts `bounces · n`
-    ///   `MAX_BOUNCE_CELLS`.
+    ///   row reads (estimated before starting) `MAX_WALK_WORK`, or the counts
+    ///   `2 · bounces · n` `MAX_BOUNCE_CELLS`.
     pub fn long_range_information_by_walks(
         &self,
         bounces: usize,
@@ -509,9 +509,13 @@ impl<M: Transitions> Channel<'_, M> {
                 max: MAX_WALK_STEPS,
             }));
         }
-        let Some(cells) = n.checked_mul(bounces).filter(|&c| c <= MAX_BOUNCE_CELLS) else {
+        // Two counts per state and bounce: all walks, and the first halves
+        let Some(cells) = n
+            .checked_mul(bounces)
+            .filter(|&c| c.saturating_mul(2) <= MAX_BOUNCE_CELLS)
+        else {
             return Err(Error::new(ErrorKind::TooLarge {
-                what: "long-range mutual information by walks (bounces · states counts)",
+                what: "long-range mutual information by walks (2 · bounces · states counts)",
                 max: MAX_BOUNCE_CELLS as u64,
             }));
         };
