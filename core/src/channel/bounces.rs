@@ -347,8 +347,10 @@ impl Scratch {
 /// ([`Channel::long_range_information_by_walks`] for the formulas).
 fn rao_blackwell(rows: &Rows, w: &[f64], group: &Group, m: u64, s: &mut Scratch) -> [f64; 3] {
     let (d, total) = s.mixture(rows, w, group, |c, _| c, m);
-    if group.len() < 2 || m < 4 {
-        // Every walk at one state: q̂ is that row, whichever walk is left out
+    let reached: u64 = group.iter().map(|&(_, c, _)| c).sum();
+    if group.is_empty() || (group.len() == 1 && reached == m) || m < 4 {
+        // Every walk at one state (or none left in the scene): q̂ is that row (or 0),
+        // whichever walk is left out
         s.clear();
         return [d, 0.0, 0.0];
     }
@@ -358,7 +360,7 @@ fn rao_blackwell(rows: &Rows, w: &[f64], group: &Group, m: u64, s: &mut Scratch)
     // recomputed
     let r = mf / (mf - 1.0);
     let (shrink, log_r) = (1.0 / (mf - 1.0), libm::log2(r));
-    let (mut sum, mut sum2, mut reached) = (0.0, 0.0, 0u64);
+    let (mut sum, mut sum2) = (0.0, 0.0);
     for &(k, c, _) in group {
         let (mut d_row, mut q_row, mut recomputed) = (0.0, 0.0, 0.0);
         for e in rows.range(k) {
@@ -377,7 +379,6 @@ fn rao_blackwell(rows: &Rows, w: &[f64], group: &Group, m: u64, s: &mut Scratch)
         let cf = c as f64;
         sum += cf * d_k;
         sum2 += cf * d_k * d_k;
-        reached += c;
     }
     // The walks that left the scene add nothing to q̂: leaving one out only rescales it
     let gone = m.saturating_sub(reached) as f64;
@@ -459,8 +460,8 @@ impl<M: Transitions> Channel<'_, M> {
     /// Whether `σ` covers the error, and what bias is left with few walks against many
     /// states, is measured, not assumed (`docs/fields.md`, the ignored test
     /// `walks_coverage_over_seeds`). At `n = 1` (and whenever one state holds all of a
-    /// start's walks) `q̂` is a row exactly: the estimate is the plug-in, with `σ = 0` and
-    /// no bias. Grouping the walks by their state keeps the work at (distinct states
+    /// start's walks, none having left the scene) `q̂` is a row exactly: the estimate is the
+    /// plug-in, with `σ = 0` and no bias. Grouping the walks by their state keeps the work at (distinct states
     /// reached) × (row length) per start and bounce, three passes (`ROW_PASSES`). The walks
     /// depend on `(seed, walks)` only: state `i` draws from `Pcg64(seed, stream i)`.
     ///
