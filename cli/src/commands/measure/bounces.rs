@@ -145,7 +145,7 @@ pub(super) fn run(args: &MeasureArgs, bounces: usize) -> Result<()> {
 }
 
 /// What the walks' σ does not cover, printed under every walks curve.
-const WALKS_CAVEAT: &str = "  σ is the walks' noise only: with few walks a state the estimate keeps a positive bias it does not cover (room620, 160 walks a patch: n = 12 is 4 σ above the exact value); read the tail as an upper bound (docs/fields.md)";
+const WALKS_CAVEAT: &str = "  σ is the walks' noise only: with few walks a state the tail keeps a positive bias (room620, n = 12: +0.0044 bits, 2 σ, at 32 walks a patch, the exact value inside ±2σ for 5 of 10 seeds; +0.0005, 1 σ, at 160); read the tail as an upper bound there (docs/fields.md)";
 
 fn table(
     name: &str,
