@@ -71,11 +71,17 @@
 //!
 //! # Layout
 //!
-//! A binary tree of 64-byte interior nodes, one cache line each, holding the bounds of
-//! their two children and references to them (an interior node, or a leaf: a range of
-//! items, each a polygon or a sheet). Bounds are stored relative to `c` in `f32`, rounded
-//! outwards, so they contain the `f64` bounds of every polygon below and the monotonicity
-//! argument holds as is. Polygons are stored in leaf order (a sheet's row by row),
+//! A 4-wide tree of 128-byte interior nodes, two cache lines each, holding the bounds of
+//! their (up to) four children and references to them (an interior node, or a leaf: a
+//! range of items, each a polygon or a sheet). The build makes a binary tree; each wide
+//! node holds the grandchildren of one of its interior nodes (a child that is a leaf
+//! stands for itself), so the culling is that of the binary tree, one wide level per two
+//! binary ones. Bounds are stored relative to `c` in `f32`, rounded outwards, so they
+//! contain the `f64` bounds of every polygon below and the monotonicity argument holds as
+//! is; they are laid out by side, axis and child (`[f32; 4]` per plane), so that the
+//! four children's box tests run lane by lane, vectorised, in `f64` — per child the very
+//! same operations on the same values as a single box test. Polygons are stored in leaf
+//! order (a sheet's row by row),
 //! each as one contiguous record — plane, bounds, then vertices, relative to `c` — in a
 //! flat array, and their original indices in another: a polygon test touches two or three
 //! adjacent cache lines of one page, where separate arrays of vertices, planes and bounds
@@ -86,13 +92,15 @@
 //! # Queries
 //!
 //! A walk keeps pending subtrees on a fixed stack and allocates nothing. A visit tests
-//! both children's boxes, descends into one the line meets and pushes the other if the
-//! line meets it too. The walks are
+//! the four children's boxes at once, descends into the first one the line meets and
+//! pushes the others it meets. The walks are
 //! monomorphised for the 8 octants of `d`, so each box test reads its near and far bounds
 //! directly (pbrt's `dirIsNeg`): per axis `(bound ∓ m − o')/d`, 6 subtractions, 6
-//! multiplications and 6 maxima (the far planes' `t` negated, exactly). `first_hit` also
-//! culls by `(t_min, t_best]`, visits the nearer child first and drops a pending subtree
-//! whose entry is beyond the best hit found since it was pushed.
+//! multiplications and 6 maxima (the far planes' `t` negated, exactly), for four boxes in
+//! 12 `f32 → f64` conversions and 12 of each of those operations on pairs of `f64`
+//! (SSE2). `first_hit` also culls by `(t_min, t_best]`, pushes the children it keeps by
+//! decreasing entry (the nearest is visited first) and drops a pending subtree whose entry
+//! is beyond the best hit found since it was pushed.
 //!
 //! # Build
 //!
@@ -100,8 +108,8 @@
 //! Cauchy–Crofton (see [`crate::lines::sample_global_line_3d`]) a uniform line meeting a
 //! box meets a box inside it with probability `S(inner)/S(outer)`, so the SAH is exact for
 //! global lines. Below depth 32 splits follow the SAH; deeper (only on adversarial input)
-//! they are median splits, so the depth stays below 64, the size of the queries' fixed
-//! stacks. Sheets are found first, in one `O(n)` pass over the polygons in order.
+//! they are median splits, so the depth stays below 64 and the 4-wide tree's below 32,
+//! which sizes the queries' fixed stacks. Sheets are found first, in one `O(n)` pass over the polygons in order.
 //! `O(n log n)` time, explicit work stack, no recursion.
 
 #[cfg(feature = "alloc")]
@@ -137,7 +145,6 @@ const RECORD_HEAD: usize = 4;
 /// Length of a quad's record (a sheet's quads are stored back to back).
 #[cfg(feature = "alloc")]
 const QUAD_RECORD: usize = RECORD_HEAD + 4;
-
 
 /// One intersection of a line with a polygon: the line parameter `t` of the hit point
 /// `origin + t·dir` and the polygon's index `prim` in the list the query was built from.
@@ -693,16 +700,22 @@ impl Bvh3 {
     /// Calls `f` once for every intersection of the infinite `line` with a polygon, in no
     /// particular order (see [`Bvh3::all_hits`] for the sorted form). Allocates nothing.
     #[inline]
-    pub fn for_each_hit<F: FnMut(Hit3)>(&self, line: &Line3, mut f: F) {
+    pub fn for_each_hit<F: FnMut(Hit3)>(&self, line: &Line3, f: F) {
         if self.nodes.is_empty() && self.root.count == 0 {
             return;
         }
-        let q = Query::new(line.origin, line.dir, &self.frame);
         if 3 * (self.levels as usize) < SMALL_STACK {
-            by_octant!(q.near, walk_all[, F, SMALL_STACK](self, &q, &mut f));
+            self.for_each_hit_with::<F, SMALL_STACK>(line, f);
         } else {
-            by_octant!(q.near, walk_all[, F, STACK_SIZE](self, &q, &mut f));
+            self.for_each_hit_with::<F, STACK_SIZE>(line, f);
         }
+    }
+
+    /// [`Bvh3::for_each_hit`] with a stack of `N ≥ 3 · levels` entries.
+    #[inline(always)]
+    fn for_each_hit_with<F: FnMut(Hit3), const N: usize>(&self, line: &Line3, mut f: F) {
+        let q = Query::new(line.origin, line.dir, &self.frame);
+        by_octant!(q.near, walk_all[, F, N](self, &q, &mut f));
     }
 
     /// The polygons of a leaf that the query's line hits, each passed to `f`.
@@ -742,17 +755,12 @@ impl Bvh3 {
         }
     }
 
-    /// The walk of [`Bvh3::for_each_hit`] for the octant `[I, J, K]`: the four children's
-    /// boxes tested at once, down the first one the line meets, the others it meets
-    /// pushed (all hits are wanted, so the order does not matter).
+    /// The walk of [`Bvh3::for_each_hit`] for the octant `[I, J, K]`, with a stack of `N`
+    /// entries (at least `3 · levels`): the four children's boxes tested at once, down
+    /// the first one the line meets, the others it meets pushed (all hits are wanted, so
+    /// the order does not matter).
     #[inline(always)]
-    fn walk_all<
-        const I: usize,
-        const J: usize,
-        const K: usize,
-        F: FnMut(Hit3),
-        const N: usize,
-    >(
+    fn walk_all<const I: usize, const J: usize, const K: usize, F: FnMut(Hit3), const N: usize>(
         &self,
         q: &Query,
         f: &mut F,

@@ -286,8 +286,12 @@ impl Slab {
 
     /// [`Slab::interval`] of four boxes at once, given per axis their near and far bounds
     /// in `f32` (`near[i][c]`, `far[i][c]` for box `c`), as `(enter, exit)` per box: per
-    /// box, the very same operations in the same order on the same (exactly widened)
-    /// values, hence the same bits, laid out lane by lane so that they vectorise.
+    /// box the same subtractions and products in the same order on the same (exactly
+    /// widened) values, laid out lane by lane so that they vectorise. The folds are
+    /// `f64::max` (`maxpd`) instead of `interval`'s select: the accumulators start at
+    /// `−∞` and are never NaN, so a NaN plane is skipped by both and the two agree but
+    /// for the sign of a zero, which no comparison of `enter` and `exit` sees — the
+    /// culling is the same, box by box.
     #[cfg(feature = "alloc")]
     #[inline(always)]
     pub(super) fn interval4(
