@@ -71,11 +71,17 @@
 //!
 //! # Layout
 //!
-//! A binary tree of 64-byte interior nodes, one cache line each, holding the bounds of
-//! their two children and references to them (an interior node, or a leaf: a range of
-//! items, each a polygon or a sheet). Bounds are stored relative to `c` in `f32`, rounded
-//! outwards, so they contain the `f64` bounds of every polygon below and the monotonicity
-//! argument holds as is. Polygons are stored in leaf order (a sheet's row by row),
+//! A 4-wide tree of 128-byte interior nodes, two cache lines each, holding the bounds of
+//! their (up to) four children and references to them (an interior node, or a leaf: a
+//! range of items, each a polygon or a sheet). The build makes a binary tree; each wide
+//! node holds the grandchildren of one of its interior nodes (a child that is a leaf
+//! stands for itself), so the culling is that of the binary tree, one wide level per two
+//! binary ones. Bounds are stored relative to `c` in `f32`, rounded outwards, so they
+//! contain the `f64` bounds of every polygon below and the monotonicity argument holds as
+//! is; they are laid out by side, axis and child (`[f32; 4]` per plane), so that the
+//! four children's box tests run lane by lane, vectorised, in `f64` — per child the very
+//! same operations on the same values as a single box test. Polygons are stored in leaf
+//! order (a sheet's row by row),
 //! each as one contiguous record — plane, bounds, then vertices, relative to `c` — in a
 //! flat array, and their original indices in another: a polygon test touches two or three
 //! adjacent cache lines of one page, where separate arrays of vertices, planes and bounds
@@ -86,13 +92,15 @@
 //! # Queries
 //!
 //! A walk keeps pending subtrees on a fixed stack and allocates nothing. A visit tests
-//! both children's boxes, descends into one the line meets and pushes the other if the
-//! line meets it too. The walks are
+//! the four children's boxes at once, descends into the first one the line meets and
+//! pushes the others it meets. The walks are
 //! monomorphised for the 8 octants of `d`, so each box test reads its near and far bounds
 //! directly (pbrt's `dirIsNeg`): per axis `(bound ∓ m − o')/d`, 6 subtractions, 6
-//! multiplications and 6 maxima (the far planes' `t` negated, exactly). `first_hit` also
-//! culls by `(t_min, t_best]`, visits the nearer child first and drops a pending subtree
-//! whose entry is beyond the best hit found since it was pushed.
+//! multiplications and 6 maxima (the far planes' `t` negated, exactly), for four boxes in
+//! 12 `f32 → f64` conversions and 12 of each of those operations on pairs of `f64`
+//! (SSE2). `first_hit` also culls by `(t_min, t_best]`, pushes the children it keeps by
+//! decreasing entry (the nearest is visited first) and drops a pending subtree whose entry
+//! is beyond the best hit found since it was pushed.
 //!
 //! # Build
 //!
@@ -100,8 +108,8 @@
 //! Cauchy–Crofton (see [`crate::lines::sample_global_line_3d`]) a uniform line meeting a
 //! box meets a box inside it with probability `S(inner)/S(outer)`, so the SAH is exact for
 //! global lines. Below depth 32 splits follow the SAH; deeper (only on adversarial input)
-//! they are median splits, so the depth stays below 64, the size of the queries' fixed
-//! stacks. Sheets are found first, in one `O(n)` pass over the polygons in order.
+//! they are median splits, so the depth stays below 64 and the 4-wide tree's below 32,
+//! which sizes the queries' fixed stacks. Sheets are found first, in one `O(n)` pass over the polygons in order.
 //! `O(n log n)` time, explicit work stack, no recursion.
 
 #[cfg(feature = "alloc")]
@@ -137,13 +145,6 @@ const RECORD_HEAD: usize = 4;
 /// Length of a quad's record (a sheet's quads are stored back to back).
 #[cfg(feature = "alloc")]
 const QUAD_RECORD: usize = RECORD_HEAD + 4;
-
-#[cfg(feature = "alloc")]
-/// Capacity of the traversal stacks. Leaves are less than 64 levels deep (32 SAH levels
-/// plus 31 median levels for at most 2³¹ polygons). `all_hits` keeps at most one pending
-/// sibling per level above the node it visits; `first_hit`, popping an interior node of
-/// depth `d ≤ 62`, leaves at most `d` pending siblings and pushes two.
-const STACK_SIZE: usize = 64;
 
 /// One intersection of a line with a polygon: the line parameter `t` of the hit point
 /// `origin + t·dir` and the polygon's index `prim` in the list the query was built from.
@@ -257,8 +258,9 @@ pub(crate) fn first_hit_naive3(
     best
 }
 
-/// A reference to a subtree: an interior node (`count = 0`, `offset` = its index) or a
-/// leaf (`count` items from `offset`, in leaf order).
+/// A reference to a subtree: an interior node (`count` = [`INTERIOR`], `offset` = its
+/// index) or a leaf (`count` items from `offset`, in leaf order; an empty leaf when
+/// `count = 0`, as in the unused child slots of a node).
 #[cfg(feature = "alloc")]
 #[derive(Clone, Copy, Debug, Default)]
 struct Ref {
@@ -266,17 +268,54 @@ struct Ref {
     count: u32,
 }
 
-/// An interior node: the bounds of its two children, relative to the frame's centre, in
-/// `f32` rounded outwards (so they contain the `f64` bounds of every polygon below), and
-/// the references to them. 64 bytes, one cache line: a visit tests both children's boxes
-/// and pushes the ones the line meets without a branch.
+/// The `count` of a [`Ref`] to an interior node (a leaf holds far fewer items: at most
+/// `super::MAX_PRIMITIVES`).
+#[cfg(feature = "alloc")]
+const INTERIOR: u32 = u32::MAX;
+
+#[cfg(feature = "alloc")]
+impl Ref {
+    #[inline(always)]
+    fn is_leaf(self) -> bool {
+        self.count != INTERIOR
+    }
+}
+
+/// Children of an interior node.
+#[cfg(feature = "alloc")]
+const WIDTH: usize = 4;
+
+/// Capacity of the traversal stacks. Interior nodes are at most 32 levels deep: each
+/// holds the grandchildren of a node of the binary tree of the build (its children where
+/// they are leaves), whose leaves are less than 64 levels deep (32 SAH levels plus 31
+/// median levels for at most 2³¹ polygons), so its interior nodes at binary depths
+/// 0, 2, …, 62. `all_hits` keeps at most `WIDTH − 1` pending children per level above the
+/// node it visits (≤ 3 · 32); `first_hit`, popping an interior node of level `l ≤ 31`,
+/// leaves at most `3 l` pending and pushes `WIDTH` (≤ 97).
+#[cfg(feature = "alloc")]
+const STACK_SIZE: usize = 3 * 32 + WIDTH;
+
+/// Capacity of `all_hits`' stack in trees of at most 13 levels of interior nodes
+/// (`3 · 13 < 40`: most scenes). The stack is zeroed at every query, and a smaller one
+/// costs less to clear (800 bytes were 63 instructions a line, a twentieth of a line on
+/// the 5400-patch cube).
+#[cfg(feature = "alloc")]
+const SMALL_STACK: usize = 40;
+
+/// An interior node: the bounds of its (up to) four children, relative to the frame's
+/// centre, in `f32` rounded outwards (so they contain the `f64` bounds of every polygon
+/// below), and the references to them; an unused slot has the empty box (`lo = +∞`,
+/// `hi = −∞`, which no line meets) and an empty leaf. 128 bytes, two cache lines. The
+/// bounds are stored by side, axis, then child (`bounds[side][axis][child]`) so that a
+/// visit computes the four children's slab intervals lane by lane in vectorisable loops
+/// (the same `f64` arithmetic per child as a single box test, [`Slab::interval4`]).
 #[cfg(feature = "alloc")]
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 struct Node {
-    /// `bounds[child] = [lo, hi]`.
-    bounds: [[[f32; 3]; 2]; 2],
-    child: [Ref; 2],
+    /// `bounds[0]` = the children's low corners, `bounds[1]` the high ones, per axis.
+    bounds: [[[f32; WIDTH]; 3]; 2],
+    child: [Ref; WIDTH],
 }
 
 /// `x` rounded down to an `f32` (`−∞` below its range).
@@ -295,34 +334,38 @@ fn f32_up(x: f64) -> f32 {
     if f64::from(y) < x { y.next_up() } else { y }
 }
 
-/// `[lo, hi]` rounded outwards to `f32`.
-#[cfg(feature = "alloc")]
-#[inline]
-fn f32_box(lo: DVec3, hi: DVec3) -> [[f32; 3]; 2] {
-    [
-        [f32_down(lo.x), f32_down(lo.y), f32_down(lo.z)],
-        [f32_up(hi.x), f32_up(hi.y), f32_up(hi.z)],
-    ]
-}
-
 #[cfg(feature = "alloc")]
 impl Node {
-    /// The query's slab interval of child `c`'s bounds ([`Slab::interval`]), for a line
-    /// whose near bounds are `[I, J, K]` (`Query::near`, fixed per monomorphised walk).
+    /// A node with no child (every slot empty).
+    const EMPTY: Self = Self {
+        bounds: [[[f32::INFINITY; WIDTH]; 3], [[f32::NEG_INFINITY; WIDTH]; 3]],
+        child: [Ref {
+            offset: 0,
+            count: 0,
+        }; WIDTH],
+    };
+
+    /// Sets slot `c` to `child` with the bounds `[lo, hi]` rounded outwards to `f32`.
+    fn set(&mut self, c: usize, child: Ref, lo: DVec3, hi: DVec3) {
+        for axis in 0..3 {
+            self.bounds[0][axis][c] = f32_down(lo[axis]);
+            self.bounds[1][axis][c] = f32_up(hi[axis]);
+        }
+        self.child[c] = child;
+    }
+
+    /// The query's slab intervals of the four children's bounds ([`Slab::interval4`]),
+    /// for a line whose near bounds are `[I, J, K]` (`Query::near`, fixed per
+    /// monomorphised walk): `(enter, exit)` per child.
     #[inline(always)]
     fn slab<const I: usize, const J: usize, const K: usize>(
         &self,
-        c: usize,
         s: &Slab,
-    ) -> (f64, f64) {
-        let b = &self.bounds[c];
-        s.interval(
-            [f64::from(b[I][0]), f64::from(b[J][1]), f64::from(b[K][2])],
-            [
-                f64::from(b[1 - I][0]),
-                f64::from(b[1 - J][1]),
-                f64::from(b[1 - K][2]),
-            ],
+    ) -> ([f64; WIDTH], [f64; WIDTH]) {
+        let b = &self.bounds;
+        s.interval4(
+            [&b[I][0], &b[J][1], &b[K][2]],
+            [&b[1 - I][0], &b[1 - J][1], &b[1 - K][2]],
         )
     }
 }
@@ -336,47 +379,72 @@ struct Item {
     sheet: u32,
 }
 
-/// Packs the depth-first tree of the build (one node per subtree, first child next) into
-/// interior nodes holding their children's bounds; returns them and the root's reference.
+/// Packs the depth-first binary tree of the build (one node per subtree, first child
+/// next) into 4-wide interior nodes: each holds the grandchildren of an interior node of
+/// the binary tree (a child that is a leaf stands for itself), in depth-first order.
+/// Returns them and the root's reference.
 #[cfg(feature = "alloc")]
-fn pack(tree: &[build::BuildNode]) -> (Vec<Node>, Ref) {
-    // Interior nodes keep their depth-first order
-    let mut index = alloc::vec![0u32; tree.len()];
-    let mut n = 0u32;
-    for (k, b) in tree.iter().enumerate() {
-        if b.count == 0 {
-            index[k] = n;
-            n += 1;
-        }
-    }
-    let at = |k: usize| {
-        let b = &tree[k];
-        if b.count == 0 {
-            Ref {
-                offset: index[k],
-                count: 0,
-            }
-        } else {
-            Ref {
-                offset: b.offset,
-                count: b.count,
-            }
-        }
+fn pack(tree: &[build::BuildNode]) -> (Vec<Node>, Ref, u32) {
+    let leaf = |k: usize| Ref {
+        offset: tree[k].offset,
+        count: tree[k].count,
     };
-    let mut nodes = Vec::with_capacity(n as usize);
-    for (k, b) in tree.iter().enumerate() {
-        if b.count == 0 {
-            let (first, second) = (k + 1, b.offset as usize);
-            nodes.push(Node {
-                bounds: [
-                    f32_box(tree[first].lo, tree[first].hi),
-                    f32_box(tree[second].lo, tree[second].hi),
-                ],
-                child: [at(first), at(second)],
-            });
-        }
+    let is_interior = |k: usize| tree[k].count == 0;
+    if !is_interior(0) {
+        return (Vec::new(), leaf(0), 0);
     }
-    (nodes, at(0))
+    // The binary children of interior node `k`.
+    let children = |k: usize| [k + 1, tree[k].offset as usize];
+    let mut nodes: Vec<Node> = Vec::new();
+    // (binary interior node, the wide node to fill): depth-first, first child popped
+    // first. Bounded by the tree: each binary node is pushed at most once.
+    let mut todo: Vec<(usize, usize, u32)> = alloc::vec![(0, 0, 1)];
+    let mut levels = 0;
+    nodes.push(Node::EMPTY);
+    while let Some((k, at, level)) = todo.pop() {
+        levels = levels.max(level);
+        let mut slots = [0usize; WIDTH];
+        let mut n = 0;
+        for ch in children(k) {
+            if is_interior(ch) {
+                for g in children(ch) {
+                    slots[n] = g;
+                    n += 1;
+                }
+            } else {
+                slots[n] = ch;
+                n += 1;
+            }
+        }
+        let mut node = Node::EMPTY;
+        let mut pending = [(0usize, 0usize, level + 1); WIDTH];
+        let mut n_pending = 0;
+        for (c, &g) in slots[..n].iter().enumerate() {
+            let r = if is_interior(g) {
+                nodes.push(Node::EMPTY);
+                pending[n_pending] = (g, nodes.len() - 1, level + 1);
+                n_pending += 1;
+                Ref {
+                    offset: (nodes.len() - 1) as u32,
+                    count: INTERIOR,
+                }
+            } else {
+                leaf(g)
+            };
+            node.set(c, r, tree[g].lo, tree[g].hi);
+        }
+        nodes[at] = node;
+        // Reversed, so that the first child is packed next.
+        todo.extend(pending[..n_pending].iter().rev());
+    }
+    (
+        nodes,
+        Ref {
+            offset: 0,
+            count: INTERIOR,
+        },
+        levels,
+    )
 }
 
 /// Calls `Self::$walk::<I, J, K $g>(args)` for the octant `[I, J, K]` of the query's
@@ -450,6 +518,9 @@ pub struct Bvh3 {
     /// Number of polygons given (hittable or not).
     len: usize,
     depth: u32,
+    /// Levels of interior nodes (0 without any): a walk has at most `3 · levels` pending
+    /// subtrees.
+    levels: u32,
 }
 
 #[cfg(feature = "alloc")]
@@ -543,13 +614,14 @@ impl Bvh3 {
             frame,
             len: polygons.len(),
             depth: 0,
+            levels: 0,
         };
         bvh.start.push(0);
         if items.is_empty() {
             return Ok(bvh);
         }
         let (tree, depth) = build::build_nodes(&mut items);
-        (bvh.nodes, bvh.root) = pack(&tree);
+        (bvh.nodes, bvh.root, bvh.levels) = pack(&tree);
         bvh.depth = depth;
         // Items and their polygons' data in leaf order
         for item in &items {
@@ -628,12 +700,22 @@ impl Bvh3 {
     /// Calls `f` once for every intersection of the infinite `line` with a polygon, in no
     /// particular order (see [`Bvh3::all_hits`] for the sorted form). Allocates nothing.
     #[inline]
-    pub fn for_each_hit<F: FnMut(Hit3)>(&self, line: &Line3, mut f: F) {
-        if self.root.count == 0 && self.nodes.is_empty() {
+    pub fn for_each_hit<F: FnMut(Hit3)>(&self, line: &Line3, f: F) {
+        if self.nodes.is_empty() && self.root.count == 0 {
             return;
         }
+        if 3 * (self.levels as usize) < SMALL_STACK {
+            self.for_each_hit_with::<F, SMALL_STACK>(line, f);
+        } else {
+            self.for_each_hit_with::<F, STACK_SIZE>(line, f);
+        }
+    }
+
+    /// [`Bvh3::for_each_hit`] with a stack of `N ≥ 3 · levels` entries.
+    #[inline(always)]
+    fn for_each_hit_with<F: FnMut(Hit3), const N: usize>(&self, line: &Line3, mut f: F) {
         let q = Query::new(line.origin, line.dir, &self.frame);
-        by_octant!(q.near, walk_all[, F](self, &q, &mut f));
+        by_octant!(q.near, walk_all[, F, N](self, &q, &mut f));
     }
 
     /// The polygons of a leaf that the query's line hits, each passed to `f`.
@@ -673,40 +755,41 @@ impl Bvh3 {
         }
     }
 
-    /// The walk of [`Bvh3::for_each_hit`] for the octant `[I, J, K]`: down the first child
-    /// whose box the line meets, the other one pushed when the line meets both. (Branches
-    /// rather than branch-free pushes: the predictor guesses some, and a wrong guess costs
-    /// less than the store-to-load chain through the stack of a branch-free walk — 10–15 %
-    /// faster on the cube, the Cornell box and the 512-cube room.)
+    /// The walk of [`Bvh3::for_each_hit`] for the octant `[I, J, K]`, with a stack of `N`
+    /// entries (at least `3 · levels`): the four children's boxes tested at once, down
+    /// the first one the line meets, the others it meets pushed (all hits are wanted, so
+    /// the order does not matter).
     #[inline(always)]
-    fn walk_all<const I: usize, const J: usize, const K: usize, F: FnMut(Hit3)>(
+    fn walk_all<const I: usize, const J: usize, const K: usize, F: FnMut(Hit3), const N: usize>(
         &self,
         q: &Query,
         f: &mut F,
     ) {
         let slab = q.slab;
-        let mut stack = [Ref::default(); STACK_SIZE];
+        let mut stack = [Ref::default(); N];
         let mut sp = 0usize;
         let mut r = self.root;
         loop {
-            if r.count > 0 {
+            if r.is_leaf() {
                 self.leaf(q, r, &mut |prim, t| f(Hit3 { t, prim }));
             } else {
-                // Negated so that NaN visits: culling must only ever be sure.
                 let node = &self.nodes[r.offset as usize];
-                let (e0, x0) = node.slab::<I, J, K>(0, &slab);
-                let (e1, x1) = node.slab::<I, J, K>(1, &slab);
-                let (meets0, meets1) = (!(e0 > x0), !(e1 > x1));
-                if meets0 {
-                    if meets1 {
-                        stack[sp] = node.child[1];
-                        sp += 1;
-                    }
-                    r = node.child[0];
-                    continue;
+                let (enter, exit) = node.slab::<I, J, K>(&slab);
+                // Negated so that NaN visits: culling must only ever be sure.
+                let mut mask = 0u32;
+                for c in 0..WIDTH {
+                    mask |= u32::from(!(enter[c] > exit[c])) << c;
                 }
-                if meets1 {
-                    r = node.child[1];
+                if mask != 0 {
+                    // The first child met is visited next, the others pushed.
+                    let first = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    while mask != 0 {
+                        stack[sp] = node.child[mask.trailing_zeros() as usize];
+                        sp += 1;
+                        mask &= mask - 1;
+                    }
+                    r = node.child[first];
                     continue;
                 }
             }
@@ -765,7 +848,7 @@ impl Bvh3 {
             if enter > best_t {
                 continue;
             }
-            if r.count > 0 {
+            if r.is_leaf() {
                 self.leaf(q, r, &mut |prim, t| {
                     if t > t_min && (t < best_t || (t == best_t && prim < best_prim)) {
                         best_t = t;
@@ -776,22 +859,22 @@ impl Bvh3 {
             }
             // The ray's live part (t_min, best_t] may meet a child's box
             let node = &self.nodes[r.offset as usize];
-            let (e0, x0) = node.slab::<I, J, K>(0, &slab);
-            let (e1, x1) = node.slab::<I, J, K>(1, &slab);
-            let live0 = !(e0 > x0) && !(x0 <= t_min) && !(e0 > best_t);
-            let live1 = !(e1 > x1) && !(x1 <= t_min) && !(e1 > best_t);
-            // The farther child first, so that the nearer one is popped first
-            let (far, near) = if e1 < e0 { (0, 1) } else { (1, 0) };
-            let (live_far, live_near) = if far == 0 {
-                (live0, live1)
-            } else {
-                (live1, live0)
-            };
-            let (e_far, e_near) = if far == 0 { (e0, e1) } else { (e1, e0) };
-            stack[sp] = (node.child[far], e_far);
-            sp += usize::from(live_far);
-            stack[sp] = (node.child[near], e_near);
-            sp += usize::from(live_near);
+            let (e, x) = node.slab::<I, J, K>(&slab);
+            let base = sp;
+            for c in 0..WIDTH {
+                let live = !(e[c] > x[c]) && !(x[c] <= t_min) && !(e[c] > best_t);
+                if live {
+                    // Insertion by decreasing entry, so that the nearest is popped first
+                    // (NaN entries sort as the nearest: `>` is false for them).
+                    let mut k = sp;
+                    while k > base && e[c] > stack[k - 1].1 {
+                        stack[k] = stack[k - 1];
+                        k -= 1;
+                    }
+                    stack[k] = (node.child[c], e[c]);
+                    sp += 1;
+                }
+            }
         }
         (best_prim != u32::MAX).then_some(Hit3 {
             t: best_t,

@@ -283,4 +283,34 @@ impl Slab {
         }
         (enter, -neg_exit)
     }
+
+    /// [`Slab::interval`] of four boxes at once, given per axis their near and far bounds
+    /// in `f32` (`near[i][c]`, `far[i][c]` for box `c`), as `(enter, exit)` per box: per
+    /// box the same subtractions and products in the same order on the same (exactly
+    /// widened) values, laid out lane by lane so that they vectorise. The folds are
+    /// `f64::max` (`maxpd`) instead of `interval`'s select: the accumulators start at
+    /// `−∞` and are never NaN, so a NaN plane is skipped by both and the two agree but
+    /// for the sign of a zero, which no comparison of `enter` and `exit` sees — the
+    /// culling is the same, box by box.
+    #[cfg(feature = "alloc")]
+    #[inline(always)]
+    pub(super) fn interval4(
+        &self,
+        near: [&[f32; 4]; 3],
+        far: [&[f32; 4]; 3],
+    ) -> ([f64; 4], [f64; 4]) {
+        let mut enter = [f64::NEG_INFINITY; 4];
+        let mut neg_exit = [f64::NEG_INFINITY; 4];
+        for i in 0..3 {
+            let (o_near, o_far) = (self.o_near[i], self.o_far[i]);
+            let (inv, neg_inv) = (self.inv[i], self.neg_inv[i]);
+            for c in 0..4 {
+                let tn = (f64::from(near[i][c]) - o_near) * inv;
+                let tf = (f64::from(far[i][c]) - o_far) * neg_inv;
+                enter[c] = tn.max(enter[c]);
+                neg_exit[c] = tf.max(neg_exit[c]);
+            }
+        }
+        (enter, neg_exit.map(|x| -x))
+    }
 }
