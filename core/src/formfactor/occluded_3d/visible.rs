@@ -313,7 +313,12 @@ fn merge_close_vertices(poly: &mut Vec<DVec2>, merge: f64) {
         }
     }
     poly.truncate(kept);
-    while poly.len() > 1 && poly.first().zip(poly.last()).is_some_and(|(&a, &b)| close(a, b)) {
+    while poly.len() > 1
+        && poly
+            .first()
+            .zip(poly.last())
+            .is_some_and(|(&a, &b)| close(a, b))
+    {
         poly.pop();
     }
 }
