@@ -39,7 +39,9 @@
 //! `η · r_max · (perimeter of the occluders' traces on patch i)`; its effect on `F_ij` is of
 //! that relative order, far below any tolerance accepted here (`MIN_TOLERANCE`).
 //!
-//! Pieces or shadows smaller than `10⁻¹³ A_j` are rounding debris and are dropped. The piece
+//! Pieces or shadows smaller than `10⁻¹³ A_j` are rounding debris and are dropped, and
+//! shadow vertices closer than `10⁻¹⁰` of the target's radius are one (an edge that short
+//! has a direction made of rounding, and its line would cut the visible part). The piece
 //! count is bounded by `MAX_VISIBLE_PIECES` ([`ErrorKind::TooLarge`] beyond).
 //! Occluders are opaque from both sides. A polygon lying in the plane of `i` or `j` is not
 //! an occluder (see culling).
