@@ -80,8 +80,8 @@
 //! solid hides (`solids.rs`), or several hide together (halved into sub-pairs each hidden
 //! by one body, `union.rs`) is `0` exactly, not integrated. In the outer integral, each triangle keeps the candidates of
 //! the hull of it and the target: with none left, its flux is the exact unoccluded one
-//! ([`exact_3d::unoccluded_flux`] on the triangle), and with one body or several together
-//! hiding it wholly, 0; only the other triangles are refined. A pair with no candidate keeps the exact unoccluded
+//! ([`exact_3d::unoccluded_flux`] on the triangle), and with one body hiding it wholly,
+//! 0; only the other triangles are refined. A pair with no candidate keeps the exact unoccluded
 //! path, bit for bit; a scene where no pair has one is
 //! [`exact_3d::form_factors_unoccluded`]'s.
 
@@ -362,9 +362,8 @@ struct PairIntegrand<'s, 'o> {
 impl outer::Integrand for PairIntegrand<'_, '_> {
     /// The candidates of `tri`: those of the parent whose boxes overlap the box of
     /// `tri ∪ target` and that meet the interior of its convex hull (separating axes).
-    /// None left: the exact unoccluded flux of `tri` (2.9 without `V`); one of them, one
-    /// of their solids or several of them together hiding every sight line
-    /// ([`blocks_all`], [`Solid::hides`], [`union::hidden_by_union`]): zero.
+    /// None left: the exact unoccluded flux of `tri` (2.9 without `V`); one of them or one
+    /// of their solids hiding every sight line ([`blocks_all`], [`Solid::hides`]): zero.
     fn classify(
         &mut self,
         tri: &[DVec3; 3],
@@ -410,17 +409,6 @@ impl outer::Integrand for PairIntegrand<'_, '_> {
             self.solid_of,
             self.solids,
             (tri.as_slice(), self.tgt),
-            t,
-            &mut self.seen,
-        ) || union::hidden_by_union(
-            tri,
-            self.tgt,
-            out,
-            union::Bodies {
-                occ: self.occ,
-                solids: self.solids,
-                solid_of: self.solid_of,
-            },
             t,
             &mut self.seen,
         ) {

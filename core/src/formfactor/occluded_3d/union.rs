@@ -19,14 +19,16 @@
 //! face). A square becomes two strips, a strip two squares. Of a sub-pair, the side with
 //! the larger such extent is halved.
 //!
-//! Conservative and bounded: a sub-pair whose centroids see each other (the segment
-//! between them crosses no candidate) shows a sight line that is not hidden, so the answer
-//! is `false` at once (this keeps the test cheap on the many pairs that see each other);
-//! so is it when `MAX_UNION_TESTS` sub-pairs have been tried or one still unhidden is
+//! Conservative and bounded: a sight line found that crosses no candidate is not hidden,
+//! so the answer is `false` at once — first the 25 segments between five points of each
+//! side (the centroid and the midpoints from it to four vertices), then, for each sub-pair
+//! (taken breadth first), the segment between its centroids; this keeps the test cheap
+//! on the many pairs and triangles that see part of each other. The answer is also `false`
+//! when `MAX_UNION_TESTS` sub-pairs have been tried or one still unhidden is
 //! `MAX_UNION_DEPTH` halvings deep. `false` only means "not proven": the pair is then
 //! integrated.
 
-use alloc::vec;
+use alloc::collections::VecDeque;
 use alloc::vec::Vec;
 
 use super::occluders::{Occluder, blocks_all};
@@ -71,10 +73,27 @@ pub(crate) fn hidden_by_union(
             solids.push(s);
         }
     }
-    let mut stack: Vec<(Vec<DVec3>, Vec<DVec3>, u32)> = vec![(src.to_vec(), tgt.to_vec(), 0)];
+    let probes = |p: &[DVec3]| {
+        let c = mean(p);
+        let mut out: heapless::Vec<DVec3, 5> = heapless::Vec::new();
+        let _ = out.push(c);
+        for &v in p.iter().take(4) {
+            let _ = out.push(0.5 * (c + v));
+        }
+        out
+    };
+    let (ps, pt) = (probes(src), probes(tgt));
+    if ps.iter().any(|&a| {
+        pt.iter()
+            .any(|&b| !segment_blocked(a, b, cands, bodies.occ))
+    }) {
+        return false;
+    }
+    let mut queue: VecDeque<(Vec<DVec3>, Vec<DVec3>, u32)> = VecDeque::new();
+    queue.push_back((src.to_vec(), tgt.to_vec(), 0));
     let mut tests = 0;
-    // Bounded: at most MAX_UNION_TESTS sub-pairs are popped.
-    while let Some((s, t, depth)) = stack.pop() {
+    // Bounded: at most MAX_UNION_TESTS sub-pairs are taken, each adding two.
+    while let Some((s, t, depth)) = queue.pop_front() {
         if tests >= MAX_UNION_TESTS {
             return false;
         }
@@ -102,9 +121,9 @@ pub(crate) fn hidden_by_union(
         };
         for h in [h1, h2] {
             if halve_src {
-                stack.push((h, t.clone(), depth + 1));
+                queue.push_back((h, t.clone(), depth + 1));
             } else {
-                stack.push((s.clone(), h, depth + 1));
+                queue.push_back((s.clone(), h, depth + 1));
             }
         }
     }
