@@ -799,7 +799,29 @@ fn two_boxes_hide_a_pair_that_neither_hides_alone() {
     let r = form_factors_occluded(&points, &ranges, &OcclusionOptions::new(1e-6)).unwrap();
     assert_eq!(r.form_factors.get(0, 1), 0.0);
     assert_eq!(r.errors[1], 0.0);
-    assert_eq!((r.pairs_integrated, r.pairs_blocked), (0, 1));
+    // Found by the union test: neither solid nor any face hides the pair alone.
+    let faces: Vec<(&[DVec3], Plane)> = left
+        .iter()
+        .chain(&right)
+        .map(|f| (f.as_slice(), Plane::of(f).unwrap()))
+        .collect();
+    let occ = occluders::Occluders::new(&faces, 2.0);
+    assert_eq!(occ.solids.len(), 2);
+    assert!(!occ.solids.iter().any(|k| k.hides(&src, &tgt, 1e-9)));
+    let all: Vec<u32> = (0..occ.list.len() as u32).collect();
+    let bodies = union::Bodies {
+        occ: &occ.list,
+        solids: &occ.solids,
+        solid_of: &occ.solid_of,
+    };
+    assert!(union::hidden_by_union(
+        &src,
+        &tgt,
+        &all,
+        bodies,
+        1e-9,
+        &mut Vec::new()
+    ));
     // Integrated past the twelve faces as plain polygons, the pair is 0 within its
     // estimate; no body alone hides it.
     let occ: Vec<&[DVec3]> = left.iter().chain(&right).map(Vec::as_slice).collect();
@@ -821,4 +843,24 @@ fn two_boxes_hide_a_pair_that_neither_hides_alone() {
         "{}",
         r.form_factors.get(0, 1)
     );
+    let faces: Vec<(&[DVec3], Plane)> = left
+        .iter()
+        .chain(&right)
+        .map(|f| (f.as_slice(), Plane::of(f).unwrap()))
+        .collect();
+    let occ = occluders::Occluders::new(&faces, 2.0);
+    let all: Vec<u32> = (0..occ.list.len() as u32).collect();
+    let bodies = union::Bodies {
+        occ: &occ.list,
+        solids: &occ.solids,
+        solid_of: &occ.solid_of,
+    };
+    assert!(!union::hidden_by_union(
+        &src,
+        &tgt,
+        &all,
+        bodies,
+        1e-9,
+        &mut Vec::new()
+    ));
 }
