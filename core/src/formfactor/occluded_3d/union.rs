@@ -20,10 +20,10 @@
 //! the larger such extent is halved.
 //!
 //! Conservative and bounded: a sight line found that crosses no candidate is not hidden,
-//! so the answer is `false` at once — first the 25 segments between five points of each
+//! so the answer is `false` at once — first the (up to 25) segments between five points of each
 //! side (the centroid and the midpoints from it to four vertices), then, for each sub-pair
 //! (taken breadth first), the segment between its centroids; this keeps the test cheap
-//! on the many pairs and triangles that see part of each other. The answer is also `false`
+//! on the many pairs that see part of each other. The answer is also `false`
 //! when `MAX_UNION_TESTS` sub-pairs have been tried or one still unhidden is
 //! `MAX_UNION_DEPTH` halvings deep. `false` only means "not proven": the pair is then
 //! integrated.
