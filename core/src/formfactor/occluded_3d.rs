@@ -78,11 +78,12 @@
 //! occluders' bounds, then the separating-axis test of [`exact_3d::may_be_occluded`]. The
 //! occluders are the polygons with coplanar neighbours merged into convex unions (a
 //! gridded face is one occluder; `occluders.rs`). A pair one candidate hides wholly (its
-//! plane separates them and every vertex-to-vertex segment crosses it inside) is `0`
-//! exactly, not integrated. In the outer integral, each triangle keeps the candidates of
+//! plane separates them and every vertex-to-vertex segment crosses it inside), one convex
+//! solid hides (`solids.rs`), or several hide together (halved into sub-pairs each hidden
+//! by one body, `union.rs`) is `0` exactly, not integrated. In the outer integral, each triangle keeps the candidates of
 //! the hull of it and the target: with none left, its flux is the exact unoccluded one
-//! ([`exact_3d::unoccluded_flux`] on the triangle), and with one hiding it wholly, 0; only
-//! the other triangles are refined. A pair with no candidate keeps the exact unoccluded
+//! ([`exact_3d::unoccluded_flux`] on the triangle), and with one body hiding it wholly,
+//! 0; only the other triangles are refined. A pair with no candidate keeps the exact unoccluded
 //! path, bit for bit; a scene where no pair has one is
 //! [`exact_3d::form_factors_unoccluded`]'s.
 
@@ -92,6 +93,7 @@ mod outer;
 mod solids;
 #[cfg(all(test, feature = "std"))]
 mod tests;
+mod union;
 mod visible;
 
 use alloc::vec;
@@ -200,7 +202,7 @@ pub struct OccludedFormFactors {
     /// Unordered pairs integrated adaptively (with candidate occluders).
     pub pairs_integrated: usize,
     /// Unordered pairs with candidate occluders found hidden from each other by one of
-    /// them (`F = 0` exactly, not integrated).
+    /// them, one solid or several bodies together (`F = 0` exactly, not integrated).
     pub pairs_blocked: usize,
     /// Unordered pairs whose integration estimate exceeds the tolerance (the work cap
     /// stopped them). The final [`Self::errors`] also hold what clamping a value above 1
@@ -362,8 +364,8 @@ struct PairIntegrand<'s, 'o> {
 impl outer::Integrand for PairIntegrand<'_, '_> {
     /// The candidates of `tri`: those of the parent whose boxes overlap the box of
     /// `tri ∪ target` and that meet the interior of its convex hull (separating axes).
-    /// None left: the exact unoccluded flux of `tri` (2.9 without `V`); one of them
-    /// hiding every sight line ([`blocks_all`]): zero.
+    /// None left: the exact unoccluded flux of `tri` (2.9 without `V`); one of them or one
+    /// of their solids hiding every sight line ([`blocks_all`], [`Solid::hides`]): zero.
     fn classify(
         &mut self,
         tri: &[DVec3; 3],
@@ -660,6 +662,15 @@ impl<'a> Prepared<'a> {
         });
     }
 
+    /// The scene's opaque bodies (occluders and solids).
+    fn bodies(&self) -> union::Bodies<'_> {
+        union::Bodies {
+            occ: &self.occ.list,
+            solids: &self.occ.solids,
+            solid_of: &self.occ.solid_of,
+        }
+    }
+
     /// Row `i`: the pairs `(i, j)`, `j > i`, culled, then exact or integrated.
     fn row(&self, i: usize) -> Result<PairRow> {
         let polys = &self.polys;
@@ -709,6 +720,13 @@ impl<'a> Prepared<'a> {
                 &self.occ.solid_of,
                 &self.occ.solids,
                 (src, tgt),
+                self.touch,
+                &mut seen,
+            ) || union::hidden_by_union(
+                src,
+                tgt,
+                &cand,
+                self.bodies(),
                 self.touch,
                 &mut seen,
             ) {

@@ -840,3 +840,85 @@ fn leaving_out_a_box_s_back_faces_keeps_the_form_factor() {
         plain.error / area
     );
 }
+
+#[test]
+fn two_boxes_hide_a_pair_that_neither_hides_alone() {
+    // Coaxial unit squares 2 apart; two overlapping slabs across the middle, each covering
+    // about two thirds of the view (x < 0.8 and x > 0.2 at the mid plane): every sight
+    // line passes through one of them, but no single face or box hides them all.
+    let src = square_facing(v(0.5, 0.5, 0.0), 0.5, DVec3::Z);
+    let tgt = square_facing(v(0.5, 0.5, 2.0), 0.5, -DVec3::Z);
+    let left = box_faces(v(-0.5, -0.5, 0.9), v(0.8, 1.5, 1.1), true);
+    let right = box_faces(v(0.2, -0.5, 0.9), v(1.5, 1.5, 1.1), true);
+    let mut polygons = vec![src.clone(), tgt.clone()];
+    polygons.extend(left.iter().cloned());
+    polygons.extend(right.iter().cloned());
+    let (points, ranges) = flat(&polygons);
+    let r = form_factors_occluded(&points, &ranges, &OcclusionOptions::new(1e-6)).unwrap();
+    assert_eq!(r.form_factors.get(0, 1), 0.0);
+    assert_eq!(r.errors[1], 0.0);
+    // Found by the union test: neither solid nor any face hides the pair alone.
+    let faces: Vec<(&[DVec3], Plane)> = left
+        .iter()
+        .chain(&right)
+        .map(|f| (f.as_slice(), Plane::of(f).unwrap()))
+        .collect();
+    let occ = occluders::Occluders::new(&faces, 2.0);
+    assert_eq!(occ.solids.len(), 2);
+    assert!(!occ.solids.iter().any(|k| k.hides(&src, &tgt, 1e-9)));
+    let all: Vec<u32> = (0..occ.list.len() as u32).collect();
+    let bodies = union::Bodies {
+        occ: &occ.list,
+        solids: &occ.solids,
+        solid_of: &occ.solid_of,
+    };
+    assert!(union::hidden_by_union(
+        &src,
+        &tgt,
+        &all,
+        bodies,
+        1e-9,
+        &mut Vec::new()
+    ));
+    // Integrated past the twelve faces as plain polygons, the pair is 0 within its
+    // estimate; no body alone hides it.
+    let occ: Vec<&[DVec3]> = left.iter().chain(&right).map(Vec::as_slice).collect();
+    for f in &occ {
+        assert!(!blocks_all(&src, &tgt, f, &Plane::of(f).unwrap(), 1e-9));
+    }
+    let plain = occluded_flux(&src, &tgt, &occ, &OcclusionOptions::new(1e-6)).unwrap();
+    assert!(plain.flux <= plain.error + 1e-15, "{plain:?}");
+    // Slabs that leave a gap (x < 0.45 and x > 0.55 at the mid plane): not hidden.
+    let left = box_faces(v(-0.5, -0.5, 0.9), v(0.45, 1.5, 1.1), true);
+    let right = box_faces(v(0.55, -0.5, 0.9), v(1.5, 1.5, 1.1), true);
+    let mut polygons = vec![src.clone(), tgt.clone()];
+    polygons.extend(left.iter().cloned());
+    polygons.extend(right.iter().cloned());
+    let (points, ranges) = flat(&polygons);
+    let r = form_factors_occluded(&points, &ranges, &OcclusionOptions::new(1e-4)).unwrap();
+    assert!(
+        r.form_factors.get(0, 1) > 1e-3,
+        "{}",
+        r.form_factors.get(0, 1)
+    );
+    let faces: Vec<(&[DVec3], Plane)> = left
+        .iter()
+        .chain(&right)
+        .map(|f| (f.as_slice(), Plane::of(f).unwrap()))
+        .collect();
+    let occ = occluders::Occluders::new(&faces, 2.0);
+    let all: Vec<u32> = (0..occ.list.len() as u32).collect();
+    let bodies = union::Bodies {
+        occ: &occ.list,
+        solids: &occ.solids,
+        solid_of: &occ.solid_of,
+    };
+    assert!(!union::hidden_by_union(
+        &src,
+        &tgt,
+        &all,
+        bodies,
+        1e-9,
+        &mut Vec::new()
+    ));
+}
