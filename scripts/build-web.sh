@@ -66,9 +66,12 @@ build_module() {
 # was not measured): budget 470 KB, a regression alarm rather than a goal.
 build_module "$out" 470000 --no-default-features --features console_error_panic_hook
 # The 3D lab (wasm/www/pkg3d, issue 24): everything, with the file readers. Issue 24's budget
-# is 800 KB compressed for the page's wasm and JS together; the .wasm alone gets 1.3 MB
-# uncompressed here (the browser test reports the gzip -9 size of the whole page).
-build_module wasm/www/pkg3d 1300000
+# is 800 KB compressed for the page's wasm and JS together (`scripts/test.sh` fails above
+# it); the .wasm alone has an uncompressed regression alarm here: 1.3 MB until session 15,
+# whose core changes (3D bundle sheets cast row by row, the 4-wide BVH, the union test of
+# occluded pairs, the walks' jackknife) took it from 1,278,909 to 1,321,456 bytes (which
+# change added how much was not measured): 1.4 MB.
+build_module wasm/www/pkg3d 1400000
 
 if [[ ${1:-} == --serve ]]; then
     port=${2:-8000}
