@@ -85,6 +85,7 @@ test('the equilateral triangle shows the thesis I_S^c = 1.285', async () => {
 
 test('an interior segment raises I_S^c, and the link shares the scene', async () => {
   const before = await continuous(page);
+  const hashBefore = await page.evaluate(() => location.hash);
   await page.click('#tool-segment');
   const box = await page.locator('#editor').boundingBox();
   // The view centres the triangle's bounds (x ∈ ±0.87, y ∈ [−0.5, 1]); 10% of the canvas
@@ -103,8 +104,11 @@ test('an interior segment raises I_S^c, and the link shares the scene', async ()
   assert.ok(after.value > before.value + 5 * (before.stderr + after.stderr),
     `I_S^c ${before.value} → ${after.value}`);
 
-  // The URL hash now holds the scene: a fresh page shows the same scene and numbers.
-  await page.waitForFunction(() => location.hash.startsWith('#scene='));
+  // The URL hash now holds the scene: a fresh page shows the same scene and numbers. The
+  // page writes it 250 ms after the last edit, which can be after the lines are done on a
+  // fast machine: wait for the new scene's hash, not for any hash.
+  await page.waitForFunction((b) => location.hash.startsWith('#scene=') && location.hash !== b,
+    hashBefore);
   const url = page.url();
   const other = await context.newPage();
   watch(other);
