@@ -27,6 +27,8 @@ mod load;
 pub mod mesh;
 pub mod ply_scene;
 pub mod view3d_out;
+mod vs3_parse;
+mod vs3_pieces;
 pub mod vs3_scene;
 pub mod vs3_write;
 
