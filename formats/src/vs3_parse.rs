@@ -108,7 +108,10 @@ pub(crate) fn parse(path: &Path, text: &str) -> Result<Vec<Record>> {
                     ));
                 }
                 p.numbers.push(finite(token).ok_or_else(|| {
-                    at(line, &format!("bad number {token:?} for surface {}", p.record.number))
+                    at(
+                        line,
+                        &format!("bad number {token:?} for surface {}", p.record.number),
+                    )
                 })?);
             }
             if p.numbers.len() == p.needed()
@@ -285,7 +288,9 @@ fn blast_head(
         other => {
             return Err(at(
                 line,
-                &format!("shape {other:?} is not one of R (rectangle), Q (quadrilateral), T (triangle)"),
+                &format!(
+                    "shape {other:?} is not one of R (rectangle), Q (quadrilateral), T (triangle)"
+                ),
             ));
         }
     };
@@ -310,8 +315,12 @@ fn blast_head(
 /// The finished `F 3a` surface: its corners from its numbers ([`blast_corners`]).
 fn finish_blast(p: PendingBlast, at: &dyn Fn(usize, &str) -> anyhow::Error) -> Result<Record> {
     let mut record = p.record;
-    record.corners = blast_corners(p.shape, &p.numbers)
-        .ok_or_else(|| at(record.line, "a rectangle's width and height must be positive"))?;
+    record.corners = blast_corners(p.shape, &p.numbers).ok_or_else(|| {
+        at(
+            record.line,
+            "a rectangle's width and height must be positive",
+        )
+    })?;
     Ok(record)
 }
 

@@ -23,9 +23,7 @@ pub(crate) fn area(p: &[DVec3]) -> f64 {
 
 /// The largest distance from a corner of `p` to the first corner.
 pub(crate) fn size(p: &[DVec3]) -> f64 {
-    p.iter()
-        .map(|c| (*c - p[0]).length())
-        .fold(0.0, f64::max)
+    p.iter().map(|c| (*c - p[0]).length()).fold(0.0, f64::max)
 }
 
 /// The part of the convex polygon `p` where `s(x) = m · (x − a) ≤ 0` (Sutherland–Hodgman
@@ -64,7 +62,11 @@ fn edge_planes(hole: &[DVec3], normal: DVec3) -> Vec<(DVec3, DVec3)> {
 /// plane kept as a new piece and the rest carried on; what is left after the last plane
 /// lies in the hole and is dropped. Pieces of area at most `10⁻¹²` of the base's are
 /// dropped (slivers of rounding along shared edges). `None` past [`MAX_PIECES`] pieces.
-pub(crate) fn minus(base: &[DVec3], holes: &[Vec<DVec3>], normal: DVec3) -> Option<Vec<Vec<DVec3>>> {
+pub(crate) fn minus(
+    base: &[DVec3],
+    holes: &[Vec<DVec3>],
+    normal: DVec3,
+) -> Option<Vec<Vec<DVec3>>> {
     let floor = 1e-12 * area(base);
     let mut pieces = vec![base.to_vec()];
     // Bounded: the holes, the pieces (at most MAX_PIECES) and each hole's edges

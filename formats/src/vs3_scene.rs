@@ -165,7 +165,13 @@ fn build(path: &Path, text: &str, report: &mut LoadReport) -> Result<(Scene3, Pl
             ));
         }
         let pieces = minus(&r.corners, &holes[k], normals[k]).ok_or_else(|| {
-            at(r.line, &format!("surface {}: too many pieces around its subsurfaces", r.number))
+            at(
+                r.line,
+                &format!(
+                    "surface {}: too many pieces around its subsurfaces",
+                    r.number
+                ),
+            )
         })?;
         let left: f64 = pieces.iter().map(|p| area(p)).sum();
         let cut: f64 = holes[k].iter().map(|h| area(h)).sum();
@@ -199,7 +205,13 @@ fn build(path: &Path, text: &str, report: &mut LoadReport) -> Result<(Scene3, Pl
             None => g.pieces.as_slice(),
         };
         for face in faces {
-            add_face(&mut builder, face, report, path, format_args!("line {}", g.line))?;
+            add_face(
+                &mut builder,
+                face,
+                report,
+                path,
+                format_args!("line {}", g.line),
+            )?;
         }
     }
     let scene = crate::mesh::build(builder, report, path)?;
@@ -489,7 +501,10 @@ impl Vs3Layout {
         };
         // View3D's area of a masked base is the whole base
         for k in 0..layout.surfaces.len() {
-            let masked: f64 = layout.masks[k].iter().map(|&m| layout.surfaces[m].area).sum();
+            let masked: f64 = layout.masks[k]
+                .iter()
+                .map(|&m| layout.surfaces[m].area)
+                .sum();
             layout.surfaces[k].area += masked;
         }
         Ok(layout)
@@ -540,7 +555,11 @@ impl Vs3Layout {
     ) -> Result<()> {
         let (m, np) = (self.surfaces.len(), self.patch_surface.len());
         if out.len() < m || buffer.len() < np || k >= m {
-            anyhow::bail!("row {k}: {} entries for {m} surfaces, {} for {np} patches", out.len(), buffer.len());
+            anyhow::bail!(
+                "row {k}: {} entries for {m} surfaces, {} for {np} patches",
+                out.len(),
+                buffer.len()
+            );
         }
         out[..m].fill(0.0);
         if let Some(b) = self.surfaces[k].mask_of {

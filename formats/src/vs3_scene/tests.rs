@@ -125,12 +125,21 @@ fn surfaces_on_a_base_are_checked() {
         // An obstruction on a base
         ("O 7 9 10 11 12 1 0 0.5 obs\n", "obstruction-only"),
         // A base numbered after
-        ("S 7 9 10 11 12 8 0 0.5 win\nS 8 1 2 3 4 0 0 0.5 b\n", "numbered before"),
+        (
+            "S 7 9 10 11 12 8 0 0.5 win\nS 8 1 2 3 4 0 0 0.5 b\n",
+            "numbered before",
+        ),
         // Two windows overlapping
-        ("S 7 9 10 11 12 1 0 0.5 w\nS 8 9 10 11 12 1 0 0.5 w\n", "overlap"),
+        (
+            "S 7 9 10 11 12 1 0 0.5 w\nS 8 9 10 11 12 1 0 0.5 w\n",
+            "overlap",
+        ),
     ] {
         let e = read_layout(&cube_with(extra)).unwrap_err().to_string();
-        assert!(e.starts_with("t.vs3:") && e.contains(what), "{extra:?}: {e}");
+        assert!(
+            e.starts_with("t.vs3:") && e.contains(what),
+            "{extra:?}: {e}"
+        );
     }
 }
 
