@@ -62,7 +62,7 @@ pub enum Format {
     Gltf,
     /// glTF 2.0, binary container.
     Glb,
-    /// NIST View3D's input (`F 3`, vertices and surfaces).
+    /// NIST View3D's input (`F 3` vertices and surfaces, or `F 3a` planes and shapes).
     Vs3,
 }
 

@@ -127,15 +127,16 @@ fn build(path: &Path, text: &str, report: &mut LoadReport) -> Result<(Scene3, Pl
             return Err(at(r.line, &format!("surface {} is given twice", r.number)));
         }
     }
-    let normals = records
+    // A surface without area is dropped with a warning, as in the other formats, unless
+    // something lies on it or it lies on something (then it is refused)
+    let normals: Vec<Option<DVec3>> = records
         .iter()
         .map(|r| {
             (r.corners.len() >= 3)
                 .then(|| vector_area(&r.corners).try_normalize())
                 .flatten()
-                .ok_or_else(|| at(r.line, &format!("surface {} has no area", r.number)))
         })
-        .collect::<Result<Vec<DVec3>>>()?;
+        .collect();
     let mut holes: Vec<Vec<Vec<DVec3>>> = vec![Vec::new(); records.len()];
     for (k, r) in records.iter().enumerate() {
         if let Some(b) = check_base(r, normals[k], &records, &index, &normals, &at)? {
@@ -154,7 +155,10 @@ fn build(path: &Path, text: &str, report: &mut LoadReport) -> Result<(Scene3, Pl
             regions.push(vec![r.corners.clone()]);
             continue;
         }
-        if !convex(&r.corners, normals[k]) {
+        let Some(normal) = normals[k] else {
+            return Err(at(r.line, &format!("surface {} has no area", r.number)));
+        };
+        if !convex(&r.corners, normal) {
             return Err(at(
                 r.line,
                 &format!(
@@ -164,7 +168,7 @@ fn build(path: &Path, text: &str, report: &mut LoadReport) -> Result<(Scene3, Pl
                 ),
             ));
         }
-        let pieces = minus(&r.corners, &holes[k], normals[k]).ok_or_else(|| {
+        let pieces = minus(&r.corners, &holes[k], normal).ok_or_else(|| {
             at(
                 r.line,
                 &format!(
@@ -222,10 +226,10 @@ fn build(path: &Path, text: &str, report: &mut LoadReport) -> Result<(Scene3, Pl
 /// in its plane, inside it, facing as its type says); `None` without a base.
 fn check_base(
     r: &Record,
-    normal: DVec3,
+    normal: Option<DVec3>,
     records: &[Record],
     index: &HashMap<usize, usize>,
-    normals: &[DVec3],
+    normals: &[Option<DVec3>],
     at: &dyn Fn(usize, &str) -> anyhow::Error,
 ) -> Result<Option<usize>> {
     let letter = r.kind.letter();
@@ -272,7 +276,15 @@ fn check_base(
             ),
         ));
     }
-    let n = normals[b];
+    let (Some(normal), Some(n)) = (normal, normals[b]) else {
+        return Err(at(
+            r.line,
+            &format!(
+                "surface {} or its base {} has no area",
+                r.number, base.number
+            ),
+        ));
+    };
     let same_way = normal.dot(n) > 0.0;
     let (facing_ok, facing) = match r.kind {
         Kind::Radiating => (same_way, "the same way as"),
@@ -480,6 +492,14 @@ impl Vs3Layout {
                 continue;
             }
             let kept: f64 = members[k].iter().map(|&p| patch_area[p]).sum();
+            if !(group.area > 0.0) {
+                anyhow::bail!(
+                    "{}:{}: surface {} has no area: View3D's rows divide by it",
+                    path.display(),
+                    group.line,
+                    group.number
+                );
+            }
             if (kept - group.area).abs() > LAYOUT_AREA_TOL * group.area {
                 anyhow::bail!(
                     "{}:{}: surface {} has area {} in the file but {kept} in the scene (a \

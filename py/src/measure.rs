@@ -539,7 +539,11 @@ pub fn view3d_surfaces<'py>(
         .map_err(|e| crate::error::load_error(py, &path, &e))?
         .1;
     let Some(ff) = m.m.form_factors() else {
-        return Err(bad_argument(py, "Job", "the measurement holds no form factors"));
+        return Err(bad_argument(
+            py,
+            "Job",
+            "the measurement holds no form factors",
+        ));
     };
     if ff.n_patches() != layout.n_patches() {
         return Err(bad_argument(
@@ -558,7 +562,8 @@ pub fn view3d_surfaces<'py>(
     for (k, out) in values.chunks_exact_mut(n.max(1)).enumerate() {
         layout
             .combined_row(k, &mut buffer, out, |p, row| {
-                ff.dense_row_into(p, row).map_err(|e| anyhow::anyhow!("{e}"))
+                ff.dense_row_into(p, row)
+                    .map_err(|e| anyhow::anyhow!("{e}"))
             })
             .map_err(|e| bad_argument(py, "Shape", &format!("{e:#}")))?;
     }

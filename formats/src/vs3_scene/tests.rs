@@ -208,3 +208,20 @@ fn obj2vs3_output_is_the_obj_scene() {
     }
     assert!((vs3.total_area() - obj.total_area()).abs() < 1e-12);
 }
+
+/// A surface without area is dropped with a warning, as in the other formats; View3D's
+/// rows (which divide by its area) are then refused, naming it.
+#[test]
+fn a_surface_without_area_is_dropped_and_its_row_refused() {
+    let text = cube_with("V 13 2 0 0\nS 7 1 2 13 0 0 0 0.5 flat\n");
+    let mut report = LoadReport::default();
+    let scene = read(Path::new("t.vs3"), &text, &mut report).unwrap();
+    assert_eq!(scene.n_patches(), 6);
+    assert!(!report.warnings.is_empty());
+    let e = read_layout(&text).unwrap_err().to_string();
+    assert!(e.starts_with("t.vs3:21: surface 7 has no area"), "{e}");
+    // Something on it: refused at once
+    let text = cube_with("V 13 2 0 0\nS 7 1 2 13 0 0 0 0.5 flat\nS 8 1 2 13 0 7 0 0.5 w\n");
+    let e = read_text(&text).unwrap_err().to_string();
+    assert!(e.contains("has no area"), "{e}");
+}
