@@ -3,6 +3,7 @@
 //! are read: `F 3` (vertices `V`, then surfaces naming four vertex numbers) and `F 3a`
 //! (each surface followed by its plane and shape, [`blast_corners`]).
 
+use std::collections::HashMap;
 use std::path::Path;
 
 use anyhow::Result;
@@ -82,7 +83,8 @@ impl PendingBlast {
 /// `file:line: what` for a line that cannot be read (see [`crate::vs3_scene`]'s table).
 pub(crate) fn parse(path: &Path, text: &str) -> Result<Vec<Record>> {
     let at = |line: usize, what: &str| anyhow::anyhow!("{}:{line}: {what}", path.display());
-    let mut vertices: Vec<Option<DVec3>> = Vec::new();
+    // By number (a map: a file may number its vertices sparsely, up to MAX_NUMBER)
+    let mut vertices: HashMap<usize, DVec3> = HashMap::new();
     let mut records: Vec<Record> = Vec::new();
     let mut geometry = None;
     let mut pending: Option<PendingBlast> = None;
@@ -159,10 +161,7 @@ pub(crate) fn parse(path: &Path, text: &str) -> Result<Vec<Record>> {
                     return Err(at(line, "vertices (V) belong to geometry format F 3"));
                 }
                 let (n, p) = vertex(&fields, &|w| at(line, w))?;
-                if vertices.len() <= n {
-                    vertices.resize(n + 1, None);
-                }
-                vertices[n] = Some(p);
+                vertices.insert(n, p);
                 continue;
             }
             'S' => Kind::Radiating,
@@ -228,7 +227,7 @@ fn vertex(fields: &[&str], at: &dyn Fn(&str) -> anyhow::Error) -> Result<(usize,
 fn surface_by_vertices(
     kind: Kind,
     fields: &[&str],
-    vertices: &[Option<DVec3>],
+    vertices: &HashMap<usize, DVec3>,
     line: usize,
     at: &dyn Fn(usize, &str) -> anyhow::Error,
 ) -> Result<Record> {
@@ -248,7 +247,7 @@ fn surface_by_vertices(
         if v == 0 && i == 4 {
             break;
         }
-        let p = vertices.get(v).copied().flatten().ok_or_else(|| {
+        let p = vertices.get(&v).copied().ok_or_else(|| {
             at(
                 line,
                 &format!("vertex {v} is not defined before it is used"),
