@@ -190,6 +190,8 @@ cmd_check() {
             capi/tests/exact.c -o "$OUT/exact" $libs -Wl,-rpath,"$TARGET/debug" -lm
         x "$CC" -std=c11 -Wall -Wextra -Wpedantic -Werror "${san[@]}" $cflags \
             capi/tests/rows.c -o "$OUT/rows" $libs -Wl,-rpath,"$TARGET/debug" -lm
+        x "$CC" -std=c11 -Wall -Wextra -Wpedantic -Werror "${san[@]}" $cflags \
+            capi/tests/view3d.c -o "$OUT/view3d" $libs -Wl,-rpath,"$TARGET/debug" -lm
         # The C++ example links the static library
         x "$CXX" -std=c++17 -Wall -Wextra -Werror "${san[@]}" $cflags \
             capi/examples/measure.cpp -o "$OUT/measure_cpp" \
@@ -239,6 +241,7 @@ EOF
 
     echo "== exact form factors with occlusion (a View3D .vs3 scene): C and CLI, the same bits"
     exact_with_occlusion
+    x "$OUT/view3d" tests/data/vs3/surface-kinds/window.vs3
 
     echo "== exact rows in two ranges, merged: C and CLI, the same files and bits"
     exact_rows_merged

@@ -931,6 +931,29 @@ size_t si_measurement_warning_count(const struct SiMeasurement *m);
 const char *si_measurement_warning(const struct SiMeasurement *m, size_t k);
 
 /**
+ * Copies View3D's output surfaces of the `.vs3` file `path`, from `m`, a measurement of
+ * the scene read from that file: their number `N` into `*n_surfaces` (when not NULL),
+ * then `N + N²` values into `out`: the surfaces' areas (the file's units), then their view
+ * factors row-major — combined surfaces joined, subsurfaces and masks as View3D reports
+ * them, obstruction-only surfaces left out, as the CLI's `formfactors FILE.vs3 --out
+ * F.vf3` writes them (`sceneinfo_formats::vs3_scene::Vs3Layout`). Buffer rules as
+ * `si_measurement_patch_sizes`. `SI_ERR_IO`, `SI_ERR_SCENE` as `si_scene_from_file`;
+ * `SI_ERR_INVALID_ARGUMENT` when `m` is not a measurement of that file's scene;
+ * `SI_ERR_UNDEFINED` when some patch received no line.
+ *
+ * # Safety
+ * `path` must be NULL or a NUL-terminated string; `m` NULL or a live measurement; `out`
+ * NULL or valid for writing `out_len` values; `out_needed` and `n_surfaces` NULL or valid
+ * for writing one `size_t` each.
+ */
+enum SiStatus si_view3d_surfaces(const char *path,
+                                 const struct SiMeasurement *m,
+                                 double *out,
+                                 size_t out_len,
+                                 size_t *out_needed,
+                                 size_t *n_surfaces);
+
+/**
  * Lights `scene`: form factors by `job->form_factors` (exact, or lines on
  * `job->form_factors.threads` threads), the radiosity system `B = E + ρFB` (2.6) solved per
  * colour channel with the scene's materials, the radiosity measures (5.5–5.7) and, with

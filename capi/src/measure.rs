@@ -879,3 +879,80 @@ pub unsafe extern "C" fn si_measurement_warning(
             .map_or(std::ptr::null(), |w| w.as_ptr())
     })
 }
+
+/// Copies View3D's output surfaces of the `.vs3` file `path`, from `m`, a measurement of
+/// the scene read from that file: their number `N` into `*n_surfaces` (when not NULL),
+/// then `N + N²` values into `out`: the surfaces' areas (the file's units), then their view
+/// factors row-major — combined surfaces joined, subsurfaces and masks as View3D reports
+/// them, obstruction-only surfaces left out, as the CLI's `formfactors FILE.vs3 --out
+/// F.vf3` writes them (`sceneinfo_formats::vs3_scene::Vs3Layout`). Buffer rules as
+/// `si_measurement_patch_sizes`. `SI_ERR_IO`, `SI_ERR_SCENE` as `si_scene_from_file`;
+/// `SI_ERR_INVALID_ARGUMENT` when `m` is not a measurement of that file's scene;
+/// `SI_ERR_UNDEFINED` when some patch received no line.
+///
+/// # Safety
+/// `path` must be NULL or a NUL-terminated string; `m` NULL or a live measurement; `out`
+/// NULL or valid for writing `out_len` values; `out_needed` and `n_surfaces` NULL or valid
+/// for writing one `size_t` each.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_view3d_surfaces(
+    path: *const c_char,
+    m: *const SiMeasurement,
+    out: *mut f64,
+    out_len: usize,
+    out_needed: *mut usize,
+    n_surfaces: *mut usize,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: by the contract above
+        let m = unsafe { handle(m, "measurement") }?;
+        if path.is_null() {
+            return Err(Failure::null("path"));
+        }
+        // SAFETY: non-NULL and NUL-terminated by the contract above
+        let path = crate::scene::path_of(unsafe { std::ffi::CStr::from_ptr(path) })?;
+        let layout = sceneinfo_formats::read_capped(&path)
+            .and_then(|bytes| sceneinfo_formats::text_of(&path, bytes))
+            .and_then(|text| {
+                let mut report = sceneinfo::io::LoadReport::default();
+                sceneinfo_formats::vs3_scene::read_with_layout(&path, &text, &mut report)
+            })
+            .map_err(|e| {
+                let info = sceneinfo_formats::classify(&e);
+                let status = match info.class {
+                    sceneinfo_formats::ErrorClass::Io => SiStatus::SI_ERR_IO,
+                    sceneinfo_formats::ErrorClass::Content => SiStatus::SI_ERR_SCENE,
+                };
+                let mut f = Failure::new(status, format!("{e:#}"));
+                f.line = info.line;
+                f
+            })?
+            .1;
+        let ff = m.form_factors()?;
+        if ff.n_patches() != layout.n_patches() {
+            return Err(Failure::invalid(format!(
+                "{}: its scene has {} patches, the measurement {}: not this file's",
+                path.display(),
+                layout.n_patches(),
+                ff.n_patches()
+            )));
+        }
+        let n = layout.surfaces().len();
+        if !n_surfaces.is_null() {
+            // SAFETY: non-NULL and writable by the contract above
+            unsafe { n_surfaces.write(n) };
+        }
+        let mut values = layout.areas();
+        values.resize(n + n * n, 0.0);
+        let mut buffer = vec![0.0; ff.n_states()];
+        for (k, row) in values[n..].chunks_exact_mut(n.max(1)).enumerate() {
+            layout
+                .combined_row(k, &mut buffer, row, |p, b| {
+                    ff.dense_row_into(p, b).map_err(|e| anyhow::anyhow!("{e}"))
+                })
+                .map_err(|e| Failure::new(SiStatus::SI_ERR_INTERNAL, format!("{e:#}")))?;
+        }
+        // SAFETY: by the contract above
+        unsafe { copy_out(&values, out, out_len, out_needed, "View3D surfaces") }
+    })
+}

@@ -552,7 +552,7 @@ pub struct FormFactorsArgs {
     /// Output: `.csv` (one row of F per line), `.txt` (number of states, their relative
     /// sizes, then the rows of F), `.ijv` (sparse: `i,j,F_ij,error` per non-zero entry,
     /// rows in order) or `.vf3` (View3D's output file: header, areas, rows, emissivities;
-    /// 3D scenes, patches only).
+    /// 3D scenes: one row per patch, or for a `.vs3` file View3D's own output surfaces).
     #[arg(
         long,
         value_name = "F.csv|F.txt|F.ijv|F.vf3",

@@ -10,6 +10,7 @@ use anyhow::{Result, bail};
 use sceneinfo::Measurement;
 use sceneinfo::formfactor::FormFactors;
 
+use crate::formats::vs3_scene::Vs3Layout;
 use crate::output::write_atomic;
 use crate::report::{csv, rows};
 
@@ -43,13 +44,48 @@ pub fn format_of(path: &Path) -> Result<MatrixFormat> {
     })
 }
 
-/// Writes the form factors of `m` to `path` in the format of its extension; `areas` are
-/// the patch areas in the scene file's units (View3D's file lists them; `None` for a
-/// flatland scene, which View3D's format cannot hold).
+/// The map from the patches of the `.vs3` scene `scene` to View3D's output surfaces, when
+/// the scene file is View3D's input (by content, then extension); `None` for any other
+/// format.
 ///
 /// # Errors
-/// [`format_of`]'s; no form factors; `.vf3` without areas; writing.
-pub fn write(path: &Path, m: &Measurement, areas: Option<&[f64]>) -> Result<()> {
+/// Reading the file; [`crate::formats::vs3_scene::read_with_layout`]'s.
+pub fn vs3_layout_of(scene: &Path) -> Result<Option<Vs3Layout>> {
+    // The format from the first 64 KiB (the first statement decides), before reading all
+    // Not a regular file (a FIFO would block the open): the load refuses it later
+    if !std::fs::metadata(scene).is_ok_and(|m| m.is_file()) {
+        return Ok(None);
+    }
+    let mut head = Vec::new();
+    if let Ok(file) = std::fs::File::open(scene) {
+        let _ = std::io::Read::read_to_end(&mut std::io::Read::take(file, 1 << 16), &mut head);
+    }
+    if crate::formats::detect(scene, &head).0 != crate::formats::Format::Vs3 {
+        return Ok(None);
+    }
+    let bytes = crate::formats::read_capped(scene)?;
+    let text = crate::formats::text_of(scene, bytes)?;
+    let mut report = sceneinfo::io::LoadReport::default();
+    let (_, layout) = crate::formats::vs3_scene::read_with_layout(scene, &text, &mut report)?;
+    Ok(Some(layout))
+}
+
+/// Writes the form factors of `m` to `path` in the format of its extension; `areas` are
+/// the patch areas in the scene file's units (View3D's file lists them; `None` for a
+/// flatland scene, which View3D's format cannot hold). With a `.vs3` scene's `layout`,
+/// a `.vf3` file holds View3D's output surfaces (combined surfaces joined, subsurfaces and
+/// masks as View3D reports them, obstruction-only surfaces left out:
+/// [`Vs3Layout::combined_row`]); the other formats hold the patches.
+///
+/// # Errors
+/// [`format_of`]'s; no form factors; `.vf3` without areas; a layout of another scene;
+/// writing.
+pub fn write(
+    path: &Path,
+    m: &Measurement,
+    areas: Option<&[f64]>,
+    layout: Option<&Vs3Layout>,
+) -> Result<()> {
     let format = format_of(path)?;
     let Some(ff) = m.form_factors() else {
         bail!("{}: no form factors to write", path.display());
@@ -66,7 +102,10 @@ pub fn write(path: &Path, m: &Measurement, areas: Option<&[f64]>) -> Result<()> 
                     path.display()
                 );
             };
-            view3d_text(ff, areas)?
+            match layout {
+                Some(layout) if !layout.is_one_to_one() => view3d_combined_text(ff, layout)?,
+                _ => view3d_text(ff, areas)?,
+            }
         }
     };
     write_atomic(path, text.as_bytes())
@@ -138,5 +177,24 @@ fn view3d_text(ff: &FormFactors, areas: &[f64]) -> Result<String> {
             .map_err(|e| anyhow::anyhow!("{e}"))?;
         out.copy_from_slice(&row[..np]);
         Ok(())
+    })
+}
+
+/// View3D's text output of a `.vs3` scene's output surfaces, their rows combined from the
+/// patches' ([`Vs3Layout::combined_row`]; the background state left out).
+fn view3d_combined_text(ff: &FormFactors, layout: &Vs3Layout) -> Result<String> {
+    let np = ff.n_patches();
+    if layout.n_patches() != np {
+        bail!(
+            "the .vs3 file's layout has {} patches, the form factors {np}",
+            layout.n_patches()
+        );
+    }
+    let mut buffer = vec![0.0; ff.n_states()];
+    crate::formats::view3d_out::write_text(&layout.areas(), |k, out| {
+        layout.combined_row(k, &mut buffer, out, |p, row| {
+            ff.dense_row_into(p, row)
+                .map_err(|e| anyhow::anyhow!("{e}"))
+        })
     })
 }

@@ -27,6 +27,8 @@ mod load;
 pub mod mesh;
 pub mod ply_scene;
 pub mod view3d_out;
+mod vs3_parse;
+mod vs3_pieces;
 pub mod vs3_scene;
 pub mod vs3_write;
 
@@ -60,7 +62,7 @@ pub enum Format {
     Gltf,
     /// glTF 2.0, binary container.
     Glb,
-    /// NIST View3D's input (`F 3`, vertices and surfaces).
+    /// NIST View3D's input (`F 3` vertices and surfaces, or `F 3a` planes and shapes).
     Vs3,
 }
 

@@ -1,243 +1,608 @@
-//! View3D's input format (`.vs3`, geometry format `F 3`: vertices, then surfaces), read
-//! into a 3D scene, so that View3D's users can run the same files through sceneinfo.
+//! View3D's input format (`.vs3`), read into a 3D scene, so that View3D's users can run
+//! the same files through sceneinfo, and the map from the scene's patches to View3D's
+//! output surfaces ([`Vs3Layout`]), so that sceneinfo's view factors can be written as
+//! View3D's (`formfactors FILE.vs3 --out F.vf3`).
 //!
-//! The format, from the View3D 3.3 manual (`doc/view3d-manual.tex`, "Input File Format",
-//! "View3D Format (F=3)"); each line begins with one character saying what it is:
+//! The format, from the View3D 3.3 manual (`doc/view3d-manual.tex`, "View3D Surfaces",
+//! "Input File Format"; the manual only, never View3D's code, which is GPL). Each line
+//! begins with one character saying what it is (either case):
 //!
 //! | line | meaning | read as |
 //! |---|---|---|
 //! | `! …`, `/ …` | comment (also after data on a line) | skipped |
 //! | `T title` | title | skipped |
-//! | `C name=value …` | controls (`eps`, `encl`, …) | skipped: sceneinfo's own options apply |
-//! | `F 3` | geometry format | only `3` is read (`3a`, `2` refused) |
-//! | `V n x y z` | vertex `n` | a point |
-//! | `S n v1 v2 v3 v4 base cmb emit name` | radiating surface (`v4 = 0`: a triangle) | a face |
+//! | `C name=value …` | controls (`eps`, `maxU`, `maxO`, `minO`, `row`, `col`, `encl`, `emit`, `out`, `list`) | skipped: sceneinfo's `--tol` applies; its view factors are black (`emit=0`) and not renormalised (`encl=0`) |
+//! | `F 3`, `F 3a` | geometry format | both read; `F 2`, `F 1` (other programs') refused |
+//! | `V n x y z` | vertex `n` (`F 3`) | a point |
+//! | `S n v1 v2 v3 v4 base cmb emit name` | surface (`F 3`; `v4 = 0`: a triangle) | patches |
+//! | `S n shape base cmb emit name` + numbers | surface (`F 3a`): origin, azimuth, tilt, then `R` width height, `Q` four `(x, y)`, `T` three | patches ([`crate::vs3_parse::blast_corners`]) |
+//! | `S` with `base ≠ 0` | subsurface (a window in a wall) | its own patches; cut out of its base |
+//! | `M` | masking surface, on a base, facing it | no patch; cut out of its base; its row sees only the base |
+//! | `N` | null surface, on a base, facing it | no patch; cut out of its base; no row |
+//! | `O` | obstruction only | patches that block, without a row or column in the output |
 //! | `E …`, `e …`, `* …` | end of data | stops reading |
 //!
 //! Vertices are listed counter-clockwise seen from the front of the surface (the active
-//! side), as in OBJ and sceneinfo: they are copied as they are. Surfaces with a non-zero
-//! `cmb` are combined with surface `cmb` (View3D's way of giving a polygon of more than
-//! four corners as convex pieces): the pieces of one combined surface become one patch,
-//! the convex hull of their corners, provided the pieces are coplanar and their areas add
-//! up to the hull's (their union is then that convex polygon); a non-convex union is
-//! refused. Subsurfaces (`base ≠ 0`), masking, null and obstruction-only surfaces (`M`,
-//! `N`, `O`) have no counterpart in a sceneinfo scene and are refused with the line that
-//! holds them. The emissivity column is not used (surfaces are black, as View3D's
-//! default `emit=0`). One patch per output surface of View3D, in its order.
+//! side), as in OBJ and sceneinfo: they are copied as they are. The emissivity and name
+//! columns are not used (the name only in messages).
+//!
+//! **How each surface becomes patches.** A surface's region is its polygon minus the
+//! subsurfaces, masks and null surfaces whose base it is, cut into disjoint convex pieces
+//! ([`crate::vs3_pieces::minus`]). A subsurface must lie in its base's plane, inside it,
+//! facing the same way (masks and null surfaces: the opposite way), and be numbered after
+//! it; otherwise the file is refused at its line. Surfaces with a non-zero `cmb` join the
+//! lower-numbered surface they name: the pieces of one output surface become one patch when
+//! they are coplanar and fill a convex polygon (their convex hull), else one patch each.
+//!
+//! **What View3D reports, and sceneinfo's [`Vs3Layout`].** Run on small files by the
+//! project (View3D 4.0.0 from its public source, outside the project; `tests/data/vs3/README.md`),
+//! View3D's output lists one surface per `S` or `M` line that joins no other, in order:
+//! a base with subsurfaces or null surfaces has the area of what is left of it, and its
+//! view factors are that region's; a base with a mask keeps its whole area, and
+//! `F(base → mask) = A_mask / A_base`, `F(mask → base) = 1`, its other entries those of
+//! the unmasked part times `A_unmasked / A_base`; null and obstruction-only surfaces have
+//! no row or column. [`Vs3Layout::combined_row`] gives those rows from the patches'
+//! (view-factor algebra: `A_K F_KL = Σ_{p∈K} Σ_{q∈L} A_p F_pq`).
 
+use std::collections::HashMap;
 use std::path::Path;
 
-use anyhow::{Result, bail};
+use anyhow::{Result, anyhow};
 use sceneinfo::geom::DVec3;
 use sceneinfo::io::LoadReport;
 use sceneinfo::scene::{Scene3, Scene3Builder};
 
 use crate::mesh::add_face;
-
-/// Most vertices or surfaces a file may number (bounds the tables).
-const MAX_NUMBER: usize = 1 << 26;
+use crate::vs3_parse::{Kind, Record};
+use crate::vs3_pieces::{area, inside, minus, vector_area};
 
 /// Relative agreement asked of a combined surface's piece areas and its hull's area.
 const COMBINE_AREA_TOL: f64 = 1e-9;
 
-/// One radiating surface: its corners, the surface it combines with (0: none), its line.
-struct Surface {
-    corners: Vec<DVec3>,
-    combine: usize,
-    line: usize,
-}
+/// Relative agreement asked of an output surface's area in the file and in the scene.
+const LAYOUT_AREA_TOL: f64 = 1e-9;
 
-/// Reads the `.vs3` file `bytes` from `path` (see the module documentation).
+/// Reads the `.vs3` file `text` from `path` (see the module documentation).
 ///
 /// # Errors
 /// `file:line: what` for a line that cannot be read or a construct sceneinfo has no
 /// counterpart for; the scene builder's errors as the other mesh readers report them.
 pub fn read(path: &Path, text: &str, report: &mut LoadReport) -> Result<Scene3> {
-    let at = |line: usize, what: &str| anyhow::anyhow!("{}:{line}: {what}", path.display());
-    let mut vertices: Vec<Option<DVec3>> = Vec::new();
-    let mut surfaces: Vec<Option<Surface>> = Vec::new();
-    let mut format_seen = false;
-    // Bounded: the lines of the file
-    for (k, raw) in text.lines().enumerate() {
-        let line = k + 1;
-        // A comment may follow the data on a line
-        let data = raw.split(['!', '/']).next().unwrap_or("").trim();
-        let mut tokens = data.split_whitespace();
-        let Some(keyword) = tokens.next() else {
+    Ok(build(path, text, report)?.0)
+}
+
+/// [`read`], and the map from the scene's patches to View3D's output surfaces.
+///
+/// # Errors
+/// [`read`]'s; `file:line: what` for an output surface whose area the scene does not keep
+/// (a coincident surface dropped or clipped it, a piece was degenerate): its row would
+/// not be View3D's.
+pub fn read_with_layout(
+    path: &Path,
+    text: &str,
+    report: &mut LoadReport,
+) -> Result<(Scene3, Vs3Layout)> {
+    let (scene, plan) = build(path, text, report)?;
+    let layout = Vs3Layout::new(path, &scene, plan)?;
+    Ok((scene, layout))
+}
+
+/// What a group of combined surfaces is in the output.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum GroupKind {
+    /// An output surface with patches.
+    Radiating,
+    /// An output surface without patches: a mask on the group given.
+    Mask { base: usize },
+    /// Patches without an output surface.
+    Obstruction,
+}
+
+/// One surface, or several joined by `cmb`, and the pieces that are its region.
+struct Group {
+    kind: GroupKind,
+    number: usize,
+    name: String,
+    line: usize,
+    /// The object name its faces carry in the scene (unique in the file).
+    object: String,
+    /// The region's area in the file's units (masks: the mask's).
+    area: f64,
+    pieces: Vec<Vec<DVec3>>,
+}
+
+/// The groups of the file, in order, before the scene is built.
+struct Plan {
+    groups: Vec<Group>,
+}
+
+/// The scene of the file and its groups.
+fn build(path: &Path, text: &str, report: &mut LoadReport) -> Result<(Scene3, Plan)> {
+    let at = |line: usize, what: &str| anyhow!("{}:{line}: {what}", path.display());
+    let mut records = crate::vs3_parse::parse(path, text)?;
+    records.sort_by_key(|r| r.number);
+    let mut index: HashMap<usize, usize> = HashMap::with_capacity(records.len());
+    for (k, r) in records.iter().enumerate() {
+        if index.insert(r.number, k).is_some() {
+            return Err(at(r.line, &format!("surface {} is given twice", r.number)));
+        }
+    }
+    // A surface without area is dropped with a warning, as in the other formats, unless
+    // something lies on it or it lies on something (then it is refused)
+    let normals: Vec<Option<DVec3>> = records
+        .iter()
+        .map(|r| {
+            (r.corners.len() >= 3)
+                .then(|| vector_area(&r.corners).try_normalize())
+                .flatten()
+        })
+        .collect();
+    let mut holes: Vec<Vec<Vec<DVec3>>> = vec![Vec::new(); records.len()];
+    for (k, r) in records.iter().enumerate() {
+        if let Some(b) = check_base(r, normals[k], &records, &index, &normals, &at)? {
+            let mut hole = r.corners.clone();
+            if r.kind != Kind::Radiating {
+                hole.reverse();
+            }
+            holes[b].push(hole);
+        }
+        check_combine(r, &records, &index, &at)?;
+    }
+    // Each surface's region: its polygon minus what lies on it
+    let mut regions: Vec<Vec<Vec<DVec3>>> = Vec::with_capacity(records.len());
+    for (k, r) in records.iter().enumerate() {
+        if holes[k].is_empty() {
+            regions.push(vec![r.corners.clone()]);
             continue;
+        }
+        let Some(normal) = normals[k] else {
+            return Err(at(r.line, &format!("surface {} has no area", r.number)));
         };
-        let kind = keyword.chars().next().unwrap_or(' ').to_ascii_uppercase();
-        let fields: Vec<&str> = tokens.collect();
-        match kind {
-            'T' | 'C' => {}
-            'E' | '*' => break,
-            'F' => {
-                if fields.first().copied() != Some("3") {
-                    return Err(at(
-                        line,
-                        &format!(
-                            "geometry format F {} is not read (only F 3, vertices and surfaces)",
-                            fields.first().copied().unwrap_or("")
-                        ),
-                    ));
-                }
-                format_seen = true;
-            }
-            'V' => {
-                if fields.len() < 4 {
-                    return Err(at(line, "a vertex needs a number and x y z"));
-                }
-                let n = number(fields[0]).ok_or_else(|| at(line, "bad vertex number"))?;
-                let mut c = [0.0; 3];
-                for (slot, field) in c.iter_mut().zip(&fields[1..4]) {
-                    *slot = field
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|v| v.is_finite())
-                        .ok_or_else(|| at(line, &format!("bad coordinate {field:?}")))?;
-                }
-                if vertices.len() <= n {
-                    vertices.resize(n + 1, None);
-                }
-                vertices[n] = Some(DVec3::from(c));
-            }
-            'S' => {
-                if fields.len() < 7 {
-                    return Err(at(
-                        line,
-                        "a surface needs: number v1 v2 v3 v4 base cmb [emit name]",
-                    ));
-                }
-                let field = |i: usize, what: &str| {
-                    number_or_zero(fields[i]).ok_or_else(|| at(line, &format!("bad {what}")))
-                };
-                let n = number(fields[0]).ok_or_else(|| at(line, "bad surface number"))?;
-                let (base, combine) = (field(5, "base")?, field(6, "cmb")?);
-                if base != 0 {
-                    return Err(at(
-                        line,
-                        "subsurfaces (base != 0) are not read: give the base surface's remaining \
-                         part as its own surfaces",
-                    ));
-                }
-                let mut corners = Vec::with_capacity(4);
-                for i in 1..=4 {
-                    let v = field(i, "vertex number")?;
-                    if v == 0 && i == 4 {
-                        break;
-                    }
-                    let p = vertices.get(v).copied().flatten().ok_or_else(|| {
-                        at(
-                            line,
-                            &format!("vertex {v} is not defined before it is used"),
-                        )
-                    })?;
-                    corners.push(p);
-                }
-                if combine != 0 && combine >= n {
-                    return Err(at(
-                        line,
-                        "cmb must name an earlier surface (View3D: combine every piece with the \
-                         lowest-numbered one)",
-                    ));
-                }
-                if surfaces.len() <= n {
-                    surfaces.resize_with(n + 1, || None);
-                }
-                if surfaces[n].is_some() {
-                    return Err(at(line, &format!("surface {n} is given twice")));
-                }
-                surfaces[n] = Some(Surface {
-                    corners,
-                    combine,
-                    line,
-                });
-            }
-            'M' | 'N' | 'O' => {
-                return Err(at(
-                    line,
-                    "masking, null and obstruction-only surfaces (M, N, O) are not read: a \
-                     sceneinfo scene's every surface radiates (give obstructions as S surfaces)",
-                ));
-            }
-            _ => return Err(at(line, &format!("unknown line kind {keyword:?}"))),
+        if !convex(&r.corners, normal) {
+            return Err(at(
+                r.line,
+                &format!(
+                    "surface {} has subsurfaces but is not convex (View3D: quadrilaterals must \
+                     be convex)",
+                    r.number
+                ),
+            ));
         }
-    }
-    if !format_seen {
-        bail!("{}: no geometry line (F 3)", path.display());
-    }
-    // Combined surfaces: the pieces of each lowest-numbered surface
-    let mut groups: Vec<Vec<usize>> = vec![Vec::new(); surfaces.len()];
-    for (n, s) in surfaces.iter().enumerate() {
-        if let Some(s) = s {
-            let head = if s.combine == 0 { n } else { s.combine };
-            match surfaces.get(head) {
-                Some(Some(h)) if h.combine == 0 => groups[head].push(n),
-                _ => {
-                    return Err(at(
-                        s.line,
-                        &format!(
-                            "cmb {head} is not a surface combined with no other (View3D: do \
-                             not chain combinations)"
-                        ),
-                    ));
-                }
-            }
+        let pieces = minus(&r.corners, &holes[k], normal).ok_or_else(|| {
+            at(
+                r.line,
+                &format!(
+                    "surface {}: too many pieces around its subsurfaces",
+                    r.number
+                ),
+            )
+        })?;
+        let left: f64 = pieces.iter().map(|p| area(p)).sum();
+        let cut: f64 = holes[k].iter().map(|h| area(h)).sum();
+        let whole = area(&r.corners);
+        if (left + cut - whole).abs() > 1e-6 * whole {
+            return Err(at(
+                r.line,
+                &format!(
+                    "the subsurfaces, masks or null surfaces on surface {} overlap one another",
+                    r.number
+                ),
+            ));
         }
+        regions.push(pieces);
     }
+    let plan = plan(&records, &index, regions)?;
     let mut builder = Scene3Builder::default();
-    for (head, pieces) in groups.iter().enumerate() {
-        // Pieces combined into another surface belong to that one's group
-        let Some(Some(first)) = surfaces.get(head).filter(|_| !pieces.is_empty()) else {
+    for g in &plan.groups {
+        if matches!(g.kind, GroupKind::Mask { .. }) {
             continue;
-        };
-        let polygon = if pieces.len() == 1 {
-            first.corners.clone()
+        }
+        builder.object(&g.object);
+        let whole = if g.pieces.len() > 1 {
+            let parts: Vec<&[DVec3]> = g.pieces.iter().map(Vec::as_slice).collect();
+            union_of_pieces(&parts)
         } else {
-            let parts: Vec<&[DVec3]> = pieces
-                .iter()
-                .filter_map(|&p| surfaces[p].as_ref().map(|s| s.corners.as_slice()))
-                .collect();
-            union_of_pieces(&parts).ok_or_else(|| {
-                at(
-                    first.line,
-                    &format!(
-                        "the surfaces combined with surface {head} do not form one convex \
-                         polygon (a sceneinfo patch is convex: give them as separate surfaces)"
-                    ),
-                )
-            })?
+            None
         };
-        add_face(
-            &mut builder,
-            &polygon,
-            report,
-            path,
-            format_args!("line {}", first.line),
-        )?;
+        let faces = match &whole {
+            Some(w) => std::slice::from_ref(w),
+            None => g.pieces.as_slice(),
+        };
+        for face in faces {
+            add_face(
+                &mut builder,
+                face,
+                report,
+                path,
+                format_args!("line {}", g.line),
+            )?;
+        }
     }
-    crate::mesh::build(builder, report, path)
+    let scene = crate::mesh::build(builder, report, path)?;
+    Ok((scene, plan))
 }
 
-/// A positive surface or vertex number.
-fn number(s: &str) -> Option<usize> {
-    s.parse::<usize>()
-        .ok()
-        .filter(|&n| n > 0 && n <= MAX_NUMBER)
-}
-
-/// A number that may be 0 (`v4`, `base`, `cmb`).
-fn number_or_zero(s: &str) -> Option<usize> {
-    s.parse::<usize>().ok().filter(|&n| n <= MAX_NUMBER)
-}
-
-/// Twice the vector area of a polygon (Newell): its normal times twice its area.
-fn vector_area(p: &[DVec3]) -> DVec3 {
-    let mut n = DVec3::ZERO;
-    for (k, &a) in p.iter().enumerate() {
-        n += a.cross(p[(k + 1) % p.len()]);
+/// The record a surface's base names, checked as the manual asks (numbered before it,
+/// in its plane, inside it, facing as its type says); `None` without a base.
+fn check_base(
+    r: &Record,
+    normal: Option<DVec3>,
+    records: &[Record],
+    index: &HashMap<usize, usize>,
+    normals: &[Option<DVec3>],
+    at: &dyn Fn(usize, &str) -> anyhow::Error,
+) -> Result<Option<usize>> {
+    let letter = r.kind.letter();
+    if r.base == 0 {
+        if matches!(r.kind, Kind::Mask | Kind::Null) {
+            return Err(at(
+                r.line,
+                &format!("a {letter} surface lies on a base surface: its base is 0"),
+            ));
+        }
+        return Ok(None);
     }
-    n
+    if r.kind == Kind::Obstruction {
+        return Err(at(
+            r.line,
+            "an obstruction-only surface (O) with a base is not read (the manual gives O \
+             surfaces subsurfaces, not bases)",
+        ));
+    }
+    let b = match index.get(&r.base) {
+        Some(&b) if r.base < r.number => b,
+        _ => {
+            return Err(at(
+                r.line,
+                &format!(
+                    "base {} is not a surface numbered before surface {}",
+                    r.base, r.number
+                ),
+            ));
+        }
+    };
+    let base = &records[b];
+    let allowed = match r.kind {
+        Kind::Radiating => matches!(base.kind, Kind::Radiating | Kind::Obstruction),
+        _ => base.kind == Kind::Radiating,
+    };
+    if !allowed {
+        return Err(at(
+            r.line,
+            &format!(
+                "a {letter} surface cannot lie on a {} surface (surface {})",
+                base.kind.letter(),
+                base.number
+            ),
+        ));
+    }
+    let (Some(normal), Some(n)) = (normal, normals[b]) else {
+        return Err(at(
+            r.line,
+            &format!(
+                "surface {} or its base {} has no area",
+                r.number, base.number
+            ),
+        ));
+    };
+    let same_way = normal.dot(n) > 0.0;
+    let (facing_ok, facing) = match r.kind {
+        Kind::Radiating => (same_way, "the same way as"),
+        _ => (!same_way, "towards"),
+    };
+    let mut corners = r.corners.clone();
+    if !same_way {
+        corners.reverse();
+    }
+    if !facing_ok || !inside(&corners, &base.corners, n) {
+        return Err(at(
+            r.line,
+            &format!(
+                "surface {} must lie in the plane of its base {} (line {}), inside it, facing \
+                 {facing} it",
+                r.number, base.number, base.line
+            ),
+        ));
+    }
+    Ok(Some(b))
+}
+
+/// Checks a surface's `cmb`: an earlier surface of the same type that joins no other.
+fn check_combine(
+    r: &Record,
+    records: &[Record],
+    index: &HashMap<usize, usize>,
+    at: &dyn Fn(usize, &str) -> anyhow::Error,
+) -> Result<()> {
+    if r.combine == 0 {
+        return Ok(());
+    }
+    if matches!(r.kind, Kind::Mask | Kind::Null) {
+        return Err(at(
+            r.line,
+            &format!("a {} surface with cmb is not read", r.kind.letter()),
+        ));
+    }
+    match index.get(&r.combine).map(|&h| &records[h]) {
+        Some(h) if r.combine < r.number && h.combine == 0 && h.kind == r.kind => Ok(()),
+        _ => Err(at(
+            r.line,
+            &format!(
+                "cmb {} must name an earlier surface of the same type combined with no other \
+                 (View3D: combine every piece with the lowest-numbered one, do not chain)",
+                r.combine
+            ),
+        )),
+    }
+}
+
+/// Whether the polygon `p` is convex, counter-clockwise about `normal`.
+fn convex(p: &[DVec3], normal: DVec3) -> bool {
+    let n = p.len();
+    (0..n).all(|k| {
+        let (a, b, c) = (p[k], p[(k + 1) % n], p[(k + 2) % n]);
+        (b - a).cross(c - b).dot(normal) >= -1e-12 * (b - a).length() * (c - b).length()
+    })
+}
+
+/// The groups of the records (sorted by number), each with its pieces.
+fn plan(
+    records: &[Record],
+    index: &HashMap<usize, usize>,
+    regions: Vec<Vec<Vec<DVec3>>>,
+) -> Result<Plan> {
+    let mut groups: Vec<Group> = Vec::new();
+    let mut group_of: HashMap<usize, usize> = HashMap::new();
+    for (r, pieces) in records.iter().zip(regions) {
+        if r.combine != 0 {
+            let Some(&g) = group_of.get(&r.combine) else {
+                continue;
+            };
+            groups[g].area += pieces.iter().map(|p| area(p)).sum::<f64>();
+            groups[g].pieces.extend(pieces);
+            group_of.insert(r.number, g);
+            continue;
+        }
+        let kind = match r.kind {
+            Kind::Radiating => GroupKind::Radiating,
+            Kind::Obstruction => GroupKind::Obstruction,
+            Kind::Null => continue,
+            Kind::Mask => {
+                // Checked: the base is an earlier S surface, so it has a group
+                let base = index
+                    .get(&r.base)
+                    .and_then(|_| group_of.get(&r.base))
+                    .copied()
+                    .ok_or_else(|| anyhow!("line {}: mask without its base's group", r.line))?;
+                GroupKind::Mask { base }
+            }
+        };
+        let object = match kind {
+            GroupKind::Obstruction => format!("obstruction {}", r.number),
+            _ => format!("surface {}", r.number),
+        };
+        let area_of = if matches!(kind, GroupKind::Mask { .. }) {
+            area(&r.corners)
+        } else {
+            pieces.iter().map(|p| area(p)).sum()
+        };
+        group_of.insert(r.number, groups.len());
+        groups.push(Group {
+            kind,
+            number: r.number,
+            name: r.name.clone(),
+            line: r.line,
+            object: if r.name.is_empty() {
+                object
+            } else {
+                format!("{object} {}", r.name)
+            },
+            area: area_of,
+            pieces: if matches!(kind, GroupKind::Mask { .. }) {
+                Vec::new()
+            } else {
+                pieces
+            },
+        });
+    }
+    Ok(Plan { groups })
+}
+
+/// One of View3D's output surfaces.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutputSurface {
+    /// Its number in the file (the lowest of the surfaces combined into it).
+    pub number: usize,
+    /// Its name in the file.
+    pub name: String,
+    /// Its area in the file's units, as View3D reports it.
+    pub area: f64,
+    /// For a mask, the output surface it masks.
+    pub mask_of: Option<usize>,
+}
+
+/// Which of a `.vs3` scene's patches make which of View3D's output surfaces (see the
+/// module documentation).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Vs3Layout {
+    surfaces: Vec<OutputSurface>,
+    /// Per patch: its output surface (`None`: an obstruction-only surface's).
+    patch_surface: Vec<Option<usize>>,
+    /// Per patch: its area in the file's units.
+    patch_area: Vec<f64>,
+    /// Per output surface: its patches, in order.
+    members: Vec<Vec<usize>>,
+    /// Per output surface: the masks on it.
+    masks: Vec<Vec<usize>>,
+}
+
+impl Vs3Layout {
+    fn new(path: &Path, scene: &Scene3, plan: Plan) -> Result<Self> {
+        let mut surfaces = Vec::new();
+        let mut output_of_group: Vec<Option<usize>> = Vec::with_capacity(plan.groups.len());
+        let mut group_of_object: HashMap<&str, usize> = HashMap::new();
+        for (g, group) in plan.groups.iter().enumerate() {
+            group_of_object.insert(group.object.as_str(), g);
+            if group.kind == GroupKind::Obstruction {
+                output_of_group.push(None);
+                continue;
+            }
+            output_of_group.push(Some(surfaces.len()));
+            let mask_of = match group.kind {
+                GroupKind::Mask { base } => output_of_group[base],
+                _ => None,
+            };
+            surfaces.push(OutputSurface {
+                number: group.number,
+                name: group.name.clone(),
+                area: group.area,
+                mask_of,
+            });
+        }
+        let mut masks = vec![Vec::new(); surfaces.len()];
+        for (k, s) in surfaces.iter().enumerate() {
+            if let Some(b) = s.mask_of {
+                masks[b].push(k);
+            }
+        }
+        let frame = scene.frame();
+        let mut members = vec![Vec::new(); surfaces.len()];
+        let mut patch_surface = Vec::with_capacity(scene.n_patches());
+        let mut patch_area = Vec::with_capacity(scene.n_patches());
+        for (p, patch) in scene.patches().iter().enumerate() {
+            let object = scene
+                .faces()
+                .get(patch.face)
+                .and_then(|f| scene.objects().get(f.object))
+                .and_then(|o| group_of_object.get(o.as_str()))
+                .ok_or_else(|| anyhow!("{}: patch {p} of no surface", path.display()))?;
+            let k = output_of_group[*object];
+            if let Some(k) = k {
+                members[k].push(p);
+            }
+            patch_surface.push(k);
+            patch_area.push(frame.area_to_world(patch.area));
+        }
+        // Each surface keeps its area in the scene
+        for (g, group) in plan.groups.iter().enumerate() {
+            let Some(k) = output_of_group[g] else {
+                continue;
+            };
+            if group.kind != GroupKind::Radiating {
+                continue;
+            }
+            let kept: f64 = members[k].iter().map(|&p| patch_area[p]).sum();
+            if !(group.area > 0.0) {
+                anyhow::bail!(
+                    "{}:{}: surface {} has no area: View3D's rows divide by it",
+                    path.display(),
+                    group.line,
+                    group.number
+                );
+            }
+            if (kept - group.area).abs() > LAYOUT_AREA_TOL * group.area {
+                anyhow::bail!(
+                    "{}:{}: surface {} has area {} in the file but {kept} in the scene (a \
+                     coincident surface was dropped or clipped, or a piece was degenerate): its \
+                     view factors would not be View3D's",
+                    path.display(),
+                    group.line,
+                    group.number,
+                    group.area
+                );
+            }
+        }
+        let mut layout = Self {
+            surfaces,
+            patch_surface,
+            patch_area,
+            members,
+            masks,
+        };
+        // View3D's area of a masked base is the whole base
+        for k in 0..layout.surfaces.len() {
+            let masked: f64 = layout.masks[k]
+                .iter()
+                .map(|&m| layout.surfaces[m].area)
+                .sum();
+            layout.surfaces[k].area += masked;
+        }
+        Ok(layout)
+    }
+
+    /// The output surfaces, in View3D's order.
+    #[must_use]
+    pub fn surfaces(&self) -> &[OutputSurface] {
+        &self.surfaces
+    }
+
+    /// The output surfaces' areas, in the file's units.
+    #[must_use]
+    pub fn areas(&self) -> Vec<f64> {
+        self.surfaces.iter().map(|s| s.area).collect()
+    }
+
+    /// Whether the output surfaces are the scene's patches, one for one, in order (no
+    /// combination, subsurface, mask or obstruction): the patches' view factors are then
+    /// View3D's as they are.
+    #[must_use]
+    pub fn is_one_to_one(&self) -> bool {
+        self.members.len() == self.patch_surface.len()
+            && self.members.iter().enumerate().all(|(k, m)| m == &[k])
+    }
+
+    /// The number of the scene's patches.
+    #[must_use]
+    pub fn n_patches(&self) -> usize {
+        self.patch_surface.len()
+    }
+
+    /// Row `k` of View3D's view factors into `out` (one entry per output surface), from
+    /// the rows of the patches: `patch_row(p, buffer)` fills `buffer` (one entry per patch,
+    /// any further entries ignored) with row `p` of the patches' view factors.
+    /// `A_K F_KL = Σ_{p∈K} Σ_{q∈L} A_p F_pq`, with `A_K` View3D's area of `K` (a masked
+    /// base's includes its masks); `F(K → mask on K) = A_mask / A_K`; a mask's row is 1 at
+    /// its base.
+    ///
+    /// # Errors
+    /// `patch_row`'s; `out` or `buffer` too short.
+    pub fn combined_row(
+        &self,
+        k: usize,
+        buffer: &mut [f64],
+        out: &mut [f64],
+        mut patch_row: impl FnMut(usize, &mut [f64]) -> Result<()>,
+    ) -> Result<()> {
+        let (m, np) = (self.surfaces.len(), self.patch_surface.len());
+        if out.len() < m || buffer.len() < np || k >= m {
+            anyhow::bail!(
+                "row {k}: {} entries for {m} surfaces, {} for {np} patches",
+                out.len(),
+                buffer.len()
+            );
+        }
+        out[..m].fill(0.0);
+        if let Some(b) = self.surfaces[k].mask_of {
+            out[b] = 1.0;
+            return Ok(());
+        }
+        let a_k = self.surfaces[k].area;
+        for &p in &self.members[k] {
+            patch_row(p, buffer)?;
+            for (q, v) in buffer[..np].iter().enumerate() {
+                if let Some(l) = self.patch_surface[q] {
+                    out[l] += self.patch_area[p] * v;
+                }
+            }
+        }
+        for v in &mut out[..m] {
+            *v /= a_k;
+        }
+        for &mask in &self.masks[k] {
+            out[mask] = self.surfaces[mask].area / a_k;
+        }
+        Ok(())
+    }
 }
 
 /// The union of coplanar convex `pieces` facing one way when it is a convex polygon: the
@@ -305,73 +670,4 @@ fn union_of_pieces(pieces: &[&[DVec3]]) -> Option<Vec<DVec3>> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn read_text(text: &str) -> Result<Scene3> {
-        read(Path::new("t.vs3"), text, &mut LoadReport::default())
-    }
-
-    #[test]
-    fn combined_pieces_become_one_convex_patch() {
-        // A hexagon as a quad and a quad sharing an edge (as obj2vs3.py cuts it)
-        let text = "T hex\nF 3\nV 1 0 0 0\nV 2 2 0 0\nV 3 3 1 0\nV 4 2 2 0\nV 5 0 2 0\nV 6 -1 1 0\n\
-                    S 1 1 2 3 4 0 0 0.9 a\nS 2 1 4 5 6 0 1 0.9 a\nEnd of data\n";
-        let scene = read_text(text).unwrap();
-        assert_eq!(scene.n_patches(), 1);
-        let area = scene.total_area();
-        assert!((area - 6.0).abs() < 1e-12, "{area}");
-        // An L made of two squares is not convex: refused with the line
-        let text = "F 3\nV 1 0 0 0\nV 2 1 0 0\nV 3 1 1 0\nV 4 0 1 0\nV 5 2 0 0\nV 6 2 1 0\n\
-                    V 7 1 2 0\nV 8 0 2 0\n\
-                    S 1 1 2 3 4 0 0 0.9 a\nS 2 2 5 6 3 0 1 0.9 a\nS 3 4 3 7 8 0 1 0.9 a\n";
-        let e = read_text(text).unwrap_err().to_string();
-        assert!(e.starts_with("t.vs3:10: "), "{e}");
-    }
-
-    #[test]
-    fn refusals_name_the_line() {
-        for (text, line) in [
-            ("F 3a\n", 1),
-            ("F 3\nV 1 0 0 0\nS 1 1 2 3 0 0 0 0.9 a\n", 3),
-            ("F 3\nV 1 0 0 x\n", 2),
-            ("F 3\nO 1 1 2 3 0\n", 2),
-            ("F 3\nQ 1\n", 2),
-        ] {
-            let e = read_text(text).unwrap_err().to_string();
-            assert!(e.starts_with(&format!("t.vs3:{line}: ")), "{text:?}: {e}");
-        }
-        assert!(read_text("V 1 0 0 0\n").is_err());
-    }
-
-    /// A file written by the View3D anchor's `obj2vs3.py` (tests/data/vs3, from the OBJ
-    /// beside it; a hexagon cut into two pieces joined by `cmb`) is the OBJ's scene: the
-    /// same patches, in the same order, with the same corners.
-    #[test]
-    fn obj2vs3_output_is_the_obj_scene() {
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/vs3");
-        let options = crate::LoadOptions::default();
-        let load = |name: &str| match crate::load_file(&dir.join(name), &options).unwrap() {
-            (sceneinfo::Scene::Solid(s), _) => s,
-            (sceneinfo::Scene::Flat(_), _) => panic!("{name}: read as flatland"),
-        };
-        let (vs3, obj) = (load("room_with_plate.vs3"), load("room_with_plate.obj"));
-        assert_eq!(vs3.n_patches(), 9);
-        assert_eq!(vs3.n_patches(), obj.n_patches());
-        for (a, b) in vs3.patches().iter().zip(obj.patches()) {
-            let corners = |s: &Scene3, first: usize, count: usize| {
-                let mut c: Vec<[f64; 3]> = s.points()[first..first + count]
-                    .iter()
-                    .map(|p| p.to_array())
-                    .collect();
-                c.sort_by(|x, y| x.partial_cmp(y).unwrap());
-                c
-            };
-            assert_eq!(
-                corners(&vs3, a.first, a.count),
-                corners(&obj, b.first, b.count)
-            );
-        }
-        assert!((vs3.total_area() - obj.total_area()).abs() < 1e-12);
-    }
-}
+mod tests;

@@ -38,6 +38,7 @@ fn _sceneinfo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(measure::exact_rows, m)?)?;
     m.add_function(wrap_pyfunction!(measure::merge_rows, m)?)?;
     m.add_function(wrap_pyfunction!(measure::read_view3d, m)?)?;
+    m.add_function(wrap_pyfunction!(measure::view3d_surfaces, m)?)?;
     m.add_function(wrap_pyfunction!(channel::channel, m)?)?;
     m.add_function(wrap_pyfunction!(radiosity::radiosity, m)?)?;
     m.add_function(wrap_pyfunction!(refine::refine, m)?)?;

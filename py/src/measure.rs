@@ -515,3 +515,64 @@ pub fn read_view3d<'py>(
     d.set_item("emissivities", crate::arrays::vector(py, v.emissivities))?;
     Ok(d)
 }
+
+/// View3D's output surfaces of the `.vs3` file `path` and their view factors from `m`, a
+/// measurement of the scene read from that file: a dict like `read_view3d`'s, with
+/// `numbers` and `names` (each output surface's in the file), `areas` (N,) and
+/// `form_factors` (N, N) — combined surfaces joined, subsurfaces and masks as View3D
+/// reports them, obstruction-only surfaces left out (the CLI's `formfactors FILE.vs3
+/// --out F.vf3`; `sceneinfo_formats::vs3_scene::Vs3Layout`).
+#[pyfunction]
+pub fn view3d_surfaces<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    m: PyRef<'py, PyMeasurement>,
+) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+    let bytes = std::fs::read(&path).map_err(|e| {
+        pyo3::exceptions::PyOSError::new_err(format!("{}: cannot read: {e}", path.display()))
+    })?;
+    let layout = sceneinfo_formats::text_of(&path, bytes)
+        .and_then(|text| {
+            let mut report = sceneinfo::io::LoadReport::default();
+            sceneinfo_formats::vs3_scene::read_with_layout(&path, &text, &mut report)
+        })
+        .map_err(|e| crate::error::load_error(py, &path, &e))?
+        .1;
+    let Some(ff) = m.m.form_factors() else {
+        return Err(bad_argument(
+            py,
+            "Job",
+            "the measurement holds no form factors",
+        ));
+    };
+    if ff.n_patches() != layout.n_patches() {
+        return Err(bad_argument(
+            py,
+            "Shape",
+            &format!(
+                "{}: its scene has {} patches, the measurement {}: not this file's",
+                path.display(),
+                layout.n_patches(),
+                ff.n_patches()
+            ),
+        ));
+    }
+    let n = layout.surfaces().len();
+    let (mut buffer, mut values) = (vec![0.0; ff.n_states()], vec![0.0; n * n]);
+    for (k, out) in values.chunks_exact_mut(n.max(1)).enumerate() {
+        layout
+            .combined_row(k, &mut buffer, out, |p, row| {
+                ff.dense_row_into(p, row)
+                    .map_err(|e| anyhow::anyhow!("{e}"))
+            })
+            .map_err(|e| bad_argument(py, "Shape", &format!("{e:#}")))?;
+    }
+    let d = pyo3::types::PyDict::new(py);
+    let numbers: Vec<usize> = layout.surfaces().iter().map(|s| s.number).collect();
+    let names: Vec<String> = layout.surfaces().iter().map(|s| s.name.clone()).collect();
+    d.set_item("numbers", numbers)?;
+    d.set_item("names", names)?;
+    d.set_item("areas", crate::arrays::vector(py, layout.areas()))?;
+    d.set_item("form_factors", crate::arrays::matrix(py, n, n, values)?)?;
+    Ok(d)
+}

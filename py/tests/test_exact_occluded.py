@@ -96,3 +96,30 @@ def test_the_cli_writes_the_same_entries_and_view3d_file(cli, tmp_path):
     dense = m.form_factors(sparse=False)
     assert np.array_equal(v["form_factors"], dense[:n, :n])
     assert np.allclose(v["areas"] / v["areas"].sum(), m.patch_sizes, rtol=1e-12)
+
+
+def test_view3d_surfaces_of_a_vs3_file_are_view3d_s():
+    """A .vs3 file with a subsurface, a mask or an obstruction-only plate: its View3D output
+    surfaces from a measurement of it, as the CLI's --out F.vf3 writes them, and View3D
+    4.0.0's own output for the file (tests/data/vs3/README.md) within its six printed
+    decimals and the tolerance."""
+    kinds = ROOT / "tests" / "data" / "vs3" / "surface-kinds"
+    for name, numbers in [
+        ("window", [1, 2, 3, 4, 5, 6, 7]),
+        ("mask", [1, 2, 3, 4, 5, 6, 7]),
+        ("null", [1, 2, 3, 4, 5, 6]),
+    ]:
+        path = kinds / f"{name}.vs3"
+        m = sceneinfo.measure(path, tol=1e-6, threads=1)
+        v = sceneinfo.view3d_surfaces(path, m)
+        assert v["numbers"] == numbers
+        ref = sceneinfo.read_view3d(kinds / f"{name}.view3d.txt")
+        assert np.allclose(v["areas"], ref["areas"], rtol=1e-12, atol=0)
+        assert np.max(np.abs(v["form_factors"] - ref["form_factors"])) <= 1.5e-6
+    # The obstruction-only plate has no row: 6 surfaces from 7 patches
+    m = sceneinfo.measure(kinds / "obstruction.vs3", tol=1e-3, threads=1)
+    v = sceneinfo.view3d_surfaces(kinds / "obstruction.vs3", m)
+    assert m.n_patches == 7 and v["form_factors"].shape == (6, 6)
+    # A measurement of another scene is refused
+    with pytest.raises(sceneinfo.SceneinfoError):
+        sceneinfo.view3d_surfaces(kinds / "null.vs3", m)

@@ -24,8 +24,9 @@ pub fn run(args: &FormFactorsArgs) -> Result<()> {
         anyhow::bail!("formfactors: give --out F.ijv (or --partial OUT.sir)");
     };
     crate::matrix_file::format_of(out)?;
+    let layout = crate::matrix_file::vs3_layout_of(&args.file)?;
     let (m, areas) = crate::job::form_factors_of(&args.file, &args.sampling)?;
-    crate::matrix_file::write(out, &m, areas.as_deref())?;
+    crate::matrix_file::write(out, &m, areas.as_deref(), layout.as_ref())?;
     let Some(ff) = m.form_factors() else {
         anyhow::bail!("{}: no form factors", args.file.display());
     };
@@ -101,6 +102,21 @@ pub fn run(args: &FormFactorsArgs) -> Result<()> {
             yes(ff.max_row_deficit() <= e.max_row_error.max(CHECK_TOLERANCE)),
             ff.max_row_deficit(),
             e.max_row_error
+        )?;
+    }
+    if let Some(layout) = layout.as_ref().filter(|l| !l.is_one_to_one()) {
+        writeln!(
+            o,
+            "View3D surfaces     {} from {} patches ({}: combined surfaces joined, \
+             subsurfaces and masks as View3D reports them, obstruction-only surfaces left \
+             out; the checks above are the patches')",
+            layout.surfaces().len(),
+            layout.n_patches(),
+            if crate::matrix_file::format_of(out)? == crate::matrix_file::MatrixFormat::View3d {
+                "the .vf3 holds the surfaces"
+            } else {
+                "this file holds the patches; --out F.vf3 holds the surfaces"
+            }
         )?;
     }
     o.flush()?;

@@ -70,7 +70,7 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         args.matrix.as_deref(),
     )?;
     if let Some(out) = &args.out {
-        crate::matrix_file::write(out, &m, None)?;
+        crate::matrix_file::write(out, &m, None, None)?;
     }
     Ok(())
 }
@@ -114,7 +114,7 @@ fn merge_rows(args: &MergeArgs, files: &[Vec<u8>], start: Instant) -> Result<()>
         args.matrix.as_deref(),
     )?;
     if let Some(out) = &args.out {
-        crate::matrix_file::write(out, &m, Some(&areas))?;
+        crate::matrix_file::write(out, &m, Some(&areas), None)?;
     }
     Ok(())
 }

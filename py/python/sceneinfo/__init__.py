@@ -12,8 +12,9 @@ Scenes come from files (``.flat``, ``.obj``), numpy arrays (``Scene.from_segment
 Monte Carlo form factors and the channel measures; ``channel`` measures any ``(w, P)``;
 ``measure_partial`` and ``merge`` split a line job across processes or machines, exactly,
 and ``exact_rows`` and ``merge_rows`` an exact 3D job with occlusion (sparse form factors
-with error estimates); ``read_view3d`` reads View3D's output files;
-``radiosity`` lights a scene (2.6) and measures its radiosity channel (5.5–5.7); ``refine``
+with error estimates); ``read_view3d`` reads View3D's output files, ``view3d_surfaces``
+gives a ``.vs3`` file's View3D output surfaces from a measurement of it; ``radiosity``
+lights a scene (2.6) and measures its radiosity channel (5.5–5.7); ``refine``
 refines a flatland mesh by an oracle (§6.5.2), ``refine_hierarchy`` a 3D scene's
 hierarchical radiosity (§6.4).
 """
@@ -41,6 +42,7 @@ from ._sceneinfo import (
     read_view3d,
     refine,
     refine_hierarchy,
+    view3d_surfaces,
 )
 
 __all__ = [
@@ -66,4 +68,5 @@ __all__ = [
     "read_view3d",
     "refine",
     "refine_hierarchy",
+    "view3d_surfaces",
 ]

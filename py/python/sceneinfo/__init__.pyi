@@ -38,6 +38,7 @@ __all__ = [
     "read_view3d",
     "refine",
     "refine_hierarchy",
+    "view3d_surfaces",
 ]
 
 CHUNK_LINES: int
@@ -305,6 +306,11 @@ def exact_rows(
 def merge_rows(parts: Sequence[Union[ExactRows, _Path]]) -> ExactRows: ...
 def read_view3d(path: _Path) -> dict[str, Any]:
     """A View3D output file: areas, form_factors (N, N), emissivities, version, encl, emit."""
+
+def view3d_surfaces(path: _Path, m: Measurement) -> dict[str, Any]:
+    """View3D's output surfaces of a .vs3 file from a measurement of it: numbers, names,
+    areas (N,), form_factors (N, N) (combined surfaces joined, subsurfaces and masks as
+    View3D reports them, obstruction-only surfaces left out)."""
 
 def measure(
     scene: Union[Scene, _Path],
