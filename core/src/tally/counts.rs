@@ -1304,6 +1304,57 @@ mod tests {
     }
 
     #[test]
+    fn pending_information_is_seen_by_every_reader_in_order() {
+        // 77 terms on 13 patches (diagonal pairs twice): two full batches applied, the rest
+        // pending; the reference adds each term at once, saturating, in the same order
+        let n = 13;
+        let terms: Vec<(usize, usize, i128)> = (0..77i128)
+            .map(|k| {
+                let (i, j) = ((k * 7 % 13) as usize, (k * 5 % 11) as usize);
+                (i, j, (k - 38) * 1_000_000_007 << 60)
+            })
+            .collect();
+        let mut reference = vec![0i128; n * (n + 1) / 2];
+        let mut counts = PairCounts::new(n, true);
+        for &(i, j, raw) in &terms {
+            let v = &mut reference[tri(i, j)];
+            *v = v.saturating_add(raw);
+            if i == j {
+                *v = v.saturating_add(raw);
+            }
+            counts.add_info(i, j, raw);
+        }
+        let expected: Vec<(usize, usize, i128)> = (0..n)
+            .flat_map(|i| (0..n).map(move |j| (i, j)))
+            .map(|(i, j)| (i, j, reference[tri(i, j)]))
+            .filter(|&(_, _, v)| v != 0)
+            .collect();
+        let read = |c: &PairCounts| {
+            let mut v = Vec::new();
+            c.for_each_raw(|i, j, _, info| v.push((i, j, info)));
+            v
+        };
+        // Through `&self` with terms pending, after a merge, and settled
+        assert_eq!(read(&counts), expected);
+        let mut merged = PairCounts::new(n, true);
+        merged.merge(&counts);
+        assert_eq!(read(&merged), expected);
+        let before = counts.clone();
+        counts.settle();
+        assert_ne!(counts, before, "terms were pending");
+        assert_eq!(read(&counts), expected);
+        // A sum pushed past i128::MAX is clamped there and the next term adds to the
+        // clamped sum: the order of the terms shows, and is the order they came in (−5
+        // first would end at i128::MAX)
+        let mut saturating = PairCounts::new(2, true);
+        for raw in [i128::MAX / 2 + 1, i128::MAX / 2 + 1, -5] {
+            saturating.add_info(0, 1, raw);
+        }
+        let clamped = i128::MAX - 5;
+        assert_eq!(read(&saturating), vec![(0, 1, clamped), (1, 0, clamped)]);
+    }
+
+    #[test]
     fn merge_is_exact() {
         let mut a = PairCounts::Sparse {
             n: 10,
