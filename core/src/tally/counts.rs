@@ -35,6 +35,10 @@ pub(crate) const DENSE_COUNT_LIMIT: usize = 5792;
 /// and merged into a sorted `(key, count)` list — 16 bytes per stored pair, that is 8
 /// bytes per non-zero `C_ij` for global lines (see the module docs). Counting is exact
 /// integer arithmetic, so merging tallies gives the same result in any order.
+// The dense variant carries its `Pending` buffers inline (about 700 bytes): one
+// `PairCounts` per tally, never in arrays, and boxing them would put a pointer load in
+// front of every held increment
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) enum PairCounts {
     Dense {
@@ -1311,7 +1315,7 @@ mod tests {
         let terms: Vec<(usize, usize, i128)> = (0..77i128)
             .map(|k| {
                 let (i, j) = ((k * 7 % 13) as usize, (k * 5 % 11) as usize);
-                (i, j, (k - 38) * 1_000_000_007 << 60)
+                (i, j, ((k - 38) * 1_000_000_007) << 60)
             })
             .collect();
         let mut reference = vec![0i128; n * (n + 1) / 2];
