@@ -346,7 +346,7 @@ impl LineTally {
     }
 
     /// Splits a term half to `I_ij^c`, half to `I_ji^c` (6.35): `w` to each.
-    #[inline]
+    #[inline(always)]
     fn add_info(&mut self, i: usize, j: usize, w: f64) {
         // Quantised once for the four sums (the same bits as four separate additions).
         let Some(raw) = FixedSum::quantise(w) else {

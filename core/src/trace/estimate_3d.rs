@@ -241,7 +241,14 @@ impl Tracer3 {
         let dir = bundle.dir();
         let (mut sum, mut samples) = (0.0, 0u64);
         for k in 0..bundle_hits.lines() {
-            let terms = self.global_line_terms(dir, bundle_hits.line_hits(k), crossings, tally);
+            let hits = bundle_hits.line_hits(k);
+            // A line that meets nothing has the terms `(0, 0)`: adding them changes no bit
+            // (`sum` starts at +0 and is never −0, since a sum of IEEE additions from +0 is
+            // −0 only when every term is −0), so it is passed over
+            if hits.is_empty() {
+                continue;
+            }
+            let terms = self.global_line_terms(dir, hits, crossings, tally);
             if let Some((s, n)) = terms {
                 sum += s;
                 samples += n;

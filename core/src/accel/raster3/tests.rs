@@ -358,3 +358,43 @@ fn the_rooms_cubes_are_one_group_each() {
         );
     }
 }
+
+proptest! {
+    /// The edge functions of a cube's edges from the ends' arrays ([`EdgeEnds::signs`])
+    /// have the signs of [`edge_signs`]' bit for bit: random vertices and candidates, and
+    /// candidates on a vertex or an edge's midpoint (where a function is zero or within
+    /// rounding of it).
+    #[test]
+    fn edge_ends_signs_are_edge_signs(
+        coords in proptest::collection::vec(-3.0f64..3.0, 16),
+        point in (-3.0f64..3.0, -3.0f64..3.0),
+        on in 0usize..40,
+    ) {
+        let mut local = [[0.0f64; 3]; GROUP_VERTICES];
+        for (v, p) in local.iter_mut().enumerate() {
+            *p = [coords[2 * v], coords[2 * v + 1], 0.0];
+        }
+        // A cube's 12 edges (vertices 0–7 by their bits x, y, z), both orders of ends
+        let mut edges = [[0u8; 2]; 12];
+        let mut e = 0;
+        for u in 0u8..8 {
+            for bit in [1u8, 2, 4] {
+                if u & bit == 0 {
+                    edges[e] = if e % 2 == 0 { [u, u | bit] } else { [u | bit, u] };
+                    e += 1;
+                }
+            }
+        }
+        let (a, b) = match on {
+            0..8 => (local[on][0], local[on][1]),
+            8..20 => {
+                let [u, v] = edges[on - 8];
+                let (p, q) = (local[usize::from(u)], local[usize::from(v)]);
+                (0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]))
+            }
+            _ => point,
+        };
+        let rel = local.map(|p| (p[0] - a, p[1] - b));
+        prop_assert_eq!(EdgeEnds::new(&local, &edges).signs(a, b), edge_signs(&rel, &edges));
+    }
+}
