@@ -61,6 +61,14 @@
 //! A row whose sum exceeds 1 (a closed scene's, within its estimates) is scaled back to 1
 //! keeping reciprocity, the change added to the estimates (`cap_rows`).
 //!
+//! **Decided by a bound** (`budget.rs`). Occluders only remove sight lines, so the flux of
+//! any source region `T` lies in `[0, U_T]`, `U_T` its exact unoccluded flux. A pair with
+//! candidates whose `U_ij / 2` is within its flux tolerance is `U_ij / 2 ± U_ij / 2`
+//! without integration (before the hidden-pair tests); of the initial triangles in the
+//! penumbra, the smallest are given their midpoint while their half-widths sum to at most
+//! half the tolerance (the integral gets the rest); and a leaf whose rule estimate exceeds
+//! its own half-width keeps the midpoint. These errors are proven, not estimated.
+//!
 //! **The estimate is a-posteriori, not a bound**: a leaf's estimate is
 //! `4 |Q_fine − Q_coarse|` (the factor and its reason in `outer.rs`, `SAFETY`); it bounds
 //! the error of the returned finer value when the finer rule is several times closer to the
@@ -87,6 +95,7 @@
 //! path, bit for bit; a scene where no pair has one is
 //! [`exact_3d::form_factors_unoccluded`]'s.
 
+mod budget;
 mod contacts;
 mod occluders;
 mod outer;
@@ -330,6 +339,15 @@ fn integrate_past(
             })
         })
         .collect();
+    if let Some((flux, error)) =
+        budget::pair_by_bound(src, ps, tgt, pt, options.tolerance * ps.area.min(pt.area))
+    {
+        return Ok(OccludedFlux {
+            flux,
+            error,
+            points: 0,
+        });
+    }
     let all: Vec<u32> = (0..occ.len() as u32).collect();
     let (lo, hi) = bounds(
         src.iter()
@@ -420,6 +438,11 @@ impl outer::Integrand for PairIntegrand<'_, '_> {
         Ok(None)
     }
 
+    /// Between 0 and the triangle's unoccluded flux (`budget.rs`).
+    fn bound(&mut self, tri: &[DVec3; 3]) -> Option<(f64, f64)> {
+        budget::triangle_bound(tri, self.tgt, &self.pt)
+    }
+
     fn eval(&mut self, x: DVec3, cands: &[u32]) -> Result<f64> {
         self.buf.clear();
         let occ = self.occ;
@@ -483,6 +506,7 @@ fn integrate_pair(
             points: 0,
         });
     }
+    let pair_tolerance = options.tolerance * ps.area.min(pt.area);
     let mut g = PairIntegrand {
         target: visible::Target::new(tgt, *pt),
         tgt,
@@ -503,16 +527,18 @@ fn integrate_pair(
         .map(|&k| occ[k as usize].vertices.as_slice())
         .collect();
     let triangles = contacts::initial_triangles(&clipped, ps, tgt, &touching, touch);
+    let decided =
+        budget::bound_small_triangles(&triangles, cands, pair_tolerance, tgt, pt, &mut g)?;
     let r = outer::integrate_with(
-        &triangles,
+        &decided.kept,
         cands,
-        options.tolerance * ps.area.min(pt.area),
+        pair_tolerance - decided.error,
         options.max_points_per_pair,
         &mut g,
     )?;
     Ok(OccludedFlux {
-        flux: r.value.max(0.0),
-        error: r.error,
+        flux: (r.value + decided.value).max(0.0),
+        error: r.error + decided.error,
         points: r.points,
     })
 }
@@ -706,10 +732,26 @@ impl<'a> Prepared<'a> {
                     &mut shaft,
                 );
             }
+            let bound = || {
+                budget::pair_by_bound(
+                    src,
+                    ps,
+                    tgt,
+                    pt,
+                    self.options.tolerance * ps.area.min(pt.area),
+                )
+            };
             let r = if !self.may_occlude || cand.is_empty() {
                 OccludedFlux {
                     flux: pair_flux(src, ps, tgt, pt).0,
                     error: 0.0,
+                    points: 0,
+                }
+            } else if let Some((flux, error)) = bound() {
+                // Decided by 0 ≤ F ≤ F_unoccluded within the tolerance (`budget.rs`).
+                OccludedFlux {
+                    flux,
+                    error,
                     points: 0,
                 }
             } else if cand.iter().any(|&k| {
