@@ -63,11 +63,12 @@
 //!
 //! **Decided by a bound** (`budget.rs`). Occluders only remove sight lines, so the flux of
 //! any source region `T` lies in `[0, U_T]`, `U_T` its exact unoccluded flux. A pair with
-//! candidates whose `U_ij / 2` is within its flux tolerance is `U_ij / 2 ± U_ij / 2`
-//! without integration (before the hidden-pair tests); of the initial triangles in the
-//! penumbra, the smallest are given their midpoint while their half-widths sum to at most
-//! half the tolerance (the integral gets the rest); and a leaf whose rule estimate exceeds
-//! its own half-width keeps the midpoint. These errors are proven, not estimated.
+//! candidates whose `U_ij` is small enough is `s U_ij ± U_ij max(s, 1 − s)` without
+//! integration (before the hidden-pair tests), `s` the visible fraction of the target's
+//! point form factor at the source's centroid; of the initial triangles in the
+//! penumbra, the smallest are decided alike while their half-widths sum to at most
+//! half the tolerance (the integral gets the rest). These errors are proven, not
+//! estimated; one probe of the visible fraction at the centroid centres the value.
 //!
 //! **The estimate is a-posteriori, not a bound**: a leaf's estimate is
 //! `4 |Q_fine − Q_coarse|` (the factor and its reason in `outer.rs`, `SAFETY`); it bounds
@@ -339,13 +340,17 @@ fn integrate_past(
             })
         })
         .collect();
-    if let Some((flux, error)) =
-        budget::pair_by_bound(src, ps, tgt, pt, options.tolerance * ps.area.min(pt.area))
-    {
+    if let Some((flux, error)) = budget::pair_by_bound(
+        (src, ps),
+        (tgt, pt),
+        occluders,
+        options.tolerance * ps.area.min(pt.area),
+    )? {
+        // One point: the probe that centred the value.
         return Ok(OccludedFlux {
             flux,
             error,
-            points: 0,
+            points: 1,
         });
     }
     let all: Vec<u32> = (0..occ.len() as u32).collect();
@@ -438,11 +443,6 @@ impl outer::Integrand for PairIntegrand<'_, '_> {
         Ok(None)
     }
 
-    /// Between 0 and the triangle's unoccluded flux (`budget.rs`).
-    fn bound(&mut self, tri: &[DVec3; 3]) -> Option<(f64, f64)> {
-        budget::triangle_bound(tri, self.tgt, &self.pt)
-    }
-
     fn eval(&mut self, x: DVec3, cands: &[u32]) -> Result<f64> {
         self.buf.clear();
         let occ = self.occ;
@@ -527,8 +527,14 @@ fn integrate_pair(
         .map(|&k| occ[k as usize].vertices.as_slice())
         .collect();
     let triangles = contacts::initial_triangles(&clipped, ps, tgt, &touching, touch);
-    let decided =
-        budget::bound_small_triangles(&triangles, cands, pair_tolerance, tgt, pt, &mut g)?;
+    let decided = budget::bound_small_triangles(
+        &triangles,
+        cands,
+        pair_tolerance,
+        (tgt, pt),
+        ps.normal,
+        &mut g,
+    )?;
     let r = outer::integrate_with(
         &decided.kept,
         cands,
@@ -539,7 +545,7 @@ fn integrate_pair(
     Ok(OccludedFlux {
         flux: (r.value + decided.value).max(0.0),
         error: r.error + decided.error,
-        points: r.points,
+        points: r.points.saturating_add(decided.probes),
     })
 }
 
@@ -697,6 +703,31 @@ impl<'a> Prepared<'a> {
         }
     }
 
+    /// The pair decided by its bound ([`budget::pair_by_bound`], probed from the smaller
+    /// patch past the candidates `cand`), or `None`.
+    fn decided_by_bound(
+        &self,
+        (src, ps): (&[DVec3], &Plane),
+        (tgt, pt): (&[DVec3], &Plane),
+        cand: &[u32],
+    ) -> Result<Option<(f64, f64)>> {
+        let ((a, pa), (b, pb)) = if ps.area <= pt.area {
+            ((src, ps), (tgt, pt))
+        } else {
+            ((tgt, pt), (src, ps))
+        };
+        let occluders: Vec<&[DVec3]> = cand
+            .iter()
+            .map(|&k| self.occ.list[k as usize].vertices.as_slice())
+            .collect();
+        budget::pair_by_bound(
+            (a, pa),
+            (b, pb),
+            &occluders,
+            self.options.tolerance * ps.area.min(pt.area),
+        )
+    }
+
     /// Row `i`: the pairs `(i, j)`, `j > i`, culled, then exact or integrated.
     fn row(&self, i: usize) -> Result<PairRow> {
         let polys = &self.polys;
@@ -732,27 +763,21 @@ impl<'a> Prepared<'a> {
                     &mut shaft,
                 );
             }
-            let bound = || {
-                budget::pair_by_bound(
-                    src,
-                    ps,
-                    tgt,
-                    pt,
-                    self.options.tolerance * ps.area.min(pt.area),
-                )
-            };
             let r = if !self.may_occlude || cand.is_empty() {
                 OccludedFlux {
                     flux: pair_flux(src, ps, tgt, pt).0,
                     error: 0.0,
                     points: 0,
                 }
-            } else if let Some((flux, error)) = bound() {
+            } else if let Some((flux, error)) =
+                self.decided_by_bound((src, ps), (tgt, pt), &cand)?
+            {
                 // Decided by 0 ≤ F ≤ F_unoccluded within the tolerance (`budget.rs`).
+                // One point: the probe that centred the value.
                 OccludedFlux {
                     flux,
                     error,
-                    points: 0,
+                    points: 1,
                 }
             } else if cand.iter().any(|&k| {
                 let o = &self.occ.list[k as usize];
