@@ -79,13 +79,6 @@ pub(crate) trait Integrand {
     /// # Errors
     /// Those of the integrand.
     fn eval(&mut self, x: DVec3, cands: &[u32]) -> Result<f64>;
-
-    /// `Some((value, half-width))` when `∫_T f dA` is proven to lie within `half-width` of
-    /// `value` (e.g. between 0 and the unoccluded flux, `budget.rs`); a leaf whose rule
-    /// estimate is larger keeps this instead. `None`: no such bound.
-    fn bound(&mut self, _tri: &[DVec3; 3]) -> Option<(f64, f64)> {
-        None
-    }
 }
 
 /// A plain function: never known in closed form.
@@ -107,9 +100,6 @@ impl<F: FnMut(DVec3) -> Result<f64>> Integrand for Plain<F> {
 struct Leaf {
     tri: [DVec3; 3],
     children: [f64; 4],
-    /// The value kept: the children's sum, or the bound's midpoint when the bound is the
-    /// narrower ([`Integrand::bound`]).
-    value: f64,
     error: f64,
     order: u64,
     cands: Vec<u32>,
@@ -168,16 +158,10 @@ fn leaf(
         *value = rule(&t, |p| g.eval(p, &cands))?;
     }
     let fine = crate::math::sum(ch.iter().copied());
-    let estimate = SAFETY * (fine - coarse).abs();
-    let (value, error) = match g.bound(&tri) {
-        Some((mid, half)) if half < estimate => (mid, half),
-        _ => (fine, estimate),
-    };
     Ok(Leaf {
         tri,
         children: ch,
-        value,
-        error,
+        error: SAFETY * (fine - coarse).abs(),
         order,
         cands,
     })
@@ -275,7 +259,9 @@ pub(crate) fn integrate_with(
     value.add(exact.total());
     let mut error = KahanSum::new();
     for l in &leaves {
-        value.add(l.value);
+        for &c in &l.children {
+            value.add(c);
+        }
         error.add(l.error);
     }
     Ok(Integral {
