@@ -62,6 +62,15 @@
 //! keeping reciprocity, the change added to the estimates (`cap_rows`): the other half of
 //! the tolerance is left for that change (`INTEGRATION_SHARE`).
 //!
+//! **Decided by a bound** (`budget.rs`). Occluders only remove sight lines, so the flux of
+//! any source region `T` lies in `[0, U_T]`, `U_T` its exact unoccluded flux. A pair with
+//! candidates whose `U_ij` is small enough is `s U_ij ± U_ij max(s, 1 − s)` without
+//! integration (before the hidden-pair tests), `s` the visible fraction of the target's
+//! point form factor at the source's centroid; of the initial triangles in the
+//! penumbra, the smallest are decided alike while their half-widths sum to at most
+//! half the tolerance (the integral gets the rest). These errors are proven, not
+//! estimated; one probe of the visible fraction at the centroid centres the value.
+//!
 //! **The estimate is a-posteriori, not a bound**: a leaf's estimate is
 //! `4 |Q_fine − Q_coarse|` (the factor and its reason in `outer.rs`, `SAFETY`); it bounds
 //! the error of the returned finer value when the finer rule is several times closer to the
@@ -88,6 +97,7 @@
 //! path, bit for bit; a scene where no pair has one is
 //! [`exact_3d::form_factors_unoccluded`]'s.
 
+mod budget;
 mod contacts;
 mod occluders;
 mod outer;
@@ -342,6 +352,19 @@ fn integrate_past(
             })
         })
         .collect();
+    if let Some((flux, error)) = budget::pair_by_bound(
+        (src, ps),
+        (tgt, pt),
+        occluders,
+        INTEGRATION_SHARE * options.tolerance * ps.area.min(pt.area),
+    )? {
+        // One point: the probe that centred the value.
+        return Ok(OccludedFlux {
+            flux,
+            error,
+            points: 1,
+        });
+    }
     let all: Vec<u32> = (0..occ.len() as u32).collect();
     let (lo, hi) = bounds(
         src.iter()
@@ -495,6 +518,8 @@ fn integrate_pair(
             points: 0,
         });
     }
+    // The pair's share of the tolerance: the rest is left for the row cap (`cap_rows`).
+    let pair_tolerance = INTEGRATION_SHARE * options.tolerance * ps.area.min(pt.area);
     let mut g = PairIntegrand {
         target: visible::Target::new(tgt, *pt),
         tgt,
@@ -515,17 +540,25 @@ fn integrate_pair(
         .map(|&k| occ[k as usize].vertices.as_slice())
         .collect();
     let triangles = contacts::initial_triangles(&clipped, ps, tgt, &touching, touch);
-    let r = outer::integrate_with(
+    let decided = budget::bound_small_triangles(
         &triangles,
         cands,
-        INTEGRATION_SHARE * options.tolerance * ps.area.min(pt.area),
+        pair_tolerance,
+        (tgt, pt),
+        ps.normal,
+        &mut g,
+    )?;
+    let r = outer::integrate_with(
+        &decided.kept,
+        cands,
+        pair_tolerance - decided.error,
         options.max_points_per_pair,
         &mut g,
     )?;
     Ok(OccludedFlux {
-        flux: r.value.max(0.0),
-        error: r.error,
-        points: r.points,
+        flux: (r.value + decided.value).max(0.0),
+        error: r.error + decided.error,
+        points: r.points.saturating_add(decided.probes),
     })
 }
 
@@ -683,6 +716,31 @@ impl<'a> Prepared<'a> {
         }
     }
 
+    /// The pair decided by its bound ([`budget::pair_by_bound`], probed from the smaller
+    /// patch past the candidates `cand`), or `None`.
+    fn decided_by_bound(
+        &self,
+        (src, ps): (&[DVec3], &Plane),
+        (tgt, pt): (&[DVec3], &Plane),
+        cand: &[u32],
+    ) -> Result<Option<(f64, f64)>> {
+        let ((a, pa), (b, pb)) = if ps.area <= pt.area {
+            ((src, ps), (tgt, pt))
+        } else {
+            ((tgt, pt), (src, ps))
+        };
+        let occluders: Vec<&[DVec3]> = cand
+            .iter()
+            .map(|&k| self.occ.list[k as usize].vertices.as_slice())
+            .collect();
+        budget::pair_by_bound(
+            (a, pa),
+            (b, pb),
+            &occluders,
+            INTEGRATION_SHARE * self.options.tolerance * ps.area.min(pt.area),
+        )
+    }
+
     /// Row `i`: the pairs `(i, j)`, `j > i`, culled, then exact or integrated.
     fn row(&self, i: usize) -> Result<PairRow> {
         let polys = &self.polys;
@@ -723,6 +781,16 @@ impl<'a> Prepared<'a> {
                     flux: pair_flux(src, ps, tgt, pt).0,
                     error: 0.0,
                     points: 0,
+                }
+            } else if let Some((flux, error)) =
+                self.decided_by_bound((src, ps), (tgt, pt), &cand)?
+            {
+                // Decided by 0 ≤ F ≤ F_unoccluded within the tolerance (`budget.rs`).
+                // One point: the probe that centred the value.
+                OccludedFlux {
+                    flux,
+                    error,
+                    points: 1,
                 }
             } else if cand.iter().any(|&k| {
                 let o = &self.occ.list[k as usize];
