@@ -79,8 +79,9 @@
 //! binary ones. Bounds are stored relative to `c` in `f32`, rounded outwards, so they
 //! contain the `f64` bounds of every polygon below and the monotonicity argument holds as
 //! is; they are laid out by side, axis and child (`[f32; 4]` per plane), so that the
-//! four children's box tests run lane by lane, vectorised, in `f64` — per child the very
-//! same operations on the same values as a single box test. Polygons are stored in leaf
+//! four children's box tests run lane by lane, vectorised: in `f32` with a second,
+//! larger margin (conservative, see "Queries"), or in `f64` — per child the very same
+//! operations on the same values as a single box test. Polygons are stored in leaf
 //! order (a sheet's row by row),
 //! each as one contiguous record — plane, bounds, then vertices, relative to `c` — in a
 //! flat array, and their original indices in another: a polygon test touches two or three
@@ -96,11 +97,18 @@
 //! pushes the others it meets. The walks are
 //! monomorphised for the 8 octants of `d`, so each box test reads its near and far bounds
 //! directly (pbrt's `dirIsNeg`): per axis `(bound ∓ m − o')/d`, 6 subtractions, 6
-//! multiplications and 6 maxima (the far planes' `t` negated, exactly), for four boxes in
-//! 12 `f32 → f64` conversions and 12 of each of those operations on pairs of `f64`
-//! (SSE2). `first_hit` also culls by `(t_min, t_best]`, pushes the children it keeps by
-//! decreasing entry (the nearest is visited first) and drops a pending subtree whose entry
-//! is beyond the best hit found since it was pushed.
+//! multiplications and 6 maxima (the far planes' `t` negated, exactly). `all_hits` runs
+//! them in `f32`, four boxes a packed operation (6 of each on SSE2), with the origins
+//! moved outwards by a second margin `δ = 2⁻¹⁹ R` that covers the rounding of `f32`, so
+//! that a node's `f32` interval contains the `f64` interval of every polygon below (the
+//! `slab32` module's docs prove it): the culling stays exact by construction, and the
+//! hits are the naive loop's. A line outside that proof's bounds (a direction component
+//! below `2⁻⁴⁰` but not zero, coordinates beyond `2⁶⁰`) takes the `f64` test: for four
+//! boxes 12 `f32 → f64` conversions and 12 of each operation on pairs of `f64`, per box
+//! the very arithmetic of the polygons' step 2. `first_hit` uses the `f64` test, also
+//! culls by `(t_min, t_best]`, pushes the children it keeps by decreasing entry (the
+//! nearest is visited first) and drops a pending subtree whose entry is beyond the best
+//! hit found since it was pushed.
 //!
 //! # Build
 //!
@@ -129,6 +137,8 @@ mod build;
 mod prim;
 #[cfg(feature = "alloc")]
 pub(super) mod sheet;
+#[cfg(feature = "alloc")]
+mod slab32;
 #[cfg(all(test, feature = "std"))]
 pub(super) mod tests;
 
@@ -136,6 +146,8 @@ pub(super) mod tests;
 use prim::Slab;
 use prim::{Frame, Query, vertices};
 pub(super) use prim::{origin_in_closed_polygon, prepare};
+#[cfg(feature = "alloc")]
+use slab32::{Slab32, f32_down, f32_up};
 
 /// Entries of a polygon's record before its vertices: `n, p0, lo, hi` ([`Bvh3`]'s
 /// `records`).
@@ -302,13 +314,20 @@ const STACK_SIZE: usize = 3 * 32 + WIDTH;
 #[cfg(feature = "alloc")]
 const SMALL_STACK: usize = 40;
 
+/// Capacity of `all_hits`' stack in trees of at most 5 levels of interior nodes
+/// (`3 · 5 < 16`: scenes of a few sheets, such as a cube cut into patches), cheaper
+/// still to clear.
+#[cfg(feature = "alloc")]
+const TINY_STACK: usize = 16;
+
 /// An interior node: the bounds of its (up to) four children, relative to the frame's
 /// centre, in `f32` rounded outwards (so they contain the `f64` bounds of every polygon
 /// below), and the references to them; an unused slot has the empty box (`lo = +∞`,
 /// `hi = −∞`, which no line meets) and an empty leaf. 128 bytes, two cache lines. The
 /// bounds are stored by side, axis, then child (`bounds[side][axis][child]`) so that a
 /// visit computes the four children's slab intervals lane by lane in vectorisable loops
-/// (the same `f64` arithmetic per child as a single box test, [`Slab::interval4`]).
+/// (in `f32`, conservative, [`Slab32::interval4`]; or the same `f64` arithmetic per child
+/// as a single box test, [`Slab::interval4`]).
 #[cfg(feature = "alloc")]
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
@@ -316,22 +335,6 @@ struct Node {
     /// `bounds[0]` = the children's low corners, `bounds[1]` the high ones, per axis.
     bounds: [[[f32; WIDTH]; 3]; 2],
     child: [Ref; WIDTH],
-}
-
-/// `x` rounded down to an `f32` (`−∞` below its range).
-#[cfg(feature = "alloc")]
-#[inline]
-fn f32_down(x: f64) -> f32 {
-    let y = x as f32;
-    if f64::from(y) > x { y.next_down() } else { y }
-}
-
-/// `x` rounded up to an `f32` (`+∞` above its range).
-#[cfg(feature = "alloc")]
-#[inline]
-fn f32_up(x: f64) -> f32 {
-    let y = x as f32;
-    if f64::from(y) < x { y.next_up() } else { y }
 }
 
 #[cfg(feature = "alloc")]
@@ -367,6 +370,47 @@ impl Node {
             [&b[I][0], &b[J][1], &b[K][2]],
             [&b[1 - I][0], &b[1 - J][1], &b[1 - K][2]],
         )
+    }
+}
+
+/// A box test of a node's four children: the mask of the children the line may meet
+/// (bit `c` for child `c`), for a line whose near bounds are `[I, J, K]`. A NaN
+/// comparison visits: culling must only ever be sure.
+#[cfg(feature = "alloc")]
+trait NodeTest {
+    fn meets<const I: usize, const J: usize, const K: usize>(&self, node: &Node) -> u32;
+}
+
+/// The `f64` test ([`Slab::interval4`]): the same arithmetic per child as the polygons'.
+#[cfg(feature = "alloc")]
+impl NodeTest for Slab {
+    #[inline(always)]
+    fn meets<const I: usize, const J: usize, const K: usize>(&self, node: &Node) -> u32 {
+        let (enter, exit) = node.slab::<I, J, K>(self);
+        let mut mask = 0u32;
+        for c in 0..WIDTH {
+            mask |= u32::from(!(enter[c] > exit[c])) << c;
+        }
+        mask
+    }
+}
+
+/// The `f32` test ([`Slab32::interval4`]): four boxes a packed operation, conservative
+/// with respect to the polygons' `f64` test (the `slab32` module docs).
+#[cfg(feature = "alloc")]
+impl NodeTest for Slab32 {
+    #[inline(always)]
+    fn meets<const I: usize, const J: usize, const K: usize>(&self, node: &Node) -> u32 {
+        let b = &node.bounds;
+        let (enter, exit) = self.interval4(
+            [&b[I][0], &b[J][1], &b[K][2]],
+            [&b[1 - I][0], &b[1 - J][1], &b[1 - K][2]],
+        );
+        let mut mask = 0u32;
+        for c in 0..WIDTH {
+            mask |= u32::from(!(enter[c] > exit[c])) << c;
+        }
+        mask
     }
 }
 
@@ -704,18 +748,52 @@ impl Bvh3 {
         if self.nodes.is_empty() && self.root.count == 0 {
             return;
         }
-        if 3 * (self.levels as usize) < SMALL_STACK {
-            self.for_each_hit_with::<F, SMALL_STACK>(line, f);
+        let q = Query::new(line.origin, line.dir, &self.frame);
+        let Some(slab32) = q.slab32(self.frame.scale) else {
+            // A line outside the f32 test's error bounds (practically never a sampled one)
+            let mut f = f;
+            by_octant!(q.near, walk_all[, F, STACK_SIZE, Slab](self, &q, &q.slab, &mut f));
+            return;
+        };
+        let levels = 3 * self.levels as usize;
+        if levels < TINY_STACK {
+            self.for_each_hit_with::<F, TINY_STACK>(&q, &slab32, f);
+        } else if levels < SMALL_STACK {
+            self.for_each_hit_with::<F, SMALL_STACK>(&q, &slab32, f);
         } else {
-            self.for_each_hit_with::<F, STACK_SIZE>(line, f);
+            self.for_each_hit_with::<F, STACK_SIZE>(&q, &slab32, f);
         }
     }
 
-    /// [`Bvh3::for_each_hit`] with a stack of `N ≥ 3 · levels` entries.
+    /// [`Bvh3::for_each_hit`] with the `f32` node tests and a stack of `N ≥ 3 · levels`
+    /// entries.
     #[inline(always)]
-    fn for_each_hit_with<F: FnMut(Hit3), const N: usize>(&self, line: &Line3, mut f: F) {
+    fn for_each_hit_with<F: FnMut(Hit3), const N: usize>(
+        &self,
+        q: &Query,
+        slab32: &Slab32,
+        mut f: F,
+    ) {
+        by_octant!(q.near, walk_all[, F, N, Slab32](self, q, slab32, &mut f));
+    }
+
+    /// [`Bvh3::for_each_hit`] by the walks that the scenes at hand may not take: with the
+    /// `f32` node tests and the large stack (deep trees; `None` where the line is outside
+    /// the `f32` tests' error bounds) and with the `f64` node tests (lines outside them).
+    #[cfg(all(test, feature = "std"))]
+    fn for_each_hit_other_walks(&self, line: &Line3) -> (Option<Vec<Hit3>>, Vec<Hit3>) {
+        let (mut large, mut by_f64) = (Vec::new(), Vec::new());
+        if self.nodes.is_empty() && self.root.count == 0 {
+            return (Some(large), by_f64);
+        }
         let q = Query::new(line.origin, line.dir, &self.frame);
-        by_octant!(q.near, walk_all[, F, N](self, &q, &mut f));
+        let large = q.slab32(self.frame.scale).map(|s| {
+            self.for_each_hit_with::<_, STACK_SIZE>(&q, &s, |h| large.push(h));
+            large
+        });
+        let mut f = |h| by_f64.push(h);
+        by_octant!(q.near, walk_all[, _, STACK_SIZE, Slab](self, &q, &q.slab, &mut f));
+        (large, by_f64)
     }
 
     /// The polygons of a leaf that the query's line hits, each passed to `f`.
@@ -760,12 +838,19 @@ impl Bvh3 {
     /// the first one the line meets, the others it meets pushed (all hits are wanted, so
     /// the order does not matter).
     #[inline(always)]
-    fn walk_all<const I: usize, const J: usize, const K: usize, F: FnMut(Hit3), const N: usize>(
+    fn walk_all<
+        const I: usize,
+        const J: usize,
+        const K: usize,
+        F: FnMut(Hit3),
+        const N: usize,
+        T: NodeTest,
+    >(
         &self,
         q: &Query,
+        test: &T,
         f: &mut F,
     ) {
-        let slab = q.slab;
         let mut stack = [Ref::default(); N];
         let mut sp = 0usize;
         let mut r = self.root;
@@ -774,12 +859,7 @@ impl Bvh3 {
                 self.leaf(q, r, &mut |prim, t| f(Hit3 { t, prim }));
             } else {
                 let node = &self.nodes[r.offset as usize];
-                let (enter, exit) = node.slab::<I, J, K>(&slab);
-                // Negated so that NaN visits: culling must only ever be sure.
-                let mut mask = 0u32;
-                for c in 0..WIDTH {
-                    mask |= u32::from(!(enter[c] > exit[c])) << c;
-                }
+                let mut mask = test.meets::<I, J, K>(node);
                 if mask != 0 {
                     // The first child met is visited next, the others pushed.
                     let first = mask.trailing_zeros() as usize;

@@ -13,8 +13,12 @@ const SAH_DEPTH: u32 = 32;
 /// Most polygons in a leaf (more are always split).
 const MAX_LEAF: usize = 4;
 
-/// SAH cost of one node visit, relative to one polygon test.
-const TRAVERSAL_COST: f64 = 1.0;
+/// SAH cost of one node visit, relative to one polygon test. A visit of the 4-wide tree
+/// tests four boxes in one `f32` pass (some 35 instructions against 60–100 for a polygon
+/// test), and covers two binary levels. 0.5 (it was 1.0) splits the room of 512 cubes
+/// into smaller leaves: 7 % fewer instructions a global line, 4 % a local one, the same
+/// hits; 0.25 builds the same trees on the three benchmark scenes.
+const TRAVERSAL_COST: f64 = 0.5;
 
 /// An item during the build: its bounds, their centre, its index among the units, and
 /// whether it must have a leaf of its own (a sheet: the leaf's box test then stands for

@@ -166,6 +166,21 @@ impl Query {
         }
     }
 
+    /// The conservative `f32` box tests of this query in a frame of scale `scale`
+    /// ([`super::slab32`]), or `None` where their error bounds do not hold.
+    #[cfg(feature = "alloc")]
+    #[inline]
+    pub(super) fn slab32(&self, scale: f64) -> Option<super::slab32::Slab32> {
+        let s = &self.slab;
+        super::slab32::Slab32::new(
+            DVec3::from_array(s.o_near),
+            DVec3::from_array(s.o_far),
+            self.d,
+            DVec3::from_array(s.inv),
+            scale,
+        )
+    }
+
     /// [`Slab::interval`] of the box `b = [lo, hi]` (relative to `c`).
     #[inline(always)]
     pub(super) fn slab(&self, b: &[DVec3; 2]) -> (f64, f64) {

@@ -119,11 +119,17 @@ fn check_line(s: &Soup, bvh: &Bvh3, line: &Line3, a: &mut Vec<Hit3>, b: &mut Vec
             .all(|h| h.t.is_finite() && !(h.t == 0.0 && h.t.is_sign_negative()))
     );
     assert!(a.windows(2).all(|w| w[0].cmp_t_prim(&w[1]).is_lt()));
-    // The walk with the large stack, which only deep trees take.
+    // The walks with the large stack, which only deep trees take, and with the f64 node
+    // tests, which only lines outside the f32 tests' error bounds take.
+    let (large, by_f64) = bvh.for_each_hit_other_walks(line);
+    if let Some(mut large) = large {
+        crate::accel::sort_hits(&mut large);
+        assert_eq!(*a, large, "line {line:?}, large stack");
+    }
     b.clear();
-    bvh.for_each_hit_with::<_, STACK_SIZE>(line, |h| b.push(h));
+    b.extend(by_f64);
     crate::accel::sort_hits(b);
-    assert_eq!(a, b, "line {line:?}, large stack");
+    assert_eq!(a, b, "line {line:?}, f64 node tests");
     for t_min in [-f64::INFINITY, 0.0, 1e-9, 3.0] {
         let naive = first_hit_naive3(&s.points, &s.polys, line.origin, line.dir, t_min);
         let fast = bvh.first_hit(line.origin, line.dir, t_min);
@@ -610,6 +616,90 @@ fn weird_inputs_never_panic_or_give_nan() {
     assert!(out.is_empty() && empty.first_hit(DVec3::ZERO, DVec3::Z, 0.0).is_none());
 }
 
+/// The `f32` node test never culls a box whose `f64` slab interval (the polygon test's
+/// step 2) is not empty: boxes of every size, near and far from the frame's centre, and
+/// lines grazing their corners and edges by a few margins, along random, axis-aligned and
+/// nearly axis-aligned directions. It also culls many of the lines that miss by more than
+/// its second margin.
+#[test]
+fn f32_node_test_is_conservative() {
+    let mut rng = chunk_rng(41, 0);
+    let (mut grazing, mut culled, mut declined) = (0, 0, 0);
+    for k in 0..4000 {
+        let size = libm::pow(10.0, canonical(&mut rng) * 12.0 - 6.0);
+        let offset = libm::pow(10.0, canonical(&mut rng) * 8.0 - 4.0);
+        let centre = (DVec3::new(
+            canonical(&mut rng),
+            canonical(&mut rng),
+            canonical(&mut rng),
+        ) - 0.5)
+            * offset;
+        let lo = centre - size * DVec3::new(canonical(&mut rng), canonical(&mut rng), 0.3);
+        let hi = centre + size * DVec3::new(canonical(&mut rng), 0.5, canonical(&mut rng));
+        // The frame of the box and a far point: its centre is not the box's.
+        let far = DVec3::splat(offset * (1.0 + canonical(&mut rng)));
+        let points = [lo, hi, far];
+        let frame = Frame::new(&points, &[(0, 3)]);
+        let (lo_c, hi_c) = (lo - frame.c, hi - frame.c);
+        // The node's f32 box, rounded outwards, in the four lanes.
+        let mut node = Node::EMPTY;
+        for c in 0..WIDTH {
+            node.set(c, Ref::default(), lo_c, hi_c);
+        }
+        // A corner or an edge point of the box, moved off it by a few margins.
+        let pick = |u: f64| if u < 0.5 { 0 } else { 1 };
+        let corner = DVec3::new(
+            [lo.x, hi.x][pick(canonical(&mut rng))],
+            [lo.y, hi.y][pick(canonical(&mut rng))],
+            [lo.z, hi.z][pick(canonical(&mut rng))],
+        );
+        let on_edge = corner.lerp(lo, if k % 2 == 0 { 0.0 } else { canonical(&mut rng) });
+        // A few margins (grazing), or far beyond the second margin δ (clear misses).
+        let reach = if (k / 5) % 2 == 0 { 8e-9 } else { 1e-3 };
+        let push = (canonical(&mut rng) - 0.5) * reach * (offset + size);
+        let mut dir = sample_uniform_sphere(canonical_2d(&mut rng));
+        match k % 5 {
+            0 => dir.x = 0.0,
+            1 => dir = DVec3::Z * dir.z.signum(),
+            2 => dir.y = 1e-13,
+            _ => {}
+        }
+        let dir = dir.normalize_or_zero();
+        let origin = on_edge + sample_uniform_sphere(canonical_2d(&mut rng)) * push
+            - dir * (canonical(&mut rng) * 3.0 * (offset + size));
+        let q = Query::new(origin, dir, &frame);
+        let (enter, exit) = q.slab(&[lo_c, hi_c]);
+        let Some(s32) = q.slab32(frame.scale) else {
+            declined += 1;
+            continue;
+        };
+        let mask = by_octant_mask(&q, &s32, &node);
+        if enter <= exit {
+            grazing += 1;
+            assert_eq!(mask, 0b1111, "box {lo:?} {hi:?} line {origin:?} {dir:?}");
+        } else if mask == 0 {
+            culled += 1;
+        }
+    }
+    assert!(grazing > 500 && culled > 500, "{grazing} {culled}");
+    // Only the direction with a 1e-13 component is outside the error bounds.
+    assert!(declined <= 800, "{declined}");
+}
+
+/// The `f32` test's mask of `node` for the query's octant.
+fn by_octant_mask(q: &Query, s: &Slab32, node: &Node) -> u32 {
+    match q.near {
+        [0, 0, 0] => s.meets::<0, 0, 0>(node),
+        [0, 0, _] => s.meets::<0, 0, 1>(node),
+        [0, _, 0] => s.meets::<0, 1, 0>(node),
+        [0, _, _] => s.meets::<0, 1, 1>(node),
+        [_, 0, 0] => s.meets::<1, 0, 0>(node),
+        [_, 0, _] => s.meets::<1, 0, 1>(node),
+        [_, _, 0] => s.meets::<1, 1, 0>(node),
+        [_, _, _] => s.meets::<1, 1, 1>(node),
+    }
+}
+
 #[test]
 fn nodes_are_two_cache_lines_and_depth_is_bounded() {
     assert_eq!(core::mem::size_of::<Node>(), 128);
@@ -750,11 +840,14 @@ proptest! {
             all_hits_naive3(&s.points, &s.polys, l, &mut a);
             bvh.all_hits(l, &mut b);
             prop_assert_eq!(&a, &b);
-            // The walk with the large stack, which only deep trees take.
-            b.clear();
-            bvh.for_each_hit_with::<_, STACK_SIZE>(l, |h| b.push(h));
-            crate::accel::sort_hits(&mut b);
-            prop_assert_eq!(&a, &b);
+            // The walks with the large stack and with the f64 node tests.
+            let (large, mut by_f64) = bvh.for_each_hit_other_walks(l);
+            if let Some(mut large) = large {
+                crate::accel::sort_hits(&mut large);
+                prop_assert_eq!(&a, &large);
+            }
+            crate::accel::sort_hits(&mut by_f64);
+            prop_assert_eq!(&a, &by_f64);
         }
     }
 
