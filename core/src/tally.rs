@@ -523,13 +523,12 @@ impl LineTally {
             drop(counts);
             return Ok(self.estimate_with(form_factors, pair));
         }
-        // Stored sparse unless the counts fill a third of the matrix (CSR takes 12 bytes an
-        // entry, dense 8 per pair): every later pass (the background's row sums, the
+        // Stored sparse unless CSR would take more memory ([`stored_dense`]): every later pass (the background's row sums, the
         // channel's checks and measures) then visits the non-zero entries only, and gives
         // the same bits as over the dense matrix, whose zeros those passes skip (and a
         // compensated sum of the row adds exactly: `KahanSum::add(0.0)` changes nothing).
         let pairs = usize::try_from(counts.nonzero_counts()).unwrap_or(usize::MAX);
-        let mut matrix = if counts.is_dense() && pairs > n * n / SPARSE_FILL {
+        let mut matrix = if counts.is_dense() && stored_dense(pairs, n) {
             Matrix::Dense(vec![0.0; n * n])
         } else {
             Matrix::Sparse(CsrMatrixBuf::row_major(n, pairs.min(n.saturating_mul(n)))?)
@@ -586,22 +585,24 @@ impl LineTally {
 /// `counts::Triangle::for_each_nonzero`) from the kept list, or from a second pass. The same entries, values and
 /// order as the row-major walk of [`PairCounts::for_each`] into [`RowMajorCsr`], without
 /// gathering the triangle's columns. `None` when the counts are not such a triangle or fill
-/// more than `1 / SPARSE_FILL` of the matrix (then the caller's dense route).
+/// so much of the matrix that it is [`stored_dense`] (then the caller's dense route).
 fn sparse_from_triangle(
     counts: &mut PairCounts,
     leaves: &[u64],
     sizes: &[f64],
 ) -> Result<Option<FormFactors>> {
     let n = leaves.len();
-    // The non-zero counts are kept from the first pass while they are few (a short job:
-    // 10⁵ lines put 61,000 in the 5400-patch cube's 14.6 M), so that the counts are read
-    // once; never more than a 32nd of the counts' own size
-    let cap = n * (n + 1) / 2 / 32;
+    // The non-zero counts are kept from the first pass (8 bytes each) while they take
+    // less memory than the counts (4 bytes a pair): the counts are then freed before the
+    // matrix is allocated and never read again. The peak is the list and the matrix,
+    // below the counts and the matrix: 10⁷ lines on the 5400-patch cube put 4.1 M counts
+    // in the 14.6 M pairs, a list of 33 MB where the counts take 58 MB
+    let cap = n * (n + 1) / 2 / 2;
     let Some((lengths, entries)) = counts.triangle().map(|t| t.row_lengths(cap)) else {
         return Ok(None);
     };
     let pairs: usize = lengths.iter().sum();
-    if pairs > n * n / SPARSE_FILL {
+    if stored_dense(pairs, n) {
         return Ok(None);
     }
     if entries.is_some() {
@@ -641,9 +642,17 @@ fn sparse_from_triangle(
     Ok(Some(FormFactors::from_patch_csr(sizes, rows.finish()?)?))
 }
 
-/// [`LineTally::finish_with_sizes`] stores the form factors sparse (CSR) when at most
-/// `1 / SPARSE_FILL` of the `n²` pairs have a count.
-const SPARSE_FILL: usize = 3;
+/// Whether [`LineTally::finish_with_sizes`] stores `pairs` non-zero form factors of `n`
+/// patches dense: when CSR (12 bytes an entry, a `u32` column and an `f64`) would take
+/// more than the dense matrix (8 bytes a pair), above two thirds of the `n²` pairs.
+///
+/// The threshold was a third while the channel's reciprocity check bisected a CSR row for
+/// every entry; with its cursors the sparse passes cost `O(nnz)`. 3·10⁷ lines on the
+/// 5400-patch cube (half the pairs non-zero) now keep CSR instead of the 233 MB dense
+/// matrix: a peak of 239 MB against 279 MB, the same bits.
+fn stored_dense(pairs: usize, n: usize) -> bool {
+    pairs.saturating_mul(3) > n.saturating_mul(n).saturating_mul(2)
+}
 
 /// The form factors [`LineTally::finish_with_sizes`] fills from the counts.
 enum Matrix {
@@ -898,8 +907,8 @@ mod tests {
                 (Ok(Some(a)), Ok(b)) => proptest::prop_assert_eq!(a, b),
                 (Ok(None), _) => {
                     // Too full for sparse: the caller's dense route
-                    let pairs = leaves.len() * leaves.len() / SPARSE_FILL;
-                    proptest::prop_assert!(counts.nonzero_counts() as usize > pairs);
+                    let pairs = counts.nonzero_counts() as usize;
+                    proptest::prop_assert!(stored_dense(pairs, leaves.len()));
                 }
                 (Err(a), Err(b)) => proptest::prop_assert_eq!(a, b),
                 (a, b) => proptest::prop_assert!(false, "{a:?} against {b:?}"),

@@ -32,6 +32,21 @@ pub trait Transitions {
     /// `P_ij`, or 0 when the entry is not stored or the indices are out of range.
     fn get(&self, i: usize, j: usize) -> f64;
 
+    /// `P_ij` for a caller that asks row `i` for increasing `j`: `cursor` is its position
+    /// in row `i`, kept by the caller (one per row, starting at 0) and passed back
+    /// unchanged at the next query of that row.
+    ///
+    /// Same value as [`get`](Self::get) whatever the order of the queries. The default
+    /// ignores the cursor; CSR storage walks it forward instead of bisecting the row, so a
+    /// sweep asking every row for increasing columns costs `O(nnz + queries)` in all (the
+    /// reciprocity check's `P_ji` for each stored `P_ij`, rows in increasing `i`) instead of
+    /// a chain of cache misses per query.
+    #[inline]
+    fn get_ascending(&self, i: usize, j: usize, cursor: &mut usize) -> f64 {
+        let _ = cursor;
+        self.get(i, j)
+    }
+
     /// Like [`for_each_in_row`](Self::for_each_in_row), restricted to columns in `cols`.
     ///
     /// The default filters the whole row; dense and CSR storage override it to touch only
@@ -42,6 +57,23 @@ pub trait Transitions {
                 f(j, p);
             }
         });
+    }
+
+    /// [`for_each_in_row_range`](Self::for_each_in_row_range) for a caller that asks row
+    /// `i` for increasing, non-overlapping column ranges: `cursor` is its position in row
+    /// `i` (start at 0, pass it back unchanged), so CSR storage resumes where the last
+    /// range ended instead of bisecting the row again. The same entries whatever the
+    /// ranges; the default ignores the cursor.
+    #[inline]
+    fn for_each_in_row_range_ascending<F: FnMut(usize, f64)>(
+        &self,
+        i: usize,
+        cols: Range<usize>,
+        cursor: &mut usize,
+        f: F,
+    ) {
+        let _ = cursor;
+        self.for_each_in_row_range(i, cols, f);
     }
 
     /// Compensated sum of row `i`, `Σ_j P_ij` (0 for an out-of-range row).
@@ -67,6 +99,22 @@ impl<T: Transitions + ?Sized> Transitions for &T {
     #[inline]
     fn get(&self, i: usize, j: usize) -> f64 {
         (**self).get(i, j)
+    }
+
+    #[inline]
+    fn get_ascending(&self, i: usize, j: usize, cursor: &mut usize) -> f64 {
+        (**self).get_ascending(i, j, cursor)
+    }
+
+    #[inline]
+    fn for_each_in_row_range_ascending<F: FnMut(usize, f64)>(
+        &self,
+        i: usize,
+        cols: Range<usize>,
+        cursor: &mut usize,
+        f: F,
+    ) {
+        (**self).for_each_in_row_range_ascending(i, cols, cursor, f);
     }
 
     #[inline]
@@ -346,6 +394,58 @@ impl Transitions for CsrMatrix<'_> {
         }
     }
 
+    /// Walks `cursor` forward to the first stored column `≥ j` (each stored entry is
+    /// passed once over a sweep of increasing `j`); a query behind the cursor (a stored
+    /// column before it is `≥ j`) falls back to [`get`](Transitions::get).
+    #[inline]
+    fn get_ascending(&self, i: usize, j: usize, cursor: &mut usize) -> f64 {
+        let Ok(j) = u32::try_from(j) else {
+            return 0.0;
+        };
+        let (cols, vals) = self.row(i);
+        let mut k = (*cursor).min(cols.len());
+        if k > 0 && cols.get(k - 1).is_some_and(|&c| c >= j) {
+            return self.get(i, j as usize);
+        }
+        while cols.get(k).is_some_and(|&c| c < j) {
+            k += 1;
+        }
+        *cursor = k;
+        match (cols.get(k), vals.get(k)) {
+            (Some(&c), Some(&v)) if c == j => v,
+            _ => 0.0,
+        }
+    }
+
+    /// Resumes at `cursor` (bisects only when the range starts behind it), walks to the
+    /// first stored column `≥ cols.start`, visits up to `cols.end` and leaves the cursor
+    /// there: each stored entry is passed once over increasing ranges.
+    #[inline]
+    fn for_each_in_row_range_ascending<F: FnMut(usize, f64)>(
+        &self,
+        i: usize,
+        cols: Range<usize>,
+        cursor: &mut usize,
+        mut f: F,
+    ) {
+        let (idx, vals) = self.row(i);
+        let mut k = (*cursor).min(idx.len());
+        if k > 0 && idx.get(k - 1).is_some_and(|&c| c as usize >= cols.start) {
+            k = idx.partition_point(|&c| (c as usize) < cols.start);
+        }
+        while idx.get(k).is_some_and(|&c| (c as usize) < cols.start) {
+            k += 1;
+        }
+        while let (Some(&c), Some(&v)) = (idx.get(k), vals.get(k)) {
+            if c as usize >= cols.end {
+                break;
+            }
+            f(c as usize, v);
+            k += 1;
+        }
+        *cursor = k;
+    }
+
     fn for_each_in_row_range<F: FnMut(usize, f64)>(&self, i: usize, cols: Range<usize>, mut f: F) {
         let (idx, vals) = self.row(i);
         // First stored column >= cols.start, found by bisection.
@@ -450,6 +550,39 @@ mod tests {
     }
 
     #[test]
+    fn ascending_queries_match_get_in_any_order() {
+        let data = [
+            0.0, 0.2, 0.3, 0.5, 0.1, 0.0, 0.0, 0.9, 0.4, 0.4, 0.2, 0.0, 0.0, 0.0, 0.0, 1.0,
+        ];
+        let dense = DenseMatrix::new(4, &data).unwrap();
+        let (rp, ci, v) = (
+            [0, 3, 5, 8, 9],
+            [1u32, 2, 3, 0, 3, 0, 1, 2, 3],
+            [0.2, 0.3, 0.5, 0.1, 0.9, 0.4, 0.4, 0.2, 1.0],
+        );
+        let csr = CsrMatrix::new(4, &rp, &ci, &v).unwrap();
+        // Increasing columns (the fast walk), then backwards, repeats and jumps on the
+        // same cursor (the fallback), rows past the end and huge columns included
+        let orders: [&[usize]; 4] = [
+            &[0, 1, 2, 3, 4, 5],
+            &[5, 3, 2, 2, 1, 0],
+            &[3, 0, 3, 1, 1, 2, usize::MAX, 0],
+            &[2, 4, 1, 3, 0],
+        ];
+        for i in 0..6 {
+            for order in orders {
+                let (mut a, mut b) = (0, 0);
+                for &j in order {
+                    let expected = dense.get(i, j);
+                    assert_eq!(csr.get(i, j), expected);
+                    assert_eq!(csr.get_ascending(i, j, &mut a), expected, "csr ({i}, {j})");
+                    assert_eq!(dense.get_ascending(i, j, &mut b), expected);
+                }
+            }
+        }
+    }
+
+    #[test]
     fn row_ranges_match_filtered_rows() {
         let data = [
             0.0, 0.2, 0.3, 0.5, 0.1, 0.0, 0.0, 0.9, 0.4, 0.4, 0.2, 0.0, 0.0, 0.0, 0.0, 1.0,
@@ -476,6 +609,16 @@ mod tests {
                     });
                     assert_eq!(x, y);
                     assert_eq!(x, z);
+                    // From a cursor left anywhere by an earlier range, before or after
+                    for (c0, c1) in [(0, a), (a, b), (b, 6), (3, 1)] {
+                        let mut cursor = 0;
+                        csr.for_each_in_row_range_ascending(i, c0..c1, &mut cursor, |_, _| {});
+                        let mut u = heapless::Vec::<(usize, f64), 8>::new();
+                        csr.for_each_in_row_range_ascending(i, a..b, &mut cursor, |j, p| {
+                            u.push((j, p)).unwrap();
+                        });
+                        assert_eq!(x, u, "row {i}, {a}..{b} after {c0}..{c1}");
+                    }
                 }
             }
         }

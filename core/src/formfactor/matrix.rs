@@ -363,6 +363,28 @@ impl Transitions for FormFactorView<'_> {
     }
 
     #[inline]
+    fn get_ascending(&self, i: usize, j: usize, cursor: &mut usize) -> f64 {
+        match self {
+            Self::Dense(m) => m.get(i, j),
+            Self::Sparse(m) => m.get_ascending(i, j, cursor),
+        }
+    }
+
+    #[inline]
+    fn for_each_in_row_range_ascending<F: FnMut(usize, f64)>(
+        &self,
+        i: usize,
+        cols: Range<usize>,
+        cursor: &mut usize,
+        f: F,
+    ) {
+        match self {
+            Self::Dense(m) => m.for_each_in_row_range(i, cols, f),
+            Self::Sparse(m) => m.for_each_in_row_range_ascending(i, cols, cursor, f),
+        }
+    }
+
+    #[inline]
     fn for_each_in_row_range<F: FnMut(usize, f64)>(&self, i: usize, cols: Range<usize>, f: F) {
         match self {
             Self::Dense(m) => m.for_each_in_row_range(i, cols, f),

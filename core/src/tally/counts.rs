@@ -369,7 +369,9 @@ impl Triangle<'_> {
     /// [`Self::for_each_nonzero`]): one sequential pass over the counts.
     pub(crate) fn row_lengths(&self, cap: usize) -> (Vec<usize>, Option<Vec<TriangleEntry>>) {
         let mut lengths = vec![0usize; self.n];
-        let mut entries = Some(Vec::new());
+        // Reserved at once (untouched pages cost no memory): no copy as it grows, and
+        // never more than `cap` entries however far it gets
+        let mut entries = Some(Vec::with_capacity(cap));
         self.for_each_nonzero(|b, a, s| {
             if let Some(l) = lengths.get_mut(b) {
                 *l += 1;
@@ -380,11 +382,10 @@ impl Triangle<'_> {
                 *l += 1;
             }
             if let Some(list) = &mut entries {
-                if list.len() < cap {
-                    // Dense counts have at most DENSE_COUNT_LIMIT rows: indices fit a u32
-                    list.push((b as u32, a as u32, s));
-                } else {
-                    entries = None;
+                // Dense counts have at most DENSE_COUNT_LIMIT rows: indices fit a u16
+                match (u16::try_from(b), u16::try_from(a)) {
+                    (Ok(b), Ok(a)) if list.len() < cap => list.push((b, a, s)),
+                    _ => entries = None,
                 }
             }
         });
@@ -392,8 +393,12 @@ impl Triangle<'_> {
     }
 }
 
-/// A non-zero count of a [`Triangle`]: `(b, a, s_ab)`, `a ≤ b`.
-pub(crate) type TriangleEntry = (u32, u32, u32);
+/// A non-zero count of a [`Triangle`]: `(b, a, s_ab)`, `a ≤ b`; 8 bytes, half of a
+/// triangle's 4 bytes a pair when a quarter of the pairs are non-zero.
+pub(crate) type TriangleEntry = (u16, u16, u32);
+
+// Row indices of dense counts fit a TriangleEntry
+const _: () = assert!(DENSE_COUNT_LIMIT <= 1 << 16);
 
 /// Entries a wide block of `Triangle::for_each_nonzero` tests at once.
 const WIDE_ZERO_RUN: usize = 64;
