@@ -550,8 +550,8 @@ pub struct FormFactorsArgs {
     /// The scene file: `.flat`, `.obj`, glTF, `.ply` or View3D's `.vs3`.
     pub file: PathBuf,
     /// Output: `.csv` (one row of F per line), `.txt` (number of states, their relative
-    /// sizes, then the rows of F), `.ijv` (sparse: `i,j,F_ij,error` per non-zero entry,
-    /// rows in order) or `.vf3` (View3D's output file: header, areas, rows, emissivities;
+    /// sizes, then the rows of F), `.ijv` (sparse: `i,j,F_ij,error` per non-zero entry
+    /// and per zero entry with a non-zero error estimate, rows in order) or `.vf3` (View3D's output file: header, areas, rows, emissivities;
     /// 3D scenes: one row per patch, or for a `.vs3` file View3D's own output surfaces).
     #[arg(
         long,

@@ -111,8 +111,9 @@ pub fn write(
     write_atomic(path, text.as_bytes())
 }
 
-/// The sparse matrix: a comment line, then one line `i,j,F_ij,err_ij` per non-zero entry,
-/// rows in order, columns increasing within a row (the compressed-row order), `err_ij` the
+/// The sparse matrix: a comment line, then one line `i,j,F_ij,err_ij` per non-zero entry
+/// and per zero entry whose estimate is not 0 (a pair decided as `0 ± U` or integrated to
+/// exactly 0 past occluders), rows in order, columns increasing within a row (the compressed-row order), `err_ij` the
 /// entry's error estimate (0 for an exact entry; empty for Monte Carlo, whose errors are
 /// statistical, and for the background state). Shortest round-trip decimals.
 fn sparse_text(m: &Measurement) -> String {
@@ -126,13 +127,24 @@ fn sparse_text(m: &Measurement) -> String {
         "# sceneinfo form factors, sparse: {n} states ({np} patches{}); i,j,F_ij,error estimate",
         if background { ", background last" } else { "" }
     );
+    // Entries of value 0 with a non-zero estimate (pairs decided as `0 ± U` by the bound,
+    // or integrated to exactly 0) are not stored entries: merged in, in row order.
+    let mut zeros = Vec::new();
+    m.for_each_zero_with_error(|i, j, e| zeros.push((i, j, e)));
+    let mut zeros = zeros.into_iter().peekable();
     m.for_each_form_factor(|i, j, v, error| {
+        while let Some((zi, zj, e)) = zeros.next_if(|&(zi, zj, _)| (zi, zj) < (i, j)) {
+            let _ = writeln!(s, "{zi},{zj},0.0,{e:?}");
+        }
         let _ = match error {
             Some(e) if estimated => writeln!(s, "{i},{j},{v:?},{e:?}"),
             Some(_) => writeln!(s, "{i},{j},{v:?},0"),
             None => writeln!(s, "{i},{j},{v:?},"),
         };
     });
+    for (zi, zj, e) in zeros {
+        let _ = writeln!(s, "{zi},{zj},0.0,{e:?}");
+    }
     s
 }
 

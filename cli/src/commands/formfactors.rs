@@ -88,7 +88,7 @@ pub fn run(args: &FormFactorsArgs) -> Result<()> {
         // F_ij and each row sum carry an a-posteriori error estimate
         writeln!(
             o,
-            "error estimate      {}  (max over F_ij {:.2e}, tolerance {:e}; {} pairs integrated with occluders, {} over the tolerance)",
+            "error estimate      {}  (max over F_ij {:.2e}, tolerance {:e}; {} pairs with occluders integrated or bounded, {} over the tolerance)",
             yes(e.over_tolerance == 0 && e.max_error <= e.tolerance),
             e.max_error,
             e.tolerance,

@@ -563,11 +563,14 @@ impl Measurement {
         // The non-zero entries, and their estimates in the same order
         let mut csr = CsrMatrixBuf::row_major(n, full.values.len())?;
         let mut per_entry = Vec::with_capacity(full.values.len());
+        let mut zeros = Vec::new();
         for i in 0..n {
             for p in full.row(i) {
                 csr.push(i, full.columns[p] as usize, full.values[p])?;
                 if full.values[p] != 0.0 {
                     per_entry.push(full.errors[p]);
+                } else if full.errors[p] > 0.0 {
+                    zeros.push((i as u32, full.columns[p], full.errors[p]));
                 }
             }
         }
@@ -583,6 +586,7 @@ impl Measurement {
                 over_tolerance: rows.over_tolerance as usize,
                 per_pair: per_entry,
                 sparse: true,
+                zeros,
             });
         }
         Ok(m)

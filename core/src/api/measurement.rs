@@ -81,7 +81,8 @@ pub struct ExactErrors {
     pub max_error: f64,
     /// The largest estimate of a row sum `Σ_j F_ij` (closure is checked against it).
     pub max_row_error: f64,
-    /// Unordered pairs integrated adaptively (those with candidate occluders).
+    /// Unordered pairs with candidate occluders given a value with an error estimate
+    /// (integrated adaptively, or decided by the bound `0 ≤ flux ≤ U_ij`).
     pub pairs_integrated: usize,
     /// Unordered pairs whose estimate exceeds the tolerance (stopped by the work cap).
     pub over_tolerance: usize,
@@ -91,6 +92,11 @@ pub struct ExactErrors {
     pub(crate) per_pair: Vec<f64>,
     /// Whether `per_pair` follows the sparse form factors' entries.
     pub(crate) sparse: bool,
+    /// The entries whose value is 0 but whose estimate is not, `(i, j, estimate)` in
+    /// row-major order: pairs decided as `0 ± U_ij` by the bound (`occluded_3d::budget`)
+    /// or integrated to exactly 0. Not among the stored entries of the form factors, so
+    /// read apart ([`Measurement::for_each_zero_with_error`]).
+    pub(crate) zeros: Vec<(u32, u32, f64)>,
 }
 
 impl Measurement {
@@ -346,6 +352,19 @@ impl Measurement {
     }
 
     /// Sets the error estimates of exact form factors ([`Measurement::from_exact_rows`]).
+    /// Calls `f(i, j, estimate)` for every patch entry whose value is 0 but whose error
+    /// estimate is not (a pair decided as `0 ± U_ij` by the bound `0 ≤ flux ≤ U_ij`, or
+    /// integrated to exactly 0 past occluders), rows in order and columns increasing.
+    /// [`Measurement::for_each_form_factor`] visits the non-zero entries only, so these
+    /// estimates are read here; nothing for form factors without estimates.
+    pub fn for_each_zero_with_error(&self, mut f: impl FnMut(usize, usize, f64)) {
+        if let Some(e) = &self.exact_errors {
+            for &(i, j, error) in &e.zeros {
+                f(i as usize, j as usize, error);
+            }
+        }
+    }
+
     pub(super) fn set_exact_errors(&mut self, errors: ExactErrors) {
         self.exact_errors = Some(errors);
     }
@@ -481,14 +500,26 @@ impl Measurement {
                         work.collect(executor.execute_rows(&work))
                     },
                 )?;
-                let errors = (r.pairs_integrated > 0).then(|| ExactErrors {
-                    tolerance: r.tolerance,
-                    max_error: r.max_error(),
-                    max_row_error: r.max_row_error(),
-                    pairs_integrated: r.pairs_integrated,
-                    over_tolerance: r.over_tolerance,
-                    per_pair: r.errors.clone(),
-                    sparse: false,
+                let errors = (r.pairs_integrated > 0).then(|| {
+                    let n = r.form_factors.n_patches();
+                    let matrix = r.form_factors.matrix();
+                    let zeros = (0..n)
+                        .flat_map(|i| (0..n).map(move |j| (i, j)))
+                        .filter_map(|(i, j)| {
+                            let e = r.errors.get(i * n + j).copied().unwrap_or(0.0);
+                            (e > 0.0 && matrix.get(i, j) == 0.0).then_some((i as u32, j as u32, e))
+                        })
+                        .collect();
+                    ExactErrors {
+                        tolerance: r.tolerance,
+                        max_error: r.max_error(),
+                        max_row_error: r.max_row_error(),
+                        pairs_integrated: r.pairs_integrated,
+                        over_tolerance: r.over_tolerance,
+                        per_pair: r.errors.clone(),
+                        sparse: false,
+                        zeros,
+                    }
                 });
                 (r.form_factors, errors)
             }

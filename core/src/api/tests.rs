@@ -788,3 +788,42 @@ fn exact_rows_refuse_what_is_not_one_job() {
         ErrorKind::BadParameter { name: "rows", .. }
     ));
 }
+
+/// A pair of small patches hidden behind a plate, whose unoccluded flux fits the
+/// tolerance, is decided as `0 ± U` by the bound (`occluded_3d::budget`): its value is 0
+/// (not a stored entry) and its estimate is read by `for_each_zero_with_error`, the same
+/// from the dense job and from exact rows (sparse).
+#[test]
+fn a_hidden_pair_decided_by_its_bound_keeps_its_estimate() {
+    // Squares of side 0.01 at z = 0 (facing up) and z = 1 (facing down), a plate of side
+    // 1 at z = 0.5 facing down between them.
+    let text = "v 0 0 0\nv 0.01 0 0\nv 0.01 0.01 0\nv 0 0.01 0\n\
+                v 0 0 1\nv 0.01 0 1\nv 0.01 0.01 1\nv 0 0.01 1\n\
+                v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n\
+                f 1 2 3 4\nf 5 8 7 6\nf 9 12 11 10\n";
+    let format = SceneFormat::Obj(crate::io::ObjOptions::default());
+    let (scene, _) = Scene::from_bytes(text.as_bytes(), format, |_| None).unwrap();
+    let options = crate::formfactor::occluded_3d::OcclusionOptions::new(1e-3);
+    let dense = Measurement::exact_within(&scene, &options, &mut Serial).unwrap();
+    let ff = dense.form_factors().unwrap();
+    assert_eq!(ff.get(0, 1), 0.0);
+    assert_eq!(ff.get(1, 0), 0.0);
+    let zeros = |m: &Measurement| {
+        let mut out = Vec::new();
+        m.for_each_zero_with_error(|i, j, e| out.push((i, j, e.to_bits())));
+        out
+    };
+    let found = zeros(&dense);
+    let pairs: Vec<(usize, usize)> = found.iter().map(|&(i, j, _)| (i, j)).collect();
+    assert_eq!(pairs, [(0, 1), (1, 0)]);
+    // The unoccluded F between the squares is about A / (π d²) = 3.2e-5: the estimate
+    // is that, within the tolerance.
+    for &(_, _, e) in &found {
+        let e = f64::from_bits(e);
+        assert!(e > 1e-5 && e <= 1e-3, "{e}");
+    }
+    let whole = ExactRows::compute(&scene, 3, &options, None, &mut Serial).unwrap();
+    let sparse = Measurement::from_exact_rows(whole).unwrap();
+    assert_eq!(zeros(&sparse), found);
+    assert_eq!(entries(&sparse), entries(&dense));
+}

@@ -220,7 +220,9 @@ pub struct OccludedFormFactors {
     pub errors: Vec<f64>,
     /// The tolerance asked for.
     pub tolerance: f64,
-    /// Unordered pairs integrated adaptively (with candidate occluders).
+    /// Unordered pairs with candidate occluders given a value with an error estimate:
+    /// integrated adaptively, or decided by the bound `0 ≤ flux ≤ U_ij` with one probe
+    /// (`budget.rs`).
     pub pairs_integrated: usize,
     /// Unordered pairs with candidate occluders found hidden from each other by one of
     /// them, one solid or several bodies together (`F = 0` exactly, not integrated).
@@ -786,7 +788,11 @@ impl<'a> Prepared<'a> {
                 self.decided_by_bound((src, ps), (tgt, pt), &cand)?
             {
                 // Decided by 0 ≤ F ≤ F_unoccluded within the tolerance (`budget.rs`).
-                // One point: the probe that centred the value.
+                // One point: the probe that centred the value. Counted with the
+                // integrated pairs: its value carries an error estimate, so the job's
+                // estimates must be reported (a job whose every occluded pair is decided
+                // so is not exact).
+                out.integrated += 1;
                 OccludedFlux {
                     flux,
                     error,
