@@ -549,18 +549,24 @@ mod tests {
         );
     }
 
+    /// A 4-state matrix with empty and full rows, dense and CSR.
+    const FOUR_STATES: [f64; 16] = [
+        0.0, 0.2, 0.3, 0.5, 0.1, 0.0, 0.0, 0.9, 0.4, 0.4, 0.2, 0.0, 0.0, 0.0, 0.0, 1.0,
+    ];
+    const FOUR_ROW_PTR: [usize; 5] = [0, 3, 5, 8, 9];
+    const FOUR_COLS: [u32; 9] = [1, 2, 3, 0, 3, 0, 1, 2, 3];
+    const FOUR_VALUES: [f64; 9] = [0.2, 0.3, 0.5, 0.1, 0.9, 0.4, 0.4, 0.2, 1.0];
+
+    fn four_states_dense_and_csr() -> (DenseMatrix<'static>, CsrMatrix<'static>) {
+        (
+            DenseMatrix::new(4, &FOUR_STATES).unwrap(),
+            CsrMatrix::new(4, &FOUR_ROW_PTR, &FOUR_COLS, &FOUR_VALUES).unwrap(),
+        )
+    }
+
     #[test]
     fn ascending_queries_match_get_in_any_order() {
-        let data = [
-            0.0, 0.2, 0.3, 0.5, 0.1, 0.0, 0.0, 0.9, 0.4, 0.4, 0.2, 0.0, 0.0, 0.0, 0.0, 1.0,
-        ];
-        let dense = DenseMatrix::new(4, &data).unwrap();
-        let (rp, ci, v) = (
-            [0, 3, 5, 8, 9],
-            [1u32, 2, 3, 0, 3, 0, 1, 2, 3],
-            [0.2, 0.3, 0.5, 0.1, 0.9, 0.4, 0.4, 0.2, 1.0],
-        );
-        let csr = CsrMatrix::new(4, &rp, &ci, &v).unwrap();
+        let (dense, csr) = four_states_dense_and_csr();
         // Increasing columns (the fast walk), then backwards, repeats and jumps on the
         // same cursor (the fallback), rows past the end and huge columns included
         let orders: [&[usize]; 4] = [
@@ -584,16 +590,7 @@ mod tests {
 
     #[test]
     fn row_ranges_match_filtered_rows() {
-        let data = [
-            0.0, 0.2, 0.3, 0.5, 0.1, 0.0, 0.0, 0.9, 0.4, 0.4, 0.2, 0.0, 0.0, 0.0, 0.0, 1.0,
-        ];
-        let dense = DenseMatrix::new(4, &data).unwrap();
-        let (rp, ci, v) = (
-            [0, 3, 5, 8, 9],
-            [1u32, 2, 3, 0, 3, 0, 1, 2, 3],
-            [0.2, 0.3, 0.5, 0.1, 0.9, 0.4, 0.4, 0.2, 1.0],
-        );
-        let csr = CsrMatrix::new(4, &rp, &ci, &v).unwrap();
+        let (dense, csr) = four_states_dense_and_csr();
         for i in 0..5 {
             for a in 0..5 {
                 for b in 0..6 {
