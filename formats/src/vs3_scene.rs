@@ -15,7 +15,7 @@
 //! | `F 3`, `F 3a` | geometry format | both read; `F 2`, `F 1` (other programs') refused |
 //! | `V n x y z` | vertex `n` (`F 3`) | a point |
 //! | `S n v1 v2 v3 v4 base cmb emit name` | surface (`F 3`; `v4 = 0`: a triangle) | patches |
-//! | `S n shape base cmb emit name` + numbers | surface (`F 3a`): origin, azimuth, tilt, then `R` width height, `Q` four `(x, y)`, `T` three | patches ([`crate::vs3_parse::blast_corners`]) |
+//! | `S n shape base cmb emit name` + numbers | surface (`F 3a`): origin, azimuth, tilt, then `R` width height, `Q` four `(x, y)`, `T` three | patches (`vs3_parse::blast_corners`) |
 //! | `S` with `base ≠ 0` | subsurface (a window in a wall) | its own patches; cut out of its base |
 //! | `M` | masking surface, on a base, facing it | no patch; cut out of its base; its row sees only the base |
 //! | `N` | null surface, on a base, facing it | no patch; cut out of its base; no row |
@@ -28,7 +28,7 @@
 //!
 //! **How each surface becomes patches.** A surface's region is its polygon minus the
 //! subsurfaces, masks and null surfaces whose base it is, cut into disjoint convex pieces
-//! ([`crate::vs3_pieces::minus`]). A subsurface must lie in its base's plane, inside it,
+//! (`vs3_pieces::minus`). A subsurface must lie in its base's plane, inside it,
 //! facing the same way (masks and null surfaces: the opposite way), and be numbered after
 //! it; otherwise the file is refused at its line. Surfaces with a non-zero `cmb` join the
 //! lower-numbered surface they name: the pieces of one output surface become one patch when
