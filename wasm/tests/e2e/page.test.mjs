@@ -105,10 +105,20 @@ test('an interior segment raises I_S^c, and the link shares the scene', async ()
     `I_S^c ${before.value} → ${after.value}`);
 
   // The URL hash now holds the scene: a fresh page shows the same scene and numbers. The
-  // page writes it 250 ms after the last edit, which can be after the lines are done on a
-  // fast machine: wait for the new scene's hash, not for any hash.
+  // page writes it 250 ms after the last edit (each edit restarts the timer), which can be
+  // after the lines are done on a fast machine, and the triangle's own hash may land after
+  // `hashBefore` was read: a changed hash is not enough (session 16's clone saw the
+  // triangle's 30 patches). Wait for a scene hash that stays the same for longer than the
+  // timer, so the write of the last edit has landed (bounded: 40 polls).
   await page.waitForFunction((b) => location.hash.startsWith('#scene=') && location.hash !== b,
     hashBefore);
+  let hash = await page.evaluate(() => location.hash);
+  for (let poll = 0; poll < 40; poll++) {
+    await page.waitForTimeout(400);
+    const now = await page.evaluate(() => location.hash);
+    if (now === hash) break;
+    hash = now;
+  }
   const url = page.url();
   const other = await context.newPage();
   watch(other);
