@@ -212,6 +212,16 @@ printf '\n==> tools ready (%ss)\n' "$(($(date +%s) - install_start))"
 # ---------------------------------------------------------------------------------------
 
 checks_start=$(date +%s)
+
+# A full run writes about 3 GB of build output (target/, fuzz/target, the wheel's build):
+# the CI host once ran out of disk mid-run, so say how much there is before starting.
+target_dir=${CARGO_TARGET_DIR:-$ROOT/target}
+mkdir -p "$target_dir"
+free_kb=$(df -Pk "$target_dir" | awk 'NR == 2 { print $4 }')
+printf '\n==> disk: %s MB free where the build goes (%s)\n' "$((free_kb / 1024))" "$target_dir"
+if [[ $free_kb -lt $((4 * 1024 * 1024)) ]]; then
+    echo "    warning: less than 4 GB free; the run may fail with 'No space left on device'"
+fi
 passed=0
 failed=0
 summary=()
@@ -399,6 +409,7 @@ printf '=%.0s' {1..90}
 printf '\n=== summary (total %s s, of which %s s installing)\n' \
     "$(($(date +%s) - install_start))" "$((checks_start - install_start))"
 printf '%s\n' "${summary[@]}"
+printf 'build output: %s\n' "$(du -sh "$target_dir" 2>/dev/null | cut -f1) in $target_dir"
 if [[ ${#failures[@]} -gt 0 ]]; then
     printf '\n=== what failed (the lines of each failed step that name it)\n'
     printf '%s\n' "${failures[@]}"
