@@ -316,3 +316,78 @@ fn view3d_s_sample_files_with_their_own_controls() {
         assert!(max <= bound, "{name}: max |dF| {max:e}");
     }
 }
+
+/// `scene convert FILE.vs3 -o OUT.vs3` keeps the file's records: the obstruction-only
+/// plate with its radiating subsurface, the masks, the combined L-shaped floor, the
+/// controls. The written file gives the same `.vf3`, bit for bit.
+#[test]
+fn vs3_converted_to_vs3_keeps_its_records() {
+    for name in [
+        "surface-kinds/obstruction_with_subsurface",
+        "surface-kinds/mask",
+        "surface-kinds/null",
+        "view3d-examples/pinney-bean-test-4-f3a",
+        "controls/encl_emit",
+    ] {
+        let scene = data(&format!("{name}.vs3"));
+        let stem = name.replace('/', "-");
+        let copy = temp(&format!("{stem}-converted.vs3"));
+        stdout_of(&["scene", "convert", s(&scene), "-o", s(&copy)]);
+        let text = std::fs::read_to_string(&copy).unwrap();
+        if name.contains("obstruction") {
+            assert!(text.lines().any(|l| l.starts_with("O ")), "{text}");
+        }
+        if name.contains("mask") {
+            assert!(text.lines().any(|l| l.starts_with("M ")), "{text}");
+        }
+        let (a, _) = sceneinfo_of(&scene);
+        let (b, _) = sceneinfo_of(&copy);
+        assert_eq!(a, b, "{name}");
+    }
+}
+
+/// `merge --out F.vf3 --scene FILE.vs3` of exact rows computed in two ranges writes the
+/// `.vf3` that `formfactors FILE.vs3 --out F.vf3` writes, bit for bit; rows of another
+/// scene are refused.
+#[test]
+fn merged_rows_write_view3d_s_surfaces() {
+    let scene = data("view3d-examples/pinney-bean-test-4.vs3");
+    let (whole, _) = sceneinfo_of(&scene);
+    let parts: Vec<PathBuf> = ["0..5", "5..12"]
+        .iter()
+        .map(|r| {
+            let part = temp(&format!("pb-{r}.sir"));
+            stdout_of(&[
+                "formfactors",
+                s(&scene),
+                "--tol",
+                "1e-6",
+                "--threads",
+                "1",
+                "--rows",
+                r,
+                "--partial",
+                s(&part),
+            ]);
+            part
+        })
+        .collect();
+    let out = temp("pb-merged.vf3");
+    stdout_of(&[
+        "merge",
+        s(&parts[0]),
+        s(&parts[1]),
+        "--out",
+        s(&out),
+        "--scene",
+        s(&scene),
+    ]);
+    assert_eq!(read_vf3(&out), whole);
+    let wrong = common::bin()
+        .args(["merge", s(&parts[0]), s(&parts[1]), "--out", s(&out), "--scene"])
+        .arg(data("view3d-examples/cube.vs3"))
+        .output()
+        .unwrap();
+    assert!(!wrong.status.success());
+    assert!(String::from_utf8_lossy(&wrong.stderr).contains("rows of another scene"));
+}

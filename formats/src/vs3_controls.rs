@@ -49,6 +49,9 @@ pub struct Vs3FileControls {
     pub out: u8,
     /// `list`: View3D's log detail, 0 to 3.
     pub list: u8,
+    /// `maxU`, `maxO`, `minO` when given (View3D's recursion limits; kept to be written
+    /// back, not used).
+    pub recursions: [Option<u16>; 3],
     /// The line of the last `C` line (0: none), for messages.
     pub line: usize,
     /// The line that gave `row` (0: none), for messages.
@@ -65,6 +68,7 @@ impl Default for Vs3FileControls {
             emit: false,
             out: 0,
             list: 0,
+            recursions: [None; 3],
             line: 0,
             row_line: 0,
         }
@@ -109,7 +113,12 @@ impl Vs3FileControls {
                     self.eps = Some(v);
                 }
                 "maxu" | "maxo" | "mino" => {
-                    integer(1000)?;
+                    let k = match name.as_str() {
+                        "maxu" => 0,
+                        "maxo" => 1,
+                        _ => 2,
+                    };
+                    self.recursions[k] = Some(integer(1000)? as u16);
                 }
                 "row" => {
                     self.row = integer(crate::vs3_parse::MAX_NUMBER)?;
@@ -135,6 +144,36 @@ impl Vs3FileControls {
             ));
         }
         Ok(())
+    }
+}
+
+impl Vs3FileControls {
+    /// The controls as a `C` line's values (`encl=… emit=… out=… list=…`, then `eps`,
+    /// `maxU`, `maxO`, `minO`, `row`, `col` where given), View3D's defaults otherwise.
+    #[must_use]
+    pub fn line_text(&self) -> String {
+        let mut s = format!(
+            "encl={} emit={} out={} list={}",
+            u8::from(self.encl),
+            u8::from(self.emit),
+            self.out,
+            self.list
+        );
+        if let Some(eps) = self.eps {
+            s.push_str(&format!(" eps={eps:e}"));
+        }
+        for (name, v) in ["maxU", "maxO", "minO"].iter().zip(self.recursions) {
+            if let Some(v) = v {
+                s.push_str(&format!(" {name}={v}"));
+            }
+        }
+        if self.row != 0 {
+            s.push_str(&format!(" row={}", self.row));
+        }
+        if self.col != 0 {
+            s.push_str(&format!(" col={}", self.col));
+        }
+        s
     }
 }
 
