@@ -237,8 +237,8 @@ fn view3d_surfaces_text(v: &View3dSurfaces) -> Result<String> {
 }
 
 /// View3D's text output of a `.vs3` scene's output surfaces without `encl` or `emit`, row
-/// by row ([`Vs3Layout::combined_row`]; the background state left out), with the file's
-/// emittances.
+/// by row ([`Vs3Layout::combined_row`]; the patches' rows as they are when the surfaces
+/// are the patches; the background state left out), with the file's emittances.
 fn view3d_combined_text(ff: &FormFactors, layout: &Vs3Layout) -> Result<String> {
     let np = ff.n_patches();
     if layout.n_patches() != np {
@@ -247,6 +247,7 @@ fn view3d_combined_text(ff: &FormFactors, layout: &Vs3Layout) -> Result<String> 
             layout.n_patches()
         );
     }
+    let one_to_one = layout.is_one_to_one();
     let mut buffer = vec![0.0; ff.n_states()];
     let emissivities: Vec<f64> = layout
         .surfaces()
@@ -259,6 +260,13 @@ fn view3d_combined_text(ff: &FormFactors, layout: &Vs3Layout) -> Result<String> 
         false,
         false,
         |k, out| {
+            if one_to_one {
+                // The patches' rows as they are (no product and quotient by the area)
+                ff.dense_row_into(k, &mut buffer)
+                    .map_err(|e| anyhow::anyhow!("{e}"))?;
+                out.copy_from_slice(&buffer[..np]);
+                return Ok(());
+            }
             layout.combined_row(k, &mut buffer, out, |p, row| {
                 ff.dense_row_into(p, row)
                     .map_err(|e| anyhow::anyhow!("{e}"))
