@@ -204,9 +204,10 @@ pub struct EnclosureReport {
 /// The manual says only that the factors are "slightly adjusted … to guarantee
 /// conservation of energy"; this form was found by running View3D 4.0.0 on open scenes,
 /// whose rows must move far (`tests/data/vs3/controls/`, `docs/occlusion.md`): it
-/// reproduces View3D's `encl=1` output within its six printed decimals, where a row
-/// scaling followed by averaging (6e-3 off), or additive least-squares corrections (which
-/// fill zero entries), do not.
+/// reproduces View3D's `encl=1` output from View3D's own black matrix within its six
+/// printed decimals (4.1e-7), where row scaling followed by averaging until converged
+/// (9.3e-4 off), least-squares corrections proportional to the entries (3.1e-3) or
+/// additive ones (which fill zero entries) do not.
 ///
 /// # Errors
 /// `areas` and `f` of different sizes, an area not positive, a value not finite.

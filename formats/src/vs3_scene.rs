@@ -11,10 +11,10 @@
 //! |---|---|---|
 //! | `! …`, `/ …` | comment (also after data on a line) | skipped |
 //! | `T title` | title | skipped |
-//! | `C name=value …` | controls (`eps`, `maxU`, `maxO`, `minO`, `row`, `col`, `encl`, `emit`, `out`, `list`) | skipped: sceneinfo's `--tol` applies; its view factors are black (`emit=0`) and not renormalised (`encl=0`) |
+//! | `C name=value …` | controls (`eps`, `maxU`, `maxO`, `minO`, `row`, `col`, `encl`, `emit`, `out`, `list`) | read and checked ([`crate::vs3_controls`]): `eps` the tolerance when no `--tol`; `encl=1`, `emit=1` applied to the output surfaces ([`Vs3Layout::view3d_matrix`]); `row`, `col` name output surfaces (printed by `formfactors`); an unknown name or bad value refused |
 //! | `F 3`, `F 3a` | geometry format | both read; `F 2`, `F 1` (other programs') refused |
 //! | `V n x y z` | vertex `n` (`F 3`) | a point |
-//! | `S n v1 v2 v3 v4 base cmb emit name` | surface (`F 3`; `v4 = 0`: a triangle) | patches |
+//! | `S n v1 v2 v3 v4 base cmb emit name` | surface (`F 3`; `v4 = 0`: a triangle) | patches; `emit` the output surface's emittance |
 //! | `S n shape base cmb emit name` + numbers | surface (`F 3a`): origin, azimuth, tilt, then `R` width height, `Q` four `(x, y)`, `T` three | patches (`vs3_parse::blast_corners`) |
 //! | `S` with `base ≠ 0` | subsurface (a window in a wall) | its own patches; cut out of its base |
 //! | `M` | masking surface, on a base, facing it | no patch; cut out of its base; its row sees only the base |
@@ -23,8 +23,9 @@
 //! | `E …`, `e …`, `* …` | end of data | stops reading |
 //!
 //! Vertices are listed counter-clockwise seen from the front of the surface (the active
-//! side), as in OBJ and sceneinfo: they are copied as they are. The emissivity and name
-//! columns are not used (the name only in messages).
+//! side), as in OBJ and sceneinfo: they are copied as they are. The emittance is the output
+//! surface's (its `.vf3` line, Hottel's script-F with `emit=1`; with `emit=1` combined
+//! surfaces must agree on it); the name is used in messages.
 //!
 //! **How each surface becomes patches.** A surface's region is its polygon minus the
 //! subsurfaces, masks and null surfaces whose base it is, cut into disjoint convex pieces
