@@ -164,7 +164,7 @@ fn measure_scene(
 ///
 /// # Errors
 /// Reading the file; `vs3_scene::read_with_layout`'s.
-fn vs3_eps(path: &Path) -> Result<Option<f64>> {
+pub fn vs3_eps(path: &Path) -> Result<Option<f64>> {
     let Some(layout) = crate::matrix_file::vs3_layout_of(path)? else {
         return Ok(None);
     };

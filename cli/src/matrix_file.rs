@@ -230,10 +230,16 @@ fn view3d_text(ff: &FormFactors, areas: &[f64]) -> Result<String> {
 /// View3D's text output of a `.vs3` scene's output surfaces ([`view3d_surfaces`]).
 fn view3d_surfaces_text(v: &View3dSurfaces) -> Result<String> {
     let n = v.areas.len();
-    crate::formats::view3d_out::write_text_with(&v.areas, &v.emissivities, v.encl, v.emit, |k, out| {
-        out.copy_from_slice(&v.form_factors[k * n..(k + 1) * n]);
-        Ok(())
-    })
+    crate::formats::view3d_out::write_text_with(
+        &v.areas,
+        &v.emissivities,
+        v.encl,
+        v.emit,
+        |k, out| {
+            out.copy_from_slice(&v.form_factors[k * n..(k + 1) * n]);
+            Ok(())
+        },
+    )
 }
 
 /// View3D's text output of a `.vs3` scene's output surfaces without `encl` or `emit`, row

@@ -243,7 +243,10 @@ fn encl_and_emit_give_view3d_s_matrices() {
         "--out",
         s(&out),
     ]);
-    assert!(text.contains("apply to View3D's surfaces in --out F.vf3"), "{text}");
+    assert!(
+        text.contains("apply to View3D's surfaces in --out F.vf3"),
+        "{text}"
+    );
 }
 
 /// `row=5` (and `col=3`): the row View3D 4.0.0 prints in its log (its output file is
@@ -290,7 +293,10 @@ fn row_and_col_print_view3d_s_row() {
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && err.contains("col.vs3:2: col is set but row is not"), "{err}");
+    assert!(
+        !out.status.success() && err.contains("col.vs3:2: col is set but row is not"),
+        "{err}"
+    );
 }
 
 /// View3D's sample files with their own controls (`encl=1` for all but the square
@@ -384,7 +390,14 @@ fn merged_rows_write_view3d_s_surfaces() {
     ]);
     assert_eq!(read_vf3(&out), whole);
     let wrong = common::bin()
-        .args(["merge", s(&parts[0]), s(&parts[1]), "--out", s(&out), "--scene"])
+        .args([
+            "merge",
+            s(&parts[0]),
+            s(&parts[1]),
+            "--out",
+            s(&out),
+            "--scene",
+        ])
         .arg(data("view3d-examples/cube.vs3"))
         .output()
         .unwrap();

@@ -573,7 +573,10 @@ pub fn view3d_surfaces<'py>(
     d.set_item("numbers", numbers)?;
     d.set_item("names", names)?;
     d.set_item("areas", crate::arrays::vector(py, v.areas))?;
-    d.set_item("form_factors", crate::arrays::matrix(py, n, n, v.form_factors)?)?;
+    d.set_item(
+        "form_factors",
+        crate::arrays::matrix(py, n, n, v.form_factors)?,
+    )?;
     d.set_item("emissivities", crate::arrays::vector(py, v.emissivities))?;
     d.set_item("encl", v.encl)?;
     d.set_item("emit", v.emit)?;

@@ -146,9 +146,14 @@ fn print_controls(
     if let Some(e) = enclosure {
         writeln!(
             o,
-            "encl=1              rows adjusted to 1 within {:.1e}, reciprocity kept \
+            "encl=1              rows adjusted to 1 within {:.1e}{}, reciprocity kept \
              (largest change of an entry {:.2e}, {} passes; {}:{})",
             e.max_row_error,
+            if e.max_row_error > 1e-9 {
+                " (NOT an enclosure: the rows cannot all sum to 1)"
+            } else {
+                ""
+            },
             e.max_change,
             e.iterations,
             file.display(),
@@ -199,11 +204,7 @@ fn print_controls(
         writeln!(
             o,
             "row={} col={}       F[{}][{}] = {:?} ({what})",
-            c.row,
-            c.col,
-            c.row,
-            c.col,
-            row[l]
+            c.row, c.col, c.row, c.col, row[l]
         )?;
         return Ok(());
     }
@@ -212,7 +213,10 @@ fn print_controls(
         "row={}               {what}, from surface {} ({}) to surface m:",
         c.row, c.row, surfaces[k].name
     )?;
-    writeln!(o, "  srf m  A(n)*F(n,m)              F(n,m)                    F(m,n)                    name")?;
+    writeln!(
+        o,
+        "  srf m  A(n)*F(n,m)              F(n,m)                    F(m,n)                    name"
+    )?;
     let mut sum = 0.0;
     for (l, s) in surfaces.iter().enumerate() {
         let f = row[l];
@@ -265,7 +269,12 @@ fn write_rows(args: &FormFactorsArgs, part: &Path) -> Result<()> {
             path.display()
         );
     }
-    let options = OcclusionOptions::new(sampling.tol.unwrap_or(occluded_3d::DEFAULT_TOLERANCE));
+    // The tolerance: --tol, else a .vs3 file's eps (as formfactors --out takes it)
+    let tol = match sampling.tol {
+        Some(t) => t,
+        None => crate::job::vs3_eps(path)?.unwrap_or(occluded_3d::DEFAULT_TOLERANCE),
+    };
+    let options = OcclusionOptions::new(tol);
     let start = std::time::Instant::now();
     let threads = crate::job::threads_of(sampling);
     let rows = ExactRows::compute(

@@ -142,10 +142,7 @@ fn merge_rows(args: &MergeArgs, files: &[Vec<u8>], start: Instant) -> Result<()>
 /// The View3D layout of the `.vs3` file `scene`, checked against the merged rows' patch
 /// areas `areas` (the same patches, one for one, to 1e-12 relative): rows of another
 /// scene are refused rather than written as this file's surfaces.
-fn layout_of_rows(
-    scene: &Path,
-    areas: &[f64],
-) -> Result<crate::formats::vs3_scene::Vs3Layout> {
+fn layout_of_rows(scene: &Path, areas: &[f64]) -> Result<crate::formats::vs3_scene::Vs3Layout> {
     let Some(layout) = crate::matrix_file::vs3_layout_of(scene)? else {
         anyhow::bail!("--scene {}: not a View3D .vs3 file", scene.display());
     };
