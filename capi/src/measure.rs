@@ -862,11 +862,11 @@ pub unsafe extern "C" fn si_measurement_zero_form_factor_errors(
             e.push(error);
         });
         // SAFETY: by the contract above (each buffer `len` long; the count written first)
-        unsafe {
-            copy_out(&r, rows, len, out_count, "rows")?;
-            copy_out(&c, cols, len, std::ptr::null_mut(), "cols")?;
-            copy_out(&e, errors, len, std::ptr::null_mut(), "errors")
-        }
+        unsafe { copy_out(&r, rows, len, out_count, "rows") }?;
+        // SAFETY: by the contract above
+        unsafe { copy_out(&c, cols, len, std::ptr::null_mut(), "cols") }?;
+        // SAFETY: by the contract above
+        unsafe { copy_out(&e, errors, len, std::ptr::null_mut(), "errors") }
     })
 }
 

@@ -42,7 +42,7 @@ pub const ENCLOSURE_STALL_PASSES: usize = 200;
 pub const ENCLOSURE_ROW_TOLERANCE: f64 = 1e-13;
 
 /// The values of a file's `C` line(s), View3D's defaults for those not given.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Vs3FileControls {
     /// `eps`, when the file gives it (View3D's default 1e-4 otherwise).
     pub eps: Option<f64>,
@@ -65,23 +65,6 @@ pub struct Vs3FileControls {
     pub line: usize,
     /// The line that gave `row` (0: none), for messages.
     pub row_line: usize,
-}
-
-impl Default for Vs3FileControls {
-    fn default() -> Self {
-        Self {
-            eps: None,
-            row: 0,
-            col: 0,
-            encl: false,
-            emit: false,
-            out: 0,
-            list: 0,
-            recursions: [None; 3],
-            line: 0,
-            row_line: 0,
-        }
-    }
 }
 
 impl Vs3FileControls {
@@ -246,10 +229,10 @@ pub fn enclosure_adjust(areas: &[f64], f: &mut [f64]) -> Result<EnclosureReport>
     // Bounded: max_passes passes
     while iterations < max_passes {
         let mut worst: f64 = 0.0;
-        for i in 0..n {
+        for (i, a) in areas.iter().enumerate() {
             let r = row_sum(&d, i);
             if r > 0.0 {
-                worst = worst.max((r / areas[i] - 1.0).abs());
+                worst = worst.max((r / a - 1.0).abs());
             }
         }
         if !(worst > ENCLOSURE_ROW_TOLERANCE) {
@@ -297,7 +280,7 @@ pub fn enclosure_adjust(areas: &[f64], f: &mut [f64]) -> Result<EnclosureReport>
 ///
 /// so that `A_i 𝓕_ij σ (T_i⁴ − T_j⁴)` is the net exchange between `i` and `j` with every
 /// reflection counted (Hottel & Sarofim, *Radiative Transfer*, 1967, the manual's
-/// reference [3]: the total exchange areas `A_i 𝓕_ij`). The manual names the factors, not
+/// reference \[3\]: the total exchange areas `A_i 𝓕_ij`). The manual names the factors, not
 /// the formula; View3D 4.0.0's `emit=1` outputs agree with it within their six printed
 /// decimals (`tests/data/vs3/controls/`), taking the view factors after any `encl`
 /// adjustment. Solved by Gaussian elimination with partial pivoting (`n` linear systems

@@ -131,7 +131,7 @@ pub fn write(scene: &Scene3, title: &str, controls: Vs3Controls) -> String {
 /// record (`S`, `M`, `N`, `O`) with its number, corners, base, `cmb`, emittance and name as
 /// read (a `F 3a` surface's corners placed as `vs3_scene` places them), its vertices
 /// numbered in order of first use, the file's controls (`controls`: other values), title
-/// kept. Unlike [`write`], which writes a scene's patches (a cut base as its pieces, an
+/// kept. Unlike [`write()`], which writes a scene's patches (a cut base as its pieces, an
 /// obstruction-only surface as a radiating one), this keeps what the file says: read back
 /// it gives the same output surfaces, patches and view factors (`scene convert FILE.vs3
 /// -o OUT.vs3`).
@@ -149,8 +149,7 @@ pub fn write_records(
     let controls = controls.unwrap_or(file_controls);
     let title = text
         .lines()
-        .filter(|l| l.trim_start().starts_with(['T', 't']))
-        .last()
+        .rfind(|l| l.trim_start().starts_with(['T', 't']))
         .map_or("", |l| l.trim_start()[1..].trim());
     let mut out = String::new();
     let _ = writeln!(out, "T {title}");
