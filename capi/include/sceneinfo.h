@@ -912,6 +912,28 @@ enum SiStatus si_measurement_form_factor_errors_csr(const struct SiMeasurement *
                                                     size_t *out_nnz);
 
 /**
+ * Copies the entries of value 0 whose error estimate is not 0, row-major: their rows
+ * into `rows`, columns into `cols`, estimates into `errors` (pairs decided as `0 ± U` by
+ * the bound, or integrated to exactly 0 past occluders). They are not stored entries of
+ * `si_measurement_form_factors_csr`, so `si_measurement_form_factor_errors_csr` cannot
+ * give their estimates; the CLI writes them to `.ijv` as `i,j,0.0,error`. None for form
+ * factors without estimates. `*out_count` (when not NULL) receives their number whatever
+ * happens; `SI_ERR_BUFFER_TOO_SMALL` (nothing written) when `len` is shorter;
+ * `SI_ERR_UNDEFINED` when some patch received no line.
+ *
+ * # Safety
+ * `m` must be NULL or a live measurement; `rows`, `cols` NULL or valid for writing `len`
+ * `size_t` each, `errors` NULL or valid for writing `len` doubles; `out_count` NULL or
+ * valid for writing one `size_t`.
+ */
+enum SiStatus si_measurement_zero_form_factor_errors(const struct SiMeasurement *m,
+                                                     size_t *rows,
+                                                     size_t *cols,
+                                                     double *errors,
+                                                     size_t len,
+                                                     size_t *out_count);
+
+/**
  * The number of warnings: where the numbers cannot be trusted to full precision (a
  * nearly closed scene, row sums or stationarity off, unsampled patches, few observations
  * behind the standard error). 0 for NULL.
@@ -935,11 +957,13 @@ const char *si_measurement_warning(const struct SiMeasurement *m, size_t k);
  * the scene read from that file: their number `N` into `*n_surfaces` (when not NULL),
  * then `N + N²` values into `out`: the surfaces' areas (the file's units), then their view
  * factors row-major — combined surfaces joined, subsurfaces and masks as View3D reports
- * them, obstruction-only surfaces left out, as the CLI's `formfactors FILE.vs3 --out
- * F.vf3` writes them (`sceneinfo_formats::vs3_scene::Vs3Layout`). Buffer rules as
- * `si_measurement_patch_sizes`. `SI_ERR_IO`, `SI_ERR_SCENE` as `si_scene_from_file`;
- * `SI_ERR_INVALID_ARGUMENT` when `m` is not a measurement of that file's scene;
- * `SI_ERR_UNDEFINED` when some patch received no line.
+ * them, obstruction-only surfaces left out, the file's `encl=1` (enclosure adjustment)
+ * and `emit=1` (Hottel's script-F factors) applied, as the CLI's `formfactors FILE.vs3
+ * --out F.vf3` writes them (`sceneinfo_formats::vs3_scene::Vs3Layout::view3d_matrix`).
+ * Buffer rules as `si_measurement_patch_sizes`. `SI_ERR_IO`, `SI_ERR_SCENE` as
+ * `si_scene_from_file`; `SI_ERR_INVALID_ARGUMENT` when `m` is not a measurement of that
+ * file's scene; `SI_ERR_JOB` when the adjustment or script-F cannot be computed (an
+ * emittance outside (0, 1]); `SI_ERR_UNDEFINED` when some patch received no line.
  *
  * # Safety
  * `path` must be NULL or a NUL-terminated string; `m` NULL or a live measurement; `out`

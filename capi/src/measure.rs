@@ -829,6 +829,47 @@ pub unsafe extern "C" fn si_measurement_form_factor_errors_csr(
     })
 }
 
+/// Copies the entries of value 0 whose error estimate is not 0, row-major: their rows
+/// into `rows`, columns into `cols`, estimates into `errors` (pairs decided as `0 ± U` by
+/// the bound, or integrated to exactly 0 past occluders). They are not stored entries of
+/// `si_measurement_form_factors_csr`, so `si_measurement_form_factor_errors_csr` cannot
+/// give their estimates; the CLI writes them to `.ijv` as `i,j,0.0,error`. None for form
+/// factors without estimates. `*out_count` (when not NULL) receives their number whatever
+/// happens; `SI_ERR_BUFFER_TOO_SMALL` (nothing written) when `len` is shorter;
+/// `SI_ERR_UNDEFINED` when some patch received no line.
+///
+/// # Safety
+/// `m` must be NULL or a live measurement; `rows`, `cols` NULL or valid for writing `len`
+/// `size_t` each, `errors` NULL or valid for writing `len` doubles; `out_count` NULL or
+/// valid for writing one `size_t`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn si_measurement_zero_form_factor_errors(
+    m: *const SiMeasurement,
+    rows: *mut usize,
+    cols: *mut usize,
+    errors: *mut f64,
+    len: usize,
+    out_count: *mut usize,
+) -> SiStatus {
+    guard(|| {
+        // SAFETY: by the contract above
+        let m = unsafe { handle(m, "measurement") }?;
+        m.form_factors()?;
+        let (mut r, mut c, mut e) = (Vec::new(), Vec::new(), Vec::new());
+        m.m.for_each_zero_with_error(|i, j, error| {
+            r.push(i);
+            c.push(j);
+            e.push(error);
+        });
+        // SAFETY: by the contract above (each buffer `len` long; the count written first)
+        unsafe { copy_out(&r, rows, len, out_count, "rows") }?;
+        // SAFETY: by the contract above
+        unsafe { copy_out(&c, cols, len, std::ptr::null_mut(), "cols") }?;
+        // SAFETY: by the contract above
+        unsafe { copy_out(&e, errors, len, std::ptr::null_mut(), "errors") }
+    })
+}
+
 /// Writes `needed` into `*out_needed` when it is not NULL.
 ///
 /// # Safety
@@ -884,11 +925,13 @@ pub unsafe extern "C" fn si_measurement_warning(
 /// the scene read from that file: their number `N` into `*n_surfaces` (when not NULL),
 /// then `N + N²` values into `out`: the surfaces' areas (the file's units), then their view
 /// factors row-major — combined surfaces joined, subsurfaces and masks as View3D reports
-/// them, obstruction-only surfaces left out, as the CLI's `formfactors FILE.vs3 --out
-/// F.vf3` writes them (`sceneinfo_formats::vs3_scene::Vs3Layout`). Buffer rules as
-/// `si_measurement_patch_sizes`. `SI_ERR_IO`, `SI_ERR_SCENE` as `si_scene_from_file`;
-/// `SI_ERR_INVALID_ARGUMENT` when `m` is not a measurement of that file's scene;
-/// `SI_ERR_UNDEFINED` when some patch received no line.
+/// them, obstruction-only surfaces left out, the file's `encl=1` (enclosure adjustment)
+/// and `emit=1` (Hottel's script-F factors) applied, as the CLI's `formfactors FILE.vs3
+/// --out F.vf3` writes them (`sceneinfo_formats::vs3_scene::Vs3Layout::view3d_matrix`).
+/// Buffer rules as `si_measurement_patch_sizes`. `SI_ERR_IO`, `SI_ERR_SCENE` as
+/// `si_scene_from_file`; `SI_ERR_INVALID_ARGUMENT` when `m` is not a measurement of that
+/// file's scene; `SI_ERR_JOB` when the adjustment or script-F cannot be computed (an
+/// emittance outside (0, 1]); `SI_ERR_UNDEFINED` when some patch received no line.
 ///
 /// # Safety
 /// `path` must be NULL or a NUL-terminated string; `m` NULL or a live measurement; `out`
@@ -942,16 +985,14 @@ pub unsafe extern "C" fn si_view3d_surfaces(
             // SAFETY: non-NULL and writable by the contract above
             unsafe { n_surfaces.write(n) };
         }
-        let mut values = layout.areas();
-        values.resize(n + n * n, 0.0);
         let mut buffer = vec![0.0; ff.n_states()];
-        for (k, row) in values[n..].chunks_exact_mut(n.max(1)).enumerate() {
-            layout
-                .combined_row(k, &mut buffer, row, |p, b| {
-                    ff.dense_row_into(p, b).map_err(|e| anyhow::anyhow!("{e}"))
-                })
-                .map_err(|e| Failure::new(SiStatus::SI_ERR_INTERNAL, format!("{e:#}")))?;
-        }
+        let v = layout
+            .view3d_matrix(&mut buffer, |p, b| {
+                ff.dense_row_into(p, b).map_err(|e| anyhow::anyhow!("{e}"))
+            })
+            .map_err(|e| Failure::new(SiStatus::SI_ERR_JOB, format!("{e:#}")))?;
+        let mut values = v.areas;
+        values.extend_from_slice(&v.form_factors);
         // SAFETY: by the contract above
         unsafe { copy_out(&values, out, out_len, out_needed, "View3D surfaces") }
     })

@@ -8,8 +8,9 @@
  * input format (tests/data/vs3/room_with_plate.vs3). Checks the tolerance, the error
  * estimates and the sparse form factors with an estimate per entry, a progress callback
  * that stops the job, then prints every entry as `i,j,F_ij,error` (the CLI's `.ijv`
- * order) for capi.sh to compare with `sceneinfo formfactors SCENE --tol TOLERANCE --out
- * F.ijv`, bit for bit.
+ * order; the entries 0 +- error of si_measurement_zero_form_factor_errors merged in) for
+ * capi.sh to compare with `sceneinfo formfactors SCENE --tol TOLERANCE --out F.ijv`, bit
+ * for bit. Then a pair hidden behind a plate, decided as 0 +- U: its estimate is read.
  */
 #include <sceneinfo.h>
 
@@ -82,8 +83,22 @@ int main(int argc, char **argv) {
     double *errs = malloc(nnz * sizeof(double));
     CHECK(si_measurement_form_factors_csr(m, row_ptr, n + 1, cols, vals, nnz, &nnz) == SI_OK);
     CHECK(si_measurement_form_factor_errors_csr(m, errs, nnz, &nnz2) == SI_OK);
+    /* The entries 0 +- error, not among the stored ones, in row order */
+    size_t nz = 0, z = 0;
+    CHECK(si_measurement_zero_form_factor_errors(m, NULL, NULL, NULL, 0, &nz) ==
+          (nz > 0 ? SI_ERR_BUFFER_TOO_SMALL : SI_OK));
+    size_t *zr = malloc((nz + 1) * sizeof(size_t)), *zc = malloc((nz + 1) * sizeof(size_t));
+    double *ze = malloc((nz + 1) * sizeof(double));
+    CHECK(si_measurement_zero_form_factor_errors(m, zr, zc, ze, nz, &nz) == SI_OK);
     for (size_t i = 0; i < n; i++) {
-        for (size_t k = row_ptr[i]; k < row_ptr[i + 1]; k++) {
+        for (size_t k = row_ptr[i]; k <= row_ptr[i + 1]; k++) {
+            /* Zero entries before this stored entry (or, at the row's end, the rest) */
+            while (z < nz && zr[z] == i && (k == row_ptr[i + 1] || zc[z] < cols[k])) {
+                CHECK(ze[z] > 0 && ze[z] <= tol);
+                printf("%zu,%zu,0.0,%.17g\n", zr[z], zc[z], ze[z]);
+                z++;
+            }
+            if (k == row_ptr[i + 1]) break;
             if (i < np && cols[k] < np) {
                 CHECK(errs[k] >= 0 && errs[k] <= tol);
             } else {
@@ -92,12 +107,39 @@ int main(int argc, char **argv) {
             printf("%zu,%zu,%.17g,%.17g\n", i, cols[k], vals[k], errs[k]);
         }
     }
+    CHECK(z == nz);
+    free(zr);
+    free(zc);
+    free(ze);
     free(row_ptr);
     free(cols);
     free(vals);
     free(errs);
     si_measurement_free(m);
     m = NULL;
+
+    /* Squares of side 0.01 at z = 0 (up) and z = 1 (down), a plate of side 1 at z = 0.5
+     * between them: the hidden pair's unoccluded flux fits the tolerance 1e-3, so it is
+     * decided as 0 +- U (U about A / (pi d^2) = 3.2e-5), not a stored entry */
+    const double hv[] = {0, 0, 0, 0.01, 0, 0, 0.01, 0.01, 0, 0, 0.01, 0,
+                         0, 0, 1, 0.01, 0, 1, 0.01, 0.01, 1, 0, 0.01, 1,
+                         -0.5, -0.5, 0.5, 0.5, -0.5, 0.5, 0.5, 0.5, 0.5, -0.5, 0.5, 0.5};
+    const uint32_t hq[] = {0, 1, 2, 3, 4, 7, 6, 5, 8, 11, 10, 9};
+    const uint32_t ho[] = {0, 4, 8, 12};
+    SiScene *hidden = NULL;
+    CHECK(si_scene_from_arrays(hv, 12, hq, 12, ho, 4, NULL, 0, &hidden) == SI_OK);
+    CHECK(si_measure_exact(hidden, 1e-3, NULL, &m) == SI_OK);
+    size_t hr[2] = {9, 9}, hc[2] = {9, 9}, count = 0;
+    double he[2] = {0, 0};
+    CHECK(si_measurement_zero_form_factor_errors(m, hr, hc, he, 1, &count) ==
+          SI_ERR_BUFFER_TOO_SMALL);
+    CHECK(count == 2 && hr[0] == 9);
+    CHECK(si_measurement_zero_form_factor_errors(m, hr, hc, he, 2, &count) == SI_OK);
+    CHECK(hr[0] == 0 && hc[0] == 1 && hr[1] == 1 && hc[1] == 0);
+    CHECK(he[0] > 1e-5 && he[0] <= 1e-3 && he[1] > 1e-5 && he[1] <= 1e-3);
+    si_measurement_free(m);
+    m = NULL;
+    si_scene_free(hidden);
 
     /* An unoccluded tetrahedron: every form factor exact, no estimates to report */
     const double v[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};

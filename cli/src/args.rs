@@ -317,6 +317,12 @@ pub struct MergeArgs {
         conflicts_with = "partial"
     )]
     pub out: Option<PathBuf>,
+    /// The View3D `.vs3` file the rows were computed from: `--out F.vf3` then holds its
+    /// output surfaces as `formfactors FILE.vs3 --out F.vf3` writes them (combined
+    /// surfaces joined, masks, obstruction-only surfaces left out, the file's `encl` and
+    /// `emit`), not one row per patch.
+    #[arg(long, value_name = "FILE.vs3", requires = "out")]
+    pub scene: Option<PathBuf>,
 }
 
 /// Preset scenes.
@@ -392,6 +398,8 @@ pub enum ScenePreset {
     /// Any scene file sceneinfo reads (OBJ, glTF, PLY, `.vs3`, `.flat`) written as OBJ + MTL,
     /// View3D's `.vs3` (3D) or `.flat` (flatland), by the output's extension: one patch of
     /// the scene per OBJ face or View3D surface, in order, so results compare row by row.
+    /// A `.vs3` written as `.vs3` keeps its records (subsurfaces, masks, null and
+    /// obstruction-only surfaces, combinations, emittances, controls) in `F 3` form.
     Convert {
         /// The scene file to read.
         file: PathBuf,
@@ -399,10 +407,10 @@ pub enum ScenePreset {
         #[arg(short, long)]
         output: PathBuf,
         /// View3D's tolerance `eps` written into a `.vs3` file's controls (View3D's default
-        /// 1e-4; it warns below 1e-6).
-        #[arg(long, default_value_t = 1e-4)]
-        eps: f64,
-        /// Write `encl=1` into a `.vs3` file's controls: View3D renormalises every row to 1.
+        /// 1e-4; it warns below 1e-6; a `.vs3` input's own `eps` when not given).
+        #[arg(long)]
+        eps: Option<f64>,
+        /// Write `encl=1` into a `.vs3` file's controls: View3D adjusts every row to sum to 1.
         #[arg(long)]
         enclosure: bool,
     },

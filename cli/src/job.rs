@@ -147,8 +147,36 @@ fn measure_scene(
         let tallies = threads.saturating_add(1);
         job.check_memory_of(&scene, tallies, limit).map_err(at)?;
     }
-    let m = run_job(path, &scene, &job, threads, sampling.tol)?;
+    let tol = match sampling.tol {
+        Some(t) => Some(t),
+        None if matches!(job, Job::Exact) && !scene.is_flat() => vs3_eps(path)?,
+        None => None,
+    };
+    let m = run_job(path, &scene, &job, threads, tol)?;
     Ok((m, report, scene))
+}
+
+/// The tolerance a View3D `.vs3` file's control line gives (`eps`), when `path` is one
+/// and gives it: the exact 3D form factors' tolerance when the command line gives no
+/// `--tol` (View3D's `eps` is its integration's convergence criterion; sceneinfo's
+/// tolerance bounds each entry's estimate, a stricter reading of the same number). Said
+/// on stderr.
+///
+/// # Errors
+/// Reading the file; `vs3_scene::read_with_layout`'s.
+pub fn vs3_eps(path: &Path) -> Result<Option<f64>> {
+    let Some(layout) = crate::matrix_file::vs3_layout_of(path)? else {
+        return Ok(None);
+    };
+    let c = layout.controls();
+    if let Some(eps) = c.eps {
+        eprintln!(
+            "{}:{}: eps={eps:e} of the control line is the tolerance (--tol overrides it)",
+            path.display(),
+            c.line
+        );
+    }
+    Ok(c.eps)
 }
 
 /// The form factors of the scene in `path`: exact (flatland with occlusion; 3D with

@@ -10,7 +10,8 @@ use anyhow::{Result, bail};
 use sceneinfo::Measurement;
 use sceneinfo::formfactor::FormFactors;
 
-use crate::formats::vs3_scene::Vs3Layout;
+use crate::formats::vs3_controls::EnclosureReport;
+use crate::formats::vs3_scene::{View3dSurfaces, Vs3Layout};
 use crate::output::write_atomic;
 use crate::report::{csv, rows};
 
@@ -70,22 +71,50 @@ pub fn vs3_layout_of(scene: &Path) -> Result<Option<Vs3Layout>> {
     Ok(Some(layout))
 }
 
+/// View3D's output surfaces of a `.vs3` scene's `layout` from the patches' form factors
+/// in `m`: combined surfaces joined, subsurfaces and masks as View3D reports them,
+/// obstruction-only surfaces left out ([`Vs3Layout::combined_row`]), then the file's
+/// `encl=1` and `emit=1` applied ([`Vs3Layout::view3d_matrix`]).
+///
+/// # Errors
+/// No form factors; a layout of another scene; the adjustment's or the solve's.
+pub fn view3d_surfaces(m: &Measurement, layout: &Vs3Layout) -> Result<View3dSurfaces> {
+    let Some(ff) = m.form_factors() else {
+        bail!("no form factors");
+    };
+    let np = ff.n_patches();
+    if layout.n_patches() != np {
+        bail!(
+            "the .vs3 file's layout has {} patches, the form factors {np}",
+            layout.n_patches()
+        );
+    }
+    let mut buffer = vec![0.0; ff.n_states()];
+    layout.view3d_matrix(&mut buffer, |p, row| {
+        ff.dense_row_into(p, row)
+            .map_err(|e| anyhow::anyhow!("{e}"))
+    })
+}
+
 /// Writes the form factors of `m` to `path` in the format of its extension; `areas` are
 /// the patch areas in the scene file's units (View3D's file lists them; `None` for a
-/// flatland scene, which View3D's format cannot hold). With a `.vs3` scene's `layout`,
-/// a `.vf3` file holds View3D's output surfaces (combined surfaces joined, subsurfaces and
-/// masks as View3D reports them, obstruction-only surfaces left out:
-/// [`Vs3Layout::combined_row`]); the other formats hold the patches.
+/// flatland scene, which View3D's format cannot hold). With a `.vs3` scene's `layout`, a
+/// `.vf3` file holds View3D's output surfaces as the file's controls ask (combined
+/// surfaces joined, subsurfaces and masks as View3D reports them, obstruction-only
+/// surfaces left out, `encl=1` and `emit=1` applied: [`view3d_surfaces`]; streamed row by
+/// row when neither is asked); the other formats hold the patches. Returns what the
+/// enclosure adjustment reached, when it ran.
 ///
 /// # Errors
 /// [`format_of`]'s; no form factors; `.vf3` without areas; a layout of another scene;
-/// writing.
+/// [`view3d_surfaces`]'s; writing.
 pub fn write(
     path: &Path,
     m: &Measurement,
     areas: Option<&[f64]>,
     layout: Option<&Vs3Layout>,
-) -> Result<()> {
+) -> Result<Option<EnclosureReport>> {
+    let mut enclosure = None;
     let format = format_of(path)?;
     let Some(ff) = m.form_factors() else {
         bail!("{}: no form factors to write", path.display());
@@ -103,12 +132,18 @@ pub fn write(
                 );
             };
             match layout {
-                Some(layout) if !layout.is_one_to_one() => view3d_combined_text(ff, layout)?,
-                _ => view3d_text(ff, areas)?,
+                Some(l) if l.controls().encl || l.controls().emit => {
+                    let v = view3d_surfaces(m, l)?;
+                    enclosure = v.enclosure;
+                    view3d_surfaces_text(&v)?
+                }
+                Some(l) => view3d_combined_text(ff, l)?,
+                None => view3d_text(ff, areas)?,
             }
         }
     };
-    write_atomic(path, text.as_bytes())
+    write_atomic(path, text.as_bytes())?;
+    Ok(enclosure)
 }
 
 /// The sparse matrix: a comment line, then one line `i,j,F_ij,err_ij` per non-zero entry
@@ -192,8 +227,24 @@ fn view3d_text(ff: &FormFactors, areas: &[f64]) -> Result<String> {
     })
 }
 
-/// View3D's text output of a `.vs3` scene's output surfaces, their rows combined from the
-/// patches' ([`Vs3Layout::combined_row`]; the background state left out).
+/// View3D's text output of a `.vs3` scene's output surfaces ([`view3d_surfaces`]).
+fn view3d_surfaces_text(v: &View3dSurfaces) -> Result<String> {
+    let n = v.areas.len();
+    crate::formats::view3d_out::write_text_with(
+        &v.areas,
+        &v.emissivities,
+        v.encl,
+        v.emit,
+        |k, out| {
+            out.copy_from_slice(&v.form_factors[k * n..(k + 1) * n]);
+            Ok(())
+        },
+    )
+}
+
+/// View3D's text output of a `.vs3` scene's output surfaces without `encl` or `emit`, row
+/// by row ([`Vs3Layout::combined_row`]; the patches' rows as they are when the surfaces
+/// are the patches; the background state left out), with the file's emittances.
 fn view3d_combined_text(ff: &FormFactors, layout: &Vs3Layout) -> Result<String> {
     let np = ff.n_patches();
     if layout.n_patches() != np {
@@ -202,11 +253,30 @@ fn view3d_combined_text(ff: &FormFactors, layout: &Vs3Layout) -> Result<String> 
             layout.n_patches()
         );
     }
+    let one_to_one = layout.is_one_to_one();
     let mut buffer = vec![0.0; ff.n_states()];
-    crate::formats::view3d_out::write_text(&layout.areas(), |k, out| {
-        layout.combined_row(k, &mut buffer, out, |p, row| {
-            ff.dense_row_into(p, row)
-                .map_err(|e| anyhow::anyhow!("{e}"))
-        })
-    })
+    let emissivities: Vec<f64> = layout
+        .surfaces()
+        .iter()
+        .map(|s| s.emissivity.unwrap_or(1.0))
+        .collect();
+    crate::formats::view3d_out::write_text_with(
+        &layout.areas(),
+        &emissivities,
+        false,
+        false,
+        |k, out| {
+            if one_to_one {
+                // The patches' rows as they are (no product and quotient by the area)
+                ff.dense_row_into(k, &mut buffer)
+                    .map_err(|e| anyhow::anyhow!("{e}"))?;
+                out.copy_from_slice(&buffer[..np]);
+                return Ok(());
+            }
+            layout.combined_row(k, &mut buffer, out, |p, row| {
+                ff.dense_row_into(p, row)
+                    .map_err(|e| anyhow::anyhow!("{e}"))
+            })
+        },
+    )
 }

@@ -93,6 +93,8 @@ fn row_ranges_merge_into_the_one_job_byte_for_byte() {
         s(&parts[2]),
         "--out",
         s(&merged_vf3),
+        "--scene",
+        s(&scene),
     ]);
     assert_eq!(ijv, std::fs::read_to_string(&merged_ijv).unwrap());
     assert_eq!(
@@ -222,9 +224,10 @@ fn entries(path: &Path) -> Vec<(usize, usize, f64, f64)> {
 }
 
 /// `scene convert` writes View3D's input back: a `.vs3` written by View3D's own converter
-/// (combined pieces included), converted by sceneinfo to `.vs3` and to OBJ, gives the same
-/// form factors and estimates (to rounding: a combined surface's corners may come back
-/// starting at another corner); a 3D scene is not written as `.flat`.
+/// (combined pieces included), converted by sceneinfo to `.vs3` (its records and controls
+/// kept, `--eps` applied) and to OBJ, gives the same form factors and estimates (to
+/// rounding: a combined surface's corners may come back starting at another corner); a 3D
+/// scene is not written as `.flat`.
 #[test]
 fn a_scene_converted_to_vs3_keeps_its_form_factors() {
     let scene = room_vs3();
@@ -239,7 +242,7 @@ fn a_scene_converted_to_vs3_keeps_its_form_factors() {
     }
     let text = std::fs::read_to_string(&vs3).unwrap();
     assert!(
-        text.contains("\nC encl=0 emit=0 out=1 eps=1e-6\n"),
+        text.contains("\nC encl=0 emit=0 out=0 list=0 eps=1e-6 maxU=12 maxO=8 minO=0\n"),
         "{text}"
     );
     let mut results = Vec::new();

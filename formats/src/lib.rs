@@ -27,6 +27,7 @@ mod load;
 pub mod mesh;
 pub mod ply_scene;
 pub mod view3d_out;
+pub mod vs3_controls;
 mod vs3_parse;
 mod vs3_pieces;
 pub mod vs3_scene;

@@ -20,7 +20,8 @@
 //! `emit = 0` (black surfaces: plain view factors, not Hottel's script-F), so the
 //! emissivity line, which such a file does not use, says 1 for every surface. The matrix is
 //! the patches' (an open scene's background state is left out: its rows sum to less than
-//! 1, as View3D's do).
+//! 1, as View3D's do). [`write_text_with`] writes a `.vs3` file's output surfaces as its
+//! controls ask: `encl` and `emit` in the header, the file's emittances on the last line.
 //!
 //! [`read`] reads the text form, tokens in order (so line breaks inside a list do not
 //! matter), and the binary form (`out = 1`): a 32-byte header holding the same six fields
@@ -72,11 +73,35 @@ impl View3dMatrix {
 /// `row`'s.
 pub fn write_text(
     areas: &[f64],
+    row: impl FnMut(usize, &mut [f64]) -> Result<()>,
+) -> Result<String> {
+    write_text_with(areas, &vec![1.0; areas.len()], false, false, row)
+}
+
+/// [`write_text`] with the header's `encl` and `emit` and the emittance line given: the
+/// output of a `.vs3` file whose controls ask for the enclosure adjustment or script-F
+/// factors (`vs3_scene::Vs3Layout::view3d_matrix`), which the rows hold.
+///
+/// # Errors
+/// `row`'s; `emissivities` not one per surface.
+pub fn write_text_with(
+    areas: &[f64],
+    emissivities: &[f64],
+    encl: bool,
+    emit: bool,
     mut row: impl FnMut(usize, &mut [f64]) -> Result<()>,
 ) -> Result<String> {
     let n = areas.len();
+    if emissivities.len() != n {
+        bail!("{} emittances for {n} surfaces", emissivities.len());
+    }
     let mut s = String::with_capacity(n.saturating_mul(n + 2).saturating_mul(12));
-    let _ = writeln!(s, "View3D {FORMAT_VERSION} 0 0 0 {n}");
+    let _ = writeln!(
+        s,
+        "View3D {FORMAT_VERSION} 0 {} {} {n}",
+        u8::from(encl),
+        u8::from(emit)
+    );
     let line = |s: &mut String, values: &mut dyn Iterator<Item = f64>| {
         for (k, v) in values.enumerate() {
             if k > 0 {
@@ -93,7 +118,7 @@ pub fn write_text(
         row(i, &mut values)?;
         line(&mut s, &mut values.iter().copied());
     }
-    line(&mut s, &mut std::iter::repeat_n(1.0, n));
+    line(&mut s, &mut emissivities.iter().copied());
     Ok(s)
 }
 

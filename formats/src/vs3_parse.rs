@@ -9,6 +9,8 @@ use std::path::Path;
 use anyhow::Result;
 use sceneinfo::geom::DVec3;
 
+use crate::vs3_controls::Vs3FileControls;
+
 /// Most vertices or surfaces a file may number (bounds the tables).
 pub(crate) const MAX_NUMBER: usize = 1 << 26;
 
@@ -47,6 +49,8 @@ pub(crate) struct Record {
     pub base: usize,
     pub combine: usize,
     pub name: String,
+    /// The emittance column (`None`: not given).
+    pub emissivity: Option<f64>,
     pub line: usize,
 }
 
@@ -77,17 +81,19 @@ impl PendingBlast {
     }
 }
 
-/// The surface records of the `.vs3` text `text` from `path`, in the file's order.
+/// The surface records of the `.vs3` text `text` from `path`, in the file's order, and its
+/// controls (the `C` lines, [`Vs3FileControls`]).
 ///
 /// # Errors
 /// `file:line: what` for a line that cannot be read (see [`crate::vs3_scene`]'s table).
-pub(crate) fn parse(path: &Path, text: &str) -> Result<Vec<Record>> {
+pub(crate) fn parse(path: &Path, text: &str) -> Result<(Vec<Record>, Vs3FileControls)> {
     let at = |line: usize, what: &str| anyhow::anyhow!("{}:{line}: {what}", path.display());
     // By number (a map: a file may number its vertices sparsely, up to MAX_NUMBER)
     let mut vertices: HashMap<usize, DVec3> = HashMap::new();
     let mut records: Vec<Record> = Vec::new();
     let mut geometry = None;
     let mut pending: Option<PendingBlast> = None;
+    let mut controls = Vs3FileControls::default();
     // Bounded: the lines of the file
     for (k, raw) in text.lines().enumerate() {
         let line = k + 1;
@@ -137,7 +143,11 @@ pub(crate) fn parse(path: &Path, text: &str) -> Result<Vec<Record>> {
         }
         let fields: Vec<&str> = tokens.collect();
         let kind = match first.to_ascii_uppercase() {
-            'T' | 'C' => continue,
+            'T' => continue,
+            'C' => {
+                controls.read_line(path, line, &fields.join(" "))?;
+                continue;
+            }
             'E' | '*' => break,
             'F' => {
                 geometry = Some(match fields.first().copied() {
@@ -190,7 +200,7 @@ pub(crate) fn parse(path: &Path, text: &str) -> Result<Vec<Record>> {
     if geometry.is_none() {
         anyhow::bail!("{}: no geometry line (F 3 or F 3a)", path.display());
     }
-    Ok(records)
+    Ok((records, controls))
 }
 
 /// A finite number.
@@ -208,6 +218,19 @@ pub(crate) fn number(s: &str) -> Option<usize> {
 /// A number that may be 0 (`v4`, `base`, `cmb`).
 fn number_or_zero(s: &str) -> Option<usize> {
     s.parse::<usize>().ok().filter(|&n| n <= MAX_NUMBER)
+}
+
+/// The emittance column, when given: a finite number (View3D replaces one outside
+/// `(0, 1)` by 0.001 or 0.999 with a warning; sceneinfo uses it only with `emit=1`, where
+/// [`crate::vs3_controls::script_f`] asks `(0, 1]`).
+fn emissivity(
+    field: Option<&str>,
+    line: usize,
+    at: &dyn Fn(usize, &str) -> anyhow::Error,
+) -> Result<Option<f64>> {
+    field
+        .map(|f| finite(f).ok_or_else(|| at(line, &format!("bad emittance {f:?}"))))
+        .transpose()
 }
 
 /// `V n x y z`.
@@ -262,6 +285,7 @@ fn surface_by_vertices(
         base: field(5, "base")?,
         combine: field(6, "cmb")?,
         name: fields.get(8).copied().unwrap_or("").to_owned(),
+        emissivity: emissivity(fields.get(7).copied(), line, at)?,
         line,
     })
 }
@@ -304,6 +328,7 @@ fn blast_head(
             base: field(2, "base")?,
             combine: field(3, "cmb")?,
             name: fields.get(5).copied().unwrap_or("").to_owned(),
+            emissivity: emissivity(fields.get(4).copied(), line, at)?,
             line,
         },
         shape,

@@ -11,10 +11,10 @@
 //! |---|---|---|
 //! | `! …`, `/ …` | comment (also after data on a line) | skipped |
 //! | `T title` | title | skipped |
-//! | `C name=value …` | controls (`eps`, `maxU`, `maxO`, `minO`, `row`, `col`, `encl`, `emit`, `out`, `list`) | skipped: sceneinfo's `--tol` applies; its view factors are black (`emit=0`) and not renormalised (`encl=0`) |
+//! | `C name=value …` | controls (`eps`, `maxU`, `maxO`, `minO`, `row`, `col`, `encl`, `emit`, `out`, `list`) | read and checked ([`crate::vs3_controls`]): `eps` the tolerance when no `--tol`; `encl=1`, `emit=1` applied to the output surfaces ([`Vs3Layout::view3d_matrix`]); `row`, `col` name output surfaces (printed by `formfactors`); an unknown name or bad value refused |
 //! | `F 3`, `F 3a` | geometry format | both read; `F 2`, `F 1` (other programs') refused |
 //! | `V n x y z` | vertex `n` (`F 3`) | a point |
-//! | `S n v1 v2 v3 v4 base cmb emit name` | surface (`F 3`; `v4 = 0`: a triangle) | patches |
+//! | `S n v1 v2 v3 v4 base cmb emit name` | surface (`F 3`; `v4 = 0`: a triangle) | patches; `emit` the output surface's emittance |
 //! | `S n shape base cmb emit name` + numbers | surface (`F 3a`): origin, azimuth, tilt, then `R` width height, `Q` four `(x, y)`, `T` three | patches (`vs3_parse::blast_corners`) |
 //! | `S` with `base ≠ 0` | subsurface (a window in a wall) | its own patches; cut out of its base |
 //! | `M` | masking surface, on a base, facing it | no patch; cut out of its base; its row sees only the base |
@@ -23,8 +23,9 @@
 //! | `E …`, `e …`, `* …` | end of data | stops reading |
 //!
 //! Vertices are listed counter-clockwise seen from the front of the surface (the active
-//! side), as in OBJ and sceneinfo: they are copied as they are. The emissivity and name
-//! columns are not used (the name only in messages).
+//! side), as in OBJ and sceneinfo: they are copied as they are. The emittance is the output
+//! surface's (its `.vf3` line, Hottel's script-F with `emit=1`; with `emit=1` combined
+//! surfaces must agree on it); the name is used in messages.
 //!
 //! **How each surface becomes patches.** A surface's region is its polygon minus the
 //! subsurfaces, masks and null surfaces whose base it is, cut into disjoint convex pieces
@@ -53,6 +54,7 @@ use sceneinfo::io::LoadReport;
 use sceneinfo::scene::{Scene3, Scene3Builder};
 
 use crate::mesh::add_face;
+use crate::vs3_controls::{EnclosureReport, Vs3FileControls, enclosure_adjust, script_f};
 use crate::vs3_parse::{Kind, Record};
 use crate::vs3_pieces::{area, inside, minus, vector_area};
 
@@ -108,18 +110,21 @@ struct Group {
     object: String,
     /// The region's area in the file's units (masks: the mask's).
     area: f64,
+    /// The emittance of its first surface.
+    emissivity: Option<f64>,
     pieces: Vec<Vec<DVec3>>,
 }
 
 /// The groups of the file, in order, before the scene is built.
 struct Plan {
     groups: Vec<Group>,
+    controls: Vs3FileControls,
 }
 
 /// The scene of the file and its groups.
 fn build(path: &Path, text: &str, report: &mut LoadReport) -> Result<(Scene3, Plan)> {
     let at = |line: usize, what: &str| anyhow!("{}:{line}: {what}", path.display());
-    let mut records = crate::vs3_parse::parse(path, text)?;
+    let (mut records, controls) = crate::vs3_parse::parse(path, text)?;
     records.sort_by_key(|r| r.number);
     let mut index: HashMap<usize, usize> = HashMap::with_capacity(records.len());
     for (k, r) in records.iter().enumerate() {
@@ -191,7 +196,7 @@ fn build(path: &Path, text: &str, report: &mut LoadReport) -> Result<(Scene3, Pl
         }
         regions.push(pieces);
     }
-    let plan = plan(&records, &index, regions)?;
+    let plan = plan(&records, &index, regions, controls, &at)?;
     let mut builder = Scene3Builder::default();
     for g in &plan.groups {
         if matches!(g.kind, GroupKind::Mask { .. }) {
@@ -350,6 +355,8 @@ fn plan(
     records: &[Record],
     index: &HashMap<usize, usize>,
     regions: Vec<Vec<Vec<DVec3>>>,
+    controls: Vs3FileControls,
+    at: &dyn Fn(usize, &str) -> anyhow::Error,
 ) -> Result<Plan> {
     let mut groups: Vec<Group> = Vec::new();
     let mut group_of: HashMap<usize, usize> = HashMap::new();
@@ -358,6 +365,18 @@ fn plan(
             let Some(&g) = group_of.get(&r.combine) else {
                 continue;
             };
+            if controls.emit && r.emissivity != groups[g].emissivity {
+                return Err(at(
+                    r.line,
+                    &format!(
+                        "emit=1: surface {} has emittance {:?} but the surface {} it combines \
+                         with has {:?}: a combined surface has one emittance (View3D 4.0.0 \
+                         lists the emittances of the first input surfaces, not the combined \
+                         ones'); give them the same",
+                        r.number, r.emissivity, groups[g].number, groups[g].emissivity
+                    ),
+                ));
+            }
             groups[g].area += pieces.iter().map(|p| area(p)).sum::<f64>();
             groups[g].pieces.extend(pieces);
             group_of.insert(r.number, g);
@@ -398,6 +417,7 @@ fn plan(
                 format!("{object} {}", r.name)
             },
             area: area_of,
+            emissivity: r.emissivity,
             pieces: if matches!(kind, GroupKind::Mask { .. }) {
                 Vec::new()
             } else {
@@ -405,7 +425,7 @@ fn plan(
             },
         });
     }
-    Ok(Plan { groups })
+    Ok(Plan { groups, controls })
 }
 
 /// One of View3D's output surfaces.
@@ -419,6 +439,28 @@ pub struct OutputSurface {
     pub area: f64,
     /// For a mask, the output surface it masks.
     pub mask_of: Option<usize>,
+    /// The emittance of its `S` or `M` line (`None`: not given).
+    pub emissivity: Option<f64>,
+    /// Its line in the file.
+    pub line: usize,
+}
+
+/// View3D's output for a `.vs3` file ([`Vs3Layout::view3d_matrix`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct View3dSurfaces {
+    /// The output surfaces' areas, in the file's units.
+    pub areas: Vec<f64>,
+    /// Row-major `N × N`: view factors (`encl=1`: adjusted), or script-F factors
+    /// (`emit=1`).
+    pub form_factors: Vec<f64>,
+    /// The surfaces' emittances (1 where the file gives none).
+    pub emissivities: Vec<f64>,
+    /// The file's `encl=1`, applied.
+    pub encl: bool,
+    /// The file's `emit=1`, applied.
+    pub emit: bool,
+    /// What the enclosure adjustment reached (with `encl=1`).
+    pub enclosure: Option<EnclosureReport>,
 }
 
 /// Which of a `.vs3` scene's patches make which of View3D's output surfaces (see the
@@ -434,6 +476,8 @@ pub struct Vs3Layout {
     members: Vec<Vec<usize>>,
     /// Per output surface: the masks on it.
     masks: Vec<Vec<usize>>,
+    /// The file's controls.
+    controls: Vs3FileControls,
 }
 
 impl Vs3Layout {
@@ -457,6 +501,8 @@ impl Vs3Layout {
                 name: group.name.clone(),
                 area: group.area,
                 mask_of,
+                emissivity: group.emissivity,
+                line: group.line,
             });
         }
         let mut masks = vec![Vec::new(); surfaces.len()];
@@ -518,7 +564,9 @@ impl Vs3Layout {
             patch_area,
             members,
             masks,
+            controls: plan.controls,
         };
+        layout.check_controls(path)?;
         // View3D's area of a masked base is the whole base
         for k in 0..layout.surfaces.len() {
             let masked: f64 = layout.masks[k]
@@ -528,6 +576,89 @@ impl Vs3Layout {
             layout.surfaces[k].area += masked;
         }
         Ok(layout)
+    }
+
+    /// The file's controls (its `C` lines).
+    #[must_use]
+    pub fn controls(&self) -> &Vs3FileControls {
+        &self.controls
+    }
+
+    /// The index among [`Self::surfaces`] of the output surface numbered `number` in the
+    /// file.
+    #[must_use]
+    pub fn surface_index(&self, number: usize) -> Option<usize> {
+        self.surfaces.iter().position(|s| s.number == number)
+    }
+
+    /// The controls checked against the surfaces: `row` and `col` name output surfaces;
+    /// with `emit=1` every output surface has an emittance.
+    fn check_controls(&self, path: &Path) -> Result<()> {
+        let c = &self.controls;
+        for (name, number) in [("row", c.row), ("col", c.col)] {
+            if number != 0 && self.surface_index(number).is_none() {
+                anyhow::bail!(
+                    "{}:{}: {name}={number} is not an output surface (a radiating or mask \
+                     surface combined with no earlier one)",
+                    path.display(),
+                    c.row_line.max(c.line)
+                );
+            }
+        }
+        if c.emit
+            && let Some(s) = self.surfaces.iter().find(|s| s.emissivity.is_none())
+        {
+            anyhow::bail!(
+                "{}:{}: emit=1 but surface {} gives no emittance",
+                path.display(),
+                s.line,
+                s.number
+            );
+        }
+        Ok(())
+    }
+
+    /// View3D's output for the file: the output surfaces' areas, their `N × N` view
+    /// factors combined from the patches' ([`Self::combined_row`], `patch_row` as there),
+    /// then, as the file's controls ask, adjusted as an enclosure's (`encl=1`,
+    /// [`enclosure_adjust`]) and turned into Hottel's script-F factors (`emit=1`,
+    /// [`script_f`], after the adjustment), and the emittances (1 for a surface whose line
+    /// gives none).
+    ///
+    /// # Errors
+    /// [`Self::combined_row`]'s; [`enclosure_adjust`]'s; [`script_f`]'s.
+    pub fn view3d_matrix(
+        &self,
+        buffer: &mut [f64],
+        mut patch_row: impl FnMut(usize, &mut [f64]) -> Result<()>,
+    ) -> Result<View3dSurfaces> {
+        let n = self.surfaces.len();
+        let mut form_factors = vec![0.0; n * n];
+        for (k, out) in form_factors.chunks_exact_mut(n.max(1)).enumerate() {
+            self.combined_row(k, buffer, out, &mut patch_row)?;
+        }
+        let areas = self.areas();
+        let enclosure = if self.controls.encl {
+            Some(enclosure_adjust(&areas, &mut form_factors)?)
+        } else {
+            None
+        };
+        let emissivities: Vec<f64> = self
+            .surfaces
+            .iter()
+            .map(|s| s.emissivity.unwrap_or(1.0))
+            .collect();
+        if self.controls.emit {
+            form_factors = script_f(&form_factors, &emissivities)?;
+        }
+        Ok(View3dSurfaces {
+            areas,
+            form_factors,
+            emissivities,
+            encl: self.controls.encl,
+            emit: self.controls.emit,
+            enclosure,
+        })
     }
 
     /// The output surfaces, in View3D's order.

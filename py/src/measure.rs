@@ -518,10 +518,12 @@ pub fn read_view3d<'py>(
 
 /// View3D's output surfaces of the `.vs3` file `path` and their view factors from `m`, a
 /// measurement of the scene read from that file: a dict like `read_view3d`'s, with
-/// `numbers` and `names` (each output surface's in the file), `areas` (N,) and
-/// `form_factors` (N, N) — combined surfaces joined, subsurfaces and masks as View3D
-/// reports them, obstruction-only surfaces left out (the CLI's `formfactors FILE.vs3
-/// --out F.vf3`; `sceneinfo_formats::vs3_scene::Vs3Layout`).
+/// `numbers` and `names` (each output surface's in the file), `areas` (N,),
+/// `form_factors` (N, N), `emissivities` (N,, 1 where the file gives none), `encl` and
+/// `emit` — combined surfaces joined, subsurfaces and masks as View3D reports them,
+/// obstruction-only surfaces left out, then the file's `encl=1` (enclosure adjustment)
+/// and `emit=1` (Hottel's script-F) applied (the CLI's `formfactors FILE.vs3 --out F.vf3`;
+/// `sceneinfo_formats::vs3_scene::Vs3Layout::view3d_matrix`).
 #[pyfunction]
 pub fn view3d_surfaces<'py>(
     py: Python<'py>,
@@ -558,21 +560,25 @@ pub fn view3d_surfaces<'py>(
         ));
     }
     let n = layout.surfaces().len();
-    let (mut buffer, mut values) = (vec![0.0; ff.n_states()], vec![0.0; n * n]);
-    for (k, out) in values.chunks_exact_mut(n.max(1)).enumerate() {
-        layout
-            .combined_row(k, &mut buffer, out, |p, row| {
-                ff.dense_row_into(p, row)
-                    .map_err(|e| anyhow::anyhow!("{e}"))
-            })
-            .map_err(|e| bad_argument(py, "Shape", &format!("{e:#}")))?;
-    }
+    let mut buffer = vec![0.0; ff.n_states()];
+    let v = layout
+        .view3d_matrix(&mut buffer, |p, row| {
+            ff.dense_row_into(p, row)
+                .map_err(|e| anyhow::anyhow!("{e}"))
+        })
+        .map_err(|e| bad_argument(py, "Shape", &format!("{e:#}")))?;
     let d = pyo3::types::PyDict::new(py);
     let numbers: Vec<usize> = layout.surfaces().iter().map(|s| s.number).collect();
     let names: Vec<String> = layout.surfaces().iter().map(|s| s.name.clone()).collect();
     d.set_item("numbers", numbers)?;
     d.set_item("names", names)?;
-    d.set_item("areas", crate::arrays::vector(py, layout.areas()))?;
-    d.set_item("form_factors", crate::arrays::matrix(py, n, n, values)?)?;
+    d.set_item("areas", crate::arrays::vector(py, v.areas))?;
+    d.set_item(
+        "form_factors",
+        crate::arrays::matrix(py, n, n, v.form_factors)?,
+    )?;
+    d.set_item("emissivities", crate::arrays::vector(py, v.emissivities))?;
+    d.set_item("encl", v.encl)?;
+    d.set_item("emit", v.emit)?;
     Ok(d)
 }

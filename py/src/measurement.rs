@@ -66,6 +66,13 @@ pub fn measures_dict<'py>(py: Python<'py>, m: &Measures) -> PyResult<Bound<'py, 
     Ok(d)
 }
 
+/// Row indices, column indices and values of a few entries.
+type CooArrays<'py> = (
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<f64>>,
+);
+
 /// CSR arrays `(data, indices, indptr)` as numpy arrays.
 type CsrArrays<'py> = (
     Bound<'py, PyArray1<f64>>,
@@ -374,6 +381,27 @@ impl PyMeasurement {
         self.m
             .for_each_form_factor(|_, _, _, e| out.push(e.unwrap_or(f64::NAN)));
         vector(py, out)
+    }
+
+    /// The entries of value 0 whose error estimate is not 0, as `(rows, cols, errors)`
+    /// (int64, int64, float64 arrays, row-major order): pairs decided as `0 ± U` by the
+    /// bound, or integrated to exactly 0 past occluders. They are not stored entries of
+    /// `form_factors_csr()`, so `form_factor_errors()` cannot give their estimates; the
+    /// CLI writes them to `.ijv` as `i,j,0.0,error`. Empty arrays for form factors without
+    /// estimates (unoccluded, flatland, lines).
+    fn zero_form_factor_errors<'py>(&self, py: Python<'py>) -> CooArrays<'py> {
+        use numpy::IntoPyArray;
+        let (mut rows, mut cols, mut errors) = (Vec::new(), Vec::new(), Vec::new());
+        self.m.for_each_zero_with_error(|i, j, e| {
+            rows.push(i as i64);
+            cols.push(j as i64);
+            errors.push(e);
+        });
+        (
+            rows.into_pyarray(py),
+            cols.into_pyarray(py),
+            errors.into_pyarray(py),
+        )
     }
 
     fn __repr__(&self) -> String {

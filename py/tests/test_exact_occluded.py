@@ -123,3 +123,68 @@ def test_view3d_surfaces_of_a_vs3_file_are_view3d_s():
     # A measurement of another scene is refused
     with pytest.raises(sceneinfo.SceneinfoError):
         sceneinfo.view3d_surfaces(kinds / "null.vs3", m)
+
+
+# Squares of side 0.01 at z = 0 (facing up) and z = 1 (facing down), a plate of side 1 at
+# z = 0.5 between them: the squares' pair is hidden, and its unoccluded flux (F about
+# A / (pi d^2) = 3.2e-5) fits the tolerance 1e-3, so it is decided as 0 +- U by the bound
+HIDDEN_PAIR_OBJ = """v 0 0 0
+v 0.01 0 0
+v 0.01 0.01 0
+v 0 0.01 0
+v 0 0 1
+v 0.01 0 1
+v 0.01 0.01 1
+v 0 0.01 1
+v -0.5 -0.5 0.5
+v 0.5 -0.5 0.5
+v 0.5 0.5 0.5
+v -0.5 0.5 0.5
+f 1 2 3 4
+f 5 8 7 6
+f 9 12 11 10
+"""
+
+
+def test_zero_entries_keep_their_estimates(cli, tmp_path):
+    """An entry 0 +- U is not a stored entry of the CSR, so form_factor_errors() cannot
+    give it: zero_form_factor_errors() does, as the CLI's .ijv writes it."""
+    path = tmp_path / "hidden.obj"
+    path.write_text(HIDDEN_PAIR_OBJ)
+    m = sceneinfo.measure(path, tol=1e-3, threads=1)
+    rows, cols, errors = m.zero_form_factor_errors()
+    assert rows.dtype == np.int64 and cols.dtype == np.int64 and errors.dtype == np.float64
+    assert list(zip(rows.tolist(), cols.tolist())) == [(0, 1), (1, 0)]
+    assert np.all((errors > 1e-5) & (errors <= 1e-3))
+    dense = m.form_factors(sparse=False)
+    assert dense[0, 1] == 0.0 and dense[1, 0] == 0.0
+    ijv = tmp_path / "F.ijv"
+    subprocess.run(
+        [cli, "formfactors", str(path), "--tol", "1e-3", "--threads", "1", "--out", str(ijv)],
+        check=True,
+        capture_output=True,
+    )
+    zeros = [
+        (int(r[0]), int(r[1]), float(r[3]))
+        for r in (line.split(",") for line in ijv.read_text().splitlines()[1:])
+        if float(r[2]) == 0.0
+    ]
+    assert zeros == list(zip(rows.tolist(), cols.tolist(), errors.tolist()))
+    # Nothing for form factors without estimates (unoccluded)
+    cube = sceneinfo.measure(sceneinfo.Scene.preset("cube", grid=2), tol=1e-3)
+    assert all(len(a) == 0 for a in cube.zero_form_factor_errors())
+
+
+def test_view3d_surfaces_honour_the_file_s_controls():
+    """encl=1 and emit=1 on View3D's surfaces, as the CLI's .vf3 and View3D 4.0.0's output
+    (tests/data/vs3/controls/) give them: within its printed decimals plus the tolerance
+    scaled by the adjustment (2.6)."""
+    controls = ROOT / "tests" / "data" / "vs3" / "controls"
+    for name in ["black", "encl", "emit", "encl_emit"]:
+        path = controls / f"{name}.vs3"
+        m = sceneinfo.measure(path, tol=1e-6, threads=1)
+        v = sceneinfo.view3d_surfaces(path, m)
+        ref = sceneinfo.read_view3d(controls / f"{name}.view3d.txt")
+        assert (v["encl"], v["emit"]) == (ref["encl"], ref["emit"])
+        assert v["emissivities"].tolist() == [0.9, 0.8, 0.5, 0.3, 0.7]
+        assert np.max(np.abs(v["form_factors"] - ref["form_factors"])) <= 5e-7 + 2.6e-6

@@ -26,7 +26,7 @@ pub fn run(args: &FormFactorsArgs) -> Result<()> {
     crate::matrix_file::format_of(out)?;
     let layout = crate::matrix_file::vs3_layout_of(&args.file)?;
     let (m, areas) = crate::job::form_factors_of(&args.file, &args.sampling)?;
-    crate::matrix_file::write(out, &m, areas.as_deref(), layout.as_ref())?;
+    let enclosure = crate::matrix_file::write(out, &m, areas.as_deref(), layout.as_ref())?;
     let Some(ff) = m.form_factors() else {
         anyhow::bail!("{}: no form factors", args.file.display());
     };
@@ -119,7 +119,119 @@ pub fn run(args: &FormFactorsArgs) -> Result<()> {
             }
         )?;
     }
+    if let Some(layout) = &layout {
+        let is_vf3 =
+            crate::matrix_file::format_of(out)? == crate::matrix_file::MatrixFormat::View3d;
+        print_controls(&mut o, &args.file, layout, &m, is_vf3, enclosure)?;
+    }
     o.flush()?;
+    Ok(())
+}
+
+/// What a `.vs3` file's controls changed, on `o`: the enclosure adjustment's result
+/// (`encl=1`), that `encl` and `emit` apply to the `.vf3` only, and the row (`row=n`) or
+/// entry (`col=m`) the file asks for: View3D's surfaces' black view factors before any
+/// `encl` or `emit` (View3D 4.0.0 prints those in its log and writes an empty output file
+/// when `row` is set; sceneinfo writes the whole matrix as well). `F(m, n)` by reciprocity,
+/// `A_n F(n, m) / A_m`.
+fn print_controls(
+    o: &mut impl Write,
+    file: &Path,
+    layout: &crate::formats::vs3_scene::Vs3Layout,
+    m: &sceneinfo::Measurement,
+    is_vf3: bool,
+    enclosure: Option<crate::formats::vs3_controls::EnclosureReport>,
+) -> Result<()> {
+    let c = *layout.controls();
+    if let Some(e) = enclosure {
+        writeln!(
+            o,
+            "encl=1              rows adjusted to 1 within {:.1e}{}, reciprocity kept \
+             (largest change of an entry {:.2e}, {} passes; {}:{})",
+            e.max_row_error,
+            if e.max_row_error > 1e-9 {
+                " (NOT an enclosure: the rows cannot all sum to 1)"
+            } else {
+                ""
+            },
+            e.max_change,
+            e.iterations,
+            file.display(),
+            c.line
+        )?;
+    }
+    if c.emit && is_vf3 {
+        writeln!(
+            o,
+            "emit=1              the .vf3 holds Hottel's script-F factors from the file's \
+             emittances ({}:{})",
+            file.display(),
+            c.line
+        )?;
+    }
+    if (c.encl || c.emit) && !is_vf3 {
+        writeln!(
+            o,
+            "{}{}               apply to View3D's surfaces in --out F.vf3; this file holds \
+             the patches' black view factors, not adjusted ({}:{})",
+            if c.encl { "encl=1 " } else { "" },
+            if c.emit { "emit=1" } else { "" },
+            file.display(),
+            c.line
+        )?;
+    }
+    if c.row == 0 {
+        return Ok(());
+    }
+    let Some(k) = layout.surface_index(c.row) else {
+        anyhow::bail!("{}: row={} is not an output surface", file.display(), c.row);
+    };
+    let Some(ff) = m.form_factors() else {
+        anyhow::bail!("{}: no form factors", file.display());
+    };
+    let surfaces = layout.surfaces();
+    let areas = layout.areas();
+    let mut row = vec![0.0; surfaces.len()];
+    let mut buffer = vec![0.0; ff.n_states()];
+    layout.combined_row(k, &mut buffer, &mut row, |p, b| {
+        ff.dense_row_into(p, b).map_err(|e| anyhow::anyhow!("{e}"))
+    })?;
+    let what = "black view factors, before any encl or emit";
+    if c.col != 0 {
+        let Some(l) = layout.surface_index(c.col) else {
+            anyhow::bail!("{}: col={} is not an output surface", file.display(), c.col);
+        };
+        writeln!(
+            o,
+            "row={} col={}       F[{}][{}] = {:?} ({what})",
+            c.row, c.col, c.row, c.col, row[l]
+        )?;
+        return Ok(());
+    }
+    writeln!(
+        o,
+        "row={}               {what}, from surface {} ({}) to surface m:",
+        c.row, c.row, surfaces[k].name
+    )?;
+    writeln!(
+        o,
+        "  srf m  A(n)*F(n,m)              F(n,m)                    F(m,n)                    name"
+    )?;
+    let mut sum = 0.0;
+    for (l, s) in surfaces.iter().enumerate() {
+        let f = row[l];
+        sum += f;
+        writeln!(
+            o,
+            "  {:>5}  {:<24?}  {:<24?}  {:<24?}  {}",
+            s.number,
+            areas[k] * f,
+            f,
+            areas[k] * f / areas[l],
+            s.name
+        )?;
+    }
+    writeln!(o, "  sum[F(n,m)] = {sum:?}")?;
     Ok(())
 }
 
@@ -157,7 +269,12 @@ fn write_rows(args: &FormFactorsArgs, part: &Path) -> Result<()> {
             path.display()
         );
     }
-    let options = OcclusionOptions::new(sampling.tol.unwrap_or(occluded_3d::DEFAULT_TOLERANCE));
+    // The tolerance: --tol, else a .vs3 file's eps (as formfactors --out takes it)
+    let tol = match sampling.tol {
+        Some(t) => t,
+        None => crate::job::vs3_eps(path)?.unwrap_or(occluded_3d::DEFAULT_TOLERANCE),
+    };
+    let options = OcclusionOptions::new(tol);
     let start = std::time::Instant::now();
     let threads = crate::job::threads_of(sampling);
     let rows = ExactRows::compute(

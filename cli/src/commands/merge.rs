@@ -70,6 +70,12 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         args.matrix.as_deref(),
     )?;
     if let Some(out) = &args.out {
+        if args.scene.is_some() {
+            anyhow::bail!(
+                "merge --scene: View3D's surfaces are written from exact rows \
+                 (formfactors --rows A..B --partial), not from a line job"
+            );
+        }
         crate::matrix_file::write(out, &m, None, None)?;
     }
     Ok(())
@@ -114,7 +120,48 @@ fn merge_rows(args: &MergeArgs, files: &[Vec<u8>], start: Instant) -> Result<()>
         args.matrix.as_deref(),
     )?;
     if let Some(out) = &args.out {
-        crate::matrix_file::write(out, &m, Some(&areas), None)?;
+        let layout = match &args.scene {
+            Some(scene) => Some(layout_of_rows(scene, &areas)?),
+            None => None,
+        };
+        crate::matrix_file::write(out, &m, Some(&areas), layout.as_ref())?;
+        if layout.is_none()
+            && crate::matrix_file::format_of(out)? == crate::matrix_file::MatrixFormat::View3d
+        {
+            writeln!(
+                std::io::stdout().lock(),
+                "{}: one row per patch (for a .vs3 job, --scene FILE.vs3 writes View3D's \
+                 surfaces)",
+                out.display()
+            )?;
+        }
     }
     Ok(())
+}
+
+/// The View3D layout of the `.vs3` file `scene`, checked against the merged rows' patch
+/// areas `areas` (the same patches, one for one, to 1e-12 relative): rows of another
+/// scene are refused rather than written as this file's surfaces.
+fn layout_of_rows(scene: &Path, areas: &[f64]) -> Result<crate::formats::vs3_scene::Vs3Layout> {
+    let Some(layout) = crate::matrix_file::vs3_layout_of(scene)? else {
+        anyhow::bail!("--scene {}: not a View3D .vs3 file", scene.display());
+    };
+    let mut report = sceneinfo::io::LoadReport::default();
+    let text = crate::formats::text_of(scene, crate::formats::read_capped(scene)?)?;
+    let loaded = crate::formats::vs3_scene::read(scene, &text, &mut report)?;
+    let same = loaded.n_patches() == areas.len()
+        && loaded.patches().iter().zip(areas).all(|(p, a)| {
+            let b = loaded.frame().area_to_world(p.area);
+            (a - b).abs() <= 1e-12 * a.abs().max(b.abs())
+        });
+    if !same {
+        anyhow::bail!(
+            "--scene {}: its {} patches are not those of the rows ({} patches): rows of \
+             another scene",
+            scene.display(),
+            loaded.n_patches(),
+            areas.len()
+        );
+    }
+    Ok(layout)
 }

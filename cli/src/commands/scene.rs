@@ -68,7 +68,12 @@ pub fn run(preset: &ScenePreset) -> Result<()> {
             output,
             eps,
             enclosure,
-        } => convert(&file, &output, vs3(eps, enclosure)?),
+        } => {
+            if is_vs3(&output) && crate::matrix_file::vs3_layout_of(&file)?.is_some() {
+                return convert_vs3(&file, &output, eps, enclosure);
+            }
+            convert(&file, &output, vs3(eps.unwrap_or(1e-4), enclosure)?)
+        }
         ScenePreset::List => {
             let mut out = std::io::stdout().lock();
             writeln!(out, "flatland catalogue (sceneinfo scene catalogue NAME):")?;
@@ -135,6 +140,24 @@ fn convert(file: &Path, output: &Path, controls: Vs3Controls) -> Result<()> {
             file.display()
         )),
     }
+}
+
+/// `scene convert FILE.vs3 -o OUT.vs3`: the file's records written again
+/// (`vs3_write::write_records`: subsurfaces, masks, null and obstruction-only surfaces,
+/// combinations and emittances as the file gives them, a `F 3a` file's corners as
+/// vertices), its controls kept but for `--eps` and `--enclosure` when given.
+fn convert_vs3(file: &Path, output: &Path, eps: Option<f64>, enclosure: bool) -> Result<()> {
+    let bytes = crate::formats::read_capped(file)?;
+    let text = crate::formats::text_of(file, bytes)?;
+    let mut report = sceneinfo::io::LoadReport::default();
+    let (_, layout) = crate::formats::vs3_scene::read_with_layout(file, &text, &mut report)?;
+    let mut controls = *layout.controls();
+    if let Some(eps) = eps {
+        controls.eps = Some(vs3(eps, enclosure)?.eps);
+    }
+    controls.encl |= enclosure;
+    let written = crate::formats::vs3_write::write_records(file, &text, Some(controls))?;
+    write_atomic(output, written.as_bytes())
 }
 
 /// Writes `scene` as `path` (OBJ) and its material library beside it (same stem, `.mtl`).

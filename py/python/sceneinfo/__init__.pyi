@@ -213,6 +213,10 @@ class Measurement:
         """Error estimates of exact 3D form factors with occlusion (None: none integrated)."""
     def form_factor_errors(self) -> npt.NDArray[np.float64]:
         """Each F entry's error estimate, aligned with form_factors_csr()'s data (NaN: none)."""
+    def zero_form_factor_errors(
+        self,
+    ) -> Tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64]]:
+        """(rows, cols, errors) of the entries 0 ± error (not in form_factors_csr())."""
 
 @final
 class ChannelMeasures:
@@ -310,7 +314,8 @@ def read_view3d(path: _Path) -> dict[str, Any]:
 def view3d_surfaces(path: _Path, m: Measurement) -> dict[str, Any]:
     """View3D's output surfaces of a .vs3 file from a measurement of it: numbers, names,
     areas (N,), form_factors (N, N) (combined surfaces joined, subsurfaces and masks as
-    View3D reports them, obstruction-only surfaces left out)."""
+    View3D reports them, obstruction-only surfaces left out; the file's encl=1 and emit=1
+    applied), emissivities (N,), encl, emit."""
 
 def measure(
     scene: Union[Scene, _Path],
