@@ -114,7 +114,7 @@ impl Target {
         if dx <= tol {
             return Ok(0.0);
         }
-        work.pieces.clear();
+        work.recycle_pieces();
         if !occluders.is_empty() {
             self.pyramid(x, dx, work);
         }
@@ -124,7 +124,10 @@ impl Target {
                 continue;
             }
             if !any_shadow {
-                work.pieces.push(self.outline.clone());
+                let mut whole = work.spare.pop().unwrap_or_default();
+                whole.clear();
+                whole.extend_from_slice(&self.outline);
+                work.pieces.push(whole);
                 any_shadow = true;
             }
             self.subtract_shadow(work)?;
@@ -244,6 +247,7 @@ impl Target {
             shadow,
             scratch,
             rest,
+            spare,
             ..
         } = work;
         let (slo, shi) = bounds2(shadow);
@@ -264,7 +268,10 @@ impl Target {
                 };
                 clip2(rest, a, -inward, self.tol, scratch);
                 if scratch.len() >= 3 && crate::geom::signed_area(scratch) > self.sliver {
-                    next.push(scratch.clone());
+                    let mut part = spare.pop().unwrap_or_default();
+                    part.clear();
+                    part.extend_from_slice(scratch);
+                    next.push(part);
                 }
                 clip2(rest, a, inward, self.tol, scratch);
                 core::mem::swap(rest, scratch);
@@ -272,6 +279,7 @@ impl Target {
                     break;
                 }
             }
+            spare.push(piece);
             if next.len() > MAX_VISIBLE_PIECES {
                 return Err(ErrorKind::TooLarge {
                     what: "convex pieces of a polygon's visible part from one point",
@@ -290,6 +298,9 @@ impl Target {
 pub(crate) struct Workspace {
     pieces: Vec<Vec<DVec2>>,
     next: Vec<Vec<DVec2>>,
+    /// Outlines no longer in use, kept with their capacity for the next pieces (so
+    /// cutting the visible part allocates nothing once the pool has grown).
+    spare: Vec<Vec<DVec2>>,
     shadow: Vec<DVec2>,
     scratch: Vec<DVec2>,
     rest: Vec<DVec2>,
@@ -298,6 +309,13 @@ pub(crate) struct Workspace {
     b: Vec<DVec3>,
     /// The current point's clipping planes (`Target::pyramid`).
     planes: Vec<(DVec3, f64, f64)>,
+}
+
+impl Workspace {
+    /// Moves the current pieces to the spare outlines (emptying `pieces`).
+    fn recycle_pieces(&mut self) {
+        self.spare.append(&mut self.pieces);
+    }
 }
 
 /// Drops each vertex of the closed polygon `poly` that lies within `merge` of the last one
