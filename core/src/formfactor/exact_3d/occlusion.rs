@@ -141,7 +141,7 @@ pub fn may_be_occluded(points: &[DVec3], polygons: &[(usize, usize)]) -> bool {
 /// The edges `(v_e, v_{e+1})` of a closed polygon.
 fn edges(p: &[DVec3]) -> impl Iterator<Item = (DVec3, DVec3)> + '_ {
     let m = p.len();
-    (0..m).map(move |e| (p[e], p[(e + 1) % m]))
+    (0..m).map(move |e| (p[e], p[if e + 1 == m { 0 } else { e + 1 }]))
 }
 
 /// Axis-aligned bounds of a set of points.

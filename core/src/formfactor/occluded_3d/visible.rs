@@ -162,7 +162,10 @@ impl Target {
         work.planes.push((-n, -near, tol));
         let m = self.vertices.len();
         for k in 0..m {
-            let (p, q) = (self.vertices[k], self.vertices[(k + 1) % m]);
+            let (p, q) = (
+                self.vertices[k],
+                self.vertices[if k + 1 == m { 0 } else { k + 1 }],
+            );
             let mut side = (q - x).cross(p - x);
             if side.dot(self.plane.centroid - x) < 0.0 {
                 side = -side;
@@ -222,7 +225,14 @@ impl Target {
             work.shadow.reverse();
         }
         for k in 0..self.outline.len() {
-            let (a, b) = (self.outline[k], self.outline[(k + 1) % self.outline.len()]);
+            let (a, b) = (
+                self.outline[k],
+                self.outline[if k + 1 == self.outline.len() {
+                    0
+                } else {
+                    k + 1
+                }],
+            );
             let Some(inward) = inward_normal(a, b) else {
                 continue;
             };
@@ -248,9 +258,16 @@ impl Target {
             scratch,
             rest,
             spare,
+            lines,
             ..
         } = work;
         let (slo, shi) = bounds2(shadow);
+        let m = shadow.len();
+        lines.clear();
+        lines.extend((0..m).filter_map(|k| {
+            let (a, b) = (shadow[k], shadow[if k + 1 == m { 0 } else { k + 1 }]);
+            inward_normal(a, b).map(|inward| (a, inward))
+        }));
         next.clear();
         for piece in pieces.drain(..) {
             let (plo, phi) = bounds2(&piece);
@@ -260,12 +277,7 @@ impl Target {
             }
             rest.clear();
             rest.extend_from_slice(&piece);
-            let m = shadow.len();
-            for k in 0..m {
-                let (a, b) = (shadow[k], shadow[(k + 1) % m]);
-                let Some(inward) = inward_normal(a, b) else {
-                    continue;
-                };
+            for &(a, inward) in lines.iter() {
                 clip2(rest, a, -inward, self.tol, scratch);
                 if scratch.len() >= 3 && crate::geom::signed_area(scratch) > self.sliver {
                     let mut part = spare.pop().unwrap_or_default();
@@ -301,6 +313,8 @@ pub(crate) struct Workspace {
     /// Outlines no longer in use, kept with their capacity for the next pieces (so
     /// cutting the visible part allocates nothing once the pool has grown).
     spare: Vec<Vec<DVec2>>,
+    /// The current shadow's edge lines, as (a point, the unit inward normal).
+    lines: Vec<(DVec2, DVec2)>,
     shadow: Vec<DVec2>,
     scratch: Vec<DVec2>,
     rest: Vec<DVec2>,
@@ -366,8 +380,14 @@ fn clip2(poly: &[DVec2], a: DVec2, normal: DVec2, tol: f64, out: &mut Vec<DVec2>
         let d = normal.dot(p - a);
         if d.abs() <= tol { 0.0 } else { d }
     };
+    // Wholly on the kept side with no repeated vertex: the loop below would copy `poly`
+    // unchanged (no crossing, every vertex kept, none dropped as a repeat).
+    if (0..m).all(|k| side(poly[k]) >= 0.0 && poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }]) {
+        out.extend_from_slice(poly);
+        return;
+    }
     for k in 0..m {
-        let (p, q) = (poly[k], poly[(k + 1) % m]);
+        let (p, q) = (poly[k], poly[if k + 1 == m { 0 } else { k + 1 }]);
         let (dp, dq) = (side(p), side(q));
         if dp >= 0.0 && out.last() != Some(&p) {
             out.push(p);
@@ -393,8 +413,13 @@ fn clip3(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, normal: DVec3, offset: f64
         let d = normal.dot(p) - offset;
         if d.abs() <= tol { 0.0 } else { d }
     };
+    // Wholly on the kept side with no repeated vertex: the loop below would give `poly`
+    // back unchanged, so leave it.
+    if (0..m).all(|k| side(poly[k]) >= 0.0 && poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }]) {
+        return;
+    }
     for k in 0..m {
-        let (p, q) = (poly[k], poly[(k + 1) % m]);
+        let (p, q) = (poly[k], poly[if k + 1 == m { 0 } else { k + 1 }]);
         let (dp, dq) = (side(p), side(q));
         if dp >= 0.0 && tmp.last() != Some(&p) {
             tmp.push(p);
