@@ -140,7 +140,7 @@ pub(crate) const QUADRATURE_TOLERANCE: f64 = 1e-12;
 #[must_use]
 pub fn point_to_polygon(x: DVec3, n: DVec3, polygon: &[DVec3]) -> f64 {
     let n = n.normalize_or_zero();
-    let Some(plane) = Plane::of(polygon) else {
+    let Some(plane) = Plane::without_rect(polygon) else {
         return 0.0;
     };
     if n == DVec3::ZERO || !x.is_finite() {

@@ -117,6 +117,7 @@ use crate::formfactor::exact_3d::{
     pair_flux, planes,
 };
 use crate::geom::DVec3;
+use crate::math::KahanSum;
 use occluders::{Occluder, Occluders, Shaft, blocks_all};
 use solids::{NO_SOLID, Solid};
 
@@ -550,9 +551,9 @@ fn integrate_pair(
         ps.normal,
         &mut g,
     )?;
-    let r = outer::integrate_with(
-        &decided.kept,
-        cands,
+    let r = outer::integrate_classified(
+        decided.kept,
+        KahanSum::new(),
         pair_tolerance - decided.error,
         options.max_points_per_pair,
         &mut g,

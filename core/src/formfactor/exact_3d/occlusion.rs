@@ -141,7 +141,7 @@ pub fn may_be_occluded(points: &[DVec3], polygons: &[(usize, usize)]) -> bool {
 /// The edges `(v_e, v_{e+1})` of a closed polygon.
 fn edges(p: &[DVec3]) -> impl Iterator<Item = (DVec3, DVec3)> + '_ {
     let m = p.len();
-    (0..m).map(move |e| (p[e], p[(e + 1) % m]))
+    (0..m).map(move |e| (p[e], p[if e + 1 == m { 0 } else { e + 1 }]))
 }
 
 /// Axis-aligned bounds of a set of points.
@@ -161,8 +161,9 @@ pub(crate) fn hull_meets_polygon(
     tol: f64,
 ) -> bool {
     let separated = |axis: DVec3| -> bool {
-        let len = axis.length();
-        if !(len > 0.0) {
+        // `length() > 0` exactly when `length_squared() > 0` (the root of a positive
+        // number is positive); the root itself is needed only for the tolerance below.
+        if !(axis.length_squared() > 0.0) {
             return false;
         }
         let (mut h_lo, mut h_hi) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -177,7 +178,12 @@ pub(crate) fn hull_meets_polygon(
             k_lo = k_lo.min(d);
             k_hi = k_hi.max(d);
         }
-        let t = tol * len;
+        // Apart without the tolerance: apart with it too (`t ≥ 0`), so the root is spared
+        // and the answer is the same bits as the test below.
+        if tol >= 0.0 && (k_hi <= h_lo || k_lo >= h_hi) {
+            return true;
+        }
+        let t = tol * axis.length();
         k_hi <= h_lo + t || k_lo >= h_hi - t
     };
     // Face normals of the hull (i, j) and of k, with k's in-plane edge normals.

@@ -39,6 +39,15 @@ impl Plane {
     ///
     /// `None` for fewer than three vertices, a non-finite coordinate or zero area.
     pub fn of(poly: &[DVec3]) -> Option<Self> {
+        let mut plane = Self::without_rect(poly)?;
+        plane.rect = AxisRect::of(poly, plane.normal, plane.magnitude);
+        Some(plane)
+    }
+
+    /// [`Plane::of`] without looking for an axis-aligned rectangle (`rect` is `None`):
+    /// for a polygon used once, by a function that never reads `rect`
+    /// ([`super::point_to_polygon`]).
+    pub fn without_rect(poly: &[DVec3]) -> Option<Self> {
         let &v0 = poly.first()?;
         if poly.len() < 3 || !poly.iter().all(|v| v.is_finite()) {
             return None;
@@ -74,7 +83,7 @@ impl Plane {
             centroid,
             radius,
             magnitude,
-            rect: AxisRect::of(poly, normal, magnitude),
+            rect: None,
         })
     }
 
@@ -132,7 +141,7 @@ impl HalfSpace {
         let mut d_a = self.side(poly[0]);
         for k in 0..m {
             let a = poly[k];
-            let b = poly[(k + 1) % m];
+            let b = poly[if k + 1 == m { 0 } else { k + 1 }];
             let d_b = self.side(b);
             // Keep the start vertex if inside; cut the edge where it crosses the plane.
             if d_a >= 0.0 {

@@ -131,8 +131,10 @@ pub(crate) fn pair_by_bound(
 /// What [`bound_small_triangles`] leaves: the triangles still to integrate, and the summed
 /// value and error (a proven bound, see the module documentation) of those it decided.
 pub(crate) struct Decided {
-    /// The triangles to integrate adaptively, in their original order.
-    pub kept: Vec<[DVec3; 3]>,
+    /// The triangles to integrate adaptively, in their original order, each with the
+    /// candidates [`Integrand::classify`] gave it (so the integral need not classify it
+    /// again).
+    pub kept: Vec<([DVec3; 3], Vec<u32>)>,
     /// The flux of the triangles decided (known exactly or by their bound).
     pub value: f64,
     /// The sum of the decided triangles' half-widths (0 for those known exactly).
@@ -162,13 +164,16 @@ pub(crate) fn bound_small_triangles(
     let mut scratch = Vec::new();
     let budget = BOUND_SHARE * tolerance;
     let mut probes = 0u64;
-    // (index, value, half-width) of the triangles in the penumbra.
+    // (index, value, half-width) of the triangles in the penumbra, and their candidates
+    // by index.
     let mut open: Vec<(usize, f64, f64)> = Vec::with_capacity(triangles.len());
+    let mut cands_of: Vec<Vec<u32>> = alloc::vec![Vec::new(); triangles.len()];
     for (k, tri) in triangles.iter().enumerate() {
         if let Some(v) = g.classify(tri, cands, &mut scratch)? {
             value.add(v);
             continue;
         }
+        cands_of[k].clone_from(&scratch);
         let Some(pl) = Plane::of(tri) else {
             open.push((k, 0.0, 0.0));
             continue;
@@ -209,9 +214,10 @@ pub(crate) fn bound_small_triangles(
     Ok(Decided {
         kept: triangles
             .iter()
-            .zip(&keep)
-            .filter(|(_, k)| **k)
-            .map(|(t, _)| *t)
+            .zip(keep)
+            .zip(cands_of)
+            .filter(|((_, k), _)| *k)
+            .map(|((t, _), c)| (*t, c))
             .collect(),
         value: value.total(),
         error: error.total(),
@@ -321,7 +327,10 @@ mod tests {
             &mut Open,
         )
         .unwrap();
-        assert_eq!(d.kept, alloc::vec![large]);
+        assert_eq!(
+            d.kept.iter().map(|(t, _)| *t).collect::<Vec<_>>(),
+            alloc::vec![large]
+        );
         assert!((d.value - 0.5 * u_thin).abs() <= 1e-15);
         assert!(d.error >= 0.5 * u_thin && d.error <= BOUND_SHARE * tolerance);
         // A tolerance too small for either: both kept, nothing decided.

@@ -187,13 +187,43 @@ pub(crate) fn integrate(
     integrate_with(&fan, &[], tolerance, max_points, &mut Plain(f))
 }
 
-/// `∫_P g dA` over the region `P` tiled by `triangles` (a fan of the source, or its cells
-/// cut at the contacts, `contacts.rs`), `cands` the candidates of the whole region. A triangle whose integral `g`
-/// knows exactly ([`Integrand::classify`]) is a finished leaf with no error; on the others
+/// `∫_P g dA` over the region `P` tiled by `triangles`, `cands` the candidates of the
+/// whole region: each triangle classified ([`Integrand::classify`]), then
+/// [`integrate_classified`].
+///
+/// # Errors
+/// Those of `g`.
+#[cfg(test)]
+pub(crate) fn integrate_with(
+    triangles: &[[DVec3; 3]],
+    cands: &[u32],
+    tolerance: f64,
+    max_points: u64,
+    g: &mut impl Integrand,
+) -> Result<Integral> {
+    let mut exact = KahanSum::new();
+    let mut open = Vec::with_capacity(triangles.len());
+    for &tri in triangles {
+        let mut sub = Vec::new();
+        if let Some(v) = g.classify(&tri, cands, &mut sub)? {
+            exact.add(v);
+            continue;
+        }
+        open.push((tri, sub));
+    }
+    integrate_classified(open, exact, tolerance, max_points, g)
+}
+
+/// `∫_P g dA` over the region `P` tiled by triangles (a fan of the source, or its cells
+/// cut at the contacts and events, `contacts.rs`), given as `open`: the triangles whose
+/// integral `g` does not know exactly ([`Integrand::classify`], already called by the
+/// caller, so not repeated), each with the candidates it gave; `exact` is the running sum
+/// of the parts known in closed form (finished leaves with no error). On each triangle
 /// the [`RULE`] is compared with the same rule on the four midpoint children, and the leaf
-/// with the largest difference is split (its children classified in turn) until the
-/// differences sum to at most `tolerance` or `max_points` points have been evaluated (the
-/// estimate then says how far it got).
+/// with the largest difference is split (its children classified in turn, their exact
+/// parts added to `exact`) until the differences sum to at most `tolerance` or
+/// `max_points` points have been evaluated (the estimate then says how far it got). The
+/// value is `exact`'s total plus the leaves'.
 ///
 /// The estimate `SAFETY · Σ |Q_fine − Q_coarse|` ([`SAFETY`]) bounds the error of the finer
 /// values returned when the finer rule is closer to the integral than the coarser one by a
@@ -202,24 +232,18 @@ pub(crate) fn integrate(
 ///
 /// # Errors
 /// Those of `g`.
-pub(crate) fn integrate_with(
-    triangles: &[[DVec3; 3]],
-    cands: &[u32],
+pub(crate) fn integrate_classified(
+    open: Vec<([DVec3; 3], Vec<u32>)>,
+    mut exact: KahanSum,
     tolerance: f64,
     max_points: u64,
     g: &mut impl Integrand,
 ) -> Result<Integral> {
-    let mut heap = BinaryHeap::new();
+    let mut heap = BinaryHeap::with_capacity(open.len());
     let mut points = 0u64;
     let mut order = 0u64;
-    let mut exact = KahanSum::new();
     let mut sub = Vec::new();
-    for &tri in triangles {
-        if let Some(v) = g.classify(&tri, cands, &mut sub)? {
-            exact.add(v);
-            continue;
-        }
-        let c = core::mem::take(&mut sub);
+    for (tri, c) in open {
         let coarse = rule(&tri, |p| g.eval(p, &c))?;
         heap.push(leaf(tri, coarse, order, c, g)?);
         order += 1;

@@ -114,7 +114,7 @@ impl Target {
         if dx <= tol {
             return Ok(0.0);
         }
-        work.pieces.clear();
+        work.recycle_pieces();
         if !occluders.is_empty() {
             self.pyramid(x, dx, work);
         }
@@ -124,7 +124,10 @@ impl Target {
                 continue;
             }
             if !any_shadow {
-                work.pieces.push(self.outline.clone());
+                let mut whole = work.spare.pop().unwrap_or_default();
+                whole.clear();
+                whole.extend_from_slice(&self.outline);
+                work.pieces.push(whole);
                 any_shadow = true;
             }
             self.subtract_shadow(work)?;
@@ -159,7 +162,10 @@ impl Target {
         work.planes.push((-n, -near, tol));
         let m = self.vertices.len();
         for k in 0..m {
-            let (p, q) = (self.vertices[k], self.vertices[(k + 1) % m]);
+            let (p, q) = (
+                self.vertices[k],
+                self.vertices[if k + 1 == m { 0 } else { k + 1 }],
+            );
             let mut side = (q - x).cross(p - x);
             if side.dot(self.plane.centroid - x) < 0.0 {
                 side = -side;
@@ -219,7 +225,14 @@ impl Target {
             work.shadow.reverse();
         }
         for k in 0..self.outline.len() {
-            let (a, b) = (self.outline[k], self.outline[(k + 1) % self.outline.len()]);
+            let (a, b) = (
+                self.outline[k],
+                self.outline[if k + 1 == self.outline.len() {
+                    0
+                } else {
+                    k + 1
+                }],
+            );
             let Some(inward) = inward_normal(a, b) else {
                 continue;
             };
@@ -244,9 +257,17 @@ impl Target {
             shadow,
             scratch,
             rest,
+            spare,
+            lines,
             ..
         } = work;
         let (slo, shi) = bounds2(shadow);
+        let m = shadow.len();
+        lines.clear();
+        lines.extend((0..m).filter_map(|k| {
+            let (a, b) = (shadow[k], shadow[if k + 1 == m { 0 } else { k + 1 }]);
+            inward_normal(a, b).map(|inward| (a, inward))
+        }));
         next.clear();
         for piece in pieces.drain(..) {
             let (plo, phi) = bounds2(&piece);
@@ -256,15 +277,13 @@ impl Target {
             }
             rest.clear();
             rest.extend_from_slice(&piece);
-            let m = shadow.len();
-            for k in 0..m {
-                let (a, b) = (shadow[k], shadow[(k + 1) % m]);
-                let Some(inward) = inward_normal(a, b) else {
-                    continue;
-                };
+            for &(a, inward) in lines.iter() {
                 clip2(rest, a, -inward, self.tol, scratch);
                 if scratch.len() >= 3 && crate::geom::signed_area(scratch) > self.sliver {
-                    next.push(scratch.clone());
+                    let mut part = spare.pop().unwrap_or_default();
+                    part.clear();
+                    part.extend_from_slice(scratch);
+                    next.push(part);
                 }
                 clip2(rest, a, inward, self.tol, scratch);
                 core::mem::swap(rest, scratch);
@@ -272,6 +291,7 @@ impl Target {
                     break;
                 }
             }
+            spare.push(piece);
             if next.len() > MAX_VISIBLE_PIECES {
                 return Err(ErrorKind::TooLarge {
                     what: "convex pieces of a polygon's visible part from one point",
@@ -290,6 +310,11 @@ impl Target {
 pub(crate) struct Workspace {
     pieces: Vec<Vec<DVec2>>,
     next: Vec<Vec<DVec2>>,
+    /// Outlines no longer in use, kept with their capacity for the next pieces (so
+    /// cutting the visible part allocates nothing once the pool has grown).
+    spare: Vec<Vec<DVec2>>,
+    /// The current shadow's edge lines, as (a point, the unit inward normal).
+    lines: Vec<(DVec2, DVec2)>,
     shadow: Vec<DVec2>,
     scratch: Vec<DVec2>,
     rest: Vec<DVec2>,
@@ -298,6 +323,13 @@ pub(crate) struct Workspace {
     b: Vec<DVec3>,
     /// The current point's clipping planes (`Target::pyramid`).
     planes: Vec<(DVec3, f64, f64)>,
+}
+
+impl Workspace {
+    /// Moves the current pieces to the spare outlines (emptying `pieces`).
+    fn recycle_pieces(&mut self) {
+        self.spare.append(&mut self.pieces);
+    }
 }
 
 /// Drops each vertex of the closed polygon `poly` that lies within `merge` of the last one
@@ -348,8 +380,14 @@ fn clip2(poly: &[DVec2], a: DVec2, normal: DVec2, tol: f64, out: &mut Vec<DVec2>
         let d = normal.dot(p - a);
         if d.abs() <= tol { 0.0 } else { d }
     };
+    // Wholly on the kept side with no repeated vertex: the loop below would copy `poly`
+    // unchanged (no crossing, every vertex kept, none dropped as a repeat).
+    if (0..m).all(|k| side(poly[k]) >= 0.0 && poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }]) {
+        out.extend_from_slice(poly);
+        return;
+    }
     for k in 0..m {
-        let (p, q) = (poly[k], poly[(k + 1) % m]);
+        let (p, q) = (poly[k], poly[if k + 1 == m { 0 } else { k + 1 }]);
         let (dp, dq) = (side(p), side(q));
         if dp >= 0.0 && out.last() != Some(&p) {
             out.push(p);
@@ -375,8 +413,13 @@ fn clip3(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, normal: DVec3, offset: f64
         let d = normal.dot(p) - offset;
         if d.abs() <= tol { 0.0 } else { d }
     };
+    // Wholly on the kept side with no repeated vertex: the loop below would give `poly`
+    // back unchanged, so leave it.
+    if (0..m).all(|k| side(poly[k]) >= 0.0 && poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }]) {
+        return;
+    }
     for k in 0..m {
-        let (p, q) = (poly[k], poly[(k + 1) % m]);
+        let (p, q) = (poly[k], poly[if k + 1 == m { 0 } else { k + 1 }]);
         let (dp, dq) = (side(p), side(q));
         if dp >= 0.0 && tmp.last() != Some(&p) {
             tmp.push(p);
