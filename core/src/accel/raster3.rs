@@ -53,9 +53,11 @@
 //! a polygon's `E_k` being its edge's, negated where it walks the edge backwards, which is
 //! exact (`(P_b − x) × (P_a − x)` has the same two rounded products as `(P_a − x) × (P_b −
 //! x)`, subtracted the other way). The signs go into bit masks and each polygon's test is
-//! a few integer operations, without a branch per polygon (which polygons a candidate
-//! crosses is a coin toss). For a group of a cube's 12 edges and 6 faces the ends of the
-//! edges are gathered once per bundle, at the group's first candidate, into arrays by
+//! two `AND`s of one word of signs with two masks of the polygon's edges
+//! (`polygons_crossed`), without a branch per polygon (which polygons a candidate crosses
+//! is a coin toss); a crossed polygon's depths are read from the group's gathered
+//! vertices. For a group of a cube's 12 edges and 6 faces the ends of the edges are
+//! gathered once per bundle, at the group's first candidate, into arrays by
 //! edge (`EdgeEnds`), so that each candidate's edge functions are a loop over arrays
 //! instead of a gather through the edges' vertex indices: the same differences `P − x`
 //! and products, so the same bits (the 512-cube room: 415 → 399 million instructions for
@@ -75,6 +77,11 @@
 //! distinct vertices once per bundle when they are at most 4 per line of the bundle
 //! (the room's walls: 726 for 1,024 lines), otherwise a tested quad's four at each
 //! candidate (the 99,846-patch cube: about 100,000 vertices).
+//!
+//! A crossed quad's `t` needs its corners' depths only for the clamp (step 4), which
+//! leaves `t` unchanged unless the line grazes the quad: where `t` lies inside the depths
+//! of the ideal cell by an allowance for the sheet's deviation and rounding, the corners'
+//! depths are not computed (`SheetCast::quad_hit`; the same bits).
 //!
 //! Most candidates need neither the window nor the closed test: along a row of the
 //! lattice the crossing with the sheet's ideal lattice is affine in `a`, and a candidate
@@ -754,7 +761,15 @@ impl ParallelRaster3 {
                 crossed &= crossed - 1;
                 let vertices = vertex_masks.get(j).copied().unwrap_or(0);
                 let k = group.first as usize + j;
-                if let Some(hit) = self.compact_polygon_hit(frame, &local, vertices, k, a, b) {
+                let hit = self.compact_polygon_hit(frame, &local, vertices, k, a, b);
+                // The same bits as polygon by polygon (tests)
+                #[cfg(test)]
+                assert_eq!(
+                    hit.map(|h| (h.t.to_bits(), h.prim)),
+                    self.polygon_hit(frame, projected, k, a, b)
+                        .map(|h| (h.t.to_bits(), h.prim))
+                );
+                if let Some(hit) = hit {
                     found.push((line, hit));
                 }
             }

@@ -85,6 +85,9 @@ struct SheetCast<'a> {
     /// `4τ` that bounds the difference between a corner's depth and its ideal depth.
     depth_lattice: [f64; 3],
     depth_allowance: f64,
+    /// Whether a hit may skip its corners' depths ([`SheetCast::quad_hit`]); not on the
+    /// exact path, which the row path must equal bit for bit (tests).
+    depth_shortcut: bool,
 }
 
 impl SheetCast<'_> {
@@ -166,7 +169,9 @@ impl SheetCast<'_> {
         };
         let dots = self.dots.unwrap_or_else(|| frame.plane_dots(n));
         let (low, high) = self.depth_cell(i, j);
-        if let Some(t) = frame.plane_t_inside(dots, n, p0, a, b, low, high) {
+        if self.depth_shortcut
+            && let Some(t) = frame.plane_t_inside(dots, n, p0, a, b, low, high)
+        {
             found.push((
                 line,
                 Hit3 {
@@ -302,6 +307,7 @@ impl ParallelRaster3 {
                 dots: normal.map(|n| frame.plane_dots(n)),
                 depth_lattice: [pa[2], frame.d.dot(u), frame.d.dot(v)],
                 depth_allowance: 4.0 * tau,
+                depth_shortcut: path == SheetPath::Rows,
             };
             let grow = frame.delta + tau;
             let crossing = match path {
