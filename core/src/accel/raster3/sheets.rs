@@ -193,6 +193,16 @@ impl SheetCast<'_> {
         let far = [d0, d1, d2, d3]
             .into_iter()
             .fold(f64::NEG_INFINITY, greater);
+        // The shortcut's bounds hold (`depth_cell`), and where it answers it gives the
+        // clamp's bits (tests: every hit of the row path and of the exact path)
+        #[cfg(test)]
+        {
+            assert!(!(near > low) && !(far < high), "{near} {low} {far} {high}");
+            if let Some(t) = frame.plane_t_inside(dots, n, p0, a, b, low, high) {
+                let clamped = frame.plane_t_with(dots, n, p0, a, b, near, far);
+                assert_eq!(Some(t.to_bits()), clamped.map(f64::to_bits));
+            }
+        }
         if let Some(t) = frame.plane_t_with(dots, n, p0, a, b, near, far) {
             found.push((
                 line,
