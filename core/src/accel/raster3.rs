@@ -53,9 +53,11 @@
 //! a polygon's `E_k` being its edge's, negated where it walks the edge backwards, which is
 //! exact (`(P_b − x) × (P_a − x)` has the same two rounded products as `(P_a − x) × (P_b −
 //! x)`, subtracted the other way). The signs go into bit masks and each polygon's test is
-//! a few integer operations, without a branch per polygon (which polygons a candidate
-//! crosses is a coin toss). For a group of a cube's 12 edges and 6 faces the ends of the
-//! edges are gathered once per bundle, at the group's first candidate, into arrays by
+//! two `AND`s of one word of signs with two masks of the polygon's edges
+//! (`polygons_crossed`), without a branch per polygon (which polygons a candidate crosses
+//! is a coin toss); a crossed polygon's depths are read from the group's gathered
+//! vertices. For a group of a cube's 12 edges and 6 faces the ends of the edges are
+//! gathered once per bundle, at the group's first candidate, into arrays by
 //! edge (`EdgeEnds`), so that each candidate's edge functions are a loop over arrays
 //! instead of a gather through the edges' vertex indices: the same differences `P − x`
 //! and products, so the same bits (the 512-cube room: 415 → 399 million instructions for
@@ -75,6 +77,11 @@
 //! distinct vertices once per bundle when they are at most 4 per line of the bundle
 //! (the room's walls: 726 for 1,024 lines), otherwise a tested quad's four at each
 //! candidate (the 99,846-patch cube: about 100,000 vertices).
+//!
+//! A crossed quad's `t` needs its corners' depths only for the clamp (step 4), which
+//! leaves `t` unchanged unless the line grazes the quad: where `t` lies inside the depths
+//! of the ideal cell by an allowance for the sheet's deviation and rounding, the corners'
+//! depths are not computed (`SheetCast::quad_hit`; the same bits).
 //!
 //! Most candidates need neither the window nor the closed test: along a row of the
 //! lattice the crossing with the sheet's ideal lattice is affine in `a`, and a candidate
@@ -126,11 +133,13 @@ pub(crate) struct ParallelRaster3 {
     /// The distinct edges `[u, v]` (`u < v`) of compact groups, by the indices of their
     /// ends among the group's vertices.
     group_edges: Vec<[u8; 2]>,
-    /// Per loose polygon of a compact group: bit `e` of `edge_mask` is set when edge `e`
-    /// of its group is one of the polygon's, and bit `e` of `reversed_mask` when the
-    /// polygon walks it from `v` to `u`.
-    edge_mask: Vec<u32>,
-    reversed_mask: Vec<u32>,
+    /// Per loose polygon of a compact group: its edges as the masks `[P, N]` of
+    /// [`polygons_crossed`] (bit `e` of `P`: edge `e` of its group is one of the
+    /// polygon's, walked from `u` to `v`, bit `32 + e`: walked from `v` to `u`; `N` the
+    /// same with the walks swapped), and bit `v` of `vertex_mask` set when the group's
+    /// vertex `v` is one of its corners.
+    crossing_masks: Vec<[u64; 2]>,
+    vertex_mask: Vec<u8>,
     /// The sheets, and their quads' vertices row by row (and apart, what only a hit reads:
     /// their unit normals and mean vertices).
     sheets: Vec<RasterSheet>,
@@ -178,6 +187,9 @@ struct RasterSheet {
     sheet: Sheet,
     first_quad: u32,
     prim: u32,
+    /// The unit normal of every quad, when all have the same bits (a flat grid): its
+    /// products with the frame ([`PlaneDots`]) are then computed once per bundle.
+    normal: Option<DVec3>,
 }
 
 /// The hits of the lines of one bundle, bucketed per line (the caller's scratch space,
@@ -228,6 +240,14 @@ struct Frame {
     b_max: f64,
 }
 
+/// A unit normal's products with a bundle's axes: `n·d`, `n·e₁`, `n·e₂`.
+#[derive(Clone, Copy, Debug)]
+struct PlaneDots {
+    d: f64,
+    e1: f64,
+    e2: f64,
+}
+
 impl Frame {
     /// `(e₁·(v − c), e₂·(v − c), d·(v − c))`: the projection and depth of a vertex, by the
     /// one arithmetic every test uses (watertightness needs equal bits for equal vertices).
@@ -251,16 +271,73 @@ impl Frame {
         self.d.dot(v - self.c)
     }
 
+    /// [`Frame::plane_t_with`] when it needs no clamp: `t` if `low − δ ≤ t ≤ high + δ`,
+    /// for bounds `low ≥ near` and `high ≤ far` of the polygon's depths (then `t` is in
+    /// `[near − δ, far + δ]`, where the clamp leaves it unchanged: the same bits), else
+    /// `None` (the caller takes [`Frame::plane_t_with`]).
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn plane_t_inside(
+        &self,
+        dots: PlaneDots,
+        n: DVec3,
+        p0: DVec3,
+        a: f64,
+        b: f64,
+        low: f64,
+        high: f64,
+    ) -> Option<f64> {
+        let nd = dots.d;
+        if nd == 0.0 {
+            return None;
+        }
+        let t = (n.dot(p0 - self.c) - a * dots.e1 - b * dots.e2) / nd;
+        // Fails for NaN; `+ 0.0` as in `plane_t_with`
+        let t = (t >= low - self.delta && t <= high + self.delta).then_some(t + 0.0)?;
+        t.is_finite().then_some(t)
+    }
+
+    /// The products of a unit normal `n` with the frame's axes.
+    #[inline(always)]
+    fn plane_dots(&self, n: DVec3) -> PlaneDots {
+        PlaneDots {
+            d: n.dot(self.d),
+            e1: n.dot(self.e1),
+            e2: n.dot(self.e2),
+        }
+    }
+
     /// The parameter of the hit of the line through `(a, b)` with the plane of unit normal
     /// `n` through `p0`, clamped into the depths `[near − δ, far + δ]` of the polygon;
     /// `None` if the line is parallel to the plane or `t` is not finite.
     #[inline(always)]
     fn plane_t(&self, n: DVec3, p0: DVec3, a: f64, b: f64, near: f64, far: f64) -> Option<f64> {
-        let nd = n.dot(self.d);
+        self.plane_t_with(self.plane_dots(n), n, p0, a, b, near, far)
+    }
+
+    /// [`Frame::plane_t`] with `n`'s [`Frame::plane_dots`] already computed (the same
+    /// products, so the same bits):
+    ///
+    /// ```text
+    /// t = (n·(p₀ − c) − a n·e₁ − b n·e₂) / n·d
+    /// ```
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn plane_t_with(
+        &self,
+        dots: PlaneDots,
+        n: DVec3,
+        p0: DVec3,
+        a: f64,
+        b: f64,
+        near: f64,
+        far: f64,
+    ) -> Option<f64> {
+        let nd = dots.d;
         if nd == 0.0 {
             return None;
         }
-        let t = (n.dot(p0 - self.c) - a * n.dot(self.e1) - b * n.dot(self.e2)) / nd;
+        let t = (n.dot(p0 - self.c) - a * dots.e1 - b * dots.e2) / nd;
         if t.is_nan() {
             return None;
         }
@@ -299,8 +376,8 @@ impl ParallelRaster3 {
             groups: Vec::new(),
             group_vertices: Vec::new(),
             group_edges: Vec::new(),
-            edge_mask: Vec::new(),
-            reversed_mask: Vec::new(),
+            crossing_masks: Vec::new(),
+            vertex_mask: Vec::new(),
             sheets: Vec::new(),
             quads: Vec::new(),
             quad_planes: Vec::new(),
@@ -336,10 +413,16 @@ impl ParallelRaster3 {
                         loose.extend(ids);
                         continue;
                     };
+                    let bits = |n: DVec3| n.to_array().map(f64::to_bits);
+                    let normal = quads
+                        .first()
+                        .map(|&(_, (n, _))| n)
+                        .filter(|&n| quads.iter().all(|&(_, (m, _))| bits(m) == bits(n)));
                     raster.sheets.push(RasterSheet {
                         sheet,
                         first_quad: raster.quads.len() as u32,
                         prim: start as u32,
+                        normal,
                     });
                     for (quad, plane) in quads {
                         raster.quads.push(quad);
@@ -376,8 +459,8 @@ impl ParallelRaster3 {
             raster.normal.push(p.n);
             raster.p0.push(p.p0);
         }
-        raster.edge_mask = alloc::vec![0; raster.prim.len()];
-        raster.reversed_mask = alloc::vec![0; raster.prim.len()];
+        raster.crossing_masks = alloc::vec![[0; 2]; raster.prim.len()];
+        raster.vertex_mask = alloc::vec![0; raster.prim.len()];
         raster.group_polygons();
         raster
     }
@@ -460,10 +543,11 @@ impl ParallelRaster3 {
             }
             let corners = &self.corners[self.first[k] as usize..self.first[k + 1] as usize];
             let local = |v: u32| ids.iter().position(|&w| w == v).unwrap_or(0) as u8;
-            let (mut mask, mut reversed) = (0u32, 0u32);
+            let (mut mask, mut reversed, mut vertices) = (0u32, 0u32, 0u8);
             let mut a = corners.last().map_or(0, |&v| local(v));
             for &v in corners {
                 let b = local(v);
+                vertices |= 1 << (b % 8);
                 // A repeated vertex gives `E = 0` exactly: no edge
                 if a != b {
                     let edge = [a.min(b), a.max(b)];
@@ -484,8 +568,9 @@ impl ParallelRaster3 {
                 }
                 a = b;
             }
-            self.edge_mask[k] = mask;
-            self.reversed_mask[k] = reversed;
+            let (forward, backward) = (u64::from(mask & !reversed), u64::from(mask & reversed));
+            self.crossing_masks[k] = [forward | (backward << 32), backward | (forward << 32)];
+            self.vertex_mask[k] = vertices;
         }
         if !compact {
             self.group_edges.truncate(edge_start);
@@ -641,16 +726,15 @@ impl ParallelRaster3 {
         }
         let edges = &self.group_edges[group.edges.0 as usize..group.edges.1 as usize];
         let polygons = group.first as usize..group.end as usize;
-        let masks = &self.edge_mask[polygons.clone()];
-        let reversed = &self.reversed_mask[polygons];
+        let masks = &self.crossing_masks[polygons.clone()];
+        let vertex_masks = &self.vertex_mask[polygons];
         // A cube's 6 faces as arrays: the polygons' loop of a constant count, unrolled
         // (with the truncation in `sheets.rs`, the room's 2293 → 2090 instructions a line;
         // the 12 edges' loop as an array of vertex indices was not cheaper, the edges'
         // ends as arrays are: `EdgeEnds`)
         let cube = <&[[u8; 2]; 12]>::try_from(edges)
             .ok()
-            .zip(<&[u32; 6]>::try_from(masks).ok())
-            .zip(<&[u32; 6]>::try_from(reversed).ok());
+            .zip(<&[[u64; 2]; 6]>::try_from(masks).ok());
         // A cube's 12 edges by their ends' coordinates, edge by edge (SoA): at each
         // candidate the edge functions are a loop over arrays, without the gather of
         // `edge_signs`; gathered at the group's first candidate (most of the room's
@@ -660,22 +744,32 @@ impl ParallelRaster3 {
             // Bit j of `crossed`: the line crosses polygon j of the group (no branch per
             // polygon: which polygons a candidate crosses is a coin toss)
             let crossed = match cube {
-                Some(((edges, masks), reversed)) => {
+                Some((edges, masks)) => {
                     let ends = ends.get_or_insert_with(|| EdgeEnds::new(&local, edges));
                     let (gt, lt) = ends.signs(a, b);
-                    polygons_crossed(gt, lt, masks, reversed)
+                    polygons_crossed(gt, lt, masks)
                 }
                 None => {
                     let rel = local.map(|p| (p[0] - a, p[1] - b));
                     let (gt, lt) = edge_signs(&rel, edges);
-                    polygons_crossed(gt, lt, masks, reversed)
+                    polygons_crossed(gt, lt, masks)
                 }
             };
             let mut crossed = crossed;
             while crossed != 0 {
-                let k = group.first as usize + crossed.trailing_zeros() as usize;
+                let j = crossed.trailing_zeros() as usize;
                 crossed &= crossed - 1;
-                if let Some(hit) = self.polygon_hit(frame, projected, k, a, b) {
+                let vertices = vertex_masks.get(j).copied().unwrap_or(0);
+                let k = group.first as usize + j;
+                let hit = self.compact_polygon_hit(frame, &local, vertices, k, a, b);
+                // The same bits as polygon by polygon (tests)
+                #[cfg(test)]
+                assert_eq!(
+                    hit.map(|h| (h.t.to_bits(), h.prim)),
+                    self.polygon_hit(frame, projected, k, a, b)
+                        .map(|h| (h.t.to_bits(), h.prim))
+                );
+                if let Some(hit) = hit {
                     found.push((line, hit));
                 }
             }
@@ -711,6 +805,35 @@ impl ParallelRaster3 {
                 }
             }
         });
+    }
+
+    /// [`ParallelRaster3::polygon_hit`] for polygon `k` of a compact group, its corners
+    /// the group's vertices `local[v]` for the bits `v` of `vertices`: the same depths
+    /// (the group's vertices are gathered from the same projections), folded in another
+    /// order, which gives the same `near − δ` and `far + δ` (the depths are finite; a
+    /// minimum over finite values is the same whatever the order, but for the sign of a
+    /// zero, which the margin's subtraction and addition erase), so the same bits.
+    #[inline(always)]
+    fn compact_polygon_hit(
+        &self,
+        frame: &Frame,
+        local: &[[f64; 3]; GROUP_VERTICES],
+        vertices: u8,
+        k: usize,
+        a: f64,
+        b: f64,
+    ) -> Option<Hit3> {
+        let (mut near, mut far) = (f64::INFINITY, f64::NEG_INFINITY);
+        let mut rest = vertices;
+        while rest != 0 {
+            let depth = local[rest.trailing_zeros() as usize % GROUP_VERTICES][2];
+            rest &= rest - 1;
+            near = lesser(near, depth);
+            far = greater(far, depth);
+        }
+        let (n, p0, prim) = (self.normal.get(k)?, self.p0.get(k)?, self.prim.get(k)?);
+        let t = frame.plane_t(*n, *p0, a, b, near, far)?;
+        Some(Hit3 { t, prim: *prim })
     }
 
     /// The hit of the line through `(a, b)` with loose polygon `k`, which it crosses: `t`
@@ -888,14 +1011,20 @@ impl EdgeEnds {
 }
 
 /// Bit `j`: polygon `j` of a compact group is crossed (no two of its edge functions of
-/// opposite signs, not all zero), from [`edge_signs`] and its polygons' edge masks.
+/// opposite signs, not all zero), from [`edge_signs`] and its polygons' masks `[P, N]`.
+///
+/// Polygon `j`'s edge function on edge `e` is the edge's, negated where it walks the edge
+/// from `v` to `u`: it is positive where edge `e` is positive and walked forwards or
+/// negative and walked backwards. With the signs in one word `w = gt | lt << 32`, the
+/// polygon has a positive edge function when `w & P ≠ 0` (`P`: its forward edges' bits
+/// and its backward edges' bits shifted by 32) and a negative one when `w & N ≠ 0` (the
+/// walks swapped); it is crossed when exactly one of the two holds.
 #[inline(always)]
-fn polygons_crossed(gt: u32, lt: u32, masks: &[u32], reversed: &[u32]) -> u32 {
+fn polygons_crossed(gt: u32, lt: u32, masks: &[[u64; 2]]) -> u32 {
+    let w = u64::from(gt) | (u64::from(lt) << 32);
     let mut crossed = 0u32;
-    for (j, (&mask, &rev)) in masks.iter().zip(reversed).enumerate() {
-        let pos = ((gt & !rev) | (lt & rev)) & mask;
-        let neg = ((lt & !rev) | (gt & rev)) & mask;
-        crossed |= u32::from((pos != 0) != (neg != 0)) << j;
+    for (j, &[p, n]) in masks.iter().enumerate() {
+        crossed |= u32::from((w & p != 0) != (w & n != 0)) << j;
     }
     crossed
 }

@@ -45,7 +45,7 @@ use crate::geom::DVec3;
 
 use super::super::bvh3::sheet::ProjectedSheet;
 use super::{
-    BundleHits3, Frame, Hit3, ParallelRaster3, RasterSheet, SHEET_ROUNDING, crosses,
+    BundleHits3, Frame, Hit3, ParallelRaster3, PlaneDots, RasterSheet, SHEET_ROUNDING, crosses,
     for_each_candidate, for_each_row, greater, lesser,
 };
 
@@ -79,9 +79,37 @@ struct SheetCast<'a> {
     quad_corners: &'a [[u32; 4]],
     /// The sheets' vertices projected, if the bundle projected them all (else empty).
     sheet_projected: &'a [[f64; 3]],
+    /// The sheet's one normal with the frame's axes, when its quads share it.
+    dots: Option<PlaneDots>,
+    /// The depths of the ideal lattice, `d·(A − c)`, `d·u`, `d·v`, and the allowance
+    /// `4τ` that bounds the difference between a corner's depth and its ideal depth.
+    depth_lattice: [f64; 3],
+    depth_allowance: f64,
+    /// Whether a hit may skip its corners' depths ([`SheetCast::quad_hit`]); not on the
+    /// exact path, which the row path must equal bit for bit (tests).
+    depth_shortcut: bool,
 }
 
 impl SheetCast<'_> {
+    /// Bounds `(low, high)` with `near ≤ low` and `high ≤ far` for quad `(i, j)`'s
+    /// corners' depths `near` (least) and `far` (greatest).
+    ///
+    /// A corner `P = A + i' u + j' v + e` (`|e|` at most the sheet's deviation) has the
+    /// depth `d·(P − c)` computed to within `10⁻¹⁵ |P − c|₁` of its exact value, which is
+    /// within `|e|` of the ideal `D(i', j') = d·(A − c) + i' d·u + j' d·v`, itself
+    /// computed here to within `10⁻¹⁵` of the sheet's size; `τ` (the window's deviation
+    /// plus `10⁻¹²` of the size) covers all three, and `4τ` leaves room. So `near`, at
+    /// most the depth of the corner with the least ideal depth, is at most that ideal
+    /// depth plus `4τ`, and `far` at least the greatest minus `4τ`.
+    #[inline(always)]
+    fn depth_cell(&self, i: u32, j: u32) -> (f64, f64) {
+        let [da, du, dv] = self.depth_lattice;
+        let base = da + f64::from(i) * du + f64::from(j) * dv;
+        let low = base + du.min(0.0) + dv.min(0.0) + self.depth_allowance;
+        let high = base + du.max(0.0) + dv.max(0.0) - self.depth_allowance;
+        (low, high)
+    }
+
     /// The exact path for the line through `(a, b)`: the window of its crossing, and the
     /// closed test of each quad in it.
     #[inline(always)]
@@ -107,17 +135,31 @@ impl SheetCast<'_> {
                     ],
                 };
                 if crosses(p.iter().copied(), p[3], a, b) {
-                    self.quad_hit(line, o, a, b, found);
+                    self.quad_hit(line, (i, j), a, b, found);
                 }
             }
         }
     }
 
-    /// The hit of the line through `(a, b)` with quad `o`, which it crosses: `t` from the
-    /// quad's plane, clamped into its depths.
+    /// The hit of the line through `(a, b)` with quad `(i, j)` (`o = j m + i`), which it
+    /// crosses: `t` from the quad's plane, clamped into its depths.
+    ///
+    /// The clamp leaves `t` as it is when `near − δ ≤ t ≤ far + δ`, which holds without
+    /// the corners' depths when `t` is inside the ideal cell's depths by the allowance
+    /// `4τ` ([`SheetCast::depth_cell`]; the usual case, as a line that crosses the quad
+    /// meets its plane between its corners' depths): then the corners' depths are not
+    /// computed, and the result is the same bits.
     #[inline(always)]
-    fn quad_hit(&self, line: u32, o: usize, a: f64, b: f64, found: &mut Vec<(u32, Hit3)>) {
+    fn quad_hit(
+        &self,
+        line: u32,
+        (i, j): (u32, u32),
+        a: f64,
+        b: f64,
+        found: &mut Vec<(u32, Hit3)>,
+    ) {
         let frame = self.frame;
+        let o = (j * self.m + i) as usize;
         let (Some(q), Some(c), Some(&(n, p0))) = (
             self.quads.get(o),
             self.quad_corners.get(o),
@@ -125,6 +167,20 @@ impl SheetCast<'_> {
         ) else {
             return;
         };
+        let dots = self.dots.unwrap_or_else(|| frame.plane_dots(n));
+        let (low, high) = self.depth_cell(i, j);
+        if self.depth_shortcut
+            && let Some(t) = frame.plane_t_inside(dots, n, p0, a, b, low, high)
+        {
+            found.push((
+                line,
+                Hit3 {
+                    t,
+                    prim: self.prim + o as u32,
+                },
+            ));
+            return;
+        }
         // A projected vertex's depth is `Frame::depth`'s bits: read it where the bundle
         // projected every vertex, else compute it (most quads tested are not crossed)
         let depth = |k: usize| match self.sheet_projected.get(c[k] as usize) {
@@ -137,7 +193,17 @@ impl SheetCast<'_> {
         let far = [d0, d1, d2, d3]
             .into_iter()
             .fold(f64::NEG_INFINITY, greater);
-        if let Some(t) = frame.plane_t(n, p0, a, b, near, far) {
+        // The shortcut's bounds hold (`depth_cell`), and where it answers it gives the
+        // clamp's bits (tests: every hit of the row path and of the exact path)
+        #[cfg(test)]
+        {
+            assert!(!(near > low) && !(far < high), "{near} {low} {far} {high}");
+            if let Some(t) = frame.plane_t_inside(dots, n, p0, a, b, low, high) {
+                let clamped = frame.plane_t_with(dots, n, p0, a, b, near, far);
+                assert_eq!(Some(t.to_bits()), clamped.map(f64::to_bits));
+            }
+        }
+        if let Some(t) = frame.plane_t_with(dots, n, p0, a, b, near, far) {
             found.push((
                 line,
                 Hit3 {
@@ -216,6 +282,7 @@ impl ParallelRaster3 {
                 sheet,
                 first_quad,
                 prim,
+                normal,
             } = rs;
             let [a0, u, v] = sheet.lattice();
             let (m, k) = (sheet.cols(), sheet.rows());
@@ -247,6 +314,10 @@ impl ParallelRaster3 {
                 planes: &self.quad_planes[first..][..sheet.len()],
                 quad_corners: &self.quad_corners[first..][..sheet.len()],
                 sheet_projected,
+                dots: normal.map(|n| frame.plane_dots(n)),
+                depth_lattice: [pa[2], frame.d.dot(u), frame.d.dot(v)],
+                depth_allowance: 4.0 * tau,
+                depth_shortcut: path == SheetPath::Rows,
             };
             let grow = frame.delta + tau;
             let crossing = match path {
@@ -287,7 +358,7 @@ impl ParallelRaster3 {
                         row_paths[usize::from(inside)] += 1;
                     }
                     if inside {
-                        cast.quad_hit(row.line(q), (j * mi + i) as usize, a, row.b, found);
+                        cast.quad_hit(row.line(q), (i as u32, j as u32), a, row.b, found);
                     } else {
                         cast.exact(row.line(q), a, row.b, found);
                     }
