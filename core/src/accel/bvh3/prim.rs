@@ -141,14 +141,20 @@ impl Query {
         // The low plane moved by −margin is the origin moved by +margin, and conversely;
         // the near plane is the low one unless 1/d ≤ −0.
         let (o_lo, o_hi) = ((rel + margin).to_array(), (rel - margin).to_array());
+        // Without a branch: a global line's octant is random, and three sign branches
+        // were mispredicted half the time each. `neg` is all ones where `1/d ≤ −0`; the
+        // origins are chosen bit by bit (`x ^ ((x ^ y) & neg)` is `y` there, else `x`).
         let mut near = [0; 3];
         let mut o_near = o_lo;
         let mut o_far = o_hi;
         for i in 0..3 {
-            if inv[i].is_sign_negative() {
-                near[i] = 1;
-                (o_near[i], o_far[i]) = (o_hi[i], o_lo[i]);
-            }
+            let sign = inv[i].to_bits() >> 63;
+            near[i] = sign as usize;
+            let neg = 0u64.wrapping_sub(sign);
+            let (lo, hi) = (o_lo[i].to_bits(), o_hi[i].to_bits());
+            let diff = (lo ^ hi) & neg;
+            o_near[i] = f64::from_bits(lo ^ diff);
+            o_far[i] = f64::from_bits(hi ^ diff);
         }
         Self {
             o: rel,
