@@ -89,6 +89,8 @@ pub fn print_report(
                     o.number("max_row_error_estimate", e.max_row_error)?;
                     o.integer("pairs_integrated", e.pairs_integrated as u64)?;
                     o.integer("pairs_over_tolerance", e.over_tolerance as u64)?;
+                    // Rows above 1 by more than their estimates allow (row cap's fallback)
+                    o.integer("rows_scaled", e.rows_scaled as u64)?;
                 }
             }
             Some(mc) => {

@@ -95,6 +95,14 @@ pub fn run(args: &FormFactorsArgs) -> Result<()> {
             e.pairs_integrated,
             e.over_tolerance
         )?;
+        if e.rows_scaled > 0 {
+            // The estimates of these rows did not cover their excess above 1 (row_cap.rs)
+            writeln!(
+                o,
+                "rows scaled         {}  (rows above 1 by more than their estimates allow, scaled back to 1: their entries' estimates hold the change and may exceed the tolerance)",
+                e.rows_scaled
+            )?;
+        }
         // A closed scene's rows lose at most their estimates (an open scene's lose more)
         writeln!(
             o,

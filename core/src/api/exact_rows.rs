@@ -13,9 +13,13 @@
 //!
 //! ```text
 //! F_ij = min(flux / A_i, 1),   err_ij = err / A_i + max(flux / A_i − 1, 0)   (and i ↔ j)
-//! when a polygon may hide another:  c_i = 1 / Σ_j F_ij where that sum exceeds 1 (else 1),
-//!                                   F_ij ← F_ij · min(c_i, c_j),  err_ij += the change
+//! when a polygon may hide another: rows above 1 brought back to 1, each entry lowered
+//!   within its own estimate: F_ij ← F_ij − max(t_i, t_j) · min(F_ij, err_ij),
+//!   t_i = (Σ_j F_ij − 1) / Σ_j min(F_ij, err_ij) in [0, 1],  err_ij += the change;
+//!   rows the estimates could not bring to 1 then scaled by min(c_i, c_j), c_i = 1 / Σ_j F_ij
 //! ```
+//!
+//! (the rule and its reasons: `occluded_3d::cap_rows`).
 //!
 //! Memory: 20 bytes per pair that sees each other in a partial, about 40 per pair in the
 //! merged matrix (both triangles, values and estimates): `n²` doubles only for a scene
@@ -454,8 +458,9 @@ struct Assembled {
 }
 
 impl Assembled {
-    /// The matrix of `rows`, a complete job (see the module documentation).
-    fn of(rows: &ExactRows) -> Assembled {
+    /// The matrix of `rows`, a complete job (see the module documentation), and the rows
+    /// the cap scaled (`occluded_3d::cap_sparse_rows`).
+    fn of(rows: &ExactRows) -> (Assembled, usize) {
         let n = rows.n_patches();
         let mut counts = vec![0usize; n + 1];
         for (k, i) in rows.rows.clone().enumerate() {
@@ -501,10 +506,8 @@ impl Assembled {
                 }
             }
         }
-        if rows.may_occlude {
-            out.cap_rows();
-        }
-        out
+        let rows_scaled = if rows.may_occlude { out.cap_rows() } else { 0 };
+        (out, rows_scaled)
     }
 
     /// Row `i`'s entries.
@@ -512,27 +515,16 @@ impl Assembled {
         self.offsets[i]..self.offsets[i + 1]
     }
 
-    /// `occluded_3d`'s `cap_rows` on the CSR rows: with `c_i = 1 / Σ_j F_ij` where the sum
-    /// exceeds 1 (else 1), `F_ij ← F_ij · min(c_i, c_j)` (reciprocity kept; row `i` sums to
-    /// at most 1), the change added to the estimate.
-    fn cap_rows(&mut self) {
-        let n = self.offsets.len() - 1;
-        let c: Vec<f64> = (0..n)
-            .map(|i| {
-                let s = crate::math::sum(self.values[self.row(i)].iter().copied());
-                if s > 1.0 { 1.0 / s } else { 1.0 }
-            })
-            .collect();
-        for (i, &ci) in c.iter().enumerate() {
-            for p in self.row(i) {
-                let k = ci.min(c[self.columns[p] as usize]);
-                if k < 1.0 {
-                    let old = self.values[p];
-                    self.values[p] = old * k;
-                    self.errors[p] += old - self.values[p];
-                }
-            }
-        }
+    /// `occluded_3d`'s `cap_rows` on the CSR rows (`occluded_3d::cap_sparse_rows`: the
+    /// same rule, operations and order, so the same bits as the dense job); the rows whose
+    /// excess exceeded what their estimates allow.
+    fn cap_rows(&mut self) -> usize {
+        occluded_3d::cap_sparse_rows(
+            &mut self.values,
+            &mut self.errors,
+            &self.offsets,
+            &self.columns,
+        )
     }
 }
 
@@ -555,7 +547,7 @@ impl Measurement {
             }
             .into());
         }
-        let full = Assembled::of(&rows);
+        let (full, rows_scaled) = Assembled::of(&rows);
         let max_error = full.errors.iter().fold(0.0, |m: f64, &e| m.max(e));
         let max_row_error = (0..n)
             .map(|i| crate::math::sum(full.errors[full.row(i)].iter().copied()))
@@ -584,6 +576,7 @@ impl Measurement {
                 max_row_error,
                 pairs_integrated: rows.integrated as usize,
                 over_tolerance: rows.over_tolerance as usize,
+                rows_scaled,
                 per_pair: per_entry,
                 sparse: true,
                 zeros,

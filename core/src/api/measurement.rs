@@ -86,6 +86,10 @@ pub struct ExactErrors {
     pub pairs_integrated: usize,
     /// Unordered pairs whose estimate exceeds the tolerance (stopped by the work cap).
     pub over_tolerance: usize,
+    /// Rows above 1 by more than their entries' estimates allow (estimates that did not
+    /// cover the error), brought back to 1 by scaling instead, which can push entries'
+    /// estimates past the tolerance; 0 when the estimates covered every row's excess.
+    pub rows_scaled: usize,
     /// The estimates of `|ΔF_ij|` (0 for the exact unoccluded pairs), read through
     /// [`Measurement::for_each_form_factor`]: row-major `n × n` when the form factors are
     /// dense, one per stored (non-zero) patch entry in row-major order when sparse.
@@ -516,6 +520,7 @@ impl Measurement {
                         max_row_error: r.max_row_error(),
                         pairs_integrated: r.pairs_integrated,
                         over_tolerance: r.over_tolerance,
+                        rows_scaled: r.rows_scaled,
                         per_pair: r.errors.clone(),
                         sparse: false,
                         zeros,

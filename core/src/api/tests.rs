@@ -735,6 +735,73 @@ fn exact_rows_in_ranges_merge_into_the_dense_job_bit_for_bit() {
     );
 }
 
+/// Where the row cap has work to do (the closed room with a plate at loose tolerances,
+/// whose rows come out above 1 within their estimates), the dense job and exact rows
+/// (sparse) still give the same bits, the same count of rows scaled, rows at most 1, and
+/// (no row scaled, no pair over the tolerance) every estimate within the tolerance.
+#[test]
+fn the_row_cap_gives_the_same_bits_dense_and_sparse() {
+    let scene = room_with_plate();
+    let Scene::Solid(solid) = &scene else {
+        unreachable!("a 3D scene")
+    };
+    let polygons: Vec<(usize, usize)> =
+        solid.patches().iter().map(|p| (p.first, p.count)).collect();
+    let mut capped_somewhere = false;
+    for tol in [1e-1, 3e-2, 1e-2] {
+        let options = crate::formfactor::occluded_3d::OcclusionOptions::new(tol);
+        // The rows before the cap: is some row above 1?
+        let raw = crate::formfactor::occluded_3d::occluded_rows_by(
+            solid.points(),
+            &polygons,
+            &options,
+            0..polygons.len(),
+            &mut |n, row| Some((0..n).map(row).collect()),
+        )
+        .unwrap();
+        let mut sums = alloc::vec![0.0; polygons.len()];
+        for (i, row) in raw.rows.iter().enumerate() {
+            for &(j, flux, _) in &row.pairs {
+                sums[i] += (flux / raw.areas[i]).min(1.0);
+                sums[j] += (flux / raw.areas[j]).min(1.0);
+            }
+        }
+        capped_somewhere |= sums.iter().any(|&s| s > 1.0);
+        let dense = Measurement::exact_within(&scene, &options, &mut Serial).unwrap();
+        let rows = ExactRows::compute(&scene, 7, &options, None, &mut Threads(2)).unwrap();
+        let sparse = Measurement::from_exact_rows(rows).unwrap();
+        assert_eq!(entries(&dense), entries(&sparse), "tolerance {tol}");
+        let (d, s) = (
+            dense.exact_errors().unwrap(),
+            sparse.exact_errors().unwrap(),
+        );
+        assert_eq!(
+            (
+                d.max_error,
+                d.max_row_error,
+                d.rows_scaled,
+                d.over_tolerance
+            ),
+            (
+                s.max_error,
+                s.max_row_error,
+                s.rows_scaled,
+                s.over_tolerance
+            ),
+            "tolerance {tol}"
+        );
+        let ff = dense.form_factors().unwrap();
+        for i in 0..ff.n_patches() {
+            let row: f64 = (0..ff.n_patches()).map(|j| ff.get(i, j)).sum();
+            assert!(row <= 1.0 + 1e-14, "tolerance {tol}, row {i}: {row}");
+        }
+        if d.rows_scaled == 0 && d.over_tolerance == 0 {
+            assert!(d.max_error <= tol, "tolerance {tol}: {}", d.max_error);
+        }
+    }
+    assert!(capped_somewhere, "no row above 1: the test checks nothing");
+}
+
 /// Incomplete, overlapping, gapped and foreign row ranges are refused with typed errors;
 /// so are damaged files, flatland scenes and rows outside the scene.
 #[test]

@@ -58,9 +58,10 @@
 //! is reached. The flux gives both `F_ij` and `F_ji` (2.8), so reciprocity holds exactly;
 //! the estimate divided by `A_i` (`A_j`) is the error estimate of `F_ij` (`F_ji`), at most
 //! `tol / 2` for both unless the cap stopped the pair ([`OccludedFormFactors::over_tolerance`]).
-//! A row whose sum exceeds 1 (a closed scene's, within its estimates) is scaled back to 1
-//! keeping reciprocity, the change added to the estimates (`cap_rows`): the other half of
-//! the tolerance is left for that change (`INTEGRATION_SHARE`).
+//! A row whose sum exceeds 1 (a closed scene's, within its estimates) is brought back to 1
+//! keeping reciprocity, each entry lowered by at most its own estimate, the change added
+//! to the estimates (`cap_rows`, `row_cap.rs`): the other half of the tolerance is left for
+//! that change (`INTEGRATION_SHARE`).
 //!
 //! **Decided by a bound** (`budget.rs`). Occluders only remove sight lines, so the flux of
 //! any source region `T` lies in `[0, U_T]`, `U_T` its exact unoccluded flux. A pair with
@@ -101,6 +102,7 @@ mod budget;
 mod contacts;
 mod occluders;
 mod outer;
+mod row_cap;
 mod solids;
 #[cfg(all(test, feature = "std"))]
 mod tests;
@@ -131,8 +133,9 @@ pub(crate) const MIN_TOLERANCE: f64 = 1e-10;
 /// The share of the tolerance a pair's adaptive integration may spend: it stops when its
 /// estimate is at most `INTEGRATION_SHARE · tol · min(A_i, A_j)`, so the estimates of
 /// `F_ij` and `F_ji` are at most `INTEGRATION_SHARE · tol`. The rest is left for what
-/// bringing a row above 1 back to 1 adds to the estimates (`cap_rows`: the change of each
-/// entry, `F_ij (1 − min(c_i, c_j))`, known only once every row is done). With the whole
+/// bringing a row above 1 back to 1 adds to the estimates (`cap_rows`, known only once
+/// every row is done): at most the entry's own estimate when the row's estimates cover its
+/// excess (`row_cap.rs`), so with `½` the final estimate stays within the tolerance. With the whole
 /// tolerance spent on the integration, Cornell 810 at `--tol 1e-6` ended with three entries
 /// over the tolerance by that share alone (largest 1.006·10⁻⁶, entry (442, 373): its
 /// integration estimate the full 10⁻⁶, the cap's 6·10⁻⁹).
@@ -233,6 +236,10 @@ pub struct OccludedFormFactors {
     /// and bringing rows above 1 back to 1 changed, so an estimate can exceed the tolerance
     /// by that much (much so only in degenerate scenes, e.g. coincident surfaces).
     pub over_tolerance: usize,
+    /// Rows above 1 by more than their entries' estimates allow (estimates that did not
+    /// cover the error): brought back to 1 by scaling, which can push entries' estimates
+    /// past the tolerance (`row_cap`). 0 when the estimates were honest.
+    pub rows_scaled: usize,
     /// Points evaluated in all.
     pub points: u64,
 }
@@ -901,9 +908,11 @@ pub(crate) fn form_factors_occluded_by(
         }
     }
     let areas: Vec<f64> = polys.iter().map(|(_, p)| p.area).collect();
-    if may_occlude {
-        cap_rows(&mut f, &mut errors, n);
-    }
+    let rows_scaled = if may_occlude {
+        cap_rows(&mut f, &mut errors, n)
+    } else {
+        0
+    };
     Ok(OccludedFormFactors {
         form_factors: FormFactors::from_patch_matrix(&areas, f)?,
         errors,
@@ -911,6 +920,7 @@ pub(crate) fn form_factors_occluded_by(
         pairs_integrated,
         pairs_blocked,
         over_tolerance,
+        rows_scaled,
         points: total_points,
     })
 }
@@ -963,28 +973,32 @@ pub(crate) struct OccludedRows {
 }
 
 /// Rows above 1 (a closed scene's rows within their estimates of 1, from either side) are
-/// brought to 1 without breaking reciprocity: with `c_i = 1 / Σ_j F_ij` where the sum
-/// exceeds 1 (else 1), each `F_ij` becomes `F_ij · min(c_i, c_j)` (the flux `A_i F_ij` is
-/// scaled alike from both ends, so `A_i F_ij = A_j F_ji` stays; row `i` sums to at most
-/// `c_i Σ_j F_ij = 1`). The change is added to the pair's error estimate.
-fn cap_rows(f: &mut [f64], errors: &mut [f64], n: usize) {
-    let c: Vec<f64> = f
-        .chunks_exact(n.max(1))
-        .map(|row| {
-            let s = crate::math::sum(row.iter().copied());
-            if s > 1.0 { 1.0 / s } else { 1.0 }
-        })
-        .collect();
-    for (i, &ci) in c.iter().enumerate() {
-        for (j, &cj) in c.iter().enumerate() {
-            let k = ci.min(cj);
-            if k < 1.0 {
-                let old = f[i * n + j];
-                f[i * n + j] = old * k;
-                errors[i * n + j] += old - f[i * n + j];
-            }
-        }
-    }
+/// brought to 1 keeping reciprocity, each entry lowered in proportion to what its own
+/// estimate allows, the change added to the estimate (`row_cap.rs`: the rule and its reasons).
+/// Returns the rows whose excess exceeded what their estimates allow, scaled back by the
+/// old rule instead.
+pub(crate) fn cap_rows(f: &mut [f64], errors: &mut [f64], n: usize) -> usize {
+    row_cap::cap_rows_by(f, errors, n, |i| i * n..(i + 1) * n, |p| p % n.max(1))
+}
+
+/// [`cap_rows`] on compressed sparse rows (`offsets`: `n + 1` row starts; `columns`
+/// increasing within a row): the same operations in the same order on the stored entries,
+/// so the same bits as the dense matrix of the same entries (zeros add nothing to the
+/// compensated row sums and are never changed).
+pub(crate) fn cap_sparse_rows(
+    values: &mut [f64],
+    errors: &mut [f64],
+    offsets: &[usize],
+    columns: &[u32],
+) -> usize {
+    let n = offsets.len().saturating_sub(1);
+    row_cap::cap_rows_by(
+        values,
+        errors,
+        n,
+        |i| offsets[i]..offsets[i + 1],
+        |p| columns[p] as usize,
+    )
 }
 
 /// `form_factors_occluded` of a scene's patches.
