@@ -7,14 +7,33 @@ use core::ops::Range;
 
 use super::checks::CheckSums;
 use super::matrix::check_entry;
-use super::measures::{MeasureSums, RowMeasureSums};
+use super::measures::{MeasureSums, RowMeasureSums, RowTotals};
 use super::{Channel, Checks, Measures, ROW_SUM_TOLERANCE, Transitions};
 use crate::error::{Error, ErrorKind, Result};
 use crate::math::KahanSum;
 
+/// How [`measures_and_checks_by`] has its parts computed: `run(parts, part)` calls
+/// `part(k)` for `k` in `0..parts`, on any threads in any order, and returns what it
+/// computed at index `k` (a missing or short result is computed on the caller's thread).
+/// A caller without threads returns nothing.
+pub(crate) type PartRunner<'r> =
+    dyn FnMut(usize, &(dyn Fn(usize) -> SurveyPart + Sync)) -> Vec<Option<SurveyPart>> + 'r;
+
 /// `Channel::new(w, p)` followed by [`Channel::measures`] and [`Channel::checks`], in
 /// one pass over the stored entries instead of four (the validation, the measures, the
-/// row sums with reciprocity, the column sums `wP` of stationarity).
+/// row sums with reciprocity, the column sums `wP` of stationarity), on this thread.
+///
+/// # Errors
+/// Those of `Channel::new`.
+#[cfg(test)]
+pub(crate) fn measures_and_checks<M: Transitions + Sync>(
+    w: &[f64],
+    p: M,
+) -> Result<(Measures, Checks)> {
+    measures_and_checks_by(w, p, &mut |_, _| Vec::new())
+}
+
+/// [`measures_and_checks`] with its parts computed by `run` (on threads: the same bits).
 ///
 /// Every sum adds the same terms in the same order as those methods (the shared
 /// [`RowMeasureSums`], [`MeasureSums`] and [`CheckSums`]; the column sums in increasing
@@ -22,110 +41,216 @@ use crate::math::KahanSum;
 /// gives the same error (the weights first, then the rows in order, an entry's error
 /// before its row's sum).
 ///
-/// A dense `n × n` matrix is scanned once instead of four times; for the 5400-patch cube
-/// that is most of `measure`'s fixed cost after the lines. The reverse entry `P_ji` of each
-/// stored `P_ij` is gathered for a block of rows at a time ([`ReverseEntries`]): `O(nnz)`
-/// in all for CSR storage, where a bisection per entry was half of a 10⁷-line `measure`
-/// of the cube.
+/// The work is cut into parts that depend on nothing but their index ([`SurveyPart`]):
+/// blocks of [`BLOCK_ROWS`] rows (each row's entry checks, row sum, measure terms and
+/// reciprocity, the reverse entry `P_ji` of each stored `P_ij` gathered for the block at
+/// once by [`ReverseEntries`]: `O(nnz)` in all for CSR storage), and bands of columns
+/// (each column's compensated sum `Σ_i w_i P_ij` over the rows in increasing `i`, for
+/// stationarity). The parts are assembled in order: each row's totals are added to the
+/// scene's sums in increasing `i`, as one sweep adds them, and the largest errors are
+/// maxima, which do not depend on the grouping. So any number of threads gives the bits
+/// of one thread.
 ///
 /// # Errors
 /// Those of `Channel::new`.
-pub(crate) fn measures_and_checks<M: Transitions>(w: &[f64], p: M) -> Result<(Measures, Checks)> {
+pub(crate) fn measures_and_checks_by<M: Transitions + Sync>(
+    w: &[f64],
+    p: M,
+    run: &mut PartRunner<'_>,
+) -> Result<(Measures, Checks)> {
     // The distribution and the shape, as `Channel::new` checks them (an O(n) pass)
     let channel = Channel::new(w, EmptyRows(p.n_states()))?;
     let w = channel.weights();
     let n = w.len();
+    let row_blocks = n.div_ceil(BLOCK_ROWS);
+    let band = band_columns(n);
+    let bands = n.div_ceil(band);
+    let part = |k: usize| {
+        if k < row_blocks {
+            let start = k * BLOCK_ROWS;
+            SurveyPart::Rows(survey_rows(&p, w, start..n.min(start + BLOCK_ROWS)))
+        } else {
+            let start = (k - row_blocks) * band;
+            SurveyPart::Columns(column_sum_error(&p, w, start..n.min(start + band)))
+        }
+    };
+    let mut done = run(row_blocks + bands, &part);
+    done.resize_with(row_blocks + bands, || None);
+    // Assembled in order; a part the runner did not compute (it stopped) is computed here
     let mut measures = MeasureSums::new();
     let mut checks = CheckSums::new();
-    let mut columns = vec![KahanSum::new(); n];
-    let mut reverse = ReverseEntries::new(n);
-    let mut block_start = 0;
-    while block_start < n {
-        let block = block_start..n.min(block_start + GATHER_ROWS);
-        reverse.gather(&p, w, block.clone());
-        for (i, backward) in block.clone().zip(&reverse.backward) {
-            let w_i = w.get(i).copied().unwrap_or(0.0);
-            let mut backward = backward.iter();
-            let mut last_column: Option<usize> = None;
-            let mut sum = KahanSum::new();
-            let mut row = RowMeasureSums::new();
-            let mut bad: Option<Error> = None;
-            p.for_each_in_row(i, |j, p_ij| {
-                if bad.is_some() {
-                    return;
-                }
-                if let Err(e) = check_entry(i, j, p_ij) {
-                    bad = Some(e);
-                    return;
-                }
-                let w_j = match w.get(j) {
-                    None => {
-                        bad = Some(Error::new(ErrorKind::MalformedSparse));
-                        return;
-                    }
-                    Some(&w_j) if p_ij > 0.0 && w_j == 0.0 => {
-                        bad = Some(Error::new(ErrorKind::TransitionToNullState {
-                            row: i,
-                            col: j,
-                        }));
-                        return;
-                    }
-                    Some(&w_j) => w_j,
-                };
-                sum.add(p_ij);
-                row.add(w_i, p_ij, w_j);
-                // The gathered `w_j P_ji` follow the row's entries while its columns
-                // increase, as `Transitions` promises; a row that breaks the promise is
-                // asked directly from there on
-                let in_order = last_column.is_none_or(|l| l < j);
-                last_column = if in_order { Some(j) } else { Some(usize::MAX) };
-                let gathered = backward.next().copied();
-                let w_j_p_ji = match gathered {
-                    Some(b) if in_order => b,
-                    _ => w_j * p.get(j, i),
-                };
-                checks.add_pair(w_i * p_ij, w_j_p_ji);
-                if let Some(c) = columns.get_mut(j) {
-                    c.add(w_i * p_ij);
-                }
-            });
-            if let Some(e) = bad {
-                return Err(e);
-            }
-            let sum = sum.total();
-            if sum > 1.0 + ROW_SUM_TOLERANCE {
-                return Err(Error::new(ErrorKind::RowSumAboveOne { row: i, sum }));
-            }
-            measures.add_row(w_i, &row);
-            checks.add_row_sum(sum);
-        }
-        block_start = block.end;
-    }
     let mut stationarity: f64 = 0.0;
-    for (c, &w_j) in columns.iter().zip(w) {
-        stationarity = stationarity.max((c.total() - w_j).abs());
+    for (k, result) in done.into_iter().enumerate() {
+        let result = match result {
+            Some(SurveyPart::Rows(r)) if k < row_blocks && r.start == k * BLOCK_ROWS => {
+                SurveyPart::Rows(r)
+            }
+            Some(SurveyPart::Columns(e)) if k >= row_blocks => SurveyPart::Columns(e),
+            _ => part(k),
+        };
+        match result {
+            SurveyPart::Rows(rows) => {
+                for (i, (totals, sum)) in (rows.start..).zip(&rows.rows) {
+                    measures.add_row(w.get(i).copied().unwrap_or(0.0), totals);
+                    checks.add_row_sum(*sum);
+                }
+                checks.add_reciprocity_error(rows.reciprocity_error);
+                if let Some(e) = rows.error {
+                    return Err(e);
+                }
+            }
+            SurveyPart::Columns(e) => stationarity = stationarity.max(e),
+        }
     }
     Ok((measures.measures(w), checks.checks(n, stationarity)))
 }
 
-/// Rows whose reverse entries [`ReverseEntries::gather`] collects together.
-const GATHER_ROWS: usize = 256;
+/// One part of a survey ([`measures_and_checks_by`]), computed apart.
+#[derive(Debug)]
+pub(crate) enum SurveyPart {
+    /// A block of rows.
+    Rows(SurveyedRows),
+    /// A band of columns: the largest `|Σ_i w_i P_ij − w_j|` of its columns.
+    Columns(f64),
+}
+
+/// What a block of rows contributes to a survey.
+#[derive(Debug)]
+pub(crate) struct SurveyedRows {
+    /// The first row of the block.
+    start: usize,
+    /// Each row's measure totals and compensated sum `Σ_j P_ij`, up to the first error.
+    rows: Vec<(RowTotals, f64)>,
+    /// The largest relative reciprocity error of the block's entries.
+    reciprocity_error: f64,
+    /// The first error of the block's rows, in row order (after the rows in `rows`).
+    error: Option<Error>,
+}
+
+/// Rows of a block of [`measures_and_checks_by`]; also the rows whose reverse entries
+/// [`ReverseEntries::gather`] collects together.
+const BLOCK_ROWS: usize = 256;
+
+/// Columns per band of the column sums at least ([`band_columns`]).
+const BAND_COLUMNS: usize = 512;
+
+/// Bands of column sums at most: each band visits every row (a bisection per row for CSR
+/// storage), so their number is bounded for large scenes.
+const MAX_BANDS: usize = 16;
+
+/// The width of a band of column sums for `n` states.
+fn band_columns(n: usize) -> usize {
+    BAND_COLUMNS.max(n.div_ceil(MAX_BANDS))
+}
+
+/// The entry checks, row sums, measure terms and reciprocity of the rows `rows`.
+fn survey_rows<M: Transitions>(p: &M, w: &[f64], rows: Range<usize>) -> SurveyedRows {
+    let mut out = SurveyedRows {
+        start: rows.start,
+        rows: Vec::with_capacity(rows.len()),
+        reciprocity_error: 0.0,
+        error: None,
+    };
+    let mut checks = CheckSums::new();
+    let mut reverse = ReverseEntries::new(w.len());
+    reverse.gather(p, w, rows.clone());
+    for (i, backward) in rows.zip(&reverse.backward) {
+        let w_i = w.get(i).copied().unwrap_or(0.0);
+        let mut backward = backward.iter();
+        let mut last_column: Option<usize> = None;
+        let mut sum = KahanSum::new();
+        let mut row = RowMeasureSums::new();
+        let mut bad: Option<Error> = None;
+        p.for_each_in_row(i, |j, p_ij| {
+            if bad.is_some() {
+                return;
+            }
+            if let Err(e) = check_entry(i, j, p_ij) {
+                bad = Some(e);
+                return;
+            }
+            let w_j = match w.get(j) {
+                None => {
+                    bad = Some(Error::new(ErrorKind::MalformedSparse));
+                    return;
+                }
+                Some(&w_j) if p_ij > 0.0 && w_j == 0.0 => {
+                    bad = Some(Error::new(ErrorKind::TransitionToNullState {
+                        row: i,
+                        col: j,
+                    }));
+                    return;
+                }
+                Some(&w_j) => w_j,
+            };
+            sum.add(p_ij);
+            row.add(w_i, p_ij, w_j);
+            // The gathered `w_j P_ji` follow the row's entries while its columns
+            // increase, as `Transitions` promises; a row that breaks the promise is
+            // asked directly from there on
+            let in_order = last_column.is_none_or(|l| l < j);
+            last_column = if in_order { Some(j) } else { Some(usize::MAX) };
+            let gathered = backward.next().copied();
+            let w_j_p_ji = match gathered {
+                Some(b) if in_order => b,
+                _ => w_j * p.get(j, i),
+            };
+            checks.add_pair(w_i * p_ij, w_j_p_ji);
+        });
+        out.reciprocity_error = checks.reciprocity_error();
+        if let Some(e) = bad {
+            out.error = Some(e);
+            return out;
+        }
+        let sum = sum.total();
+        if sum > 1.0 + ROW_SUM_TOLERANCE {
+            out.error = Some(Error::new(ErrorKind::RowSumAboveOne { row: i, sum }));
+            return out;
+        }
+        out.rows.push((row.totals(), sum));
+    }
+    out
+}
+
+/// The largest `|Σ_i w_i P_ij − w_j|` over the columns `columns`, each column summed over
+/// the rows in increasing `i` (compensated), as a sweep of the whole matrix adds them.
+fn column_sum_error<M: Transitions>(p: &M, w: &[f64], columns: Range<usize>) -> f64 {
+    let mut sums = vec![KahanSum::new(); columns.len()];
+    for (i, &w_i) in w.iter().enumerate() {
+        p.for_each_in_row_range(i, columns.clone(), |j, p_ij| {
+            if let Some(c) = sums.get_mut(j.wrapping_sub(columns.start)) {
+                c.add(w_i * p_ij);
+            }
+        });
+    }
+    let mut error: f64 = 0.0;
+    for (c, &w_j) in sums.iter().zip(w.get(columns).unwrap_or(&[])) {
+        error = error.max((c.total() - w_j).abs());
+    }
+    error
+}
 
 /// Columns per band of [`ReverseEntries::gather`]: the rows of a band are asked by all
 /// the block's rows before the next band, so their current cache lines (and pages) are
 /// used up while they are held (256 rows × 2 lines = 32 KiB).
 const GATHER_BAND: usize = 64;
 
+/// A row cursor not yet placed ([`ReverseEntries::gather`] places it at the block's first
+/// row).
+const UNPLACED: usize = usize::MAX;
+
 /// The reverse entries `w_j P_ji` of the stored entries `P_ij` of a block of rows, in each
 /// row's order: the transpose read with good locality.
 ///
 /// Asked entry by entry in row order, `P_ji` of row `i`'s entries lies in as many other
 /// rows as `i` has entries, each at its own front, so every query is a cache (and TLB)
-/// miss. Gathered for [`GATHER_ROWS`] rows at once, band of [`GATHER_BAND`] columns after
+/// miss. Gathered for [`BLOCK_ROWS`] rows at once, band of [`GATHER_BAND`] columns after
 /// band, each row `j` of a band is asked by the whole block in a burst (increasing `i`,
 /// from its cursor, [`Transitions::get_ascending`]) and each line loaded serves several
-/// entries. Every row `j` is asked for increasing `i` over the whole sweep, so its cursor
-/// passes each stored entry once: `O(nnz + n²/GATHER_BAND)` in all.
+/// entries. Row `j`'s cursor is placed at the block's first row when the block first asks
+/// it ([`Transitions::cursor_at`], a bisection for CSR) and passes each of its stored
+/// entries in the block's columns once: `O(nnz + n²/GATHER_BAND)` in all, plus a
+/// bisection per block and row asked.
 struct ReverseEntries {
     /// Row `j`'s cursor for the queries `P_ji`.
     reverse_cursors: Vec<usize>,
@@ -136,27 +261,32 @@ struct ReverseEntries {
 impl ReverseEntries {
     fn new(n: usize) -> Self {
         Self {
-            reverse_cursors: vec![0; n],
-            backward: vec![Vec::new(); GATHER_ROWS],
+            reverse_cursors: vec![UNPLACED; n],
+            backward: vec![Vec::new(); BLOCK_ROWS],
         }
     }
 
-    /// Gathers the reverse entries of `rows` (at most [`GATHER_ROWS`] of them, after
-    /// those of the rows before).
+    /// Gathers the reverse entries of `rows` (at most [`BLOCK_ROWS`] of them).
     fn gather<M: Transitions>(&mut self, p: &M, w: &[f64], rows: Range<usize>) {
         let n = p.n_states();
-        let mut row_cursors = [0usize; GATHER_ROWS];
+        let mut row_cursors = [0usize; BLOCK_ROWS];
         for list in &mut self.backward {
             list.clear();
         }
         let cursors = &mut self.reverse_cursors;
+        let first_row = rows.start;
         let mut band_start = 0;
         while band_start < n {
             let band = band_start..n.min(band_start.saturating_add(GATHER_BAND));
             for ((i, cursor), list) in rows.clone().zip(&mut row_cursors).zip(&mut self.backward) {
                 p.for_each_in_row_range_ascending(i, band.clone(), cursor, |j, _| {
                     let p_ji = match cursors.get_mut(j) {
-                        Some(c) => p.get_ascending(j, i, c),
+                        Some(c) => {
+                            if *c == UNPLACED {
+                                *c = p.cursor_at(j, first_row);
+                            }
+                            p.get_ascending(j, i, c)
+                        }
                         None => p.get(j, i),
                     };
                     list.push(w.get(j).copied().unwrap_or(0.0) * p_ji);
