@@ -100,7 +100,11 @@ impl Executor for Threads {
                 .collect();
             // A worker that panicked is a bug, not a stop: its panic is re-raised rather
             // than fewer rows returned (which would read as an interrupted job).
-            let unit = if work.is_survey() { "survey parts" } else { "rows" };
+            let unit = if work.is_survey() {
+                "survey parts"
+            } else {
+                "rows"
+            };
             join_with_progress(workers, &rows_done, rows.len().max(1) as u64, start, unit)
         });
         if !work.is_survey() {
