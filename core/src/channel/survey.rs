@@ -42,14 +42,18 @@ pub(crate) fn measures_and_checks<M: Transitions + Sync>(
 /// before its row's sum).
 ///
 /// The work is cut into parts that depend on nothing but their index ([`SurveyPart`]):
-/// blocks of [`BLOCK_ROWS`] rows (each row's entry checks, row sum, measure terms and
-/// reciprocity, the reverse entry `P_ji` of each stored `P_ij` gathered for the block at
-/// once by [`ReverseEntries`]: `O(nnz)` in all for CSR storage), and bands of columns
-/// (each column's compensated sum `Σ_i w_i P_ij` over the rows in increasing `i`, for
-/// stationarity). The parts are assembled in order: each row's totals are added to the
-/// scene's sums in increasing `i`, as one sweep adds them, and the largest errors are
-/// maxima, which do not depend on the grouping. So any number of threads gives the bits
-/// of one thread.
+/// blocks of [`BLOCK_ROWS`] rows, each row's entry checks, row sum, measure terms and
+/// reciprocity, the reverse entry `w_j P_ji` of each stored `P_ij` gathered for the block
+/// at once by [`ReverseEntries`] (`O(nnz)` in all for CSR storage). Row `i`'s reverse
+/// entries are also the terms `w_k P_ki` of column `i`, in increasing `k`, when every
+/// entry has its reverse (a symmetric pattern, as the counts of global lines give): then
+/// the column sums of stationarity, `Σ_k w_k P_ki`, are added from them, the same terms in
+/// the same order as a sweep over the rows; else by bands of columns, a second set of
+/// parts, each column summed over the rows in increasing `k`. The parts are assembled in
+/// order: each row's totals are added to the scene's sums in increasing `i`, as one sweep
+/// adds them, and the largest errors are maxima, which do not depend on the grouping. So
+/// any number of threads gives the bits of one thread. (A stored or skipped zero term
+/// changes no compensated sum.)
 ///
 /// # Errors
 /// Those of `Channel::new`.
@@ -63,43 +67,51 @@ pub(crate) fn measures_and_checks_by<M: Transitions + Sync>(
     let w = channel.weights();
     let n = w.len();
     let row_blocks = n.div_ceil(BLOCK_ROWS);
-    let band = band_columns(n);
-    let bands = n.div_ceil(band);
-    let part = |k: usize| {
-        if k < row_blocks {
-            let start = k * BLOCK_ROWS;
-            SurveyPart::Rows(survey_rows(&p, w, start..n.min(start + BLOCK_ROWS)))
-        } else {
-            let start = (k - row_blocks) * band;
-            SurveyPart::Columns(column_sum_error(&p, w, start..n.min(start + band)))
-        }
+    let block = |k: usize| {
+        let start = k.saturating_mul(BLOCK_ROWS);
+        survey_rows(&p, w, start..n.min(start.saturating_add(BLOCK_ROWS)))
     };
-    let mut done = run(row_blocks + bands, &part);
-    done.resize_with(row_blocks + bands, || None);
+    let mut done = run(row_blocks, &|k| SurveyPart::Rows(block(k)));
+    done.resize_with(row_blocks, || None);
     // Assembled in order; a part the runner did not compute (it stopped) is computed here
     let mut measures = MeasureSums::new();
     let mut checks = CheckSums::new();
     let mut stationarity: f64 = 0.0;
+    let mut columns_from_rows = true;
     for (k, result) in done.into_iter().enumerate() {
-        let result = match result {
-            Some(SurveyPart::Rows(r)) if k < row_blocks && r.start == k * BLOCK_ROWS => {
-                SurveyPart::Rows(r)
-            }
-            Some(SurveyPart::Columns(e)) if k >= row_blocks => SurveyPart::Columns(e),
-            _ => part(k),
+        let rows = match result {
+            Some(SurveyPart::Rows(r)) if r.start == k * BLOCK_ROWS => r,
+            _ => block(k),
         };
-        match result {
-            SurveyPart::Rows(rows) => {
-                for (i, (totals, sum)) in (rows.start..).zip(&rows.rows) {
-                    measures.add_row(w.get(i).copied().unwrap_or(0.0), totals);
-                    checks.add_row_sum(*sum);
-                }
-                checks.add_reciprocity_error(rows.reciprocity_error);
-                if let Some(e) = rows.error {
-                    return Err(e);
-                }
-            }
-            SurveyPart::Columns(e) => stationarity = stationarity.max(e),
+        for (i, (totals, sum)) in (rows.start..).zip(&rows.rows) {
+            measures.add_row(w.get(i).copied().unwrap_or(0.0), totals);
+            checks.add_row_sum(*sum);
+        }
+        checks.add_reciprocity_error(rows.reciprocity_error);
+        if let Some(e) = rows.error {
+            return Err(e);
+        }
+        stationarity = stationarity.max(rows.column_error);
+        columns_from_rows &= rows.columns_from_rows;
+    }
+    // A stored entry whose reverse is not (or a row out of order): the column sums by
+    // bands of columns instead
+    if !columns_from_rows {
+        let band = band_columns(n);
+        let bands = n.div_ceil(band);
+        let band_error = |b: usize| {
+            let start = b.saturating_mul(band);
+            column_sum_error(&p, w, start..n.min(start.saturating_add(band)))
+        };
+        let mut done = run(bands, &|b| SurveyPart::Columns(band_error(b)));
+        done.resize_with(bands, || None);
+        stationarity = 0.0;
+        for (b, result) in done.into_iter().enumerate() {
+            let error = match result {
+                Some(SurveyPart::Columns(e)) => e,
+                _ => band_error(b),
+            };
+            stationarity = stationarity.max(error);
         }
     }
     Ok((measures.measures(w), checks.checks(n, stationarity)))
@@ -125,6 +137,14 @@ pub(crate) struct SurveyedRows {
     reciprocity_error: f64,
     /// The first error of the block's rows, in row order (after the rows in `rows`).
     error: Option<Error>,
+    /// The largest `|Σ_k w_k P_ki − w_i|` of the block's rows `i`, the column sums taken
+    /// from the rows' reverse entries (meaningful when `columns_from_rows`).
+    column_error: f64,
+    /// Whether the reverse entries of each row `i` are all the terms `w_k P_ki` of column
+    /// `i`, in increasing `k`: every entry `w_i P_ij > 0` of the block has a reverse
+    /// `w_j P_ji > 0` (so `P_ij` is among row `j`'s reverse entries) and the rows keep
+    /// their columns increasing.
+    columns_from_rows: bool,
 }
 
 /// Rows of a block of [`measures_and_checks_by`]; also the rows whose reverse entries
@@ -150,14 +170,17 @@ fn survey_rows<M: Transitions>(p: &M, w: &[f64], rows: Range<usize>) -> Surveyed
         rows: Vec::with_capacity(rows.len()),
         reciprocity_error: 0.0,
         error: None,
+        column_error: 0.0,
+        columns_from_rows: true,
     };
     let mut checks = CheckSums::new();
     let mut reverse = ReverseEntries::new(w.len());
     reverse.gather(p, w, rows.clone());
-    for (i, backward) in rows.zip(&reverse.backward) {
+    for (i, reverse_list) in rows.zip(&reverse.backward) {
         let w_i = w.get(i).copied().unwrap_or(0.0);
-        let mut backward = backward.iter();
+        let mut backward = reverse_list.iter();
         let mut last_column: Option<usize> = None;
+        let mut columns_from_rows = true;
         let mut sum = KahanSum::new();
         let mut row = RowMeasureSums::new();
         let mut bad: Option<Error> = None;
@@ -193,10 +216,21 @@ fn survey_rows<M: Transitions>(p: &M, w: &[f64], rows: Range<usize>) -> Surveyed
             let gathered = backward.next().copied();
             let w_j_p_ji = match gathered {
                 Some(b) if in_order => b,
-                _ => w_j * p.get(j, i),
+                _ => {
+                    columns_from_rows = false;
+                    w_j * p.get(j, i)
+                }
             };
-            checks.add_pair(w_i * p_ij, w_j_p_ji);
+            let w_i_p_ij = w_i * p_ij;
+            if w_i_p_ij > 0.0 && !(w_j_p_ji > 0.0) {
+                columns_from_rows = false;
+            }
+            checks.add_pair(w_i_p_ij, w_j_p_ji);
         });
+        if backward.next().is_some() {
+            columns_from_rows = false;
+        }
+        out.columns_from_rows &= columns_from_rows;
         out.reciprocity_error = checks.reciprocity_error();
         if let Some(e) = bad {
             out.error = Some(e);
@@ -208,6 +242,13 @@ fn survey_rows<M: Transitions>(p: &M, w: &[f64], rows: Range<usize>) -> Surveyed
             return out;
         }
         out.rows.push((row.totals(), sum));
+        // Column i's sum: its terms `w_k P_ki` are row i's reverse entries, in increasing k
+        // (when `columns_from_rows`), added as a sweep over the rows adds them
+        let mut column = KahanSum::new();
+        for &w_k_p_ki in reverse_list {
+            column.add(w_k_p_ki);
+        }
+        out.column_error = out.column_error.max((column.total() - w_i).abs());
     }
     out
 }
@@ -377,11 +418,17 @@ mod tests {
     }
 
     /// Parts computed out of order by the runner, some left out (an executor that
-    /// stopped: computed by the caller), some of the wrong kind: the bits of one sweep.
+    /// stopped: computed by the caller), some at the wrong index: the bits of one sweep,
+    /// with the column sums from the rows' reverse entries (a symmetric pattern: one set
+    /// of parts) or by bands of columns (entries without a reverse: a second set).
     #[test]
     fn parts_in_any_order_give_the_bits_of_one_sweep() {
+        parts_in_any_order(|i, j| (i * 7 + j * 13) % 11 < 3 || i == j, 2);
+        parts_in_any_order(|i, j| (i * j + 5 * (i + j)) % 13 < 3, 1);
+    }
+
+    fn parts_in_any_order(stored: impl Fn(usize, usize) -> bool, calls: usize) {
         const N: usize = 1300;
-        let stored = |i: usize, j: usize| (i * 7 + j * 13) % 11 < 3 || i == j;
         let mut triplets = Vec::new();
         for i in 0..N {
             let row: Vec<usize> = (0..N).filter(|&j| stored(i, j)).collect();
@@ -397,8 +444,8 @@ mod tests {
         let mut runs = 0;
         let mut shuffled = |parts: usize, part: &(dyn Fn(usize) -> SurveyPart + Sync)| {
             runs += 1;
-            // Several row blocks and column bands
-            assert!(parts > 2 + 3, "{parts}");
+            // Several row blocks, or column bands
+            assert!(parts >= 3, "{parts}");
             let mut done: Vec<Option<SurveyPart>> = (0..parts).map(|_| None).collect();
             for k in (0..parts).rev().filter(|k| k % 3 != 1) {
                 done[k] = Some(part(k));
@@ -408,7 +455,7 @@ mod tests {
             done
         };
         let by_parts = measures_and_checks_by(&w, m, &mut shuffled).unwrap();
-        assert_eq!(runs, 1);
+        assert_eq!(runs, calls);
         assert_eq!(by_parts, one_sweep);
         let separate = Channel::new(&w, m).map(|c| (c.measures(), c.checks()));
         assert_eq!(Ok(by_parts), separate);
