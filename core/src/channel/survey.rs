@@ -147,9 +147,13 @@ pub(crate) struct SurveyedRows {
     columns_from_rows: bool,
 }
 
-/// Rows of a block of [`measures_and_checks_by`]; also the rows whose reverse entries
-/// [`ReverseEntries::gather`] collects together.
-const BLOCK_ROWS: usize = 256;
+/// Rows of a block of [`measures_and_checks_by`]: a few blocks of [`GATHER_ROWS`], so
+/// that a row's cursor is placed (a bisection, a cache miss a step) once per block of
+/// 1024 rows, not once per 256.
+const BLOCK_ROWS: usize = 4 * GATHER_ROWS;
+
+/// Rows whose reverse entries [`ReverseEntries::gather`] collects together.
+const GATHER_ROWS: usize = 256;
 
 /// Columns per band of the column sums at least ([`band_columns`]).
 const BAND_COLUMNS: usize = 512;
@@ -174,81 +178,86 @@ fn survey_rows<M: Transitions>(p: &M, w: &[f64], rows: Range<usize>) -> Surveyed
         columns_from_rows: true,
     };
     let mut checks = CheckSums::new();
-    let mut reverse = ReverseEntries::new(w.len());
-    reverse.gather(p, w, rows.clone());
-    for (i, reverse_list) in rows.zip(&reverse.backward) {
-        let w_i = w.get(i).copied().unwrap_or(0.0);
-        let mut backward = reverse_list.iter();
-        let mut last_column: Option<usize> = None;
-        let mut columns_from_rows = true;
-        let mut sum = KahanSum::new();
-        let mut row = RowMeasureSums::new();
-        let mut bad: Option<Error> = None;
-        p.for_each_in_row(i, |j, p_ij| {
-            if bad.is_some() {
-                return;
-            }
-            if let Err(e) = check_entry(i, j, p_ij) {
-                bad = Some(e);
-                return;
-            }
-            let w_j = match w.get(j) {
-                None => {
-                    bad = Some(Error::new(ErrorKind::MalformedSparse));
+    let mut reverse = ReverseEntries::new(w.len(), rows.start);
+    let mut gather_start = rows.start;
+    while gather_start < rows.end {
+        let gathered = gather_start..rows.end.min(gather_start.saturating_add(GATHER_ROWS));
+        reverse.gather(p, w, gathered.clone());
+        for (i, reverse_list) in gathered.clone().zip(&reverse.backward) {
+            let w_i = w.get(i).copied().unwrap_or(0.0);
+            let mut backward = reverse_list.iter();
+            let mut last_column: Option<usize> = None;
+            let mut columns_from_rows = true;
+            let mut sum = KahanSum::new();
+            let mut row = RowMeasureSums::new();
+            let mut bad: Option<Error> = None;
+            p.for_each_in_row(i, |j, p_ij| {
+                if bad.is_some() {
                     return;
                 }
-                Some(&w_j) if p_ij > 0.0 && w_j == 0.0 => {
-                    bad = Some(Error::new(ErrorKind::TransitionToNullState {
-                        row: i,
-                        col: j,
-                    }));
+                if let Err(e) = check_entry(i, j, p_ij) {
+                    bad = Some(e);
                     return;
                 }
-                Some(&w_j) => w_j,
-            };
-            sum.add(p_ij);
-            row.add(w_i, p_ij, w_j);
-            // The gathered `w_j P_ji` follow the row's entries while its columns
-            // increase, as `Transitions` promises; a row that breaks the promise is
-            // asked directly from there on
-            let in_order = last_column.is_none_or(|l| l < j);
-            last_column = if in_order { Some(j) } else { Some(usize::MAX) };
-            let gathered = backward.next().copied();
-            let w_j_p_ji = match gathered {
-                Some(b) if in_order => b,
-                _ => {
+                let w_j = match w.get(j) {
+                    None => {
+                        bad = Some(Error::new(ErrorKind::MalformedSparse));
+                        return;
+                    }
+                    Some(&w_j) if p_ij > 0.0 && w_j == 0.0 => {
+                        bad = Some(Error::new(ErrorKind::TransitionToNullState {
+                            row: i,
+                            col: j,
+                        }));
+                        return;
+                    }
+                    Some(&w_j) => w_j,
+                };
+                sum.add(p_ij);
+                row.add(w_i, p_ij, w_j);
+                // The gathered `w_j P_ji` follow the row's entries while its columns
+                // increase, as `Transitions` promises; a row that breaks the promise is
+                // asked directly from there on
+                let in_order = last_column.is_none_or(|l| l < j);
+                last_column = if in_order { Some(j) } else { Some(usize::MAX) };
+                let gathered = backward.next().copied();
+                let w_j_p_ji = match gathered {
+                    Some(b) if in_order => b,
+                    _ => {
+                        columns_from_rows = false;
+                        w_j * p.get(j, i)
+                    }
+                };
+                let w_i_p_ij = w_i * p_ij;
+                if w_i_p_ij > 0.0 && !(w_j_p_ji > 0.0) {
                     columns_from_rows = false;
-                    w_j * p.get(j, i)
                 }
-            };
-            let w_i_p_ij = w_i * p_ij;
-            if w_i_p_ij > 0.0 && !(w_j_p_ji > 0.0) {
+                checks.add_pair(w_i_p_ij, w_j_p_ji);
+            });
+            if backward.next().is_some() {
                 columns_from_rows = false;
             }
-            checks.add_pair(w_i_p_ij, w_j_p_ji);
-        });
-        if backward.next().is_some() {
-            columns_from_rows = false;
+            out.columns_from_rows &= columns_from_rows;
+            out.reciprocity_error = checks.reciprocity_error();
+            if let Some(e) = bad {
+                out.error = Some(e);
+                return out;
+            }
+            let sum = sum.total();
+            if sum > 1.0 + ROW_SUM_TOLERANCE {
+                out.error = Some(Error::new(ErrorKind::RowSumAboveOne { row: i, sum }));
+                return out;
+            }
+            out.rows.push((row.totals(), sum));
+            // Column i's sum: its terms `w_k P_ki` are row i's reverse entries, in increasing k
+            // (when `columns_from_rows`), added as a sweep over the rows adds them
+            let mut column = KahanSum::new();
+            for &w_k_p_ki in reverse_list {
+                column.add(w_k_p_ki);
+            }
+            out.column_error = out.column_error.max((column.total() - w_i).abs());
         }
-        out.columns_from_rows &= columns_from_rows;
-        out.reciprocity_error = checks.reciprocity_error();
-        if let Some(e) = bad {
-            out.error = Some(e);
-            return out;
-        }
-        let sum = sum.total();
-        if sum > 1.0 + ROW_SUM_TOLERANCE {
-            out.error = Some(Error::new(ErrorKind::RowSumAboveOne { row: i, sum }));
-            return out;
-        }
-        out.rows.push((row.totals(), sum));
-        // Column i's sum: its terms `w_k P_ki` are row i's reverse entries, in increasing k
-        // (when `columns_from_rows`), added as a sweep over the rows adds them
-        let mut column = KahanSum::new();
-        for &w_k_p_ki in reverse_list {
-            column.add(w_k_p_ki);
-        }
-        out.column_error = out.column_error.max((column.total() - w_i).abs());
+        gather_start = gathered.end;
     }
     out
 }
@@ -285,7 +294,7 @@ const UNPLACED: usize = usize::MAX;
 ///
 /// Asked entry by entry in row order, `P_ji` of row `i`'s entries lies in as many other
 /// rows as `i` has entries, each at its own front, so every query is a cache (and TLB)
-/// miss. Gathered for [`BLOCK_ROWS`] rows at once, band of [`GATHER_BAND`] columns after
+/// miss. Gathered for [`GATHER_ROWS`] rows at once, band of [`GATHER_BAND`] columns after
 /// band, each row `j` of a band is asked by the whole block in a burst (increasing `i`,
 /// from its cursor, [`Transitions::get_ascending`]) and each line loaded serves several
 /// entries. Row `j`'s cursor is placed at the block's first row when the block first asks
@@ -297,25 +306,30 @@ struct ReverseEntries {
     reverse_cursors: Vec<usize>,
     /// `w_j P_ji` for each entry of the block's rows, one list per row.
     backward: Vec<Vec<f64>>,
+    /// The first row of the block of [`BLOCK_ROWS`] rows whose reverse entries are
+    /// gathered, [`GATHER_ROWS`] at a time, in increasing rows: where the cursors are placed.
+    first_row: usize,
 }
 
 impl ReverseEntries {
-    fn new(n: usize) -> Self {
+    fn new(n: usize, first_row: usize) -> Self {
         Self {
             reverse_cursors: vec![UNPLACED; n],
-            backward: vec![Vec::new(); BLOCK_ROWS],
+            backward: vec![Vec::new(); GATHER_ROWS],
+            first_row,
         }
     }
 
-    /// Gathers the reverse entries of `rows` (at most [`BLOCK_ROWS`] of them).
+    /// Gathers the reverse entries of `rows` (at most [`GATHER_ROWS`] of them, after
+    /// those of the block's rows before).
     fn gather<M: Transitions>(&mut self, p: &M, w: &[f64], rows: Range<usize>) {
         let n = p.n_states();
-        let mut row_cursors = [0usize; BLOCK_ROWS];
+        let mut row_cursors = [0usize; GATHER_ROWS];
         for list in &mut self.backward {
             list.clear();
         }
         let cursors = &mut self.reverse_cursors;
-        let first_row = rows.start;
+        let first_row = self.first_row;
         let mut band_start = 0;
         while band_start < n {
             let band = band_start..n.min(band_start.saturating_add(GATHER_BAND));
@@ -428,7 +442,8 @@ mod tests {
     }
 
     fn parts_in_any_order(stored: impl Fn(usize, usize) -> bool, calls: usize) {
-        const N: usize = 1300;
+        // Three blocks of rows, each of several gathers, and three bands of columns
+        const N: usize = 2600;
         let mut triplets = Vec::new();
         for i in 0..N {
             let row: Vec<usize> = (0..N).filter(|&j| stored(i, j)).collect();
