@@ -340,12 +340,8 @@ impl SiJob {
     pub(crate) fn prepare(self, scene: &SiScene) -> Outcome<(Job, Threads)> {
         let (job, executor) = self.executor()?;
         if self.max_memory > 0 {
-            // One tally per worker thread and the merged total
-            let tallies = match job {
-                Job::Exact => 1,
-                Job::Lines(_) => executor.count().saturating_add(1),
-            };
-            job.check_memory_of(&scene.scene, tallies, self.max_memory)
+            // One tally per worker thread (the core adds the total a doubling budget keeps)
+            job.check_memory_of(&scene.scene, executor.count(), self.max_memory)
                 .map_err(|e| Failure::core(SiStatus::SI_ERR_JOB, &scene.source, &e))?;
         }
         Ok((job, executor))

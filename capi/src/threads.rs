@@ -160,7 +160,8 @@ impl Executor for Threads {
         let threads = self.threads.min(rows.len()).max(1);
         let next = AtomicUsize::new(rows.start);
         let stop = AtomicBool::new(self.stopped);
-        let progress = self.progress;
+        // The survey after a line job is not reported: the callback counts the job's rows
+        let progress = self.progress.filter(|_| !work.is_survey());
         let total = rows.len() as u64;
         let (sender, receiver) = mpsc::channel::<()>();
         let done = std::thread::scope(|scope| {

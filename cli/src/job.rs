@@ -141,11 +141,9 @@ fn measure_scene(
             path.display()
         );
     }
-    // The large tables, before anything is allocated for them: one tally per thread and
-    // the merged total
+    // The large tables, before anything is allocated for them: one tally per thread
     if let Some(limit) = sampling.max_memory {
-        let tallies = threads.saturating_add(1);
-        job.check_memory_of(&scene, tallies, limit).map_err(at)?;
+        job.check_memory_of(&scene, threads, limit).map_err(at)?;
     }
     let tol = match sampling.tol {
         Some(t) => Some(t),

@@ -70,7 +70,9 @@ impl Executor for Threads {
 
     /// The rows of an exact job on the workers, handed out dynamically (after Ctrl-C no new
     /// row starts and the job reports it stopped). Each row is a pure function of its
-    /// index, so the result is the same bits for any thread count.
+    /// index, so the result is the same bits for any thread count. The parts of the
+    /// channel's survey after a line job ([`RowWork::is_survey`]) run alike but do not
+    /// count in [`Threads::times`], which times the lines.
     fn execute_rows(&mut self, work: &RowWork<'_>) -> Vec<RowDone> {
         let _polling = crate::interrupt::Polling::start();
         let rows = work.rows();
@@ -98,9 +100,16 @@ impl Executor for Threads {
                 .collect();
             // A worker that panicked is a bug, not a stop: its panic is re-raised rather
             // than fewer rows returned (which would read as an interrupted job).
-            join_with_progress(workers, &rows_done, rows.len().max(1) as u64, start, "rows")
+            let unit = if work.is_survey() {
+                "survey parts"
+            } else {
+                "rows"
+            };
+            join_with_progress(workers, &rows_done, rows.len().max(1) as u64, start, unit)
         });
-        self.times.wall += start.elapsed().as_secs_f64();
+        if !work.is_survey() {
+            self.times.wall += start.elapsed().as_secs_f64();
+        }
         parts.into_iter().flatten().collect()
     }
 }

@@ -70,7 +70,7 @@ pub(crate) use csr_buf::RowMajorCsr;
 pub use matrix::{CsrMatrix, DenseMatrix, Transitions};
 pub use measures::Measures;
 #[cfg(feature = "alloc")]
-pub(crate) use survey::measures_and_checks;
+pub(crate) use survey::{SurveyPart, measures_and_checks_by};
 
 use crate::error::{Error, ErrorKind, Result};
 use crate::math::KahanSum;

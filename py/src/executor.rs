@@ -167,6 +167,8 @@ impl Executor for PyExecutor {
             error,
         } = self;
         let stop = &*stop;
+        // The survey after a line job is not reported: `progress` counts the job's rows
+        let progress = if work.is_survey() { &None } else { &*progress };
         let rows = work.rows();
         let total = rows.len() as u64;
         let next = AtomicUsize::new(rows.start);

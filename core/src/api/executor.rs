@@ -11,6 +11,7 @@
 use alloc::vec::Vec;
 use core::ops::Range;
 
+use crate::channel::SurveyPart;
 use crate::error::Result;
 use crate::formfactor::occluded_3d::PairRow;
 
@@ -119,37 +120,60 @@ pub trait Executor {
         false
     }
 
-    /// Computes the rows of an exact job ([`crate::Measurement::exact_within`]): calls
-    /// [`RowWork::run`] once for each row of [`RowWork::rows`], on any threads in any
-    /// order, and returns what they gave in any order. Each row is a pure function of its
-    /// index, so the result is the same bits for any number of threads. To stop, it starts
-    /// no new row; the job then fails with [`crate::ErrorKind::Stopped`]. The default
-    /// computes every row in order on this thread.
+    /// Computes the rows of an exact job ([`crate::Measurement::exact_within`]), or the
+    /// parts of the channel's survey after a line job ([`RowWork::is_survey`]: blocks of
+    /// rows and bands of columns of the form factors): calls [`RowWork::run`] once for
+    /// each row of [`RowWork::rows`], on any threads in any order, and returns what they
+    /// gave in any order. Each row is a pure function of its index, so the result is the
+    /// same bits for any number of threads. To stop, it starts no new row; an exact job
+    /// then fails with [`crate::ErrorKind::Stopped`] (a survey computes what is missing on
+    /// the caller's thread). The default computes every row in order on this thread.
     fn execute_rows(&mut self, work: &RowWork<'_>) -> Vec<RowDone> {
         // Bounded: the rows of the job
         work.rows().map(|row| work.run(row)).collect()
     }
 }
 
-/// The rows of an exact job, handed to [`Executor::execute_rows`]. Shareable between
-/// threads (`Sync`).
+/// The rows of an exact job, or the parts of a channel survey, handed to
+/// [`Executor::execute_rows`]. Shareable between threads (`Sync`).
 #[derive(Clone, Copy)]
 pub struct RowWork<'a> {
     rows: usize,
-    row: &'a (dyn Fn(usize) -> Result<PairRow> + Sync),
+    row: RowJob<'a>,
+}
+
+/// What a [`RowWork`]'s rows compute.
+#[derive(Clone, Copy)]
+enum RowJob<'a> {
+    /// The rows of an exact job.
+    Pairs(&'a (dyn Fn(usize) -> Result<PairRow> + Sync)),
+    /// The parts of a channel survey (`crate::channel::measures_and_checks_by`).
+    Survey(&'a (dyn Fn(usize) -> SurveyPart + Sync)),
 }
 
 impl core::fmt::Debug for RowWork<'_> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("RowWork")
             .field("rows", &self.rows)
+            .field("survey", &self.is_survey())
             .finish_non_exhaustive()
     }
 }
 
 impl<'a> RowWork<'a> {
     pub(crate) fn new(rows: usize, row: &'a (dyn Fn(usize) -> Result<PairRow> + Sync)) -> Self {
-        Self { rows, row }
+        Self {
+            rows,
+            row: RowJob::Pairs(row),
+        }
+    }
+
+    /// The parts `0..parts` of a channel survey, each computed by `part`.
+    pub(crate) fn survey(parts: usize, part: &'a (dyn Fn(usize) -> SurveyPart + Sync)) -> Self {
+        Self {
+            rows: parts,
+            row: RowJob::Survey(part),
+        }
     }
 
     /// The rows to compute.
@@ -158,25 +182,46 @@ impl<'a> RowWork<'a> {
         0..self.rows
     }
 
+    /// Whether the rows are the parts of the channel's survey after a line job (the
+    /// validation, measures and checks of the form factors: blocks of rows and bands of
+    /// columns, short) rather than the rows of an exact job: a caller that times its
+    /// jobs or shows their progress may leave them out.
+    #[must_use]
+    pub fn is_survey(&self) -> bool {
+        matches!(self.row, RowJob::Survey(_))
+    }
+
     /// Computes row `row` (an empty result outside [`RowWork::rows`], which the job
     /// ignores).
     #[must_use]
     pub fn run(&self, row: usize) -> RowDone {
-        RowDone {
-            row,
-            result: (row < self.rows).then(|| (self.row)(row)),
-        }
+        let result = (row < self.rows).then(|| match self.row {
+            RowJob::Pairs(f) => RowResult::Pairs(f(row)),
+            RowJob::Survey(f) => RowResult::Survey(f(row)),
+        });
+        RowDone { row, result }
     }
 
     /// Puts `done` in row order: `None` when some row is missing (the executor stopped).
     pub(crate) fn collect(&self, done: Vec<RowDone>) -> Option<Vec<Result<PairRow>>> {
         let mut rows: Vec<Option<Result<PairRow>>> = (0..self.rows).map(|_| None).collect();
         for d in done {
-            if let (Some(slot), Some(r)) = (rows.get_mut(d.row), d.result) {
+            if let (Some(slot), Some(RowResult::Pairs(r))) = (rows.get_mut(d.row), d.result) {
                 *slot = Some(r);
             }
         }
         rows.into_iter().collect()
+    }
+
+    /// Puts the survey parts of `done` in order, `None` where a part is missing.
+    pub(crate) fn collect_survey(&self, done: Vec<RowDone>) -> Vec<Option<SurveyPart>> {
+        let mut parts: Vec<Option<SurveyPart>> = (0..self.rows).map(|_| None).collect();
+        for d in done {
+            if let (Some(slot), Some(RowResult::Survey(r))) = (parts.get_mut(d.row), d.result) {
+                *slot = Some(r);
+            }
+        }
+        parts
     }
 }
 
@@ -184,7 +229,25 @@ impl<'a> RowWork<'a> {
 #[derive(Debug)]
 pub struct RowDone {
     row: usize,
-    result: Option<Result<PairRow>>,
+    result: Option<RowResult>,
+}
+
+/// What a row of a [`RowWork`] gave.
+#[derive(Debug)]
+enum RowResult {
+    Pairs(Result<PairRow>),
+    Survey(SurveyPart),
+}
+
+/// Runs the parts of a channel survey through `executor`
+/// (`crate::channel::measures_and_checks_by`'s runner).
+pub(crate) fn survey_parts(
+    executor: &mut dyn Executor,
+    parts: usize,
+    part: &(dyn Fn(usize) -> SurveyPart + Sync),
+) -> Vec<Option<SurveyPart>> {
+    let work = RowWork::survey(parts, part);
+    work.collect_survey(executor.execute_rows(&work))
 }
 
 /// The executor of a caller without threads: every chunk in order, on this thread.

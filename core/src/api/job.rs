@@ -210,15 +210,22 @@ pub enum Job {
 }
 
 impl Job {
-    /// A lower bound on the bytes of the job's large tables for a scene of `n_patches`:
-    /// the exact form-factor matrix, or `tallies` pair tallies plus the form factors of a
-    /// line job ([`crate::tally::memory`]). A caller with `t` worker threads holds `t + 1`
-    /// tallies (one per thread and the merged total).
+    /// A lower bound on the peak bytes of the job's large tables for a scene of
+    /// `n_patches`: the exact form-factor matrix, or the dense pair tallies of a line job
+    /// cast on `threads` worker threads ([`crate::tally::memory`]: one tally per thread,
+    /// the total merged into one of them, plus the total kept between the steps of a
+    /// doubling budget; or, when finishing, the total and its per-pair `I_ij^c`).
     #[must_use]
-    pub fn memory_bytes(&self, n_patches: usize, tallies: usize) -> u64 {
+    pub fn memory_bytes(&self, n_patches: usize, threads: usize) -> u64 {
         match self {
             Job::Exact => memory::exact_bytes(n_patches),
-            Job::Lines(_) => memory::line_job_bytes(n_patches, tallies),
+            Job::Lines(job) => {
+                let tallies = match job.budget {
+                    LineBudget::Fixed(_) => threads.max(1),
+                    LineBudget::UntilSampled { .. } => threads.max(1).saturating_add(1),
+                };
+                memory::line_job_bytes(n_patches, tallies, job.method.is_global())
+            }
         }
     }
 
@@ -231,14 +238,14 @@ impl Job {
     ///
     /// # Errors
     /// [`ErrorKind::MemoryLimit`].
-    pub fn check_memory_of(&self, scene: &Scene, tallies: usize, limit: u64) -> Result<()> {
+    pub fn check_memory_of(&self, scene: &Scene, threads: usize, limit: u64) -> Result<()> {
         let n = scene.n_patches();
         let sparse = matches!(self, Job::Exact)
             && matches!(scene, Scene::Solid(s) if s.n_patches() > super::measurement::SPARSE_EXACT_ABOVE);
         if sparse {
             return self.refuse_above((n as u64).saturating_mul(64), limit);
         }
-        self.check_memory(n, tallies, limit)
+        self.check_memory(n, threads, limit)
     }
 
     /// Refuses the job before anything is allocated when [`Job::memory_bytes`] exceeds
@@ -246,8 +253,8 @@ impl Job {
     ///
     /// # Errors
     /// [`ErrorKind::MemoryLimit`].
-    pub fn check_memory(&self, n_patches: usize, tallies: usize, limit: u64) -> Result<()> {
-        self.refuse_above(self.memory_bytes(n_patches, tallies), limit)
+    pub fn check_memory(&self, n_patches: usize, threads: usize, limit: u64) -> Result<()> {
+        self.refuse_above(self.memory_bytes(n_patches, threads), limit)
     }
 
     /// `MemoryLimit` when `needed` exceeds `limit`.

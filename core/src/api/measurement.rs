@@ -13,7 +13,7 @@ use crate::io::partial::{JobId, Partial};
 use crate::tally::coverage::Coverage;
 use crate::tally::{LineMethod, LineTally, LineTracer, UNSUPPORTED_BY_TRACER};
 
-use super::executor::{Executor, LineRun, RowWork};
+use super::executor::{Executor, LineRun, RowWork, Serial, survey_parts};
 use super::warning::{FEW_STDERR_GROUPS, Warning};
 use super::{Job, LineBudget, LineJob, Scene};
 
@@ -111,8 +111,25 @@ impl Measurement {
         run: Option<LineRunInfo>,
         continuous: Option<(Vec<f64>, Option<Vec<f64>>)>,
     ) -> Result<Self> {
+        Self::of_by(ff, sizes, run, continuous, &mut Serial)
+    }
+
+    /// [`Measurement::of`] with the channel's survey computed through `executor`
+    /// ([`Executor::execute_rows`], blocks of rows and bands of columns: the same bits
+    /// for any number of threads).
+    pub(super) fn of_by(
+        ff: FormFactors,
+        sizes: Vec<f64>,
+        run: Option<LineRunInfo>,
+        continuous: Option<(Vec<f64>, Option<Vec<f64>>)>,
+        executor: &mut dyn Executor,
+    ) -> Result<Self> {
         // One pass over the matrix for the channel's validation, measures and checks
-        let pair = crate::channel::measures_and_checks(ff.weights(), ff.matrix())?;
+        let pair = crate::channel::measures_and_checks_by(
+            ff.weights(),
+            ff.matrix(),
+            &mut |parts, part| survey_parts(executor, parts, part),
+        )?;
         let (patch_continuous, pair_continuous) = continuous.unzip();
         Ok(Self {
             n_patches: ff.n_patches(),
@@ -144,16 +161,24 @@ impl Measurement {
 
     /// The measurement of a tally of `tracer`'s lines: the form factors' when every patch
     /// has a sample (or no line was cast: then [`ErrorKind::NoLines`]), else the coverage.
+    /// The channel's survey goes through `executor`.
     pub(super) fn of_tally(
         tally: LineTally,
         tracer: &(dyn LineTracer + Sync),
         info: LineRunInfo,
+        executor: &mut dyn Executor,
     ) -> Result<Self> {
         if tally.all_sampled() || tally.lines() == 0 {
             let sizes = relative(tracer.patch_sizes());
             let est = tally.finish(tracer)?;
             let continuous = (est.patch_continuous, est.pair_continuous);
-            Self::of(est.form_factors, sizes, Some(info), Some(continuous))
+            Self::of_by(
+                est.form_factors,
+                sizes,
+                Some(info),
+                Some(continuous),
+                executor,
+            )
         } else {
             Ok(Self::unsampled(&tally, tracer.patch_sizes(), info))
         }
@@ -529,7 +554,7 @@ impl Measurement {
                 (r.form_factors, errors)
             }
         };
-        let mut m = Measurement::of(ff, scene.patch_sizes(), None, None)?;
+        let mut m = Measurement::of_by(ff, scene.patch_sizes(), None, None, executor)?;
         m.exact_errors = errors;
         Ok(m)
     }
@@ -587,7 +612,7 @@ fn measure_lines(
         continuous: run.tally.continuous(),
         sums_out_of_range: run.tally.sums_out_of_range(),
     };
-    Measurement::of_tally(run.tally, tracer, info)
+    Measurement::of_tally(run.tally, tracer, info, executor)
 }
 
 /// Tallies the chunks of a fixed line job ([`LineJob::chunk_range`]: all of them, or

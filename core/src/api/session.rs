@@ -6,7 +6,7 @@ use crate::error::Result;
 use crate::lines::{CHUNK_LINES, chunk_count};
 use crate::tally::{LineMethod, LineTally};
 
-use super::executor::{Executor, LineRun};
+use super::executor::{Executor, LineRun, Serial};
 use super::measurement::{LineRunInfo, Measurement};
 use super::scene::SceneTracer;
 use super::{LineBudget, LineJob, Scene};
@@ -133,6 +133,6 @@ impl LineSession {
             continuous: self.tally.continuous(),
             sums_out_of_range: self.tally.sums_out_of_range(),
         };
-        Measurement::of_tally(self.tally.clone(), self.tracer.as_dyn(), info)
+        Measurement::of_tally(self.tally.clone(), self.tracer.as_dyn(), info, &mut Serial)
     }
 }

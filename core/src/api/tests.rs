@@ -568,7 +568,7 @@ fn a_dropped_term_of_i_c_reaches_the_warnings() {
         continuous: run.tally.continuous(),
         sums_out_of_range: run.tally.sums_out_of_range(),
     };
-    let m = Measurement::of_tally(run.tally, tracer.as_dyn(), info).unwrap();
+    let m = Measurement::of_tally(run.tally, tracer.as_dyn(), info, &mut crate::Serial).unwrap();
     assert!(
         m.warnings().contains(&Warning::SumsOutOfRange),
         "{:?}",

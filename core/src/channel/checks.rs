@@ -83,6 +83,20 @@ impl CheckSums {
         }
     }
 
+    /// Adds the largest reciprocity error of pairs checked apart (by another
+    /// `CheckSums`, [`CheckSums::reciprocity_error`]): the maximum does not depend on
+    /// the grouping.
+    #[inline]
+    pub(super) fn add_reciprocity_error(&mut self, error: f64) {
+        self.max_reciprocity_error = self.max_reciprocity_error.max(error);
+    }
+
+    /// The largest reciprocity error of the pairs added so far.
+    #[inline]
+    pub(super) fn reciprocity_error(&self) -> f64 {
+        self.max_reciprocity_error
+    }
+
     /// Adds a row's compensated sum `Σ_j P_ij`.
     #[inline]
     pub(super) fn add_row_sum(&mut self, sum: f64) {

@@ -47,6 +47,17 @@ pub trait Transitions {
         self.get(i, j)
     }
 
+    /// A cursor of row `i` for [`get_ascending`](Self::get_ascending) and
+    /// [`for_each_in_row_range_ascending`](Self::for_each_in_row_range_ascending) whose
+    /// queries start at column `j`: what a sweep that begins part-way (a block of rows
+    /// surveyed apart) passes instead of 0, so the cursor does not walk the row's earlier
+    /// entries. Any value gives the same answers; the default is 0, CSR storage bisects.
+    #[inline]
+    fn cursor_at(&self, i: usize, j: usize) -> usize {
+        let _ = (i, j);
+        0
+    }
+
     /// Like [`for_each_in_row`](Self::for_each_in_row), restricted to columns in `cols`.
     ///
     /// The default filters the whole row; dense and CSR storage override it to touch only
@@ -104,6 +115,11 @@ impl<T: Transitions + ?Sized> Transitions for &T {
     #[inline]
     fn get_ascending(&self, i: usize, j: usize, cursor: &mut usize) -> f64 {
         (**self).get_ascending(i, j, cursor)
+    }
+
+    #[inline]
+    fn cursor_at(&self, i: usize, j: usize) -> usize {
+        (**self).cursor_at(i, j)
     }
 
     #[inline]
@@ -415,6 +431,12 @@ impl Transitions for CsrMatrix<'_> {
             (Some(&c), Some(&v)) if c == j => v,
             _ => 0.0,
         }
+    }
+
+    /// The first stored column `≥ j` of row `i`, by bisection.
+    #[inline]
+    fn cursor_at(&self, i: usize, j: usize) -> usize {
+        self.row(i).0.partition_point(|&c| (c as usize) < j)
     }
 
     /// Resumes at `cursor` (bisects only when the range starts behind it), walks to the

@@ -206,7 +206,7 @@ impl<M: Transitions> Channel<'_, M> {
             let mut row = RowMeasureSums::new();
             self.p
                 .for_each_in_row(i, |j, p_ij| row.add(w_i, p_ij, self.w(j)));
-            totals.add_row(w_i, &row);
+            totals.add_row(w_i, &row.totals());
         }
         totals.measures(self.w)
     }
@@ -296,8 +296,11 @@ impl<M: Transitions> Channel<'_, M> {
 /// Shared with the single pass of `channel::survey`, so both give the same bits.
 ///
 /// The terms of an entry are remembered ([`TermMemo`]): a row of line estimates
-/// `P_ij = C_ij / N_i` holds few distinct values (most counts of a short job are 1 or 2),
-/// and a value met again reuses its logarithms, the same bits as computing them anew.
+/// `P_ij = C_ij / N_i` holds few distinct values (most counts of a short job are 1 or 2,
+/// a few dozen distinct counts in a row of a long one), and a value met again reuses its
+/// logarithms, the same bits as computing them anew. The memo has [`MEMO_SLOTS`] slots,
+/// direct-mapped by a multiplicative hash of the value's bits: with four slots hashed by
+/// two exponent bits, a 10⁷-line cube still took a `log2` for about every third entry.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct RowMeasureSums {
     entropy: KahanSum,
@@ -307,8 +310,21 @@ pub(super) struct RowMeasureSums {
     memo: [TermMemo; MEMO_SLOTS],
 }
 
-/// Slots of [`RowMeasureSums`]' memo (direct-mapped by the entry's bits).
-const MEMO_SLOTS: usize = 4;
+/// Slots of [`RowMeasureSums`]' memo (direct-mapped by [`memo_slot`]): a power of two.
+const MEMO_SLOTS: usize = 32;
+
+/// The memo slot of a probability's bits: Fibonacci hashing (Knuth, TAOCP vol. 3, 6.4) of
+/// its exponent's low bits and mantissa's high bits, where the values `c / N` of small
+/// counts `c` differ.
+///
+/// ```text
+/// slot = ((bits >> 29) mod 2³²) · ⌊2³² / φ⌋ mod 2³² >> (32 − log₂ MEMO_SLOTS)
+/// ```
+#[inline(always)]
+fn memo_slot(p_bits: u64) -> usize {
+    const SHIFT: u32 = 32 - MEMO_SLOTS.trailing_zeros();
+    ((p_bits >> 29) as u32).wrapping_mul(0x9E37_79B9) as usize >> SHIFT
+}
 
 /// The terms of one entry `(w_i, P_ij, w_j)`, by the bits of its inputs.
 #[derive(Clone, Copy, Debug)]
@@ -352,9 +368,7 @@ impl RowMeasureSums {
     #[inline]
     pub(super) fn add(&mut self, w_i: f64, p_ij: f64, w_j: f64) {
         let (wi_bits, p_bits, wj_bits) = (w_i.to_bits(), p_ij.to_bits(), w_j.to_bits());
-        // p = c / N: c and 2c differ in the exponent, c and 3c in the mantissa
-        let slot = ((p_bits >> 52) ^ (p_bits >> 45)) as usize % MEMO_SLOTS;
-        let memo = &mut self.memo[slot];
+        let memo = &mut self.memo[memo_slot(p_bits) % MEMO_SLOTS];
         if memo.w_i != wi_bits || memo.p_ij != p_bits {
             *memo = TermMemo {
                 w_i: wi_bits,
@@ -374,6 +388,31 @@ impl RowMeasureSums {
         self.information.add(memo.information);
         self.mse.add(memo.mse);
     }
+
+    /// The row's four compensated totals.
+    #[inline]
+    pub(super) fn totals(&self) -> RowTotals {
+        RowTotals {
+            entropy: self.entropy.total(),
+            joint: self.joint.total(),
+            information: self.information.total(),
+            mse: self.mse.total(),
+        }
+    }
+}
+
+/// The totals of one row's [`RowMeasureSums`]: what [`MeasureSums::add_row`] adds up,
+/// kept per row when rows are surveyed apart and added in row order later.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct RowTotals {
+    /// `H_i = −Σ_j η(P_ij)`.
+    pub(super) entropy: f64,
+    /// `−Σ_j η(w_i P_ij)`.
+    pub(super) joint: f64,
+    /// `I_i`.
+    pub(super) information: f64,
+    /// `Σ_j P_ij (1 − P_ij)`.
+    pub(super) mse: f64,
 }
 
 /// The sums over the rows of [`Channel::measures`], row by row.
@@ -397,11 +436,11 @@ impl MeasureSums {
 
     /// Adds row `i`'s sums (rows in increasing `i`).
     #[inline]
-    pub(super) fn add_row(&mut self, w_i: f64, row: &RowMeasureSums) {
-        self.h_s.add(w_i * row.entropy.total());
-        self.h_j.add(row.joint.total());
-        self.i_s.add(row.information.total());
-        self.e_mse.add(row.mse.total());
+    pub(super) fn add_row(&mut self, w_i: f64, row: &RowTotals) {
+        self.h_s.add(w_i * row.entropy);
+        self.h_j.add(row.joint);
+        self.i_s.add(row.information);
+        self.e_mse.add(row.mse);
     }
 
     /// The measures of the channel with distribution `w` whose rows were added.

@@ -371,6 +371,14 @@ impl Transitions for FormFactorView<'_> {
     }
 
     #[inline]
+    fn cursor_at(&self, i: usize, j: usize) -> usize {
+        match self {
+            Self::Dense(_) => 0,
+            Self::Sparse(m) => m.cursor_at(i, j),
+        }
+    }
+
+    #[inline]
     fn for_each_in_row_range_ascending<F: FnMut(usize, f64)>(
         &self,
         i: usize,
