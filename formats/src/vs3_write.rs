@@ -63,6 +63,19 @@ impl Default for Vs3Controls {
     }
 }
 
+/// The number of vertex `v` in `number` (bit for bit: equal coordinates, one vertex); a new
+/// one is numbered after the others, in order of first use, and its `V` record appended to
+/// `out`.
+fn vertex_number(number: &mut BTreeMap<[u64; 3], usize>, out: &mut String, v: DVec3) -> usize {
+    let next = number.len() + 1;
+    *number
+        .entry(v.to_array().map(f64::to_bits))
+        .or_insert_with(|| {
+            let _ = writeln!(out, "V {next} {:?} {:?} {:?}", v.x, v.y, v.z);
+            next
+        })
+}
+
 /// The `.vs3` text of `scene` (module docs), titled `title` (one line; line breaks become
 /// spaces).
 #[must_use]
@@ -90,17 +103,10 @@ pub fn write(scene: &Scene3, title: &str, controls: Vs3Controls) -> String {
             .map(|&v| scene.frame().to_world(v))
             .collect();
         let kept = without_collinear(&corners);
-        let mut ids = Vec::with_capacity(kept.len());
-        for v in kept {
-            let next = number.len() + 1;
-            let id = *number
-                .entry(v.to_array().map(f64::to_bits))
-                .or_insert_with(|| {
-                    let _ = writeln!(out, "V {next} {:?} {:?} {:?}", v.x, v.y, v.z);
-                    next
-                });
-            ids.push(id);
-        }
+        let ids = kept
+            .into_iter()
+            .map(|v| vertex_number(&mut number, &mut out, v))
+            .collect();
         patches.push(ids);
     }
     out.push_str("!  #   v1 v2 v3 v4 base cmb emit name\n");
@@ -158,17 +164,11 @@ pub fn write_records(
     let mut number: BTreeMap<[u64; 3], usize> = BTreeMap::new();
     let mut ids: Vec<Vec<usize>> = Vec::with_capacity(records.len());
     for r in &records {
-        let mut these = Vec::with_capacity(r.corners.len());
-        for v in &r.corners {
-            let next = number.len() + 1;
-            let id = *number
-                .entry(v.to_array().map(f64::to_bits))
-                .or_insert_with(|| {
-                    let _ = writeln!(out, "V {next} {:?} {:?} {:?}", v.x, v.y, v.z);
-                    next
-                });
-            these.push(id);
-        }
+        let these = r
+            .corners
+            .iter()
+            .map(|&v| vertex_number(&mut number, &mut out, v))
+            .collect();
         ids.push(these);
     }
     out.push_str("!  #   v1 v2 v3 v4 base cmb emit name\n");
