@@ -683,9 +683,14 @@ impl ParallelRaster3 {
             *slot += 1;
         }
         out.start.pop();
-        for k in 0..lines as usize {
-            let (s, e) = (out.start[k] as usize, out.start[k + 1] as usize);
-            sort_hits(&mut out.hits[s..e]);
+        // Only lines of two hits or more need sorting (most of a bundle's have fewer)
+        for ends in out.start.windows(2) {
+            let (s, e) = (ends[0] as usize, ends[1] as usize);
+            if e > s + 1
+                && let Some(hits) = out.hits.get_mut(s..e)
+            {
+                sort_hits(hits);
+            }
         }
     }
 
