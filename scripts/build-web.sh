@@ -63,8 +63,12 @@ build_module() {
 # the 3D lab's module only. Budget: 450 KB until session 14, whose core changes (the
 # one-pass sparse form factors of line jobs, the flatland bundle counts, the occluded pair's
 # event cut) took the module from 448,226 to 456,970 bytes (which change added how much
-# was not measured): budget 470 KB, a regression alarm rather than a goal.
-build_module "$out" 470000 --no-default-features --features console_error_panic_hook
+# was not measured): budget 470 KB, a regression alarm rather than a goal. Session 17,
+# measured by commit (this build, wasm-opt'd): 463,608 bytes at its start, 464,347 after
+# the row cap, occluded-pair and raster changes, 471,049 after the channel's survey in blocks
+# through the executor (+6,702: `SurveyPart`, the blocks' gather and the column bands):
+# 480 KB.
+build_module "$out" 480000 --no-default-features --features console_error_panic_hook
 # The 3D lab (wasm/www/pkg3d, issue 24): everything, with the file readers. Issue 24's budget
 # is 800 KB compressed for the page's wasm and JS together (`scripts/test.sh` fails above
 # it); the .wasm alone has an uncompressed regression alarm here: 1.3 MB until session 15,
