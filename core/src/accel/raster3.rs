@@ -287,14 +287,28 @@ impl Frame {
         low: f64,
         high: f64,
     ) -> Option<f64> {
-        let nd = dots.d;
-        if nd == 0.0 {
-            return None;
-        }
-        let t = (n.dot(p0 - self.c) - a * dots.e1 - b * dots.e2) / nd;
+        let t = self.plane_t_unclamped(dots, n, p0, a, b)?;
         // Fails for NaN; `+ 0.0` as in `plane_t_with`
         let t = (t >= low - self.delta && t <= high + self.delta).then_some(t + 0.0)?;
         t.is_finite().then_some(t)
+    }
+
+    /// The parameter of the hit of the line through `(a, b)` with the plane of unit normal
+    /// `n` through `p0`, unclamped (`None` if the line is parallel to the plane), from `n`'s
+    /// [`Frame::plane_dots`]: `t = (n·(p₀ − c) − a n·e₁ − b n·e₂) / n·d`.
+    #[inline(always)]
+    fn plane_t_unclamped(
+        &self,
+        dots: PlaneDots,
+        n: DVec3,
+        p0: DVec3,
+        a: f64,
+        b: f64,
+    ) -> Option<f64> {
+        if dots.d == 0.0 {
+            return None;
+        }
+        Some((n.dot(p0 - self.c) - a * dots.e1 - b * dots.e2) / dots.d)
     }
 
     /// The products of a unit normal `n` with the frame's axes.
@@ -333,11 +347,7 @@ impl Frame {
         near: f64,
         far: f64,
     ) -> Option<f64> {
-        let nd = dots.d;
-        if nd == 0.0 {
-            return None;
-        }
-        let t = (n.dot(p0 - self.c) - a * dots.e1 - b * dots.e2) / nd;
+        let t = self.plane_t_unclamped(dots, n, p0, a, b)?;
         if t.is_nan() {
             return None;
         }
