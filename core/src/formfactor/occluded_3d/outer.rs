@@ -79,6 +79,16 @@ pub(crate) trait Integrand {
     /// # Errors
     /// Those of the integrand.
     fn eval(&mut self, x: DVec3, cands: &[u32]) -> Result<f64>;
+
+    /// `Some(U)` when `tri` is too coarse for its rules to be trusted with its candidates
+    /// `cands`, `U` a proven upper bound of `∫_tri f dA` (with `f ≥ 0`): the leaf's error is
+    /// then at least what `[0, U]` allows. `None` (trust the rules) by default.
+    ///
+    /// # Errors
+    /// Those of the bound.
+    fn unresolved(&mut self, _tri: &[DVec3; 3], _cands: &[u32]) -> Result<Option<f64>> {
+        Ok(None)
+    }
 }
 
 /// A plain function: never known in closed form.
@@ -158,10 +168,15 @@ fn leaf(
         *value = rule(&t, |p| g.eval(p, &cands))?;
     }
     let fine = crate::math::sum(ch.iter().copied());
+    let mut error = SAFETY * (fine - coarse).abs();
+    if let Some(upper) = g.unresolved(&tri, &cands)? {
+        // The integral lies in [0, upper]: `fine` is off by at most the farther end.
+        error = error.max(fine.abs()).max((upper - fine).abs());
+    }
     Ok(Leaf {
         tri,
         children: ch,
-        error: SAFETY * (fine - coarse).abs(),
+        error,
         order,
         cands,
     })
