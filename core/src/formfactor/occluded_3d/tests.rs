@@ -924,3 +924,75 @@ fn two_boxes_hide_a_pair_that_neither_hides_alone() {
         &mut Vec::new()
     ));
 }
+
+/// A source crossed by the plane of an occluder's face, away from any contact (Cornell 810
+/// pair (266, 486): a piece of the right wall, `y ∈ [329.28, 384.16]`, seeing a floor piece
+/// past the tall block, whose face planes cross the piece). Where `x` crosses a face's
+/// plane, the block's top edge and the bottom edge of that face swap places on the shadow's
+/// outline, and `F_{dx→vis(j)}` has a kink along the chord (`contacts.rs`). Before that chord
+/// was cut, the cells of the pair's few visibility events held it inside, their rules agreed
+/// to 10⁻¹³ and missed the kink: `F = 9.565579e-5 ± 3.2e-13`, 3.0e-8 off (10⁵ times its
+/// estimate), the same at 10⁻⁸. The reference is the midpoint rule on `k × k` points of the
+/// rectangular source with the exact visible form factor: 9.5625564e-5, 9.5626837e-5,
+/// 9.5627018e-5 at `k` = 400, 1000, 2000, converging as `k⁻²` to 9.562708e-5; at `k` = 1000
+/// its own error is about 2.4e-10, so the test allows the estimate plus 10⁻⁹.
+#[test]
+fn a_source_crossed_by_an_occluder_s_face_plane_keeps_its_estimate() {
+    let tall = [
+        (423.0, 247.0),
+        (265.0, 296.0),
+        (314.0, 456.0),
+        (472.0, 406.0),
+    ];
+    let h = 330.0;
+    let source = [
+        v(556.0, 329.28, 335.52),
+        v(556.0, 329.28, 391.44),
+        v(556.0, 384.16, 391.44),
+        v(556.0, 384.16, 335.52),
+    ];
+    let target = [
+        v(166.8, 0.0, 503.28),
+        v(222.4, 0.0, 503.28),
+        v(222.4, 0.0, 447.36),
+        v(166.8, 0.0, 447.36),
+    ];
+    let mut faces: Vec<Vec<DVec3>> = vec![tall.iter().rev().map(|&(x, z)| v(x, h, z)).collect()];
+    for k in 0..4 {
+        let ((x0, z0), (x1, z1)) = (tall[k], tall[(k + 1) % 4]);
+        faces.push(vec![
+            v(x0, 0.0, z0),
+            v(x1, 0.0, z1),
+            v(x1, h, z1),
+            v(x0, h, z0),
+        ]);
+    }
+    let mut points: Vec<DVec3> = source.iter().chain(&target).copied().collect();
+    let mut polygons = vec![(0, 4), (4, 4)];
+    for f in &faces {
+        polygons.push((points.len(), f.len()));
+        points.extend_from_slice(f);
+    }
+    let n = polygons.len();
+    let job = form_factors_occluded(&points, &polygons, &OcclusionOptions::new(1e-6)).unwrap();
+    let (f, est) = (job.form_factors.get(0, 1), job.errors[1]);
+    let occ: Vec<&[DVec3]> = faces.iter().map(|f| f.as_slice()).collect();
+    let normal = v(-1.0, 0.0, 0.0);
+    let k = 1000;
+    let (e1, e2) = (source[1] - source[0], source[3] - source[0]);
+    let mut sum = crate::math::KahanSum::new();
+    for a in 0..k {
+        for b in 0..k {
+            let x =
+                source[0] + e1 * ((a as f64 + 0.5) / k as f64) + e2 * ((b as f64 + 0.5) / k as f64);
+            sum.add(point_to_visible_polygon(x, normal, &target, &occ).unwrap());
+        }
+    }
+    let reference = sum.total() / (k * k) as f64;
+    std::println!("F = {f:.9e} ± {est:.2e}, midpoint ({k}²) {reference:.9e}, {n} polygons");
+    assert!(
+        (f - reference).abs() <= est + 1e-9,
+        "F {f} vs {reference}: off by {:e}, estimate {est:e}",
+        (f - reference).abs()
+    );
+}
