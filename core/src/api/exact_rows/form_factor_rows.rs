@@ -45,8 +45,9 @@ impl ExactFormFactorRows {
     /// form factors of the 3D `scene` with occlusion to `options`, through `executor`: the
     /// job's rows `0..max(wanted) + 1` ([`ExactRows::compute`]), and when some polygon may
     /// hide another the rest `max(wanted) + 1..n` as well ([`ExactRows::merge`]d: the cap
-    /// needs every row). No wanted row, no pair computed (the scene is still prepared).
-    /// `fingerprint` is [`ExactRows::compute`]'s.
+    /// needs every row; the scene is prepared once per call, so twice then). No wanted
+    /// row, no pair computed (the scene is still prepared). `fingerprint` is
+    /// [`ExactRows::compute`]'s.
     ///
     /// # Errors
     /// [`ErrorKind::PatchIndex`] for a wanted row outside `0..n`; those of
