@@ -561,11 +561,9 @@ pub struct FormFactorsArgs {
     /// sizes, then the rows of F), `.ijv` (sparse: `i,j,F_ij,error` per non-zero entry
     /// and per zero entry with a non-zero error estimate, rows in order) or `.vf3` (View3D's output file: header, areas, rows, emissivities;
     /// 3D scenes: one row per patch, or for a `.vs3` file View3D's own output surfaces).
-    #[arg(
-        long,
-        value_name = "F.csv|F.txt|F.ijv|F.vf3",
-        required_unless_present = "partial"
-    )]
+    /// Required unless `--partial`, or a `.vs3` file whose `C` line sets `row=n`: that
+    /// row alone is then computed and printed (View3D writes no matrix either).
+    #[arg(long, value_name = "F.csv|F.txt|F.ijv|F.vf3")]
     pub out: Option<PathBuf>,
     /// Exact 3D form factors: compute only rows A..B (half-open, of 0..patches) into the
     /// `--partial` file; `sceneinfo merge` joins the ranges into the whole job's form

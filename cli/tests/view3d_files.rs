@@ -299,6 +299,73 @@ fn row_and_col_print_view3d_s_row() {
     );
 }
 
+/// `formfactors FILE.vs3` without `--out`, the file asking `row=n`: only the exact rows
+/// that row needs are computed (patch rows `0..max(P) + 1` for the patches `P` of surface
+/// `n`: pair `(i, p)` lives in row `i`), and the row printed is the same text, bit for bit,
+/// as `formfactors FILE.vs3 --out F.vf3` prints from the whole matrix. The count of rows
+/// computed is printed: 1 of 5 for the first surface of the open scene, 2 of 5 for the
+/// second, 5 of 5 for the last; a mask's row (1 at its base) needs none; a scene where a
+/// polygon may hide another needs every row (the cap of rows above 1 uses every row's sum).
+#[test]
+fn row_without_out_computes_only_the_rows_it_needs() {
+    let row_block = |text: &str| -> String {
+        text.lines()
+            .skip_while(|l| !l.starts_with("row="))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    for (name, row, computed) in [
+        ("controls/row", 5, "5 of the job's 5"),
+        ("controls/row_col", 5, "5 of the job's 5"),
+        ("controls/row_encl", 5, "5 of the job's 5"),
+        ("controls/black", 1, "1 of the job's 5"),
+        ("controls/black", 2, "2 of the job's 5"),
+        ("surface-kinds/window", 1, "4 of the job's 10"),
+        ("surface-kinds/mask", 7, "0 of the job's 9"),
+        (
+            "view3d-examples/pinney-bean-test-4",
+            2,
+            "12 of the job's 12",
+        ),
+    ] {
+        let scene = data(&format!("{name}.vs3"));
+        let text = std::fs::read_to_string(&scene).unwrap();
+        // The file's own row (controls/row*), or row=n on the file's C line
+        let copy = temp(&format!("{}-row{row}.vs3", name.replace('/', "-")));
+        let lines: Vec<String> = text
+            .lines()
+            .map(|l| {
+                if l.starts_with("C ") && !l.contains("row=") {
+                    format!("{l} row={row}")
+                } else {
+                    l.to_owned()
+                }
+            })
+            .collect();
+        std::fs::write(&copy, lines.join("\n") + "\n").unwrap();
+        let alone = stdout_of(&["formfactors", s(&copy), "--threads", "2"]);
+        let (_, whole) = sceneinfo_at(&copy, None);
+        assert!(
+            alone.contains(&format!("rows computed       {computed} ")),
+            "{name} row={row}: {alone}"
+        );
+        assert!(!row_block(&whole).is_empty(), "{name}: {whole}");
+        assert_eq!(row_block(&alone), row_block(&whole), "{name} row={row}");
+        assert_eq!(
+            alone.contains("not applied"),
+            text.contains("encl=1") || text.contains("emit=1"),
+            "{name}: {alone}"
+        );
+    }
+    // Without row, --out is still required
+    let out = common::bin()
+        .args(["formfactors", s(&data("controls/black.vs3"))])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("give --out"), "{err}");
+}
+
 /// View3D's sample files with their own controls (`encl=1` for all but the square
 /// obstruction; the `F 3` Pinney & Bean room also `emit=1` and eps 1e-4, its `F 3a` twin
 /// eps 1e-5), against View3D's output for the files as they are (`NAME.view3d-own.txt`).

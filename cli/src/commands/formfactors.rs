@@ -16,12 +16,20 @@ use crate::interrupt::Interrupted;
 use crate::lines::Threads;
 use crate::output::{located, write_atomic};
 
+mod row_only;
+
 pub fn run(args: &FormFactorsArgs) -> Result<()> {
     if let Some(part) = &args.partial {
         return write_rows(args, part);
     }
     let Some(out) = &args.out else {
-        anyhow::bail!("formfactors: give --out F.ijv (or --partial OUT.sir)");
+        if row_only::run(args)? {
+            return Ok(());
+        }
+        anyhow::bail!(
+            "formfactors: give --out F.ijv (or --partial OUT.sir; a .vs3 file whose C line \
+             sets row=n prints that row without --out)"
+        );
     };
     crate::matrix_file::format_of(out)?;
     let layout = crate::matrix_file::vs3_layout_of(&args.file)?;
@@ -140,7 +148,8 @@ pub fn run(args: &FormFactorsArgs) -> Result<()> {
 /// (`encl=1`), that `encl` and `emit` apply to the `.vf3` only, and the row (`row=n`) or
 /// entry (`col=m`) the file asks for: View3D's surfaces' black view factors before any
 /// `encl` or `emit` (View3D 4.0.0 prints those in its log and writes an empty output file
-/// when `row` is set; sceneinfo writes the whole matrix as well). `F(m, n)` by reciprocity,
+/// when `row` is set; sceneinfo with `--out` writes the whole matrix as well, without it
+/// computes and prints the row alone: `row_only`). `F(m, n)` by reciprocity,
 /// `A_n F(n, m) / A_m`.
 fn print_controls(
     o: &mut impl Write,
@@ -197,13 +206,28 @@ fn print_controls(
     let Some(ff) = m.form_factors() else {
         anyhow::bail!("{}: no form factors", file.display());
     };
-    let surfaces = layout.surfaces();
-    let areas = layout.areas();
-    let mut row = vec![0.0; surfaces.len()];
+    let mut row = vec![0.0; layout.surfaces().len()];
     let mut buffer = vec![0.0; ff.n_states()];
     layout.combined_row(k, &mut buffer, &mut row, |p, b| {
         ff.dense_row_into(p, b).map_err(|e| anyhow::anyhow!("{e}"))
     })?;
+    print_row(o, file, layout, k, &row)
+}
+
+/// Row `k` of View3D's surfaces' view factors (`row`, black: before any `encl` or `emit`)
+/// on `o` as the file's `row=n` (and `col=m`) asks: the entry `F[n][m]`, or each
+/// surface's `A_n F(n, m)`, `F(n, m)`, `F(m, n) = A_n F(n, m) / A_m` (reciprocity) and
+/// the row's sum.
+fn print_row(
+    o: &mut impl Write,
+    file: &Path,
+    layout: &crate::formats::vs3_scene::Vs3Layout,
+    k: usize,
+    row: &[f64],
+) -> Result<()> {
+    let c = *layout.controls();
+    let surfaces = layout.surfaces();
+    let areas = layout.areas();
     let what = "black view factors, before any encl or emit";
     if c.col != 0 {
         let Some(l) = layout.surface_index(c.col) else {

@@ -56,8 +56,11 @@ use crate::formfactor::occluded_3d::{self, OcclusionOptions};
 use crate::io::partial::{Reader, fingerprint as checksum};
 
 use super::executor::{Executor, RowWork};
+
+mod form_factor_rows;
 use super::measurement::ExactErrors;
 use super::{Measurement, Scene};
+pub use form_factor_rows::ExactFormFactorRows;
 
 /// First bytes of every file of exact rows.
 const ROWS_MAGIC: [u8; 8] = *b"SCNINFOR";
@@ -448,8 +451,12 @@ impl ExactRows {
     }
 }
 
-/// The full matrix of a complete job in CSR: row offsets, columns, `F_ij`, error estimates
-/// (both triangles, every pair that sees each other, zeros kept).
+/// The matrix of a job's rows in CSR: row offsets, columns, `F_ij`, error estimates (both
+/// triangles, every pair that sees each other, zeros kept). Of a complete job, every row;
+/// of its first rows `0..m` alone, rows `0..m` are whole (row `i` holds the pairs `(k, i)`
+/// of the rows `k < i` and its own `(i, j > i)`) and the rows after hold only their
+/// entries from those rows.
+#[derive(Debug)]
 struct Assembled {
     offsets: Vec<usize>,
     columns: Vec<u32>,
@@ -458,8 +465,9 @@ struct Assembled {
 }
 
 impl Assembled {
-    /// The matrix of `rows`, a complete job (see the module documentation), and the rows
-    /// the cap scaled (`occluded_3d::cap_sparse_rows`).
+    /// The matrix of `rows`, a complete job or its first rows `0..m` (see the module
+    /// documentation), and the rows the cap scaled (`occluded_3d::cap_sparse_rows`; only
+    /// of a complete job: the cap needs every row's sum).
     fn of(rows: &ExactRows) -> (Assembled, usize) {
         let n = rows.n_patches();
         let mut counts = vec![0usize; n + 1];
@@ -506,7 +514,11 @@ impl Assembled {
                 }
             }
         }
-        let rows_scaled = if rows.may_occlude { out.cap_rows() } else { 0 };
+        let rows_scaled = if rows.may_occlude && rows.is_complete() {
+            out.cap_rows()
+        } else {
+            0
+        };
         (out, rows_scaled)
     }
 

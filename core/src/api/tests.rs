@@ -894,3 +894,73 @@ fn a_hidden_pair_decided_by_its_bound_keeps_its_estimate() {
     assert_eq!(zeros(&sparse), found);
     assert_eq!(entries(&sparse), entries(&dense));
 }
+
+/// Whole rows of `F` from only the job's rows they need (`ExactFormFactorRows`): without
+/// occlusion (the cube) the rows `0..max(P) + 1`, with it (the room with a plate) every
+/// row; either way each row held is the whole matrix's row bit for bit, values and
+/// estimates, and a row not held is refused. At 1e-1 the room's rows are capped
+/// (`the_row_cap_gives_the_same_bits_dense_and_sparse`).
+#[test]
+fn exact_form_factor_rows_are_the_whole_matrix_s_rows_bit_for_bit() {
+    let options = crate::formfactor::occluded_3d::OcclusionOptions::new(1e-4);
+    let loose = crate::formfactor::occluded_3d::OcclusionOptions::new(1e-1);
+    for (scene, occluded, options) in [
+        (cube(), false, options),
+        (room_with_plate(), true, options),
+        (room_with_plate(), true, loose),
+    ] {
+        let n = scene.n_patches();
+        let all = ExactRows::compute(&scene, 7, &options, None, &mut Threads(2)).unwrap();
+        let whole = Measurement::from_exact_rows(all).unwrap();
+        let ff = whole.form_factors().unwrap();
+        let mut expected = alloc::vec![0.0; ff.n_states()];
+        let mut got = alloc::vec![0.0; n];
+        for wanted in [&[0][..], &[2, 1, 2], &[n - 1], &[]] {
+            let rows =
+                ExactFormFactorRows::compute(&scene, 7, &options, wanted, &mut Threads(2)).unwrap();
+            let end = wanted.iter().max().map_or(0, |&p| p + 1);
+            let held = if occluded && end > 0 { 0..n } else { 0..end };
+            assert_eq!(rows.rows(), held, "{wanted:?}");
+            assert_eq!(rows.may_occlude(), occluded);
+            let computed = ExactRows::compute(&scene, 7, &options, Some(held.clone()), &mut Serial)
+                .unwrap()
+                .pair_count();
+            assert_eq!(rows.pair_count(), computed, "{wanted:?}");
+            for p in held.clone() {
+                ff.dense_row_into(p, &mut expected).unwrap();
+                rows.row_into(p, &mut got).unwrap();
+                let bits = |r: &[f64]| r[..n].iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&got), bits(&expected), "row {p} of {wanted:?}");
+                // The estimates of the non-zero entries, as the measurement keeps them
+                let mut mine = Vec::new();
+                rows.for_each_in_row(p, |j, v, e| {
+                    if v != 0.0 {
+                        mine.push((j, v.to_bits(), e.to_bits()));
+                    }
+                })
+                .unwrap();
+                let theirs: Vec<_> = entries(&whole)
+                    .into_iter()
+                    .filter(|&(i, j, _, _)| i == p && j < n)
+                    .map(|(_, j, v, e)| (j, v, e.unwrap_or(0.0f64.to_bits())))
+                    .collect();
+                assert_eq!(mine, theirs, "row {p} of {wanted:?}");
+            }
+            if held.end < n {
+                let e = rows.row_into(held.end, &mut got).unwrap_err();
+                assert!(matches!(e.kind(), ErrorKind::MissingRows { .. }), "{e}");
+            }
+        }
+        let e = ExactFormFactorRows::compute(&scene, 7, &options, &[n], &mut Serial).unwrap_err();
+        assert!(
+            matches!(e.kind(), ErrorKind::PatchIndex { index, len } if *index == n && *len == n)
+        );
+    }
+    // A range not from row 0 is refused; the first rows of an occluded job hold no row
+    let scene = room_with_plate();
+    let late = ExactRows::compute(&scene, 7, &options, Some(2..4), &mut Serial).unwrap();
+    let e = ExactFormFactorRows::from_rows(&late).unwrap_err();
+    assert!(matches!(e.kind(), ErrorKind::MissingRows { .. }), "{e}");
+    let early = ExactRows::compute(&scene, 7, &options, Some(0..4), &mut Serial).unwrap();
+    assert_eq!(ExactFormFactorRows::from_rows(&early).unwrap().rows(), 0..0);
+}
