@@ -48,7 +48,7 @@ mod session;
 mod warning;
 
 #[cfg(feature = "alloc")]
-pub use exact_rows::{ExactFormFactorRows, ExactRows};
+pub use exact_rows::ExactRows;
 #[cfg(feature = "alloc")]
 pub use executor::{ChunkWork, ChunksDone, Executor, LineRun, RowDone, RowWork, Serial};
 #[cfg(feature = "alloc")]

@@ -124,9 +124,9 @@ pub mod viewpoint;
 pub use api::Warning;
 #[cfg(feature = "alloc")]
 pub use api::{
-    ChunkWork, ChunksDone, ExactFormFactorRows, ExactRows, Executor, Job, Lighting, LineBudget,
-    LineJob, LineRun, LineRunInfo, LineSession, LitLines, Measurement, RadiosityJob, RowDone,
-    RowWork, Scene, SceneFormat, SceneTracer, Serial, measure, measure_partial, solve_radiosity,
+    ChunkWork, ChunksDone, ExactRows, Executor, Job, Lighting, LineBudget, LineJob, LineRun,
+    LineRunInfo, LineSession, LitLines, Measurement, RadiosityJob, RowDone, RowWork, Scene,
+    SceneFormat, SceneTracer, Serial, measure, measure_partial, solve_radiosity,
 };
 pub use error::{Error, ErrorKind, Result};
 

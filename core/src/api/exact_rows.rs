@@ -60,7 +60,7 @@ use super::executor::{Executor, RowWork};
 mod form_factor_rows;
 use super::measurement::ExactErrors;
 use super::{Measurement, Scene};
-pub use form_factor_rows::ExactFormFactorRows;
+use form_factor_rows::ExactFormFactorRows;
 
 /// First bytes of every file of exact rows.
 const ROWS_MAGIC: [u8; 8] = *b"SCNINFOR";
@@ -96,6 +96,35 @@ pub struct ExactRows {
 }
 
 impl ExactRows {
+    /// Whole rows `F_p·` of the exact form factors of the 3D `scene` with occlusion to
+    /// `options`, for the patches `wanted` (any order, repeats allowed), through `executor`:
+    /// the job's rows `0..max(wanted) + 1`, and when some polygon may hide another the rest
+    /// as well (the row cap needs every row). The rows are those of the whole job, bit for
+    /// bit. `fingerprint` is [`ExactRows::compute`]'s.
+    ///
+    /// # Errors
+    /// [`ErrorKind::PatchIndex`] for a wanted row outside `0..n`; those of
+    /// [`ExactRows::compute`].
+    pub fn form_factor_rows(
+        scene: &Scene,
+        fingerprint: u64,
+        options: &OcclusionOptions,
+        wanted: &[usize],
+        executor: &mut dyn Executor,
+    ) -> Result<ExactFormFactorRows> {
+        ExactFormFactorRows::compute(scene, fingerprint, options, wanted, executor)
+    }
+
+    /// The whole rows of these rows, the first rows `0..m` of a job: rows `0..m` when no
+    /// polygon may hide another, every row of a complete job, none of an incomplete job
+    /// where some polygon may hide another.
+    ///
+    /// # Errors
+    /// [`ErrorKind::MissingRows`] when these rows do not begin at row 0.
+    pub fn whole_rows(&self) -> Result<ExactFormFactorRows> {
+        ExactFormFactorRows::from_rows(self)
+    }
+
     /// The first bytes of an [`ExactRows`] file (a line job's partial file begins with
     /// other bytes), to tell the two apart.
     pub const MAGIC: [u8; 8] = ROWS_MAGIC;

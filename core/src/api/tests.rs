@@ -895,7 +895,7 @@ fn a_hidden_pair_decided_by_its_bound_keeps_its_estimate() {
     assert_eq!(entries(&sparse), entries(&dense));
 }
 
-/// Whole rows of `F` from only the job's rows they need (`ExactFormFactorRows`): without
+/// Whole rows of `F` from only the job's rows they need (`ExactRows::form_factor_rows`): without
 /// occlusion (the cube) the rows `0..max(P) + 1`, with it (the room with a plate) every
 /// row; either way each row held is the whole matrix's row bit for bit, values and
 /// estimates, and a row not held is refused. At 1e-1 the room's rows are capped
@@ -917,7 +917,7 @@ fn exact_form_factor_rows_are_the_whole_matrix_s_rows_bit_for_bit() {
         let mut got = alloc::vec![0.0; n];
         for wanted in [&[0][..], &[2, 1, 2], &[n - 1], &[]] {
             let rows =
-                ExactFormFactorRows::compute(&scene, 7, &options, wanted, &mut Threads(2)).unwrap();
+                ExactRows::form_factor_rows(&scene, 7, &options, wanted, &mut Threads(2)).unwrap();
             let end = wanted.iter().max().map_or(0, |&p| p + 1);
             let held = if occluded && end > 0 { 0..n } else { 0..end };
             assert_eq!(rows.rows(), held, "{wanted:?}");
@@ -951,7 +951,7 @@ fn exact_form_factor_rows_are_the_whole_matrix_s_rows_bit_for_bit() {
                 assert!(matches!(e.kind(), ErrorKind::MissingRows { .. }), "{e}");
             }
         }
-        let e = ExactFormFactorRows::compute(&scene, 7, &options, &[n], &mut Serial).unwrap_err();
+        let e = ExactRows::form_factor_rows(&scene, 7, &options, &[n], &mut Serial).unwrap_err();
         assert!(
             matches!(e.kind(), ErrorKind::PatchIndex { index, len } if *index == n && *len == n)
         );
@@ -959,8 +959,8 @@ fn exact_form_factor_rows_are_the_whole_matrix_s_rows_bit_for_bit() {
     // A range not from row 0 is refused; the first rows of an occluded job hold no row
     let scene = room_with_plate();
     let late = ExactRows::compute(&scene, 7, &options, Some(2..4), &mut Serial).unwrap();
-    let e = ExactFormFactorRows::from_rows(&late).unwrap_err();
+    let e = late.whole_rows().unwrap_err();
     assert!(matches!(e.kind(), ErrorKind::MissingRows { .. }), "{e}");
     let early = ExactRows::compute(&scene, 7, &options, Some(0..4), &mut Serial).unwrap();
-    assert_eq!(ExactFormFactorRows::from_rows(&early).unwrap().rows(), 0..0);
+    assert_eq!(early.whole_rows().unwrap().rows(), 0..0);
 }

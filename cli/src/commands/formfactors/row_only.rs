@@ -3,7 +3,7 @@
 //! the exact rows that row needs rather than the whole matrix.
 //!
 //! View3D's row `n` combines the patches' rows `P = members(n)`
-//! (`Vs3Layout::combined_row`); the core's `ExactFormFactorRows` computes those whole rows
+//! (`Vs3Layout::combined_row`); the core's `ExactRows::form_factor_rows` computes those whole rows
 //! from the job's rows `0..max(P) + 1` alone (every row when a polygon may hide another:
 //! the cap of rows above 1 uses every row's sum), the same bits as the whole matrix's.
 
@@ -12,7 +12,7 @@ use std::io::Write;
 use anyhow::{Result, anyhow, bail};
 use sceneinfo::formfactor::occluded_3d::{self, OcclusionOptions};
 use sceneinfo::io::partial::Partial;
-use sceneinfo::{ExactFormFactorRows, Scene};
+use sceneinfo::{ExactRows, Scene};
 
 use crate::args::FormFactorsArgs;
 use crate::interrupt::Interrupted;
@@ -77,7 +77,7 @@ pub fn run(args: &FormFactorsArgs) -> Result<bool> {
         Some(t) => t,
         None => crate::job::vs3_eps(path)?.unwrap_or(occluded_3d::DEFAULT_TOLERANCE),
     };
-    let rows = ExactFormFactorRows::compute(
+    let rows = ExactRows::form_factor_rows(
         &scene,
         Partial::fingerprint(&bytes),
         &OcclusionOptions::new(tol),

@@ -52,7 +52,7 @@ impl ExactFormFactorRows {
     /// # Errors
     /// [`ErrorKind::PatchIndex`] for a wanted row outside `0..n`; those of
     /// [`ExactRows::compute`] (a flatland scene, the options, [`ErrorKind::Stopped`]).
-    pub fn compute(
+    pub(super) fn compute(
         scene: &Scene,
         fingerprint: u64,
         options: &OcclusionOptions,
@@ -81,7 +81,7 @@ impl ExactFormFactorRows {
     ///
     /// # Errors
     /// [`ErrorKind::MissingRows`] when `rows` does not begin at row 0.
-    pub fn from_rows(rows: &ExactRows) -> Result<ExactFormFactorRows> {
+    pub(super) fn from_rows(rows: &ExactRows) -> Result<ExactFormFactorRows> {
         let n = rows.n_patches();
         if rows.rows.start != 0 {
             return Err(ErrorKind::MissingRows {
@@ -106,7 +106,7 @@ impl ExactFormFactorRows {
     }
 
     /// The rows held whole (`0..m`): also the job's rows computed by
-    /// [`ExactFormFactorRows::compute`].
+    /// [`ExactRows::form_factor_rows`].
     #[must_use]
     pub fn rows(&self) -> Range<usize> {
         self.rows.clone()
