@@ -80,6 +80,16 @@ pub fn requested() -> bool {
     REQUESTED.load(Ordering::Relaxed)
 }
 
+/// A stopped job's error: [`Interrupted`] (nothing written) when Ctrl-C stopped it, else
+/// `otherwise`'s (the core's error, located in its file).
+pub fn interrupted_or(otherwise: impl FnOnce() -> anyhow::Error) -> anyhow::Error {
+    if requested() {
+        Interrupted { partial: None }.into()
+    } else {
+        otherwise()
+    }
+}
+
 /// The error a command returns when Ctrl-C cut its line job short, so that `main` exits
 /// with [`EXIT_INTERRUPTED`].
 #[derive(Debug)]

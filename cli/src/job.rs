@@ -97,13 +97,7 @@ pub fn run_job(
         ),
         Job::Lines(_) => sceneinfo::measure(scene, job, &mut Threads::new(threads)),
     };
-    result.map_err(|e| {
-        if crate::interrupt::requested() {
-            Interrupted { partial: None }.into()
-        } else {
-            crate::output::exact_error(path, &e)
-        }
-    })
+    result.map_err(|e| crate::interrupt::interrupted_or(|| crate::output::exact_error(path, &e)))
 }
 
 /// Loads the scene in `path` and measures it as the sampling flags say: the measurement,

@@ -12,7 +12,6 @@ use sceneinfo::{ExactRows, Scene};
 use sceneinfo_report::CHECK_TOLERANCE;
 
 use crate::args::FormFactorsArgs;
-use crate::interrupt::Interrupted;
 use crate::lines::Threads;
 use crate::output::{located, write_atomic};
 
@@ -316,13 +315,7 @@ fn write_rows(args: &FormFactorsArgs, part: &Path) -> Result<()> {
         args.rows.clone(),
         &mut Threads::new(threads),
     )
-    .map_err(|e| {
-        if crate::interrupt::requested() {
-            Interrupted { partial: None }.into()
-        } else {
-            located(path, &e)
-        }
-    })?;
+    .map_err(|e| crate::interrupt::interrupted_or(|| located(path, &e)))?;
     let file = rows.to_bytes();
     write_atomic(part, &file)?;
     let r = rows.rows();

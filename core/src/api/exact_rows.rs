@@ -112,7 +112,20 @@ impl ExactRows {
         wanted: &[usize],
         executor: &mut dyn Executor,
     ) -> Result<ExactFormFactorRows> {
-        ExactFormFactorRows::compute(scene, fingerprint, options, wanted, executor)
+        let n = scene.n_patches();
+        if let Some(&index) = wanted.iter().find(|&&p| p >= n) {
+            return Err(ErrorKind::PatchIndex { index, len: n }.into());
+        }
+        let end = wanted.iter().max().map_or(0, |&p| p + 1);
+        let first = ExactRows::compute(scene, fingerprint, options, Some(0..end), executor)?;
+        let rows = if first.may_occlude && end > 0 && end < n {
+            // The scene is prepared once per call, so twice here.
+            let rest = ExactRows::compute(scene, fingerprint, options, Some(end..n), executor)?;
+            ExactRows::merge(vec![first, rest])?
+        } else {
+            first
+        };
+        rows.whole_rows()
     }
 
     /// The whole rows of these rows, the first rows `0..m` of a job: rows `0..m` when no

@@ -157,7 +157,7 @@ pub(crate) const DEFAULT_MAX_POINTS_PER_PAIR: u64 = 1 << 22;
 /// direction turns by at most about a radian across the leaf, so the 35 points of a leaf
 /// sample its shadow's motion; a leaf much longer than the gap can hold the whole
 /// penumbra between its points, and then the two rules can agree while both miss it.
-/// Issue 23: random two-box rooms at `--tol 1e-3` (`boxes_sweep` in docs/occlusion.md),
+/// Issue 23: random two-box rooms at `--tol 1e-3` (`random_rooms_sweep` in docs/occlusion.md),
 /// 6 of 120 with an entry outside its estimate (up to 6.6×) without this, none with it; the
 /// case the CI found had half of a ceiling in one triangle 0.28 above a box, 3.7× off.
 pub(crate) const RESOLUTION: f64 = 1.0;

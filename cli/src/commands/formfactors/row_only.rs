@@ -15,7 +15,6 @@ use sceneinfo::io::partial::Partial;
 use sceneinfo::{ExactRows, Scene};
 
 use crate::args::FormFactorsArgs;
-use crate::interrupt::Interrupted;
 use crate::lines::Threads;
 use crate::output::located;
 
@@ -84,13 +83,7 @@ pub fn run(args: &FormFactorsArgs) -> Result<bool> {
         &wanted,
         &mut Threads::new(crate::job::threads_of(&args.sampling)),
     )
-    .map_err(|e| {
-        if crate::interrupt::requested() {
-            Interrupted { partial: None }.into()
-        } else {
-            located(path, &e)
-        }
-    })?;
+    .map_err(|e| crate::interrupt::interrupted_or(|| located(path, &e)))?;
     layout.combined_row(k, &mut buffer, &mut row, |p, b| {
         rows.row_into(p, b).map_err(|e| anyhow!("{e}"))
     })?;

@@ -16,14 +16,10 @@
 //! [`Measurement::from_exact_rows`]: crate::Measurement::from_exact_rows
 //! [`Measurement::exact_within`]: crate::Measurement::exact_within
 
-use alloc::vec;
 use core::ops::Range;
 
 use crate::error::{ErrorKind, Result};
-use crate::formfactor::occluded_3d::OcclusionOptions;
 
-use super::super::Scene;
-use super::super::executor::Executor;
 use super::{Assembled, ExactRows};
 
 /// Whole rows `0..m` of a 3D scene's exact form factors with occlusion (every `F_pj`, `j`
@@ -41,39 +37,6 @@ pub struct ExactFormFactorRows {
 }
 
 impl ExactFormFactorRows {
-    /// Computes the rows `wanted` (patch indices, any order, repeats allowed) of the exact
-    /// form factors of the 3D `scene` with occlusion to `options`, through `executor`: the
-    /// job's rows `0..max(wanted) + 1` ([`ExactRows::compute`]), and when some polygon may
-    /// hide another the rest `max(wanted) + 1..n` as well ([`ExactRows::merge`]d: the cap
-    /// needs every row; the scene is prepared once per call, so twice then). No wanted
-    /// row, no pair computed (the scene is still prepared). `fingerprint` is
-    /// [`ExactRows::compute`]'s.
-    ///
-    /// # Errors
-    /// [`ErrorKind::PatchIndex`] for a wanted row outside `0..n`; those of
-    /// [`ExactRows::compute`] (a flatland scene, the options, [`ErrorKind::Stopped`]).
-    pub(super) fn compute(
-        scene: &Scene,
-        fingerprint: u64,
-        options: &OcclusionOptions,
-        wanted: &[usize],
-        executor: &mut dyn Executor,
-    ) -> Result<ExactFormFactorRows> {
-        let n = scene.n_patches();
-        if let Some(&index) = wanted.iter().find(|&&p| p >= n) {
-            return Err(ErrorKind::PatchIndex { index, len: n }.into());
-        }
-        let end = wanted.iter().max().map_or(0, |&p| p + 1);
-        let first = ExactRows::compute(scene, fingerprint, options, Some(0..end), executor)?;
-        let rows = if first.may_occlude && end > 0 && end < n {
-            let rest = ExactRows::compute(scene, fingerprint, options, Some(end..n), executor)?;
-            ExactRows::merge(vec![first, rest])?
-        } else {
-            first
-        };
-        ExactFormFactorRows::from_rows(&rows)
-    }
-
     /// The whole rows of `rows`, the first rows `0..m` of a job (its ranges
     /// [`ExactRows::merge`]d, or computed at once): rows `0..m` when no polygon may hide
     /// another; every row of a complete job; none of an incomplete job where some polygon
