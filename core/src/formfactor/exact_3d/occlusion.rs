@@ -167,6 +167,113 @@ fn extent(axis: DVec3, points: &[DVec3], (lo, hi): (f64, f64)) -> (f64, f64) {
     (lo, hi)
 }
 
+/// The empty extent, `[∞, −∞]`.
+const EMPTY: (f64, f64) = (f64::INFINITY, f64::NEG_INFINITY);
+
+/// Whether the extents `h` (of the hull) and `k` along `axis` are apart by more than `tol`
+/// times the axis's length.
+#[inline]
+fn apart(axis: DVec3, (h_lo, h_hi): (f64, f64), (k_lo, k_hi): (f64, f64), tol: f64) -> bool {
+    // Apart without the tolerance: apart with it too (`t ≥ 0`), so the root is spared
+    // and the answer is the same bits as the test below.
+    if tol >= 0.0 && (k_hi <= h_lo || k_lo >= h_hi) {
+        return true;
+    }
+    let t = tol * axis.length();
+    k_hi <= h_lo + t || k_lo >= h_hi - t
+}
+
+/// The separating axes of [`hull_meets_polygon`] that do not depend on its first polygon
+/// `a`, for a fixed second polygon `b` and polygon `k`: `b`'s normal, `k`'s normal, `k`'s
+/// in-plane edge normals and `k`'s edges crossed with `b`'s, each with the extents of `b`
+/// and of `k` along it, as `(axis, b's extent, k's extent)` (zero axes left out: they never
+/// separate). Computed once per pair of the outer integral and occluder, and used for
+/// every triangle `a` of it ([`hull_meets_polygon_with`]).
+pub(crate) fn fixed_axes(
+    (b, pb): &(&[DVec3], Plane),
+    (k, pk): &(&[DVec3], Plane),
+    out: &mut Vec<(DVec3, (f64, f64), (f64, f64))>,
+) {
+    let mut push = |axis: DVec3| {
+        if axis.length_squared() > 0.0 {
+            out.push((axis, extent(axis, b, EMPTY), extent(axis, k, EMPTY)));
+        }
+    };
+    push(pb.normal);
+    push(pk.normal);
+    for (u, v) in edges(k) {
+        push(pk.normal.cross(v - u));
+    }
+    for (u, v) in edges(k) {
+        let ek = v - u;
+        for (s, t) in edges(b) {
+            push(ek.cross(t - s));
+        }
+    }
+}
+
+/// [`hull_meets_polygon`]`((a, pa), (b, pb), (k, pk), tol)`, the same answer, with the axes
+/// that do not depend on `a` and their extents given by [`fixed_axes`] of `(b, pb), (k, pk)`.
+/// The answer is whether no candidate axis separates, so the order in which the axes are
+/// tried does not change it; each axis and each projection is computed by the same
+/// expressions, and the extent of `a ∪ b` is the smaller (larger) of the two extents, the
+/// same value.
+pub(crate) fn hull_meets_polygon_with(
+    (a, pa): &(&[DVec3], Plane),
+    b: &[DVec3],
+    k: &[DVec3],
+    fixed: &[(DVec3, (f64, f64), (f64, f64))],
+    tol: f64,
+) -> bool {
+    for &(axis, (b_lo, b_hi), k_extent) in fixed {
+        let (a_lo, a_hi) = extent(axis, a, EMPTY);
+        let h = (
+            if b_lo < a_lo { b_lo } else { a_lo },
+            if b_hi > a_hi { b_hi } else { a_hi },
+        );
+        if apart(axis, h, k_extent, tol) {
+            return false;
+        }
+    }
+    let separated = |axis: DVec3| -> bool {
+        if !(axis.length_squared() > 0.0) {
+            return false;
+        }
+        let (h_lo, h_hi) = extent(axis, b, extent(axis, a, EMPTY));
+        apart(axis, (h_lo, h_hi), extent(axis, k, EMPTY), tol)
+    };
+    if separated(pa.normal) {
+        return false;
+    }
+    // Side facets of the hull: an edge of one polygon with a vertex of the other.
+    for (p, q) in [(*a, b), (b, *a)] {
+        for (u, v) in edges(p) {
+            for &w in q {
+                if separated((v - u).cross(w - u)) {
+                    return false;
+                }
+            }
+        }
+    }
+    // Edge-edge axes: k's edges against a's edges and the bridges from a to b.
+    for (u, v) in edges(k) {
+        let ek = v - u;
+        for (s, t) in edges(a) {
+            if separated(ek.cross(t - s)) {
+                return false;
+            }
+        }
+        for &s in a.iter() {
+            for &t in b {
+                if separated(ek.cross(t - s)) {
+                    return false;
+                }
+            }
+        }
+    }
+    true
+}
+
 /// Whether the convex hull of polygons `a ∪ b` and the convex polygon `k` overlap by more
 /// than `tol` (no separating axis found among the complete candidate set).
 pub(crate) fn hull_meets_polygon(
@@ -181,16 +288,8 @@ pub(crate) fn hull_meets_polygon(
         if !(axis.length_squared() > 0.0) {
             return false;
         }
-        let empty = (f64::INFINITY, f64::NEG_INFINITY);
-        let (h_lo, h_hi) = extent(axis, b, extent(axis, a, empty));
-        let (k_lo, k_hi) = extent(axis, k, empty);
-        // Apart without the tolerance: apart with it too (`t ≥ 0`), so the root is spared
-        // and the answer is the same bits as the test below.
-        if tol >= 0.0 && (k_hi <= h_lo || k_lo >= h_hi) {
-            return true;
-        }
-        let t = tol * axis.length();
-        k_hi <= h_lo + t || k_lo >= h_hi - t
+        let (h_lo, h_hi) = extent(axis, b, extent(axis, a, EMPTY));
+        apart(axis, (h_lo, h_hi), extent(axis, k, EMPTY), tol)
     };
     // Face normals of the hull (i, j) and of k, with k's in-plane edge normals.
     if separated(pa.normal) || separated(pb.normal) || separated(pk.normal) {
