@@ -330,3 +330,73 @@ pub(crate) fn hull_meets_polygon(
     }
     true
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A uniform number in `[−½, ½)` (xorshift).
+    fn next(state: &mut u64) -> f64 {
+        *state ^= *state << 13;
+        *state ^= *state >> 7;
+        *state ^= *state << 17;
+        (*state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    }
+
+    fn random_vector(state: &mut u64) -> DVec3 {
+        DVec3::new(next(state), next(state), next(state))
+    }
+
+    /// A planar convex polygon of `m` vertices on a circle of radius `size`, turned at
+    /// random, about `centre`.
+    fn polygon(state: &mut u64, m: usize, centre: DVec3, size: f64) -> Vec<DVec3> {
+        let e1 = random_vector(state).normalize();
+        let e2 = random_vector(state);
+        let e2 = (e2 - e1 * e1.dot(e2)).normalize();
+        (0..m)
+            .map(|k| {
+                let t = core::f64::consts::TAU * k as f64 / m as f64;
+                centre + size * (libm::cos(t) * e1 + libm::sin(t) * e2)
+            })
+            .collect()
+    }
+
+    /// [`hull_meets_polygon_with`] and [`fixed_axes`] give [`hull_meets_polygon`]'s answer,
+    /// on random triangles and polygons from far apart to overlapping, with a zero and a
+    /// positive tolerance.
+    #[test]
+    fn fixed_axes_give_the_same_answer() {
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let (mut met, mut missed) = (0, 0);
+        let mut fixed = Vec::new();
+        for case in 0..3000 {
+            let spread = [0.3, 1.0, 3.0][case % 3];
+            let s = &mut state;
+            let (ca, cb, ck) = (random_vector(s), random_vector(s), random_vector(s));
+            let a = polygon(s, 3, ca * spread, 0.5);
+            let b = polygon(s, 4, cb * spread + DVec3::X, 0.5);
+            let k = polygon(s, 3 + case % 3, ck * spread, 0.4);
+            let (Some(pa), Some(pb), Some(pk)) = (Plane::of(&a), Plane::of(&b), Plane::of(&k))
+            else {
+                continue;
+            };
+            let tol = if case % 2 == 0 { 0.0 } else { 1e-3 };
+            let (a, b, k) = ((a.as_slice(), pa), (b.as_slice(), pb), (k.as_slice(), pk));
+            fixed.clear();
+            fixed_axes(&b, &k, &mut fixed);
+            let plain = hull_meets_polygon(&a, &b, &k, tol);
+            assert_eq!(
+                hull_meets_polygon_with(&a, b.0, k.0, &fixed, tol),
+                plain,
+                "case {case}"
+            );
+            if plain {
+                met += 1;
+            } else {
+                missed += 1;
+            }
+        }
+        // Both answers occur often.
+        assert!(met > 300 && missed > 300, "{met} {missed}");
+    }
+}
