@@ -117,7 +117,7 @@ use alloc::vec::Vec;
 use crate::error::{ErrorKind, Result};
 use crate::formfactor::FormFactors;
 use crate::formfactor::exact_3d::{
-    self, HalfSpace, MAX_DENSE_PATCHES, ON_PLANE, Plane, TOUCH, bounds, fixed_axes,
+    self, FixedAxis, HalfSpace, MAX_DENSE_PATCHES, ON_PLANE, Plane, TOUCH, bounds, fixed_axes,
     hull_meets_polygon, hull_meets_polygon_with, pair_flux, planes,
 };
 use crate::geom::DVec3;
@@ -435,7 +435,7 @@ struct PairIntegrand<'s, 'o> {
     /// The separating axes of each candidate against the target that do not depend on the
     /// triangle ([`fixed_axes`]), for [`hull_meets_polygon_with`]: `fixed_of` holds
     /// `(candidate, first, end)` ranges of `fixed`, sorted by candidate.
-    fixed: Vec<(DVec3, (f64, f64), (f64, f64))>,
+    fixed: Vec<FixedAxis>,
     fixed_of: Vec<(u32, usize, usize)>,
 }
 

@@ -167,6 +167,9 @@ fn extent(axis: DVec3, points: &[DVec3], (lo, hi): (f64, f64)) -> (f64, f64) {
     (lo, hi)
 }
 
+/// A separating axis with the extents of two polygons along it (see [`fixed_axes`]).
+pub(crate) type FixedAxis = (DVec3, (f64, f64), (f64, f64));
+
 /// The empty extent, `[∞, −∞]`.
 const EMPTY: (f64, f64) = (f64::INFINITY, f64::NEG_INFINITY);
 
@@ -192,7 +195,7 @@ fn apart(axis: DVec3, (h_lo, h_hi): (f64, f64), (k_lo, k_hi): (f64, f64), tol: f
 pub(crate) fn fixed_axes(
     (b, pb): &(&[DVec3], Plane),
     (k, pk): &(&[DVec3], Plane),
-    out: &mut Vec<(DVec3, (f64, f64), (f64, f64))>,
+    out: &mut Vec<FixedAxis>,
 ) {
     let mut push = |axis: DVec3| {
         if axis.length_squared() > 0.0 {
@@ -222,7 +225,7 @@ pub(crate) fn hull_meets_polygon_with(
     (a, pa): &(&[DVec3], Plane),
     b: &[DVec3],
     k: &[DVec3],
-    fixed: &[(DVec3, (f64, f64), (f64, f64))],
+    fixed: &[FixedAxis],
     tol: f64,
 ) -> bool {
     for &(axis, (b_lo, b_hi), k_extent) in fixed {
