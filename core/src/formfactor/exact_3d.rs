@@ -90,7 +90,9 @@ pub(crate) use polygon::{HalfSpace, ON_PLANE, Plane};
 #[cfg(feature = "alloc")]
 pub use occlusion::may_be_occluded;
 #[cfg(feature = "alloc")]
-pub(crate) use occlusion::{TOUCH, bounds, hull_meets_polygon};
+pub(crate) use occlusion::{
+    FixedAxis, TOUCH, bounds, fixed_axes, hull_meets_polygon, hull_meets_polygon_with,
+};
 
 #[cfg(feature = "alloc")]
 use crate::error::{ErrorKind, Result};

@@ -117,8 +117,8 @@ use alloc::vec::Vec;
 use crate::error::{ErrorKind, Result};
 use crate::formfactor::FormFactors;
 use crate::formfactor::exact_3d::{
-    self, HalfSpace, MAX_DENSE_PATCHES, ON_PLANE, Plane, TOUCH, bounds, hull_meets_polygon,
-    pair_flux, planes,
+    self, FixedAxis, HalfSpace, MAX_DENSE_PATCHES, ON_PLANE, Plane, TOUCH, bounds, fixed_axes,
+    hull_meets_polygon, hull_meets_polygon_with, pair_flux, planes,
 };
 use crate::geom::DVec3;
 use crate::math::KahanSum;
@@ -432,6 +432,55 @@ struct PairIntegrand<'s, 'o> {
     shaft: Shaft,
     /// Leaves no longer than this are never [`unresolved`](outer::Integrand::unresolved).
     resolved_size: f64,
+    /// The separating axes of each candidate against the target that do not depend on the
+    /// triangle ([`fixed_axes`]), for [`hull_meets_polygon_with`]: `fixed_of` holds
+    /// `(candidate, first, end)` ranges of `fixed`, sorted by candidate.
+    fixed: Vec<FixedAxis>,
+    fixed_of: Vec<(u32, usize, usize)>,
+}
+
+impl PairIntegrand<'_, '_> {
+    /// Fills [`Self::fixed`] for the pair's candidates `cands` (the triangles' candidates
+    /// are among them).
+    fn prepare_fixed_axes(&mut self, cands: &[u32]) {
+        self.fixed.clear();
+        self.fixed_of.clear();
+        for &k in cands {
+            let o = &self.occ[k as usize];
+            let first = self.fixed.len();
+            fixed_axes(
+                &(self.tgt, self.pt),
+                &(o.vertices.as_slice(), o.plane),
+                &mut self.fixed,
+            );
+            self.fixed_of.push((k, first, self.fixed.len()));
+        }
+        self.fixed_of.sort_unstable_by_key(|e| e.0);
+    }
+
+    /// [`hull_meets_polygon`] of `tri ∪ target` and candidate `k`, by its fixed axes when
+    /// they were prepared (the same answer).
+    fn hull_meets(&self, tri: &(&[DVec3], Plane), k: u32) -> bool {
+        let o = &self.occ[k as usize];
+        match self.fixed_of.binary_search_by_key(&k, |e| e.0) {
+            Ok(at) => {
+                let (_, first, end) = self.fixed_of[at];
+                hull_meets_polygon_with(
+                    tri,
+                    self.tgt,
+                    &o.vertices,
+                    &self.fixed[first..end],
+                    self.touch,
+                )
+            }
+            Err(_) => hull_meets_polygon(
+                tri,
+                &(self.tgt, self.pt),
+                &(o.vertices.as_slice(), o.plane),
+                self.touch,
+            ),
+        }
+    }
 }
 
 impl outer::Integrand for PairIntegrand<'_, '_> {
@@ -462,12 +511,7 @@ impl outer::Integrand for PairIntegrand<'_, '_> {
             {
                 continue;
             }
-            if !hull_meets_polygon(
-                &(tri.as_slice(), pl),
-                &(self.tgt, self.pt),
-                &(o.vertices.as_slice(), o.plane),
-                t,
-            ) {
+            if !self.hull_meets(&(tri.as_slice(), pl), k) {
                 continue;
             }
             if blocks_all(tri, self.tgt, &o.vertices, &o.plane, t) {
@@ -599,7 +643,10 @@ fn integrate_pair(
         buf: Vec::new(),
         shaft: Shaft::default(),
         resolved_size: RESOLVED_FRACTION * 2.0 * ps.radius,
+        fixed: Vec::new(),
+        fixed_of: Vec::new(),
     };
+    g.prepare_fixed_axes(cands);
     let touching: Vec<&[DVec3]> = cands
         .iter()
         .map(|&k| occ[k as usize].vertices.as_slice())

@@ -210,10 +210,12 @@ impl Shaft {
                         continue;
                     }
                     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+                    // Plain comparisons: `f64::min`/`max`'s values up to the sign of a
+                    // zero, which the sums and comparisons below do not see.
                     for &y in a.iter().chain(b) {
                         let d = axis.dot(y);
-                        lo = lo.min(d);
-                        hi = hi.max(d);
+                        lo = if d < lo { d } else { lo };
+                        hi = if d > hi { d } else { hi };
                     }
                     // A supporting plane of the hull: the facet's own offset is an extreme.
                     let at = axis.dot(u);

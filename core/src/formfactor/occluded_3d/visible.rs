@@ -278,14 +278,14 @@ impl Target {
             rest.clear();
             rest.extend_from_slice(&piece);
             for &(a, inward) in lines.iter() {
-                clip2(rest, a, -inward, self.tol, scratch);
-                if scratch.len() >= 3 && crate::geom::signed_area(scratch) > self.sliver {
-                    let mut part = spare.pop().unwrap_or_default();
-                    part.clear();
-                    part.extend_from_slice(scratch);
+                // The part outside the line is written straight into a spare outline.
+                let mut part = spare.pop().unwrap_or_default();
+                split2(rest, a, inward, self.tol, scratch, &mut part);
+                if part.len() >= 3 && crate::geom::signed_area(&part) > self.sliver {
                     next.push(part);
+                } else {
+                    spare.push(part);
                 }
-                clip2(rest, a, inward, self.tol, scratch);
                 core::mem::swap(rest, scratch);
                 if rest.len() < 3 || crate::geom::signed_area(rest) <= self.sliver {
                     break;
@@ -363,12 +363,18 @@ fn inward_normal(a: DVec2, b: DVec2) -> Option<DVec2> {
     (len > 0.0).then(|| DVec2::new(-e.y, e.x) / len)
 }
 
-/// Axis-aligned bounds of a 2D polygon.
+/// Axis-aligned bounds of a 2D polygon, by plain comparisons (the values of
+/// `f64::min`/`max` up to the sign of a zero, which the comparisons of the bounds do not
+/// see, at a fifth of the instructions).
 fn bounds2(p: &[DVec2]) -> (DVec2, DVec2) {
-    p.iter().fold(
-        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-        |(lo, hi), &q| (lo.min(q), hi.max(q)),
-    )
+    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    for &q in p {
+        lo.x = if q.x < lo.x { q.x } else { lo.x };
+        lo.y = if q.y < lo.y { q.y } else { lo.y };
+        hi.x = if q.x > hi.x { q.x } else { hi.x };
+        hi.y = if q.y > hi.y { q.y } else { hi.y };
+    }
+    (lo, hi)
 }
 
 /// Sutherland–Hodgman: the part of convex `poly` where `normal · (p − a) ≥ 0` into `out`
@@ -404,6 +410,61 @@ fn clip2(poly: &[DVec2], a: DVec2, normal: DVec2, tol: f64, out: &mut Vec<DVec2>
     }
 }
 
+/// Both sides of the line through `a` with normal `normal` in one pass: `inside` gets
+/// `clip2(poly, a, normal, tol)` and `outside` gets `clip2(poly, a, -normal, tol)`, the
+/// same bits. Why they are the same: each vertex's signed distance is computed once as
+/// `d = normal · (p − a)`; the other side's is `(−normal) · (p − a) = −d` exactly (IEEE
+/// negation commutes with products and sums under rounding to nearest), the snap to 0
+/// within `tol` is symmetric, and a crossing point `p + (q − p) · dp / (dp − dq)` is the
+/// same for `(−dp, −dq)`. Each distance is computed once instead of up to four times.
+fn split2(
+    poly: &[DVec2],
+    a: DVec2,
+    normal: DVec2,
+    tol: f64,
+    inside: &mut Vec<DVec2>,
+    outside: &mut Vec<DVec2>,
+) {
+    inside.clear();
+    outside.clear();
+    let side = |p: DVec2| {
+        let d = normal.dot(p - a);
+        if d.abs() <= tol { 0.0 } else { d }
+    };
+    let m = poly.len();
+    let Some(&first) = poly.first() else { return };
+    let d_first = side(first);
+    let (mut p, mut dp) = (first, d_first);
+    for k in 0..m {
+        let (q, dq) = if k + 1 == m {
+            (first, d_first)
+        } else {
+            (poly[k + 1], side(poly[k + 1]))
+        };
+        if dp >= 0.0 && inside.last() != Some(&p) {
+            inside.push(p);
+        }
+        if dp <= 0.0 && outside.last() != Some(&p) {
+            outside.push(p);
+        }
+        if (dp > 0.0 && dq < 0.0) || (dp < 0.0 && dq > 0.0) {
+            let r = p + (q - p) * (dp / (dp - dq));
+            if inside.last() != Some(&r) {
+                inside.push(r);
+            }
+            if outside.last() != Some(&r) {
+                outside.push(r);
+            }
+        }
+        (p, dp) = (q, dq);
+    }
+    for out in [inside, outside] {
+        if out.len() > 1 && out.first() == out.last() {
+            out.pop();
+        }
+    }
+}
+
 /// Sutherland–Hodgman in space: `poly` replaced by its part where `normal · p ≥ offset`
 /// (within `tol` counts as on the plane); `tmp` is scratch.
 fn clip3(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, normal: DVec3, offset: f64, tol: f64) {
@@ -435,4 +496,61 @@ fn clip3(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, normal: DVec3, offset: f64
         tmp.pop();
     }
     core::mem::swap(poly, tmp);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `split2` gives the bits of the two `clip2` calls it replaces, on polygons with
+    /// vertices on, within the tolerance of, and on either side of the line.
+    #[test]
+    fn split2_is_the_two_clips() {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let (mut i1, mut o1, mut i2, mut o2) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut cut = 0;
+        for case in 0..2000 {
+            let m = 3 + case % 6;
+            let mut poly: Vec<DVec2> = (0..m)
+                .map(|k| {
+                    let t = core::f64::consts::TAU * (k as f64 + 0.3 * next()) / m as f64;
+                    DVec2::new(libm::cos(t), libm::sin(t)) * (1.0 + 0.2 * next())
+                })
+                .collect();
+            let normal = DVec2::new(next(), next()).normalize();
+            let a = DVec2::new(next(), next());
+            let tol = if case % 3 == 0 { 0.0 } else { 1e-3 };
+            // Some vertices on the line, within the tolerance, or repeated.
+            if case % 4 == 1 {
+                let k = case % m;
+                let off = normal.dot(poly[k] - a);
+                poly[k] -= normal * off;
+            }
+            if case % 5 == 2 {
+                let k = case % m;
+                poly[(k + 1) % m] = poly[k];
+            }
+            clip2(&poly, a, normal, tol, &mut i1);
+            clip2(&poly, a, -normal, tol, &mut o1);
+            split2(&poly, a, normal, tol, &mut i2, &mut o2);
+            let bits = |v: &[DVec2]| {
+                v.iter()
+                    .map(|p| (p.x.to_bits(), p.y.to_bits()))
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(bits(&i1), bits(&i2), "case {case}: inside");
+            assert_eq!(bits(&o1), bits(&o2), "case {case}: outside");
+            if i1.len() >= 3 && o1.len() >= 3 {
+                cut += 1;
+            }
+        }
+        // The line cut the polygon in a good share of the cases.
+        assert!(cut > 200, "{cut}");
+    }
 }
