@@ -248,15 +248,8 @@ pub(crate) fn hull_meets_polygon_with(
     if separated(pa.normal) {
         return false;
     }
-    // Side facets of the hull: an edge of one polygon with a vertex of the other.
-    for (p, q) in [(*a, b), (b, *a)] {
-        for (u, v) in edges(p) {
-            for &w in q {
-                if separated((v - u).cross(w - u)) {
-                    return false;
-                }
-            }
-        }
+    if side_facet_separates(a, b, separated) {
+        return false;
     }
     // Edge-edge axes: k's edges against a's edges and the bridges from a to b.
     for (u, v) in edges(k) {
@@ -275,6 +268,26 @@ pub(crate) fn hull_meets_polygon_with(
         }
     }
     true
+}
+
+/// Whether `separated` holds for one of the axes of the side facets of the hull of `a ∪ b`:
+/// an edge of one polygon with a vertex of the other, tried in that order (`a`'s edges with
+/// `b`'s vertices first).
+fn side_facet_separates(
+    a: &[DVec3],
+    b: &[DVec3],
+    mut separated: impl FnMut(DVec3) -> bool,
+) -> bool {
+    for (p, q) in [(a, b), (b, a)] {
+        for (u, v) in edges(p) {
+            for &w in q {
+                if separated((v - u).cross(w - u)) {
+                    return true;
+                }
+            }
+        }
+    }
+    false
 }
 
 /// Whether the convex hull of polygons `a ∪ b` and the convex polygon `k` overlap by more
@@ -303,15 +316,8 @@ pub(crate) fn hull_meets_polygon(
             return false;
         }
     }
-    // Side facets of the hull: an edge of one polygon with a vertex of the other.
-    for (p, q) in [(*a, *b), (*b, *a)] {
-        for (u, v) in edges(p) {
-            for &w in q {
-                if separated((v - u).cross(w - u)) {
-                    return false;
-                }
-            }
-        }
+    if side_facet_separates(a, b, separated) {
+        return false;
     }
     // Edge-edge axes: k's edges against the hull's edges and bridges.
     for (u, v) in edges(k) {
