@@ -60,8 +60,10 @@ fn check_simple(p: &[DVec2], v: &[DVec3]) -> Result<(), TestCaseError> {
     Ok(())
 }
 
-/// A star-shaped polygon about the origin: concave in general, simple, counter-clockwise;
-/// `runs` marks edges that get collinear midpoints.
+/// A polygon through corners at increasing angles about the origin, the `k`-th angular gap
+/// `gaps[k]` of the sum's full turn: star-shaped about the origin (so simple and
+/// counter-clockwise) when every gap is under half a turn, concave in general; `runs` marks
+/// edges that get collinear midpoints.
 fn star(radii: &[f64], gaps: &[f64], runs: &[u8]) -> Vec<DVec2> {
     let total: f64 = gaps.iter().sum();
     let mut angle = 0.0;
@@ -175,6 +177,10 @@ proptest! {
         shift in (-1e3..1e3f64, -1e3..1e3f64, -1e3..1e3f64),
     ) {
         let (radii, gaps, runs) = shape;
+        // A gap of half a turn or more leaves the origin outside: the corners may then wind
+        // clockwise or cross (CI found a clockwise triangle, saved in proptest-regressions)
+        let total: f64 = gaps.iter().sum();
+        prop_assume!(gaps.iter().all(|&g| 2.0 * g < total));
         let radii: Vec<f64> = radii.iter().map(|r| r * scale).collect();
         let p = star(&radii, &gaps, &runs);
         prop_assume!(p.len() <= crate::scene::MAX_FACE_VERTICES);
