@@ -321,7 +321,7 @@ fn write_rows(args: &FormFactorsArgs, part: &Path) -> Result<()> {
     let r = rows.rows();
     writeln!(
         std::io::stdout().lock(),
-        "wrote {}: rows {}..{} of 0..{} (tolerance {:e}), {} pairs that see each other, \
+        "wrote {}: rows {}..{} of 0..{} (tolerance {:e}), {} pairs stored, \
          {} bytes, {:.3} s",
         part.display(),
         r.start,

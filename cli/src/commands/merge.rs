@@ -95,7 +95,7 @@ fn merge_rows(args: &MergeArgs, files: &[Vec<u8>], start: Instant) -> Result<()>
         let rows = merged.rows();
         writeln!(
             std::io::stdout().lock(),
-            "wrote {}: rows {}..{} of 0..{}, {} pairs that see each other, {} bytes",
+            "wrote {}: rows {}..{} of 0..{}, {} pairs stored, {} bytes",
             out.display(),
             rows.start,
             rows.end,

@@ -244,8 +244,9 @@ impl ExactRows {
         self.rows == (0..self.n_patches())
     }
 
-    /// Pairs `(i, j > i)` of the rows held that see each other (each gives `F_ij` and
-    /// `F_ji`).
+    /// Pairs `(i, j > i)` of the rows held that are stored (each gives `F_ij` and `F_ji`):
+    /// those the culling could not prove unable to exchange, so pairs with no flux (two
+    /// coplanar neighbours) may be among them.
     #[must_use]
     pub fn pair_count(&self) -> usize {
         self.columns.len()

@@ -91,8 +91,8 @@ pub fn run(args: &FormFactorsArgs) -> Result<bool> {
     let mut o = std::io::stdout().lock();
     writeln!(
         o,
-        "rows computed       {} of the job's {n} (patch rows {}..{}: {} pairs that see each \
-         other{}); no matrix written, as View3D writes an empty output file with row set \
+        "rows computed       {} of the job's {n} (patch rows {}..{}: {} pairs stored{}); \
+         no matrix written, as View3D writes an empty output file with row set \
          ({}:{})",
         computed.len(),
         computed.start,
