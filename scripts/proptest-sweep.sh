@@ -7,7 +7,8 @@
 #
 #   scripts/proptest-sweep.sh [CASES] [SEED]      (defaults: 3000 cases, a random seed)
 #
-# The whole log goes to target/proptest-sweep.log; the end prints what failed.
+# The whole log goes to target/proptest-sweep.log; the end prints what failed. At 3000 cases
+# the run took 36 minutes on 2 shared cores (session 19), most of it the occluded random rooms.
 set -uo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 CASES=${1:-3000}
