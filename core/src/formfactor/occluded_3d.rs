@@ -102,6 +102,7 @@
 
 mod budget;
 mod contacts;
+mod gap;
 mod occluders;
 mod outer;
 mod row_cap;
@@ -549,10 +550,21 @@ impl outer::Integrand for PairIntegrand<'_, '_> {
             return Ok(None);
         }
         let (lo, hi) = bounds(tri.iter().copied());
+        let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or_zero();
         let coarse = cands.iter().any(|&k| {
             let o = &self.occ[k as usize];
-            let gap = (o.lo - hi).max(lo - o.hi).max(DVec3::ZERO).length();
-            gap > self.touch && size > (RESOLUTION * gap) * (RESOLUTION * gap)
+            // The boxes' gap, a lower bound of the polygons' (cheap, and it decides the
+            // contacts), then the polygons' own distance.
+            let boxes = (o.lo - hi).max(lo - o.hi).max(DVec3::ZERO).length();
+            let longer = |gap: f64| size > (RESOLUTION * gap) * (RESOLUTION * gap);
+            boxes > self.touch
+                && longer(boxes)
+                && longer(boxes.max(gap::polygon_distance(
+                    tri,
+                    normal,
+                    &o.vertices,
+                    o.plane.normal,
+                )))
         });
         if !coarse {
             return Ok(None);
