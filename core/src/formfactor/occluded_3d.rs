@@ -77,8 +77,9 @@
 //! the error of the returned finer value when the finer rule is several times closer to the
 //! integral than the coarser (smooth leaves: about 2⁶; a kink: about 4 on average), which
 //! fails on leaves whose two rules happen to err alike, and when both rules miss a feature
-//! smaller than the leaf (an occluder whose shadow falls between all 35 points of a
-//! triangle). Against the second, a leaf much longer than its gap to a candidate occluder
+//! smaller than the leaf (an occluder whose shadow falls between all 34 points of a
+//! triangle's leaf: 7 of its own, 28 of its children's, the middle child's centroid being
+//! its own). Against the second, a leaf much longer than its gap to a candidate occluder
 //! is not judged by its rules at all: its error is the proven range `[0, U_T]` of its flux
 //! until it is split finer (`RESOLUTION`).
 //!
@@ -102,6 +103,7 @@
 
 mod budget;
 mod contacts;
+mod gap;
 mod occluders;
 mod outer;
 mod row_cap;
@@ -147,19 +149,24 @@ pub(crate) const INTEGRATION_SHARE: f64 = 0.5;
 pub(crate) const DEFAULT_MAX_POINTS_PER_PAIR: u64 = 1 << 22;
 
 /// When a leaf's rules are trusted: a leaf of the outer integral longer than `RESOLUTION`
-/// times the gap between its box and a candidate occluder's box (and longer than
-/// [`RESOLVED_FRACTION`] of the source) is *unresolved*: its error is not the rules'
+/// times its gap to a candidate occluder (the distance between the two polygons,
+/// `gap.rs`; the gap between their boxes, a lower bound of it, first, which alone decides
+/// contacts: boxes within the touch tolerance) and longer than [`RESOLVED_FRACTION`] of the
+/// source is *unresolved*: its error is not the rules'
 /// difference but what the proven range `[0, U_T]` of its flux allows (`U_T` its exact
 /// unoccluded flux), so the adaptive loop splits it while that matters and never trusts a
 /// chance agreement of its rules.
 ///
 /// Why the gap: seen from a leaf no longer than its gap to an occluder, the occluder's
-/// direction turns by at most about a radian across the leaf, so the 35 points of a leaf
+/// direction turns by at most about a radian across the leaf, so the 34 points of a leaf
 /// sample its shadow's motion; a leaf much longer than the gap can hold the whole
 /// penumbra between its points, and then the two rules can agree while both miss it.
 /// Issue 23: random two-box rooms at `--tol 1e-3` (`random_rooms_sweep` in docs/occlusion.md),
 /// 6 of 120 with an entry outside its estimate (up to 6.6×) without this, none with it; the
 /// case the CI found had half of a ceiling in one triangle 0.28 above a box, 3.7× off.
+/// Until session 19 the gap was the boxes' alone, which for an occluder not aligned with
+/// the axes (Cornell's rotated blocks) is shorter than the polygons' and split more leaves
+/// than the reason asks (docs/occlusion.md, "Fewer points per pair").
 pub(crate) const RESOLUTION: f64 = 1.0;
 
 /// Leaves no longer than this fraction of the source's diameter (two halvings of a square
@@ -537,9 +544,9 @@ impl outer::Integrand for PairIntegrand<'_, '_> {
         Ok(None)
     }
 
-    /// Longer than [`RESOLUTION`] times its gap to some candidate's box (contacts, a gap
-    /// within the touch tolerance, aside): the exact unoccluded flux of `tri` bounds its
-    /// integral.
+    /// Longer than [`RESOLUTION`] times its gap to some candidate (the polygons' distance,
+    /// never below their boxes' gap; contacts, a boxes' gap within the touch tolerance,
+    /// aside): the exact unoccluded flux of `tri` bounds its integral.
     fn unresolved(&mut self, tri: &[DVec3; 3], cands: &[u32]) -> Result<Option<f64>> {
         let size = (tri[1] - tri[0])
             .length_squared()
@@ -549,10 +556,21 @@ impl outer::Integrand for PairIntegrand<'_, '_> {
             return Ok(None);
         }
         let (lo, hi) = bounds(tri.iter().copied());
+        let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or_zero();
         let coarse = cands.iter().any(|&k| {
             let o = &self.occ[k as usize];
-            let gap = (o.lo - hi).max(lo - o.hi).max(DVec3::ZERO).length();
-            gap > self.touch && size > (RESOLUTION * gap) * (RESOLUTION * gap)
+            // The boxes' gap, a lower bound of the polygons' (cheap, and it decides the
+            // contacts), then the polygons' own distance.
+            let boxes = (o.lo - hi).max(lo - o.hi).max(DVec3::ZERO).length();
+            let longer = |gap: f64| size > (RESOLUTION * gap) * (RESOLUTION * gap);
+            boxes > self.touch
+                && longer(boxes)
+                && longer(boxes.max(gap::polygon_distance(
+                    tri,
+                    normal,
+                    &o.vertices,
+                    o.plane.normal,
+                )))
         });
         if !coarse {
             return Ok(None);

@@ -30,7 +30,7 @@
 //!   the ones with the smallest half-widths are decided, smallest first, while their
 //!   half-widths sum to at most [`BOUND_SHARE`] of `τ`; the adaptive integral gets the rest
 //!   of the tolerance for the others (greedy: for a given budget, this leaves the fewest
-//!   triangles to integrate, each of which costs 35 points).
+//!   triangles to integrate, each of which costs 34 points).
 //!
 //! The rounding of `U_T` (a few ulps of the magnitude of the terms that cancelled in it,
 //! [`pair_flux`]'s second value) is added to the half-width, [`ROUNDING`] of it.

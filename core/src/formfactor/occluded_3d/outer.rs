@@ -47,6 +47,12 @@ pub const SAFETY: f64 = 4.0;
 /// Points evaluated per triangle by [`RULE`].
 pub const RULE_POINTS: u64 = RULE.len() as u64;
 
+/// Points a leaf of a triangle whose [`RULE`] is known evaluates for its four children's:
+/// the middle child's centroid is the parent's own (`(a + b + c)/3` for either, the middle
+/// child's corners being the parent's edge midpoints), so its value is reused, not
+/// evaluated again.
+const CHILDREN_POINTS: u64 = 4 * RULE_POINTS - 1;
+
 /// What [`integrate`] returns.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Integral {
@@ -106,10 +112,12 @@ impl<F: FnMut(DVec3) -> Result<f64>> Integrand for Plain<F> {
     }
 }
 
-/// A leaf triangle: its rule value and its four children's, with its candidates.
+/// A leaf triangle: its rule value and its four children's (with the integrand at each
+/// child's centroid, for the grandchildren's rules), with its candidates.
 struct Leaf {
     tri: [DVec3; 3],
     children: [f64; 4],
+    centres: [f64; 4],
     error: f64,
     order: u64,
     cands: Vec<u32>,
@@ -135,37 +143,54 @@ impl Ord for Leaf {
     }
 }
 
-/// The four midpoint children of a triangle (three corners and the middle one), all of
-/// the parent's orientation.
+/// The four midpoint children of a triangle (three corners and the middle one, last),
+/// all of the parent's orientation.
 fn children(t: &[DVec3; 3]) -> [[DVec3; 3]; 4] {
     let (a, b, c) = (t[0], t[1], t[2]);
     let (ab, bc, ca) = (0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a));
     [[a, ab, ca], [ab, b, bc], [ca, bc, c], [bc, ca, ab]]
 }
 
-/// `∫_T f dA` by [`RULE`].
-fn rule(t: &[DVec3; 3], mut f: impl FnMut(DVec3) -> Result<f64>) -> Result<f64> {
+/// `∫_T f dA` by [`RULE`], with `f` at the centroid (the rule's first point): `centre`
+/// when given (the same point, found as another triangle's centroid, up to rounding),
+/// else evaluated. Returns the integral and `f` at the centroid.
+fn rule(
+    t: &[DVec3; 3],
+    centre: Option<f64>,
+    mut f: impl FnMut(DVec3) -> Result<f64>,
+) -> Result<(f64, f64)> {
     let (a, b, c) = (t[0], t[1], t[2]);
     let area = 0.5 * (b - a).cross(c - a).length();
     let mut s = KahanSum::new();
-    for &(l1, l2, w) in &RULE {
-        let p = a + l1 * (b - a) + l2 * (c - a);
-        s.add(w * f(p)?);
+    let mut at_centre = 0.0;
+    for (k, &(l1, l2, w)) in RULE.iter().enumerate() {
+        let v = match (k, centre) {
+            (0, Some(v)) => v,
+            _ => f(a + l1 * (b - a) + l2 * (c - a))?,
+        };
+        if k == 0 {
+            at_centre = v;
+        }
+        s.add(w * v);
     }
-    Ok(area * s.total())
+    Ok((area * s.total(), at_centre))
 }
 
-/// A leaf of `tri` whose own rule value is `coarse`: its children evaluated.
+/// A leaf of `tri` whose own rule value is `coarse` and whose integrand at the centroid is
+/// `centre`: its children evaluated ([`CHILDREN_POINTS`] points; the middle child's
+/// centroid is `tri`'s).
 fn leaf(
     tri: [DVec3; 3],
-    coarse: f64,
+    (coarse, centre): (f64, f64),
     order: u64,
     cands: Vec<u32>,
     g: &mut impl Integrand,
 ) -> Result<Leaf> {
     let mut ch = [0.0; 4];
-    for (value, t) in ch.iter_mut().zip(children(&tri)) {
-        *value = rule(&t, |p| g.eval(p, &cands))?;
+    let mut centres = [0.0; 4];
+    for (k, t) in children(&tri).iter().enumerate() {
+        let known = (k == 3).then_some(centre);
+        (ch[k], centres[k]) = rule(t, known, |p| g.eval(p, &cands))?;
     }
     let fine = crate::math::sum(ch.iter().copied());
     let mut error = SAFETY * (fine - coarse).abs();
@@ -176,6 +201,7 @@ fn leaf(
     Ok(Leaf {
         tri,
         children: ch,
+        centres,
         error,
         order,
         cands,
@@ -259,12 +285,12 @@ pub(crate) fn integrate_classified(
     let mut order = 0u64;
     let mut sub = Vec::new();
     for (tri, c) in open {
-        let coarse = rule(&tri, |p| g.eval(p, &c))?;
+        let coarse = rule(&tri, None, |p| g.eval(p, &c))?;
         heap.push(leaf(tri, coarse, order, c, g)?);
         order += 1;
-        points += 5 * RULE_POINTS;
+        points += RULE_POINTS + CHILDREN_POINTS;
     }
-    let split_cost = 16 * RULE_POINTS;
+    let split_cost = 4 * CHILDREN_POINTS;
     // A running total of the leaves' errors, summed afresh before it may stop the loop
     // (so rounding in the running sum never stops it early).
     let mut total: f64 = crate::math::sum(heap.iter().map(|l| l.error));
@@ -280,7 +306,8 @@ pub(crate) fn integrate_classified(
         }
         let Some(worst) = heap.pop() else { break };
         total -= worst.error;
-        for (tri, coarse) in children(&worst.tri).into_iter().zip(worst.children) {
+        let known = worst.children.into_iter().zip(worst.centres);
+        for (tri, coarse) in children(&worst.tri).into_iter().zip(known) {
             if let Some(v) = g.classify(&tri, &worst.cands, &mut sub)? {
                 exact.add(v);
                 continue;
@@ -290,7 +317,7 @@ pub(crate) fn integrate_classified(
             total += l.error;
             heap.push(l);
             order += 1;
-            points += 4 * RULE_POINTS;
+            points += CHILDREN_POINTS;
         }
     }
     let leaves: Vec<Leaf> = heap.into_vec();
@@ -321,14 +348,41 @@ mod tests {
         let fact = |n: u32| (1..=n).map(f64::from).product::<f64>();
         for a in 0..=5u32 {
             for b in 0..=(5 - a) {
-                let q = rule(&tri, |p| {
+                let q = rule(&tri, None, |p| {
                     Ok(crate::math::pow(p.x, f64::from(a)) * crate::math::pow(p.y, f64::from(b)))
                 })
-                .unwrap();
+                .unwrap()
+                .0;
                 let exact = fact(a) * fact(b) / fact(a + b + 2);
                 assert!((q - exact).abs() < 1e-15, "x^{a} y^{b}: {q} vs {exact}");
             }
         }
+    }
+
+    #[test]
+    fn the_middle_child_s_centroid_is_the_parent_s_and_points_count_evaluations() {
+        let t = [
+            DVec3::new(0.3, -1.2, 0.7),
+            DVec3::new(2.9, 0.4, -0.1),
+            DVec3::new(-0.8, 1.7, 1.3),
+        ];
+        let centroid = |t: &[DVec3; 3]| (t[0] + t[1] + t[2]) / 3.0;
+        let middle = children(&t)[3];
+        assert!((centroid(&middle) - centroid(&t)).length() < 1e-15);
+        // Every point the integral counts is one evaluation of f, and no more.
+        let square = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+        let mut calls = 0u64;
+        let r = integrate(&square, 1e-7, 1 << 20, |p| {
+            calls += 1;
+            Ok((p.x - 0.3).abs() * p.y)
+        })
+        .unwrap();
+        assert_eq!(r.points, calls);
+        assert_eq!(
+            calls % 27,
+            (2 * 34) % 27,
+            "two initial leaves, then splits of 4 × 27"
+        );
     }
 
     #[test]
