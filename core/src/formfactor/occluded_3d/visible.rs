@@ -53,6 +53,9 @@ pub(crate) struct Target {
     u: DVec3,
     v: DVec3,
     outline: Vec<DVec2>,
+    /// The outline's edge lines as (a point, the unit inward normal), zero-length edges
+    /// left out: the same for every point, so found once.
+    edges: Vec<(DVec2, DVec2)>,
     tol: f64,
     sliver: f64,
     merge: f64,
@@ -68,6 +71,13 @@ impl Target {
         let outline = vertices
             .iter()
             .map(|&p| DVec2::new(u.dot(p - c), v.dot(p - c)))
+            .collect::<Vec<_>>();
+        let m = outline.len();
+        let edges = (0..m)
+            .filter_map(|k| {
+                let (a, b) = (outline[k], outline[if k + 1 == m { 0 } else { k + 1 }]);
+                inward_normal(a, b).map(|inward| (a, inward))
+            })
             .collect();
         Self {
             plane,
@@ -75,6 +85,7 @@ impl Target {
             u,
             v,
             outline,
+            edges,
             tol: ON_LINE * plane.radius,
             sliver: SLIVER_AREA * plane.area,
             merge: MERGE * plane.radius,
@@ -224,20 +235,8 @@ impl Target {
         if crate::geom::signed_area(&work.shadow) < 0.0 {
             work.shadow.reverse();
         }
-        for k in 0..self.outline.len() {
-            let (a, b) = (
-                self.outline[k],
-                self.outline[if k + 1 == self.outline.len() {
-                    0
-                } else {
-                    k + 1
-                }],
-            );
-            let Some(inward) = inward_normal(a, b) else {
-                continue;
-            };
-            clip2(&work.shadow, a, inward, self.tol, &mut work.scratch);
-            core::mem::swap(&mut work.shadow, &mut work.scratch);
+        for &(a, inward) in &self.edges {
+            clip2(&mut work.shadow, &mut work.scratch, a, inward, self.tol);
             if work.shadow.len() < 3 {
                 return false;
             }
@@ -256,7 +255,6 @@ impl Target {
             next,
             shadow,
             scratch,
-            rest,
             spare,
             lines,
             ..
@@ -268,6 +266,7 @@ impl Target {
             let (a, b) = (shadow[k], shadow[if k + 1 == m { 0 } else { k + 1 }]);
             inward_normal(a, b).map(|inward| (a, inward))
         }));
+        let big = |p: &[DVec2]| p.len() >= 3 && crate::geom::signed_area(p) > self.sliver;
         next.clear();
         for piece in pieces.drain(..) {
             let (plo, phi) = bounds2(&piece);
@@ -275,23 +274,42 @@ impl Target {
                 next.push(piece);
                 continue;
             }
-            rest.clear();
-            rest.extend_from_slice(&piece);
+            // The piece itself is cut (its outline becomes the part inside the lines).
+            let mut rest = piece;
+            // Whether `big(rest)` is known to hold for `rest` as it is now: a line that
+            // leaves it unchanged needs no second look at its area (the same bits).
+            let mut rest_big = false;
             for &(a, inward) in lines.iter() {
                 // The part outside the line is written straight into a spare outline.
                 let mut part = spare.pop().unwrap_or_default();
-                split2(rest, a, inward, self.tol, scratch, &mut part);
-                if part.len() >= 3 && crate::geom::signed_area(&part) > self.sliver {
-                    next.push(part);
-                } else {
-                    spare.push(part);
+                match cut(&mut rest, scratch, &mut part, a, inward, self.tol) {
+                    Cut::Inside => spare.push(part),
+                    Cut::Outside => {
+                        // `part` is what `rest` was; nothing is left inside.
+                        if rest_big || big(&part) {
+                            next.push(part);
+                        } else {
+                            spare.push(part);
+                        }
+                        break;
+                    }
+                    Cut::Both => {
+                        if big(&part) {
+                            next.push(part);
+                        } else {
+                            spare.push(part);
+                        }
+                        rest_big = false;
+                    }
                 }
-                core::mem::swap(rest, scratch);
-                if rest.len() < 3 || crate::geom::signed_area(rest) <= self.sliver {
-                    break;
+                if !rest_big {
+                    if !big(&rest) {
+                        break;
+                    }
+                    rest_big = true;
                 }
             }
-            spare.push(piece);
+            spare.push(rest);
             if next.len() > MAX_VISIBLE_PIECES {
                 return Err(ErrorKind::TooLarge {
                     what: "convex pieces of a polygon's visible part from one point",
@@ -317,7 +335,6 @@ pub(crate) struct Workspace {
     lines: Vec<(DVec2, DVec2)>,
     shadow: Vec<DVec2>,
     scratch: Vec<DVec2>,
-    rest: Vec<DVec2>,
     space: Vec<DVec3>,
     a: Vec<DVec3>,
     b: Vec<DVec3>,
@@ -336,7 +353,13 @@ impl Workspace {
 /// kept (the first vertex against the last kept, too), so that no edge is shorter than
 /// `merge` (see [`MERGE`]). Bounded: one pass.
 fn merge_close_vertices(poly: &mut Vec<DVec2>, merge: f64) {
-    let close = |a: DVec2, b: DVec2| crate::math::length(a - b) <= merge;
+    // A coordinate difference above `merge` decides without the root: the computed
+    // length is at least each |difference| (`√(fl(d²))` is `|d|` exactly, and adding the
+    // other square and rounding never lowers it), so the answer is the same.
+    let close = |a: DVec2, b: DVec2| {
+        let d = a - b;
+        d.x.abs() <= merge && d.y.abs() <= merge && crate::math::length(d) <= merge
+    };
     let mut kept = 0;
     for k in 0..poly.len() {
         if kept == 0 || !close(poly[k], poly[kept - 1]) {
@@ -377,36 +400,100 @@ fn bounds2(p: &[DVec2]) -> (DVec2, DVec2) {
     (lo, hi)
 }
 
-/// Sutherland–Hodgman: the part of convex `poly` where `normal · (p − a) ≥ 0` into `out`
-/// (points within `tol` of the line count as on it).
-fn clip2(poly: &[DVec2], a: DVec2, normal: DVec2, tol: f64, out: &mut Vec<DVec2>) {
-    out.clear();
+/// Sutherland–Hodgman: `poly` replaced by its part where `normal · (p − a) ≥ 0` (points
+/// within `tol` of the line count as on it); `tmp` is scratch.
+fn clip2(poly: &mut Vec<DVec2>, tmp: &mut Vec<DVec2>, a: DVec2, normal: DVec2, tol: f64) {
     let m = poly.len();
     let side = |p: DVec2| {
         let d = normal.dot(p - a);
         if d.abs() <= tol { 0.0 } else { d }
     };
-    // Wholly on the kept side with no repeated vertex: the loop below would copy `poly`
-    // unchanged (no crossing, every vertex kept, none dropped as a repeat).
+    // Wholly on the kept side with no repeated vertex: the loop below would give `poly`
+    // back unchanged (no crossing, every vertex kept, none dropped as a repeat), so leave
+    // it.
     if (0..m).all(|k| side(poly[k]) >= 0.0 && poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }]) {
-        out.extend_from_slice(poly);
         return;
     }
+    tmp.clear();
     for k in 0..m {
         let (p, q) = (poly[k], poly[if k + 1 == m { 0 } else { k + 1 }]);
         let (dp, dq) = (side(p), side(q));
-        if dp >= 0.0 && out.last() != Some(&p) {
-            out.push(p);
+        if dp >= 0.0 && tmp.last() != Some(&p) {
+            tmp.push(p);
         }
         if (dp > 0.0 && dq < 0.0) || (dp < 0.0 && dq > 0.0) {
             let r = p + (q - p) * (dp / (dp - dq));
-            if out.last() != Some(&r) {
-                out.push(r);
+            if tmp.last() != Some(&r) {
+                tmp.push(r);
             }
         }
     }
-    if out.len() > 1 && out.first() == out.last() {
-        out.pop();
+    if tmp.len() > 1 && tmp.first() == tmp.last() {
+        tmp.pop();
+    }
+    core::mem::swap(poly, tmp);
+}
+
+/// What [`cut`] did with a polygon.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Cut {
+    /// No vertex outside: the polygon is left as it is, nothing of area outside.
+    Inside,
+    /// No vertex inside: the polygon moved to the outside part, nothing of area left
+    /// inside.
+    Outside,
+    /// Anything else: both parts by [`split2`].
+    Both,
+}
+
+/// [`split2`] of `poly`, with `poly` replaced by the inside part and `outside` by the
+/// outside part, the same bits, except that a part of at most two vertices may be left
+/// empty instead (the caller drops such parts either way). A polygon with no repeated
+/// vertex, at most two vertices on the line (within `tol`) and the rest on one side is
+/// not copied: `split2` would give it back whole on that side (every vertex kept, no
+/// crossing, none dropped as a repeat) and only its vertices on the line on the other.
+/// The classification stops at the first vertex that rules this out.
+fn cut(
+    poly: &mut Vec<DVec2>,
+    scratch: &mut Vec<DVec2>,
+    outside: &mut Vec<DVec2>,
+    a: DVec2,
+    normal: DVec2,
+    tol: f64,
+) -> Cut {
+    let m = poly.len();
+    let (mut any_in, mut any_out, mut on_line) = (false, false, 0_usize);
+    let mut whole = true;
+    for k in 0..m {
+        let p = poly[k];
+        let d = normal.dot(p - a);
+        if d.abs() <= tol {
+            on_line += 1;
+        } else if d > 0.0 {
+            any_in = true;
+        } else if d < 0.0 {
+            any_out = true;
+        } else {
+            // Not a number: `split2` drops the vertex from both parts.
+            whole = false;
+            break;
+        }
+        if (any_in && any_out) || on_line > 2 || p == poly[if k + 1 == m { 0 } else { k + 1 }] {
+            whole = false;
+            break;
+        }
+    }
+    if whole && !any_out {
+        outside.clear();
+        Cut::Inside
+    } else if whole && !any_in {
+        core::mem::swap(poly, outside);
+        poly.clear();
+        Cut::Outside
+    } else {
+        split2(poly, a, normal, tol, scratch, outside);
+        core::mem::swap(poly, scratch);
+        Cut::Both
     }
 }
 
@@ -467,8 +554,11 @@ fn split2(
 
 /// Sutherland–Hodgman in space: `poly` replaced by its part where `normal · p ≥ offset`
 /// (within `tol` counts as on the plane); `tmp` is scratch.
+///
+/// The clip computes each vertex's snapped distance `normal · p − offset` once, carried
+/// from one edge to the next as in [`split2`] (it used to compute it twice, for the edges
+/// before and after the vertex: the same expression, so the same bits).
 fn clip3(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, normal: DVec3, offset: f64, tol: f64) {
-    tmp.clear();
     let m = poly.len();
     let side = |p: DVec3| {
         let d = normal.dot(p) - offset;
@@ -479,9 +569,16 @@ fn clip3(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, normal: DVec3, offset: f64
     if (0..m).all(|k| side(poly[k]) >= 0.0 && poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }]) {
         return;
     }
+    tmp.clear();
+    let Some(&first) = poly.first() else { return };
+    let d_first = side(first);
+    let (mut p, mut dp) = (first, d_first);
     for k in 0..m {
-        let (p, q) = (poly[k], poly[if k + 1 == m { 0 } else { k + 1 }]);
-        let (dp, dq) = (side(p), side(q));
+        let (q, dq) = if k + 1 == m {
+            (first, d_first)
+        } else {
+            (poly[k + 1], side(poly[k + 1]))
+        };
         if dp >= 0.0 && tmp.last() != Some(&p) {
             tmp.push(p);
         }
@@ -491,6 +588,7 @@ fn clip3(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, normal: DVec3, offset: f64
                 tmp.push(r);
             }
         }
+        (p, dp) = (q, dq);
     }
     if tmp.len() > 1 && tmp.first() == tmp.last() {
         tmp.pop();
@@ -536,8 +634,11 @@ mod tests {
                 let k = case % m;
                 poly[(k + 1) % m] = poly[k];
             }
-            clip2(&poly, a, normal, tol, &mut i1);
-            clip2(&poly, a, -normal, tol, &mut o1);
+            let mut tmp = Vec::new();
+            i1.clone_from(&poly);
+            clip2(&mut i1, &mut tmp, a, normal, tol);
+            o1.clone_from(&poly);
+            clip2(&mut o1, &mut tmp, a, -normal, tol);
             split2(&poly, a, normal, tol, &mut i2, &mut o2);
             let bits = |v: &[DVec2]| {
                 v.iter()
