@@ -654,4 +654,83 @@ mod tests {
         // The line cut the polygon in a good share of the cases.
         assert!(cut > 200, "{cut}");
     }
+
+    /// `cut` gives the bits of `split2`, except a part of at most two vertices that it may
+    /// leave empty: on random convex polygons cut through, touched at one vertex or along
+    /// one edge (every other vertex on one side), and wholly on one side.
+    #[test]
+    fn cut_is_split2() {
+        let mut state = 0x1234_5678_9abc_def1_u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let bits = |v: &[DVec2]| {
+            v.iter()
+                .map(|p| (p.x.to_bits(), p.y.to_bits()))
+                .collect::<Vec<_>>()
+        };
+        let (mut inside, mut outside) = (Vec::new(), Vec::new());
+        let (mut scratch, mut part) = (Vec::new(), Vec::new());
+        let mut seen = [0; 3];
+        for case in 0..4000 {
+            let m = 3 + case % 6;
+            let poly: Vec<DVec2> = (0..m)
+                .map(|k| {
+                    let t = core::f64::consts::TAU * (k as f64 + 0.3 * next()) / m as f64;
+                    DVec2::new(libm::cos(t), libm::sin(t)) * (1.0 + 0.2 * next())
+                })
+                .collect();
+            let tol = if case % 3 == 0 { 0.0 } else { 1e-3 };
+            let (a, normal) = match case % 4 {
+                // Through the polygon, or past it.
+                0 => (
+                    DVec2::new(2.0 * next(), 2.0 * next()),
+                    DVec2::new(next(), next()).normalize(),
+                ),
+                // Touching one vertex, every other vertex on one side.
+                1 => {
+                    let normal = DVec2::new(next(), next()).normalize();
+                    let low = poly
+                        .iter()
+                        .copied()
+                        .min_by(|p, q| normal.dot(*p).total_cmp(&normal.dot(*q)))
+                        .unwrap_or_default();
+                    (low, if case % 8 == 1 { normal } else { -normal })
+                }
+                // Along one edge.
+                _ => {
+                    let k = case % m;
+                    let (p, q) = (poly[k], poly[(k + 1) % m]);
+                    let e = (q - p).normalize();
+                    let inward = DVec2::new(-e.y, e.x);
+                    (p, if case % 8 == 2 { inward } else { -inward })
+                }
+            };
+            split2(&poly, a, normal, tol, &mut inside, &mut outside);
+            let mut rest = poly.clone();
+            let how = cut(&mut rest, &mut scratch, &mut part, a, normal, tol);
+            match how {
+                Cut::Inside => {
+                    assert_eq!(bits(&rest), bits(&inside), "case {case}: inside");
+                    assert!(part.is_empty() && outside.len() <= 2, "case {case}");
+                    seen[0] += 1;
+                }
+                Cut::Outside => {
+                    assert_eq!(bits(&part), bits(&outside), "case {case}: outside");
+                    assert!(rest.is_empty() && inside.len() <= 2, "case {case}");
+                    seen[1] += 1;
+                }
+                Cut::Both => {
+                    assert_eq!(bits(&rest), bits(&inside), "case {case}: inside");
+                    assert_eq!(bits(&part), bits(&outside), "case {case}: outside");
+                    seen[2] += 1;
+                }
+            }
+        }
+        // Each way was taken often.
+        assert!(seen.iter().all(|&n| n > 300), "{seen:?}");
+    }
 }
