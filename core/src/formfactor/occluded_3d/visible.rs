@@ -232,17 +232,30 @@ impl Target {
             work.shadow.push(self.to_plane(x + (y - x) / s));
         }
         // Counter-clockwise about the target's normal, then inside the target (rounding).
-        if crate::geom::signed_area(&work.shadow) < 0.0 {
+        let area = crate::geom::signed_area(&work.shadow);
+        // Whether `work.shadow` is still the polygon whose area is `area`: then its area
+        // need not be summed again (the same bits).
+        let reversed = area < 0.0;
+        if reversed {
             work.shadow.reverse();
         }
+        let mut same = !reversed;
         for &(a, inward) in &self.edges {
-            clip2(&mut work.shadow, &mut work.scratch, a, inward, self.tol);
+            same &= !clip2(&mut work.shadow, &mut work.scratch, a, inward, self.tol);
             if work.shadow.len() < 3 {
                 return false;
             }
         }
+        let before = work.shadow.len();
         merge_close_vertices(&mut work.shadow, self.merge);
-        work.shadow.len() >= 3 && crate::geom::signed_area(&work.shadow) > self.sliver
+        // Merging only drops vertices: as many left, none dropped.
+        same &= work.shadow.len() == before;
+        work.shadow.len() >= 3
+            && if same {
+                area
+            } else {
+                crate::geom::signed_area(&work.shadow)
+            } > self.sliver
     }
 
     /// Replaces `work.pieces` by their parts outside `work.shadow`: each piece is cut by
@@ -401,8 +414,9 @@ fn bounds2(p: &[DVec2]) -> (DVec2, DVec2) {
 }
 
 /// Sutherland–Hodgman: `poly` replaced by its part where `normal · (p − a) ≥ 0` (points
-/// within `tol` of the line count as on it); `tmp` is scratch.
-fn clip2(poly: &mut Vec<DVec2>, tmp: &mut Vec<DVec2>, a: DVec2, normal: DVec2, tol: f64) {
+/// within `tol` of the line count as on it); `tmp` is scratch. `false` when `poly` was
+/// left as it was (wholly on the kept side), `true` when it was clipped.
+fn clip2(poly: &mut Vec<DVec2>, tmp: &mut Vec<DVec2>, a: DVec2, normal: DVec2, tol: f64) -> bool {
     let m = poly.len();
     let side = |p: DVec2| {
         let d = normal.dot(p - a);
@@ -412,7 +426,7 @@ fn clip2(poly: &mut Vec<DVec2>, tmp: &mut Vec<DVec2>, a: DVec2, normal: DVec2, t
     // back unchanged (no crossing, every vertex kept, none dropped as a repeat), so leave
     // it.
     if (0..m).all(|k| side(poly[k]) >= 0.0 && poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }]) {
-        return;
+        return false;
     }
     tmp.clear();
     for k in 0..m {
@@ -432,6 +446,7 @@ fn clip2(poly: &mut Vec<DVec2>, tmp: &mut Vec<DVec2>, a: DVec2, normal: DVec2, t
         tmp.pop();
     }
     core::mem::swap(poly, tmp);
+    true
 }
 
 /// What [`cut`] did with a polygon.
