@@ -56,6 +56,9 @@ pub(crate) struct Target {
     /// The outline's edge lines as (a point, the unit inward normal), zero-length edges
     /// left out: the same for every point, so found once.
     edges: Vec<(DVec2, DVec2)>,
+    /// No two consecutive vertices of the outline (the last and the first included) are
+    /// equal: then no piece cut from it has any either ([`cut`]).
+    distinct: bool,
     tol: f64,
     sliver: f64,
     merge: f64,
@@ -79,6 +82,7 @@ impl Target {
                 inward_normal(a, b).map(|inward| (a, inward))
             })
             .collect();
+        let distinct = distinct_vertices(&outline);
         Self {
             plane,
             vertices: vertices.to_vec(),
@@ -86,6 +90,7 @@ impl Target {
             v,
             outline,
             edges,
+            distinct,
             tol: ON_LINE * plane.radius,
             sliver: SLIVER_AREA * plane.area,
             merge: MERGE * plane.radius,
@@ -295,7 +300,13 @@ impl Target {
             for &(a, inward) in lines.iter() {
                 // The part outside the line is written straight into a spare outline.
                 let mut part = spare.pop().unwrap_or_default();
-                match cut(&mut rest, scratch, &mut part, a, inward, self.tol) {
+                match cut(
+                    &mut rest,
+                    scratch,
+                    &mut part,
+                    (a, inward, self.tol),
+                    self.distinct,
+                ) {
                     Cut::Inside => spare.push(part),
                     Cut::Outside => {
                         // `part` is what `rest` was; nothing is left inside.
@@ -360,6 +371,13 @@ impl Workspace {
     fn recycle_pieces(&mut self) {
         self.spare.append(&mut self.pieces);
     }
+}
+
+/// Whether no two consecutive vertices of the closed polygon `poly` (the last and the first
+/// included) are equal.
+fn distinct_vertices(poly: &[DVec2]) -> bool {
+    let m = poly.len();
+    (0..m).all(|k| poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }])
 }
 
 /// Drops each vertex of the closed polygon `poly` that lies within `merge` of the last one
@@ -468,13 +486,18 @@ enum Cut {
 /// not copied: `split2` would give it back whole on that side (every vertex kept, no
 /// crossing, none dropped as a repeat) and only its vertices on the line on the other.
 /// The classification stops at the first vertex that rules this out.
+///
+/// `distinct` says that `poly` is known to have no two equal consecutive vertices (the
+/// last and the first included), so that the test is skipped: every part `split2` makes
+/// has none (it pushes a vertex only when it differs from the last one pushed, and drops
+/// the last when it equals the first, after which the new last differs from the first as
+/// it differed from the dropped one), so pieces cut from an outline without any have none.
 fn cut(
     poly: &mut Vec<DVec2>,
     scratch: &mut Vec<DVec2>,
     outside: &mut Vec<DVec2>,
-    a: DVec2,
-    normal: DVec2,
-    tol: f64,
+    (a, normal, tol): (DVec2, DVec2, f64),
+    distinct: bool,
 ) -> Cut {
     let m = poly.len();
     let (mut any_in, mut any_out, mut on_line) = (false, false, 0_usize);
@@ -493,7 +516,10 @@ fn cut(
             whole = false;
             break;
         }
-        if (any_in && any_out) || on_line > 2 || p == poly[if k + 1 == m { 0 } else { k + 1 }] {
+        if (any_in && any_out)
+            || on_line > 2
+            || (!distinct && p == poly[if k + 1 == m { 0 } else { k + 1 }])
+        {
             whole = false;
             break;
         }
@@ -726,7 +752,15 @@ mod tests {
             };
             split2(&poly, a, normal, tol, &mut inside, &mut outside);
             let mut rest = poly.clone();
-            let how = cut(&mut rest, &mut scratch, &mut part, a, normal, tol);
+            // Random polygons have no repeated vertex: with and without the test.
+            let how = cut(
+                &mut rest,
+                &mut scratch,
+                &mut part,
+                (a, normal, tol),
+                case % 2 == 0,
+            );
+            assert!(distinct_vertices(&poly));
             match how {
                 Cut::Inside => {
                     assert_eq!(bits(&rest), bits(&inside), "case {case}: inside");
