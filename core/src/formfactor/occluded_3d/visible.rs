@@ -218,6 +218,9 @@ impl Target {
         }
         work.a.clear();
         work.a.extend_from_slice(occluder);
+        // Whether `work.a` is known to have no two equal consecutive vertices: a clip that
+        // changes a polygon leaves none (see `cut`), one that does not leaves it as it was.
+        let mut distinct = false;
         // In front of the target's plane, short of the near guard, inside the pyramid from
         // x over the target (the planes of `pyramid`, in that order).
         for k in 0..work.planes.len() {
@@ -225,7 +228,7 @@ impl Target {
                 return false;
             }
             let (normal, offset, tol) = work.planes[k];
-            clip3(&mut work.a, &mut work.b, normal, offset, tol);
+            distinct |= clip3(&mut work.a, &mut work.b, (normal, offset, tol), distinct);
         }
         if work.a.len() < 3 {
             return false;
@@ -245,8 +248,17 @@ impl Target {
             work.shadow.reverse();
         }
         let mut same = !reversed;
+        // Two distinct points in space may project to one: look once, then as above.
+        let mut distinct = distinct_vertices(&work.shadow);
         for &(a, inward) in &self.edges {
-            same &= !clip2(&mut work.shadow, &mut work.scratch, a, inward, self.tol);
+            let clipped = clip2(
+                &mut work.shadow,
+                &mut work.scratch,
+                (a, inward, self.tol),
+                distinct,
+            );
+            same &= !clipped;
+            distinct |= clipped;
             if work.shadow.len() < 3 {
                 return false;
             }
@@ -433,8 +445,15 @@ fn bounds2(p: &[DVec2]) -> (DVec2, DVec2) {
 
 /// Sutherland–Hodgman: `poly` replaced by its part where `normal · (p − a) ≥ 0` (points
 /// within `tol` of the line count as on it); `tmp` is scratch. `false` when `poly` was
-/// left as it was (wholly on the kept side), `true` when it was clipped.
-fn clip2(poly: &mut Vec<DVec2>, tmp: &mut Vec<DVec2>, a: DVec2, normal: DVec2, tol: f64) -> bool {
+/// left as it was (wholly on the kept side), `true` when it was clipped. `distinct`: the
+/// caller knows that `poly` has no two equal consecutive vertices, so that the test for
+/// them is skipped (the same bits).
+fn clip2(
+    poly: &mut Vec<DVec2>,
+    tmp: &mut Vec<DVec2>,
+    (a, normal, tol): (DVec2, DVec2, f64),
+    distinct: bool,
+) -> bool {
     let m = poly.len();
     let side = |p: DVec2| {
         let d = normal.dot(p - a);
@@ -443,7 +462,9 @@ fn clip2(poly: &mut Vec<DVec2>, tmp: &mut Vec<DVec2>, a: DVec2, normal: DVec2, t
     // Wholly on the kept side with no repeated vertex: the loop below would give `poly`
     // back unchanged (no crossing, every vertex kept, none dropped as a repeat), so leave
     // it.
-    if (0..m).all(|k| side(poly[k]) >= 0.0 && poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }]) {
+    if (0..m).all(|k| {
+        side(poly[k]) >= 0.0 && (distinct || poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }])
+    }) {
         return false;
     }
     tmp.clear();
@@ -594,12 +615,18 @@ fn split2(
 }
 
 /// Sutherland–Hodgman in space: `poly` replaced by its part where `normal · p ≥ offset`
-/// (within `tol` counts as on the plane); `tmp` is scratch.
+/// (within `tol` counts as on the plane); `tmp` is scratch. `true` when `poly` was
+/// clipped; `distinct` as for [`clip2`].
 ///
 /// The clip computes each vertex's snapped distance `normal · p − offset` once, carried
 /// from one edge to the next as in [`split2`] (it used to compute it twice, for the edges
 /// before and after the vertex: the same expression, so the same bits).
-fn clip3(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, normal: DVec3, offset: f64, tol: f64) {
+fn clip3(
+    poly: &mut Vec<DVec3>,
+    tmp: &mut Vec<DVec3>,
+    (normal, offset, tol): (DVec3, f64, f64),
+    distinct: bool,
+) -> bool {
     let m = poly.len();
     let side = |p: DVec3| {
         let d = normal.dot(p) - offset;
@@ -607,11 +634,15 @@ fn clip3(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, normal: DVec3, offset: f64
     };
     // Wholly on the kept side with no repeated vertex: the loop below would give `poly`
     // back unchanged, so leave it.
-    if (0..m).all(|k| side(poly[k]) >= 0.0 && poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }]) {
-        return;
+    if (0..m).all(|k| {
+        side(poly[k]) >= 0.0 && (distinct || poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }])
+    }) {
+        return false;
     }
     tmp.clear();
-    let Some(&first) = poly.first() else { return };
+    let Some(&first) = poly.first() else {
+        return false;
+    };
     let d_first = side(first);
     let (mut p, mut dp) = (first, d_first);
     for k in 0..m {
@@ -635,6 +666,7 @@ fn clip3(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, normal: DVec3, offset: f64
         tmp.pop();
     }
     core::mem::swap(poly, tmp);
+    true
 }
 
 #[cfg(test)]
@@ -677,15 +709,21 @@ mod tests {
             }
             let mut tmp = Vec::new();
             i1.clone_from(&poly);
-            clip2(&mut i1, &mut tmp, a, normal, tol);
+            clip2(&mut i1, &mut tmp, (a, normal, tol), false);
             o1.clone_from(&poly);
-            clip2(&mut o1, &mut tmp, a, -normal, tol);
+            clip2(&mut o1, &mut tmp, (a, -normal, tol), false);
             split2(&poly, a, normal, tol, &mut i2, &mut o2);
             let bits = |v: &[DVec2]| {
                 v.iter()
                     .map(|p| (p.x.to_bits(), p.y.to_bits()))
                     .collect::<Vec<_>>()
             };
+            // Told that the polygon has no repeated vertex, when it has none: the same.
+            if distinct_vertices(&poly) {
+                let mut i3 = poly.clone();
+                clip2(&mut i3, &mut tmp, (a, normal, tol), true);
+                assert_eq!(bits(&i1), bits(&i3), "case {case}: distinct");
+            }
             assert_eq!(bits(&i1), bits(&i2), "case {case}: inside");
             assert_eq!(bits(&o1), bits(&o2), "case {case}: outside");
             if i1.len() >= 3 && o1.len() >= 3 {
