@@ -165,7 +165,8 @@ pub fn point_to_polygon(x: DVec3, n: DVec3, polygon: &[DVec3]) -> f64 {
         let len = contour::length3(c);
         // Collinear with x: a zero-angle edge (or x on it, a null set) adds nothing.
         if len > 0.0 {
-            let gamma = crate::math::atan2(len, ra.dot(rb));
+            // atan2 by `atan(len / dot)` when the dot product is positive: the same bits.
+            let gamma = contour::atan_ratio(len, ra.dot(rb));
             sum.add(gamma * n.dot(c) / len);
         }
     });

@@ -101,7 +101,7 @@ pub(super) fn length3(v: DVec3) -> f64 {
 /// `±atan(|u/h|)`, `atan` is odd, and both give the same `±π/2` once `|u/h| > 2⁶⁴`), without
 /// `atan2`'s quadrant tests.
 #[inline]
-fn atan_ratio(u: f64, h: f64) -> f64 {
+pub(super) fn atan_ratio(u: f64, h: f64) -> f64 {
     if h > 0.0 {
         math::atan(u / h)
     } else {
@@ -472,5 +472,44 @@ mod tests {
             let b = brute(&k, p0, p1, q0, q1);
             assert!((j - b).abs() < 1e-9, "{j} vs {b}");
         }
+    }
+
+    /// `atan_ratio` is libm's `atan2` bit for bit: ratios from 2⁻⁷⁰ to 2⁷⁰ (past the
+    /// `±π/2` cut at 2⁶⁴), either sign of `u`, `h` of either sign, exactly 1, zero and
+    /// infinite.
+    #[test]
+    fn atan_ratio_is_atan2() {
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut cases = 0;
+        for _ in 0..200_000 {
+            let h = (next() + 0.5) * libm::exp2(libm::floor(40.0 * next() - 20.0));
+            let ratio = libm::exp2(140.0 * next() - 70.0);
+            for (u, h) in [(h * ratio, h), (-h * ratio, h), (h * ratio, -h)] {
+                assert_eq!(
+                    atan_ratio(u, h).to_bits(),
+                    libm::atan2(u, h).to_bits(),
+                    "atan2({u:e}, {h:e})"
+                );
+                cases += 1;
+            }
+        }
+        for (u, h) in [
+            (0.3, 1.0),
+            (-2.5, 1.0),
+            (1.0, 0.0),
+            (0.0, 2.0),
+            (1.0, f64::INFINITY),
+            (f64::INFINITY, 3.0),
+            (f64::MAX, f64::MIN_POSITIVE),
+        ] {
+            assert_eq!(atan_ratio(u, h).to_bits(), libm::atan2(u, h).to_bits());
+        }
+        assert_eq!(cases, 600_000);
     }
 }

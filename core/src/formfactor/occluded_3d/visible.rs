@@ -53,6 +53,12 @@ pub(crate) struct Target {
     u: DVec3,
     v: DVec3,
     outline: Vec<DVec2>,
+    /// The outline's edge lines as (a point, the unit inward normal), zero-length edges
+    /// left out: the same for every point, so found once.
+    edges: Vec<(DVec2, DVec2)>,
+    /// No two consecutive vertices of the outline (the last and the first included) are
+    /// equal: then no piece cut from it has any either ([`cut`]).
+    distinct: bool,
     tol: f64,
     sliver: f64,
     merge: f64,
@@ -68,13 +74,23 @@ impl Target {
         let outline = vertices
             .iter()
             .map(|&p| DVec2::new(u.dot(p - c), v.dot(p - c)))
+            .collect::<Vec<_>>();
+        let m = outline.len();
+        let edges = (0..m)
+            .filter_map(|k| {
+                let (a, b) = (outline[k], outline[if k + 1 == m { 0 } else { k + 1 }]);
+                inward_normal(a, b).map(|inward| (a, inward))
+            })
             .collect();
+        let distinct = distinct_vertices(&outline);
         Self {
             plane,
             vertices: vertices.to_vec(),
             u,
             v,
             outline,
+            edges,
+            distinct,
             tol: ON_LINE * plane.radius,
             sliver: SLIVER_AREA * plane.area,
             merge: MERGE * plane.radius,
@@ -202,6 +218,9 @@ impl Target {
         }
         work.a.clear();
         work.a.extend_from_slice(occluder);
+        // Whether `work.a` is known to have no two equal consecutive vertices: a clip that
+        // changes a polygon leaves none (see `cut`), one that does not leaves it as it was.
+        let mut distinct = false;
         // In front of the target's plane, short of the near guard, inside the pyramid from
         // x over the target (the planes of `pyramid`, in that order).
         for k in 0..work.planes.len() {
@@ -209,7 +228,7 @@ impl Target {
                 return false;
             }
             let (normal, offset, tol) = work.planes[k];
-            clip3(&mut work.a, &mut work.b, normal, offset, tol);
+            distinct |= clip3(&mut work.a, &mut work.b, (normal, offset, tol), distinct);
         }
         if work.a.len() < 3 {
             return false;
@@ -221,29 +240,39 @@ impl Target {
             work.shadow.push(self.to_plane(x + (y - x) / s));
         }
         // Counter-clockwise about the target's normal, then inside the target (rounding).
-        if crate::geom::signed_area(&work.shadow) < 0.0 {
+        let area = crate::geom::signed_area(&work.shadow);
+        // Whether `work.shadow` is still the polygon whose area is `area`: then its area
+        // need not be summed again (the same bits).
+        let reversed = area < 0.0;
+        if reversed {
             work.shadow.reverse();
         }
-        for k in 0..self.outline.len() {
-            let (a, b) = (
-                self.outline[k],
-                self.outline[if k + 1 == self.outline.len() {
-                    0
-                } else {
-                    k + 1
-                }],
+        let mut same = !reversed;
+        // Two distinct points in space may project to one: look once, then as above.
+        let mut distinct = distinct_vertices(&work.shadow);
+        for &(a, inward) in &self.edges {
+            let clipped = clip2(
+                &mut work.shadow,
+                &mut work.scratch,
+                (a, inward, self.tol),
+                distinct,
             );
-            let Some(inward) = inward_normal(a, b) else {
-                continue;
-            };
-            clip2(&work.shadow, a, inward, self.tol, &mut work.scratch);
-            core::mem::swap(&mut work.shadow, &mut work.scratch);
+            same &= !clipped;
+            distinct |= clipped;
             if work.shadow.len() < 3 {
                 return false;
             }
         }
+        let before = work.shadow.len();
         merge_close_vertices(&mut work.shadow, self.merge);
-        work.shadow.len() >= 3 && crate::geom::signed_area(&work.shadow) > self.sliver
+        // Merging only drops vertices: as many left, none dropped.
+        same &= work.shadow.len() == before;
+        work.shadow.len() >= 3
+            && if same {
+                area
+            } else {
+                crate::geom::signed_area(&work.shadow)
+            } > self.sliver
     }
 
     /// Replaces `work.pieces` by their parts outside `work.shadow`: each piece is cut by
@@ -256,7 +285,6 @@ impl Target {
             next,
             shadow,
             scratch,
-            rest,
             spare,
             lines,
             ..
@@ -268,6 +296,7 @@ impl Target {
             let (a, b) = (shadow[k], shadow[if k + 1 == m { 0 } else { k + 1 }]);
             inward_normal(a, b).map(|inward| (a, inward))
         }));
+        let big = |p: &[DVec2]| p.len() >= 3 && crate::geom::signed_area(p) > self.sliver;
         next.clear();
         for piece in pieces.drain(..) {
             let (plo, phi) = bounds2(&piece);
@@ -275,23 +304,48 @@ impl Target {
                 next.push(piece);
                 continue;
             }
-            rest.clear();
-            rest.extend_from_slice(&piece);
+            // The piece itself is cut (its outline becomes the part inside the lines).
+            let mut rest = piece;
+            // Whether `big(rest)` is known to hold for `rest` as it is now: a line that
+            // leaves it unchanged needs no second look at its area (the same bits).
+            let mut rest_big = false;
             for &(a, inward) in lines.iter() {
                 // The part outside the line is written straight into a spare outline.
                 let mut part = spare.pop().unwrap_or_default();
-                split2(rest, a, inward, self.tol, scratch, &mut part);
-                if part.len() >= 3 && crate::geom::signed_area(&part) > self.sliver {
-                    next.push(part);
-                } else {
-                    spare.push(part);
+                match cut(
+                    &mut rest,
+                    scratch,
+                    &mut part,
+                    (a, inward, self.tol),
+                    self.distinct,
+                ) {
+                    Cut::Inside => spare.push(part),
+                    Cut::Outside => {
+                        // `part` is what `rest` was; nothing is left inside.
+                        if rest_big || big(&part) {
+                            next.push(part);
+                        } else {
+                            spare.push(part);
+                        }
+                        break;
+                    }
+                    Cut::Both => {
+                        if big(&part) {
+                            next.push(part);
+                        } else {
+                            spare.push(part);
+                        }
+                        rest_big = false;
+                    }
                 }
-                core::mem::swap(rest, scratch);
-                if rest.len() < 3 || crate::geom::signed_area(rest) <= self.sliver {
-                    break;
+                if !rest_big {
+                    if !big(&rest) {
+                        break;
+                    }
+                    rest_big = true;
                 }
             }
-            spare.push(piece);
+            spare.push(rest);
             if next.len() > MAX_VISIBLE_PIECES {
                 return Err(ErrorKind::TooLarge {
                     what: "convex pieces of a polygon's visible part from one point",
@@ -317,7 +371,6 @@ pub(crate) struct Workspace {
     lines: Vec<(DVec2, DVec2)>,
     shadow: Vec<DVec2>,
     scratch: Vec<DVec2>,
-    rest: Vec<DVec2>,
     space: Vec<DVec3>,
     a: Vec<DVec3>,
     b: Vec<DVec3>,
@@ -332,11 +385,24 @@ impl Workspace {
     }
 }
 
+/// Whether no two consecutive vertices of the closed polygon `poly` (the last and the first
+/// included) are equal.
+fn distinct_vertices(poly: &[DVec2]) -> bool {
+    let m = poly.len();
+    (0..m).all(|k| poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }])
+}
+
 /// Drops each vertex of the closed polygon `poly` that lies within `merge` of the last one
 /// kept (the first vertex against the last kept, too), so that no edge is shorter than
 /// `merge` (see [`MERGE`]). Bounded: one pass.
 fn merge_close_vertices(poly: &mut Vec<DVec2>, merge: f64) {
-    let close = |a: DVec2, b: DVec2| crate::math::length(a - b) <= merge;
+    // A coordinate difference above `merge` decides without the root: the computed
+    // length is at least each |difference| (`√(fl(d²))` is `|d|` exactly, and adding the
+    // other square and rounding never lowers it), so the answer is the same.
+    let close = |a: DVec2, b: DVec2| {
+        let d = a - b;
+        d.x.abs() <= merge && d.y.abs() <= merge && crate::math::length(d) <= merge
+    };
     let mut kept = 0;
     for k in 0..poly.len() {
         if kept == 0 || !close(poly[k], poly[kept - 1]) {
@@ -377,36 +443,119 @@ fn bounds2(p: &[DVec2]) -> (DVec2, DVec2) {
     (lo, hi)
 }
 
-/// Sutherland–Hodgman: the part of convex `poly` where `normal · (p − a) ≥ 0` into `out`
-/// (points within `tol` of the line count as on it).
-fn clip2(poly: &[DVec2], a: DVec2, normal: DVec2, tol: f64, out: &mut Vec<DVec2>) {
-    out.clear();
+/// Sutherland–Hodgman: `poly` replaced by its part where `normal · (p − a) ≥ 0` (points
+/// within `tol` of the line count as on it); `tmp` is scratch. `false` when `poly` was
+/// left as it was (wholly on the kept side), `true` when it was clipped. `distinct`: the
+/// caller knows that `poly` has no two equal consecutive vertices, so that the test for
+/// them is skipped (the same bits).
+fn clip2(
+    poly: &mut Vec<DVec2>,
+    tmp: &mut Vec<DVec2>,
+    (a, normal, tol): (DVec2, DVec2, f64),
+    distinct: bool,
+) -> bool {
     let m = poly.len();
     let side = |p: DVec2| {
         let d = normal.dot(p - a);
         if d.abs() <= tol { 0.0 } else { d }
     };
-    // Wholly on the kept side with no repeated vertex: the loop below would copy `poly`
-    // unchanged (no crossing, every vertex kept, none dropped as a repeat).
-    if (0..m).all(|k| side(poly[k]) >= 0.0 && poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }]) {
-        out.extend_from_slice(poly);
-        return;
+    // Wholly on the kept side with no repeated vertex: the loop below would give `poly`
+    // back unchanged (no crossing, every vertex kept, none dropped as a repeat), so leave
+    // it.
+    if (0..m).all(|k| {
+        side(poly[k]) >= 0.0 && (distinct || poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }])
+    }) {
+        return false;
     }
+    tmp.clear();
     for k in 0..m {
         let (p, q) = (poly[k], poly[if k + 1 == m { 0 } else { k + 1 }]);
         let (dp, dq) = (side(p), side(q));
-        if dp >= 0.0 && out.last() != Some(&p) {
-            out.push(p);
+        if dp >= 0.0 && tmp.last() != Some(&p) {
+            tmp.push(p);
         }
         if (dp > 0.0 && dq < 0.0) || (dp < 0.0 && dq > 0.0) {
             let r = p + (q - p) * (dp / (dp - dq));
-            if out.last() != Some(&r) {
-                out.push(r);
+            if tmp.last() != Some(&r) {
+                tmp.push(r);
             }
         }
     }
-    if out.len() > 1 && out.first() == out.last() {
-        out.pop();
+    if tmp.len() > 1 && tmp.first() == tmp.last() {
+        tmp.pop();
+    }
+    core::mem::swap(poly, tmp);
+    true
+}
+
+/// What [`cut`] did with a polygon.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Cut {
+    /// No vertex outside: the polygon is left as it is, nothing of area outside.
+    Inside,
+    /// No vertex inside: the polygon moved to the outside part, nothing of area left
+    /// inside.
+    Outside,
+    /// Anything else: both parts by [`split2`].
+    Both,
+}
+
+/// [`split2`] of `poly`, with `poly` replaced by the inside part and `outside` by the
+/// outside part, the same bits, except that a part of at most two vertices may be left
+/// empty instead (the caller drops such parts either way). A polygon with no repeated
+/// vertex, at most two vertices on the line (within `tol`) and the rest on one side is
+/// not copied: `split2` would give it back whole on that side (every vertex kept, no
+/// crossing, none dropped as a repeat) and only its vertices on the line on the other.
+/// The classification stops at the first vertex that rules this out.
+///
+/// `distinct` says that `poly` is known to have no two equal consecutive vertices (the
+/// last and the first included), so that the test is skipped: every part `split2` makes
+/// has none (it pushes a vertex only when it differs from the last one pushed, and drops
+/// the last when it equals the first, after which the new last differs from the first as
+/// it differed from the dropped one), so pieces cut from an outline without any have none.
+fn cut(
+    poly: &mut Vec<DVec2>,
+    scratch: &mut Vec<DVec2>,
+    outside: &mut Vec<DVec2>,
+    (a, normal, tol): (DVec2, DVec2, f64),
+    distinct: bool,
+) -> Cut {
+    let m = poly.len();
+    let (mut any_in, mut any_out, mut on_line) = (false, false, 0_usize);
+    let mut whole = true;
+    for k in 0..m {
+        let p = poly[k];
+        let d = normal.dot(p - a);
+        if d.abs() <= tol {
+            on_line += 1;
+        } else if d > 0.0 {
+            any_in = true;
+        } else if d < 0.0 {
+            any_out = true;
+        } else {
+            // Not a number: `split2` drops the vertex from both parts.
+            whole = false;
+            break;
+        }
+        if (any_in && any_out)
+            || on_line > 2
+            || (!distinct && p == poly[if k + 1 == m { 0 } else { k + 1 }])
+        {
+            whole = false;
+            break;
+        }
+    }
+    if whole && !any_out {
+        outside.clear();
+        Cut::Inside
+    } else if whole && !any_in {
+        core::mem::swap(poly, outside);
+        poly.clear();
+        Cut::Outside
+    } else {
+        split2(poly, a, normal, tol, scratch, outside);
+        core::mem::swap(poly, scratch);
+        Cut::Both
     }
 }
 
@@ -466,9 +615,18 @@ fn split2(
 }
 
 /// Sutherland–Hodgman in space: `poly` replaced by its part where `normal · p ≥ offset`
-/// (within `tol` counts as on the plane); `tmp` is scratch.
-fn clip3(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, normal: DVec3, offset: f64, tol: f64) {
-    tmp.clear();
+/// (within `tol` counts as on the plane); `tmp` is scratch. `true` when `poly` was
+/// clipped; `distinct` as for [`clip2`].
+///
+/// The clip computes each vertex's snapped distance `normal · p − offset` once, carried
+/// from one edge to the next as in [`split2`] (it used to compute it twice, for the edges
+/// before and after the vertex: the same expression, so the same bits).
+fn clip3(
+    poly: &mut Vec<DVec3>,
+    tmp: &mut Vec<DVec3>,
+    (normal, offset, tol): (DVec3, f64, f64),
+    distinct: bool,
+) -> bool {
     let m = poly.len();
     let side = |p: DVec3| {
         let d = normal.dot(p) - offset;
@@ -476,12 +634,23 @@ fn clip3(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, normal: DVec3, offset: f64
     };
     // Wholly on the kept side with no repeated vertex: the loop below would give `poly`
     // back unchanged, so leave it.
-    if (0..m).all(|k| side(poly[k]) >= 0.0 && poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }]) {
-        return;
+    if (0..m).all(|k| {
+        side(poly[k]) >= 0.0 && (distinct || poly[k] != poly[if k + 1 == m { 0 } else { k + 1 }])
+    }) {
+        return false;
     }
+    tmp.clear();
+    let Some(&first) = poly.first() else {
+        return false;
+    };
+    let d_first = side(first);
+    let (mut p, mut dp) = (first, d_first);
     for k in 0..m {
-        let (p, q) = (poly[k], poly[if k + 1 == m { 0 } else { k + 1 }]);
-        let (dp, dq) = (side(p), side(q));
+        let (q, dq) = if k + 1 == m {
+            (first, d_first)
+        } else {
+            (poly[k + 1], side(poly[k + 1]))
+        };
         if dp >= 0.0 && tmp.last() != Some(&p) {
             tmp.push(p);
         }
@@ -491,11 +660,13 @@ fn clip3(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, normal: DVec3, offset: f64
                 tmp.push(r);
             }
         }
+        (p, dp) = (q, dq);
     }
     if tmp.len() > 1 && tmp.first() == tmp.last() {
         tmp.pop();
     }
     core::mem::swap(poly, tmp);
+    true
 }
 
 #[cfg(test)]
@@ -536,14 +707,23 @@ mod tests {
                 let k = case % m;
                 poly[(k + 1) % m] = poly[k];
             }
-            clip2(&poly, a, normal, tol, &mut i1);
-            clip2(&poly, a, -normal, tol, &mut o1);
+            let mut tmp = Vec::new();
+            i1.clone_from(&poly);
+            clip2(&mut i1, &mut tmp, (a, normal, tol), false);
+            o1.clone_from(&poly);
+            clip2(&mut o1, &mut tmp, (a, -normal, tol), false);
             split2(&poly, a, normal, tol, &mut i2, &mut o2);
             let bits = |v: &[DVec2]| {
                 v.iter()
                     .map(|p| (p.x.to_bits(), p.y.to_bits()))
                     .collect::<Vec<_>>()
             };
+            // Told that the polygon has no repeated vertex, when it has none: the same.
+            if distinct_vertices(&poly) {
+                let mut i3 = poly.clone();
+                clip2(&mut i3, &mut tmp, (a, normal, tol), true);
+                assert_eq!(bits(&i1), bits(&i3), "case {case}: distinct");
+            }
             assert_eq!(bits(&i1), bits(&i2), "case {case}: inside");
             assert_eq!(bits(&o1), bits(&o2), "case {case}: outside");
             if i1.len() >= 3 && o1.len() >= 3 {
@@ -552,5 +732,92 @@ mod tests {
         }
         // The line cut the polygon in a good share of the cases.
         assert!(cut > 200, "{cut}");
+    }
+
+    /// `cut` gives the bits of `split2`, except a part of at most two vertices that it may
+    /// leave empty: on random convex polygons cut through, touched at one vertex or along
+    /// one edge (every other vertex on one side), and wholly on one side.
+    #[test]
+    fn cut_is_split2() {
+        let mut state = 0x1234_5678_9abc_def1_u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let bits = |v: &[DVec2]| {
+            v.iter()
+                .map(|p| (p.x.to_bits(), p.y.to_bits()))
+                .collect::<Vec<_>>()
+        };
+        let (mut inside, mut outside) = (Vec::new(), Vec::new());
+        let (mut scratch, mut part) = (Vec::new(), Vec::new());
+        let mut seen = [0; 3];
+        for case in 0..4000 {
+            let m = 3 + case % 6;
+            let poly: Vec<DVec2> = (0..m)
+                .map(|k| {
+                    let t = core::f64::consts::TAU * (k as f64 + 0.3 * next()) / m as f64;
+                    DVec2::new(libm::cos(t), libm::sin(t)) * (1.0 + 0.2 * next())
+                })
+                .collect();
+            let tol = if case % 3 == 0 { 0.0 } else { 1e-3 };
+            let (a, normal) = match case % 4 {
+                // Through the polygon, or past it.
+                0 => (
+                    DVec2::new(2.0 * next(), 2.0 * next()),
+                    DVec2::new(next(), next()).normalize(),
+                ),
+                // Touching one vertex, every other vertex on one side.
+                1 => {
+                    let normal = DVec2::new(next(), next()).normalize();
+                    let low = poly
+                        .iter()
+                        .copied()
+                        .min_by(|p, q| normal.dot(*p).total_cmp(&normal.dot(*q)))
+                        .unwrap_or_default();
+                    (low, if case % 8 == 1 { normal } else { -normal })
+                }
+                // Along one edge.
+                _ => {
+                    let k = case % m;
+                    let (p, q) = (poly[k], poly[(k + 1) % m]);
+                    let e = (q - p).normalize();
+                    let inward = DVec2::new(-e.y, e.x);
+                    (p, if case % 8 == 2 { inward } else { -inward })
+                }
+            };
+            split2(&poly, a, normal, tol, &mut inside, &mut outside);
+            let mut rest = poly.clone();
+            // Random polygons have no repeated vertex: with and without the test.
+            let how = cut(
+                &mut rest,
+                &mut scratch,
+                &mut part,
+                (a, normal, tol),
+                case % 2 == 0,
+            );
+            assert!(distinct_vertices(&poly));
+            match how {
+                Cut::Inside => {
+                    assert_eq!(bits(&rest), bits(&inside), "case {case}: inside");
+                    assert!(part.is_empty() && outside.len() <= 2, "case {case}");
+                    seen[0] += 1;
+                }
+                Cut::Outside => {
+                    assert_eq!(bits(&part), bits(&outside), "case {case}: outside");
+                    assert!(rest.is_empty() && inside.len() <= 2, "case {case}");
+                    seen[1] += 1;
+                }
+                Cut::Both => {
+                    assert_eq!(bits(&rest), bits(&inside), "case {case}: inside");
+                    assert_eq!(bits(&part), bits(&outside), "case {case}: outside");
+                    seen[2] += 1;
+                }
+            }
+        }
+        // Each way was taken often.
+        assert!(seen.iter().all(|&n| n > 300), "{seen:?}");
     }
 }
