@@ -119,8 +119,8 @@ use alloc::vec::Vec;
 use crate::error::{ErrorKind, Result};
 use crate::formfactor::FormFactors;
 use crate::formfactor::exact_3d::{
-    self, FixedAxis, HalfSpace, HullInterior, MAX_DENSE_PATCHES, ON_PLANE, Plane, TOUCH, bounds, fixed_axes,
-    hull_meets_polygon, hull_meets_polygon_with, pair_flux, planes,
+    self, FixedAxis, HalfSpace, HullInterior, MAX_DENSE_PATCHES, ON_PLANE, Plane, TOUCH, bounds,
+    fixed_axes, hull_meets_polygon, hull_meets_polygon_with, pair_flux, planes,
 };
 use crate::geom::DVec3;
 use crate::math::KahanSum;

@@ -531,4 +531,37 @@ mod tests {
         // Both answers occur often.
         assert!(met > 300 && missed > 300, "{met} {missed}");
     }
+
+    /// [`HullInterior::holds_deep`] never claims a polygon meets the hull when
+    /// [`hull_meets_polygon`] finds it apart, on random triangles, quadrilaterals and
+    /// occluders from far apart to overlapping (some large, crossing the hull), with a zero
+    /// and a positive tolerance; and it does claim some.
+    #[test]
+    fn deep_witness_implies_the_hull_meets() {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut interior = HullInterior::default();
+        let (mut claimed, mut met) = (0, 0);
+        for case in 0..6000 {
+            let spread = [0.3, 1.0, 3.0][case % 3];
+            let s = &mut state;
+            let (ca, cb, ck) = (random_vector(s), random_vector(s), random_vector(s));
+            let a = polygon(s, 3, ca * spread, 0.5);
+            let b = polygon(s, 4, cb * spread + DVec3::X, 0.5);
+            let size = [0.05, 0.4, 2.0][(case / 3) % 3];
+            let k = polygon(s, 3 + case % 3, ck * spread + 0.5 * DVec3::X, size);
+            let (Some(pa), Some(pb), Some(pk)) = (Plane::of(&a), Plane::of(&b), Plane::of(&k))
+            else {
+                continue;
+            };
+            let tol = if case % 2 == 0 { 0.0 } else { 1e-3 };
+            interior.of((&a, &pa), (&b, &pb));
+            let deep = interior.holds_deep((&k, &pk), tol);
+            let meets = hull_meets_polygon(&(&a, pa), &(&b, pb), &(&k, pk), tol);
+            assert!(!deep || meets, "case {case}");
+            claimed += usize::from(deep);
+            met += usize::from(meets);
+        }
+        // The witness settles a good share of the polygons that meet the hull.
+        assert!(claimed > 300 && claimed < met, "{claimed} {met}");
+    }
 }
