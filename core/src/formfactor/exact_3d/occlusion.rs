@@ -248,9 +248,6 @@ pub(crate) fn hull_meets_polygon_with(
     if separated(pa.normal) {
         return false;
     }
-    if side_facet_separates(a, b, separated) {
-        return false;
-    }
     // Edge-edge axes: k's edges against a's edges and the bridges from a to b.
     for (u, v) in edges(k) {
         let ek = v - u;
@@ -267,7 +264,9 @@ pub(crate) fn hull_meets_polygon_with(
             }
         }
     }
-    true
+    // The side facets last: the callers' shafts (`Shaft`) have already tried the
+    // supporting ones against `k`'s box, so they rarely separate here.
+    !side_facet_separates(a, b, separated)
 }
 
 /// Whether `separated` holds for one of the axes of the side facets of the hull of `a ∪ b`:
