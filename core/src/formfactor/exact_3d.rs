@@ -91,7 +91,7 @@ pub(crate) use polygon::{HalfSpace, ON_PLANE, Plane};
 pub use occlusion::may_be_occluded;
 #[cfg(feature = "alloc")]
 pub(crate) use occlusion::{
-    FixedAxis, TOUCH, bounds, fixed_axes, hull_meets_polygon, hull_meets_polygon_with,
+    FixedAxis, HullInterior, TOUCH, bounds, fixed_axes, hull_meets_polygon, hull_meets_polygon_with,
 };
 
 #[cfg(feature = "alloc")]

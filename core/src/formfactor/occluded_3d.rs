@@ -119,8 +119,8 @@ use alloc::vec::Vec;
 use crate::error::{ErrorKind, Result};
 use crate::formfactor::FormFactors;
 use crate::formfactor::exact_3d::{
-    self, FixedAxis, HalfSpace, MAX_DENSE_PATCHES, ON_PLANE, Plane, TOUCH, bounds, fixed_axes,
-    hull_meets_polygon, hull_meets_polygon_with, pair_flux, planes,
+    self, FixedAxis, HalfSpace, HullInterior, MAX_DENSE_PATCHES, ON_PLANE, Plane, TOUCH, bounds,
+    fixed_axes, hull_meets_polygon, hull_meets_polygon_with, pair_flux, planes,
 };
 use crate::geom::DVec3;
 use crate::math::KahanSum;
@@ -444,6 +444,9 @@ struct PairIntegrand<'s, 'o> {
     /// `(candidate, first, end)` ranges of `fixed`, sorted by candidate.
     fixed: Vec<FixedAxis>,
     fixed_of: Vec<(u32, usize, usize)>,
+    /// The slabs of the hull of the triangle being classified and the target, for proving
+    /// a candidate meets it before the full separating-axis test ([`HullInterior`]).
+    interior: HullInterior,
 }
 
 impl PairIntegrand<'_, '_> {
@@ -510,6 +513,8 @@ impl outer::Integrand for PairIntegrand<'_, '_> {
         let t = self.touch;
         self.shaft
             .of((tri.as_slice(), &pl), (self.tgt, &self.pt), t);
+        // The hull's slabs, built for the first candidate that reaches the full test.
+        let mut interior_ready = false;
         for &k in parent {
             let o = &self.occ[k as usize];
             if (o.lo - hhi).max_element() >= -t
@@ -518,7 +523,15 @@ impl outer::Integrand for PairIntegrand<'_, '_> {
             {
                 continue;
             }
-            if !self.hull_meets(&(tri.as_slice(), pl), k) {
+            if !interior_ready {
+                self.interior
+                    .of((tri.as_slice(), &pl), (self.tgt, &self.pt));
+                interior_ready = true;
+            }
+            // Deep inside the hull: the full test's answer is `true` (the same answer).
+            if !self.interior.holds_deep((&o.vertices, &o.plane), t)
+                && !self.hull_meets(&(tri.as_slice(), pl), k)
+            {
                 continue;
             }
             if blocks_all(tri, self.tgt, &o.vertices, &o.plane, t) {
@@ -663,6 +676,7 @@ fn integrate_pair(
         resolved_size: RESOLVED_FRACTION * 2.0 * ps.radius,
         fixed: Vec::new(),
         fixed_of: Vec::new(),
+        interior: HullInterior::default(),
     };
     g.prepare_fixed_axes(cands);
     let touching: Vec<&[DVec3]> = cands
@@ -705,20 +719,29 @@ fn candidates(
     tol: f64,
     out: &mut Vec<u32>,
     scratch: &mut Vec<u32>,
-    shaft: &mut Shaft,
+    (shaft, interior): (&mut Shaft, &mut HullInterior),
 ) {
     out.clear();
     let (pi, pj) = (&polys[i].1, &polys[j].1);
     let (hlo, hhi) = (boxes[i].0.min(boxes[j].0), boxes[i].1.max(boxes[j].1));
     shaft.of((polys[i].0, pi), (polys[j].0, pj), tol);
     occ.overlapping(hlo, hhi, tol, shaft, scratch);
+    // The hull's slabs, built for the first occluder that reaches the full test.
+    let mut interior_ready = false;
     for &k in scratch.iter() {
         let o = &occ.list[k as usize];
         let reaches = |p: &Plane| o.vertices.iter().any(|&v| p.distance(v) > tol);
         if !reaches(pi) || !reaches(pj) {
             continue;
         }
-        if hull_meets_polygon(&polys[i], &polys[j], &(o.vertices.as_slice(), o.plane), tol) {
+        if !interior_ready {
+            interior.of((polys[i].0, pi), (polys[j].0, pj));
+            interior_ready = true;
+        }
+        // Deep inside the hull: the full test's answer is `true` (the same answer).
+        if interior.holds_deep((&o.vertices, &o.plane), tol)
+            || hull_meets_polygon(&polys[i], &polys[j], &(o.vertices.as_slice(), o.plane), tol)
+        {
             out.push(k);
         }
     }
@@ -885,6 +908,7 @@ impl<'a> Prepared<'a> {
         let mut cand = Vec::new();
         let mut scratch = Vec::new();
         let mut shaft = Shaft::default();
+        let mut interior = HullInterior::default();
         let mut seen = Vec::new();
         for (j, (tgt, pt)) in polys.iter().enumerate().skip(i + 1) {
             // As form_factors_unoccluded: one lies wholly on or behind the other's plane.
@@ -903,7 +927,7 @@ impl<'a> Prepared<'a> {
                     self.touch,
                     &mut cand,
                     &mut scratch,
-                    &mut shaft,
+                    (&mut shaft, &mut interior),
                 );
             }
             let r = if !self.may_occlude || cand.is_empty() {
