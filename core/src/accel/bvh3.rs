@@ -664,10 +664,11 @@ impl Bvh3 {
             records: Vec::with_capacity(n_records),
             ids: Vec::with_capacity(n_polys),
             frame,
-            bounds: items.iter().fold(
-                [DVec3::INFINITY, DVec3::NEG_INFINITY],
-                |[lo, hi], item| [lo.min(item.lo), hi.max(item.hi)],
-            ),
+            bounds: items
+                .iter()
+                .fold([DVec3::INFINITY, DVec3::NEG_INFINITY], |[lo, hi], item| {
+                    [lo.min(item.lo), hi.max(item.hi)]
+                }),
             len: polygons.len(),
             depth: 0,
             levels: 0,

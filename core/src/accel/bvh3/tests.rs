@@ -344,7 +344,9 @@ fn lines_grazing_the_scene_box_agree_and_the_early_miss_is_exact() {
             let bit = |k: u32| f64::from((corner >> k) & 1);
             let c = offset + DVec3::new(bit(0), bit(1), bit(2)) * scale;
             let out = (DVec3::new(bit(0), bit(1), bit(2)) * 2.0 - DVec3::ONE).normalize();
-            for rel in [0.0, 1e-12, -1e-12, 5e-10, -5e-10, 2e-9, -2e-9, 1e-6, -1e-6, 1e-2] {
+            for rel in [
+                0.0, 1e-12, -1e-12, 5e-10, -5e-10, 2e-9, -2e-9, 1e-6, -1e-6, 1e-2,
+            ] {
                 for k in 0..12 {
                     let dir = match k {
                         0 => DVec3::X,
@@ -369,7 +371,10 @@ fn lines_grazing_the_scene_box_agree_and_the_early_miss_is_exact() {
             }
         }
     }
-    assert!(dropped > 100 && kept > 100, "dropped {dropped}, kept {kept}");
+    assert!(
+        dropped > 100 && kept > 100,
+        "dropped {dropped}, kept {kept}"
+    );
 }
 
 /// An `m × k` grid of quads, row by row as scenes cut faces: lattice points
