@@ -92,6 +92,13 @@
 //!
 //! # Queries
 //!
+//! `all_hits` first tests the box of all the polygons in `f64` with the query's box
+//! constants alone (`BoxQuery`: origin, margins, `1/d`), and stops there when the line
+//! misses it — no polygon can then pass step 2, by the monotonicity above — before the
+//! crossing test's frame (a division, a square root, an orthonormal pair) and the `f32`
+//! constants are computed: about a third of the uniform global lines through a box's
+//! bounding sphere miss the box.
+//!
 //! A walk keeps pending subtrees on a fixed stack and allocates nothing. A visit tests
 //! the four children's boxes at once, descends into the first one the line meets and
 //! pushes the others it meets. The walks are
