@@ -113,6 +113,15 @@ impl ContinuousTally {
     /// Adds one group (line): `n` samples whose terms sum to `s`.
     #[inline]
     pub fn add_group(&mut self, s: f64, n: u64) {
+        // A line with no term (a third of the global lines miss the scene): `s = ±0`
+        // quantises to 0 in all three sums, which adding would not change, so only the
+        // counters move (the same state, bit for bit; the fixed-point work skipped)
+        if s == 0.0 {
+            self.sum_n = self.sum_n.saturating_add(n);
+            self.sum_nn = self.sum_nn.saturating_add(u128::from(n) * u128::from(n));
+            self.groups = self.groups.saturating_add(1);
+            return;
+        }
         self.sum_s.add(s);
         self.sum_ss.add(s * s);
         self.sum_sn.add(s * n as f64);

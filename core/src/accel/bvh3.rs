@@ -92,6 +92,13 @@
 //!
 //! # Queries
 //!
+//! `all_hits` first tests the box of all the polygons in `f64` with the query's box
+//! constants alone (`BoxQuery`: origin, margins, `1/d`), and stops there when the line
+//! misses it — no polygon can then pass step 2, by the monotonicity above — before the
+//! crossing test's frame (a division, a square root, an orthonormal pair) and the `f32`
+//! constants are computed: about a third of the uniform global lines through a box's
+//! bounding sphere miss the box.
+//!
 //! A walk keeps pending subtrees on a fixed stack and allocates nothing. A visit tests
 //! the four children's boxes at once, descends into the first one the line meets and
 //! pushes the others it meets. The walks are
@@ -146,7 +153,7 @@ pub(super) mod tests;
 
 #[cfg(feature = "alloc")]
 use prim::Slab;
-use prim::{Frame, Query, vertices};
+use prim::{BoxQuery, Frame, Query, vertices};
 pub(super) use prim::{origin_in_closed_polygon, prepare};
 #[cfg(feature = "alloc")]
 use slab32::{Slab32, f32_down, f32_up};
@@ -563,6 +570,10 @@ pub struct Bvh3 {
     /// Original index of each polygon.
     ids: Vec<u32>,
     frame: Frame,
+    /// The bounds of every polygon in the tree, relative to the frame's centre (`f64`,
+    /// the union of the polygons' own): a line whose slab interval of this box is empty
+    /// misses every polygon, decided before the crossing test's frame is computed.
+    bounds: [DVec3; 2],
     /// Number of polygons given (hittable or not).
     len: usize,
     depth: u32,
@@ -660,6 +671,11 @@ impl Bvh3 {
             records: Vec::with_capacity(n_records),
             ids: Vec::with_capacity(n_polys),
             frame,
+            bounds: items
+                .iter()
+                .fold([DVec3::INFINITY, DVec3::NEG_INFINITY], |[lo, hi], item| {
+                    [lo.min(item.lo), hi.max(item.hi)]
+                }),
             len: polygons.len(),
             depth: 0,
             levels: 0,
@@ -752,7 +768,14 @@ impl Bvh3 {
         if self.nodes.is_empty() && self.root.count == 0 {
             return;
         }
-        let q = Query::new(line.origin, line.dir, &self.frame);
+        let boxes = BoxQuery::new(line.origin, line.dir, &self.frame);
+        // A line that misses the box of all the polygons (a third of the global lines
+        // of a closed box or a cube) has no hit: the rest of the query, the `f32`
+        // constants and the root's visit are skipped (exact: `BoxQuery::misses`).
+        if boxes.misses(&self.bounds) {
+            return;
+        }
+        let q = boxes.query();
         let Some(slab32) = q.slab32(self.frame.scale) else {
             // A line outside the f32 test's error bounds (practically never a sampled one)
             let mut f = f;

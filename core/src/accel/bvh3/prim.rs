@@ -128,14 +128,25 @@ pub(super) struct Query {
     pub(super) slab: Slab,
 }
 
-impl Query {
-    /// The query of the line `o + t d` in `frame`.
+/// The first half of a [`Query`]: the line relative to the frame's centre and the
+/// constants of its box tests, without the crossing test's frame (`f`, `r₁`, `r₂`: a
+/// division, a square root and an orthonormal pair). Enough to decide that a line misses
+/// a box containing every polygon ([`BoxQuery::misses`]) before paying for the rest.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct BoxQuery {
+    /// Origin relative to `c`.
+    rel: DVec3,
+    d: DVec3,
+    near: [usize; 3],
+    slab: Slab,
+}
+
+impl BoxQuery {
+    /// The box-test constants of the line `o + t d` in `frame` (those of [`Query::new`],
+    /// bit for bit: the query is finished from them by [`BoxQuery::query`]).
     #[inline]
     pub(super) fn new(o: DVec3, d: DVec3, frame: &Frame) -> Self {
         let rel = o - frame.c;
-        let f = rel - d * (rel.dot(d) / d.length_squared());
-        // NaN for a zero or non-finite direction: then no polygon is ever crossed.
-        let (r1, r2) = unit(d).any_orthonormal_pair();
         let margin = MARGIN * (rel.abs().max_element() + frame.scale) + f64::MIN_POSITIVE;
         let inv = (DVec3::ONE / d).to_array();
         // The low plane moved by −margin is the origin moved by +margin, and conversely;
@@ -157,11 +168,8 @@ impl Query {
             o_far[i] = f64::from_bits(hi ^ diff);
         }
         Self {
-            o: rel,
+            rel,
             d,
-            f,
-            r1,
-            r2,
             near,
             slab: Slab {
                 o_near,
@@ -170,6 +178,48 @@ impl Query {
                 neg_inv: inv.map(|x| -x),
             },
         }
+    }
+
+    /// Whether the line surely misses every polygon whose bounds lie in `b = [lo, hi]`
+    /// (relative to `c`): the slab interval of `b` ([`Slab::interval`], the arithmetic of
+    /// the polygons' step 2) is empty. Exact, by the monotonicity of the parent module
+    /// docs: a polygon's interval lies in `b`'s, so it is empty too and step 2 rejects
+    /// the polygon. A NaN comparison answers `false` (test the polygons).
+    #[cfg(feature = "alloc")]
+    #[inline(always)]
+    pub(super) fn misses(&self, b: &[DVec3; 2]) -> bool {
+        let [i, j, k] = self.near;
+        let (enter, exit) = self.slab.interval(
+            [b[i].x, b[j].y, b[k].z],
+            [b[1 - i].x, b[1 - j].y, b[1 - k].z],
+        );
+        enter > exit
+    }
+
+    /// The whole query: the crossing test's frame added.
+    #[inline]
+    pub(super) fn query(self) -> Query {
+        let (rel, d) = (self.rel, self.d);
+        let f = rel - d * (rel.dot(d) / d.length_squared());
+        // NaN for a zero or non-finite direction: then no polygon is ever crossed.
+        let (r1, r2) = unit(d).any_orthonormal_pair();
+        Query {
+            o: rel,
+            d,
+            f,
+            r1,
+            r2,
+            near: self.near,
+            slab: self.slab,
+        }
+    }
+}
+
+impl Query {
+    /// The query of the line `o + t d` in `frame`.
+    #[inline]
+    pub(super) fn new(o: DVec3, d: DVec3, frame: &Frame) -> Self {
+        BoxQuery::new(o, d, frame).query()
     }
 
     /// The conservative `f32` box tests of this query in a frame of scale `scale`

@@ -323,6 +323,60 @@ fn cube_mesh_is_watertight_and_agrees_with_naive() {
     }
 }
 
+#[test]
+fn lines_grazing_the_scene_box_agree_and_the_early_miss_is_exact() {
+    // `for_each_hit` drops a line whose slab interval of the box of all polygons is empty
+    // before the rest of the query. Lines through the box's corners and along its edges,
+    // offset by 0, by less than the margin (10⁻⁹ of the scale), by about the margin and
+    // by far more, inwards and outwards: the tree's hits are the naive loop's, every line
+    // dropped early has no naive hit, and both outcomes occur.
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    let (mut dropped, mut kept) = (0usize, 0usize);
+    for (m, scale, offset, face_major) in [
+        (6, 1.0, DVec3::ZERO, true),
+        (5, 3e4, DVec3::new(1e6, -2e5, 3.0), true),
+        (4, 0.01, DVec3::new(-0.3, 0.1, 7.0), false),
+    ] {
+        let s = cube_mesh(m, scale, offset, false, face_major);
+        let bvh = s.bvh();
+        let mut rng = chunk_rng(97, m as u64);
+        for corner in 0..8u32 {
+            let bit = |k: u32| f64::from((corner >> k) & 1);
+            let c = offset + DVec3::new(bit(0), bit(1), bit(2)) * scale;
+            let out = (DVec3::new(bit(0), bit(1), bit(2)) * 2.0 - DVec3::ONE).normalize();
+            for rel in [
+                0.0, 1e-12, -1e-12, 5e-10, -5e-10, 2e-9, -2e-9, 1e-6, -1e-6, 1e-2,
+            ] {
+                for k in 0..12 {
+                    let dir = match k {
+                        0 => DVec3::X,
+                        1 => DVec3::Y,
+                        2 => DVec3::Z,
+                        _ => sample_uniform_sphere(canonical_2d(&mut rng)),
+                    };
+                    // The direction's component along `out` removed, so the line grazes
+                    // the corner (or runs along an edge) before the offset moves it.
+                    let graze = dir - out * dir.dot(out);
+                    let dir = if graze.length() > 1e-3 { graze } else { dir };
+                    let line = Line3::new(c + out * (rel * scale), dir);
+                    check_line(&s, &bvh, &line, &mut a, &mut b);
+                    let q = BoxQuery::new(line.origin, line.dir, &bvh.frame);
+                    if q.misses(&bvh.bounds) {
+                        assert!(a.is_empty(), "dropped {line:?} has naive hits {a:?}");
+                        dropped += 1;
+                    } else {
+                        kept += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        dropped > 100 && kept > 100,
+        "dropped {dropped}, kept {kept}"
+    );
+}
+
 /// An `m × k` grid of quads, row by row as scenes cut faces: lattice points
 /// `a + (i + δ) u + (j + δ') v` with interior jitters `δ, δ' ∈ [−jitter, jitter]` (in the
 /// plane, so the quads stay planar), shared bit-identically.
