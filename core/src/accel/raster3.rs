@@ -201,14 +201,42 @@ pub(crate) struct BundleHits3 {
     /// The sheets' vertices projected, when the bundle projects them all.
     sheet_projected: Vec<[f64; 3]>,
     rows: Rows,
-    /// The hits as found: `(line, hit)`.
-    found: Vec<(u32, Hit3)>,
+    /// The hits as found, counted per line as they are pushed.
+    found: FoundHits,
     /// Line `k`'s hits are `hits[start[k]..start[k + 1]]`.
     start: Vec<u32>,
     hits: Vec<Hit3>,
     /// Candidates of the sheets' row path by the exact path and inside a cell (tests).
     #[cfg(test)]
     row_paths: [usize; 2],
+}
+
+/// The hits of a bundle as found, `(line, hit)`, and per line their number (at
+/// `per_line[line + 2]`, the layout the counting sort of [`ParallelRaster3::cast_by`]
+/// turns into its bucket starts): counted as they are pushed, which spares that sort a
+/// pass over the hits.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct FoundHits {
+    list: Vec<(u32, Hit3)>,
+    per_line: Vec<u32>,
+}
+
+impl FoundHits {
+    /// Empties the list, for a bundle of `lines` lines.
+    fn reset(&mut self, lines: usize) {
+        self.list.clear();
+        self.per_line.clear();
+        self.per_line.resize(lines + 2, 0);
+    }
+
+    /// A hit of line `line` (below the bundle's line count).
+    #[inline(always)]
+    fn push(&mut self, line: u32, hit: Hit3) {
+        if let Some(count) = self.per_line.get_mut(line as usize + 2) {
+            *count += 1;
+        }
+        self.list.push((line, hit));
+    }
 }
 
 /// The rows of a bundle's lattice points: per row, `b`, `first` (in units of `h`), the
@@ -673,21 +701,19 @@ impl ParallelRaster3 {
             out.sheet_projected
                 .extend(self.sheet_vertices.iter().map(|&v| frame.project(v)));
         }
-        out.found.clear();
+        out.found.reset(lines as usize);
         self.cast_polygons(&frame, out);
         self.cast_sheets(&frame, r, path, out);
-        // Bucket the hits per line (a counting sort), then sort each line's
-        out.start.clear();
-        out.start.resize(lines as usize + 2, 0);
-        for &(line, _) in &out.found {
-            out.start[line as usize + 2] += 1;
-        }
+        // Bucket the hits per line (a counting sort, the hits counted as they were
+        // pushed), then sort each line's
+        core::mem::swap(&mut out.start, &mut out.found.per_line);
         for k in 2..out.start.len() {
             out.start[k] += out.start[k - 1];
         }
         out.hits.clear();
-        out.hits.resize(out.found.len(), Hit3 { t: 0.0, prim: 0 });
-        for &(line, hit) in &out.found {
+        out.hits
+            .resize(out.found.list.len(), Hit3 { t: 0.0, prim: 0 });
+        for &(line, hit) in &out.found.list {
             let slot = &mut out.start[line as usize + 1];
             out.hits[*slot as usize] = hit;
             *slot += 1;
@@ -785,7 +811,7 @@ impl ParallelRaster3 {
                         .map(|h| (h.t.to_bits(), h.prim))
                 );
                 if let Some(hit) = hit {
-                    found.push((line, hit));
+                    found.push(line, hit);
                 }
             }
         });
@@ -816,7 +842,7 @@ impl ParallelRaster3 {
                 if crosses(corners.iter().map(vertex), projected[last as usize], a, b)
                     && let Some(hit) = self.polygon_hit(frame, projected, k, a, b)
                 {
-                    found.push((line, hit));
+                    found.push(line, hit);
                 }
             }
         });

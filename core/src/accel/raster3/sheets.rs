@@ -39,14 +39,12 @@
 //! A sheet whose margins are not finite or not below a quarter of a cell (a grazing
 //! direction, `det` near 0) takes the exact path for every candidate.
 
-use alloc::vec::Vec;
-
 use crate::geom::DVec3;
 
 use super::super::bvh3::sheet::ProjectedSheet;
 use super::{
-    BundleHits3, Frame, Hit3, ParallelRaster3, PlaneDots, RasterSheet, SHEET_ROUNDING, crosses,
-    for_each_candidate, for_each_row, greater, lesser,
+    BundleHits3, FoundHits, Frame, Hit3, ParallelRaster3, PlaneDots, RasterSheet, SHEET_ROUNDING,
+    crosses, for_each_candidate, for_each_row, greater, lesser,
 };
 
 /// How a bundle casts its sheets: row by row where the margins allow (module docs), or
@@ -113,7 +111,7 @@ impl SheetCast<'_> {
     /// The exact path for the line through `(a, b)`: the window of its crossing, and the
     /// closed test of each quad in it.
     #[inline(always)]
-    fn exact(&self, line: u32, a: f64, b: f64, found: &mut Vec<(u32, Hit3)>) {
+    fn exact(&self, line: u32, a: f64, b: f64, found: &mut FoundHits) {
         let frame = self.frame;
         let rel = (self.pa[0] - a, self.pa[1] - b);
         let (cols, rws) = self.projected.window(rel);
@@ -150,14 +148,7 @@ impl SheetCast<'_> {
     /// meets its plane between its corners' depths): then the corners' depths are not
     /// computed, and the result is the same bits.
     #[inline(always)]
-    fn quad_hit(
-        &self,
-        line: u32,
-        (i, j): (u32, u32),
-        a: f64,
-        b: f64,
-        found: &mut Vec<(u32, Hit3)>,
-    ) {
+    fn quad_hit(&self, line: u32, (i, j): (u32, u32), a: f64, b: f64, found: &mut FoundHits) {
         let frame = self.frame;
         let o = (j * self.m + i) as usize;
         let (Some(q), Some(c), Some(&(n, p0))) = (
@@ -172,13 +163,13 @@ impl SheetCast<'_> {
         if self.depth_shortcut
             && let Some(t) = frame.plane_t_inside(dots, n, p0, a, b, low, high)
         {
-            found.push((
+            found.push(
                 line,
                 Hit3 {
                     t,
                     prim: self.prim + o as u32,
                 },
-            ));
+            );
             return;
         }
         // A projected vertex's depth is `Frame::depth`'s bits: read it where the bundle
@@ -204,13 +195,13 @@ impl SheetCast<'_> {
             }
         }
         if let Some(t) = frame.plane_t_with(dots, n, p0, a, b, near, far) {
-            found.push((
+            found.push(
                 line,
                 Hit3 {
                     t,
                     prim: self.prim + o as u32,
                 },
-            ));
+            );
         }
     }
 }
