@@ -142,6 +142,29 @@ pub(crate) const QUADRATURE_TOLERANCE: f64 = 1e-12;
 #[must_use]
 pub fn point_to_polygon(x: DVec3, n: DVec3, polygon: &[DVec3]) -> f64 {
     let n = n.normalize_or_zero();
+    if !clear_of_tolerance(x, n, polygon) {
+        return point_to_clipped_polygon(x, n, polygon);
+    }
+    // The edges `for_each_clipped_edge` gives when every vertex is strictly inside the
+    // horizon: each edge in order, no crossing, consecutive equal vertices giving none.
+    let mut sum = KahanSum::new();
+    let first = polygon[0];
+    let mut prev = first;
+    for &v in &polygon[1..] {
+        if prev != v {
+            add_edge_term(&mut sum, x, n, (prev, v));
+        }
+        prev = v;
+    }
+    if prev != first {
+        add_edge_term(&mut sum, x, n, (prev, first));
+    }
+    (-sum.total() / (2.0 * PI)).clamp(0.0, 1.0)
+}
+
+/// [`point_to_polygon`] for a unit (or zero) normal `n`, by the polygon's plane and its
+/// rounding tolerance: the polygon clipped to `x`'s horizon.
+fn point_to_clipped_polygon(x: DVec3, n: DVec3, polygon: &[DVec3]) -> f64 {
     let Some(plane) = Plane::without_rect(polygon) else {
         return 0.0;
     };
@@ -159,18 +182,75 @@ pub fn point_to_polygon(x: DVec3, n: DVec3, polygon: &[DVec3]) -> f64 {
         tol,
     };
     let mut sum = KahanSum::new();
-    horizon.for_each_clipped_edge(polygon, |a, b| {
-        let (ra, rb) = (a - x, b - x);
-        let c = ra.cross(rb);
-        let len = contour::length3(c);
-        // Collinear with x: a zero-angle edge (or x on it, a null set) adds nothing.
-        if len > 0.0 {
-            // atan2 by `atan(len / dot)` when the dot product is positive: the same bits.
-            let gamma = contour::atan_ratio(len, ra.dot(rb));
-            sum.add(gamma * n.dot(c) / len);
-        }
-    });
+    horizon.for_each_clipped_edge(polygon, |a, b| add_edge_term(&mut sum, x, n, (a, b)));
     (-sum.total() / (2.0 * PI)).clamp(0.0, 1.0)
+}
+
+/// Adds edge `(a, b)`'s term `γ n · c / |c|`, `c = (a − x) × (b − x)`, of Lambert's sum.
+#[inline]
+fn add_edge_term(sum: &mut KahanSum, x: DVec3, n: DVec3, (a, b): (DVec3, DVec3)) {
+    let (ra, rb) = (a - x, b - x);
+    let c = ra.cross(rb);
+    let len = contour::length3(c);
+    // Collinear with x: a zero-angle edge (or x on it, a null set) adds nothing.
+    if len > 0.0 {
+        // atan2 by `atan(len / dot)` when the dot product is positive: the same bits.
+        let gamma = contour::atan_ratio(len, ra.dot(rb));
+        sum.add(gamma * n.dot(c) / len);
+    }
+}
+
+/// Relative margin of [`clear_of_tolerance`]'s bounds, far above the rounding (about
+/// `10⁻¹⁵`) of the quantities they bound.
+const CLEAR_SLACK: f64 = 1e-6;
+
+/// Whether [`point_to_polygon`]'s rounding tolerance `tol = ON_PLANE (magnitude + |x|∞ +
+/// radius)` cannot change its result, so the polygon's centroid and radius (a root per fan
+/// triangle and per vertex, used only for `tol`) need not be computed: `x` lies in front of
+/// the polygon's plane, and every vertex in front of `x`'s horizon, by more than an upper
+/// bound of `tol`. Then the plane test passes and the horizon clip keeps every vertex with
+/// no crossing, whatever `tol` is; the normal and the distances are computed by the same
+/// expressions as `Plane::without_rect`'s and `HalfSpace`'s (the same bits). `false` when
+/// unsure, and for every input on which `point_to_polygon` returns early (the full path
+/// then runs).
+///
+/// The bound: with `S = max_v |v − v₀|₁` and Newell's fan triangles `t`, the centroid
+/// `c = v₀ + Σ|t| (w₀ + w₁ − 2v₀) / (3 |Σt|)` lies within `(2/3) S Σ|t|₁ / |Σt|` of `v₀`,
+/// so `radius ≤ S (1 + Σ|t|₁ / |Σt|)`; the relative margin `CLEAR_SLACK` and
+/// `CLEAR_SLACK · magnitude` cover the rounding of the centroid and of the roots.
+fn clear_of_tolerance(x: DVec3, n: DVec3, polygon: &[DVec3]) -> bool {
+    let Some(&v0) = polygon.first() else {
+        return false;
+    };
+    if polygon.len() < 3
+        || n == DVec3::ZERO
+        || !x.is_finite()
+        || !polygon.iter().all(|v| v.is_finite())
+    {
+        return false;
+    }
+    // Newell's vector area as `Plane::without_rect` sums it (the same bits).
+    let mut area = DVec3::ZERO;
+    let mut fan = 0.0;
+    for w in polygon[1..].windows(2) {
+        let t = (w[0] - v0).cross(w[1] - v0);
+        area += t;
+        fan += t.abs().element_sum();
+    }
+    let twice_area = area.length();
+    if !(twice_area > 0.0 && twice_area.is_finite()) {
+        return false;
+    }
+    let normal = area / twice_area;
+    let (mut magnitude, mut spread) = (0.0_f64, 0.0_f64);
+    for &v in polygon {
+        magnitude = magnitude.max(v.abs().max_element());
+        spread = spread.max((v - v0).abs().element_sum());
+    }
+    let radius = spread * (1.0 + fan / twice_area) * (1.0 + CLEAR_SLACK) + CLEAR_SLACK * magnitude;
+    let tol = ON_PLANE * (magnitude + x.abs().max_element() + radius) * (1.0 + CLEAR_SLACK);
+    // Not a number anywhere: the comparisons fail and the full path runs.
+    normal.dot(x - v0) > tol && polygon.iter().all(|&v| n.dot(v - x) > tol)
 }
 
 /// The unoccluded flux `A_i F_ij = A_j F_ji` between two convex planar polygons (their

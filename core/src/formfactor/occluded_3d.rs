@@ -447,6 +447,11 @@ struct PairIntegrand<'s, 'o> {
     /// The slabs of the hull of the triangle being classified and the target, for proving
     /// a candidate meets it before the full separating-axis test ([`HullInterior`]).
     interior: HullInterior,
+    /// The candidates wholly on the front of the target's plane
+    /// ([`visible::Target::keeps_in_front`]), sorted, and the answer for each of a point's
+    /// candidates.
+    in_front_of: Vec<u32>,
+    in_front: Vec<bool>,
 }
 
 impl PairIntegrand<'_, '_> {
@@ -466,6 +471,14 @@ impl PairIntegrand<'_, '_> {
             self.fixed_of.push((k, first, self.fixed.len()));
         }
         self.fixed_of.sort_unstable_by_key(|e| e.0);
+        self.in_front_of.clear();
+        self.in_front_of.extend(
+            cands
+                .iter()
+                .copied()
+                .filter(|&k| self.target.keeps_in_front(&self.occ[k as usize].vertices)),
+        );
+        self.in_front_of.sort_unstable();
     }
 
     /// [`hull_meets_polygon`] of `tri ∪ target` and candidate `k`, by its fixed axes when
@@ -599,8 +612,17 @@ impl outer::Integrand for PairIntegrand<'_, '_> {
         let occ = self.occ;
         self.buf
             .extend(cands.iter().map(|&k| occ[k as usize].vertices.as_slice()));
-        self.target
-            .visible_form_factor(x, self.normal, &self.buf, &mut self.work)
+        self.in_front.clear();
+        let known = &self.in_front_of;
+        self.in_front
+            .extend(cands.iter().map(|k| known.binary_search(k).is_ok()));
+        self.target.visible_form_factor_with(
+            x,
+            self.normal,
+            &self.buf,
+            &self.in_front,
+            &mut self.work,
+        )
     }
 }
 
@@ -677,6 +699,8 @@ fn integrate_pair(
         fixed: Vec::new(),
         fixed_of: Vec::new(),
         interior: HullInterior::default(),
+        in_front_of: Vec::new(),
+        in_front: Vec::new(),
     };
     g.prepare_fixed_axes(cands);
     let touching: Vec<&[DVec3]> = cands

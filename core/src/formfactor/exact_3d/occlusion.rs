@@ -321,6 +321,11 @@ pub(crate) struct HullInterior {
     /// The centroids of `a` and `b`, ends of the segment whose crossing with an occluder's
     /// plane is the second witness.
     centres: (DVec3, DVec3),
+    /// The midpoints between each polygon's centroid and its vertices, `a`'s then `b`'s
+    /// (`split` of them `a`'s): ends of the further sight segments whose crossings are
+    /// the last witnesses.
+    inner: Vec<DVec3>,
+    split: usize,
 }
 
 impl HullInterior {
@@ -328,6 +333,12 @@ impl HullInterior {
     pub(crate) fn of(&mut self, (a, pa): (&[DVec3], &Plane), (b, pb): (&[DVec3], &Plane)) {
         self.slabs.clear();
         self.centres = (pa.centroid, pb.centroid);
+        self.inner.clear();
+        self.inner
+            .extend(a.iter().map(|&v| 0.5 * (pa.centroid + v)));
+        self.split = self.inner.len();
+        self.inner
+            .extend(b.iter().map(|&v| 0.5 * (pb.centroid + v)));
         self.finite = a.iter().chain(b).all(|v| v.is_finite());
         self.reach = a
             .iter()
@@ -356,9 +367,11 @@ impl HullInterior {
 
     /// Whether a point of `k` (plane `pk`) lies inside the hull by more than `tol` (plus
     /// the rounding allowance): then [`hull_meets_polygon`] of the hull and `k` at `tol` is
-    /// `true` (see [`HullInterior`]). `false` when unsure (never wrong). Two witnesses are
-    /// tried: the centroid of `k`'s vertices, and the point where the segment between the
-    /// centroids of `a` and `b` crosses `k`'s plane when it lies inside `k`'s edges.
+    /// `true` (see [`HullInterior`]). `false` when unsure (never wrong). The witnesses
+    /// tried: the centroid of `k`'s vertices; the point where the segment between the
+    /// centroids of `a` and `b` crosses `k`'s plane, when it lies inside `k`'s edges; then
+    /// likewise the segments between the midpoints of each polygon's centroid and
+    /// vertices (`a`'s to `b`'s).
     pub(crate) fn holds_deep(&self, (k, pk): (&[DVec3], &Plane), tol: f64) -> bool {
         if !self.finite || self.slabs.is_empty() || k.is_empty() || !(tol >= 0.0) {
             return false;
@@ -377,17 +390,41 @@ impl HullInterior {
         if self.deep(sum / k.len() as f64, depth) {
             return true;
         }
-        // The segment's crossing `x` of k's plane. Its projection `x'` on the plane lies
-        // inside k's projection on it when every edge has `x` on its inner side (the
-        // cross product's normal part does not see the normal offsets of `x` or of the
-        // vertices, and `|v − u|` is at least the projected edge's length); the segment of
-        // the normal through `x'` then meets `k` within `w` (the vertices' largest distance
-        // from the plane) of the plane, so within `|d(x)| + w` of `x`.
-        let (da, db) = (pk.distance(self.centres.0), pk.distance(self.centres.1));
+        if self.crossing_is_deep(self.centres, (k, pk), slack, depth) {
+            return true;
+        }
+        // Further sight segments, between the midpoints of `a`'s and `b`'s centroids and
+        // vertices: an occluder beside the central sight line may still cross one of them
+        // well inside the hull.
+        let (inner_a, inner_b) = self.inner.split_at(self.split);
+        inner_a.iter().any(|&s| {
+            inner_b
+                .iter()
+                .any(|&t| self.crossing_is_deep((s, t), (k, pk), slack, depth))
+        })
+    }
+
+    /// Whether the point where the segment `(s, t)` crosses `k`'s plane lies inside `k`'s
+    /// edges and deep in the hull (a witness of [`Self::holds_deep`]).
+    ///
+    /// The crossing `x`: its projection `x'` on the plane lies inside k's projection on it
+    /// when every edge has `x` on its inner side (the cross product's normal part does not
+    /// see the normal offsets of `x` or of the vertices, and `|v − u|` is at least the
+    /// projected edge's length); the segment of the normal through `x'` then meets `k`
+    /// within `w` (the vertices' largest distance from the plane) of the plane, so within
+    /// `|d(x)| + w` of `x`.
+    fn crossing_is_deep(
+        &self,
+        (s, t): (DVec3, DVec3),
+        (k, pk): (&[DVec3], &Plane),
+        slack: f64,
+        depth: f64,
+    ) -> bool {
+        let (da, db) = (pk.distance(s), pk.distance(t));
         if !(da > 0.0 && db < 0.0 || da < 0.0 && db > 0.0) {
             return false;
         }
-        let x = self.centres.0 + (self.centres.1 - self.centres.0) * (da / (da - db));
+        let x = s + (t - s) * (da / (da - db));
         let m = k.len();
         let mut off_plane = pk.distance(x).abs();
         for (e, &u) in k.iter().enumerate() {

@@ -712,3 +712,62 @@ fn rectangle_sum_is_the_contour_sum() {
     std::println!("4000 pairs, {facing} facing, worst |ΔF| {worst:e}");
     assert!(facing > 1000, "{facing}");
 }
+
+/// `point_to_polygon` gives the bits of the clipped path (the polygon's plane, its rounding
+/// tolerance and the horizon clip) on random convex polygons and points: in front, behind,
+/// straddling the horizon, near the plane, far from the origin, with repeated vertices;
+/// and the path without the tolerance is taken in a good share of the cases and never
+/// where the clipped path returns early.
+#[test]
+fn point_to_polygon_without_its_tolerance_is_the_clipped_path() {
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let (mut clear, mut clipped_nonzero) = (0, 0);
+    for case in 0..6000 {
+        let m = 3 + case % 6;
+        let offset = if case % 5 == 0 { 1e3 } else { 1.0 } * DVec3::new(next(), next(), next());
+        let normal = DVec3::new(next(), next(), next()).normalize_or_zero();
+        let u = normal.any_orthonormal_vector();
+        let w = normal.cross(u);
+        let size = if case % 7 == 0 { 1e-4 } else { 1.0 };
+        let mut poly: Vec<DVec3> = (0..m)
+            .map(|k| {
+                let t = core::f64::consts::TAU * (k as f64 + 0.3 * next()) / m as f64;
+                offset + size * (libm::cos(t) * u + libm::sin(t) * w) * (1.0 + 0.2 * next())
+            })
+            .collect();
+        if case % 11 == 3 {
+            poly[1] = poly[0];
+        }
+        let height = match case % 4 {
+            0 => 1e-13,
+            1 => -0.5,
+            _ => 0.3 + next(),
+        };
+        let x = offset + normal * height + DVec3::new(next(), next(), next()) * 0.5;
+        let n = match case % 3 {
+            0 => -normal,
+            1 => DVec3::new(next(), next(), next()),
+            _ => -normal + 0.3 * DVec3::new(next(), next(), next()),
+        };
+        let unit = n.normalize_or_zero();
+        let fast = point_to_polygon(x, n, &poly);
+        let full = point_to_clipped_polygon(x, unit, &poly);
+        assert_eq!(fast.to_bits(), full.to_bits(), "case {case}");
+        if clear_of_tolerance(x, unit, &poly) {
+            clear += 1;
+            assert!(full > 0.0, "case {case}");
+        } else if full > 0.0 {
+            clipped_nonzero += 1;
+        }
+    }
+    assert!(
+        clear > 1000 && clipped_nonzero > 300,
+        "{clear} {clipped_nonzero}"
+    );
+}

@@ -124,6 +124,23 @@ impl Target {
         occluders: &[&[DVec3]],
         work: &mut Workspace,
     ) -> Result<f64> {
+        self.visible_form_factor_with(x, n, occluders, &[], work)
+    }
+
+    /// [`Self::visible_form_factor`], the same bits, told for each occluder whether
+    /// [`Self::keeps_in_front`] holds for it (`in_front[k]`; missing entries: not known),
+    /// so that the clip to the target's front, which would leave it as it is, is skipped.
+    ///
+    /// # Errors
+    /// Those of [`Self::visible_form_factor`].
+    pub fn visible_form_factor_with(
+        &self,
+        x: DVec3,
+        n: DVec3,
+        occluders: &[&[DVec3]],
+        in_front: &[bool],
+        work: &mut Workspace,
+    ) -> Result<f64> {
         let dx = self.plane.distance(x);
         let tol = super::super::exact_3d::ON_PLANE
             * (self.plane.magnitude + x.abs().max_element() + self.plane.radius);
@@ -135,8 +152,9 @@ impl Target {
             self.pyramid(x, dx, work);
         }
         let mut any_shadow = false;
-        for occluder in occluders {
-            if !self.shadow(x, dx, occluder, work) {
+        for (k, occluder) in occluders.iter().enumerate() {
+            let in_front = in_front.get(k).copied().unwrap_or(false);
+            if !self.shadow(x, dx, occluder, in_front, work) {
                 continue;
             }
             if !any_shadow {
@@ -161,6 +179,25 @@ impl Target {
             sum.add(point_to_polygon(x, n, &work.space));
         }
         Ok(sum.total().clamp(0.0, 1.0))
+    }
+
+    /// Whether `occluder` lies on the kept side of the first clipping plane of every point,
+    /// the target's own plane (`n · y − n · o ≥ 0`, the expression of [`Self::pyramid`]'s
+    /// plane and of [`clip3`], for every vertex `y`), with no two consecutive vertices
+    /// equal (the last and the first included). Then that clip leaves the occluder as it
+    /// is at every point, whatever the point's tolerance (a snapped distance is 0 or the
+    /// distance itself, both `≥ 0`), and no vertex is beyond it, so
+    /// [`Self::visible_form_factor_with`] may skip the plane: the same bits. The plane
+    /// does not depend on the point, so this is known once per target and occluder.
+    pub fn keeps_in_front(&self, occluder: &[DVec3]) -> bool {
+        let (n, o) = (self.plane.normal, self.plane.origin);
+        let offset = n.dot(o);
+        let m = occluder.len();
+        m >= 3
+            && (0..m).all(|k| {
+                let y = occluder[k];
+                n.dot(y) - offset >= 0.0 && y != occluder[if k + 1 == m { 0 } else { k + 1 }]
+            })
     }
 
     /// The clipping planes of a point's shadows, as `(normal, offset, tolerance)` of the
@@ -204,13 +241,24 @@ impl Target {
     /// vertex `y` lies on a sight line from `x` to the target, between them, and is
     /// projected to where that line meets the target's plane,
     /// `y ↦ x + d(x) / (d(x) − d(y)) · (y − x)`.
-    fn shadow(&self, x: DVec3, dx: f64, occluder: &[DVec3], work: &mut Workspace) -> bool {
+    ///
+    /// `in_front`: [`Self::keeps_in_front`] holds for `occluder`, so the first plane (the
+    /// target's), whose clip would leave it as it is and which none of its vertices is
+    /// beyond, is skipped.
+    fn shadow(
+        &self,
+        x: DVec3,
+        dx: f64,
+        occluder: &[DVec3],
+        in_front: bool,
+        work: &mut Workspace,
+    ) -> bool {
         let n = self.plane.normal;
         let o = self.plane.origin;
+        let first = usize::from(in_front).min(work.planes.len());
         // Wholly outside one of the planes (beyond its tolerance): the clips below would
         // leave nothing, so skip them.
-        if work
-            .planes
+        if work.planes[first..]
             .iter()
             .any(|&(normal, offset, tol)| occluder.iter().all(|&y| normal.dot(y) - offset < -tol))
         {
@@ -223,7 +271,7 @@ impl Target {
         let mut distinct = false;
         // In front of the target's plane, short of the near guard, inside the pyramid from
         // x over the target (the planes of `pyramid`, in that order).
-        for k in 0..work.planes.len() {
+        for k in first..work.planes.len() {
             if work.a.len() < 3 {
                 return false;
             }
