@@ -48,9 +48,10 @@
 //!
 //! # Outer integral: adaptive, with an error estimate
 //!
-//! The source is the smaller patch of the pair, clipped to the front of the target's
-//! plane and cut into a fan of triangles (first cut along the visibility events through
-//! the points where an occluder touches it, `contacts.rs`). On each triangle a degree-5, 7-point rule is
+//! The source is the smaller patch of the pair (or the other one when its initial triangles
+//! times its area are fewer and no candidate comes near it), clipped to the front of the
+//! target's plane and cut into a fan of triangles (first cut along the visibility events
+//! through the points where an occluder touches it, `contacts.rs`). On each triangle a degree-5, 7-point rule is
 //! compared with the same rule on its four midpoint children; the leaf with the largest
 //! difference is split (globally adaptive, so refinement follows the visibility events
 //! where `F_{dx→vis(j)}` has kinks) until the differences sum to at most
@@ -650,19 +651,27 @@ fn hidden_by_solid(
     false
 }
 
-/// The adaptive flux from `src` (the integration side) to `tgt` past the occluders
-/// `cands` of `occ`.
-#[allow(clippy::too_many_arguments)]
-fn integrate_pair(
-    src: &[DVec3],
-    ps: &Plane,
-    tgt: &[DVec3],
-    pt: &Plane,
-    (occ, solids, solid_of): (&[Occluder], &[Solid], &[u32]),
+/// One side of a pair prepared for its outer integral: its candidates and its initial
+/// triangles (the source's part in front of the target's plane cut at contacts and
+/// events, `contacts.rs`).
+struct Side<'s> {
+    ps: &'s Plane,
+    tgt: &'s [DVec3],
+    pt: &'s Plane,
+    cands: Vec<u32>,
+    triangles: Vec<[DVec3; 3]>,
+}
+
+/// `src` (the integration side) towards `tgt` past the candidates `cands` of `occ`,
+/// prepared for [`integrate_side`]; `None` when no part of `src` lies in front of the
+/// target's plane (the flux is 0).
+fn prepare_side<'s>(
+    (src, ps): (&'s [DVec3], &'s Plane),
+    (tgt, pt): (&'s [DVec3], &'s Plane),
+    occ: &[Occluder],
     cands: &[u32],
     touch: f64,
-    options: &OcclusionOptions,
-) -> Result<OccludedFlux> {
+) -> Option<Side<'s>> {
     let tol = ON_PLANE * (ps.magnitude.max(pt.magnitude) + ps.radius + pt.radius);
     // The source's part in front of the target's plane (the rest sees its back).
     let front = HalfSpace {
@@ -673,12 +682,60 @@ fn integrate_pair(
     let mut clipped: Vec<DVec3> = Vec::with_capacity(src.len() + 1);
     front.for_each_clipped_edge(src, |a, _| clipped.push(a));
     if clipped.len() < 3 {
-        return Ok(OccludedFlux {
+        return None;
+    }
+    let touching: Vec<&[DVec3]> = cands
+        .iter()
+        .map(|&k| occ[k as usize].vertices.as_slice())
+        .collect();
+    let triangles = contacts::initial_triangles(&clipped, ps, tgt, &touching, touch);
+    Some(Side {
+        ps,
+        tgt,
+        pt,
+        cands: cands.to_vec(),
+        triangles,
+    })
+}
+
+/// The adaptive flux from `src` (the integration side) to `tgt` past the occluders
+/// `cands` of `occ`.
+#[allow(clippy::too_many_arguments)]
+fn integrate_pair(
+    src: &[DVec3],
+    ps: &Plane,
+    tgt: &[DVec3],
+    pt: &Plane,
+    bodies: (&[Occluder], &[Solid], &[u32]),
+    cands: &[u32],
+    touch: f64,
+    options: &OcclusionOptions,
+) -> Result<OccludedFlux> {
+    match prepare_side((src, ps), (tgt, pt), bodies.0, cands, touch) {
+        Some(side) => integrate_side(&side, bodies, touch, options),
+        None => Ok(OccludedFlux {
             flux: 0.0,
             error: 0.0,
             points: 0,
-        });
+        }),
     }
+}
+
+/// The adaptive flux of a prepared side ([`prepare_side`]): its triangles decided by their
+/// bound ([`budget::bound_small_triangles`]) or integrated ([`outer::integrate_classified`]).
+fn integrate_side(
+    side: &Side<'_>,
+    (occ, solids, solid_of): (&[Occluder], &[Solid], &[u32]),
+    touch: f64,
+    options: &OcclusionOptions,
+) -> Result<OccludedFlux> {
+    let Side {
+        ps,
+        tgt,
+        pt,
+        ref cands,
+        ref triangles,
+    } = *side;
     // The pair's share of the tolerance: the rest is left for the row cap (`cap_rows`).
     let pair_tolerance = INTEGRATION_SHARE * options.tolerance * ps.area.min(pt.area);
     let mut g = PairIntegrand {
@@ -703,13 +760,8 @@ fn integrate_pair(
         in_front: Vec::new(),
     };
     g.prepare_fixed_axes(cands);
-    let touching: Vec<&[DVec3]> = cands
-        .iter()
-        .map(|&k| occ[k as usize].vertices.as_slice())
-        .collect();
-    let triangles = contacts::initial_triangles(&clipped, ps, tgt, &touching, touch);
     let decided = budget::bound_small_triangles(
-        &triangles,
+        triangles,
         cands,
         pair_tolerance,
         (tgt, pt),
@@ -918,6 +970,81 @@ impl<'a> Prepared<'a> {
         )
     }
 
+    /// The adaptive flux of the pair `(src, tgt)` with candidates `cand`: integrated over
+    /// the smaller patch (ties: `src`), or over the other one when its initial triangles
+    /// times its area are fewer than the smaller's (a larger source needs more refinement
+    /// for the same flux tolerance: random rooms at 1e-4 took a third more points when the
+    /// triangles alone decided) and no candidate comes near it ([`Self::near_contact`]).
+    /// One flux either way (2.8) with the same flux tolerance `τ`, so the choice moves only
+    /// the work (issue 23, docs/occlusion.md "Fewer cells: the side cut into fewer
+    /// triangles"). Each side drops the back faces of solids it lies outside of
+    /// ([`Self::drop_back_faces`]); `seen` is reused.
+    fn integrate_either_side(
+        &self,
+        (src, ps): (&[DVec3], &Plane),
+        (tgt, pt): (&[DVec3], &Plane),
+        cand: &[u32],
+        seen: &mut Vec<u32>,
+    ) -> Result<OccludedFlux> {
+        let bodies = (
+            self.occ.list.as_slice(),
+            self.occ.solids.as_slice(),
+            self.occ.solid_of.as_slice(),
+        );
+        // The default side: the smaller patch (ties: src), as before; the other only when
+        // its triangles times its area are fewer and no candidate comes near it (no contact
+        // cut on it).
+        let (a, b) = if ps.area <= pt.area {
+            ((src, ps), (tgt, pt))
+        } else {
+            ((tgt, pt), (src, ps))
+        };
+        let Some(default) = self.side(a, b, cand, seen) else {
+            // No part of the source lies in front of the target's plane.
+            return Ok(OccludedFlux {
+                flux: 0.0,
+                error: 0.0,
+                points: 0,
+            });
+        };
+        let other = self.side(b, a, cand, seen).filter(|o| {
+            (o.triangles.len() as f64) * b.1.area < (default.triangles.len() as f64) * a.1.area
+                && !self.near_contact(b, &o.cands)
+        });
+        integrate_side(
+            other.as_ref().unwrap_or(&default),
+            bodies,
+            self.touch,
+            &self.options,
+        )
+    }
+
+    /// Whether some candidate of `cands` comes, box to box, within the contact reach of
+    /// the source `src` (the touch tolerance plus [`contacts::NEAR_CONTACT`] of its
+    /// radius): the source may then be cut at a contact point.
+    fn near_contact(&self, (src, ps): (&[DVec3], &Plane), cands: &[u32]) -> bool {
+        let (lo, hi) = bounds(src.iter().copied());
+        let reach = self.touch + contacts::NEAR_CONTACT * ps.radius;
+        cands.iter().any(|&k| {
+            let o = &self.occ.list[k as usize];
+            (o.lo - hi).max(lo - o.hi).max(DVec3::ZERO).length() <= reach
+        })
+    }
+
+    /// [`prepare_side`] of `a` towards `b` with the candidates `cand` less the back faces
+    /// `a` cannot see past ([`Self::drop_back_faces`]).
+    fn side<'s>(
+        &self,
+        a: (&'s [DVec3], &'s Plane),
+        b: (&'s [DVec3], &'s Plane),
+        cand: &[u32],
+        seen: &mut Vec<u32>,
+    ) -> Option<Side<'s>> {
+        let mut c = cand.to_vec();
+        self.drop_back_faces(a.0, &mut c, seen);
+        prepare_side(a, b, &self.occ.list, &c, self.touch)
+    }
+
     /// Row `i`: the pairs `(i, j)`, `j > i`, culled, then exact or integrated.
     fn row(&self, i: usize) -> Result<PairRow> {
         let polys = &self.polys;
@@ -996,23 +1123,7 @@ impl<'a> Prepared<'a> {
                 continue;
             } else {
                 out.integrated += 1;
-                // Integrate over the smaller patch (ties: the first).
-                let (a, pa, b, pb) = if ps.area <= pt.area {
-                    (*src, ps, *tgt, pt)
-                } else {
-                    (*tgt, pt, *src, ps)
-                };
-                self.drop_back_faces(a, &mut cand, &mut seen);
-                let r = integrate_pair(
-                    a,
-                    pa,
-                    b,
-                    pb,
-                    (&self.occ.list, &self.occ.solids, &self.occ.solid_of),
-                    &cand,
-                    self.touch,
-                    &self.options,
-                )?;
+                let r = self.integrate_either_side((src, ps), (tgt, pt), &cand, &mut seen)?;
                 if r.error > self.options.tolerance * ps.area.min(pt.area) {
                     out.over_tolerance += 1;
                 }
@@ -1180,4 +1291,100 @@ pub fn scene_form_factors_occluded(
     let polygons: Vec<(usize, usize)> =
         scene.patches().iter().map(|p| (p.first, p.count)).collect();
     form_factors_occluded(scene.points(), &polygons, options)
+}
+
+#[cfg(test)]
+mod side_tests {
+    use super::*;
+
+    /// A floor piece, a ceiling piece of another shape and a strip between: the pair is
+    /// integrated over the side whose triangles times its area are fewer, and its value is
+    /// within its estimate of the same pair integrated finely over either side.
+    #[test]
+    fn the_side_with_fewer_triangles_keeps_its_estimate() {
+        let v = DVec3::new;
+        let points = [
+            // floor piece, facing up
+            v(0.0, 0.0, 0.0),
+            v(1.0, 0.0, 0.0),
+            v(1.0, 1.0, 0.0),
+            v(0.0, 1.0, 0.0),
+            // ceiling piece, a pentagon facing down, shifted
+            v(0.4, 0.2, 2.0),
+            v(0.2, 1.1, 2.0),
+            v(1.3, 1.4, 2.0),
+            v(1.6, 0.6, 2.0),
+            v(1.0, 0.0, 2.0),
+            // a strip between, tilted
+            v(0.45, -1.0, 0.9),
+            v(0.75, -1.0, 1.1),
+            v(0.75, 2.0, 1.1),
+            v(0.45, 2.0, 0.9),
+        ];
+        let polygons = [(0, 4), (4, 5), (9, 4)];
+        let options = OcclusionOptions::new(1e-6);
+        let prepared = Prepared::new(&points, &polygons, &options).unwrap();
+        let (src, ps) = &prepared.polys[0];
+        let (tgt, pt) = &prepared.polys[1];
+        let (mut cand, mut scratch, mut seen) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut shaft, mut interior) = (Shaft::default(), HullInterior::default());
+        candidates(
+            &prepared.polys,
+            &prepared.boxes,
+            &prepared.occ,
+            (0, 1),
+            prepared.touch,
+            &mut cand,
+            &mut scratch,
+            (&mut shaft, &mut interior),
+        );
+        assert!(!cand.is_empty(), "the strip is a candidate");
+        let sides = [
+            prepared
+                .side((src, ps), (tgt, pt), &cand, &mut seen)
+                .unwrap(),
+            prepared
+                .side((tgt, pt), (src, ps), &cand, &mut seen)
+                .unwrap(),
+        ];
+        assert_ne!(
+            sides[0].triangles.len(),
+            sides[1].triangles.len(),
+            "the two sides are cut differently"
+        );
+        let r = prepared
+            .integrate_either_side((src, ps), (tgt, pt), &cand, &mut seen)
+            .unwrap();
+        // The cost of a side: its triangles times its area (the smaller patch on ties).
+        let cost = |s: &Side<'_>, area: f64| s.triangles.len() as f64 * area;
+        let (small, large) = if ps.area <= pt.area { (0, 1) } else { (1, 0) };
+        let areas = [ps.area, pt.area];
+        let fewer = if cost(&sides[large], areas[large]) < cost(&sides[small], areas[small]) {
+            &sides[large]
+        } else {
+            &sides[small]
+        };
+        let bodies = (
+            prepared.occ.list.as_slice(),
+            prepared.occ.solids.as_slice(),
+            prepared.occ.solid_of.as_slice(),
+        );
+        // That side is the one integrated (no contact here).
+        assert_eq!(
+            r,
+            integrate_side(fewer, bodies, prepared.touch, &options).unwrap()
+        );
+        let fine = OcclusionOptions::new(1e-10);
+        for s in &sides {
+            let f = integrate_side(s, bodies, prepared.touch, &fine).unwrap();
+            assert!(
+                (r.flux - f.flux).abs() <= r.error + f.error,
+                "{} vs {} (estimates {:e}, {:e})",
+                r.flux,
+                f.flux,
+                r.error,
+                f.error
+            );
+        }
+    }
 }
