@@ -441,45 +441,27 @@ struct Break {
 
 impl Break {
     /// The break lines of a window: `P`'s slices `[a(s), b(s)]` and `Q`'s `[c(t), d(t)]`,
-    /// each `(value at 0, slope)`.
+    /// each `(value at 0, slope)`: the four end lines `a = d`, `b = c`, `a = c`, `b = d`
+    /// and the equal-width line `b − a = d − c`.
     fn of_window(a: (f64, f64), b: (f64, f64), c: (f64, f64), d: (f64, f64)) -> [Self; 5] {
+        let width = |lo: (f64, f64), hi: (f64, f64)| (hi.0 - lo.0, hi.1 - lo.1);
         [
-            // a(s) − d(t) = 0
-            Self {
-                a: a.1,
-                b: -d.1,
-                c: d.0 - a.0,
-                peaked: true,
-            },
-            // b(s) − c(t) = 0
-            Self {
-                a: b.1,
-                b: -c.1,
-                c: c.0 - b.0,
-                peaked: true,
-            },
-            // a(s) − c(t) = 0
-            Self {
-                a: a.1,
-                b: -c.1,
-                c: c.0 - a.0,
-                peaked: true,
-            },
-            // b(s) − d(t) = 0
-            Self {
-                a: b.1,
-                b: -d.1,
-                c: d.0 - b.0,
-                peaked: true,
-            },
-            // (b − a)(s) − (d − c)(t) = 0
-            Self {
-                a: b.1 - a.1,
-                b: -(d.1 - c.1),
-                c: (d.0 - c.0) - (b.0 - a.0),
-                peaked: false,
-            },
+            Self::meeting(a, d, true),
+            Self::meeting(b, c, true),
+            Self::meeting(a, c, true),
+            Self::meeting(b, d, true),
+            Self::meeting(width(a, b), width(c, d), false),
         ]
+    }
+
+    /// The line `p(s) − q(t) = 0` of two linear functions, each `(value at 0, slope)`.
+    fn meeting(p: (f64, f64), q: (f64, f64), peaked: bool) -> Self {
+        Self {
+            a: p.1,
+            b: -q.1,
+            c: q.0 - p.0,
+            peaked,
+        }
     }
 
     /// The `t` of the line at `s` (`None` for a line parallel to the `t` axis).

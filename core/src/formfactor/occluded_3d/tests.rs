@@ -996,3 +996,94 @@ fn a_source_crossed_by_an_occluder_s_face_plane_keeps_its_estimate() {
         (f - reference).abs()
     );
 }
+
+/// A floor piece, a ceiling piece of another shape and a strip between: the pair is
+/// integrated over the side whose triangles times its area are fewer, and its value is
+/// within its estimate of the same pair integrated finely over either side.
+#[test]
+fn the_side_with_fewer_triangles_keeps_its_estimate() {
+    let v = DVec3::new;
+    let points = [
+        // floor piece, facing up
+        v(0.0, 0.0, 0.0),
+        v(1.0, 0.0, 0.0),
+        v(1.0, 1.0, 0.0),
+        v(0.0, 1.0, 0.0),
+        // ceiling piece, a pentagon facing down, shifted
+        v(0.4, 0.2, 2.0),
+        v(0.2, 1.1, 2.0),
+        v(1.3, 1.4, 2.0),
+        v(1.6, 0.6, 2.0),
+        v(1.0, 0.0, 2.0),
+        // a strip between, tilted
+        v(0.45, -1.0, 0.9),
+        v(0.75, -1.0, 1.1),
+        v(0.75, 2.0, 1.1),
+        v(0.45, 2.0, 0.9),
+    ];
+    let polygons = [(0, 4), (4, 5), (9, 4)];
+    let options = OcclusionOptions::new(1e-6);
+    let prepared = Prepared::new(&points, &polygons, &options).unwrap();
+    let (src, ps) = &prepared.polys[0];
+    let (tgt, pt) = &prepared.polys[1];
+    let (mut cand, mut scratch, mut seen) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut shaft, mut interior) = (Shaft::default(), HullInterior::default());
+    candidates(
+        &prepared.polys,
+        &prepared.boxes,
+        &prepared.occ,
+        (0, 1),
+        prepared.touch,
+        &mut cand,
+        &mut scratch,
+        (&mut shaft, &mut interior),
+    );
+    assert!(!cand.is_empty(), "the strip is a candidate");
+    let sides = [
+        prepared
+            .side((src, ps), (tgt, pt), &cand, &mut seen)
+            .unwrap(),
+        prepared
+            .side((tgt, pt), (src, ps), &cand, &mut seen)
+            .unwrap(),
+    ];
+    assert_ne!(
+        sides[0].triangles.len(),
+        sides[1].triangles.len(),
+        "the two sides are cut differently"
+    );
+    let r = prepared
+        .integrate_either_side((src, ps), (tgt, pt), &cand, &mut seen)
+        .unwrap();
+    // The cost of a side: its triangles times its area (the smaller patch on ties).
+    let cost = |s: &Side<'_>, area: f64| s.triangles.len() as f64 * area;
+    let (small, large) = if ps.area <= pt.area { (0, 1) } else { (1, 0) };
+    let areas = [ps.area, pt.area];
+    let fewer = if cost(&sides[large], areas[large]) < cost(&sides[small], areas[small]) {
+        &sides[large]
+    } else {
+        &sides[small]
+    };
+    let bodies = (
+        prepared.occ.list.as_slice(),
+        prepared.occ.solids.as_slice(),
+        prepared.occ.solid_of.as_slice(),
+    );
+    // That side is the one integrated (no contact here).
+    assert_eq!(
+        r,
+        integrate_side(fewer, bodies, prepared.touch, &options).unwrap()
+    );
+    let fine = OcclusionOptions::new(1e-10);
+    for s in &sides {
+        let f = integrate_side(s, bodies, prepared.touch, &fine).unwrap();
+        assert!(
+            (r.flux - f.flux).abs() <= r.error + f.error,
+            "{} vs {} (estimates {:e}, {:e})",
+            r.flux,
+            f.flux,
+            r.error,
+            f.error
+        );
+    }
+}
