@@ -243,6 +243,16 @@ pub(crate) fn asin(x: f64) -> f64 {
     libm::asin(x)
 }
 
+/// A uniform number in `[0, 1)` from a xorshift64 state (Marsaglia, "Xorshift RNGs", 2003:
+/// shifts 13, 7, 17; the top 53 bits): the tests' cheap, reproducible random source.
+#[cfg(test)]
+pub(crate) fn xorshift_unit(state: &mut u64) -> f64 {
+    *state ^= *state << 13;
+    *state ^= *state >> 7;
+    *state ^= *state << 17;
+    (*state >> 11) as f64 / (1u64 << 53) as f64
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -480,12 +480,7 @@ mod tests {
     #[test]
     fn atan_ratio_is_atan2() {
         let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = || crate::math::xorshift_unit(&mut state);
         let mut cases = 0;
         for _ in 0..200_000 {
             let h = (next() + 0.5) * libm::exp2(libm::floor(40.0 * next() - 20.0));

@@ -505,10 +505,7 @@ mod tests {
 
     /// A uniform number in `[−½, ½)` (xorshift).
     fn next(state: &mut u64) -> f64 {
-        *state ^= *state << 13;
-        *state ^= *state >> 7;
-        *state ^= *state << 17;
-        (*state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        crate::math::xorshift_unit(state) - 0.5
     }
 
     fn random_vector(state: &mut u64) -> DVec3 {

@@ -721,12 +721,7 @@ fn rectangle_sum_is_the_contour_sum() {
 #[test]
 fn point_to_polygon_without_its_tolerance_is_the_clipped_path() {
     let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut next = || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
+    let mut next = || crate::math::xorshift_unit(&mut state) - 0.5;
     let (mut clear, mut clipped_nonzero) = (0, 0);
     for case in 0..6000 {
         let m = 3 + case % 6;

@@ -726,12 +726,7 @@ mod tests {
     #[test]
     fn split2_is_the_two_clips() {
         let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut next = || crate::math::xorshift_unit(&mut state) - 0.5;
         let (mut i1, mut o1, mut i2, mut o2) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut cut = 0;
         for case in 0..2000 {
@@ -788,12 +783,7 @@ mod tests {
     #[test]
     fn cut_is_split2() {
         let mut state = 0x1234_5678_9abc_def1_u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut next = || crate::math::xorshift_unit(&mut state) - 0.5;
         let bits = |v: &[DVec2]| {
             v.iter()
                 .map(|p| (p.x.to_bits(), p.y.to_bits()))
