@@ -18,9 +18,8 @@ pub struct CastCount {
     pub lines: u64,
     /// Hits found, every line's hits sorted by `t` then patch as the tally reads them.
     pub hits: u64,
-    /// The sum of `1 + patch` over the hits, wrapping, each line's hits weighted by their
-    /// rank along it (`rank · (1 + patch)`, rank from 1): a checksum of which patches were
-    /// met and of their order.
+    /// `Σ rank · (1 + patch)` over the hits, wrapping, `rank` the hit's place along its
+    /// line (from 1): a checksum of which patches the lines met and in which order.
     pub patch_checksum: u64,
 }
 
