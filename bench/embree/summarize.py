@@ -63,10 +63,13 @@ def main(path):
         if cfg[0] == "E":
             r = d.get(cfg)
             return r["lines_per_s"] if r else None
-        if cfg[0] == "X":  # ("X", method, threads, "full" | "alone")
+        if cfg[0] == "EC":  # Embree per CPU second of its threads
+            r = d.get(("E",) + cfg[1:])
+            return r["lines"] / r["cpu_s"] if r and r.get("cpu_s") else None
+        if cfg[0] == "X":  # ("X", method, threads, "full" | "alone" | "full_cpu" | "alone_cpu")
             r = d.get(("X",))
             row = r["rows"].get(f"{cfg[1]}_{cfg[2]}t") if r else None
-            return row[cfg[3]] if row else None
+            return row.get(cfg[3]) if row else None
         _, mode, t, kind = cfg
         big, small = d.get(("S", mode, t, "L")), d.get(("S", mode, t, "L0"))
         if big is None:
@@ -91,6 +94,14 @@ def main(path):
         ("sceneinfo split bundle alone 1t", ("X", "bundle", 1, "alone")),
         ("sceneinfo split bundle full 2t", ("X", "bundle", 2, "full")),
         ("sceneinfo split bundle alone 2t", ("X", "bundle", 2, "alone")),
+        # one thread per CPU second (robust to other load; about the wall rate when quiet)
+        ("Embree filter 1t (cpu)", ("EC", "filter", 1)),
+        ("Embree filter+tally 1t (cpu)", ("EC", "filtertally", 1)),
+        ("Embree closest 1t (cpu)", ("EC", "closest", 1)),
+        ("sceneinfo split global full 1t (cpu)", ("X", "global", 1, "full_cpu")),
+        ("sceneinfo split global alone 1t (cpu)", ("X", "global", 1, "alone_cpu")),
+        ("sceneinfo split bundle full 1t (cpu)", ("X", "bundle", 1, "full_cpu")),
+        ("sceneinfo split bundle alone 1t (cpu)", ("X", "bundle", 1, "alone_cpu")),
         ("sceneinfo global 1t (marginal)", ("S", "global", 1, "marginal")),
         ("sceneinfo global 2t (marginal)", ("S", "global", 2, "marginal")),
         ("sceneinfo global 1t (reported)", ("S", "global", 1, "reported")),
@@ -115,12 +126,12 @@ def main(path):
     out.append("M lines/s: min / median / max over repetitions\n")
     for scene in scenes:
         out.append(f"\n## {SCENE_NAMES.get(scene, scene)}\n")
-        out.append(f"{'configuration':34} {'min':>8} {'median':>8} {'max':>8}  n")
+        out.append(f"{'configuration':38} {'min':>8} {'median':>8} {'max':>8}  n")
         for name, cfg in cfgs:
             v = [x for x in (rate(scene, rep, cfg) for rep in reps) if x is not None]
             if not v:
                 continue
-            out.append(f"{name:34} {min(v)/1e6:8.3f} {statistics.median(v)/1e6:8.3f} {max(v)/1e6:8.3f}  {len(v)}")
+            out.append(f"{name:38} {min(v)/1e6:8.3f} {statistics.median(v)/1e6:8.3f} {max(v)/1e6:8.3f}  {len(v)}")
         # hits per line and build times
         hp = defaultdict(list)
         extra = defaultdict(list)
@@ -197,6 +208,10 @@ def main(path):
             ("split bundle full 2t / Embree filter+tally 2t", ("X", "bundle", 2, "full"), ("E", "filtertally", 2)),
             # the goals' ratios with sceneinfo timed in process (no fixed cost to subtract)
             ("split global full 2t / Embree filter 2t", ("X", "global", 2, "full"), ("E", "filter", 2)),
+            ("split global alone 1t / Embree filter 1t (cpu)", ("X", "global", 1, "alone_cpu"), ("EC", "filter", 1)),
+            ("split global full 1t / Embree filter+tally 1t (cpu)", ("X", "global", 1, "full_cpu"),
+             ("EC", "filtertally", 1)),
+            ("split bundle full 1t / Embree closest 1t (cpu)", ("X", "bundle", 1, "full_cpu"), ("EC", "closest", 1)),
             ("split bundle full 2t / Embree closest 2t", ("X", "bundle", 2, "full"), ("E", "closest", 2)),
         ]
         for name, a, b in pairs:
@@ -206,7 +221,7 @@ def main(path):
                 if x and y:
                     v.append(x / y)
             if v:
-                out.append(f"  {name:46} {min(v):6.3f} {statistics.median(v):6.3f} {max(v):6.3f}  n={len(v)}")
+                out.append(f"  {name:52} {min(v):6.3f} {statistics.median(v):6.3f} {max(v):6.3f}  n={len(v)}")
         # each side's tally share: 1 - (rate with the tally) / (rate without), per rep
         out.append("\ntally share of a line's time, 1 - with/without (per rep, then min / median / max):")
         shares = [
