@@ -44,7 +44,8 @@ pub enum Command {
     /// Merge partial results (`measure … --partial`) into the result of one run, bit for bit.
     Merge(MergeArgs),
     /// Benchmark whole jobs: lines/s against a naive baseline, 1 vs N threads, peak memory,
-    /// exact form-factor times and the cost per line against the number of patches.
+    /// exact form-factor times and the cost per line against the number of patches; with
+    /// --split, what casting costs alone against casting and tallying.
     Bench(BenchArgs),
     /// Refine a scene's mesh with an oracle: flatland (.flat) by halving patches (de, power,
     /// regular; thesis §6.5.2), 3D (.obj) by hierarchical radiosity (power, ks, ks-av, mi,
@@ -291,6 +292,46 @@ pub struct BenchArgs {
     /// counts) on all threads, printing the time and the peak resident memory.
     #[arg(long, value_name = "N", value_parser = parse_count)]
     pub memory_lines: Option<u64>,
+    /// Run only the cast/tally split: on 3D scenes, global lines and bundles on 1 and
+    /// --threads threads, each job once with its full tally and once cast alone — the same
+    /// lines, BVH queries or bundle rasters, each line's hits found and sorted as the tally
+    /// gets them, then only counted (with a checksum of the patches) — configurations
+    /// interleaved, marginal rates median [min-max] and the tally's share of a line's time;
+    /// the hits of both must agree (column `same`). On the --scene files, else on the
+    /// Embree harness' three scenes (cube 5400, Cornell grid 10, room of 512 cubes) that
+    /// --only selects.
+    #[arg(long)]
+    pub split: bool,
+    /// With --split: a 3D scene file to run it on (repeatable).
+    #[arg(long, value_name = "FILE", requires = "split")]
+    pub scene: Vec<PathBuf>,
+    /// With --split: the job length L (jobs of L and 2L lines, e.g. 2e6); default grown
+    /// until a full job takes half the measurement time.
+    #[arg(long, value_name = "N", value_parser = parse_count, requires = "split")]
+    pub lines: Option<u64>,
+    /// With --split: only this method (default both).
+    #[arg(long, value_enum, requires = "split")]
+    pub method: Option<SplitMethod>,
+}
+
+/// The line methods `bench --split` compares.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SplitMethod {
+    /// Independent global lines (BVH queries).
+    Global,
+    /// Bundles of parallel lines (rasters).
+    Bundle,
+}
+
+impl SplitMethod {
+    /// The core's sampling method.
+    #[must_use]
+    pub fn line_method(self) -> sceneinfo::tally::LineMethod {
+        match self {
+            SplitMethod::Global => sceneinfo::tally::LineMethod::Global,
+            SplitMethod::Bundle => sceneinfo::tally::LineMethod::Bundle,
+        }
+    }
 }
 
 /// Arguments of `merge`.

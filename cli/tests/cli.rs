@@ -57,6 +57,73 @@ fn errors_name_file_and_line_and_exit_2() {
 }
 
 #[test]
+fn bench_split_casts_the_same_lines_alone_and_with_the_tally() {
+    // A 3D scene file: global lines and bundles, 1 and 2 threads, each job with its tally
+    // and cast alone; both find the same hits (the tally's samples)
+    let obj = preset(&["cube", "--grid", "4"], "split_cube.obj");
+    let obj = obj.to_str().unwrap();
+    let json = stdout_of(&[
+        "bench",
+        "--split",
+        "--scene",
+        obj,
+        "--lines",
+        "20000",
+        "--threads",
+        "2",
+        "--reps",
+        "1",
+        "--json",
+    ]);
+    for method in ["global", "bundle"] {
+        for t in [1, 2] {
+            assert!(
+                json.contains(&format!("split_cube.obj {method} {t}t\":{{")),
+                "{method} {t}t: {json}"
+            );
+        }
+    }
+    assert_eq!(json.matches("\"same_hits\":true").count(), 4, "{json}");
+    // A cube meets a global line 2 · 6/(3π) ≈ 1.27 times on average (Crofton)
+    let hits = json_number(&json, "hits_per_line_alone");
+    assert!((1.0..2.0).contains(&hits), "{hits}");
+    assert_eq!(hits, json_number(&json, "hits_per_line_full"));
+    for key in ["full_lines_per_second", "alone_lines_per_second"] {
+        let v = json_number(&json, key);
+        assert!(v > 0.0 && v.is_finite(), "{key} = {v}");
+    }
+    // One method only
+    let json = stdout_of(&[
+        "bench",
+        "--split",
+        "--scene",
+        obj,
+        "--lines",
+        "5000",
+        "--threads",
+        "1",
+        "--reps",
+        "1",
+        "--method",
+        "bundle",
+        "--json",
+    ]);
+    assert!(!json.contains(" global "), "{json}");
+    assert_eq!(json.matches("\"same_hits\":true").count(), 1, "{json}");
+    // Flatland is refused with the file named
+    let flat = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/room620.flat");
+    let out = bin()
+        .args(["bench", "--split", "--scene"])
+        .arg(&flat)
+        .args(["--lines", "1000"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("room620.flat") && err.contains("3D"), "{err}");
+}
+
+#[test]
 fn zero_lines_is_an_error() {
     let path = temp("square.flat");
     let st = bin()

@@ -28,6 +28,8 @@ use sceneinfo_report::JsonObject;
 
 use crate::args::BenchArgs;
 
+mod split;
+
 /// Seed of every benchmark job.
 const SEED: u64 = 9;
 
@@ -135,6 +137,9 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
         }
     };
     let wanted = |name: &str| args.only.as_ref().is_none_or(|o| name.contains(o.as_str()));
+    if args.split {
+        return run_split(args, threads, budget, reps);
+    }
 
     // Monte Carlo scenes: flatland, then 3D
     let flat: [Named<Scene2>; 2] = [
@@ -236,7 +241,7 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
     let total = start.elapsed().as_secs_f64();
     let load = [load_before, load_average()];
     let cores = crate::config::cores();
-    let noise = noise(&mc, &bundles, &curve, load, cores);
+    let noise = noise(&mc, &bundles, &curve, &[], load, cores);
     let report = Report {
         reps,
         cores,
@@ -245,7 +250,74 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
         bundles: &bundles,
         exact: &exact,
         curve: &curve,
+        split: &[],
         memory: memory.as_ref(),
+        threads,
+        load,
+        total,
+    };
+    let mut out = std::io::stdout().lock();
+    if args.json {
+        writeln!(out, "{}", json(&report)?)?;
+    } else {
+        write!(out, "{}", table(&report, budget))?;
+    }
+    out.flush()?;
+    Ok(())
+}
+
+/// `bench --split`: the cast/tally split ([`split`]) on the `--scene` files, else on the
+/// harness' scenes `--only` selects, printed alone.
+fn run_split(args: &BenchArgs, threads: usize, budget: f64, reps: usize) -> Result<()> {
+    let start = Instant::now();
+    let load_before = load_average();
+    let note = |s: &str| {
+        if !args.json {
+            eprintln!("bench: {s}");
+        }
+    };
+    let methods = match args.method {
+        Some(m) => vec![m.line_method()],
+        None => vec![LineMethod::Global, LineMethod::Bundle],
+    };
+    let mut rows = Vec::new();
+    if args.scene.is_empty() {
+        let wanted = |name: &str| args.only.as_ref().is_none_or(|o| name.contains(o.as_str()));
+        for (name, make) in split::SCENES.into_iter().filter(|(n, _)| wanted(n)) {
+            note(&format!("split: {name}"));
+            rows.extend(split::scene_rows(
+                name,
+                &make()?,
+                &methods,
+                args.lines,
+                budget,
+                threads,
+                reps,
+            )?);
+        }
+    }
+    for path in &args.scene {
+        let name = path.display().to_string();
+        note(&format!("split: {name}"));
+        let scene = split::load(path)?;
+        rows.extend(split::scene_rows(
+            &name, &scene, &methods, args.lines, budget, threads, reps,
+        )?);
+    }
+    let total = start.elapsed().as_secs_f64();
+    let load = [load_before, load_average()];
+    let cores = crate::config::cores();
+    let noise = noise(&[], &[], &[], &rows, load, cores);
+    let report = Report {
+        reps,
+        cores,
+        noise: &noise,
+        mc: &[],
+        bundles: &[],
+        exact: &[],
+        curve: &[],
+        split: &rows,
+        memory: None,
         threads,
         load,
         total,
@@ -272,6 +344,8 @@ struct Report<'a> {
     bundles: &'a [BundleRow],
     exact: &'a [ExactRow],
     curve: &'a [CurvePoint],
+    /// The cast/tally split (`--split`).
+    split: &'a [split::SplitRow],
     memory: Option<&'a MemoryCheck>,
     threads: usize,
     /// The 1-minute load average before and after.
@@ -644,6 +718,7 @@ fn noise(
     mc: &[McRow],
     bundles: &[BundleRow],
     curve: &[CurvePoint],
+    split: &[split::SplitRow],
     load: [Option<f64>; 2],
     cores: usize,
 ) -> Vec<String> {
@@ -673,6 +748,11 @@ fn noise(
     }
     for p in curve {
         check(format!("curve {}", p.mesh), &p.ns_per_line);
+    }
+    for r in split {
+        for (what, s) in r.spreads() {
+            check(what, s);
+        }
     }
     why
 }
@@ -837,6 +917,7 @@ fn table(r: &Report, budget: f64) -> String {
             p.ns_per_line.median / (p.patches as f64).log2()
         );
     }
+    split::table(&mut s, r.split);
     if let Some(m) = r.memory {
         let _ = writeln!(
             s,
@@ -935,6 +1016,9 @@ fn json(r: &Report) -> Result<String> {
         }
         Ok(())
     })?;
+    if !r.split.is_empty() {
+        split::json(&mut o, r.split)?;
+    }
     if let Some(m) = r.memory {
         o.object("memory_check", |o| {
             o.integer("patches", m.patches as u64)?;

@@ -217,6 +217,34 @@ impl Tracer3 {
     /// stratified directions, every line tallied as a global line, each sheaf one group
     /// of the standard error.
     fn trace_chunk_bundles(&self, seed: u64, n_lines: u64, chunk: u64, tally: &mut LineTally) {
+        let mut scratch = (BundleHits3::new(), Vec::new());
+        let (mut sum, mut samples, mut lines) = (0.0, 0u64, 0u64);
+        self.for_each_chunk_bundle(seed, n_lines, chunk, |bundle, sheaf_ends| {
+            let (s, n, m) = self.tally_bundle(bundle, &mut scratch, tally);
+            sum += s;
+            samples += n;
+            lines += m;
+            if sheaf_ends {
+                tally.end_group(sum, samples, lines);
+                (sum, samples, lines) = (0.0, 0, 0);
+            }
+        });
+        // Counts are observed only between chunks: apply the increments held back
+        tally.counts.settle();
+    }
+
+    /// Calls `each(bundle, sheaf_ends)` for the bundles of chunk `chunk` of an `n_lines`
+    /// job in order (module docs, "Bundles"), `sheaf_ends` true for the last bundle of
+    /// each sheaf (every sheaf has at least one): the lines of a bundle job, whether they
+    /// are tallied ([`Tracer3::trace_chunk_bundles`]) or only cast (the benchmarks'
+    /// `cast_chunk`), drawn from [`chunk_rng`]`(seed, chunk)` the same way.
+    pub(super) fn for_each_chunk_bundle(
+        &self,
+        seed: u64,
+        n_lines: u64,
+        chunk: u64,
+        mut each: impl FnMut(&GlobalBundle3, bool),
+    ) {
         let mut rng = chunk_rng(seed, chunk);
         let range = chunk_range(n_lines, chunk);
         let budget = range.end - range.start;
@@ -228,25 +256,17 @@ impl Tracer3 {
         let bundles = ((budget + per_bundle / 2) / per_bundle).max(1);
         let expected = budget as f64 / bundles as f64;
         let sheaves = bundles.div_ceil(SHEAF_BUNDLES_3D);
-        let mut scratch = (BundleHits3::new(), Vec::new());
         for sheaf in 0..sheaves {
             // Sheaf sizes differ by at most one
             let size = (bundles / sheaves + u64::from(sheaf < bundles % sheaves)) as u32;
             let shift = canonical_2d(&mut rng);
-            let (mut sum, mut samples, mut lines) = (0.0, 0u64, 0u64);
             for k in 0..size {
                 let u_dir = sheaf_direction_sample(k, size, shift);
                 let bundle =
                     GlobalBundle3::new(&self.sphere, u_dir, canonical_2d(&mut rng), expected);
-                let (s, n, m) = self.tally_bundle(&bundle, &mut scratch, tally);
-                sum += s;
-                samples += n;
-                lines += m;
+                each(&bundle, k + 1 == size);
             }
-            tally.end_group(sum, samples, lines);
         }
-        // Counts are observed only between chunks: apply the increments held back
-        tally.counts.settle();
     }
 
     /// Casts one bundle by the raster and tallies each line as a global line, returning
@@ -385,6 +405,7 @@ impl Tracer3 {
 }
 
 mod query;
+pub use query::CastCount;
 
 #[cfg(test)]
 mod tests {
