@@ -149,7 +149,8 @@ pub fn write(
 /// The sparse matrix: a comment line, then one line `i,j,F_ij,err_ij` per non-zero entry
 /// and per zero entry whose estimate is not 0 (a pair decided as `0 ± U` or integrated to
 /// exactly 0 past occluders), rows in order, columns increasing within a row (the compressed-row order), `err_ij` the
-/// entry's error estimate (0 for an exact entry; empty for Monte Carlo, whose errors are
+/// entry's error estimate (0 in a scene no polygon can hide; for an exact pair of an
+/// occluded scene its contour sum's rounding estimate; empty for Monte Carlo, whose errors are
 /// statistical, and for the background state). Shortest round-trip decimals.
 fn sparse_text(m: &Measurement) -> String {
     let (n, np, background) = m.form_factors().map_or((0, 0, false), |f| {

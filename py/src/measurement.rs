@@ -373,8 +373,9 @@ impl PyMeasurement {
     }
 
     /// The error estimate of each entry of `form_factors_csr()`'s `data`, in the same
-    /// order: 0 for an exact entry, the a-posteriori estimate of a pair integrated past
-    /// occluders, NaN where there is none (Monte Carlo form factors, whose errors are
+    /// order: 0 for an entry of a scene no polygon can hide, the contour sum's rounding
+    /// estimate for an exact pair of an occluded scene, the a-posteriori estimate of a pair
+    /// integrated past occluders, NaN where there is none (Monte Carlo form factors, whose errors are
     /// statistical, and the background state's entries).
     fn form_factor_errors<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         let mut out = Vec::new();

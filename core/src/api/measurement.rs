@@ -346,7 +346,8 @@ impl Measurement {
     /// Calls `f(i, j, F_ij, error)` for every non-zero form factor, rows in order and
     /// columns increasing within a row (the background state's row and column too, last,
     /// when the scene is open): `error` is the entry's error estimate for exact form
-    /// factors (0 for an exact pair; [`Measurement::exact_errors`]), `None` for the
+    /// factors (0 in a scene no polygon can hide; for an exact pair of an occluded scene its
+    /// contour sum's rounding estimate; [`Measurement::exact_errors`]), `None` for the
     /// background state's entries and for Monte Carlo form factors, whose errors are
     /// statistical. Nothing when some patch received no line.
     pub fn for_each_form_factor(&self, mut f: impl FnMut(usize, usize, f64, Option<f64>)) {

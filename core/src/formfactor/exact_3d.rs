@@ -49,10 +49,23 @@
 //!   from perpendicular (`J_pq ∝ e_p · e_q`) whose `|J_pq|` is bounded below half its share
 //!   is skipped instead (`Kernel::negligible` in `contour.rs`): axis-aligned meshes whose
 //!   coordinates are not binary fractions have ~10⁵ such pairs at 600 patches.
-//! - Rounding: the edge-pair terms cancel, from about `r²` (the polygons' distance squared)
-//!   down to `A_i A_j / r²`. Their sum is compensated, so `F_ij` carries an absolute error of
-//!   a few ulps of `Σ|J_pq| / (2π A_i)`: below 10⁻¹² for the 10 × 10-per-face cube, and below
-//!   10⁻⁹ while `r / √A` stays under about 10³.
+//! - Rounding: the elementary terms of the edge-pair integrals (`¼(u² − h²) ln(r²/ℓ²)`,
+//!   `h u atan(u/h)`, …) cancel, from about `r · L` (`r` the polygons' distance, `L` an
+//!   edge's length) down to the flux, `A_i A_j / r²` at a distance. `contour.rs` ("Rounding")
+//!   counts their roundings: with `M = Σ m / 2π` the magnitude of the terms (the log and
+//!   arctangent conditions included), a contour sum is within `11ε M` of its exact value in
+//!   the worst case, every rounding at its largest and of one sign. Rounding errors add
+//!   like a random walk, not like that: cut into other triangles, the same pair's sums
+//!   differ by at most 1/45 of the sum of their estimates below
+//!   (`cut_sums_agree_within_their_rounding_estimates`: issue 23's Cornell pairs, one a
+//!   sliver triangle against a patch of 1,000 times its area, against 40-digit references),
+//!   the worst case `11ε M` at least 500 times the errors seen. So `pair_flux` returns the
+//!   estimate
+//!   `ROUNDING_ULPS · ε · M` (2 ulps), plus `GEOMETRY_ULPS · ε · (S/ρ) |flux|` for the
+//!   rounding of the vertices (`S` the coordinates' magnitude, `ρ` the smaller radius), plus
+//!   the skew pairs' quadrature estimate (Cornell 810's exact pairs: a median `8·10⁻¹¹` of
+//!   `F`, at most `7·10⁻¹¹` absolute). The occluded path carries it
+//!   into every estimate (`occluded_3d`); the unoccluded matrix has none.
 //!
 //! Tests compare with the classical closed forms for rectangles (parallel and perpendicular;
 //! Howell's catalogue C-11 and C-14), with the differential-area-to-rectangle formula, with
@@ -281,17 +294,38 @@ pub(crate) fn polygon_to_polygon(source: &[DVec3], target: &[DVec3]) -> f64 {
     }
 }
 
-/// `(A_i F_ij, Σ|J_pq| / 2π)`: the flux and the magnitude of the terms that cancelled in it
-/// (a few ulps of the latter bound the rounding error of the former).
+/// Units in the last place, of the magnitude `M = Σ m / 2π` of the elementary terms that
+/// cancel in a contour sum, that bound its rounding: each `J_pq` is within `8ε` of its
+/// terms' `Σ m` (`contour.rs`, "Rounding"), their compensated sum adds `2ε Σ|J_pq|`,
+/// the division by `2π` one more `ε` of the result: `11ε M` in all, taken as `16ε M`.
+pub(crate) const ROUNDING_ULPS: f64 = 2.0;
+
+/// Units in the last place of the coordinates' magnitude `S` by which rounding moves the
+/// vertices (the edges' directions and the clipped vertices, each a few operations on
+/// coordinates of magnitude `S`), relative to the smaller polygon's radius `ρ`: a
+/// perturbation `δ` of the vertices changes the flux by about `|flux| δ / ρ` (areas by
+/// `δ · perimeter`, the kernel by `δ / r`), so `|δ flux| ≤ GEOMETRY_ULPS ε (S / ρ) |flux|`.
+pub(crate) const GEOMETRY_ULPS: f64 = 4.0;
+
+/// `(A_i F_ij, error bound)`: the flux and a bound on its error, the rounding of the
+/// contour sum (`ROUNDING_ULPS ε M`, `M` the magnitude of its cancelling terms), the
+/// rounding of the vertices (`GEOMETRY_ULPS ε (S / ρ) |flux|`) and the estimate of its skew
+/// edge pairs' quadrature (`Σ |K₁₅ − G₇| / 2π`, see the module documentation).
 ///
 /// Two axis-aligned rectangles take the written-out sum of `rectangle.rs`; every other pair
 /// the general contour sum.
 pub(crate) fn pair_flux(src: &[DVec3], ps: &Plane, tgt: &[DVec3], pt: &Plane) -> (f64, f64) {
-    if let (Some(rs), Some(rt)) = (&ps.rect, &pt.rect) {
+    let (flux, magnitude, quadrature) = if let (Some(rs), Some(rt)) = (&ps.rect, &pt.rect) {
         let ell = log_scale(ps, pt);
-        return rectangle::rect_flux(rs, rt, contact(ps, pt), 1.0 / (ell * ell));
-    }
-    contour_flux(src, ps, tgt, pt)
+        rectangle::rect_flux(rs, rt, contact(ps, pt), 1.0 / (ell * ell))
+    } else {
+        contour_flux(src, ps, tgt, pt)
+    };
+    let rho = ps.radius.min(pt.radius);
+    let geometry = ps.magnitude.max(pt.magnitude) / rho * flux;
+    let error = f64::EPSILON * (ROUNDING_ULPS * magnitude + GEOMETRY_ULPS * geometry) + quadrature;
+    // A degenerate pair (ρ = 0, returned as 0) has no error to speak of; never NaN.
+    (flux, if error.is_finite() { error } else { 0.0 })
 }
 
 /// The distance under which a vertex of one polygon counts as on the other's plane.
@@ -309,8 +343,9 @@ fn log_scale(ps: &Plane, pt: &Plane) -> f64 {
     crate::math::sqrt((pt.centroid - ps.centroid).length_squared()).max(ps.radius + pt.radius)
 }
 
-/// [`pair_flux`] by the general double contour sum (any convex polygons).
-fn contour_flux(src: &[DVec3], ps: &Plane, tgt: &[DVec3], pt: &Plane) -> (f64, f64) {
+/// [`pair_flux`] by the general double contour sum (any convex polygons): `(A_i F_ij, M,
+/// quadrature estimate)`, `M = Σ m / 2π` the magnitude of the cancelling terms (`contour.rs`).
+fn contour_flux(src: &[DVec3], ps: &Plane, tgt: &[DVec3], pt: &Plane) -> (f64, f64, f64) {
     let tol = contact(ps, pt);
     // Each polygon clipped to the front of the other's plane.
     let clip_src = HalfSpace {
@@ -324,7 +359,7 @@ fn contour_flux(src: &[DVec3], ps: &Plane, tgt: &[DVec3], pt: &Plane) -> (f64, f
         tol,
     };
     if !clip_src.reaches(src) || !clip_tgt.reaches(tgt) {
-        return (0.0, 0.0);
+        return (0.0, 0.0, 0.0);
     }
     let ell = log_scale(ps, pt);
     let edges = ((src.len() + 1) * (tgt.len() + 1)) as f64;
@@ -333,10 +368,11 @@ fn contour_flux(src: &[DVec3], ps: &Plane, tgt: &[DVec3], pt: &Plane) -> (f64, f
         tol: 2.0 * PI * QUADRATURE_TOLERANCE * ps.area.min(pt.area) / edges,
     };
     let mut sum = KahanSum::new();
-    let mut magnitude = 0.0;
-    let mut add = |j: f64| {
-        sum.add(j);
-        magnitude += j.abs();
+    let (mut magnitude, mut quadrature) = (0.0, 0.0);
+    let mut add = |j: contour::Term| {
+        sum.add(j.value);
+        magnitude += j.magnitude;
+        quadrature += j.quadrature;
     };
     // The target's clipped edges once (streamed again per source edge only when a polygon
     // has more than BUFFERED_EDGES of them); the order of the terms is the same either way.
@@ -358,7 +394,11 @@ fn contour_flux(src: &[DVec3], ps: &Plane, tgt: &[DVec3], pt: &Plane) -> (f64, f
             clip_tgt.for_each_clipped_edge(tgt, |c, d| add(kernel.edges(&p, &Edge::new(c, d))));
         });
     }
-    ((sum.total() / (2.0 * PI)).max(0.0), magnitude / (2.0 * PI))
+    (
+        (sum.total() / (2.0 * PI)).max(0.0),
+        magnitude / (2.0 * PI),
+        quadrature / (2.0 * PI),
+    )
 }
 
 /// The polygons `(first, count)` of `points` with their planes, validated.

@@ -101,6 +101,15 @@
 //! 0; only the other triangles are refined. A pair with no candidate keeps the exact unoccluded
 //! path, bit for bit; a scene where no pair has one is
 //! [`exact_3d::form_factors_unoccluded`]'s.
+//!
+//! **The closed forms' rounding.** A value known in closed form (a pair with no candidate,
+//! a cell of the outer integral with none left) is a contour sum whose terms cancel: its
+//! estimate is `pair_flux`'s second value, a few ulps of the magnitude of those terms
+//! (`exact_3d`, "Error bound"). The cells' estimates add up to the pair's, so the same pair
+//! summed over other cells (another tolerance, the other side) agrees within the two
+//! estimates (issue 23: before, such pairs claimed `10⁻²⁰` and differed by `10⁻¹²` of
+//! their value). In a scene where no polygon may hide another the estimates stay 0 (none
+//! are reported and no row is capped): the values are `form_factors_unoccluded`'s.
 
 mod budget;
 mod contacts;
@@ -241,7 +250,8 @@ impl Default for OcclusionOptions {
 pub struct OccludedFlux {
     /// `A_i F_ij = A_j F_ji`.
     pub flux: f64,
-    /// A-posteriori estimate of the flux's absolute error (0 for the exact path).
+    /// A-posteriori estimate of the flux's absolute error (for the exact path, and for the
+    /// cells known in closed form, the contour sums' rounding estimate, `pair_flux`).
     pub error: f64,
     /// Points at which the inner integral was evaluated (0 for the exact path).
     pub points: u64,
@@ -253,8 +263,10 @@ pub struct OccludedFlux {
 pub struct OccludedFormFactors {
     /// The form factors (reciprocal by construction, 2.8).
     pub form_factors: FormFactors,
-    /// Row-major `n × n`: the a-posteriori estimate of the absolute error of `F_ij` (0 for
-    /// pairs by the exact unoccluded path and pairs that cannot see each other).
+    /// Row-major `n × n`: the a-posteriori estimate of the absolute error of `F_ij` (for
+    /// pairs by the exact unoccluded path, the contour sum's rounding estimate; 0 for pairs
+    /// that cannot see each other, and for every pair of a scene where no polygon may hide
+    /// another).
     pub errors: Vec<f64>,
     /// The tolerance asked for.
     pub tolerance: f64,
@@ -341,7 +353,8 @@ pub fn point_to_visible_polygon(
 /// its error estimate: the adaptive outer integral over the smaller of the two of the
 /// exact inner integral ([`point_to_visible_polygon`]), to
 /// `INTEGRATION_SHARE · tolerance · min(A_i, A_j)` (half the tolerance, as in a whole job).
-/// With no occluders, the exact [`exact_3d::unoccluded_flux`]. The occluders are used as
+/// With no occluders, the exact [`exact_3d::unoccluded_flux`] with its rounding estimate.
+/// The occluders are used as
 /// given (not merged); each triangle of the outer integral keeps those that meet the
 /// convex hull of it and the target, and is integrated exactly when none does (see the
 /// module documentation).
@@ -359,9 +372,10 @@ pub fn occluded_flux(
     let ps = Plane::of(source).ok_or(ErrorKind::DegenerateFace)?;
     let pt = Plane::of(target).ok_or(ErrorKind::DegenerateFace)?;
     if occluders.is_empty() {
+        let (flux, error) = pair_flux(source, &ps, target, &pt);
         return Ok(OccludedFlux {
-            flux: pair_flux(source, &ps, target, &pt).0,
-            error: 0.0,
+            flux,
+            error,
             points: 0,
         });
     }
@@ -453,6 +467,10 @@ struct PairIntegrand<'s, 'o> {
     /// candidates.
     in_front_of: Vec<u32>,
     in_front: Vec<bool>,
+    /// The summed error bounds ([`pair_flux`]'s second value: rounding and the skew edge
+    /// pairs' quadrature) of the triangles [`classify`](outer::Integrand::classify) gave
+    /// their exact unoccluded flux.
+    exact_error: KahanSum,
 }
 
 impl PairIntegrand<'_, '_> {
@@ -555,7 +573,9 @@ impl outer::Integrand for PairIntegrand<'_, '_> {
             out.push(k);
         }
         if out.is_empty() {
-            return Ok(Some(pair_flux(tri, &pl, self.tgt, &self.pt).0));
+            let (flux, error) = pair_flux(tri, &pl, self.tgt, &self.pt);
+            self.exact_error.add(error);
+            return Ok(Some(flux));
         }
         if hidden_by_solid(
             out,
@@ -758,6 +778,7 @@ fn integrate_side(
         interior: HullInterior::default(),
         in_front_of: Vec::new(),
         in_front: Vec::new(),
+        exact_error: KahanSum::new(),
     };
     g.prepare_fixed_axes(cands);
     let decided = budget::bound_small_triangles(
@@ -777,7 +798,10 @@ fn integrate_side(
     )?;
     Ok(OccludedFlux {
         flux: (r.value + decided.value).max(0.0),
-        error: r.error + decided.error,
+        // The exact triangles' rounding (and quadrature) bounds: what the closed forms
+        // summed over the cells carry (issue 23, docs/occlusion.md "The exact kernel's
+        // rounding in the estimates").
+        error: r.error + decided.error + g.exact_error.total(),
         points: r.points.saturating_add(decided.probes),
     })
 }
@@ -827,7 +851,8 @@ fn candidates(
 /// polygons counter-clockwise about their fronts — with occlusion, each with an error
 /// estimate (see the module documentation). When no polygon may hide another
 /// ([`exact_3d::may_be_occluded`]) this is [`exact_3d::form_factors_unoccluded`], bit for
-/// bit, with zero estimates.
+/// bit, with zero estimates; otherwise the pairs by the exact path carry their rounding
+/// estimate.
 ///
 /// # Errors
 /// The options' ([`OcclusionOptions::check`]); those of
@@ -1082,9 +1107,15 @@ impl<'a> Prepared<'a> {
                 );
             }
             let r = if !self.may_occlude || cand.is_empty() {
+                // The exact path. In a scene where some polygon may hide another, its
+                // estimate is the contour sum's rounding (and skew quadrature) estimate,
+                // `pair_flux`'s second value, like every exact cell of an integrated pair's;
+                // a scene where none may is `form_factors_unoccluded`'s, estimates 0 (none
+                // reported, no row cap).
+                let (flux, error) = pair_flux(src, ps, tgt, pt);
                 OccludedFlux {
-                    flux: pair_flux(src, ps, tgt, pt).0,
-                    error: 0.0,
+                    flux,
+                    error: if self.may_occlude { error } else { 0.0 },
                     points: 0,
                 }
             } else if let Some((flux, error)) =

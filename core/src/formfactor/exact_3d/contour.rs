@@ -20,6 +20,33 @@
 //!   closed form, the outer one by adaptive Gauss–Kronrod (7, 15). Skew segments never touch,
 //!   so the outer integrand is analytic on the segment and the quadrature converges
 //!   exponentially; its error estimate `|K₁₅ − G₇|` is held below the given tolerance.
+//!
+//! # Rounding ([`Term`])
+//!
+//! Each evaluation also returns the magnitude `m` of the elementary terms that cancel in
+//! it, computed from quantities at hand (no extra transcendental for the closed forms):
+//!
+//! ```text
+//! F₂(u, h):   m = ¼ r² (|ln(r²/ℓ²)| + 2) + 2 |h u|                      (r² = u² + h²)
+//! H(s, t):    m = (½|s t| + ¼ |cos φ| (s² + t²)) (|ln(r²/ℓ²)| + 2) + 2 (s² + t²)
+//! skew:       m = |cos| · 2 L_p · (½ max(R |ln(R²/ℓ²)|, 2ℓ/e) + 3R)
+//! ```
+//!
+//! (`R` the longest endpoint-to-endpoint distance of the two segments, which bounds
+//! every `|u|`, `h` and `r` along them; `r |ln(r²/ℓ²)|` on `[0, R]` is at most the larger of
+//! its value at `R` and its interior maximum `2ℓ/e`). Counting the roundings of one `F₂`:
+//! `u² − h²` is off by at most `2ε r²`, the logarithm by `ε |ln| + 5ε` (its argument
+//! carries `≤ 5ε` relative error, and `d ln x = dx/x`), so `¼(u² − h²) ln` by at most
+//! `ε r² (|ln| + 5/4)`; `atan(u/h)` by `ε (π/2 + ½)` (its argument's relative `ε` times
+//! `|x|/(1 + x²) ≤ ½`), so `h u atan` by `5.2 ε |h u|`; the sum `ε |F₂|`: in all at most
+//! `5ε m`. The mixed difference of four adds `3ε Σ|F₂| ≤ 3ε Σ m`, so `|δJ| ≤ 8ε Σ m`;
+//! the same count holds for `H` and, with `|u|, h, r ≤ R` and the quadrature weights
+//! summing to the interval's length, for the skew pair's `F₁ = ½ u ln + ½ u + h atan`
+//! (`|δF₁| ≤ 5ε (½|u| (|ln| + 2) + 2h)`, two per node). The sum of the `J_pq` over a
+//! polygon pair is compensated (`≤ 2ε Σ|J| ≤ 2ε Σ m`). The rounding of the endpoints'
+//! coordinates into `u`, `h`, `a`, `b` is common to the four corners of a mixed
+//! difference (the same `b₀`, `h` in each), so it is a perturbation of the vertices by a
+//! few ulps of their magnitude, whose effect `pair_flux` bounds apart.
 
 use crate::geom::DVec3;
 use crate::math;
@@ -147,6 +174,31 @@ pub(super) struct Kernel {
     pub tol: f64,
 }
 
+/// One `J_pq` with what bounds its error: the magnitude of the terms that cancelled in it
+/// (module documentation, "Rounding": its rounding error is at most `8ε` of it) and the
+/// quadrature's error estimate `Σ |K₁₅ − G₇|` (0 for the closed forms).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct Term {
+    /// `J_pq`.
+    pub value: f64,
+    /// `m` summed over the elementary terms of `J_pq`.
+    pub magnitude: f64,
+    /// `|cos| Σ |K₁₅ − G₇|` over the accepted pieces of the outer quadrature.
+    pub quadrature: f64,
+}
+
+impl Term {
+    /// A pair that adds nothing (a zero-length edge, perpendicular edges).
+    const ZERO: Self = Self {
+        value: 0.0,
+        magnitude: 0.0,
+        quadrature: 0.0,
+    };
+}
+
+/// `e`, for the interior maximum `2ℓ/e` of `r |ln(r²/ℓ²)|`.
+const E: f64 = core::f64::consts::E;
+
 impl Kernel {
     /// `ln(r²/ℓ²)`, with `0 · ln 0` handled by the callers.
     #[inline]
@@ -156,13 +208,18 @@ impl Kernel {
 
     /// `F₂(u) = ¼(u² − h²) ln((u² + h²)/ℓ²) + h u atan(u/h)`, the second antiderivative in
     /// `u` of `κ(√(u² + h²))` (up to terms linear in `u`, which the mixed difference drops).
+    /// Returns `(F₂, m)`, `m = ¼ r² (|ln(r²/ℓ²)| + 2) + 2 |h u|` (module documentation).
     #[inline]
-    fn f2(&self, u: f64, h: f64) -> f64 {
+    fn f2(&self, u: f64, h: f64) -> (f64, f64) {
         let r2 = u * u + h * h;
         if r2 == 0.0 {
-            return 0.0;
+            return (0.0, 0.0);
         }
-        0.25 * (u * u - h * h) * self.log_ratio(r2) + h * u * atan_ratio(u, h)
+        let log = self.log_ratio(r2);
+        let hu = h * u;
+        // The same operations in the same order as `¼(u² − h²) ln + h u atan`.
+        let value = 0.25 * (u * u - h * h) * log + hu * atan_ratio(u, h);
+        (value, 0.25 * r2 * (log.abs() + 2.0) + 2.0 * hu.abs())
     }
 
     /// `F₁(u) = ½ u ln((u² + h²)/ℓ²) + ½ u + h atan(u/h)`, the antiderivative in `u` of
@@ -188,18 +245,22 @@ impl Kernel {
     ///
     /// up to functions of `s` alone or `t` alone, which the mixed difference drops (so the
     /// jump of the arctangents at `s = 0` or `t = 0` is harmless).
+    ///
+    /// Returns `(H, m)`, `m = (½|s t| + ¼ |cos φ| (s² + t²)) (|ln(r²/ℓ²)| + 2) + 2 (s² + t²)`.
     #[inline]
-    fn coplanar_h(&self, s: f64, t: f64, c: f64, sn: f64) -> f64 {
+    fn coplanar_h(&self, s: f64, t: f64, c: f64, sn: f64) -> (f64, f64) {
         // r² without cancellation when the angle is small (c ≈ 1) or near π (c ≈ −1).
         let r2 = if c >= 0.0 {
             (s - t) * (s - t) + 2.0 * s * t * (sn * sn / (1.0 + c))
         } else {
             (s + t) * (s + t) - 2.0 * s * t * (sn * sn / (1.0 - c))
         };
-        let log_term = if r2 > 0.0 {
-            (0.5 * s * t - 0.25 * c * (s * s + t * t)) * self.log_ratio(r2)
+        let squares = s * s + t * t;
+        let (log_term, log) = if r2 > 0.0 {
+            let log = self.log_ratio(r2);
+            ((0.5 * s * t - 0.25 * c * squares) * log, log.abs())
         } else {
-            0.0
+            (0.0, 0.0)
         };
         let mut angles = 0.0;
         if s != 0.0 {
@@ -208,27 +269,30 @@ impl Kernel {
         if t != 0.0 {
             angles += t * t * math::atan((s - t * c) / (t * sn));
         }
-        log_term + 0.5 * sn * angles
+        let magnitude =
+            (0.5 * (s * t).abs() + 0.25 * c.abs() * squares) * (log + 2.0) + 2.0 * squares;
+        (log_term + 0.5 * sn * angles, magnitude)
     }
 
     /// `J_pq` for the segments `p0 → p1` and `q0 → q1`.
     #[cfg(test)]
     pub fn edge_pair(&self, p0: DVec3, p1: DVec3, q0: DVec3, q1: DVec3) -> f64 {
-        self.edges(&Edge::new(p0, p1), &Edge::new(q0, q1))
+        self.edges(&Edge::new(p0, p1), &Edge::new(q0, q1)).value
     }
 
     /// `J_pq` for the edges `p` and `q` (directions and lengths computed once per edge, not
-    /// once per pair: the same bits as from the endpoints).
+    /// once per pair: the same bits as from the endpoints), with the magnitude of its terms
+    /// and its quadrature estimate ([`Term`]).
     #[inline]
-    pub fn edges(&self, p: &Edge, q: &Edge) -> f64 {
+    pub fn edges(&self, p: &Edge, q: &Edge) -> Term {
         let (lp, lq) = (p.length, q.length);
         if !(lp > 0.0 && lq > 0.0) {
-            return 0.0;
+            return Term::ZERO;
         }
         let (e1, e2) = (p.dir, q.dir);
         let c = e1.dot(e2);
         if c.abs() <= PERPENDICULAR_COSINE {
-            return 0.0;
+            return Term::ZERO;
         }
         let cross = e1.cross(e2);
         let sn = length3(cross);
@@ -249,17 +313,34 @@ impl Kernel {
             let reach = s0.abs().max(s1.abs()).max(t0.abs()).max(t1.abs());
             if reach <= INTERSECTION_REACH * (lp + lq) {
                 // Mixed difference of H over the two parameter ranges.
-                let h = self.coplanar_h(s1, t1, c, sn)
-                    - self.coplanar_h(s0, t1, c, sn)
-                    - self.coplanar_h(s1, t0, c, sn)
-                    + self.coplanar_h(s0, t0, c, sn);
-                return c * h;
+                let (h11, m11) = self.coplanar_h(s1, t1, c, sn);
+                let (h01, m01) = self.coplanar_h(s0, t1, c, sn);
+                let (h10, m10) = self.coplanar_h(s1, t0, c, sn);
+                let (h00, m00) = self.coplanar_h(s0, t0, c, sn);
+                let h = h11 - h01 - h10 + h00;
+                return Term {
+                    value: c * h,
+                    magnitude: c.abs() * (m11 + m01 + m10 + m00),
+                    quadrature: 0.0,
+                };
             }
         }
         if c.abs() <= SMALL_COSINE && self.negligible(c, lp, lq, size) {
-            return 0.0;
+            return Term::ZERO;
         }
-        c * self.outer_quadrature(p0, e1, lp, q0, e2, lq, s_star)
+        let (value, quadrature) = self.outer_quadrature(p0, e1, lp, q0, e2, lq, s_star);
+        // |u|, h and r along the segments are at most R, the longest endpoint distance.
+        let far = length3(w)
+            .max(length3(p.end - q.end))
+            .max(length3(p.end - q0))
+            .max(length3(p0 - q.end));
+        let ell = math::sqrt(1.0 / self.inv_l2);
+        let r_log = (far * self.log_ratio(far * far)).abs().max(2.0 * ell / E);
+        Term {
+            value: c * value,
+            magnitude: c.abs() * 2.0 * lp * (0.5 * r_log + 3.0 * far),
+            quadrature: c.abs() * quadrature,
+        }
     }
 
     /// Whether `|J_pq|` is at most half the tolerance of its quadrature, so the pair can be
@@ -293,17 +374,26 @@ impl Kernel {
     /// ```
     ///
     /// where `b₀ → b₁` are the coordinates of `q0 → q1` (oriented: `db` carries `e_p · e_q`).
-    fn parallel(&self, p0: DVec3, e: DVec3, lp: f64, q0: DVec3, q1: DVec3) -> f64 {
+    fn parallel(&self, p0: DVec3, e: DVec3, lp: f64, q0: DVec3, q1: DVec3) -> Term {
         let (v0, v1) = (q0 - p0, q1 - p0);
         let (b0, b1) = (v0.dot(e), v1.dot(e));
         // Mean perpendicular offset of q's endpoints (equal up to rounding).
         let h = 0.5 * length3((v0 - b0 * e) + (v1 - b1 * e));
         let (a0, a1) = (0.0, lp);
-        self.f2(a1 - b0, h) + self.f2(a0 - b1, h) - self.f2(a0 - b0, h) - self.f2(a1 - b1, h)
+        let (f10, m10) = self.f2(a1 - b0, h);
+        let (f01, m01) = self.f2(a0 - b1, h);
+        let (f00, m00) = self.f2(a0 - b0, h);
+        let (f11, m11) = self.f2(a1 - b1, h);
+        Term {
+            value: f10 + f01 - f00 - f11,
+            magnitude: m10 + m01 + m00 + m11,
+            quadrature: 0.0,
+        }
     }
 
     /// `∫_0^{lp} G(s) ds` with `G(s) = ∫_0^{lq} κ(|p0 + s e1 − q0 − t e2|) dt` in closed form,
-    /// by adaptive Gauss–Kronrod split at the closest approach `s_star`.
+    /// by adaptive Gauss–Kronrod split at the closest approach `s_star`, with the sum of
+    /// the accepted pieces' estimates `|K₁₅ − G₇|`.
     #[allow(clippy::too_many_arguments)]
     fn outer_quadrature(
         &self,
@@ -314,7 +404,7 @@ impl Kernel {
         e2: DVec3,
         lq: f64,
         s_star: f64,
-    ) -> f64 {
+    ) -> (f64, f64) {
         let w = p0 - q0;
         let c = e1.dot(e2);
         let w2 = w.dot(e2);
@@ -328,13 +418,23 @@ impl Kernel {
         };
         let tol = self.tol;
         let mut budget = MAX_BISECTIONS;
-        if s_star > 0.0 && s_star < lp {
+        let mut error = 0.0;
+        let value = if s_star > 0.0 && s_star < lp {
             let f = s_star / lp;
-            adapt(&g, 0.0, s_star, tol * f, MAX_DEPTH, &mut budget)
-                + adapt(&g, s_star, lp, tol * (1.0 - f), MAX_DEPTH, &mut budget)
+            adapt(&g, 0.0, s_star, tol * f, MAX_DEPTH, &mut budget, &mut error)
+                + adapt(
+                    &g,
+                    s_star,
+                    lp,
+                    tol * (1.0 - f),
+                    MAX_DEPTH,
+                    &mut budget,
+                    &mut error,
+                )
         } else {
-            adapt(&g, 0.0, lp, tol, MAX_DEPTH, &mut budget)
-        }
+            adapt(&g, 0.0, lp, tol, MAX_DEPTH, &mut budget, &mut error)
+        };
+        (value, error)
     }
 }
 
@@ -360,15 +460,26 @@ fn gk15(g: &impl Fn(f64) -> f64, a: f64, b: f64) -> (f64, f64, f64) {
 
 /// Adaptive bisection of [`gk15`] until the error estimate of each piece is below its share
 /// of `tol` (proportional to its length) or at the rounding floor of its terms, at most
-/// `depth` levels deep and `budget` bisections in all (decremented).
-fn adapt(g: &impl Fn(f64) -> f64, a: f64, b: f64, tol: f64, depth: u32, budget: &mut u32) -> f64 {
+/// `depth` levels deep and `budget` bisections in all (decremented); the accepted pieces'
+/// estimates `|K₁₅ − G₇|` are added to `error`.
+fn adapt(
+    g: &impl Fn(f64) -> f64,
+    a: f64,
+    b: f64,
+    tol: f64,
+    depth: u32,
+    budget: &mut u32,
+    error: &mut f64,
+) -> f64 {
     let (k, err, abs) = gk15(g, a, b);
     if err <= tol || err <= 50.0 * f64::EPSILON * abs || depth == 0 || *budget == 0 {
+        *error += err;
         return k;
     }
     *budget -= 1;
     let m = 0.5 * (a + b);
-    adapt(g, a, m, 0.5 * tol, depth - 1, budget) + adapt(g, m, b, 0.5 * tol, depth - 1, budget)
+    adapt(g, a, m, 0.5 * tol, depth - 1, budget, error)
+        + adapt(g, m, b, 0.5 * tol, depth - 1, budget, error)
 }
 
 #[cfg(test)]
@@ -397,10 +508,11 @@ mod tests {
                 1e-14,
                 40,
                 &mut unlimited,
+                &mut 0.0,
             )
         };
         let mut unlimited = u32::MAX;
-        e1.dot(e2) * adapt(&inner, 0.0, lp, 1e-13, 40, &mut unlimited)
+        e1.dot(e2) * adapt(&inner, 0.0, lp, 1e-13, 40, &mut unlimited, &mut 0.0)
     }
 
     fn kernel() -> Kernel {

@@ -123,10 +123,10 @@ impl AxisRect {
     }
 }
 
-/// `(A_i F_ij, Σ|J_pq| / 2π)` of two axis-aligned rectangles (see the module
-/// documentation), with the contact tolerance `tol` and the log scale `1/ℓ²` of
-/// `pair_flux`.
-pub(super) fn rect_flux(s: &AxisRect, t: &AxisRect, tol: f64, inv_l2: f64) -> (f64, f64) {
+/// `(A_i F_ij, M, 0)` of two axis-aligned rectangles (see the module documentation), `M`
+/// the magnitude `Σ m / 2π` of the terms that cancel in it (`contour.rs`, "Rounding"; no
+/// quadrature), with the contact tolerance `tol` and the log scale `1/ℓ²` of `pair_flux`.
+pub(super) fn rect_flux(s: &AxisRect, t: &AxisRect, tol: f64, inv_l2: f64) -> (f64, f64, f64) {
     let mut sum = KahanSum::new();
     let mut magnitude = 0.0;
     let sign = s.sign * t.sign;
@@ -135,7 +135,7 @@ pub(super) fn rect_flux(s: &AxisRect, t: &AxisRect, tol: f64, inv_l2: f64) -> (f
         // front of the other.
         let d = t.level - s.level;
         if sign > 0.0 || s.sign * d <= tol {
-            return (0.0, 0.0);
+            return (0.0, 0.0, 0.0);
         }
         let d2 = d * d;
         let (u, w) = ((s.axis + 1) % 3, (s.axis + 2) % 3);
@@ -171,13 +171,13 @@ pub(super) fn rect_flux(s: &AxisRect, t: &AxisRect, tol: f64, inv_l2: f64) -> (f
                 let side = if ps == qs { 1.0 } else { -1.0 };
                 // Edges along u at w positions, then along w at u positions.
                 let hw = math::sqrt(dw[index(ps, qs)] * dw[index(ps, qs)] + d2);
-                let j = side * sign * mixed(&du, hw, |i| logs[i][index(ps, qs)]);
-                sum.add(j);
-                magnitude += j.abs();
+                let (j, m) = mixed(&du, hw, |i| logs[i][index(ps, qs)]);
+                sum.add(side * sign * j);
+                magnitude += m;
                 let hu = math::sqrt(du[index(ps, qs)] * du[index(ps, qs)] + d2);
-                let j = side * sign * mixed(&dw, hu, |k| logs[index(ps, qs)][k]);
-                sum.add(j);
-                magnitude += j.abs();
+                let (j, m) = mixed(&dw, hu, |k| logs[index(ps, qs)][k]);
+                sum.add(side * sign * j);
+                magnitude += m;
             }
         }
     } else {
@@ -185,7 +185,7 @@ pub(super) fn rect_flux(s: &AxisRect, t: &AxisRect, tol: f64, inv_l2: f64) -> (f
         let (a, b) = (s.axis, t.axis);
         let c = 3 - a - b;
         let (Some(sb), Some(ta)) = (s.clipped(b, t, tol), t.clipped(a, s, tol)) else {
-            return (0.0, 0.0);
+            return (0.0, 0.0, 0.0);
         };
         let dc = [
             s.hi[c] - t.lo[c],
@@ -202,36 +202,42 @@ pub(super) fn rect_flux(s: &AxisRect, t: &AxisRect, tol: f64, inv_l2: f64) -> (f
                 let (ea, eb) = (s.level - xa, xb - t.level);
                 let h2 = ea * ea + eb * eb;
                 let h = math::sqrt(h2);
-                let j = side
-                    * sign
-                    * mixed(&dc, h, |i| {
-                        let r2 = dc[i] * dc[i] + h2;
-                        if r2 > 0.0 { math::ln(r2 * inv_l2) } else { 0.0 }
-                    });
-                sum.add(j);
-                magnitude += j.abs();
+                let (j, m) = mixed(&dc, h, |i| {
+                    let r2 = dc[i] * dc[i] + h2;
+                    if r2 > 0.0 { math::ln(r2 * inv_l2) } else { 0.0 }
+                });
+                sum.add(side * sign * j);
+                magnitude += m;
             }
         }
     }
-    ((sum.total() / (2.0 * PI)).max(0.0), magnitude / (2.0 * PI))
+    (
+        (sum.total() / (2.0 * PI)).max(0.0),
+        magnitude / (2.0 * PI),
+        0.0,
+    )
 }
 
 /// `F₂(u₀) + F₂(u₁) − F₂(u₂) − F₂(u₃)` at distance `h`, with `ln(r²/ℓ²)` of `u_i` from
-/// `log(i)`: `F₂(u) = ¼(u² − h²) ln(r²/ℓ²) + h u atan(u/h)` (`contour.rs`).
+/// `log(i)`: `F₂(u) = ¼(u² − h²) ln(r²/ℓ²) + h u atan(u/h)` (`contour.rs`), and the
+/// magnitude `Σ m` of its terms, `m = ¼ r² (|ln(r²/ℓ²)| + 2) + 2 |h u|` (`contour.rs`,
+/// "Rounding").
 #[inline]
-fn mixed(u: &[f64; 4], h: f64, log: impl Fn(usize) -> f64) -> f64 {
+fn mixed(u: &[f64; 4], h: f64, log: impl Fn(usize) -> f64) -> (f64, f64) {
     let f2 = |i: usize| {
         let x = u[i];
         let r2 = x * x + h * h;
         if r2 == 0.0 {
-            return 0.0;
+            return (0.0, 0.0);
         }
-        let angle = if h > 0.0 {
-            h * x * math::atan(x / h)
-        } else {
-            0.0
-        };
-        0.25 * (x * x - h * h) * log(i) + angle
+        let hx = h * x;
+        let angle = if h > 0.0 { hx * math::atan(x / h) } else { 0.0 };
+        let l = log(i);
+        (
+            0.25 * (x * x - h * h) * l + angle,
+            0.25 * r2 * (l.abs() + 2.0) + 2.0 * hx.abs(),
+        )
     };
-    f2(0) + f2(1) - f2(2) - f2(3)
+    let ((f0, m0), (f1, m1), (f2_, m2), (f3, m3)) = (f2(0), f2(1), f2(2), f2(3));
+    (f0 + f1 - f2_ - f3, m0 + m1 + m2 + m3)
 }

@@ -32,8 +32,9 @@
 //!   of the tolerance for the others (greedy: for a given budget, this leaves the fewest
 //!   triangles to integrate, each of which costs 34 points).
 //!
-//! The rounding of `U_T` (a few ulps of the magnitude of the terms that cancelled in it,
-//! [`pair_flux`]'s second value) is added to the half-width, [`ROUNDING`] of it.
+//! The error bound of `U_T` ([`pair_flux`]'s second value: the rounding of its cancelling
+//! terms, of its vertices, and its skew edge pairs' quadrature estimate) is added to the
+//! half-width.
 
 use alloc::vec::Vec;
 use core::cmp::Ordering;
@@ -50,31 +51,27 @@ use crate::math::KahanSum;
 /// fitted: half leaves the integral at least half of the tolerance.
 pub const BOUND_SHARE: f64 = 0.5;
 
-/// The relative rounding of an exact contour flux: 2⁹ ulps of the magnitude of its
-/// cancelling terms (`pair_flux`'s second value), far above what the sum loses.
-pub const ROUNDING: f64 = 512.0 * f64::EPSILON;
-
-/// `(flux, half-width)` of a region with unoccluded flux `(u, magnitude)`: the midpoint of
-/// `[0, u]` and its distance to either end, rounding included.
-fn midpoint((u, magnitude): (f64, f64)) -> (f64, f64) {
+/// `(flux, half-width)` of a region with unoccluded flux `(u, error)` ([`pair_flux`]): the
+/// midpoint of `[0, u]` and its distance to either end, `u`'s error included.
+fn midpoint((u, error): (f64, f64)) -> (f64, f64) {
     let u = u.max(0.0);
-    (0.5 * u, 0.5 * u + ROUNDING * magnitude)
+    (0.5 * u, 0.5 * u + error)
 }
 
-/// `(value, half-width)` for a region of unoccluded flux `(u, magnitude)` whose visible
+/// `(value, half-width)` for a region of unoccluded flux `(u, error)` whose visible
 /// fraction was probed at one point as `s ∈ [0, 1]`: the value `s·u`, and the distance
-/// from it to the farther end of `[0, u]`, `u · max(s, 1 − s)`, rounding included. The
+/// from it to the farther end of `[0, u]`, `u · max(s, 1 − s)`, `u`'s error included. The
 /// truth lies in `[0, u]` whatever `s` is, so the half-width is proven; the probe only
 /// centres the value (an unbiased guess keeps the rows of a closed scene near 1, where
 /// the midpoint `s = ½` would lean every such pair the same way).
-fn probed((u, magnitude): (f64, f64), s: f64) -> (f64, f64) {
+fn probed((u, error): (f64, f64), s: f64) -> (f64, f64) {
     let u = u.max(0.0);
     let s = if s.is_finite() {
         s.clamp(0.0, 1.0)
     } else {
         0.5
     };
-    (s * u, u * s.max(1.0 - s) + ROUNDING * magnitude)
+    (s * u, u * s.max(1.0 - s) + error)
 }
 
 /// The fraction of the target's point form factor seen from `x` (normal `n`) past

@@ -24,15 +24,18 @@
 //! **Each change within its estimate.** `t ≤ 1`, so every change is at most
 //! `w_ij ≤ e_ij`, and no value goes below 0 (`w_ij ≤ F_ij`). Each pair is integrated to
 //! `INTEGRATION_SHARE = ½` of the tolerance, so a final estimate (the integration's plus the
-//! change) is at most the tolerance. Exact pairs (`e_ij = 0`) have no room and are not
-//! changed by (1).
+//! change) is at most the tolerance. Pairs with `e_ij = 0` (none in an occluded scene but
+//! those that cannot see each other, which are not stored) have no room and are not changed
+//! by (1); a pair by the exact path has the room of its rounding estimate only (a few ulps
+//! of its contour sum's cancelling terms, `exact_3d::pair_flux`), so (1) moves it by at most
+//! that, far below any tolerance.
 //!
 //! **Why `x_i ≤ W_i` when the estimates are honest.** If every `|F_ij − F*_ij| ≤ e_ij`
 //! for the true `F*_ij ≥ 0` with `Σ_j F*_ij ≤ 1`, then
 //! `x_i ≤ Σ_j (F_ij − F*_ij) ≤ Σ_j min(F_ij, e_ij) = W_i`. So a row with `x_i > W_i`
-//! holds an estimate that does not cover its error (or rounding, for a row of exact pairs
-//! above 1 by the contour sums' last bits). Such a row keeps (1) with `t_i = 1` and is then
-//! scaled back as before (2).
+//! holds an estimate that does not cover its error (since session 21 exact pairs carry their
+//! rounding, so a row of exact pairs above 1 by the contour sums' last bits is within its
+//! room too). Such a row keeps (1) with `t_i = 1` and is then scaled back as before (2).
 //!
 //! **The old rule, now the fallback** (2): on the rows still above 1 after (1), with
 //! `c_i = 1 / S_i` there (else 1), `F_ij ← F_ij · min(c_i, c_j)` (reciprocal: the flux is
