@@ -142,11 +142,15 @@ impl Target {
     /// `F_{dx→vis(P)}`: the form factor (2.16, with `V`) from a point `x` with normal `n`
     /// to the part of the target that `x` sees past `occluders` (convex planar polygons,
     /// either orientation, opaque from both sides): the target minus the shadows the
-    /// occluders cast on its plane from `x`, as disjoint convex pieces, each by Lambert's
-    /// contour formula ([`point_to_polygon`]).
+    /// occluders cast on its plane from `x`. Lambert's contour formula is additive over
+    /// interior-disjoint regions, so this is `F_{dx→P}` less the form factor of the
+    /// shadows' union as disjoint convex pieces ([`Self::disjoint_union`],
+    /// [`Self::whole_minus_shadows`]); where the union covers more than
+    /// [`COVERED_SHARE`] of the target, the visible part itself as disjoint convex pieces
+    /// ([`Self::visible_by_pieces`]), each by [`point_to_polygon`].
     ///
     /// # Errors
-    /// [`ErrorKind::TooLarge`] when the visible part needs more than
+    /// [`ErrorKind::TooLarge`] when the visible part or the union needs more than
     /// `MAX_VISIBLE_PIECES` pieces.
     pub fn visible_form_factor(
         &self,
