@@ -7,6 +7,8 @@ use crate::error::{ErrorKind, Result};
 use crate::formfactor::exact_3d::{Plane, point_to_polygon};
 use crate::geom::{DVec2, DVec3};
 
+mod lambert;
+
 /// Most convex pieces the visible part of one target may be cut into, from one point. A
 /// point behind `s` shadows of `m` edges each needs at most `1 + s·m` pieces per piece cut,
 /// so this allows scenes with hundreds of overlapping shadows per pair; beyond it
@@ -44,6 +46,28 @@ const ON_LINE: f64 = 1e-12;
 /// points too thin to matter).
 const MERGE: f64 = 1e-10;
 
+/// Relative length (of the target's radius) within which a shadow's vertex counts as on
+/// the outside of another shadow's edge line when [`apart`] looks for a
+/// separating line: about 64 roundings of a coordinate (`2⁻⁵²`), so that the shared edge
+/// of two faces of one solid, whose clipped ends each shadow computes on its own, does
+/// not hide that their shadows are apart (a shadow vertex's rounding is about `10⁻¹⁴`
+/// of the radius, [`MERGE`]), while an overlap found apart is at most this wide.
+const APART: f64 = 64.0 * f64::EPSILON;
+
+/// Relative size (of the sum of the magnitudes of its terms, over `2π`) under which
+/// `F_{dx→P} − Σ_k F_{dx→U_k}` is rounding ([`Target::whole_minus_shadows`]): the
+/// compensated sums are good to a few units of `2⁻⁵³` of that, and each term to a few
+/// units of its own size, so a difference below this is taken as no visible part.
+const CANCELLED: f64 = 64.0 * f64::EPSILON;
+
+/// Share of the target's area above which the shadows' union is said to cover the
+/// target, and the part seen is computed as disjoint convex pieces
+/// ([`Target::visible_by_pieces`]) rather than as the target less the union
+/// ([`Target::whole_minus_shadows`]): then `F_{dx→vis(P)}` is at most about as large as
+/// the union's (up to the variation of the kernel over the target), so the difference
+/// loses at most a few bits to cancellation, and a part seen of a sliver's area is 0.
+const COVERED_SHARE: f64 = 1.0 - 1.0 / 64.0;
+
 /// A target polygon prepared for visibility queries: its plane and its outline in plane
 /// coordinates `(u, v)` about its centroid, with `u × v = n`.
 #[derive(Clone, Debug)]
@@ -62,6 +86,10 @@ pub(crate) struct Target {
     tol: f64,
     sliver: f64,
     merge: f64,
+    /// The outline's area (in plane coordinates).
+    area: f64,
+    /// The slack of [`apart`], `APART` times the radius.
+    apart: f64,
 }
 
 impl Target {
@@ -83,6 +111,7 @@ impl Target {
             })
             .collect();
         let distinct = distinct_vertices(&outline);
+        let area = crate::geom::signed_area(&outline);
         Self {
             plane,
             vertices: vertices.to_vec(),
@@ -94,6 +123,8 @@ impl Target {
             tol: ON_LINE * plane.radius,
             sliver: SLIVER_AREA * plane.area,
             merge: MERGE * plane.radius,
+            area,
+            apart: APART * plane.radius,
         }
     }
 
@@ -111,11 +142,15 @@ impl Target {
     /// `F_{dx→vis(P)}`: the form factor (2.16, with `V`) from a point `x` with normal `n`
     /// to the part of the target that `x` sees past `occluders` (convex planar polygons,
     /// either orientation, opaque from both sides): the target minus the shadows the
-    /// occluders cast on its plane from `x`, as disjoint convex pieces, each by Lambert's
-    /// contour formula ([`point_to_polygon`]).
+    /// occluders cast on its plane from `x`. Lambert's contour formula is additive over
+    /// interior-disjoint regions, so this is `F_{dx→P}` less the form factor of the
+    /// shadows' union as disjoint convex pieces ([`Self::disjoint_union`],
+    /// [`Self::whole_minus_shadows`]); where the union covers more than
+    /// [`COVERED_SHARE`] of the target, the visible part itself as disjoint convex pieces
+    /// ([`Self::visible_by_pieces`]), each by [`point_to_polygon`].
     ///
     /// # Errors
-    /// [`ErrorKind::TooLarge`] when the visible part needs more than
+    /// [`ErrorKind::TooLarge`] when the visible part or the union needs more than
     /// `MAX_VISIBLE_PIECES` pieces.
     pub fn visible_form_factor(
         &self,
@@ -148,29 +183,232 @@ impl Target {
             return Ok(0.0);
         }
         work.recycle_pieces();
+        work.recycle_shadows();
         if !occluders.is_empty() {
             self.pyramid(x, dx, work);
         }
-        let mut any_shadow = false;
+        // The shadows, each inside the target; one within a sliver of the target's area
+        // leaves nothing seen.
         for (k, occluder) in occluders.iter().enumerate() {
             let in_front = in_front.get(k).copied().unwrap_or(false);
-            if !self.shadow(x, dx, occluder, in_front, work) {
+            let Some(area) = self.shadow(x, dx, occluder, in_front, work) else {
                 continue;
-            }
-            if !any_shadow {
-                let mut whole = work.spare.pop().unwrap_or_default();
-                whole.clear();
-                whole.extend_from_slice(&self.outline);
-                work.pieces.push(whole);
-                any_shadow = true;
-            }
-            self.subtract_shadow(work)?;
-            if work.pieces.is_empty() {
+            };
+            if area >= self.area - self.sliver {
                 return Ok(0.0);
             }
+            let fresh = work.spare.pop().unwrap_or_default();
+            let shadow = core::mem::replace(&mut work.shadow, fresh);
+            work.shadows.push(Shadow::new(shadow, area));
         }
-        if !any_shadow {
+        if work.shadows.is_empty() {
             return Ok(point_to_polygon(x, n, &self.vertices));
+        }
+        let covered = self.disjoint_union(work)?;
+        if self.area - covered <= self.sliver {
+            return Ok(0.0);
+        }
+        // The shadows cover more than the part seen: the part seen, cut into pieces,
+        // keeps its own relative accuracy (the difference would lose it to
+        // cancellation) and its zeros (pieces of a sliver's area dropped).
+        if covered > self.area * COVERED_SHARE {
+            return self.visible_by_pieces(x, n, work);
+        }
+        Ok(self.whole_minus_shadows(x, n, tol, work))
+    }
+
+    /// The union of the point's shadows (`work.shadows`) as interior-disjoint convex
+    /// pieces, and their summed area. The shadows are taken largest first (the union
+    /// does not depend on the order); each is left out when it lies inside an earlier one
+    /// kept ([`inside`]), kept whole when it is apart from every earlier one kept
+    /// ([`apart`]: the common case, the front faces of one convex solid), else cut by the
+    /// earlier ones kept that it may overlap ([`Self::subtract_shadow`]) into its pieces
+    /// outside them, which go to `work.union`. Pieces of at most a sliver's area are
+    /// dropped, as the visible part's pieces are.
+    ///
+    /// # Errors
+    /// [`ErrorKind::TooLarge`] when the union needs more than `MAX_VISIBLE_PIECES` pieces.
+    fn disjoint_union(&self, work: &mut Workspace) -> Result<f64> {
+        let mut shadows = core::mem::take(&mut work.shadows);
+        let mut order = core::mem::take(&mut work.order);
+        order.clear();
+        order.extend(0..shadows.len());
+        order.sort_unstable_by(|&a, &b| shadows[b].area.total_cmp(&shadows[a].area));
+        let mut covered = 0.0;
+        let mut result = Ok(());
+        for (at, &k) in order.iter().enumerate() {
+            let earlier = order[..at].iter().map(|&e| &shadows[e]);
+            let shadow = &shadows[k];
+            let mut kept = earlier.clone().filter(|s| s.part != Part::Left);
+            if kept
+                .clone()
+                .any(|s| inside(&shadow.outline, &s.outline, self.apart))
+            {
+                shadows[k].part = Part::Left;
+                continue;
+            }
+            if kept.all(|s| apart(s, shadow, self.apart)) {
+                covered += shadow.area;
+                shadows[k].part = Part::Whole;
+                continue;
+            }
+            work.recycle_pieces();
+            let mut piece = work.spare.pop().unwrap_or_default();
+            piece.clear();
+            piece.extend_from_slice(&shadow.outline);
+            work.pieces.push(piece);
+            for cutter in earlier {
+                if cutter.part == Part::Left || apart(cutter, shadow, self.apart) {
+                    continue;
+                }
+                // A shadow has no two equal consecutive vertices (merged), so neither
+                // has any piece cut from it.
+                result = self.subtract_shadow(&cutter.outline, true, work);
+                if result.is_err() || work.pieces.is_empty() {
+                    break;
+                }
+            }
+            shadows[k].part = Part::Cut;
+            if result.is_err() {
+                break;
+            }
+            covered += work
+                .pieces
+                .iter()
+                .map(|p| crate::geom::signed_area(p))
+                .sum::<f64>();
+            work.union.append(&mut work.pieces);
+            if work.union.len() > MAX_VISIBLE_PIECES {
+                result = Err(ErrorKind::TooLarge {
+                    what: "convex pieces of the shadows' union on a polygon from one point",
+                    max: MAX_VISIBLE_PIECES as u64,
+                }
+                .into());
+                break;
+            }
+        }
+        work.shadows = shadows;
+        work.order = order;
+        result.map(|()| covered)
+    }
+
+    /// `F_{dx→vis(P)}` from the shadows' union as disjoint convex pieces
+    /// ([`Self::disjoint_union`]: the shadows apart from every earlier one, and the
+    /// pieces in `work.union`). The contour form factor is additive over
+    /// interior-disjoint regions (Lambert's sum over a region's boundary; an edge two
+    /// regions share is walked both ways and cancels), and the target is the disjoint
+    /// union of the visible part and the pieces (each inside the target), so
+    /// `F_{dx→vis(P)} = F_{dx→P} − Σ_k F_{dx→U_k}` ([`lambert`]; through
+    /// [`point_to_polygon`] when the target reaches `x`'s horizon), clamped to `[0, 1]`.
+    /// Rounding: a few units of `2⁻⁵³` of the terms' magnitudes, whatever the visible
+    /// part's size (hence [`COVERED_SHARE`]); a difference below [`CANCELLED`] of them is
+    /// 0.
+    fn whole_minus_shadows(&self, x: DVec3, n: DVec3, tol: f64, work: &mut Workspace) -> f64 {
+        let Workspace {
+            shadows,
+            union,
+            space,
+            ..
+        } = work;
+        let whole_shadows = shadows
+            .iter()
+            .filter(|s| s.part == Part::Whole)
+            .map(|s| s.outline.as_slice());
+        let pieces = whole_shadows.chain(union.iter().map(Vec::as_slice));
+        // Every target vertex in front of x's horizon by more than the point's tolerance
+        // and twice the outline clip's (a shadow vertex may lie that far outside the
+        // target): no polygon needs the horizon clip, so one contour sum over the
+        // target's edges and the pieces' edges walked backwards.
+        let margin = tol + 2.0 * self.tol;
+        let (scale, seen) = if self.vertices.iter().all(|&v| n.dot(v - x) > margin) {
+            let mut magnitude = 0.0;
+            let mut target = crate::math::KahanSum::new();
+            lambert::add_outline((&mut target, &mut magnitude), x, n, &self.vertices);
+            let mut shaded = crate::math::KahanSum::new();
+            for piece in pieces {
+                space.clear();
+                space.extend(piece.iter().map(|&q| self.to_space(q)));
+                lambert::add_outline((&mut shaded, &mut magnitude), x, n, space);
+            }
+            let whole = lambert::form_factor(&target);
+            (
+                magnitude / (2.0 * core::f64::consts::PI),
+                whole - lambert::form_factor(&shaded),
+            )
+        } else {
+            let whole = point_to_polygon(x, n, &self.vertices);
+            let mut shaded = crate::math::KahanSum::new();
+            for piece in pieces {
+                space.clear();
+                space.extend(piece.iter().map(|&q| self.to_space(q)));
+                shaded.add(point_to_polygon(x, n, space));
+            }
+            (whole + shaded.total(), whole - shaded.total())
+        };
+        if seen <= CANCELLED * scale {
+            0.0
+        } else {
+            seen.clamp(0.0, 1.0)
+        }
+    }
+
+    /// [`Self::visible_form_factor`] as it was until session 21, for the tests: the
+    /// visible part as disjoint convex pieces ([`Self::visible_by_pieces`]) instead of
+    /// the target less the shadows' union.
+    #[cfg(test)]
+    fn visible_form_factor_by_pieces(
+        &self,
+        x: DVec3,
+        n: DVec3,
+        occluders: &[&[DVec3]],
+        work: &mut Workspace,
+    ) -> Result<f64> {
+        let dx = self.plane.distance(x);
+        let tol = super::super::exact_3d::ON_PLANE
+            * (self.plane.magnitude + x.abs().max_element() + self.plane.radius);
+        if dx <= tol {
+            return Ok(0.0);
+        }
+        work.recycle_pieces();
+        work.recycle_shadows();
+        if !occluders.is_empty() {
+            self.pyramid(x, dx, work);
+        }
+        for occluder in occluders {
+            let Some(area) = self.shadow(x, dx, occluder, false, work) else {
+                continue;
+            };
+            let fresh = work.spare.pop().unwrap_or_default();
+            let shadow = core::mem::replace(&mut work.shadow, fresh);
+            work.shadows.push(Shadow::new(shadow, area));
+        }
+        if work.shadows.is_empty() {
+            return Ok(point_to_polygon(x, n, &self.vertices));
+        }
+        self.visible_by_pieces(x, n, work)
+    }
+
+    /// The visible part of the target as disjoint convex pieces: the target cut by each
+    /// of `work.shadows` in turn ([`Self::subtract_shadow`]), each piece by Lambert's
+    /// contour formula ([`point_to_polygon`]), summed.
+    fn visible_by_pieces(&self, x: DVec3, n: DVec3, work: &mut Workspace) -> Result<f64> {
+        work.recycle_pieces();
+        let mut whole = work.spare.pop().unwrap_or_default();
+        whole.clear();
+        whole.extend_from_slice(&self.outline);
+        work.pieces.push(whole);
+        let shadows = core::mem::take(&mut work.shadows);
+        let mut result = Ok(());
+        for shadow in &shadows {
+            result = self.subtract_shadow(&shadow.outline, self.distinct, work);
+            if result.is_err() || work.pieces.is_empty() {
+                break;
+            }
+        }
+        work.shadows = shadows;
+        result?;
+        if work.pieces.is_empty() {
+            return Ok(0.0);
         }
         let mut sum = crate::math::KahanSum::new();
         for piece in &work.pieces {
@@ -233,8 +471,8 @@ impl Target {
     }
 
     /// The shadow of `occluder` on the target from `x` (at distance `dx` in front of the
-    /// target's plane), counter-clockwise in plane coordinates, into `work.shadow`; `false`
-    /// when it is empty or a sliver.
+    /// target's plane), counter-clockwise in plane coordinates, into `work.shadow`, and its
+    /// area; `None` when it is empty or a sliver.
     ///
     /// The occluder is clipped to the pyramid with apex `x` over the target (the planes
     /// through `x` and each target edge) and to `0 ≤ d(y) ≤ (1 − η) d(x)`; each remaining
@@ -252,7 +490,7 @@ impl Target {
         occluder: &[DVec3],
         in_front: bool,
         work: &mut Workspace,
-    ) -> bool {
+    ) -> Option<f64> {
         let n = self.plane.normal;
         let o = self.plane.origin;
         let first = usize::from(in_front).min(work.planes.len());
@@ -262,7 +500,7 @@ impl Target {
             .iter()
             .any(|&(normal, offset, tol)| occluder.iter().all(|&y| normal.dot(y) - offset < -tol))
         {
-            return false;
+            return None;
         }
         work.a.clear();
         work.a.extend_from_slice(occluder);
@@ -273,13 +511,13 @@ impl Target {
         // x over the target (the planes of `pyramid`, in that order).
         for k in first..work.planes.len() {
             if work.a.len() < 3 {
-                return false;
+                return None;
             }
             let (normal, offset, tol) = work.planes[k];
             distinct |= clip3(&mut work.a, &mut work.b, (normal, offset, tol), distinct);
         }
         if work.a.len() < 3 {
-            return false;
+            return None;
         }
         work.shadow.clear();
         for &y in &work.a {
@@ -308,30 +546,37 @@ impl Target {
             same &= !clipped;
             distinct |= clipped;
             if work.shadow.len() < 3 {
-                return false;
+                return None;
             }
         }
         let before = work.shadow.len();
         merge_close_vertices(&mut work.shadow, self.merge);
         // Merging only drops vertices: as many left, none dropped.
         same &= work.shadow.len() == before;
-        work.shadow.len() >= 3
-            && if same {
-                area
-            } else {
-                crate::geom::signed_area(&work.shadow)
-            } > self.sliver
+        if work.shadow.len() < 3 {
+            return None;
+        }
+        let area = if same {
+            area
+        } else {
+            crate::geom::signed_area(&work.shadow)
+        };
+        (area > self.sliver).then_some(area)
     }
 
-    /// Replaces `work.pieces` by their parts outside `work.shadow`: each piece is cut by
+    /// Replaces `work.pieces` by their parts outside `shadow`: each piece is cut by
     /// the shadow's edge lines in turn, keeping the part outside each line as a new piece
     /// and going on with the part inside; what is inside every line is the shadow's and is
     /// dropped. The pieces stay disjoint and convex.
-    fn subtract_shadow(&self, work: &mut Workspace) -> Result<()> {
+    fn subtract_shadow(
+        &self,
+        shadow: &[DVec2],
+        distinct: bool,
+        work: &mut Workspace,
+    ) -> Result<()> {
         let Workspace {
             pieces,
             next,
-            shadow,
             scratch,
             spare,
             lines,
@@ -365,7 +610,7 @@ impl Target {
                     scratch,
                     &mut part,
                     (a, inward, self.tol),
-                    self.distinct,
+                    distinct,
                 ) {
                     Cut::Inside => spare.push(part),
                     Cut::Outside => {
@@ -418,6 +663,13 @@ pub(crate) struct Workspace {
     /// The current shadow's edge lines, as (a point, the unit inward normal).
     lines: Vec<(DVec2, DVec2)>,
     shadow: Vec<DVec2>,
+    /// The current point's shadows ([`Target::shadow`]), in the occluders' order.
+    shadows: Vec<Shadow>,
+    /// The pieces of the shadows' union cut from shadows that overlap an earlier one
+    /// ([`Target::disjoint_union`]).
+    union: Vec<Vec<DVec2>>,
+    /// The shadows' indices, largest first ([`Target::disjoint_union`]).
+    order: Vec<usize>,
     scratch: Vec<DVec2>,
     space: Vec<DVec3>,
     a: Vec<DVec3>,
@@ -431,6 +683,89 @@ impl Workspace {
     fn recycle_pieces(&mut self) {
         self.spare.append(&mut self.pieces);
     }
+
+    /// Moves the current shadows' outlines and the union's pieces to the spare outlines
+    /// (emptying `shadows` and `union`).
+    fn recycle_shadows(&mut self) {
+        self.spare
+            .extend(self.shadows.drain(..).map(|shadow| shadow.outline));
+        self.spare.append(&mut self.union);
+    }
+}
+
+/// One shadow on the target: its outline (convex, counter-clockwise, in plane
+/// coordinates), axis-aligned bounds and area, and its part in the shadows' union
+/// ([`Target::disjoint_union`]).
+#[derive(Debug)]
+struct Shadow {
+    outline: Vec<DVec2>,
+    lo: DVec2,
+    hi: DVec2,
+    area: f64,
+    part: Part,
+}
+
+/// What [`Target::disjoint_union`] made of a shadow.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Part {
+    /// Not yet decided.
+    Open,
+    /// Inside an earlier shadow: left out.
+    Left,
+    /// Apart from every earlier one kept: a piece of the union as it is.
+    Whole,
+    /// Cut by earlier ones: its pieces are in `Workspace::union`.
+    Cut,
+}
+
+impl Shadow {
+    fn new(outline: Vec<DVec2>, area: f64) -> Self {
+        let (lo, hi) = bounds2(&outline);
+        Self {
+            outline,
+            lo,
+            hi,
+            area,
+            part: Part::Open,
+        }
+    }
+}
+
+/// Whether the interiors of shadows `a` and `b` are proven disjoint, by boxes apart or
+/// by a separating line, with `tol` (a length) of slack: some edge line of one (both are
+/// convex: if their interiors are disjoint, the line of an edge of one of them separates
+/// them, the separating-axis theorem in the plane) with every vertex of the other at
+/// most `tol` inside it. `tol` is a few roundings of a shadow vertex ([`APART`]), so that
+/// two faces of one solid, which share an edge whose ends each shadow computes on its
+/// own, are found apart, while shadows found apart overlap by at most that width.
+/// `O(m_a m_b)` for shadows of `m_a` and `m_b` vertices.
+fn apart(a: &Shadow, b: &Shadow, tol: f64) -> bool {
+    a.hi.x <= b.lo.x + tol
+        || b.hi.x <= a.lo.x + tol
+        || a.hi.y <= b.lo.y + tol
+        || b.hi.y <= a.lo.y + tol
+        || edge_separates(&a.outline, &b.outline, tol)
+        || edge_separates(&b.outline, &a.outline, tol)
+}
+
+/// Whether every vertex of `b` lies inside (or within `tol` outside) every edge line of
+/// the convex, counter-clockwise `a`: then `b`, convex, lies in `a` widened by `tol`.
+fn inside(b: &[DVec2], a: &[DVec2], tol: f64) -> bool {
+    let m = a.len();
+    (0..m).all(|k| {
+        let (p, q) = (a[k], a[if k + 1 == m { 0 } else { k + 1 }]);
+        inward_normal(p, q).is_none_or(|inward| b.iter().all(|&y| inward.dot(y - p) >= -tol))
+    })
+}
+
+/// Whether the line of some edge of the convex, counter-clockwise `a` has every vertex of
+/// `b` on its outside or within `tol` inside it.
+fn edge_separates(a: &[DVec2], b: &[DVec2], tol: f64) -> bool {
+    let m = a.len();
+    (0..m).any(|k| {
+        let (p, q) = (a[k], a[if k + 1 == m { 0 } else { k + 1 }]);
+        inward_normal(p, q).is_some_and(|inward| b.iter().all(|&y| inward.dot(y - p) <= tol))
+    })
 }
 
 /// Whether no two consecutive vertices of the closed polygon `poly` (the last and the first
@@ -720,6 +1055,132 @@ fn clip3(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The target less the shadows' union ([`Target::visible_form_factor_with`]) gives the
+    /// value of the visible part cut into pieces (the path until session 21,
+    /// [`Target::visible_form_factor_by_pieces`]) to rounding: random convex targets,
+    /// points in front of them (some with the target across their horizon), and
+    /// occluders of three kinds: the faces of a box (whose shadows meet along shared
+    /// edges), loose quadrilaterals (overlapping each other and the box's shadows), and a
+    /// small one beneath a large one (a shadow inside another). Each way of
+    /// [`Target::disjoint_union`] (a shadow whole, cut, left out) is taken often.
+    #[test]
+    fn the_target_less_the_shadows_is_the_visible_pieces() {
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = || crate::math::xorshift_unit(&mut state) - 0.5;
+        let v = DVec3::new;
+        let mut work = Workspace::default();
+        let mut old_work = Workspace::default();
+        let mut parts = [0_usize; 3];
+        let (mut compared, mut hidden, mut worst) = (0, 0, 0.0_f64);
+        for case in 0..3000 {
+            // A convex target in the plane z = 0, facing up, about the origin.
+            let m = 3 + case % 4;
+            let target: Vec<DVec3> = (0..m)
+                .map(|k| {
+                    let t = core::f64::consts::TAU * (k as f64 + 0.3 * next()) / m as f64;
+                    v(libm::cos(t), libm::sin(t), 0.0) * (1.0 + 0.3 * next())
+                })
+                .collect();
+            let Some(plane) = Plane::of(&target) else {
+                continue;
+            };
+            let t = Target::new(&target, plane);
+            let x = v(2.0 * next(), 2.0 * next(), 1.5 + next());
+            // Facing down, tilted; every fifth point tilted far enough that the target
+            // crosses its horizon.
+            let tilt = if case % 5 == 0 { 1.5 } else { 0.4 };
+            let n = v(tilt * next(), tilt * next(), -1.0).normalize();
+            let mut occluders: Vec<Vec<DVec3>> = Vec::new();
+            let h = x.z;
+            if case % 3 != 1 {
+                // A box between, some of its faces reaching above the point.
+                let c = v(next(), next(), h * (0.35 + 0.3 * next()));
+                let half = v(
+                    0.1 + 0.3 * (next() + 0.5),
+                    0.1 + 0.3 * (next() + 0.5),
+                    0.05 + 0.3 * (next() + 0.5) * h,
+                );
+                let (lo, hi) = (c - half, c + half);
+                let corner = |i: usize| {
+                    v(
+                        if i & 1 == 0 { lo.x } else { hi.x },
+                        if i & 2 == 0 { lo.y } else { hi.y },
+                        if i & 4 == 0 { lo.z } else { hi.z },
+                    )
+                };
+                for face in [
+                    [0, 2, 3, 1],
+                    [4, 5, 7, 6],
+                    [0, 1, 5, 4],
+                    [2, 6, 7, 3],
+                    [0, 4, 6, 2],
+                    [1, 3, 7, 5],
+                ] {
+                    occluders.push(face.iter().map(|&i| corner(i)).collect());
+                }
+            }
+            if case % 3 != 0 {
+                // Loose quadrilaterals at random heights and tilts.
+                for _ in 0..1 + case % 3 {
+                    let c = v(next(), next(), h * (0.5 + 0.9 * next()));
+                    let (a, b) = (
+                        v(0.6 * next(), 0.6 * next(), 0.2 * next()),
+                        v(0.6 * next(), 0.6 * next(), 0.2 * next()),
+                    );
+                    occluders.push(alloc::vec![c - a - b, c + a - b, c + a + b, c - a + b]);
+                }
+            }
+            if case % 4 == 2 {
+                // A small quadrilateral under a large one: its shadow inside the other's.
+                let c = v(0.5 * next(), 0.5 * next(), 0.5 * h);
+                let r = 0.6;
+                occluders.push(alloc::vec![
+                    c + v(-r, -r, 0.0),
+                    c + v(r, -r, 0.0),
+                    c + v(r, r, 0.0),
+                    c + v(-r, r, 0.0)
+                ]);
+                let c = c * 0.8;
+                let r = 0.1;
+                occluders.push(alloc::vec![
+                    c + v(-r, -r, 0.0),
+                    c + v(r, -r, 0.0),
+                    c + v(r, r, 0.0),
+                    c + v(-r, r, 0.0)
+                ]);
+            }
+            let refs: Vec<&[DVec3]> = occluders.iter().map(Vec::as_slice).collect();
+            let new = t.visible_form_factor(x, n, &refs, &mut work).unwrap();
+            let old = t
+                .visible_form_factor_by_pieces(x, n, &refs, &mut old_work)
+                .unwrap();
+            let whole = point_to_polygon(x, n, &target);
+            let diff = (new - old).abs();
+            assert!(
+                diff <= 1e-14 * whole,
+                "case {case}: {new:e} against {old:e} (F to the whole target {whole:e})"
+            );
+            worst = worst.max(diff / whole.max(f64::MIN_POSITIVE));
+            if whole > 0.0 {
+                compared += 1;
+            }
+            if old == 0.0 && whole > 0.0 {
+                hidden += 1;
+            }
+            for s in &work.shadows {
+                match s.part {
+                    Part::Whole => parts[0] += 1,
+                    Part::Cut => parts[1] += 1,
+                    Part::Left => parts[2] += 1,
+                    Part::Open => {}
+                }
+            }
+        }
+        std::println!("compared {compared}, hidden {hidden}, worst {worst:e}, parts {parts:?}");
+        assert!(compared > 2000 && hidden > 20, "{compared} {hidden}");
+        assert!(parts.iter().all(|&p| p > 300), "{parts:?}");
+    }
 
     /// `split2` gives the bits of the two `clip2` calls it replaces, on polygons with
     /// vertices on, within the tolerance of, and on either side of the line.
