@@ -256,14 +256,7 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
         load,
         total,
     };
-    let mut out = std::io::stdout().lock();
-    if args.json {
-        writeln!(out, "{}", json(&report)?)?;
-    } else {
-        write!(out, "{}", table(&report, budget))?;
-    }
-    out.flush()?;
-    Ok(())
+    print_report(&report, args.json, budget)
 }
 
 /// `bench --split`: the cast/tally split ([`split`]) on the `--scene` files, else on the
@@ -322,14 +315,7 @@ fn run_split(args: &BenchArgs, threads: usize, budget: f64, reps: usize) -> Resu
         load,
         total,
     };
-    let mut out = std::io::stdout().lock();
-    if args.json {
-        writeln!(out, "{}", json(&report)?)?;
-    } else {
-        write!(out, "{}", table(&report, budget))?;
-    }
-    out.flush()?;
-    Ok(())
+    print_report(&report, args.json, budget)
 }
 
 /// Everything `bench` measured, for printing.
@@ -362,6 +348,18 @@ struct MemoryCheck {
     peak_mb: Option<f64>,
     count_bytes: usize,
     pairs: u64,
+}
+
+/// Prints `report` to stdout: JSON with `--json`, else the tables.
+fn print_report(report: &Report, as_json: bool, budget: f64) -> Result<()> {
+    let mut out = std::io::stdout().lock();
+    if as_json {
+        writeln!(out, "{}", json(report)?)?;
+    } else {
+        write!(out, "{}", table(report, budget))?;
+    }
+    out.flush()?;
+    Ok(())
 }
 
 /// Casts `lines` global lines on the 99,846-patch cube (sparse counts) and finishes the

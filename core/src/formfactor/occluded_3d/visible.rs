@@ -176,17 +176,9 @@ impl Target {
         in_front: &[bool],
         work: &mut Workspace,
     ) -> Result<f64> {
-        let dx = self.plane.distance(x);
-        let tol = super::super::exact_3d::ON_PLANE
-            * (self.plane.magnitude + x.abs().max_element() + self.plane.radius);
-        if dx <= tol {
+        let Some((dx, tol)) = self.begin_point(x, !occluders.is_empty(), work) else {
             return Ok(0.0);
-        }
-        work.recycle_pieces();
-        work.recycle_shadows();
-        if !occluders.is_empty() {
-            self.pyramid(x, dx, work);
-        }
+        };
         // The shadows, each inside the target; one within a sliver of the target's area
         // leaves nothing seen.
         for (k, occluder) in occluders.iter().enumerate() {
@@ -363,17 +355,9 @@ impl Target {
         occluders: &[&[DVec3]],
         work: &mut Workspace,
     ) -> Result<f64> {
-        let dx = self.plane.distance(x);
-        let tol = super::super::exact_3d::ON_PLANE
-            * (self.plane.magnitude + x.abs().max_element() + self.plane.radius);
-        if dx <= tol {
+        let Some((dx, _)) = self.begin_point(x, !occluders.is_empty(), work) else {
             return Ok(0.0);
-        }
-        work.recycle_pieces();
-        work.recycle_shadows();
-        if !occluders.is_empty() {
-            self.pyramid(x, dx, work);
-        }
+        };
         for occluder in occluders {
             let Some(area) = self.shadow(x, dx, occluder, false, work) else {
                 continue;
@@ -417,6 +401,25 @@ impl Target {
             sum.add(point_to_polygon(x, n, &work.space));
         }
         Ok(sum.total().clamp(0.0, 1.0))
+    }
+
+    /// A point's start: its distance `d(x)` in front of the target's plane and the
+    /// rounding tolerance of that distance, or `None` when it lies on or behind the plane
+    /// (within the tolerance: it sees nothing); the buffers of the last point recycled, and
+    /// the point's clipping planes ([`Self::pyramid`]) when it has occluders.
+    fn begin_point(&self, x: DVec3, occluded: bool, work: &mut Workspace) -> Option<(f64, f64)> {
+        let dx = self.plane.distance(x);
+        let tol = super::super::exact_3d::ON_PLANE
+            * (self.plane.magnitude + x.abs().max_element() + self.plane.radius);
+        if dx <= tol {
+            return None;
+        }
+        work.recycle_pieces();
+        work.recycle_shadows();
+        if occluded {
+            self.pyramid(x, dx, work);
+        }
+        Some((dx, tol))
     }
 
     /// Whether `occluder` lies on the kept side of the first clipping plane of every point,
