@@ -896,8 +896,9 @@ enum SiStatus si_measurement_exact_errors(const struct SiMeasurement *m, struct 
 
 /**
  * Copies the error estimate of each entry `si_measurement_form_factors_csr` gives, in
- * the same order: 0 for an exact entry, the estimate of a pair integrated past
- * occluders, NaN where there is none (line jobs, the background state's entries).
+ * the same order: 0 for an entry of a scene no polygon can hide, the contour sum's
+ * rounding estimate for an exact pair of an occluded scene, the estimate of a pair
+ * integrated past occluders, NaN where there is none (line jobs, the background state's entries).
  * `*out_nnz` (when not NULL) receives the entry count whatever happens;
  * `SI_ERR_BUFFER_TOO_SMALL` (nothing written) when `errors_len` is shorter;
  * `SI_ERR_UNDEFINED` when some patch received no line.
