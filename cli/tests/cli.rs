@@ -62,19 +62,25 @@ fn bench_split_casts_the_same_lines_alone_and_with_the_tally() {
     // and cast alone; both find the same hits (the tally's samples)
     let obj = preset(&["cube", "--grid", "4"], "split_cube.obj");
     let obj = obj.to_str().unwrap();
-    let json = stdout_of(&[
-        "bench",
-        "--split",
-        "--scene",
-        obj,
-        "--lines",
-        "20000",
-        "--threads",
-        "2",
-        "--reps",
-        "1",
-        "--json",
-    ]);
+    // `bench --split --scene obj --lines L --threads T --reps 1 --json`, and `extra`
+    let split = |lines: &str, threads: &str, extra: &[&str]| {
+        let mut args = vec![
+            "bench",
+            "--split",
+            "--scene",
+            obj,
+            "--lines",
+            lines,
+            "--threads",
+            threads,
+            "--reps",
+            "1",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        stdout_of(&args)
+    };
+    let json = split("20000", "2", &[]);
     for method in ["global", "bundle"] {
         for t in [1, 2] {
             assert!(
@@ -93,21 +99,7 @@ fn bench_split_casts_the_same_lines_alone_and_with_the_tally() {
         assert!(v > 0.0 && v.is_finite(), "{key} = {v}");
     }
     // One method only
-    let json = stdout_of(&[
-        "bench",
-        "--split",
-        "--scene",
-        obj,
-        "--lines",
-        "5000",
-        "--threads",
-        "1",
-        "--reps",
-        "1",
-        "--method",
-        "bundle",
-        "--json",
-    ]);
+    let json = split("5000", "1", &["--method", "bundle"]);
     assert!(!json.contains(" global "), "{json}");
     assert_eq!(json.matches("\"same_hits\":true").count(), 1, "{json}");
     // Flatland is refused with the file named

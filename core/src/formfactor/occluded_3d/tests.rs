@@ -522,25 +522,7 @@ fn estimate_coverage_against_references() {
     }
     // A small floor piece beside a block standing on the floor, seeing a wall or the
     // ceiling past the block (issue 23: the Cornell box's pairs whose estimate failed).
-    let (lo, hi) = (v(0.4, 0.2, 0.0), v(1.0, 0.8, 0.6));
-    let corner = |i: usize| {
-        v(
-            if i & 1 == 0 { lo.x } else { hi.x },
-            if i & 2 == 0 { lo.y } else { hi.y },
-            if i & 4 == 0 { lo.z } else { hi.z },
-        )
-    };
-    let block: Vec<[DVec3; 4]> = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ]
-    .iter()
-    .map(|f| f.map(corner))
-    .collect();
+    let block = box_faces(v(0.4, 0.2, 0.0), v(1.0, 0.8, 0.6), true);
     let block: Vec<&[DVec3]> = block.iter().map(|f| f.as_slice()).collect();
     let ceiling = [
         v(0., 0., 1.2),
@@ -748,7 +730,7 @@ fn an_occluder_standing_on_the_target_s_edge_gives_a_smooth_integrand() {
 
 /// The six faces of the box `[lo, hi]`, counter-clockwise seen from outside, less the
 /// bottom when `floor` is false.
-fn box_faces(lo: DVec3, hi: DVec3, floor: bool) -> Vec<Vec<DVec3>> {
+pub(super) fn box_faces(lo: DVec3, hi: DVec3, floor: bool) -> Vec<Vec<DVec3>> {
     let c = |i: usize| {
         v(
             if i & 1 == 0 { lo.x } else { hi.x },

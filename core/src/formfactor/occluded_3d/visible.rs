@@ -1104,24 +1104,7 @@ mod tests {
                     0.1 + 0.3 * (next() + 0.5),
                     0.05 + 0.3 * (next() + 0.5) * h,
                 );
-                let (lo, hi) = (c - half, c + half);
-                let corner = |i: usize| {
-                    v(
-                        if i & 1 == 0 { lo.x } else { hi.x },
-                        if i & 2 == 0 { lo.y } else { hi.y },
-                        if i & 4 == 0 { lo.z } else { hi.z },
-                    )
-                };
-                for face in [
-                    [0, 2, 3, 1],
-                    [4, 5, 7, 6],
-                    [0, 1, 5, 4],
-                    [2, 6, 7, 3],
-                    [0, 4, 6, 2],
-                    [1, 3, 7, 5],
-                ] {
-                    occluders.push(face.iter().map(|&i| corner(i)).collect());
-                }
+                occluders.extend(super::super::tests::box_faces(c - half, c + half, true));
             }
             if case % 3 != 0 {
                 // Loose quadrilaterals at random heights and tilts.
