@@ -295,9 +295,11 @@ pub(crate) fn polygon_to_polygon(source: &[DVec3], target: &[DVec3]) -> f64 {
 }
 
 /// Units in the last place, of the magnitude `M = Σ m / 2π` of the elementary terms that
-/// cancel in a contour sum, that bound its rounding: each `J_pq` is within `8ε` of its
-/// terms' `Σ m` (`contour.rs`, "Rounding"), their compensated sum adds `2ε Σ|J_pq|`,
-/// the division by `2π` one more `ε` of the result: `11ε M` in all, taken as `16ε M`.
+/// cancel in a contour sum, taken as the estimate of its rounding. The worst case is
+/// `11ε M` (each `J_pq` within `8ε` of its terms' `Σ m`, `contour.rs` "Rounding"; their
+/// compensated sum `2ε Σ|J_pq|`; the division by `2π` one more `ε`), but roundings add like
+/// a random walk: the errors seen stay below `1/45` of `2ε M` (module docs), so `2` is a
+/// calibrated estimate, not that bound.
 pub(crate) const ROUNDING_ULPS: f64 = 2.0;
 
 /// Units in the last place of the coordinates' magnitude `S` by which rounding moves the
@@ -307,7 +309,7 @@ pub(crate) const ROUNDING_ULPS: f64 = 2.0;
 /// `δ · perimeter`, the kernel by `δ / r`), so `|δ flux| ≤ GEOMETRY_ULPS ε (S / ρ) |flux|`.
 pub(crate) const GEOMETRY_ULPS: f64 = 4.0;
 
-/// `(A_i F_ij, error bound)`: the flux and a bound on its error, the rounding of the
+/// `(A_i F_ij, error estimate)`: the flux and an estimate of its error, the rounding of the
 /// contour sum (`ROUNDING_ULPS ε M`, `M` the magnitude of its cancelling terms), the
 /// rounding of the vertices (`GEOMETRY_ULPS ε (S / ρ) |flux|`) and the estimate of its skew
 /// edge pairs' quadrature (`Σ |K₁₅ − G₇| / 2π`, see the module documentation).
